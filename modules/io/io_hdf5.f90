@@ -1,0 +1,769 @@
+!> Thin HDF5 layer: files, numeric and string datasets, with errors returned
+!> through `error_t` (HDF5's own error-stack printing is switched off).
+!>
+!> Array dimensions are given and returned in Fortran order; the HDF5 Fortran
+!> API stores them reversed, so h5dump shows C order. Dataset names may contain
+!> a group path ("state/rho"): missing intermediate groups are created on
+!> write. Writing a dataset that already exists is an error.
+module io_hdf5
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use hdf5, only: hid_t, hsize_t, size_t, &
+       h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, &
+       H5_REAL_KIND, H5_INTEGER_KIND, &
+       h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, &
+       H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
+       h5screate_f, h5screate_simple_f, h5sclose_f, h5sget_simple_extent_type_f, &
+       h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, &
+       h5sget_simple_extent_npoints_f, H5S_SCALAR_F, &
+       h5tcopy_f, h5tclose_f, h5tset_size_f, h5tget_size_f, h5tset_strpad_f, &
+       h5tget_class_f, h5tis_variable_str_f, &
+       H5T_FORTRAN_S1, H5T_STR_NULLPAD_F, H5T_STRING_F, H5T_FLOAT_F, H5T_INTEGER_F, &
+       h5pcreate_f, h5pclose_f, h5pset_create_inter_group_f, H5P_LINK_CREATE_F, &
+       h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, &
+       h5dget_space_f, h5dget_type_f, &
+       h5gcreate_f, h5gclose_f, h5lexists_f
+  implicit none
+  private
+
+  public :: h5_file_t
+  public :: hdf5_start, hdf5_stop
+  public :: h5_create, h5_open_read, h5_close
+  public :: h5_create_group, h5_exists
+  public :: h5_write_real, h5_write_int
+  public :: h5_write_scalar_real, h5_write_scalar_int, h5_write_string
+  public :: h5_read_dims, h5_read_real, h5_read_int
+  public :: h5_read_scalar_real, h5_read_scalar_int, h5_read_string
+
+  !> An open HDF5 file: its identifier (negative when closed) and its path.
+  type :: h5_file_t
+    integer(hid_t) :: id = -1_hid_t
+    character(len=:), allocatable :: path
+  end type h5_file_t
+
+  !> Largest dataset rank accepted by the array writers.
+  integer, parameter :: max_rank = 7
+
+  !> True between a successful `hdf5_start` and `hdf5_stop`.
+  logical, save :: started = .false.
+
+contains
+
+  ! ------------------------------------------------------------------ library
+
+  !> Initialises the HDF5 library and silences its error-stack printing.
+  !> Safe to call more than once; the file openers call it themselves.
+  subroutine hdf5_start(err)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    if (started) return
+    call h5open_f(hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, 'hdf5_start', 'h5open_f failed to initialise the HDF5 library')
+      return
+    end if
+    call h5eset_auto_f(0, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, 'hdf5_start', 'h5eset_auto_f failed to silence HDF5 error printing')
+      return
+    end if
+    started = .true.
+  end subroutine hdf5_start
+
+  !> Closes the HDF5 library; does nothing if it was not started.
+  subroutine hdf5_stop(err)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    if (.not. started) return
+    call h5close_f(hdferr)
+    started = .false.
+    if (hdferr /= 0) call error_set(err, 'hdf5_stop', 'h5close_f failed to close the HDF5 library')
+  end subroutine hdf5_stop
+
+  ! -------------------------------------------------------------------- files
+
+  !> Creates `path` (truncating any existing file) and opens it for writing.
+  subroutine h5_create(file, path, err)
+    type(h5_file_t), intent(inout) :: file
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    call hdf5_start(err)
+    if (allocated(err)) return
+    if (file%id >= 0) then
+      call error_set(err, 'h5_create', 'handle already open on '//q(file%path)//', cannot create '//q(path))
+      return
+    end if
+    call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr)
+    if (hdferr /= 0) then
+      file%id = -1_hid_t
+      call error_set(err, 'h5_create', 'cannot create HDF5 file '//q(path))
+      return
+    end if
+    file%path = path
+  end subroutine h5_create
+
+  !> Opens the existing HDF5 file `path` read-only.
+  subroutine h5_open_read(file, path, err)
+    type(h5_file_t), intent(inout) :: file
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    logical :: exists, is_hdf5
+    call hdf5_start(err)
+    if (allocated(err)) return
+    if (file%id >= 0) then
+      call error_set(err, 'h5_open_read', 'handle already open on '//q(file%path)//', cannot open '//q(path))
+      return
+    end if
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call error_set(err, 'h5_open_read', 'file '//q(path)//' does not exist')
+      return
+    end if
+    call h5fis_hdf5_f(path, is_hdf5, hdferr)
+    if (hdferr /= 0 .or. .not. is_hdf5) then
+      call error_set(err, 'h5_open_read', 'file '//q(path)//' is not an HDF5 file')
+      return
+    end if
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, file%id, hdferr)
+    if (hdferr /= 0) then
+      file%id = -1_hid_t
+      call error_set(err, 'h5_open_read', 'cannot open HDF5 file '//q(path))
+      return
+    end if
+    file%path = path
+  end subroutine h5_open_read
+
+  !> Flushes and closes `file`; does nothing if it is not open.
+  subroutine h5_close(file, err)
+    type(h5_file_t), intent(inout) :: file
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr_flush, hdferr_close
+    if (file%id < 0) return
+    call h5fflush_f(file%id, H5F_SCOPE_GLOBAL_F, hdferr_flush)
+    call h5fclose_f(file%id, hdferr_close)
+    file%id = -1_hid_t
+    if (hdferr_flush /= 0 .or. hdferr_close /= 0) then
+      call error_set(err, 'h5_close', 'cannot flush/close HDF5 file '//q(fpath(file)))
+    end if
+  end subroutine h5_close
+
+  !> Creates group `name` (a path; missing parent groups are created too).
+  subroutine h5_create_group(file, name, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_create_group'
+    integer(hid_t) :: lcpl, gid
+    integer :: hdferr
+    if (.not. check_open(file, name, here, err)) return
+    call link_plist(lcpl, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot create link property list for '//where_in(file, name))
+      return
+    end if
+    call h5gcreate_f(file%id, name, gid, hdferr, lcpl_id=lcpl)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot create group '//where_in(file, name))
+    else
+      call h5gclose_f(gid, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot close group '//where_in(file, name))
+    end if
+    call h5pclose_f(lcpl, hdferr)
+  end subroutine h5_create_group
+
+  !> True if the link `name` (a path) exists in the open `file`.
+  function h5_exists(file, name) result(exists)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    logical :: exists
+    integer :: pos, start, hdferr
+    logical :: link
+    exists = .false.
+    if (file%id < 0) return
+    start = 1
+    do while (start <= len(name))
+      if (name(start:start) /= '/') exit
+      start = start + 1
+    end do
+    if (start > len(name)) then
+      exists = .true.
+      return
+    end if
+    ! Check each parent prefix so a missing intermediate group is no error.
+    do pos = start + 1, len(name) - 1
+      if (name(pos:pos) /= '/') cycle
+      call h5lexists_f(file%id, name(1:pos - 1), link, hdferr)
+      if (hdferr /= 0 .or. .not. link) return
+    end do
+    call h5lexists_f(file%id, name, link, hdferr)
+    exists = hdferr == 0 .and. link
+  end function h5_exists
+
+  ! ------------------------------------------------------------------ writers
+
+  !> Writes a double dataset of shape `dims` (Fortran order, rank 1..7) from
+  !> the contiguous buffer `data`, which holds product(dims) values.
+  subroutine h5_write_real(file, name, data, dims, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    real(wp), intent(in), target :: data(*)
+    integer, intent(in) :: dims(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(c_ptr) :: ptr
+    ptr = c_null_ptr
+    if (size(dims) > 0) then
+      if (all(dims > 0)) ptr = c_loc(data(1))
+    end if
+    call write_array(file, name, ptr, dims, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_real', err)
+  end subroutine h5_write_real
+
+  !> Writes a default-integer dataset of shape `dims` (Fortran order, rank
+  !> 1..7) from the contiguous buffer `data`, which holds product(dims) values.
+  subroutine h5_write_int(file, name, data, dims, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(in), target :: data(*)
+    integer, intent(in) :: dims(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(c_ptr) :: ptr
+    ptr = c_null_ptr
+    if (size(dims) > 0) then
+      if (all(dims > 0)) ptr = c_loc(data(1))
+    end if
+    call write_array(file, name, ptr, dims, h5kind_to_type(kind(0), H5_INTEGER_KIND), 'h5_write_int', err)
+  end subroutine h5_write_int
+
+  !> Writes a scalar double dataset.
+  subroutine h5_write_scalar_real(file, name, value, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), target :: buf
+    type(c_ptr) :: ptr
+    buf = value
+    ptr = c_loc(buf)
+    call write_scalar(file, name, ptr, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_scalar_real', err)
+  end subroutine h5_write_scalar_real
+
+  !> Writes a scalar default-integer dataset.
+  subroutine h5_write_scalar_int(file, name, value, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    integer, target :: buf
+    type(c_ptr) :: ptr
+    buf = value
+    ptr = c_loc(buf)
+    call write_scalar(file, name, ptr, h5kind_to_type(kind(0), H5_INTEGER_KIND), &
+         'h5_write_scalar_int', err)
+  end subroutine h5_write_scalar_int
+
+  !> Writes `text` (any length, newlines allowed, no NUL characters) as a
+  !> scalar fixed-length, null-padded string dataset.
+  subroutine h5_write_string(file, name, text, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_write_string'
+    character(len=:), allocatable, target :: buf
+    integer(hid_t) :: tid
+    integer :: hdferr
+    type(c_ptr) :: ptr
+    ! HDF5 strings need at least one byte: the empty string is stored as NUL.
+    ! allocation on assignment (an explicit allocate trips gfortran's
+    ! maybe-uninitialized warning on deferred-length strings)
+    if (len(text) == 0) then
+      buf = c_null_char
+    else
+      buf = text
+    end if
+    call string_type(int(len(buf), size_t), tid, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot create string type for '//where_in(file, name))
+      return
+    end if
+    ptr = c_loc(buf)
+    call write_scalar(file, name, ptr, tid, here, err)
+    call h5tclose_f(tid, hdferr)
+  end subroutine h5_write_string
+
+  ! ------------------------------------------------------------------ readers
+
+  !> Returns the shape of dataset `name` in Fortran order (size 0 for scalars).
+  subroutine h5_read_dims(file, name, dims, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, allocatable, intent(out) :: dims(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_dims'
+    integer(hid_t) :: did, sid
+    integer(hsize_t) :: hdims(max_rank), hmax(max_rank)
+    integer :: hdferr, rank, stat
+    did = -1_hid_t
+    sid = -1_hid_t
+    body: block
+      if (.not. open_dataset(file, name, here, did, err)) exit body
+      call h5dget_space_f(did, sid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot get dataspace of '//where_in(file, name))
+        exit body
+      end if
+      call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+      if (hdferr /= 0 .or. rank < 0 .or. rank > max_rank) then
+        call error_set(err, here, 'unsupported rank of '//where_in(file, name))
+        exit body
+      end if
+      allocate(dims(rank), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, here, 'cannot allocate dims for '//where_in(file, name))
+        exit body
+      end if
+      if (rank == 0) exit body
+      call h5sget_simple_extent_dims_f(sid, hdims(1:rank), hmax(1:rank), hdferr)
+      if (hdferr < 0) then
+        call error_set(err, here, 'cannot get dimensions of '//where_in(file, name))
+        exit body
+      end if
+      dims = int(hdims(1:rank))
+    end block body
+    call release(did, sid, -1_hid_t)
+  end subroutine h5_read_dims
+
+  !> Reads a floating-point dataset of any shape, flattened in Fortran order.
+  subroutine h5_read_real(file, name, data, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    real(wp), allocatable, target, intent(out) :: data(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_real'
+    integer(hid_t) :: did, sid
+    integer(hsize_t) :: n
+    integer :: hdferr, stat
+    type(c_ptr) :: ptr
+    did = -1_hid_t
+    sid = -1_hid_t
+    body: block
+      if (.not. open_checked(file, name, H5T_FLOAT_F, 'floating-point', here, did, sid, n, err)) exit body
+      allocate(data(n), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
+        exit body
+      end if
+      if (n == 0) exit body
+      ptr = c_loc(data(1))
+      call h5dread_f(did, h5kind_to_type(wp, H5_REAL_KIND), ptr, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot read '//where_in(file, name))
+    end block body
+    call release(did, sid, -1_hid_t)
+  end subroutine h5_read_real
+
+  !> Reads an integer dataset of any shape, flattened in Fortran order.
+  subroutine h5_read_int(file, name, data, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, allocatable, target, intent(out) :: data(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_int'
+    integer(hid_t) :: did, sid
+    integer(hsize_t) :: n
+    integer :: hdferr, stat
+    type(c_ptr) :: ptr
+    did = -1_hid_t
+    sid = -1_hid_t
+    body: block
+      if (.not. open_checked(file, name, H5T_INTEGER_F, 'integer', here, did, sid, n, err)) exit body
+      allocate(data(n), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
+        exit body
+      end if
+      if (n == 0) exit body
+      ptr = c_loc(data(1))
+      call h5dread_f(did, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot read '//where_in(file, name))
+    end block body
+    call release(did, sid, -1_hid_t)
+  end subroutine h5_read_int
+
+  !> Reads a one-element floating-point dataset.
+  subroutine h5_read_scalar_real(file, name, value, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_scalar_real'
+    integer(hid_t) :: did, sid
+    integer(hsize_t) :: n
+    integer :: hdferr
+    real(wp), target :: buf
+    type(c_ptr) :: ptr
+    value = 0.0_wp
+    did = -1_hid_t
+    sid = -1_hid_t
+    body: block
+      if (.not. open_checked(file, name, H5T_FLOAT_F, 'floating-point', here, did, sid, n, err)) exit body
+      if (n /= 1) then
+        call error_set(err, here, 'expected one value in '//where_in(file, name))
+        exit body
+      end if
+      ptr = c_loc(buf)
+      call h5dread_f(did, h5kind_to_type(wp, H5_REAL_KIND), ptr, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot read '//where_in(file, name))
+        exit body
+      end if
+      value = buf
+    end block body
+    call release(did, sid, -1_hid_t)
+  end subroutine h5_read_scalar_real
+
+  !> Reads a one-element integer dataset.
+  subroutine h5_read_scalar_int(file, name, value, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_scalar_int'
+    integer(hid_t) :: did, sid
+    integer(hsize_t) :: n
+    integer :: hdferr
+    integer, target :: buf
+    type(c_ptr) :: ptr
+    value = 0
+    did = -1_hid_t
+    sid = -1_hid_t
+    body: block
+      if (.not. open_checked(file, name, H5T_INTEGER_F, 'integer', here, did, sid, n, err)) exit body
+      if (n /= 1) then
+        call error_set(err, here, 'expected one value in '//where_in(file, name))
+        exit body
+      end if
+      ptr = c_loc(buf)
+      call h5dread_f(did, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot read '//where_in(file, name))
+        exit body
+      end if
+      value = buf
+    end block body
+    call release(did, sid, -1_hid_t)
+  end subroutine h5_read_scalar_int
+
+  !> Reads a scalar fixed-length string dataset; the text ends at the first NUL.
+  subroutine h5_read_string(file, name, text, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_string'
+    integer(hid_t) :: did, sid, ftid, mtid
+    integer(hsize_t) :: n
+    integer(size_t) :: nchar
+    integer :: hdferr, nul
+    logical :: is_var
+    character(len=:), allocatable, target :: buf
+    type(c_ptr) :: ptr
+    did = -1_hid_t
+    sid = -1_hid_t
+    ftid = -1_hid_t
+    mtid = -1_hid_t
+    body: block
+      if (.not. open_checked(file, name, H5T_STRING_F, 'string', here, did, sid, n, err)) exit body
+      if (n /= 1) then
+        call error_set(err, here, 'expected one string in '//where_in(file, name))
+        exit body
+      end if
+      call h5dget_type_f(did, ftid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot get type of '//where_in(file, name))
+        exit body
+      end if
+      call h5tis_variable_str_f(ftid, is_var, hdferr)
+      if (hdferr /= 0 .or. is_var) then
+        call error_set(err, here, 'variable-length strings unsupported in '//where_in(file, name))
+        exit body
+      end if
+      call h5tget_size_f(ftid, nchar, hdferr)
+      if (hdferr /= 0 .or. nchar < 1) then
+        call error_set(err, here, 'cannot get string size of '//where_in(file, name))
+        exit body
+      end if
+      call string_type(nchar, mtid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot create string type for '//where_in(file, name))
+        exit body
+      end if
+      buf = repeat(c_null_char, int(nchar))
+      ptr = c_loc(buf)
+      call h5dread_f(did, mtid, ptr, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot read '//where_in(file, name))
+        exit body
+      end if
+      nul = index(buf, c_null_char)
+      if (nul > 0) then
+        text = buf(1:nul - 1)
+      else
+        call move_alloc(buf, text)
+      end if
+    end block body
+    if (mtid >= 0) call h5tclose_f(mtid, hdferr)
+    call release(did, sid, ftid)
+  end subroutine h5_read_string
+
+  ! ------------------------------------------------------------------ helpers
+
+  !> Creates and writes a simple-dataspace dataset from a buffer address.
+  subroutine write_array(file, name, ptr, dims, tid, here, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(inout) :: ptr
+    integer, intent(in) :: dims(:)
+    integer(hid_t), intent(in) :: tid
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: did, sid, lcpl
+    integer(hsize_t) :: hdims(max_rank)
+    integer :: hdferr, rank
+    did = -1_hid_t
+    sid = -1_hid_t
+    lcpl = -1_hid_t
+    rank = size(dims)
+    body: block
+      if (.not. check_open(file, name, here, err)) exit body
+      if (rank < 1 .or. rank > max_rank) then
+        call error_set(err, here, 'rank must be 1..7 for '//where_in(file, name))
+        exit body
+      end if
+      if (any(dims < 0)) then
+        call error_set(err, here, 'negative dimension for '//where_in(file, name))
+        exit body
+      end if
+      hdims(1:rank) = int(dims, hsize_t)
+      call h5screate_simple_f(rank, hdims(1:rank), sid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
+        exit body
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err)
+      if (allocated(err)) exit body
+      if (product(hdims(1:rank)) == 0) exit body
+      call h5dwrite_f(did, tid, ptr, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot write '//where_in(file, name))
+    end block body
+    call release(did, sid, -1_hid_t)
+    if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
+  end subroutine write_array
+
+  !> Creates and writes a scalar-dataspace dataset from a buffer address.
+  subroutine write_scalar(file, name, ptr, tid, here, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(inout) :: ptr
+    integer(hid_t), intent(in) :: tid
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: did, sid, lcpl
+    integer :: hdferr
+    did = -1_hid_t
+    sid = -1_hid_t
+    lcpl = -1_hid_t
+    body: block
+      if (.not. check_open(file, name, here, err)) exit body
+      call h5screate_f(H5S_SCALAR_F, sid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
+        exit body
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err)
+      if (allocated(err)) exit body
+      call h5dwrite_f(did, tid, ptr, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot write '//where_in(file, name))
+    end block body
+    call release(did, sid, -1_hid_t)
+    if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
+  end subroutine write_scalar
+
+  !> Creates dataset `name`, creating missing intermediate groups.
+  subroutine create_dataset(file, name, tid, sid, lcpl, did, here, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer(hid_t), intent(in) :: tid, sid
+    integer(hid_t), intent(inout) :: lcpl
+    integer(hid_t), intent(out) :: did
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    did = -1_hid_t
+    call link_plist(lcpl, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot create link property list for '//where_in(file, name))
+      return
+    end if
+    call h5dcreate_f(file%id, name, tid, sid, did, hdferr, lcpl_id=lcpl)
+    if (hdferr /= 0) then
+      did = -1_hid_t
+      call error_set(err, here, 'cannot create dataset (exists or bad name) '//where_in(file, name))
+    end if
+  end subroutine create_dataset
+
+  !> Link-creation property list that creates intermediate groups.
+  subroutine link_plist(lcpl, hdferr)
+    integer(hid_t), intent(out) :: lcpl
+    integer, intent(out) :: hdferr
+    integer :: ierr
+    call h5pcreate_f(H5P_LINK_CREATE_F, lcpl, hdferr)
+    if (hdferr /= 0) then
+      lcpl = -1_hid_t
+      return
+    end if
+    call h5pset_create_inter_group_f(lcpl, 1, hdferr)
+    if (hdferr /= 0) then
+      call h5pclose_f(lcpl, ierr)
+      lcpl = -1_hid_t
+    end if
+  end subroutine link_plist
+
+  !> Fixed-length, null-padded string type of `nchar` bytes.
+  subroutine string_type(nchar, tid, hdferr)
+    integer(size_t), intent(in) :: nchar
+    integer(hid_t), intent(out) :: tid
+    integer, intent(out) :: hdferr
+    integer :: ierr
+    call h5tcopy_f(H5T_FORTRAN_S1, tid, hdferr)
+    if (hdferr /= 0) then
+      tid = -1_hid_t
+      return
+    end if
+    call h5tset_size_f(tid, nchar, hdferr)
+    if (hdferr == 0) call h5tset_strpad_f(tid, H5T_STR_NULLPAD_F, hdferr)
+    if (hdferr /= 0) then
+      call h5tclose_f(tid, ierr)
+      tid = -1_hid_t
+    end if
+  end subroutine string_type
+
+  !> Checks that `file` is open and `name` non-empty; sets `err` otherwise.
+  logical function check_open(file, name, here, err) result(ok)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    ok = .false.
+    if (file%id < 0) then
+      call error_set(err, here, 'file not open for dataset '//q(name))
+    else if (len_trim(name) == 0) then
+      call error_set(err, here, 'empty dataset name in '//q(fpath(file)))
+    else
+      ok = .true.
+    end if
+  end function check_open
+
+  !> Opens dataset `name`; false (with `err` set) if it is missing.
+  logical function open_dataset(file, name, here, did, err) result(ok)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: here
+    integer(hid_t), intent(out) :: did
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    ok = .false.
+    did = -1_hid_t
+    if (.not. check_open(file, name, here, err)) return
+    if (.not. h5_exists(file, name)) then
+      call error_set(err, here, 'no dataset '//where_in(file, name))
+      return
+    end if
+    call h5dopen_f(file%id, name, did, hdferr)
+    if (hdferr /= 0) then
+      did = -1_hid_t
+      call error_set(err, here, 'cannot open dataset '//where_in(file, name))
+      return
+    end if
+    ok = .true.
+  end function open_dataset
+
+  !> Opens dataset `name`, checks its type class and returns its dataspace
+  !> and number of elements.
+  logical function open_checked(file, name, want_class, class_name, here, did, sid, n, err) result(ok)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: want_class
+    character(len=*), intent(in) :: class_name
+    character(len=*), intent(in) :: here
+    integer(hid_t), intent(out) :: did, sid
+    integer(hsize_t), intent(out) :: n
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: tid
+    integer :: hdferr, tclass, ierr
+    ok = .false.
+    sid = -1_hid_t
+    n = 0
+    if (.not. open_dataset(file, name, here, did, err)) return
+    call h5dget_type_f(did, tid, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot get type of '//where_in(file, name))
+      return
+    end if
+    call h5tget_class_f(tid, tclass, hdferr)
+    call h5tclose_f(tid, ierr)
+    if (hdferr /= 0 .or. tclass /= want_class) then
+      call error_set(err, here, 'not a '//class_name//' dataset: '//where_in(file, name))
+      return
+    end if
+    call h5dget_space_f(did, sid, hdferr)
+    if (hdferr /= 0) then
+      sid = -1_hid_t
+      call error_set(err, here, 'cannot get dataspace of '//where_in(file, name))
+      return
+    end if
+    call h5sget_simple_extent_npoints_f(sid, n, hdferr)
+    if (hdferr /= 0 .or. n < 0) then
+      call error_set(err, here, 'cannot get size of '//where_in(file, name))
+      return
+    end if
+    ok = .true.
+  end function open_checked
+
+  !> Closes whichever of a dataset, dataspace and datatype are open.
+  subroutine release(did, sid, tid)
+    integer(hid_t), intent(in) :: did, sid, tid
+    integer :: hdferr
+    if (tid >= 0) call h5tclose_f(tid, hdferr)
+    if (sid >= 0) call h5sclose_f(sid, hdferr)
+    if (did >= 0) call h5dclose_f(did, hdferr)
+  end subroutine release
+
+  !> "'name' in 'path'" for error messages.
+  function where_in(file, name) result(s)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: s
+    s = q(name)//' in '//q(fpath(file))
+  end function where_in
+
+  !> The file's path, or "?" if unknown.
+  function fpath(file) result(s)
+    type(h5_file_t), intent(in) :: file
+    character(len=:), allocatable :: s
+    if (allocated(file%path)) then
+      s = file%path
+    else
+      s = '?'
+    end if
+  end function fpath
+
+  !> Quotes a string for messages.
+  pure function q(s) result(r)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: r
+    r = "'"//s//"'"
+  end function q
+
+end module io_hdf5

@@ -1,0 +1,577 @@
+!> Reads a namelist deck into a resolved configuration, and validates it.
+!>
+!> Groups: &run, &grid, &hydro, &material (one or more), &region (one or more,
+!> applied in order), &source (zero or more), &boundary, &output. Defaults are
+!> set before each read and documented in input/README.md. Every problem found
+!> is reported, one line each, naming the group, the variable, the value and
+!> what is allowed; the driver then stops before step 0.
+module io_input
+  use base_kinds, only: wp
+  use eos_factory, only: eos_params_t
+  use lagrange_state, only: hydro_params_t
+  use mesh_boundary, only: bc_kind_from_name, bc_kind_names
+  implicit none
+  private
+  public :: config_t, material_cfg_t, region_cfg_t, source_cfg_t, input_read, max_gauges
+
+  integer, parameter :: max_gauges = 64
+  integer, parameter :: max_line = 1024
+
+  !> One &material group.
+  type :: material_cfg_t
+    character(len=64) :: name = ''
+    character(len=64) :: eos = 'ideal_gas'
+    type(eos_params_t) :: par
+  end type material_cfg_t
+
+  !> One &region group: a shape filled with a material state.
+  type :: region_cfg_t
+    character(len=16) :: shape = 'all'
+    character(len=64) :: material = ''
+    integer :: imat = 0
+    real(wp) :: density = 0.0_wp, energy = -1.0_wp, pressure = -1.0_wp
+    real(wp) :: velocity(3) = 0.0_wp
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp
+    integer :: axis = 3
+  end type region_cfg_t
+
+  !> One &source group: energy deposited in the cell containing a point.
+  type :: source_cfg_t
+    real(wp) :: position(3) = 0.0_wp
+    real(wp) :: energy = 0.0_wp
+  end type source_cfg_t
+
+  !> The resolved deck.
+  type :: config_t
+    character(len=:), allocatable :: deck_path
+    character(len=:), allocatable :: echo            !< resolved deck as namelist text
+    ! &run
+    character(len=200) :: title = ''
+    real(wp) :: t_end = 0.0_wp, dt_init = 0.0_wp, dt_min = 0.0_wp
+    integer :: max_steps = 0, progress_steps = 0, seed = 1
+    real(wp) :: velocity_noise = 0.0_wp
+    real(wp) :: progress_seconds = 0.0_wp
+    ! &grid
+    integer :: ni = 0, nj = 0, nk = 0
+    real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp
+    ! &hydro and &run numerical parameters
+    type(hydro_params_t) :: hydro
+    ! &material, &region, &source
+    type(material_cfg_t), allocatable :: materials(:)
+    type(region_cfg_t), allocatable :: regions(:)
+    type(source_cfg_t), allocatable :: sources(:)
+    ! &boundary
+    integer :: bc_kind(6) = 1
+    real(wp) :: bc_velocity(3, 6) = 0.0_wp, bc_pressure(6) = 0.0_wp
+    ! &output
+    character(len=256) :: out_dir = 'out', out_name = 'run'
+    real(wp) :: frame_dt = 0.0_wp, gauge_dt = 0.0_wp
+    integer :: frame_steps = 0, ngauge = 0
+    real(wp) :: gauges(3, max_gauges) = 0.0_wp
+  end type config_t
+
+  character(len=*), parameter :: known_groups(8) = [character(len=8) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'output']
+  character(len=*), parameter :: face_names(6) = ['xlo', 'xhi', 'ylo', 'yhi', 'zlo', 'zhi']
+
+contains
+
+  !> Reads and validates the deck at `path`. On return `problems` holds one
+  !> line per problem found (empty when the deck is usable).
+  subroutine input_read(path, cfg, problems)
+    character(len=*), intent(in) :: path
+    type(config_t), intent(out) :: cfg
+    character(len=max_line), allocatable, intent(out) :: problems(:)
+    character(len=max_line), allocatable :: lines(:)
+    integer :: unit, ios, echo_unit
+    character(len=max_line) :: msg
+    logical :: exists
+
+    allocate(problems(0))
+    cfg%deck_path = path
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call add(problems, 'deck file '''//trim(path)//''' does not exist')
+      return
+    end if
+    open(newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call add(problems, 'cannot open deck '''//trim(path)//''': '//trim(msg))
+      return
+    end if
+    call read_lines(unit, lines, ios, msg)
+    if (ios /= 0) then
+      call add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
+      close(unit)
+      return
+    end if
+    call check_group_names(path, lines, problems)
+
+    open(newunit=echo_unit, status='scratch', action='readwrite', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call add(problems, 'cannot open a scratch file for the deck echo: '//trim(msg))
+      close(unit)
+      return
+    end if
+    call read_run(unit, lines, cfg, echo_unit, problems)
+    call read_grid(unit, lines, cfg, echo_unit, problems)
+    call read_hydro(unit, lines, cfg, echo_unit, problems)
+    call read_materials(unit, lines, cfg, echo_unit, problems)
+    call read_regions(unit, lines, cfg, echo_unit, problems)
+    call read_sources(unit, lines, cfg, echo_unit, problems)
+    call read_boundary(unit, lines, cfg, echo_unit, problems)
+    call read_output(unit, lines, cfg, echo_unit, problems)
+    close(unit)
+    rewind(echo_unit)
+    call read_lines(echo_unit, lines, ios, msg)
+    close(echo_unit)
+    cfg%echo = join(lines)
+  end subroutine input_read
+
+  ! ---------------------------------------------------------------- groups
+
+  subroutine read_run(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=200) :: title
+    real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
+    real(wp) :: velocity_noise
+    integer :: max_steps, progress_steps, seed, ios
+    character(len=max_line) :: msg
+    namelist /run/ title, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
+                   progress_steps, progress_seconds, velocity_noise, seed
+
+    title = 'untitled'; t_end = 0.0_wp; max_steps = 100000000
+    cfl = 0.5_wp; dt_init = 0.0_wp; dt_max = 0.0_wp; dt_min = 0.0_wp; dt_growth = 1.1_wp
+    progress_steps = 0; progress_seconds = 10.0_wp; velocity_noise = 0.0_wp; seed = 1
+    if (group_count(lines, 'run') == 0) then
+      call add(problems, trim(cfg%deck_path)//': group &run is missing (t_end is required)')
+    else
+      rewind(unit)
+      read(unit, nml=run, iostat=ios, iomsg=msg)
+      if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'run', ios, msg))
+    end if
+    if (.not. (t_end > 0.0_wp)) call add(problems, bad('run', 't_end', t_end, 'must be > 0'))
+    if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) call add(problems, bad('run', 'cfl', cfl, 'must be in (0, 1]'))
+    if (.not. (dt_growth >= 1.0_wp)) call add(problems, bad('run', 'dt_growth', dt_growth, 'must be >= 1'))
+    if (dt_init < 0.0_wp) call add(problems, bad('run', 'dt_init', dt_init, 'must be >= 0 (0: automatic)'))
+    if (dt_max < 0.0_wp) call add(problems, bad('run', 'dt_max', dt_max, 'must be >= 0 (0: no limit)'))
+    if (dt_min < 0.0_wp) call add(problems, bad('run', 'dt_min', dt_min, 'must be >= 0 (0: 1e-12 t_end)'))
+    if (max_steps < 0) call add(problems, badi('run', 'max_steps', max_steps, 'must be >= 0'))
+    if (velocity_noise < 0.0_wp) call add(problems, bad('run', 'velocity_noise', velocity_noise, 'must be >= 0'))
+    cfg%title = title; cfg%t_end = t_end; cfg%max_steps = max_steps
+    cfg%hydro%cfl = cfl; cfg%dt_init = dt_init; cfg%hydro%dt_growth = dt_growth
+    cfg%hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)
+    cfg%dt_min = merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp)
+    cfg%progress_steps = progress_steps; cfg%progress_seconds = progress_seconds
+    cfg%velocity_noise = velocity_noise; cfg%seed = seed
+    write(echo, nml=run)
+  end subroutine read_run
+
+  subroutine read_grid(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer :: ni, nj, nk, ios, d
+    real(wp) :: xmin(3), xmax(3)
+    character(len=max_line) :: msg
+    namelist /grid/ ni, nj, nk, xmin, xmax
+
+    ni = 0; nj = 0; nk = 0; xmin = 0.0_wp; xmax = 1.0_wp
+    if (group_count(lines, 'grid') == 0) then
+      call add(problems, trim(cfg%deck_path)//': group &grid is missing (ni, nj, nk are required)')
+      return
+    end if
+    rewind(unit)
+    read(unit, nml=grid, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call add(problems, nml_error(cfg%deck_path, 'grid', ios, msg))
+      return
+    end if
+    if (ni < 1) call add(problems, badi('grid', 'ni', ni, 'must be >= 1'))
+    if (nj < 1) call add(problems, badi('grid', 'nj', nj, 'must be >= 1'))
+    if (nk < 1) call add(problems, badi('grid', 'nk', nk, 'must be >= 1'))
+    do d = 1, 3
+      if (.not. (xmax(d) > xmin(d))) call add(problems, &
+        bad('grid', 'xmax('//achar(48 + d)//')', xmax(d), 'must be > xmin('//achar(48 + d)//')'))
+    end do
+    cfg%ni = ni; cfg%nj = nj; cfg%nk = nk; cfg%xmin = xmin; cfg%xmax = xmax
+    write(echo, nml=grid)
+  end subroutine read_grid
+
+  subroutine read_hydro(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    real(wp) :: q_linear, q_quad, hourglass, dv_max
+    integer :: ios
+    character(len=max_line) :: msg
+    namelist /hydro/ q_linear, q_quad, hourglass, dv_max
+
+    q_linear = cfg%hydro%q_linear; q_quad = cfg%hydro%q_quad
+    hourglass = cfg%hydro%hourglass; dv_max = cfg%hydro%dv_max
+    if (group_count(lines, 'hydro') > 0) then
+      rewind(unit)
+      read(unit, nml=hydro, iostat=ios, iomsg=msg)
+      if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'hydro', ios, msg))
+    end if
+    if (q_linear < 0.0_wp) call add(problems, bad('hydro', 'q_linear', q_linear, 'must be >= 0'))
+    if (q_quad < 0.0_wp) call add(problems, bad('hydro', 'q_quad', q_quad, 'must be >= 0'))
+    if (hourglass < 0.0_wp) call add(problems, bad('hydro', 'hourglass', hourglass, 'must be >= 0'))
+    if (.not. (dv_max > 0.0_wp)) call add(problems, bad('hydro', 'dv_max', dv_max, 'must be > 0'))
+    cfg%hydro%q_linear = q_linear; cfg%hydro%q_quad = q_quad
+    cfg%hydro%hourglass = hourglass; cfg%hydro%dv_max = dv_max
+    write(echo, nml=hydro)
+  end subroutine read_hydro
+
+  subroutine read_materials(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=64) :: name, eos
+    real(wp) :: gamma
+    integer :: n, m, ios, m2
+    character(len=max_line) :: msg
+    namelist /material/ name, eos, gamma
+
+    n = group_count(lines, 'material')
+    allocate(cfg%materials(n))
+    if (n == 0) call add(problems, trim(cfg%deck_path)//': no &material group (at least one is required)')
+    rewind(unit)
+    do m = 1, n
+      name = ''; eos = 'ideal_gas'; gamma = 1.4_wp
+      read(unit, nml=material, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call add(problems, nml_error(cfg%deck_path, 'material', ios, msg))
+        return
+      end if
+      if (len_trim(name) == 0) write(name, '(a,i0)') 'material', m
+      do m2 = 1, m - 1
+        if (cfg%materials(m2)%name == name) call add(problems, &
+          '&material: name = '''//trim(name)//''' is used twice; names must be unique')
+      end do
+      cfg%materials(m)%name = name
+      cfg%materials(m)%eos = eos
+      cfg%materials(m)%par%gamma = gamma
+      write(echo, nml=material)
+    end do
+  end subroutine read_materials
+
+  subroutine read_regions(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: shape
+    character(len=64) :: material
+    character(len=1) :: axis
+    real(wp) :: density, energy, pressure, velocity(3), lo(3), hi(3), center(3), radius
+    integer :: n, r, ios, m
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /region/ shape, material, density, energy, pressure, velocity, lo, hi, center, radius, axis
+
+    n = group_count(lines, 'region')
+    allocate(cfg%regions(n))
+    if (n == 0) call add(problems, trim(cfg%deck_path)//': no &region group (at least one is required)')
+    rewind(unit)
+    do r = 1, n
+      shape = 'all'; material = ''; density = 0.0_wp; energy = -1.0_wp; pressure = -1.0_wp
+      velocity = 0.0_wp; lo = -huge(1.0_wp); hi = huge(1.0_wp); center = 0.0_wp; radius = 0.0_wp
+      axis = 'z'
+      read(unit, nml=region, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call add(problems, nml_error(cfg%deck_path, 'region', ios, msg))
+        return
+      end if
+      write(tag, '(a,i0,a)') 'region(', r, ')'
+      if (.not. (density > 0.0_wp)) call add(problems, bad(trim(tag), 'density', density, 'must be > 0'))
+      if ((energy >= 0.0_wp) .eqv. (pressure >= 0.0_wp)) call add(problems, &
+        '&'//trim(tag)//': give exactly one of energy (specific internal energy) and pressure, both >= 0')
+      select case (trim(shape))
+      case ('all', 'box')
+      case ('sphere', 'cylinder')
+        if (.not. (radius > 0.0_wp)) call add(problems, bad(trim(tag), 'radius', radius, &
+          'must be > 0 for shape = '''//trim(shape)//''''))
+      case default
+        call add(problems, '&'//trim(tag)//': shape = '''//trim(shape)// &
+          ''' is not known; valid: all, box, sphere, cylinder')
+      end select
+      if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call add(problems, &
+        '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
+      m = 0
+      if (allocated(cfg%materials)) then
+        do m = size(cfg%materials), 1, -1
+          if (cfg%materials(m)%name == material) exit
+        end do
+        if (len_trim(material) == 0 .and. size(cfg%materials) == 1) m = 1
+      end if
+      if (m == 0) call add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
+        ''' is not a &material name')
+      cfg%regions(r) = region_cfg_t(shape=shape, material=material, imat=m, density=density, &
+        energy=energy, pressure=pressure, velocity=velocity, lo=lo, hi=hi, center=center, &
+        radius=radius, axis=max(1, index('xyz', axis)))
+      write(echo, nml=region)
+    end do
+  end subroutine read_regions
+
+  subroutine read_sources(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    real(wp) :: position(3), energy
+    integer :: n, s, ios
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /source/ position, energy
+
+    n = group_count(lines, 'source')
+    allocate(cfg%sources(n))
+    rewind(unit)
+    do s = 1, n
+      position = 0.0_wp; energy = 0.0_wp
+      read(unit, nml=source, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call add(problems, nml_error(cfg%deck_path, 'source', ios, msg))
+        return
+      end if
+      write(tag, '(a,i0,a)') 'source(', s, ')'
+      if (.not. (energy > 0.0_wp)) call add(problems, bad(trim(tag), 'energy', energy, 'must be > 0'))
+      if (any(position < cfg%xmin) .or. any(position > cfg%xmax)) call add(problems, &
+        '&'//trim(tag)//': position is outside the grid box xmin..xmax')
+      cfg%sources(s) = source_cfg_t(position=position, energy=energy)
+      write(echo, nml=source)
+    end do
+  end subroutine read_sources
+
+  subroutine read_boundary(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: xlo, xhi, ylo, yhi, zlo, zhi, kinds(6)
+    real(wp) :: xlo_velocity(3), xhi_velocity(3), ylo_velocity(3), yhi_velocity(3), &
+                zlo_velocity(3), zhi_velocity(3)
+    real(wp) :: xlo_pressure, xhi_pressure, ylo_pressure, yhi_pressure, zlo_pressure, zhi_pressure
+    integer :: ios, f
+    character(len=max_line) :: msg
+    namelist /boundary/ xlo, xhi, ylo, yhi, zlo, zhi, xlo_velocity, xhi_velocity, ylo_velocity, &
+      yhi_velocity, zlo_velocity, zhi_velocity, xlo_pressure, xhi_pressure, ylo_pressure, &
+      yhi_pressure, zlo_pressure, zhi_pressure
+
+    xlo = 'symmetry'; xhi = 'symmetry'; ylo = 'symmetry'; yhi = 'symmetry'
+    zlo = 'symmetry'; zhi = 'symmetry'
+    xlo_velocity = 0.0_wp; xhi_velocity = 0.0_wp; ylo_velocity = 0.0_wp
+    yhi_velocity = 0.0_wp; zlo_velocity = 0.0_wp; zhi_velocity = 0.0_wp
+    xlo_pressure = 0.0_wp; xhi_pressure = 0.0_wp; ylo_pressure = 0.0_wp
+    yhi_pressure = 0.0_wp; zlo_pressure = 0.0_wp; zhi_pressure = 0.0_wp
+    if (group_count(lines, 'boundary') > 0) then
+      rewind(unit)
+      read(unit, nml=boundary, iostat=ios, iomsg=msg)
+      if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'boundary', ios, msg))
+    end if
+    kinds = [xlo, xhi, ylo, yhi, zlo, zhi]
+    do f = 1, 6
+      cfg%bc_kind(f) = bc_kind_from_name(kinds(f))
+      if (cfg%bc_kind(f) == 0) call add(problems, '&boundary: '//face_names(f)//' = '''// &
+        trim(kinds(f))//''' is not known; valid: '//bc_kind_names)
+    end do
+    cfg%bc_velocity = reshape([xlo_velocity, xhi_velocity, ylo_velocity, yhi_velocity, &
+                               zlo_velocity, zhi_velocity], [3, 6])
+    cfg%bc_pressure = [xlo_pressure, xhi_pressure, ylo_pressure, yhi_pressure, zlo_pressure, zhi_pressure]
+    do f = 1, 6
+      if (cfg%bc_pressure(f) < 0.0_wp) call add(problems, &
+        bad('boundary', face_names(f)//'_pressure', cfg%bc_pressure(f), 'must be >= 0'))
+    end do
+    write(echo, nml=boundary)
+  end subroutine read_boundary
+
+  subroutine read_output(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=256) :: dir, name
+    real(wp) :: frame_dt, gauge_dt, gauge(3, max_gauges)
+    integer :: frame_steps, ios, i
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge
+
+    dir = 'out'; name = ''; frame_dt = 0.0_wp; frame_steps = 0; gauge_dt = 0.0_wp
+    gauge = huge(1.0_wp)
+    if (group_count(lines, 'output') > 0) then
+      rewind(unit)
+      read(unit, nml=output, iostat=ios, iomsg=msg)
+      if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'output', ios, msg))
+    end if
+    if (len_trim(name) == 0) name = deck_stem(cfg%deck_path)
+    if (frame_dt < 0.0_wp) call add(problems, bad('output', 'frame_dt', frame_dt, 'must be >= 0 (0: first and last frame only)'))
+    if (gauge_dt < 0.0_wp) call add(problems, bad('output', 'gauge_dt', gauge_dt, 'must be >= 0 (0: every step)'))
+    if (frame_steps < 0) call add(problems, badi('output', 'frame_steps', frame_steps, 'must be >= 0'))
+    cfg%ngauge = 0
+    do i = 1, max_gauges
+      if (any(gauge(:, i) > 0.5_wp*huge(1.0_wp))) exit
+      cfg%ngauge = i
+      cfg%gauges(:, i) = gauge(:, i)
+      if (any(gauge(:, i) < cfg%xmin) .or. any(gauge(:, i) > cfg%xmax)) then
+        write(tag, '(a,i0,a)') 'gauge(:,', i, ')'
+        call add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
+      end if
+    end do
+    cfg%out_dir = dir; cfg%out_name = name; cfg%frame_dt = frame_dt
+    cfg%frame_steps = frame_steps; cfg%gauge_dt = gauge_dt
+    write(echo, nml=output)
+  end subroutine read_output
+
+  ! ---------------------------------------------------------------- helpers
+
+  !> Reads all records of an open unit.
+  subroutine read_lines(unit, lines, ios, msg)
+    integer, intent(in) :: unit
+    character(len=max_line), allocatable, intent(out) :: lines(:)
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    character(len=max_line) :: buf
+    character(len=max_line), allocatable :: tmp(:)
+    integer :: n
+
+    allocate(lines(64))
+    n = 0
+    rewind(unit)
+    do
+      read(unit, '(a)', iostat=ios, iomsg=msg) buf
+      if (ios /= 0) exit
+      n = n + 1
+      if (n > size(lines)) then
+        allocate(tmp(2*size(lines)))
+        tmp(1:n - 1) = lines(1:n - 1)
+        call move_alloc(tmp, lines)
+      end if
+      lines(n) = buf
+    end do
+    if (ios < 0) ios = 0
+    lines = lines(1:n)
+  end subroutine read_lines
+
+  !> Number of `&name` group starts in the deck (case-insensitive; text after
+  !> `!` is a comment).
+  integer function group_count(lines, name)
+    character(len=*), intent(in) :: lines(:), name
+    integer :: i
+    group_count = 0
+    do i = 1, size(lines)
+      if (group_at(lines(i)) == name) group_count = group_count + 1
+    end do
+  end function group_count
+
+  !> The group name that line starts, lower case, or '' if none.
+  function group_at(line) result(name)
+    character(len=*), intent(in) :: line
+    character(len=:), allocatable :: name
+    character(len=:), allocatable :: s
+    integer :: i, j
+    s = adjustl(line)
+    name = ''
+    if (len(s) < 2) return
+    if (s(1:1) /= '&') return
+    j = 1
+    do i = 2, len_trim(s)
+      if (scan(s(i:i), ' /!,') > 0) exit
+      j = i
+    end do
+    name = lower(s(2:j))
+  end function group_at
+
+  !> Reports any `&group` that is not one of the known groups.
+  subroutine check_group_names(path, lines, problems)
+    character(len=*), intent(in) :: path, lines(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=:), allocatable :: g
+    integer :: i
+    do i = 1, size(lines)
+      g = group_at(lines(i))
+      if (len(g) == 0) cycle
+      if (any(known_groups == g)) cycle
+      call add(problems, trim(path)//': group &'//g//' is not known; valid: &run, &grid, &hydro, '// &
+        '&material, &region, &source, &boundary, &output')
+    end do
+  end subroutine check_group_names
+
+  !> Message for a failed namelist read. gfortran reports a bad value just
+  !> before `/` or a missing `/` as end-of-file; the group is known to be
+  !> present here, so end-of-file is an error too.
+  function nml_error(path, group, ios, msg) result(line)
+    character(len=*), intent(in) :: path, group, msg
+    integer, intent(in) :: ios
+    character(len=:), allocatable :: line
+    if (ios < 0) then
+      line = trim(path)//': &'//group//': end of file while reading the group '// &
+             '(missing ''/'' or a bad value before it)'
+    else
+      line = trim(path)//': &'//group//': '//trim(msg)
+    end if
+  end function nml_error
+
+  function bad(group, var, value, rule) result(line)
+    character(len=*), intent(in) :: group, var, rule
+    real(wp), intent(in) :: value
+    character(len=:), allocatable :: line
+    character(len=32) :: buf
+    write(buf, '(g0)') value
+    line = '&'//group//': '//var//' = '//trim(buf)//' '//rule
+  end function bad
+
+  function badi(group, var, value, rule) result(line)
+    character(len=*), intent(in) :: group, var, rule
+    integer, intent(in) :: value
+    character(len=:), allocatable :: line
+    character(len=32) :: buf
+    write(buf, '(i0)') value
+    line = '&'//group//': '//var//' = '//trim(buf)//' '//rule
+  end function badi
+
+  subroutine add(list, line)
+    character(len=max_line), allocatable, intent(inout) :: list(:)
+    character(len=*), intent(in) :: line
+    list = [character(len=max_line) :: list, line]
+  end subroutine add
+
+  pure function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: i
+    t = s
+    do i = 1, len(s)
+      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
+    end do
+  end function lower
+
+  function join(lines) result(text)
+    character(len=*), intent(in) :: lines(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ''
+    do i = 1, size(lines)
+      text = text//trim(lines(i))//new_line('a')
+    end do
+  end function join
+
+  !> File name of the deck without directory and extension.
+  function deck_stem(path) result(stem)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: stem
+    integer :: i, j
+    i = index(path, '/', back=.true.)
+    stem = path(i + 1:)
+    j = index(stem, '.', back=.true.)
+    if (j > 1) stem = stem(1:j - 1)
+  end function deck_stem
+end module io_input

@@ -1,0 +1,170 @@
+!> XDMF 3 index files describing a time series of structured-grid HDF5 frames,
+!> and an atomic rename helper shared by the output writers.
+module io_xdmf
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  implicit none
+  private
+  public :: xdmf_write_series, io_rename
+
+  interface
+    !> libc rename(2): 0 on success.
+    function c_rename(old, new) bind(c, name='rename') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*)
+      character(kind=c_char), intent(in) :: new(*)
+      integer(c_int) :: rc
+    end function c_rename
+  end interface
+
+contains
+
+  !> Renames file `old` to `new` (replacing `new` atomically on POSIX).
+  subroutine io_rename(old, new, err)
+    character(len=*), intent(in) :: old
+    character(len=*), intent(in) :: new
+    type(error_t), allocatable, intent(inout) :: err
+    integer(c_int) :: rc
+    rc = c_rename(trim(old)//c_null_char, trim(new)//c_null_char)
+    if (rc /= 0_c_int) then
+      call error_set(err, 'io_rename', 'cannot rename '//q(trim(old))//' to '//q(trim(new)))
+    end if
+  end subroutine io_rename
+
+  !> Writes the XDMF 3 temporal collection `path` for the HDF5 frames `frames`
+  !> (paths relative to the XDMF file) at `times`, on an ni x nj x nk cell grid.
+  !> Each frame holds /x (node coordinates, Fortran shape [3,ni+1,nj+1,nk+1]),
+  !> node vectors /name for `node_fields` and cell scalars /name (shape
+  !> [ni,nj,nk]) for `cell_fields`. Written to path//'.tmp', then renamed.
+  subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err)
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: frames(:)
+    real(wp), intent(in) :: times(:)
+    integer, intent(in) :: ni, nj, nk
+    character(len=*), intent(in) :: node_fields(:)
+    character(len=*), intent(in) :: cell_fields(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'xdmf_write_series'
+    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item
+    character(len=32) :: tbuf
+    character(len=256) :: msg
+    integer :: unit, ios, f, k
+
+    if (size(frames) /= size(times)) then
+      call error_set(err, here, 'frames and times differ in size for '//q(path))
+      return
+    end if
+    if (ni < 1 .or. nj < 1 .or. nk < 1) then
+      call error_set(err, here, 'grid size must be positive for '//q(path))
+      return
+    end if
+
+    node_dims = itoa(nk + 1)//' '//itoa(nj + 1)//' '//itoa(ni + 1)
+    vec_dims = node_dims//' 3'
+    cell_dims = itoa(nk)//' '//itoa(nj)//' '//itoa(ni)
+    item = ' NumberType="Float" Precision="8" Format="HDF">'
+    tmp = path//'.tmp'
+
+    open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
+         iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call error_set(err, here, 'cannot open '//q(tmp)//': '//trim(msg))
+      return
+    end if
+
+    write(unit, '(a)', iostat=ios, iomsg=msg) '<?xml version="1.0" encoding="utf-8"?>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+         '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '  <Domain>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+         '    <Grid Name="series" GridType="Collection" CollectionType="Temporal">'
+    do f = 1, size(frames)
+      if (ios /= 0) exit
+      write(tbuf, '(es24.16e3)') times(f)
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Geometry GeometryType="XYZ">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/x</DataItem>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Geometry>'
+      do k = 1, size(node_fields)
+        if (ios /= 0) exit
+        write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(node_fields(k)))// &
+             '" AttributeType="Vector" Center="Node">'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/'// &
+             xml(trim(node_fields(k)))//'</DataItem>'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+      end do
+      do k = 1, size(cell_fields)
+        if (ios /= 0) exit
+        write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(cell_fields(k)))// &
+             '" AttributeType="Scalar" Center="Cell">'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '          <DataItem Dimensions="'//cell_dims//'"'//item//xml(trim(frames(f)))//':/'// &
+             xml(trim(cell_fields(k)))//'</DataItem>'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+      end do
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
+    end do
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '    </Grid>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '  </Domain>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '</Xdmf>'
+
+    if (ios /= 0) then
+      close(unit, status='delete', iostat=k)
+      call error_set(err, here, 'cannot write '//q(tmp)//': '//trim(msg))
+      return
+    end if
+    close(unit, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call error_set(err, here, 'cannot close '//q(tmp)//': '//trim(msg))
+      return
+    end if
+    call io_rename(tmp, path, err)
+  end subroutine xdmf_write_series
+
+  !> Integer to its shortest decimal text.
+  pure function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function itoa
+
+  !> Escapes the XML special characters of `s`.
+  pure function xml(s) result(r)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: r
+    integer :: i
+    r = ''
+    do i = 1, len(s)
+      select case (s(i:i))
+      case ('&')
+        r = r//'&amp;'
+      case ('<')
+        r = r//'&lt;'
+      case ('>')
+        r = r//'&gt;'
+      case ('"')
+        r = r//'&quot;'
+      case default
+        r = r//s(i:i)
+      end select
+    end do
+  end function xml
+
+  !> Quotes a string for messages.
+  pure function q(s) result(r)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: r
+    r = "'"//s//"'"
+  end function q
+
+end module io_xdmf

@@ -1,0 +1,178 @@
+!> Corner forces of the staggered scheme: pressure (Eq. 18), a directional
+!> artificial viscosity with a monotonic limiter, and viscous hourglass
+!> control. Also the stable time step.
+!>
+!> Pressure. The corner force on node a is f_a = p dV/dx_a, the exact
+!> gradient of the 24-tet volume (`mesh_geometry`); it equals -p times the
+!> integral of n over the corner's share of the cell surface (Eq. 18) and
+!> makes the compatible energy update (Eq. 19) reproduce p dV exactly.
+!>
+!> Artificial viscosity. In each logical direction d a cell has a median
+!> surface S_d (through the midpoints of its four d-edges) and a velocity jump
+!> dv_d (mean over the d-edges of v_high - v_low). When the cell is compressed
+!> along d (S_d.dv_d < 0) a viscous pressure
+!>   q_d = rho (1 - phi_d) (c_quad du^2 + c_lin cs |du|),  du = S_d.dv_d / |S_d|
+!> pushes the two d-sides apart: +q_d S_d/4 on the high nodes, -q_d S_d/4 on the
+!> low ones. The forces sum to zero (momentum), their work -q_d |S_d| du is
+!> never negative (heating only), and a cell compressed along x feels no force
+!> along y. phi_d is a Christensen-type limiter on the ratios of the strain
+!> rate g_d = S_d.dv_d / V of the two d-neighbours to the cell's own:
+!>   phi = max(0, min(1, 2 r_-, 2 r_+, (r_- + r_+)/2)),
+!> so uniform compression and smooth flow get no viscosity and shocks full
+!> viscosity (Christensen 1990; Caramana, Shashkov, Whalen 1998).
+!>
+!> Hourglass. Flanagan-Belytschko viscous control: with the hourglass base
+!> vectors h (xi eta, eta zeta, zeta xi, xi eta zeta at the nodes) made
+!> orthogonal to linear fields, gamma_a = h_a - (dV/dx_a . sum_b h_b x_b)/V,
+!> f_a = -k rho cs V^(2/3) sum_modes gamma_a (sum_b gamma_b v_b); it sums to
+!> zero, is dissipative and vanishes for any linear velocity field.
+module lagrange_forces
+  use base_kinds, only: wp
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: hex_volume_gradient, hex_median_areas, hex_edges
+  use lagrange_state, only: hydro_t, hydro_params_t
+  implicit none
+  private
+  public :: lagrange_strain_rates, lagrange_corner_forces
+
+  !> Hourglass base vectors at the eight nodes, (node, mode).
+  real(wp), parameter :: hg_base(8, 4) = reshape( &
+    [ 1.0_wp, -1.0_wp, -1.0_wp,  1.0_wp,  1.0_wp, -1.0_wp, -1.0_wp,  1.0_wp, &
+      1.0_wp,  1.0_wp, -1.0_wp, -1.0_wp, -1.0_wp, -1.0_wp,  1.0_wp,  1.0_wp, &
+      1.0_wp, -1.0_wp,  1.0_wp, -1.0_wp, -1.0_wp,  1.0_wp, -1.0_wp,  1.0_wp, &
+     -1.0_wp,  1.0_wp,  1.0_wp, -1.0_wp,  1.0_wp, -1.0_wp, -1.0_wp,  1.0_wp], [8, 4])
+
+contains
+
+  !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
+  !> velocity v, and the largest stable step for that state (CFL on sound
+  !> speed plus viscous signal speed, and a bound on the relative volume change).
+  subroutine lagrange_strain_rates(g, x, v, h, par, dt_stable)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    type(hydro_t), intent(inout) :: h
+    type(hydro_params_t), intent(in) :: par
+    real(wp), intent(out) :: dt_stable
+    integer :: c, d, e, n0
+    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dx(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
+
+    dt_stable = huge(1.0_wp)
+    !$omp parallel do default(none) shared(g, x, v, h, par) &
+    !$omp private(c, d, e, n0, xn, vn, s, dx, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
+    !$omp reduction(min: dt_stable) schedule(static)
+    do c = 1, g%ncell
+      n0 = g%node0(c)
+      do e = 1, 8
+        xn(:, e) = x(:, n0 + g%corner_offset(e))
+        vn(:, e) = v(:, n0 + g%corner_offset(e))
+      end do
+      call hex_median_areas(xn, s, dx)
+      amax = 0.0_wp
+      dumax = 0.0_wp
+      div = 0.0_wp
+      do d = 1, 3
+        dv = 0.0_wp
+        do e = 1, 4
+          dv = dv + vn(:, hex_edges(2, e, d)) - vn(:, hex_edges(1, e, d))
+        end do
+        dv = 0.25_wp*dv
+        area = norm2(s(:, d))
+        amax = max(amax, area)
+        h%grad(d, c) = dot_product(s(:, d), dv)/h%vol(c)
+        div = div + h%grad(d, c)
+        du = dot_product(s(:, d), dv)/max(area, tiny(1.0_wp))
+        dumax = max(dumax, -du)
+      end do
+      ! signal speed with viscosity: cq + sqrt(cq^2 + cs^2) (Wilkins)
+      cq = par%q_linear*h%cs(c) + par%q_quad*dumax
+      ceff = cq + sqrt(cq*cq + h%cs(c)**2)
+      dtc = huge(1.0_wp)
+      if (ceff > 0.0_wp) dtc = par%cfl*(h%vol(c)/amax)/ceff
+      if (abs(div) > 0.0_wp) dtc = min(dtc, par%dv_max/abs(div))
+      dt_stable = min(dt_stable, dtc)
+    end do
+    !$omp end parallel do
+  end subroutine lagrange_strain_rates
+
+  !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
+  !> pressures in h; needs h%grad from `lagrange_strain_rates` for the same x, v.
+  subroutine lagrange_corner_forces(g, x, v, h, par)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    type(hydro_t), intent(inout) :: h
+    type(hydro_params_t), intent(in) :: par
+    integer :: c, d, e, a, m, n0, ci, cj, ck, cm, cp, stride(3), ilog(3), nlog(3)
+    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dx(3, 3), dv(3)
+    real(wp) :: vol, sdv, area, du, gself, rm, rp, phi, qd, qsum, coef, hx(3), gam(8), gv(3)
+
+    stride = [1, g%ni, g%ni*g%nj]
+    nlog = [g%ni, g%nj, g%nk]
+    !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) &
+    !$omp private(c, d, e, a, m, n0, ci, cj, ck, cm, cp, ilog, xn, vn, b, f, s, dx, dv) &
+    !$omp private(vol, sdv, area, du, gself, rm, rp, phi, qd, qsum, coef, hx, gam, gv) &
+    !$omp schedule(static)
+    do c = 1, g%ncell
+      n0 = g%node0(c)
+      do a = 1, 8
+        xn(:, a) = x(:, n0 + g%corner_offset(a))
+        vn(:, a) = v(:, n0 + g%corner_offset(a))
+      end do
+      call hex_volume_gradient(xn, vol, b)
+      ! Eq. (18): pressure corner forces
+      f = h%p(c)*b
+
+      ! directional viscosity with limiter
+      call hex_median_areas(xn, s, dx)
+      call g%cell_ijk(c, ci, cj, ck)
+      ilog = [ci, cj, ck]
+      qsum = 0.0_wp
+      do d = 1, 3
+        dv = 0.0_wp
+        do e = 1, 4
+          dv = dv + vn(:, hex_edges(2, e, d)) - vn(:, hex_edges(1, e, d))
+        end do
+        dv = 0.25_wp*dv
+        sdv = dot_product(s(:, d), dv)
+        if (.not. (sdv < 0.0_wp)) cycle
+        area = norm2(s(:, d))
+        du = sdv/area
+        gself = h%grad(d, c)
+        cm = c
+        cp = c
+        if (ilog(d) > 1) cm = c - stride(d)
+        if (ilog(d) < nlog(d)) cp = c + stride(d)
+        rm = h%grad(d, cm)/gself
+        rp = h%grad(d, cp)/gself
+        phi = max(0.0_wp, min(1.0_wp, 2.0_wp*rm, 2.0_wp*rp, 0.5_wp*(rm + rp)))
+        qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*abs(du))
+        qsum = qsum + qd
+        do e = 1, 4
+          f(:, hex_edges(2, e, d)) = f(:, hex_edges(2, e, d)) + 0.25_wp*qd*s(:, d)
+          f(:, hex_edges(1, e, d)) = f(:, hex_edges(1, e, d)) - 0.25_wp*qd*s(:, d)
+        end do
+      end do
+      h%q(c) = qsum
+
+      ! Flanagan-Belytschko viscous hourglass control
+      if (par%hourglass > 0.0_wp) then
+        coef = par%hourglass*h%rho(c)*h%cs(c)*vol**(2.0_wp/3.0_wp)
+        do m = 1, 4
+          hx = 0.0_wp
+          do a = 1, 8
+            hx = hx + hg_base(a, m)*xn(:, a)
+          end do
+          gv = 0.0_wp
+          do a = 1, 8
+            gam(a) = hg_base(a, m) - dot_product(b(:, a), hx)/vol
+            gv = gv + gam(a)*vn(:, a)
+          end do
+          do a = 1, 8
+            f(:, a) = f(:, a) - coef*gam(a)*gv
+          end do
+        end do
+      end if
+      h%fc(:, :, c) = f
+    end do
+    !$omp end parallel do
+  end subroutine lagrange_corner_forces
+end module lagrange_forces

@@ -1,0 +1,165 @@
+!> One Lagrangian step: predictor-corrector (Eqs. 20-22) with the compatible
+!> energy update (Eq. 19).
+!>
+!> Predictor: corner forces F^n from (x^n, u^n, p^n); u* = u^n + dt F^n/m;
+!> u*^{1/2} = (u^n + u*)/2; x^{1/2} = x^n + dt/2 u*^{1/2};
+!> e^{1/2} = e^n - dt/(2 m_c) sum_a F^n_a . u*^{1/2}_a; p^{1/2} from the EOS.
+!> Corrector: F^{1/2} from (x^{1/2}, u*^{1/2}, p^{1/2});
+!> u^{n+1} = u^n + dt F^{1/2}/m (Eq. 20), u^{n+1/2} = (u^n + u^{n+1})/2 (Eq. 21),
+!> x^{n+1} = x^n + dt u^{n+1/2} (Eq. 22), e^{n+1} = e^n - dt/m_c sum_a F^{1/2}_a . u^{n+1/2}_a.
+!> Because the same corner forces move the nodes and heat the cells, kinetic
+!> plus internal energy is conserved to round-off (less the boundary work).
+module lagrange_integrator
+  use base_kinds, only: wp
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: hex_volume
+  use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
+  use material_table, only: material_t, material_eval_eos
+  use lagrange_state, only: hydro_t, hydro_params_t
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
+  implicit none
+  private
+  public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
+
+contains
+
+  !> Largest stable step of the current state (no growth limit applied).
+  subroutine lagrange_stable_dt(g, h, par, dt_stable)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    type(hydro_params_t), intent(in) :: par
+    real(wp), intent(out) :: dt_stable
+    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
+  end subroutine lagrange_stable_dt
+
+  !> Advances the state by one step. On entry `dt` is the largest step the
+  !> caller allows (end time, output times, growth limit); on exit it is the
+  !> step taken: the smaller of that and the stable step. `work` returns the
+  !> work done by the boundaries; `bad_cell` is the first cell whose volume
+  !> became non-positive (0 if none), in which case the state is not usable.
+  subroutine lagrange_step(g, h, bc, mats, par, dt, work, bad_cell)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    type(bc_t), intent(inout) :: bc
+    type(material_t), intent(inout) :: mats(:)
+    type(hydro_params_t), intent(in) :: par
+    real(wp), intent(inout) :: dt
+    real(wp), intent(out) :: work
+    integer, intent(out) :: bad_cell
+    real(wp) :: dt_stable, w_pred
+
+    ! predictor
+    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
+    dt = min(dt, dt_stable)
+    call save_step_start(g, h)
+    call bc_pressure_forces(bc, g, g%x)
+    call lagrange_corner_forces(g, g%x, h%u, h, par)
+    call update_nodes(g, h, dt, 0.5_wp*dt)
+    call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred)
+    call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell)
+    if (bad_cell /= 0) return
+    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs)
+
+    ! corrector
+    call lagrange_strain_rates(g, g%x, h%uh, h, par, dt_stable)
+    call bc_pressure_forces(bc, g, g%x)
+    call lagrange_corner_forces(g, g%x, h%uh, h, par)
+    call update_nodes(g, h, dt, dt)
+    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work)
+    call lagrange_update_cells(g, h, dt, bad_cell)
+    if (bad_cell /= 0) return
+    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs)
+  end subroutine lagrange_step
+
+  !> Keeps x^n, u^n, e^n for the two stages of the step.
+  subroutine save_step_start(g, h)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    integer :: n, c
+    !$omp parallel default(none) shared(g, h) private(n, c)
+    !$omp do schedule(static)
+    do n = 1, g%nnode
+      h%xn(:, n) = g%x(:, n)
+      h%un(:, n) = h%u(:, n)
+    end do
+    !$omp end do nowait
+    !$omp do schedule(static)
+    do c = 1, g%ncell
+      h%en(c) = h%e(c)
+    end do
+    !$omp end do
+    !$omp end parallel
+  end subroutine save_step_start
+
+  !> Gathers the corner forces at each node and advances it (Eqs. 20-22):
+  !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh.
+  subroutine update_nodes(g, h, dt, dtx)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    real(wp), intent(in) :: dt, dtx
+    integer :: n, i, j, k, t, ii, jj, kk, ci, cj, ck, c
+    real(wp) :: f(3)
+
+    !$omp parallel do default(none) shared(g, h, dt, dtx) &
+    !$omp private(n, i, j, k, t, ii, jj, kk, ci, cj, ck, c, f) schedule(static)
+    do n = 1, g%nnode
+      i = mod(n - 1, g%sx)
+      t = (n - 1)/g%sx
+      j = mod(t, g%nj + 1)
+      k = t/(g%nj + 1)
+      f = 0.0_wp
+      ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
+      do kk = 0, 1
+        ck = k + 1 - kk
+        if (ck < 1 .or. ck > g%nk) cycle
+        do jj = 0, 1
+          cj = j + 1 - jj
+          if (cj < 1 .or. cj > g%nj) cycle
+          do ii = 0, 1
+            ci = i + 1 - ii
+            if (ci < 1 .or. ci > g%ni) cycle
+            c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+            f = f + h%fc(:, 1 + ii + 2*jj + 4*kk, c)
+          end do
+        end do
+      end do
+      h%u(:, n) = h%un(:, n) + dt*f/h%mnode(n)
+      h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
+      g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
+    end do
+    !$omp end parallel do
+  end subroutine update_nodes
+
+  !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
+  !> then new volume and density of every cell. bad_cell > 0 names the first
+  !> cell with a non-positive volume.
+  subroutine lagrange_update_cells(g, h, dte, bad_cell)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    real(wp), intent(in) :: dte
+    integer, intent(out) :: bad_cell
+    integer :: c, a, n0
+    real(wp) :: de, xn(3, 8)
+
+    bad_cell = huge(1)
+    !$omp parallel do default(none) shared(g, h, dte) private(c, a, n0, de, xn) &
+    !$omp reduction(min: bad_cell) schedule(static)
+    do c = 1, g%ncell
+      n0 = g%node0(c)
+      de = 0.0_wp
+      do a = 1, 8
+        de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
+        xn(:, a) = g%x(:, n0 + g%corner_offset(a))
+      end do
+      h%e(c) = h%en(c) + dte*de/h%mass(c)
+      h%vol(c) = hex_volume(xn)
+      if (h%vol(c) > 0.0_wp) then
+        h%rho(c) = h%mass(c)/h%vol(c)
+      else
+        bad_cell = min(bad_cell, c)
+      end if
+    end do
+    !$omp end parallel do
+    if (bad_cell == huge(1)) bad_cell = 0
+  end subroutine lagrange_update_cells
+end module lagrange_integrator

@@ -1,0 +1,81 @@
+!> Hydrodynamic state of the staggered scheme and its integral quantities.
+!>
+!> Node-centred: velocity u and nodal mass (first term of Eq. 16, the sum of
+!> the subcell masses around the node, constant in the Lagrangian phase).
+!> Cell-centred: mass, volume, density, specific internal energy, pressure,
+!> sound speed and artificial viscosity. Work arrays used inside a step are
+!> allocated once here.
+module lagrange_state
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  implicit none
+  private
+  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals
+
+  !> Numerical parameters of the Lagrangian phase (deck group &hydro, &run).
+  type :: hydro_params_t
+    real(wp) :: q_linear = 0.5_wp     !< linear viscosity coefficient
+    real(wp) :: q_quad = 1.0_wp       !< quadratic viscosity coefficient
+    real(wp) :: hourglass = 0.03_wp   !< Flanagan-Belytschko viscous hourglass coefficient
+    real(wp) :: cfl = 0.5_wp          !< Courant number
+    real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step
+    real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
+    real(wp) :: dt_max = huge(1.0_wp) !< largest step
+  end type hydro_params_t
+
+  !> The state, plus per-step work arrays.
+  type :: hydro_t
+    real(wp), allocatable :: u(:, :)      !< node velocity (3, nnode)
+    real(wp), allocatable :: mnode(:)     !< node mass
+    real(wp), allocatable :: mass(:)      !< cell mass
+    real(wp), allocatable :: vol(:)       !< cell volume
+    real(wp), allocatable :: rho(:)       !< cell density
+    real(wp), allocatable :: e(:)         !< cell specific internal energy
+    real(wp), allocatable :: p(:)         !< cell pressure
+    real(wp), allocatable :: cs(:)        !< cell sound speed
+    real(wp), allocatable :: q(:)         !< artificial viscosity (sum over directions)
+    integer, allocatable :: mat(:)        !< material of each cell
+    ! work arrays of one step
+    real(wp), allocatable :: xn(:, :), un(:, :), uh(:, :), en(:)
+    real(wp), allocatable :: fc(:, :, :)  !< corner forces (3, 8, ncell)
+    real(wp), allocatable :: grad(:, :)   !< directional strain rates (3, ncell)
+  end type hydro_t
+
+contains
+
+  !> Allocates the state for ncell cells and nnode nodes.
+  subroutine hydro_allocate(h, ncell, nnode, err)
+    type(hydro_t), intent(inout) :: h
+    integer, intent(in) :: ncell, nnode
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+
+    allocate(h%u(3, nnode), h%mnode(nnode), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
+             h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), &
+             h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
+             h%fc(3, 8, ncell), h%grad(3, ncell), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'hydro_allocate', 'cannot allocate the hydro state: '//trim(msg))
+      return
+    end if
+    h%u = 0.0_wp; h%mnode = 0.0_wp; h%q = 0.0_wp; h%mat = 0
+    h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
+  end subroutine hydro_allocate
+
+  !> Total mass, momentum, internal and kinetic energy.
+  subroutine hydro_totals(h, mass, momentum, internal, kinetic)
+    type(hydro_t), intent(in) :: h
+    real(wp), intent(out) :: mass, momentum(3), internal, kinetic
+    integer :: n
+
+    mass = sum(h%mass)
+    internal = dot_product(h%mass, h%e)
+    momentum = 0.0_wp
+    kinetic = 0.0_wp
+    do n = 1, size(h%mnode)
+      momentum = momentum + h%mnode(n)*h%u(:, n)
+      kinetic = kinetic + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
+    end do
+  end subroutine hydro_totals
+end module lagrange_state

@@ -1,0 +1,188 @@
+!> Boundary conditions on the six faces of the structured block.
+!>
+!> Kinds: symmetry (reflective: the velocity component normal to the face is
+!> zero), wall (fixed: velocity zero), velocity (prescribed velocity, a piston),
+!> pressure (a prescribed external pressure; zero gives a free surface).
+!> Faces are numbered xlo, xhi, ylo, yhi, zlo, zhi; face f is normal to axis
+!> (f+1)/2. Kinematic conditions are applied after the unconstrained velocity
+!> update; the impulse they add is accumulated as boundary work so that the
+!> conservation report can balance total energy for open problems too.
+module mesh_boundary
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: cross
+  implicit none
+  private
+  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, &
+            BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, bc_kind_from_name, bc_kind_names
+
+  integer, parameter :: BC_SYMMETRY = 1, BC_WALL = 2, BC_VELOCITY = 3, BC_PRESSURE = 4
+  !> Names of the kinds as written in decks, in kind order.
+  character(len=*), parameter :: bc_kind_names = 'symmetry, wall, velocity, pressure'
+
+  !> Boundary conditions and the list of boundary nodes they act on.
+  type :: bc_t
+    integer :: kind(6) = BC_SYMMETRY
+    real(wp) :: velocity(3, 6) = 0.0_wp   !< prescribed velocity per face
+    real(wp) :: pressure(6) = 0.0_wp      !< external pressure per face
+    integer :: nb = 0                     !< number of boundary nodes
+    integer, allocatable :: node(:)       !< boundary node indices (nb)
+    integer, allocatable :: mask(:)       !< bit f-1 set if the node lies on face f
+    integer, allocatable :: bindex(:)     !< node -> position in node(:), 0 inside (pressure only)
+    logical :: any_pressure = .false.
+    real(wp), allocatable :: fext(:, :)   !< external pressure force on boundary nodes (3, nb)
+  end type bc_t
+
+contains
+
+  !> Kind number of a deck name, or 0 if the name is unknown.
+  pure integer function bc_kind_from_name(name)
+    character(len=*), intent(in) :: name
+    select case (trim(name))
+    case ('symmetry'); bc_kind_from_name = BC_SYMMETRY
+    case ('wall'); bc_kind_from_name = BC_WALL
+    case ('velocity'); bc_kind_from_name = BC_VELOCITY
+    case ('pressure'); bc_kind_from_name = BC_PRESSURE
+    case default; bc_kind_from_name = 0
+    end select
+  end function bc_kind_from_name
+
+  !> Builds the boundary node list of grid g for the kinds already set in bc.
+  subroutine bc_init(bc, g, err)
+    type(bc_t), intent(inout) :: bc
+    type(grid_t), intent(in) :: g
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, k, m, n, nb, stat
+    character(len=200) :: msg
+
+    nb = g%nnode - max(g%ni - 1, 0)*max(g%nj - 1, 0)*max(g%nk - 1, 0)
+    allocate(bc%node(nb), bc%mask(nb), bc%fext(3, nb), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'bc_init', 'cannot allocate boundary lists: '//trim(msg))
+      return
+    end if
+    bc%nb = 0
+    do k = 0, g%nk
+      do j = 0, g%nj
+        do i = 0, g%ni
+          m = 0
+          if (i == 0) m = ibset(m, 0)
+          if (i == g%ni) m = ibset(m, 1)
+          if (j == 0) m = ibset(m, 2)
+          if (j == g%nj) m = ibset(m, 3)
+          if (k == 0) m = ibset(m, 4)
+          if (k == g%nk) m = ibset(m, 5)
+          if (m == 0) cycle
+          bc%nb = bc%nb + 1
+          bc%node(bc%nb) = g%node(i, j, k)
+          bc%mask(bc%nb) = m
+        end do
+      end do
+    end do
+    bc%fext = 0.0_wp
+    bc%any_pressure = any(bc%kind == BC_PRESSURE)
+    if (bc%any_pressure) then
+      allocate(bc%bindex(g%nnode), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'bc_init', 'cannot allocate boundary index: '//trim(msg))
+        return
+      end if
+      bc%bindex = 0
+      do n = 1, bc%nb
+        bc%bindex(bc%node(n)) = n
+      end do
+    end if
+  end subroutine bc_init
+
+  !> External pressure forces on the nodes of pressure faces, from the node
+  !> positions x at force time: each quad gives -p_ext A_out/4 to its nodes.
+  subroutine bc_pressure_forces(bc, g, x)
+    type(bc_t), intent(inout) :: bc
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    integer :: f, axis, i1, i2, n1, n2, nq(4), q
+    real(wp) :: a(3), sgn
+
+    if (.not. bc%any_pressure) return
+    bc%fext = 0.0_wp
+    do f = 1, 6
+      if (bc%kind(f) /= BC_PRESSURE) cycle
+      axis = (f + 1)/2
+      sgn = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
+      select case (axis)
+      case (1); n1 = g%nj; n2 = g%nk
+      case (2); n1 = g%ni; n2 = g%nk
+      case default; n1 = g%ni; n2 = g%nj
+      end select
+      do i2 = 0, n2 - 1
+        do i1 = 0, n1 - 1
+          nq = quad_nodes(g, f, i1, i2)
+          a = 0.5_wp*cross(x(:, nq(3)) - x(:, nq(1)), x(:, nq(4)) - x(:, nq(2)))
+          if (sgn*a(axis) < 0.0_wp) a = -a
+          do q = 1, 4
+            associate (b => bc%bindex(nq(q)))
+              bc%fext(:, b) = bc%fext(:, b) - 0.25_wp*bc%pressure(f)*a
+            end associate
+          end do
+        end do
+      end do
+    end do
+  end subroutine bc_pressure_forces
+
+  !> The four nodes (cyclic order) of boundary quad (i1,i2) on face f.
+  pure function quad_nodes(g, f, i1, i2) result(nq)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: f, i1, i2
+    integer :: nq(4)
+    integer :: p
+    select case ((f + 1)/2)
+    case (1)
+      p = merge(0, g%ni, f == 1)
+      nq = [g%node(p, i1, i2), g%node(p, i1 + 1, i2), g%node(p, i1 + 1, i2 + 1), g%node(p, i1, i2 + 1)]
+    case (2)
+      p = merge(0, g%nj, f == 3)
+      nq = [g%node(i1, p, i2), g%node(i1 + 1, p, i2), g%node(i1 + 1, p, i2 + 1), g%node(i1, p, i2 + 1)]
+    case default
+      p = merge(0, g%nk, f == 5)
+      nq = [g%node(i1, i2, p), g%node(i1 + 1, i2, p), g%node(i1 + 1, i2 + 1, p), g%node(i1, i2 + 1, p)]
+    end select
+  end function quad_nodes
+
+  !> Completes the node update on boundary nodes: adds the external pressure
+  !> impulse, applies the kinematic conditions to u (new velocity), then
+  !> recomputes the half-step velocity uh = (un+u)/2 and x = xn + dtx*uh.
+  !> Returns in `work` the work done on the system by the boundary over dt.
+  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work)
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: dt, dtx
+    real(wp), intent(in) :: mnode(:), un(:, :), xn(:, :)
+    real(wp), intent(inout) :: u(:, :), uh(:, :), x(:, :)
+    real(wp), intent(out) :: work
+    integer :: b, n, f, axis
+    real(wp) :: unc(3), imp(3)
+
+    work = 0.0_wp
+    do b = 1, bc%nb
+      n = bc%node(b)
+      if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/mnode(n)
+      unc = u(:, n)
+      do f = 1, 6
+        if (.not. btest(bc%mask(b), f - 1)) cycle
+        if (bc%kind(f) == BC_VELOCITY) u(:, n) = bc%velocity(:, f)
+      end do
+      do f = 1, 6
+        if (.not. btest(bc%mask(b), f - 1)) cycle
+        axis = (f + 1)/2
+        select case (bc%kind(f))
+        case (BC_SYMMETRY); u(axis, n) = 0.0_wp
+        case (BC_WALL); u(:, n) = 0.0_wp
+        end select
+      end do
+      imp = mnode(n)*(u(:, n) - unc)
+      uh(:, n) = 0.5_wp*(un(:, n) + u(:, n))
+      x(:, n) = xn(:, n) + dtx*uh(:, n)
+      work = work + dot_product(imp + dt*bc%fext(:, b), uh(:, n))
+    end do
+  end subroutine bc_apply
+end module mesh_boundary

@@ -1,0 +1,141 @@
+!> Geometry kernels of one hexahedral cell: exact volume, its gradient with
+!> respect to the eight node positions, and subcell (corner) volumes.
+!>
+!> Local node numbering: a = 1 + i + 2*j + 4*k for the corner (i,j,k) in {0,1}^3.
+!> The volume is that of the 24-tetrahedron split of Fig. 7 (each face split
+!> into four triangles through its face centre, each triangle joined to the cell
+!> centre), which is exact for non-planar faces. Summing the tetrahedra gives
+!>   V = sum_f (1/24) s_f . (d1_f x d2_f)                      (*)
+!> with d1, d2 the face diagonals and s_f the sum of the face's four nodes; (*)
+!> is what the kernels evaluate, and its gradient is exact (not a one-point
+!> quadrature), so p dV/dt computed from node velocities equals the work of the
+!> corner forces of Eq. (18) exactly.
+module mesh_geometry
+  use base_kinds, only: wp
+  implicit none
+  private
+  public :: hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
+            hex_median_areas, cross
+
+  !> Nodes of the six faces, ordered counter-clockwise seen from outside:
+  !> xi-, xi+, eta-, eta+, zeta-, zeta+.
+  integer, parameter :: hex_faces(4, 6) = reshape([1, 5, 7, 3,  2, 4, 8, 6, &
+                                                   1, 2, 6, 5,  3, 7, 8, 4, &
+                                                   1, 3, 4, 2,  5, 6, 8, 7], [4, 6])
+  !> The four edges along each logical direction d, as (low node, high node)
+  !> pairs ordered e00, e11, e01, e10 in the two transverse directions (cyclic
+  !> order), so that 1/2 (m11 - m00) x (m01 - m10) of the edge midpoints m is
+  !> the median surface area vector pointing along +d.
+  integer, parameter :: hex_edges(2, 4, 3) = reshape([1, 2,  7, 8,  5, 6,  3, 4, &
+                                                      1, 3,  6, 8,  2, 4,  5, 7, &
+                                                      1, 5,  4, 8,  3, 7,  2, 6], [2, 4, 3])
+
+contains
+
+  !> Cross product of two 3-vectors.
+  pure function cross(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)
+    real(wp) :: c(3)
+    c(1) = a(2)*b(3) - a(3)*b(2)
+    c(2) = a(3)*b(1) - a(1)*b(3)
+    c(3) = a(1)*b(2) - a(2)*b(1)
+  end function cross
+
+  !> Exact volume of a hexahedron with node positions xn(3,8) (length^3).
+  pure function hex_volume(xn) result(vol)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: vol
+    real(wp) :: b(3, 8)
+    call hex_volume_gradient(xn, vol, b)
+  end function hex_volume
+
+  !> Exact volume `vol` and its gradient b(:,a) = dV/dx_a (length^2).
+  !> Positions are taken relative to the cell centre to limit round-off; the
+  !> sum (*) does not depend on the origin, so neither does its gradient.
+  pure subroutine hex_volume_gradient(xn, vol, b)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: vol
+    real(wp), intent(out) :: b(3, 8)
+    real(wp) :: r(3, 8), xc(3), d1(3), d2(3), s(3), c(3), sd1(3), sd2(3)
+    integer :: a, f, n1, n2, n3, n4
+
+    do a = 1, 3
+      xc(a) = 0.125_wp*sum(xn(a, :))
+    end do
+    do a = 1, 8
+      r(:, a) = xn(:, a) - xc
+    end do
+    b = 0.0_wp
+    vol = 0.0_wp
+    do f = 1, 6
+      n1 = hex_faces(1, f); n2 = hex_faces(2, f); n3 = hex_faces(3, f); n4 = hex_faces(4, f)
+      d1 = r(:, n3) - r(:, n1)
+      d2 = r(:, n4) - r(:, n2)
+      s = r(:, n1) + r(:, n2) + r(:, n3) + r(:, n4)
+      c = cross(d1, d2)
+      sd1 = cross(s, d1)
+      sd2 = cross(s, d2)
+      vol = vol + dot_product(s, c)
+      b(:, n1) = b(:, n1) + c + sd2
+      b(:, n2) = b(:, n2) + c - sd1
+      b(:, n3) = b(:, n3) + c - sd2
+      b(:, n4) = b(:, n4) + c + sd1
+    end do
+    vol = vol/24.0_wp
+    b = b/24.0_wp
+  end subroutine hex_volume_gradient
+
+  !> Subcell volumes vsub(a) of the eight corners (length^3): corner a owns,
+  !> of every face triangle (face centre, a, neighbour), the half-tetrahedron on
+  !> its side of the edge midpoint. They sum exactly to the cell volume.
+  pure subroutine hex_subcell_volumes(xn, vsub)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: vsub(8)
+    real(wp) :: r(3, 8), xc(3), xf(3), t
+    integer :: a, f, m, na, nb
+
+    do a = 1, 3
+      xc(a) = 0.125_wp*sum(xn(a, :))
+    end do
+    do a = 1, 8
+      r(:, a) = xn(:, a) - xc
+    end do
+    vsub = 0.0_wp
+    do f = 1, 6
+      xf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + &
+                    r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))
+      do m = 1, 4
+        na = hex_faces(m, f)
+        nb = hex_faces(mod(m, 4) + 1, f)
+        ! tetrahedron (centre, a, b, face centre), outward orientation
+        t = dot_product(xf, cross(r(:, na), r(:, nb)))/12.0_wp
+        vsub(na) = vsub(na) + t
+        vsub(nb) = vsub(nb) + t
+      end do
+    end do
+  end subroutine hex_subcell_volumes
+
+  !> Median-surface area vectors s(:,d) of the three logical directions
+  !> (length^2), and the mean edge differences dx(:,d) = <x_high - x_low>.
+  !> s(:,d) is the area of the surface through the midpoints of the four
+  !> d-edges, oriented along +d; for a parallelepiped it equals the face area.
+  pure subroutine hex_median_areas(xn, s, dx)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: s(3, 3), dx(3, 3)
+    real(wp) :: m(3, 4)
+    integer :: d, e
+
+    do d = 1, 3
+      do e = 1, 4
+        m(:, e) = xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d))
+      end do
+      ! midpoints are m/2, so the area 1/2 (m11-m00)/2 x (m01-m10)/2 is 1/8 of this
+      s(:, d) = 0.125_wp*cross(m(:, 2) - m(:, 1), m(:, 3) - m(:, 4))
+      dx(:, d) = 0.0_wp
+      do e = 1, 4
+        dx(:, d) = dx(:, d) + xn(:, hex_edges(2, e, d)) - xn(:, hex_edges(1, e, d))
+      end do
+      dx(:, d) = 0.25_wp*dx(:, d)
+    end do
+  end subroutine hex_median_areas
+end module mesh_geometry

@@ -1,0 +1,16 @@
+!> lsalepm: runs the deck named on the command line (default input/sedov3d.nml).
+program main
+  use driver, only: driver_run
+  implicit none
+  character(len=:), allocatable :: deck
+  integer :: n
+
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, length=n)
+    allocate(character(len=n) :: deck)
+    call get_command_argument(1, deck)
+  else
+    deck = 'input/sedov3d.nml'
+  end if
+  call driver_run(deck)
+end program main

@@ -1,0 +1,228 @@
+!> Round-trip test of io_hdf5 and io_xdmf.
+!> Usage: test_io_hdf5 [--keep]   (files are written in the working directory;
+!> --keep leaves them there for inspection, e.g. with h5dump).
+program test_io_hdf5
+  use, intrinsic :: iso_fortran_env, only: int64
+  use base_kinds, only: wp
+  use base_errors, only: error_t
+  use io_hdf5, only: h5_file_t, hdf5_start, hdf5_stop, h5_create, h5_open_read, h5_close, &
+       h5_exists, h5_write_real, h5_write_int, h5_write_scalar_real, h5_write_scalar_int, &
+       h5_write_string, h5_read_dims, h5_read_real, h5_read_int, h5_read_scalar_real, &
+       h5_read_scalar_int, h5_read_string
+  use io_xdmf, only: xdmf_write_series
+  implicit none
+
+  character(len=*), parameter :: h5name = 'test_io_hdf5_data.h5'
+  character(len=*), parameter :: txtname = 'test_io_hdf5_not_h5.txt'
+  character(len=*), parameter :: xdmfname = 'test_io_hdf5_series.xdmf'
+  character(len=*), parameter :: frame_names(2) = [character(len=24) :: &
+       'test_io_hdf5_frame_0.h5', 'test_io_hdf5_frame_1.h5']
+  integer, parameter :: ni = 2, nj = 3, nk = 4
+
+  type(error_t), allocatable :: err
+  type(h5_file_t) :: file
+  real(wp) :: a4(3, 4, 5, 6), rscal, rback, x(3, ni + 1, nj + 1, nk + 1), rho(ni, nj, nk)
+  integer :: i3(2, 3, 4), iscal, iback, i, j, k, l, unit, f
+  integer, allocatable :: dims(:), iflat(:)
+  real(wp), allocatable :: rflat(:)
+  character(len=:), allocatable :: text, textback
+  character(len=8) :: arg
+  logical :: keep, exists
+
+  call get_command_argument(1, arg)
+  keep = arg == '--keep'
+
+  ! ---- data with non-trivial bit patterns
+  do l = 1, 6
+    do k = 1, 5
+      do j = 1, 4
+        do i = 1, 3
+          a4(i, j, k, l) = real(i + 10 * j + 100 * k + 1000 * l, wp) / 7.0_wp - 0.1_wp
+        end do
+      end do
+    end do
+  end do
+  do k = 1, 4
+    do j = 1, 3
+      do i = 1, 2
+        i3(i, j, k) = -(i + 10 * j + 100 * k) * 12345
+      end do
+    end do
+  end do
+  rscal = acos(-1.0_wp) * 1.0e-300_wp
+  iscal = -2147483647
+  text = 'line one'//new_line('a')//'  line two with "quotes" & <tags>'//new_line('a')
+  do i = 1, 400
+    text = text//'deck line '//repeat('x', 40)//new_line('a')
+  end do
+  text = text//'last line, trailing blanks   '
+
+  ! ---- write
+  call hdf5_start(err)
+  call check('hdf5_start')
+  call hdf5_start(err)
+  call check('hdf5_start (second call)')
+  call h5_create(file, h5name, err)
+  call check('h5_create')
+  call h5_write_real(file, 'a4', a4, shape(a4), err)
+  call check('h5_write_real')
+  call h5_write_int(file, 'grp/sub/i3', i3, shape(i3), err)
+  call check('h5_write_int')
+  call h5_write_scalar_real(file, 'rscal', rscal, err)
+  call check('h5_write_scalar_real')
+  call h5_write_scalar_int(file, 'grp/iscal', iscal, err)
+  call check('h5_write_scalar_int')
+  call h5_write_string(file, 'deck', text, err)
+  call check('h5_write_string')
+  call h5_write_string(file, 'empty', '', err)
+  call check('h5_write_string (empty)')
+  call h5_write_real(file, 'a4', a4, shape(a4), err)
+  if (.not. allocated(err)) call fail('writing an existing dataset gave no error')
+  deallocate(err)
+  call h5_close(file, err)
+  call check('h5_close')
+
+  ! ---- read back
+  call h5_open_read(file, h5name, err)
+  call check('h5_open_read')
+  if (.not. h5_exists(file, 'grp/sub/i3')) call fail('h5_exists false for grp/sub/i3')
+  if (h5_exists(file, 'nope/i3')) call fail('h5_exists true for nope/i3')
+  call h5_read_dims(file, 'a4', dims, err)
+  call check('h5_read_dims')
+  if (size(dims) /= 4) call fail('rank of a4 is not 4')
+  if (any(dims /= [3, 4, 5, 6])) call fail('dims of a4 are not [3,4,5,6]')
+  call h5_read_real(file, 'a4', rflat, err)
+  call check('h5_read_real')
+  if (size(rflat) /= size(a4)) call fail('size of a4 read back differs')
+  if (any(transfer(rflat, 0_int64, size(rflat)) /= transfer(a4, 0_int64, size(a4)))) &
+       call fail('a4 values differ')
+  call h5_read_dims(file, 'grp/sub/i3', dims, err)
+  call check('h5_read_dims i3')
+  if (size(dims) /= 3) call fail('rank of i3 is not 3')
+  if (any(dims /= [2, 3, 4])) call fail('dims of i3 are not [2,3,4]')
+  call h5_read_int(file, 'grp/sub/i3', iflat, err)
+  call check('h5_read_int')
+  if (size(iflat) /= size(i3)) call fail('size of i3 read back differs')
+  if (any(iflat /= reshape(i3, [size(i3)]))) call fail('i3 values differ')
+  call h5_read_scalar_real(file, 'rscal', rback, err)
+  call check('h5_read_scalar_real')
+  if (transfer(rback, 0_int64) /= transfer(rscal, 0_int64)) call fail('rscal differs')
+  call h5_read_scalar_int(file, 'grp/iscal', iback, err)
+  call check('h5_read_scalar_int')
+  if (iback /= iscal) call fail('iscal differs')
+  call h5_read_string(file, 'deck', textback, err)
+  call check('h5_read_string')
+  if (len(textback) /= len(text)) call fail('string length differs')
+  if (textback /= text) call fail('string differs')
+  call h5_read_string(file, 'empty', textback, err)
+  call check('h5_read_string (empty)')
+  if (len(textback) /= 0) call fail('empty string not empty')
+
+  ! ---- errors
+  call h5_read_real(file, 'missing', rflat, err)
+  if (.not. allocated(err)) call fail('reading a missing dataset gave no error')
+  deallocate(err)
+  call h5_read_real(file, 'nogroup/missing', rflat, err)
+  if (.not. allocated(err)) call fail('reading a dataset in a missing group gave no error')
+  deallocate(err)
+  call h5_read_int(file, 'a4', iflat, err)
+  if (.not. allocated(err)) call fail('reading reals as integers gave no error')
+  deallocate(err)
+  call h5_close(file, err)
+  call check('h5_close (read)')
+
+  open(newunit=unit, file=txtname, status='replace', action='write')
+  write(unit, '(a)') 'this is not an HDF5 file'
+  close(unit)
+  call h5_open_read(file, txtname, err)
+  if (.not. allocated(err)) call fail('opening a text file gave no error')
+  deallocate(err)
+  call h5_open_read(file, 'test_io_hdf5_does_not_exist.h5', err)
+  if (.not. allocated(err)) call fail('opening a missing file gave no error')
+  deallocate(err)
+
+  ! ---- XDMF series of two frames
+  do k = 1, nk + 1
+    do j = 1, nj + 1
+      do i = 1, ni + 1
+        x(:, i, j, k) = [real(i - 1, wp), real(j - 1, wp), real(k - 1, wp)] * 0.5_wp
+      end do
+    end do
+  end do
+  rho = 1.0_wp
+  do f = 1, 2
+    call h5_create(file, trim(frame_names(f)), err)
+    call check('h5_create frame')
+    call h5_write_real(file, 'x', x, shape(x), err)
+    call check('h5_write_real x')
+    call h5_write_real(file, 'u', x * real(f, wp), shape(x), err)
+    call check('h5_write_real u')
+    call h5_write_real(file, 'rho', rho * real(f, wp), shape(rho), err)
+    call check('h5_write_real rho')
+    call h5_close(file, err)
+    call check('h5_close frame')
+  end do
+  call xdmf_write_series(xdmfname, frame_names, [0.0_wp, 0.1_wp], ni, nj, nk, &
+       [character(len=1) :: 'u'], [character(len=3) :: 'rho'], err)
+  call check('xdmf_write_series')
+  inquire(file=xdmfname, exist=exists)
+  if (.not. exists) call fail('xdmf file not written')
+  inquire(file=xdmfname//'.tmp', exist=exists)
+  if (exists) call fail('xdmf temporary file left behind')
+  call check_contains(xdmfname, '3DSMesh')
+  call check_contains(xdmfname, 'Temporal')
+
+  call hdf5_stop(err)
+  call check('hdf5_stop')
+
+  if (.not. keep) then
+    call remove(h5name)
+    call remove(txtname)
+    call remove(xdmfname)
+    call remove(trim(frame_names(1)))
+    call remove(trim(frame_names(2)))
+  end if
+  print '(a)', 'PASS test_io_hdf5'
+
+contains
+
+  !> Fails if `err` is set.
+  subroutine check(what)
+    character(len=*), intent(in) :: what
+    if (allocated(err)) call fail(what//': '//err%where//': '//err%msg)
+  end subroutine check
+
+  !> Prints one FAIL line and stops with status 1.
+  subroutine fail(msg)
+    character(len=*), intent(in) :: msg
+    print '(a)', 'FAIL: '//msg
+    error stop 1
+  end subroutine fail
+
+  !> Fails unless the text file `path` contains `word`.
+  subroutine check_contains(path, word)
+    character(len=*), intent(in) :: path, word
+    character(len=4096) :: buf
+    integer :: u, ios
+    logical :: found
+    found = .false.
+    open(newunit=u, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) call fail('cannot open '//path)
+    do
+      read(u, '(a)', iostat=ios) buf
+      if (ios /= 0) exit
+      if (index(buf, word) > 0) found = .true.
+    end do
+    close(u)
+    if (.not. found) call fail(path//' does not contain '//word)
+  end subroutine check_contains
+
+  !> Deletes `path` if it exists.
+  subroutine remove(path)
+    character(len=*), intent(in) :: path
+    integer :: u, ios
+    open(newunit=u, file=path, status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete')
+  end subroutine remove
+
+end program test_io_hdf5
