@@ -9,7 +9,7 @@ module driver
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_init_box
   use mesh_geometry, only: hex_volume, hex_subcell_volumes
-  use mesh_boundary, only: bc_t, bc_init
+  use mesh_boundary, only: bc_t, bc_init, bc_constrain
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
   use lagrange_integrator, only: lagrange_step
@@ -113,7 +113,7 @@ contains
   !> masses (first term of Eq. 16) and boundary lists.
   subroutine build_scene()
     type(error_t), allocatable :: err
-    integer :: m, c, n, a, n0, r, s, ijk(3), f
+    integer :: m, c, n, a, n0, r, s, ijk(3)
     real(wp) :: xn(3, 8), xc(3), vsub(8), h(3), rv
     type(rng_t) :: rng
 
@@ -199,13 +199,8 @@ contains
       run%bc%pressure = cfg%bc_pressure
       call bc_init(run%bc, g, err)
       if (allocated(err)) call fatal(err%where, err%msg)
-      ! prescribed velocities hold from t = 0
-      do n = 1, run%bc%nb
-        do f = 1, 6
-          if (btest(run%bc%mask(n), f - 1) .and. run%bc%kind(f) == 3) &
-            hy%u(:, run%bc%node(n)) = run%bc%velocity(:, f)
-        end do
-      end do
+      ! the boundary conditions hold from t = 0
+      call bc_constrain(run%bc, hy%u)
     end associate
     call totals(run%tot)
     run%tot%energy_initial = run%tot%internal + run%tot%kinetic
@@ -240,7 +235,7 @@ contains
   ! ------------------------------------------------------------ time loop
 
   subroutine time_loop()
-    real(wp) :: dt_cap, work, t_next_frame, t_next_gauge, wall_last, eps_t
+    real(wp) :: dt_cap, work, t_next_frame, t_next_gauge, wall_last, wall_now, eps_t
     integer :: bad_cell, steps_since_frame
     logical :: last
 
@@ -284,10 +279,11 @@ contains
           t_next_frame = t_next_frame + run%cfg%frame_dt
         end do
       end if
+      wall_now = wall_seconds()
       if ((run%cfg%progress_steps > 0 .and. mod(run%step, max(run%cfg%progress_steps, 1)) == 0) .or. &
-          wall_seconds() - wall_last >= run%cfg%progress_seconds .or. last) then
+          wall_now - wall_last >= run%cfg%progress_seconds .or. last) then
         call progress()
-        wall_last = wall_seconds()
+        wall_last = wall_now
       end if
     end do
   end subroutine time_loop

@@ -56,6 +56,8 @@ set(CMAKE_DEPEND_INFO_FILES
   "CMakeFiles/lsalepm_lib.dir/DependInfo.cmake"
   "CMakeFiles/lsalepm.dir/DependInfo.cmake"
   "tests/CMakeFiles/test_support.dir/DependInfo.cmake"
+  "tests/CMakeFiles/test_geometry.dir/DependInfo.cmake"
+  "tests/CMakeFiles/test_eos.dir/DependInfo.cmake"
   "tests/CMakeFiles/test_io_hdf5.dir/DependInfo.cmake"
   "tests/CMakeFiles/test_exact_riemann.dir/DependInfo.cmake"
   "tests/CMakeFiles/check_sod.dir/DependInfo.cmake"

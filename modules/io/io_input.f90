@@ -7,7 +7,9 @@
 !> what is allowed; the driver then stops before step 0.
 module io_input
   use base_kinds, only: wp
-  use eos_factory, only: eos_params_t
+  use base_errors, only: error_t
+  use eos_base, only: eos_t
+  use eos_factory, only: eos_params_t, eos_create
   use lagrange_state, only: hydro_params_t
   use mesh_boundary, only: bc_kind_from_name, bc_kind_names
   implicit none
@@ -238,6 +240,8 @@ contains
     real(wp) :: gamma
     integer :: n, m, ios, m2
     character(len=max_line) :: msg
+    class(eos_t), allocatable :: trial
+    type(error_t), allocatable :: err
     namelist /material/ name, eos, gamma
 
     n = group_count(lines, 'material')
@@ -259,6 +263,12 @@ contains
       cfg%materials(m)%name = name
       cfg%materials(m)%eos = eos
       cfg%materials(m)%par%gamma = gamma
+      ! the factory validates the model name and its parameters
+      call eos_create(eos, cfg%materials(m)%par, trial, err)
+      if (allocated(err)) then
+        call add(problems, '&material '''//trim(name)//''': '//err%msg)
+        deallocate(err)
+      end if
       write(echo, nml=material)
     end do
   end subroutine read_materials

@@ -7,19 +7,25 @@
 !> integral of n over the corner's share of the cell surface (Eq. 18) and
 !> makes the compatible energy update (Eq. 19) reproduce p dV exactly.
 !>
-!> Artificial viscosity. In each logical direction d a cell has a median
+!> Artificial viscosity (an edge viscosity in the spirit of Caramana,
+!> Shashkov and Whalen 1998, with the four parallel edges of a logical
+!> direction taken together). In each logical direction d a cell has a median
 !> surface S_d (through the midpoints of its four d-edges) and a velocity jump
 !> dv_d (mean over the d-edges of v_high - v_low). When the cell is compressed
 !> along d (S_d.dv_d < 0) a viscous pressure
-!>   q_d = rho (1 - phi_d) (c_quad du^2 + c_lin cs |du|),  du = S_d.dv_d / |S_d|
-!> pushes the two d-sides apart: +q_d S_d/4 on the high nodes, -q_d S_d/4 on the
-!> low ones. The forces sum to zero (momentum), their work -q_d |S_d| du is
-!> never negative (heating only), and a cell compressed along x feels no force
-!> along y. phi_d is a Christensen-type limiter on the ratios of the strain
-!> rate g_d = S_d.dv_d / V of the two d-neighbours to the cell's own:
+!>   q_d = rho (1 - phi_d) (c_quad |dv_d|^2 + c_lin cs |dv_d|)
+!> acts along the jump: -q_d A_d dv_d/|dv_d| / 4 on each high node and the
+!> opposite on each low node, with A_d = |S_d . dv_d|/|dv_d| the area seen by
+!> the jump. The forces sum to zero (momentum), their work q_d A_d |dv_d| only
+!> heats, and pure shear (S_d.dv_d = 0) feels nothing. Using the whole jump
+!> rather than its normal part keeps a shock running along a grid diagonal
+!> from getting a much weaker viscosity than one along a grid line (tried:
+!> the normal-part variant let the 3D Sedov shock run 20 % ahead on the axes).
+!> phi_d is a Christensen-type limiter on the ratios of the strain rate
+!> g_d = S_d.dv_d / V of the two d-neighbours to the cell's own:
 !>   phi = max(0, min(1, 2 r_-, 2 r_+, (r_- + r_+)/2)),
 !> so uniform compression and smooth flow get no viscosity and shocks full
-!> viscosity (Christensen 1990; Caramana, Shashkov, Whalen 1998).
+!> viscosity (Christensen 1990).
 !>
 !> Hourglass. Flanagan-Belytschko viscous control: with the hourglass base
 !> vectors h (xi eta, eta zeta, zeta xi, xi eta zeta at the nodes) made
@@ -134,8 +140,8 @@ contains
         dv = 0.25_wp*dv
         sdv = dot_product(s(:, d), dv)
         if (.not. (sdv < 0.0_wp)) cycle
-        area = norm2(s(:, d))
-        du = sdv/area
+        du = norm2(dv)
+        area = abs(sdv)/du
         gself = h%grad(d, c)
         cm = c
         cp = c
@@ -144,11 +150,13 @@ contains
         rm = h%grad(d, cm)/gself
         rp = h%grad(d, cp)/gself
         phi = max(0.0_wp, min(1.0_wp, 2.0_wp*rm, 2.0_wp*rp, 0.5_wp*(rm + rp)))
-        qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*abs(du))
+        qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*du)
         qsum = qsum + qd
+        ! force along -dv on the high side, +dv on the low side
+        dv = (0.25_wp*qd*area/du)*dv
         do e = 1, 4
-          f(:, hex_edges(2, e, d)) = f(:, hex_edges(2, e, d)) + 0.25_wp*qd*s(:, d)
-          f(:, hex_edges(1, e, d)) = f(:, hex_edges(1, e, d)) - 0.25_wp*qd*s(:, d)
+          f(:, hex_edges(2, e, d)) = f(:, hex_edges(2, e, d)) - dv
+          f(:, hex_edges(1, e, d)) = f(:, hex_edges(1, e, d)) + dv
         end do
       end do
       h%q(c) = qsum

@@ -14,10 +14,12 @@ module mesh_boundary
   use mesh_geometry, only: cross
   implicit none
   private
-  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, &
+  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, &
             BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, bc_kind_from_name, bc_kind_names
 
   integer, parameter :: BC_SYMMETRY = 1, BC_WALL = 2, BC_VELOCITY = 3, BC_PRESSURE = 4
+  !> Axis normal to each face.
+  integer, parameter :: face_axis(6) = [1, 1, 2, 2, 3, 3]
   !> Names of the kinds as written in decks, in kind order.
   character(len=*), parameter :: bc_kind_names = 'symmetry, wall, velocity, pressure'
 
@@ -108,7 +110,7 @@ contains
     bc%fext = 0.0_wp
     do f = 1, 6
       if (bc%kind(f) /= BC_PRESSURE) cycle
-      axis = (f + 1)/2
+      axis = face_axis(f)
       sgn = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
       select case (axis)
       case (1); n1 = g%nj; n2 = g%nk
@@ -136,7 +138,7 @@ contains
     integer, intent(in) :: f, i1, i2
     integer :: nq(4)
     integer :: p
-    select case ((f + 1)/2)
+    select case (face_axis(f))
     case (1)
       p = merge(0, g%ni, f == 1)
       nq = [g%node(p, i1, i2), g%node(p, i1 + 1, i2), g%node(p, i1 + 1, i2 + 1), g%node(p, i1, i2 + 1)]
@@ -149,6 +151,37 @@ contains
     end select
   end function quad_nodes
 
+  !> Applies the kinematic conditions to the velocities u(3, nnode) of all
+  !> boundary nodes (used on the initial state).
+  subroutine bc_constrain(bc, u)
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(inout) :: u(:, :)
+    integer :: b
+    do b = 1, bc%nb
+      call constrain_node(bc, bc%mask(b), u(:, bc%node(b)))
+    end do
+  end subroutine bc_constrain
+
+  !> Kinematic conditions of the faces in `mask` on one node velocity:
+  !> prescribed velocities first, then symmetry and wall (so a piston sliding
+  !> along a symmetry plane keeps zero normal velocity there).
+  pure subroutine constrain_node(bc, mask, u)
+    type(bc_t), intent(in) :: bc
+    integer, intent(in) :: mask
+    real(wp), intent(inout) :: u(3)
+    integer :: f
+    do f = 1, 6
+      if (btest(mask, f - 1) .and. bc%kind(f) == BC_VELOCITY) u = bc%velocity(:, f)
+    end do
+    do f = 1, 6
+      if (.not. btest(mask, f - 1)) cycle
+      select case (bc%kind(f))
+      case (BC_SYMMETRY); u(face_axis(f)) = 0.0_wp
+      case (BC_WALL); u = 0.0_wp
+      end select
+    end do
+  end subroutine constrain_node
+
   !> Completes the node update on boundary nodes: adds the external pressure
   !> impulse, applies the kinematic conditions to u (new velocity), then
   !> recomputes the half-step velocity uh = (un+u)/2 and x = xn + dtx*uh.
@@ -159,7 +192,7 @@ contains
     real(wp), intent(in) :: mnode(:), un(:, :), xn(:, :)
     real(wp), intent(inout) :: u(:, :), uh(:, :), x(:, :)
     real(wp), intent(out) :: work
-    integer :: b, n, f, axis
+    integer :: b, n
     real(wp) :: unc(3), imp(3)
 
     work = 0.0_wp
@@ -167,18 +200,7 @@ contains
       n = bc%node(b)
       if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/mnode(n)
       unc = u(:, n)
-      do f = 1, 6
-        if (.not. btest(bc%mask(b), f - 1)) cycle
-        if (bc%kind(f) == BC_VELOCITY) u(:, n) = bc%velocity(:, f)
-      end do
-      do f = 1, 6
-        if (.not. btest(bc%mask(b), f - 1)) cycle
-        axis = (f + 1)/2
-        select case (bc%kind(f))
-        case (BC_SYMMETRY); u(axis, n) = 0.0_wp
-        case (BC_WALL); u(:, n) = 0.0_wp
-        end select
-      end do
+      call constrain_node(bc, bc%mask(b), u(:, n))
       imp = mnode(n)*(u(:, n) - unc)
       uh(:, n) = 0.5_wp*(un(:, n) + u(:, n))
       x(:, n) = xn(:, n) + dtx*uh(:, n)

@@ -72,7 +72,9 @@ CMakeFiles/lsalepm_lib.dir/io_hdf5.mod.stamp: CMakeFiles/lsalepm_lib.dir/modules
 CMakeFiles/lsalepm_lib.dir/modules/io/io_hdf5.f90.o.provides.build:
 	$(CMAKE_COMMAND) -E touch CMakeFiles/lsalepm_lib.dir/modules/io/io_hdf5.f90.o.provides.build
 CMakeFiles/lsalepm_lib.dir/build: CMakeFiles/lsalepm_lib.dir/modules/io/io_hdf5.f90.o.provides.build
+CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/base_errors.mod.stamp
 CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/base_kinds.mod.stamp
+CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/eos_base.mod.stamp
 CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/eos_factory.mod.stamp
 CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/lagrange_state.mod.stamp
 CMakeFiles/lsalepm_lib.dir/modules/io/io_input.f90.o: CMakeFiles/lsalepm_lib.dir/mesh_boundary.mod.stamp

@@ -1,0 +1,6 @@
+# Remove fortran modules provided by this target.
+FILE(REMOVE
+  "mod/driver.mod"
+  "mod/DRIVER.mod"
+  "CMakeFiles/lsalepm.dir/driver.mod.stamp"
+  )

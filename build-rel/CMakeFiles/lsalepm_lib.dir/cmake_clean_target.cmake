@@ -1,0 +1,3 @@
+file(REMOVE_RECURSE
+  "liblsalepm_lib.a"
+)
