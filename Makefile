@@ -1,0 +1,35 @@
+# Front door. `make run` and `make test` install what a bare Debian 12 machine
+# lacks (when run as root), configure with CMake and build.
+JOBS      ?= 2
+BUILD_REL := build/release
+BUILD_DBG := build/debug
+
+.PHONY: all deps release debug run test bench clean
+
+all: release
+
+deps:
+	@bash tools/install-deps.sh
+
+release: deps
+	@cmake -S . -B $(BUILD_REL) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake --build $(BUILD_REL) -j $(JOBS)
+
+debug: deps
+	@cmake -S . -B $(BUILD_DBG) -DCMAKE_BUILD_TYPE=Debug > /dev/null
+	@cmake --build $(BUILD_DBG) -j $(JOBS)
+
+run: release
+	./$(BUILD_REL)/lsalepm input/sedov3d.nml
+	@echo "outputs are in out/sedov3d/: sedov3d.xdmf (open in ParaView), sedov3d_NNNNN.h5 frames," \
+	      "sedov3d.log (run log), sedov3d_gauges.txt (gauge histories)"
+
+# Tests run on the debug build: run-time checks and floating-point traps on.
+test: debug
+	cd $(BUILD_DBG) && ctest --output-on-failure -j $(JOBS)
+
+bench: release
+	bash tools/bench.sh $(BUILD_REL)/lsalepm $(BUILD_REL)/tests/check_sod
+
+clean:
+	rm -rf build out

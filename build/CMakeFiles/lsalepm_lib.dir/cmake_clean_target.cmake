@@ -1,3 +1,0 @@
-file(REMOVE_RECURSE
-  "liblsalepm_lib.a"
-)

@@ -1,6 +1,0 @@
-# Remove fortran modules provided by this target.
-FILE(REMOVE
-  "../mod/check_support.mod"
-  "../mod/CHECK_SUPPORT.mod"
-  "CMakeFiles/check_sod.dir/check_support.mod.stamp"
-  )
