@@ -38,7 +38,7 @@ DECK
   t0=$(date +%s.%N)
   OMP_NUM_THREADS=1 "$exe" sod$n.nml > sod$n.log
   t1=$(date +%s.%N)
-  l1=$("$check" l1 out/sod$n/sod${n}_00001.h5 1 1 | awk '/L1 density error/ {print $7}' | tr -d ,)
+  l1=$("$check" l1 out/sod$n/sod${n}_00001.h5 1 1 | awk '/L1 density error/ {print $8}' | tr -d ,)
   order=""
   [ -n "$prev" ] && order=$(awk -v a="$prev" -v b="$l1" 'BEGIN {printf "%.3f", log(a/b)/log(2)}')
   printf '%6d %14s %10s %10.3f\n' "$n" "$l1" "$order" "$(awk -v a="$t0" -v b="$t1" 'BEGIN {print b-a}')"

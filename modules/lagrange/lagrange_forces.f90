@@ -30,8 +30,9 @@
 !> Hourglass. Flanagan-Belytschko viscous control: with the hourglass base
 !> vectors h (xi eta, eta zeta, zeta xi, xi eta zeta at the nodes) made
 !> orthogonal to linear fields, gamma_a = h_a - (dV/dx_a . sum_b h_b x_b)/V,
-!> f_a = -k rho cs V^(2/3) sum_modes gamma_a (sum_b gamma_b v_b); it sums to
-!> zero, is dissipative and vanishes for any linear velocity field.
+!> f_a = -k rho cs A sum_modes gamma_a (sum_b gamma_b v_b); it sums to
+!> zero, is dissipative and vanishes for any linear velocity field. A is the
+!> mean of the three median areas (V^(2/3) for a cube).
 module lagrange_forces
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
@@ -59,15 +60,18 @@ contains
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
-    integer :: c, d, e, n0
+    integer :: c, d, e, n0, ci, cj, ck
     real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dx(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
 
     dt_stable = huge(1.0_wp)
-    !$omp parallel do default(none) shared(g, x, v, h, par) &
-    !$omp private(c, d, e, n0, xn, vn, s, dx, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
+    !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, dx, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
     !$omp reduction(min: dt_stable) schedule(static)
-    do c = 1, g%ncell
-      n0 = g%node0(c)
+    do ck = 1, g%nk
+    do cj = 1, g%nj
+    do ci = 1, g%ni
+      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
       do e = 1, 8
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
@@ -97,6 +101,8 @@ contains
       if (abs(div) > 0.0_wp) dtc = min(dtc, par%dv_max/abs(div))
       dt_stable = min(dt_stable, dtc)
     end do
+    end do
+    end do
     !$omp end parallel do
   end subroutine lagrange_strain_rates
 
@@ -113,12 +119,15 @@ contains
 
     stride = [1, g%ni, g%ni*g%nj]
     nlog = [g%ni, g%nj, g%nk]
-    !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) &
+    !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
     !$omp private(c, d, e, a, m, n0, ci, cj, ck, cm, cp, ilog, xn, vn, b, f, s, dx, dv) &
     !$omp private(vol, sdv, area, du, gself, rm, rp, phi, qd, qsum, coef, hx, gam, gv) &
     !$omp schedule(static)
-    do c = 1, g%ncell
-      n0 = g%node0(c)
+    do ck = 1, g%nk
+    do cj = 1, g%nj
+    do ci = 1, g%ni
+      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
       do a = 1, 8
         xn(:, a) = x(:, n0 + g%corner_offset(a))
         vn(:, a) = v(:, n0 + g%corner_offset(a))
@@ -129,7 +138,6 @@ contains
 
       ! directional viscosity with limiter
       call hex_median_areas(xn, s, dx)
-      call g%cell_ijk(c, ci, cj, ck)
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       do d = 1, 3
@@ -163,7 +171,8 @@ contains
 
       ! Flanagan-Belytschko viscous hourglass control
       if (par%hourglass > 0.0_wp) then
-        coef = par%hourglass*h%rho(c)*h%cs(c)*vol**(2.0_wp/3.0_wp)
+        ! length^2 scale: the mean median area (V^(2/3) for a cube, without a pow)
+        coef = par%hourglass*h%rho(c)*h%cs(c)*(norm2(s(:, 1)) + norm2(s(:, 2)) + norm2(s(:, 3)))/3.0_wp
         do m = 1, 4
           hx = 0.0_wp
           do a = 1, 8
@@ -180,6 +189,8 @@ contains
         end do
       end if
       h%fc(:, :, c) = f
+    end do
+    end do
     end do
     !$omp end parallel do
   end subroutine lagrange_corner_forces

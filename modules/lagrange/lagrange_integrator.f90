@@ -97,16 +97,15 @@ contains
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
-    integer :: n, i, j, k, t, ii, jj, kk, ci, cj, ck, c
+    integer :: n, i, j, k, ii, jj, kk, ci, cj, ck, c
     real(wp) :: f(3)
 
-    !$omp parallel do default(none) shared(g, h, dt, dtx) &
-    !$omp private(n, i, j, k, t, ii, jj, kk, ci, cj, ck, c, f) schedule(static)
-    do n = 1, g%nnode
-      i = mod(n - 1, g%sx)
-      t = (n - 1)/g%sx
-      j = mod(t, g%nj + 1)
-      k = t/(g%nj + 1)
+    !$omp parallel do default(none) shared(g, h, dt, dtx) collapse(2) &
+    !$omp private(n, i, j, k, ii, jj, kk, ci, cj, ck, c, f) schedule(static)
+    do k = 0, g%nk
+    do j = 0, g%nj
+    do i = 0, g%ni
+      n = 1 + i + g%sx*j + g%sxy*k
       f = 0.0_wp
       ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
       do kk = 0, 1
@@ -127,6 +126,8 @@ contains
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
     end do
+    end do
+    end do
     !$omp end parallel do
   end subroutine update_nodes
 
@@ -138,14 +139,17 @@ contains
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dte
     integer, intent(out) :: bad_cell
-    integer :: c, a, n0
+    integer :: c, a, n0, ci, cj, ck
     real(wp) :: de, xn(3, 8)
 
     bad_cell = huge(1)
-    !$omp parallel do default(none) shared(g, h, dte) private(c, a, n0, de, xn) &
-    !$omp reduction(min: bad_cell) schedule(static)
-    do c = 1, g%ncell
-      n0 = g%node0(c)
+    !$omp parallel do default(none) shared(g, h, dte) private(c, a, n0, ci, cj, ck, de, xn) &
+    !$omp reduction(min: bad_cell) collapse(2) schedule(static)
+    do ck = 1, g%nk
+    do cj = 1, g%nj
+    do ci = 1, g%ni
+      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
       de = 0.0_wp
       do a = 1, 8
         de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
@@ -158,6 +162,8 @@ contains
       else
         bad_cell = min(bad_cell, c)
       end if
+    end do
+    end do
     end do
     !$omp end parallel do
     if (bad_cell == huge(1)) bad_cell = 0

@@ -41,12 +41,27 @@ contains
     c(3) = a(1)*b(2) - a(2)*b(1)
   end function cross
 
-  !> Exact volume of a hexahedron with node positions xn(3,8) (length^3).
+  !> Exact volume of a hexahedron with node positions xn(3,8) (length^3):
+  !> the sum (*) alone, without the gradient.
   pure function hex_volume(xn) result(vol)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: vol
-    real(wp) :: b(3, 8)
-    call hex_volume_gradient(xn, vol, b)
+    real(wp) :: r(3, 8), xc(3)
+    integer :: a, f, n1, n2, n3, n4
+
+    do a = 1, 3
+      xc(a) = 0.125_wp*sum(xn(a, :))
+    end do
+    do a = 1, 8
+      r(:, a) = xn(:, a) - xc
+    end do
+    vol = 0.0_wp
+    do f = 1, 6
+      n1 = hex_faces(1, f); n2 = hex_faces(2, f); n3 = hex_faces(3, f); n4 = hex_faces(4, f)
+      vol = vol + dot_product(r(:, n1) + r(:, n2) + r(:, n3) + r(:, n4), &
+                              cross(r(:, n3) - r(:, n1), r(:, n4) - r(:, n2)))
+    end do
+    vol = vol/24.0_wp
   end function hex_volume
 
   !> Exact volume `vol` and its gradient b(:,a) = dV/dx_a (length^2).
