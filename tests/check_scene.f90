@@ -9,6 +9,16 @@
 !>       alpha is the Sedov energy integral for GAMMA: 0.851072 for 1.4,
 !>       Kamm and Timmes 2007).
 !>
+!>   check_scene piston FRAME UP RHO0 P0 GAMMA TOL
+!>       a piston (the xlo face) moving at UP into gas at rest along x: the
+!>       mean density between the piston and the shock equals the exact
+!>       ideal-gas shock value rho2 = rho0 D/(D - UP), D = a + sqrt(a^2 + c0^2),
+!>       a = (gamma+1) UP/4, within the relative tolerance TOL. Cells within a
+!>       quarter of the shocked layer of the piston (wall heating) and the
+!>       last tenth before the shock (its smeared front) are left out.
+!>   check_scene still FRAME TOL
+!>       every node speed is at most TOL (an equilibrium must stay at rest).
+!>
 !> The numerical shock radius comes from the shocked mass. Behind the shock
 !> the entropy p/rho^gamma is far above ambient and grows inward, so a cell
 !> counts as shocked when its entropy exceeds half the exact post-shock
@@ -23,7 +33,8 @@ program check_scene
   character(len=:), allocatable :: mode
   type(frame_t) :: fr
   real(wp) :: drift, tol, e_total, rho0, gamma, alpha, r_exact, d, p2, rho2, s2, m, r_num
-  integer :: c
+  real(wp) :: up, p0, xa, xb, xc
+  integer :: c, n
 
   mode = arg_str(1)
   call frame_read(arg_str(2), fr)
@@ -51,6 +62,31 @@ program check_scene
       ' exact ', r_exact, ' relative error ', (r_num - r_exact)/r_exact, '; peak density ', &
       maxval(fr%density)
     if (.not. (abs(r_num - r_exact) <= tol*r_exact)) call check_fail('shock radius outside tolerance')
+  case ('piston')
+    up = arg_real(3); rho0 = arg_real(4); p0 = arg_real(5); gamma = arg_real(6); tol = arg_real(7)
+    d = 0.25_wp*(gamma + 1.0_wp)*up
+    d = d + sqrt(d*d + gamma*p0/rho0)
+    rho2 = rho0*d/(d - up)
+    xa = up*fr%time + 0.25_wp*(d - up)*fr%time
+    xb = d*fr%time - 0.1_wp*(d - up)*fr%time
+    m = 0.0_wp
+    n = 0
+    do c = 1, size(fr%density)
+      xc = 0.5_wp*(fr%x(3*(c - 1) + 1) + fr%x(3*c + 1))
+      if (xc < xa .or. xc > xb) cycle
+      m = m + fr%density(c)
+      n = n + 1
+    end do
+    if (n == 0) call check_fail('no cells in the shocked layer')
+    m = m/n
+    write(*, '(a,f9.5,a,f9.5,a,i0,a,es10.3)') 'piston: mean shocked density ', m, ' exact ', rho2, &
+      ' over ', n, ' cells; relative error ', (m - rho2)/rho2
+    if (.not. (abs(m - rho2) <= tol*rho2)) call check_fail('shocked density outside tolerance')
+  case ('still')
+    tol = arg_real(3)
+    d = maxval(abs(fr%velocity))
+    write(*, '(a,es10.3,a,es10.3)') 'largest velocity component ', d, ', tolerance ', tol
+    if (.not. (d <= tol)) call check_fail('the equilibrium moved')
   case default
     call check_fail('unknown mode '//mode)
   end select

@@ -570,9 +570,27 @@ contains
     integer :: i
     text = ''
     do i = 1, size(lines)
-      text = text//trim(lines(i))//new_line('a')
+      text = text//squeeze_quoted(trim(lines(i)))//new_line('a')
     end do
   end function join
+
+  !> Drops the blanks that list-directed namelist output pads inside quoted
+  !> strings ("out/sedov3d      " becomes "out/sedov3d").
+  function squeeze_quoted(line) result(t)
+    character(len=*), intent(in) :: line
+    character(len=:), allocatable :: t
+    integer :: i
+    logical :: inq
+    t = ''
+    inq = .false.
+    do i = 1, len(line)
+      if (line(i:i) == '"') then
+        if (inq) t = trim(t)
+        inq = .not. inq
+      end if
+      t = t//line(i:i)
+    end do
+  end function squeeze_quoted
 
   !> File name of the deck without directory and extension.
   function deck_stem(path) result(stem)
