@@ -12,7 +12,7 @@ deps:
 	@bash tools/install-deps.sh
 
 release: deps
-	@cmake -S . -B $(BUILD_REL) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake -S . -B $(BUILD_REL) -DCMAKE_BUILD_TYPE=Release -DLSALEPM_NATIVE=ON > /dev/null
 	@cmake --build $(BUILD_REL) -j $(JOBS)
 
 debug: deps

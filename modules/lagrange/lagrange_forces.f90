@@ -61,11 +61,11 @@ contains
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
     integer :: c, d, e, n0, ci, cj, ck
-    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dx(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
+    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
 
     dt_stable = huge(1.0_wp)
     !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
-    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, dx, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
     !$omp reduction(min: dt_stable) schedule(static)
     do ck = 1, g%nk
     do cj = 1, g%nj
@@ -76,7 +76,7 @@ contains
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
       end do
-      call hex_median_areas(xn, s, dx)
+      call hex_median_areas(xn, s)
       amax = 0.0_wp
       dumax = 0.0_wp
       div = 0.0_wp
@@ -114,13 +114,13 @@ contains
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
     integer :: c, d, e, a, m, n0, ci, cj, ck, cm, cp, stride(3), ilog(3), nlog(3)
-    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dx(3, 3), dv(3)
+    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3)
     real(wp) :: vol, sdv, area, du, gself, rm, rp, phi, qd, qsum, coef, hx(3), gam(8), gv(3)
 
     stride = [1, g%ni, g%ni*g%nj]
     nlog = [g%ni, g%nj, g%nk]
     !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
-    !$omp private(c, d, e, a, m, n0, ci, cj, ck, cm, cp, ilog, xn, vn, b, f, s, dx, dv) &
+    !$omp private(c, d, e, a, m, n0, ci, cj, ck, cm, cp, ilog, xn, vn, b, f, s, dv) &
     !$omp private(vol, sdv, area, du, gself, rm, rp, phi, qd, qsum, coef, hx, gam, gv) &
     !$omp schedule(static)
     do ck = 1, g%nk
@@ -137,7 +137,7 @@ contains
       f = h%p(c)*b
 
       ! directional viscosity with limiter
-      call hex_median_areas(xn, s, dx)
+      call hex_median_areas(xn, s)
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       do d = 1, 3

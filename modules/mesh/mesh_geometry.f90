@@ -131,12 +131,11 @@ contains
   end subroutine hex_subcell_volumes
 
   !> Median-surface area vectors s(:,d) of the three logical directions
-  !> (length^2), and the mean edge differences dx(:,d) = <x_high - x_low>.
-  !> s(:,d) is the area of the surface through the midpoints of the four
+  !> (length^2): the area of the surface through the midpoints of the four
   !> d-edges, oriented along +d; for a parallelepiped it equals the face area.
-  pure subroutine hex_median_areas(xn, s, dx)
+  pure subroutine hex_median_areas(xn, s)
     real(wp), intent(in) :: xn(3, 8)
-    real(wp), intent(out) :: s(3, 3), dx(3, 3)
+    real(wp), intent(out) :: s(3, 3)
     real(wp) :: m(3, 4)
     integer :: d, e
 
@@ -146,11 +145,6 @@ contains
       end do
       ! midpoints are m/2, so the area 1/2 (m11-m00)/2 x (m01-m10)/2 is 1/8 of this
       s(:, d) = 0.125_wp*cross(m(:, 2) - m(:, 1), m(:, 3) - m(:, 4))
-      dx(:, d) = 0.0_wp
-      do e = 1, 4
-        dx(:, d) = dx(:, d) + xn(:, hex_edges(2, e, d)) - xn(:, hex_edges(1, e, d))
-      end do
-      dx(:, d) = 0.25_wp*dx(:, d)
     end do
   end subroutine hex_median_areas
 end module mesh_geometry
