@@ -6,12 +6,13 @@ program test_eos
   use base_errors, only: error_t
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
+  use test_assert, only: check, check_summary
   implicit none
   class(eos_t), allocatable :: eos
   type(error_t), allocatable :: err
   type(eos_params_t) :: par
   real(wp) :: rho(3), e(3), p(3), cs(3), pp(3), cp(3), pm(3), cm(3), h, dpdrho_s
-  integer :: i, nfail = 0
+  integer :: i
 
   par%gamma = 5.0_wp/3.0_wp
   call eos_create('ideal_gas', par, eos, err)
@@ -40,20 +41,6 @@ program test_eos
   call check(allocated(err), 'an unknown EOS name is refused')
   if (allocated(err)) call check(index(err%msg, 'ideal_gas') > 0, 'the message lists the valid names')
 
-  if (nfail > 0) then
-    write(*, '(a,i0,a)') 'FAIL test_eos: ', nfail, ' check(s) failed'
-    error stop 1
-  end if
-  write(*, '(a)') 'PASS test_eos'
+  call check_summary('test_eos')
 
-contains
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      nfail = nfail + 1
-      write(*, '(a)') 'FAIL: '//what
-    end if
-  end subroutine check
 end program test_eos

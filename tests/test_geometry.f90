@@ -5,12 +5,12 @@ program test_geometry
   use base_kinds, only: wp
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_subcell_volumes, hex_median_areas
+  use test_assert, only: check, check_summary
   implicit none
   real(wp) :: x0(3, 8), xn(3, 8), b(3, 8), vsub(8), vol, v24, s(3, 3), a(3, 3), xp(3, 8), xm(3, 8)
   real(wp) :: h, fd, m(3, 3)
   type(rng_t) :: rng
   integer :: i, j, k, n, trial, d
-  integer :: nfail = 0
 
   ! unit cube, local order a = 1 + i + 2j + 4k
   do k = 0, 1
@@ -65,22 +65,10 @@ program test_geometry
                'sum_a x_a b_a^T = V I')
   end do
 
-  if (nfail > 0) then
-    write(*, '(a,i0,a)') 'FAIL test_geometry: ', nfail, ' check(s) failed'
-    error stop 1
-  end if
-  write(*, '(a)') 'PASS test_geometry'
+  call check_summary('test_geometry')
 
 contains
 
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      nfail = nfail + 1
-      write(*, '(a)') 'FAIL: '//what
-    end if
-  end subroutine check
 
   real(wp) function det3(m3)
     real(wp), intent(in) :: m3(3, 3)

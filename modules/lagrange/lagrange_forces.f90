@@ -51,6 +51,20 @@ module lagrange_forces
 
 contains
 
+  !> Mean jump of a node field across the cell in logical direction d:
+  !> the average over the four d-edges of (high node - low node).
+  pure function edge_jump(vn, d) result(dv)
+    real(wp), intent(in) :: vn(3, 8)
+    integer, intent(in) :: d
+    real(wp) :: dv(3)
+    integer :: e
+    dv = 0.0_wp
+    do e = 1, 4
+      dv = dv + vn(:, hex_edges(2, e, d)) - vn(:, hex_edges(1, e, d))
+    end do
+    dv = 0.25_wp*dv
+  end function edge_jump
+
   !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
@@ -81,11 +95,7 @@ contains
       dumax = 0.0_wp
       div = 0.0_wp
       do d = 1, 3
-        dv = 0.0_wp
-        do e = 1, 4
-          dv = dv + vn(:, hex_edges(2, e, d)) - vn(:, hex_edges(1, e, d))
-        end do
-        dv = 0.25_wp*dv
+        dv = edge_jump(vn, d)
         area = norm2(s(:, d))
         amax = max(amax, area)
         h%grad(d, c) = dot_product(s(:, d), dv)/h%vol(c)
@@ -141,11 +151,7 @@ contains
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       do d = 1, 3
-        dv = 0.0_wp
-        do e = 1, 4
-          dv = dv + vn(:, hex_edges(2, e, d)) - vn(:, hex_edges(1, e, d))
-        end do
-        dv = 0.25_wp*dv
+        dv = edge_jump(vn, d)
         sdv = dot_product(s(:, d), dv)
         if (.not. (sdv < 0.0_wp)) cycle
         du = norm2(dv)

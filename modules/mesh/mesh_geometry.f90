@@ -41,20 +41,30 @@ contains
     c(3) = a(1)*b(2) - a(2)*b(1)
   end function cross
 
-  !> Exact volume of a hexahedron with node positions xn(3,8) (length^3):
-  !> the sum (*) alone, without the gradient.
-  pure function hex_volume(xn) result(vol)
+  !> Node positions relative to the cell centre (the mean of the eight nodes),
+  !> which keeps round-off small in the volume sums.
+  pure function centred(xn) result(r)
     real(wp), intent(in) :: xn(3, 8)
-    real(wp) :: vol
-    real(wp) :: r(3, 8), xc(3)
-    integer :: a, f, n1, n2, n3, n4
-
+    real(wp) :: r(3, 8)
+    real(wp) :: xc(3)
+    integer :: a
     do a = 1, 3
       xc(a) = 0.125_wp*sum(xn(a, :))
     end do
     do a = 1, 8
       r(:, a) = xn(:, a) - xc
     end do
+  end function centred
+
+  !> Exact volume of a hexahedron with node positions xn(3,8) (length^3):
+  !> the sum (*) alone, without the gradient.
+  pure function hex_volume(xn) result(vol)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: vol
+    real(wp) :: r(3, 8)
+    integer :: f, n1, n2, n3, n4
+
+    r = centred(xn)
     vol = 0.0_wp
     do f = 1, 6
       n1 = hex_faces(1, f); n2 = hex_faces(2, f); n3 = hex_faces(3, f); n4 = hex_faces(4, f)
@@ -71,15 +81,10 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: vol
     real(wp), intent(out) :: b(3, 8)
-    real(wp) :: r(3, 8), xc(3), d1(3), d2(3), s(3), c(3), sd1(3), sd2(3)
-    integer :: a, f, n1, n2, n3, n4
+    real(wp) :: r(3, 8), d1(3), d2(3), s(3), c(3), sd1(3), sd2(3)
+    integer :: f, n1, n2, n3, n4
 
-    do a = 1, 3
-      xc(a) = 0.125_wp*sum(xn(a, :))
-    end do
-    do a = 1, 8
-      r(:, a) = xn(:, a) - xc
-    end do
+    r = centred(xn)
     b = 0.0_wp
     vol = 0.0_wp
     do f = 1, 6
@@ -106,15 +111,10 @@ contains
   pure subroutine hex_subcell_volumes(xn, vsub)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: vsub(8)
-    real(wp) :: r(3, 8), xc(3), xf(3), t
-    integer :: a, f, m, na, nb
+    real(wp) :: r(3, 8), xf(3), t
+    integer :: f, m, na, nb
 
-    do a = 1, 3
-      xc(a) = 0.125_wp*sum(xn(a, :))
-    end do
-    do a = 1, 8
-      r(:, a) = xn(:, a) - xc
-    end do
+    r = centred(xn)
     vsub = 0.0_wp
     do f = 1, 6
       xf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + &
