@@ -4,7 +4,7 @@ JOBS      ?= 2
 BUILD_REL := build/release
 BUILD_DBG := build/debug
 
-.PHONY: all deps release debug run test bench clean
+.PHONY: all deps release debug run test bench regression-update clean
 
 all: release
 
@@ -30,6 +30,10 @@ test: debug
 
 bench: release
 	bash tools/bench.sh $(BUILD_REL)/lsalepm $(BUILD_REL)/tests/check_sod
+
+# Regenerate the regression references (then commit them, saying why).
+regression-update: debug
+	bash tools/regression_update.sh $(BUILD_DBG)/lsalepm
 
 clean:
 	rm -rf build out

@@ -2,7 +2,7 @@
 !> all input, output and the decision to stop.
 module driver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_errors, only: error_t
   use base_timers, only: timer_t, wall_seconds
   use base_random, only: rng_t, rng_seed, rng_uniform
@@ -13,11 +13,12 @@ module driver
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
   use lagrange_integrator, only: lagrange_step
-  use io_input, only: config_t, input_read
+  use io_input, only: config_t, input_read, input_state_changes
   use io_log, only: log_open, log_close, log_line, log_error, log_is_open
   use io_output, only: output_t, output_frame, totals_t
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close
   use io_hdf5, only: hdf5_start, hdf5_stop
+  use io_restart, only: restart_registry_t, restart_write, restart_read, restart_read_deck
   implicit none
   private
   public :: driver_run
@@ -34,6 +35,16 @@ module driver
     type(totals_t) :: tot
     real(wp) :: t = 0.0_wp, dt = 0.0_wp
     integer :: step = 0
+    integer :: step_start = 0         !< first step of this run (after a restart)
+    ! time-loop bookkeeping (restart state)
+    real(wp) :: t_next_frame = 0.0_wp, t_next_gauge = 0.0_wp, t_next_dump = 0.0_wp
+    integer :: steps_since_frame = 0
+    type(rng_t) :: rng
+    real(wp) :: rng_bits = 0.0_wp     !< rng state as stored in restarts
+    type(restart_registry_t) :: reg
+    character(len=256), allocatable :: dumps(:)   !< this segment's dumps, oldest first
+    real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp
+    logical :: restarting = .false.
     logical :: ready = .false.        !< state is complete enough to be written
     type(timer_t) :: t_setup, t_lagrange, t_output, t_total
   end type run_t
@@ -50,11 +61,23 @@ contains
     call run%t_total%start()
     call run%t_setup%start()
     call read_deck(deck_path)
+    run%restarting = len_trim(run%cfg%restart_from) > 0
+    if (run%restarting) call check_restart_deck()
     call open_outputs()
     call build_scene()
+    call register_restart()
+    if (run%restarting) then
+      call read_restart()
+    else
+      run%t_next_frame = huge(1.0_wp)
+      if (run%cfg%frame_dt > 0.0_wp) run%t_next_frame = run%cfg%frame_dt
+      run%t_next_dump = huge(1.0_wp)
+      if (run%cfg%dump_dt > 0.0_wp) run%t_next_dump = run%cfg%dump_dt
+      call report_conservation('initial')
+      call write_frame()
+      call gauge_output()
+    end if
     call run%t_setup%stop()
-    call report_conservation('initial')
-    call write_frame()
     call time_loop()
     call write_frame()
     call gauges_close(run%gauges)
@@ -69,18 +92,60 @@ contains
   subroutine read_deck(path)
     character(len=*), intent(in) :: path
     character(len=1024), allocatable :: problems(:)
-    integer :: i
 
     call input_read(path, run%cfg, problems)
-    if (size(problems) > 0) then
-      do i = 1, size(problems)
-        call log_error('ERROR: '//trim(problems(i)))
-      end do
-      call log_error('ERROR: the deck has '//itoa(size(problems))// &
-                     ' problem(s); nothing was run')
-      error stop 2
-    end if
+    if (size(problems) > 0) call refuse(problems, 'the deck has '//itoa(size(problems))// &
+                                        ' problem(s); nothing was run')
   end subroutine read_deck
+
+  !> Ends the run before step 0: one ERROR line per problem, then a summary.
+  subroutine refuse(problems, summary)
+    character(len=*), intent(in) :: problems(:), summary
+    integer :: i
+    do i = 1, size(problems)
+      call log_error('ERROR: '//trim(problems(i)))
+    end do
+    call log_error('ERROR: '//summary)
+    error stop 2
+  end subroutine refuse
+
+  !> `refuse` for a single problem (assignment truncates a long message
+  !> safely; a typed array constructor does not in gfortran 12).
+  subroutine refuse_one(problem, summary)
+    character(len=*), intent(in) :: problem, summary
+    character(len=1024) :: line(1)
+    line(1) = problem
+    call refuse(line, summary)
+  end subroutine refuse_one
+
+  !> A restart may change time, output, dump and numerical settings, but not
+  !> what the state depends on: compare the deck stored in the restart file
+  !> with this one and refuse, naming each changed variable.
+  subroutine check_restart_deck()
+    type(error_t), allocatable :: err
+    character(len=:), allocatable :: text, tmp
+    character(len=1024), allocatable :: problems(:)
+    type(config_t) :: old
+    integer :: u, ios
+
+    call hdf5_start(err)
+    if (.not. allocated(err)) call restart_read_deck(trim(run%cfg%restart_from), text, err)
+    if (allocated(err)) call refuse_one('&run restart_from: '//err%msg, 'cannot restart')
+    ! the stored deck is namelist text: read it back through the same reader
+    tmp = trim(run%cfg%restart_from)//'.deck.tmp'
+    open(newunit=u, file=tmp, status='replace', action='write', iostat=ios)
+    if (ios /= 0) call refuse_one('cannot write '//tmp, 'cannot restart')
+    write(u, '(a)') text
+    close(u)
+    call input_read(tmp, old, problems)
+    open(newunit=u, file=tmp, status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete')
+    if (size(problems) > 0) call refuse(problems, 'the deck stored in '// &
+      trim(run%cfg%restart_from)//' cannot be read back')
+    call input_state_changes(old, run%cfg, problems)
+    if (size(problems) > 0) call refuse(problems, 'a restart cannot change what the state '// &
+      'depends on; undo these changes or start a new run')
+  end subroutine check_restart_deck
 
   subroutine open_outputs()
     character(len=:), allocatable :: dir, base
@@ -94,7 +159,7 @@ contains
     call execute_command_line('mkdir -p "'//dir//'"', exitstat=stat)
     if (stat /= 0) call fatal('open_outputs', 'cannot create the output directory '''//dir//'''')
     msg = ''
-    call log_open(dir//'/'//base//'.log', ok, msg)
+    call log_open(dir//'/'//base//'.log', run%restarting, ok, msg)
     if (.not. ok) call fatal('open_outputs', 'cannot open the log: '//trim(msg))
     call log_line('lsalepm: '//trim(run%cfg%title))
     call log_line('deck: '//run%cfg%deck_path)
@@ -105,7 +170,7 @@ contains
     call hdf5_start(err)
     if (allocated(err)) call fatal(err%where, err%msg)
     call gauges_open(run%gauges, dir//'/'//base//'_gauges.txt', &
-                     run%cfg%gauges(:, 1:run%cfg%ngauge), err)
+                     run%cfg%gauges(:, 1:run%cfg%ngauge), run%restarting, err)
     if (allocated(err)) call fatal(err%where, err%msg)
   end subroutine open_outputs
 
@@ -115,7 +180,6 @@ contains
     type(error_t), allocatable :: err
     integer :: m, c, n, a, n0, r, s, ijk(3)
     real(wp) :: xn(3, 8), xc(3), vsub(8), h(3), rv
-    type(rng_t) :: rng
 
     associate (cfg => run%cfg, g => run%g, hy => run%h)
       call grid_init_box(g, cfg%ni, cfg%nj, cfg%nk, cfg%xmin, cfg%xmax, err)
@@ -156,11 +220,11 @@ contains
           if (inside(cfg%regions(r), g%x(:, n))) hy%u(:, n) = cfg%regions(r)%velocity
         end do
       end do
+      call rng_seed(run%rng, cfg%seed)
       if (cfg%velocity_noise > 0.0_wp) then
-        call rng_seed(rng, cfg%seed)
         do n = 1, g%nnode
           do a = 1, 3
-            rv = rng_uniform(rng)
+            rv = rng_uniform(run%rng)
             hy%u(a, n) = hy%u(a, n) + cfg%velocity_noise*(2.0_wp*rv - 1.0_wp)
           end do
         end do
@@ -235,18 +299,14 @@ contains
   ! ------------------------------------------------------------ time loop
 
   subroutine time_loop()
-    real(wp) :: dt_cap, work, t_next_frame, t_next_gauge, wall_last, wall_now, eps_t
-    integer :: bad_cell, steps_since_frame
+    real(wp) :: dt_cap, work, wall_last, wall_now, eps_t, w0
+    integer :: bad_cell
     logical :: last
 
     eps_t = 1.0e-12_wp*run%cfg%t_end
-    t_next_frame = huge(1.0_wp)
-    if (run%cfg%frame_dt > 0.0_wp) t_next_frame = run%cfg%frame_dt
-    t_next_gauge = 0.0_wp
-    call gauge_output(t_next_gauge)
     wall_last = wall_seconds()
-    steps_since_frame = 0
     do while (run%t < run%cfg%t_end - eps_t .and. run%step < run%cfg%max_steps)
+      if (near_wall_time_limit()) call stop_for_wall_time()
       ! the step the controller allows: growth limit, dt_max, end time, frames
       if (run%step == 0) then
         dt_cap = run%cfg%hydro%dt_max
@@ -254,11 +314,13 @@ contains
       else
         dt_cap = min(run%cfg%hydro%dt_growth*run%dt, run%cfg%hydro%dt_max)
       end if
-      dt_cap = min(dt_cap, run%cfg%t_end - run%t, t_next_frame - run%t)
+      dt_cap = min(dt_cap, run%cfg%t_end - run%t, run%t_next_frame - run%t)
 
+      w0 = wall_seconds()
       call run%t_lagrange%start()
       call lagrange_step(run%g, run%h, run%bc, run%mats, run%cfg%hydro, dt_cap, work, bad_cell)
       call run%t_lagrange%stop()
+      run%step_wall = wall_seconds() - w0
       if (bad_cell /= 0) call fatal('lagrange_step', 'cell '//itoa(bad_cell)// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(run%t))
       if (dt_cap < run%cfg%dt_min) call fatal('time_loop', 'time step collapsed to '// &
@@ -269,14 +331,21 @@ contains
       run%tot%boundary_work = run%tot%boundary_work + work
       last = .not. (run%t < run%cfg%t_end - eps_t .and. run%step < run%cfg%max_steps)
 
-      call gauge_output(t_next_gauge)
-      steps_since_frame = steps_since_frame + 1
-      if (.not. last .and. (run%t >= t_next_frame - eps_t .or. &
-          (run%cfg%frame_steps > 0 .and. steps_since_frame >= run%cfg%frame_steps))) then
+      call gauge_output()
+      run%steps_since_frame = run%steps_since_frame + 1
+      if (.not. last .and. (run%t >= run%t_next_frame - eps_t .or. &
+          (run%cfg%frame_steps > 0 .and. run%steps_since_frame >= run%cfg%frame_steps))) then
         call write_frame()
-        steps_since_frame = 0
-        do while (t_next_frame <= run%t + eps_t)
-          t_next_frame = t_next_frame + run%cfg%frame_dt
+        run%steps_since_frame = 0
+        do while (run%t_next_frame <= run%t + eps_t)
+          run%t_next_frame = run%t_next_frame + run%cfg%frame_dt
+        end do
+      end if
+      if ((run%cfg%dump_steps > 0 .and. mod(run%step, max(run%cfg%dump_steps, 1)) == 0) .or. &
+          run%t >= run%t_next_dump - eps_t) then
+        call write_restart()
+        do while (run%t_next_dump <= run%t + eps_t)
+          run%t_next_dump = run%t_next_dump + run%cfg%dump_dt
         end do
       end if
       wall_now = wall_seconds()
@@ -288,19 +357,152 @@ contains
     end do
   end subroutine time_loop
 
-  subroutine gauge_output(t_next)
-    real(wp), intent(inout) :: t_next
+  !> True when the next step and a dump might not fit before the wall-time
+  !> limit (a margin of two steps, two dumps and half a second).
+  logical function near_wall_time_limit()
+    real(wp) :: elapsed
+    near_wall_time_limit = .false.
+    if (run%cfg%wall_time_limit <= 0.0_wp) return
+    elapsed = wall_seconds() - run%t_total%t0
+    near_wall_time_limit = elapsed + 2.0_wp*(run%step_wall + run%dump_wall) + 0.5_wp >= &
+                           run%cfg%wall_time_limit
+  end function near_wall_time_limit
+
+  !> Writes a restart (unless the last dump is of this very step) and stops
+  !> with exit status 3, saying how to continue.
+  subroutine stop_for_wall_time()
+    character(len=:), allocatable :: path
+    logical :: have
+    path = restart_path(run%step)
+    have = .false.
+    if (allocated(run%dumps)) then
+      if (size(run%dumps) > 0) have = (trim(run%dumps(size(run%dumps))) == path)
+    end if
+    if (.not. have) call write_restart()
+    call progress()
+    call log_line('wall-time limit of '//rtoa(run%cfg%wall_time_limit)//' s reached at step '// &
+                  itoa(run%step)//', t = '//rtoa(run%t))
+    call log_line('to continue, run the same deck with  &run restart_from = '''//path//''' /')
+    call gauges_close(run%gauges)
+    call log_close()
+    stop 3
+  end subroutine stop_for_wall_time
+
+  subroutine gauge_output()
     if (run%gauges%n == 0) return
-    if (run%t < t_next .and. run%t < run%cfg%t_end) return
+    if (run%t < run%t_next_gauge .and. run%t < run%cfg%t_end) return
     call run%t_output%start()
     call gauges_write(run%gauges, run%g, run%h, run%t)
     call run%t_output%stop()
     if (run%cfg%gauge_dt > 0.0_wp) then
-      do while (t_next <= run%t)
-        t_next = t_next + run%cfg%gauge_dt
+      do while (run%t_next_gauge <= run%t)
+        run%t_next_gauge = run%t_next_gauge + run%cfg%gauge_dt
       end do
     end if
   end subroutine gauge_output
+
+  ! ------------------------------------------------------------ restarts
+
+  !> Registers everything a restart must hold (once, after allocation).
+  subroutine register_restart()
+    associate (r => run%reg, h => run%h)
+      call r%add('x', 'length', run%g%x)
+      call r%add('velocity', 'length/time', h%u)
+      call r%add('node_mass', 'mass', h%mnode)
+      call r%add('mass', 'mass', h%mass)
+      call r%add('volume', 'length^3', h%vol)
+      call r%add('density', 'mass/length^3', h%rho)
+      call r%add('energy', 'energy/mass', h%e)
+      call r%add('pressure', 'pressure', h%p)
+      call r%add('sound_speed', 'length/time', h%cs)
+      call r%add('viscosity', 'pressure', h%q)
+      call r%add('material', '1', h%mat)
+      call r%add('time', 'time', run%t)
+      call r%add('dt', 'time', run%dt)
+      call r%add('step', '1', run%step)
+      call r%add('boundary_work', 'energy', run%tot%boundary_work)
+      call r%add('initial_energy', 'energy', run%tot%energy_initial)
+      call r%add('t_next_frame', 'time', run%t_next_frame)
+      call r%add('t_next_gauge', 'time', run%t_next_gauge)
+      call r%add('t_next_dump', 'time', run%t_next_dump)
+      call r%add('steps_since_frame', '1', run%steps_since_frame)
+      call r%add('nframe', '1', run%out%nframe)
+      call r%add('rng_state', 'bits', run%rng_bits)
+    end associate
+  end subroutine register_restart
+
+  function restart_path(step) result(path)
+    integer, intent(in) :: step
+    character(len=:), allocatable :: path
+    character(len=16) :: buf
+    write(buf, '(i8.8)') step
+    path = run%out%dir//'/'//run%out%name//'_restart_'//trim(buf)//'.h5'
+  end function restart_path
+
+  !> Writes a restart dump and keeps only the last dump_keep of this run.
+  subroutine write_restart()
+    type(error_t), allocatable :: err
+    character(len=:), allocatable :: path
+    character(len=256) :: entry
+    real(wp) :: w0
+    integer :: u, ios
+
+    w0 = wall_seconds()
+    call run%t_output%start()
+    path = restart_path(run%step)
+    run%rng_bits = transfer(run%rng%s, 1.0_wp)
+    if (.not. allocated(run%out%frames)) allocate(run%out%frames(0), run%out%times(0))
+    call restart_write(path, run%reg, run%cfg%echo, run%out%frames, run%out%times, err)
+    call run%t_output%stop()
+    if (allocated(err)) call fatal(err%where, err%msg)
+    run%dump_wall = wall_seconds() - w0
+    call log_line('restart '//path//' at step '//itoa(run%step)//', t = '//rtoa(run%t))
+    if (.not. allocated(run%dumps)) allocate(run%dumps(0))
+    entry = path
+    run%dumps = [run%dumps, entry]
+    do while (size(run%dumps) > run%cfg%dump_keep)
+      open(newunit=u, file=trim(run%dumps(1)), status='old', iostat=ios)
+      if (ios == 0) close(u, status='delete')
+      run%dumps = run%dumps(2:)
+    end do
+  end subroutine write_restart
+
+  !> The next output time after a restart: the stored one if the interval is
+  !> unchanged, none if the interval is now off, else the next multiple of it.
+  real(wp) function next_time(stored, interval)
+    real(wp), intent(in) :: stored, interval
+    if (interval <= 0.0_wp) then
+      next_time = huge(1.0_wp)
+    else if (stored < huge(1.0_wp)) then
+      next_time = stored
+    else
+      next_time = (aint(run%t/interval) + 1.0_wp)*interval
+    end if
+  end function next_time
+
+  !> Replaces the state built from the deck by the one in the restart file.
+  subroutine read_restart()
+    type(error_t), allocatable :: err
+    character(len=256), allocatable :: frames(:)
+    real(wp), allocatable :: times(:)
+    character(len=:), allocatable :: path
+
+    path = trim(run%cfg%restart_from)
+    call restart_read(path, run%reg, frames, times, err)
+    if (allocated(err)) call refuse_one('&run restart_from: '//err%msg, 'cannot restart')
+    run%rng%s = transfer(run%rng_bits, 1_i8)
+    ! the frame list continues the XDMF series where it was
+    run%out%frames = frames
+    run%out%times = times
+    call material_index_cells(run%mats, run%h%mat, err)
+    if (allocated(err)) call fatal(err%where, err%msg)
+    ! settings a restart may change: frame and dump intervals
+    run%t_next_frame = next_time(run%t_next_frame, run%cfg%frame_dt)
+    run%t_next_dump = next_time(run%t_next_dump, run%cfg%dump_dt)
+    run%step_start = run%step
+    call log_line('restarted from '//path//' at step '//itoa(run%step)//', t = '//rtoa(run%t))
+    call report_conservation('restart')
+  end subroutine read_restart
 
   !> One progress line: step, time, dt, wall time, estimated time left, and
   !> the energy balance. A NaN anywhere in the state shows up here.
@@ -356,11 +558,12 @@ contains
     call report_conservation('final')
     rate = 0.0_wp
     if (run%t_lagrange%total > 0.0_wp) &
-      rate = real(run%g%ncell, wp)*real(run%step, wp)/run%t_lagrange%total
+      rate = real(run%g%ncell, wp)*real(run%step - run%step_start, wp)/run%t_lagrange%total
     write(line, '("timers [s]: setup ",f9.3,"  lagrange ",f9.3,"  output ",f9.3,"  total ",f9.3)') &
       run%t_setup%total, run%t_lagrange%total, run%t_output%total, run%t_total%total
     call log_line(trim(line))
-    write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, run%step
+    write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, &
+      run%step - run%step_start
     call log_line(trim(line))
     call log_line('outputs: '//run%out%dir//'/'//run%out%name//'.xdmf (ParaView), '// &
                   run%out%dir//'/'//run%out%name//'.log')

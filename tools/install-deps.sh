@@ -2,9 +2,25 @@
 # Installs the Debian packages the build and the tests need, only those missing.
 # Usage: tools/install-deps.sh            build + test dependencies
 #        tools/install-deps.sh --check    list what is missing, install nothing
+#        tools/install-deps.sh --viz      also ParaView and a virtual X server
+#                                         (tools/render_frame.sh); --viz --check works too
 set -euo pipefail
 
-pkgs=(gfortran cmake make pkg-config libhdf5-dev hdf5-tools liblapack-dev)
+check=0
+viz=0
+for a in "$@"; do
+  case "$a" in
+    --check) check=1 ;;
+    --viz) viz=1 ;;
+    *) echo "install-deps: unknown option $a (use --check, --viz)" >&2; exit 2 ;;
+  esac
+done
+
+pkgs=(gfortran cmake make pkg-config libhdf5-dev hdf5-tools liblapack-dev
+      python3 python3-numpy python3-h5py python3-matplotlib python3-scipy)
+if [ "$viz" -eq 1 ]; then
+  pkgs+=(paraview python3-paraview xvfb xauth)
+fi
 
 missing=()
 for p in "${pkgs[@]}"; do
@@ -16,7 +32,7 @@ done
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi
-if [ "${1:-}" = "--check" ]; then
+if [ "$check" -eq 1 ]; then
   echo "missing Debian packages: ${missing[*]}"
   exit 1
 fi

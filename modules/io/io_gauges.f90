@@ -23,11 +23,13 @@ module io_gauges
 
 contains
 
-  !> Opens the history file and writes its header.
-  subroutine gauges_open(gs, path, points, err)
+  !> Opens the history file and writes its header, or (append, on a
+  !> restart) adds rows to the existing file.
+  subroutine gauges_open(gs, path, points, append, err)
     type(gauges_t), intent(out) :: gs
     character(len=*), intent(in) :: path
     real(wp), intent(in) :: points(:, :)
+    logical, intent(in) :: append
     type(error_t), allocatable, intent(inout) :: err
     integer :: ios, i
     character(len=256) :: msg
@@ -37,12 +39,18 @@ contains
     gs%point = points
     allocate(gs%cell(gs%n))
     gs%cell = 1
-    open(newunit=gs%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    if (append) then
+      open(newunit=gs%unit, file=path, status='unknown', position='append', action='write', &
+           iostat=ios, iomsg=msg)
+    else
+      open(newunit=gs%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    end if
     if (ios /= 0) then
       call error_set(err, 'gauges_open', 'cannot open '''//path//''': '//trim(msg))
       gs%unit = -1
       return
     end if
+    if (append) return
     write(gs%unit, '(a)') '# gauge histories: time, then for each gauge g: '// &
       'cell_g density_g pressure_g energy_g sound_speed_g velocity_x/y/z_g (cell-mean of its nodes)'
     do i = 1, gs%n

@@ -6,7 +6,7 @@
 !> is reported, one line each, naming the group, the variable, the value and
 !> what is allowed; the driver then stops before step 0.
 module io_input
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_errors, only: error_t
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
@@ -14,7 +14,7 @@ module io_input
   use mesh_boundary, only: bc_kind_from_name, bc_kind_names
   implicit none
   private
-  public :: config_t, material_cfg_t, region_cfg_t, source_cfg_t, input_read, max_gauges
+  public :: config_t, material_cfg_t, region_cfg_t, source_cfg_t, input_read, input_state_changes, max_gauges
 
   integer, parameter :: max_gauges = 64
   integer, parameter :: max_line = 1024
@@ -53,6 +53,10 @@ module io_input
     real(wp) :: t_end = 0.0_wp, dt_init = 0.0_wp, dt_min = 0.0_wp
     integer :: max_steps = 0, progress_steps = 0, seed = 1
     real(wp) :: velocity_noise = 0.0_wp
+    ! restarts
+    character(len=256) :: restart_from = ''
+    real(wp) :: wall_time_limit = 0.0_wp, dump_dt = 0.0_wp
+    integer :: dump_steps = 0, dump_keep = 2
     real(wp) :: progress_seconds = 0.0_wp
     ! &grid
     integer :: ni = 0, nj = 0, nk = 0
@@ -140,15 +144,18 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=200) :: title
     real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
-    real(wp) :: velocity_noise
-    integer :: max_steps, progress_steps, seed, ios
+    real(wp) :: velocity_noise, wall_time_limit, dump_dt
+    integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios
+    character(len=256) :: restart_from
     character(len=max_line) :: msg
     namelist /run/ title, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
-                   progress_steps, progress_seconds, velocity_noise, seed
+                   progress_steps, progress_seconds, velocity_noise, seed, &
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep
 
     title = 'untitled'; t_end = 0.0_wp; max_steps = 100000000
     cfl = 0.5_wp; dt_init = 0.0_wp; dt_max = 0.0_wp; dt_min = 0.0_wp; dt_growth = 1.1_wp
     progress_steps = 0; progress_seconds = 10.0_wp; velocity_noise = 0.0_wp; seed = 1
+    restart_from = ''; wall_time_limit = 0.0_wp; dump_steps = 0; dump_dt = 0.0_wp; dump_keep = 2
     if (group_count(lines, 'run') == 0) then
       call add(problems, trim(cfg%deck_path)//': group &run is missing (t_end is required)')
     else
@@ -164,12 +171,19 @@ contains
     if (dt_min < 0.0_wp) call add(problems, bad('run', 'dt_min', dt_min, 'must be >= 0 (0: 1e-12 t_end)'))
     if (max_steps < 0) call add(problems, badi('run', 'max_steps', max_steps, 'must be >= 0'))
     if (velocity_noise < 0.0_wp) call add(problems, bad('run', 'velocity_noise', velocity_noise, 'must be >= 0'))
+    if (wall_time_limit < 0.0_wp) call add(problems, bad('run', 'wall_time_limit', wall_time_limit, &
+      'must be >= 0 (0: none)'))
+    if (dump_dt < 0.0_wp) call add(problems, bad('run', 'dump_dt', dump_dt, 'must be >= 0 (0: off)'))
+    if (dump_steps < 0) call add(problems, badi('run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)'))
+    if (dump_keep < 1) call add(problems, badi('run', 'dump_keep', dump_keep, 'must be >= 1'))
     cfg%title = title; cfg%t_end = t_end; cfg%max_steps = max_steps
     cfg%hydro%cfl = cfl; cfg%dt_init = dt_init; cfg%hydro%dt_growth = dt_growth
     cfg%hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)
     cfg%dt_min = merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp)
     cfg%progress_steps = progress_steps; cfg%progress_seconds = progress_seconds
     cfg%velocity_noise = velocity_noise; cfg%seed = seed
+    cfg%restart_from = restart_from; cfg%wall_time_limit = wall_time_limit
+    cfg%dump_steps = dump_steps; cfg%dump_dt = dump_dt; cfg%dump_keep = dump_keep
     write(echo, nml=run)
   end subroutine read_run
 
@@ -441,6 +455,86 @@ contains
     write(echo, nml=output)
   end subroutine read_output
 
+  !> What a restart may not change: every variable the state depends on
+  !> (grid, materials, regions, sources, boundaries, the initial noise). One
+  !> line per changed variable, naming it; empty if the decks agree. Time,
+  !> output, dump and numerical settings (&hydro, cfl, dt limits) may change.
+  subroutine input_state_changes(old, new, changes)
+    type(config_t), intent(in) :: old, new
+    character(len=max_line), allocatable, intent(out) :: changes(:)
+    integer :: k, f
+
+    allocate(changes(0))
+    call diff_i(changes, '&grid ni', old%ni, new%ni)
+    call diff_i(changes, '&grid nj', old%nj, new%nj)
+    call diff_i(changes, '&grid nk', old%nk, new%nk)
+    call diff_r(changes, '&grid xmin', old%xmin, new%xmin)
+    call diff_r(changes, '&grid xmax', old%xmax, new%xmax)
+    call diff_r(changes, '&run velocity_noise', [old%velocity_noise], [new%velocity_noise])
+    call diff_i(changes, '&run seed', old%seed, new%seed)
+    call diff_i(changes, 'number of &material groups', size(old%materials), size(new%materials))
+    do k = 1, min(size(old%materials), size(new%materials))
+      associate (a => old%materials(k), b => new%materials(k))
+        if (a%name /= b%name) call add(changes, '&material('//itoa(k)//') name changed')
+        if (a%eos /= b%eos) call add(changes, '&material '''//trim(a%name)//''' eos changed')
+        call diff_r(changes, '&material '''//trim(a%name)//''' gamma', [a%par%gamma], [b%par%gamma])
+      end associate
+    end do
+    call diff_i(changes, 'number of &region groups', size(old%regions), size(new%regions))
+    do k = 1, min(size(old%regions), size(new%regions))
+      associate (a => old%regions(k), b => new%regions(k))
+        if (a%shape /= b%shape) call add(changes, '&region('//itoa(k)//') shape changed')
+        if (a%material /= b%material) call add(changes, '&region('//itoa(k)//') material changed')
+        call diff_r(changes, '&region('//itoa(k)//') density', [a%density], [b%density])
+        call diff_r(changes, '&region('//itoa(k)//') energy', [a%energy], [b%energy])
+        call diff_r(changes, '&region('//itoa(k)//') pressure', [a%pressure], [b%pressure])
+        call diff_r(changes, '&region('//itoa(k)//') velocity', a%velocity, b%velocity)
+        call diff_r(changes, '&region('//itoa(k)//') lo', a%lo, b%lo)
+        call diff_r(changes, '&region('//itoa(k)//') hi', a%hi, b%hi)
+        call diff_r(changes, '&region('//itoa(k)//') center', a%center, b%center)
+        call diff_r(changes, '&region('//itoa(k)//') radius', [a%radius], [b%radius])
+        call diff_i(changes, '&region('//itoa(k)//') axis', a%axis, b%axis)
+      end associate
+    end do
+    call diff_i(changes, 'number of &source groups', size(old%sources), size(new%sources))
+    do k = 1, min(size(old%sources), size(new%sources))
+      call diff_r(changes, '&source('//itoa(k)//') position', old%sources(k)%position, new%sources(k)%position)
+      call diff_r(changes, '&source('//itoa(k)//') energy', [old%sources(k)%energy], [new%sources(k)%energy])
+    end do
+    do f = 1, 6
+      call diff_i(changes, '&boundary '//face_names(f), old%bc_kind(f), new%bc_kind(f))
+      call diff_r(changes, '&boundary '//face_names(f)//'_velocity', old%bc_velocity(:, f), new%bc_velocity(:, f))
+      call diff_r(changes, '&boundary '//face_names(f)//'_pressure', [old%bc_pressure(f)], [new%bc_pressure(f)])
+    end do
+  end subroutine input_state_changes
+
+  subroutine diff_i(changes, what, a, b)
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: a, b
+    if (a /= b) call add(changes, what//' changed from '//itoa(a)//' to '//itoa(b))
+  end subroutine diff_i
+
+  !> Exact comparison (of the bits): the deck echo stored in a restart file
+  !> prints 17 digits, so it reads back as the very values first read.
+  subroutine diff_r(changes, what, a, b)
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: a(:), b(:)
+    character(len=64) :: buf
+    if (all(transfer(a, 1_i8, size(a)) == transfer(b, 1_i8, size(b)))) return
+    write(buf, '(g0)') b(1)
+    call add(changes, what//' changed (new first value '//trim(buf)//')')
+  end subroutine diff_r
+
+  function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function itoa
+
   ! ---------------------------------------------------------------- helpers
 
   !> Reads all records of an open unit.
@@ -548,10 +642,14 @@ contains
     line = '&'//group//': '//var//' = '//trim(buf)//' '//rule
   end function badi
 
+  !> Appends a line (assigned first: gfortran 12 overruns a typed array
+  !> constructor given a longer string).
   subroutine add(list, line)
     character(len=max_line), allocatable, intent(inout) :: list(:)
     character(len=*), intent(in) :: line
-    list = [character(len=max_line) :: list, line]
+    character(len=max_line) :: l
+    l = line
+    list = [list, l]
   end subroutine add
 
   pure function lower(s) result(t)

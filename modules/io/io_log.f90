@@ -9,13 +9,20 @@ module io_log
 
 contains
 
-  !> Opens (replaces) the log file at path; returns a message on failure.
-  subroutine log_open(path, ok, msg)
+  !> Opens the log file at path, replacing it or (append) adding to it;
+  !> returns a message on failure.
+  subroutine log_open(path, append, ok, msg)
     character(len=*), intent(in) :: path
+    logical, intent(in) :: append
     logical, intent(out) :: ok
     character(len=*), intent(inout) :: msg
     integer :: ios
-    open(newunit=log_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    if (append) then
+      open(newunit=log_unit, file=path, status='unknown', position='append', action='write', &
+           iostat=ios, iomsg=msg)
+    else
+      open(newunit=log_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    end if
     ok = (ios == 0)
     if (.not. ok) log_unit = -1
   end subroutine log_open

@@ -1,0 +1,275 @@
+!> Restart files: a registry of the fields and scalars that make up the state,
+!> and the writer and reader that walk it.
+!>
+!> Packages register each restart quantity once (name, units, the array or
+!> scalar itself); `restart_write` and `restart_read` loop over the registry,
+!> so a quantity that is registered cannot be forgotten by either. Besides the
+!> registry a restart file holds its format version, the resolved deck, and
+!> the output bookkeeping (frame names and times), which change in length
+!> during a run. The file is written under a temporary name, closed (flushed)
+!> and renamed, so a run killed during a dump leaves the previous file intact.
+module io_restart
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
+                     h5_write_scalar_real, h5_write_scalar_int, h5_write_string, h5_read_dims, &
+                     h5_read_real, h5_read_int, h5_read_scalar_real, h5_read_scalar_int, &
+                     h5_read_string, h5_exists
+  use io_xdmf, only: io_rename
+  implicit none
+  private
+  public :: restart_registry_t, restart_write, restart_read, restart_read_deck, restart_version
+
+  !> Format version written to every file; a reader refuses any other.
+  integer, parameter :: restart_version = 1
+
+  integer, parameter :: K_REAL = 1, K_INT = 2, K_REAL_SCALAR = 3, K_INT_SCALAR = 4
+
+  !> One registered quantity: a view of the caller's storage.
+  type :: restart_entry_t
+    character(len=64) :: name = ''
+    character(len=32) :: units = ''
+    integer :: kind = 0
+    integer, allocatable :: dims(:)
+    real(wp), pointer, contiguous :: r(:) => null()
+    integer, pointer, contiguous :: i(:) => null()
+    real(wp), pointer :: rs => null()
+    integer, pointer :: is => null()
+  end type restart_entry_t
+
+  !> The registry. The registered storage must outlive it and must not be
+  !> reallocated (register after allocation).
+  type :: restart_registry_t
+    type(restart_entry_t), allocatable :: e(:)
+    integer :: n = 0
+  contains
+    procedure, private :: add_r1, add_r2, add_i1, add_rs, add_is
+    !> Registers an array or scalar under a name, with its units.
+    generic :: add => add_r1, add_r2, add_i1, add_rs, add_is
+  end type restart_registry_t
+
+contains
+
+  subroutine push(this, name, units, kind, dims)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    integer, intent(in) :: kind, dims(:)
+    type(restart_entry_t), allocatable :: tmp(:)
+    if (.not. allocated(this%e)) allocate(this%e(16))
+    if (this%n == size(this%e)) then
+      allocate(tmp(2*this%n))
+      tmp(1:this%n) = this%e
+      call move_alloc(tmp, this%e)
+    end if
+    this%n = this%n + 1
+    this%e(this%n)%name = name
+    this%e(this%n)%units = units
+    this%e(this%n)%kind = kind
+    this%e(this%n)%dims = dims
+  end subroutine push
+
+  subroutine add_r1(this, name, units, a)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    real(wp), intent(inout), target, contiguous :: a(:)
+    call push(this, name, units, K_REAL, shape(a))
+    this%e(this%n)%r => a
+  end subroutine add_r1
+
+  subroutine add_r2(this, name, units, a)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    real(wp), intent(inout), target, contiguous :: a(:, :)
+    call push(this, name, units, K_REAL, shape(a))
+    this%e(this%n)%r(1:size(a)) => a
+  end subroutine add_r2
+
+  subroutine add_i1(this, name, units, a)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    integer, intent(inout), target, contiguous :: a(:)
+    call push(this, name, units, K_INT, shape(a))
+    this%e(this%n)%i => a
+  end subroutine add_i1
+
+  subroutine add_rs(this, name, units, a)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    real(wp), intent(inout), target :: a
+    call push(this, name, units, K_REAL_SCALAR, [integer ::])
+    this%e(this%n)%rs => a
+  end subroutine add_rs
+
+  subroutine add_is(this, name, units, a)
+    class(restart_registry_t), intent(inout) :: this
+    character(len=*), intent(in) :: name, units
+    integer, intent(inout), target :: a
+    call push(this, name, units, K_INT_SCALAR, [integer ::])
+    this%e(this%n)%is => a
+  end subroutine add_is
+
+  !> Writes every registered quantity, the deck and the frame list to `path`
+  !> (atomically: `path`.tmp, then rename).
+  subroutine restart_write(path, reg, deck, frames, times, err)
+    character(len=*), intent(in) :: path
+    type(restart_registry_t), intent(in) :: reg
+    character(len=*), intent(in) :: deck
+    character(len=*), intent(in) :: frames(:)
+    real(wp), intent(in) :: times(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer :: k
+    character(len=:), allocatable :: list
+
+    call h5_create(f, path//'.tmp', err)
+    if (allocated(err)) return
+    call h5_write_scalar_int(f, 'restart_version', restart_version, err)
+    do k = 1, reg%n
+      if (allocated(err)) exit
+      associate (e => reg%e(k))
+        select case (e%kind)
+        case (K_REAL); call h5_write_real(f, 'state/'//trim(e%name), e%r, e%dims, err)
+        case (K_INT); call h5_write_int(f, 'state/'//trim(e%name), e%i, e%dims, err)
+        case (K_REAL_SCALAR); call h5_write_scalar_real(f, 'scalars/'//trim(e%name), e%rs, err)
+        case (K_INT_SCALAR); call h5_write_scalar_int(f, 'scalars/'//trim(e%name), e%is, err)
+        end select
+      end associate
+    end do
+    list = ''
+    do k = 1, size(frames)
+      list = list//trim(frames(k))//new_line('a')
+    end do
+    if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
+    if (.not. allocated(err)) call h5_write_string(f, 'output/frames', list, err)
+    if (.not. allocated(err)) call h5_write_real(f, 'output/times', times, [size(times)], err)
+    if (allocated(err)) then
+      call h5_close(f, err2)
+      return
+    end if
+    call h5_close(f, err)
+    if (allocated(err)) return
+    call io_rename(path//'.tmp', path, err)
+  end subroutine restart_write
+
+  !> The resolved deck stored in a restart file (and a check of its version).
+  subroutine restart_read_deck(path, deck, err)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    call h5_read_string(f, 'deck', deck, err)
+    call h5_close(f, err2)
+  end subroutine restart_read_deck
+
+  !> Reads every registered quantity from `path`, checking each one's shape,
+  !> and the frame list. Nothing is left half-read silently: on error the
+  !> caller must not use the state.
+  subroutine restart_read(path, reg, frames, times, err)
+    character(len=*), intent(in) :: path
+    type(restart_registry_t), intent(inout) :: reg
+    character(len=256), allocatable, intent(out) :: frames(:)
+    real(wp), allocatable, intent(out) :: times(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer :: k, n, p
+    integer, allocatable :: dims(:), ibuf(:)
+    real(wp), allocatable :: rbuf(:)
+    character(len=:), allocatable :: list
+    character(len=128) :: name
+
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    do k = 1, reg%n
+      associate (e => reg%e(k))
+        select case (e%kind)
+        case (K_REAL, K_INT)
+          name = 'state/'//trim(e%name)
+          call h5_read_dims(f, trim(name), dims, err)
+          if (allocated(err)) exit
+          if (size(dims) /= size(e%dims)) then
+            call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has the wrong rank')
+            exit
+          else if (any(dims /= e%dims)) then
+            call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has shape '// &
+                           shape_str(dims)//', this run expects '//shape_str(e%dims))
+            exit
+          end if
+          if (e%kind == K_REAL) then
+            call h5_read_real(f, trim(name), rbuf, err)
+            if (.not. allocated(err)) e%r = rbuf
+          else
+            call h5_read_int(f, trim(name), ibuf, err)
+            if (.not. allocated(err)) e%i = ibuf
+          end if
+        case (K_REAL_SCALAR)
+          call h5_read_scalar_real(f, 'scalars/'//trim(e%name), e%rs, err)
+        case (K_INT_SCALAR)
+          call h5_read_scalar_int(f, 'scalars/'//trim(e%name), e%is, err)
+        end select
+      end associate
+      if (allocated(err)) exit
+    end do
+    if (.not. allocated(err)) call h5_read_string(f, 'output/frames', list, err)
+    if (.not. allocated(err)) call h5_read_real(f, 'output/times', times, err)
+    call h5_close(f, err2)
+    if (allocated(err)) return
+    n = size(times)
+    allocate(frames(n))
+    do k = 1, n
+      p = index(list, new_line('a'))
+      if (p == 0) then
+        call error_set(err, 'restart_read', trim(path)//': the frame list is damaged')
+        return
+      end if
+      frames(k) = list(1:p - 1)
+      list = list(p + 1:)
+    end do
+  end subroutine restart_read
+
+  !> Opens a restart file and checks that it is one, of this version.
+  subroutine open_checked(path, f, err)
+    character(len=*), intent(in) :: path
+    type(h5_file_t), intent(inout) :: f
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    integer :: version
+    character(len=16) :: buf
+
+    call h5_open_read(f, path, err)
+    if (allocated(err)) then
+      err%msg = 'cannot read restart file: '//err%msg
+      return
+    end if
+    if (.not. h5_exists(f, 'restart_version')) then
+      call error_set(err, 'restart', trim(path)//' is not a restart file (no restart_version)')
+    else
+      call h5_read_scalar_int(f, 'restart_version', version, err)
+      if (.not. allocated(err) .and. version /= restart_version) then
+        write(buf, '(i0)') version
+        call error_set(err, 'restart', trim(path)//' has restart format version '//trim(buf)// &
+                       '; this program reads version 1')
+      end if
+    end if
+    if (allocated(err)) call h5_close(f, err2)
+  end subroutine open_checked
+
+  function shape_str(d) result(s)
+    integer, intent(in) :: d(:)
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    integer :: k
+    s = '('
+    do k = 1, size(d)
+      write(buf, '(i0)') d(k)
+      s = s//trim(buf)
+      if (k < size(d)) s = s//','
+    end do
+    s = s//')'
+  end function shape_str
+end module io_restart

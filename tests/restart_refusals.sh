@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Restarts that must be refused before step 0 with a message naming the
+# problem (changed grid or material, truncated, foreign or missing file), and
+# one that must be accepted (new end time and output name).
+# Usage: restart_refusals.sh EXE DECK WORKDIR
+set -u
+exe=$1 deck=$2 dir=$3
+. "$(dirname "$0")/restart_lib.sh"
+rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+derive base "$deck" "max_steps = 10, dump_steps = 10" base
+"$exe" base.nml > base.log 2>&1 || fail "base run failed"
+dump=out/base_restart_00000010.h5
+[ -f "$dump" ] || fail "no dump"
+head -c 3000 "$dump" > truncated.h5
+
+expect() { # name regex deck
+  local out rc
+  out=$("$exe" "$3" 2>&1); rc=$?
+  [ "$rc" -eq 2 ] || { printf '%s\n' "$out"; fail "$1: exit status $rc, expected 2"; }
+  printf '%s\n' "$out" | grep -E -q -- "$2" || { printf '%s\n' "$out"; fail "$1: no line matches /$2/"; }
+  printf '%s\n' "$out" | grep -E -q '^step ' && fail "$1: a step was taken"
+  echo "ok: $1 refused: $(printf '%s\n' "$out" | grep -E -- "$2" | head -1)"
+}
+derive grid "$deck" "max_steps = 20, restart_from = '$dump'" base
+sed -i -e 's/ni = 100/ni = 50/' grid.nml
+expect "changed grid" "&grid ni changed from 100 to 50" grid.nml
+derive gamma "$deck" "max_steps = 20, restart_from = '$dump'" base
+sed -i -e 's/gamma = 1.4/gamma = 1.67/' gamma.nml
+expect "changed gamma" "&material 'gas' gamma changed" gamma.nml
+derive trunc "$deck" "max_steps = 20, restart_from = 'truncated.h5'" base
+expect "truncated file" "restart_from: cannot read restart file" trunc.nml
+derive foreign "$deck" "max_steps = 20, restart_from = 'out/base_00000.h5'" base
+expect "a frame, not a restart" "is not a restart file" foreign.nml
+derive missing "$deck" "max_steps = 20, restart_from = 'nowhere.h5'" base
+expect "missing file" "restart_from: cannot read restart file" missing.nml
+
+derive fine "$deck" "max_steps = 20, restart_from = '$dump'" renamed
+sed -i -e 's/t_end = 0.2/t_end = 0.15/' fine.nml
+"$exe" fine.nml > fine.log 2>&1 || { cat fine.log; fail "an allowed change was refused"; }
+grep -q "done: .* after 20 steps" fine.log || fail "the accepted restart did not run to step 20"
+echo "ok: new end time and output name accepted"
+echo "PASS restart_refusals"

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# &run wall_time_limit: the run writes a restart and stops with status 3 and
+# a message saying how to continue; continuing from that file works.
+# Usage: restart_wall_time.sh EXE DECK LIMIT WORKDIR
+set -u
+exe=$1 deck=$2 limit=$3 dir=$4
+. "$(dirname "$0")/restart_lib.sh"
+rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+derive limited "$deck" "wall_time_limit = $limit" wt
+"$exe" limited.nml > limited.log 2>&1; rc=$?
+[ "$rc" -eq 3 ] || { tail -5 limited.log; fail "exit status $rc, expected 3"; }
+file=$(sed -n "s/.*restart_from = '\([^']*\)'.*/\1/p" limited.log | tail -1)
+[ -n "$file" ] && [ -f "$file" ] || { tail -5 limited.log; fail "no 'restart_from' advice naming an existing file"; }
+step=$(sed -n 's/.*reached at step \([0-9]*\),.*/\1/p' limited.log)
+echo "stopped at step $step, restart file $file"
+derive more "$deck" "max_steps = $((step + 3)), restart_from = '$file'" wt
+"$exe" more.nml > more.log 2>&1 || { tail more.log; fail "continuing failed"; }
+grep -q "restarted from $file at step $step" more.log || fail "restart not reported"
+grep -q "after $((step + 3)) steps" more.log || fail "did not continue to step $((step + 3))"
+echo "PASS restart_wall_time"
