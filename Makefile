@@ -29,7 +29,7 @@ test: debug
 	cd $(BUILD_DBG) && ctest --output-on-failure -j $(JOBS)
 
 bench: release
-	bash tools/bench.sh $(BUILD_REL)/lsalepm $(BUILD_REL)/tests/check_sod
+	bash tools/bench.sh $(BUILD_REL)/lsalepm build/bench
 
 # Regenerate the regression references (then commit them, saying why).
 regression-update: debug

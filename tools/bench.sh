@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Benchmarks (not tests): Lagrangian throughput on Sedov 40^3 with 1 and 2
-# threads, and Sod L1 density error against wall time at N = 100..800.
-# Usage: tools/bench.sh LSALEPM CHECK_SOD
+# threads, and L1 density error against wall time for Sod (N = 100..800) and
+# Sedov (N^3, N = 10..40) through tools/speed_error.py.
+# Usage: tools/bench.sh LSALEPM OUTDIR
 set -euo pipefail
-exe=$(realpath "$1"); check=$(realpath "$2")
+exe=$(realpath "$1"); mkdir -p "$2"; outdir=$(realpath "$2")
 root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -21,26 +22,7 @@ done
 echo "2-thread speed-up: $(awk -v a="${rate[1]}" -v b="${rate[2]}" 'BEGIN {printf "%.2f", b/a}')"
 
 echo
-echo "## Sod (gamma 1.4, t = 0.2) L1 density error against wall time (1 thread)"
-printf '%6s %14s %10s %10s\n' N L1 order wall_s
-prev=""
-for n in 100 200 400 800; do
-  h=$(awk -v n=$n 'BEGIN {printf "%.6g", 1.0/n}')
-  cat > sod$n.nml <<DECK
-&run title = 'Sod N = $n', t_end = 0.2 /
-&grid ni = $n, nj = 1, nk = 1, xmin = 0, 0, 0, xmax = 1, $h, $h /
-&material name = 'gas', eos = 'ideal_gas', gamma = 1.4 /
-&region shape = 'all', material = 'gas', density = 1.0, pressure = 1.0 /
-&region shape = 'box', material = 'gas', density = 0.125, pressure = 0.1, lo = 0.5, -1, -1, hi = 2, 2, 2 /
-&boundary xlo = 'wall', xhi = 'wall' /
-&output dir = 'out/sod$n' /
-DECK
-  t0=$(date +%s.%N)
-  OMP_NUM_THREADS=1 "$exe" sod$n.nml > sod$n.log
-  t1=$(date +%s.%N)
-  l1=$("$check" l1 out/sod$n/sod${n}_00001.h5 1 1 | awk '/L1 density error/ {print $8}' | tr -d ,)
-  order=""
-  [ -n "$prev" ] && order=$(awk -v a="$prev" -v b="$l1" 'BEGIN {printf "%.3f", log(a/b)/log(2)}')
-  printf '%6d %14s %10s %10.3f\n' "$n" "$l1" "$order" "$(awk -v a="$t0" -v b="$t1" 'BEGIN {print b-a}')"
-  prev=$l1
-done
+echo "## Speed against error (1 thread): tables, CSV and PNG in $outdir"
+py=/usr/bin/python3
+"$py" "$root/tools/speed_error.py" --exe "$exe" --case sod --n 100 200 400 800 --threads 1 --out "$outdir"
+"$py" "$root/tools/speed_error.py" --exe "$exe" --case sedov --n 10 20 30 40 --threads 1 --out "$outdir"
