@@ -10,7 +10,7 @@ module io_input
   use base_errors, only: error_t
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
-  use lagrange_state, only: hydro_params_t
+  use lagrange_state, only: hydro_params_t, VISC_EDGE, VISC_TENSOR
   use mesh_boundary, only: bc_kind_from_name, bc_kind_names
   implicit none
   private
@@ -225,10 +225,12 @@ contains
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     real(wp) :: q_linear, q_quad, hourglass, dv_max
+    character(len=16) :: viscosity
     integer :: ios
     character(len=max_line) :: msg
-    namelist /hydro/ q_linear, q_quad, hourglass, dv_max
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max
 
+    viscosity = 'tensor'
     q_linear = cfg%hydro%q_linear; q_quad = cfg%hydro%q_quad
     hourglass = cfg%hydro%hourglass; dv_max = cfg%hydro%dv_max
     if (group_count(lines, 'hydro') > 0) then
@@ -236,6 +238,12 @@ contains
       read(unit, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'hydro', ios, msg))
     end if
+    select case (trim(viscosity))
+    case ('tensor'); cfg%hydro%viscosity = VISC_TENSOR
+    case ('edge'); cfg%hydro%viscosity = VISC_EDGE
+    case default
+      call add(problems, '&hydro: viscosity = '''//trim(viscosity)//''' is not known; valid: tensor, edge')
+    end select
     if (q_linear < 0.0_wp) call add(problems, bad('hydro', 'q_linear', q_linear, 'must be >= 0'))
     if (q_quad < 0.0_wp) call add(problems, bad('hydro', 'q_quad', q_quad, 'must be >= 0'))
     if (hourglass < 0.0_wp) call add(problems, bad('hydro', 'hourglass', hourglass, 'must be >= 0'))

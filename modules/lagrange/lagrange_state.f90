@@ -10,13 +10,17 @@ module lagrange_state
   use base_errors, only: error_t, error_set
   implicit none
   private
-  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals
+  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, VISC_EDGE, VISC_TENSOR
+
+  !> Artificial viscosity forms (deck: &hydro viscosity = 'edge' | 'tensor').
+  integer, parameter :: VISC_EDGE = 1, VISC_TENSOR = 2
 
   !> Numerical parameters of the Lagrangian phase (deck group &hydro, &run).
   type :: hydro_params_t
+    integer :: viscosity = VISC_TENSOR  !< VISC_EDGE or VISC_TENSOR
     real(wp) :: q_linear = 0.5_wp     !< linear viscosity coefficient
-    real(wp) :: q_quad = 1.0_wp       !< quadratic viscosity coefficient
-    real(wp) :: hourglass = 0.03_wp   !< Flanagan-Belytschko viscous hourglass coefficient
+    real(wp) :: q_quad = 1.5_wp       !< quadratic viscosity coefficient
+    real(wp) :: hourglass = 0.1_wp    !< Flanagan-Belytschko viscous hourglass coefficient
     real(wp) :: cfl = 0.5_wp          !< Courant number
     real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step
     real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
