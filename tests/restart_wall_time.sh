@@ -6,6 +6,8 @@ set -u
 exe=$1 deck=$2 limit=$3 dir=$4
 . "$(dirname "$0")/restart_lib.sh"
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+# on failure, show the end of every log for diagnosis
+trap 'rc=$?; if [ $rc -ne 0 ]; then for f in *.log; do echo "== $f"; tail -8 "$f"; done; fi' EXIT
 derive limited "$deck" "wall_time_limit = $limit" wt
 "$exe" limited.nml > limited.log 2>&1; rc=$?
 [ "$rc" -eq 3 ] || { tail -5 limited.log; fail "exit status $rc, expected 3"; }

@@ -116,9 +116,10 @@ contains
 
   !> Velocity gradient (1/V) sum_a v_a (x) dV/dx_a of a cell (exact for linear
   !> fields), its divergence, and the principal strain rates lam and axes ev
-  !> of its symmetric part.
-  pure subroutine strain_principal(vn, b, vol, div, lam, ev)
-    real(wp), intent(in) :: vn(3, 8), b(3, 8), vol
+  !> of its symmetric part; div is returned as 0 (and nothing else computed)
+  !> unless the cell is compressed faster than div_min.
+  pure subroutine strain_principal(vn, b, vol, div_min, div, lam, ev)
+    real(wp), intent(in) :: vn(3, 8), b(3, 8), vol, div_min
     real(wp), intent(out) :: div, lam(3), ev(3, 3)
     real(wp) :: gv(3, 3)
     integer :: a, i, j
@@ -132,7 +133,8 @@ contains
     end do
     gv = gv/vol
     div = gv(1, 1) + gv(2, 2) + gv(3, 3)
-    if (.not. (div < 0.0_wp)) then
+    if (.not. (div < -div_min)) then
+      div = 0.0_wp
       lam = 0.0_wp
       ev = 0.0_wp
       return
@@ -168,7 +170,7 @@ contains
     scale = abs(a(1, 1)) + abs(a(2, 2)) + abs(a(3, 3)) + abs(a(1, 2)) + abs(a(1, 3)) + abs(a(2, 3))
     do sweep = 1, 12
       off = abs(a(1, 2)) + abs(a(1, 3)) + abs(a(2, 3))
-      if (off <= 1.0e-15_wp*scale) exit
+      if (off <= 1.0e-12_wp*scale) exit
       do p = 1, 2
         do q = p + 1, 3
           apq = a(p, q)
@@ -268,13 +270,13 @@ contains
     integer :: c, d, e, a, k, m, n0, ci, cj, ck, stride(3), ilog(3), nlog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3)
-    real(wp) :: vol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
+    real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
 
     stride = [1, g%ni, g%ni*g%nj]
     nlog = [g%ni, g%nj, g%nk]
     !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik) &
-    !$omp private(vol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
+    !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
     !$omp schedule(static)
     do ck = 1, g%nk
     do cj = 1, g%nj
@@ -294,7 +296,9 @@ contains
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then
-        call strain_principal(vn, b, vol, div, lam, ev)
+        ! skip cells whose compression is round-off: a velocity jump below
+        ! 1e-10 of the sound speed gives q below 1e-10 of the pressure
+        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*maxval(norm2(s, dim=1))/vol, div, lam, ev)
         if (div < 0.0_wp) then
           ! limiter along each compressive principal direction: compare the
           ! volumetric strain rate with the two neighbours (among the 26)
@@ -334,6 +338,7 @@ contains
       if (par%hourglass > 0.0_wp) then
         ! length^2 scale: the mean median area (V^(2/3) for a cube, without a pow)
         coef = par%hourglass*h%rho(c)*h%cs(c)*(norm2(s(:, 1)) + norm2(s(:, 2)) + norm2(s(:, 3)))/3.0_wp
+        rvol = 1.0_wp/vol
         do m = 1, 4
           hx = 0.0_wp
           do a = 1, 8
@@ -341,7 +346,7 @@ contains
           end do
           gv = 0.0_wp
           do a = 1, 8
-            gam(a) = hg_base(a, m) - dot_product(b(:, a), hx)/vol
+            gam(a) = hg_base(a, m) - dot_product(b(:, a), hx)*rvol
             gv = gv + gam(a)*vn(:, a)
           end do
           do a = 1, 8
