@@ -2,9 +2,9 @@
 # Restarts that must be refused before step 0 with a message naming the
 # problem (changed grid or material, truncated, foreign or missing file), and
 # one that must be accepted (new end time and output name).
-# Usage: restart_refusals.sh EXE DECK WORKDIR
+# Usage: restart_refusals.sh EXE DECK WORKDIR PYTHON
 set -u
-exe=$1 deck=$2 dir=$3
+exe=$1 deck=$2 dir=$3 py=$4
 . "$(dirname "$0")/restart_lib.sh"
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
 derive base "$deck" "max_steps = 10, dump_steps = 10" base
@@ -31,6 +31,24 @@ derive trunc "$deck" "max_steps = 20, restart_from = 'truncated.h5'" base
 expect "truncated file" "restart_from: cannot read restart file" trunc.nml
 derive foreign "$deck" "max_steps = 20, restart_from = 'out/base_00000.h5'" base
 expect "a frame, not a restart" "is not a restart file" foreign.nml
+"$py" - "$dump" future.h5 <<'PY'
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    f["restart_version"][()] = 99
+PY
+derive future "$deck" "max_steps = 20, restart_from = 'future.h5'" base
+expect "another format version" "has restart format version 99; this program reads version 1" future.nml
+"$py" - "$dump" reshaped.h5 <<'PY'
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    rho = f["state/density"][()]
+    del f["state/density"]
+    f["state/density"] = rho[:50]
+PY
+derive reshaped "$deck" "max_steps = 20, restart_from = 'reshaped.h5'" base
+expect "a field of the wrong size" "state/density has shape \\(50\\), this run expects \\(100\\)" reshaped.nml
 derive missing "$deck" "max_steps = 20, restart_from = 'nowhere.h5'" base
 expect "missing file" "restart_from: cannot read restart file" missing.nml
 
