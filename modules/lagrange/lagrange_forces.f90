@@ -274,10 +274,12 @@ contains
 
     stride = [1, g%ni, g%ni*g%nj]
     nlog = [g%ni, g%nj, g%nk]
+    ! rows dealt round-robin: the costly compressed cells gather in a shock
+    ! shell, which a blocked schedule would give to one thread
     !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
-    !$omp schedule(static)
+    !$omp schedule(static, 1)
     do ck = 1, g%nk
     do cj = 1, g%nj
     do ci = 1, g%ni
