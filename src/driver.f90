@@ -3,6 +3,7 @@
 module driver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use base_kinds, only: wp, i8
+  use base_strings, only: itoa, rtoa
   use base_errors, only: error_t
   use base_timers, only: timer_t, wall_seconds
   use base_random, only: rng_t, rng_seed, rng_uniform
@@ -600,19 +601,5 @@ contains
     error stop 1
   end subroutine fatal
 
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 
-  function rtoa(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write(buf, '(es14.7)') x
-    s = trim(adjustl(buf))
-  end function rtoa
 end module driver

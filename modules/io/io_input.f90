@@ -7,6 +7,7 @@
 !> what is allowed; the driver then stops before step 0.
 module io_input
   use base_kinds, only: wp, i8
+  use base_strings, only: itoa
   use base_errors, only: error_t
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
@@ -535,13 +536,6 @@ contains
     call add(changes, what//' changed (new first value '//trim(buf)//')')
   end subroutine diff_r
 
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 
   ! ---------------------------------------------------------------- helpers
 
