@@ -12,6 +12,7 @@ module driver
   use mesh_geometry, only: hex_volume, hex_subcell_volumes
   use mesh_boundary, only: bc_t, bc_init, bc_constrain
   use material_table, only: material_t, material_index_cells, material_eval_eos
+  use material_mixed, only: mixed_t, mixed_allocate, mixed_cell_state
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
   use lagrange_integrator, only: lagrange_step
   use io_input, only: config_t, input_read, input_state_changes
@@ -31,6 +32,7 @@ module driver
     type(hydro_t) :: h
     type(bc_t) :: bc
     type(material_t), allocatable :: mats(:)
+    type(mixed_t) :: mx
     type(output_t) :: out
     type(gauges_t) :: gauges
     type(totals_t) :: tot
@@ -180,7 +182,7 @@ contains
   subroutine build_scene()
     type(error_t), allocatable :: err
     integer :: m, c, n, a, n0, r, s, ijk(3)
-    real(wp) :: xn(3, 8), xc(3), vsub(8), h(3), rv
+    real(wp) :: xn(3, 8), vsub(8), h(3), rv
 
     associate (cfg => run%cfg, g => run%g, hy => run%h)
       call grid_init_box(g, cfg%ni, cfg%nj, cfg%nk, cfg%xmin, cfg%xmax, err)
@@ -193,29 +195,15 @@ contains
         run%mats(m)%name = trim(cfg%materials(m)%name)
         call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, run%mats(m)%eos, err)
         if (allocated(err)) call fatal('&material '//run%mats(m)%name, err%msg)
+        run%mats(m)%p_min = cfg%materials(m)%p_min
+        run%mats(m)%rho_min = cfg%materials(m)%rho_min
       end do
 
-      ! regions in deck order; a later region overrides an earlier one
-      hy%mat = 0
       do c = 1, g%ncell
         call g%gather(c, g%x, xn)
         hy%vol(c) = hex_volume(xn)
-        xc = sum(xn, 2)/8.0_wp
-        do r = 1, size(cfg%regions)
-          if (.not. inside(cfg%regions(r), xc)) cycle
-          associate (rg => cfg%regions(r))
-            hy%mat(c) = rg%imat
-            hy%rho(c) = rg%density
-            if (rg%energy >= 0.0_wp) then
-              hy%e(c) = rg%energy
-            else
-              hy%e(c) = run%mats(rg%imat)%eos%energy(rg%density, rg%pressure)
-            end if
-          end associate
-        end do
-        if (hy%mat(c) == 0) call fatal('build_scene', 'cell '//itoa(c)// &
-          ' is in no &region; add a region with shape = ''all'' first')
       end do
+      call fill_regions()
       do n = 1, g%nnode
         do r = 1, size(cfg%regions)
           if (inside(cfg%regions(r), g%x(:, n))) hy%u(:, n) = cfg%regions(r)%velocity
@@ -230,8 +218,6 @@ contains
           end do
         end do
       end if
-      hy%mass = hy%rho*hy%vol
-
       ! energy sources: added to the cell that contains the point
       h = (cfg%xmax - cfg%xmin)/real([cfg%ni, cfg%nj, cfg%nk], wp)
       do s = 1, size(cfg%sources)
@@ -239,6 +225,13 @@ contains
         ijk = max(1, min([cfg%ni, cfg%nj, cfg%nk], ijk))
         c = ijk(1) + cfg%ni*((ijk(2) - 1) + cfg%nj*(ijk(3) - 1))
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
+        if (hy%mat(c) < 0) then
+          ! a mixed cell: every material gets the same specific energy
+          associate (k => -hy%mat(c))
+            run%mx%e(run%mx%start(k):run%mx%start(k + 1) - 1) = &
+              run%mx%e(run%mx%start(k):run%mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
+          end associate
+        end if
         call log_line('source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
                       ' deposited in cell '//itoa(c))
       end do
@@ -255,9 +248,10 @@ contains
         end do
       end do
 
-      call material_index_cells(run%mats, hy%mat, err)
+      call material_index_cells(run%mats, hy%mat, run%mx, err)
       if (allocated(err)) call fatal(err%where, err%msg)
-      call material_eval_eos(run%mats, hy%rho, hy%e, hy%p, hy%cs)
+      call material_eval_eos(run%mats, hy%rho, hy%e, hy%p, hy%cs, run%mx)
+      call mixed_cell_state(run%mx, hy%p, hy%cs)
 
       run%bc%kind = cfg%bc_kind
       run%bc%velocity = cfg%bc_velocity
@@ -273,6 +267,165 @@ contains
     call log_line('grid: '//itoa(run%g%ni)//' x '//itoa(run%g%nj)//' x '//itoa(run%g%nk)// &
                   ' cells, '//itoa(run%g%nnode)//' nodes, '//itoa(size(run%mats))//' material(s)')
   end subroutine build_scene
+
+  !> Fills the cells from the regions (applied in deck order, a later one
+  !> overriding an earlier one). A cell whose corners and centre all lie in
+  !> the same region takes that region's state; any other cell is sampled at
+  !> subsamples^3 points (midpoints of a uniform split of its natural
+  !> coordinates: exact volume weights on the initial box grid) and gets
+  !> volume fractions, masses, energies and centroids per material. A cell
+  !> with one material is pure (with the mass-averaged state of its regions);
+  !> a cell with several is a mixed cell.
+  subroutine fill_regions()
+    type(error_t), allocatable :: err
+    integer :: nmat, c, m, k, nmix, nslot, s, nm
+    real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
+    logical :: covered
+
+    associate (cfg => run%cfg, g => run%g, hy => run%h)
+      nmat = size(cfg%materials)
+      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)))
+      do k = 1, size(cfg%regions)
+        associate (rg => cfg%regions(k))
+          if (rg%energy >= 0.0_wp) then
+            e_reg(k) = rg%energy
+          else
+            e_reg(k) = run%mats(rg%imat)%eos%energy(rg%density, rg%pressure)
+          end if
+        end associate
+      end do
+      ! pass 1: pure cells get their state, mixed cells are counted
+      nmix = 0
+      nslot = 0
+      do c = 1, g%ncell
+        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+        if (.not. covered) call fatal('build_scene', 'cell '//itoa(c)// &
+          ' is not covered by any &region; add a region with shape = ''all'' first')
+        nm = count(vfm > 0.0_wp)
+        if (nm == 1) then
+          m = maxloc(vfm, 1)
+          hy%mat(c) = m
+          hy%mass(c) = massm(m)
+          hy%rho(c) = massm(m)/hy%vol(c)
+          hy%e(c) = enm(m)/massm(m)
+        else
+          nmix = nmix + 1
+          nslot = nslot + nm
+          hy%mat(c) = -nmix
+        end if
+      end do
+      ! pass 2: the mixed cells' slots
+      call mixed_allocate(run%mx, nmix, nslot, err)
+      if (allocated(err)) call fatal(err%where, err%msg)
+      k = 0
+      s = 0
+      do c = 1, g%ncell
+        if (hy%mat(c) > 0) cycle
+        k = k + 1
+        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+        run%mx%cell(k) = c
+        do m = 1, nmat
+          if (.not. (vfm(m) > 0.0_wp)) cycle
+          s = s + 1
+          run%mx%mat(s) = m
+          run%mx%vf(s) = vfm(m)
+          run%mx%mass(s) = massm(m)
+          run%mx%e(s) = enm(m)/massm(m)
+          run%mx%rho(s) = massm(m)/(vfm(m)*hy%vol(c))
+          run%mx%xi(:, s) = xim(:, m)/vfm(m)
+        end do
+        run%mx%start(k + 1) = s + 1
+        hy%mass(c) = sum(massm)
+        hy%rho(c) = hy%mass(c)/hy%vol(c)
+        hy%e(c) = sum(enm)/hy%mass(c)
+      end do
+      if (nmix > 0) call log_line('mixed cells: '//itoa(nmix)//' ('//itoa(nslot)//' material slots)')
+    end associate
+  end subroutine fill_regions
+
+  !> Volume fraction, mass, internal energy and centroid (natural
+  !> coordinates, times the volume fraction) of each material in cell c.
+  subroutine sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+    integer, intent(in) :: c
+    real(wp), intent(in) :: e_reg(:)
+    real(wp), intent(out) :: vfm(:), massm(:), enm(:), xim(:, :)
+    logical, intent(out) :: covered
+    real(wp) :: xn(3, 8), xi(3), w
+    integer :: a, i, j, k, r, r0, ns
+    logical :: same
+
+    associate (cfg => run%cfg, g => run%g)
+      call g%gather(c, g%x, xn)
+      vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
+      ! quick test: corners and centre in one region
+      r0 = region_at(sum(xn, 2)/8.0_wp)
+      same = .true.
+      do a = 1, 8
+        same = same .and. region_at(xn(:, a)) == r0
+      end do
+      if (same) then
+        covered = (r0 > 0)
+        if (.not. covered) return
+        call add_sample(r0, [0.0_wp, 0.0_wp, 0.0_wp], 1.0_wp)
+        return
+      end if
+      ns = cfg%subsamples
+      w = 1.0_wp/real(ns, wp)**3
+      covered = .true.
+      do k = 1, ns
+        do j = 1, ns
+          do i = 1, ns
+            xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
+            r = region_at(trilinear(xn, xi))
+            if (r == 0) then
+              covered = .false.
+              return
+            end if
+            call add_sample(r, xi, w)
+          end do
+        end do
+      end do
+    end associate
+
+  contains
+
+    subroutine add_sample(r, xi_pt, wt)
+      integer, intent(in) :: r
+      real(wp), intent(in) :: xi_pt(3), wt
+      integer :: m
+      m = run%cfg%regions(r)%imat
+      vfm(m) = vfm(m) + wt
+      massm(m) = massm(m) + wt*run%cfg%regions(r)%density*run%h%vol(c)
+      enm(m) = enm(m) + wt*run%cfg%regions(r)%density*e_reg(r)*run%h%vol(c)
+      xim(:, m) = xim(:, m) + wt*xi_pt
+    end subroutine add_sample
+  end subroutine sample_cell
+
+  !> The last region (in deck order) that contains point p, or 0.
+  integer function region_at(p)
+    real(wp), intent(in) :: p(3)
+    integer :: r
+    region_at = 0
+    do r = size(run%cfg%regions), 1, -1
+      if (inside(run%cfg%regions(r), p)) then
+        region_at = r
+        return
+      end if
+    end do
+  end function region_at
+
+  !> Position at natural coordinates xi in [-1,1]^3 of the hex with nodes xn.
+  pure function trilinear(xn, xi) result(x)
+    real(wp), intent(in) :: xn(3, 8), xi(3)
+    real(wp) :: x(3)
+    integer :: a
+    real(wp) :: s(3)
+    x = 0.0_wp
+    do a = 1, 8
+      s = real([mod(a - 1, 2), mod((a - 1)/2, 2), (a - 1)/4], wp)*2.0_wp - 1.0_wp
+      x = x + 0.125_wp*(1.0_wp + s(1)*xi(1))*(1.0_wp + s(2)*xi(2))*(1.0_wp + s(3)*xi(3))*xn(:, a)
+    end do
+  end function trilinear
 
   !> True if point p lies in the region's shape.
   pure logical function inside(rg, p)
@@ -319,7 +472,7 @@ contains
 
       w0 = wall_seconds()
       call run%t_lagrange%start()
-      call lagrange_step(run%g, run%h, run%bc, run%mats, run%cfg%hydro, dt_cap, work, bad_cell)
+      call lagrange_step(run%g, run%h, run%bc, run%mats, run%mx, run%cfg%hydro, dt_cap, work, bad_cell)
       call run%t_lagrange%stop()
       run%step_wall = wall_seconds() - w0
       if (bad_cell /= 0) call fatal('lagrange_step', 'cell '//itoa(bad_cell)// &
@@ -418,6 +571,18 @@ contains
       call r%add('sound_speed', 'length/time', h%cs)
       call r%add('viscosity', 'pressure', h%q)
       call r%add('material', '1', h%mat)
+      if (run%mx%n > 0) then
+        call r%add('mixed_cell', '1', run%mx%cell)
+        call r%add('mixed_start', '1', run%mx%start)
+        call r%add('mixed_material', '1', run%mx%mat)
+        call r%add('mixed_volume_fraction', '1', run%mx%vf)
+        call r%add('mixed_mass', 'mass', run%mx%mass)
+        call r%add('mixed_energy', 'energy/mass', run%mx%e)
+        call r%add('mixed_density', 'mass/length^3', run%mx%rho)
+        call r%add('mixed_pressure', 'pressure', run%mx%p)
+        call r%add('mixed_sound_speed', 'length/time', run%mx%cs)
+        call r%add('mixed_centroid', 'natural coordinates', run%mx%xi)
+      end if
       call r%add('time', 'time', run%t)
       call r%add('dt', 'time', run%dt)
       call r%add('step', '1', run%step)
@@ -495,7 +660,7 @@ contains
     ! the frame list continues the XDMF series where it was
     run%out%frames = frames
     run%out%times = times
-    call material_index_cells(run%mats, run%h%mat, err)
+    call material_index_cells(run%mats, run%h%mat, run%mx, err)
     if (allocated(err)) call fatal(err%where, err%msg)
     ! settings a restart may change: frame and dump intervals
     run%t_next_frame = next_time(run%t_next_frame, run%cfg%frame_dt)
@@ -571,12 +736,44 @@ contains
     call log_line('done: t = '//rtoa(run%t)//' after '//itoa(run%step)//' steps')
   end subroutine report_end
 
+  !> Writes a frame with each cell's material (the largest by volume in a
+  !> mixed cell) and, with several materials, their volume fractions.
+  subroutine frame_out(path, err)
+    character(len=:), allocatable, intent(out) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: nmat, c, k, s, m
+    integer, allocatable :: cellmat(:)
+    real(wp), allocatable :: vf(:, :)
+    character(len=32), allocatable :: names(:)
+
+    nmat = size(run%mats)
+    cellmat = run%h%mat
+    if (nmat > 1) then
+      allocate(vf(run%g%ncell, nmat), names(nmat))
+      do m = 1, nmat
+        names(m) = 'vf_'//run%mats(m)%name
+        vf(:, m) = merge(1.0_wp, 0.0_wp, run%h%mat == m)
+      end do
+      do k = 1, run%mx%n
+        c = run%mx%cell(k)
+        do s = run%mx%start(k), run%mx%start(k + 1) - 1
+          vf(c, run%mx%mat(s)) = run%mx%vf(s)
+        end do
+        cellmat(c) = maxloc(vf(c, :), 1)
+      end do
+    else
+      allocate(vf(run%g%ncell, 0), names(0))
+    end if
+    call output_frame(run%out, run%g, run%h, cellmat, names, vf, run%t, run%step, run%tot, &
+                      run%cfg%echo, path, err)
+  end subroutine frame_out
+
   subroutine write_frame()
     type(error_t), allocatable :: err
     character(len=:), allocatable :: path
     call run%t_output%start()
     call totals(run%tot)
-    call output_frame(run%out, run%g, run%h, run%t, run%step, run%tot, run%cfg%echo, path, err)
+    call frame_out(path, err)
     call run%t_output%stop()
     if (allocated(err)) call fatal(err%where, err%msg)
     call log_line('frame '//path//' at t = '//rtoa(run%t))
@@ -594,7 +791,7 @@ contains
     if (run%ready .and. .not. in_fatal) then
       in_fatal = .true.
       call totals(run%tot)
-      call output_frame(run%out, run%g, run%h, run%t, run%step, run%tot, run%cfg%echo, path, err)
+      call frame_out(path, err)
       if (.not. allocated(err)) call log_error('state at failure written to '//path)
     end if
     if (log_is_open()) call log_close()

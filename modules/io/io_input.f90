@@ -25,6 +25,7 @@ module io_input
     character(len=64) :: name = ''
     character(len=64) :: eos = 'ideal_gas'
     type(eos_params_t) :: par
+    real(wp) :: p_min = -huge(1.0_wp), rho_min = 0.0_wp
   end type material_cfg_t
 
   !> One &region group: a shape filled with a material state.
@@ -60,7 +61,7 @@ module io_input
     integer :: dump_steps = 0, dump_keep = 2
     real(wp) :: progress_seconds = 0.0_wp
     ! &grid
-    integer :: ni = 0, nj = 0, nk = 0
+    integer :: ni = 0, nj = 0, nk = 0, subsamples = 8
     real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp
     ! &hydro and &run numerical parameters
     type(hydro_params_t) :: hydro
@@ -193,12 +194,12 @@ contains
     character(len=*), intent(in) :: lines(:)
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer :: ni, nj, nk, ios, d
+    integer :: ni, nj, nk, subsamples, ios, d
     real(wp) :: xmin(3), xmax(3)
     character(len=max_line) :: msg
-    namelist /grid/ ni, nj, nk, xmin, xmax
+    namelist /grid/ ni, nj, nk, xmin, xmax, subsamples
 
-    ni = 0; nj = 0; nk = 0; xmin = 0.0_wp; xmax = 1.0_wp
+    ni = 0; nj = 0; nk = 0; xmin = 0.0_wp; xmax = 1.0_wp; subsamples = 8
     if (group_count(lines, 'grid') == 0) then
       call add(problems, trim(cfg%deck_path)//': group &grid is missing (ni, nj, nk are required)')
       return
@@ -212,11 +213,13 @@ contains
     if (ni < 1) call add(problems, badi('grid', 'ni', ni, 'must be >= 1'))
     if (nj < 1) call add(problems, badi('grid', 'nj', nj, 'must be >= 1'))
     if (nk < 1) call add(problems, badi('grid', 'nk', nk, 'must be >= 1'))
+    if (subsamples < 1) call add(problems, badi('grid', 'subsamples', subsamples, 'must be >= 1'))
     do d = 1, 3
       if (.not. (xmax(d) > xmin(d))) call add(problems, &
         bad('grid', 'xmax('//achar(48 + d)//')', xmax(d), 'must be > xmin('//achar(48 + d)//')'))
     end do
     cfg%ni = ni; cfg%nj = nj; cfg%nk = nk; cfg%xmin = xmin; cfg%xmax = xmax
+    cfg%subsamples = subsamples
     write(echo, nml=grid)
   end subroutine read_grid
 
@@ -225,15 +228,15 @@ contains
     character(len=*), intent(in) :: lines(:)
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    real(wp) :: q_linear, q_quad, hourglass, dv_max
+    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax
     character(len=16) :: viscosity
     integer :: ios
     character(len=max_line) :: msg
-    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax
 
     viscosity = 'tensor'
     q_linear = cfg%hydro%q_linear; q_quad = cfg%hydro%q_quad
-    hourglass = cfg%hydro%hourglass; dv_max = cfg%hydro%dv_max
+    hourglass = cfg%hydro%hourglass; dv_max = cfg%hydro%dv_max; relax = cfg%hydro%relax
     if (group_count(lines, 'hydro') > 0) then
       rewind(unit)
       read(unit, nml=hydro, iostat=ios, iomsg=msg)
@@ -249,8 +252,10 @@ contains
     if (q_quad < 0.0_wp) call add(problems, bad('hydro', 'q_quad', q_quad, 'must be >= 0'))
     if (hourglass < 0.0_wp) call add(problems, bad('hydro', 'hourglass', hourglass, 'must be >= 0'))
     if (.not. (dv_max > 0.0_wp)) call add(problems, bad('hydro', 'dv_max', dv_max, 'must be > 0'))
+    if (.not. (relax > 0.0_wp .and. relax <= 1.0_wp)) call add(problems, bad('hydro', 'relax', relax, &
+      'must be in (0, 1]'))
     cfg%hydro%q_linear = q_linear; cfg%hydro%q_quad = q_quad
-    cfg%hydro%hourglass = hourglass; cfg%hydro%dv_max = dv_max
+    cfg%hydro%hourglass = hourglass; cfg%hydro%dv_max = dv_max; cfg%hydro%relax = relax
     write(echo, nml=hydro)
   end subroutine read_hydro
 
@@ -260,19 +265,23 @@ contains
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=64) :: name, eos
-    real(wp) :: gamma
+    real(wp) :: gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
     integer :: n, m, ios, m2
     character(len=max_line) :: msg
     class(eos_t), allocatable :: trial
     type(error_t), allocatable :: err
-    namelist /material/ name, eos, gamma
+    type(eos_params_t) :: defaults
+    namelist /material/ name, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
 
     n = group_count(lines, 'material')
     allocate(cfg%materials(n))
     if (n == 0) call add(problems, trim(cfg%deck_path)//': no &material group (at least one is required)')
     rewind(unit)
     do m = 1, n
-      name = ''; eos = 'ideal_gas'; gamma = 1.4_wp
+      name = ''; eos = 'ideal_gas'; p_min = -huge(1.0_wp); rho_min = 0.0_wp
+      gamma = defaults%gamma; a = defaults%a; b = defaults%b; r1 = defaults%r1; r2 = defaults%r2
+      omega = defaults%omega; rho0 = defaults%rho0; c0 = defaults%c0; s1 = defaults%s1
+      gamma0 = defaults%gamma0
       read(unit, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call add(problems, nml_error(cfg%deck_path, 'material', ios, msg))
@@ -285,7 +294,12 @@ contains
       end do
       cfg%materials(m)%name = name
       cfg%materials(m)%eos = eos
-      cfg%materials(m)%par%gamma = gamma
+      cfg%materials(m)%par = eos_params_t(gamma=gamma, a=a, b=b, r1=r1, r2=r2, omega=omega, &
+                                          rho0=rho0, c0=c0, s1=s1, gamma0=gamma0)
+      cfg%materials(m)%p_min = p_min
+      cfg%materials(m)%rho_min = rho_min
+      if (rho_min < 0.0_wp) call add(problems, bad('material '''//trim(name)//'''', 'rho_min', rho_min, &
+        'must be >= 0'))
       ! the factory validates the model name and its parameters
       call eos_create(eos, cfg%materials(m)%par, trial, err)
       if (allocated(err)) then
@@ -487,6 +501,14 @@ contains
         if (a%name /= b%name) call add(changes, '&material('//itoa(k)//') name changed')
         if (a%eos /= b%eos) call add(changes, '&material '''//trim(a%name)//''' eos changed')
         call diff_r(changes, '&material '''//trim(a%name)//''' gamma', [a%par%gamma], [b%par%gamma])
+        call diff_r(changes, '&material '''//trim(a%name)//''' jwl a, b, r1, r2, omega', &
+                    [a%par%a, a%par%b, a%par%r1, a%par%r2, a%par%omega], &
+                    [b%par%a, b%par%b, b%par%r1, b%par%r2, b%par%omega])
+        call diff_r(changes, '&material '''//trim(a%name)//''' rho0, c0, s1, gamma0', &
+                    [a%par%rho0, a%par%c0, a%par%s1, a%par%gamma0], &
+                    [b%par%rho0, b%par%c0, b%par%s1, b%par%gamma0])
+        call diff_r(changes, '&material '''//trim(a%name)//''' p_min, rho_min', [a%p_min, a%rho_min], &
+                    [b%p_min, b%rho_min])
       end associate
     end do
     call diff_i(changes, 'number of &region groups', size(old%regions), size(new%regions))

@@ -40,10 +40,16 @@ contains
 
   !> Writes the next frame and rewrites the XDMF series. `path` returns the
   !> frame's file name.
-  subroutine output_frame(out, g, h, time, step, tot, deck, path, err)
+  !> `material` is each cell's material (the one with the largest volume in
+  !> a mixed cell); `extra` holds further cell fields (ncell, size(names)),
+  !> e.g. volume fractions, written and listed in the XDMF under `names`.
+  subroutine output_frame(out, g, h, material, names, extra, time, step, tot, deck, path, err)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
+    integer, intent(in) :: material(:)
+    character(len=*), intent(in) :: names(:)
+    real(wp), intent(in) :: extra(:, :)
     real(wp), intent(in) :: time
     integer, intent(in) :: step
     type(totals_t), intent(in) :: tot
@@ -52,7 +58,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(h5_file_t) :: f
     character(len=256) :: fname
-    integer :: nd(4), cd(3)
+    character(len=32), allocatable :: fields(:)
+    integer :: nd(4), cd(3), k
 
     write(fname, '(a,"_",i5.5,".h5")') out%name, out%nframe
     path = out%dir//'/'//trim(fname)
@@ -67,7 +74,10 @@ contains
     if (.not. allocated(err)) call h5_write_real(f, 'energy', h%e, cd, err)
     if (.not. allocated(err)) call h5_write_real(f, 'sound_speed', h%cs, cd, err)
     if (.not. allocated(err)) call h5_write_real(f, 'viscosity', h%q, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'material', real(h%mat, wp), cd, err)
+    if (.not. allocated(err)) call h5_write_real(f, 'material', real(material, wp), cd, err)
+    do k = 1, size(names)
+      if (.not. allocated(err)) call h5_write_real(f, trim(names(k)), extra(:, k), cd, err)
+    end do
     if (.not. allocated(err)) call h5_write_real(f, 'volume', h%vol, cd, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'time', time, err)
     if (.not. allocated(err)) call h5_write_scalar_int(f, 'step', step, err)
@@ -94,7 +104,12 @@ contains
     if (.not. allocated(out%frames)) allocate(out%frames(0), out%times(0))
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
+    allocate(fields(size(cell_fields) + size(names)))
+    fields(1:size(cell_fields)) = cell_fields
+    do k = 1, size(names)
+      fields(size(cell_fields) + k) = names(k)
+    end do
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
-                           g%ni, g%nj, g%nk, node_fields, cell_fields, err)
+                           g%ni, g%nj, g%nk, node_fields, fields, err)
   end subroutine output_frame
 end module io_output

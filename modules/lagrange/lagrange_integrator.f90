@@ -15,6 +15,7 @@ module lagrange_integrator
   use mesh_geometry, only: hex_volume
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
   use material_table, only: material_t, material_eval_eos
+  use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state
   use lagrange_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
   implicit none
@@ -37,11 +38,12 @@ contains
   !> step taken: the smaller of that and the stable step. `work` returns the
   !> work done by the boundaries; `bad_cell` is the first cell whose volume
   !> became non-positive (0 if none), in which case the state is not usable.
-  subroutine lagrange_step(g, h, bc, mats, par, dt, work, bad_cell)
+  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
     type(material_t), intent(inout) :: mats(:)
+    type(mixed_t), intent(inout) :: mx
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
@@ -52,13 +54,14 @@ contains
     call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
+    call mixed_save_step_start(mx, h%vol)
     call bc_pressure_forces(bc, g, g%x)
     call lagrange_corner_forces(g, g%x, h%u, h, par)
     call update_nodes(g, h, dt, 0.5_wp*dt)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred)
     call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell)
     if (bad_cell /= 0) return
-    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs)
+    call update_materials(h, mats, mx, par)
 
     ! corrector
     call lagrange_strain_rates(g, g%x, h%uh, h, par, dt_stable)
@@ -68,8 +71,21 @@ contains
     call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work)
     call lagrange_update_cells(g, h, dt, bad_cell)
     if (bad_cell /= 0) return
-    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs)
+    call update_materials(h, mats, mx, par)
   end subroutine lagrange_step
+
+  !> Material states after a stage: mixed cells share their volume and
+  !> energy change among their materials (Tipton), every material's EOS is
+  !> evaluated, and mixed cells get their cell pressure and sound speed.
+  subroutine update_materials(h, mats, mx, par)
+    type(hydro_t), intent(inout) :: h
+    type(material_t), intent(inout) :: mats(:)
+    type(mixed_t), intent(inout) :: mx
+    type(hydro_params_t), intent(in) :: par
+    call mixed_split(mx, h%mass, h%vol, h%en, h%e, par%relax)
+    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
+    call mixed_cell_state(mx, h%p, h%cs)
+  end subroutine update_materials
 
   !> Keeps x^n, u^n, e^n for the two stages of the step.
   subroutine save_step_start(g, h)

@@ -25,6 +25,7 @@ module lagrange_state
     real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step
     real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
     real(wp) :: dt_max = huge(1.0_wp) !< largest step
+    real(wp) :: relax = 1.0_wp        !< mixed-cell pressure relaxation per step, (0, 1]
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.

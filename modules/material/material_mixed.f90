@@ -1,0 +1,177 @@
+!> Mixed cells: cells that hold more than one material, stored compactly.
+!>
+!> Only mixed cells have per-material data, in compressed rows: mixed cell k
+!> is grid cell `cell(k)` and owns the slots start(k) .. start(k+1)-1, one per
+!> material present, each with that material's volume fraction, mass,
+!> specific internal energy, density, pressure, sound speed and centroid (in
+!> the cell's natural coordinates, so it moves with a Lagrangian cell; the MoF
+!> interface reconstruction of the remap will use it). A scene without mixed
+!> cells has n = 0 and never enters this module's loops.
+!>
+!> Pressure closure (Tipton; Shashkov 2008, the paper's ref. [68]): over a
+!> step the cell's volume change dV is shared as dV_m = f_m dV + theta d_m,
+!> where d_m (sum zero) is the exchange that brings the linearised material
+!> pressures p_m - B_m dV_m/V_m (B_m = rho_m c_m^2) to a common value
+!>   pbar = (sum_m (V_m/B_m) p_m - dV) / sum_m (V_m/B_m),
+!>   d_m  = (V_m/B_m) (p_m - B_m dV/V - pbar),
+!> and theta in (0, 1] (deck: &hydro relax) is how much of the way the step
+!> goes (1: equal pressures each step), reduced where needed so that no
+!> material loses more than 90 % of its volume in one step. Each material
+!> does the work of its own (linearised, mid-step) pressure, -p~_m dV_m; the
+!> rest of the cell's energy change from the compatible update (viscous and
+!> hourglass heating, linearisation error) is shared by mass, so the cell's
+!> total energy is exactly the compatible one (Eq. 19).
+module material_mixed
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  implicit none
+  private
+  public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state
+
+  !> Compressed storage of the mixed cells.
+  type :: mixed_t
+    integer :: n = 0                      !< number of mixed cells
+    integer :: nslot = 0                  !< number of (cell, material) slots
+    integer, allocatable :: cell(:)       !< grid cell of mixed cell k (n)
+    integer, allocatable :: start(:)      !< first slot of mixed cell k (n+1)
+    integer, allocatable :: mat(:)        !< material of each slot (nslot)
+    real(wp), allocatable :: vf(:)        !< volume fraction
+    real(wp), allocatable :: mass(:)      !< material mass in the cell
+    real(wp), allocatable :: e(:)         !< specific internal energy
+    real(wp), allocatable :: rho(:)       !< material density
+    real(wp), allocatable :: p(:)         !< material pressure
+    real(wp), allocatable :: cs(:)        !< material sound speed
+    real(wp), allocatable :: xi(:, :)     !< material centroid, natural coordinates in [-1,1]^3 (3, nslot)
+    ! state at the start of the step
+    real(wp), allocatable :: vfn(:), en(:), pn(:), bn(:), voln(:)
+  end type mixed_t
+
+contains
+
+  !> Allocates storage for n mixed cells with nslot slots in all.
+  subroutine mixed_allocate(mx, n, nslot, err)
+    type(mixed_t), intent(inout) :: mx
+    integer, intent(in) :: n, nslot
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+    mx%n = n
+    mx%nslot = nslot
+    allocate(mx%cell(n), mx%start(n + 1), mx%mat(nslot), mx%vf(nslot), mx%mass(nslot), &
+             mx%e(nslot), mx%rho(nslot), mx%p(nslot), mx%cs(nslot), mx%xi(3, nslot), &
+             mx%vfn(nslot), mx%en(nslot), mx%pn(nslot), mx%bn(nslot), mx%voln(n), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'mixed_allocate', 'cannot allocate mixed cells: '//trim(msg))
+      return
+    end if
+    mx%start(1) = 1
+    mx%xi = 0.0_wp
+    mx%p = 0.0_wp
+    mx%cs = 0.0_wp
+  end subroutine mixed_allocate
+
+  !> Keeps the material state at the start of a step (vol: cell volumes).
+  subroutine mixed_save_step_start(mx, vol)
+    type(mixed_t), intent(inout) :: mx
+    real(wp), intent(in) :: vol(:)
+    integer :: k, s
+    if (mx%n == 0) return
+    !$omp parallel do default(none) shared(mx, vol) private(k, s) schedule(static)
+    do k = 1, mx%n
+      mx%voln(k) = vol(mx%cell(k))
+      do s = mx%start(k), mx%start(k + 1) - 1
+        mx%vfn(s) = mx%vf(s)
+        mx%en(s) = mx%e(s)
+        mx%pn(s) = mx%p(s)
+        mx%bn(s) = mx%rho(s)*mx%cs(s)**2
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine mixed_save_step_start
+
+  !> Shares each mixed cell's volume and energy change since the start of the
+  !> step among its materials (Tipton closure, see the module header), given
+  !> the new cell volumes `vol` and the cell mass and specific energy at the
+  !> start (`en`) and now (`e`) from the compatible update.
+  subroutine mixed_split(mx, mass, vol, en, e, relax)
+    type(mixed_t), intent(inout) :: mx
+    real(wp), intent(in) :: mass(:), vol(:), en(:), e(:)
+    real(wp), intent(in) :: relax
+    integer, parameter :: maxmat = 16
+    integer :: k, s, c, s0, s1, nm, i
+    real(wp) :: v0, dv, de, sw, pbar, theta, vm(maxmat), bm(maxmat), d(maxmat), dvm(maxmat), &
+                dem(maxmat), rest, bmax, ptil
+
+    if (mx%n == 0) return
+    !$omp parallel do default(none) shared(mx, mass, vol, en, e, relax) &
+    !$omp private(k, s, c, s0, s1, nm, i, v0, dv, de, sw, pbar, theta, vm, bm, d, dvm, dem, rest, bmax, ptil) &
+    !$omp schedule(static)
+    do k = 1, mx%n
+      c = mx%cell(k)
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      nm = s1 - s0 + 1
+      v0 = mx%voln(k)
+      dv = vol(c) - v0
+      de = mass(c)*(e(c) - en(c))
+      bmax = maxval(mx%bn(s0:s1))
+      sw = 0.0_wp
+      pbar = 0.0_wp
+      do i = 1, nm
+        s = s0 + i - 1
+        vm(i) = mx%vfn(s)*v0
+        ! an infinitely compressible material (B = 0) takes the change
+        bm(i) = max(mx%bn(s), 1.0e-12_wp*bmax, tiny(1.0_wp))
+        sw = sw + vm(i)/bm(i)
+        pbar = pbar + (vm(i)/bm(i))*mx%pn(s)
+      end do
+      pbar = (pbar - dv)/sw
+      theta = relax
+      do i = 1, nm
+        s = s0 + i - 1
+        d(i) = (vm(i)/bm(i))*(mx%pn(s) - bm(i)*dv/v0 - pbar)
+        ! no material may lose more than 90 % of its volume in one step
+        if (d(i) < 0.0_wp .and. 0.9_wp*vm(i) + (vm(i)/v0)*dv + theta*d(i) < 0.0_wp) &
+          theta = max(0.0_wp, -(0.9_wp*vm(i) + (vm(i)/v0)*dv)/d(i))
+      end do
+      rest = de
+      do i = 1, nm
+        s = s0 + i - 1
+        dvm(i) = (vm(i)/v0)*dv + theta*d(i)
+        ! work of the material's linearised pressure at mid-step
+        ptil = mx%pn(s) - 0.5_wp*bm(i)*dvm(i)/vm(i)
+        dem(i) = -ptil*dvm(i)
+        rest = rest - dem(i)
+      end do
+      do i = 1, nm
+        s = s0 + i - 1
+        dem(i) = dem(i) + rest*mx%mass(s)/mass(c)
+        mx%e(s) = mx%en(s) + dem(i)/mx%mass(s)
+        mx%vf(s) = (vm(i) + dvm(i))/vol(c)
+        mx%rho(s) = mx%mass(s)/(mx%vf(s)*vol(c))
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine mixed_split
+
+  !> Cell pressure (volume-fraction weighted) and sound speed (the largest
+  !> of its materials', for the time step) of every mixed cell.
+  subroutine mixed_cell_state(mx, p, cs)
+    type(mixed_t), intent(in) :: mx
+    real(wp), intent(inout) :: p(:), cs(:)
+    integer :: k, s, c
+    if (mx%n == 0) return
+    !$omp parallel do default(none) shared(mx, p, cs) private(k, s, c) schedule(static)
+    do k = 1, mx%n
+      c = mx%cell(k)
+      p(c) = 0.0_wp
+      cs(c) = 0.0_wp
+      do s = mx%start(k), mx%start(k + 1) - 1
+        p(c) = p(c) + mx%vf(s)*mx%p(s)
+        cs(c) = max(cs(c), mx%cs(s))
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine mixed_cell_state
+end module material_mixed
