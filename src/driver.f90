@@ -109,7 +109,7 @@ contains
       call log_error('ERROR: '//trim(problems(i)))
     end do
     call log_error('ERROR: '//summary)
-    error stop 2
+    stop 2
   end subroutine refuse
 
   !> `refuse` for a single problem (assignment truncates a long message
@@ -795,7 +795,7 @@ contains
       if (.not. allocated(err)) call log_error('state at failure written to '//path)
     end if
     if (log_is_open()) call log_close()
-    error stop 1
+    stop 1
   end subroutine fatal
 
 

@@ -19,6 +19,14 @@
 !>   check_scene still FRAME TOL
 !>       every node speed is at most TOL (an equilibrium must stay at rest).
 !>
+!>   check_scene positive FRAME
+!>       every cell pressure is positive.
+!>   check_scene converged COARSE FINE TOL
+!>       a quasi-1D run along x against a finer run of the same problem (the
+!>       fine cell count a multiple r of the coarse one): the coarse densities
+!>       against the fine ones averaged over the same mass (r cells) differ by
+!>       at most TOL in the relative L1 norm sum |d| dx / sum rho dx.
+!>
 !> The numerical shock radius comes from the shocked mass. Behind the shock
 !> the entropy p/rho^gamma is far above ambient and grows inward, so a cell
 !> counts as shocked when its entropy exceeds half the exact post-shock
@@ -31,7 +39,7 @@ program check_scene
   use check_support, only: frame_t, frame_read, check_fail, arg_real, arg_str
   implicit none
   character(len=:), allocatable :: mode
-  type(frame_t) :: fr
+  type(frame_t) :: fr, fine
   real(wp) :: drift, tol, e_total, rho0, gamma, alpha, r_exact, d, p2, rho2, s2, m, r_num
   real(wp) :: up, p0, xa, xb, xc
   integer :: c, n
@@ -87,8 +95,46 @@ program check_scene
     d = maxval(abs(fr%velocity))
     write(*, '(a,es10.3,a,es10.3)') 'largest velocity component ', d, ', tolerance ', tol
     if (.not. (d <= tol)) call check_fail('the equilibrium moved')
+  case ('positive')
+    write(*, '(a,es12.4)') 'smallest pressure ', minval(fr%pressure)
+    if (.not. (minval(fr%pressure) > 0.0_wp)) call check_fail('a pressure is not positive')
+  case ('converged')
+    call frame_read(arg_str(3), fine)
+    tol = arg_real(4)
+    drift = converged_difference(fr, fine)
+    write(*, '(a,i0,a,i0,a,es10.3,a,es10.3)') 'density, ', size(fr%density), ' cells against ', &
+      size(fine%density), ': relative L1 difference ', drift, ', tolerance ', tol
+    if (.not. (drift <= tol)) call check_fail('the coarse run is not close to the fine one')
   case default
     call check_fail('unknown mode '//mode)
   end select
   write(*, '(a)') 'PASS check_scene '//mode
+
+contains
+
+  !> Relative L1 difference of the densities of a coarse quasi-1D frame and
+  !> a fine one averaged over the same Lagrangian mass (groups of r cells).
+  real(wp) function converged_difference(coarse, fine) result(diff)
+    type(frame_t), intent(in) :: coarse, fine
+    integer :: nc, nf, r, i, j
+    real(wp) :: dxc, mass, dxf, num, den
+    nc = size(coarse%density)
+    nf = size(fine%density)
+    r = nf/nc
+    if (r*nc /= nf) call check_fail('the fine cell count is not a multiple of the coarse one')
+    num = 0.0_wp
+    den = 0.0_wp
+    do i = 1, nc
+      dxc = coarse%x(3*i + 1) - coarse%x(3*(i - 1) + 1)
+      mass = 0.0_wp
+      dxf = 0.0_wp
+      do j = r*(i - 1) + 1, r*i
+        mass = mass + fine%density(j)*(fine%x(3*j + 1) - fine%x(3*(j - 1) + 1))
+        dxf = dxf + fine%x(3*j + 1) - fine%x(3*(j - 1) + 1)
+      end do
+      num = num + abs(coarse%density(i) - mass/dxf)*dxc
+      den = den + coarse%density(i)*dxc
+    end do
+    diff = num/den
+  end function converged_difference
 end program check_scene
