@@ -278,7 +278,7 @@ contains
   !> a cell with several is a mixed cell.
   subroutine fill_regions()
     type(error_t), allocatable :: err
-    integer :: nmat, c, m, k, nmix, nslot, s, nm
+    integer :: nmat, c, m, k, nmix, nslot, s, nm, r_only
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
     logical :: covered
 
@@ -298,16 +298,23 @@ contains
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
         if (.not. covered) call fatal('build_scene', 'cell '//itoa(c)// &
           ' is not covered by any &region; add a region with shape = ''all'' first')
         nm = count(vfm > 0.0_wp)
         if (nm == 1) then
           m = maxloc(vfm, 1)
           hy%mat(c) = m
-          hy%mass(c) = massm(m)
-          hy%rho(c) = massm(m)/hy%vol(c)
-          hy%e(c) = enm(m)/massm(m)
+          if (r_only > 0) then
+            ! the whole cell in one region: its state exactly as given
+            hy%rho(c) = cfg%regions(r_only)%density
+            hy%e(c) = e_reg(r_only)
+            hy%mass(c) = hy%rho(c)*hy%vol(c)
+          else
+            hy%mass(c) = massm(m)
+            hy%rho(c) = massm(m)/hy%vol(c)
+            hy%e(c) = enm(m)/massm(m)
+          end if
         else
           nmix = nmix + 1
           nslot = nslot + nm
@@ -322,7 +329,7 @@ contains
       do c = 1, g%ncell
         if (hy%mat(c) > 0) cycle
         k = k + 1
-        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
         run%mx%cell(k) = c
         do m = 1, nmat
           if (.not. (vfm(m) > 0.0_wp)) cycle
@@ -344,12 +351,14 @@ contains
   end subroutine fill_regions
 
   !> Volume fraction, mass, internal energy and centroid (natural
-  !> coordinates, times the volume fraction) of each material in cell c.
-  subroutine sample_cell(c, e_reg, vfm, massm, enm, xim, covered)
+  !> coordinates, times the volume fraction) of each material in cell c;
+  !> r_only is the region that holds the whole cell, if one does (else 0).
+  subroutine sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
     integer, intent(in) :: c
     real(wp), intent(in) :: e_reg(:)
     real(wp), intent(out) :: vfm(:), massm(:), enm(:), xim(:, :)
     logical, intent(out) :: covered
+    integer, intent(out) :: r_only
     real(wp) :: xn(3, 8), xi(3), w
     integer :: a, i, j, k, r, r0, ns
     logical :: same
@@ -363,10 +372,12 @@ contains
       do a = 1, 8
         same = same .and. region_at(xn(:, a)) == r0
       end do
+      r_only = 0
       if (same) then
         covered = (r0 > 0)
         if (.not. covered) return
         call add_sample(r0, [0.0_wp, 0.0_wp, 0.0_wp], 1.0_wp)
+        r_only = r0
         return
       end if
       ns = cfg%subsamples

@@ -318,11 +318,12 @@ contains
     character(len=16) :: shape
     character(len=64) :: material
     character(len=1) :: axis
-    real(wp) :: density, energy, pressure, velocity(3), lo(3), hi(3), center(3), radius
+    real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius
     integer :: n, r, ios, m
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /region/ shape, material, density, energy, pressure, velocity, lo, hi, center, radius, axis
+    namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, lo, hi, &
+                      center, radius, axis
 
     n = group_count(lines, 'region')
     allocate(cfg%regions(n))
@@ -330,6 +331,7 @@ contains
     rewind(unit)
     do r = 1, n
       shape = 'all'; material = ''; density = 0.0_wp; energy = -1.0_wp; pressure = -1.0_wp
+      energy_per_volume = -1.0_wp
       velocity = 0.0_wp; lo = -huge(1.0_wp); hi = huge(1.0_wp); center = 0.0_wp; radius = 0.0_wp
       axis = 'z'
       read(unit, nml=region, iostat=ios, iomsg=msg)
@@ -339,8 +341,12 @@ contains
       end if
       write(tag, '(a,i0,a)') 'region(', r, ')'
       if (.not. (density > 0.0_wp)) call add(problems, bad(trim(tag), 'density', density, 'must be > 0'))
-      if ((energy >= 0.0_wp) .eqv. (pressure >= 0.0_wp)) call add(problems, &
-        '&'//trim(tag)//': give exactly one of energy (specific internal energy) and pressure, both >= 0')
+      if (count([energy >= 0.0_wp, pressure >= 0.0_wp, energy_per_volume >= 0.0_wp]) /= 1) &
+        call add(problems, '&'//trim(tag)//': give exactly one of energy (specific internal energy), '// &
+                 'pressure and energy_per_volume, >= 0')
+      ! an energy per unit volume (as explosive charges are given) is a
+      ! specific energy of energy_per_volume / density
+      if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) energy = energy_per_volume/density
       select case (trim(shape))
       case ('all', 'box')
       case ('sphere', 'cylinder')
