@@ -34,9 +34,10 @@ test: debug
 bench: release
 	bash tools/bench.sh $(BUILD_REL)/lsalepm build/bench
 
-# Regenerate the regression references (then commit them, saying why).
+# Regenerate the regression references (then commit them, saying why);
+# CASES="sod water_air" limits it to those cases.
 regression-update: debug
-	bash tools/regression_update.sh $(BUILD_DBG)/lsalepm
+	bash tools/regression_update.sh $(BUILD_DBG)/lsalepm $(CASES)
 
 clean:
 	rm -rf build out

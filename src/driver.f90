@@ -451,6 +451,8 @@ contains
       inside = all(p >= rg%lo) .and. all(p <= rg%hi)
     case ('sphere')
       inside = sum((p - rg%center)**2) <= rg%radius**2
+    case ('half_space')
+      inside = dot_product(p - rg%center, rg%normal) >= 0.0_wp
     case ('cylinder')
       d = p - rg%center
       d(rg%axis) = 0.0_wp

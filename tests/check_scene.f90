@@ -27,6 +27,10 @@
 !>       against the fine ones averaged over the same mass (r cells) differ by
 !>       at most TOL in the relative L1 norm sum |d| dx / sum rho dx.
 !>
+!>   check_scene volume FRAME FIELD EXACT TOL
+!>       the volume sum_c FIELD_c V_c (FIELD a volume fraction) is within the
+!>       relative tolerance TOL of EXACT.
+!>
 !> The numerical shock radius comes from the shocked mass. Behind the shock
 !> the entropy p/rho^gamma is far above ambient and grows inward, so a cell
 !> counts as shocked when its entropy exceeds half the exact post-shock
@@ -95,6 +99,19 @@ program check_scene
     d = maxval(abs(fr%velocity))
     write(*, '(a,es10.3,a,es10.3)') 'largest velocity component ', d, ', tolerance ', tol
     if (.not. (d <= tol)) call check_fail('the equilibrium moved')
+  case ('volume')
+    block
+      use check_support, only: frame_field
+      real(wp), allocatable :: vf(:)
+      real(wp) :: exact, v
+      call frame_field(arg_str(2), arg_str(3), vf)
+      exact = arg_real(4)
+      tol = arg_real(5)
+      v = sum(vf*fr%volume)
+      write(*, '(a,es16.8,a,es16.8,a,es10.3,a,es10.3)') 'volume of '//arg_str(3)//' ', v, ', exact ', exact, &
+        ', relative error ', (v - exact)/exact, ', tolerance ', tol
+      if (.not. (abs(v - exact) <= tol*exact)) call check_fail('volume outside tolerance')
+    end block
   case ('positive')
     write(*, '(a,es12.4)') 'smallest pressure ', minval(fr%pressure)
     if (.not. (minval(fr%pressure) > 0.0_wp)) call check_fail('a pressure is not positive')

@@ -6,7 +6,7 @@ module check_support
                      h5_read_scalar_real
   implicit none
   private
-  public :: frame_t, frame_read, check_fail, arg_real, arg_int, arg_str
+  public :: frame_t, frame_read, frame_field, check_fail, arg_real, arg_int, arg_str
 
   !> The parts of a frame the checkers use.
   type :: frame_t
@@ -42,6 +42,18 @@ contains
     call h5_close(f, err)
     fr%ni = dims(1); fr%nj = dims(2); fr%nk = dims(3)
   end subroutine frame_read
+
+  !> One more dataset of a frame, by name.
+  subroutine frame_field(path, name, data)
+    character(len=*), intent(in) :: path, name
+    real(wp), allocatable, intent(out) :: data(:)
+    type(h5_file_t) :: f
+    type(error_t), allocatable :: err
+    call h5_open_read(f, path, err)
+    if (.not. allocated(err)) call h5_read_real(f, name, data, err)
+    if (allocated(err)) call check_fail('cannot read '//name//' from '//path//': '//err%msg)
+    call h5_close(f, err)
+  end subroutine frame_field
 
   subroutine check_fail(msg)
     character(len=*), intent(in) :: msg

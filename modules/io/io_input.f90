@@ -36,7 +36,7 @@ module io_input
     real(wp) :: density = 0.0_wp, energy = -1.0_wp, pressure = -1.0_wp
     real(wp) :: velocity(3) = 0.0_wp
     real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp
-    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp, normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]
     integer :: axis = 3
   end type region_cfg_t
 
@@ -318,12 +318,13 @@ contains
     character(len=16) :: shape
     character(len=64) :: material
     character(len=1) :: axis
-    real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius
+    real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius, &
+                normal(3)
     integer :: n, r, ios, m
     character(len=max_line) :: msg
     character(len=16) :: tag
     namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, lo, hi, &
-                      center, radius, axis
+                      center, radius, axis, normal
 
     n = group_count(lines, 'region')
     allocate(cfg%regions(n))
@@ -333,6 +334,7 @@ contains
       shape = 'all'; material = ''; density = 0.0_wp; energy = -1.0_wp; pressure = -1.0_wp
       energy_per_volume = -1.0_wp
       velocity = 0.0_wp; lo = -huge(1.0_wp); hi = huge(1.0_wp); center = 0.0_wp; radius = 0.0_wp
+      normal = [1.0_wp, 0.0_wp, 0.0_wp]
       axis = 'z'
       read(unit, nml=region, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -349,12 +351,15 @@ contains
       if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) energy = energy_per_volume/density
       select case (trim(shape))
       case ('all', 'box')
+      case ('half_space')
+        if (.not. (norm2(normal) > 0.0_wp)) call add(problems, '&'//trim(tag)// &
+          ': normal must not be zero for shape = ''half_space''')
       case ('sphere', 'cylinder')
         if (.not. (radius > 0.0_wp)) call add(problems, bad(trim(tag), 'radius', radius, &
           'must be > 0 for shape = '''//trim(shape)//''''))
       case default
         call add(problems, '&'//trim(tag)//': shape = '''//trim(shape)// &
-          ''' is not known; valid: all, box, sphere, cylinder')
+          ''' is not known; valid: all, box, sphere, cylinder, half_space')
       end select
       if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call add(problems, &
         '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
@@ -369,7 +374,7 @@ contains
         ''' is not a &material name')
       cfg%regions(r) = region_cfg_t(shape=shape, material=material, imat=m, density=density, &
         energy=energy, pressure=pressure, velocity=velocity, lo=lo, hi=hi, center=center, &
-        radius=radius, axis=max(1, index('xyz', axis)))
+        radius=radius, axis=max(1, index('xyz', axis)), normal=normal)
       write(echo, nml=region)
     end do
   end subroutine read_regions
@@ -531,6 +536,7 @@ contains
         call diff_r(changes, '&region('//itoa(k)//') center', a%center, b%center)
         call diff_r(changes, '&region('//itoa(k)//') radius', [a%radius], [b%radius])
         call diff_i(changes, '&region('//itoa(k)//') axis', a%axis, b%axis)
+        call diff_r(changes, '&region('//itoa(k)//') normal', a%normal, b%normal)
       end associate
     end do
     call diff_i(changes, 'number of &source groups', size(old%sources), size(new%sources))
