@@ -269,7 +269,7 @@ contains
     type(hydro_params_t), intent(in) :: par
     integer :: c, d, e, a, k, m, n0, ci, cj, ck, stride(3), ilog(3), nlog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
-    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3)
+    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3), area3(3)
     real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
 
     stride = [1, g%ni, g%ni*g%nj]
@@ -277,7 +277,7 @@ contains
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
     !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
-    !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik) &
+    !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
     !$omp schedule(static, 1)
     do ck = 1, g%nk
@@ -295,12 +295,15 @@ contains
 
       ! artificial viscosity with limiter
       call hex_median_areas(xn, s)
+      do d = 1, 3
+        area3(d) = norm2(s(:, d))
+      end do
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then
         ! skip cells whose compression is round-off: a velocity jump below
         ! 1e-10 of the sound speed gives q below 1e-10 of the pressure
-        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*maxval(norm2(s, dim=1))/vol, div, lam, ev)
+        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*maxval(area3)/vol, div, lam, ev)
         if (div < 0.0_wp) then
           ! limiter along each compressive principal direction: compare the
           ! volumetric strain rate with the two neighbours (among the 26)
@@ -339,7 +342,7 @@ contains
       ! Flanagan-Belytschko viscous hourglass control
       if (par%hourglass > 0.0_wp) then
         ! length^2 scale: the mean median area (V^(2/3) for a cube, without a pow)
-        coef = par%hourglass*h%rho(c)*h%cs(c)*(norm2(s(:, 1)) + norm2(s(:, 2)) + norm2(s(:, 3)))/3.0_wp
+        coef = par%hourglass*h%rho(c)*h%cs(c)*(area3(1) + area3(2) + area3(3))/3.0_wp
         rvol = 1.0_wp/vol
         do m = 1, 4
           hx = 0.0_wp

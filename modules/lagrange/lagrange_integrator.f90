@@ -113,31 +113,41 @@ contains
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
-    integer :: n, i, j, k, ii, jj, kk, ci, cj, ck, c
+    integer :: n, i, j, k, ii, jj, kk, ci, cj, ck, c, c0, sj, sk
     real(wp) :: f(3)
 
-    !$omp parallel do default(none) shared(g, h, dt, dtx) collapse(2) &
-    !$omp private(n, i, j, k, ii, jj, kk, ci, cj, ck, c, f) schedule(static)
+    sj = g%ni
+    sk = g%ni*g%nj
+    !$omp parallel do default(none) shared(g, h, dt, dtx, sj, sk) collapse(2) &
+    !$omp private(n, i, j, k, ii, jj, kk, ci, cj, ck, c, c0, f) schedule(static)
     do k = 0, g%nk
     do j = 0, g%nj
     do i = 0, g%ni
       n = 1 + i + g%sx*j + g%sxy*k
-      f = 0.0_wp
-      ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
-      do kk = 0, 1
-        ck = k + 1 - kk
-        if (ck < 1 .or. ck > g%nk) cycle
-        do jj = 0, 1
-          cj = j + 1 - jj
-          if (cj < 1 .or. cj > g%nj) cycle
-          do ii = 0, 1
-            ci = i + 1 - ii
-            if (ci < 1 .or. ci > g%ni) cycle
-            c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-            f = f + h%fc(:, 1 + ii + 2*jj + 4*kk, c)
+      if (i > 0 .and. i < g%ni .and. j > 0 .and. j < g%nj .and. k > 0 .and. k < g%nk) then
+        ! interior node: all eight cells exist (same order as below)
+        c0 = i + sj*j + sk*k + 1   ! cell (i+1, j+1, k+1)
+        f = h%fc(:, 1, c0) + h%fc(:, 2, c0 - 1) + h%fc(:, 3, c0 - sj) + h%fc(:, 4, c0 - 1 - sj) &
+          + h%fc(:, 5, c0 - sk) + h%fc(:, 6, c0 - 1 - sk) + h%fc(:, 7, c0 - sj - sk) &
+          + h%fc(:, 8, c0 - 1 - sj - sk)
+      else
+        f = 0.0_wp
+        ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
+        do kk = 0, 1
+          ck = k + 1 - kk
+          if (ck < 1 .or. ck > g%nk) cycle
+          do jj = 0, 1
+            cj = j + 1 - jj
+            if (cj < 1 .or. cj > g%nj) cycle
+            do ii = 0, 1
+              ci = i + 1 - ii
+              if (ci < 1 .or. ci > g%ni) cycle
+              c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+              f = f + h%fc(:, 1 + ii + 2*jj + 4*kk, c)
+            end do
           end do
         end do
-      end do
+      end if
       h%u(:, n) = h%un(:, n) + dt*f/h%mnode(n)
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
