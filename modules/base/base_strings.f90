@@ -8,7 +8,7 @@ module base_strings
 contains
 
   !> An integer as text, without blanks.
-  function itoa(i) result(s)
+  pure function itoa(i) result(s)
     integer, intent(in) :: i
     character(len=:), allocatable :: s
     character(len=24) :: buf
@@ -17,7 +17,7 @@ contains
   end function itoa
 
   !> A real as text in scientific notation with 8 significant digits.
-  function rtoa(x) result(s)
+  pure function rtoa(x) result(s)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
     character(len=32) :: buf

@@ -3,6 +3,7 @@
 module io_xdmf
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use base_kinds, only: wp
+  use base_strings, only: itoa
   use base_errors, only: error_t, error_set
   implicit none
   private
@@ -129,14 +130,6 @@ contains
     call io_rename(tmp, path, err)
   end subroutine xdmf_write_series
 
-  !> Integer to its shortest decimal text.
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 
   !> Escapes the XML special characters of `s`.
   pure function xml(s) result(r)
