@@ -96,6 +96,7 @@ contains
     character(len=32), allocatable :: names(:)
 
     nmat = size(run%mats)
+    allocate(cellmat(run%g%ncell))
     cellmat = run%h%mat
     if (nmat > 1) then
       allocate(vf(run%g%ncell, nmat), names(nmat))
