@@ -1,0 +1,492 @@
+!> Geometry kernel of the intersection-based remap (Sect. 5.4): a small convex
+!> polyhedron, its clipping by a half-space ("clipping and capping", [33] of the
+!> paper), its exact volume and first moments, the 24-tetrahedron split of a
+!> hexahedral cell (Fig. 7) and the exact intersection of a tetrahedron with a
+!> hexahedron built on them, which is what Eq. (54)-(57) sum over.
+!>
+!> Representation. A polyhedron is stored as vertices with exactly three
+!> neighbours each (a simple polyhedron: every vertex of a tetrahedron, of a
+!> hexahedron and of anything cut from them by planes has degree three). The
+!> neighbours of a vertex are ordered so that one rule walks every face
+!> counter-clockwise seen from outside: arriving at vertex c from its neighbour
+!> nbr(j,c), the walk leaves towards nbr(j+1,c) (cyclically). Faces are not
+!> stored; they are the closed walks of that rule. Clipping changes only the
+!> vertex list, never allocates, and decides topology from one in/out flag per
+!> vertex, so the result is always a closed, consistently oriented surface,
+!> whatever the round-off in the geometry.
+!>
+!> Signs. `tet_intersect_tet` and `tet_intersect_hex` return the intersection
+!> volume times the orientation signs of the tetrahedra involved. For valid
+!> (positively oriented) cells this is the plain volume; if a distorted cell has
+!> an inverted tetrahedron in its split, the signed sum is still exactly the
+!> cell's own (24-tet) volume, so remapped totals are conserved.
+module remap_polyhedron
+  use base_kinds, only: wp
+  use mesh_geometry, only: hex_faces, cross
+  implicit none
+  private
+  public :: poly_t, poly_max_verts, poly_rel_tol
+  public :: poly_from_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
+  public :: hex_tets, tet_intersect_tet, tet_intersect_hex
+
+  !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
+  !> of another has at most 8 faces, hence (three edges at each vertex,
+  !> V = 2F - 4) at most 12 vertices; 64 leaves room for a few more planes
+  !> (e.g. material interfaces, 34 faces).
+  integer, parameter :: poly_max_verts = 64
+
+  !> Relative tolerance of the in/out test: a vertex whose signed distance
+  !> n.x - d is within poly_rel_tol*(max_v sum_k |n_k x_vk| + |d|) of zero is
+  !> taken to lie on the plane. That bound is ~45 round-off units of the
+  !> evaluation of n.x - d itself, so coplanar faces and vertices that lie on
+  !> the plane in exact arithmetic are recognised, while the volume moved by
+  !> the snap is at most this relative size times the polyhedron's area.
+  real(wp), parameter :: poly_rel_tol = 1.0e-14_wp
+
+  !> A convex polyhedron of nv vertices x(:,1:nv) (length), each joined to
+  !> the three vertices nbr(:,v) (see the module header for their order).
+  !> nv = 0 is the empty polyhedron.
+  type :: poly_t
+    integer :: nv = 0
+    real(wp) :: x(3, poly_max_verts)
+    integer :: nbr(3, poly_max_verts)
+  end type poly_t
+
+  !> Neighbours of the vertices of a positively oriented tetrahedron
+  !> (det(x2-x1, x3-x1, x4-x1) > 0), faces (1,3,2), (1,2,4), (1,4,3), (2,3,4).
+  integer, parameter :: tet_nbr(3, 4) = reshape([2, 3, 4,  1, 4, 3,  1, 2, 4,  1, 3, 2], [3, 4])
+  !> Faces of a positively oriented tetrahedron, counter-clockwise from
+  !> outside; face i is the one opposite vertex i.
+  integer, parameter :: tet_face(3, 4) = reshape([2, 3, 4,  1, 4, 3,  1, 2, 4,  1, 3, 2], [3, 4])
+  !> Neighbours of the hexahedron's nodes, derived from `hex_faces` with the
+  !> walking rule (node a = 1 + i + 2j + 4k).
+  integer, parameter :: hex_nbr(3, 8) = reshape([2, 3, 5,  1, 6, 4,  1, 4, 7,  2, 8, 3, &
+                                                 1, 7, 6,  2, 5, 8,  3, 8, 5,  4, 6, 7], [3, 8])
+
+contains
+
+  !> Six times the signed volume of the tetrahedron t(3,4) (length^3).
+  pure function tet_det(t) result(det)
+    real(wp), intent(in) :: t(3, 4)
+    real(wp) :: det
+    det = dot_product(t(:, 2) - t(:, 1), cross(t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+  end function tet_det
+
+  !> The tetrahedron with vertices x(3,4) (length) as a polyhedron; either
+  !> orientation of the input gives the same (convex hull) polyhedron.
+  pure function poly_from_tet(x) result(p)
+    real(wp), intent(in) :: x(3, 4)
+    type(poly_t) :: p
+    call set_tet(p, x)
+  end function poly_from_tet
+
+  !> Fills p with the tetrahedron x, its vertices reordered to positive.
+  pure subroutine set_tet(p, x)
+    type(poly_t), intent(inout) :: p
+    real(wp), intent(in) :: x(3, 4)
+    p%nv = 4
+    p%x(:, 1:4) = x
+    if (tet_det(x) < 0.0_wp) then
+      p%x(:, 3) = x(:, 4)
+      p%x(:, 4) = x(:, 3)
+    end if
+    p%nbr(:, 1:4) = tet_nbr
+  end subroutine set_tet
+
+  !> The hexahedron with nodes xn(3,8) (length, local order a = 1 + i + 2j + 4k)
+  !> as a polyhedron. Meant for valid convex hexahedra with planar faces
+  !> (boxes, parallelepipeds); a general cell is handled through `hex_tets`.
+  pure function poly_from_hex(xn) result(p)
+    real(wp), intent(in) :: xn(3, 8)
+    type(poly_t) :: p
+    p%nv = 8
+    p%x(:, 1:8) = xn
+    p%nbr(:, 1:8) = hex_nbr
+  end function poly_from_hex
+
+  !> The slot j of vertex c's neighbour list that holds vertex u.
+  pure function slot_of(p, c, u) result(j)
+    type(poly_t), intent(in) :: p
+    integer, intent(in) :: c, u
+    integer :: j
+    if (p%nbr(1, c) == u) then
+      j = 1
+    else if (p%nbr(2, c) == u) then
+      j = 2
+    else
+      j = 3
+    end if
+  end function slot_of
+
+  !> Clips p to the half-space n.x <= d (n need not be normalised, d is in
+  !> length times |n|; n = 0 keeps all of p if d >= 0, nothing otherwise)
+  !> and caps the cut, so p stays a closed convex polyhedron. A plane that misses p keeps all of it or empties it; a plane
+  !> through vertices, along edges or containing a face is handled by the
+  !> tolerance `poly_rel_tol`. If the result would exceed `poly_max_verts`,
+  !> p is left unchanged and ok (if present) is false.
+  pure subroutine poly_clip(p, n, d, ok)
+    type(poly_t), intent(inout) :: p
+    real(wp), intent(in) :: n(3)
+    real(wp), intent(in) :: d
+    logical, intent(out), optional :: ok
+    real(wp) :: s(poly_max_verts), tol, xmax, t
+    integer :: idx(poly_max_verts)
+    integer :: nv, ntot, nin, nout, ncut, v, k, u, w, prev, cur, nxt, it, m
+
+    if (present(ok)) ok = .true.
+    nv = p%nv
+    if (nv == 0) return
+
+    ! signed distances (times |n|) and the scale of their round-off
+    xmax = 0.0_wp
+    do v = 1, nv
+      s(v) = n(1)*p%x(1, v) + n(2)*p%x(2, v) + n(3)*p%x(3, v) - d
+      xmax = max(xmax, abs(n(1)*p%x(1, v)) + abs(n(2)*p%x(2, v)) + abs(n(3)*p%x(3, v)))
+    end do
+    tol = poly_rel_tol*(xmax + abs(d))
+    nin = 0
+    nout = 0
+    do v = 1, nv
+      if (s(v) > tol) then
+        nout = nout + 1
+      else if (s(v) < -tol) then
+        nin = nin + 1
+      else
+        s(v) = 0.0_wp
+      end if
+    end do
+    ! nothing strictly outside: all kept; nothing strictly inside: what is
+    ! kept is at most a face on the plane, of no volume
+    if (nout == 0) return
+    if (nin == 0) then
+      p%nv = 0
+      return
+    end if
+
+    ncut = 0
+    do v = 1, nv
+      if (s(v) > 0.0_wp) cycle
+      do k = 1, 3
+        if (s(p%nbr(k, v)) > 0.0_wp) ncut = ncut + 1
+      end do
+    end do
+    if (nv + ncut > poly_max_verts) then
+      if (present(ok)) ok = .false.
+      return
+    end if
+
+    ! a new vertex on every edge from a kept vertex v (s <= 0) to a removed
+    ! one u (s > 0), so s(u) - s(v) >= s(u) > 0: no division by zero, and a
+    ! kept vertex on the plane gives t = 0, the vertex itself
+    ntot = nv
+    do v = 1, nv
+      if (s(v) > 0.0_wp) cycle
+      do k = 1, 3
+        u = p%nbr(k, v)
+        if (s(u) <= 0.0_wp) cycle
+        ntot = ntot + 1
+        t = -s(v)/(s(u) - s(v))
+        p%x(:, ntot) = p%x(:, v) + t*(p%x(:, u) - p%x(:, v))
+        p%nbr(1, ntot) = v
+        p%nbr(2, ntot) = ntot
+        p%nbr(3, ntot) = ntot
+        p%nbr(k, v) = ntot
+      end do
+    end do
+
+    ! cap: from new vertex w, walk its old face w -> v -> ... along kept
+    ! vertices to the next new vertex w2; the cap edge w -> w2 closes that
+    ! face, so w2 is w's third neighbour and w is w2's second
+    do w = nv + 1, ntot
+      prev = w
+      cur = p%nbr(1, w)
+      do it = 1, ntot
+        nxt = p%nbr(mod(slot_of(p, cur, prev), 3) + 1, cur)
+        prev = cur
+        cur = nxt
+        if (cur > nv) exit
+      end do
+      p%nbr(3, w) = cur
+      p%nbr(2, cur) = w
+    end do
+
+    ! drop the removed vertices and renumber
+    m = 0
+    do v = 1, ntot
+      if (v <= nv) then
+        if (s(v) > 0.0_wp) then
+          idx(v) = 0
+          cycle
+        end if
+      end if
+      m = m + 1
+      idx(v) = m
+    end do
+    do v = 1, ntot
+      if (idx(v) == 0) cycle
+      p%x(:, idx(v)) = p%x(:, v)
+      p%nbr(1, idx(v)) = idx(p%nbr(1, v))
+      p%nbr(2, idx(v)) = idx(p%nbr(2, v))
+      p%nbr(3, idx(v)) = idx(p%nbr(3, v))
+    end do
+    p%nv = m
+  end subroutine poly_clip
+
+  !> Volume vol (length^3) and first moment mom = integral of x dV
+  !> (length^4) of p: every face is fanned from its first vertex and each
+  !> triangle joined to the mean of the vertices, so the sum of the signed
+  !> tetrahedra is exact for the closed surface; relative to that interior
+  !> point every tetrahedron of a convex p is positive, so vol >= 0 up to
+  !> round-off. The empty polyhedron has vol = 0, mom = 0.
+  pure subroutine poly_first_moments(p, vol, mom)
+    type(poly_t), intent(in) :: p
+    real(wp), intent(out) :: vol
+    real(wp), intent(out) :: mom(3)
+    logical :: used(3, poly_max_verts)
+    real(wp) :: r(3), a(3), b(3), c(3), t, v6, m24(3)
+    integer :: nv, v, k, j, prev, cur, nxt, it
+
+    vol = 0.0_wp
+    mom = 0.0_wp
+    nv = p%nv
+    if (nv < 4) return
+    do k = 1, 3
+      r(k) = sum(p%x(k, 1:nv))/real(nv, wp)
+    end do
+    used(:, 1:nv) = .false.
+    v6 = 0.0_wp
+    m24 = 0.0_wp
+    do v = 1, nv
+      do k = 1, 3
+        if (used(k, v)) cycle
+        ! the face to the left of the directed edge v -> nbr(k,v)
+        used(k, v) = .true.
+        a = p%x(:, v) - r
+        prev = v
+        cur = p%nbr(k, v)
+        b = p%x(:, cur) - r
+        do it = 1, nv
+          j = mod(slot_of(p, cur, prev), 3) + 1
+          used(j, cur) = .true.
+          nxt = p%nbr(j, cur)
+          if (nxt == v) exit
+          c = p%x(:, nxt) - r
+          ! tetrahedron (r, a, b, c): 6 V_t = a.(b x c), centroid r + (a+b+c)/4
+          t = dot_product(a, cross(b, c))
+          v6 = v6 + t
+          m24 = m24 + t*(a + b + c)
+          b = c
+          prev = cur
+          cur = nxt
+        end do
+      end do
+    end do
+    vol = v6/6.0_wp
+    mom = m24/24.0_wp + vol*r
+  end subroutine poly_first_moments
+
+  !> Volume vol (length^3) and centroid (length) of p. For a polyhedron of
+  !> no volume the centroid is the mean of its vertices (the origin if empty).
+  pure subroutine poly_moments(p, vol, centroid)
+    type(poly_t), intent(in) :: p
+    real(wp), intent(out) :: vol
+    real(wp), intent(out) :: centroid(3)
+    real(wp) :: mom(3), scale
+    integer :: k
+
+    call poly_first_moments(p, vol, mom)
+    centroid = 0.0_wp
+    if (p%nv == 0) return
+    ! a volume below round-off of the vertex extents has no meaningful centroid
+    scale = 0.0_wp
+    do k = 1, 3
+      scale = max(scale, maxval(p%x(k, 1:p%nv)) - minval(p%x(k, 1:p%nv)))
+    end do
+    if (vol > epsilon(1.0_wp)*scale**3 .and. vol > 0.0_wp) then
+      centroid = mom/vol
+    else
+      do k = 1, 3
+        centroid(k) = sum(p%x(k, 1:p%nv))/real(p%nv, wp)
+      end do
+    end if
+  end subroutine poly_moments
+
+  !> The 24-tetrahedron split of the hexahedron xn(3,8) (Fig. 7; length):
+  !> tetrahedron 4(f-1)+m is (cell centre, centre of face f, node a, node b)
+  !> with (a, b) the m-th edge of `hex_faces`(:,f), counter-clockwise seen
+  !> from outside, so every tetrahedron of a valid cell is positive.
+  !> The face centre is the mean of its four nodes and the cell centre the
+  !> mean of the eight, as in `hex_volume`, so the split's volumes sum to it
+  !> and two cells sharing a face share its four triangles (the split of a
+  !> grid is a partition, which makes Eq. (54)-(57) conservative). The side
+  !> centres of Fig. 7 lie on the edges and add no tetrahedra. The cell
+  !> centroid of Eq. (49) is not the apex: it is what the split yields,
+  !> sum_k x_tk V_tk / V.
+  pure subroutine hex_tets(xn, tets)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: tets(3, 4, 24)
+    real(wp) :: xc(3), xf(3)
+    integer :: f, m, k, i
+
+    do i = 1, 3
+      xc(i) = 0.125_wp*sum(xn(i, :))
+    end do
+    do f = 1, 6
+      ! diagonal pairs first: the neighbour lists the face in another cyclic
+      ! order and direction, which keeps the pairs, so both cells get the
+      ! same bits and their triangles match exactly
+      xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                    (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+      do m = 1, 4
+        k = 4*(f - 1) + m
+        tets(:, 1, k) = xc
+        tets(:, 2, k) = xf
+        tets(:, 3, k) = xn(:, hex_faces(m, f))
+        tets(:, 4, k) = xn(:, hex_faces(mod(m, 4) + 1, f))
+      end do
+    end do
+  end subroutine hex_tets
+
+  !> Outward face planes n(:,i).x <= d(i) of the tetrahedron t and its
+  !> orientation sign sgn (+1, -1, or 0 for a tetrahedron flat to round-off).
+  pure subroutine tet_planes(t, n, d, sgn)
+    real(wp), intent(in) :: t(3, 4)
+    real(wp), intent(out) :: n(3, 4), d(4)
+    integer, intent(out) :: sgn
+    real(wp) :: x(3, 4), det, scale
+    integer :: i, a, b, c
+
+    det = tet_det(t)
+    scale = 0.0_wp
+    do i = 2, 4
+      scale = max(scale, maxval(abs(t(:, i) - t(:, 1))))
+    end do
+    n = 0.0_wp
+    d = 0.0_wp
+    sgn = 0
+    if (abs(det) <= epsilon(1.0_wp)*scale**3) return
+    x = t
+    sgn = 1
+    if (det < 0.0_wp) then
+      sgn = -1
+      x(:, 3) = t(:, 4)
+      x(:, 4) = t(:, 3)
+    end if
+    do i = 1, 4
+      a = tet_face(1, i); b = tet_face(2, i); c = tet_face(3, i)
+      n(:, i) = cross(x(:, b) - x(:, a), x(:, c) - x(:, a))
+      d(i) = dot_product(n(:, i), x(:, a) + x(:, b) + x(:, c))/3.0_wp
+    end do
+  end subroutine tet_planes
+
+  !> Adds sgn times the moments of (tetrahedron q) cut by the planes (n, d)
+  !> of another tetrahedron with bounding box [lo, hi] to vol and mom.
+  pure subroutine add_clipped_tet(q, n, d, lo, hi, sgn, vol, mom)
+    real(wp), intent(in) :: q(3, 4), n(3, 4), d(4), lo(3), hi(3), sgn
+    real(wp), intent(inout) :: vol, mom(3)
+    type(poly_t) :: p
+    real(wp) :: v, m(3), s
+    integer :: i, k, nout
+    logical :: inside
+
+    do i = 1, 3
+      if (minval(q(i, :)) > hi(i) .or. maxval(q(i, :)) < lo(i)) return
+    end do
+    ! the four vertices against the four planes first: a plane with all of
+    ! them strictly outside leaves nothing (as poly_clip would), and with
+    ! none outside any plane the piece is the whole tetrahedron
+    inside = .true.
+    do i = 1, 4
+      nout = 0
+      do k = 1, 4
+        s = n(1, i)*q(1, k) + n(2, i)*q(2, k) + n(3, i)*q(3, k) - d(i)
+        if (s > 0.0_wp) nout = nout + 1
+      end do
+      if (nout == 4) return
+      if (nout > 0) inside = .false.
+    end do
+    if (inside) then
+      v = abs(tet_det(q))/6.0_wp
+      m = 0.25_wp*v*(q(:, 1) + q(:, 2) + q(:, 3) + q(:, 4))
+    else
+      call set_tet(p, q)
+      do i = 1, 4
+        call poly_clip(p, n(:, i), d(i))
+        if (p%nv == 0) return
+      end do
+      call poly_first_moments(p, v, m)
+    end if
+    vol = vol + sgn*v
+    mom = mom + sgn*m
+  end subroutine add_clipped_tet
+
+  !> Intersection of the tetrahedra t1 and t2 (3,4; length): volume vol
+  !> (length^3) and first moment mom (length^4), times the product of their
+  !> orientation signs (zero if either is flat).
+  pure subroutine tet_intersect_tet(t1, t2, vol, mom)
+    real(wp), intent(in) :: t1(3, 4), t2(3, 4)
+    real(wp), intent(out) :: vol, mom(3)
+    real(wp) :: a(3, 4), b(3, 4), n(3, 4), d(4), det2, lo(3), hi(3), o(3)
+    integer :: i, s1
+
+    vol = 0.0_wp
+    mom = 0.0_wp
+    ! local coordinates (see tet_intersect_hex)
+    o = t1(:, 1)
+    do i = 1, 4
+      a(:, i) = t1(:, i) - o
+      b(:, i) = t2(:, i) - o
+    end do
+    call tet_planes(a, n, d, s1)
+    det2 = tet_det(b)
+    if (s1 == 0 .or. .not. abs(det2) > 0.0_wp) return
+    do i = 1, 3
+      lo(i) = minval(a(i, :))
+      hi(i) = maxval(a(i, :))
+    end do
+    call add_clipped_tet(b, n, d, lo, hi, real(s1, wp)*sign(1.0_wp, det2), vol, mom)
+    mom = mom + vol*o
+  end subroutine tet_intersect_tet
+
+  !> Intersection of the tetrahedron tet(3,4) with the hexahedron xn(3,8)
+  !> (length; any valid cell, faces need not be planar nor the cell convex):
+  !> volume vol (length^3) and first moment mom = integral of x dV
+  !> (length^4), signed by tet's orientation. It is the sum over the cell's
+  !> 24 tetrahedra (`hex_tets`) of tet-tet intersections, each by clipping
+  !> with four planes, which is exact because they partition the cell.
+  pure subroutine tet_intersect_hex(tet, xn, vol, mom)
+    real(wp), intent(in) :: tet(3, 4), xn(3, 8)
+    real(wp), intent(out) :: vol, mom(3)
+    real(wp) :: tets(3, 4, 24), t(3, 4), x(3, 8), n(3, 4), d(4), lo(3), hi(3), det, o(3)
+    integer :: i, k, sgn
+
+    vol = 0.0_wp
+    mom = 0.0_wp
+    do i = 1, 3
+      if (minval(xn(i, :)) > maxval(tet(i, :)) .or. maxval(xn(i, :)) < minval(tet(i, :))) return
+    end do
+    ! local coordinates about a vertex of tet: the round-off of the clipping
+    ! then scales with the cell size, not with the distance to the origin
+    o = tet(:, 1)
+    do i = 1, 4
+      t(:, i) = tet(:, i) - o
+    end do
+    do i = 1, 8
+      x(:, i) = xn(:, i) - o
+    end do
+    call tet_planes(t, n, d, sgn)
+    if (sgn == 0) return
+    do i = 1, 3
+      lo(i) = minval(t(i, :))
+      hi(i) = maxval(t(i, :))
+    end do
+    call hex_tets(x, tets)
+    do k = 1, 24
+      det = tet_det(tets(:, :, k))
+      if (.not. abs(det) > 0.0_wp) cycle
+      call add_clipped_tet(tets(:, :, k), n, d, lo, hi, sign(1.0_wp, det), vol, mom)
+    end do
+    vol = real(sgn, wp)*vol
+    mom = real(sgn, wp)*mom + vol*o
+  end subroutine tet_intersect_hex
+end module remap_polyhedron
