@@ -54,7 +54,7 @@ module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_clip, &
-                              poly_first_moments, hex_tets
+                              poly_first_moments, hex_tets, slot_of
   implicit none
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol
@@ -286,19 +286,6 @@ contains
     end do
   end subroutine add_cap_faces
 
-  !> The slot j of vertex c's neighbour list that holds vertex u.
-  pure function slot_of(p, c, u) result(j)
-    type(poly_t), intent(in) :: p
-    integer, intent(in) :: c, u
-    integer :: j
-    if (p%nbr(1, c) == u) then
-      j = 1
-    else if (p%nbr(2, c) == u) then
-      j = 2
-    else
-      j = 3
-    end if
-  end function slot_of
 
   !> The region pcs cut by n.x <= dl (local coordinates, unit n): volume and
   !> first moment and, if want_face, the interface polygon's moments. The
