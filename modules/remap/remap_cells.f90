@@ -18,7 +18,7 @@
 module remap_cells
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
-  use remap_polyhedron, only: hex_tets, tet_intersect_hex
+  use remap_polyhedron, only: hex_tets, tet_intersect_split
   implicit none
   private
   public :: overlap_t, remap_overlaps, remap_density, cell_moments
@@ -76,7 +76,8 @@ contains
     type(overlap_t), intent(out) :: ov
     type(error_t), allocatable, intent(inout) :: err
     integer :: c, ci, cj, ck, oi, oj, ok_, co, t, stat, n
-    real(wp) :: xn(3, 8), xo(3, 8), tets(3, 4, 24), lo(3), hi(3), tlo(3), thi(3), v, m(3), vsum, msum(3)
+    real(wp) :: xn(3, 8), xo(3, 8), tets(3, 4, 24), otets(3, 4, 24), lo(3), hi(3), tlo(3), thi(3), v, m(3), &
+                vsum, msum(3)
     character(len=200) :: msg
 
     ov%maxent = (2*reach + 1)**3
@@ -87,7 +88,7 @@ contains
       return
     end if
     !$omp parallel do default(none) shared(ni, nj, nk, xold, xnew, reach, ov) &
-    !$omp private(c, ci, cj, ck, oi, oj, ok_, co, t, n, xn, xo, tets, lo, hi, tlo, thi, v, m, vsum, msum) &
+    !$omp private(c, ci, cj, ck, oi, oj, ok_, co, t, n, xn, xo, tets, otets, lo, hi, tlo, thi, v, m, vsum, msum) &
     !$omp collapse(2) schedule(dynamic, 1)
     do ck = 1, nk
       do cj = 1, nj
@@ -104,13 +105,15 @@ contains
                 lo = minval(xo, 2)
                 hi = maxval(xo, 2)
                 if (any(maxval(xn, 2) < lo) .or. any(minval(xn, 2) > hi)) cycle
+                ! the old cell's split once, for all 24 new tetrahedra
+                call hex_tets(xo, otets)
                 vsum = 0.0_wp
                 msum = 0.0_wp
                 do t = 1, 24
                   tlo = minval(tets(:, :, t), 2)
                   thi = maxval(tets(:, :, t), 2)
                   if (any(thi < lo) .or. any(tlo > hi)) cycle
-                  call tet_intersect_hex(tets(:, :, t), xo, v, m)
+                  call tet_intersect_split(tets(:, :, t), otets, v, m)
                   vsum = vsum + v
                   msum = msum + m
                 end do

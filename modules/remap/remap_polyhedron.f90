@@ -27,7 +27,7 @@ module remap_polyhedron
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
   public :: poly_from_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
-  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, slot_of
+  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
@@ -457,22 +457,35 @@ contains
   pure subroutine tet_intersect_hex(tet, xn, vol, mom)
     real(wp), intent(in) :: tet(3, 4), xn(3, 8)
     real(wp), intent(out) :: vol, mom(3)
-    real(wp) :: tets(3, 4, 24), t(3, 4), x(3, 8), n(3, 4), d(4), lo(3), hi(3), det, o(3)
-    integer :: i, k, sgn
+    real(wp) :: tets(3, 4, 24)
+    integer :: i
 
     vol = 0.0_wp
     mom = 0.0_wp
     do i = 1, 3
       if (minval(xn(i, :)) > maxval(tet(i, :)) .or. maxval(xn(i, :)) < minval(tet(i, :))) return
     end do
+    call hex_tets(xn, tets)
+    call tet_intersect_split(tet, tets, vol, mom)
+  end subroutine tet_intersect_hex
+
+  !> Intersection of the tetrahedron tet(3,4) with a cell given by its
+  !> split into tetrahedra tets(3,4,:) (e.g. the 24 of `hex_tets`, computed
+  !> once per cell by the caller): volume and first moment, signed by tet's
+  !> orientation, summed over the pieces as in `tet_intersect_hex`.
+  pure subroutine tet_intersect_split(tet, tets, vol, mom)
+    real(wp), intent(in) :: tet(3, 4), tets(:, :, :)
+    real(wp), intent(out) :: vol, mom(3)
+    real(wp) :: t(3, 4), x(3, 4), n(3, 4), d(4), lo(3), hi(3), det, o(3)
+    integer :: i, k, sgn
+
+    vol = 0.0_wp
+    mom = 0.0_wp
     ! local coordinates about a vertex of tet: the round-off of the clipping
     ! then scales with the cell size, not with the distance to the origin
     o = tet(:, 1)
     do i = 1, 4
       t(:, i) = tet(:, i) - o
-    end do
-    do i = 1, 8
-      x(:, i) = xn(:, i) - o
     end do
     call tet_planes(t, n, d, sgn)
     if (sgn == 0) return
@@ -480,13 +493,15 @@ contains
       lo(i) = minval(t(i, :))
       hi(i) = maxval(t(i, :))
     end do
-    call hex_tets(x, tets)
-    do k = 1, 24
-      det = tet_det(tets(:, :, k))
+    do k = 1, size(tets, 3)
+      do i = 1, 4
+        x(:, i) = tets(:, i, k) - o
+      end do
+      det = tet_det(x)
       if (.not. abs(det) > 0.0_wp) cycle
-      call add_clipped_tet(tets(:, :, k), n, d, lo, hi, sign(1.0_wp, det), vol, mom)
+      call add_clipped_tet(x, n, d, lo, hi, sign(1.0_wp, det), vol, mom)
     end do
     vol = real(sgn, wp)*vol
     mom = real(sgn, wp)*mom + vol*o
-  end subroutine tet_intersect_hex
+  end subroutine tet_intersect_split
 end module remap_polyhedron
