@@ -8,7 +8,7 @@ module driver_scene
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_init_box
-  use mesh_geometry, only: hex_volume, hex_subcell_volumes
+  use mesh_geometry, only: hex_corner, hex_volume, hex_subcell_volumes
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
@@ -278,7 +278,7 @@ contains
     real(wp) :: s(3)
     x = 0.0_wp
     do a = 1, 8
-      s = real([mod(a - 1, 2), mod((a - 1)/2, 2), (a - 1)/4], wp)*2.0_wp - 1.0_wp
+      s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
       x = x + 0.125_wp*(1.0_wp + s(1)*xi(1))*(1.0_wp + s(2)*xi(2))*(1.0_wp + s(3)*xi(3))*xn(:, a)
     end do
   end function trilinear

@@ -4,22 +4,16 @@
 program test_geometry
   use base_kinds, only: wp
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_subcell_volumes, hex_median_areas
+  use mesh_geometry, only: hex_corner, hex_volume, hex_volume_gradient, hex_subcell_volumes, hex_median_areas
   use test_assert, only: check, check_summary
   implicit none
   real(wp) :: x0(3, 8), xn(3, 8), b(3, 8), vsub(8), vol, v24, s(3, 3), a(3, 3), xp(3, 8), xm(3, 8)
   real(wp) :: h, fd, m(3, 3)
   type(rng_t) :: rng
-  integer :: i, j, k, n, trial, d
+  integer :: n, trial, d
 
   ! unit cube, local order a = 1 + i + 2j + 4k
-  do k = 0, 1
-    do j = 0, 1
-      do i = 0, 1
-        x0(:, 1 + i + 2*j + 4*k) = real([i, j, k], wp)
-      end do
-    end do
-  end do
+  x0 = real(hex_corner, wp)
   call check(abs(hex_volume(x0) - 1.0_wp) < 1e-15_wp, 'unit cube volume')
   call hex_median_areas(x0, s)
   call check(maxval(abs(s - reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3]))) < 1e-15_wp, &

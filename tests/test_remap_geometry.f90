@@ -7,7 +7,7 @@
 program test_remap_geometry
   use base_kinds, only: wp, i8
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_geometry, only: hex_volume, cross
+  use mesh_geometry, only: hex_corner, hex_volume, cross
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_from_tet, poly_from_hex, poly_clip, &
                               poly_moments, poly_first_moments, hex_tets, tet_intersect_tet, &
                               tet_intersect_hex
@@ -16,15 +16,8 @@ program test_remap_geometry
   implicit none
   type(rng_t) :: rng
   real(wp) :: cube(3, 8)
-  integer :: i, j, k
 
-  do k = 0, 1
-    do j = 0, 1
-      do i = 0, 1
-        cube(:, 1 + i + 2*j + 4*k) = real([i, j, k], wp)
-      end do
-    end do
-  end do
+  cube = real(hex_corner, wp)
   call rng_seed(rng, 2024)
 
   call test_axis_planes()

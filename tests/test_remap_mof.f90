@@ -9,7 +9,7 @@
 program test_remap_mof
   use base_kinds, only: wp, i8, pi
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_geometry, only: hex_volume
+  use mesh_geometry, only: hex_corner, hex_volume
   use remap_polyhedron, only: poly_t, poly_from_hex, poly_clip, poly_moments
   use remap_mof, only: mof_pieces_t, mof_max_iter_default, mof_cut_volume, mof_plane_for_volume, &
                        mof_reconstruct, mof_reconstruct_nested, mof_material_pieces, mof_pieces_moments
@@ -20,15 +20,9 @@ program test_remap_mof
   type(rng_t) :: rng
   real(wp) :: cube(3, 8), distorted(3, 8), skewed(3, 8), nonconvex(3, 8)
   real(wp) :: glx(ngl), glw(ngl)
-  integer :: i, j, k
+  integer :: i
 
-  do k = 0, 1
-    do j = 0, 1
-      do i = 0, 1
-        cube(:, 1 + i + 2*j + 4*k) = real([i, j, k], wp)
-      end do
-    end do
-  end do
+  cube = real(hex_corner, wp)
   call rng_seed(rng, 7)
   ! every node moved by up to 0.2 (faces non-planar), far from the origin
   do i = 1, 8

@@ -2,6 +2,7 @@
 program test_rezone_quality
   use base_kinds, only: wp
   use base_random, only: rng_t, rng_seed, rng_uniform
+  use mesh_geometry, only: hex_corner
   use test_assert, only: check, check_summary
   use rezone_quality, only: hex_quality, quad_quality, hex_shape, grid_quality
   implicit none
@@ -11,13 +12,7 @@ program test_rezone_quality
   integer :: i, j, k, n, d
   integer, parameter :: m = 50
 
-  do k = 0, 1
-    do j = 0, 1
-      do i = 0, 1
-        cube(:, 1 + i + 2*j + 4*k) = real([i, j, k], wp)
-      end do
-    end do
-  end do
+  cube = real(hex_corner, wp)
   call check(abs(hex_quality(cube) - 1.0_wp) < 1e-15_wp, 'Q = 1 for a cube')
   call check(abs(hex_quality(3.7_wp*cube + 1.0_wp) - 1.0_wp) < 1e-14_wp, 'Q = 1 for any cube')
   sq = reshape([0.0_wp, 0.0_wp, 2.0_wp, 0.0_wp, 2.0_wp, 2.0_wp, 0.0_wp, 2.0_wp], [2, 4])

@@ -14,9 +14,12 @@ module mesh_geometry
   use base_kinds, only: wp
   implicit none
   private
-  public :: hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
+  public :: hex_corner, hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
             hex_median_areas, cross
 
+  !> Logical corner (i,j,k) in {0,1}^3 of local node a = 1 + i + 2j + 4k.
+  integer, parameter :: hex_corner(3, 8) = reshape([0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0, &
+                                                    0, 0, 1,  1, 0, 1,  0, 1, 1,  1, 1, 1], [3, 8])
   !> Nodes of the six faces, ordered counter-clockwise seen from outside:
   !> xi-, xi+, eta-, eta+, zeta-, zeta+.
   integer, parameter :: hex_faces(4, 6) = reshape([1, 5, 7, 3,  2, 4, 8, 6, &

@@ -7,9 +7,10 @@
 module mesh_grid
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use mesh_geometry, only: hex_corner
   implicit none
   private
-  public :: grid_t, grid_init_box
+  public :: grid_t, grid_init_box, block_gather
 
   !> Grid sizes, strides and node positions.
   type :: grid_t
@@ -107,4 +108,20 @@ contains
       fn(:, a) = f(:, n0 + this%corner_offset(a))
     end do
   end subroutine grid_gather
+
+  !> Copies the node positions of cell (ci,cj,ck) of a block of ni x nj
+  !> cells per layer from x(3, nnode) into xn(3,8) (for code that has the
+  !> block sizes but no grid_t, such as a grid being built or an old grid).
+  pure subroutine block_gather(ni, nj, ci, cj, ck, x, xn)
+    integer, intent(in) :: ni, nj, ci, cj, ck
+    real(wp), intent(in) :: x(:, :)
+    real(wp), intent(out) :: xn(3, 8)
+    integer :: a, n0, sx, sxy
+    sx = ni + 1
+    sxy = (ni + 1)*(nj + 1)
+    n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
+    do a = 1, 8
+      xn(:, a) = x(:, n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a))
+    end do
+  end subroutine block_gather
 end module mesh_grid

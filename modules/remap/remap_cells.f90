@@ -18,6 +18,7 @@
 module remap_cells
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use mesh_grid, only: block_gather
   use remap_polyhedron, only: hex_tets, tet_intersect_split
   implicit none
   private
@@ -50,7 +51,7 @@ contains
       do cj = 1, nj
         do ci = 1, ni
           c = ci + ni*((cj - 1) + nj*(ck - 1))
-          call gather(ni, nj, ci, cj, ck, x, xn)
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
           call hex_tets(xn, tets)
           v = 0.0_wp
           m = 0.0_wp
@@ -94,14 +95,14 @@ contains
       do cj = 1, nj
         do ci = 1, ni
           c = ci + ni*((cj - 1) + nj*(ck - 1))
-          call gather(ni, nj, ci, cj, ck, xnew, xn)
+          call block_gather(ni, nj, ci, cj, ck, xnew, xn)
           call hex_tets(xn, tets)
           n = 0
           do ok_ = max(1, ck - reach), min(nk, ck + reach)
             do oj = max(1, cj - reach), min(nj, cj + reach)
               do oi = max(1, ci - reach), min(ni, ci + reach)
                 co = oi + ni*((oj - 1) + nj*(ok_ - 1))
-                call gather(ni, nj, oi, oj, ok_, xold, xo)
+                call block_gather(ni, nj, oi, oj, ok_, xold, xo)
                 lo = minval(xo, 2)
                 hi = maxval(xo, 2)
                 if (any(maxval(xn, 2) < lo) .or. any(minval(xn, 2) > hi)) cycle
@@ -155,19 +156,6 @@ contains
     !$omp end parallel do
   end subroutine remap_density
 
-  !> Nodes xn(3,8) of cell (ci,cj,ck) in the local order a = 1 + i + 2j + 4k.
-  pure subroutine gather(ni, nj, ci, cj, ck, x, xn)
-    integer, intent(in) :: ni, nj, ci, cj, ck
-    real(wp), intent(in) :: x(:, :)
-    real(wp), intent(out) :: xn(3, 8)
-    integer :: a, n0, sx, sxy
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
-    n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
-    do a = 1, 8
-      xn(:, a) = x(:, n0 + mod(a - 1, 2) + sx*mod((a - 1)/2, 2) + sxy*((a - 1)/4))
-    end do
-  end subroutine gather
 
   pure real(wp) function det3(a, b, c)
     real(wp), intent(in) :: a(3), b(3), c(3)

@@ -14,6 +14,7 @@
 module rezone_quality
   use base_kinds, only: wp
   use mesh_geometry, only: hex_volume, cross
+  use mesh_grid, only: block_gather
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality
@@ -100,24 +101,19 @@ contains
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: q(:), q_min, ratio_max, cos_min
-    integer :: c, ci, cj, ck, a, n0, sx, sxy
+    integer :: c, ci, cj, ck
     real(wp) :: xn(3, 8), r, cs
 
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
     q_min = huge(1.0_wp)
     ratio_max = 0.0_wp
     cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, x, q, sx, sxy) private(c, ci, cj, ck, a, n0, xn, r, cs) &
+    !$omp parallel do default(none) shared(ni, nj, nk, x, q) private(c, ci, cj, ck, xn, r, cs) &
     !$omp reduction(min: q_min, cos_min) reduction(max: ratio_max) collapse(2) schedule(static)
     do ck = 1, nk
       do cj = 1, nj
         do ci = 1, ni
           c = ci + ni*((cj - 1) + nj*(ck - 1))
-          n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
-          do a = 1, 8
-            xn(:, a) = x(:, n0 + mod(a - 1, 2) + sx*mod((a - 1)/2, 2) + sxy*((a - 1)/4))
-          end do
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
           q(c) = hex_quality(xn)
           call hex_shape(xn, r, cs)
           q_min = min(q_min, q(c))
