@@ -79,20 +79,17 @@ def _set_output(line, outdir):
     return line
 
 
-def sod_deck(template, n, outdir):
-    h = 1.0 / n
+def _edit_deck(template, outdir, title, edit_grid):
+    """The template deck with a new title, the &grid line passed through
+    edit_grid, and &output pointed at outdir (added if missing)."""
     out = []
     has_output = False
     for line in open(template).read().splitlines():
         s = line.lstrip().lower()
         if s.startswith("&run"):
-            line = re.sub(r"\btitle\s*=\s*(['\"]).*?\1", f"title = 'Sod along x, {n} x 1 x 1'", line, flags=re.I)
+            line = re.sub(r"\btitle\s*=\s*(['\"]).*?\1", f"title = '{title}'", line, flags=re.I)
         elif s.startswith("&grid"):
-            line = re.sub(r"\bni\s*=\s*\d+", f"ni = {n}", line, flags=re.I)
-            m = re.search(r"\bxmax\s*=\s*(" + NUM + r")\s*,\s*" + NUM + r"\s*,\s*" + NUM, line, flags=re.I)
-            if not m:
-                raise SystemExit(f"{template}: cannot find xmax = X, Y, Z in the &grid line")
-            line = line[:m.start()] + f"xmax = {m.group(1)}, {h:.17g}, {h:.17g}" + line[m.end():]
+            line = edit_grid(line)
         elif s.startswith("&output"):
             line = _set_output(line, outdir)
             has_output = True
@@ -100,25 +97,28 @@ def sod_deck(template, n, outdir):
     if not has_output:
         out.append(f"&output dir = '{outdir}' /")
     return "\n".join(out) + "\n"
+
+
+def sod_deck(template, n, outdir):
+    h = 1.0 / n
+
+    def grid(line):
+        line = re.sub(r"\bni\s*=\s*\d+", f"ni = {n}", line, flags=re.I)
+        m = re.search(r"\bxmax\s*=\s*(" + NUM + r")\s*,\s*" + NUM + r"\s*,\s*" + NUM, line, flags=re.I)
+        if not m:
+            raise SystemExit(f"{template}: cannot find xmax = X, Y, Z in the &grid line")
+        return line[:m.start()] + f"xmax = {m.group(1)}, {h:.17g}, {h:.17g}" + line[m.end():]
+
+    return _edit_deck(template, outdir, f"Sod along x, {n} x 1 x 1", grid)
 
 
 def sedov_deck(template, n, outdir):
-    out = []
-    has_output = False
-    for line in open(template).read().splitlines():
-        s = line.lstrip().lower()
-        if s.startswith("&grid"):
-            for v in ("ni", "nj", "nk"):
-                line = re.sub(rf"\b{v}\s*=\s*\d+", f"{v} = {n}", line, flags=re.I)
-        elif s.startswith("&run"):
-            line = re.sub(r"\btitle\s*=\s*(['\"]).*?\1", f"title = 'Sedov 3D octant, {n}^3'", line, flags=re.I)
-        elif s.startswith("&output"):
-            line = _set_output(line, outdir)
-            has_output = True
-        out.append(line)
-    if not has_output:
-        out.append(f"&output dir = '{outdir}' /")
-    return "\n".join(out) + "\n"
+    def grid(line):
+        for v in ("ni", "nj", "nk"):
+            line = re.sub(rf"\b{v}\s*=\s*\d+", f"{v} = {n}", line, flags=re.I)
+        return line
+
+    return _edit_deck(template, outdir, f"Sedov 3D octant, {n}^3", grid)
 
 
 def deck_value(text, group, var):
