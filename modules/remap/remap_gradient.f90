@@ -1,0 +1,214 @@
+!> Limited least-squares gradients of cell fields on a structured block, the
+!> second-order part of the conservative remap (Sect. 5.4).
+!>
+!> The remap of Sect. 5.4 (Eqs. 54-57) integrates each old cell's field over
+!> its intersection fragments with the new cells. The paper does not spell out
+!> the reconstruction; we use the linear one q(x) = q_c + g.(x - pos_c) about
+!> the point pos_c the mean q_c refers to (cell centroid, or a material's
+!> centroid in a mixed cell), which integrates back to q_c over the cell when
+!> pos_c is the centroid, so the remap stays conservative whatever g is.
+!>
+!> Gradient: weighted least squares over the up-to-26 cells of the 3x3x3
+!> index neighbourhood that hold the quantity (`has`), minimising
+!>   sum_n w_n (q_n - q_c - g.(pos_n - pos_c))^2,  w_n = 1/|pos_n - pos_c|^2,
+!> so near neighbours count more and every row of the scaled system is a
+!> unit direction (well scaled whatever the cell size). It reproduces a
+!> linear field exactly on any grid. The geometry matrix is shared by all
+!> fields (one LAPACK call, nrhs = nf). It is solved by SVD (`dgelss`) with a
+!> relative singular-value cut: when the neighbours span fewer than three
+!> directions (a 1-cell-thick grid, a lone cell, a thin material layer) the
+!> minimum-norm solution gives zero gradient along the missing directions
+!> instead of a NaN or a noise-driven slope.
+!>
+!> Limiter (Barth-Jespersen), per field: g is scaled by the largest phi in
+!> [0, 1] that keeps the reconstruction at the cell's 8 nodes within the
+!> range [qmin, qmax] of q over the cell and its used neighbours. A linear
+!> function's extremes over the cell (inside the convex hull of its nodes)
+!> are at the nodes, so the remapped values stay inside the old neighbours'
+!> bounds: no new extrema, no negative densities or energies from the
+!> second-order term. Linear fields keep phi = 1 wherever the cell's nodes
+!> lie within the hull of its neighbours' centroids (interior cells).
+module remap_gradient
+  use base_kinds, only: wp, tiny_wp
+  use base_errors, only: error_t, error_set
+  use mesh_grid, only: block_gather
+  implicit none
+  private
+  public :: remap_limited_gradients
+
+  !> Most neighbours a cell can have (its 3x3x3 index neighbourhood).
+  integer, parameter :: max_nbr = 26
+  !> Singular values below rcond times the largest are dropped: the rows are
+  !> unit directions, so this cuts directions the neighbours do not span
+  !> (their offsets there are round-off of the centroids, ~1e-16).
+  real(wp), parameter :: rcond = 1.0e-10_wp
+  !> Node deviations below this fraction of the field's magnitude are
+  !> round-off and do not constrain the limiter (and never divide).
+  real(wp), parameter :: dq_floor = 1.0e-15_wp
+
+  interface
+    !> LAPACK: minimum-norm least-squares solution by SVD.
+    subroutine dgelss(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, info)
+      import :: wp
+      integer, intent(in) :: m, n, nrhs, lda, ldb, lwork
+      real(wp), intent(inout) :: a(lda, *), b(ldb, *)
+      real(wp), intent(out) :: s(*)
+      real(wp), intent(in) :: rcond
+      integer, intent(out) :: rank, info
+      real(wp), intent(inout) :: work(*)
+    end subroutine dgelss
+  end interface
+
+contains
+
+  !> Limited least-squares gradients of nf cell fields on a block of
+  !> ni x nj x nk cells (cell c = ci + ni*((cj-1) + nj*(ck-1))).
+  !>
+  !> x(3, (ni+1)*(nj+1)*(nk+1)): node positions (numbering of `mesh_grid`).
+  !> q(nf, ncell): mean of each field over the cell (or a material's part of
+  !> it), any units. pos(3, ncell): the point q refers to (cell or material
+  !> centroid), units of x. has(ncell): the cell holds the quantity; cells
+  !> without it are never read (q and pos there may be anything) and get a
+  !> zero gradient. need(ncell): gradient wanted here; other cells get zero.
+  !> grad(3, nf, ncell): the limited gradients, units of q per unit of x.
+  !> err (optional): set when the array sizes disagree (nothing is computed
+  !> and grad is left undefined), the work arrays cannot be allocated (grad
+  !> all zero), or the SVD fails to converge in some cell (those cells get a
+  !> zero gradient, i.e. a first-order remap; the others are valid). So a
+  !> caller with consistent sizes that omits err still gets a usable, at
+  !> worst locally first-order, result.
+  subroutine remap_limited_gradients(ni, nj, nk, x, q, pos, has, need, grad, err)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: x(:, :), q(:, :), pos(:, :)
+    logical, intent(in) :: has(:), need(:)
+    real(wp), intent(out) :: grad(:, :, :)
+    type(error_t), allocatable, intent(inout), optional :: err
+    integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail
+    integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
+    real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
+                qc, qmin, qmax, dq, eps, phi
+    real(wp), allocatable :: bmat(:, :), work(:)
+    character(len=200) :: msg
+
+    nf = size(q, 1)
+    ncell = ni*nj*nk
+    nnode = (ni + 1)*(nj + 1)*(nk + 1)
+    if (ni < 1 .or. nj < 1 .or. nk < 1 .or. size(x, 1) /= 3 .or. size(x, 2) /= nnode .or. &
+        size(q, 2) /= ncell .or. size(pos, 1) /= 3 .or. size(pos, 2) /= ncell .or. &
+        size(has) /= ncell .or. size(need) /= ncell .or. size(grad, 1) /= 3 .or. &
+        size(grad, 2) /= nf .or. size(grad, 3) /= ncell) then
+      write(msg, '(a,3(i0,1x),a)') 'array sizes do not match a block of ', ni, nj, nk, 'cells'
+      call report(trim(msg))
+      return
+    end if
+    if (nf == 0) return
+
+    ! Work arrays once per call; the parallel loop gives each thread its own
+    ! copy. lwork: the largest optimal size over all neighbour counts.
+    allocate(bmat(max_nbr, nf), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      grad = 0.0_wp
+      call report('cannot allocate work arrays: '//trim(msg))
+      return
+    end if
+    amat = 0.0_wp
+    bmat = 0.0_wp
+    lwork = 1
+    do m = 1, max_nbr
+      call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, wq, -1, info)
+      lwork = max(lwork, int(wq(1)), 3*min(m, 3) + max(2*min(m, 3), m, nf))
+    end do
+    allocate(work(lwork), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      grad = 0.0_wp
+      call report('cannot allocate work arrays: '//trim(msg))
+      return
+    end if
+
+    nfail = 0
+    !$omp parallel do default(none) shared(ni, nj, nk, nf, x, q, pos, has, need, grad, lwork) &
+    !$omp private(c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
+    !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work) &
+    !$omp reduction(+:nfail) collapse(2) schedule(static)
+    do ck = 1, nk
+      do cj = 1, nj
+        do ci = 1, ni
+          c = ci + ni*((cj - 1) + nj*(ck - 1))
+          grad(:, :, c) = 0.0_wp
+          if (.not. (need(c) .and. has(c))) cycle
+
+          ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
+          m = 0
+          do ok_ = max(1, ck - 1), min(nk, ck + 1)
+            do oj = max(1, cj - 1), min(nj, cj + 1)
+              do oi = max(1, ci - 1), min(ni, ci + 1)
+                co = oi + ni*((oj - 1) + nj*(ok_ - 1))
+                if (co == c .or. .not. has(co)) cycle
+                dx = pos(:, co) - pos(:, c)
+                d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
+                if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
+                rinv = 1.0_wp/sqrt(d2)
+                m = m + 1
+                nbr(m) = co
+                amat(m, :) = dx*rinv
+                do f = 1, nf
+                  bmat(m, f) = (q(f, co) - q(f, c))*rinv
+                end do
+              end do
+            end do
+          end do
+          if (m == 0) cycle
+
+          call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
+          if (info /= 0) then
+            nfail = nfail + 1
+            cycle
+          end if
+
+          ! Barth-Jespersen: keep the reconstruction at the 8 nodes in range
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
+          do a = 1, 8
+            dxn(:, a) = xn(:, a) - pos(:, c)
+          end do
+          do f = 1, nf
+            g = bmat(1:3, f)
+            qc = q(f, c)
+            qmin = qc
+            qmax = qc
+            do n = 1, m
+              qmin = min(qmin, q(f, nbr(n)))
+              qmax = max(qmax, q(f, nbr(n)))
+            end do
+            ! qmax - qc and qc - qmin are at most 2*max(|qmin|,|qmax|), so with
+            ! |dq| > eps the ratios stay below 2/dq_floor: no overflow
+            eps = dq_floor*max(abs(qmin), abs(qmax))
+            phi = 1.0_wp
+            do a = 1, 8
+              dq = g(1)*dxn(1, a) + g(2)*dxn(2, a) + g(3)*dxn(3, a)
+              if (dq > eps) then
+                phi = min(phi, (qmax - qc)/dq)
+              else if (dq < -eps) then
+                phi = min(phi, (qmin - qc)/dq)
+              end if
+            end do
+            grad(:, f, c) = phi*g
+          end do
+        end do
+      end do
+    end do
+    !$omp end parallel do
+
+    if (nfail > 0) then
+      write(msg, '(a,i0,a)') 'the SVD did not converge in ', nfail, ' cell(s); their gradients are zero'
+      call report(trim(msg))
+    end if
+
+  contains
+
+    !> Sets err, when the caller passed one.
+    subroutine report(what)
+      character(len=*), intent(in) :: what
+      if (present(err)) call error_set(err, 'remap_limited_gradients', what)
+    end subroutine report
+  end subroutine remap_limited_gradients
+end module remap_gradient
