@@ -8,7 +8,7 @@ module driver_scene
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_init_box
-  use mesh_geometry, only: hex_corner, hex_volume, hex_subcell_volumes
+  use mesh_geometry, only: hex_volume, hex_subcell_volumes, hex_trilinear
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
@@ -232,7 +232,7 @@ contains
         do j = 1, ns
           do i = 1, ns
             xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
-            r = region_at(trilinear(xn, xi))
+            r = region_at(hex_trilinear(xn, xi))
             if (r == 0) then
               covered = .false.
               return
@@ -269,19 +269,6 @@ contains
       end if
     end do
   end function region_at
-
-  !> Position at natural coordinates xi in [-1,1]^3 of the hex with nodes xn.
-  pure function trilinear(xn, xi) result(x)
-    real(wp), intent(in) :: xn(3, 8), xi(3)
-    real(wp) :: x(3)
-    integer :: a
-    real(wp) :: s(3)
-    x = 0.0_wp
-    do a = 1, 8
-      s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
-      x = x + 0.125_wp*(1.0_wp + s(1)*xi(1))*(1.0_wp + s(2)*xi(2))*(1.0_wp + s(3)*xi(3))*xn(:, a)
-    end do
-  end function trilinear
 
   !> True if point p lies in the region's shape.
   pure logical function inside(rg, p)

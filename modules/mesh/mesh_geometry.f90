@@ -15,7 +15,7 @@ module mesh_geometry
   implicit none
   private
   public :: hex_corner, hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
-            hex_median_areas, cross
+            hex_median_areas, hex_trilinear, hex_natural, cross
 
   !> Logical corner (i,j,k) in {0,1}^3 of local node a = 1 + i + 2j + 4k.
   integer, parameter :: hex_corner(3, 8) = reshape([0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0, &
@@ -150,4 +150,57 @@ contains
       s(:, d) = 0.125_wp*cross(m(:, 2) - m(:, 1), m(:, 3) - m(:, 4))
     end do
   end subroutine hex_median_areas
+  !> Position (length) at natural coordinates xi in [-1,1]^3 of the hex with
+  !> nodes xn: the trilinear map x = sum_a N_a(xi) x_a.
+  pure function hex_trilinear(xn, xi) result(x)
+    real(wp), intent(in) :: xn(3, 8), xi(3)
+    real(wp) :: x(3)
+    integer :: a
+    real(wp) :: s(3)
+    x = 0.0_wp
+    do a = 1, 8
+      s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
+      x = x + 0.125_wp*(1.0_wp + s(1)*xi(1))*(1.0_wp + s(2)*xi(2))*(1.0_wp + s(3)*xi(3))*xn(:, a)
+    end do
+  end function hex_trilinear
+
+  !> Natural coordinates of the point x in the hex xn: the inverse of
+  !> `hex_trilinear` by Newton's method from the centre (exact in one step
+  !> for a parallelepiped). A point outside the cell, or a cell whose map is
+  !> singular, gives the last iterate clamped to [-1,1]^3, so the result is
+  !> always a point of the cell's natural cube.
+  pure function hex_natural(xn, x) result(xi)
+    real(wp), intent(in) :: xn(3, 8), x(3)
+    real(wp) :: xi(3)
+    real(wp) :: r(3), jac(3, 3), s(3), nfun, det, dxi(3), c(3, 3), scale
+    integer :: it, a, d
+
+    xi = 0.0_wp
+    scale = maxval(abs(xn(:, 8) - xn(:, 1))) + maxval(abs(xn(:, 7) - xn(:, 2)))
+    do it = 1, 20
+      r = x - hex_trilinear(xn, xi)
+      if (norm2(r) <= 1.0e-14_wp*scale) exit
+      jac = 0.0_wp
+      do a = 1, 8
+        s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
+        do d = 1, 3
+          nfun = 0.125_wp*s(d)
+          if (d /= 1) nfun = nfun*(1.0_wp + s(1)*xi(1))
+          if (d /= 2) nfun = nfun*(1.0_wp + s(2)*xi(2))
+          if (d /= 3) nfun = nfun*(1.0_wp + s(3)*xi(3))
+          jac(:, d) = jac(:, d) + nfun*xn(:, a)
+        end do
+      end do
+      ! Cramer's rule: the columns of the cofactor matrix
+      c(:, 1) = cross(jac(:, 2), jac(:, 3))
+      c(:, 2) = cross(jac(:, 3), jac(:, 1))
+      c(:, 3) = cross(jac(:, 1), jac(:, 2))
+      det = dot_product(jac(:, 1), c(:, 1))
+      if (.not. abs(det) > tiny(1.0_wp)) exit
+      do d = 1, 3
+        dxi(d) = dot_product(c(:, d), r)/det
+      end do
+      xi = min(max(xi + dxi, -1.0_wp), 1.0_wp)
+    end do
+  end function hex_natural
 end module mesh_geometry

@@ -27,7 +27,7 @@ module remap_polyhedron
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
   public :: poly_from_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
-  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, slot_of
+  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
@@ -384,41 +384,58 @@ contains
   pure subroutine add_clipped_tet(q, n, d, lo, hi, sgn, vol, mom)
     real(wp), intent(in) :: q(3, 4), n(3, 4), d(4), lo(3), hi(3), sgn
     real(wp), intent(inout) :: vol, mom(3)
-    type(poly_t) :: p
-    real(wp) :: v, m(3), s
-    integer :: i, k, nout
-    logical :: inside
+    real(wp) :: v, m(3)
+    integer :: i
 
     do i = 1, 3
       if (minval(q(i, :)) > hi(i) .or. maxval(q(i, :)) < lo(i)) return
     end do
-    ! the four vertices against the four planes first: a plane with all of
-    ! them strictly outside leaves nothing (as poly_clip would), and with
-    ! none outside any plane the piece is the whole tetrahedron
-    inside = .true.
-    do i = 1, 4
+    call tet_clip_planes(q, n, d, v, m)
+    vol = vol + sgn*v
+    mom = mom + sgn*m
+  end subroutine add_clipped_tet
+
+  !> The part of the tetrahedron q(3,4) (length; either orientation) inside
+  !> the convex region n(:,i).x <= d(i), i = 1..size(d) (n need not be
+  !> normalised): its volume vol >= 0 (length^3) and first moment mom
+  !> (length^4). The four vertices are tested against every plane first: a
+  !> plane with all of them strictly outside leaves nothing (as poly_clip
+  !> would), and with none outside any plane the piece is the whole
+  !> tetrahedron, so only planes that really cut it are clipped.
+  pure subroutine tet_clip_planes(q, n, d, vol, mom)
+    real(wp), intent(in) :: q(3, 4), n(:, :), d(:)
+    real(wp), intent(out) :: vol, mom(3)
+    type(poly_t) :: p
+    real(wp) :: s
+    integer :: i, k, nout, ncut, cut(size(d))
+
+    vol = 0.0_wp
+    mom = 0.0_wp
+    ncut = 0
+    do i = 1, size(d)
       nout = 0
       do k = 1, 4
         s = n(1, i)*q(1, k) + n(2, i)*q(2, k) + n(3, i)*q(3, k) - d(i)
         if (s > 0.0_wp) nout = nout + 1
       end do
       if (nout == 4) return
-      if (nout > 0) inside = .false.
+      if (nout > 0) then
+        ncut = ncut + 1
+        cut(ncut) = i
+      end if
     end do
-    if (inside) then
-      v = abs(tet_det(q))/6.0_wp
-      m = 0.25_wp*v*(q(:, 1) + q(:, 2) + q(:, 3) + q(:, 4))
+    if (ncut == 0) then
+      vol = abs(tet_det(q))/6.0_wp
+      mom = 0.25_wp*vol*(q(:, 1) + q(:, 2) + q(:, 3) + q(:, 4))
     else
       call set_tet(p, q)
-      do i = 1, 4
-        call poly_clip(p, n(:, i), d(i))
+      do k = 1, ncut
+        call poly_clip(p, n(:, cut(k)), d(cut(k)))
         if (p%nv == 0) return
       end do
-      call poly_first_moments(p, v, m)
+      call poly_first_moments(p, vol, mom)
     end if
-    vol = vol + sgn*v
-    mom = mom + sgn*m
-  end subroutine add_clipped_tet
+  end subroutine tet_clip_planes
 
   !> Intersection of the tetrahedra t1 and t2 (3,4; length): volume vol
   !> (length^3) and first moment mom (length^4), times the product of their

@@ -1,0 +1,918 @@
+!> The remap of the Euler phase (Sect. 5.4): the state on the Lagrangian
+!> (old) grid is transferred to the rezoned (new) grid by exact polyhedron
+!> intersection, conservatively, with MoF interfaces in mixed cells.
+!>
+!> Old side. Every old cell is cut into single-material regions (Fig. 12):
+!> a pure cell is one region; in a mixed cell the materials' planes come
+!> from MoF (`mof_reconstruct_nested`, deck order of the materials) and
+!> material k's region is the cell on the inner side of its own plane and
+!> the outer side of the planes of the materials before it. A cell whose
+!> 24-triangle surface (Fig. 7) is convex is the intersection of those 24
+!> half-spaces; a non-convex cell is the signed union of its 24 tetrahedra,
+!> each the intersection of four. So every region is a union of convex
+!> pieces given by planes, and a new tetrahedron is intersected with one by
+!> clipping it with the planes (`tet_clip_planes`; only the planes that cut
+!> it are clipped).
+!>
+!> New side. Each new cell is split into its 24 tetrahedra (cell centre,
+!> face centre, edge) and each of those into two halves at the edge
+!> midpoint; the six halves at a node form the cell's corner (subcell) of
+!> that node, the same subcells whose volumes make the nodal mass (Eq. 16).
+!> Intersecting the 48 halves with the old regions gives, per fragment, the
+!> volume and first moment; summed per material they give the new cells'
+!> material volumes, centroids, masses and energies (Eqs. 54-55), summed per
+!> corner and then over the cells around a node, the nodal control volume
+!> quantities (Fig. 11, Eqs. 56-57).
+!>
+!> Fields on the old regions, linear about each region's exact centroid x_k
+!> (the limited least-squares gradients of `remap_gradient`, or constant):
+!>   mass of a fragment (volume v, first moment m):   rho_k v + grad rho_k . (m - x_k v)
+!>   its internal energy:  mass_f e_k + rho_k grad e_k . (m - x_k v)
+!> Over a whole region sum (m - x_k v) = 0, so each region gives away exactly
+!> its mass and energy: conservation to round-off whatever the gradients,
+!> and the limiter keeps the new values within the old neighbours' bounds.
+!> Momentum: an old cell holds P_o = sum_a m_oa u_a, where m_oa is its share
+!> of node a's mass (the subcell mass rho_o V_oa, normalised so the shares of
+!> a node add up to the node's mass), and M_o = sum_a m_oa. Its velocity is
+!> linear, u_o + G (x - x_m) about the cell's centre of mass x_m, with
+!> u_o = P_o/M_o and G the affine least-squares fit of its eight nodal
+!> velocities, limited so the reconstruction stays within their range at
+!> the nodes. A fragment carries nodal mass r mass_f (r = M_o/m_o) and
+!> momentum r (mass_f u_o + rho_k G (m - x_m v)); summed over the cell these
+!> give back M_o and P_o exactly, and a uniform velocity stays uniform.
+!> Kinetic energy: the fragment carries r mass_f K_o/M_o (K_o the old cell's
+!> nodal kinetic energy), so the total is conserved; at each new node the
+!> difference between that remapped kinetic energy and 1/2 m u^2 of the new
+!> nodal momentum (what averaging velocities loses) is returned to the
+!> internal energy of the cells around the node in proportion to their
+!> corner masses. Mass, momentum and total energy are therefore conserved to
+!> round-off (velocity boundary conditions applied after the remap aside).
+!>
+!> Unchanged cells. A new cell identical to its old cell is copied (its
+!> material data too), and since the new cells tile the domain no other new
+!> cell overlaps it; its corners pass on the old subcell masses and momenta,
+!> and a node whose eight cells are all unchanged keeps its mass and velocity
+!> bit for bit. Only the changed cells are intersected, which is what makes a
+!> localized remap (LSSM) cheap.
+module remap_euler
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use base_strings, only: itoa, rtoa
+  use base_timers, only: wall_seconds
+  use mesh_grid, only: grid_t, block_gather
+  use mesh_geometry, only: hex_faces, hex_volume, hex_subcell_volumes, hex_trilinear, hex_natural, cross
+  use mesh_boundary, only: bc_t, bc_constrain
+  use material_mixed, only: mixed_t, mixed_allocate
+  use lagrange_state, only: hydro_t
+  use remap_polyhedron, only: hex_tets, tet_clip_planes
+  use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
+  use remap_gradient, only: remap_limited_gradients
+  implicit none
+  private
+  public :: remap_params_t, remap_stats_t, remap_euler_step
+
+  !> Most materials in one cell the remap handles.
+  integer, parameter :: max_mat = 16
+  !> Widest index window searched around a new cell for old cells.
+  integer, parameter :: max_reach = 8
+
+  !> Settings of the remap (deck group &rezone).
+  type :: remap_params_t
+    logical :: linear = .true.        !< limited linear reconstruction (else piecewise constant)
+    integer :: mof_max_iter = 50      !< cap on MoF Gauss-Newton iterations per material
+    real(wp) :: vf_min = 1.0e-9_wp    !< a material below this volume fraction is merged into the cell's largest
+  end type remap_params_t
+
+  !> What one remap did.
+  type :: remap_stats_t
+    integer :: cells_remapped = 0     !< changed new cells, intersected with the old grid
+    integer :: cells_copied = 0       !< unchanged cells, copied
+    integer :: reach = 0              !< widest index window that was needed
+    integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
+    integer :: mof_iterations = 0     !< their Gauss-Newton iterations, all materials
+    integer :: mof_not_converged = 0  !< reconstructions that hit the cap or failed
+    real(wp) :: mof_err_max = 0.0_wp  !< largest material centroid error / cell size
+    integer :: slivers_merged = 0     !< materials below vf_min merged into another
+    real(wp) :: volume_defect = 0.0_wp    !< largest |sum of fragments - V|/V of a new cell
+    real(wp) :: ke_to_internal = 0.0_wp   !< kinetic energy returned to internal energy
+    real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
+  end type remap_stats_t
+
+  !> The old grid's cells as the remap needs them.
+  type :: old_t
+    integer :: nmat = 0
+    logical, allocatable :: changed(:)          !< cell moved (ncell)
+    real(wp), allocatable :: xm(:, :)           !< centre of mass (3, ncell)
+    real(wp), allocatable :: uo(:, :)           !< velocity at xm, P/M (3, ncell)
+    real(wp), allocatable :: gu(:, :, :)        !< velocity gradient (component, direction, ncell)
+    real(wp), allocatable :: ratio(:)           !< M_o/m_o: nodal-mass share per unit cell mass
+    real(wp), allocatable :: ko(:)              !< nodal kinetic energy per unit nodal-mass share
+    ! one region per pure cell (index c) or per mixed slot (index ncell + s)
+    real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
+    real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
+    real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
+    real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
+  end type old_t
+
+contains
+
+  !> Remaps the state from the grid g%x to the grid xnew (same block) and
+  !> moves the grid there. h and mx are replaced by the remapped state
+  !> (mass, volume, density, specific internal energy, material of each
+  !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
+  !> are left for the caller to evaluate. bc's kinematic conditions are
+  !> applied to the new velocities. nmat is the number of materials.
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    type(mixed_t), intent(inout) :: mx
+    integer, intent(in) :: nmat
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xnew(:, :)
+    type(remap_params_t), intent(in) :: par
+    type(remap_stats_t), intent(out) :: stats
+    type(error_t), allocatable, intent(inout) :: err
+    type(old_t) :: old
+    real(wp), allocatable :: msub(:, :), avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
+                             cmass(:, :), cmom(:, :, :), cke(:, :)
+    integer, allocatable :: todo(:), reach(:)
+    real(wp) :: w0, vnew, defect, xn(3, 8)
+    integer :: ncell, c, ntodo, r, i, nbad, stat
+    character(len=200) :: msg
+
+    ncell = g%ncell
+    if (nmat > max_mat) then
+      call error_set(err, 'remap_euler_step', 'at most '//itoa(max_mat)//' materials')
+      return
+    end if
+    w0 = wall_seconds()
+    allocate(msub(8, ncell), avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
+             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), reach(ncell), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
+      return
+    end if
+    call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
+    stats%t_prepare = wall_seconds() - w0
+
+    ! intersect every changed new cell, widening the window where the
+    ! fragments do not add up to the cell (a node moved further than a cell)
+    w0 = wall_seconds()
+    todo = pack([(c, c = 1, ncell)], old%changed)
+    stats%cells_remapped = size(todo)
+    stats%cells_copied = ncell - size(todo)
+    reach = 0
+    r = 1
+    do while (size(todo) > 0)
+      ntodo = size(todo)
+      !$omp parallel do default(none) shared(g, h, mx, old, xnew, ntodo, todo, r, avol, amom, amass, aie, &
+      !$omp cmass, cmom, cke) private(i) schedule(dynamic, 4)
+      do i = 1, ntodo
+        call remap_new_cell(g, h, mx, old, xnew, todo(i), r, avol(:, todo(i)), amom(:, :, todo(i)), &
+                            amass(:, todo(i)), aie(:, todo(i)), cmass(:, todo(i)), cmom(:, :, todo(i)), &
+                            cke(:, todo(i)))
+      end do
+      !$omp end parallel do
+      nbad = 0
+      do i = 1, ntodo
+        c = todo(i)
+        call block_gather(g%ni, g%nj, 1 + mod(c - 1, g%ni), 1 + mod((c - 1)/g%ni, g%nj), &
+                          1 + (c - 1)/(g%ni*g%nj), xnew, xn)
+        vnew = hex_volume(xn)
+        defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
+        if (defect > 1.0e-9_wp .and. r < max_reach) then
+          nbad = nbad + 1
+          todo(nbad) = c
+        else
+          stats%volume_defect = max(stats%volume_defect, defect)
+          reach(c) = r
+        end if
+      end do
+      todo = todo(1:nbad)
+      if (nbad > 0) r = r + 1
+    end do
+    stats%reach = maxval(reach)
+    stats%t_intersect = wall_seconds() - w0
+    if (stats%volume_defect > 1.0e-9_wp) then
+      call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
+                     rtoa(stats%volume_defect)//'): boundary nodes must stay on the boundary')
+      return
+    end if
+
+    w0 = wall_seconds()
+    call assemble(g, h, mx, nmat, bc, old, xnew, par, msub, avol, amom, amass, aie, cmass, cmom, cke, &
+                  stats, err)
+    stats%t_assemble = wall_seconds() - w0
+  end subroutine remap_euler_step
+
+  ! ------------------------------------------------------------ old side
+
+  !> The old grid's cells: which moved, subcell shares of the nodal masses,
+  !> momenta and kinetic energies, MoF planes of the mixed cells that moved,
+  !> region centroids, and the gradients of the reconstruction.
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(inout) :: mx
+    integer, intent(in) :: nmat
+    real(wp), intent(in) :: xnew(:, :)
+    type(remap_params_t), intent(in) :: par
+    type(old_t), intent(inout) :: old
+    real(wp), intent(out) :: msub(:, :)
+    type(remap_stats_t), intent(inout) :: stats
+    real(wp), allocatable :: wnode(:), q(:, :), pos(:, :), grad(:, :, :)
+    logical, allocatable :: has(:), need(:)
+    real(wp) :: xn(3, 8), vsub(8), tets(3, 4, 24), v, m(3), vt, mo, mm(3), a(3, 3), b(3, 3), &
+                vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), errc(max_mat), xa(3), &
+                vreg(max_mat), errmax
+    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, t, its(max_mat), ncell, nreg, kmat, j, big, &
+               nmof, nits, nfail
+    type(mof_pieces_t) :: pcs
+    logical :: ok
+
+    ncell = g%ncell
+    nreg = ncell + mx%nslot
+    old%nmat = nmat
+    allocate(old%changed(ncell), old%xm(3, ncell), old%uo(3, ncell), old%gu(3, 3, ncell), old%ratio(ncell), &
+             old%ko(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), old%grho(3, nreg), old%ge(3, nreg), &
+             old%pn(3, mx%nslot), old%pd(mx%nslot), wnode(g%nnode))
+    old%gu = 0.0_wp
+    old%grho = 0.0_wp
+    old%ge = 0.0_wp
+
+    ! changed cells, and the subcell masses rho V_a that share the nodal masses
+    !$omp parallel do default(none) shared(g, h, xnew, old, msub) private(c, ci, cj, ck, n, a_, xn, vsub) &
+    !$omp collapse(2) schedule(static)
+    do ck = 1, g%nk
+      do cj = 1, g%nj
+        do ci = 1, g%ni
+          c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+          n = g%node0(c)
+          old%changed(c) = .false.
+          do a_ = 1, 8
+            if (any(abs(xnew(:, n + g%corner_offset(a_)) - g%x(:, n + g%corner_offset(a_))) > 0.0_wp)) &
+              old%changed(c) = .true.
+          end do
+          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
+          call hex_subcell_volumes(xn, vsub)
+          msub(:, c) = h%rho(c)*vsub
+        end do
+      end do
+    end do
+    !$omp end parallel do
+    wnode = 0.0_wp
+    do c = 1, ncell
+      n = g%node0(c)
+      do a_ = 1, 8
+        wnode(n + g%corner_offset(a_)) = wnode(n + g%corner_offset(a_)) + msub(a_, c)
+      end do
+    end do
+    !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_, mo) schedule(static)
+    do c = 1, g%ncell
+      n = g%node0(c)
+      do a_ = 1, 8
+        msub(a_, c) = h%mnode(n + g%corner_offset(a_))*(msub(a_, c)/wnode(n + g%corner_offset(a_)))
+      end do
+      mo = sum(msub(:, c))
+      old%ratio(c) = mo/h%mass(c)
+      old%uo(:, c) = 0.0_wp
+      old%ko(c) = 0.0_wp
+      do a_ = 1, 8
+        old%uo(:, c) = old%uo(:, c) + msub(a_, c)*h%u(:, n + g%corner_offset(a_))
+        old%ko(c) = old%ko(c) + 0.5_wp*msub(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
+      end do
+      old%uo(:, c) = old%uo(:, c)/mo
+      old%ko(c) = old%ko(c)/mo
+    end do
+    !$omp end parallel do
+
+    ! regions: pure cells whole; mixed cells that moved cut by MoF
+    nmof = 0
+    nits = 0
+    nfail = 0
+    errmax = 0.0_wp
+    !$omp parallel do default(none) shared(g, h, mx, old, par, ncell) &
+    !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, t, xn, tets, v, m, vt, vf, cref, pn, pd, errc, its, ok, &
+    !$omp pcs, j, vreg, big) reduction(+: nmof, nits, nfail) reduction(max: errmax) collapse(2) &
+    !$omp schedule(dynamic, 16)
+    do ck = 1, g%nk
+      do cj = 1, g%nj
+        do ci = 1, g%ni
+          c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
+          call hex_tets(xn, tets)
+          v = 0.0_wp
+          m = 0.0_wp
+          do t = 1, 24
+            vt = det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), &
+                      tets(:, 4, t) - tets(:, 1, t))/6.0_wp
+            v = v + vt
+            m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
+          end do
+          old%xr(:, c) = m/v
+          old%rho(c) = h%mass(c)/v
+          old%e(c) = h%e(c)
+          old%xm(:, c) = old%xr(:, c)
+          if (h%mat(c) > 0) cycle
+          k = -h%mat(c)
+          s0 = mx%start(k)
+          s1 = mx%start(k + 1) - 1
+          nm = s1 - s0 + 1
+          do s = s0, s1
+            old%rho(ncell + s) = mx%rho(s)
+            old%e(ncell + s) = mx%e(s)
+            old%xr(:, ncell + s) = hex_trilinear(xn, mx%xi(:, s))
+            old%pn(:, s) = 0.0_wp
+            old%pd(s) = 1.0_wp
+          end do
+          if (.not. old%changed(c)) cycle
+          vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
+          cref(:, 1:nm) = old%xr(:, ncell + s0:ncell + s1)
+          call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                      its(1:nm), ok, par%mof_max_iter)
+          nmof = nmof + 1
+          nits = nits + sum(its(1:nm))
+          if (.not. ok) nfail = nfail + 1
+          errmax = max(errmax, maxval(errc(1:nm))/v**(1.0_wp/3.0_wp))
+          ! each material's region: its exact volume and centroid, the point
+          ! its linear reconstruction is about
+          do j = 1, nm
+            s = s0 + j - 1
+            old%pn(:, s) = pn(:, j)
+            old%pd(s) = pd(j)
+            call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, ok)
+            call mof_pieces_moments(pcs, vreg(j), m)
+            if (vreg(j) > 0.0_wp) old%xr(:, ncell + s) = m
+          end do
+          ! a material whose region has no volume (a fraction below round-off)
+          ! cannot hand its mass to any fragment: the largest material takes
+          ! it, energy with it
+          big = s0 - 1 + maxloc(vreg(1:nm), 1)
+          do j = 1, nm
+            s = s0 + j - 1
+            if (s == big .or. vreg(j) > 0.0_wp .or. .not. mx%mass(s) > 0.0_wp) cycle
+            mx%e(big) = (mx%mass(big)*mx%e(big) + mx%mass(s)*mx%e(s))/(mx%mass(big) + mx%mass(s))
+            mx%mass(big) = mx%mass(big) + mx%mass(s)
+            mx%mass(s) = 0.0_wp
+          end do
+          do j = 1, nm
+            s = s0 + j - 1
+            old%e(ncell + s) = mx%e(s)
+            if (vreg(j) > 0.0_wp) old%rho(ncell + s) = mx%mass(s)/vreg(j)
+          end do
+        end do
+      end do
+    end do
+    !$omp end parallel do
+    stats%mof_cells = nmof
+    stats%mof_iterations = nits
+    stats%mof_not_converged = nfail
+    stats%mof_err_max = errmax
+    ! centre of mass of the mixed cells
+    do k = 1, mx%n
+      c = mx%cell(k)
+      mm = 0.0_wp
+      do s = mx%start(k), mx%start(k + 1) - 1
+        mm = mm + mx%mass(s)*old%xr(:, ncell + s)
+      end do
+      old%xm(:, c) = mm/sum(mx%mass(mx%start(k):mx%start(k + 1) - 1))
+    end do
+
+    if (.not. par%linear) return
+    ! velocity: affine least-squares fit of the eight nodal velocities,
+    ! limited to their range at the nodes
+    !$omp parallel do default(none) shared(g, h, old) private(c, n, a_, xn, a, b, xa, j) schedule(static)
+    do c = 1, g%ncell
+      if (.not. old%changed(c)) cycle
+      n = g%node0(c)
+      call g%gather(c, g%x, xn)
+      xa = sum(xn, 2)/8.0_wp
+      a = 0.0_wp
+      b = 0.0_wp
+      do a_ = 1, 8
+        do j = 1, 3
+          a(:, j) = a(:, j) + (xn(:, a_) - xa)*(xn(j, a_) - xa(j))
+          b(:, j) = b(:, j) + (xn(:, a_) - xa)*h%u(j, n + g%corner_offset(a_))
+        end do
+      end do
+      ! b(:, comp) = A grad(comp): solve the 3x3 normal equations
+      call solve3(a, b, old%gu(:, :, c))
+      call limit_velocity(xn, h%u, n, g%corner_offset, old%xm(:, c), old%uo(:, c), old%gu(:, :, c))
+    end do
+    !$omp end parallel do
+
+    ! density and energy of each material: limited least-squares gradients
+    ! about the region centroids, over the cells that hold the material
+    allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell))
+    do kmat = 1, nmat
+      has = h%mat == kmat
+      do c = 1, ncell
+        q(:, c) = [old%rho(c), old%e(c)]
+        pos(:, c) = old%xr(:, c)
+      end do
+      do k = 1, mx%n
+        c = mx%cell(k)
+        do s = mx%start(k), mx%start(k + 1) - 1
+          if (mx%mat(s) /= kmat .or. .not. mx%mass(s) > 0.0_wp) cycle
+          has(c) = .true.
+          q(:, c) = [old%rho(ncell + s), old%e(ncell + s)]
+          pos(:, c) = old%xr(:, ncell + s)
+        end do
+      end do
+      if (.not. any(has)) cycle
+      need = has .and. old%changed
+      call remap_limited_gradients(g%ni, g%nj, g%nk, g%x, q, pos, has, need, grad)
+      do c = 1, ncell
+        if (h%mat(c) /= kmat .or. .not. need(c)) cycle
+        old%grho(:, c) = grad(:, 1, c)
+        old%ge(:, c) = grad(:, 2, c)
+      end do
+      do k = 1, mx%n
+        c = mx%cell(k)
+        if (.not. need(c)) cycle
+        do s = mx%start(k), mx%start(k + 1) - 1
+          if (mx%mat(s) /= kmat) cycle
+          old%grho(:, ncell + s) = grad(:, 1, c)
+          old%ge(:, ncell + s) = grad(:, 2, c)
+        end do
+      end do
+    end do
+  end subroutine prepare_old
+
+  ! ------------------------------------------------------------ new side
+
+  !> Intersects the changed new cell c with the old cells within `reach`
+  !> index steps: per material the volume, first moment, mass and internal
+  !> energy that land in it, per corner the nodal mass, momentum and
+  !> kinetic energy.
+  subroutine remap_new_cell(g, h, mx, old, xnew, c, reach, avol, amom, amass, aie, cmass, cmom, cke)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(in) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    integer, intent(in) :: c, reach
+    real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), cmass(:), cmom(:, :), cke(:)
+    real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), xo(3, 8), lo(3), hi(3), &
+                fn(3, 24), fd(24), pn(3, 24 + max_mat), pd(24 + max_mat), tets(3, 4, 24), v, m(3), sg, &
+                tsg(24)
+    integer :: hcorner(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, j, nm, kmat, t, np, i, kreg
+    logical :: convex
+
+    ci = 1 + mod(c - 1, g%ni)
+    cj = 1 + mod((c - 1)/g%ni, g%nj)
+    ck = 1 + (c - 1)/(g%ni*g%nj)
+    call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+    ! local coordinates about the new cell's centre: round-off scales with the cell
+    o = sum(xn, 2)/8.0_wp
+    do j = 1, 8
+      xn(:, j) = xn(:, j) - o
+    end do
+    call half_tets(xn, ht, hcorner)
+    do t = 1, 48
+      hlo(:, t) = minval(ht(:, :, t), 2)
+      hhi(:, t) = maxval(ht(:, :, t), 2)
+    end do
+    lo = minval(xn, 2)
+    hi = maxval(xn, 2)
+    avol = 0.0_wp
+    amom = 0.0_wp
+    amass = 0.0_wp
+    aie = 0.0_wp
+    cmass = 0.0_wp
+    cmom = 0.0_wp
+    cke = 0.0_wp
+    do ok_ = max(1, ck - reach), min(g%nk, ck + reach)
+      do oj = max(1, cj - reach), min(g%nj, cj + reach)
+        do oi = max(1, ci - reach), min(g%ni, ci + reach)
+          co = oi + g%ni*((oj - 1) + g%nj*(ok_ - 1))
+          ! an unchanged old cell is all in the identical new cell
+          if (.not. old%changed(co)) cycle
+          call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
+          do j = 1, 8
+            xo(:, j) = xo(:, j) - o
+          end do
+          if (any(maxval(xo, 2) < lo) .or. any(minval(xo, 2) > hi)) cycle
+          call face_planes(xo, fn, fd, convex)
+          if (.not. convex) then
+            call hex_tets(xo, tets)
+            do t = 1, 24
+              tsg(t) = sign(1.0_wp, det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), &
+                                         tets(:, 4, t) - tets(:, 1, t)))
+            end do
+          end if
+          if (h%mat(co) > 0) then
+            s0 = 0
+            s1 = 0
+          else
+            s0 = mx%start(-h%mat(co))
+            s1 = mx%start(-h%mat(co) + 1) - 1
+          end if
+          ! every material region of the old cell
+          do s = s0, s1
+            if (s == 0) then
+              kmat = h%mat(co)
+              kreg = co
+              nm = 0
+            else
+              kmat = mx%mat(s)
+              kreg = g%ncell + s
+              if (.not. mx%mass(s) > 0.0_wp) cycle
+              ! own plane, and the outer side of the planes before it
+              nm = 0
+              do j = s0, s
+                nm = nm + 1
+                if (j < s) then
+                  pn(:, 24 + nm) = -old%pn(:, j)
+                  pd(24 + nm) = -(old%pd(j) - dot_product(old%pn(:, j), o))
+                else
+                  pn(:, 24 + nm) = old%pn(:, j)
+                  pd(24 + nm) = old%pd(j) - dot_product(old%pn(:, j), o)
+                end if
+              end do
+            end if
+            if (convex) then
+              pn(:, 1:24) = fn
+              pd(1:24) = fd
+              np = 24 + nm
+              do t = 1, 48
+                if (any(hhi(:, t) < lo) .or. any(hlo(:, t) > hi)) cycle
+                call tet_clip_planes(ht(:, :, t), pn(:, 1:np), pd(1:np), v, m)
+                if (.not. v > 0.0_wp) cycle
+                sg = sign(1.0_wp, det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), &
+                                       ht(:, 4, t) - ht(:, 1, t)))
+                call deposit(sg*v, sg*m, hcorner(t))
+              end do
+            else
+              do i = 1, 24
+                call tet_face_planes(tets(:, :, i), pn(:, 21:24), pd(21:24))
+                do t = 1, 48
+                  call tet_clip_planes(ht(:, :, t), pn(:, 21:24 + nm), pd(21:24 + nm), v, m)
+                  if (.not. v > 0.0_wp) cycle
+                  sg = tsg(i)*sign(1.0_wp, det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), &
+                                                ht(:, 4, t) - ht(:, 1, t)))
+                  call deposit(sg*v, sg*m, hcorner(t))
+                end do
+              end do
+            end if
+          end do
+        end do
+      end do
+    end do
+    ! first moments back to global coordinates
+    do kmat = 1, size(avol)
+      amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
+    end do
+
+  contains
+
+    !> One fragment (signed volume vf, first moment mf about o) of region
+    !> kreg (material kmat) of old cell co, landing in corner a.
+    subroutine deposit(vf, mf, a)
+      real(wp), intent(in) :: vf, mf(3)
+      integer, intent(in) :: a
+      real(wp) :: dm(3), fm, fie, r
+      dm = mf - (old%xr(:, kreg) - o)*vf
+      fm = old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm)
+      fie = fm*old%e(kreg) + old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
+      avol(kmat) = avol(kmat) + vf
+      amom(:, kmat) = amom(:, kmat) + mf
+      amass(kmat) = amass(kmat) + fm
+      aie(kmat) = aie(kmat) + fie
+      r = old%ratio(co)
+      cmass(a) = cmass(a) + r*fm
+      cmom(:, a) = cmom(:, a) + r*(fm*old%uo(:, co) + &
+                   old%rho(kreg)*matmul(old%gu(:, :, co), mf - (old%xm(:, co) - o)*vf))
+      cke(a) = cke(a) + r*fm*old%ko(co)
+    end subroutine deposit
+  end subroutine remap_new_cell
+
+  !> The 48 half tetrahedra of a cell: each tetrahedron (centre, face centre,
+  !> a, b) of the 24-split (`hex_tets`) cut at the midpoint of edge ab; the
+  !> half at a belongs to corner a (six halves make a subcell, Fig. 11).
+  pure subroutine half_tets(xn, ht, corner)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: ht(3, 4, 48)
+    integer, intent(out) :: corner(48)
+    real(wp) :: tets(3, 4, 24), mid(3)
+    integer :: f, mm, t
+
+    call hex_tets(xn, tets)
+    do f = 1, 6
+      do mm = 1, 4
+        t = 4*(f - 1) + mm
+        mid = 0.5_wp*(tets(:, 3, t) + tets(:, 4, t))
+        ht(:, 1:3, 2*t - 1) = tets(:, 1:3, t)
+        ht(:, 4, 2*t - 1) = mid
+        corner(2*t - 1) = hex_faces(mm, f)
+        ht(:, 1:2, 2*t) = tets(:, 1:2, t)
+        ht(:, 3, 2*t) = mid
+        ht(:, 4, 2*t) = tets(:, 4, t)
+        corner(2*t) = hex_faces(mod(mm, 4) + 1, f)
+      end do
+    end do
+  end subroutine half_tets
+
+  !> The outward planes n.x <= d of the 24 triangles (face centre, a, b) of
+  !> the cell's surface (Fig. 7), and whether the cell is convex: every node
+  !> and face centre on the inner side of every plane (to 1e-14 of the
+  !> cell's size). Then the cell is the intersection of the 24 half-spaces.
+  pure subroutine face_planes(xn, n, d, convex)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: n(3, 24), d(24)
+    logical, intent(out) :: convex
+    real(wp) :: xf(3, 6), tol, size_
+    integer :: f, mm, t, j
+
+    do f = 1, 6
+      xf(:, f) = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                          (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+    end do
+    size_ = maxval(maxval(xn, 2) - minval(xn, 2))
+    convex = .true.
+    do f = 1, 6
+      do mm = 1, 4
+        t = 4*(f - 1) + mm
+        n(:, t) = cross(xn(:, hex_faces(mm, f)) - xf(:, f), xn(:, hex_faces(mod(mm, 4) + 1, f)) - xf(:, f))
+        d(t) = dot_product(n(:, t), xf(:, f))
+        tol = 1.0e-14_wp*norm2(n(:, t))*size_
+        do j = 1, 8
+          if (dot_product(n(:, t), xn(:, j)) - d(t) > tol) convex = .false.
+        end do
+        do j = 1, 6
+          if (dot_product(n(:, t), xf(:, j)) - d(t) > tol) convex = .false.
+        end do
+      end do
+    end do
+  end subroutine face_planes
+
+  !> Outward face planes of a tetrahedron of either orientation.
+  pure subroutine tet_face_planes(t, n, d)
+    real(wp), intent(in) :: t(3, 4)
+    real(wp), intent(out) :: n(3, 4), d(4)
+    integer, parameter :: face(3, 4) = reshape([2, 3, 4, 1, 4, 3, 1, 2, 4, 1, 3, 2], [3, 4])
+    integer :: i
+    real(wp) :: sg
+    sg = sign(1.0_wp, det3(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+    do i = 1, 4
+      n(:, i) = sg*cross(t(:, face(2, i)) - t(:, face(1, i)), t(:, face(3, i)) - t(:, face(1, i)))
+      d(i) = dot_product(n(:, i), t(:, face(1, i)))
+    end do
+  end subroutine tet_face_planes
+
+  ! ------------------------------------------------------------ assembly
+
+  !> The new state from the fragments: cells and mixed cells, nodal masses
+  !> and velocities, and the kinetic energy returned to internal energy.
+  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, msub, avol, amom, amass, aie, cmass, cmom, cke, &
+                      stats, err)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    type(mixed_t), intent(inout) :: mx
+    integer, intent(in) :: nmat
+    type(bc_t), intent(in) :: bc
+    type(old_t), intent(in) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    type(remap_params_t), intent(in) :: par
+    real(wp), intent(in) :: msub(:, :)
+    real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
+                               cke(:, :)
+    type(remap_stats_t), intent(inout) :: stats
+    type(error_t), allocatable, intent(inout) :: err
+    type(mixed_t) :: nx
+    integer, allocatable :: nmix(:)
+    logical, allocatable :: node_changed(:)
+    real(wp), allocatable :: dk(:), ie(:)
+    real(wp) :: xn(3, 8), vtot, mnew
+    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell
+    logical :: keep(max_mat)
+
+    ncell = g%ncell
+    ! unchanged cells: their corners pass on the old subcell values
+    do c = 1, ncell
+      if (old%changed(c)) cycle
+      n = g%node0(c)
+      do a = 1, 8
+        cmass(a, c) = msub(a, c)
+        cmom(:, a, c) = msub(a, c)*h%u(:, n + g%corner_offset(a))
+        cke(a, c) = 0.5_wp*msub(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
+      end do
+    end do
+
+    ! materials of the changed cells: merge slivers into the largest
+    allocate(nmix(ncell), ie(ncell))
+    nmix = 0
+    do c = 1, ncell
+      if (.not. old%changed(c)) then
+        if (h%mat(c) <= 0) nmix(c) = mx%start(-h%mat(c) + 1) - mx%start(-h%mat(c))
+        cycle
+      end if
+      vtot = sum(avol(:, c))
+      big = maxloc(avol(:, c), 1)
+      keep(1:nmat) = avol(:, c) > par%vf_min*vtot .and. amass(:, c) > 0.0_wp
+      keep(big) = .true.
+      do k = 1, nmat
+        if (keep(k) .or. .not. abs(avol(k, c)) > 0.0_wp) cycle
+        stats%slivers_merged = stats%slivers_merged + 1
+        amass(big, c) = amass(big, c) + amass(k, c)
+        aie(big, c) = aie(big, c) + aie(k, c)
+        avol(big, c) = avol(big, c) + avol(k, c)
+        amom(:, big, c) = amom(:, big, c) + amom(:, k, c)
+        amass(k, c) = 0.0_wp
+        aie(k, c) = 0.0_wp
+        avol(k, c) = 0.0_wp
+      end do
+      if (count(keep(1:nmat)) > 1) nmix(c) = count(keep(1:nmat))
+    end do
+
+    ! new mixed-cell storage: unchanged cells keep theirs, in the same order
+    nmixed = count(nmix > 0)
+    nslot = sum(nmix)
+    call mixed_allocate(nx, nmixed, nslot, err)
+    if (allocated(err)) return
+    kk = 0
+    do c = 1, ncell
+      if (nmix(c) == 0) cycle
+      kk = kk + 1
+      nx%cell(kk) = c
+      nx%start(kk + 1) = nx%start(kk) + nmix(c)
+    end do
+
+    ! nodes: sums over the corners around them; KE difference to cells
+    allocate(node_changed(g%nnode), dk(g%nnode))
+    node_changed = .false.
+    do c = 1, ncell
+      if (.not. old%changed(c)) cycle
+      n = g%node0(c)
+      do a = 1, 8
+        node_changed(n + g%corner_offset(a)) = .true.
+      end do
+    end do
+    h%mnode = merge(0.0_wp, h%mnode, node_changed)
+    where (node_changed)
+      h%u(1, :) = 0.0_wp
+      h%u(2, :) = 0.0_wp
+      h%u(3, :) = 0.0_wp
+    end where
+    dk = 0.0_wp
+    do c = 1, ncell
+      n = g%node0(c)
+      do a = 1, 8
+        if (.not. node_changed(n + g%corner_offset(a))) cycle
+        h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
+        h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
+        dk(n + g%corner_offset(a)) = dk(n + g%corner_offset(a)) + cke(a, c)
+      end do
+    end do
+    do n = 1, g%nnode
+      if (.not. node_changed(n)) cycle
+      if (.not. h%mnode(n) > 0.0_wp) then
+        call error_set(err, 'remap_euler_step', 'node '//itoa(n)//' received no mass')
+        return
+      end if
+      h%u(:, n) = h%u(:, n)/h%mnode(n)
+    end do
+    call bc_constrain(bc, h%u)
+    do n = 1, g%nnode
+      if (.not. node_changed(n)) cycle
+      dk(n) = dk(n) - 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2)
+    end do
+    stats%ke_to_internal = sum(dk)
+
+    ! cells
+    g%x = xnew
+    kk = 0
+    do c = 1, ncell
+      call g%gather(c, g%x, xn)
+      n = g%node0(c)
+      ie(c) = 0.0_wp
+      do a = 1, 8
+        if (node_changed(n + g%corner_offset(a))) &
+          ie(c) = ie(c) + dk(n + g%corner_offset(a))*cmass(a, c)/h%mnode(n + g%corner_offset(a))
+      end do
+      if (.not. old%changed(c)) then
+        ! copied: mass, volume, density as they were; energy plus its share of the KE returned
+        if (nmix(c) > 0) then
+          kk = kk + 1
+          k = -h%mat(c)
+          nx%mat(nx%start(kk):nx%start(kk + 1) - 1) = mx%mat(mx%start(k):mx%start(k + 1) - 1)
+          nx%vf(nx%start(kk):nx%start(kk + 1) - 1) = mx%vf(mx%start(k):mx%start(k + 1) - 1)
+          nx%mass(nx%start(kk):nx%start(kk + 1) - 1) = mx%mass(mx%start(k):mx%start(k + 1) - 1)
+          nx%e(nx%start(kk):nx%start(kk + 1) - 1) = mx%e(mx%start(k):mx%start(k + 1) - 1) + ie(c)/h%mass(c)
+          nx%rho(nx%start(kk):nx%start(kk + 1) - 1) = mx%rho(mx%start(k):mx%start(k + 1) - 1)
+          nx%xi(:, nx%start(kk):nx%start(kk + 1) - 1) = mx%xi(:, mx%start(k):mx%start(k + 1) - 1)
+          h%mat(c) = -kk
+        end if
+        h%e(c) = h%e(c) + ie(c)/h%mass(c)
+        cycle
+      end if
+      mnew = sum(amass(:, c))
+      h%mass(c) = mnew
+      h%vol(c) = hex_volume(xn)
+      h%rho(c) = mnew/h%vol(c)
+      h%e(c) = (sum(aie(:, c)) + ie(c))/mnew
+      if (nmix(c) == 0) then
+        h%mat(c) = maxloc(avol(:, c), 1)
+        cycle
+      end if
+      kk = kk + 1
+      h%mat(c) = -kk
+      vtot = sum(avol(:, c))
+      s = nx%start(kk)
+      do k = 1, nmat
+        if (.not. avol(k, c) > 0.0_wp) cycle
+        nx%mat(s) = k
+        nx%vf(s) = avol(k, c)/vtot
+        nx%mass(s) = amass(k, c)
+        nx%e(s) = (aie(k, c) + ie(c)*amass(k, c)/mnew)/amass(k, c)
+        nx%rho(s) = amass(k, c)/(nx%vf(s)*h%vol(c))
+        nx%xi(:, s) = hex_natural(xn, amom(:, k, c)/avol(k, c))
+        s = s + 1
+      end do
+    end do
+    call move_mixed(nx, mx)
+  end subroutine assemble
+
+  !> Replaces mx by nx.
+  subroutine move_mixed(nx, mx)
+    type(mixed_t), intent(inout) :: nx, mx
+    mx%n = nx%n
+    mx%nslot = nx%nslot
+    call move_alloc(nx%cell, mx%cell)
+    call move_alloc(nx%start, mx%start)
+    call move_alloc(nx%mat, mx%mat)
+    call move_alloc(nx%vf, mx%vf)
+    call move_alloc(nx%mass, mx%mass)
+    call move_alloc(nx%e, mx%e)
+    call move_alloc(nx%rho, mx%rho)
+    call move_alloc(nx%p, mx%p)
+    call move_alloc(nx%cs, mx%cs)
+    call move_alloc(nx%xi, mx%xi)
+    call move_alloc(nx%vfn, mx%vfn)
+    call move_alloc(nx%en, mx%en)
+    call move_alloc(nx%pn, mx%pn)
+    call move_alloc(nx%bn, mx%bn)
+    call move_alloc(nx%voln, mx%voln)
+  end subroutine move_mixed
+
+  ! ------------------------------------------------------------ small kernels
+
+  !> Solves a x = b for the symmetric 3x3 a (three right-hand sides in the
+  !> columns of b) by Cramer's rule; a singular a (a cell flat in some
+  !> direction) gives x = 0.
+  pure subroutine solve3(a, b, x)
+    real(wp), intent(in) :: a(3, 3), b(3, 3)
+    real(wp), intent(out) :: x(3, 3)
+    real(wp) :: c(3, 3), det
+    integer :: j
+    c(:, 1) = cross(a(:, 2), a(:, 3))
+    c(:, 2) = cross(a(:, 3), a(:, 1))
+    c(:, 3) = cross(a(:, 1), a(:, 2))
+    det = dot_product(a(:, 1), c(:, 1))
+    x = 0.0_wp
+    if (.not. abs(det) > 1.0e-12_wp*maxval(abs(a))**3) return
+    ! x(comp, dir): row comp of the gradient of velocity component comp
+    do j = 1, 3
+      x(j, 1) = dot_product(c(:, 1), b(:, j))/det
+      x(j, 2) = dot_product(c(:, 2), b(:, j))/det
+      x(j, 3) = dot_product(c(:, 3), b(:, j))/det
+    end do
+  end subroutine solve3
+
+  !> Barth-Jespersen limit of the velocity gradient gu (component,
+  !> direction) about (xm, uo): at the cell's nodes each component stays
+  !> within the range of the nodal values.
+  pure subroutine limit_velocity(xn, u, n0, offs, xm, uo, gu)
+    real(wp), intent(in) :: xn(3, 8), u(:, :), xm(3), uo(3)
+    integer, intent(in) :: n0, offs(8)
+    real(wp), intent(inout) :: gu(3, 3)
+    real(wp) :: umin, umax, phi, du, tol
+    integer :: j, a
+
+    do j = 1, 3
+      umin = huge(1.0_wp)
+      umax = -huge(1.0_wp)
+      do a = 1, 8
+        umin = min(umin, u(j, n0 + offs(a)))
+        umax = max(umax, u(j, n0 + offs(a)))
+      end do
+      tol = 1.0e-14_wp*max(abs(umin), abs(umax))
+      phi = 1.0_wp
+      do a = 1, 8
+        du = dot_product(gu(j, :), xn(:, a) - xm)
+        if (du > tol) then
+          phi = min(phi, max(0.0_wp, umax - uo(j))/du)
+        else if (du < -tol) then
+          phi = min(phi, max(0.0_wp, uo(j) - umin)/(-du))
+        end if
+      end do
+      gu(j, :) = phi*gu(j, :)
+    end do
+  end subroutine limit_velocity
+
+  pure real(wp) function det3(a, b, c)
+    real(wp), intent(in) :: a(3), b(3), c(3)
+    det3 = a(1)*(b(2)*c(3) - b(3)*c(2)) - a(2)*(b(1)*c(3) - b(3)*c(1)) + a(3)*(b(1)*c(2) - b(2)*c(1))
+  end function det3
+end module remap_euler

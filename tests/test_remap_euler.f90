@@ -1,0 +1,293 @@
+!> Unit tests of the Euler-phase remap (`remap_euler`) between two different
+!> randomly perturbed grids of one box: conservation of mass, momentum and
+!> total energy to round-off, constant and uniform states kept exactly, a
+!> linear density reproduced exactly away from the boundary, a planar
+!> material interface carried exactly through MoF, and unchanged cells
+!> copied bit for bit.
+program test_remap_euler
+  use base_kinds, only: wp
+  use base_errors, only: error_t
+  use base_random, only: rng_t, rng_seed, rng_uniform
+  use base_timers, only: wall_seconds
+  use test_assert, only: check, check_summary
+  use mesh_grid, only: grid_t, grid_init_box
+  use mesh_geometry, only: hex_volume, hex_subcell_volumes, hex_natural
+  use mesh_boundary, only: bc_t
+  use material_mixed, only: mixed_t, mixed_allocate
+  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
+  use remap_cells, only: cell_moments
+  use remap_mof, only: mof_cut_volume
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
+  implicit none
+  integer, parameter :: ni = 6, nj = 5, nk = 4, nc = ni*nj*nk, nn = (ni + 1)*(nj + 1)*(nk + 1)
+  real(wp), parameter :: lin(4) = [1.0_wp, 0.3_wp, -0.4_wp, 0.5_wp]
+  real(wp), parameter :: plane_n(3) = [0.8_wp, 0.36_wp, 0.48_wp], plane_d = 0.62_wp
+  real(wp) :: xa(3, nn), xb(3, nn), vb(nc), cb(3, nc), err_max
+  type(grid_t) :: g
+  type(hydro_t) :: h
+  type(mixed_t) :: mx
+  type(bc_t) :: bc
+  type(remap_params_t) :: par
+  type(remap_stats_t) :: st
+  type(error_t), allocatable :: err
+  real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, t0, ma0, mb0, ma1, mb1
+  integer :: c, n, interior
+  logical :: ok
+
+  call make_grid(xa, 11, 0.2_wp)
+  call make_grid(xb, 23, 0.2_wp)
+  call cell_moments(ni, nj, nk, xb, vb, cb)
+
+  ! 1. constant density and energy, uniform velocity: kept exactly
+  call setup(xa, 'constant')
+  call hydro_totals(h, m0, p0, ie0, ke0)
+  call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
+  call check(.not. allocated(err), 'remap of a uniform state runs')
+  call check(maxval(abs(h%rho - 2.0_wp)) < 1e-13_wp, 'constant density kept')
+  call check(maxval(abs(h%e - 3.0_wp)) < 1e-13_wp, 'constant energy kept')
+  err_max = 0.0_wp
+  do n = 1, nn
+    err_max = max(err_max, maxval(abs(h%u(:, n) - [0.7_wp, -0.2_wp, 0.1_wp])))
+  end do
+  call check(err_max < 1e-14_wp, 'uniform velocity kept')
+  call check(st%cells_remapped == nc, 'every cell moved and was remapped')
+  write(*, '(a,es10.3,a,i0)') 'uniform state: largest volume defect ', st%volume_defect, ', reach ', st%reach
+
+  ! 2. linear density and velocity: conservation, and exact linear density
+  ! in cells whose old neighbourhood is interior (at the boundary the
+  ! limiter may cut a gradient: boundary nodes lie outside the range of the
+  ! neighbouring centroids)
+  call setup(xa, 'linear')
+  call hydro_totals(h, m0, p0, ie0, ke0)
+  t0 = wall_seconds()
+  call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
+  write(*, '(a,f9.2,a)') 'remap: ', 1.0e6_wp*(wall_seconds() - t0)/nc, ' us per cell (this build)'
+  call check(.not. allocated(err), 'remap of a linear state runs')
+  call hydro_totals(h, m1, p1, ie1, ke1)
+  write(*, '(a,3es10.2)') 'linear state: relative change of mass, momentum, energy: ', &
+    abs(m1 - m0)/m0, norm2(p1 - p0)/norm2(p0), abs(ie1 + ke1 - ie0 - ke0)/(ie0 + ke0)
+  call check(abs(m1 - m0) <= 1e-13_wp*m0, 'mass conserved to 1e-13')
+  call check(norm2(p1 - p0) <= 1e-13_wp*norm2(p0), 'momentum conserved to 1e-13')
+  call check(abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'total energy conserved to 1e-13')
+  call check(ke1 <= ke0*(1.0_wp + 1e-14_wp), 'kinetic energy does not grow')
+  err_max = 0.0_wp
+  interior = 0
+  do c = 1, nc
+    if (.not. deep(c)) cycle
+    interior = interior + 1
+    err_max = max(err_max, abs(h%rho(c) - (lin(1) + dot_product(lin(2:4), cb(:, c)))))
+  end do
+  write(*, '(a,i0,a,es10.3)') 'linear density in ', interior, ' deep cells: largest error ', err_max
+  call check(interior > 0 .and. err_max < 1e-12_wp, 'linear density reproduced exactly away from the boundary')
+
+  ! 3. two materials split by a plane: MoF finds it, the new volume
+  ! fractions are the plane's exact cuts of the new cells; each material's
+  ! mass is conserved
+  call setup(xa, 'plane')
+  call hydro_totals(h, m0, p0, ie0, ke0)
+  call material_masses(ma0, mb0)
+  call remap_euler_step(g, h, mx, 2, bc, xb, par, st, err)
+  call check(.not. allocated(err), 'remap of two materials runs')
+  call check(st%mof_not_converged == 0 .and. st%mof_cells > 0, 'MoF converged in every mixed cell')
+  write(*, '(a,i0,a,f6.2,a,es10.3)') 'plane: ', st%mof_cells, ' MoF cells, mean iterations ', &
+    real(st%mof_iterations, wp)/real(max(st%mof_cells, 1), wp), ', largest centroid error/size ', st%mof_err_max
+  call material_masses(ma1, mb1)
+  call check(abs(ma1 - ma0) <= 1e-13_wp*ma0 .and. abs(mb1 - mb0) <= 1e-13_wp*mb0, &
+             'each material''s mass conserved to 1e-13')
+  err_max = plane_error()
+  write(*, '(a,es10.3)') 'plane: largest volume-fraction error of a new cell ', err_max
+  call check(err_max < 1e-9_wp, 'new volume fractions are the exact cuts of the plane')
+  call hydro_totals(h, m1, p1, ie1, ke1)
+  call check(abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'two materials: total energy conserved')
+
+  ! 4. only some nodes move: cells away from them are copied bit for bit and
+  ! nodes among unchanged cells keep their velocity exactly
+  call setup(xa, 'linear')
+  xb = xa
+  xb(:, node(3, 3, 2)) = xa(:, node(3, 3, 2)) + [0.05_wp, -0.03_wp, 0.02_wp]
+  block
+    real(wp) :: rho0(nc), u0(3, nn)
+    rho0 = h%rho
+    u0 = h%u
+    call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
+    call check(.not. allocated(err) .and. st%cells_remapped == 8, 'one moved node: eight cells remapped')
+    ok = .true.
+    do c = 1, nc
+      if (far(c)) ok = ok .and. abs(h%rho(c) - rho0(c)) <= 0.0_wp
+    end do
+    call check(ok, 'unchanged cells copied bit for bit')
+    call check(all(abs(h%u(:, node(0, 0, 0)) - u0(:, node(0, 0, 0))) <= 0.0_wp) .and. &
+               all(abs(h%u(:, node(6, 5, 4)) - u0(:, node(6, 5, 4))) <= 0.0_wp), 'nodes among unchanged cells keep u')
+  end block
+
+  call check_summary('test_remap_euler')
+
+contains
+
+  integer function node(i, j, k)
+    integer, intent(in) :: i, j, k
+    node = 1 + i + (ni + 1)*(j + (nj + 1)*k)
+  end function node
+
+  !> Cell c is at least two cells from every boundary.
+  logical function deep(c)
+    integer, intent(in) :: c
+    integer :: ci, cj, ck
+    ci = 1 + mod(c - 1, ni); cj = 1 + mod((c - 1)/ni, nj); ck = 1 + (c - 1)/(ni*nj)
+    deep = ci > 2 .and. ci < ni - 1 .and. cj > 2 .and. cj < nj - 1 .and. ck > 1 .and. ck < nk
+  end function deep
+
+  !> Cell c has no node within two index steps of node (3,3,2).
+  logical function far(c)
+    integer, intent(in) :: c
+    integer :: ci, cj, ck
+    ci = 1 + mod(c - 1, ni); cj = 1 + mod((c - 1)/ni, nj); ck = 1 + (c - 1)/(ni*nj)
+    far = abs(ci - 3.5_wp) > 1.0_wp .or. abs(cj - 3.5_wp) > 1.0_wp .or. abs(ck - 2.5_wp) > 1.0_wp
+  end function far
+
+  !> Mass of material 1 (m1) and 2 (m2).
+  subroutine material_masses(m1_, m2_)
+    real(wp), intent(out) :: m1_, m2_
+    integer :: cc, s
+    m1_ = 0.0_wp
+    m2_ = 0.0_wp
+    do cc = 1, nc
+      if (h%mat(cc) == 1) m1_ = m1_ + h%mass(cc)
+      if (h%mat(cc) == 2) m2_ = m2_ + h%mass(cc)
+    end do
+    do s = 1, mx%nslot
+      if (mx%mat(s) == 1) m1_ = m1_ + mx%mass(s)
+      if (mx%mat(s) == 2) m2_ = m2_ + mx%mass(s)
+    end do
+  end subroutine material_masses
+
+  !> Largest |vf_1 - exact cut of the plane| over the new cells.
+  real(wp) function plane_error() result(e)
+    real(wp) :: xn(3, 8), v, cen(3), f
+    integer :: cc, s, k
+    e = 0.0_wp
+    do cc = 1, nc
+      call g%gather(cc, g%x, xn)
+      call mof_cut_volume(xn, plane_n, plane_d, v, cen)
+      v = v/hex_volume(xn)
+      f = merge(1.0_wp, 0.0_wp, h%mat(cc) == 1)
+      if (h%mat(cc) <= 0) then
+        k = -h%mat(cc)
+        do s = mx%start(k), mx%start(k + 1) - 1
+          if (mx%mat(s) == 1) f = mx%vf(s)
+        end do
+      end if
+      e = max(e, abs(f - v))
+    end do
+  end function plane_error
+
+  !> The state on the grid x: 'constant' (rho 2, e 3, u uniform), 'linear'
+  !> (rho and u linear in x, e 3) or 'plane' (material 1 below the plane,
+  !> density 2, material 2 above it, density 0.5, mixed cells cut exactly).
+  subroutine setup(x, kind)
+    real(wp), intent(in) :: x(3, nn)
+    character(len=*), intent(in) :: kind
+    real(wp) :: xn(3, 8), vsub(8), v1, c1(3), vol(nc), cen(3, nc), vcell
+    integer :: cc, a, nmix, s
+    type(hydro_t) :: h_empty
+    type(mixed_t) :: mx_empty
+
+    h = h_empty
+    mx = mx_empty
+
+    call grid_init_box(g, ni, nj, nk, [0.0_wp, 0.0_wp, 0.0_wp], [1.2_wp, 1.0_wp, 0.8_wp], err)
+    g%x = x
+    call hydro_allocate(h, nc, nn, err)
+    call cell_moments(ni, nj, nk, x, vol, cen)
+    h%mat = 1
+    h%e = 3.0_wp
+    nmix = 0
+    do cc = 1, nc
+      call g%gather(cc, x, xn)
+      h%vol(cc) = hex_volume(xn)
+      select case (kind)
+      case ('linear')
+        h%rho(cc) = lin(1) + dot_product(lin(2:4), cen(:, cc))
+      case ('plane')
+        call mof_cut_volume(xn, plane_n, plane_d, v1, c1)
+        if (v1 > 1e-12_wp*h%vol(cc) .and. v1 < (1.0_wp - 1e-12_wp)*h%vol(cc)) then
+          nmix = nmix + 1
+          h%mat(cc) = -nmix
+        else
+          h%mat(cc) = merge(1, 2, v1 > 0.5_wp*h%vol(cc))
+        end if
+        h%rho(cc) = merge(2.0_wp, 0.5_wp, h%mat(cc) == 1)
+      case default
+        h%rho(cc) = 2.0_wp
+      end select
+      h%mass(cc) = h%rho(cc)*vol(cc)
+    end do
+    call mixed_allocate(mx, nmix, 2*nmix, err)
+    if (kind == 'plane') then
+      nmix = 0
+      do cc = 1, nc
+        if (h%mat(cc) > 0) cycle
+        call g%gather(cc, x, xn)
+        vcell = h%vol(cc)
+        call mof_cut_volume(xn, plane_n, plane_d, v1, c1)
+        nmix = nmix + 1
+        mx%cell(nmix) = cc
+        mx%start(nmix + 1) = mx%start(nmix) + 2
+        s = mx%start(nmix)
+        mx%mat(s:s + 1) = [1, 2]
+        mx%vf(s:s + 1) = [v1/vcell, 1.0_wp - v1/vcell]
+        mx%rho(s:s + 1) = [2.0_wp, 0.5_wp]
+        mx%mass(s:s + 1) = mx%rho(s:s + 1)*mx%vf(s:s + 1)*vcell
+        mx%e(s:s + 1) = [3.0_wp, 5.0_wp]
+        mx%xi(:, s) = hex_natural(xn, c1)
+        mx%xi(:, s + 1) = hex_natural(xn, (cen(:, cc)*vol(cc) - c1*v1)/(vol(cc) - v1))
+        h%mass(cc) = sum(mx%mass(s:s + 1))
+        h%rho(cc) = h%mass(cc)/vcell
+        h%e(cc) = dot_product(mx%mass(s:s + 1), mx%e(s:s + 1))/h%mass(cc)
+      end do
+      where (h%mat == 2) h%e = 5.0_wp
+    end if
+    h%mnode = 0.0_wp
+    do cc = 1, nc
+      call g%gather(cc, x, xn)
+      call hex_subcell_volumes(xn, vsub)
+      do a = 1, 8
+        n = g%node0(cc) + g%corner_offset(a)
+        h%mnode(n) = h%mnode(n) + h%rho(cc)*vsub(a)
+      end do
+    end do
+    do n = 1, nn
+      if (kind == 'linear') then
+        h%u(:, n) = [0.3_wp*x(1, n) - 0.1_wp, 0.2_wp*x(2, n) + 0.1_wp*x(3, n), 0.5_wp - 0.4_wp*x(1, n)]
+      else
+        h%u(:, n) = [0.7_wp, -0.2_wp, 0.1_wp]
+      end if
+    end do
+  end subroutine setup
+
+  !> A grid on [0,1.2]x[0,1]x[0,0.8] with interior nodes moved randomly by up
+  !> to amp of a cell (boundary nodes fixed, so both grids cover one box).
+  subroutine make_grid(x, seed, amp)
+    real(wp), intent(out) :: x(3, nn)
+    integer, intent(in) :: seed
+    real(wp), intent(in) :: amp
+    type(rng_t) :: rng
+    integer :: i, j, kk, d
+    real(wp) :: hh(3)
+    hh = [1.2_wp/ni, 1.0_wp/nj, 0.8_wp/nk]
+    call rng_seed(rng, seed)
+    do kk = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          n = node(i, j, kk)
+          x(:, n) = hh*real([i, j, kk], wp)
+          if (i > 0 .and. i < ni .and. j > 0 .and. j < nj .and. kk > 0 .and. kk < nk) then
+            do d = 1, 3
+              x(d, n) = x(d, n) + amp*hh(d)*(2.0_wp*rng_uniform(rng) - 1.0_wp)
+            end do
+          end if
+        end do
+      end do
+    end do
+  end subroutine make_grid
+end program test_remap_euler
