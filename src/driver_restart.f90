@@ -6,14 +6,15 @@ module driver_restart
   use base_errors, only: error_t
   use base_timers, only: wall_seconds
   use material_table, only: material_index_cells
+  use material_mixed, only: mixed_t, mixed_allocate
   use io_input, only: config_t, input_read, input_state_changes
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
-  use io_restart, only: restart_write, restart_read, restart_read_deck
+  use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar
   use driver_state, only: run, refuse, refuse_one, fatal, report_conservation
   implicit none
   private
-  public :: check_restart_deck, register_restart, restart_path, write_restart, read_restart
+  public :: check_restart_deck, register_restart, reregister_restart, restart_path, write_restart, read_restart
 
 contains
 
@@ -46,8 +47,13 @@ contains
       'depends on; undo these changes or start a new run')
   end subroutine check_restart_deck
 
-  !> Registers everything a restart must hold (once, after allocation).
+  !> Registers everything a restart must hold (after allocation; any earlier
+  !> registration is forgotten first). The mixed cells are always registered,
+  !> as zero-size arrays when there are none, with their sizes as the scalars
+  !> mixed_n and mixed_nslot: a restart file then holds its own mixed-cell
+  !> sizes, which may differ from those the deck builds (after a remap).
   subroutine register_restart()
+    call run%reg%clear()
     associate (r => run%reg, h => run%h)
       call r%add('x', 'length', run%g%x)
       call r%add('velocity', 'length/time', h%u)
@@ -60,18 +66,18 @@ contains
       call r%add('sound_speed', 'length/time', h%cs)
       call r%add('viscosity', 'pressure', h%q)
       call r%add('material', '1', h%mat)
-      if (run%mx%n > 0) then
-        call r%add('mixed_cell', '1', run%mx%cell)
-        call r%add('mixed_start', '1', run%mx%start)
-        call r%add('mixed_material', '1', run%mx%mat)
-        call r%add('mixed_volume_fraction', '1', run%mx%vf)
-        call r%add('mixed_mass', 'mass', run%mx%mass)
-        call r%add('mixed_energy', 'energy/mass', run%mx%e)
-        call r%add('mixed_density', 'mass/length^3', run%mx%rho)
-        call r%add('mixed_pressure', 'pressure', run%mx%p)
-        call r%add('mixed_sound_speed', 'length/time', run%mx%cs)
-        call r%add('mixed_centroid', 'natural coordinates', run%mx%xi)
-      end if
+      call r%add('mixed_n', '1', run%mx%n)
+      call r%add('mixed_nslot', '1', run%mx%nslot)
+      call r%add('mixed_cell', '1', run%mx%cell)
+      call r%add('mixed_start', '1', run%mx%start)
+      call r%add('mixed_material', '1', run%mx%mat)
+      call r%add('mixed_volume_fraction', '1', run%mx%vf)
+      call r%add('mixed_mass', 'mass', run%mx%mass)
+      call r%add('mixed_energy', 'energy/mass', run%mx%e)
+      call r%add('mixed_density', 'mass/length^3', run%mx%rho)
+      call r%add('mixed_pressure', 'pressure', run%mx%p)
+      call r%add('mixed_sound_speed', 'length/time', run%mx%cs)
+      call r%add('mixed_centroid', 'natural coordinates', run%mx%xi)
       call r%add('time', 'time', run%t)
       call r%add('dt', 'time', run%dt)
       call r%add('step', '1', run%step)
@@ -85,6 +91,12 @@ contains
       call r%add('rng_state', 'bits', run%rng_bits)
     end associate
   end subroutine register_restart
+
+  !> Registers again: the driver calls this after anything (the remap)
+  !> reallocated registered storage, since the registry holds pointers to it.
+  subroutine reregister_restart()
+    call register_restart()
+  end subroutine reregister_restart
 
   function restart_path(step) result(path)
     integer, intent(in) :: step
@@ -106,6 +118,9 @@ contains
     call run%t_output%start()
     path = restart_path(run%step)
     run%rng_bits = transfer(run%rng%s, 1.0_wp)
+    ! cheap insurance: the mixed cells may have been reallocated since the
+    ! last registration
+    call register_restart()
     if (.not. allocated(run%out%frames)) allocate(run%out%frames(0), run%out%times(0))
     call restart_write(path, run%reg, run%cfg%echo, run%out%frames, run%out%times, err)
     call run%t_output%stop()
@@ -136,15 +151,34 @@ contains
   end function next_time
 
   !> Replaces the state built from the deck by the one in the restart file.
+  !> The file's mixed cells may be more or fewer than the deck's (a remap
+  !> changes them): their storage is first reallocated to the stored sizes.
   subroutine read_restart()
     type(error_t), allocatable :: err
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
+    integer :: n, nslot
 
     path = trim(run%cfg%restart_from)
+    call restart_read_int_scalar(path, 'mixed_n', n, err)
+    if (.not. allocated(err)) call restart_read_int_scalar(path, 'mixed_nslot', nslot, err)
+    if (allocated(err)) call refuse_one('&run restart_from: '//err%msg, 'cannot restart')
+    if (n < 0 .or. nslot < n) call refuse_one('&run restart_from: '//path//' is damaged: mixed_n = '// &
+      itoa(n)//', mixed_nslot = '//itoa(nslot), 'cannot restart')
+    if (n /= run%mx%n .or. nslot /= run%mx%nslot) then
+      run%mx = mixed_t()   ! frees the deck's storage
+      call mixed_allocate(run%mx, n, nslot, err)
+      if (allocated(err)) then
+        run%mx = mixed_t()
+        call fatal(err%where, err%msg)
+      end if
+      call log_line('restart: '//itoa(n)//' mixed cells ('//itoa(nslot)//' material slots)')
+    end if
+    call reregister_restart()
     call restart_read(path, run%reg, frames, times, err)
     if (allocated(err)) call refuse_one('&run restart_from: '//err%msg, 'cannot restart')
+    call check_mixed(path)
     run%rng%s = transfer(run%rng_bits, 1_i8)
     ! the frame list continues the XDMF series where it was
     run%out%frames = frames
@@ -158,4 +192,27 @@ contains
     call log_line('restarted from '//path//' at step '//itoa(run%step)//', t = '//rtoa(run%t))
     call report_conservation('restart')
   end subroutine read_restart
+
+  !> Refuses a restart whose mixed cells do not index the grid and the
+  !> materials consistently (a damaged file; later code would index out of
+  !> bounds): mixed cell k is the cell whose material is -k, and no other
+  !> cell has a material <= 0.
+  subroutine check_mixed(path)
+    character(len=*), intent(in) :: path
+    integer :: k, c
+    logical :: ok
+    associate (mx => run%mx)
+      ok = mx%start(1) == 1 .and. mx%start(mx%n + 1) == mx%nslot + 1
+      if (mx%nslot > 0) ok = ok .and. all(mx%mat >= 1 .and. mx%mat <= size(run%mats))
+      do k = 1, mx%n
+        c = mx%cell(k)
+        if (.not. ok) exit
+        ok = mx%start(k + 1) > mx%start(k) .and. c >= 1 .and. c <= run%g%ncell
+        if (ok) ok = run%h%mat(c) == -k
+      end do
+      ok = ok .and. count(run%h%mat <= 0) == mx%n
+    end associate
+    if (.not. ok) call refuse_one('&run restart_from: '//path//' is damaged: its mixed cells do not '// &
+      'match its cell materials', 'cannot restart')
+  end subroutine check_mixed
 end module driver_restart

@@ -22,6 +22,8 @@ program test_io_hdf5
   type(error_t), allocatable :: err
   type(h5_file_t) :: file
   real(wp) :: a4(3, 4, 5, 6), rscal, rback, x(3, ni + 1, nj + 1, nk + 1), rho(ni, nj, nk)
+  real(wp) :: zr(3, 0)
+  integer :: zi(0)
   integer :: i3(2, 3, 4), iscal, iback, i, j, k, l, unit, f
   integer, allocatable :: dims(:), iflat(:)
   real(wp), allocatable :: rflat(:)
@@ -76,6 +78,11 @@ program test_io_hdf5
   call check('h5_write_string')
   call h5_write_string(file, 'empty', '', err)
   call check('h5_write_string (empty)')
+  ! zero-size arrays (a scene without mixed cells writes them in restarts)
+  call h5_write_real(file, 'zero/r', zr, shape(zr), err)
+  call check('h5_write_real (zero size)')
+  call h5_write_int(file, 'zero/i', zi, shape(zi), err)
+  call check('h5_write_int (zero size)')
   call h5_write_real(file, 'a4', a4, shape(a4), err)
   if (.not. allocated(err)) call fail('writing an existing dataset gave no error')
   deallocate(err)
@@ -117,6 +124,16 @@ program test_io_hdf5
   call h5_read_string(file, 'empty', textback, err)
   call check('h5_read_string (empty)')
   if (len(textback) /= 0) call fail('empty string not empty')
+  call h5_read_dims(file, 'zero/r', dims, err)
+  call check('h5_read_dims (zero size)')
+  if (size(dims) /= 2) call fail('rank of zero/r is not 2')
+  if (any(dims /= [3, 0])) call fail('dims of zero/r are not [3,0]')
+  call h5_read_real(file, 'zero/r', rflat, err)
+  call check('h5_read_real (zero size)')
+  if (size(rflat) /= 0) call fail('zero/r read back is not empty')
+  call h5_read_int(file, 'zero/i', iflat, err)
+  call check('h5_read_int (zero size)')
+  if (size(iflat) /= 0) call fail('zero/i read back is not empty')
 
   ! ---- errors
   call h5_read_real(file, 'missing', rflat, err)

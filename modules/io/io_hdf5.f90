@@ -701,7 +701,8 @@ contains
     integer(hsize_t), intent(out) :: n
     type(error_t), allocatable, intent(inout) :: err
     integer(hid_t) :: tid
-    integer :: hdferr, tclass, ierr
+    integer(hsize_t) :: hdims(max_rank), hmax(max_rank)
+    integer :: hdferr, tclass, ierr, rank
     ok = .false.
     sid = -1_hid_t
     n = 0
@@ -723,10 +724,21 @@ contains
       call error_set(err, here, 'cannot get dataspace of '//where_in(file, name))
       return
     end if
-    call h5sget_simple_extent_npoints_f(sid, n, hdferr)
-    if (hdferr /= 0 .or. n < 0) then
-      call error_set(err, here, 'cannot get size of '//where_in(file, name))
+    ! the size from the dimensions: h5sget_simple_extent_npoints_f reports
+    ! an error for a zero-size dataset (HDF5 1.10), which is legitimate here
+    call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+    if (hdferr /= 0 .or. rank < 0 .or. rank > max_rank) then
+      call error_set(err, here, 'unsupported rank of '//where_in(file, name))
       return
+    end if
+    n = 1
+    if (rank > 0) then
+      call h5sget_simple_extent_dims_f(sid, hdims(1:rank), hmax(1:rank), hdferr)
+      if (hdferr < 0) then
+        call error_set(err, here, 'cannot get size of '//where_in(file, name))
+        return
+      end if
+      n = product(hdims(1:rank))
     end if
     ok = .true.
   end function open_checked

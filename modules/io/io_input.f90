@@ -1,7 +1,7 @@
 !> Reads a namelist deck into a resolved configuration, and validates it.
 !>
 !> Groups: &run, &grid, &hydro, &material (one or more), &region (one or more,
-!> applied in order), &source (zero or more), &boundary, &output. Defaults are
+!> applied in order), &source (zero or more), &boundary, &rezone, &output. Defaults are
 !> set before each read and documented in input/README.md. Every problem found
 !> is reported, one line each, naming the group, the variable, the value and
 !> what is allowed; the driver then stops before step 0.
@@ -15,7 +15,8 @@ module io_input
   use mesh_boundary, only: bc_kind_from_name, bc_kind_names
   implicit none
   private
-  public :: config_t, material_cfg_t, region_cfg_t, source_cfg_t, input_read, input_state_changes, max_gauges
+  public :: config_t, material_cfg_t, region_cfg_t, source_cfg_t, rezone_cfg_t, input_read, input_state_changes, &
+            max_gauges
 
   integer, parameter :: max_gauges = 64
   integer, parameter :: max_line = 1024
@@ -46,6 +47,30 @@ module io_input
     real(wp) :: energy = 0.0_wp
   end type source_cfg_t
 
+  !> The &rezone group: whether, when and how an Euler step (rezone, then
+  !> remap) follows the Lagrangian step. An Euler step runs when any trigger
+  !> that is on fires.
+  type :: rezone_cfg_t
+    !> 'none': pure Lagrangian, no Euler step; 'global': rezone the whole grid
+    !> back to the initial one and remap (Eulerian-like global MMALE)
+    character(len=16) :: mode = 'none'
+    !> trigger: the largest ratio of side lengths of any cell reaches this
+    !> (0: off; else > 1)
+    real(wp) :: side_ratio = 4.0_wp
+    !> trigger: the smallest cosine of the largest inclined angle over all
+    !> cells falls to or below this (0: off; else in (0, 1))
+    real(wp) :: cos_angle = 0.7_wp
+    integer :: interval_steps = 0          !< trigger: every this many steps (0: off)
+    real(wp) :: interval_time = 0.0_wp     !< trigger: every this much simulated time (time; 0: off)
+    !> remap reconstruction: 'linear' (limited, second order) or 'constant'
+    !> (first order)
+    character(len=16) :: reconstruction = 'linear'
+    integer :: mof_max_iter = 50           !< cap on MoF Gauss-Newton iterations per material
+    !> check mass, momentum and energy conservation to round-off at every
+    !> Euler step and stop the run if broken (Debug builds always check)
+    logical :: check_conservation = .false.
+  end type rezone_cfg_t
+
   !> The resolved deck.
   type :: config_t
     character(len=:), allocatable :: deck_path
@@ -72,6 +97,8 @@ module io_input
     ! &boundary
     integer :: bc_kind(6) = 1
     real(wp) :: bc_velocity(3, 6) = 0.0_wp, bc_pressure(6) = 0.0_wp
+    ! &rezone
+    type(rezone_cfg_t) :: rezone
     ! &output
     character(len=256) :: out_dir = 'out', out_name = 'run'
     real(wp) :: frame_dt = 0.0_wp, gauge_dt = 0.0_wp
@@ -79,8 +106,8 @@ module io_input
     real(wp) :: gauges(3, max_gauges) = 0.0_wp
   end type config_t
 
-  character(len=*), parameter :: known_groups(8) = [character(len=8) :: &
-    'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'output']
+  character(len=*), parameter :: known_groups(9) = [character(len=8) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'rezone', 'output']
   character(len=*), parameter :: face_names(6) = ['xlo', 'xhi', 'ylo', 'yhi', 'zlo', 'zhi']
 
 contains
@@ -129,6 +156,7 @@ contains
     call read_regions(unit, lines, cfg, echo_unit, problems)
     call read_sources(unit, lines, cfg, echo_unit, problems)
     call read_boundary(unit, lines, cfg, echo_unit, problems)
+    call read_rezone(unit, lines, cfg, echo_unit, problems)
     call read_output(unit, lines, cfg, echo_unit, problems)
     close(unit)
     rewind(echo_unit)
@@ -451,6 +479,59 @@ contains
     write(echo, nml=boundary)
   end subroutine read_boundary
 
+  subroutine read_rezone(unit, lines, cfg, echo, problems)
+    integer, intent(in) :: unit, echo
+    character(len=*), intent(in) :: lines(:)
+    type(config_t), intent(inout) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: mode, reconstruction
+    real(wp) :: side_ratio, cos_angle, interval_time
+    integer :: interval_steps, mof_max_iter, ios
+    logical :: check_conservation
+    character(len=max_line) :: msg
+    type(rezone_cfg_t) :: defaults
+    namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
+                      mof_max_iter, check_conservation
+
+    mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
+    interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
+    reconstruction = defaults%reconstruction; mof_max_iter = defaults%mof_max_iter
+    check_conservation = defaults%check_conservation
+    if (group_count(lines, 'rezone') > 0) then
+      rewind(unit)
+      read(unit, nml=rezone, iostat=ios, iomsg=msg)
+      if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'rezone', ios, msg))
+    end if
+    select case (trim(mode))
+    case ('none', 'global')
+    case default
+      call add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global')
+    end select
+    select case (trim(reconstruction))
+    case ('linear', 'constant')
+    case default
+      call add(problems, '&rezone: reconstruction = '''//trim(reconstruction)// &
+        ''' is not known; valid: linear, constant')
+    end select
+    if (.not. (side_ratio >= 0.0_wp) .or. (side_ratio > 0.0_wp .and. side_ratio <= 1.0_wp)) &
+      call add(problems, bad('rezone', 'side_ratio', side_ratio, 'must be 0 (off) or > 1'))
+    if (.not. (cos_angle >= 0.0_wp .and. cos_angle < 1.0_wp)) &
+      call add(problems, bad('rezone', 'cos_angle', cos_angle, 'must be in [0, 1) (0: off)'))
+    if (interval_steps < 0) call add(problems, badi('rezone', 'interval_steps', interval_steps, &
+      'must be >= 0 (0: off)'))
+    if (.not. (interval_time >= 0.0_wp)) call add(problems, bad('rezone', 'interval_time', interval_time, &
+      'must be >= 0 (0: off)'))
+    if (mof_max_iter < 1) call add(problems, badi('rezone', 'mof_max_iter', mof_max_iter, 'must be >= 1'))
+    if (trim(mode) == 'global' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
+                                            interval_steps > 0 .or. interval_time > 0.0_wp)) &
+      call add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
+        'cos_angle > 0, interval_steps > 0 or interval_time > 0')
+    cfg%rezone = rezone_cfg_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
+      interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
+      mof_max_iter=mof_max_iter, check_conservation=check_conservation)
+    write(echo, nml=rezone)
+  end subroutine read_rezone
+
   subroutine read_output(unit, lines, cfg, echo, problems)
     integer, intent(in) :: unit, echo
     character(len=*), intent(in) :: lines(:)
@@ -492,7 +573,8 @@ contains
   !> What a restart may not change: every variable the state depends on
   !> (grid, materials, regions, sources, boundaries, the initial noise). One
   !> line per changed variable, naming it; empty if the decks agree. Time,
-  !> output, dump and numerical settings (&hydro, cfl, dt limits) may change.
+  !> output, dump and numerical settings (&hydro, &rezone, cfl, dt limits)
+  !> may change: none of them is part of the stored state.
   subroutine input_state_changes(old, new, changes)
     type(config_t), intent(in) :: old, new
     character(len=max_line), allocatable, intent(out) :: changes(:)
@@ -641,7 +723,7 @@ contains
       if (len(g) == 0) cycle
       if (any(known_groups == g)) cycle
       call add(problems, trim(path)//': group &'//g//' is not known; valid: &run, &grid, &hydro, '// &
-        '&material, &region, &source, &boundary, &output')
+        '&material, &region, &source, &boundary, &rezone, &output')
     end do
   end subroutine check_group_names
 

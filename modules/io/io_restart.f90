@@ -3,7 +3,11 @@
 !>
 !> Packages register each restart quantity once (name, units, the array or
 !> scalar itself); `restart_write` and `restart_read` loop over the registry,
-!> so a quantity that is registered cannot be forgotten by either. Besides the
+!> so a quantity that is registered cannot be forgotten by either. Storage
+!> whose size changes during a run (the mixed cells after a remap) is handled
+!> by clearing the registry and registering again; before a full read, the
+!> sizes stored in a file are read with `restart_read_int_scalar` or
+!> `restart_read_dims`, so the caller can allocate to them first. Besides the
 !> registry a restart file holds its format version, the resolved deck, and
 !> the output bookkeeping (frame names and times), which change in length
 !> during a run. The file is written under a temporary name, closed (flushed)
@@ -18,10 +22,13 @@ module io_restart
   use io_xdmf, only: io_rename
   implicit none
   private
-  public :: restart_registry_t, restart_write, restart_read, restart_read_deck, restart_version
+  public :: restart_registry_t, restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
+            restart_read_dims, restart_version
 
   !> Format version written to every file; a reader refuses any other.
-  integer, parameter :: restart_version = 1
+  !> 2: the mixed-cell arrays are always present (possibly empty) and their
+  !> sizes are stored as the scalars mixed_n and mixed_nslot.
+  integer, parameter :: restart_version = 2
 
   integer, parameter :: K_REAL = 1, K_INT = 2, K_REAL_SCALAR = 3, K_INT_SCALAR = 4
 
@@ -37,8 +44,9 @@ module io_restart
     integer, pointer :: is => null()
   end type restart_entry_t
 
-  !> The registry. The registered storage must outlive it and must not be
-  !> reallocated (register after allocation).
+  !> The registry. The registered storage must outlive it; register after
+  !> allocation, and after storage is reallocated `clear` the registry and
+  !> register everything again (it holds pointers, which would dangle).
   type :: restart_registry_t
     type(restart_entry_t), allocatable :: e(:)
     integer :: n = 0
@@ -46,6 +54,8 @@ module io_restart
     procedure, private :: add_r1, add_r2, add_i1, add_rs, add_is
     !> Registers an array or scalar under a name, with its units.
     generic :: add => add_r1, add_r2, add_i1, add_rs, add_is
+    !> Forgets every registered quantity (the storage itself is untouched).
+    procedure :: clear => restart_registry_clear
   end type restart_registry_t
 
 contains
@@ -67,6 +77,12 @@ contains
     this%e(this%n)%kind = kind
     this%e(this%n)%dims = dims
   end subroutine push
+
+  subroutine restart_registry_clear(this)
+    class(restart_registry_t), intent(inout) :: this
+    if (allocated(this%e)) deallocate(this%e)
+    this%n = 0
+  end subroutine restart_registry_clear
 
   subroutine add_r1(this, name, units, a)
     class(restart_registry_t), intent(inout) :: this
@@ -166,6 +182,38 @@ contains
     call h5_close(f, err2)
   end subroutine restart_read_deck
 
+  !> One integer scalar registered as `name` (stored as scalars/`name`), read
+  !> from restart file `path` (whose version is checked) before a full read:
+  !> a size to allocate to before registering.
+  subroutine restart_read_int_scalar(path, name, value, err)
+    character(len=*), intent(in) :: path, name
+    integer, intent(out) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+
+    value = 0
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    call h5_read_scalar_int(f, 'scalars/'//trim(name), value, err)
+    call h5_close(f, err2)
+  end subroutine restart_read_int_scalar
+
+  !> The shape of the array registered as `name` (stored as state/`name`) in
+  !> restart file `path` (whose version is checked), before a full read.
+  subroutine restart_read_dims(path, name, dims, err)
+    character(len=*), intent(in) :: path, name
+    integer, allocatable, intent(out) :: dims(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    call h5_read_dims(f, 'state/'//trim(name), dims, err)
+    call h5_close(f, err2)
+  end subroutine restart_read_dims
+
   !> Reads every registered quantity from `path`, checking each one's shape,
   !> and the frame list. Nothing is left half-read silently: on error the
   !> caller must not use the state.
@@ -239,7 +287,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(error_t), allocatable :: err2
     integer :: version
-    character(len=16) :: buf
+    character(len=16) :: buf, want
 
     call h5_open_read(f, path, err)
     if (allocated(err)) then
@@ -252,8 +300,9 @@ contains
       call h5_read_scalar_int(f, 'restart_version', version, err)
       if (.not. allocated(err) .and. version /= restart_version) then
         write(buf, '(i0)') version
+        write(want, '(i0)') restart_version
         call error_set(err, 'restart', trim(path)//' has restart format version '//trim(buf)// &
-                       '; this program reads version 1')
+                       '; this program reads version '//trim(want))
       end if
     end if
     if (allocated(err)) call h5_close(f, err2)
