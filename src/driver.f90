@@ -14,6 +14,7 @@ module driver
   use driver_state, only: run, refuse, totals, energy_drift, frame_out, fatal, report_conservation
   use driver_scene, only: build_scene
   use driver_restart, only: check_restart_deck, register_restart, restart_path, write_restart, read_restart
+  use driver_euler, only: euler_init, euler_due, euler_step, euler_report
   implicit none
   private
   public :: driver_run
@@ -32,6 +33,7 @@ contains
     if (run%restarting) call check_restart_deck()
     call open_outputs()
     call build_scene()
+    call euler_init()
     call register_restart()
     if (run%restarting) then
       call read_restart()
@@ -121,6 +123,7 @@ contains
       run%t = run%t + run%dt
       run%step = run%step + 1
       run%tot%boundary_work = run%tot%boundary_work + work
+      if (euler_due()) call euler_step()
       last = .not. (run%t < run%cfg%t_end - eps_t .and. run%step < run%cfg%max_steps)
 
       call gauge_output()
@@ -218,12 +221,13 @@ contains
     rate = 0.0_wp
     if (run%t_lagrange%total > 0.0_wp) &
       rate = real(run%g%ncell, wp)*real(run%step - run%step_start, wp)/run%t_lagrange%total
-    write(line, '("timers [s]: setup ",f9.3,"  lagrange ",f9.3,"  output ",f9.3,"  total ",f9.3)') &
-      run%t_setup%total, run%t_lagrange%total, run%t_output%total, run%t_total%total
+    write(line, '("timers [s]: setup ",f9.3,"  lagrange ",f9.3,"  euler ",f9.3,"  output ",f9.3,"  total ",f9.3)') &
+      run%t_setup%total, run%t_lagrange%total, run%t_euler%total, run%t_output%total, run%t_total%total
     call log_line(trim(line))
     write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, &
       run%step - run%step_start
     call log_line(trim(line))
+    call euler_report()
     call log_line('outputs: '//run%out%dir//'/'//run%out%name//'.xdmf (ParaView), '// &
                   run%out%dir//'/'//run%out%name//'.log')
     call log_line('done: t = '//rtoa(run%t)//' after '//itoa(run%step)//' steps')

@@ -45,7 +45,14 @@ module driver_state
     real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp
     logical :: restarting = .false.
     logical :: ready = .false.        !< state is complete enough to be written
-    type(timer_t) :: t_setup, t_lagrange, t_output, t_total
+    type(timer_t) :: t_setup, t_lagrange, t_euler, t_output, t_total
+    ! Euler phase (only with &rezone mode other than 'none')
+    real(wp), allocatable :: x0(:, :)       !< initial grid, the global rezone's target
+    real(wp), allocatable :: quality(:)     !< work: cell quality for the triggers
+    real(wp) :: t_next_euler = 0.0_wp       !< next Euler step by interval_time (restart state)
+    integer :: n_euler = 0                  !< Euler steps so far (restart state)
+    integer :: euler_cells = 0, euler_mof = 0, euler_mof_iterations = 0   !< this segment's totals
+    real(wp) :: euler_ke = 0.0_wp           !< kinetic energy returned to internal energy, this segment
   end type run_t
 
   type(run_t), save, target :: run

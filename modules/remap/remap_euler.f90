@@ -75,6 +75,10 @@ module remap_euler
   integer, parameter :: max_mat = 16
   !> Widest index window searched around a new cell for old cells.
   integer, parameter :: max_reach = 8
+  !> An old region whose fragments fall short of its volume by more than
+  !> this (relative; round-off of the sums is ~1e-15) is not covered by the
+  !> new grid.
+  real(wp), parameter :: uncovered_tol = 1.0e-12_wp
 
   !> Settings of the remap (deck group &rezone).
   type :: remap_params_t
@@ -94,7 +98,12 @@ module remap_euler
     real(wp) :: mof_err_max = 0.0_wp  !< largest material centroid error / cell size
     integer :: slivers_merged = 0     !< materials below vf_min merged into another
     real(wp) :: volume_defect = 0.0_wp    !< largest |sum of fragments - V|/V of a new cell
+    !> largest |volume given away - V_region|/V_region of an old region:
+    !> part of an old cell not covered by the new grid
+    real(wp) :: given_defect = 0.0_wp
+    integer :: regions_rescaled = 0   !< old regions not covered entirely, remapped scaled
     real(wp) :: ke_to_internal = 0.0_wp   !< kinetic energy returned to internal energy
+    real(wp) :: momentum_constrained(3) = 0.0_wp  !< momentum the velocity conditions removed
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
   end type remap_stats_t
 
@@ -112,6 +121,9 @@ module remap_euler
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
     real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
     real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
+    real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
+    real(wp), allocatable :: given(:)           !< volume given away (ncell + nslot)
+    real(wp), allocatable :: scale(:)           !< factor on what a region gives (1, or > 1 if not covered)
   end type old_t
 
 contains
@@ -136,8 +148,9 @@ contains
     real(wp), allocatable :: msub(:, :), avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :)
     integer, allocatable :: todo(:), reach(:)
+    logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8)
-    integer :: ncell, c, ntodo, r, i, nbad, stat
+    integer :: ncell, c, co, r, i, nbad, stat
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -147,7 +160,7 @@ contains
     end if
     w0 = wall_seconds()
     allocate(msub(8, ncell), avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
-             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), reach(ncell), &
+             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), reach(ncell), redo(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
@@ -165,17 +178,9 @@ contains
     reach = 0
     r = 1
     do while (size(todo) > 0)
-      ntodo = size(todo)
-      !$omp parallel do default(none) shared(g, h, mx, old, xnew, ntodo, todo, r, avol, amom, amass, aie, &
-      !$omp cmass, cmom, cke) private(i) schedule(dynamic, 4)
-      do i = 1, ntodo
-        call remap_new_cell(g, h, mx, old, xnew, todo(i), r, avol(:, todo(i)), amom(:, :, todo(i)), &
-                            amass(:, todo(i)), aie(:, todo(i)), cmass(:, todo(i)), cmom(:, :, todo(i)), &
-                            cke(:, todo(i)))
-      end do
-      !$omp end parallel do
+      call intersect_cells(todo, r, 1.0_wp)
       nbad = 0
-      do i = 1, ntodo
+      do i = 1, size(todo)
         c = todo(i)
         call block_gather(g%ni, g%nj, 1 + mod(c - 1, g%ni), 1 + mod((c - 1)/g%ni, g%nj), &
                           1 + (c - 1)/(g%ni*g%nj), xnew, xn)
@@ -190,21 +195,111 @@ contains
         end if
       end do
       todo = todo(1:nbad)
-      if (nbad > 0) r = r + 1
+      if (nbad > 0) then
+        ! take back what these cells gave, then widen their window
+        call intersect_cells(todo, r, -1.0_wp)
+        r = r + 1
+      end if
     end do
     stats%reach = maxval(reach)
-    stats%t_intersect = wall_seconds() - w0
     if (stats%volume_defect > 1.0e-9_wp) then
       call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
                      rtoa(stats%volume_defect)//'): boundary nodes must stay on the boundary')
       return
     end if
 
+    ! old regions the new grid does not cover entirely (a tangled old cell
+    ! poking out of the domain): remapped again, piecewise constant and
+    ! scaled, so that all of their mass, energy and momentum still goes
+    ! to the new cells they do overlap
+    do c = 1, size(old%vreg)
+      if (old%vreg(c) <= 0.0_wp) cycle
+      stats%given_defect = max(stats%given_defect, abs(old%given(c) - old%vreg(c))/old%vreg(c))
+      if (abs(old%given(c) - old%vreg(c)) <= uncovered_tol*old%vreg(c)) cycle
+      if (.not. old%given(c) > 0.0_wp) then
+        call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' lies outside the new grid')
+        return
+      end if
+      stats%regions_rescaled = stats%regions_rescaled + 1
+      old%scale(c) = old%vreg(c)/old%given(c)
+      old%grho(:, c) = 0.0_wp
+      old%ge(:, c) = 0.0_wp
+    end do
+    if (stats%regions_rescaled > 0) then
+      redo = .false.
+      do c = 1, size(old%vreg)
+        if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
+          co = c
+          if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
+          old%gu(:, :, co) = 0.0_wp
+          call mark_window(co, stats%reach)
+        end if
+      end do
+      todo = pack([(c, c = 1, ncell)], redo .and. old%changed)
+      call intersect_cells(todo, stats%reach, 0.0_wp)
+    end if
+    stats%t_intersect = wall_seconds() - w0
+
     w0 = wall_seconds()
     call assemble(g, h, mx, nmat, bc, old, xnew, par, msub, avol, amom, amass, aie, cmass, cmom, cke, &
                   stats, err)
     stats%t_assemble = wall_seconds() - w0
+
+  contains
+
+    !> Intersects the new cells `cells` with the old grid within `rr` index
+    !> steps; given_sign (+1, -1 or 0) says how their fragments count in
+    !> the volume each old region gave away.
+    subroutine intersect_cells(cells, rr, given_sign)
+      integer, intent(in) :: cells(:), rr
+      real(wp), intent(in) :: given_sign
+      integer :: ii, nn
+      nn = size(cells)
+      !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
+      !$omp amass, aie, cmass, cmom, cke) private(ii) schedule(dynamic, 4)
+      do ii = 1, nn
+        call remap_new_cell(g, h, mx, old, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
+                            amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), cmass(:, cells(ii)), &
+                            cmom(:, :, cells(ii)), cke(:, cells(ii)))
+      end do
+      !$omp end parallel do
+    end subroutine intersect_cells
+
+    !> Marks the new cells within rr index steps of cell co.
+    subroutine mark_window(co, rr)
+      integer, intent(in) :: co, rr
+      integer :: i0, j0, k0, ii, jj, kk
+      i0 = 1 + mod(co - 1, g%ni)
+      j0 = 1 + mod((co - 1)/g%ni, g%nj)
+      k0 = 1 + (co - 1)/(g%ni*g%nj)
+      do kk = max(1, k0 - rr), min(g%nk, k0 + rr)
+        do jj = max(1, j0 - rr), min(g%nj, j0 + rr)
+          do ii = max(1, i0 - rr), min(g%ni, i0 + rr)
+            redo(ii + g%ni*((jj - 1) + g%nj*(kk - 1))) = .true.
+          end do
+        end do
+      end do
+    end subroutine mark_window
   end subroutine remap_euler_step
+
+  !> The mixed cell that owns slot s.
+  pure integer function slot_cell(mx, s) result(k)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: s
+    integer :: lo, hi, mid
+    ! binary search in start(1:n+1): start(k) <= s < start(k+1)
+    lo = 1
+    hi = mx%n
+    do while (lo < hi)
+      mid = (lo + hi + 1)/2
+      if (mx%start(mid) <= s) then
+        lo = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+    k = lo
+  end function slot_cell
 
   ! ------------------------------------------------------------ old side
 
@@ -236,7 +331,11 @@ contains
     old%nmat = nmat
     allocate(old%changed(ncell), old%xm(3, ncell), old%uo(3, ncell), old%gu(3, 3, ncell), old%ratio(ncell), &
              old%ko(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), old%grho(3, nreg), old%ge(3, nreg), &
-             old%pn(3, mx%nslot), old%pd(mx%nslot), wnode(g%nnode))
+             old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%scale(nreg), &
+             wnode(g%nnode))
+    old%given = 0.0_wp
+    old%scale = 1.0_wp
+    old%vreg = 0.0_wp
     old%gu = 0.0_wp
     old%grho = 0.0_wp
     old%ge = 0.0_wp
@@ -311,6 +410,7 @@ contains
             m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
           end do
           old%xr(:, c) = m/v
+          old%vreg(c) = v
           old%rho(c) = h%mass(c)/v
           old%e(c) = h%e(c)
           old%xm(:, c) = old%xr(:, c)
@@ -343,6 +443,7 @@ contains
             old%pd(s) = pd(j)
             call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, ok)
             call mof_pieces_moments(pcs, vreg(j), m)
+            old%vreg(ncell + s) = vreg(j)
             if (vreg(j) > 0.0_wp) old%xr(:, ncell + s) = m
           end do
           ! a material whose region has no volume (a fraction below round-off)
@@ -365,6 +466,16 @@ contains
       end do
     end do
     !$omp end parallel do
+    ! only what the intersection hands out counts as a region: pure cells
+    ! and slots with mass, of cells that moved
+    do c = 1, ncell
+      if (.not. old%changed(c) .or. h%mat(c) <= 0) old%vreg(c) = 0.0_wp
+    end do
+    do k = 1, mx%n
+      do s = mx%start(k), mx%start(k + 1) - 1
+        if (.not. old%changed(mx%cell(k)) .or. .not. mx%mass(s) > 0.0_wp) old%vreg(ncell + s) = 0.0_wp
+      end do
+    end do
     stats%mof_cells = nmof
     stats%mof_iterations = nits
     stats%mof_not_converged = nfail
@@ -446,11 +557,14 @@ contains
   !> index steps: per material the volume, first moment, mass and internal
   !> energy that land in it, per corner the nodal mass, momentum and
   !> kinetic energy.
-  subroutine remap_new_cell(g, h, mx, old, xnew, c, reach, avol, amom, amass, aie, cmass, cmom, cke)
+  subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, cmass, &
+                            cmom, cke)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(in) :: old
+    real(wp), intent(inout) :: given(:)
+    real(wp), intent(in) :: given_sign
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
     real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), cmass(:), cmom(:, :), cke(:)
@@ -572,10 +686,11 @@ contains
     subroutine deposit(vf, mf, a)
       real(wp), intent(in) :: vf, mf(3)
       integer, intent(in) :: a
-      real(wp) :: dm(3), fm, fie, r
+      real(wp) :: dm(3), fm, fie, r, sc
+      sc = old%scale(kreg)
       dm = mf - (old%xr(:, kreg) - o)*vf
-      fm = old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm)
-      fie = fm*old%e(kreg) + old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
+      fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
+      fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
       avol(kmat) = avol(kmat) + vf
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
@@ -583,8 +698,12 @@ contains
       r = old%ratio(co)
       cmass(a) = cmass(a) + r*fm
       cmom(:, a) = cmom(:, a) + r*(fm*old%uo(:, co) + &
-                   old%rho(kreg)*matmul(old%gu(:, :, co), mf - (old%xm(:, co) - o)*vf))
+                   sc*old%rho(kreg)*matmul(old%gu(:, :, co), mf - (old%xm(:, co) - o)*vf))
       cke(a) = cke(a) + r*fm*old%ko(co)
+      if (abs(given_sign) > 0.0_wp) then
+        !$omp atomic
+        given(kreg) = given(kreg) + given_sign*vf
+      end if
     end subroutine deposit
   end subroutine remap_new_cell
 
@@ -773,7 +892,14 @@ contains
       end if
       h%u(:, n) = h%u(:, n)/h%mnode(n)
     end do
+    stats%momentum_constrained = 0.0_wp
+    do n = 1, g%nnode
+      if (node_changed(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*h%u(:, n)
+    end do
     call bc_constrain(bc, h%u)
+    do n = 1, g%nnode
+      if (node_changed(n)) stats%momentum_constrained = stats%momentum_constrained - h%mnode(n)*h%u(:, n)
+    end do
     do n = 1, g%nnode
       if (.not. node_changed(n)) cycle
       dk(n) = dk(n) - 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2)

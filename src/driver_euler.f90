@@ -1,0 +1,130 @@
+!> The Euler phase in the time loop: when to run it (the paper's triggers,
+!> or an interval), the rezone (for now global: back to the initial grid),
+!> the remap (`remap_euler`), the material state after it, the
+!> conservation check and the log.
+module driver_euler
+  use base_kinds, only: wp
+  use base_build, only: build_checks
+  use base_strings, only: rtoa
+  use base_errors, only: error_t
+  use rezone_quality, only: grid_quality
+  use material_table, only: material_index_cells, material_eval_eos
+  use material_mixed, only: mixed_cell_state
+  use lagrange_state, only: hydro_totals
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
+  use io_log, only: log_line
+  use driver_state, only: run, fatal
+  use driver_restart, only: reregister_restart
+  implicit none
+  private
+  public :: euler_init, euler_due, euler_step, euler_report
+
+  !> Relative size of a conservation error that stops a checked run: a
+  !> remap adds up ~ncell fragments per quantity, each exact to ~1e-16.
+  real(wp), parameter :: conservation_tol = 1.0e-11_wp
+
+contains
+
+  !> Keeps the initial grid (the global rezone's target) and the first
+  !> interval time. Call after the scene is built, before a restart is read.
+  subroutine euler_init()
+    if (trim(run%cfg%rezone%mode) == 'none') return
+    run%x0 = run%g%x
+    allocate(run%quality(run%g%ncell))
+    run%t_next_euler = huge(1.0_wp)
+    if (run%cfg%rezone%interval_time > 0.0_wp) run%t_next_euler = run%cfg%rezone%interval_time
+  end subroutine euler_init
+
+  !> True when an Euler step is due after the step just taken: an interval
+  !> has passed, or the grid's largest side ratio or smallest cosine of the
+  !> inclined angle has reached its bound.
+  logical function euler_due()
+    real(wp) :: q_min, ratio_max, cos_min
+    euler_due = .false.
+    associate (rz => run%cfg%rezone)
+      if (trim(rz%mode) == 'none') return
+      if (rz%interval_steps > 0) euler_due = mod(run%step, rz%interval_steps) == 0
+      if (rz%interval_time > 0.0_wp) euler_due = euler_due .or. run%t >= run%t_next_euler*(1.0_wp - 1.0e-12_wp)
+      if (euler_due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
+      call grid_quality(run%g%ni, run%g%nj, run%g%nk, run%g%x, run%quality, q_min, ratio_max, cos_min)
+      euler_due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
+                  (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
+    end associate
+  end function euler_due
+
+  !> One Euler step: rezone, remap, new material states; checks
+  !> conservation (Debug builds, or &rezone check_conservation) and logs.
+  subroutine euler_step()
+    type(remap_params_t) :: par
+    type(remap_stats_t) :: st
+    type(error_t), allocatable :: err
+    real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3)
+    integer :: n
+    character(len=400) :: line
+
+    call run%t_euler%start()
+    par%linear = trim(run%cfg%rezone%reconstruction) == 'linear'
+    par%mof_max_iter = run%cfg%rezone%mof_max_iter
+    call hydro_totals(run%h, m0, p0, ie0, ke0)
+    pscale = 0.0_wp
+    do n = 1, run%g%nnode
+      pscale = pscale + run%h%mnode(n)*norm2(run%h%u(:, n))
+    end do
+
+    ! rezone: global, back to the initial grid
+    call remap_euler_step(run%g, run%h, run%mx, size(run%mats), run%bc, run%x0, par, st, err)
+    if (allocated(err)) call fatal(err%where, err%msg)
+    call material_index_cells(run%mats, run%h%mat, run%mx, err)
+    if (allocated(err)) call fatal(err%where, err%msg)
+    call material_eval_eos(run%mats, run%h%rho, run%h%e, run%h%p, run%h%cs, run%mx)
+    call mixed_cell_state(run%mx, run%h%p, run%h%cs)
+    call reregister_restart()
+    run%n_euler = run%n_euler + 1
+    if (run%cfg%rezone%interval_time > 0.0_wp) then
+      do while (run%t_next_euler <= run%t*(1.0_wp + 1.0e-12_wp))
+        run%t_next_euler = run%t_next_euler + run%cfg%rezone%interval_time
+      end do
+    end if
+    call run%t_euler%stop()
+
+    call hydro_totals(run%h, m1, p1, ie1, ke1)
+    dp = p1 - p0 + st%momentum_constrained
+    write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
+      &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled)", &
+      &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
+      &"; KE to internal ",es10.3,"; ",f8.3," s (prepare ",f7.3,", intersect ",f7.3,", assemble ",f7.3,")")') &
+      run%n_euler, run%step, run%t, st%cells_remapped, st%cells_copied, st%reach, st%volume_defect, &
+      st%given_defect, st%regions_rescaled, st%mof_cells, &
+      real(st%mof_iterations, wp)/real(max(st%mof_cells, 1), wp), st%mof_not_converged, st%mof_err_max, &
+      st%ke_to_internal, st%t_prepare + st%t_intersect + st%t_assemble, st%t_prepare, st%t_intersect, st%t_assemble
+    call log_line(trim(line))
+    write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2, &
+      &"; momentum taken by velocity conditions ",3es10.2)') abs(m1 - m0)/m0, &
+      norm2(dp)/max(pscale, tiny(1.0_wp)), abs(ie1 + ke1 - ie0 - ke0)/max(abs(ie0 + ke0), tiny(1.0_wp)), &
+      st%momentum_constrained
+    call log_line(trim(line))
+    run%euler_cells = run%euler_cells + st%cells_remapped
+    run%euler_mof = run%euler_mof + st%mof_cells
+    run%euler_mof_iterations = run%euler_mof_iterations + st%mof_iterations
+    run%euler_ke = run%euler_ke + st%ke_to_internal
+    if (build_checks .or. run%cfg%rezone%check_conservation) then
+      if (abs(m1 - m0) > conservation_tol*m0) call fatal('euler_step', 'mass not conserved: '//rtoa(m0)// &
+        ' -> '//rtoa(m1))
+      if (abs(ie1 + ke1 - ie0 - ke0) > conservation_tol*abs(ie0 + ke0)) call fatal('euler_step', &
+        'total energy not conserved: '//rtoa(ie0 + ke0)//' -> '//rtoa(ie1 + ke1))
+      if (norm2(dp) > conservation_tol*pscale) call fatal('euler_step', 'momentum not conserved: change '// &
+        rtoa(norm2(dp))//' of '//rtoa(pscale))
+    end if
+  end subroutine euler_step
+
+  !> Summary line of the run's Euler steps.
+  subroutine euler_report()
+    character(len=300) :: line
+    if (trim(run%cfg%rezone%mode) == 'none') return
+    write(line, '("euler steps: ",i0,", cells remapped ",i0," (",es10.3," per second), MoF ",i0, &
+      &" cells (",f5.2," iterations), KE returned to internal energy ",es10.3)') run%n_euler, run%euler_cells, &
+      real(run%euler_cells, wp)/max(run%t_euler%total, tiny(1.0_wp)), run%euler_mof, &
+      real(run%euler_mof_iterations, wp)/real(max(run%euler_mof, 1), wp), run%euler_ke
+    call log_line(trim(line))
+  end subroutine euler_report
+end module driver_euler
