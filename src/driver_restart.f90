@@ -89,6 +89,8 @@ contains
       call r%add('steps_since_frame', '1', run%steps_since_frame)
       call r%add('nframe', '1', run%out%nframe)
       call r%add('rng_state', 'bits', run%rng_bits)
+      call r%add('t_next_euler', 'time', run%t_next_euler)
+      call r%add('n_euler', '1', run%n_euler)
     end associate
   end subroutine register_restart
 
