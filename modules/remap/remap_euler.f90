@@ -60,11 +60,11 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, block_gather
-  use mesh_geometry, only: hex_faces, hex_volume, hex_subcell_volumes, hex_trilinear, hex_natural, cross
+  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_subcell_volumes, hex_trilinear, hex_natural, cross
   use mesh_boundary, only: bc_t, bc_constrain
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t
-  use remap_polyhedron, only: hex_tets, tet_clip_planes
+  use remap_polyhedron, only: hex_tets, tet_clip_planes, box_clip_planes
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   implicit none
@@ -124,6 +124,12 @@ module remap_euler
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
     real(wp), allocatable :: given(:)           !< volume given away (ncell + nslot)
     real(wp), allocatable :: scale(:)           !< factor on what a region gives (1, or > 1 if not covered)
+    ! geometry of the cells that moved, kept once for all the new cells that
+    ! overlap them: index cidx(c) among them, the 24 outward triangle planes
+    ! n.(x - xc) <= d about the node mean xc, convexity and bounding box
+    integer, allocatable :: cidx(:)
+    real(wp), allocatable :: fn(:, :, :), fd(:, :), xc(:, :), blo(:, :), bhi(:, :)
+    logical, allocatable :: convex(:)
   end type old_t
 
 contains
@@ -322,7 +328,7 @@ contains
                 vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), errc(max_mat), xa(3), &
                 vreg(max_mat), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, t, its(max_mat), ncell, nreg, kmat, j, big, &
-               nmof, nits, nfail
+               nmof, nits, nfail, nchg
     type(mof_pieces_t) :: pcs
     logical :: ok
 
@@ -383,6 +389,32 @@ contains
       end do
       old%uo(:, c) = old%uo(:, c)/mo
       old%ko(c) = old%ko(c)/mo
+    end do
+    !$omp end parallel do
+
+    ! geometry of the cells that moved
+    nchg = count(old%changed)
+    allocate(old%cidx(ncell), old%fn(3, 24, nchg), old%fd(24, nchg), old%xc(3, nchg), old%blo(3, nchg), &
+             old%bhi(3, nchg), old%convex(nchg))
+    old%cidx = 0
+    j = 0
+    do c = 1, ncell
+      if (.not. old%changed(c)) cycle
+      j = j + 1
+      old%cidx(c) = j
+    end do
+    !$omp parallel do default(none) shared(g, old, ncell) private(c, j, xn, a_) schedule(static)
+    do c = 1, ncell
+      j = old%cidx(c)
+      if (j == 0) cycle
+      call g%gather(c, g%x, xn)
+      old%blo(:, j) = minval(xn, 2)
+      old%bhi(:, j) = maxval(xn, 2)
+      old%xc(:, j) = sum(xn, 2)/8.0_wp
+      do a_ = 1, 8
+        xn(:, a_) = xn(:, a_) - old%xc(:, j)
+      end do
+      call face_planes(xn, old%fn(:, :, j), old%fd(:, j), old%convex(j))
     end do
     !$omp end parallel do
 
@@ -568,11 +600,13 @@ contains
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
     real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), cmass(:), cmom(:, :), cke(:)
-    real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), xo(3, 8), lo(3), hi(3), &
-                fn(3, 24), fd(24), pn(3, 24 + max_mat), pd(24 + max_mat), tets(3, 4, 24), v, m(3), sg, &
-                tsg(24)
-    integer :: hcorner(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, j, nm, kmat, t, np, i, kreg
-    logical :: convex
+    real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
+                xo(3, 8), lo(3), hi(3), olo(3), ohi(3), shift(3), pn(3, 24 + max_mat), pd(24 + max_mat), &
+                v, pts(3, 27), qn(3, 4, 24), qd(4, 24), qsg(24), qlo(3, 24), qhi(3, 24), mid(3), &
+                qblo(3, 8), qbhi(3, 8)
+    integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
+               j, nm, kmat, t, i, kreg, jc, npc
+    logical :: box
 
     ci = 1 + mod(c - 1, g%ni)
     cj = 1 + mod((c - 1)/g%ni, g%nj)
@@ -583,13 +617,39 @@ contains
     do j = 1, 8
       xn(:, j) = xn(:, j) - o
     end do
-    call half_tets(xn, ht, hcorner)
+    call half_tets(xn, pts, hv, hcorner)
     do t = 1, 48
+      tmask(t) = 0
+      do j = 1, 4
+        ht(:, j, t) = pts(:, hv(j, t))
+        tmask(t) = ibset(tmask(t), hv(j, t) - 1)
+      end do
       hlo(:, t) = minval(ht(:, :, t), 2)
       hhi(:, t) = maxval(ht(:, :, t), 2)
+      v = det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), ht(:, 4, t) - ht(:, 1, t))
+      hsg(t) = sign(1.0_wp, v)
+      hvol(t) = abs(v)/6.0_wp
+      hmom(:, t) = 0.25_wp*hvol(t)*(ht(:, 1, t) + ht(:, 2, t) + ht(:, 3, t) + ht(:, 4, t))
     end do
     lo = minval(xn, 2)
     hi = maxval(xn, 2)
+    ! an axis-aligned box (the initial grid of a global rezone): its corners'
+    ! subcells are the eight octant boxes, far fewer pieces than 48 halves
+    box = is_box(xn)
+    if (box) then
+      mid = 0.5_wp*(lo + hi)
+      do t = 1, 8
+        do j = 1, 3
+          if (btest(t - 1, j - 1)) then
+            qblo(j, t) = mid(j)
+            qbhi(j, t) = hi(j)
+          else
+            qblo(j, t) = lo(j)
+            qbhi(j, t) = mid(j)
+          end if
+        end do
+      end do
+    end if
     avol = 0.0_wp
     amom = 0.0_wp
     amass = 0.0_wp
@@ -602,19 +662,23 @@ contains
         do oi = max(1, ci - reach), min(g%ni, ci + reach)
           co = oi + g%ni*((oj - 1) + g%nj*(ok_ - 1))
           ! an unchanged old cell is all in the identical new cell
-          if (.not. old%changed(co)) cycle
-          call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
-          do j = 1, 8
-            xo(:, j) = xo(:, j) - o
+          jc = old%cidx(co)
+          if (jc == 0) cycle
+          olo = old%blo(:, jc) - o
+          ohi = old%bhi(:, jc) - o
+          if (any(ohi < lo) .or. any(olo > hi)) cycle
+          ! the old cell's planes in this cell's local coordinates
+          shift = old%xc(:, jc) - o
+          do j = 1, 24
+            pn(:, j) = old%fn(:, j, jc)
+            pd(j) = old%fd(j, jc) + dot_product(old%fn(:, j, jc), shift)
           end do
-          if (any(maxval(xo, 2) < lo) .or. any(minval(xo, 2) > hi)) cycle
-          call face_planes(xo, fn, fd, convex)
-          if (.not. convex) then
-            call hex_tets(xo, tets)
-            do t = 1, 24
-              tsg(t) = sign(1.0_wp, det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), &
-                                         tets(:, 4, t) - tets(:, 1, t)))
+          if (.not. old%convex(jc)) then
+            call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
+            do j = 1, 8
+              xo(:, j) = xo(:, j) - o
             end do
+            call cell_pieces(xo, npc, qn, qd, qsg, qlo, qhi)
           end if
           if (h%mat(co) > 0) then
             s0 = 0
@@ -646,28 +710,14 @@ contains
                 end if
               end do
             end if
-            if (convex) then
-              pn(:, 1:24) = fn
-              pd(1:24) = fd
-              np = 24 + nm
-              do t = 1, 48
-                if (any(hhi(:, t) < lo) .or. any(hlo(:, t) > hi)) cycle
-                call tet_clip_planes(ht(:, :, t), pn(:, 1:np), pd(1:np), v, m)
-                if (.not. v > 0.0_wp) cycle
-                sg = sign(1.0_wp, det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), &
-                                       ht(:, 4, t) - ht(:, 1, t)))
-                call deposit(sg*v, sg*m, hcorner(t))
-              end do
+            if (old%convex(jc)) then
+              call clip_halves(pn, pd, 24 + nm, 1.0_wp, olo, ohi)
             else
-              do i = 1, 24
-                call tet_face_planes(tets(:, :, i), pn(:, 21:24), pd(21:24))
-                do t = 1, 48
-                  call tet_clip_planes(ht(:, :, t), pn(:, 21:24 + nm), pd(21:24 + nm), v, m)
-                  if (.not. v > 0.0_wp) cycle
-                  sg = tsg(i)*sign(1.0_wp, det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), &
-                                                ht(:, 4, t) - ht(:, 1, t)))
-                  call deposit(sg*v, sg*m, hcorner(t))
-                end do
+              ! the signed union of the old cell's convex pieces
+              do i = 1, npc
+                pn(:, 21:24) = qn(:, :, i)
+                pd(21:24) = qd(:, i)
+                call clip_halves(pn(:, 21:), pd(21:), 4 + nm, qsg(i), qlo(:, i), qhi(:, i))
               end do
             end if
           end do
@@ -680,6 +730,54 @@ contains
     end do
 
   contains
+
+    !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
+    !> i = 1..np (bounding box [blo, bhi]) and deposits the fragments with
+    !> the sign sgn. Which of the 27 points of the split lie outside each
+    !> plane is found once (as tet_clip_planes tests them): a half is
+    !> rejected by a plane with all four of its points outside, taken whole
+    !> if no plane has any, else clipped by just the planes that cut it.
+    subroutine clip_halves(pn, pd, np, sgn, blo, bhi)
+      real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3)
+      integer, intent(in) :: np
+      integer :: outm(24 + max_mat), i, j, t, ncut, bits
+      real(wp) :: cn(3, 24 + max_mat), cd(24 + max_mat), v, m(3)
+
+      if (box) then
+        do t = 1, 8
+          if (any(qbhi(:, t) < blo) .or. any(qblo(:, t) > bhi)) cycle
+          call box_clip_planes(qblo(:, t), qbhi(:, t), pn(:, 1:np), pd(1:np), v, m)
+          if (v > 0.0_wp) call deposit(sgn*v, sgn*m, t)
+        end do
+        return
+      end if
+      do i = 1, np
+        outm(i) = 0
+        do j = 1, 27
+          if (pn(1, i)*pts(1, j) + pn(2, i)*pts(2, j) + pn(3, i)*pts(3, j) - pd(i) > 0.0_wp) &
+            outm(i) = ibset(outm(i), j - 1)
+        end do
+      end do
+      halves: do t = 1, 48
+        if (any(hhi(:, t) < blo) .or. any(hlo(:, t) > bhi)) cycle
+        ncut = 0
+        do i = 1, np
+          bits = iand(outm(i), tmask(t))
+          if (bits == tmask(t)) cycle halves
+          if (bits /= 0) then
+            ncut = ncut + 1
+            cn(:, ncut) = pn(:, i)
+            cd(ncut) = pd(i)
+          end if
+        end do
+        if (ncut == 0) then
+          call deposit(sgn*hsg(t)*hvol(t), sgn*hsg(t)*hmom(:, t), hcorner(t))
+        else
+          call tet_clip_planes(ht(:, :, t), cn(:, 1:ncut), cd(1:ncut), v, m)
+          if (v > 0.0_wp) call deposit(sgn*hsg(t)*v, sgn*hsg(t)*m, hcorner(t))
+        end if
+      end do halves
+    end subroutine clip_halves
 
     !> One fragment (signed volume vf, first moment mf about o) of region
     !> kreg (material kmat) of old cell co, landing in corner a.
@@ -710,28 +808,90 @@ contains
   !> The 48 half tetrahedra of a cell: each tetrahedron (centre, face centre,
   !> a, b) of the 24-split (`hex_tets`) cut at the midpoint of edge ab; the
   !> half at a belongs to corner a (six halves make a subcell, Fig. 11).
-  pure subroutine half_tets(xn, ht, corner)
+  !> They are given by their vertices hv(:,t) among the 27 points pts of the
+  !> split: 1 the centre, 1+f the centre of face f, 7+a node a, 15+e the
+  !> midpoint of edge e (the order of `hex_edges`), computed as `hex_tets`
+  !> does, so a half's volume adds up with its twin to the split's exactly.
+  pure subroutine half_tets(xn, pts, hv, corner)
     real(wp), intent(in) :: xn(3, 8)
-    real(wp), intent(out) :: ht(3, 4, 48)
-    integer, intent(out) :: corner(48)
-    real(wp) :: tets(3, 4, 24), mid(3)
-    integer :: f, mm, t
+    real(wp), intent(out) :: pts(3, 27)
+    integer, intent(out) :: hv(4, 48), corner(48)
+    integer :: f, mm, t, a, b, e, d, eid(8, 8)
 
-    call hex_tets(xn, tets)
+    do d = 1, 3
+      pts(d, 1) = 0.125_wp*sum(xn(d, :))
+    end do
+    do f = 1, 6
+      pts(:, 1 + f) = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                               (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+    end do
+    pts(:, 8:15) = xn
+    eid = 0
+    do d = 1, 3
+      do e = 1, 4
+        a = hex_edges(1, e, d)
+        b = hex_edges(2, e, d)
+        eid(a, b) = 15 + 4*(d - 1) + e
+        eid(b, a) = eid(a, b)
+        pts(:, eid(a, b)) = 0.5_wp*(xn(:, a) + xn(:, b))
+      end do
+    end do
     do f = 1, 6
       do mm = 1, 4
         t = 4*(f - 1) + mm
-        mid = 0.5_wp*(tets(:, 3, t) + tets(:, 4, t))
-        ht(:, 1:3, 2*t - 1) = tets(:, 1:3, t)
-        ht(:, 4, 2*t - 1) = mid
-        corner(2*t - 1) = hex_faces(mm, f)
-        ht(:, 1:2, 2*t) = tets(:, 1:2, t)
-        ht(:, 3, 2*t) = mid
-        ht(:, 4, 2*t) = tets(:, 4, t)
-        corner(2*t) = hex_faces(mod(mm, 4) + 1, f)
+        a = hex_faces(mm, f)
+        b = hex_faces(mod(mm, 4) + 1, f)
+        hv(:, 2*t - 1) = [1, 1 + f, 7 + a, eid(a, b)]
+        corner(2*t - 1) = a
+        hv(:, 2*t) = [1, 1 + f, eid(a, b), 7 + b]
+        corner(2*t) = b
       end do
     end do
   end subroutine half_tets
+
+  !> A non-convex cell as the signed union of its 24 tetrahedra (Fig. 7),
+  !> each given by its outward planes n(:,:,i).x <= d(:,i), its orientation
+  !> sign and bounding box (a flat one is left out). Larger convex pieces do
+  !> not help: the face pyramid of a warped face is not convex, and of its
+  !> two halves at most one is (they fold along the cell centre - face centre
+  !> line, convex on one side only).
+  pure subroutine cell_pieces(xn, npc, n, d, sgn, lo, hi)
+    real(wp), intent(in) :: xn(3, 8)
+    integer, intent(out) :: npc
+    real(wp), intent(out) :: n(3, 4, 24), d(4, 24), sgn(24), lo(3, 24), hi(3, 24)
+    real(wp) :: tets(3, 4, 24), v
+    integer :: t
+
+    call hex_tets(xn, tets)
+    npc = 0
+    do t = 1, 24
+      v = det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), tets(:, 4, t) - tets(:, 1, t))
+      if (.not. abs(v) > 0.0_wp) cycle
+      npc = npc + 1
+      call tet_face_planes(tets(:, :, t), n(:, :, npc), d(:, npc))
+      sgn(npc) = sign(1.0_wp, v)
+      lo(:, npc) = minval(tets(:, :, t), 2)
+      hi(:, npc) = maxval(tets(:, :, t), 2)
+    end do
+  end subroutine cell_pieces
+
+  !> True if the hex xn is an axis-aligned box (its nodes take just two
+  !> values in each coordinate, in the corner order of `hex_corner`).
+  pure logical function is_box(xn)
+    real(wp), intent(in) :: xn(3, 8)
+    integer :: a, d
+    is_box = .true.
+    do a = 2, 8
+      do d = 1, 3
+        if (btest(a - 1, d - 1)) then
+          is_box = is_box .and. .not. abs(xn(d, a) - xn(d, 8)) > 0.0_wp
+        else
+          is_box = is_box .and. .not. abs(xn(d, a) - xn(d, 1)) > 0.0_wp
+        end if
+      end do
+    end do
+    is_box = is_box .and. all(xn(:, 8) > xn(:, 1))
+  end function is_box
 
   !> The outward planes n.x <= d of the 24 triangles (face centre, a, b) of
   !> the cell's surface (Fig. 7), and whether the cell is convex: every node
