@@ -120,6 +120,28 @@ program test_remap_euler
                all(abs(h%u(:, node(6, 5, 4)) - u0(:, node(6, 5, 4))) <= 0.0_wp), 'nodes among unchanged cells keep u')
   end block
 
+  ! 5. to the box grid (the global rezone's target: new cells split into
+  ! octant boxes instead of half tetrahedra): the same properties
+  call make_grid(xb, 23, 0.0_wp)
+  call cell_moments(ni, nj, nk, xb, vb, cb)
+  call setup(xa, 'linear')
+  call hydro_totals(h, m0, p0, ie0, ke0)
+  call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
+  call hydro_totals(h, m1, p1, ie1, ke1)
+  call check(.not. allocated(err) .and. abs(m1 - m0) <= 1e-13_wp*m0 .and. norm2(p1 - p0) <= 1e-13_wp*norm2(p0) .and. &
+             abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'to the box grid: conservation to 1e-13')
+  err_max = 0.0_wp
+  do c = 1, nc
+    if (deep(c)) err_max = max(err_max, abs(h%rho(c) - (lin(1) + dot_product(lin(2:4), cb(:, c)))))
+  end do
+  write(*, '(a,es10.3)') 'to the box grid: linear density, largest error in deep cells ', err_max
+  call check(err_max < 1e-12_wp, 'to the box grid: linear density reproduced exactly')
+  call setup(xa, 'plane')
+  call remap_euler_step(g, h, mx, 2, bc, xb, par, st, err)
+  err_max = plane_error()
+  write(*, '(a,es10.3)') 'to the box grid: plane, largest volume-fraction error ', err_max
+  call check(.not. allocated(err) .and. err_max < 1e-9_wp, 'to the box grid: plane interface exact')
+
   call check_summary('test_remap_euler')
 
 contains
@@ -189,11 +211,9 @@ contains
     character(len=*), intent(in) :: kind
     real(wp) :: xn(3, 8), vsub(8), v1, c1(3), vol(nc), cen(3, nc), vcell
     integer :: cc, a, nmix, s
-    type(hydro_t) :: h_empty
-    type(mixed_t) :: mx_empty
 
-    h = h_empty
-    mx = mx_empty
+    h = hydro_t()
+    mx = mixed_t()
 
     call grid_init_box(g, ni, nj, nk, [0.0_wp, 0.0_wp, 0.0_wp], [1.2_wp, 1.0_wp, 0.8_wp], err)
     g%x = x
