@@ -87,8 +87,12 @@ contains
     end if
     call run%t_euler%stop()
 
+    ! what came in and went out through open faces is external work
+    run%tot%boundary_work = run%tot%boundary_work + st%energy_in - st%energy_out
     call hydro_totals(run%h, m1, p1, ie1, ke1)
-    dp = p1 - p0 + st%momentum_constrained
+    m1 = m1 - st%mass_in + st%mass_out
+    ie1 = ie1 - st%energy_in + st%energy_out
+    dp = p1 - p0 + st%momentum_constrained - st%momentum_in + st%momentum_out
     write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled)", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
@@ -103,6 +107,11 @@ contains
       norm2(dp)/max(pscale, tiny(1.0_wp)), abs(ie1 + ke1 - ie0 - ke0)/max(abs(ie0 + ke0), tiny(1.0_wp)), &
       st%momentum_constrained
     call log_line(trim(line))
+    if (st%mass_in > 0.0_wp .or. abs(st%mass_out) > 0.0_wp) then
+      write(line, '("  open faces: mass in ",es12.5," out ",es12.5,"; energy in ",es12.5," out ",es12.5)') &
+        st%mass_in, st%mass_out, st%energy_in, st%energy_out
+      call log_line(trim(line))
+    end if
     run%euler_cells = run%euler_cells + st%cells_remapped
     run%euler_mof = run%euler_mof + st%mof_cells
     run%euler_mof_iterations = run%euler_mof_iterations + st%mof_iterations

@@ -101,6 +101,13 @@ contains
       run%bc%kind = cfg%bc_kind
       run%bc%velocity = cfg%bc_velocity
       run%bc%pressure = cfg%bc_pressure
+      do m = 1, 6
+        if (cfg%bc_inflow_mat(m) == 0) cycle
+        run%bc%inflow_mat(m) = cfg%bc_inflow_mat(m)
+        run%bc%inflow_rho(m) = cfg%bc_inflow_density(m)
+        run%bc%inflow_e(m) = run%mats(cfg%bc_inflow_mat(m))%eos%energy(cfg%bc_inflow_density(m), &
+                                                                      cfg%bc_inflow_pressure(m))
+      end do
       call bc_init(run%bc, g, err)
       if (allocated(err)) call fatal(err%where, err%msg)
       ! the boundary conditions hold from t = 0

@@ -97,6 +97,9 @@ module io_input
     ! &boundary
     integer :: bc_kind(6) = 1
     real(wp) :: bc_velocity(3, 6) = 0.0_wp, bc_pressure(6) = 0.0_wp
+    ! inflow state per face (kind 'inflow'): material index, density, pressure
+    integer :: bc_inflow_mat(6) = 0
+    real(wp) :: bc_inflow_density(6) = 0.0_wp, bc_inflow_pressure(6) = 0.0_wp
     ! &rezone
     type(rezone_cfg_t) :: rezone
     ! &output
@@ -446,11 +449,13 @@ contains
     real(wp) :: xlo_velocity(3), xhi_velocity(3), ylo_velocity(3), yhi_velocity(3), &
                 zlo_velocity(3), zhi_velocity(3)
     real(wp) :: xlo_pressure, xhi_pressure, ylo_pressure, yhi_pressure, zlo_pressure, zhi_pressure
-    integer :: ios, f
+    character(len=64) :: inflow_material(6)
+    real(wp) :: inflow_density(6), inflow_pressure(6)
+    integer :: ios, f, m
     character(len=max_line) :: msg
     namelist /boundary/ xlo, xhi, ylo, yhi, zlo, zhi, xlo_velocity, xhi_velocity, ylo_velocity, &
       yhi_velocity, zlo_velocity, zhi_velocity, xlo_pressure, xhi_pressure, ylo_pressure, &
-      yhi_pressure, zlo_pressure, zhi_pressure
+      yhi_pressure, zlo_pressure, zhi_pressure, inflow_material, inflow_density, inflow_pressure
 
     xlo = 'symmetry'; xhi = 'symmetry'; ylo = 'symmetry'; yhi = 'symmetry'
     zlo = 'symmetry'; zhi = 'symmetry'
@@ -458,6 +463,7 @@ contains
     yhi_velocity = 0.0_wp; zlo_velocity = 0.0_wp; zhi_velocity = 0.0_wp
     xlo_pressure = 0.0_wp; xhi_pressure = 0.0_wp; ylo_pressure = 0.0_wp
     yhi_pressure = 0.0_wp; zlo_pressure = 0.0_wp; zhi_pressure = 0.0_wp
+    inflow_material = ''; inflow_density = 0.0_wp; inflow_pressure = 0.0_wp
     if (group_count(lines, 'boundary') > 0) then
       rewind(unit)
       read(unit, nml=boundary, iostat=ios, iomsg=msg)
@@ -475,6 +481,27 @@ contains
     do f = 1, 6
       if (cfg%bc_pressure(f) < 0.0_wp) call add(problems, &
         bad('boundary', face_names(f)//'_pressure', cfg%bc_pressure(f), 'must be >= 0'))
+    end do
+    ! the inflow state of each inflow face (arrays indexed by face: 1 xlo,
+    ! 2 xhi, 3 ylo, 4 yhi, 5 zlo, 6 zhi)
+    cfg%bc_inflow_density = inflow_density
+    cfg%bc_inflow_pressure = inflow_pressure
+    cfg%bc_inflow_mat = 0
+    do f = 1, 6
+      if (kinds(f) /= 'inflow') cycle
+      m = 0
+      if (allocated(cfg%materials)) then
+        do m = size(cfg%materials), 1, -1
+          if (cfg%materials(m)%name == inflow_material(f)) exit
+        end do
+      end if
+      cfg%bc_inflow_mat(f) = m
+      if (m == 0) call add(problems, '&boundary: inflow_material('//itoa(f)//') = '''// &
+        trim(inflow_material(f))//''' is not a &material name (face '//face_names(f)//' is an inflow)')
+      if (.not. (inflow_density(f) > 0.0_wp)) call add(problems, bad('boundary', 'inflow_density('// &
+        itoa(f)//')', inflow_density(f), 'must be > 0 on an inflow face'))
+      if (.not. (inflow_pressure(f) >= 0.0_wp)) call add(problems, bad('boundary', 'inflow_pressure('// &
+        itoa(f)//')', inflow_pressure(f), 'must be >= 0'))
     end do
     write(echo, nml=boundary)
   end subroutine read_boundary
@@ -630,6 +657,11 @@ contains
       call diff_i(changes, '&boundary '//face_names(f), old%bc_kind(f), new%bc_kind(f))
       call diff_r(changes, '&boundary '//face_names(f)//'_velocity', old%bc_velocity(:, f), new%bc_velocity(:, f))
       call diff_r(changes, '&boundary '//face_names(f)//'_pressure', [old%bc_pressure(f)], [new%bc_pressure(f)])
+      call diff_r(changes, '&boundary inflow_density('//itoa(f)//')', [old%bc_inflow_density(f)], &
+                  [new%bc_inflow_density(f)])
+      call diff_r(changes, '&boundary inflow_pressure('//itoa(f)//')', [old%bc_inflow_pressure(f)], &
+                  [new%bc_inflow_pressure(f)])
+      call diff_i(changes, '&boundary inflow_material('//itoa(f)//')', old%bc_inflow_mat(f), new%bc_inflow_mat(f))
     end do
   end subroutine input_state_changes
 

@@ -55,7 +55,7 @@ contains
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
-    call bc_pressure_forces(bc, g, g%x)
+    call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%u, h, par)
     call update_nodes(g, h, dt, 0.5_wp*dt)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred)
@@ -65,7 +65,7 @@ contains
 
     ! corrector
     call lagrange_strain_rates(g, g%x, h%uh, h, par, dt_stable)
-    call bc_pressure_forces(bc, g, g%x)
+    call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%uh, h, par)
     call update_nodes(g, h, dt, dt)
     call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work)

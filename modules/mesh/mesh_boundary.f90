@@ -15,19 +15,30 @@ module mesh_boundary
   implicit none
   private
   public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, &
-            BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, bc_kind_from_name, bc_kind_names
+            BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, BC_INFLOW, BC_OUTFLOW, bc_kind_from_name, &
+            bc_kind_names, bc_open_face
 
   integer, parameter :: BC_SYMMETRY = 1, BC_WALL = 2, BC_VELOCITY = 3, BC_PRESSURE = 4
+  !> Open faces of a grid that the Euler phase brings back to its initial
+  !> place: material enters through an inflow face (the face moves with the
+  !> prescribed velocity in the Lagrangian phase; the remap fills the gap
+  !> with the inflow state) and leaves through an outflow face (held by the
+  !> pressure of the cell next to it, so it moves with the flow; the remap
+  !> removes what lies beyond it and fills any gap with the next cell's state).
+  integer, parameter :: BC_INFLOW = 5, BC_OUTFLOW = 6
   !> Axis normal to each face.
   integer, parameter :: face_axis(6) = [1, 1, 2, 2, 3, 3]
   !> Names of the kinds as written in decks, in kind order.
-  character(len=*), parameter :: bc_kind_names = 'symmetry, wall, velocity, pressure'
+  character(len=*), parameter :: bc_kind_names = 'symmetry, wall, velocity, pressure, inflow, outflow'
 
   !> Boundary conditions and the list of boundary nodes they act on.
   type :: bc_t
     integer :: kind(6) = BC_SYMMETRY
     real(wp) :: velocity(3, 6) = 0.0_wp   !< prescribed velocity per face
     real(wp) :: pressure(6) = 0.0_wp      !< external pressure per face
+    ! inflow state per face (BC_INFLOW): material, density, specific energy
+    integer :: inflow_mat(6) = 0
+    real(wp) :: inflow_rho(6) = 0.0_wp, inflow_e(6) = 0.0_wp
     integer :: nb = 0                     !< number of boundary nodes
     integer, allocatable :: node(:)       !< boundary node indices (nb)
     integer, allocatable :: mask(:)       !< bit f-1 set if the node lies on face f
@@ -46,6 +57,8 @@ contains
     case ('wall'); bc_kind_from_name = BC_WALL
     case ('velocity'); bc_kind_from_name = BC_VELOCITY
     case ('pressure'); bc_kind_from_name = BC_PRESSURE
+    case ('inflow'); bc_kind_from_name = BC_INFLOW
+    case ('outflow'); bc_kind_from_name = BC_OUTFLOW
     case default; bc_kind_from_name = 0
     end select
   end function bc_kind_from_name
@@ -83,7 +96,7 @@ contains
       end do
     end do
     bc%fext = 0.0_wp
-    bc%any_pressure = any(bc%kind == BC_PRESSURE)
+    bc%any_pressure = any(bc%kind == BC_PRESSURE .or. bc%kind == BC_OUTFLOW)
     if (bc%any_pressure) then
       allocate(bc%bindex(g%nnode), stat=stat, errmsg=msg)
       if (stat /= 0) then
@@ -97,19 +110,21 @@ contains
     end if
   end subroutine bc_init
 
-  !> External pressure forces on the nodes of pressure faces, from the node
-  !> positions x at force time: each quad gives -p_ext A_out/4 to its nodes.
-  subroutine bc_pressure_forces(bc, g, x)
+  !> External pressure forces on the nodes of pressure and outflow faces,
+  !> from the node positions x at force time: each quad gives -p_ext A_out/4
+  !> to its nodes; p_ext is the face's pressure, or on an outflow face the
+  !> pressure p of the cell next to the quad (no pressure jump across it).
+  subroutine bc_pressure_forces(bc, g, x, p)
     type(bc_t), intent(inout) :: bc
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: x(:, :)
+    real(wp), intent(in) :: x(:, :), p(:)
     integer :: f, axis, i1, i2, n1, n2, nq(4), q
-    real(wp) :: a(3), sgn
+    real(wp) :: a(3), sgn, pext
 
     if (.not. bc%any_pressure) return
     bc%fext = 0.0_wp
     do f = 1, 6
-      if (bc%kind(f) /= BC_PRESSURE) cycle
+      if (bc%kind(f) /= BC_PRESSURE .and. bc%kind(f) /= BC_OUTFLOW) cycle
       axis = face_axis(f)
       sgn = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
       select case (axis)
@@ -122,9 +137,11 @@ contains
           nq = quad_nodes(g, f, i1, i2)
           a = 0.5_wp*cross(x(:, nq(3)) - x(:, nq(1)), x(:, nq(4)) - x(:, nq(2)))
           if (sgn*a(axis) < 0.0_wp) a = -a
+          pext = bc%pressure(f)
+          if (bc%kind(f) == BC_OUTFLOW) pext = p(quad_cell(g, f, i1, i2))
           do q = 1, 4
             associate (b => bc%bindex(nq(q)))
-              bc%fext(:, b) = bc%fext(:, b) - 0.25_wp*bc%pressure(f)*a
+              bc%fext(:, b) = bc%fext(:, b) - 0.25_wp*pext*a
             end associate
           end do
         end do
@@ -151,6 +168,34 @@ contains
     end select
   end function quad_nodes
 
+  !> The cell next to boundary quad (i1,i2) of face f.
+  pure integer function quad_cell(g, f, i1, i2) result(c)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: f, i1, i2
+    select case (f)
+    case (1, 2)
+      c = merge(1, g%ni, f == 1) + g%ni*(i1 + g%nj*i2)
+    case (3, 4)
+      c = 1 + i1 + g%ni*(merge(0, g%nj - 1, f == 3) + g%nj*i2)
+    case default
+      c = 1 + i1 + g%ni*(i2 + g%nj*merge(0, g%nk - 1, f == 5))
+    end select
+  end function quad_cell
+
+  !> The first open (inflow or outflow) face that cell (ci,cj,ck) of grid g
+  !> touches, 0 if none.
+  pure integer function bc_open_face(bc, g, ci, cj, ck) result(f)
+    type(bc_t), intent(in) :: bc
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: ci, cj, ck
+    logical :: on(6)
+    on = [ci == 1, ci == g%ni, cj == 1, cj == g%nj, ck == 1, ck == g%nk]
+    do f = 1, 6
+      if (on(f) .and. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) return
+    end do
+    f = 0
+  end function bc_open_face
+
   !> Applies the kinematic conditions to the velocities u(3, nnode) of all
   !> boundary nodes (used on the initial state).
   subroutine bc_constrain(bc, u)
@@ -171,7 +216,7 @@ contains
     real(wp), intent(inout) :: u(3)
     integer :: f
     do f = 1, 6
-      if (btest(mask, f - 1) .and. bc%kind(f) == BC_VELOCITY) u = bc%velocity(:, f)
+      if (btest(mask, f - 1) .and. (bc%kind(f) == BC_VELOCITY .or. bc%kind(f) == BC_INFLOW)) u = bc%velocity(:, f)
     end do
     do f = 1, 6
       if (.not. btest(mask, f - 1)) cycle

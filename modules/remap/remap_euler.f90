@@ -61,7 +61,7 @@ module remap_euler
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, block_gather
   use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_subcell_volumes, hex_trilinear, hex_natural, cross
-  use mesh_boundary, only: bc_t, bc_constrain
+  use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t
   use remap_polyhedron, only: hex_tets, tet_clip_planes, box_clip_planes
@@ -104,6 +104,10 @@ module remap_euler
     integer :: regions_rescaled = 0   !< old regions not covered entirely, remapped scaled
     real(wp) :: ke_to_internal = 0.0_wp   !< kinetic energy returned to internal energy
     real(wp) :: momentum_constrained(3) = 0.0_wp  !< momentum the velocity conditions removed
+    ! through open faces (inflow, outflow): what came in and went out
+    real(wp) :: mass_in = 0.0_wp, mass_out = 0.0_wp
+    real(wp) :: momentum_in(3) = 0.0_wp, momentum_out(3) = 0.0_wp
+    real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
   end type remap_stats_t
 
@@ -152,8 +156,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(old_t) :: old
     real(wp), allocatable :: msub(:, :), avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
-                             cmass(:, :), cmom(:, :, :), cke(:, :)
-    integer, allocatable :: todo(:), reach(:)
+                             cmass(:, :), cmom(:, :, :), cke(:, :), cdef(:, :)
+    integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8)
     integer :: ncell, c, co, r, i, nbad, stat
@@ -166,13 +170,17 @@ contains
     end if
     w0 = wall_seconds()
     allocate(msub(8, ncell), avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
-             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), reach(ncell), redo(ncell), &
+             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cdef(8, ncell), reach(ncell), &
+             redo(ncell), open_face(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
       return
     end if
     call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
+    do c = 1, ncell
+      open_face(c) = bc_open_face(bc, g, 1 + mod(c - 1, g%ni), 1 + mod((c - 1)/g%ni, g%nj), 1 + (c - 1)/(g%ni*g%nj))
+    end do
     stats%t_prepare = wall_seconds() - w0
 
     ! intersect every changed new cell, widening the window where the
@@ -192,6 +200,8 @@ contains
                           1 + (c - 1)/(g%ni*g%nj), xnew, xn)
         vnew = hex_volume(xn)
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
+        ! next to an open face a gap is expected (filled below)
+        if (open_face(c) > 0) defect = 0.0_wp
         if (defect > 1.0e-9_wp .and. r < max_reach) then
           nbad = nbad + 1
           todo(nbad) = c
@@ -220,6 +230,10 @@ contains
     ! to the new cells they do overlap
     do c = 1, size(old%vreg)
       if (old%vreg(c) <= 0.0_wp) cycle
+      ! what lies beyond an open face has left the domain
+      co = c
+      if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
+      if (open_face(co) > 0) cycle
       stats%given_defect = max(stats%given_defect, abs(old%given(c) - old%vreg(c))/old%vreg(c))
       if (abs(old%given(c) - old%vreg(c)) <= uncovered_tol*old%vreg(c)) cycle
       if (.not. old%given(c) > 0.0_wp) then
@@ -245,10 +259,12 @@ contains
       call intersect_cells(todo, stats%reach, 0.0_wp)
     end if
     stats%t_intersect = wall_seconds() - w0
+    call unchanged_corners(g, h, old, msub, cmass, cmom, cke)
+    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, &
+                                            cmass, cmom, cke, stats)
 
     w0 = wall_seconds()
-    call assemble(g, h, mx, nmat, bc, old, xnew, par, msub, avol, amom, amass, aie, cmass, cmom, cke, &
-                  stats, err)
+    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, stats, err)
     stats%t_assemble = wall_seconds() - w0
 
   contains
@@ -262,11 +278,11 @@ contains
       integer :: ii, nn
       nn = size(cells)
       !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
-      !$omp amass, aie, cmass, cmom, cke) private(ii) schedule(dynamic, 4)
+      !$omp amass, aie, cmass, cmom, cke, cdef) private(ii) schedule(dynamic, 4)
       do ii = 1, nn
         call remap_new_cell(g, h, mx, old, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
                             amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), cmass(:, cells(ii)), &
-                            cmom(:, :, cells(ii)), cke(:, cells(ii)))
+                            cmom(:, :, cells(ii)), cke(:, cells(ii)), cdef(:, cells(ii)))
       end do
       !$omp end parallel do
     end subroutine intersect_cells
@@ -590,7 +606,7 @@ contains
   !> energy that land in it, per corner the nodal mass, momentum and
   !> kinetic energy.
   subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, cmass, &
-                            cmom, cke)
+                            cmom, cke, cdef)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
@@ -600,6 +616,8 @@ contains
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
     real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), cmass(:), cmom(:, :), cke(:)
+    !> per corner: its volume less what the old grid gave it (a gap at an open face)
+    real(wp), intent(out) :: cdef(:)
     real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3), ohi(3), shift(3), pn(3, 24 + max_mat), pd(24 + max_mat), &
                 v, pts(3, 27), qn(3, 4, 24), qd(4, 24), qsg(24), qlo(3, 24), qhi(3, 24), mid(3), &
@@ -657,6 +675,16 @@ contains
     cmass = 0.0_wp
     cmom = 0.0_wp
     cke = 0.0_wp
+    cdef = 0.0_wp
+    if (box) then
+      do t = 1, 8
+        cdef(t) = product(qbhi(:, t) - qblo(:, t))
+      end do
+    else
+      do t = 1, 48
+        cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
+      end do
+    end if
     do ok_ = max(1, ck - reach), min(g%nk, ck + reach)
       do oj = max(1, cj - reach), min(g%nj, cj + reach)
         do oi = max(1, ci - reach), min(g%ni, ci + reach)
@@ -790,6 +818,7 @@ contains
       fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
       fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
       avol(kmat) = avol(kmat) + vf
+      cdef(a) = cdef(a) - vf
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
       aie(kmat) = aie(kmat) + fie
@@ -942,10 +971,120 @@ contains
 
   ! ------------------------------------------------------------ assembly
 
+  !> The corners of unchanged cells pass on the old subcell mass, momentum
+  !> and kinetic energy.
+  subroutine unchanged_corners(g, h, old, msub, cmass, cmom, cke)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(old_t), intent(in) :: old
+    real(wp), intent(in) :: msub(:, :)
+    real(wp), intent(inout) :: cmass(:, :), cmom(:, :, :), cke(:, :)
+    integer :: c, n, a
+    do c = 1, g%ncell
+      if (old%changed(c)) cycle
+      n = g%node0(c)
+      do a = 1, 8
+        cmass(a, c) = msub(a, c)
+        cmom(:, a, c) = msub(a, c)*h%u(:, n + g%corner_offset(a))
+        cke(a, c) = 0.5_wp*msub(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
+      end do
+    end do
+  end subroutine unchanged_corners
+
+  !> Open faces. What the old grid had beyond them has left: the outflow is
+  !> the old totals less what the new cells received. The gap between an
+  !> open face and the Lagrangian boundary that moved in from it is filled,
+  !> corner by corner, with the face's inflow state, or at an outflow face
+  !> with the state of the old cell next to it (its largest material, its
+  !> velocity): zero-gradient extrapolation. The gap's centroid is taken as
+  !> the new cell's centre (it only steers MoF in mixed boundary cells).
+  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmass, cmom, cke, &
+                        stats)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(bc_t), intent(in) :: bc
+    type(old_t), intent(in) :: old
+    real(wp), intent(in) :: xnew(:, :), cdef(:, :)
+    integer, intent(in) :: open_face(:)
+    real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
+                               cke(:, :)
+    type(remap_stats_t), intent(inout) :: stats
+    real(wp) :: m_old, p_old(3), e_old, m_new, p_new(3), e_new, xn(3, 8), vcell, rho, e, u(3), dm
+    integer :: c, n, a, f, k, ks
+
+    ! outflow: old totals less what was received
+    m_old = sum(h%mass)
+    e_old = dot_product(h%mass, h%e)
+    p_old = 0.0_wp
+    do n = 1, g%nnode
+      p_old = p_old + h%mnode(n)*h%u(:, n)
+      e_old = e_old + 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2)
+    end do
+    m_new = 0.0_wp
+    e_new = 0.0_wp
+    p_new = 0.0_wp
+    do c = 1, g%ncell
+      if (old%changed(c)) then
+        m_new = m_new + sum(amass(:, c))
+        e_new = e_new + sum(aie(:, c))
+      else
+        m_new = m_new + h%mass(c)
+        e_new = e_new + h%mass(c)*h%e(c)
+      end if
+      e_new = e_new + sum(cke(:, c))
+      do a = 1, 8
+        p_new = p_new + cmom(:, a, c)
+      end do
+    end do
+    stats%mass_out = m_old - m_new
+    stats%momentum_out = p_old - p_new
+    stats%energy_out = e_old - e_new
+
+    ! inflow: fill the gaps
+    do c = 1, g%ncell
+      f = open_face(c)
+      if (f == 0 .or. .not. old%changed(c)) cycle
+      call g%gather(c, xnew, xn)
+      vcell = hex_volume(xn)
+      if (bc%kind(f) == BC_INFLOW) then
+        k = bc%inflow_mat(f)
+        rho = bc%inflow_rho(f)
+        e = bc%inflow_e(f)
+        u = bc%velocity(:, f)
+      else if (h%mat(c) > 0) then
+        k = h%mat(c)
+        rho = old%rho(c)
+        e = old%e(c)
+        u = old%uo(:, c)
+      else
+        ks = mx%start(-h%mat(c)) - 1 + maxloc(mx%vf(mx%start(-h%mat(c)):mx%start(-h%mat(c) + 1) - 1), 1)
+        k = mx%mat(ks)
+        rho = old%rho(g%ncell + ks)
+        e = old%e(g%ncell + ks)
+        u = old%uo(:, c)
+      end if
+      do a = 1, 8
+        ! a gap of round-off size is no gap
+        if (.not. cdef(a, c) > 1.0e-12_wp*vcell) cycle
+        dm = rho*cdef(a, c)
+        avol(k, c) = avol(k, c) + cdef(a, c)
+        amom(:, k, c) = amom(:, k, c) + cdef(a, c)*sum(xn, 2)/8.0_wp
+        amass(k, c) = amass(k, c) + dm
+        aie(k, c) = aie(k, c) + dm*e
+        cmass(a, c) = cmass(a, c) + dm
+        cmom(:, a, c) = cmom(:, a, c) + dm*u
+        cke(a, c) = cke(a, c) + 0.5_wp*dm*dot_product(u, u)
+        stats%mass_in = stats%mass_in + dm
+        stats%momentum_in = stats%momentum_in + dm*u
+        stats%energy_in = stats%energy_in + dm*(e + 0.5_wp*dot_product(u, u))
+      end do
+    end do
+  end subroutine open_faces
+
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
-  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, msub, avol, amom, amass, aie, cmass, cmom, cke, &
-                      stats, err)
+  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, stats, err)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -954,7 +1093,6 @@ contains
     type(old_t), intent(in) :: old
     real(wp), intent(in) :: xnew(:, :)
     type(remap_params_t), intent(in) :: par
-    real(wp), intent(in) :: msub(:, :)
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
     type(remap_stats_t), intent(inout) :: stats
@@ -968,17 +1106,6 @@ contains
     logical :: keep(max_mat)
 
     ncell = g%ncell
-    ! unchanged cells: their corners pass on the old subcell values
-    do c = 1, ncell
-      if (old%changed(c)) cycle
-      n = g%node0(c)
-      do a = 1, 8
-        cmass(a, c) = msub(a, c)
-        cmom(:, a, c) = msub(a, c)*h%u(:, n + g%corner_offset(a))
-        cke(a, c) = 0.5_wp*msub(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
-      end do
-    end do
-
     ! materials of the changed cells: merge slivers into the largest
     allocate(nmix(ncell), ie(ncell))
     nmix = 0
