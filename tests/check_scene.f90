@@ -18,6 +18,8 @@
 !>       last tenth before the shock (its smeared front) are left out.
 !>   check_scene still FRAME TOL
 !>       every node speed is at most TOL (an equilibrium must stay at rest).
+!>   check_scene uniform FRAME RHO TOL
+!>       every cell density is within TOL of RHO (a uniform state must stay so).
 !>
 !>   check_scene positive FRAME
 !>       every cell pressure is positive.
@@ -99,6 +101,11 @@ program check_scene
     d = maxval(abs(fr%velocity))
     write(*, '(a,es10.3,a,es10.3)') 'largest velocity component ', d, ', tolerance ', tol
     if (.not. (d <= tol)) call check_fail('the equilibrium moved')
+  case ('uniform')
+    tol = arg_real(4)
+    d = maxval(abs(fr%density - arg_real(3)))
+    write(*, '(a,es10.3,a,es10.3)') 'largest density deviation ', d, ', tolerance ', tol
+    if (.not. (d <= tol)) call check_fail('the uniform state changed')
   case ('volume')
     block
       use check_support, only: frame_field
