@@ -67,6 +67,7 @@ module remap_euler
   use remap_polyhedron, only: hex_tets, tet_clip_planes, box_clip_planes
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
+  use remap_cells, only: cell_moments
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_euler_step
@@ -340,10 +341,10 @@ contains
     type(remap_stats_t), intent(inout) :: stats
     real(wp), allocatable :: wnode(:), q(:, :), pos(:, :), grad(:, :, :)
     logical, allocatable :: has(:), need(:)
-    real(wp) :: xn(3, 8), vsub(8), tets(3, 4, 24), v, m(3), vt, mo, mm(3), a(3, 3), b(3, 3), &
+    real(wp) :: xn(3, 8), vsub(8), v, m(3), mo, mm(3), a(3, 3), b(3, 3), &
                 vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), errc(max_mat), xa(3), &
                 vreg(max_mat), errmax
-    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, t, its(max_mat), ncell, nreg, kmat, j, big, &
+    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, kmat, j, big, &
                nmof, nits, nfail, nchg
     type(mof_pieces_t) :: pcs
     logical :: ok
@@ -434,13 +435,15 @@ contains
     end do
     !$omp end parallel do
 
-    ! regions: pure cells whole; mixed cells that moved cut by MoF
+    ! regions: pure cells whole (the split's volume and centroid); mixed
+    ! cells that moved cut by MoF
+    call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell))
     nmof = 0
     nits = 0
     nfail = 0
     errmax = 0.0_wp
     !$omp parallel do default(none) shared(g, h, mx, old, par, ncell) &
-    !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, t, xn, tets, v, m, vt, vf, cref, pn, pd, errc, its, ok, &
+    !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, xn, v, m, vf, cref, pn, pd, errc, its, ok, &
     !$omp pcs, j, vreg, big) reduction(+: nmof, nits, nfail) reduction(max: errmax) collapse(2) &
     !$omp schedule(dynamic, 16)
     do ck = 1, g%nk
@@ -448,17 +451,7 @@ contains
         do ci = 1, g%ni
           c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
           call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
-          call hex_tets(xn, tets)
-          v = 0.0_wp
-          m = 0.0_wp
-          do t = 1, 24
-            vt = det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), &
-                      tets(:, 4, t) - tets(:, 1, t))/6.0_wp
-            v = v + vt
-            m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
-          end do
-          old%xr(:, c) = m/v
-          old%vreg(c) = v
+          v = old%vreg(c)
           old%rho(c) = h%mass(c)/v
           old%e(c) = h%e(c)
           old%xm(:, c) = old%xr(:, c)
