@@ -1,0 +1,795 @@
+!> Mesh smoothing kernels of the combined smoothing step (Sect. 5.3): the
+!> modified GETMe (Eqs. 49-50), the weighted average (Eq. 52), the original
+!> GETMe of Vartziotis et al. (Eqs. 47-48, for comparison), their combination
+!> iterated to a quality target (Sect. 5.3.2, Q of Eq. 46) and transfinite
+!> interpolation of a cuboid index box (Eq. 53, the fallback).
+!>
+!> Which nodes move is said in two steps. A mobility (`smooth_mobility_t`)
+!> gives every node of an ni x nj x nk block a kind: fixed, free, or sliding
+!> in a plane (unit normal `dir`) or along a line (unit direction `dir`).
+!> `smooth_mobility_box` builds the rules of the paper (Sect. 5.3.2) for a
+!> block whose boundary is the domain's: face nodes slide in their face,
+!> edge nodes along their edge, corners stay; nodes of `frozen` cells (cells
+!> holding solid particles, Fig. 4f) never move. A region
+!> (`smooth_region_t`, from `smooth_region_init`) then takes a mask of the
+!> active cells (the subdomains, or the whole block): a node moves only if
+!> its mobility allows it and every cell of the block around it is active,
+!> so the nodes on the border of the active cells stay where they are and
+!> cells outside are never touched. The region holds the lists of active
+!> cells and movable nodes and the work arrays, allocated once; the passes
+!> then allocate nothing.
+!>
+!> Every pass takes x(3, (ni+1)(nj+1)(nk+1)), the positions of all nodes of
+!> the block (length, numbered as in `mesh_grid`), and updates it in place.
+!> It is Jacobi-style: first a loop over the active cells computes,
+!> from the old positions, what each cell proposes for its nodes; then a
+!> loop over the movable nodes replaces each node by the average of the
+!> proposals of its cells and applies its constraint. No node reads another
+!> node's new position, so the result does not depend on the thread count.
+!> Constraints act on the displacement (d - n (n.d) in a plane, t (t.d) along
+!> a line), so for axis-aligned planes and lines the fixed coordinates are
+!> kept bit for bit.
+!>
+!> Boundary nodes (Sect. 5.3.2): the paper moves face nodes by the 2D
+!> versions of the smoothers (Eqs. 51-52) and edge nodes to the arithmetic
+!> mean of their neighbours along the edge. Here a face or edge node takes
+!> the same 3D proposal as an inner node (the mean over its 4 or 2 cells),
+!> projected onto its face or edge: only the tangential part is used, which
+!> plays the part of the 2D (1D) smoother, the face (edge) coordinates are
+!> kept exactly, and the uniform grid stays a fixed point.
+!>
+!> Use: smooth_mobility_box once per block (and again when frozen cells
+!> change), smooth_region_init per set of subdomains (active = the
+!> smoothing cells, e.g. rezone_subdomains' cell_smooth), smooth_combined,
+!> then smooth_tfi on the merged cuboids if Q_min is still below target.
+module rezone_smooth
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, cross
+  use rezone_quality, only: hex_quality
+  implicit none
+  private
+  public :: node_fixed, node_free, node_plane, node_line
+  public :: smooth_mobility_t, smooth_region_t
+  public :: smooth_mobility_box, smooth_region_init
+  public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
+  public :: smooth_combined, smooth_q_min, smooth_tfi
+  public :: hex_centroid, hex_cube_target, hex_getme_target, getme_b_default
+  public :: hex_min_tet_volume, hex_min_corner_jacobian
+
+  !> Node kinds of a mobility: never moves, moves freely, slides in the
+  !> plane through it with unit normal `dir`, slides along the line through
+  !> it with unit direction `dir`.
+  integer, parameter :: node_fixed = 0, node_free = 1, node_plane = 2, node_line = 3
+
+  !> Scaling factor b of Eq. (48) that maps a cube onto itself before the
+  !> size correction: (2/3) 3^(1/4).
+  real(wp), parameter :: getme_b_default = (2.0_wp/3.0_wp)*3.0_wp**0.25_wp
+
+  !> How each node of an ni x nj x nk block may move.
+  type :: smooth_mobility_t
+    integer :: ni = 0, nj = 0, nk = 0
+    integer, allocatable :: kind(:)        !< (nnode) node_fixed, node_free, node_plane or node_line
+    real(wp), allocatable :: dir(:, :)     !< (3, nnode) unit plane normal or line direction
+  end type smooth_mobility_t
+
+  !> Active cells, movable nodes and work arrays of one smoothing region.
+  type :: smooth_region_t
+    integer :: ni = 0, nj = 0, nk = 0
+    integer :: ncell = 0                   !< number of active cells
+    integer :: nmove = 0                   !< number of movable nodes
+    integer :: corner_offset(8) = 0        !< node index offsets of the local corners
+    integer, allocatable :: cell(:)        !< (ncell) active cells
+    integer, allocatable :: node0(:)       !< (ncell) their first (local a = 1) node
+    integer, allocatable :: node(:)        !< (nmove) movable nodes
+    integer, allocatable :: kind(:)        !< (nmove) their kind (free, plane or line)
+    real(wp), allocatable :: dir(:, :)     !< (3, nmove) their plane normal or line direction
+    !> (8, nmove) slot in cell(:) of the cell in which the node is local
+    !> corner a, 0 where the block has no such cell
+    integer, allocatable :: node_cell(:, :)
+    real(wp), allocatable :: xt(:, :, :)   !< (3, 8, ncell) work: proposed node positions
+    real(wp), allocatable :: xcell(:, :)   !< (3, ncell) work: cell centres
+    real(wp), allocatable :: wcell(:)      !< (ncell) work: cell weights
+  end type smooth_region_t
+
+contains
+
+  !> Mobility of the nodes of an ni x nj x nk block whose boundary is the
+  !> domain's boundary (Sect. 5.3.2). The block's faces are taken as the
+  !> planes x_d = const of an axis-aligned box in the logical directions
+  !> (as `grid_init_box` builds), so the plane normals and line directions
+  !> are unit axis vectors. `boundary`:
+  !>   'slide' (default) face nodes slide in their face, edge nodes along
+  !>           their edge, corners are fixed (issue 6, the paper's rules);
+  !>   'fixed' every boundary node is fixed;
+  !>   'free'  no node is constrained (e.g. a single cell on its own).
+  !> Nodes of the cells with frozen(c) true (cells holding solid particles,
+  !> Fig. 4f) are fixed whatever `boundary` says; the caller may fix more
+  !> nodes by setting mob%kind(n) = node_fixed.
+  subroutine smooth_mobility_box(ni, nj, nk, mob, err, boundary, frozen)
+    integer, intent(in) :: ni, nj, nk
+    type(smooth_mobility_t), intent(out) :: mob
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: boundary
+    logical, intent(in), optional :: frozen(:)
+    character(len=:), allocatable :: rule
+    character(len=200) :: msg
+    integer :: i, j, k, n, d, nb, stat, ci, cj, ck, a, n0, sx, sxy
+    logical :: on(3)
+
+    if (ni < 1 .or. nj < 1 .or. nk < 1) then
+      call error_set(err, 'smooth_mobility_box', 'the block needs at least one cell in each direction')
+      return
+    end if
+    rule = 'slide'
+    if (present(boundary)) rule = trim(boundary)
+    if (rule /= 'slide' .and. rule /= 'fixed' .and. rule /= 'free') then
+      call error_set(err, 'smooth_mobility_box', "boundary = '"//rule//"' is not known; valid: slide, fixed, free")
+      return
+    end if
+    if (present(frozen)) then
+      if (size(frozen) /= ni*nj*nk) then
+        call error_set(err, 'smooth_mobility_box', 'frozen(:) must have one entry per cell')
+        return
+      end if
+    end if
+    mob%ni = ni; mob%nj = nj; mob%nk = nk
+    sx = ni + 1
+    sxy = (ni + 1)*(nj + 1)
+    allocate(mob%kind(sxy*(nk + 1)), mob%dir(3, sxy*(nk + 1)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_mobility_box', 'cannot allocate the mobility: '//trim(msg))
+      return
+    end if
+
+    do k = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          n = 1 + i + sx*j + sxy*k
+          on = [i == 0 .or. i == ni, j == 0 .or. j == nj, k == 0 .or. k == nk]
+          nb = count(on)
+          mob%dir(:, n) = 0.0_wp
+          if (nb == 0 .or. rule == 'free') then
+            mob%kind(n) = node_free
+          else if (rule == 'fixed' .or. nb == 3) then
+            mob%kind(n) = node_fixed
+          else if (nb == 1) then
+            ! a face node: the face's normal is the logical direction it closes
+            mob%kind(n) = node_plane
+            do d = 1, 3
+              if (on(d)) mob%dir(d, n) = 1.0_wp
+            end do
+          else
+            ! an edge node: the edge runs along the one open direction
+            mob%kind(n) = node_line
+            do d = 1, 3
+              if (.not. on(d)) mob%dir(d, n) = 1.0_wp
+            end do
+          end if
+        end do
+      end do
+    end do
+
+    if (present(frozen)) then
+      do ck = 1, nk
+        do cj = 1, nj
+          do ci = 1, ni
+            if (.not. frozen(ci + ni*((cj - 1) + nj*(ck - 1)))) cycle
+            n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
+            do a = 1, 8
+              mob%kind(n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a)) = node_fixed
+            end do
+          end do
+        end do
+      end do
+    end if
+  end subroutine smooth_mobility_box
+
+  !> Builds the region of the cells with active(c) true on the block of
+  !> `mob`: the active cells, the nodes that may move (mobility not fixed
+  !> and every cell of the block around the node active) and the work
+  !> arrays of the passes.
+  subroutine smooth_region_init(mob, active, reg, err)
+    type(smooth_mobility_t), intent(in) :: mob
+    logical, intent(in) :: active(:)
+    type(smooth_region_t), intent(out) :: reg
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: slot(:)
+    integer :: ni, nj, nk, sx, sxy, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
+    character(len=200) :: msg
+
+    ni = mob%ni; nj = mob%nj; nk = mob%nk
+    ncell_all = ni*nj*nk
+    if (.not. allocated(mob%kind) .or. ncell_all < 1) then
+      call error_set(err, 'smooth_region_init', 'the mobility has not been built')
+      return
+    end if
+    if (size(active) /= ncell_all) then
+      call error_set(err, 'smooth_region_init', 'active(:) must have one entry per cell')
+      return
+    end if
+    sx = ni + 1
+    sxy = (ni + 1)*(nj + 1)
+    reg%ni = ni; reg%nj = nj; reg%nk = nk
+    reg%corner_offset = hex_corner(1, :) + sx*hex_corner(2, :) + sxy*hex_corner(3, :)
+    reg%ncell = count(active)
+
+    ! movable nodes: mobility allows it and all cells around are active
+    reg%nmove = 0
+    do k = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          if (node_moves(i, j, k)) reg%nmove = reg%nmove + 1
+        end do
+      end do
+    end do
+
+    allocate(slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
+             reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
+             reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_region_init', 'cannot allocate the region: '//trim(msg))
+      return
+    end if
+
+    slot = 0
+    s = 0
+    do ck = 1, nk
+      do cj = 1, nj
+        do ci = 1, ni
+          c = ci + ni*((cj - 1) + nj*(ck - 1))
+          if (.not. active(c)) cycle
+          s = s + 1
+          slot(c) = s
+          reg%cell(s) = c
+          reg%node0(s) = ci + sx*(cj - 1) + sxy*(ck - 1)
+        end do
+      end do
+    end do
+
+    m = 0
+    do k = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          if (.not. node_moves(i, j, k)) cycle
+          m = m + 1
+          n = 1 + i + sx*j + sxy*k
+          reg%node(m) = n
+          reg%kind(m) = mob%kind(n)
+          reg%dir(:, m) = mob%dir(:, n)
+          ! the node is corner a of the cell whose lowest corner is node - corner a
+          do a = 1, 8
+            ci = i - hex_corner(1, a) + 1
+            cj = j - hex_corner(2, a) + 1
+            ck = k - hex_corner(3, a) + 1
+            reg%node_cell(a, m) = 0
+            if (ci >= 1 .and. ci <= ni .and. cj >= 1 .and. cj <= nj .and. ck >= 1 .and. ck <= nk) &
+              reg%node_cell(a, m) = slot(ci + ni*((cj - 1) + nj*(ck - 1)))
+          end do
+        end do
+      end do
+    end do
+
+  contains
+
+    !> Whether node (i,j,k) may move in this region.
+    logical function node_moves(i, j, k)
+      integer, intent(in) :: i, j, k
+      integer :: di, dj, dk
+      logical :: ok
+      node_moves = mob%kind(1 + i + sx*j + sxy*k) /= node_fixed
+      if (.not. node_moves) return
+      ok = .true.
+      do dk = max(k, 1), min(k + 1, nk)
+        do dj = max(j, 1), min(j + 1, nj)
+          do di = max(i, 1), min(i + 1, ni)
+            ok = ok .and. active(di + ni*((dj - 1) + nj*(dk - 1)))
+          end do
+        end do
+      end do
+      node_moves = ok
+    end function node_moves
+  end subroutine smooth_region_init
+
+  !> Centroid of a hexahedron xn(3,8) by Eq. (49): the volume-weighted mean
+  !> of the centroids of its 24 tetrahedra (Fig. 7: each face split into four
+  !> triangles through the face centre, each joined to the cell centre).
+  !> For a tangled cell whose signed volume is less than half the sum of the
+  !> tetrahedra's absolute volumes the quotient is ill-conditioned (it
+  !> diverges as the volume goes to zero), and the node mean (Eq. 47) is
+  !> returned instead; a cell inverted as a whole keeps Eq. (49).
+  pure function hex_centroid(xn) result(xc)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: xc(3)
+    real(wp) :: r(3, 8), rf(3), vt, v, vabs, mom(3)
+    integer :: f, m, d, na, nb
+
+    do d = 1, 3
+      xc(d) = 0.125_wp*sum(xn(d, :))
+    end do
+    do m = 1, 8
+      r(:, m) = xn(:, m) - xc
+    end do
+    v = 0.0_wp
+    vabs = 0.0_wp
+    mom = 0.0_wp
+    do f = 1, 6
+      rf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))
+      do m = 1, 4
+        na = hex_faces(m, f)
+        nb = hex_faces(mod(m, 4) + 1, f)
+        ! tetrahedron (centre, face centre, a, b); its centroid is (rf + ra + rb)/4
+        vt = dot_product(rf, cross(r(:, na), r(:, nb)))/6.0_wp
+        v = v + vt
+        vabs = vabs + abs(vt)
+        mom = mom + vt*0.25_wp*(rf + r(:, na) + r(:, nb))
+      end do
+    end do
+    if (abs(v) > 0.5_wp*vabs) xc = xc + mom/v
+  end function hex_centroid
+
+  !> Smallest signed volume (length^3) of the 24 tetrahedra of the split of
+  !> Fig. 7 (centre, face centre, two neighbouring nodes of the face), the
+  !> split the remap intersects: a cell with a non-positive one is tangled
+  !> even when its total volume is positive.
+  pure function hex_min_tet_volume(xn) result(vmin)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: vmin
+    real(wp) :: xc(3), r(3, 8), rf(3)
+    integer :: f, m, d
+    do d = 1, 3
+      xc(d) = 0.125_wp*sum(xn(d, :))
+    end do
+    do m = 1, 8
+      r(:, m) = xn(:, m) - xc
+    end do
+    vmin = huge(1.0_wp)
+    do f = 1, 6
+      rf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))
+      do m = 1, 4
+        vmin = min(vmin, dot_product(rf, cross(r(:, hex_faces(m, f)), r(:, hex_faces(mod(m, 4) + 1, f))))/6.0_wp)
+      end do
+    end do
+  end function hex_min_tet_volume
+
+  !> Smallest Jacobian determinant of the trilinear map of a hexahedron at
+  !> its eight corners (length^3): det of the three edges leaving the corner,
+  !> oriented along +i, +j, +k. All eight are positive for a valid (untangled)
+  !> cell; a cell with a non-positive one is illegal even if its volume is
+  !> positive.
+  pure function hex_min_corner_jacobian(xn) result(jmin)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: jmin
+    real(wp) :: e(3, 3)
+    integer :: a, d, b
+    jmin = huge(1.0_wp)
+    do a = 1, 8
+      do d = 1, 3
+        ! the neighbour across direction d flips bit d-1 of a-1
+        b = 1 + ieor(a - 1, 2**(d - 1))
+        e(:, d) = xn(:, b) - xn(:, a)
+        if (hex_corner(d, a) == 1) e(:, d) = -e(:, d)
+      end do
+      jmin = min(jmin, dot_product(e(:, 1), cross(e(:, 2), e(:, 3))))
+    end do
+  end function hex_min_corner_jacobian
+
+  !> Mean of the 12 edge lengths of a hexahedron (length).
+  pure function mean_edge(xn) result(abar)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: abar
+    integer :: d, e
+    abar = 0.0_wp
+    do d = 1, 3
+      do e = 1, 4
+        abar = abar + norm2(xn(:, hex_edges(2, e, d)) - xn(:, hex_edges(1, e, d)))
+      end do
+    end do
+    abar = abar/12.0_wp
+  end function mean_edge
+
+  !> Modified GETMe transformation of one hexahedron (Eqs. 49-50): the
+  !> axis-aligned cube whose side is the mean edge length and whose centre
+  !> is the centroid of Eq. (49). Eq. (50)'s columns follow the paper's
+  !> counter-clockwise node numbering; in ours (a = 1 + i + 2j + 4k) the
+  !> column of node a is A(:,a) = 2 (i,j,k) - 1, so local node a goes to
+  !> xc + abar/2 (2 hex_corner(:,a) - 1) whatever the cell looked like,
+  !> inverted or not.
+  pure subroutine hex_cube_target(xn, xt)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: xt(3, 8)
+    real(wp) :: xc(3), h
+    integer :: a
+    xc = hex_centroid(xn)
+    h = 0.5_wp*mean_edge(xn)
+    do a = 1, 8
+      xt(:, a) = xc + h*real(2*hex_corner(:, a) - 1, wp)
+    end do
+  end subroutine hex_cube_target
+
+  !> Original GETMe transformation of one hexahedron (Vartziotis and Wipper's
+  !> dual-element transformation, Eqs. 47-48): the centres of the six faces
+  !> span the dual octahedron; the octahedron face of corner a (the triangle
+  !> of the centres of the three faces through a) has centroid o_a and
+  !> outward normal n_a (twice its area), and corner a goes to
+  !> o_a + b n_a / sqrt|n_a| (Eq. 48). The new element is then scaled about
+  !> its centre so that its sum of edge lengths is the old one (the
+  !> paper's second option; unlike the volume it stays positive for tangled
+  !> cells) and moved so that its centre (Eq. 47) is the old one. b defaults
+  !> to getme_b_default, which maps a cube onto itself.
+  pure subroutine hex_getme_target(xn, xt, b)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: xt(3, 8)
+    real(wp), intent(in), optional :: b
+    real(wp) :: xc(3), xf(3, 6), o(3), nrm(3), nn, bb, c2(3), l0, l1
+    integer :: a, d, f, p, q, s
+
+    bb = getme_b_default
+    if (present(b)) bb = b
+    do d = 1, 3
+      xc(d) = 0.125_wp*sum(xn(d, :))
+    end do
+    do f = 1, 6
+      xf(:, f) = 0.25_wp*(xn(:, hex_faces(1, f)) + xn(:, hex_faces(2, f)) + xn(:, hex_faces(3, f)) + &
+                          xn(:, hex_faces(4, f)))
+    end do
+    do a = 1, 8
+      ! faces through corner (i,j,k): xi-/xi+ = 1+i, eta-/eta+ = 3+j, zeta-/zeta+ = 5+k
+      p = 1 + hex_corner(1, a)
+      q = 3 + hex_corner(2, a)
+      s = 5 + hex_corner(3, a)
+      o = (xf(:, p) + xf(:, q) + xf(:, s))/3.0_wp
+      nrm = cross(xf(:, q) - xf(:, p), xf(:, s) - xf(:, p))
+      ! (p, q, s) turns the other way round the corners of even parity
+      if (mod(sum(hex_corner(:, a)), 2) == 0) nrm = -nrm
+      nn = norm2(nrm)
+      xt(:, a) = o
+      if (nn > 0.0_wp) xt(:, a) = o + (bb/sqrt(nn))*nrm
+    end do
+    do d = 1, 3
+      c2(d) = 0.125_wp*sum(xt(d, :))
+    end do
+    l0 = mean_edge(xn)
+    l1 = mean_edge(xt)
+    do a = 1, 8
+      xt(:, a) = xc + (l0/l1)*(xt(:, a) - c2)
+    end do
+  end subroutine hex_getme_target
+
+  !> The 8 node positions of the active cell in slot s.
+  pure subroutine region_gather(reg, s, x, xn)
+    type(smooth_region_t), intent(in) :: reg
+    integer, intent(in) :: s
+    real(wp), intent(in) :: x(:, :)
+    real(wp), intent(out) :: xn(3, 8)
+    integer :: a
+    do a = 1, 8
+      xn(:, a) = x(:, reg%node0(s) + reg%corner_offset(a))
+    end do
+  end subroutine region_gather
+
+  !> Moves x from its old position towards xnew as its kind allows: the
+  !> displacement is projected onto the plane or the line (exact for axis
+  !> directions: the fixed coordinates do not change at all).
+  pure subroutine constrain_move(kind, dir, x, xnew)
+    integer, intent(in) :: kind
+    real(wp), intent(in) :: dir(3), xnew(3)
+    real(wp), intent(inout) :: x(3)
+    real(wp) :: d(3)
+    d = xnew - x
+    select case (kind)
+    case (node_plane)
+      d = d - dir*dot_product(dir, d)
+    case (node_line)
+      d = dir*dot_product(dir, d)
+    case (node_fixed)
+      d = 0.0_wp
+    end select
+    x = x + d
+  end subroutine constrain_move
+
+  !> Every movable node to the mean of the positions its cells propose in
+  !> reg%xt (the node averaging of GETMe), then constrained.
+  subroutine move_to_mean_target(reg, x)
+    type(smooth_region_t), intent(in) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    integer :: m, a, s, cnt
+    real(wp) :: xs(3)
+
+    !$omp parallel do default(none) shared(reg, x) private(m, a, s, cnt, xs) schedule(static)
+    do m = 1, reg%nmove
+      xs = 0.0_wp
+      cnt = 0
+      do a = 1, 8
+        s = reg%node_cell(a, m)
+        if (s == 0) cycle
+        xs = xs + reg%xt(:, a, s)
+        cnt = cnt + 1
+      end do
+      call constrain_move(reg%kind(m), reg%dir(:, m), x(:, reg%node(m)), xs/real(cnt, wp))
+    end do
+    !$omp end parallel do
+  end subroutine move_to_mean_target
+
+  !> One pass of the modified GETMe (Eqs. 49-51): each active cell proposes
+  !> the axis-aligned cube of `hex_cube_target` for its nodes; each movable
+  !> node goes to the mean of its cells' proposals, constrained by its
+  !> mobility. x(3, nnode): node positions (length), updated in place.
+  subroutine smooth_modified_getme(reg, x)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    integer :: s
+    real(wp) :: xn(3, 8)
+
+    !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      call hex_cube_target(xn, reg%xt(:, :, s))
+    end do
+    !$omp end parallel do
+    call move_to_mean_target(reg, x)
+  end subroutine smooth_modified_getme
+
+  !> One pass of the original GETMe (Eqs. 47-48, `hex_getme_target` with
+  !> factor b, default getme_b_default) with the same node averaging and
+  !> constraints as `smooth_modified_getme`. x(3, nnode) in length units.
+  subroutine smooth_getme_original(reg, x, b)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    real(wp), intent(in), optional :: b
+    integer :: s
+    real(wp) :: xn(3, 8), bb
+
+    bb = getme_b_default
+    if (present(b)) bb = b
+    !$omp parallel do default(none) shared(reg, x, bb) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      call hex_getme_target(xn, reg%xt(:, :, s), bb)
+    end do
+    !$omp end parallel do
+    call move_to_mean_target(reg, x)
+  end subroutine smooth_getme_original
+
+  !> One pass of the weighted average (Eq. 52): each movable node goes to
+  !> sum_k S_k x_ck / sum_k S_k over its cells, x_ck the cell centre of
+  !> Eq. (47) (the mean of its nodes) and S_k the cell volume (the paper's
+  !> weight for 3D; the area in 2D), then is constrained by its mobility.
+  !> Inverted cells (volume <= 0) get weight 0; a node whose cells all are
+  !> inverted goes to the plain mean of their centres. x(3, nnode): node
+  !> positions (length), updated in place.
+  subroutine smooth_weighted_average(reg, x)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    integer :: s, m, a, d, cnt
+    real(wp) :: xn(3, 8), xs(3), xm(3), ws, w
+
+    !$omp parallel do default(none) shared(reg, x) private(s, d, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      do d = 1, 3
+        reg%xcell(d, s) = 0.125_wp*sum(xn(d, :))
+      end do
+      reg%wcell(s) = max(hex_volume(xn), 0.0_wp)
+    end do
+    !$omp end parallel do
+
+    !$omp parallel do default(none) shared(reg, x) private(m, a, s, cnt, xs, xm, ws, w) schedule(static)
+    do m = 1, reg%nmove
+      xs = 0.0_wp
+      xm = 0.0_wp
+      ws = 0.0_wp
+      cnt = 0
+      do a = 1, 8
+        s = reg%node_cell(a, m)
+        if (s == 0) cycle
+        w = reg%wcell(s)
+        xs = xs + w*reg%xcell(:, s)
+        ws = ws + w
+        xm = xm + reg%xcell(:, s)
+        cnt = cnt + 1
+      end do
+      if (ws > 0.0_wp) then
+        xs = xs/ws
+      else
+        xs = xm/real(cnt, wp)
+      end if
+      call constrain_move(reg%kind(m), reg%dir(:, m), x(:, reg%node(m)), xs)
+    end do
+    !$omp end parallel do
+  end subroutine smooth_weighted_average
+
+  !> Worst cell quality Q_min (Eq. 46, rezone_quality's hex_quality) over
+  !> the active cells of the region; huge(1.0_wp) if there are none.
+  function smooth_q_min(reg, x) result(q_min)
+    type(smooth_region_t), intent(in) :: reg
+    real(wp), intent(in) :: x(:, :)
+    real(wp) :: q_min
+    integer :: s
+    real(wp) :: xn(3, 8)
+
+    q_min = huge(1.0_wp)
+    !$omp parallel do default(none) shared(reg, x) private(s, xn) reduction(min: q_min) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      q_min = min(q_min, hex_quality(xn))
+    end do
+    !$omp end parallel do
+  end function smooth_q_min
+
+  !> The combined smoothing of Sect. 5.3.2 (step 1): while Q_min over the
+  !> active cells is below q_target and fewer than n_max iterations were
+  !> done, one modified GETMe pass then one weighted-average pass. Returns
+  !> the iterations done (0 if the grid already met the target) and the
+  !> final Q_min. The TFI fallback (step 2) is the caller's: it needs the
+  !> merged cuboid subdomains (`smooth_tfi`). x(3, nnode) in length units.
+  subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    real(wp), intent(in) :: q_target
+    integer, intent(in) :: n_max
+    integer, intent(out) :: iterations
+    real(wp), intent(out) :: q_min
+
+    iterations = 0
+    q_min = smooth_q_min(reg, x)
+    do while (q_min < q_target .and. iterations < n_max)
+      call smooth_modified_getme(reg, x)
+      call smooth_weighted_average(reg, x)
+      iterations = iterations + 1
+      q_min = smooth_q_min(reg, x)
+    end do
+  end subroutine smooth_combined
+
+  !> Transfinite interpolation (Eq. 53) of the nodes strictly inside the
+  !> node index box lo(d) <= i_d <= hi(d) (0-based node indices of an
+  !> ni x nj x nk block; the cells clo(d)..chi(d) of a merged cuboid
+  !> subdomain, 1-based, are lo = clo - 1, hi = chi) from the nodes on its
+  !> six faces: the boolean sum of
+  !> the three linear projectors (faces - edges + corners, each node a
+  !> weighted sum K_IJ x_J of boundary nodes J). The parameter of a node in
+  !> direction d is the normalised arc length along the box's four edges in
+  !> that direction (the index fraction on a uniformly spaced edge), blended
+  !> bilinearly over the node's place between them, so the interior follows
+  !> the spacing of the box's edges. Reproduced exactly: any trilinear (in
+  !> particular affine) image of a uniform grid, and any grid that is a sum
+  !> of functions of one index each (graded along an axis, say). Boundary
+  !> nodes of the box do not move; with `mob`, neither do nodes whose kind
+  !> is node_fixed (frozen cells inside the box).
+  !> x(3, nnode): node positions (length), updated in place.
+  subroutine smooth_tfi(ni, nj, nk, lo, hi, x, err, mob)
+    integer, intent(in) :: ni, nj, nk, lo(3), hi(3)
+    real(wp), intent(inout) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    type(smooth_mobility_t), intent(in), optional :: mob
+    real(wp), allocatable :: ua(:, :), va(:, :), wa(:, :)
+    integer :: nfix(1), stat
+    character(len=200) :: msg
+
+    if (any(lo < 0) .or. hi(1) > ni .or. hi(2) > nj .or. hi(3) > nk .or. any(hi < lo)) then
+      call error_set(err, 'smooth_tfi', 'the index box is not inside the block')
+      return
+    end if
+    if (size(x, 2) /= (ni + 1)*(nj + 1)*(nk + 1)) then
+      call error_set(err, 'smooth_tfi', 'x(:,:) must hold every node of the block')
+      return
+    end if
+    if (any(hi - lo < 2)) return   ! no interior node
+    allocate(ua(lo(1):hi(1), 4), va(lo(2):hi(2), 4), wa(lo(3):hi(3), 4), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_tfi', 'cannot allocate the edge parameters: '//trim(msg))
+      return
+    end if
+    if (present(mob)) then
+      if (.not. allocated(mob%kind)) then
+        call error_set(err, 'smooth_tfi', 'the mobility has not been built')
+        return
+      end if
+      if (mob%ni /= ni .or. mob%nj /= nj .or. mob%nk /= nk) then
+        call error_set(err, 'smooth_tfi', 'the mobility is for another block')
+        return
+      end if
+      call tfi_box(ni, nj, lo, hi, x, ua, va, wa, mob%kind, .true.)
+    else
+      nfix = node_free
+      call tfi_box(ni, nj, lo, hi, x, ua, va, wa, nfix, .false.)
+    end if
+  end subroutine smooth_tfi
+
+  !> The work of `smooth_tfi` once the arguments are checked; kind(:) is
+  !> only read when use_kind is true.
+  subroutine tfi_box(ni, nj, lo, hi, x, ua, va, wa, kind, use_kind)
+    integer, intent(in) :: ni, nj, lo(3), hi(3)
+    real(wp), intent(inout) :: x(:, :)
+    real(wp), intent(out) :: ua(lo(1):, :), va(lo(2):, :), wa(lo(3):, :)
+    integer, intent(in) :: kind(:)
+    logical, intent(in) :: use_kind
+    integer :: sx, sxy, i, j, k, i0, i1, j0, j1, k0, k1, n
+    real(wp) :: u, v, w, fi, fj, fk, p(3), e(3), c(3)
+
+    sx = ni + 1
+    sxy = (ni + 1)*(nj + 1)
+    i0 = lo(1); i1 = hi(1); j0 = lo(2); j1 = hi(2); k0 = lo(3); k1 = hi(3)
+    ! arc-length parameters on the four edges of each direction, ordered
+    ! (low, low), (high, low), (low, high), (high, high) in the other two
+    call edge_parameter(i0, i1, nd(i0, j0, k0), 1, ua(:, 1))
+    call edge_parameter(i0, i1, nd(i0, j1, k0), 1, ua(:, 2))
+    call edge_parameter(i0, i1, nd(i0, j0, k1), 1, ua(:, 3))
+    call edge_parameter(i0, i1, nd(i0, j1, k1), 1, ua(:, 4))
+    call edge_parameter(j0, j1, nd(i0, j0, k0), sx, va(:, 1))
+    call edge_parameter(j0, j1, nd(i1, j0, k0), sx, va(:, 2))
+    call edge_parameter(j0, j1, nd(i0, j0, k1), sx, va(:, 3))
+    call edge_parameter(j0, j1, nd(i1, j0, k1), sx, va(:, 4))
+    call edge_parameter(k0, k1, nd(i0, j0, k0), sxy, wa(:, 1))
+    call edge_parameter(k0, k1, nd(i1, j0, k0), sxy, wa(:, 2))
+    call edge_parameter(k0, k1, nd(i0, j1, k0), sxy, wa(:, 3))
+    call edge_parameter(k0, k1, nd(i1, j1, k0), sxy, wa(:, 4))
+
+    !$omp parallel do default(none) shared(x, ua, va, wa, kind, use_kind, sx, sxy, i0, i1, j0, j1, k0, k1) &
+    !$omp private(i, j, k, n, u, v, w, fi, fj, fk, p, e, c) schedule(static)
+    do k = k0 + 1, k1 - 1
+      do j = j0 + 1, j1 - 1
+        do i = i0 + 1, i1 - 1
+          n = 1 + i + sx*j + sxy*k
+          if (use_kind) then
+            if (kind(n) == node_fixed) cycle
+          end if
+          ! index fractions place the node between the edges of a direction
+          fi = real(i - i0, wp)/real(i1 - i0, wp)
+          fj = real(j - j0, wp)/real(j1 - j0, wp)
+          fk = real(k - k0, wp)/real(k1 - k0, wp)
+          u = (1.0_wp - fj)*(1.0_wp - fk)*ua(i, 1) + fj*(1.0_wp - fk)*ua(i, 2) + &
+              (1.0_wp - fj)*fk*ua(i, 3) + fj*fk*ua(i, 4)
+          v = (1.0_wp - fi)*(1.0_wp - fk)*va(j, 1) + fi*(1.0_wp - fk)*va(j, 2) + &
+              (1.0_wp - fi)*fk*va(j, 3) + fi*fk*va(j, 4)
+          w = (1.0_wp - fi)*(1.0_wp - fj)*wa(k, 1) + fi*(1.0_wp - fj)*wa(k, 2) + &
+              (1.0_wp - fi)*fj*wa(k, 3) + fi*fj*wa(k, 4)
+          ! faces
+          p = (1.0_wp - u)*x(:, nd(i0, j, k)) + u*x(:, nd(i1, j, k)) &
+              + (1.0_wp - v)*x(:, nd(i, j0, k)) + v*x(:, nd(i, j1, k)) &
+              + (1.0_wp - w)*x(:, nd(i, j, k0)) + w*x(:, nd(i, j, k1))
+          ! edges
+          e = (1.0_wp - u)*((1.0_wp - v)*x(:, nd(i0, j0, k)) + v*x(:, nd(i0, j1, k))) &
+              + u*((1.0_wp - v)*x(:, nd(i1, j0, k)) + v*x(:, nd(i1, j1, k))) &
+              + (1.0_wp - u)*((1.0_wp - w)*x(:, nd(i0, j, k0)) + w*x(:, nd(i0, j, k1))) &
+              + u*((1.0_wp - w)*x(:, nd(i1, j, k0)) + w*x(:, nd(i1, j, k1))) &
+              + (1.0_wp - v)*((1.0_wp - w)*x(:, nd(i, j0, k0)) + w*x(:, nd(i, j0, k1))) &
+              + v*((1.0_wp - w)*x(:, nd(i, j1, k0)) + w*x(:, nd(i, j1, k1)))
+          ! corners
+          c = (1.0_wp - u)*((1.0_wp - v)*((1.0_wp - w)*x(:, nd(i0, j0, k0)) + w*x(:, nd(i0, j0, k1))) &
+                            + v*((1.0_wp - w)*x(:, nd(i0, j1, k0)) + w*x(:, nd(i0, j1, k1)))) &
+              + u*((1.0_wp - v)*((1.0_wp - w)*x(:, nd(i1, j0, k0)) + w*x(:, nd(i1, j0, k1))) &
+                   + v*((1.0_wp - w)*x(:, nd(i1, j1, k0)) + w*x(:, nd(i1, j1, k1))))
+          x(:, n) = p - e + c
+        end do
+      end do
+    end do
+    !$omp end parallel do
+
+  contains
+
+    !> Flattened index of node (i,j,k).
+    pure integer function nd(i, j, k)
+      integer, intent(in) :: i, j, k
+      nd = 1 + i + sx*j + sxy*k
+    end function nd
+
+    !> Normalised arc length t(m0:m1) along the node line starting at node
+    !> n0 with index stride `stride`; index fractions if the line has no length.
+    subroutine edge_parameter(m0, m1, n0, stride, t)
+      integer, intent(in) :: m0, m1, n0, stride
+      real(wp), intent(out) :: t(m0:)
+      integer :: m
+      t(m0) = 0.0_wp
+      do m = m0 + 1, m1
+        t(m) = t(m - 1) + norm2(x(:, n0 + stride*(m - m0)) - x(:, n0 + stride*(m - m0 - 1)))
+      end do
+      if (t(m1) > 0.0_wp) then
+        t(m0 + 1:m1) = t(m0 + 1:m1)/t(m1)
+      else
+        t = [(real(m - m0, wp)/real(m1 - m0, wp), m = m0, m1)]
+      end if
+      t(m1) = 1.0_wp
+    end subroutine edge_parameter
+  end subroutine tfi_box
+end module rezone_smooth
