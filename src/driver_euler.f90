@@ -5,9 +5,13 @@
 module driver_euler
   use base_kinds, only: wp
   use base_build, only: build_checks
-  use base_strings, only: rtoa
+  use base_strings, only: itoa, rtoa
   use base_errors, only: error_t
   use rezone_quality, only: grid_quality
+  use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
+                               rezone_subdomains_default_dmax
+  use rezone_smooth, only: smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
+                           smooth_tfi, smooth_q_min
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_cell_state
   use lagrange_state, only: hydro_totals
@@ -28,9 +32,15 @@ contains
   !> Keeps the initial grid (the global rezone's target) and the first
   !> interval time. Call after the scene is built, before a restart is read.
   subroutine euler_init()
+    type(error_t), allocatable :: err
     if (trim(run%cfg%rezone%mode) == 'none') return
     run%x0 = run%g%x
     allocate(run%quality(run%g%ncell))
+    if (trim(run%cfg%rezone%mode) == 'lssm') then
+      ! face nodes slide in their face, edge nodes along their edge, corners stay
+      call smooth_mobility_box(run%g%ni, run%g%nj, run%g%nk, run%mobility, err)
+      if (allocated(err)) call fatal(err%where, err%msg)
+    end if
     run%t_next_euler = huge(1.0_wp)
     if (run%cfg%rezone%interval_time > 0.0_wp) run%t_next_euler = run%cfg%rezone%interval_time
   end subroutine euler_init
@@ -58,7 +68,8 @@ contains
     type(remap_params_t) :: par
     type(remap_stats_t) :: st
     type(error_t), allocatable :: err
-    real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3)
+    real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3), t_rezone
+    real(wp), allocatable :: xnew(:, :)
     integer :: n
     character(len=400) :: line
 
@@ -71,8 +82,22 @@ contains
       pscale = pscale + run%h%mnode(n)*norm2(run%h%u(:, n))
     end do
 
-    ! rezone: global, back to the initial grid
-    call remap_euler_step(run%g, run%h, run%mx, size(run%mats), run%bc, run%x0, par, st, err)
+    ! rezone: global (back to the initial grid) or localized (LSSM)
+    t_rezone = run%t_euler%total
+    if (trim(run%cfg%rezone%mode) == 'lssm') then
+      xnew = run%g%x
+      if (.not. lssm_rezone(xnew)) then
+        call run%t_euler%stop()
+        return
+      end if
+    else
+      xnew = run%x0
+    end if
+    call run%t_euler%stop()
+    t_rezone = run%t_euler%total - t_rezone
+    run%t_rezone_total = run%t_rezone_total + t_rezone
+    call run%t_euler%start()
+    call remap_euler_step(run%g, run%h, run%mx, size(run%mats), run%bc, xnew, par, st, err)
     if (allocated(err)) call fatal(err%where, err%msg)
     call material_index_cells(run%mats, run%h%mat, run%mx, err)
     if (allocated(err)) call fatal(err%where, err%msg)
@@ -96,11 +121,13 @@ contains
     write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled)", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
-      &"; KE to internal ",es10.3,"; ",f8.3," s (prepare ",f7.3,", intersect ",f7.3,", assemble ",f7.3,")")') &
+      &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
+      &", assemble ",f7.3,")")') &
       run%n_euler, run%step, run%t, st%cells_remapped, st%cells_copied, st%reach, st%volume_defect, &
       st%given_defect, st%regions_rescaled, st%mof_cells, &
       real(st%mof_iterations, wp)/real(max(st%mof_cells, 1), wp), st%mof_not_converged, st%mof_err_max, &
-      st%ke_to_internal, st%t_prepare + st%t_intersect + st%t_assemble, st%t_prepare, st%t_intersect, st%t_assemble
+      st%ke_to_internal, t_rezone, st%t_prepare + st%t_intersect + st%t_assemble, st%t_prepare, st%t_intersect, &
+      st%t_assemble
     call log_line(trim(line))
     write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2, &
       &"; momentum taken by velocity conditions ",3es10.2)') abs(m1 - m0)/m0, &
@@ -126,14 +153,65 @@ contains
     end if
   end subroutine euler_step
 
+  !> LSSM rezone (Sect. 5.2-5.3): distorted subdomains of the grid
+  !> (Q < quality), smoothed by the combined method until Q_min of their cells
+  !> reaches quality_target or smooth_iterations are done, then TFI on the
+  !> merged cuboid subdomains if the target was not reached. x is the grid on
+  !> entry and the rezoned grid on return; false if no cell is distorted
+  !> (nothing to do).
+  logical function lssm_rezone(x) result(done)
+    real(wp), intent(inout) :: x(:, :)
+    type(rezone_subdomains_t) :: sub
+    type(smooth_region_t) :: reg
+    type(error_t), allocatable :: err
+    integer, allocatable :: mlo(:, :), mhi(:, :)
+    real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min
+    integer :: iterations, b
+    logical :: tfi
+    character(len=300) :: line
+
+    associate (g => run%g, rz => run%cfg%rezone)
+      call grid_quality(g%ni, g%nj, g%nk, x, run%quality, q_min0, ratio_max, cos_min)
+      d_max = rz%d_max
+      if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
+      call rezone_subdomains_find(g%ni, g%nj, g%nk, run%quality, rz%quality, d_max, sub, err)
+      if (allocated(err)) call fatal(err%where, err%msg)
+      done = sub%nbox > 0
+      if (.not. done) then
+        call log_line('euler step skipped at step '//itoa(run%step)//': no cell has Q < '//rtoa(rz%quality))
+        return
+      end if
+      call smooth_region_init(run%mobility, sub%cell_smooth, reg, err)
+      if (allocated(err)) call fatal(err%where, err%msg)
+      call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min)
+      tfi = q_min < rz%quality_target
+      if (tfi) then
+        ! the fallback: transfinite interpolation of each merged cuboid
+        ! subdomain from its boundary (node index box = cell box widened by one)
+        call rezone_subdomains_merge(sub%lo(:, 1:sub%nbox), sub%hi(:, 1:sub%nbox), mlo, mhi, err)
+        if (allocated(err)) call fatal(err%where, err%msg)
+        do b = 1, size(mlo, 2)
+          call smooth_tfi(g%ni, g%nj, g%nk, mlo(:, b) - 1, mhi(:, b), x, err, run%mobility)
+          if (allocated(err)) call fatal(err%where, err%msg)
+        end do
+        q_min = smooth_q_min(reg, x)
+      end if
+      write(line, '("lssm at step ",i0,": ",i0," subdomains, ",i0," cells smoothed (Q_min ",f7.4," -> ",f7.4, &
+        &" after ",i0," iterations",a,")")') run%step, sub%nbox, count(sub%cell_smooth), q_min0, q_min, &
+        iterations, trim(merge(', then TFI', '          ', tfi))
+      call log_line(trim(line))
+    end associate
+  end function lssm_rezone
+
   !> Summary line of the run's Euler steps.
   subroutine euler_report()
     character(len=300) :: line
     if (trim(run%cfg%rezone%mode) == 'none') return
-    write(line, '("euler steps: ",i0,", cells remapped ",i0," (",es10.3," per second), MoF ",i0, &
-      &" cells (",f5.2," iterations), KE returned to internal energy ",es10.3)') run%n_euler, run%euler_cells, &
-      real(run%euler_cells, wp)/max(run%t_euler%total, tiny(1.0_wp)), run%euler_mof, &
-      real(run%euler_mof_iterations, wp)/real(max(run%euler_mof, 1), wp), run%euler_ke
+    write(line, '("euler steps: ",i0,", cells remapped ",i0," (",es10.3," per second of remap), MoF ",i0, &
+      &" cells (",f5.2," iterations), KE returned to internal energy ",es10.3,"; rezone ",f9.3," s")') &
+      run%n_euler, run%euler_cells, &
+      real(run%euler_cells, wp)/max(run%t_euler%total - run%t_rezone_total, tiny(1.0_wp)), run%euler_mof, &
+      real(run%euler_mof_iterations, wp)/real(max(run%euler_mof, 1), wp), run%euler_ke, run%t_rezone_total
     call log_line(trim(line))
   end subroutine euler_report
 end module driver_euler

@@ -17,6 +17,7 @@ module driver_state
   use io_output, only: output_t, output_frame, totals_t
   use io_gauges, only: gauges_t
   use io_restart, only: restart_registry_t
+  use rezone_smooth, only: smooth_mobility_t
   implicit none
   private
   public :: run_t, run, refuse, refuse_one, totals, energy_drift, report_conservation, frame_out, fatal
@@ -53,6 +54,8 @@ module driver_state
     integer :: n_euler = 0                  !< Euler steps so far (restart state)
     integer :: euler_cells = 0, euler_mof = 0, euler_mof_iterations = 0   !< this segment's totals
     real(wp) :: euler_ke = 0.0_wp           !< kinetic energy returned to internal energy, this segment
+    real(wp) :: t_rezone_total = 0.0_wp     !< of t_euler, the rezone's part (s)
+    type(smooth_mobility_t) :: mobility     !< how nodes may move in an LSSM rezone
   end type run_t
 
   type(run_t), save, target :: run

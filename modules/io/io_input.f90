@@ -69,6 +69,12 @@ module io_input
     !> check mass, momentum and energy conservation to round-off at every
     !> Euler step and stop the run if broken (Debug builds always check)
     logical :: check_conservation = .false.
+    ! mode 'lssm' (Sect. 5): only distorted subdomains are smoothed and remapped
+    real(wp) :: quality = 0.999_wp         !< a cell with Q (Eq. 46) below this is distorted (the paper's q)
+    real(wp) :: quality_target = 0.999_wp  !< smoothing stops when Q_min of the subdomains reaches this
+    integer :: smooth_iterations = 20      !< at most this many combined smoothing iterations (N_max)
+    !> side of a subdomain's range in cells (0: a tenth of the smallest grid dimension, as the paper)
+    real(wp) :: d_max = 0.0_wp
   end type rezone_cfg_t
 
   !> The resolved deck.
@@ -512,27 +518,29 @@ contains
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction
-    real(wp) :: side_ratio, cos_angle, interval_time
-    integer :: interval_steps, mof_max_iter, ios
+    real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max
+    integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     logical :: check_conservation
     character(len=max_line) :: msg
     type(rezone_cfg_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
-                      mof_max_iter, check_conservation
+                      mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
     reconstruction = defaults%reconstruction; mof_max_iter = defaults%mof_max_iter
     check_conservation = defaults%check_conservation
+    quality = defaults%quality; quality_target = defaults%quality_target
+    smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max
     if (group_count(lines, 'rezone') > 0) then
       rewind(unit)
       read(unit, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'rezone', ios, msg))
     end if
     select case (trim(mode))
-    case ('none', 'global')
+    case ('none', 'global', 'lssm')
     case default
-      call add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global')
+      call add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global, lssm')
     end select
     select case (trim(reconstruction))
     case ('linear', 'constant')
@@ -549,13 +557,22 @@ contains
     if (.not. (interval_time >= 0.0_wp)) call add(problems, bad('rezone', 'interval_time', interval_time, &
       'must be >= 0 (0: off)'))
     if (mof_max_iter < 1) call add(problems, badi('rezone', 'mof_max_iter', mof_max_iter, 'must be >= 1'))
-    if (trim(mode) == 'global' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
+    if (.not. (quality > 0.0_wp .and. quality <= 1.0_wp)) &
+      call add(problems, bad('rezone', 'quality', quality, 'must be in (0, 1]'))
+    if (.not. (quality_target > 0.0_wp .and. quality_target <= 1.0_wp)) &
+      call add(problems, bad('rezone', 'quality_target', quality_target, 'must be in (0, 1]'))
+    if (smooth_iterations < 1) call add(problems, badi('rezone', 'smooth_iterations', smooth_iterations, &
+      'must be >= 1'))
+    if (.not. (d_max >= 0.0_wp)) call add(problems, bad('rezone', 'd_max', d_max, &
+      'must be >= 0 (0: a tenth of the smallest grid dimension)'))
+    if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
                                             interval_steps > 0 .or. interval_time > 0.0_wp)) &
       call add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
         'cos_angle > 0, interval_steps > 0 or interval_time > 0')
     cfg%rezone = rezone_cfg_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
-      mof_max_iter=mof_max_iter, check_conservation=check_conservation)
+      mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max)
     write(echo, nml=rezone)
   end subroutine read_rezone
 
