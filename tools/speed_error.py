@@ -69,8 +69,12 @@ NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
 
 # --------------------------------------------------------------------- decks
 def _set_output(line, outdir):
-    """Point the &output group at outdir (absolute) and drop frame_dt."""
+    """Point the &output group at outdir (absolute) and drop frame_dt and the
+    gauges (not needed here, and the Sod slab, 1/N thick, would leave the
+    template's gauge outside the box)."""
     line = re.sub(r"\bframe_dt\s*=\s*" + NUM + r"\s*,?\s*", "", line, flags=re.I)
+    line = re.sub(r"\bgauge_dt\s*=\s*" + NUM + r"\s*,?\s*", "", line, flags=re.I)
+    line = re.sub(r"\bgauge\s*=\s*" + NUM + r"(\s*,\s*" + NUM + r")*\s*,?\s*", "", line, flags=re.I)
     if re.search(r"\bdir\s*=", line, flags=re.I):
         line = re.sub(r"\bdir\s*=\s*(['\"]).*?\1", f"dir = '{outdir}'", line, flags=re.I)
     else:

@@ -116,11 +116,15 @@ module remap_euler
   type :: old_t
     integer :: nmat = 0
     logical, allocatable :: changed(:)          !< cell moved (ncell)
-    real(wp), allocatable :: xm(:, :)           !< centre of mass (3, ncell)
-    real(wp), allocatable :: uo(:, :)           !< velocity at xm, P/M (3, ncell)
-    real(wp), allocatable :: gu(:, :, :)        !< velocity gradient (component, direction, ncell)
-    real(wp), allocatable :: ratio(:)           !< M_o/m_o: nodal-mass share per unit cell mass
-    real(wp), allocatable :: ko(:)              !< nodal kinetic energy per unit nodal-mass share
+    !> per corner (subcell) of a moved cell: its share of the node's mass over
+    !> the mass the reconstruction puts in the subcell (8, ncell)
+    real(wp), allocatable :: rsub(:, :)
+    !> cells whose subcells cannot carry their own velocity (tangled, or not
+    !> covered by the new grid): their fragments carry the cell's mean
+    !> velocity ucell, kinetic energy per nodal mass kcell, nodal mass per
+    !> cell mass rcell
+    logical, allocatable :: uniform(:)
+    real(wp), allocatable :: ucell(:, :), kcell(:), rcell(:)
     ! one region per pure cell (index c) or per mixed slot (index ncell + s)
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
@@ -129,12 +133,6 @@ module remap_euler
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
     real(wp), allocatable :: given(:)           !< volume given away (ncell + nslot)
     real(wp), allocatable :: scale(:)           !< factor on what a region gives (1, or > 1 if not covered)
-    ! geometry of the cells that moved, kept once for all the new cells that
-    ! overlap them: index cidx(c) among them, the 24 outward triangle planes
-    ! n.(x - xc) <= d about the node mean xc, convexity and bounding box
-    integer, allocatable :: cidx(:)
-    real(wp), allocatable :: fn(:, :, :), fd(:, :), xc(:, :), blo(:, :), bhi(:, :)
-    logical, allocatable :: convex(:)
   end type old_t
 
 contains
@@ -242,6 +240,7 @@ contains
         return
       end if
       stats%regions_rescaled = stats%regions_rescaled + 1
+      old%uniform(co) = .true.
       old%scale(c) = old%vreg(c)/old%given(c)
       old%grho(:, c) = 0.0_wp
       old%ge(:, c) = 0.0_wp
@@ -252,7 +251,6 @@ contains
         if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
           co = c
           if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-          old%gu(:, :, co) = 0.0_wp
           call mark_window(co, stats%reach)
         end if
       end do
@@ -261,8 +259,8 @@ contains
     end if
     stats%t_intersect = wall_seconds() - w0
     call unchanged_corners(g, h, old, msub, cmass, cmom, cke)
-    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, &
-                                            cmass, cmom, cke, stats)
+    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, msub, open_face, avol, amom, amass, aie, &
+                                            cdef, cmass, cmom, cke, stats)
 
     w0 = wall_seconds()
     call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, stats, err)
@@ -339,27 +337,25 @@ contains
     type(old_t), intent(inout) :: old
     real(wp), intent(out) :: msub(:, :)
     type(remap_stats_t), intent(inout) :: stats
-    real(wp), allocatable :: wnode(:), q(:, :), pos(:, :), grad(:, :, :)
-    logical, allocatable :: has(:), need(:)
-    real(wp) :: xn(3, 8), vsub(8), v, m(3), mo, mm(3), a(3, 3), b(3, 3), &
-                vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), errc(max_mat), xa(3), &
-                vreg(max_mat), errmax
-    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, kmat, j, big, &
-               nmof, nits, nfail, nchg
+    real(wp), allocatable :: wnode(:)
+    real(wp) :: xn(3, 8), vsub(8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
+                errc(max_mat), vreg(max_mat), errmax
+    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
     type(mof_pieces_t) :: pcs
     logical :: ok
 
     ncell = g%ncell
     nreg = ncell + mx%nslot
     old%nmat = nmat
-    allocate(old%changed(ncell), old%xm(3, ncell), old%uo(3, ncell), old%gu(3, 3, ncell), old%ratio(ncell), &
-             old%ko(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), old%grho(3, nreg), old%ge(3, nreg), &
+    allocate(old%changed(ncell), old%rsub(8, ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
+             old%rcell(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
+             old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%scale(nreg), &
              wnode(g%nnode))
     old%given = 0.0_wp
     old%scale = 1.0_wp
     old%vreg = 0.0_wp
-    old%gu = 0.0_wp
+    old%rsub = 1.0_wp
     old%grho = 0.0_wp
     old%ge = 0.0_wp
 
@@ -390,48 +386,22 @@ contains
         wnode(n + g%corner_offset(a_)) = wnode(n + g%corner_offset(a_)) + msub(a_, c)
       end do
     end do
-    !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_, mo) schedule(static)
+    !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_) schedule(static)
     do c = 1, g%ncell
       n = g%node0(c)
       do a_ = 1, 8
         msub(a_, c) = h%mnode(n + g%corner_offset(a_))*(msub(a_, c)/wnode(n + g%corner_offset(a_)))
       end do
-      mo = sum(msub(:, c))
-      old%ratio(c) = mo/h%mass(c)
-      old%uo(:, c) = 0.0_wp
-      old%ko(c) = 0.0_wp
+      old%uniform(c) = .false.
+      old%ucell(:, c) = 0.0_wp
+      old%kcell(c) = 0.0_wp
       do a_ = 1, 8
-        old%uo(:, c) = old%uo(:, c) + msub(a_, c)*h%u(:, n + g%corner_offset(a_))
-        old%ko(c) = old%ko(c) + 0.5_wp*msub(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
+        old%ucell(:, c) = old%ucell(:, c) + msub(a_, c)*h%u(:, n + g%corner_offset(a_))
+        old%kcell(c) = old%kcell(c) + 0.5_wp*msub(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
       end do
-      old%uo(:, c) = old%uo(:, c)/mo
-      old%ko(c) = old%ko(c)/mo
-    end do
-    !$omp end parallel do
-
-    ! geometry of the cells that moved
-    nchg = count(old%changed)
-    allocate(old%cidx(ncell), old%fn(3, 24, nchg), old%fd(24, nchg), old%xc(3, nchg), old%blo(3, nchg), &
-             old%bhi(3, nchg), old%convex(nchg))
-    old%cidx = 0
-    j = 0
-    do c = 1, ncell
-      if (.not. old%changed(c)) cycle
-      j = j + 1
-      old%cidx(c) = j
-    end do
-    !$omp parallel do default(none) shared(g, old, ncell) private(c, j, xn, a_) schedule(static)
-    do c = 1, ncell
-      j = old%cidx(c)
-      if (j == 0) cycle
-      call g%gather(c, g%x, xn)
-      old%blo(:, j) = minval(xn, 2)
-      old%bhi(:, j) = maxval(xn, 2)
-      old%xc(:, j) = sum(xn, 2)/8.0_wp
-      do a_ = 1, 8
-        xn(:, a_) = xn(:, a_) - old%xc(:, j)
-      end do
-      call face_planes(xn, old%fn(:, :, j), old%fd(:, j), old%convex(j))
+      old%ucell(:, c) = old%ucell(:, c)/sum(msub(:, c))
+      old%kcell(c) = old%kcell(c)/sum(msub(:, c))
+      old%rcell(c) = sum(msub(:, c))/h%mass(c)
     end do
     !$omp end parallel do
 
@@ -454,7 +424,6 @@ contains
           v = old%vreg(c)
           old%rho(c) = h%mass(c)/v
           old%e(c) = h%e(c)
-          old%xm(:, c) = old%xr(:, c)
           if (h%mat(c) > 0) cycle
           k = -h%mat(c)
           s0 = mx%start(k)
@@ -521,41 +490,23 @@ contains
     stats%mof_iterations = nits
     stats%mof_not_converged = nfail
     stats%mof_err_max = errmax
-    ! centre of mass of the mixed cells
-    do k = 1, mx%n
-      c = mx%cell(k)
-      mm = 0.0_wp
-      do s = mx%start(k), mx%start(k + 1) - 1
-        mm = mm + mx%mass(s)*old%xr(:, ncell + s)
-      end do
-      old%xm(:, c) = mm/sum(mx%mass(mx%start(k):mx%start(k + 1) - 1))
-    end do
+    if (par%linear) call material_gradients(g, h, mx, nmat, old)
+    call subcell_ratios(g, h, mx, old, msub)
+  end subroutine prepare_old
 
-    if (.not. par%linear) return
-    ! velocity: affine least-squares fit of the eight nodal velocities,
-    ! limited to their range at the nodes
-    !$omp parallel do default(none) shared(g, h, old) private(c, n, a_, xn, a, b, xa, j) schedule(static)
-    do c = 1, g%ncell
-      if (.not. old%changed(c)) cycle
-      n = g%node0(c)
-      call g%gather(c, g%x, xn)
-      xa = sum(xn, 2)/8.0_wp
-      a = 0.0_wp
-      b = 0.0_wp
-      do a_ = 1, 8
-        do j = 1, 3
-          a(:, j) = a(:, j) + (xn(:, a_) - xa)*(xn(j, a_) - xa(j))
-          b(:, j) = b(:, j) + (xn(:, a_) - xa)*h%u(j, n + g%corner_offset(a_))
-        end do
-      end do
-      ! b(:, comp) = A grad(comp): solve the 3x3 normal equations
-      call solve3(a, b, old%gu(:, :, c))
-      call limit_velocity(xn, h%u, n, g%corner_offset, old%xm(:, c), old%uo(:, c), old%gu(:, :, c))
-    end do
-    !$omp end parallel do
+  !> Limited least-squares gradients of each material's density and energy
+  !> about the region centroids, over the cells that hold the material.
+  subroutine material_gradients(g, h, mx, nmat, old)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: nmat
+    type(old_t), intent(inout) :: old
+    real(wp), allocatable :: q(:, :), pos(:, :), grad(:, :, :)
+    logical, allocatable :: has(:), need(:)
+    integer :: ncell, kmat, c, k, s
 
-    ! density and energy of each material: limited least-squares gradients
-    ! about the region centroids, over the cells that hold the material
+    ncell = g%ncell
     allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell))
     do kmat = 1, nmat
       has = h%mat == kmat
@@ -590,7 +541,100 @@ contains
         end do
       end do
     end do
-  end subroutine prepare_old
+  end subroutine material_gradients
+
+  !> The momentum of a moved old cell lives in its corners (subcells, Fig.
+  !> 11): corner a carries the velocity of its node and its share m_a of the
+  !> node's mass. The reconstructed density puts a mass M_a in the subcell
+  !> (the six halves of the 24-split at the node, cut by the material
+  !> planes); every fragment of the subcell carries nodal mass and momentum
+  !> in the ratio rsub = m_a/M_a, so the subcell hands out exactly m_a and
+  !> m_a u_a (conservation), a uniform velocity stays uniform, and as the
+  !> grid stops moving each node gets back its own velocity (consistency:
+  !> a velocity field fitted over the whole cell would smooth a curved one
+  !> at every remap, however small the move). A subcell with no positive
+  !> reconstructed mass (a tangled cell) keeps rsub = 1.
+  subroutine subcell_ratios(g, h, mx, old, msub)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(inout) :: old
+    real(wp), intent(in) :: msub(:, :)
+    real(wp) :: xn(3, 8), o(3), pts(3, 27), t(3, 4), pn(3, max_mat), pd(max_mat), v, m(3), sg, mgeo(8)
+    integer :: c, j, hv(4, 48), corner(48), s, s0, s1, kreg, nm, i
+    logical :: tangled
+
+    !$omp parallel do default(none) shared(g, h, mx, old, msub) &
+    !$omp private(c, j, xn, o, pts, hv, corner, t, s, s0, s1, kreg, nm, pn, pd, v, m, sg, mgeo, i, tangled) &
+    !$omp schedule(dynamic, 16)
+    do c = 1, g%ncell
+      if (.not. old%changed(c)) cycle
+      call g%gather(c, g%x, xn)
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_tets(xn, pts, hv, corner)
+      s0 = 0
+      s1 = 0
+      if (h%mat(c) <= 0) then
+        s0 = mx%start(-h%mat(c))
+        s1 = mx%start(-h%mat(c) + 1) - 1
+      end if
+      mgeo = 0.0_wp
+      tangled = .false.
+      do s = s0, s1
+        nm = 0
+        kreg = c
+        if (s > 0) then
+          kreg = g%ncell + s
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+          call region_planes(old, s0, s, o, pn, pd, nm)
+        end if
+        do i = 1, 48
+          do j = 1, 4
+            t(:, j) = pts(:, hv(j, i))
+          end do
+          sg = sign(1.0_wp, det3(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+          if (sg < 0.0_wp) tangled = .true.
+          call tet_clip_planes(t, pn(:, 1:nm), pd(1:nm), v, m)
+          mgeo(corner(i)) = mgeo(corner(i)) + sg*old%scale(kreg)*(old%rho(kreg)*v + &
+                            dot_product(old%grho(:, kreg), m - (old%xr(:, kreg) - o)*v))
+        end do
+      end do
+      ! a tangled cell, or a subcell whose reconstructed mass is far from its
+      ! share of the nodal mass, hands out the cell's mean velocity instead
+      do j = 1, 8
+        if (.not. (mgeo(j) > 0.5_wp*msub(j, c) .and. mgeo(j) < 2.0_wp*msub(j, c))) tangled = .true.
+        if (mgeo(j) > 0.0_wp) old%rsub(j, c) = msub(j, c)/mgeo(j)
+      end do
+      old%uniform(c) = tangled
+    end do
+    !$omp end parallel do
+  end subroutine subcell_ratios
+
+  !> The planes of the region of slot s of a mixed cell whose slots start at
+  !> s0 (nested dissection): its own plane, and the outer side of the planes
+  !> of the slots before it, shifted to coordinates about o.
+  pure subroutine region_planes(old, s0, s, o, pn, pd, nm)
+    type(old_t), intent(in) :: old
+    integer, intent(in) :: s0, s
+    real(wp), intent(in) :: o(3)
+    real(wp), intent(inout) :: pn(:, :), pd(:)
+    integer, intent(out) :: nm
+    integer :: j
+    nm = 0
+    do j = s0, s
+      nm = nm + 1
+      if (j < s) then
+        pn(:, nm) = -old%pn(:, j)
+        pd(nm) = -(old%pd(j) - dot_product(old%pn(:, j), o))
+      else
+        pn(:, nm) = old%pn(:, j)
+        pd(nm) = old%pd(j) - dot_product(old%pn(:, j), o)
+      end if
+    end do
+  end subroutine region_planes
 
   ! ------------------------------------------------------------ new side
 
@@ -612,11 +656,11 @@ contains
     !> per corner: its volume less what the old grid gave it (a gap at an open face)
     real(wp), intent(out) :: cdef(:)
     real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
-                xo(3, 8), lo(3), hi(3), olo(3), ohi(3), shift(3), pn(3, 24 + max_mat), pd(24 + max_mat), &
-                v, pts(3, 27), qn(3, 4, 24), qd(4, 24), qsg(24), qlo(3, 24), qhi(3, 24), mid(3), &
-                qblo(3, 8), qbhi(3, 8)
+                xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
+                v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
+                od(4, 48), ub(3), rb, keb
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, jc, npc
+               j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48)
     logical :: box
 
     ci = 1 + mod(c - 1, g%ni)
@@ -683,64 +727,58 @@ contains
         do oi = max(1, ci - reach), min(g%ni, ci + reach)
           co = oi + g%ni*((oj - 1) + g%nj*(ok_ - 1))
           ! an unchanged old cell is all in the identical new cell
-          jc = old%cidx(co)
-          if (jc == 0) cycle
-          olo = old%blo(:, jc) - o
-          ohi = old%bhi(:, jc) - o
-          if (any(ohi < lo) .or. any(olo > hi)) cycle
-          ! the old cell's planes in this cell's local coordinates
-          shift = old%xc(:, jc) - o
-          do j = 1, 24
-            pn(:, j) = old%fn(:, j, jc)
-            pd(j) = old%fd(j, jc) + dot_product(old%fn(:, j, jc), shift)
+          if (.not. old%changed(co)) cycle
+          call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
+          do j = 1, 8
+            xo(:, j) = xo(:, j) - o
           end do
-          if (.not. old%convex(jc)) then
-            call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
-            do j = 1, 8
-              xo(:, j) = xo(:, j) - o
+          if (any(maxval(xo, 2) < lo) .or. any(minval(xo, 2) > hi)) cycle
+          ! the old cell's 48 halves: its subcells (corner velocities) and
+          ! the signed pieces of any cell, convex or not
+          call half_tets(xo, opts, ohv, ocorner)
+          do i = 1, 48
+            do j = 1, 4
+              ot(:, j) = opts(:, ohv(j, i))
             end do
-            call cell_pieces(xo, npc, qn, qd, qsg, qlo, qhi)
-          end if
-          if (h%mat(co) > 0) then
-            s0 = 0
-            s1 = 0
-          else
+            osg(i) = sign(1.0_wp, det3(ot(:, 2) - ot(:, 1), ot(:, 3) - ot(:, 1), ot(:, 4) - ot(:, 1)))
+            call tet_face_planes(ot, on(:, :, i), od(:, i))
+            olo(:, i) = minval(ot, 2)
+            ohi(:, i) = maxval(ot, 2)
+          end do
+          n0 = g%node0(co)
+          s0 = 0
+          s1 = 0
+          if (h%mat(co) <= 0) then
             s0 = mx%start(-h%mat(co))
             s1 = mx%start(-h%mat(co) + 1) - 1
           end if
           ! every material region of the old cell
           do s = s0, s1
+            nm = 0
             if (s == 0) then
               kmat = h%mat(co)
               kreg = co
-              nm = 0
             else
               kmat = mx%mat(s)
               kreg = g%ncell + s
               if (.not. mx%mass(s) > 0.0_wp) cycle
-              ! own plane, and the outer side of the planes before it
-              nm = 0
-              do j = s0, s
-                nm = nm + 1
-                if (j < s) then
-                  pn(:, 24 + nm) = -old%pn(:, j)
-                  pd(24 + nm) = -(old%pd(j) - dot_product(old%pn(:, j), o))
-                else
-                  pn(:, 24 + nm) = old%pn(:, j)
-                  pd(24 + nm) = old%pd(j) - dot_product(old%pn(:, j), o)
-                end if
-              end do
+              call region_planes(old, s0, s, o, pn(:, 5:), pd(5:), nm)
             end if
-            if (old%convex(jc)) then
-              call clip_halves(pn, pd, 24 + nm, 1.0_wp, olo, ohi)
-            else
-              ! the signed union of the old cell's convex pieces
-              do i = 1, npc
-                pn(:, 21:24) = qn(:, :, i)
-                pd(21:24) = qd(:, i)
-                call clip_halves(pn(:, 21:), pd(21:), 4 + nm, qsg(i), qlo(:, i), qhi(:, i))
-              end do
-            end if
+            do i = 1, 48
+              if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
+              pn(:, 1:4) = on(:, :, i)
+              pd(1:4) = od(:, i)
+              if (old%uniform(co)) then
+                ub = old%ucell(:, co)
+                keb = old%kcell(co)
+                rb = old%rcell(co)
+              else
+                ub = h%u(:, n0 + g%corner_offset(ocorner(i)))
+                keb = 0.5_wp*dot_product(ub, ub)
+                rb = old%rsub(ocorner(i), co)
+              end if
+              call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i))
+            end do
           end do
         end do
       end do
@@ -761,8 +799,8 @@ contains
     subroutine clip_halves(pn, pd, np, sgn, blo, bhi)
       real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3)
       integer, intent(in) :: np
-      integer :: outm(24 + max_mat), i, j, t, ncut, bits
-      real(wp) :: cn(3, 24 + max_mat), cd(24 + max_mat), v, m(3)
+      integer :: outm(4 + max_mat), i, j, t, ncut, bits
+      real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3)
 
       if (box) then
         do t = 1, 8
@@ -805,7 +843,7 @@ contains
     subroutine deposit(vf, mf, a)
       real(wp), intent(in) :: vf, mf(3)
       integer, intent(in) :: a
-      real(wp) :: dm(3), fm, fie, r, sc
+      real(wp) :: dm(3), fm, fie, sc
       sc = old%scale(kreg)
       dm = mf - (old%xr(:, kreg) - o)*vf
       fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
@@ -815,11 +853,10 @@ contains
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
       aie(kmat) = aie(kmat) + fie
-      r = old%ratio(co)
-      cmass(a) = cmass(a) + r*fm
-      cmom(:, a) = cmom(:, a) + r*(fm*old%uo(:, co) + &
-                   sc*old%rho(kreg)*matmul(old%gu(:, :, co), mf - (old%xm(:, co) - o)*vf))
-      cke(a) = cke(a) + r*fm*old%ko(co)
+      ! nodal mass, momentum and kinetic energy of the old subcell's node
+      cmass(a) = cmass(a) + rb*fm
+      cmom(:, a) = cmom(:, a) + rb*fm*ub
+      cke(a) = cke(a) + rb*fm*keb
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
         given(kreg) = given(kreg) + given_sign*vf
@@ -871,32 +908,6 @@ contains
     end do
   end subroutine half_tets
 
-  !> A non-convex cell as the signed union of its 24 tetrahedra (Fig. 7),
-  !> each given by its outward planes n(:,:,i).x <= d(:,i), its orientation
-  !> sign and bounding box (a flat one is left out). Larger convex pieces do
-  !> not help: the face pyramid of a warped face is not convex, and of its
-  !> two halves at most one is (they fold along the cell centre - face centre
-  !> line, convex on one side only).
-  pure subroutine cell_pieces(xn, npc, n, d, sgn, lo, hi)
-    real(wp), intent(in) :: xn(3, 8)
-    integer, intent(out) :: npc
-    real(wp), intent(out) :: n(3, 4, 24), d(4, 24), sgn(24), lo(3, 24), hi(3, 24)
-    real(wp) :: tets(3, 4, 24), v
-    integer :: t
-
-    call hex_tets(xn, tets)
-    npc = 0
-    do t = 1, 24
-      v = det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), tets(:, 4, t) - tets(:, 1, t))
-      if (.not. abs(v) > 0.0_wp) cycle
-      npc = npc + 1
-      call tet_face_planes(tets(:, :, t), n(:, :, npc), d(:, npc))
-      sgn(npc) = sign(1.0_wp, v)
-      lo(:, npc) = minval(tets(:, :, t), 2)
-      hi(:, npc) = maxval(tets(:, :, t), 2)
-    end do
-  end subroutine cell_pieces
-
   !> True if the hex xn is an axis-aligned box (its nodes take just two
   !> values in each coordinate, in the corner order of `hex_corner`).
   pure logical function is_box(xn)
@@ -914,39 +925,6 @@ contains
     end do
     is_box = is_box .and. all(xn(:, 8) > xn(:, 1))
   end function is_box
-
-  !> The outward planes n.x <= d of the 24 triangles (face centre, a, b) of
-  !> the cell's surface (Fig. 7), and whether the cell is convex: every node
-  !> and face centre on the inner side of every plane (to 1e-14 of the
-  !> cell's size). Then the cell is the intersection of the 24 half-spaces.
-  pure subroutine face_planes(xn, n, d, convex)
-    real(wp), intent(in) :: xn(3, 8)
-    real(wp), intent(out) :: n(3, 24), d(24)
-    logical, intent(out) :: convex
-    real(wp) :: xf(3, 6), tol, size_
-    integer :: f, mm, t, j
-
-    do f = 1, 6
-      xf(:, f) = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
-                          (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
-    end do
-    size_ = maxval(maxval(xn, 2) - minval(xn, 2))
-    convex = .true.
-    do f = 1, 6
-      do mm = 1, 4
-        t = 4*(f - 1) + mm
-        n(:, t) = cross(xn(:, hex_faces(mm, f)) - xf(:, f), xn(:, hex_faces(mod(mm, 4) + 1, f)) - xf(:, f))
-        d(t) = dot_product(n(:, t), xf(:, f))
-        tol = 1.0e-14_wp*norm2(n(:, t))*size_
-        do j = 1, 8
-          if (dot_product(n(:, t), xn(:, j)) - d(t) > tol) convex = .false.
-        end do
-        do j = 1, 6
-          if (dot_product(n(:, t), xf(:, j)) - d(t) > tol) convex = .false.
-        end do
-      end do
-    end do
-  end subroutine face_planes
 
   !> Outward face planes of a tetrahedron of either orientation.
   pure subroutine tet_face_planes(t, n, d)
@@ -991,14 +969,14 @@ contains
   !> with the state of the old cell next to it (its largest material, its
   !> velocity): zero-gradient extrapolation. The gap's centroid is taken as
   !> the new cell's centre (it only steers MoF in mixed boundary cells).
-  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmass, cmom, cke, &
-                        stats)
+  subroutine open_faces(g, h, mx, bc, old, xnew, msub, open_face, avol, amom, amass, aie, cdef, cmass, cmom, &
+                        cke, stats)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(bc_t), intent(in) :: bc
     type(old_t), intent(in) :: old
-    real(wp), intent(in) :: xnew(:, :), cdef(:, :)
+    real(wp), intent(in) :: xnew(:, :), msub(:, :), cdef(:, :)
     integer, intent(in) :: open_face(:)
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
@@ -1049,13 +1027,19 @@ contains
         k = h%mat(c)
         rho = old%rho(c)
         e = old%e(c)
-        u = old%uo(:, c)
       else
         ks = mx%start(-h%mat(c)) - 1 + maxloc(mx%vf(mx%start(-h%mat(c)):mx%start(-h%mat(c) + 1) - 1), 1)
         k = mx%mat(ks)
         rho = old%rho(g%ncell + ks)
         e = old%e(g%ncell + ks)
-        u = old%uo(:, c)
+      end if
+      if (bc%kind(f) /= BC_INFLOW) then
+        ! the old cell's velocity: its corners' momentum over their mass
+        u = 0.0_wp
+        do a = 1, 8
+          u = u + msub(a, c)*h%u(:, g%node0(c) + g%corner_offset(a))
+        end do
+        u = u/sum(msub(:, c))
       end if
       do a = 1, 8
         ! a gap of round-off size is no gap
@@ -1263,59 +1247,6 @@ contains
   end subroutine move_mixed
 
   ! ------------------------------------------------------------ small kernels
-
-  !> Solves a x = b for the symmetric 3x3 a (three right-hand sides in the
-  !> columns of b) by Cramer's rule; a singular a (a cell flat in some
-  !> direction) gives x = 0.
-  pure subroutine solve3(a, b, x)
-    real(wp), intent(in) :: a(3, 3), b(3, 3)
-    real(wp), intent(out) :: x(3, 3)
-    real(wp) :: c(3, 3), det
-    integer :: j
-    c(:, 1) = cross(a(:, 2), a(:, 3))
-    c(:, 2) = cross(a(:, 3), a(:, 1))
-    c(:, 3) = cross(a(:, 1), a(:, 2))
-    det = dot_product(a(:, 1), c(:, 1))
-    x = 0.0_wp
-    if (.not. abs(det) > 1.0e-12_wp*maxval(abs(a))**3) return
-    ! x(comp, dir): row comp of the gradient of velocity component comp
-    do j = 1, 3
-      x(j, 1) = dot_product(c(:, 1), b(:, j))/det
-      x(j, 2) = dot_product(c(:, 2), b(:, j))/det
-      x(j, 3) = dot_product(c(:, 3), b(:, j))/det
-    end do
-  end subroutine solve3
-
-  !> Barth-Jespersen limit of the velocity gradient gu (component,
-  !> direction) about (xm, uo): at the cell's nodes each component stays
-  !> within the range of the nodal values.
-  pure subroutine limit_velocity(xn, u, n0, offs, xm, uo, gu)
-    real(wp), intent(in) :: xn(3, 8), u(:, :), xm(3), uo(3)
-    integer, intent(in) :: n0, offs(8)
-    real(wp), intent(inout) :: gu(3, 3)
-    real(wp) :: umin, umax, phi, du, tol
-    integer :: j, a
-
-    do j = 1, 3
-      umin = huge(1.0_wp)
-      umax = -huge(1.0_wp)
-      do a = 1, 8
-        umin = min(umin, u(j, n0 + offs(a)))
-        umax = max(umax, u(j, n0 + offs(a)))
-      end do
-      tol = 1.0e-14_wp*max(abs(umin), abs(umax))
-      phi = 1.0_wp
-      do a = 1, 8
-        du = dot_product(gu(j, :), xn(:, a) - xm)
-        if (du > tol) then
-          phi = min(phi, max(0.0_wp, umax - uo(j))/du)
-        else if (du < -tol) then
-          phi = min(phi, max(0.0_wp, uo(j) - umin)/(-du))
-        end if
-      end do
-      gu(j, :) = phi*gu(j, :)
-    end do
-  end subroutine limit_velocity
 
   pure real(wp) function det3(a, b, c)
     real(wp), intent(in) :: a(3), b(3), c(3)
