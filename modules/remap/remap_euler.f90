@@ -77,8 +77,8 @@ module remap_euler
   !> Widest index window searched around a new cell for old cells.
   integer, parameter :: max_reach = 8
   !> An old region whose fragments fall short of its volume by more than
-  !> this (relative; round-off of the sums is ~1e-15) is not covered by the
-  !> new grid.
+  !> this times its cell's volume (round-off of the sums is ~1e-15) is not
+  !> covered by the new grid.
   real(wp), parameter :: uncovered_tol = 1.0e-12_wp
 
   !> Settings of the remap (deck group &rezone).
@@ -99,7 +99,7 @@ module remap_euler
     real(wp) :: mof_err_max = 0.0_wp  !< largest material centroid error / cell size
     integer :: slivers_merged = 0     !< materials below vf_min merged into another
     real(wp) :: volume_defect = 0.0_wp    !< largest |sum of fragments - V|/V of a new cell
-    !> largest |volume given away - V_region|/V_region of an old region:
+    !> largest |volume given away - V_region|/V_cell of an old region:
     !> part of an old cell not covered by the new grid
     real(wp) :: given_defect = 0.0_wp
     integer :: regions_rescaled = 0   !< old regions not covered entirely, remapped scaled
@@ -233,8 +233,9 @@ contains
       co = c
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
       if (open_face(co) > 0) cycle
-      stats%given_defect = max(stats%given_defect, abs(old%given(c) - old%vreg(c))/old%vreg(c))
-      if (abs(old%given(c) - old%vreg(c)) <= uncovered_tol*old%vreg(c)) cycle
+      ! relative to the cell: a sliver region's own round-off can be larger
+      stats%given_defect = max(stats%given_defect, abs(old%given(c) - old%vreg(c))/h%vol(co))
+      if (abs(old%given(c) - old%vreg(c)) <= uncovered_tol*h%vol(co)) cycle
       if (.not. old%given(c) > 0.0_wp) then
         call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' lies outside the new grid')
         return
