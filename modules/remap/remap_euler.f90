@@ -64,7 +64,7 @@ module remap_euler
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t
-  use remap_polyhedron, only: hex_tets, tet_clip_planes, box_clip_planes
+  use remap_polyhedron, only: hex_tets, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
@@ -72,6 +72,9 @@ module remap_euler
   private
   public :: remap_params_t, remap_stats_t, remap_euler_step
 
+  !> The unit vectors of the axes (columns).
+  real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
+                                                    0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
   !> Widest index window searched around a new cell for old cells.
@@ -778,7 +781,14 @@ contains
                 keb = 0.5_wp*dot_product(ub, ub)
                 rb = old%rsub(ocorner(i), co)
               end if
-              call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i))
+              if (box) then
+                do j = 1, 4
+                  ot(:, j) = opts(:, ohv(j, i))
+                end do
+                call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
+              else
+                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i))
+              end if
             end do
           end do
         end do
@@ -803,14 +813,6 @@ contains
       integer :: outm(4 + max_mat), i, j, t, ncut, bits
       real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3)
 
-      if (box) then
-        do t = 1, 8
-          if (any(qbhi(:, t) < blo) .or. any(qblo(:, t) > bhi)) cycle
-          call box_clip_planes(qblo(:, t), qbhi(:, t), pn(:, 1:np), pd(1:np), v, m)
-          if (v > 0.0_wp) call deposit(sgn*v, sgn*m, t)
-        end do
-        return
-      end if
       do i = 1, np
         outm(i) = 0
         do j = 1, 27
@@ -838,6 +840,61 @@ contains
         end if
       end do halves
     end subroutine clip_halves
+
+    !> The part of the old half tetrahedron t (material planes mn.x <= md)
+    !> inside this box cell, split among the cell's eight octants (its
+    !> corners' subcells) by its three mid-planes, deposited with the sign
+    !> sgn. The half is clipped by the material planes and the box faces
+    !> that cut it, then split plane by plane only where it straddles one,
+    !> so most pieces take a few clips of a small polyhedron.
+    subroutine clip_into_octants(t, mn, md, sgn)
+      real(wp), intent(in) :: t(3, 4), mn(:, :), md(:), sgn
+      type(poly_t) :: p
+      integer :: i, d
+
+      call poly_set_tet(p, t)
+      do i = 1, size(md)
+        call poly_clip(p, mn(:, i), md(i))
+        if (p%nv == 0) return
+      end do
+      do d = 1, 3
+        if (maxval(p%x(d, 1:p%nv)) > hi(d)) call poly_clip(p, unit_axis(:, d), hi(d))
+        if (p%nv == 0) return
+        if (minval(p%x(d, 1:p%nv)) < lo(d)) call poly_clip(p, -unit_axis(:, d), -lo(d))
+        if (p%nv == 0) return
+      end do
+      call split_octants(p, 1, 0, sgn)
+    end subroutine clip_into_octants
+
+    !> Splits p by the mid-planes of directions d..3 and deposits each piece
+    !> in the octant whose bits (direction d-1 .. 0 set on the high side) it
+    !> has reached.
+    recursive subroutine split_octants(p, d, bits, sgn)
+      type(poly_t), intent(inout) :: p
+      integer, intent(in) :: d, bits
+      real(wp), intent(in) :: sgn
+      type(poly_t) :: q
+      real(wp) :: v, m(3), xlo, xhi
+
+      if (d > 3) then
+        call poly_first_moments(p, v, m)
+        if (v > 0.0_wp) call deposit(sgn*v, sgn*m, bits + 1)
+        return
+      end if
+      xlo = minval(p%x(d, 1:p%nv))
+      xhi = maxval(p%x(d, 1:p%nv))
+      if (xhi <= mid(d)) then
+        call split_octants(p, d + 1, bits, sgn)
+      else if (xlo >= mid(d)) then
+        call split_octants(p, d + 1, ibset(bits, d - 1), sgn)
+      else
+        q = p
+        call poly_clip(p, unit_axis(:, d), mid(d))
+        if (p%nv > 0) call split_octants(p, d + 1, bits, sgn)
+        call poly_clip(q, -unit_axis(:, d), -mid(d))
+        if (q%nv > 0) call split_octants(q, d + 1, ibset(bits, d - 1), sgn)
+      end if
+    end subroutine split_octants
 
     !> One fragment (signed volume vf, first moment mf about o) of region
     !> kreg (material kmat) of old cell co, landing in corner a.

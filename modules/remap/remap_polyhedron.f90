@@ -26,8 +26,8 @@ module remap_polyhedron
   implicit none
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
-  public :: poly_from_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
-  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, box_clip_planes, slot_of
+  public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
+  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
@@ -79,6 +79,14 @@ contains
     type(poly_t) :: p
     call set_tet(p, x)
   end function poly_from_tet
+
+  !> Fills p with the tetrahedron x(3,4) (length; either orientation), in
+  !> place (no copy of a poly_t, unlike `poly_from_tet`).
+  pure subroutine poly_set_tet(p, x)
+    type(poly_t), intent(inout) :: p
+    real(wp), intent(in) :: x(3, 4)
+    call set_tet(p, x)
+  end subroutine poly_set_tet
 
   !> Fills p with the tetrahedron x, its vertices reordered to positive.
   pure subroutine set_tet(p, x)
@@ -437,52 +445,6 @@ contains
       call poly_first_moments(p, vol, mom)
     end if
   end subroutine tet_clip_planes
-
-  !> The part of the axis-aligned box [lo, hi] (length) inside the convex
-  !> region n(:,i).x <= d(i), i = 1..size(d): volume vol >= 0 (length^3) and
-  !> first moment mom (length^4), with the same plane tests as
-  !> `tet_clip_planes` on the box's eight corners.
-  pure subroutine box_clip_planes(lo, hi, n, d, vol, mom)
-    real(wp), intent(in) :: lo(3), hi(3), n(:, :), d(:)
-    real(wp), intent(out) :: vol, mom(3)
-    type(poly_t) :: p
-    real(wp) :: s, xb(3, 8)
-    integer :: i, k, nout, ncut, cut(poly_max_verts)
-
-    vol = 0.0_wp
-    mom = 0.0_wp
-    do k = 1, 8
-      xb(1, k) = merge(hi(1), lo(1), btest(k - 1, 0))
-      xb(2, k) = merge(hi(2), lo(2), btest(k - 1, 1))
-      xb(3, k) = merge(hi(3), lo(3), btest(k - 1, 2))
-    end do
-    ncut = 0
-    do i = 1, size(d)
-      nout = 0
-      do k = 1, 8
-        s = n(1, i)*xb(1, k) + n(2, i)*xb(2, k) + n(3, i)*xb(3, k) - d(i)
-        if (s > 0.0_wp) nout = nout + 1
-      end do
-      if (nout == 8) return
-      if (nout > 0) then
-        ncut = ncut + 1
-        cut(ncut) = i
-      end if
-    end do
-    if (ncut == 0) then
-      vol = product(hi - lo)
-      mom = 0.5_wp*vol*(lo + hi)
-    else
-      p%nv = 8
-      p%x(:, 1:8) = xb
-      p%nbr(:, 1:8) = hex_nbr
-      do k = 1, ncut
-        call poly_clip(p, n(:, cut(k)), d(cut(k)))
-        if (p%nv == 0) return
-      end do
-      call poly_first_moments(p, vol, mom)
-    end if
-  end subroutine box_clip_planes
 
   !> Intersection of the tetrahedra t1 and t2 (3,4; length): volume vol
   !> (length^3) and first moment mom (length^4), times the product of their
