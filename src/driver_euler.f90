@@ -119,12 +119,12 @@ contains
     ie1 = ie1 - st%energy_in + st%energy_out
     dp = p1 - p0 + st%momentum_constrained - st%momentum_in + st%momentum_out
     write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
-      &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled)", &
+      &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
       &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
       &", assemble ",f7.3,")")') &
       run%n_euler, run%step, run%t, st%cells_remapped, st%cells_copied, st%reach, st%volume_defect, &
-      st%given_defect, st%regions_rescaled, st%mof_cells, &
+      st%given_defect, st%regions_rescaled, st%slivers_merged, st%mof_cells, &
       real(st%mof_iterations, wp)/real(max(st%mof_cells, 1), wp), st%mof_not_converged, st%mof_err_max, &
       st%ke_to_internal, t_rezone, st%t_prepare + st%t_intersect + st%t_assemble, st%t_prepare, st%t_intersect, &
       st%t_assemble

@@ -2,51 +2,55 @@
 !> (old) grid is transferred to the rezoned (new) grid by exact polyhedron
 !> intersection, conservatively, with MoF interfaces in mixed cells.
 !>
-!> Old side. Every old cell is cut into single-material regions (Fig. 12):
-!> a pure cell is one region; in a mixed cell the materials' planes come
-!> from MoF (`mof_reconstruct_nested`, deck order of the materials) and
-!> material k's region is the cell on the inner side of its own plane and
-!> the outer side of the planes of the materials before it. A cell whose
-!> 24-triangle surface (Fig. 7) is convex is the intersection of those 24
-!> half-spaces; a non-convex cell is the signed union of its 24 tetrahedra,
-!> each the intersection of four. So every region is a union of convex
-!> pieces given by planes, and a new tetrahedron is intersected with one by
-!> clipping it with the planes (`tet_clip_planes`; only the planes that cut
-!> it are clipped).
+!> Pieces. Every cell is split into its 24 tetrahedra (cell centre, face
+!> centre, edge; Fig. 7) and each of those into two halves at the edge
+!> midpoint: the six halves at a node are the cell's corner (subcell) of that
+!> node, the subcells whose volumes make the nodal mass (Eq. 16). The old
+!> cell's 48 halves are its pieces whatever its shape (each half convex, a
+!> half of an inverted tetrahedron counted negative); in a mixed old cell
+!> the materials' planes come from MoF (`mof_reconstruct_nested`, deck
+!> order) and material k's region is the cell on the inner side of its own
+!> plane and the outer side of the planes before it (Fig. 12), so a piece of
+!> a material region is a half clipped by at most nmat planes.
 !>
-!> New side. Each new cell is split into its 24 tetrahedra (cell centre,
-!> face centre, edge) and each of those into two halves at the edge
-!> midpoint; the six halves at a node form the cell's corner (subcell) of
-!> that node, the same subcells whose volumes make the nodal mass (Eq. 16).
-!> Intersecting the 48 halves with the old regions gives, per fragment, the
-!> volume and first moment; summed per material they give the new cells'
-!> material volumes, centroids, masses and energies (Eqs. 54-55), summed per
-!> corner and then over the cells around a node, the nodal control volume
-!> quantities (Fig. 11, Eqs. 56-57).
+!> Intersection. A new cell's corners are intersected with the old pieces
+!> within its index window: in general its 48 halves are each clipped by an
+!> old piece's planes (`tet_clip_planes`, with the plane tests done once on
+!> the 27 points of the split); into an axis-aligned box (the initial grid
+!> of a global rezone) each old piece is clipped by the box faces that cut
+!> it and split among the eight octants (the box's subcells) by the
+!> mid-planes it straddles. Each fragment has its volume and first moment;
+!> summed per material they give the new cells' material volumes,
+!> centroids, masses and energies (Eqs. 54-55), summed per corner and then
+!> over the cells around a node, the nodal control-volume quantities
+!> (Fig. 11, Eqs. 56-57).
 !>
-!> Fields on the old regions, linear about each region's exact centroid x_k
+!> Mass and energy: linear in each old region about its exact centroid x_k
 !> (the limited least-squares gradients of `remap_gradient`, or constant):
 !>   mass of a fragment (volume v, first moment m):   rho_k v + grad rho_k . (m - x_k v)
 !>   its internal energy:  mass_f e_k + rho_k grad e_k . (m - x_k v)
 !> Over a whole region sum (m - x_k v) = 0, so each region gives away exactly
 !> its mass and energy: conservation to round-off whatever the gradients,
 !> and the limiter keeps the new values within the old neighbours' bounds.
-!> Momentum: an old cell holds P_o = sum_a m_oa u_a, where m_oa is its share
-!> of node a's mass (the subcell mass rho_o V_oa, normalised so the shares of
-!> a node add up to the node's mass), and M_o = sum_a m_oa. Its velocity is
-!> linear, u_o + G (x - x_m) about the cell's centre of mass x_m, with
-!> u_o = P_o/M_o and G the affine least-squares fit of its eight nodal
-!> velocities, limited so the reconstruction stays within their range at
-!> the nodes. A fragment carries nodal mass r mass_f (r = M_o/m_o) and
-!> momentum r (mass_f u_o + rho_k G (m - x_m v)); summed over the cell these
-!> give back M_o and P_o exactly, and a uniform velocity stays uniform.
-!> Kinetic energy: the fragment carries r mass_f K_o/M_o (K_o the old cell's
-!> nodal kinetic energy), so the total is conserved; at each new node the
-!> difference between that remapped kinetic energy and 1/2 m u^2 of the new
-!> nodal momentum (what averaging velocities loses) is returned to the
-!> internal energy of the cells around the node in proportion to their
-!> corner masses. Mass, momentum and total energy are therefore conserved to
-!> round-off (velocity boundary conditions applied after the remap aside).
+!>
+!> Momentum lives in the old subcells: corner a of an old cell carries the
+!> velocity u_a of its node and its share m_a of the node's mass (the
+!> subcell masses rho V_a normalised so a node's shares add up to its mass).
+!> A fragment of the subcell carries nodal mass r_a mass_f, momentum
+!> r_a mass_f u_a and kinetic energy r_a mass_f u_a^2/2, r_a = m_a/M_a with
+!> M_a the mass the reconstruction puts in the subcell: each subcell hands
+!> out exactly m_a and m_a u_a, a uniform velocity stays uniform, and the
+!> remap tends to the identity as the grid stops moving (a velocity fitted
+!> over whole cells would smooth a curved flow at every remap, however
+!> small the move). The velocity is thus first order (piecewise constant in
+!> subcells). A tangled old cell, or one the new grid does not cover, hands
+!> out its mean velocity instead. At each new node the difference between
+!> the remapped kinetic energy and 1/2 m u^2 of the new nodal momentum
+!> (what averaging velocities loses) is returned to the internal energy of
+!> the cells around the node in proportion to their corner masses. Mass,
+!> momentum and total energy are therefore conserved to round-off (velocity
+!> boundary conditions applied after the remap, and open faces, aside: both
+!> are reported).
 !>
 !> Unchanged cells. A new cell identical to its old cell is copied (its
 !> material data too), and since the new cells tile the domain no other new
@@ -222,7 +226,8 @@ contains
     stats%reach = maxval(reach)
     if (stats%volume_defect > 1.0e-9_wp) then
       call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
-                     rtoa(stats%volume_defect)//'): boundary nodes must stay on the boundary')
+                     rtoa(stats%volume_defect)//'): nodes moved more than '//itoa(max_reach)// &
+                     ' cells since the last Euler step (remap more often), or boundary nodes left the boundary')
       return
     end if
 
