@@ -584,12 +584,7 @@ contains
         xn(:, j) = xn(:, j) - o
       end do
       call half_tets(xn, pts, hv, corner)
-      s0 = 0
-      s1 = 0
-      if (h%mat(c) <= 0) then
-        s0 = mx%start(-h%mat(c))
-        s1 = mx%start(-h%mat(c) + 1) - 1
-      end if
+      call region_slots(h, mx, c, s0, s1)
       mgeo = 0.0_wp
       tangled = .false.
       do s = s0, s1
@@ -621,6 +616,20 @@ contains
     end do
     !$omp end parallel do
   end subroutine subcell_ratios
+
+  !> The regions of cell c as a slot range: s0 = s1 = 0 for a pure cell (its
+  !> one region is the cell), else its first and last mixed-cell slot.
+  pure subroutine region_slots(h, mx, c, s0, s1)
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: c
+    integer, intent(out) :: s0, s1
+    s0 = 0
+    s1 = 0
+    if (h%mat(c) > 0) return
+    s0 = mx%start(-h%mat(c))
+    s1 = mx%start(-h%mat(c) + 1) - 1
+  end subroutine region_slots
 
   !> The planes of the region of slot s of a mixed cell whose slots start at
   !> s0 (nested dissection): its own plane, and the outer side of the planes
@@ -755,12 +764,7 @@ contains
             ohi(:, i) = maxval(ot, 2)
           end do
           n0 = g%node0(co)
-          s0 = 0
-          s1 = 0
-          if (h%mat(co) <= 0) then
-            s0 = mx%start(-h%mat(co))
-            s1 = mx%start(-h%mat(co) + 1) - 1
-          end if
+          call region_slots(h, mx, co, s0, s1)
           ! every material region of the old cell
           do s = s0, s1
             nm = 0
