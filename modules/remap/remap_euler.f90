@@ -59,7 +59,7 @@
 !> bit for bit. Only the changed cells are intersected, which is what makes a
 !> localized remap (LSSM) cheap.
 module remap_euler
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_errors, only: error_t, error_set
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
@@ -138,7 +138,11 @@ module remap_euler
     real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
     real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
-    real(wp), allocatable :: given(:)           !< volume given away (ncell + nslot)
+    !> volume given away (ncell + nslot), in units of 2^-50 of the region's
+    !> cell volume (gunit): integer sums are exact, so the result does not
+    !> depend on the order the threads add in
+    integer(i8), allocatable :: given(:)
+    real(wp), allocatable :: gunit(:)
     real(wp), allocatable :: scale(:)           !< factor on what a region gives (1, or > 1 if not covered)
   end type old_t
 
@@ -165,7 +169,7 @@ contains
                              cmass(:, :), cmom(:, :, :), cke(:, :), cdef(:, :)
     integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
-    real(wp) :: w0, vnew, defect, xn(3, 8)
+    real(wp) :: w0, vnew, defect, xn(3, 8), given
     integer :: ncell, c, co, r, i, nbad, stat
     character(len=200) :: msg
 
@@ -242,15 +246,16 @@ contains
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
       if (open_face(co) > 0) cycle
       ! relative to the cell: a sliver region's own round-off can be larger
-      stats%given_defect = max(stats%given_defect, abs(old%given(c) - old%vreg(c))/h%vol(co))
-      if (abs(old%given(c) - old%vreg(c)) <= uncovered_tol*h%vol(co)) cycle
-      if (.not. old%given(c) > 0.0_wp) then
+      given = real(old%given(c), wp)*old%gunit(c)
+      stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
+      if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) cycle
+      if (.not. given > 0.0_wp) then
         call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' lies outside the new grid')
         return
       end if
       stats%regions_rescaled = stats%regions_rescaled + 1
       old%uniform(co) = .true.
-      old%scale(c) = old%vreg(c)/old%given(c)
+      old%scale(c) = old%vreg(c)/given
       old%grho(:, c) = 0.0_wp
       old%ge(:, c) = 0.0_wp
     end do
@@ -359,9 +364,15 @@ contains
     allocate(old%changed(ncell), old%rsub(8, ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
              old%rcell(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
-             old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%scale(nreg), &
+             old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
              wnode(g%nnode))
-    old%given = 0.0_wp
+    old%given = 0_i8
+    do c = 1, ncell
+      old%gunit(c) = abs(h%vol(c))*2.0_wp**(-50)
+    end do
+    do k = 1, mx%n
+      old%gunit(ncell + mx%start(k):ncell + mx%start(k + 1) - 1) = abs(h%vol(mx%cell(k)))*2.0_wp**(-50)
+    end do
     old%scale = 1.0_wp
     old%vreg = 0.0_wp
     old%rsub = 1.0_wp
@@ -666,7 +677,7 @@ contains
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(in) :: old
-    real(wp), intent(inout) :: given(:)
+    integer(i8), intent(inout) :: given(:)
     real(wp), intent(in) :: given_sign
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
@@ -926,7 +937,7 @@ contains
       cke(a) = cke(a) + rb*fm*keb
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
-        given(kreg) = given(kreg) + given_sign*vf
+        given(kreg) = given(kreg) + nint(given_sign*vf/old%gunit(kreg), i8)
       end if
     end subroutine deposit
   end subroutine remap_new_cell
