@@ -688,6 +688,8 @@ contains
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
                 od(4, 48), ub(3), rb, keb
+    real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24)
+    integer :: tvmask(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
                j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48)
     logical :: box
@@ -714,6 +716,23 @@ contains
       hsg(t) = sign(1.0_wp, v)
       hvol(t) = abs(v)/6.0_wp
       hmom(:, t) = 0.25_wp*hvol(t)*(ht(:, 1, t) + ht(:, 2, t) + ht(:, 3, t) + ht(:, 4, t))
+    end do
+    ! the 24 tetrahedra (two halves each), their masks and the mid-plane
+    ! (centre, face centre, edge midpoint) that splits them, oriented with
+    ! the first half's corner on the inner side
+    do t = 1, 24
+      tv(:, 1:3, t) = ht(:, 1:3, 2*t - 1)
+      tv(:, 4, t) = ht(:, 4, 2*t)
+      tvmask(t) = ior(tmask(2*t - 1), tmask(2*t))
+      tvmask(t) = ibclr(tvmask(t), hv(4, 2*t - 1) - 1)
+      tvlo(:, t) = min(hlo(:, 2*t - 1), hlo(:, 2*t))
+      tvhi(:, t) = max(hhi(:, 2*t - 1), hhi(:, 2*t))
+      midn(:, t) = cross(ht(:, 2, 2*t - 1) - ht(:, 1, 2*t - 1), ht(:, 4, 2*t - 1) - ht(:, 1, 2*t - 1))
+      midd(t) = dot_product(midn(:, t), ht(:, 1, 2*t - 1))
+      if (dot_product(midn(:, t), ht(:, 3, 2*t - 1)) > midd(t)) then
+        midn(:, t) = -midn(:, t)
+        midd(t) = -midd(t)
+      end if
     end do
     lo = minval(xn, 2)
     hi = maxval(xn, 2)
@@ -830,8 +849,9 @@ contains
     subroutine clip_halves(pn, pd, np, sgn, blo, bhi)
       real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3)
       integer, intent(in) :: np
-      integer :: outm(4 + max_mat), i, j, t, ncut, bits
-      real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3)
+      integer :: outm(4 + max_mat), i, j, t, ncut, bits, k
+      real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
+      type(poly_t) :: p, q
 
       do i = 1, np
         outm(i) = 0
@@ -840,12 +860,14 @@ contains
             outm(i) = ibset(outm(i), j - 1)
         end do
       end do
-      halves: do t = 1, 48
-        if (any(hhi(:, t) < blo) .or. any(hlo(:, t) > bhi)) cycle
+      ! whole tetrahedra first: one clip for both halves, then the
+      ! mid-plane split where the piece straddles it
+      tets: do t = 1, 24
+        if (any(tvhi(:, t) < blo) .or. any(tvlo(:, t) > bhi)) cycle
         ncut = 0
         do i = 1, np
-          bits = iand(outm(i), tmask(t))
-          if (bits == tmask(t)) cycle halves
+          bits = iand(outm(i), tvmask(t))
+          if (bits == tvmask(t)) cycle tets
           if (bits /= 0) then
             ncut = ncut + 1
             cn(:, ncut) = pn(:, i)
@@ -853,12 +875,37 @@ contains
           end if
         end do
         if (ncut == 0) then
-          call deposit(sgn*hsg(t)*hvol(t), sgn*hsg(t)*hmom(:, t), hcorner(t))
-        else
-          call tet_clip_planes(ht(:, :, t), cn(:, 1:ncut), cd(1:ncut), v, m)
-          if (v > 0.0_wp) call deposit(sgn*hsg(t)*v, sgn*hsg(t)*m, hcorner(t))
+          call deposit(sgn*hsg(2*t - 1)*hvol(2*t - 1), sgn*hsg(2*t - 1)*hmom(:, 2*t - 1), hcorner(2*t - 1))
+          call deposit(sgn*hsg(2*t)*hvol(2*t), sgn*hsg(2*t)*hmom(:, 2*t), hcorner(2*t))
+          cycle
         end if
-      end do halves
+        call poly_set_tet(p, tv(:, :, t))
+        do i = 1, ncut
+          call poly_clip(p, cn(:, i), cd(i))
+          if (p%nv == 0) cycle tets
+        end do
+        sa = 0.0_wp
+        sb = 0.0_wp
+        do j = 1, p%nv
+          sm = dot_product(midn(:, t), p%x(:, j)) - midd(t)
+          sa = min(sa, sm)
+          sb = max(sb, sm)
+        end do
+        if (sb <= 0.0_wp .or. sa >= 0.0_wp) then
+          ! all on one side of the mid-plane
+          call poly_first_moments(p, v, m)
+          k = merge(2*t - 1, 2*t, sb <= 0.0_wp)
+          if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, hcorner(k))
+        else
+          q = p
+          call poly_clip(p, midn(:, t), midd(t))
+          call poly_first_moments(p, v, m)
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, hcorner(2*t - 1))
+          call poly_clip(q, -midn(:, t), -midd(t))
+          call poly_first_moments(q, v, m)
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t)*v, sgn*hsg(2*t)*m, hcorner(2*t))
+        end if
+      end do tets
     end subroutine clip_halves
 
     !> The part of the old half tetrahedron t (material planes mn.x <= md)
