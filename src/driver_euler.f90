@@ -10,7 +10,7 @@ module driver_euler
   use base_timers, only: wall_seconds
   use rezone_quality, only: grid_quality
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
-                               rezone_subdomains_default_dmax
+                               rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_smooth, only: smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
                            smooth_tfi, smooth_q_min
   use material_table, only: material_index_cells, material_eval_eos
@@ -37,7 +37,7 @@ contains
     if (trim(run%cfg%rezone%mode) == 'none') return
     run%x0 = run%g%x
     allocate(run%quality(run%g%ncell))
-    if (trim(run%cfg%rezone%mode) == 'lssm') then
+    if (trim(run%cfg%rezone%mode) == 'lssm' .or. trim(run%cfg%rezone%mode) == 'smooth') then
       ! face nodes slide in their face, edge nodes along their edge, corners stay
       call smooth_mobility_box(run%g%ni, run%g%nj, run%g%nk, run%mobility, err)
       if (allocated(err)) call fatal(err%where, err%msg)
@@ -83,11 +83,11 @@ contains
       pscale = pscale + run%h%mnode(n)*norm2(run%h%u(:, n))
     end do
 
-    ! rezone: global (back to the initial grid) or localized (LSSM)
+    ! rezone: back to the initial grid, or smoothing (localized or global)
     t_rezone = wall_seconds()
-    if (trim(run%cfg%rezone%mode) == 'lssm') then
+    if (trim(run%cfg%rezone%mode) == 'lssm' .or. trim(run%cfg%rezone%mode) == 'smooth') then
       xnew = run%g%x
-      if (.not. lssm_rezone(xnew)) then
+      if (.not. smooth_rezone(xnew)) then
         call run%t_euler%stop()
         return
       end if
@@ -152,13 +152,14 @@ contains
     end if
   end subroutine euler_step
 
-  !> LSSM rezone (Sect. 5.2-5.3): distorted subdomains of the grid
-  !> (Q < quality), smoothed by the combined method until Q_min of their cells
-  !> reaches quality_target or smooth_iterations are done, then TFI on the
-  !> merged cuboid subdomains if the target was not reached. x is the grid on
-  !> entry and the rezoned grid on return; false if no cell is distorted
-  !> (nothing to do).
-  logical function lssm_rezone(x) result(done)
+  !> Smoothing rezone. 'lssm' (Sect. 5.2-5.3): the distorted subdomains of
+  !> the grid (Q < quality); 'smooth': the whole grid (the global MMALE the
+  !> paper compares LSSM with). The cells are smoothed by the combined method
+  !> until their Q_min reaches quality_target or smooth_iterations are done,
+  !> then TFI on the merged cuboid subdomains (or the whole block) if the
+  !> target was not reached. x is the grid on entry and the rezoned grid on
+  !> return; false if no cell is distorted (nothing to do).
+  logical function smooth_rezone(x) result(done)
     real(wp), intent(inout) :: x(:, :)
     type(rezone_subdomains_t) :: sub
     type(smooth_region_t) :: reg
@@ -171,9 +172,15 @@ contains
 
     associate (g => run%g, rz => run%cfg%rezone)
       call grid_quality(g%ni, g%nj, g%nk, x, run%quality, q_min0, ratio_max, cos_min)
-      d_max = rz%d_max
-      if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
-      call rezone_subdomains_find(g%ni, g%nj, g%nk, run%quality, rz%quality, d_max, sub, err)
+      if (trim(rz%mode) == 'smooth') then
+        ! the whole block as one subdomain
+        call rezone_subdomains_from_boxes(g%ni, g%nj, g%nk, reshape([1, 1, 1], [3, 1]), &
+                                          reshape([g%ni, g%nj, g%nk], [3, 1]), sub, err)
+      else
+        d_max = rz%d_max
+        if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
+        call rezone_subdomains_find(g%ni, g%nj, g%nk, run%quality, rz%quality, d_max, sub, err)
+      end if
       if (allocated(err)) call fatal(err%where, err%msg)
       done = sub%nbox > 0
       if (.not. done) then
@@ -195,12 +202,12 @@ contains
         end do
         q_min = smooth_q_min(reg, x)
       end if
-      write(line, '("lssm at step ",i0,": ",i0," subdomains, ",i0," cells smoothed (Q_min ",f7.4," -> ",f7.4, &
-        &" after ",i0," iterations",a,")")') run%step, sub%nbox, count(sub%cell_smooth), q_min0, q_min, &
+      write(line, '(a," at step ",i0,": ",i0," subdomains, ",i0," cells smoothed (Q_min ",f7.4," -> ",f7.4, &
+        &" after ",i0," iterations",a,")")') trim(rz%mode), run%step, sub%nbox, count(sub%cell_smooth), q_min0, q_min, &
         iterations, trim(merge(', then TFI', '          ', tfi))
       call log_line(trim(line))
     end associate
-  end function lssm_rezone
+  end function smooth_rezone
 
   !> Summary line of the run's Euler steps.
   subroutine euler_report()

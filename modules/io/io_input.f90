@@ -538,9 +538,9 @@ contains
       if (ios /= 0) call add(problems, nml_error(cfg%deck_path, 'rezone', ios, msg))
     end if
     select case (trim(mode))
-    case ('none', 'global', 'lssm')
+    case ('none', 'global', 'lssm', 'smooth')
     case default
-      call add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global, lssm')
+      call add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global, lssm, smooth')
     end select
     select case (trim(reconstruction))
     case ('linear', 'constant')
