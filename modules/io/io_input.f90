@@ -52,7 +52,9 @@ module io_input
   !> that is on fires.
   type :: rezone_cfg_t
     !> 'none': pure Lagrangian, no Euler step; 'global': rezone the whole grid
-    !> back to the initial one and remap (Eulerian-like global MMALE)
+    !> back to the initial one and remap (Eulerian-like global MMALE); 'lssm':
+    !> smooth and remap only the distorted subdomains (Sect. 5); 'smooth':
+    !> smooth the whole grid and remap (the global MMALE LSSM is measured against)
     character(len=16) :: mode = 'none'
     !> trigger: the largest ratio of side lengths of any cell reaches this
     !> (0: off; else > 1)
