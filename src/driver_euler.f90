@@ -1,7 +1,8 @@
 !> The Euler phase in the time loop: when to run it (the paper's triggers,
-!> or an interval), the rezone (for now global: back to the initial grid),
-!> the remap (`remap_euler`), the material state after it, the
-!> conservation check and the log.
+!> or an interval), the rezone (back to the initial grid, or smoothing of the
+!> distorted subdomains (LSSM) or of the whole grid), the remap
+!> (`remap_euler`), the material state after it, the conservation check and
+!> the log.
 module driver_euler
   use base_kinds, only: wp
   use base_build, only: build_checks
@@ -30,8 +31,9 @@ module driver_euler
 
 contains
 
-  !> Keeps the initial grid (the global rezone's target) and the first
-  !> interval time. Call after the scene is built, before a restart is read.
+  !> Keeps the initial grid (the global rezone's target), the node mobility
+  !> of the smoothers and the first interval time. Call after the scene is
+  !> built, before a restart is read.
   subroutine euler_init()
     type(error_t), allocatable :: err
     if (trim(run%cfg%rezone%mode) == 'none') return
