@@ -402,12 +402,9 @@ contains
       end select
       if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call add(problems, &
         '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
-      m = 0
-      if (allocated(cfg%materials)) then
-        do m = size(cfg%materials), 1, -1
-          if (cfg%materials(m)%name == material) exit
-        end do
-        if (len_trim(material) == 0 .and. size(cfg%materials) == 1) m = 1
+      m = material_index(cfg, material)
+      if (m == 0 .and. len_trim(material) == 0 .and. allocated(cfg%materials)) then
+        if (size(cfg%materials) == 1) m = 1
       end if
       if (m == 0) call add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
         ''' is not a &material name')
@@ -497,12 +494,7 @@ contains
     cfg%bc_inflow_mat = 0
     do f = 1, 6
       if (kinds(f) /= 'inflow') cycle
-      m = 0
-      if (allocated(cfg%materials)) then
-        do m = size(cfg%materials), 1, -1
-          if (cfg%materials(m)%name == inflow_material(f)) exit
-        end do
-      end if
+      m = material_index(cfg, inflow_material(f))
       cfg%bc_inflow_mat(f) = m
       if (m == 0) call add(problems, '&boundary: inflow_material('//itoa(f)//') = '''// &
         trim(inflow_material(f))//''' is not a &material name (face '//face_names(f)//' is an inflow)')
@@ -513,6 +505,19 @@ contains
     end do
     write(echo, nml=boundary)
   end subroutine read_boundary
+
+  !> The index of the &material called name (the last one if repeated), 0
+  !> if there is none.
+  integer function material_index(cfg, name) result(m)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: name
+    m = 0
+    if (.not. allocated(cfg%materials)) return
+    do m = size(cfg%materials), 1, -1
+      if (cfg%materials(m)%name == name) return
+    end do
+    m = 0
+  end function material_index
 
   subroutine read_rezone(unit, lines, cfg, echo, problems)
     integer, intent(in) :: unit, echo
