@@ -6,7 +6,7 @@
 module remap_cells
   use base_kinds, only: wp
   use mesh_grid, only: block_gather
-  use remap_polyhedron, only: hex_tets
+  use remap_polyhedron, only: hex_tets, tet_det
   implicit none
   private
   public :: cell_moments
@@ -33,8 +33,7 @@ contains
           v = 0.0_wp
           m = 0.0_wp
           do t = 1, 24
-            vt = det3(tets(:, 2, t) - tets(:, 1, t), tets(:, 3, t) - tets(:, 1, t), &
-                      tets(:, 4, t) - tets(:, 1, t))/6.0_wp
+            vt = tet_det(tets(:, :, t))/6.0_wp
             v = v + vt
             m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
           end do
@@ -45,9 +44,4 @@ contains
     end do
     !$omp end parallel do
   end subroutine cell_moments
-
-  pure real(wp) function det3(a, b, c)
-    real(wp), intent(in) :: a(3), b(3), c(3)
-    det3 = a(1)*(b(2)*c(3) - b(3)*c(2)) - a(2)*(b(1)*c(3) - b(3)*c(1)) + a(3)*(b(1)*c(2) - b(2)*c(1))
-  end function det3
 end module remap_cells

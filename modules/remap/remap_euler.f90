@@ -68,7 +68,7 @@ module remap_euler
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t
-  use remap_polyhedron, only: hex_tets, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
+  use remap_polyhedron, only: tet_det, tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
@@ -610,7 +610,7 @@ contains
           do j = 1, 4
             t(:, j) = pts(:, hv(j, i))
           end do
-          sg = sign(1.0_wp, det3(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+          sg = sign(1.0_wp, tet_det(t))
           if (sg < 0.0_wp) tangled = .true.
           call tet_clip_planes(t, pn(:, 1:nm), pd(1:nm), v, m)
           mgeo(corner(i)) = mgeo(corner(i)) + sg*old%scale(kreg)*(old%rho(kreg)*v + &
@@ -691,7 +691,7 @@ contains
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24)
     integer :: tvmask(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48)
+               j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48), isg
     logical :: box
 
     ci = 1 + mod(c - 1, g%ni)
@@ -712,7 +712,7 @@ contains
       end do
       hlo(:, t) = minval(ht(:, :, t), 2)
       hhi(:, t) = maxval(ht(:, :, t), 2)
-      v = det3(ht(:, 2, t) - ht(:, 1, t), ht(:, 3, t) - ht(:, 1, t), ht(:, 4, t) - ht(:, 1, t))
+      v = tet_det(ht(:, :, t))
       hsg(t) = sign(1.0_wp, v)
       hvol(t) = abs(v)/6.0_wp
       hmom(:, t) = 0.25_wp*hvol(t)*(ht(:, 1, t) + ht(:, 2, t) + ht(:, 3, t) + ht(:, 4, t))
@@ -788,8 +788,9 @@ contains
             do j = 1, 4
               ot(:, j) = opts(:, ohv(j, i))
             end do
-            osg(i) = sign(1.0_wp, det3(ot(:, 2) - ot(:, 1), ot(:, 3) - ot(:, 1), ot(:, 4) - ot(:, 1)))
-            call tet_face_planes(ot, on(:, :, i), od(:, i))
+            ! (a half flat to round-off has no volume to give: sign 0, skipped)
+            call tet_planes(ot, on(:, :, i), od(:, i), isg)
+            osg(i) = real(isg, wp)
             olo(:, i) = minval(ot, 2)
             ohi(:, i) = maxval(ot, 2)
           end do
@@ -808,6 +809,7 @@ contains
               call region_planes(old, s0, s, o, pn(:, 5:), pd(5:), nm)
             end if
             do i = 1, 48
+              if (.not. abs(osg(i)) > 0.0_wp) cycle
               if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
@@ -1050,20 +1052,6 @@ contains
     end do
     is_box = is_box .and. all(xn(:, 8) > xn(:, 1))
   end function is_box
-
-  !> Outward face planes of a tetrahedron of either orientation.
-  pure subroutine tet_face_planes(t, n, d)
-    real(wp), intent(in) :: t(3, 4)
-    real(wp), intent(out) :: n(3, 4), d(4)
-    integer, parameter :: face(3, 4) = reshape([2, 3, 4, 1, 4, 3, 1, 2, 4, 1, 3, 2], [3, 4])
-    integer :: i
-    real(wp) :: sg
-    sg = sign(1.0_wp, det3(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
-    do i = 1, 4
-      n(:, i) = sg*cross(t(:, face(2, i)) - t(:, face(1, i)), t(:, face(3, i)) - t(:, face(1, i)))
-      d(i) = dot_product(n(:, i), t(:, face(1, i)))
-    end do
-  end subroutine tet_face_planes
 
   ! ------------------------------------------------------------ assembly
 
@@ -1372,9 +1360,4 @@ contains
   end subroutine move_mixed
 
   ! ------------------------------------------------------------ small kernels
-
-  pure real(wp) function det3(a, b, c)
-    real(wp), intent(in) :: a(3), b(3), c(3)
-    det3 = a(1)*(b(2)*c(3) - b(3)*c(2)) - a(2)*(b(1)*c(3) - b(3)*c(1)) + a(3)*(b(1)*c(2) - b(2)*c(1))
-  end function det3
 end module remap_euler

@@ -54,7 +54,7 @@ module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_clip, &
-                              poly_first_moments, hex_tets, slot_of
+                              poly_first_moments, hex_tets, slot_of, tet_det
   implicit none
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol
@@ -111,13 +111,6 @@ module remap_mof
 contains
 
   ! ------------------------------------------------------------ regions
-
-  !> Six times the signed volume of the tetrahedron t(3,4).
-  pure function tet_det(t) result(det)
-    real(wp), intent(in) :: t(3, 4)
-    real(wp) :: det
-    det = dot_product(t(:, 2) - t(:, 1), cross(t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
-  end function tet_det
 
   !> The cell with nodes xn(3,8) (length, order a = 1 + i + 2j + 4k) as the
   !> region of its 24 tetrahedra (Fig. 7); tetrahedra flat to round-off are

@@ -27,7 +27,7 @@ module remap_polyhedron
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
   public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
-  public :: hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
+  public :: tet_det, tet_planes, hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
