@@ -8,11 +8,11 @@ module driver_scene
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_init_box
-  use mesh_geometry, only: hex_volume, hex_subcell_volumes, hex_trilinear
+  use mesh_geometry, only: hex_volume, hex_trilinear
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
-  use lagrange_state, only: hydro_allocate
+  use lagrange_state, only: hydro_allocate, hydro_subcell_masses
   use io_input, only: region_cfg_t
   use io_log, only: log_line
   use driver_state, only: run, fatal, totals
@@ -26,8 +26,8 @@ contains
   !> masses (first term of Eq. 16) and boundary lists.
   subroutine build_scene()
     type(error_t), allocatable :: err
-    integer :: m, c, n, a, n0, r, s, ijk(3)
-    real(wp) :: xn(3, 8), vsub(8), h(3), rv
+    integer :: m, c, n, a, r, s, ijk(3)
+    real(wp) :: xn(3, 8), h(3), rv
 
     associate (cfg => run%cfg, g => run%g, hy => run%h)
       call grid_init_box(g, cfg%ni, cfg%nj, cfg%nk, cfg%xmin, cfg%xmax, err)
@@ -81,17 +81,7 @@ contains
                       ' deposited in cell '//itoa(c))
       end do
 
-      ! nodal mass from subcell masses, Eq. (16) first term
-      hy%mnode = 0.0_wp
-      do c = 1, g%ncell
-        n0 = g%node0(c)
-        call g%gather(c, g%x, xn)
-        call hex_subcell_volumes(xn, vsub)
-        do a = 1, 8
-          n = n0 + g%corner_offset(a)
-          hy%mnode(n) = hy%mnode(n) + hy%rho(c)*vsub(a)
-        end do
-      end do
+      call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode)
 
       call material_index_cells(run%mats, hy%mat, run%mx, err)
       if (allocated(err)) call fatal(err%where, err%msg)

@@ -37,10 +37,10 @@ program bench_remap
   use base_random, only: rng_t, rng_seed, rng_uniform
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_init_box
-  use mesh_geometry, only: hex_corner, hex_volume, hex_subcell_volumes, hex_natural
+  use mesh_geometry, only: hex_corner, hex_volume, hex_natural
   use mesh_boundary, only: bc_t, bc_init
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
+  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_max_iter_default
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
@@ -235,8 +235,8 @@ contains
     type(remap_params_t) :: par
     type(error_t), allocatable :: e
     real(wp), allocatable :: vol(:), cen(:, :)
-    real(wp) :: xn(3, 8), vsub(8), v1, c1(3), c2(3), vcell, m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, w0, c0, pscale
-    integer :: c, a, s, nn, stat
+    real(wp) :: xn(3, 8), v1, c1(3), c2(3), vcell, m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, w0, c0, pscale
+    integer :: c, s, nn, stat
     character(len=200) :: msg
 
     call grid_init_box(g, n, n, n, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], e)
@@ -300,15 +300,7 @@ contains
     end do
     h%p = 0.4_wp*h%rho*h%e
     h%cs = 1.0_wp
-    h%mnode = 0.0_wp
-    do c = 1, g%ncell
-      call g%gather(c, xold, xn)
-      call hex_subcell_volumes(xn, vsub)
-      do a = 1, 8
-        nn = g%node0(c) + g%corner_offset(a)
-        h%mnode(nn) = h%mnode(nn) + h%rho(c)*vsub(a)
-      end do
-    end do
+    call hydro_subcell_masses(g, xold, h%rho, h%mnode)
     do nn = 1, g%nnode
       h%u(:, nn) = u_field(xold(:, nn))
     end do

@@ -11,10 +11,10 @@ program test_remap_euler
   use base_timers, only: wall_seconds
   use test_assert, only: check, check_summary
   use mesh_grid, only: grid_t, grid_init_box
-  use mesh_geometry, only: hex_volume, hex_subcell_volumes, hex_natural
+  use mesh_geometry, only: hex_volume, hex_natural
   use mesh_boundary, only: bc_t
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals
+  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
@@ -239,8 +239,8 @@ contains
   subroutine setup(x, kind)
     real(wp), intent(in) :: x(3, nn)
     character(len=*), intent(in) :: kind
-    real(wp) :: xn(3, 8), vsub(8), v1, c1(3), vol(nc), cen(3, nc), vcell
-    integer :: cc, a, nmix, s
+    real(wp) :: xn(3, 8), v1, c1(3), vol(nc), cen(3, nc), vcell
+    integer :: cc, nmix, s
 
     h = hydro_t()
     mx = mixed_t()
@@ -297,15 +297,7 @@ contains
       end do
       where (h%mat == 2) h%e = 5.0_wp
     end if
-    h%mnode = 0.0_wp
-    do cc = 1, nc
-      call g%gather(cc, x, xn)
-      call hex_subcell_volumes(xn, vsub)
-      do a = 1, 8
-        n = g%node0(cc) + g%corner_offset(a)
-        h%mnode(n) = h%mnode(n) + h%rho(cc)*vsub(a)
-      end do
-    end do
+    call hydro_subcell_masses(g, x, h%rho, h%mnode)
     do n = 1, nn
       if (kind == 'linear') then
         h%u(:, n) = [0.3_wp*x(1, n) - 0.1_wp, 0.2_wp*x(2, n) + 0.1_wp*x(3, n), 0.5_wp - 0.4_wp*x(1, n)]

@@ -8,9 +8,11 @@
 module lagrange_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: hex_subcell_volumes
   implicit none
   private
-  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, VISC_EDGE, VISC_TENSOR
+  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, VISC_EDGE, VISC_TENSOR
 
   !> Artificial viscosity forms (deck: &hydro viscosity = 'edge' | 'tensor').
   integer, parameter :: VISC_EDGE = 1, VISC_TENSOR = 2
@@ -67,6 +69,31 @@ contains
     h%u = 0.0_wp; h%mnode = 0.0_wp; h%q = 0.0_wp; h%mat = 0
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
   end subroutine hydro_allocate
+
+  !> Eq. (16), first term: the nodal masses mnode (mass) of the grid with
+  !> node positions x and cell densities rho, sums of the subcell masses
+  !> rho_c V_ca of the cells' corners; those are returned in msub(8, ncell)
+  !> if present.
+  subroutine hydro_subcell_masses(g, x, rho, mnode, msub)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), rho(:)
+    real(wp), intent(out) :: mnode(:)
+    real(wp), intent(out), optional :: msub(:, :)
+    real(wp) :: xn(3, 8), vsub(8)
+    integer :: c, a, n
+
+    mnode = 0.0_wp
+    do c = 1, g%ncell
+      call g%gather(c, x, xn)
+      call hex_subcell_volumes(xn, vsub)
+      vsub = rho(c)*vsub
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        mnode(n) = mnode(n) + vsub(a)
+      end do
+      if (present(msub)) msub(:, c) = vsub
+    end do
+  end subroutine hydro_subcell_masses
 
   !> Total mass, momentum, internal and kinetic energy.
   subroutine hydro_totals(h, mass, momentum, internal, kinetic)

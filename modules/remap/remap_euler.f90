@@ -64,10 +64,10 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, block_gather
-  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_subcell_volumes, hex_trilinear, hex_natural, cross
+  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, cross
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t
+  use lagrange_state, only: hydro_t, hydro_subcell_masses
   use remap_polyhedron, only: tet_det, tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
@@ -121,7 +121,6 @@ module remap_euler
 
   !> The old grid's cells as the remap needs them.
   type :: old_t
-    integer :: nmat = 0
     logical, allocatable :: changed(:)          !< cell moved (ncell)
     !> per corner (subcell) of a moved cell: its share of the node's mass over
     !> the mass the reconstruction puts in the subcell (8, ncell)
@@ -352,7 +351,7 @@ contains
     real(wp), intent(out) :: msub(:, :)
     type(remap_stats_t), intent(inout) :: stats
     real(wp), allocatable :: wnode(:)
-    real(wp) :: xn(3, 8), vsub(8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
+    real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
                 errc(max_mat), vreg(max_mat), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
     type(mof_pieces_t) :: pcs
@@ -360,7 +359,6 @@ contains
 
     ncell = g%ncell
     nreg = ncell + mx%nslot
-    old%nmat = nmat
     allocate(old%changed(ncell), old%rsub(8, ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
              old%rcell(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
@@ -379,33 +377,19 @@ contains
     old%grho = 0.0_wp
     old%ge = 0.0_wp
 
-    ! changed cells, and the subcell masses rho V_a that share the nodal masses
-    !$omp parallel do default(none) shared(g, h, xnew, old, msub) private(c, ci, cj, ck, n, a_, xn, vsub) &
-    !$omp collapse(2) schedule(static)
-    do ck = 1, g%nk
-      do cj = 1, g%nj
-        do ci = 1, g%ni
-          c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-          n = g%node0(c)
-          old%changed(c) = .false.
-          do a_ = 1, 8
-            if (any(abs(xnew(:, n + g%corner_offset(a_)) - g%x(:, n + g%corner_offset(a_))) > 0.0_wp)) &
-              old%changed(c) = .true.
-          end do
-          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
-          call hex_subcell_volumes(xn, vsub)
-          msub(:, c) = h%rho(c)*vsub
-        end do
+    ! changed cells
+    !$omp parallel do default(none) shared(g, xnew, old) private(c, n, a_) schedule(static)
+    do c = 1, g%ncell
+      n = g%node0(c)
+      old%changed(c) = .false.
+      do a_ = 1, 8
+        if (any(abs(xnew(:, n + g%corner_offset(a_)) - g%x(:, n + g%corner_offset(a_))) > 0.0_wp)) &
+          old%changed(c) = .true.
       end do
     end do
     !$omp end parallel do
-    wnode = 0.0_wp
-    do c = 1, ncell
-      n = g%node0(c)
-      do a_ = 1, 8
-        wnode(n + g%corner_offset(a_)) = wnode(n + g%corner_offset(a_)) + msub(a_, c)
-      end do
-    end do
+    ! the subcell masses rho V_a (Eq. 16) now, which share the nodal masses
+    call hydro_subcell_masses(g, g%x, h%rho, wnode, msub)
     !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_) schedule(static)
     do c = 1, g%ncell
       n = g%node0(c)
