@@ -639,25 +639,14 @@ contains
     t2 = cross(n, t1)
   end subroutine tangent_frame
 
-  !> Distance from the cut's centroid to cref (local coordinates); huge if
-  !> the cut has no volume.
-  pure function centroid_error(c, cref) result(err)
-    type(cut_t), intent(in) :: c
-    real(wp), intent(in) :: cref(3)
+  !> Distance from the centroid mom/vol of a cut (or of its smaller side) to
+  !> cref (local coordinates); huge if it has no volume.
+  pure function moment_error(vol, mom, cref) result(err)
+    real(wp), intent(in) :: vol, mom(3), cref(3)
     real(wp) :: err
     err = huge_wp
-    if (c%vol > 0.0_wp) err = norm2(c%mom/c%vol - cref)
-  end function centroid_error
-
-  !> Distance from the centroid of the cut's smaller side to cs; huge if
-  !> that side has no volume.
-  pure function small_error(c, cs) result(err)
-    type(cut_t), intent(in) :: c
-    real(wp), intent(in) :: cs(3)
-    real(wp) :: err
-    err = huge_wp
-    if (c%svol > 0.0_wp) err = norm2(c%smom/c%svol - cs)
-  end function small_error
+    if (vol > 0.0_wp) err = norm2(mom/vol - cref)
+  end function moment_error
 
   !> MoF in a region: from the unit normal n, Gauss-Newton on the angles of
   !> the tangent frame (module header) for the plane cutting vt from pcs
@@ -698,7 +687,7 @@ contains
       cs = (momtot - vt*cref)/vc
     end if
     call solve_plane(pcs, n, vt, vc, .false., 0.0_wp, c, okv)
-    es = small_error(c, cs)
+    es = moment_error(c%svol, c%smom, cs)
     if (es <= err_roundoff*scale) converged = .true.
     do it = 1, max_iter
       if (converged) exit
@@ -746,7 +735,7 @@ contains
         ntry = cos(th)*n + sin(th)*dir
         ntry = ntry/norm2(ntry)
         call solve_plane(pcs, ntry, vt, vc, .true., dot_product(ntry, xf), ct, okt)
-        est = small_error(ct, cs)
+        est = moment_error(ct%svol, ct%smom, cs)
         if (est < es) then
           accepted = .true.
           exit
@@ -770,7 +759,7 @@ contains
       if (th <= mof_angle_tol .or. es <= err_roundoff*scale .or. &
           (lam >= 1.0_wp .and. gain <= 1.0e-8_wp*(es + gain))) converged = .true.
     end do
-    err = centroid_error(c, cref)
+    err = moment_error(c%vol, c%mom, cref)
   end subroutine minimise
 
   !> Largest extent of the cell's nodes along the three axes (length).
@@ -866,7 +855,7 @@ contains
       call solve_plane(pcs, n, vt, vc, .false., 0.0_wp, c, okv)
       dl = c%dl
       err = 0.0_wp
-      if (vt > 0.0_wp) err = centroid_error(c, cref)
+      if (vt > 0.0_wp) err = moment_error(c%vol, c%mom, cref)
       return
     end if
     call minimise(pcs, vt, vc, cref, scale, max_iter, n, c, err, iterations, converged, okv)
@@ -875,7 +864,7 @@ contains
     ! when the first ends far from its target (an error above restart_tol of
     ! the smaller side's size: a local minimum, which long or distorted cells
     ! can have; a planar interface is then usually found from here)
-    es = small_error(c, merge(cref, (creg*(vt + vc) - vt*cref)/vc, vt <= vc))
+    es = moment_error(c%svol, c%smom, merge(cref, (creg*(vt + vc) - vt*cref)/vc, vt <= vc))
     if (es > restart_tol*min(vt, vc)**(1.0_wp/3.0_wp) .and. iterations < max_iter .and. &
         dot_product(n2, n) < 1.0_wp - 1.0e-6_wp) then
       call minimise(pcs, vt, vc, cref, scale, max_iter - iterations, n2, c2, err2, it2, conv2, ok2)
