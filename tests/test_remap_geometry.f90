@@ -7,9 +7,9 @@
 program test_remap_geometry
   use base_kinds, only: wp, i8
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_geometry, only: hex_corner, hex_volume, cross
+  use mesh_geometry, only: hex_corner, hex_volume, hex_tets, cross
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_from_tet, poly_from_hex, poly_clip, &
-                              poly_moments, poly_first_moments, hex_tets, tet_intersect_tet, &
+                              poly_moments, poly_first_moments, tet_intersect_tet, &
                               tet_intersect_hex
   use test_assert, only: check, check_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan

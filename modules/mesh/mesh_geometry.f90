@@ -15,7 +15,7 @@ module mesh_geometry
   implicit none
   private
   public :: hex_corner, hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
-            hex_median_areas, hex_trilinear, hex_natural, cross
+            hex_median_areas, hex_trilinear, hex_natural, hex_tets, tet_det, cross
 
   !> Logical corner (i,j,k) in {0,1}^3 of local node a = 1 + i + 2j + 4k.
   integer, parameter :: hex_corner(3, 8) = reshape([0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0, &
@@ -203,4 +203,47 @@ contains
       xi = min(max(xi + dxi, -1.0_wp), 1.0_wp)
     end do
   end function hex_natural
+
+  !> Six times the signed volume of the tetrahedron t(3,4) (length^3).
+  pure function tet_det(t) result(det)
+    real(wp), intent(in) :: t(3, 4)
+    real(wp) :: det
+    det = dot_product(t(:, 2) - t(:, 1), cross(t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+  end function tet_det
+
+  !> The 24-tetrahedron split of the hexahedron xn(3,8) (Fig. 7; length):
+  !> tetrahedron 4(f-1)+m is (cell centre, centre of face f, node a, node b)
+  !> with (a, b) the m-th edge of `hex_faces`(:,f), counter-clockwise seen
+  !> from outside, so every tetrahedron of a valid cell is positive.
+  !> The face centre is the mean of its four nodes and the cell centre the
+  !> mean of the eight, as in `hex_volume`, so the split's volumes sum to it
+  !> and two cells sharing a face share its four triangles (the split of a
+  !> grid is a partition, which makes Eq. (54)-(57) conservative). The side
+  !> centres of Fig. 7 lie on the edges and add no tetrahedra. The cell
+  !> centroid of Eq. (49) is not the apex: it is what the split yields,
+  !> sum_k x_tk V_tk / V.
+  pure subroutine hex_tets(xn, tets)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: tets(3, 4, 24)
+    real(wp) :: xc(3), xf(3)
+    integer :: f, m, k, i
+
+    do i = 1, 3
+      xc(i) = 0.125_wp*sum(xn(i, :))
+    end do
+    do f = 1, 6
+      ! diagonal pairs first: the neighbour lists the face in another cyclic
+      ! order and direction, which keeps the pairs, so both cells get the
+      ! same bits and their triangles match exactly
+      xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                    (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+      do m = 1, 4
+        k = 4*(f - 1) + m
+        tets(:, 1, k) = xc
+        tets(:, 2, k) = xf
+        tets(:, 3, k) = xn(:, hex_faces(m, f))
+        tets(:, 4, k) = xn(:, hex_faces(mod(m, 4) + 1, f))
+      end do
+    end do
+  end subroutine hex_tets
 end module mesh_geometry

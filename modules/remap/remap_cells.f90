@@ -6,7 +6,7 @@
 module remap_cells
   use base_kinds, only: wp
   use mesh_grid, only: block_gather
-  use remap_polyhedron, only: hex_tets, tet_det
+  use mesh_geometry, only: hex_tets, tet_det
   implicit none
   private
   public :: cell_moments

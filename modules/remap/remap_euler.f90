@@ -64,11 +64,11 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, block_gather
-  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, cross
+  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
-  use remap_polyhedron, only: tet_det, tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
+  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments

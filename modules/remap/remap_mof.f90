@@ -52,9 +52,9 @@
 !> volume whatever happened.
 module remap_mof
   use base_kinds, only: wp, huge_wp
-  use mesh_geometry, only: cross
+  use mesh_geometry, only: cross, hex_tets, tet_det
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_clip, &
-                              poly_first_moments, hex_tets, slot_of, tet_det
+                              poly_first_moments, slot_of
   implicit none
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol

@@ -22,12 +22,12 @@
 !> cell's own (24-tet) volume, so remapped totals are conserved.
 module remap_polyhedron
   use base_kinds, only: wp
-  use mesh_geometry, only: hex_faces, cross
+  use mesh_geometry, only: hex_faces, cross, hex_tets, tet_det
   implicit none
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
   public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
-  public :: tet_det, tet_planes, hex_tets, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
+  public :: tet_planes, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
@@ -64,13 +64,6 @@ module remap_polyhedron
                                                  1, 7, 6,  2, 5, 8,  3, 8, 5,  4, 6, 7], [3, 8])
 
 contains
-
-  !> Six times the signed volume of the tetrahedron t(3,4) (length^3).
-  pure function tet_det(t) result(det)
-    real(wp), intent(in) :: t(3, 4)
-    real(wp) :: det
-    det = dot_product(t(:, 2) - t(:, 1), cross(t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
-  end function tet_det
 
   !> The tetrahedron with vertices x(3,4) (length) as a polyhedron; either
   !> orientation of the input gives the same (convex hull) polyhedron.
@@ -318,42 +311,6 @@ contains
       end do
     end if
   end subroutine poly_moments
-
-  !> The 24-tetrahedron split of the hexahedron xn(3,8) (Fig. 7; length):
-  !> tetrahedron 4(f-1)+m is (cell centre, centre of face f, node a, node b)
-  !> with (a, b) the m-th edge of `hex_faces`(:,f), counter-clockwise seen
-  !> from outside, so every tetrahedron of a valid cell is positive.
-  !> The face centre is the mean of its four nodes and the cell centre the
-  !> mean of the eight, as in `hex_volume`, so the split's volumes sum to it
-  !> and two cells sharing a face share its four triangles (the split of a
-  !> grid is a partition, which makes Eq. (54)-(57) conservative). The side
-  !> centres of Fig. 7 lie on the edges and add no tetrahedra. The cell
-  !> centroid of Eq. (49) is not the apex: it is what the split yields,
-  !> sum_k x_tk V_tk / V.
-  pure subroutine hex_tets(xn, tets)
-    real(wp), intent(in) :: xn(3, 8)
-    real(wp), intent(out) :: tets(3, 4, 24)
-    real(wp) :: xc(3), xf(3)
-    integer :: f, m, k, i
-
-    do i = 1, 3
-      xc(i) = 0.125_wp*sum(xn(i, :))
-    end do
-    do f = 1, 6
-      ! diagonal pairs first: the neighbour lists the face in another cyclic
-      ! order and direction, which keeps the pairs, so both cells get the
-      ! same bits and their triangles match exactly
-      xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
-                    (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
-      do m = 1, 4
-        k = 4*(f - 1) + m
-        tets(:, 1, k) = xc
-        tets(:, 2, k) = xf
-        tets(:, 3, k) = xn(:, hex_faces(m, f))
-        tets(:, 4, k) = xn(:, hex_faces(mod(m, 4) + 1, f))
-      end do
-    end do
-  end subroutine hex_tets
 
   !> Outward face planes n(:,i).x <= d(i) of the tetrahedron t and its
   !> orientation sign sgn (+1, -1, or 0 for a tetrahedron flat to round-off).

@@ -45,7 +45,7 @@
 module rezone_smooth
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
-  use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, cross
+  use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
   use rezone_quality, only: hex_quality
   implicit none
   private
@@ -301,8 +301,8 @@ contains
   pure function hex_centroid(xn) result(xc)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: xc(3)
-    real(wp) :: r(3, 8), rf(3), vt, v, vabs, mom(3)
-    integer :: f, m, d, na, nb
+    real(wp) :: r(3, 8), tets(3, 4, 24), vt, v, vabs, mom(3)
+    integer :: m, d, t
 
     do d = 1, 3
       xc(d) = 0.125_wp*sum(xn(d, :))
@@ -310,20 +310,15 @@ contains
     do m = 1, 8
       r(:, m) = xn(:, m) - xc
     end do
+    call hex_tets(r, tets)
     v = 0.0_wp
     vabs = 0.0_wp
     mom = 0.0_wp
-    do f = 1, 6
-      rf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))
-      do m = 1, 4
-        na = hex_faces(m, f)
-        nb = hex_faces(mod(m, 4) + 1, f)
-        ! tetrahedron (centre, face centre, a, b); its centroid is (rf + ra + rb)/4
-        vt = dot_product(rf, cross(r(:, na), r(:, nb)))/6.0_wp
-        v = v + vt
-        vabs = vabs + abs(vt)
-        mom = mom + vt*0.25_wp*(rf + r(:, na) + r(:, nb))
-      end do
+    do t = 1, 24
+      vt = tet_det(tets(:, :, t))/6.0_wp
+      v = v + vt
+      vabs = vabs + abs(vt)
+      mom = mom + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
     end do
     if (abs(v) > 0.5_wp*vabs) xc = xc + mom/v
   end function hex_centroid
@@ -335,20 +330,12 @@ contains
   pure function hex_min_tet_volume(xn) result(vmin)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: vmin
-    real(wp) :: xc(3), r(3, 8), rf(3)
-    integer :: f, m, d
-    do d = 1, 3
-      xc(d) = 0.125_wp*sum(xn(d, :))
-    end do
-    do m = 1, 8
-      r(:, m) = xn(:, m) - xc
-    end do
+    real(wp) :: tets(3, 4, 24)
+    integer :: t
+    call hex_tets(xn, tets)
     vmin = huge(1.0_wp)
-    do f = 1, 6
-      rf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))
-      do m = 1, 4
-        vmin = min(vmin, dot_product(rf, cross(r(:, hex_faces(m, f)), r(:, hex_faces(mod(m, 4) + 1, f))))/6.0_wp)
-      end do
+    do t = 1, 24
+      vmin = min(vmin, tet_det(tets(:, :, t))/6.0_wp)
     end do
   end function hex_min_tet_volume
 
