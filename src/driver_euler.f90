@@ -20,7 +20,6 @@ module driver_euler
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use io_log, only: log_line
   use driver_state, only: run, fatal
-  use driver_restart, only: reregister_restart
   implicit none
   private
   public :: euler_init, euler_due, euler_step, euler_report
@@ -104,7 +103,6 @@ contains
     if (allocated(err)) call fatal(err%where, err%msg)
     call material_eval_eos(run%mats, run%h%rho, run%h%e, run%h%p, run%h%cs, run%mx)
     call mixed_cell_state(run%mx, run%h%p, run%h%cs)
-    call reregister_restart()
     run%n_euler = run%n_euler + 1
     if (run%cfg%rezone%interval_time > 0.0_wp) then
       do while (run%t_next_euler <= run%t*(1.0_wp + 1.0e-12_wp))

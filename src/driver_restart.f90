@@ -14,7 +14,7 @@ module driver_restart
   use driver_state, only: run, refuse, refuse_one, fatal, report_conservation
   implicit none
   private
-  public :: check_restart_deck, register_restart, reregister_restart, restart_path, write_restart, read_restart
+  public :: check_restart_deck, register_restart, restart_path, write_restart, read_restart
 
 contains
 
@@ -94,12 +94,6 @@ contains
     end associate
   end subroutine register_restart
 
-  !> Registers again: the driver calls this after anything (the remap)
-  !> reallocated registered storage, since the registry holds pointers to it.
-  subroutine reregister_restart()
-    call register_restart()
-  end subroutine reregister_restart
-
   function restart_path(step) result(path)
     integer, intent(in) :: step
     character(len=:), allocatable :: path
@@ -120,8 +114,8 @@ contains
     call run%t_output%start()
     path = restart_path(run%step)
     run%rng_bits = transfer(run%rng%s, 1.0_wp)
-    ! cheap insurance: the mixed cells may have been reallocated since the
-    ! last registration
+    ! the registry holds pointers, and an Euler step may have reallocated
+    ! the mixed cells since the last dump
     call register_restart()
     if (.not. allocated(run%out%frames)) allocate(run%out%frames(0), run%out%times(0))
     call restart_write(path, run%reg, run%cfg%echo, run%out%frames, run%out%times, err)
@@ -177,7 +171,7 @@ contains
       end if
       call log_line('restart: '//itoa(n)//' mixed cells ('//itoa(nslot)//' material slots)')
     end if
-    call reregister_restart()
+    call register_restart()
     call restart_read(path, run%reg, frames, times, err)
     if (allocated(err)) call refuse_one('&run restart_from: '//err%msg, 'cannot restart')
     call check_mixed(path)
