@@ -11,6 +11,10 @@
 !>    b. the same grids and fields with two materials split by a tilted plane
 !>       (the mixed cells cut exactly by `mof_cut_volume`, as in
 !>       test_remap_euler's 'plane' setup; remap_two).
+!>    c. general_pure: one material, the same old grid remapped to another
+!>       perturbed grid (seed + 1) instead of the box: new cells that are
+!>       not boxes take the general intersection path (48 new halves
+!>       clipped by the old pieces), as after a smoothing rezone (LSSM).
 !>    The mixed cells are a few per cent of the grid, so T(remap_two) -
 !>    T(remap_pure) is within the noise of a busy machine. Their cost is
 !>    therefore measured on a band: only the nodes within `band_width`
@@ -28,8 +32,9 @@
 !>    reconstructions per second, mean iterations, how many hit the cap.
 !>
 !> Rates are per second of wall time with all threads and per thread. Each
-!> remap is timed reps_global or reps_band times (a fresh state each time,
-!> the four cases interleaved) and the fastest is kept. Usage:
+!> remap is timed reps_global (remap_*, general_pure) or reps_band (band_*)
+!> times (a fresh state each time,
+!> the five cases interleaved) and the fastest is kept. Usage:
 !>   bench_remap [n [mof_samples [reps_global [reps_band]]]]   (defaults 40 20000 2 3)
 program bench_remap
   use base_kinds, only: wp, pi
@@ -57,11 +62,11 @@ program bench_remap
   !> The band of the local runs: nodes within this many spacings of the plane.
   real(wp), parameter :: band_width = 1.0_wp
   !> The four remaps: global or band grid, one or two materials.
-  integer, parameter :: ncase = 4
+  integer, parameter :: ncase = 5
   character(len=12), parameter :: case_name(ncase) = [character(len=12) :: 'remap_pure', 'remap_two', &
-                                                       'band_pure', 'band_two']
+                                                       'band_pure', 'band_two', 'general_pure']
   integer :: n, nmof, reps(2), nthreads, rep, k, nmix(ncase), i_mixed
-  real(wp), allocatable :: xglobal(:, :), xband(:, :), xnew(:, :)
+  real(wp), allocatable :: xglobal(:, :), xband(:, :), xbox(:, :), xgeneral(:, :)
   real(wp) :: tbest(ncase), cbest(ncase), cons(3, ncase), change(3), t, tc, us_pure, us_extra
   type(remap_stats_t) :: stb(ncase), st
   type(grid_t) :: g0
@@ -71,20 +76,24 @@ program bench_remap
   nthreads = omp_get_max_threads()
   call grid_init_box(g0, n, n, n, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
   call stop_on(err)
-  xnew = g0%x
-  xglobal = perturbed(g0, huge(1.0_wp))
-  xband = perturbed(g0, band_width)
+  xbox = g0%x
+  xglobal = perturbed(g0, huge(1.0_wp), seed)
+  xband = perturbed(g0, band_width, seed)
+  xgeneral = perturbed(g0, huge(1.0_wp), seed + 1)
 
   ! interleaved, so that a slow spell of the machine hits all cases alike
   tbest = huge(1.0_wp)
   do rep = 1, maxval(reps)
     do k = 1, ncase
-      if (rep > merge(reps(1), reps(2), k <= 2)) cycle
-      if (k <= 2) then
-        call time_remap(2 - mod(k, 2), xglobal, t, tc, st, change, nmix(k))
-      else
-        call time_remap(2 - mod(k, 2), xband, t, tc, st, change, nmix(k))
-      end if
+      if (rep > merge(reps(2), reps(1), k == 3 .or. k == 4)) cycle
+      select case (k)
+      case (1, 2)
+        call time_remap(2 - mod(k, 2), xglobal, xbox, t, tc, st, change, nmix(k))
+      case (3, 4)
+        call time_remap(2 - mod(k, 2), xband, xbox, t, tc, st, change, nmix(k))
+      case default
+        call time_remap(1, xglobal, xgeneral, t, tc, st, change, nmix(k))
+      end select
       if (t < tbest(k)) then
         tbest(k) = t
         cbest(k) = tc
@@ -123,6 +132,7 @@ program bench_remap
   write(*, '(a)') '             cells remapped, so the difference is what the interface costs (MoF, and clipping'
   write(*, '(a)') '             against material regions in the mixed cells and the new cells overlapping them)'
   write(*, '(a)') 'mixed_cell:  a pure cell (remap_pure) plus mixed_extra'
+  write(*, '(a)') 'general_pure: remap_pure, but to another perturbed grid (seed + 1), not the box: the general path'
   write(*, '(a)') ''
   do k = 1, ncase
     call stats_block(case_name(k), stb(k), cons(:, k))
@@ -168,9 +178,10 @@ contains
   !> covers exactly the same box as the new one. Only nodes within `band`
   !> spacings of the plane move; every node draws its numbers, so a band
   !> grid's moved nodes are where they are in the global grid (band huge).
-  function perturbed(g, band) result(x)
+  function perturbed(g, band, seed_) result(x)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: band
+    integer, intent(in) :: seed_
     real(wp), allocatable :: x(:, :)
     type(rng_t) :: rng
     integer :: i, j, k, d, idx(3), nn, nd(3)
@@ -179,7 +190,7 @@ contains
     x = g%x
     nd = [g%ni, g%nj, g%nk]
     hh = (g%xmax - g%xmin)/real(nd, wp)
-    call rng_seed(rng, seed)
+    call rng_seed(rng, seed_)
     do k = 0, g%nk
       do j = 0, g%nj
         do i = 0, g%ni
@@ -221,9 +232,9 @@ contains
   !> centroids), remaps it to xnew and returns the wall and CPU times of
   !> remap_euler_step alone (s), its statistics, the relative changes of
   !> mass, momentum and total energy, and the number of mixed cells.
-  subroutine time_remap(nmat, xold, tw, tcpu, stats, change, nmix)
+  subroutine time_remap(nmat, xold, xnew, tw, tcpu, stats, change, nmix)
     integer, intent(in) :: nmat
-    real(wp), intent(in) :: xold(:, :)
+    real(wp), intent(in) :: xold(:, :), xnew(:, :)
     real(wp), intent(out) :: tw, tcpu
     type(remap_stats_t), intent(out) :: stats
     real(wp), intent(out) :: change(3)

@@ -672,8 +672,8 @@ contains
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
                 od(4, 48), ub(3), rb, keb
-    real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24)
-    integer :: tvmask(24)
+    real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
+    integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
                j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48), isg
     logical :: box
@@ -717,6 +717,8 @@ contains
         midn(:, t) = -midn(:, t)
         midd(t) = -midd(t)
       end if
+      ! its face planes: an old piece wholly outside one of them misses it
+      call tet_planes(tv(:, :, t), tvn(:, :, t), tvd(:, t), tvsg(t))
     end do
     lo = minval(xn, 2)
     hi = maxval(xn, 2)
@@ -768,15 +770,18 @@ contains
           ! the old cell's 48 halves: its subcells (corner velocities) and
           ! the signed pieces of any cell, convex or not
           call half_tets(xo, opts, ohv, ocorner)
+          ! the planes of the halves that reach the new cell's box
           do i = 1, 48
             do j = 1, 4
               ot(:, j) = opts(:, ohv(j, i))
             end do
+            olo(:, i) = min(min(ot(:, 1), ot(:, 2)), min(ot(:, 3), ot(:, 4)))
+            ohi(:, i) = max(max(ot(:, 1), ot(:, 2)), max(ot(:, 3), ot(:, 4)))
+            osg(i) = 0.0_wp
+            if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
             ! (a half flat to round-off has no volume to give: sign 0, skipped)
             call tet_planes(ot, on(:, :, i), od(:, i), isg)
             osg(i) = real(isg, wp)
-            olo(:, i) = minval(ot, 2)
-            ohi(:, i) = maxval(ot, 2)
           end do
           n0 = g%node0(co)
           call region_slots(h, mx, co, s0, s1)
@@ -794,7 +799,6 @@ contains
             end if
             do i = 1, 48
               if (.not. abs(osg(i)) > 0.0_wp) cycle
-              if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
               if (old%uniform(co)) then
@@ -812,7 +816,7 @@ contains
                 end do
                 call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
               else
-                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i))
+                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i), opts(:, ohv(:, i)))
               end if
             end do
           end do
@@ -831,9 +835,11 @@ contains
     !> the sign sgn. Which of the 27 points of the split lie outside each
     !> plane is found once (as tet_clip_planes tests them): a half is
     !> rejected by a plane with all four of its points outside, taken whole
-    !> if no plane has any, else clipped by just the planes that cut it.
-    subroutine clip_halves(pn, pd, np, sgn, blo, bhi)
-      real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3)
+    !> if no plane has any, else clipped by just the planes that cut it;
+    !> a tetrahedron with all four vertices ov of the old half outside one of
+    !> its own face planes is rejected too (the two are disjoint).
+    subroutine clip_halves(pn, pd, np, sgn, blo, bhi, ov)
+      real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3), ov(3, 4)
       integer, intent(in) :: np
       integer :: outm(4 + max_mat), i, j, t, ncut, bits, k
       real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
@@ -850,6 +856,11 @@ contains
       ! mid-plane split where the piece straddles it
       tets: do t = 1, 24
         if (any(tvhi(:, t) < blo) .or. any(tvlo(:, t) > bhi)) cycle
+        if (tvsg(t) /= 0) then
+          do i = 1, 4
+            if (all(tvn(1, i, t)*ov(1, :) + tvn(2, i, t)*ov(2, :) + tvn(3, i, t)*ov(3, :) > tvd(i, t))) cycle tets
+          end do
+        end if
         ncut = 0
         do i = 1, np
           bits = iand(outm(i), tvmask(t))
