@@ -9,11 +9,11 @@ module driver_euler
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t
   use base_timers, only: wall_seconds
-  use rezone_quality, only: grid_quality
+  use rezone_quality, only: grid_quality, grid_worst_cells
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_smooth, only: smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
-                           smooth_tfi, smooth_q_min
+                           smooth_tfi, smooth_q_min, smooth_keep_small_moves
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_cell_state
   use lagrange_state, only: hydro_totals
@@ -27,6 +27,9 @@ module driver_euler
   !> Relative size of a conservation error that stops a checked run: a
   !> remap adds up ~ncell fragments per quantity, each exact to ~1e-16.
   real(wp), parameter :: conservation_tol = 1.0e-11_wp
+
+  !> What made the Euler step due (for its log line).
+  character(len=160) :: trigger_note = ''
 
 contains
 
@@ -52,15 +55,23 @@ contains
   !> inclined angle has reached its bound.
   logical function euler_due()
     real(wp) :: q_min, ratio_max, cos_min
+    integer :: ijk_ratio(3), ijk_cos(3)
     euler_due = .false.
     associate (rz => run%cfg%rezone)
       if (trim(rz%mode) == 'none') return
       if (rz%interval_steps > 0) euler_due = mod(run%step, rz%interval_steps) == 0
       if (rz%interval_time > 0.0_wp) euler_due = euler_due .or. run%t >= run%t_next_euler*(1.0_wp - 1.0e-12_wp)
+      trigger_note = 'interval'
       if (euler_due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
       call grid_quality(run%g%ni, run%g%nj, run%g%nk, run%g%x, run%quality, q_min, ratio_max, cos_min)
       euler_due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
                   (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
+      if (.not. euler_due) return
+      ! where: the worst cell of each measure
+      call grid_worst_cells(run%g%ni, run%g%nj, run%g%nk, run%g%x, ijk_ratio, ijk_cos)
+      write(trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
+        &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
+      if (euler_due) print *, 'TRIG', run%step, ratio_max, cos_min, minloc(run%quality), q_min
     end associate
   end function euler_due
 
@@ -75,6 +86,7 @@ contains
     integer :: n
     character(len=400) :: line
 
+    call log_line('euler '//itoa(run%n_euler + 1)//' due at step '//itoa(run%step)//': '//trim(trigger_note))
     call run%t_euler%start()
     par%linear = trim(run%cfg%rezone%reconstruction) == 'linear'
     par%mof_max_iter = run%cfg%rezone%mof_max_iter
@@ -166,9 +178,10 @@ contains
     type(error_t), allocatable :: err
     integer, allocatable :: mlo(:, :), mhi(:, :)
     real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min
-    integer :: iterations, b
+    integer :: iterations, b, nreset
     logical :: tfi
     character(len=300) :: line
+    character(len=60) :: kept
 
     associate (g => run%g, rz => run%cfg%rezone)
       call grid_quality(g%ni, g%nj, g%nk, x, run%quality, q_min0, ratio_max, cos_min)
@@ -202,9 +215,16 @@ contains
         end do
         q_min = smooth_q_min(reg, x)
       end if
+      kept = ''
+      if (rz%move_min > 0.0_wp) then
+        ! negligible moves kept out of the remap
+        call smooth_keep_small_moves(g%ni, g%nj, g%nk, g%x, x, rz%move_min, nreset)
+        q_min = smooth_q_min(reg, x)
+        write(kept, '("; ",i0," nodes moved < move_min kept")') nreset
+      end if
       write(line, '(a," at step ",i0,": ",i0," subdomains, ",i0," cells smoothed (Q_min ",f7.4," -> ",f7.4, &
-        &" after ",i0," iterations",a,")")') trim(rz%mode), run%step, sub%nbox, count(sub%cell_smooth), q_min0, q_min, &
-        iterations, trim(merge(', then TFI', '          ', tfi))
+        &" after ",i0," iterations",a,")",a)') trim(rz%mode), run%step, sub%nbox, count(sub%cell_smooth), q_min0, &
+        q_min, iterations, trim(merge(', then TFI', '          ', tfi)), trim(kept)
       call log_line(trim(line))
     end associate
   end function smooth_rezone

@@ -6,6 +6,7 @@ program test_rezone_smooth
   use base_kinds, only: wp
   use, intrinsic :: iso_fortran_env, only: int64
   use base_errors, only: error_t
+  use base_strings, only: itoa
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_corner, hex_edges, hex_volume
   use mesh_grid, only: block_gather
@@ -13,7 +14,8 @@ program test_rezone_smooth
   use rezone_smooth, only: node_fixed, node_free, node_plane, node_line, smooth_mobility_t, smooth_region_t, &
                            smooth_mobility_box, smooth_region_init, smooth_modified_getme, smooth_weighted_average, &
                            smooth_getme_original, smooth_combined, smooth_q_min, smooth_tfi, hex_centroid, &
-                           hex_cube_target, hex_getme_target, hex_min_tet_volume, hex_min_corner_jacobian
+                           hex_cube_target, hex_getme_target, hex_min_tet_volume, hex_min_corner_jacobian, &
+                           smooth_keep_small_moves
   use test_assert, only: check, check_summary
   use omp_lib, only: omp_get_max_threads, omp_set_num_threads
   implicit none
@@ -29,6 +31,7 @@ program test_rezone_smooth
   call test_untangle()
   call test_threads()
   call test_tfi()
+  call test_keep_small_moves()
   call test_errors()
   call check_summary('test_rezone_smooth')
 
@@ -548,6 +551,56 @@ contains
                'TFI keeps nodes fixed by the mobility')
 
   end subroutine test_tfi
+
+  !> smooth_keep_small_moves: on a perturbed 4^3 grid every node is moved by
+  !> a random fraction f in [0, 0.2) of its shortest edge (computed here
+  !> from the grid, independently) in a random direction, every fifth node
+  !> not at all; with move_min = 0.1 exactly the moved nodes with f < 0.1
+  !> must be back where they were, bit for bit, and the others untouched.
+  subroutine test_keep_small_moves()
+    integer, parameter :: n = 4, nn = (n + 1)**3
+    real(wp), parameter :: move_min = 0.1_wp
+    real(wp) :: xold(3, nn), x(3, nn), xmoved(3, nn), f(nn), dir(3), lmin
+    integer :: i, j, k, d, nd, idx(3), stride(3), nreset, nexpect, nwrong
+
+    call perturbed_grid(n, 0.2_wp, xold)
+    stride = [1, n + 1, (n + 1)**2]
+    nexpect = 0
+    do k = 0, n
+      do j = 0, n
+        do i = 0, n
+          nd = 1 + i + (n + 1)*(j + (n + 1)*k)
+          idx = [i, j, k]
+          lmin = huge(1.0_wp)
+          do d = 1, 3
+            if (idx(d) > 0) lmin = min(lmin, norm2(xold(:, nd) - xold(:, nd - stride(d))))
+            if (idx(d) < n) lmin = min(lmin, norm2(xold(:, nd + stride(d)) - xold(:, nd)))
+          end do
+          f(nd) = 0.2_wp*rng_uniform(rng)
+          if (mod(nd, 5) == 0) f(nd) = 0.0_wp
+          do d = 1, 3
+            dir(d) = 2.0_wp*rng_uniform(rng) - 1.0_wp
+          end do
+          xmoved(:, nd) = xold(:, nd) + f(nd)*lmin*dir/norm2(dir)
+          if (f(nd) > 0.0_wp .and. f(nd) < move_min) nexpect = nexpect + 1
+        end do
+      end do
+    end do
+    x = xmoved
+    call smooth_keep_small_moves(n, n, n, xold, x, move_min, nreset)
+    nwrong = 0
+    do nd = 1, nn
+      if (f(nd) < move_min) then
+        if (any(abs(x(:, nd) - xold(:, nd)) > 0.0_wp)) nwrong = nwrong + 1
+      else
+        if (any(abs(x(:, nd) - xmoved(:, nd)) > 0.0_wp)) nwrong = nwrong + 1
+      end if
+    end do
+    call check(nwrong == 0, 'keep_small_moves: moves below move_min undone exactly, the others kept ('// &
+      itoa(nwrong)//' wrong)')
+    call check(nreset == nexpect .and. nexpect > 10, 'keep_small_moves: counts the nodes put back ('// &
+      itoa(nreset)//', expected '//itoa(nexpect)//')')
+  end subroutine test_keep_small_moves
 
   !> Moves the nodes strictly inside the node box [lo, hi] of the grid xa at
   !> random, runs TFI on the box, and checks that the grid is xa again and

@@ -77,6 +77,9 @@ module io_input
     integer :: smooth_iterations = 20      !< at most this many combined smoothing iterations (N_max)
     !> side of a subdomain's range in cells (0: a tenth of the smallest grid dimension, as the paper)
     real(wp) :: d_max = 0.0_wp
+    !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
+    !> shortest edge stays where it was (0: every move is kept, as the paper)
+    real(wp) :: move_min = 0.0_wp
   end type rezone_cfg_t
 
   !> The resolved deck.
@@ -525,20 +528,21 @@ contains
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction
-    real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max
+    real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max, move_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     logical :: check_conservation
     character(len=max_line) :: msg
     type(rezone_cfg_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
-                      mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max
+                      mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max, &
+                      move_min
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
     reconstruction = defaults%reconstruction; mof_max_iter = defaults%mof_max_iter
     check_conservation = defaults%check_conservation
     quality = defaults%quality; quality_target = defaults%quality_target
-    smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max
+    smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     if (group_count(lines, 'rezone') > 0) then
       rewind(unit)
       read(unit, nml=rezone, iostat=ios, iomsg=msg)
@@ -572,6 +576,8 @@ contains
       'must be >= 1'))
     if (.not. (d_max >= 0.0_wp)) call add(problems, bad('rezone', 'd_max', d_max, &
       'must be >= 0 (0: a tenth of the smallest grid dimension)'))
+    if (.not. (move_min >= 0.0_wp .and. move_min < 0.5_wp)) call add(problems, bad('rezone', 'move_min', &
+      move_min, 'must be in [0, 0.5) (0: off)'))
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
                                             interval_steps > 0 .or. interval_time > 0.0_wp)) &
       call add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
@@ -579,7 +585,7 @@ contains
     cfg%rezone = rezone_cfg_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
-      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max)
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min)
     write(echo, nml=rezone)
   end subroutine read_rezone
 

@@ -17,7 +17,7 @@ module rezone_quality
   use mesh_grid, only: block_gather
   implicit none
   private
-  public :: hex_quality, quad_quality, hex_shape, grid_quality
+  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells
 
   !> The 12 edges of a hexahedron as (node, node) in the local numbering.
   integer, parameter :: hex_edge_list(2, 12) = reshape([1, 2, 3, 4, 5, 6, 7, 8, &
@@ -124,4 +124,36 @@ contains
     end do
     !$omp end parallel do
   end subroutine grid_quality
+
+  !> Cell indices (i, j, k) of the cell with the largest side ratio and of
+  !> the cell with the smallest inclined-angle cosine (the first such cell
+  !> in storage order): where a trigger fired.
+  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(out) :: ijk_ratio(3), ijk_cos(3)
+    integer :: ci, cj, ck
+    real(wp) :: xn(3, 8), r, cs, r_max, cs_min
+
+    r_max = -1.0_wp
+    cs_min = huge(1.0_wp)
+    ijk_ratio = 1
+    ijk_cos = 1
+    do ck = 1, nk
+      do cj = 1, nj
+        do ci = 1, ni
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
+          call hex_shape(xn, r, cs)
+          if (r > r_max) then
+            r_max = r
+            ijk_ratio = [ci, cj, ck]
+          end if
+          if (cs < cs_min) then
+            cs_min = cs
+            ijk_cos = [ci, cj, ck]
+          end if
+        end do
+      end do
+    end do
+  end subroutine grid_worst_cells
 end module rezone_quality

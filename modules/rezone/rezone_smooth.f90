@@ -53,7 +53,7 @@ module rezone_smooth
   public :: smooth_mobility_t, smooth_region_t
   public :: smooth_mobility_box, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
-  public :: smooth_combined, smooth_q_min, smooth_tfi
+  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves
   public :: hex_centroid, hex_cube_target, hex_getme_target, getme_b_default
   public :: hex_min_tet_volume, hex_min_corner_jacobian
 
@@ -779,4 +779,48 @@ contains
       t(m1) = 1.0_wp
     end subroutine edge_parameter
   end subroutine tfi_box
+
+  !> Puts back where they were (x = xold) the nodes of an ni x nj x nk block
+  !> that the rezone moved by less than move_min times the shortest grid
+  !> edge at the node in xold. A move that small hardly changes a cell's
+  !> quality, but every cell with a moved node must be remapped, at the full
+  !> cost of the intersection and with its numerical diffusion: the cells
+  !> whose nodes all stay are copied instead. nreset is the number of nodes
+  !> put back. A reset moves a node by less than move_min of its shortest
+  !> edge, so with move_min well below 1 it cannot tangle a valid grid.
+  subroutine smooth_keep_small_moves(ni, nj, nk, xold, x, move_min, nreset)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: xold(:, :), move_min
+    real(wp), intent(inout) :: x(:, :)
+    integer, intent(out) :: nreset
+    integer :: i, j, k, n, sx, sxy, d, stride(3), idx(3), nmax(3)
+    real(wp) :: lmin
+
+    sx = ni + 1
+    sxy = sx*(nj + 1)
+    stride = [1, sx, sxy]
+    nmax = [ni, nj, nk]
+    nreset = 0
+    !$omp parallel do default(none) shared(ni, nj, nk, xold, x, move_min, sx, sxy, stride, nmax) &
+    !$omp private(i, j, k, n, d, idx, lmin) reduction(+: nreset) collapse(2) schedule(static)
+    do k = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          n = 1 + i + sx*j + sxy*k
+          if (.not. any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) cycle
+          idx = [i, j, k]
+          lmin = huge(1.0_wp)
+          do d = 1, 3
+            if (idx(d) > 0) lmin = min(lmin, norm2(xold(:, n) - xold(:, n - stride(d))))
+            if (idx(d) < nmax(d)) lmin = min(lmin, norm2(xold(:, n + stride(d)) - xold(:, n)))
+          end do
+          if (norm2(x(:, n) - xold(:, n)) < move_min*lmin) then
+            x(:, n) = xold(:, n)
+            nreset = nreset + 1
+          end if
+        end do
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine smooth_keep_small_moves
 end module rezone_smooth

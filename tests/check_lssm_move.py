@@ -1,0 +1,47 @@
+#!/usr/bin/env python3
+"""LSSM with &rezone move_min against plain LSSM on the same Sedov deck.
+
+    check_lssm_move.py LOG_MOVE FRAME_MOVE LOG_PLAIN FRAME_PLAIN CELL_RATIO L1_RATIO
+
+Keeping the nodes the smoothing moves by less than move_min of their
+shortest edge must cut the cells the Euler steps remap (the `euler steps:`
+summary line of each log): cells(move) <= CELL_RATIO * cells(plain); and it
+must not cost accuracy: the volume-weighted L1 density error of the last
+frame against the exact Sedov solution (tools/profile_plot.py's sedov_l1,
+E = 0.851072 for the full sphere, gamma 1.4, rho0 1) must satisfy
+L1(move) <= L1_RATIO * L1(plain).
+"""
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+import profile_plot  # noqa: E402
+
+
+def cells_remapped(log):
+    with open(log) as f:
+        for line in f:
+            m = re.match(r"euler steps: (\d+), cells remapped (\d+)", line)
+            if m:
+                return int(m.group(1)), int(m.group(2))
+    print(f"FAIL: no 'euler steps:' summary in {log}")
+    sys.exit(1)
+
+
+def l1(frame):
+    fr = profile_plot.read_frame(frame)
+    sol = profile_plot.make_sedov(1.4, 0.851072, 1.0)
+    return profile_plot.sedov_l1(profile_plot.radial_cells(fr), sol, fr["time"])[0]
+
+
+log_m, frame_m, log_p, frame_p = sys.argv[1:5]
+cell_ratio, l1_ratio = float(sys.argv[5]), float(sys.argv[6])
+(em, cm), (ep, cp) = cells_remapped(log_m), cells_remapped(log_p)
+lm, lp = l1(frame_m), l1(frame_p)
+print(f"move_min: {em} Euler steps, {cm} cells remapped, L1 {lm:.5e}")
+print(f"plain:    {ep} Euler steps, {cp} cells remapped, L1 {lp:.5e}")
+print(f"cells ratio {cm / cp:.3f} (bound {cell_ratio}), L1 ratio {lm / lp:.4f} (bound {l1_ratio})")
+ok = cm <= cell_ratio * cp and lm <= l1_ratio * lp
+print("PASS" if ok else "FAIL")
+sys.exit(0 if ok else 1)
