@@ -164,16 +164,20 @@ contains
       return
     end if
 
-    ncut = 0
-    do v = 1, nv
-      if (s(v) > 0.0_wp) cycle
-      do k = 1, 3
-        if (s(p%nbr(k, v)) > 0.0_wp) ncut = ncut + 1
+    ! room for the new vertices (one per cut edge; there are 3 nv / 2 edges,
+    ! so only a large polyhedron needs them counted)
+    if (5*nv > 2*poly_max_verts) then
+      ncut = 0
+      do v = 1, nv
+        if (s(v) > 0.0_wp) cycle
+        do k = 1, 3
+          if (s(p%nbr(k, v)) > 0.0_wp) ncut = ncut + 1
+        end do
       end do
-    end do
-    if (nv + ncut > poly_max_verts) then
-      if (present(ok)) ok = .false.
-      return
+      if (nv + ncut > poly_max_verts) then
+        if (present(ok)) ok = .false.
+        return
+      end if
     end if
 
     ! a new vertex on every edge from a kept vertex v (s <= 0) to a removed
@@ -273,7 +277,7 @@ contains
           if (nxt == v) exit
           c = p%x(:, nxt) - r
           ! tetrahedron (r, a, b, c): 6 V_t = a.(b x c), centroid r + (a+b+c)/4
-          t = dot_product(a, cross(b, c))
+          t = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
           v6 = v6 + t
           m24 = m24 + t*(a + b + c)
           b = c
