@@ -90,6 +90,7 @@ contains
     call run%t_euler%start()
     par%linear = trim(run%cfg%rezone%reconstruction) == 'linear'
     par%mof_max_iter = run%cfg%rezone%mof_max_iter
+    par%consistent_nodal_mass = trim(run%cfg%rezone%nodal_mass) == 'consistent'
     call hydro_totals(run%h, m0, p0, ie0, ke0)
     pscale = 0.0_wp
     do n = 1, run%g%nnode

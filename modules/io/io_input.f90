@@ -80,6 +80,9 @@ module io_input
     !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
     !> shortest edge stays where it was (0: every move is kept, as the paper)
     real(wp) :: move_min = 0.0_wp
+    !> nodal masses after a remap: 'transported' (the old ones, carried; a uniform
+    !> velocity stays exact) or 'consistent' (the reconstructed subcell masses)
+    character(len=16) :: nodal_mass = 'transported'
   end type rezone_cfg_t
 
   !> The resolved deck.
@@ -527,7 +530,7 @@ contains
     character(len=*), intent(in) :: lines(:)
     type(config_t), intent(inout) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=16) :: mode, reconstruction
+    character(len=16) :: mode, reconstruction, nodal_mass
     real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max, move_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     logical :: check_conservation
@@ -535,7 +538,7 @@ contains
     type(rezone_cfg_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max, &
-                      move_min
+                      move_min, nodal_mass
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -543,6 +546,7 @@ contains
     check_conservation = defaults%check_conservation
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
+    nodal_mass = defaults%nodal_mass
     if (group_count(lines, 'rezone') > 0) then
       rewind(unit)
       read(unit, nml=rezone, iostat=ios, iomsg=msg)
@@ -558,6 +562,12 @@ contains
     case default
       call add(problems, '&rezone: reconstruction = '''//trim(reconstruction)// &
         ''' is not known; valid: linear, constant')
+    end select
+    select case (trim(nodal_mass))
+    case ('transported', 'consistent')
+    case default
+      call add(problems, '&rezone: nodal_mass = '''//trim(nodal_mass)// &
+        ''' is not known; valid: transported, consistent')
     end select
     if (.not. (side_ratio >= 0.0_wp) .or. (side_ratio > 0.0_wp .and. side_ratio <= 1.0_wp)) &
       call add(problems, bad('rezone', 'side_ratio', side_ratio, 'must be 0 (off) or > 1'))
@@ -585,7 +595,8 @@ contains
     cfg%rezone = rezone_cfg_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
-      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min)
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
+      nodal_mass=nodal_mass)
     write(echo, nml=rezone)
   end subroutine read_rezone
 

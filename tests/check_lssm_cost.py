@@ -1,15 +1,14 @@
 #!/usr/bin/env python3
-"""LSSM with &rezone move_min against plain LSSM on the same Sedov deck.
+"""Cost and accuracy of one Sedov run (A) against another (B) with other
+&rezone settings (e.g. move_min, nodal_mass).
 
-    check_lssm_move.py LOG_MOVE FRAME_MOVE LOG_PLAIN FRAME_PLAIN CELL_RATIO L1_RATIO
+    check_lssm_cost.py LOG_A FRAME_A LOG_B FRAME_B CELL_RATIO L1_RATIO
 
-Keeping the nodes the smoothing moves by less than move_min of their
-shortest edge must cut the cells the Euler steps remap (the `euler steps:`
-summary line of each log): cells(move) <= CELL_RATIO * cells(plain); and it
-must not cost accuracy: the volume-weighted L1 density error of the last
-frame against the exact Sedov solution (tools/profile_plot.py's sedov_l1,
-E = 0.851072 for the full sphere, gamma 1.4, rho0 1) must satisfy
-L1(move) <= L1_RATIO * L1(plain).
+Run A must remap at most CELL_RATIO times the cells run B remaps in its
+Euler steps (the `euler steps:` summary line of each log), and its
+volume-weighted L1 density error of the last frame against the exact Sedov
+solution (tools/profile_plot.py's sedov_l1, E = 0.851072 for the full
+sphere, gamma 1.4, rho0 1) must be at most L1_RATIO times B's.
 """
 import os
 import re
@@ -39,8 +38,8 @@ log_m, frame_m, log_p, frame_p = sys.argv[1:5]
 cell_ratio, l1_ratio = float(sys.argv[5]), float(sys.argv[6])
 (em, cm), (ep, cp) = cells_remapped(log_m), cells_remapped(log_p)
 lm, lp = l1(frame_m), l1(frame_p)
-print(f"move_min: {em} Euler steps, {cm} cells remapped, L1 {lm:.5e}")
-print(f"plain:    {ep} Euler steps, {cp} cells remapped, L1 {lp:.5e}")
+print(f"A: {em} Euler steps, {cm} cells remapped, L1 {lm:.5e}")
+print(f"B: {ep} Euler steps, {cp} cells remapped, L1 {lp:.5e}")
 print(f"cells ratio {cm / cp:.3f} (bound {cell_ratio}), L1 ratio {lm / lp:.4f} (bound {l1_ratio})")
 ok = cm <= cell_ratio * cp and lm <= l1_ratio * lp
 print("PASS" if ok else "FAIL")
