@@ -13,7 +13,8 @@ Euler-phase times to that of the first mode.
 
 A mode is MODE:MOVE_MIN (&rezone mode and move_min); the deck is
 input/sedov3d_lssm.nml (the paper's settings: triggers side ratio 4 or
-cosine 0.7, q = 0.999, Q_min 0.999, N_max 20) with ni = nj = nk = N. The
+cosine 0.7, q = 0.999, Q_min 0.999, N_max 20) with ni = nj = nk = N and
+nodal_mass from --nodal-mass (default 'consistent', as the deck). The
 runs go JOBS at a time with one OpenMP thread each, interleaved across modes
 so that every mode shares the machine alike; the Euler-phase time is the
 `euler` entry of the log's `timers` line (wall seconds of the Euler steps:
@@ -42,13 +43,14 @@ def make_deck(path, outdir, n, mode, move_min, copy, nodal_mass):
         text = f.read()
     text = re.sub(r"ni = \d+, nj = \d+, nk = \d+", f"ni = {n}, nj = {n}, nk = {n}", text)
     text = text.replace("mode = 'lssm'", f"mode = '{mode}'")
-    text = text.replace("smooth_iterations = 20 /",
-                        f"smooth_iterations = 20, move_min = {move_min}, nodal_mass = '{nodal_mass}' /")
+    text = text.replace("smooth_iterations = 20,", f"smooth_iterations = 20, move_min = {move_min},")
+    text = re.sub(r"nodal_mass = '\w+'", f"nodal_mass = '{nodal_mass}'", text)
     # the ensemble: source energy E0 (1 + copy 1e-9), which moves the shock
     # radius (E^(1/5)) by 2e-10 per copy
     text = text.replace("energy = 0.106384", f"energy = {0.106384 * (1.0 + copy * 1.0e-9):.15e}")
     text = re.sub(r"^&output .*/[ \t]*$", f"&output dir = '{outdir}' /", text, flags=re.M)
-    for what in (f"mode = '{mode}'", f"move_min = {move_min}", f"ni = {n}", "&source position = 0, 0, 0, energy = ",
+    for what in (f"mode = '{mode}'", f"move_min = {move_min}", f"nodal_mass = '{nodal_mass}'", f"ni = {n}",
+                 "&source position = 0, 0, 0, energy = ",
                  f"&output dir = '{outdir}' /"):
         if what not in text:
             raise SystemExit(f"{DECK}: could not set {what}")
@@ -88,7 +90,7 @@ def main(argv=None):
     p.add_argument("--copies", type=int, default=3)
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--modes", nargs="+", default=["smooth:0", "lssm:0", "lssm:0.1", "smooth:0.1"])
-    p.add_argument("--nodal-mass", default="transported", choices=("transported", "consistent"),
+    p.add_argument("--nodal-mass", default="consistent", choices=("transported", "consistent"),
                    help="&rezone nodal_mass of every run")
     p.add_argument("--out", required=True)
     a = p.parse_args(argv)

@@ -60,8 +60,10 @@
 !> the cells' (Sedov 20^3: 13 Euler steps instead of about 130, and a
 !> smaller error); a uniform velocity then stays uniform only where the old
 !> nodal masses matched the cells' (r_a = 1: one material of uniform
-!> density), not across a density jump in a mixed cell. A tangled old cell, or one the new grid does not cover, hands
-!> out its mean velocity instead. At each new node the difference between
+!> density), not across a density jump in a mixed cell.
+!>
+!> A tangled old cell, or one the new grid does not cover, hands out its
+!> mean velocity instead. At each new node the difference between
 !> the remapped kinetic energy and 1/2 m u^2 of the new nodal momentum
 !> (what averaging velocities loses) is returned to the internal energy of
 !> the cells around the node in proportion to their corner masses. Mass,
