@@ -39,7 +39,7 @@ done
 # speed-up: the wall time (column 3) of a row with 1 thread over that with 2
 awk 'FNR == 1 {f++} !((f, $1) in t) {t[f, $1] = $3}
      END {printf "2-thread speed-up (wall time, 1 thread / 2 threads):"
-          n = split("remap_pure remap_two mof_cube mof_perturb mof_sheared", r, " ")
+          n = split("remap_pure remap_two general_pure mof_cube mof_perturb mof_sheared", r, " ")
           for (i = 1; i <= n; i++) printf " %s %.2f%s", r[i], t[1, r[i]] / t[2, r[i]], (i < n ? "," : "\n")}' \
     "$outdir/bench_remap_1.txt" "$outdir/bench_remap_2.txt"
 
