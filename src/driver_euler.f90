@@ -71,7 +71,6 @@ contains
       call grid_worst_cells(run%g%ni, run%g%nj, run%g%nk, run%g%x, ijk_ratio, ijk_cos)
       write(trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
         &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
-      if (euler_due) print *, 'TRIG', run%step, ratio_max, cos_min, minloc(run%quality), q_min
     end associate
   end function euler_due
 
