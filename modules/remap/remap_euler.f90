@@ -147,8 +147,9 @@ module remap_euler
     !> per corner (subcell) of a moved cell: its share of the node's mass over
     !> the mass the reconstruction puts in the subcell (8, ncell)
     real(wp), allocatable :: rsub(:, :)
-    !> per corner: the subcell mass rho V_a (Eq. 16) of the old grid, what an
-    !> unchanged cell's corner gives its node's new mass (8, ncell)
+    !> per corner, with consistent nodal masses only: the subcell mass rho V_a
+    !> (Eq. 16) of the old grid, what an unchanged cell's corner gives its
+    !> node's new mass (8, ncell)
     real(wp), allocatable :: mcons(:, :)
     logical :: consistent = .false.   !< remap_params_t%consistent_nodal_mass
     !> cells whose subcells cannot carry their own velocity (tangled, or not
@@ -416,8 +417,8 @@ contains
     !$omp end parallel do
     ! the subcell masses rho V_a (Eq. 16) now, which share the nodal masses
     call hydro_subcell_masses(g, g%x, h%rho, wnode, msub)
-    old%mcons = msub
     old%consistent = par%consistent_nodal_mass
+    if (old%consistent) old%mcons = msub
     !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_) schedule(static)
     do c = 1, g%ncell
       n = g%node0(c)
@@ -1092,7 +1093,11 @@ contains
       if (old%changed(c)) cycle
       n = g%node0(c)
       do a = 1, 8
-        cmass(a, c) = merge(old%mcons(a, c), msub(a, c), old%consistent)
+        if (old%consistent) then
+          cmass(a, c) = old%mcons(a, c)
+        else
+          cmass(a, c) = msub(a, c)
+        end if
         cmom(:, a, c) = msub(a, c)*h%u(:, n + g%corner_offset(a))
         cke(a, c) = 0.5_wp*msub(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
       end do
