@@ -4,18 +4,19 @@
 module driver_scene
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t
+  use base_errors, only: error_t, error_set, ERR_INPUT
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
-  use mesh_grid, only: grid_init_box
+  use mesh_grid, only: grid_t, grid_init_box
   use mesh_geometry, only: hex_volume, hex_trilinear
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
   use lagrange_state, only: hydro_allocate, hydro_subcell_masses
-  use io_input, only: region_cfg_t
-  use io_log, only: log_line
-  use driver_state, only: run, fatal, totals
+  use io_log, only: log_t, log_line
+  use driver_scene_config, only: region_config_t
+  use driver_config, only: config_t
+  use driver_state, only: state_t, state_totals
   implicit none
   private
   public :: build_scene
@@ -24,90 +25,103 @@ contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
   !> masses (first term of Eq. 16) and boundary lists.
-  subroutine build_scene()
-    type(error_t), allocatable :: err
-    integer :: m, c, n, a, r, s, ijk(3)
+  subroutine build_scene(cfg, st, log, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: m, c, n, a, r, s, ijk(3), stat
     real(wp) :: xn(3, 8), h(3), rv
+    character(len=200) :: msg
 
-    associate (cfg => run%cfg, g => run%g, hy => run%h)
-      call grid_init_box(g, cfg%ni, cfg%nj, cfg%nk, cfg%xmin, cfg%xmax, err)
-      if (allocated(err)) call fatal(err%where, err%msg)
+    associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
+      call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err)
+      if (allocated(err)) return
       call hydro_allocate(hy, g%ncell, g%nnode, err)
-      if (allocated(err)) call fatal(err%where, err%msg)
+      if (allocated(err)) return
 
-      allocate(run%mats(size(cfg%materials)))
+      allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'build_scene', 'cannot allocate the materials: '//trim(msg))
+        return
+      end if
       do m = 1, size(cfg%materials)
-        run%mats(m)%name = trim(cfg%materials(m)%name)
-        call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, run%mats(m)%eos, err)
-        if (allocated(err)) call fatal('&material '//run%mats(m)%name, err%msg)
-        run%mats(m)%p_min = cfg%materials(m)%p_min
-        run%mats(m)%rho_min = cfg%materials(m)%rho_min
+        st%mats(m)%name = trim(cfg%materials(m)%name)
+        call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, st%mats(m)%eos, err)
+        if (allocated(err)) then
+          call error_set(err, '&material '//st%mats(m)%name, err%msg, ERR_INPUT)
+          return
+        end if
+        st%mats(m)%p_min = cfg%materials(m)%p_min
+        st%mats(m)%rho_min = cfg%materials(m)%rho_min
       end do
 
       do c = 1, g%ncell
         call g%gather(c, g%x, xn)
         hy%vol(c) = hex_volume(xn)
       end do
-      call fill_regions()
+      call fill_regions(cfg, st, log, err)
+      if (allocated(err)) return
       do n = 1, g%nnode
         do r = 1, size(cfg%regions)
           if (inside(cfg%regions(r), g%x(:, n))) hy%u(:, n) = cfg%regions(r)%velocity
         end do
       end do
-      call rng_seed(run%rng, cfg%seed)
-      if (cfg%velocity_noise > 0.0_wp) then
+      call rng_seed(st%rng, cfg%run%seed)
+      if (cfg%run%velocity_noise > 0.0_wp) then
         do n = 1, g%nnode
           do a = 1, 3
-            rv = rng_uniform(run%rng)
-            hy%u(a, n) = hy%u(a, n) + cfg%velocity_noise*(2.0_wp*rv - 1.0_wp)
+            rv = rng_uniform(st%rng)
+            hy%u(a, n) = hy%u(a, n) + cfg%run%velocity_noise*(2.0_wp*rv - 1.0_wp)
           end do
         end do
       end if
       ! energy sources: added to the cell that contains the point
-      h = (cfg%xmax - cfg%xmin)/real([cfg%ni, cfg%nj, cfg%nk], wp)
+      h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
       do s = 1, size(cfg%sources)
-        ijk = int((cfg%sources(s)%position - cfg%xmin)/h) + 1
-        ijk = max(1, min([cfg%ni, cfg%nj, cfg%nk], ijk))
-        c = ijk(1) + cfg%ni*((ijk(2) - 1) + cfg%nj*(ijk(3) - 1))
+        ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
+        ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
+        c = ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
         if (hy%mat(c) < 0) then
           ! a mixed cell: every material gets the same specific energy
           associate (k => -hy%mat(c))
-            run%mx%e(run%mx%start(k):run%mx%start(k + 1) - 1) = &
-              run%mx%e(run%mx%start(k):run%mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
+            mx%e(mx%start(k):mx%start(k + 1) - 1) = &
+              mx%e(mx%start(k):mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
           end associate
         end if
-        call log_line('source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
+        call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
                       ' deposited in cell '//itoa(c))
       end do
 
       call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode)
 
-      call material_index_cells(run%mats, hy%mat, run%mx, err)
-      if (allocated(err)) call fatal(err%where, err%msg)
-      call material_eval_eos(run%mats, hy%rho, hy%e, hy%p, hy%cs, run%mx)
-      call mixed_cell_state(run%mx, hy%p, hy%cs)
+      call material_index_cells(st%mats, hy%mat, mx, err)
+      if (allocated(err)) return
+      call material_eval_eos(st%mats, hy%rho, hy%e, hy%p, hy%cs, mx)
+      call mixed_cell_state(mx, hy%p, hy%cs)
 
-      run%bc%kind = cfg%bc_kind
-      run%bc%velocity = cfg%bc_velocity
-      run%bc%pressure = cfg%bc_pressure
-      do m = 1, 6
-        if (cfg%bc_inflow_mat(m) == 0) cycle
-        run%bc%inflow_mat(m) = cfg%bc_inflow_mat(m)
-        run%bc%inflow_rho(m) = cfg%bc_inflow_density(m)
-        run%bc%inflow_e(m) = run%mats(cfg%bc_inflow_mat(m))%eos%energy(cfg%bc_inflow_density(m), &
-                                                                      cfg%bc_inflow_pressure(m))
-      end do
-      call bc_init(run%bc, g, err)
-      if (allocated(err)) call fatal(err%where, err%msg)
-      ! the boundary conditions hold from t = 0
-      call bc_constrain(run%bc, hy%u)
+      associate (bc => st%bc, bcc => cfg%boundary)
+        bc%kind = bcc%kind
+        bc%velocity = bcc%velocity
+        bc%pressure = bcc%pressure
+        do m = 1, 6
+          if (bcc%inflow_mat(m) == 0) cycle
+          bc%inflow_mat(m) = bcc%inflow_mat(m)
+          bc%inflow_rho(m) = bcc%inflow_density(m)
+          bc%inflow_e(m) = st%mats(bcc%inflow_mat(m))%eos%energy(bcc%inflow_density(m), bcc%inflow_pressure(m))
+        end do
+        call bc_init(bc, g, err)
+        if (allocated(err)) return
+        ! the boundary conditions hold from t = 0
+        call bc_constrain(bc, hy%u)
+      end associate
     end associate
-    call totals(run%tot)
-    run%tot%energy_initial = run%tot%internal + run%tot%kinetic
-    run%ready = .true.
-    call log_line('grid: '//itoa(run%g%ni)//' x '//itoa(run%g%nj)//' x '//itoa(run%g%nk)// &
-                  ' cells, '//itoa(run%g%nnode)//' nodes, '//itoa(size(run%mats))//' material(s)')
+    call state_totals(st)
+    st%tot%energy_initial = st%tot%internal + st%tot%kinetic
+    st%ready = .true.
+    call log_line(log, 'grid: '//itoa(st%g%ni)//' x '//itoa(st%g%nj)//' x '//itoa(st%g%nk)// &
+                  ' cells, '//itoa(st%g%nnode)//' nodes, '//itoa(size(st%mats))//' material(s)')
   end subroutine build_scene
 
   !> Fills the cells from the regions (applied in deck order, a later one
@@ -118,13 +132,16 @@ contains
   !> volume fractions, masses, energies and centroids per material. A cell
   !> with one material is pure (with the mass-averaged state of its regions);
   !> a cell with several is a mixed cell.
-  subroutine fill_regions()
-    type(error_t), allocatable :: err
+  subroutine fill_regions(cfg, st, log, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
     integer :: nmat, c, m, k, nmix, nslot, s, nm, r_only
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
     logical :: covered
 
-    associate (cfg => run%cfg, g => run%g, hy => run%h)
+    associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
       allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)))
       do k = 1, size(cfg%regions)
@@ -132,7 +149,7 @@ contains
           if (rg%energy >= 0.0_wp) then
             e_reg(k) = rg%energy
           else
-            e_reg(k) = run%mats(rg%imat)%eos%energy(rg%density, rg%pressure)
+            e_reg(k) = st%mats(rg%imat)%eos%energy(rg%density, rg%pressure)
           end if
         end associate
       end do
@@ -140,9 +157,12 @@ contains
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
-        if (.not. covered) call fatal('build_scene', 'cell '//itoa(c)// &
-          ' is not covered by any &region; add a region with shape = ''all'' first')
+        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only)
+        if (.not. covered) then
+          call error_set(err, 'build_scene', 'cell '//itoa(c)// &
+            ' is not covered by any &region; add a region with shape = ''all'' first', ERR_INPUT)
+          return
+        end if
         nm = count(vfm > 0.0_wp)
         if (nm == 1) then
           m = maxloc(vfm, 1)
@@ -164,38 +184,41 @@ contains
         end if
       end do
       ! pass 2: the mixed cells' slots
-      call mixed_allocate(run%mx, nmix, nslot, err)
-      if (allocated(err)) call fatal(err%where, err%msg)
+      call mixed_allocate(mx, nmix, nslot, err)
+      if (allocated(err)) return
       k = 0
       s = 0
       do c = 1, g%ncell
         if (hy%mat(c) > 0) cycle
         k = k + 1
-        call sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
-        run%mx%cell(k) = c
+        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only)
+        mx%cell(k) = c
         do m = 1, nmat
           if (.not. (vfm(m) > 0.0_wp)) cycle
           s = s + 1
-          run%mx%mat(s) = m
-          run%mx%vf(s) = vfm(m)
-          run%mx%mass(s) = massm(m)
-          run%mx%e(s) = enm(m)/massm(m)
-          run%mx%rho(s) = massm(m)/(vfm(m)*hy%vol(c))
-          run%mx%xi(:, s) = xim(:, m)/vfm(m)
+          mx%mat(s) = m
+          mx%vf(s) = vfm(m)
+          mx%mass(s) = massm(m)
+          mx%e(s) = enm(m)/massm(m)
+          mx%rho(s) = massm(m)/(vfm(m)*hy%vol(c))
+          mx%xi(:, s) = xim(:, m)/vfm(m)
         end do
-        run%mx%start(k + 1) = s + 1
+        mx%start(k + 1) = s + 1
         hy%mass(c) = sum(massm)
         hy%rho(c) = hy%mass(c)/hy%vol(c)
         hy%e(c) = sum(enm)/hy%mass(c)
       end do
-      if (nmix > 0) call log_line('mixed cells: '//itoa(nmix)//' ('//itoa(nslot)//' material slots)')
+      if (nmix > 0) call log_line(log, 'mixed cells: '//itoa(nmix)//' ('//itoa(nslot)//' material slots)')
     end associate
   end subroutine fill_regions
 
   !> Volume fraction, mass, internal energy and centroid (natural
   !> coordinates, times the volume fraction) of each material in cell c;
   !> r_only is the region that holds the whole cell, if one does (else 0).
-  subroutine sample_cell(c, e_reg, vfm, massm, enm, xim, covered, r_only)
+  subroutine sample_cell(cfg, g, vol, c, e_reg, vfm, massm, enm, xim, covered, r_only)
+    type(config_t), intent(in) :: cfg
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: vol
     integer, intent(in) :: c
     real(wp), intent(in) :: e_reg(:)
     real(wp), intent(out) :: vfm(:), massm(:), enm(:), xim(:, :)
@@ -205,14 +228,13 @@ contains
     integer :: a, i, j, k, r, r0, ns
     logical :: same
 
-    associate (cfg => run%cfg, g => run%g)
-      call g%gather(c, g%x, xn)
+    call g%gather(c, g%x, xn)
       vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
       ! quick test: corners and centre in one region
-      r0 = region_at(sum(xn, 2)/8.0_wp)
+      r0 = region_at(cfg%regions, sum(xn, 2)/8.0_wp)
       same = .true.
       do a = 1, 8
-        same = same .and. region_at(xn(:, a)) == r0
+        same = same .and. region_at(cfg%regions, xn(:, a)) == r0
       end do
       r_only = 0
       if (same) then
@@ -222,14 +244,14 @@ contains
         r_only = r0
         return
       end if
-      ns = cfg%subsamples
+      ns = cfg%grid%subsamples
       w = 1.0_wp/real(ns, wp)**3
       covered = .true.
       do k = 1, ns
         do j = 1, ns
           do i = 1, ns
             xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
-            r = region_at(hex_trilinear(xn, xi))
+            r = region_at(cfg%regions, hex_trilinear(xn, xi))
             if (r == 0) then
               covered = .false.
               return
@@ -238,7 +260,6 @@ contains
           end do
         end do
       end do
-    end associate
 
   contains
 
@@ -246,21 +267,22 @@ contains
       integer, intent(in) :: r
       real(wp), intent(in) :: xi_pt(3), wt
       integer :: m
-      m = run%cfg%regions(r)%imat
+      m = cfg%regions(r)%imat
       vfm(m) = vfm(m) + wt
-      massm(m) = massm(m) + wt*run%cfg%regions(r)%density*run%h%vol(c)
-      enm(m) = enm(m) + wt*run%cfg%regions(r)%density*e_reg(r)*run%h%vol(c)
+      massm(m) = massm(m) + wt*cfg%regions(r)%density*vol
+      enm(m) = enm(m) + wt*cfg%regions(r)%density*e_reg(r)*vol
       xim(:, m) = xim(:, m) + wt*xi_pt
     end subroutine add_sample
   end subroutine sample_cell
 
   !> The last region (in deck order) that contains point p, or 0.
-  integer function region_at(p)
+  pure integer function region_at(regions, p)
+    type(region_config_t), intent(in) :: regions(:)
     real(wp), intent(in) :: p(3)
     integer :: r
     region_at = 0
-    do r = size(run%cfg%regions), 1, -1
-      if (inside(run%cfg%regions(r), p)) then
+    do r = size(regions), 1, -1
+      if (inside(regions(r), p)) then
         region_at = r
         return
       end if
@@ -269,8 +291,7 @@ contains
 
   !> True if point p lies in the region's shape.
   pure logical function inside(rg, p)
-    use io_input, only: region_cfg_t
-    type(region_cfg_t), intent(in) :: rg
+    type(region_config_t), intent(in) :: rg
     real(wp), intent(in) :: p(3)
     real(wp) :: d(3)
     select case (trim(rg%shape))

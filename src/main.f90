@@ -1,6 +1,8 @@
-!> lsalepm: runs the deck named on the command line (default input/sedov3d.nml).
+!> lsalepm: runs the deck named on the command line (default
+!> input/sedov3d.nml); `lsalepm --defaults` prints every namelist group with
+!> its defaults.
 program main
-  use driver, only: driver_run
+  use driver, only: driver_run, driver_print_defaults
   implicit none
   character(len=:), allocatable :: deck
   integer :: n
@@ -12,5 +14,9 @@ program main
   else
     deck = 'input/sedov3d.nml'
   end if
-  call driver_run(deck)
+  if (deck == '--defaults') then
+    call driver_print_defaults()
+  else
+    call driver_run(deck)
+  end if
 end program main

@@ -11,7 +11,8 @@ program test_io_restart
   use base_kinds, only: wp
   use base_errors, only: error_t
   use io_hdf5, only: h5_file_t, hdf5_start, h5_create, h5_write_scalar_int, h5_close
-  use io_restart, only: restart_registry_t, restart_write, restart_read, restart_read_int_scalar, &
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT
+  use io_restart, only: restart_write, restart_read, restart_read_int_scalar, &
                         restart_read_dims
   use test_assert, only: check, check_summary
   implicit none
@@ -49,7 +50,7 @@ contains
     integer, allocatable :: dims(:)
     real(wp), allocatable :: times(:)
     character(len=256), allocatable :: frames(:)
-    type(restart_registry_t) :: wreg, rreg
+    type(registry_t) :: wreg, rreg
     integer :: k, n_file, nslot_file
     character(len=32) :: tag
 
@@ -122,30 +123,30 @@ contains
 
   !> The registration a package would make: sizes as scalars, then arrays.
   subroutine register(reg, n, nslot, cell, mat, vf, xi, t)
-    type(restart_registry_t), intent(inout) :: reg
+    type(registry_t), intent(inout) :: reg
     integer, intent(inout), target :: n, nslot
     integer, intent(inout), target, contiguous :: cell(:), mat(:)
     real(wp), intent(inout), target, contiguous :: vf(:), xi(:, :)
     real(wp), intent(inout), target :: t
     call reg%add('mixed_n', '1', n)
     call reg%add('mixed_nslot', '1', nslot)
-    call reg%add('mixed_cell', '1', cell)
-    call reg%add('mixed_material', '1', mat)
-    call reg%add('mixed_volume_fraction', '1', vf)
-    call reg%add('mixed_centroid', 'natural coordinates', xi)
+    call reg%add('mixed_cell', '1', LOC_MIXED_CELL, cell)
+    call reg%add('mixed_material', '1', LOC_MIXED_SLOT, mat)
+    call reg%add('mixed_volume_fraction', '1', LOC_MIXED_SLOT, vf)
+    call reg%add('mixed_centroid', 'natural coordinates', LOC_MIXED_SLOT, xi)
     call reg%add('time', 'time', t)
   end subroutine register
 
   !> A reader whose storage does not match the file is refused (naming the
   !> field and both shapes), and a file that is no restart gives no sizes.
   subroutine refusals()
-    type(restart_registry_t) :: reg
+    type(registry_t) :: reg
     integer, target :: n, nslot
     integer :: value
     integer, allocatable, target :: cell(:), mat(:)
     real(wp), allocatable, target :: vf(:), xi(:, :)
     real(wp), allocatable :: times(:)
-    real(wp), target :: t
+    real(wp), target :: t, extra
     character(len=256), allocatable :: frames(:)
     type(h5_file_t) :: f
 
@@ -173,6 +174,22 @@ contains
     end if
     call restart_read_int_scalar(path, 'no_such_scalar', value, err)
     call check(allocated(err), 'a missing scalar is an error')
+    if (allocated(err)) deallocate(err)
+    ! a quantity the file lacks: refused if mandatory, kept if optional
+    call reg%clear()
+    extra = 42.0_wp
+    call reg%add('not_in_file', 'time', extra)
+    call restart_read(path, reg, frames, times, err)
+    call check(allocated(err), 'a mandatory quantity missing from the file is refused')
+    if (allocated(err)) then
+      call check(index(err%msg, 'has no scalars/not_in_file') > 0, 'the refusal names it: '//err%msg)
+      deallocate(err)
+    end if
+    call reg%clear()
+    call reg%add('not_in_file', 'time', extra, mandatory=.false.)
+    call restart_read(path, reg, frames, times, err)
+    call check(.not. allocated(err), 'an optional quantity missing from the file is no error')
+    call check(same([extra], [42.0_wp]), 'an optional quantity missing from the file keeps its value')
     if (allocated(err)) deallocate(err)
   end subroutine refusals
 

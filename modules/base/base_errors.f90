@@ -1,28 +1,49 @@
 !> Error values returned by library routines.
 !>
 !> A library routine reports failure through an allocatable `error_t` argument:
-!> unallocated means success. Library code never stops the program; only the
-!> driver decides to abort (see `src/driver_fatal`).
+!> unallocated means success. Library code never stops the program; errors
+!> travel up to the driver, which alone ends the run (`driver_halt`), with the
+!> exit status of the error's category.
 module base_errors
   implicit none
   private
-  public :: error_t, error_set
+  public :: error_t, error_set, ERR_RUNTIME, ERR_INPUT, ERR_IO, error_exit_status
+
+  !> Categories: a failure of the computation (tangled cell, NaN, dt
+  !> collapse, allocation), a mistake in the user's input (deck, restart file
+  !> that does not fit the deck), a failure to read or write a file.
+  integer, parameter :: ERR_RUNTIME = 1, ERR_INPUT = 2, ERR_IO = 3
 
   !> One error: where it happened and what went wrong, in one line.
   type :: error_t
     character(len=:), allocatable :: where
     character(len=:), allocatable :: msg
+    integer :: category = ERR_RUNTIME
   end type error_t
 
 contains
 
-  !> Allocates `err` with the given place and message.
-  subroutine error_set(err, where, msg)
+  !> Allocates `err` with the given place, message and (default runtime)
+  !> category.
+  subroutine error_set(err, where, msg, category)
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in) :: where, msg
+    integer, intent(in), optional :: category
     if (allocated(err)) deallocate(err)
     allocate(err)
     err%where = where
     err%msg = msg
+    if (present(category)) err%category = category
   end subroutine error_set
+
+  !> The documented exit status of a category: 1 runtime failure, 2 bad
+  !> input, 4 I/O failure (3 is the wall-time stop, not an error).
+  pure integer function error_exit_status(category) result(status)
+    integer, intent(in) :: category
+    select case (category)
+    case (ERR_INPUT); status = 2
+    case (ERR_IO); status = 4
+    case default; status = 1
+    end select
+  end function error_exit_status
 end module base_errors

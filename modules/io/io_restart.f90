@@ -1,9 +1,10 @@
-!> Restart files: a registry of the fields and scalars that make up the state,
-!> and the writer and reader that walk it.
+!> Restart files: the writer and reader that walk the restart registry
+!> (`base_registry`).
 !>
-!> Packages register each restart quantity once (name, units, the array or
-!> scalar itself); `restart_write` and `restart_read` loop over the registry,
-!> so a quantity that is registered cannot be forgotten by either. Storage
+!> Packages register each restart quantity once (name, units, location, the
+!> array or scalar itself, mandatory or not); `restart_write` and
+!> `restart_read` loop over the registry, so a quantity that is registered
+!> cannot be forgotten by either. Storage
 !> whose size changes during a run (the mixed cells after a remap) is handled
 !> by clearing the registry and registering again; before a full read, the
 !> sizes stored in a file are read with `restart_read_int_scalar` or
@@ -20,9 +21,10 @@ module io_restart
                      h5_read_real, h5_read_int, h5_read_scalar_real, h5_read_scalar_int, &
                      h5_read_string, h5_exists
   use io_xdmf, only: io_rename
+  use base_registry, only: registry_t, location_name, LOC_GLOBAL, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
-  public :: restart_registry_t, restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
+  public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
             restart_read_dims, restart_version
 
   !> Format version written to every file; a reader refuses any other.
@@ -30,105 +32,13 @@ module io_restart
   !> sizes are stored as the scalars mixed_n and mixed_nslot.
   integer, parameter :: restart_version = 2
 
-  integer, parameter :: K_REAL = 1, K_INT = 2, K_REAL_SCALAR = 3, K_INT_SCALAR = 4
-
-  !> One registered quantity: a view of the caller's storage.
-  type :: restart_entry_t
-    character(len=64) :: name = ''
-    character(len=32) :: units = ''
-    integer :: kind = 0
-    integer, allocatable :: dims(:)
-    real(wp), pointer, contiguous :: r(:) => null()
-    integer, pointer, contiguous :: i(:) => null()
-    real(wp), pointer :: rs => null()
-    integer, pointer :: is => null()
-  end type restart_entry_t
-
-  !> The registry. The registered storage must outlive it; register after
-  !> allocation, and after storage is reallocated `clear` the registry and
-  !> register everything again (it holds pointers, which would dangle).
-  type :: restart_registry_t
-    type(restart_entry_t), allocatable :: e(:)
-    integer :: n = 0
-  contains
-    procedure, private :: add_r1, add_r2, add_i1, add_rs, add_is
-    !> Registers an array or scalar under a name, with its units.
-    generic :: add => add_r1, add_r2, add_i1, add_rs, add_is
-    !> Forgets every registered quantity (the storage itself is untouched).
-    procedure :: clear => restart_registry_clear
-  end type restart_registry_t
-
 contains
-
-  subroutine push(this, name, units, kind, dims)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    integer, intent(in) :: kind, dims(:)
-    type(restart_entry_t), allocatable :: tmp(:)
-    if (.not. allocated(this%e)) allocate(this%e(16))
-    if (this%n == size(this%e)) then
-      allocate(tmp(2*this%n))
-      tmp(1:this%n) = this%e
-      call move_alloc(tmp, this%e)
-    end if
-    this%n = this%n + 1
-    this%e(this%n)%name = name
-    this%e(this%n)%units = units
-    this%e(this%n)%kind = kind
-    this%e(this%n)%dims = dims
-  end subroutine push
-
-  subroutine restart_registry_clear(this)
-    class(restart_registry_t), intent(inout) :: this
-    if (allocated(this%e)) deallocate(this%e)
-    this%n = 0
-  end subroutine restart_registry_clear
-
-  subroutine add_r1(this, name, units, a)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    real(wp), intent(inout), target, contiguous :: a(:)
-    call push(this, name, units, K_REAL, shape(a))
-    this%e(this%n)%r => a
-  end subroutine add_r1
-
-  subroutine add_r2(this, name, units, a)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    real(wp), intent(inout), target, contiguous :: a(:, :)
-    call push(this, name, units, K_REAL, shape(a))
-    this%e(this%n)%r(1:size(a)) => a
-  end subroutine add_r2
-
-  subroutine add_i1(this, name, units, a)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    integer, intent(inout), target, contiguous :: a(:)
-    call push(this, name, units, K_INT, shape(a))
-    this%e(this%n)%i => a
-  end subroutine add_i1
-
-  subroutine add_rs(this, name, units, a)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    real(wp), intent(inout), target :: a
-    call push(this, name, units, K_REAL_SCALAR, [integer ::])
-    this%e(this%n)%rs => a
-  end subroutine add_rs
-
-  subroutine add_is(this, name, units, a)
-    class(restart_registry_t), intent(inout) :: this
-    character(len=*), intent(in) :: name, units
-    integer, intent(inout), target :: a
-    call push(this, name, units, K_INT_SCALAR, [integer ::])
-    this%e(this%n)%is => a
-  end subroutine add_is
 
   !> Writes every registered quantity, the deck and the frame list to `path`
   !> (atomically: `path`.tmp, then rename).
   subroutine restart_write(path, reg, deck, frames, times, err)
     character(len=*), intent(in) :: path
-    type(restart_registry_t), intent(in) :: reg
+    type(registry_t), intent(in) :: reg
     character(len=*), intent(in) :: deck
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -219,7 +129,7 @@ contains
   !> caller must not use the state.
   subroutine restart_read(path, reg, frames, times, err)
     character(len=*), intent(in) :: path
-    type(restart_registry_t), intent(inout) :: reg
+    type(registry_t), intent(inout) :: reg
     character(len=256), allocatable, intent(out) :: frames(:)
     real(wp), allocatable, intent(out) :: times(:)
     type(error_t), allocatable, intent(inout) :: err
@@ -235,9 +145,20 @@ contains
     if (allocated(err)) return
     do k = 1, reg%n
       associate (e => reg%e(k))
+        if (e%kind == K_REAL .or. e%kind == K_INT) then
+          name = 'state/'//trim(e%name)
+        else
+          name = 'scalars/'//trim(e%name)
+        end if
+        if (.not. h5_exists(f, trim(name))) then
+          ! an optional quantity keeps the value the deck gave it
+          if (e%mandatory) call error_set(err, 'restart_read', trim(path)//' has no '//trim(name)// &
+                                          ' ('//location_name(e%location)//' quantity this run needs)')
+          if (allocated(err)) exit
+          cycle
+        end if
         select case (e%kind)
         case (K_REAL, K_INT)
-          name = 'state/'//trim(e%name)
           call h5_read_dims(f, trim(name), dims, err)
           if (allocated(err)) exit
           if (size(dims) /= size(e%dims)) then
@@ -245,7 +166,7 @@ contains
             exit
           else if (any(dims /= e%dims)) then
             call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has shape '// &
-                           shape_str(dims)//', this run expects '//shape_str(e%dims))
+                           shape_str(dims)//', this run expects '//shape_str(e%dims)//where_str(e%location))
             exit
           end if
           if (e%kind == K_REAL) then
@@ -256,9 +177,9 @@ contains
             if (.not. allocated(err)) e%i = ibuf
           end if
         case (K_REAL_SCALAR)
-          call h5_read_scalar_real(f, 'scalars/'//trim(e%name), e%rs, err)
+          call h5_read_scalar_real(f, trim(name), e%rs, err)
         case (K_INT_SCALAR)
-          call h5_read_scalar_int(f, 'scalars/'//trim(e%name), e%is, err)
+          call h5_read_scalar_int(f, trim(name), e%is, err)
         end select
       end associate
       if (allocated(err)) exit
@@ -307,6 +228,14 @@ contains
     end if
     if (allocated(err)) call h5_close(f, err2)
   end subroutine open_checked
+
+  !> " (one per <location>)" for an array that lives on grid entities.
+  function where_str(loc) result(s)
+    integer, intent(in) :: loc
+    character(len=:), allocatable :: s
+    s = ''
+    if (loc /= LOC_GLOBAL) s = ' (last dimension: one per '//location_name(loc)//')'
+  end function where_str
 
   function shape_str(d) result(s)
     integer, intent(in) :: d(:)

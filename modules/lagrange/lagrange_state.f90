@@ -10,9 +10,11 @@ module lagrange_state
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_subcell_volumes
+  use base_registry, only: registry_t, LOC_NODE, LOC_CELL
   implicit none
   private
-  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, VISC_EDGE, VISC_TENSOR
+  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, hydro_register_restart, &
+            VISC_EDGE, VISC_TENSOR
 
   !> Artificial viscosity forms (deck: &hydro viscosity = 'edge' | 'tensor').
   integer, parameter :: VISC_EDGE = 1, VISC_TENSOR = 2
@@ -110,4 +112,20 @@ contains
       kinetic = kinetic + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
     end do
   end subroutine hydro_totals
+
+  !> Registers the hydro state's restart fields (not the work arrays).
+  subroutine hydro_register_restart(h, reg)
+    type(hydro_t), intent(inout), target :: h
+    type(registry_t), intent(inout) :: reg
+    call reg%add('velocity', 'length/time', LOC_NODE, h%u)
+    call reg%add('node_mass', 'mass', LOC_NODE, h%mnode)
+    call reg%add('mass', 'mass', LOC_CELL, h%mass)
+    call reg%add('volume', 'length^3', LOC_CELL, h%vol)
+    call reg%add('density', 'mass/length^3', LOC_CELL, h%rho)
+    call reg%add('energy', 'energy/mass', LOC_CELL, h%e)
+    call reg%add('pressure', 'pressure', LOC_CELL, h%p)
+    call reg%add('sound_speed', 'length/time', LOC_CELL, h%cs)
+    call reg%add('viscosity', 'pressure', LOC_CELL, h%q)
+    call reg%add('material', '1', LOC_CELL, h%mat)
+  end subroutine hydro_register_restart
 end module lagrange_state

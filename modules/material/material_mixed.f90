@@ -24,9 +24,10 @@
 module material_mixed
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT
   implicit none
   private
-  public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state
+  public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_register_restart
 
   !> Compressed storage of the mixed cells.
   type :: mixed_t
@@ -174,4 +175,26 @@ contains
     end do
     !$omp end parallel do
   end subroutine mixed_cell_state
+
+  !> Registers the mixed cells' restart fields. They are always registered,
+  !> as zero-size arrays when there are none, with their sizes as the scalars
+  !> mixed_n and mixed_nslot: a restart file then holds its own mixed-cell
+  !> sizes, which may differ from those the deck builds (after a remap).
+  !> Register again after the storage is reallocated.
+  subroutine mixed_register_restart(mx, reg)
+    type(mixed_t), intent(inout), target :: mx
+    type(registry_t), intent(inout) :: reg
+    call reg%add('mixed_n', '1', mx%n)
+    call reg%add('mixed_nslot', '1', mx%nslot)
+    call reg%add('mixed_cell', '1', LOC_MIXED_CELL, mx%cell)
+    call reg%add('mixed_start', '1', LOC_MIXED_CELL, mx%start)
+    call reg%add('mixed_material', '1', LOC_MIXED_SLOT, mx%mat)
+    call reg%add('mixed_volume_fraction', '1', LOC_MIXED_SLOT, mx%vf)
+    call reg%add('mixed_mass', 'mass', LOC_MIXED_SLOT, mx%mass)
+    call reg%add('mixed_energy', 'energy/mass', LOC_MIXED_SLOT, mx%e)
+    call reg%add('mixed_density', 'mass/length^3', LOC_MIXED_SLOT, mx%rho)
+    call reg%add('mixed_pressure', 'pressure', LOC_MIXED_SLOT, mx%p)
+    call reg%add('mixed_sound_speed', 'length/time', LOC_MIXED_SLOT, mx%cs)
+    call reg%add('mixed_centroid', 'natural coordinates', LOC_MIXED_SLOT, mx%xi)
+  end subroutine mixed_register_restart
 end module material_mixed

@@ -8,9 +8,10 @@ module mesh_grid
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use mesh_geometry, only: hex_corner
+  use base_registry, only: registry_t, LOC_NODE
   implicit none
   private
-  public :: grid_t, grid_init_box, block_gather
+  public :: grid_t, grid_init_box, block_gather, grid_register_restart
 
   !> Grid sizes, strides and node positions.
   type :: grid_t
@@ -124,4 +125,11 @@ contains
       xn(:, a) = x(:, n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a))
     end do
   end subroutine block_gather
+
+  !> Registers the grid's restart fields: the node positions.
+  subroutine grid_register_restart(g, reg)
+    type(grid_t), intent(inout), target :: g
+    type(registry_t), intent(inout) :: reg
+    call reg%add('x', 'length', LOC_NODE, g%x)
+  end subroutine grid_register_restart
 end module mesh_grid

@@ -1,0 +1,65 @@
+!> The &output group: where outputs go, when frames and gauge rows are
+!> written, and the gauge points.
+module io_output_config
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml
+  use io_deck, only: deck_stem
+  implicit none
+  private
+  public :: output_config_t, output_config_read, max_gauges
+
+  integer, parameter :: max_gauges = 64
+
+  !> The resolved &output group; the initial values are the defaults.
+  type :: output_config_t
+    character(len=256) :: dir = 'out'                 !< output directory
+    character(len=256) :: name = ''                   !< base name; '' becomes the deck's file stem
+    real(wp) :: frame_dt = 0.0_wp                     !< time between frames (time; 0: first and last)
+    integer :: frame_steps = 0                        !< also a frame every this many steps (0: off)
+    real(wp) :: gauge_dt = 0.0_wp                     !< time between gauge rows (time; 0: every step)
+    integer :: ngauge = 0                             !< number of gauge points
+    real(wp) :: gauges(3, max_gauges) = huge(1.0_wp)  !< gauge points (length); huge: unset
+  end type output_config_t
+
+contains
+
+  !> Reads, validates and echoes the &output group (`text` empty: all
+  !> defaults); gauges must lie in the grid box xmin..xmax.
+  subroutine output_config_read(this, text, path, xmin, xmax, echo, problems)
+    type(output_config_t), intent(out) :: this
+    character(len=*), intent(in) :: text(:), path
+    real(wp), intent(in) :: xmin(3), xmax(3)
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=256) :: dir, name
+    real(wp) :: frame_dt, gauge_dt, gauge(3, max_gauges)
+    integer :: frame_steps, ios, i
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge
+
+    dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
+    gauge_dt = this%gauge_dt; gauge = this%gauges
+    if (size(text) > 0) then
+      read(text, nml=output, iostat=ios, iomsg=msg)
+      if (ios /= 0) call problem_nml(problems, path, 'output', ios, msg)
+    end if
+    if (len_trim(name) == 0) name = deck_stem(path)
+    if (frame_dt < 0.0_wp) call problem_bad(problems, 'output', 'frame_dt', frame_dt, &
+                                            'must be >= 0 (0: first and last frame only)')
+    if (gauge_dt < 0.0_wp) call problem_bad(problems, 'output', 'gauge_dt', gauge_dt, 'must be >= 0 (0: every step)')
+    if (frame_steps < 0) call problem_badi(problems, 'output', 'frame_steps', frame_steps, 'must be >= 0')
+    do i = 1, max_gauges
+      if (any(gauge(:, i) > 0.5_wp*huge(1.0_wp))) exit
+      this%ngauge = i
+      this%gauges(:, i) = gauge(:, i)
+      if (any(gauge(:, i) < xmin) .or. any(gauge(:, i) > xmax)) then
+        write(tag, '(a,i0,a)') 'gauge(:,', i, ')'
+        call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
+      end if
+    end do
+    this%dir = dir; this%name = name; this%frame_dt = frame_dt
+    this%frame_steps = frame_steps; this%gauge_dt = gauge_dt
+    if (echo /= no_echo) write(echo, nml=output)
+  end subroutine output_config_read
+end module io_output_config

@@ -1,0 +1,55 @@
+!> The &hydro group: the numerical parameters of the Lagrangian phase. Its
+!> configuration type is the kernels' own `hydro_params_t` (`lagrange_state`),
+!> whose initial values are the defaults; &run's time-step controls (cfl,
+!> dt_growth, dt_max) are stored in it by the driver's &run reader.
+module lagrange_config
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml
+  use lagrange_state, only: hydro_params_t, VISC_EDGE, VISC_TENSOR
+  implicit none
+  private
+  public :: hydro_config_read
+
+  !> Deck names of the viscosity forms, by VISC_* value.
+  character(len=*), parameter :: visc_names(2) = [character(len=8) :: 'edge', 'tensor']
+
+contains
+
+  !> Reads, validates and echoes the &hydro group into `par` (`text` empty:
+  !> all defaults). Only the &hydro components of `par` are set.
+  subroutine hydro_config_read(par, text, path, echo, problems)
+    type(hydro_params_t), intent(inout) :: par
+    character(len=*), intent(in) :: text(:), path
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(hydro_params_t) :: defaults
+    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax
+    character(len=16) :: viscosity
+    integer :: ios
+    character(len=max_line) :: msg
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax
+
+    viscosity = visc_names(defaults%viscosity)
+    q_linear = defaults%q_linear; q_quad = defaults%q_quad
+    hourglass = defaults%hourglass; dv_max = defaults%dv_max; relax = defaults%relax
+    if (size(text) > 0) then
+      read(text, nml=hydro, iostat=ios, iomsg=msg)
+      if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
+    end if
+    select case (trim(viscosity))
+    case ('tensor'); par%viscosity = VISC_TENSOR
+    case ('edge'); par%viscosity = VISC_EDGE
+    case default
+      call problem_add(problems, '&hydro: viscosity = '''//trim(viscosity)//''' is not known; valid: tensor, edge')
+    end select
+    if (q_linear < 0.0_wp) call problem_bad(problems, 'hydro', 'q_linear', q_linear, 'must be >= 0')
+    if (q_quad < 0.0_wp) call problem_bad(problems, 'hydro', 'q_quad', q_quad, 'must be >= 0')
+    if (hourglass < 0.0_wp) call problem_bad(problems, 'hydro', 'hourglass', hourglass, 'must be >= 0')
+    if (.not. (dv_max > 0.0_wp)) call problem_bad(problems, 'hydro', 'dv_max', dv_max, 'must be > 0')
+    if (.not. (relax > 0.0_wp .and. relax <= 1.0_wp)) call problem_bad(problems, 'hydro', 'relax', relax, &
+      'must be in (0, 1]')
+    par%q_linear = q_linear; par%q_quad = q_quad
+    par%hourglass = hourglass; par%dv_max = dv_max; par%relax = relax
+    if (echo /= no_echo) write(echo, nml=hydro)
+  end subroutine hydro_config_read
+end module lagrange_config

@@ -1,0 +1,84 @@
+!> The &material group (one per material): its name, its equation of state
+!> and the EOS parameters (validated by the EOS factory), and cut-offs.
+module material_config
+  use base_kinds, only: wp
+  use base_errors, only: error_t
+  use base_strings, only: itoa
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml, diff_r, diff_s
+  use eos_base, only: eos_t
+  use eos_factory, only: eos_params_t, eos_create
+  implicit none
+  private
+  public :: material_config_t, material_config_read, material_config_changes
+
+  !> One resolved &material group; the initial values are the defaults (the
+  !> EOS parameters' are in `eos_params_t`).
+  type :: material_config_t
+    character(len=64) :: name = ''                 !< '' becomes 'material<N>'
+    character(len=64) :: eos = 'ideal_gas'         !< an `eos_factory` name
+    type(eos_params_t) :: par                      !< EOS parameters
+    real(wp) :: p_min = -huge(1.0_wp)              !< pressure floor (pressure)
+    real(wp) :: rho_min = 0.0_wp                   !< void density (density)
+  end type material_config_t
+
+contains
+
+  !> Reads, validates and echoes the m-th &material group (`text`); `earlier`
+  !> are the names of the groups before it (names must be unique).
+  subroutine material_config_read(this, m, text, path, earlier, echo, problems)
+    type(material_config_t), intent(out) :: this
+    integer, intent(in) :: m, echo
+    character(len=*), intent(in) :: text(:), path, earlier(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=64) :: name, eos
+    real(wp) :: gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
+    integer :: ios
+    character(len=max_line) :: msg
+    class(eos_t), allocatable :: trial
+    type(error_t), allocatable :: err
+    namelist /material/ name, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
+
+    name = this%name; eos = this%eos; p_min = this%p_min; rho_min = this%rho_min
+    associate (d => this%par)
+      gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2
+      omega = d%omega; rho0 = d%rho0; c0 = d%c0; s1 = d%s1; gamma0 = d%gamma0
+    end associate
+    read(text, nml=material, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'material', ios, msg)
+      return
+    end if
+    if (len_trim(name) == 0) name = 'material'//itoa(m)
+    if (any(earlier == name)) call problem_add(problems, &
+      '&material: name = '''//trim(name)//''' is used twice; names must be unique')
+    this%name = name
+    this%eos = eos
+    this%par = eos_params_t(gamma=gamma, a=a, b=b, r1=r1, r2=r2, omega=omega, &
+                            rho0=rho0, c0=c0, s1=s1, gamma0=gamma0)
+    this%p_min = p_min
+    this%rho_min = rho_min
+    if (rho_min < 0.0_wp) call problem_bad(problems, 'material '''//trim(name)//'''', 'rho_min', rho_min, &
+                                           'must be >= 0')
+    ! the factory validates the model name and its parameters
+    call eos_create(eos, this%par, trial, err)
+    if (allocated(err)) call problem_add(problems, '&material '''//trim(name)//''': '//err%msg)
+    if (echo /= no_echo) write(echo, nml=material)
+  end subroutine material_config_read
+
+  !> What a restart may not change in the k-th &material: one line per change.
+  subroutine material_config_changes(k, a, b, changes)
+    integer, intent(in) :: k
+    type(material_config_t), intent(in) :: a, b
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    character(len=:), allocatable :: what
+    call diff_s(changes, '&material('//itoa(k)//') name', a%name, b%name)
+    what = '&material '''//trim(a%name)//''''
+    call diff_s(changes, what//' eos', a%eos, b%eos)
+    call diff_r(changes, what//' gamma', [a%par%gamma], [b%par%gamma])
+    call diff_r(changes, what//' jwl a, b, r1, r2, omega', [a%par%a, a%par%b, a%par%r1, a%par%r2, a%par%omega], &
+                [b%par%a, b%par%b, b%par%r1, b%par%r2, b%par%omega])
+    call diff_r(changes, what//' rho0, c0, s1, gamma0', [a%par%rho0, a%par%c0, a%par%s1, a%par%gamma0], &
+                [b%par%rho0, b%par%c0, b%par%s1, b%par%gamma0])
+    call diff_r(changes, what//' p_min, rho_min', [a%p_min, a%rho_min], [b%p_min, b%rho_min])
+  end subroutine material_config_changes
+end module material_config

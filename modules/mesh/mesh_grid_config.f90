@@ -1,0 +1,64 @@
+!> The &grid group: the structured block (cells per direction and its box).
+module mesh_grid_config
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
+  implicit none
+  private
+  public :: grid_config_t, grid_config_read, grid_config_changes
+
+  !> The resolved &grid group; the initial values are the defaults.
+  type :: grid_config_t
+    integer :: ni = 0, nj = 0, nk = 0              !< cells along x, y, z (required, >= 1)
+    real(wp) :: xmin(3) = 0.0_wp                   !< low corner of the box (length)
+    real(wp) :: xmax(3) = 1.0_wp                   !< high corner of the box (length)
+    integer :: subsamples = 8                      !< sample points per direction in cut cells
+  end type grid_config_t
+
+contains
+
+  !> Reads, validates and echoes the &grid group (`text`: its lines, empty
+  !> if the deck has none, which is a problem: the sizes are required).
+  subroutine grid_config_read(this, text, path, echo, problems)
+    type(grid_config_t), intent(out) :: this
+    character(len=*), intent(in) :: text(:), path
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer :: ni, nj, nk, subsamples, ios, d
+    real(wp) :: xmin(3), xmax(3)
+    character(len=max_line) :: msg
+    namelist /grid/ ni, nj, nk, xmin, xmax, subsamples
+
+    ni = this%ni; nj = this%nj; nk = this%nk; xmin = this%xmin; xmax = this%xmax
+    subsamples = this%subsamples
+    if (size(text) == 0) then
+      call problem_add(problems, trim(path)//': group &grid is missing (ni, nj, nk are required)')
+      return
+    end if
+    read(text, nml=grid, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'grid', ios, msg)
+      return
+    end if
+    if (ni < 1) call problem_badi(problems, 'grid', 'ni', ni, 'must be >= 1')
+    if (nj < 1) call problem_badi(problems, 'grid', 'nj', nj, 'must be >= 1')
+    if (nk < 1) call problem_badi(problems, 'grid', 'nk', nk, 'must be >= 1')
+    if (subsamples < 1) call problem_badi(problems, 'grid', 'subsamples', subsamples, 'must be >= 1')
+    do d = 1, 3
+      if (.not. (xmax(d) > xmin(d))) call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
+                                                      'must be > xmin('//achar(48 + d)//')')
+    end do
+    this = grid_config_t(ni=ni, nj=nj, nk=nk, xmin=xmin, xmax=xmax, subsamples=subsamples)
+    if (echo /= no_echo) write(echo, nml=grid)
+  end subroutine grid_config_read
+
+  !> What a restart may not change in &grid: one line per changed variable.
+  subroutine grid_config_changes(old, new, changes)
+    type(grid_config_t), intent(in) :: old, new
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    call diff_i(changes, '&grid ni', old%ni, new%ni)
+    call diff_i(changes, '&grid nj', old%nj, new%nj)
+    call diff_i(changes, '&grid nk', old%nk, new%nk)
+    call diff_r(changes, '&grid xmin', old%xmin, new%xmin)
+    call diff_r(changes, '&grid xmax', old%xmax, new%xmax)
+  end subroutine grid_config_changes
+end module mesh_grid_config

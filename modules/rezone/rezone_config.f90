@@ -1,0 +1,125 @@
+!> The &rezone group: whether, when and how an Euler step (rezone, then
+!> remap) follows the Lagrangian step.
+module rezone_config
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml
+  implicit none
+  private
+  public :: rezone_config_t, rezone_config_read
+
+  !> The &rezone group: whether, when and how an Euler step (rezone, then
+  !> remap) follows the Lagrangian step. An Euler step runs when any trigger
+  !> that is on fires.
+  type :: rezone_config_t
+    !> 'none': pure Lagrangian, no Euler step; 'global': rezone the whole grid
+    !> back to the initial one and remap (Eulerian-like global MMALE); 'lssm':
+    !> smooth and remap only the distorted subdomains (Sect. 5); 'smooth':
+    !> smooth the whole grid and remap (the global MMALE LSSM is measured against)
+    character(len=16) :: mode = 'none'
+    !> trigger: the largest ratio of side lengths of any cell reaches this
+    !> (0: off; else > 1)
+    real(wp) :: side_ratio = 4.0_wp
+    !> trigger: the smallest cosine of the largest inclined angle over all
+    !> cells falls to or below this (0: off; else in (0, 1))
+    real(wp) :: cos_angle = 0.7_wp
+    integer :: interval_steps = 0          !< trigger: every this many steps (0: off)
+    real(wp) :: interval_time = 0.0_wp     !< trigger: every this much simulated time (time; 0: off)
+    !> remap reconstruction: 'linear' (limited, second order) or 'constant'
+    !> (first order)
+    character(len=16) :: reconstruction = 'linear'
+    integer :: mof_max_iter = 50           !< cap on MoF Gauss-Newton iterations per material
+    !> check mass, momentum and energy conservation to round-off at every
+    !> Euler step and stop the run if broken (Debug builds always check)
+    logical :: check_conservation = .false.
+    ! mode 'lssm' (Sect. 5): only distorted subdomains are smoothed and remapped
+    real(wp) :: quality = 0.999_wp         !< a cell with Q (Eq. 46) below this is distorted (the paper's q)
+    real(wp) :: quality_target = 0.999_wp  !< smoothing stops when Q_min of the subdomains reaches this
+    integer :: smooth_iterations = 20      !< at most this many combined smoothing iterations (N_max)
+    !> side of a subdomain's range in cells (0: a tenth of the smallest grid dimension, as the paper)
+    real(wp) :: d_max = 0.0_wp
+    !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
+    !> shortest edge stays where it was (0: every move is kept, as the paper)
+    real(wp) :: move_min = 0.0_wp
+    !> nodal masses after a remap: 'transported' (the old ones, carried; a uniform
+    !> velocity stays exact) or 'consistent' (the reconstructed subcell masses)
+    character(len=16) :: nodal_mass = 'transported'
+  end type rezone_config_t
+
+contains
+
+  !> Reads, validates and echoes the &rezone group (`text` empty: all
+  !> defaults, a purely Lagrangian run).
+  subroutine rezone_config_read(this, text, path, echo, problems)
+    type(rezone_config_t), intent(out) :: this
+    character(len=*), intent(in) :: text(:), path
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: mode, reconstruction, nodal_mass
+    real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max, move_min
+    integer :: interval_steps, mof_max_iter, smooth_iterations, ios
+    logical :: check_conservation
+    character(len=max_line) :: msg
+    type(rezone_config_t) :: defaults
+    namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
+                      mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max, &
+                      move_min, nodal_mass
+
+    mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
+    interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
+    reconstruction = defaults%reconstruction; mof_max_iter = defaults%mof_max_iter
+    check_conservation = defaults%check_conservation
+    quality = defaults%quality; quality_target = defaults%quality_target
+    smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
+    nodal_mass = defaults%nodal_mass
+    if (size(text) > 0) then
+      read(text, nml=rezone, iostat=ios, iomsg=msg)
+      if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
+    end if
+    select case (trim(mode))
+    case ('none', 'global', 'lssm', 'smooth')
+    case default
+      call problem_add(problems, '&rezone: mode = '''//trim(mode)//''' is not known; valid: none, global, lssm, smooth')
+    end select
+    select case (trim(reconstruction))
+    case ('linear', 'constant')
+    case default
+      call problem_add(problems, '&rezone: reconstruction = '''//trim(reconstruction)// &
+        ''' is not known; valid: linear, constant')
+    end select
+    select case (trim(nodal_mass))
+    case ('transported', 'consistent')
+    case default
+      call problem_add(problems, '&rezone: nodal_mass = '''//trim(nodal_mass)// &
+        ''' is not known; valid: transported, consistent')
+    end select
+    if (.not. (side_ratio >= 0.0_wp) .or. (side_ratio > 0.0_wp .and. side_ratio <= 1.0_wp)) &
+      call problem_bad(problems, 'rezone', 'side_ratio', side_ratio, 'must be 0 (off) or > 1')
+    if (.not. (cos_angle >= 0.0_wp .and. cos_angle < 1.0_wp)) &
+      call problem_bad(problems, 'rezone', 'cos_angle', cos_angle, 'must be in [0, 1) (0: off)')
+    if (interval_steps < 0) call problem_badi(problems, 'rezone', 'interval_steps', interval_steps, &
+      'must be >= 0 (0: off)')
+    if (.not. (interval_time >= 0.0_wp)) call problem_bad(problems, 'rezone', 'interval_time', interval_time, &
+      'must be >= 0 (0: off)')
+    if (mof_max_iter < 1) call problem_badi(problems, 'rezone', 'mof_max_iter', mof_max_iter, 'must be >= 1')
+    if (.not. (quality > 0.0_wp .and. quality <= 1.0_wp)) &
+      call problem_bad(problems, 'rezone', 'quality', quality, 'must be in (0, 1]')
+    if (.not. (quality_target > 0.0_wp .and. quality_target <= 1.0_wp)) &
+      call problem_bad(problems, 'rezone', 'quality_target', quality_target, 'must be in (0, 1]')
+    if (smooth_iterations < 1) call problem_badi(problems, 'rezone', 'smooth_iterations', smooth_iterations, &
+      'must be >= 1')
+    if (.not. (d_max >= 0.0_wp)) call problem_bad(problems, 'rezone', 'd_max', d_max, &
+      'must be >= 0 (0: a tenth of the smallest grid dimension)')
+    if (.not. (move_min >= 0.0_wp .and. move_min < 0.5_wp)) call problem_bad(problems, 'rezone', 'move_min', &
+      move_min, 'must be in [0, 0.5) (0: off)')
+    if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
+                                            interval_steps > 0 .or. interval_time > 0.0_wp)) &
+      call problem_add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
+        'cos_angle > 0, interval_steps > 0 or interval_time > 0')
+    this = rezone_config_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
+      interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
+      mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
+      nodal_mass=nodal_mass)
+    if (echo /= no_echo) write(echo, nml=rezone)
+  end subroutine rezone_config_read
+end module rezone_config

@@ -1,0 +1,235 @@
+!> The resolved configuration of a run: the &run group (time control,
+!> restarts, progress), which configures the driver itself, and the
+!> configuration of every package, each read, validated and echoed by the
+!> package's own config module from the text of its group (`io_deck` finds
+!> the groups). Read-only once the deck has been read.
+module driver_config
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
+  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
+  use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
+  use material_config, only: material_config_t, material_config_read, material_config_changes
+  use lagrange_state, only: hydro_params_t
+  use lagrange_config, only: hydro_config_read
+  use rezone_config, only: rezone_config_t, rezone_config_read
+  use io_deck, only: deck_t, deck_read, deck_count, deck_text, echo_open, echo_text
+  use io_output_config, only: output_config_t, output_config_read
+  use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
+                                 scene_config_changes
+  implicit none
+  private
+  public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text
+
+  !> The deck's groups, in the order they are read and echoed.
+  character(len=*), parameter :: known_groups(9) = [character(len=8) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'rezone', 'output']
+
+  !> The resolved &run group; the initial values are the defaults (cfl,
+  !> dt_growth and dt_max are stored in `config_t%hydro`, where the
+  !> Lagrangian step reads them).
+  type :: run_config_t
+    character(len=200) :: title = 'untitled'
+    real(wp) :: t_end = 0.0_wp                 !< end time (required, > 0)
+    integer :: max_steps = 100000000           !< stop after this many steps
+    real(wp) :: dt_init = 0.0_wp               !< cap on the first step (0: the stable step)
+    real(wp) :: dt_min = 0.0_wp                !< the run fails below this step (0: 1e-12 t_end, resolved)
+    integer :: progress_steps = 0              !< a progress line every this many steps (0: by time only)
+    real(wp) :: progress_seconds = 10.0_wp     !< a progress line at least this often (wall seconds)
+    real(wp) :: velocity_noise = 0.0_wp        !< amplitude of a random velocity added to the nodes
+    integer :: seed = 1                        !< seed of the random numbers
+    character(len=256) :: restart_from = ''    !< continue from this restart file
+    real(wp) :: wall_time_limit = 0.0_wp       !< wall seconds; a restart and exit 3 before it (0: none)
+    integer :: dump_steps = 0                  !< a restart every this many steps (0: off)
+    real(wp) :: dump_dt = 0.0_wp               !< a restart every this much time (0: off)
+    integer :: dump_keep = 2                   !< keep the newest this many restarts
+  end type run_config_t
+
+  !> The resolved deck.
+  type :: config_t
+    character(len=:), allocatable :: deck_path
+    character(len=:), allocatable :: echo            !< resolved deck as namelist text
+    type(run_config_t) :: run
+    type(grid_config_t) :: grid
+    type(hydro_params_t) :: hydro                    !< &hydro, and &run's cfl, dt_growth, dt_max
+    type(material_config_t), allocatable :: materials(:)
+    type(region_config_t), allocatable :: regions(:)
+    type(source_config_t), allocatable :: sources(:)
+    type(boundary_config_t) :: boundary
+    type(rezone_config_t) :: rezone
+    type(output_config_t) :: output
+  end type config_t
+
+contains
+
+  !> Reads and validates the deck at `path`. On return `problems` holds one
+  !> line per problem found (empty when the deck is usable).
+  subroutine config_read(path, cfg, problems)
+    character(len=*), intent(in) :: path
+    type(config_t), intent(out) :: cfg
+    character(len=max_line), allocatable, intent(out) :: problems(:)
+    type(deck_t) :: deck
+    integer :: echo
+
+    allocate(problems(0))
+    cfg%deck_path = path
+    call deck_read(path, known_groups, deck, problems)
+    if (size(problems) > 0 .and. size(deck%groups) == 0) return   ! no readable deck
+    call echo_open(echo, problems)
+    if (echo == no_echo) return
+    call read_groups(deck, cfg, echo, problems)
+    cfg%echo = echo_text(echo)
+  end subroutine config_read
+
+  !> Every group of `deck`, in order, each by its package.
+  subroutine read_groups(deck, cfg, echo, problems)
+    type(deck_t), intent(in) :: deck
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=64), allocatable :: names(:)
+    integer :: k, n
+
+    associate (path => deck%path)
+      call run_config_read(cfg%run, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
+      call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
+      call hydro_config_read(cfg%hydro, deck_text(deck, 'hydro'), path, echo, problems)
+      n = deck_count(deck, 'material')
+      allocate(cfg%materials(n), names(0))
+      if (n == 0) call problem_add(problems, trim(path)//': no &material group (at least one is required)')
+      do k = 1, n
+        call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names, echo, &
+                                  problems)
+        names = [names, cfg%materials(k)%name]
+      end do
+      n = deck_count(deck, 'region')
+      allocate(cfg%regions(n))
+      if (n == 0) call problem_add(problems, trim(path)//': no &region group (at least one is required)')
+      do k = 1, n
+        call region_config_read(cfg%regions(k), k, deck_text(deck, 'region', k), path, names, echo, problems)
+      end do
+      n = deck_count(deck, 'source')
+      allocate(cfg%sources(n))
+      do k = 1, n
+        call source_config_read(cfg%sources(k), k, deck_text(deck, 'source', k), path, cfg%grid%xmin, &
+                                cfg%grid%xmax, echo, problems)
+      end do
+      call boundary_config_read(cfg%boundary, deck_text(deck, 'boundary'), path, names, echo, problems)
+      call rezone_config_read(cfg%rezone, deck_text(deck, 'rezone'), path, echo, problems)
+      call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
+                              problems)
+    end associate
+  end subroutine read_groups
+
+  !> Reads, validates and echoes the &run group; its time-step controls go
+  !> to the Lagrangian parameters `hydro`.
+  subroutine run_config_read(this, hydro, text, path, echo, problems)
+    type(run_config_t), intent(out) :: this
+    type(hydro_params_t), intent(inout) :: hydro
+    character(len=*), intent(in) :: text(:), path
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(hydro_params_t) :: hd
+    character(len=200) :: title
+    real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
+    real(wp) :: velocity_noise, wall_time_limit, dump_dt
+    integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios
+    character(len=256) :: restart_from
+    character(len=max_line) :: msg
+    namelist /run/ title, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
+                   progress_steps, progress_seconds, velocity_noise, seed, &
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep
+
+    title = this%title; t_end = this%t_end; max_steps = this%max_steps
+    cfl = hd%cfl; dt_init = this%dt_init; dt_max = 0.0_wp; dt_min = this%dt_min; dt_growth = hd%dt_growth
+    progress_steps = this%progress_steps; progress_seconds = this%progress_seconds
+    velocity_noise = this%velocity_noise; seed = this%seed
+    restart_from = this%restart_from; wall_time_limit = this%wall_time_limit; dump_steps = this%dump_steps
+    dump_dt = this%dump_dt; dump_keep = this%dump_keep
+    if (size(text) == 0) then
+      call problem_add(problems, trim(path)//': group &run is missing (t_end is required)')
+    else
+      read(text, nml=run, iostat=ios, iomsg=msg)
+      if (ios /= 0) call problem_nml(problems, path, 'run', ios, msg)
+    end if
+    if (.not. (t_end > 0.0_wp)) call problem_bad(problems, 'run', 't_end', t_end, 'must be > 0')
+    if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) call problem_bad(problems, 'run', 'cfl', cfl, 'must be in (0, 1]')
+    if (.not. (dt_growth >= 1.0_wp)) call problem_bad(problems, 'run', 'dt_growth', dt_growth, 'must be >= 1')
+    if (dt_init < 0.0_wp) call problem_bad(problems, 'run', 'dt_init', dt_init, 'must be >= 0 (0: automatic)')
+    if (dt_max < 0.0_wp) call problem_bad(problems, 'run', 'dt_max', dt_max, 'must be >= 0 (0: no limit)')
+    if (dt_min < 0.0_wp) call problem_bad(problems, 'run', 'dt_min', dt_min, 'must be >= 0 (0: 1e-12 t_end)')
+    if (max_steps < 0) call problem_badi(problems, 'run', 'max_steps', max_steps, 'must be >= 0')
+    if (velocity_noise < 0.0_wp) call problem_bad(problems, 'run', 'velocity_noise', velocity_noise, 'must be >= 0')
+    if (wall_time_limit < 0.0_wp) call problem_bad(problems, 'run', 'wall_time_limit', wall_time_limit, &
+                                                   'must be >= 0 (0: none)')
+    if (dump_dt < 0.0_wp) call problem_bad(problems, 'run', 'dump_dt', dump_dt, 'must be >= 0 (0: off)')
+    if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
+    if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
+    this = run_config_t(title=title, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
+      dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
+      progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
+      wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep)
+    hydro%cfl = cfl
+    hydro%dt_growth = dt_growth
+    hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)
+    if (echo /= no_echo) write(echo, nml=run)
+  end subroutine run_config_read
+
+  !> What a restart may not change: every variable the state depends on
+  !> (grid, materials, regions, sources, boundaries, the initial noise), each
+  !> package comparing its own group. One line per changed variable; empty
+  !> if the decks agree. Time, output, dump and numerical settings (&hydro,
+  !> &rezone, cfl, dt limits) may change: none of them is part of the state.
+  subroutine config_state_changes(old, new, changes)
+    type(config_t), intent(in) :: old, new
+    character(len=max_line), allocatable, intent(out) :: changes(:)
+    integer :: k
+
+    allocate(changes(0))
+    call grid_config_changes(old%grid, new%grid, changes)
+    call diff_r(changes, '&run velocity_noise', [old%run%velocity_noise], [new%run%velocity_noise])
+    call diff_i(changes, '&run seed', old%run%seed, new%run%seed)
+    call diff_i(changes, 'number of &material groups', size(old%materials), size(new%materials))
+    do k = 1, min(size(old%materials), size(new%materials))
+      call material_config_changes(k, old%materials(k), new%materials(k), changes)
+    end do
+    call scene_config_changes(old%regions, new%regions, old%sources, new%sources, changes)
+    call boundary_config_changes(old%boundary, new%boundary, changes)
+  end subroutine config_state_changes
+
+  !> Every group with every variable at its default, as namelist text (the
+  !> documentation check compares it with input/README.md). Groups whose
+  !> required variables have no default are echoed with those unset.
+  function config_defaults_text() result(text)
+    character(len=:), allocatable :: text
+    type(config_t) :: cfg
+    character(len=max_line), allocatable :: problems(:)
+    character(len=64) :: names(1)
+    integer :: echo
+
+    allocate(problems(0))
+    call echo_open(echo, problems)
+    names(1) = 'material1'
+    call run_config_read(cfg%run, cfg%hydro, empty('run'), 'deck.nml', echo, problems)
+    call grid_config_read(cfg%grid, empty('grid'), 'deck.nml', echo, problems)
+    call hydro_config_read(cfg%hydro, empty('hydro'), 'deck.nml', echo, problems)
+    allocate(cfg%materials(1), cfg%regions(1), cfg%sources(1))
+    call material_config_read(cfg%materials(1), 1, empty('material'), 'deck.nml', [character(len=64) ::], echo, &
+                              problems)
+    call region_config_read(cfg%regions(1), 1, empty('region'), 'deck.nml', names, echo, problems)
+    call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &
+                            problems)
+    call boundary_config_read(cfg%boundary, empty('boundary'), 'deck.nml', names, echo, problems)
+    call rezone_config_read(cfg%rezone, empty('rezone'), 'deck.nml', echo, problems)
+    call output_config_read(cfg%output, empty('output'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, problems)
+    text = echo_text(echo)
+
+  contains
+
+    !> The text of a group that gives no variable.
+    function empty(group) result(lines)
+      character(len=*), intent(in) :: group
+      character(len=max_line) :: lines(1)
+      lines(1) = '&'//group//' /'
+    end function empty
+  end function config_defaults_text
+end module driver_config

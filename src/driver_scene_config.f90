@@ -1,0 +1,155 @@
+!> The &region and &source groups: the initial state of a scene (shapes
+!> filled with a material state, and energy deposited at points), read by
+!> `driver_scene`.
+module driver_scene_config
+  use base_kinds, only: wp
+  use base_strings, only: itoa
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
+  implicit none
+  private
+  public :: region_config_t, source_config_t, region_config_read, source_config_read, scene_config_changes
+
+  !> One &region group: a shape filled with a material state; the initial
+  !> values are the defaults (negative energies: not given).
+  type :: region_config_t
+    character(len=16) :: shape = 'all'                !< all, box, sphere, cylinder, half_space
+    character(len=64) :: material = ''                !< a &material name
+    integer :: imat = 0                               !< its index (resolved)
+    real(wp) :: density = 0.0_wp                      !< density (required, > 0)
+    real(wp) :: energy = -1.0_wp                      !< specific internal energy
+    real(wp) :: pressure = -1.0_wp                    !< pressure (energy from the EOS)
+    real(wp) :: energy_per_volume = -1.0_wp           !< internal energy per volume (becomes energy)
+    real(wp) :: velocity(3) = 0.0_wp                  !< node velocity
+    real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners, cylinder length
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere / cylinder
+    real(wp) :: normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]  !< half space normal
+    integer :: axis = 3                               !< cylinder axis: 1 x, 2 y, 3 z
+  end type region_config_t
+
+  !> One &source group: energy deposited in the cell containing a point.
+  type :: source_config_t
+    real(wp) :: position(3) = 0.0_wp    !< the point (length)
+    real(wp) :: energy = 0.0_wp         !< total energy deposited (required, > 0)
+  end type source_config_t
+
+contains
+
+  !> Reads, validates and echoes the r-th &region group (`text`);
+  !> `materials` are the &material names.
+  subroutine region_config_read(this, r, text, path, materials, echo, problems)
+    type(region_config_t), intent(out) :: this
+    integer, intent(in) :: r, echo
+    character(len=*), intent(in) :: text(:), path, materials(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: shape
+    character(len=64) :: material
+    character(len=1) :: axis
+    real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius, &
+              normal(3)
+    integer :: ios, m
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, lo, hi, &
+                    center, radius, axis, normal
+
+    shape = this%shape; material = this%material; density = this%density; energy = this%energy
+    pressure = this%pressure; energy_per_volume = this%energy_per_volume
+    velocity = this%velocity; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
+    normal = this%normal
+    axis = 'xyz'(this%axis:this%axis)
+    read(text, nml=region, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'region', ios, msg)
+      return
+    end if
+    write(tag, '(a,i0,a)') 'region(', r, ')'
+    if (.not. (density > 0.0_wp)) call problem_bad(problems, trim(tag), 'density', density, 'must be > 0')
+    if (count([energy >= 0.0_wp, pressure >= 0.0_wp, energy_per_volume >= 0.0_wp]) /= 1) &
+      call problem_add(problems, '&'//trim(tag)//': give exactly one of energy (specific internal energy), '// &
+               'pressure and energy_per_volume, >= 0')
+    ! an energy per unit volume (as explosive charges are given) is a
+    ! specific energy of energy_per_volume / density
+    if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) energy = energy_per_volume/density
+    select case (trim(shape))
+    case ('all', 'box')
+    case ('half_space')
+      if (.not. (norm2(normal) > 0.0_wp)) call problem_add(problems, '&'//trim(tag)// &
+        ': normal must not be zero for shape = ''half_space''')
+    case ('sphere', 'cylinder')
+      if (.not. (radius > 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', radius, &
+        'must be > 0 for shape = '''//trim(shape)//'''')
+    case default
+      call problem_add(problems, '&'//trim(tag)//': shape = '''//trim(shape)// &
+        ''' is not known; valid: all, box, sphere, cylinder, half_space')
+    end select
+    if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call problem_add(problems, &
+      '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
+    m = name_index(materials, material)
+    if (m == 0 .and. len_trim(material) == 0 .and. size(materials) == 1) m = 1
+    if (m == 0) call problem_add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
+      ''' is not a &material name')
+    this = region_config_t(shape=shape, material=material, imat=m, density=density, &
+      energy=energy, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, lo=lo, hi=hi, center=center, &
+      radius=radius, axis=max(1, index('xyz', axis)), normal=normal)
+    if (echo /= no_echo) write(echo, nml=region)
+  end subroutine region_config_read
+
+  !> Reads, validates and echoes the s-th &source group (`text`); the point
+  !> must lie in the grid box xmin..xmax.
+  subroutine source_config_read(this, s, text, path, xmin, xmax, echo, problems)
+    type(source_config_t), intent(out) :: this
+    integer, intent(in) :: s, echo
+    character(len=*), intent(in) :: text(:), path
+    real(wp), intent(in) :: xmin(3), xmax(3)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    real(wp) :: position(3), energy
+    integer :: ios
+    character(len=max_line) :: msg
+    character(len=16) :: tag
+    namelist /source/ position, energy
+
+    position = this%position; energy = this%energy
+    read(text, nml=source, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'source', ios, msg)
+      return
+    end if
+    write(tag, '(a,i0,a)') 'source(', s, ')'
+    if (.not. (energy > 0.0_wp)) call problem_bad(problems, trim(tag), 'energy', energy, 'must be > 0')
+    if (any(position < xmin) .or. any(position > xmax)) call problem_add(problems, &
+      '&'//trim(tag)//': position is outside the grid box xmin..xmax')
+    this = source_config_t(position=position, energy=energy)
+    if (echo /= no_echo) write(echo, nml=source)
+  end subroutine source_config_read
+
+  !> What a restart may not change in the regions and sources: one line per
+  !> changed variable.
+  subroutine scene_config_changes(old_regions, new_regions, old_sources, new_sources, changes)
+    type(region_config_t), intent(in) :: old_regions(:), new_regions(:)
+    type(source_config_t), intent(in) :: old_sources(:), new_sources(:)
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    integer :: k
+    call diff_i(changes, 'number of &region groups', size(old_regions), size(new_regions))
+    do k = 1, min(size(old_regions), size(new_regions))
+      associate (a => old_regions(k), b => new_regions(k))
+        call diff_s(changes, '&region('//itoa(k)//') shape', a%shape, b%shape)
+        call diff_s(changes, '&region('//itoa(k)//') material', a%material, b%material)
+        call diff_r(changes, '&region('//itoa(k)//') density', [a%density], [b%density])
+        call diff_r(changes, '&region('//itoa(k)//') energy', [a%energy], [b%energy])
+        call diff_r(changes, '&region('//itoa(k)//') pressure', [a%pressure], [b%pressure])
+        call diff_r(changes, '&region('//itoa(k)//') velocity', a%velocity, b%velocity)
+        call diff_r(changes, '&region('//itoa(k)//') lo', a%lo, b%lo)
+        call diff_r(changes, '&region('//itoa(k)//') hi', a%hi, b%hi)
+        call diff_r(changes, '&region('//itoa(k)//') center', a%center, b%center)
+        call diff_r(changes, '&region('//itoa(k)//') radius', [a%radius], [b%radius])
+        call diff_i(changes, '&region('//itoa(k)//') axis', a%axis, b%axis)
+        call diff_r(changes, '&region('//itoa(k)//') normal', a%normal, b%normal)
+      end associate
+    end do
+    call diff_i(changes, 'number of &source groups', size(old_sources), size(new_sources))
+    do k = 1, min(size(old_sources), size(new_sources))
+      call diff_r(changes, '&source('//itoa(k)//') position', old_sources(k)%position, new_sources(k)%position)
+      call diff_r(changes, '&source('//itoa(k)//') energy', [old_sources(k)%energy], [new_sources(k)%energy])
+    end do
+  end subroutine scene_config_changes
+end module driver_scene_config
