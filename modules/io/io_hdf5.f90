@@ -45,19 +45,16 @@ module io_hdf5
   !> Largest dataset rank accepted by the array writers.
   integer, parameter :: max_rank = 7
 
-  !> True between a successful `hdf5_start` and `hdf5_stop`.
-  logical, save :: started = .false.
-
 contains
 
   ! ------------------------------------------------------------------ library
 
   !> Initialises the HDF5 library and silences its error-stack printing.
-  !> Safe to call more than once; the file openers call it themselves.
+  !> Safe to call more than once (h5open_f is; the library keeps its own
+  !> state, this module none); the file openers call it themselves.
   subroutine hdf5_start(err)
     type(error_t), allocatable, intent(inout) :: err
     integer :: hdferr
-    if (started) return
     call h5open_f(hdferr)
     if (hdferr /= 0) then
       call error_set(err, 'hdf5_start', 'h5open_f failed to initialise the HDF5 library')
@@ -68,16 +65,13 @@ contains
       call error_set(err, 'hdf5_start', 'h5eset_auto_f failed to silence HDF5 error printing')
       return
     end if
-    started = .true.
   end subroutine hdf5_start
 
-  !> Closes the HDF5 library; does nothing if it was not started.
+  !> Closes the HDF5 library (at the end of a run).
   subroutine hdf5_stop(err)
     type(error_t), allocatable, intent(inout) :: err
     integer :: hdferr
-    if (.not. started) return
     call h5close_f(hdferr)
-    started = .false.
     if (hdferr /= 0) call error_set(err, 'hdf5_stop', 'h5close_f failed to close the HDF5 library')
   end subroutine hdf5_stop
 
