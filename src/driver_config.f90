@@ -70,7 +70,7 @@ contains
     type(deck_t) :: deck
     integer :: echo
 
-    allocate(problems(0))
+    problems = [character(len=max_line) ::]
     cfg%deck_path = path
     call deck_read(path, known_groups, deck, problems)
     if (size(problems) > 0 .and. size(deck%groups) == 0) return   ! no readable deck
@@ -94,7 +94,8 @@ contains
       call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
       call hydro_config_read(cfg%hydro, deck_text(deck, 'hydro'), path, echo, problems)
       n = deck_count(deck, 'material')
-      allocate(cfg%materials(n), names(0))
+      cfg%materials = [(material_config_t(), k = 1, n)]
+      names = [character(len=64) ::]
       if (n == 0) call problem_add(problems, trim(path)//': no &material group (at least one is required)')
       do k = 1, n
         call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names, echo, &
@@ -102,13 +103,13 @@ contains
         names = [names, cfg%materials(k)%name]
       end do
       n = deck_count(deck, 'region')
-      allocate(cfg%regions(n))
+      cfg%regions = [(region_config_t(), k = 1, n)]
       if (n == 0) call problem_add(problems, trim(path)//': no &region group (at least one is required)')
       do k = 1, n
         call region_config_read(cfg%regions(k), k, deck_text(deck, 'region', k), path, names, echo, problems)
       end do
       n = deck_count(deck, 'source')
-      allocate(cfg%sources(n))
+      cfg%sources = [(source_config_t(), k = 1, n)]
       do k = 1, n
         call source_config_read(cfg%sources(k), k, deck_text(deck, 'source', k), path, cfg%grid%xmin, &
                                 cfg%grid%xmax, echo, problems)
@@ -184,7 +185,7 @@ contains
     character(len=max_line), allocatable, intent(out) :: changes(:)
     integer :: k
 
-    allocate(changes(0))
+    changes = [character(len=max_line) ::]
     call grid_config_changes(old%grid, new%grid, changes)
     call diff_r(changes, '&run velocity_noise', [old%run%velocity_noise], [new%run%velocity_noise])
     call diff_i(changes, '&run seed', old%run%seed, new%run%seed)
@@ -206,13 +207,15 @@ contains
     character(len=64) :: names(1)
     integer :: echo
 
-    allocate(problems(0))
+    problems = [character(len=max_line) ::]
     call echo_open(echo, problems)
     names(1) = 'material1'
     call run_config_read(cfg%run, cfg%hydro, empty('run'), 'deck.nml', echo, problems)
     call grid_config_read(cfg%grid, empty('grid'), 'deck.nml', echo, problems)
     call hydro_config_read(cfg%hydro, empty('hydro'), 'deck.nml', echo, problems)
-    allocate(cfg%materials(1), cfg%regions(1), cfg%sources(1))
+    cfg%materials = [material_config_t()]
+    cfg%regions = [region_config_t()]
+    cfg%sources = [source_config_t()]
     call material_config_read(cfg%materials(1), 1, empty('material'), 'deck.nml', [character(len=64) ::], echo, &
                               problems)
     call region_config_read(cfg%regions(1), 1, empty('region'), 'deck.nml', names, echo, problems)

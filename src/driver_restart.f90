@@ -36,7 +36,7 @@ contains
     type(config_t) :: old
     integer :: u, ios
 
-    allocate(problems(0))
+    problems = [character(len=max_line) ::]
     summary = 'cannot restart'
     call hdf5_start(err)
     if (.not. allocated(err)) call restart_read_deck(trim(cfg%run%restart_from), text, err)
@@ -104,7 +104,10 @@ contains
     path = restart_path(sch, st%step)
     ! registered afresh: an Euler step may have reallocated the mixed cells
     call register_all(st, sch, es, reg)
-    if (.not. allocated(sch%out%frames)) allocate(sch%out%frames(0), sch%out%times(0))
+    if (.not. allocated(sch%out%frames)) then
+      sch%out%frames = [character(len=256) ::]
+      sch%out%times = [real(wp) ::]
+    end if
     call restart_write(path, reg, cfg%echo, sch%out%frames, sch%out%times, err)
     call sch%t_output%stop()
     if (allocated(err)) then
@@ -113,9 +116,12 @@ contains
     end if
     sch%dump_wall = wall_seconds() - w0
     call log_line(sch%log, 'restart '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
-    if (.not. allocated(sch%dumps)) allocate(sch%dumps(0))
     entry = path
-    sch%dumps = [sch%dumps, entry]
+    if (allocated(sch%dumps)) then
+      sch%dumps = [sch%dumps, entry]
+    else
+      sch%dumps = [entry]
+    end if
     do while (size(sch%dumps) > cfg%run%dump_keep)
       open(newunit=u, file=trim(sch%dumps(1)), status='old', iostat=ios)
       if (ios == 0) close(u, status='delete')

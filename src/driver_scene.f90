@@ -140,10 +140,15 @@ contains
     integer :: nmat, c, m, k, nmix, nslot, s, nm, r_only
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
     logical :: covered
+    character(len=200) :: msg
 
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
-      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)))
+      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)), stat=k, errmsg=msg)
+      if (k /= 0) then
+        call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
+        return
+      end if
       do k = 1, size(cfg%regions)
         associate (rg => cfg%regions(k))
           if (rg%energy >= 0.0_wp) then

@@ -9,7 +9,7 @@ program main
 
   if (command_argument_count() >= 1) then
     call get_command_argument(1, length=n)
-    allocate(character(len=n) :: deck)
+    deck = repeat(' ', n)
     call get_command_argument(1, deck)
   else
     deck = 'input/sedov3d.nml'

@@ -29,7 +29,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: list(:)
     character(len=*), intent(in) :: line
     character(len=max_line) :: l
-    if (.not. allocated(list)) allocate(list(0))
+    if (.not. allocated(list)) list = [character(len=max_line) ::]
     l = line
     list = [list, l]
   end subroutine problem_add

@@ -30,9 +30,7 @@ contains
     character(len=*), intent(in) :: where, msg
     integer, intent(in), optional :: category
     if (allocated(err)) deallocate(err)
-    allocate(err)
-    err%where = where
-    err%msg = msg
+    err = error_t(where=where, msg=msg)
     if (present(category)) err%category = category
   end subroutine error_set
 

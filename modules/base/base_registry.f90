@@ -67,13 +67,10 @@ contains
     character(len=*), intent(in) :: name, units
     integer, intent(in) :: kind, location, dims(:)
     logical, intent(in), optional :: mandatory
-    type(registry_entry_t), allocatable :: tmp(:)
-    if (.not. allocated(this%e)) allocate(this%e(32))
-    if (this%n == size(this%e)) then
-      allocate(tmp(2*this%n))
-      tmp(1:this%n) = this%e
-      call move_alloc(tmp, this%e)
-    end if
+    type(registry_entry_t) :: blank(32)
+    ! grown by assignment, 32 entries at a time (a few dozen in all)
+    if (.not. allocated(this%e)) this%e = blank
+    if (this%n == size(this%e)) this%e = [this%e, blank]
     this%n = this%n + 1
     this%e(this%n)%name = name
     this%e(this%n)%units = units

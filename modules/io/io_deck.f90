@@ -39,7 +39,7 @@ contains
     logical :: exists
 
     deck%path = path
-    allocate(deck%groups(0))
+    deck%groups = [deck_group_t ::]
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call problem_add(problems, 'deck file '''//trim(path)//''' does not exist')
@@ -95,7 +95,7 @@ contains
         return
       end if
     end do
-    allocate(text(0))
+    text = [character(len=max_line) ::]
   end function deck_text
 
   !> Cuts the lines into groups (see the module header).
@@ -103,10 +103,9 @@ contains
     character(len=*), intent(in) :: lines(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     character(len=:), allocatable :: name
-    integer :: i, first, ng
+    integer :: i, first
     logical :: closed
 
-    ng = 0
     first = 0
     do i = 1, size(lines)
       name = group_at(lines(i))
@@ -133,16 +132,11 @@ contains
 
     subroutine append(l0, l1)
       integer, intent(in) :: l0, l1
-      type(deck_group_t), allocatable :: tmp(:)
       type(deck_group_t) :: grp
       grp%name = group_at(lines(l0))
       grp%line = l0
       grp%text = lines(l0:l1)
-      ng = ng + 1
-      allocate(tmp(ng))
-      tmp(1:ng - 1) = groups
-      tmp(ng) = grp
-      call move_alloc(tmp, groups)
+      groups = [groups, grp]
     end subroutine append
   end subroutine split_groups
 
@@ -196,7 +190,8 @@ contains
     character(len=max_line), allocatable :: tmp(:)
     integer :: n
 
-    allocate(lines(64))
+    allocate(lines(64), stat=ios, errmsg=msg)
+    if (ios /= 0) return
     n = 0
     rewind(unit)
     do
@@ -204,7 +199,8 @@ contains
       if (ios /= 0) exit
       n = n + 1
       if (n > size(lines)) then
-        allocate(tmp(2*size(lines)))
+        allocate(tmp(2*size(lines)), stat=ios, errmsg=msg)
+        if (ios /= 0) return
         tmp(1:n - 1) = lines(1:n - 1)
         call move_alloc(tmp, lines)
       end if

@@ -37,8 +37,11 @@ contains
     gs%n = size(points, 2)
     if (gs%n == 0) return
     gs%point = points
-    allocate(gs%cell(gs%n))
-    gs%cell = 1
+    allocate(gs%cell(gs%n), source=1, stat=ios, errmsg=msg)
+    if (ios /= 0) then
+      call error_set(err, 'gauges_open', 'cannot allocate the gauges: '//trim(msg))
+      return
+    end if
     if (append) then
       open(newunit=gs%unit, file=path, status='unknown', position='append', action='write', &
            iostat=ios, iomsg=msg)

@@ -101,14 +101,13 @@ contains
     if (allocated(err)) return
 
     out%nframe = out%nframe + 1
-    if (.not. allocated(out%frames)) allocate(out%frames(0), out%times(0))
+    if (.not. allocated(out%frames)) then
+      out%frames = [character(len=256) ::]
+      out%times = [real(wp) ::]
+    end if
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
-    allocate(fields(size(cell_fields) + size(names)))
-    fields(1:size(cell_fields)) = cell_fields
-    do k = 1, size(names)
-      fields(size(cell_fields) + k) = names(k)
-    end do
+    fields = [character(len=32) :: cell_fields, names]
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
                            g%ni, g%nj, g%nk, node_fields, fields, err)
   end subroutine output_frame

@@ -189,7 +189,11 @@ contains
     call h5_close(f, err2)
     if (allocated(err)) return
     n = size(times)
-    allocate(frames(n))
+    allocate(frames(n), stat=p, errmsg=name)
+    if (p /= 0) then
+      call error_set(err, 'restart_read', 'cannot allocate the frame list: '//trim(name))
+      return
+    end if
     do k = 1, n
       p = index(list, new_line('a'))
       if (p == 0) then
