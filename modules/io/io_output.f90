@@ -8,7 +8,7 @@
 !> temporary name and renamed, so a reader never sees a partial file.
 module io_output
   use base_kinds, only: wp
-  use base_errors, only: error_t
+  use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_t
   use lagrange_state, only: hydro_t
   use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_scalar_real, &
@@ -107,7 +107,15 @@ contains
     end if
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
-    fields = [character(len=32) :: cell_fields, names]
+    allocate(fields(size(cell_fields) + size(names)), stat=k)
+    if (k /= 0) then
+      call error_set(err, 'output_frame', 'cannot allocate the field list')
+      return
+    end if
+    fields(1:size(cell_fields)) = cell_fields
+    do k = 1, size(names)
+      fields(size(cell_fields) + k) = names(k)
+    end do
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
                            g%ni, g%nj, g%nk, node_fields, fields, err)
   end subroutine output_frame

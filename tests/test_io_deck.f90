@@ -1,0 +1,92 @@
+!> Unit tests of the deck reader (io_deck: groups found with quotes, comments,
+!> repeats, a missing `/` and unknown names) and of a package's config life
+!> cycle (read, validate every problem, echo, compare with a restart).
+program test_io_deck
+  use base_kinds, only: wp
+  use base_config, only: max_line, no_echo
+  use io_deck, only: deck_t, deck_read, deck_count, deck_text, echo_open, echo_text
+  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
+  use rezone_config, only: rezone_config_t, rezone_config_read
+  use test_assert, only: check, check_summary
+  implicit none
+  character(len=*), parameter :: path = 'test_io_deck.nml'
+  character(len=*), parameter :: known(4) = [character(len=8) :: 'run', 'grid', 'material', 'rezone']
+  type(deck_t) :: deck
+  type(grid_config_t) :: g1, g2
+  type(rezone_config_t) :: rz
+  character(len=max_line), allocatable :: problems(:), text(:), changes(:)
+  character(len=:), allocatable :: echo_txt
+  character(len=max_line) :: line(1)
+  integer :: u, echo
+
+  open(newunit=u, file=path, status='replace', action='write')
+  write(u, '(a)') '! a comment with &run in it and a / too'
+  write(u, '(a)') "&run title = 'a/b ! not a comment', t_end = 1 /"
+  write(u, '(a)') '  &GRID ni = 10, nj = 2, ! a comment / with a slash'
+  write(u, '(a)') '        nk = 3 /'
+  write(u, '(a)') '&material name = ''one'' /'
+  write(u, '(a)') '&material name = ''two'' /  ! trailing comment'
+  write(u, '(a)') '&rezone mode = ''lssm'', cos_angle = 0.5'
+  write(u, '(a)') '&bogus x = 1 /'
+  close(u)
+
+  problems = [character(len=max_line) ::]
+  call deck_read(path, known, deck, problems)
+  call check(size(deck%groups) == 6, 'six groups found')
+  call check(deck_count(deck, 'material') == 2, 'two &material groups')
+  call check(deck_count(deck, 'grid') == 1, 'upper-case &GRID found as grid')
+  call check(size(problems) == 1, 'one problem: the unknown group')
+  if (size(problems) == 1) call check(index(problems(1), 'group &bogus is not known; valid: &run, &grid, '// &
+                                            '&material, &rezone') > 0, 'the problem names it: '//trim(problems(1)))
+  text = deck_text(deck, 'run')
+  call check(size(text) == 1, 'a / inside quotes does not end &run')
+  text = deck_text(deck, 'grid')
+  call check(size(text) == 2, 'a / in a comment does not end &grid; the next line does')
+  text = deck_text(deck, 'material', 2)
+  call check(size(text) == 1 .and. index(text(1), 'two') > 0, 'the second &material is the second one')
+  text = deck_text(deck, 'rezone')
+  call check(size(text) == 1, 'an unterminated &rezone ends where the next group starts')
+  text = deck_text(deck, 'output')
+  call check(size(text) == 0, 'an absent group has no text')
+
+  ! a package's life cycle: read and echo, the echo reads back to the same
+  ! values, a restart comparison names what changed
+  problems = [character(len=max_line) ::]
+  call echo_open(echo, problems)
+  call grid_config_read(g1, deck_text(deck, 'grid'), path, echo, problems)
+  echo_txt = echo_text(echo)
+  call check(size(problems) == 0, 'the &grid group is valid')
+  call check(g1%ni == 10 .and. g1%nj == 2 .and. g1%nk == 3, '&grid sizes read')
+  call check(all(abs(g1%xmax - 1.0_wp) <= 0.0_wp) .and. g1%subsamples == 8, '&grid defaults kept')
+  call check(index(echo_txt, 'NI=10') > 0, 'the echo holds the group: '//echo_txt(1:min(40, len(echo_txt))))
+  line(1) = echo_txt   ! assigned: gfortran 12 overruns typed constructors of other lengths
+  call grid_config_read(g2, line, path, no_echo, problems)
+  changes = [character(len=max_line) ::]
+  call grid_config_changes(g1, g2, changes)
+  call check(size(changes) == 0, 'the echo reads back to the very values')
+  g2%ni = 20
+  call grid_config_changes(g1, g2, changes)
+  call check(size(changes) == 1, 'a changed ni is one change')
+  if (size(changes) == 1) call check(trim(changes(1)) == '&grid ni changed from 10 to 20', &
+                                     'the change names it: '//trim(changes(1)))
+
+  ! every problem of a group is collected, not just the first
+  problems = [character(len=max_line) ::]
+  line(1) = "&rezone mode = 'x', side_ratio = 0.5, quality = 2, mof_max_iter = 0 /"
+  call rezone_config_read(rz, line, path, no_echo, problems)
+  call check(size(problems) == 4, 'four &rezone problems reported')
+  ! a missing / is an error of the group that lacks it
+  problems = [character(len=max_line) ::]
+  call rezone_config_read(rz, deck_text(deck, 'rezone'), path, no_echo, problems)
+  call check(size(problems) == 1, 'the unterminated &rezone is one problem')
+  if (size(problems) == 1) call check(index(problems(1), '&rezone: end of file') > 0, &
+                                      'it says the group has no end: '//trim(problems(1)))
+  ! a required group that is absent
+  problems = [character(len=max_line) ::]
+  call grid_config_read(g1, deck_text(deck, 'output'), path, no_echo, problems)
+  call check(size(problems) == 1, 'an absent &grid is a problem')
+
+  open(newunit=u, file=path, status='old')
+  close(u, status='delete')
+  call check_summary('test_io_deck')
+end program test_io_deck
