@@ -21,6 +21,10 @@ module driver_scene
   private
   public :: build_scene
 
+  !> What follows a deck mistake found while building the scene (an input
+  !> error's `where` is the summary line of the refusal).
+  character(len=*), parameter :: deck_problem = 'the deck has 1 problem(s); nothing was run'
+
 contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
@@ -49,7 +53,7 @@ contains
         st%mats(m)%name = trim(cfg%materials(m)%name)
         call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, st%mats(m)%eos, err)
         if (allocated(err)) then
-          call error_set(err, '&material '//st%mats(m)%name, err%msg, ERR_INPUT)
+          call error_set(err, deck_problem, '&material '//st%mats(m)%name//': '//err%msg, ERR_INPUT)
           return
         end if
         st%mats(m)%p_min = cfg%materials(m)%p_min
@@ -164,7 +168,7 @@ contains
       do c = 1, g%ncell
         call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only)
         if (.not. covered) then
-          call error_set(err, 'build_scene', 'cell '//itoa(c)// &
+          call error_set(err, deck_problem, 'cell '//itoa(c)// &
             ' is not covered by any &region; add a region with shape = ''all'' first', ERR_INPUT)
           return
         end if
