@@ -238,37 +238,37 @@ contains
     logical :: same
 
     call g%gather(c, g%x, xn)
-      vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
-      ! quick test: corners and centre in one region
-      r0 = region_at(cfg%regions, sum(xn, 2)/8.0_wp)
-      same = .true.
-      do a = 1, 8
-        same = same .and. region_at(cfg%regions, xn(:, a)) == r0
-      end do
-      r_only = 0
-      if (same) then
-        covered = (r0 > 0)
-        if (.not. covered) return
-        call add_sample(r0, [0.0_wp, 0.0_wp, 0.0_wp], 1.0_wp)
-        r_only = r0
-        return
-      end if
-      ns = cfg%grid%subsamples
-      w = 1.0_wp/real(ns, wp)**3
-      covered = .true.
-      do k = 1, ns
-        do j = 1, ns
-          do i = 1, ns
-            xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
-            r = region_at(cfg%regions, hex_trilinear(xn, xi))
-            if (r == 0) then
-              covered = .false.
-              return
-            end if
-            call add_sample(r, xi, w)
-          end do
+    vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
+    ! quick test: corners and centre in one region
+    r0 = region_at(cfg%regions, sum(xn, 2)/8.0_wp)
+    same = .true.
+    do a = 1, 8
+      same = same .and. region_at(cfg%regions, xn(:, a)) == r0
+    end do
+    r_only = 0
+    if (same) then
+      covered = (r0 > 0)
+      if (.not. covered) return
+      call add_sample(r0, [0.0_wp, 0.0_wp, 0.0_wp], 1.0_wp)
+      r_only = r0
+      return
+    end if
+    ns = cfg%grid%subsamples
+    w = 1.0_wp/real(ns, wp)**3
+    covered = .true.
+    do k = 1, ns
+      do j = 1, ns
+        do i = 1, ns
+          xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
+          r = region_at(cfg%regions, hex_trilinear(xn, xi))
+          if (r == 0) then
+            covered = .false.
+            return
+          end if
+          call add_sample(r, xi, w)
         end do
       end do
+    end do
 
   contains
 
