@@ -42,7 +42,7 @@ module lagrange_forces
   use lagrange_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces
+  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -209,9 +209,32 @@ contains
     end do
   end subroutine sym3_eigen
 
+  !> Strain rates of one cell from its node velocities vn(3,8), median-surface
+  !> area vectors s(3,3) (`hex_median_areas`) and volume vol: the areas
+  !> area(d) = |S_d| (length^2), the directional strain rates
+  !> grad(d) = S_d.dv_d / V (1/time; dv_d the mean velocity jump along d) and
+  !> dumax, the largest compressive jump -S_d.dv_d/|S_d| (velocity; 0 if none).
+  pure subroutine lagrange_cell_rates(vn, s, vol, area, grad, dumax)
+    real(wp), intent(in) :: vn(3, 8), s(3, 3), vol
+    real(wp), intent(out) :: area(3), grad(3), dumax
+    real(wp) :: dv(3), sdv
+    integer :: d
+    dumax = 0.0_wp
+    do d = 1, 3
+      dv = edge_jump(vn, d)
+      area(d) = norm2(s(:, d))
+      sdv = dot_product(s(:, d), dv)
+      grad(d) = sdv/vol
+      dumax = max(dumax, -(sdv/max(area(d), tiny(1.0_wp))))
+    end do
+  end subroutine lagrange_cell_rates
+
   !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
+  !> x must be the positions whose cell volumes are h%vol. Also keeps the
+  !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
+  !> h%area), so that the forces of the same x, v do not compute it again.
   subroutine lagrange_strain_rates(g, x, v, h, par, dt_stable)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
@@ -219,11 +242,11 @@ contains
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
     integer :: c, d, e, n0, ci, cj, ck
-    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
+    real(wp) :: xn(3, 8), vn(3, 8), vol, amax, dumax, div, cq, ceff, dtc
 
     dt_stable = huge(1.0_wp)
     !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
-    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc) &
     !$omp reduction(min: dt_stable) schedule(static)
     do ck = 1, g%nk
     do cj = 1, g%nj
@@ -234,18 +257,15 @@ contains
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
       end do
-      call hex_median_areas(xn, s)
+      ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
+      call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
+      call hex_median_areas(xn, h%sarea(:, :, c))
+      call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
       amax = 0.0_wp
-      dumax = 0.0_wp
       div = 0.0_wp
       do d = 1, 3
-        dv = edge_jump(vn, d)
-        area = norm2(s(:, d))
-        amax = max(amax, area)
-        h%grad(d, c) = dot_product(s(:, d), dv)/h%vol(c)
+        amax = max(amax, h%area(d, c))
         div = div + h%grad(d, c)
-        du = dot_product(s(:, d), dv)/max(area, tiny(1.0_wp))
-        dumax = max(dumax, -du)
       end do
       ! signal speed with viscosity: cq + sqrt(cq^2 + cs^2) (Wilkins)
       cq = par%q_linear*h%cs(c) + par%q_quad*dumax
@@ -261,7 +281,9 @@ contains
   end subroutine lagrange_strain_rates
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
-  !> pressures in h; needs h%grad from `lagrange_strain_rates` for the same x, v.
+  !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
+  !> h%sarea, h%area) of the same x, v, as left by `lagrange_strain_rates`
+  !> or by `lagrange_update_cells` with `geometry`.
   subroutine lagrange_corner_forces(g, x, v, h, par)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
@@ -289,15 +311,14 @@ contains
         xn(:, a) = x(:, n0 + g%corner_offset(a))
         vn(:, a) = v(:, n0 + g%corner_offset(a))
       end do
-      call hex_volume_gradient(xn, vol, b)
+      vol = h%vol(c)
+      b = h%dvdx(:, :, c)
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
 
       ! artificial viscosity with limiter
-      call hex_median_areas(xn, s)
-      do d = 1, 3
-        area3(d) = norm2(s(:, d))
-      end do
+      s = h%sarea(:, :, c)
+      area3 = h%area(:, c)
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then

@@ -12,12 +12,12 @@
 module lagrange_integrator
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
-  use mesh_geometry, only: hex_volume
+  use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
   use material_table, only: material_t, material_eval_eos
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state
   use lagrange_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -59,12 +59,14 @@ contains
     call lagrange_corner_forces(g, g%x, h%u, h, par)
     call update_nodes(g, h, dt, 0.5_wp*dt)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred)
-    call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell)
+    ! the geometry of x^{1/2} (volumes, their gradients, median areas, strain
+    ! rates for u*^{1/2}) is computed here once, for the densities and for the
+    ! corrector
+    call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
     if (bad_cell /= 0) return
     call update_materials(h, mats, mx, par)
 
     ! corrector
-    call lagrange_strain_rates(g, g%x, h%uh, h, par, dt_stable)
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%uh, h, par)
     call update_nodes(g, h, dt, dt)
@@ -159,17 +161,27 @@ contains
 
   !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
   !> then new volume and density of every cell. bad_cell > 0 names the first
-  !> cell with a non-positive volume.
-  subroutine lagrange_update_cells(g, h, dte, bad_cell)
+  !> cell with a non-positive volume. With `geometry` (default false), also
+  !> leaves the geometry of the new positions and the strain rates of the
+  !> half-step velocity h%uh in h (h%dvdx, h%sarea, h%area, h%grad), as
+  !> `lagrange_strain_rates` would for (g%x, h%uh), so that the forces of the
+  !> next stage need not compute them again. The volume is then taken from
+  !> `hex_volume_gradient`, which evaluates the same sum as `hex_volume` in
+  !> the same order (tests/test_lagrange.f90 checks that both agree bit for bit).
+  subroutine lagrange_update_cells(g, h, dte, bad_cell, geometry)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dte
     integer, intent(out) :: bad_cell
+    logical, intent(in), optional :: geometry
     integer :: c, a, n0, ci, cj, ck
-    real(wp) :: de, xn(3, 8)
+    real(wp) :: de, xn(3, 8), vn(3, 8), dumax
+    logical :: geom
 
+    geom = .false.
+    if (present(geometry)) geom = geometry
     bad_cell = huge(1)
-    !$omp parallel do default(none) shared(g, h, dte) private(c, a, n0, ci, cj, ck, de, xn) &
+    !$omp parallel do default(none) shared(g, h, dte, geom) private(c, a, n0, ci, cj, ck, de, xn, vn, dumax) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
     do ck = 1, g%nk
     do cj = 1, g%nj
@@ -182,9 +194,18 @@ contains
         xn(:, a) = g%x(:, n0 + g%corner_offset(a))
       end do
       h%e(c) = h%en(c) + dte*de/h%mass(c)
-      h%vol(c) = hex_volume(xn)
+      if (geom) then
+        do a = 1, 8
+          vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
+        end do
+        call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
+        call hex_median_areas(xn, h%sarea(:, :, c))
+      else
+        h%vol(c) = hex_volume(xn)
+      end if
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
+        if (geom) call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
       else
         bad_cell = min(bad_cell, c)
       end if
