@@ -231,22 +231,29 @@ contains
   !> impulse, applies the kinematic conditions to u (new velocity), then
   !> recomputes the half-step velocity uh = (un+u)/2 and x = xn + dtx*uh.
   !> Returns in `work` the work done on the system by the boundary over dt.
-  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work)
+  !> A node's mass is mnode, plus m_ext if present (particle mass carried by
+  !> the node, see `lagrange_step`).
+  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work, m_ext)
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in) :: mnode(:), un(:, :), xn(:, :)
     real(wp), intent(inout) :: u(:, :), uh(:, :), x(:, :)
     real(wp), intent(out) :: work
+    real(wp), intent(in), optional :: m_ext(:)
     integer :: b, n
-    real(wp) :: unc(3), imp(3)
+    real(wp) :: unc(3), imp(3), m
+    logical :: has_m
 
+    has_m = present(m_ext)
     work = 0.0_wp
     do b = 1, bc%nb
       n = bc%node(b)
-      if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/mnode(n)
+      m = mnode(n)
+      if (has_m) m = m + m_ext(n)
+      if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/m
       unc = u(:, n)
       call constrain_node(bc, bc%mask(b), u(:, n))
-      imp = mnode(n)*(u(:, n) - unc)
+      imp = m*(u(:, n) - unc)
       uh(:, n) = 0.5_wp*(un(:, n) + u(:, n))
       x(:, n) = xn(:, n) + dtx*uh(:, n)
       work = work + dot_product(imp + dt*bc%fext(:, b), uh(:, n))
