@@ -142,14 +142,15 @@ contains
     call sym3_eigen(0.5_wp*(gv + transpose(gv)), lam, ev)
   end subroutine strain_principal
 
-  !> The cell at logical offset off from cell c, or c itself where that
-  !> leaves the grid (a mirror neighbour, as at a symmetry plane).
-  pure integer function neighbour(c, ilog, nlog, stride, off)
-    integer, intent(in) :: c, ilog(3), nlog(3), stride(3), off(3)
-    if (any(ilog + off < 1) .or. any(ilog + off > nlog)) then
+  !> The cell at logical offset off from cell c = (ilog), or c itself where
+  !> that leaves the owned cells (a mirror neighbour, as at a symmetry plane).
+  pure integer function neighbour(g, c, ilog, off)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: c, ilog(3), off(3)
+    if (any(ilog + off < g%clo) .or. any(ilog + off > g%chi)) then
       neighbour = c
     else
-      neighbour = c + sum(off*stride)
+      neighbour = g%cell(ilog(1) + off(1), ilog(2) + off(2), ilog(3) + off(3))
     end if
   end function neighbour
 
@@ -248,11 +249,14 @@ contains
     !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
     !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc) &
     !$omp reduction(min: dt_stable) schedule(static)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       do e = 1, 8
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
@@ -289,24 +293,25 @@ contains
     real(wp), intent(in) :: x(:, :), v(:, :)
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
-    integer :: c, d, e, a, k, m, n0, ci, cj, ck, stride(3), ilog(3), nlog(3), off(3)
+    integer :: c, d, e, a, k, m, n0, ci, cj, ck, ilog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3), area3(3)
     real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
 
-    stride = [1, g%ni, g%ni*g%nj]
-    nlog = [g%ni, g%nj, g%nk]
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
-    !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
+    !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
     !$omp schedule(static, 1)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       do a = 1, 8
         xn(:, a) = x(:, n0 + g%corner_offset(a))
         vn(:, a) = v(:, n0 + g%corner_offset(a))
@@ -334,8 +339,8 @@ contains
             if (.not. (lam(k) < 0.0_wp)) cycle
             off = nint(ev(:, k)/maxval(abs(ev(:, k))))
             phik(k) = limiter(sum(h%grad(:, c)), &
-                              sum(h%grad(:, neighbour(c, ilog, nlog, stride, -off))), &
-                              sum(h%grad(:, neighbour(c, ilog, nlog, stride, off))))
+                              sum(h%grad(:, neighbour(g, c, ilog, -off))), &
+                              sum(h%grad(:, neighbour(g, c, ilog, off))))
           end do
           call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, f, qsum)
         end if
@@ -344,8 +349,8 @@ contains
           dv = edge_jump(vn, d)
           sdv = dot_product(s(:, d), dv)
           if (.not. (sdv < 0.0_wp)) cycle
-          phi = limiter(h%grad(d, c), h%grad(d, neighbour(c, ilog, nlog, stride, -unit(:, d))), &
-                        h%grad(d, neighbour(c, ilog, nlog, stride, unit(:, d))))
+          phi = limiter(h%grad(d, c), h%grad(d, neighbour(g, c, ilog, -unit(:, d))), &
+                        h%grad(d, neighbour(g, c, ilog, unit(:, d))))
           du = norm2(dv)
           area = abs(sdv)/du
           qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*du)

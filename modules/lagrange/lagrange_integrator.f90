@@ -142,19 +142,20 @@ contains
   end subroutine save_step_start
 
   !> Sum of the corner forces fc(3,8,ncell) of the cells around node (i,j,k)
-  !> of grid g (force).
-  pure function node_force(g, fc, i, j, k) result(f)
+  !> of grid g (force); c0 is cell (i+1, j+1, k+1), used only where all
+  !> eight cells are owned.
+  pure function node_force(g, fc, i, j, k, c0) result(f)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: fc(:, :, :)
-    integer, intent(in) :: i, j, k
+    integer, intent(in) :: i, j, k, c0
     real(wp) :: f(3)
-    integer :: ii, jj, kk, ci, cj, ck, c, c0, sj, sk
+    integer :: ii, jj, kk, ci, cj, ck, sj, sk
 
-    sj = g%ni
-    sk = g%ni*g%nj
-    if (i > 0 .and. i < g%ni .and. j > 0 .and. j < g%nj .and. k > 0 .and. k < g%nk) then
+    if (i > g%nlo(1) .and. i < g%nhi(1) .and. j > g%nlo(2) .and. j < g%nhi(2) .and. &
+        k > g%nlo(3) .and. k < g%nhi(3)) then
       ! interior node: all eight cells exist (same order as below)
-      c0 = i + sj*j + sk*k + 1   ! cell (i+1, j+1, k+1)
+      sj = g%cx
+      sk = g%cxy
       f = fc(:, 1, c0) + fc(:, 2, c0 - 1) + fc(:, 3, c0 - sj) + fc(:, 4, c0 - 1 - sj) &
         + fc(:, 5, c0 - sk) + fc(:, 6, c0 - 1 - sk) + fc(:, 7, c0 - sj - sk) &
         + fc(:, 8, c0 - 1 - sj - sk)
@@ -163,15 +164,14 @@ contains
       ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
       do kk = 0, 1
         ck = k + 1 - kk
-        if (ck < 1 .or. ck > g%nk) cycle
+        if (ck < g%clo(3) .or. ck > g%chi(3)) cycle
         do jj = 0, 1
           cj = j + 1 - jj
-          if (cj < 1 .or. cj > g%nj) cycle
+          if (cj < g%clo(2) .or. cj > g%chi(2)) cycle
           do ii = 0, 1
             ci = i + 1 - ii
-            if (ci < 1 .or. ci > g%ni) cycle
-            c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-            f = f + fc(:, 1 + ii + 2*jj + 4*kk, c)
+            if (ci < g%clo(1) .or. ci > g%chi(1)) cycle
+            f = f + fc(:, 1 + ii + 2*jj + 4*kk, g%cell(ci, cj, ck))
           end do
         end do
       end do
@@ -187,7 +187,7 @@ contains
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in), optional :: f_ext(:, :), m_ext(:)
     real(wp) :: no_f(3, 0), no_m(0)
-    integer :: n, i, j, k
+    integer :: n, i, j, k, c0
     real(wp) :: f(3)
 
     if (present(f_ext) .or. present(m_ext)) then
@@ -201,12 +201,16 @@ contains
       return
     end if
     !$omp parallel do default(none) shared(g, h, dt, dtx) collapse(2) &
-    !$omp private(n, i, j, k, f) schedule(static)
-    do k = 0, g%nk
-    do j = 0, g%nj
-    do i = 0, g%ni
-      n = 1 + i + g%sx*j + g%sxy*k
-      f = node_force(g, h%fc, i, j, k)
+    !$omp private(n, i, j, k, c0, f) schedule(static)
+    do k = g%nlo(3), g%nhi(3)
+    do j = g%nlo(2), g%nhi(2)
+    ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
+    n = g%node(g%nlo(1), j, k) - 1
+    c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
+    do i = g%nlo(1), g%nhi(1)
+      n = n + 1
+      c0 = c0 + 1
+      f = node_force(g, h%fc, i, j, k, c0)
       h%u(:, n) = h%un(:, n) + dt*f/h%mnode(n)
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
@@ -224,16 +228,20 @@ contains
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in) :: f_add(:, :), m_add(:)
     logical, intent(in) :: has_f, has_m
-    integer :: n, i, j, k
+    integer :: n, i, j, k, c0
     real(wp) :: f(3), m
 
     !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_f, has_m) collapse(2) &
-    !$omp private(n, i, j, k, f, m) schedule(static)
-    do k = 0, g%nk
-    do j = 0, g%nj
-    do i = 0, g%ni
-      n = 1 + i + g%sx*j + g%sxy*k
-      f = node_force(g, h%fc, i, j, k)
+    !$omp private(n, i, j, k, c0, f, m) schedule(static)
+    do k = g%nlo(3), g%nhi(3)
+    do j = g%nlo(2), g%nhi(2)
+    ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
+    n = g%node(g%nlo(1), j, k) - 1
+    c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
+    do i = g%nlo(1), g%nhi(1)
+      n = n + 1
+      c0 = c0 + 1
+      f = node_force(g, h%fc, i, j, k, c0)
       if (has_f) f = f + f_add(:, n)
       m = h%mnode(n)
       if (has_m) m = m + m_add(n)
@@ -270,11 +278,14 @@ contains
     bad_cell = huge(1)
     !$omp parallel do default(none) shared(g, h, dte, geom) private(c, a, n0, ci, cj, ck, de, xn, vn, dumax) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       de = 0.0_wp
       do a = 1, 8
         de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
