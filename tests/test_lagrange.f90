@@ -221,7 +221,7 @@ contains
     type(hydro_params_t) :: par
     real(wp), parameter :: ushift(3) = [0.7_wp, -0.4_wp, 0.3_wp]
     real(wp) :: dt, dt0, work, m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, die(2), du
-    real(wp), allocatable :: u1(:, :)
+    real(wp) :: u1(3, (n + 1)**3)
     integer :: bad, f, run, i
 
     do run = 1, 2
