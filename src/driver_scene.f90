@@ -85,7 +85,7 @@ contains
       do s = 1, size(cfg%sources)
         ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
         ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
-        c = ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))
+        c = g%cell(ijk(1), ijk(2), ijk(3))
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
         if (hy%mat(c) < 0) then
           ! a mixed cell: every material gets the same specific energy

@@ -42,7 +42,7 @@ module lagrange_forces
   use lagrange_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces
+  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -142,14 +142,15 @@ contains
     call sym3_eigen(0.5_wp*(gv + transpose(gv)), lam, ev)
   end subroutine strain_principal
 
-  !> The cell at logical offset off from cell c, or c itself where that
-  !> leaves the grid (a mirror neighbour, as at a symmetry plane).
-  pure integer function neighbour(c, ilog, nlog, stride, off)
-    integer, intent(in) :: c, ilog(3), nlog(3), stride(3), off(3)
-    if (any(ilog + off < 1) .or. any(ilog + off > nlog)) then
+  !> The cell at logical offset off from cell c = (ilog), or c itself where
+  !> that leaves the owned cells (a mirror neighbour, as at a symmetry plane).
+  pure integer function neighbour(g, c, ilog, off)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: c, ilog(3), off(3)
+    if (any(ilog + off < g%clo) .or. any(ilog + off > g%chi)) then
       neighbour = c
     else
-      neighbour = c + sum(off*stride)
+      neighbour = g%cell(ilog(1) + off(1), ilog(2) + off(2), ilog(3) + off(3))
     end if
   end function neighbour
 
@@ -209,9 +210,32 @@ contains
     end do
   end subroutine sym3_eigen
 
+  !> Strain rates of one cell from its node velocities vn(3,8), median-surface
+  !> area vectors s(3,3) (`hex_median_areas`) and volume vol: the areas
+  !> area(d) = |S_d| (length^2), the directional strain rates
+  !> grad(d) = S_d.dv_d / V (1/time; dv_d the mean velocity jump along d) and
+  !> dumax, the largest compressive jump -S_d.dv_d/|S_d| (velocity; 0 if none).
+  pure subroutine lagrange_cell_rates(vn, s, vol, area, grad, dumax)
+    real(wp), intent(in) :: vn(3, 8), s(3, 3), vol
+    real(wp), intent(out) :: area(3), grad(3), dumax
+    real(wp) :: dv(3), sdv
+    integer :: d
+    dumax = 0.0_wp
+    do d = 1, 3
+      dv = edge_jump(vn, d)
+      area(d) = norm2(s(:, d))
+      sdv = dot_product(s(:, d), dv)
+      grad(d) = sdv/vol
+      dumax = max(dumax, -(sdv/max(area(d), tiny(1.0_wp))))
+    end do
+  end subroutine lagrange_cell_rates
+
   !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
+  !> x must be the positions whose cell volumes are h%vol. Also keeps the
+  !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
+  !> h%area), so that the forces of the same x, v do not compute it again.
   subroutine lagrange_strain_rates(g, x, v, h, par, dt_stable)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
@@ -219,33 +243,33 @@ contains
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
     integer :: c, d, e, n0, ci, cj, ck
-    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), dv(3), area, amax, du, dumax, div, cq, ceff, dtc
+    real(wp) :: xn(3, 8), vn(3, 8), vol, amax, dumax, div, cq, ceff, dtc
 
     dt_stable = huge(1.0_wp)
     !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
-    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, dv, area, amax, du, dumax, div, cq, ceff, dtc) &
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc) &
     !$omp reduction(min: dt_stable) schedule(static)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       do e = 1, 8
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
       end do
-      call hex_median_areas(xn, s)
+      ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
+      call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
+      call hex_median_areas(xn, h%sarea(:, :, c))
+      call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
       amax = 0.0_wp
-      dumax = 0.0_wp
       div = 0.0_wp
       do d = 1, 3
-        dv = edge_jump(vn, d)
-        area = norm2(s(:, d))
-        amax = max(amax, area)
-        h%grad(d, c) = dot_product(s(:, d), dv)/h%vol(c)
+        amax = max(amax, h%area(d, c))
         div = div + h%grad(d, c)
-        du = dot_product(s(:, d), dv)/max(area, tiny(1.0_wp))
-        dumax = max(dumax, -du)
       end do
       ! signal speed with viscosity: cq + sqrt(cq^2 + cs^2) (Wilkins)
       cq = par%q_linear*h%cs(c) + par%q_quad*dumax
@@ -261,43 +285,45 @@ contains
   end subroutine lagrange_strain_rates
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
-  !> pressures in h; needs h%grad from `lagrange_strain_rates` for the same x, v.
+  !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
+  !> h%sarea, h%area) of the same x, v, as left by `lagrange_strain_rates`
+  !> or by `lagrange_update_cells` with `geometry`.
   subroutine lagrange_corner_forces(g, x, v, h, par)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
-    integer :: c, d, e, a, k, m, n0, ci, cj, ck, stride(3), ilog(3), nlog(3), off(3)
+    integer :: c, d, e, a, k, m, n0, ci, cj, ck, ilog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3), area3(3)
     real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
 
-    stride = [1, g%ni, g%ni*g%nj]
-    nlog = [g%ni, g%nj, g%nk]
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
-    !$omp parallel do default(none) shared(g, x, v, h, par, stride, nlog) collapse(2) &
+    !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
     !$omp schedule(static, 1)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       do a = 1, 8
         xn(:, a) = x(:, n0 + g%corner_offset(a))
         vn(:, a) = v(:, n0 + g%corner_offset(a))
       end do
-      call hex_volume_gradient(xn, vol, b)
+      vol = h%vol(c)
+      b = h%dvdx(:, :, c)
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
 
       ! artificial viscosity with limiter
-      call hex_median_areas(xn, s)
-      do d = 1, 3
-        area3(d) = norm2(s(:, d))
-      end do
+      s = h%sarea(:, :, c)
+      area3 = h%area(:, c)
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then
@@ -313,8 +339,8 @@ contains
             if (.not. (lam(k) < 0.0_wp)) cycle
             off = nint(ev(:, k)/maxval(abs(ev(:, k))))
             phik(k) = limiter(sum(h%grad(:, c)), &
-                              sum(h%grad(:, neighbour(c, ilog, nlog, stride, -off))), &
-                              sum(h%grad(:, neighbour(c, ilog, nlog, stride, off))))
+                              sum(h%grad(:, neighbour(g, c, ilog, -off))), &
+                              sum(h%grad(:, neighbour(g, c, ilog, off))))
           end do
           call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, f, qsum)
         end if
@@ -323,8 +349,8 @@ contains
           dv = edge_jump(vn, d)
           sdv = dot_product(s(:, d), dv)
           if (.not. (sdv < 0.0_wp)) cycle
-          phi = limiter(h%grad(d, c), h%grad(d, neighbour(c, ilog, nlog, stride, -unit(:, d))), &
-                        h%grad(d, neighbour(c, ilog, nlog, stride, unit(:, d))))
+          phi = limiter(h%grad(d, c), h%grad(d, neighbour(g, c, ilog, -unit(:, d))), &
+                        h%grad(d, neighbour(g, c, ilog, unit(:, d))))
           du = norm2(dv)
           area = abs(sdv)/du
           qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*du)

@@ -12,12 +12,12 @@
 module lagrange_integrator
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
-  use mesh_geometry, only: hex_volume
+  use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
   use material_table, only: material_t, material_eval_eos
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state
   use lagrange_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -38,7 +38,23 @@ contains
   !> step taken: the smaller of that and the stable step. `work` returns the
   !> work done by the boundaries; `bad_cell` is the first cell whose volume
   !> became non-positive (0 if none), in which case the state is not usable.
-  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell)
+  !>
+  !> Particles (Eq. 16-17) enter through two optional node arrays: `f_ext`
+  !> (3, nnode), a force added to the assembled corner forces of each node in
+  !> both stages (force units), and `m_ext` (nnode), a mass added to h%mnode in
+  !> the velocity update (and in the boundary impulses), so the nodes move as
+  !> u = u^n + dt (sum_c F_c + f_ext) / (m + m_ext). Energy accounting: the
+  !> cells are heated only by their own corner forces (Eq. 19), so f_ext's
+  !> work is not internal energy of the cells; it is returned separately in
+  !> `work_ext` = dt sum_n f_ext_n . u_n^{n+1/2} (the same discrete work as the
+  !> boundary pressure forces), and the balance that holds to round-off is
+  !>   Delta [sum_c m_c e_c + sum_n (m_n + m_ext_n) |u_n|^2 / 2] = work + work_ext,
+  !> the kinetic energy taken with the combined nodal mass (the caller owns
+  !> the particles' share of it and the particles' internal energy, whose
+  !> change is -work_ext for forces from particle stresses). The impulse of a
+  !> kinematic boundary on f_ext is boundary work, as for the corner forces.
+  !> Without f_ext and m_ext the step is unchanged bit for bit.
+  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -48,8 +64,12 @@ contains
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell
+    real(wp), intent(in), optional :: f_ext(:, :)
+    real(wp), intent(in), optional :: m_ext(:)
+    real(wp), intent(out), optional :: work_ext
     real(wp) :: dt_stable, w_pred
 
+    if (present(work_ext)) work_ext = 0.0_wp
     ! predictor
     call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
     dt = min(dt, dt_stable)
@@ -57,22 +77,36 @@ contains
     call mixed_save_step_start(mx, h%vol)
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%u, h, par)
-    call update_nodes(g, h, dt, 0.5_wp*dt)
-    call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred)
-    call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell)
+    call update_nodes(g, h, dt, 0.5_wp*dt, f_ext, m_ext)
+    call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, m_ext)
+    ! the geometry of x^{1/2} (volumes, their gradients, median areas, strain
+    ! rates for u*^{1/2}) is computed here once, for the densities and for the
+    ! corrector
+    call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
     if (bad_cell /= 0) return
     call update_materials(h, mats, mx, par)
 
     ! corrector
-    call lagrange_strain_rates(g, g%x, h%uh, h, par, dt_stable)
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%uh, h, par)
-    call update_nodes(g, h, dt, dt)
-    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work)
+    call update_nodes(g, h, dt, dt, f_ext, m_ext)
+    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext)
+    if (present(f_ext) .and. present(work_ext)) work_ext = dt*node_work(f_ext, h%uh)
     call lagrange_update_cells(g, h, dt, bad_cell)
     if (bad_cell /= 0) return
     call update_materials(h, mats, mx, par)
   end subroutine lagrange_step
+
+  !> sum_n f(:,n) . u(:,n), in node order (force x velocity).
+  pure function node_work(f, u) result(w)
+    real(wp), intent(in) :: f(:, :), u(:, :)
+    real(wp) :: w
+    integer :: n
+    w = 0.0_wp
+    do n = 1, size(f, 2)
+      w = w + dot_product(f(:, n), u(:, n))
+    end do
+  end function node_work
 
   !> Material states after a stage: mixed cells share their volume and
   !> energy change among their materials (Tipton), every material's EOS is
@@ -107,47 +141,76 @@ contains
     !$omp end parallel
   end subroutine save_step_start
 
+  !> Sum of the corner forces fc(3,8,ncell) of the cells around node (i,j,k)
+  !> of grid g (force); c0 is cell (i+1, j+1, k+1), used only where all
+  !> eight cells are owned.
+  pure function node_force(g, fc, i, j, k, c0) result(f)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: fc(:, :, :)
+    integer, intent(in) :: i, j, k, c0
+    real(wp) :: f(3)
+    integer :: ii, jj, kk, ci, cj, ck, sj, sk
+
+    if (i > g%nlo(1) .and. i < g%nhi(1) .and. j > g%nlo(2) .and. j < g%nhi(2) .and. &
+        k > g%nlo(3) .and. k < g%nhi(3)) then
+      ! interior node: all eight cells exist (same order as below)
+      sj = g%cx
+      sk = g%cxy
+      f = fc(:, 1, c0) + fc(:, 2, c0 - 1) + fc(:, 3, c0 - sj) + fc(:, 4, c0 - 1 - sj) &
+        + fc(:, 5, c0 - sk) + fc(:, 6, c0 - 1 - sk) + fc(:, 7, c0 - sj - sk) &
+        + fc(:, 8, c0 - 1 - sj - sk)
+    else
+      f = 0.0_wp
+      ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
+      do kk = 0, 1
+        ck = k + 1 - kk
+        if (ck < g%clo(3) .or. ck > g%chi(3)) cycle
+        do jj = 0, 1
+          cj = j + 1 - jj
+          if (cj < g%clo(2) .or. cj > g%chi(2)) cycle
+          do ii = 0, 1
+            ci = i + 1 - ii
+            if (ci < g%clo(1) .or. ci > g%chi(1)) cycle
+            f = f + fc(:, 1 + ii + 2*jj + 4*kk, g%cell(ci, cj, ck))
+          end do
+        end do
+      end do
+    end if
+  end function node_force
+
   !> Gathers the corner forces at each node and advances it (Eqs. 20-22):
-  !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh.
-  subroutine update_nodes(g, h, dt, dtx)
+  !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh; with the extra
+  !> force f_ext and mass m_ext of `lagrange_step` if present.
+  subroutine update_nodes(g, h, dt, dtx, f_ext, m_ext)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
-    integer :: n, i, j, k, ii, jj, kk, ci, cj, ck, c, c0, sj, sk
+    real(wp), intent(in), optional :: f_ext(:, :), m_ext(:)
+    real(wp) :: no_f(3, 0), no_m(0)
+    integer :: n, i, j, k, c0
     real(wp) :: f(3)
 
-    sj = g%ni
-    sk = g%ni*g%nj
-    !$omp parallel do default(none) shared(g, h, dt, dtx, sj, sk) collapse(2) &
-    !$omp private(n, i, j, k, ii, jj, kk, ci, cj, ck, c, c0, f) schedule(static)
-    do k = 0, g%nk
-    do j = 0, g%nj
-    do i = 0, g%ni
-      n = 1 + i + g%sx*j + g%sxy*k
-      if (i > 0 .and. i < g%ni .and. j > 0 .and. j < g%nj .and. k > 0 .and. k < g%nk) then
-        ! interior node: all eight cells exist (same order as below)
-        c0 = i + sj*j + sk*k + 1   ! cell (i+1, j+1, k+1)
-        f = h%fc(:, 1, c0) + h%fc(:, 2, c0 - 1) + h%fc(:, 3, c0 - sj) + h%fc(:, 4, c0 - 1 - sj) &
-          + h%fc(:, 5, c0 - sk) + h%fc(:, 6, c0 - 1 - sk) + h%fc(:, 7, c0 - sj - sk) &
-          + h%fc(:, 8, c0 - 1 - sj - sk)
+    if (present(f_ext) .or. present(m_ext)) then
+      if (present(f_ext) .and. present(m_ext)) then
+        call update_nodes_ext(g, h, dt, dtx, f_ext, m_ext, .true., .true.)
+      else if (present(f_ext)) then
+        call update_nodes_ext(g, h, dt, dtx, f_ext, no_m, .true., .false.)
       else
-        f = 0.0_wp
-        ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
-        do kk = 0, 1
-          ck = k + 1 - kk
-          if (ck < 1 .or. ck > g%nk) cycle
-          do jj = 0, 1
-            cj = j + 1 - jj
-            if (cj < 1 .or. cj > g%nj) cycle
-            do ii = 0, 1
-              ci = i + 1 - ii
-              if (ci < 1 .or. ci > g%ni) cycle
-              c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-              f = f + h%fc(:, 1 + ii + 2*jj + 4*kk, c)
-            end do
-          end do
-        end do
+        call update_nodes_ext(g, h, dt, dtx, no_f, m_ext, .false., .true.)
       end if
+      return
+    end if
+    !$omp parallel do default(none) shared(g, h, dt, dtx) collapse(2) &
+    !$omp private(n, i, j, k, c0, f) schedule(static)
+    do k = g%nlo(3), g%nhi(3)
+    do j = g%nlo(2), g%nhi(2)
+    ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
+    n = g%node(g%nlo(1), j, k) - 1
+    c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
+    do i = g%nlo(1), g%nhi(1)
+      n = n + 1
+      c0 = c0 + 1
+      f = node_force(g, h%fc, i, j, k, c0)
       h%u(:, n) = h%un(:, n) + dt*f/h%mnode(n)
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
@@ -157,34 +220,90 @@ contains
     !$omp end parallel do
   end subroutine update_nodes
 
+  !> `update_nodes` with an extra nodal force f_add (if has_f) and an extra
+  !> nodal mass m_add (if has_m).
+  subroutine update_nodes_ext(g, h, dt, dtx, f_add, m_add, has_f, has_m)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    real(wp), intent(in) :: dt, dtx
+    real(wp), intent(in) :: f_add(:, :), m_add(:)
+    logical, intent(in) :: has_f, has_m
+    integer :: n, i, j, k, c0
+    real(wp) :: f(3), m
+
+    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_f, has_m) collapse(2) &
+    !$omp private(n, i, j, k, c0, f, m) schedule(static)
+    do k = g%nlo(3), g%nhi(3)
+    do j = g%nlo(2), g%nhi(2)
+    ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
+    n = g%node(g%nlo(1), j, k) - 1
+    c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
+    do i = g%nlo(1), g%nhi(1)
+      n = n + 1
+      c0 = c0 + 1
+      f = node_force(g, h%fc, i, j, k, c0)
+      if (has_f) f = f + f_add(:, n)
+      m = h%mnode(n)
+      if (has_m) m = m + m_add(n)
+      h%u(:, n) = h%un(:, n) + dt*f/m
+      h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
+      g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
+    end do
+    end do
+    end do
+    !$omp end parallel do
+  end subroutine update_nodes_ext
+
   !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
   !> then new volume and density of every cell. bad_cell > 0 names the first
-  !> cell with a non-positive volume.
-  subroutine lagrange_update_cells(g, h, dte, bad_cell)
+  !> cell with a non-positive volume. With `geometry` (default false), also
+  !> leaves the geometry of the new positions and the strain rates of the
+  !> half-step velocity h%uh in h (h%dvdx, h%sarea, h%area, h%grad), as
+  !> `lagrange_strain_rates` would for (g%x, h%uh), so that the forces of the
+  !> next stage need not compute them again. The volume is then taken from
+  !> `hex_volume_gradient`, which evaluates the same sum as `hex_volume` in
+  !> the same order (tests/test_lagrange.f90 checks that both agree bit for bit).
+  subroutine lagrange_update_cells(g, h, dte, bad_cell, geometry)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dte
     integer, intent(out) :: bad_cell
+    logical, intent(in), optional :: geometry
     integer :: c, a, n0, ci, cj, ck
-    real(wp) :: de, xn(3, 8)
+    real(wp) :: de, xn(3, 8), vn(3, 8), dumax
+    logical :: geom
 
+    geom = .false.
+    if (present(geometry)) geom = geometry
     bad_cell = huge(1)
-    !$omp parallel do default(none) shared(g, h, dte) private(c, a, n0, ci, cj, ck, de, xn) &
+    !$omp parallel do default(none) shared(g, h, dte, geom) private(c, a, n0, ci, cj, ck, de, xn, vn, dumax) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
-    do ck = 1, g%nk
-    do cj = 1, g%nj
-    do ci = 1, g%ni
-      c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
-      n0 = ci + g%sx*(cj - 1) + g%sxy*(ck - 1)
+    do ck = g%clo(3), g%chi(3)
+    do cj = g%clo(2), g%chi(2)
+    ! consecutive i are consecutive cells and nodes
+    c = g%cell(g%clo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
+    do ci = g%clo(1), g%chi(1)
+      c = c + 1
+      n0 = n0 + 1
       de = 0.0_wp
       do a = 1, 8
         de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
         xn(:, a) = g%x(:, n0 + g%corner_offset(a))
       end do
       h%e(c) = h%en(c) + dte*de/h%mass(c)
-      h%vol(c) = hex_volume(xn)
+      if (geom) then
+        do a = 1, 8
+          vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
+        end do
+        call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
+        call hex_median_areas(xn, h%sarea(:, :, c))
+      else
+        h%vol(c) = hex_volume(xn)
+      end if
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
+        if (geom) call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
       else
         bad_cell = min(bad_cell, c)
       end if

@@ -48,6 +48,13 @@ module lagrange_state
     real(wp), allocatable :: xn(:, :), un(:, :), uh(:, :), en(:)
     real(wp), allocatable :: fc(:, :, :)  !< corner forces (3, 8, ncell)
     real(wp), allocatable :: grad(:, :)   !< directional strain rates (3, ncell)
+    ! geometry of the cells at the positions of the current force evaluation,
+    ! computed once per stage (by `lagrange_strain_rates`, or by
+    ! `lagrange_update_cells` for the positions it has just made) and read by
+    ! `lagrange_corner_forces`
+    real(wp), allocatable :: dvdx(:, :, :)  !< volume gradient dV/dx_a (3, 8, ncell), length^2
+    real(wp), allocatable :: sarea(:, :, :) !< median-surface area vectors (3, 3, ncell), length^2
+    real(wp), allocatable :: area(:, :)     !< their norms (3, ncell), length^2
   end type hydro_t
 
 contains
@@ -63,13 +70,15 @@ contains
     allocate(h%u(3, nnode), h%mnode(nnode), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), &
              h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
-             h%fc(3, 8, ncell), h%grad(3, ncell), stat=stat, errmsg=msg)
+             h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%sarea(3, 3, ncell), &
+             h%area(3, ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'hydro_allocate', 'cannot allocate the hydro state: '//trim(msg))
       return
     end if
     h%u = 0.0_wp; h%mnode = 0.0_wp; h%q = 0.0_wp; h%mat = 0
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
+    h%dvdx = 0.0_wp; h%sarea = 0.0_wp; h%area = 0.0_wp
   end subroutine hydro_allocate
 
   !> Eq. (16), first term: the nodal masses mnode (mass) of the grid with

@@ -10,7 +10,7 @@
 module mesh_boundary
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
-  use mesh_grid, only: grid_t
+  use mesh_grid, only: grid_t, FACE_XLO, FACE_YLO, FACE_ZLO
   use mesh_geometry, only: cross
   implicit none
   private
@@ -71,23 +71,24 @@ contains
     integer :: i, j, k, m, n, nb, stat
     character(len=200) :: msg
 
-    nb = g%nnode - max(g%ni - 1, 0)*max(g%nj - 1, 0)*max(g%nk - 1, 0)
+    nb = 0
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
+          if (g%node_faces(i, j, k) /= 0) nb = nb + 1
+        end do
+      end do
+    end do
     allocate(bc%node(nb), bc%mask(nb), bc%fext(3, nb), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'bc_init', 'cannot allocate boundary lists: '//trim(msg))
       return
     end if
     bc%nb = 0
-    do k = 0, g%nk
-      do j = 0, g%nj
-        do i = 0, g%ni
-          m = 0
-          if (i == 0) m = ibset(m, 0)
-          if (i == g%ni) m = ibset(m, 1)
-          if (j == 0) m = ibset(m, 2)
-          if (j == g%nj) m = ibset(m, 3)
-          if (k == 0) m = ibset(m, 4)
-          if (k == g%nk) m = ibset(m, 5)
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
+          m = g%node_faces(i, j, k)
           if (m == 0) cycle
           bc%nb = bc%nb + 1
           bc%node(bc%nb) = g%node(i, j, k)
@@ -118,7 +119,7 @@ contains
     type(bc_t), intent(inout) :: bc
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), p(:)
-    integer :: f, axis, i1, i2, n1, n2, nq(4), q
+    integer :: f, axis, i1, i2, d1, d2, nq(4), q
     real(wp) :: a(3), sgn, pext
 
     if (.not. bc%any_pressure) return
@@ -127,13 +128,15 @@ contains
       if (bc%kind(f) /= BC_PRESSURE .and. bc%kind(f) /= BC_OUTFLOW) cycle
       axis = face_axis(f)
       sgn = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
+      ! the face's quads, numbered by their lowest node (i1, i2) in the two
+      ! other directions d1 < d2
       select case (axis)
-      case (1); n1 = g%nj; n2 = g%nk
-      case (2); n1 = g%ni; n2 = g%nk
-      case default; n1 = g%ni; n2 = g%nj
+      case (1); d1 = 2; d2 = 3
+      case (2); d1 = 1; d2 = 3
+      case default; d1 = 1; d2 = 2
       end select
-      do i2 = 0, n2 - 1
-        do i1 = 0, n1 - 1
+      do i2 = g%nlo(d2), g%nhi(d2) - 1
+        do i1 = g%nlo(d1), g%nhi(d1) - 1
           nq = quad_nodes(g, f, i1, i2)
           a = 0.5_wp*cross(x(:, nq(3)) - x(:, nq(1)), x(:, nq(4)) - x(:, nq(2)))
           if (sgn*a(axis) < 0.0_wp) a = -a
@@ -157,28 +160,29 @@ contains
     integer :: p
     select case (face_axis(f))
     case (1)
-      p = merge(0, g%ni, f == 1)
+      p = merge(g%nlo(1), g%nhi(1), f == FACE_XLO)
       nq = [g%node(p, i1, i2), g%node(p, i1 + 1, i2), g%node(p, i1 + 1, i2 + 1), g%node(p, i1, i2 + 1)]
     case (2)
-      p = merge(0, g%nj, f == 3)
+      p = merge(g%nlo(2), g%nhi(2), f == FACE_YLO)
       nq = [g%node(i1, p, i2), g%node(i1 + 1, p, i2), g%node(i1 + 1, p, i2 + 1), g%node(i1, p, i2 + 1)]
     case default
-      p = merge(0, g%nk, f == 5)
+      p = merge(g%nlo(3), g%nhi(3), f == FACE_ZLO)
       nq = [g%node(i1, i2, p), g%node(i1 + 1, i2, p), g%node(i1 + 1, i2 + 1, p), g%node(i1, i2 + 1, p)]
     end select
   end function quad_nodes
 
-  !> The cell next to boundary quad (i1,i2) of face f.
+  !> The cell next to boundary quad (i1,i2) of face f (the quad's lowest
+  !> node is (i1,i2) in the face's two directions).
   pure integer function quad_cell(g, f, i1, i2) result(c)
     type(grid_t), intent(in) :: g
     integer, intent(in) :: f, i1, i2
-    select case (f)
-    case (1, 2)
-      c = merge(1, g%ni, f == 1) + g%ni*(i1 + g%nj*i2)
-    case (3, 4)
-      c = 1 + i1 + g%ni*(merge(0, g%nj - 1, f == 3) + g%nj*i2)
+    select case (face_axis(f))
+    case (1)
+      c = g%cell(merge(g%clo(1), g%chi(1), f == FACE_XLO), i1 + 1, i2 + 1)
+    case (2)
+      c = g%cell(i1 + 1, merge(g%clo(2), g%chi(2), f == FACE_YLO), i2 + 1)
     case default
-      c = 1 + i1 + g%ni*(i2 + g%nj*merge(0, g%nk - 1, f == 5))
+      c = g%cell(i1 + 1, i2 + 1, merge(g%clo(3), g%chi(3), f == FACE_ZLO))
     end select
   end function quad_cell
 
@@ -188,10 +192,10 @@ contains
     type(bc_t), intent(in) :: bc
     type(grid_t), intent(in) :: g
     integer, intent(in) :: ci, cj, ck
-    logical :: on(6)
-    on = [ci == 1, ci == g%ni, cj == 1, cj == g%nj, ck == 1, ck == g%nk]
+    integer :: m
+    m = g%cell_faces(ci, cj, ck)
     do f = 1, 6
-      if (on(f) .and. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) return
+      if (btest(m, f - 1) .and. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) return
     end do
     f = 0
   end function bc_open_face
@@ -231,22 +235,29 @@ contains
   !> impulse, applies the kinematic conditions to u (new velocity), then
   !> recomputes the half-step velocity uh = (un+u)/2 and x = xn + dtx*uh.
   !> Returns in `work` the work done on the system by the boundary over dt.
-  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work)
+  !> A node's mass is mnode, plus m_ext if present (particle mass carried by
+  !> the node, see `lagrange_step`).
+  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work, m_ext)
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in) :: mnode(:), un(:, :), xn(:, :)
     real(wp), intent(inout) :: u(:, :), uh(:, :), x(:, :)
     real(wp), intent(out) :: work
+    real(wp), intent(in), optional :: m_ext(:)
     integer :: b, n
-    real(wp) :: unc(3), imp(3)
+    real(wp) :: unc(3), imp(3), m
+    logical :: has_m
 
+    has_m = present(m_ext)
     work = 0.0_wp
     do b = 1, bc%nb
       n = bc%node(b)
-      if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/mnode(n)
+      m = mnode(n)
+      if (has_m) m = m + m_ext(n)
+      if (bc%any_pressure) u(:, n) = u(:, n) + dt*bc%fext(:, b)/m
       unc = u(:, n)
       call constrain_node(bc, bc%mask(b), u(:, n))
-      imp = mnode(n)*(u(:, n) - unc)
+      imp = m*(u(:, n) - unc)
       uh(:, n) = 0.5_wp*(un(:, n) + u(:, n))
       x(:, n) = xn(:, n) + dtx*uh(:, n)
       work = work + dot_product(imp + dt*bc%fext(:, b), uh(:, n))

@@ -1,9 +1,15 @@
-!> The structured hexahedral grid: node positions and index arithmetic.
+!> The structured hexahedral grid: index arithmetic and node positions.
 !>
-!> Cells are (i,j,k), i = 1..ni, flattened c = i + ni*((j-1) + nj*(k-1)).
-!> Nodes are (i,j,k), i = 0..ni, flattened n = 1 + i + sx*(j + (nj+1)*k),
-!> sx = ni+1. The nodes of cell c are node0(c) + corner_offset(a), a = 1..8,
-!> in the local order of `mesh_geometry` (a = 1 + i + 2j + 4k).
+!> `grid_index_t` owns all index arithmetic of a block of ni x nj x nk cells.
+!> Cells are (i,j,k), i = 1..ni, nodes (i,j,k), i = 0..ni; both are stored
+!> with i fastest, then j, then k: c = i + ni*((j-1) + nj*(k-1)) and
+!> n = 1 + i + sx*(j + (nj+1)*k), sx = ni+1. The nodes of cell c are
+!> node0(c) + corner_offset(a), a = 1..8, in the local order of
+!> `mesh_geometry` (a = 1 + i + 2j + 4k). Kernels loop over the ranges
+!> `clo..chi` (owned cells) and `nlo..nhi` (owned nodes) and ask the type for
+!> indices (in hot loops once per row: consecutive i are consecutive indices),
+!> so that a halo (ghost width ng > 0, not used yet: ng = 0) changes this
+!> type only. `grid_t` is a grid_index_t with node positions.
 module mesh_grid
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
@@ -11,21 +17,39 @@ module mesh_grid
   use base_registry, only: registry_t, LOC_NODE
   implicit none
   private
-  public :: grid_t, grid_init_box, block_gather, grid_register_restart
+  public :: grid_index_t, grid_index, grid_t, grid_init_box, block_gather, grid_register_restart, &
+            FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
-  !> Grid sizes, strides and node positions.
-  type :: grid_t
-    integer :: ni = 0, nj = 0, nk = 0
-    integer :: nnode = 0, ncell = 0
+  !> The six faces of the block; bit f-1 of a face mask is set for face f.
+  integer, parameter :: FACE_XLO = 1, FACE_XHI = 2, FACE_YLO = 3, FACE_YHI = 4, FACE_ZLO = 5, FACE_ZHI = 6
+
+  !> Index arithmetic of a block of cells: sizes, ranges and strides.
+  type :: grid_index_t
+    integer :: ni = 0, nj = 0, nk = 0     !< owned cells per direction
+    integer :: ng = 0                     !< ghost width (0: no halo)
+    integer :: clo(3) = 1, chi(3) = 0     !< owned cells (i,j,k) range
+    integer :: nlo(3) = 0, nhi(3) = -1    !< owned nodes (i,j,k) range
+    integer :: nnode = 0, ncell = 0       !< stored nodes and cells
     integer :: sx = 0, sxy = 0            !< node strides in j and k
-    integer :: corner_offset(8) = 0
-    real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp   !< initial box
-    real(wp), allocatable :: x(:, :)      !< node positions (3, nnode)
+    integer :: cx = 0, cxy = 0            !< cell strides in j and k (offsets to neighbour cells)
+    integer :: corner_offset(8) = 0       !< node index offsets of the local corners
   contains
+    procedure :: cell => grid_cell
     procedure :: node => grid_node
     procedure :: node0 => grid_node0
+    procedure :: cell_node0 => grid_cell_node0
+    procedure :: corner => grid_corner
     procedure :: cell_ijk => grid_cell_ijk
+    procedure :: node_ijk => grid_node_ijk
+    procedure :: node_faces => grid_node_faces
+    procedure :: cell_faces => grid_cell_faces
     procedure :: gather => grid_gather
+  end type grid_index_t
+
+  !> Grid: its index arithmetic and node positions.
+  type, extends(grid_index_t) :: grid_t
+    real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp   !< initial box
+    real(wp), allocatable :: x(:, :)      !< node positions (3, nnode)
   end type grid_t
 
 contains
@@ -40,22 +64,17 @@ contains
     character(len=200) :: msg
     real(wp) :: h(3)
 
-    g%ni = ni; g%nj = nj; g%nk = nk
-    g%sx = ni + 1
-    g%sxy = (ni + 1)*(nj + 1)
-    g%nnode = (ni + 1)*(nj + 1)*(nk + 1)
-    g%ncell = ni*nj*nk
+    g%grid_index_t = grid_index(ni, nj, nk)
     g%xmin = xmin; g%xmax = xmax
-    g%corner_offset = [0, 1, g%sx, g%sx + 1, g%sxy, g%sxy + 1, g%sxy + g%sx, g%sxy + g%sx + 1]
     allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'grid_init_box', 'cannot allocate node positions: '//trim(msg))
       return
     end if
     h = (xmax - xmin)/real([ni, nj, nk], wp)
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
           n = g%node(i, j, k)
           ! the far face is placed exactly at xmax, not at xmin + n*h
           g%x(1, n) = merge(xmax(1), xmin(1) + i*h(1), i == ni)
@@ -66,28 +85,65 @@ contains
     end do
   end subroutine grid_init_box
 
+  !> The index arithmetic of a block of ni x nj x nk cells.
+  pure function grid_index(ni, nj, nk) result(ix)
+    integer, intent(in) :: ni, nj, nk
+    type(grid_index_t) :: ix
+    ix%ni = ni; ix%nj = nj; ix%nk = nk
+    ix%ng = 0
+    ix%clo = 1
+    ix%chi = [ni, nj, nk]
+    ix%nlo = 0
+    ix%nhi = [ni, nj, nk]
+    ix%sx = ni + 1
+    ix%sxy = (ni + 1)*(nj + 1)
+    ix%cx = ni
+    ix%cxy = ni*nj
+    ix%nnode = (ni + 1)*(nj + 1)*(nk + 1)
+    ix%ncell = ni*nj*nk
+    ix%corner_offset = hex_corner(1, :) + ix%sx*hex_corner(2, :) + ix%sxy*hex_corner(3, :)
+  end function grid_index
+
+  !> Flattened index of cell (i,j,k), 1-based logical indices.
+  pure integer function grid_cell(this, i, j, k)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    grid_cell = i + this%cx*(j - 1) + this%cxy*(k - 1)
+  end function grid_cell
+
   !> Flattened index of node (i,j,k), 0-based logical indices.
   pure integer function grid_node(this, i, j, k)
-    class(grid_t), intent(in) :: this
+    class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
     grid_node = 1 + i + this%sx*j + this%sxy*k
   end function grid_node
 
+  !> Index of the first (local a = 1) node of cell (i,j,k): node (i-1,j-1,k-1).
+  pure integer function grid_cell_node0(this, i, j, k)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    grid_cell_node0 = i + this%sx*(j - 1) + this%sxy*(k - 1)
+  end function grid_cell_node0
+
   !> Index of the first (local a = 1) node of cell c.
   pure integer function grid_node0(this, c)
-    class(grid_t), intent(in) :: this
+    class(grid_index_t), intent(in) :: this
     integer, intent(in) :: c
-    integer :: ci, cj, ck, t
-    ci = mod(c - 1, this%ni)
-    t = (c - 1)/this%ni
-    cj = mod(t, this%nj)
-    ck = t/this%nj
-    grid_node0 = 1 + ci + this%sx*cj + this%sxy*ck
+    integer :: ci, cj, ck
+    call this%cell_ijk(c, ci, cj, ck)
+    grid_node0 = this%cell_node0(ci, cj, ck)
   end function grid_node0
+
+  !> Index of local corner a (1..8, order of `mesh_geometry`) of cell c.
+  pure integer function grid_corner(this, c, a)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: c, a
+    grid_corner = this%node0(c) + this%corner_offset(a)
+  end function grid_corner
 
   !> Logical indices (1-based) of cell c.
   pure subroutine grid_cell_ijk(this, c, i, j, k)
-    class(grid_t), intent(in) :: this
+    class(grid_index_t), intent(in) :: this
     integer, intent(in) :: c
     integer, intent(out) :: i, j, k
     integer :: t
@@ -97,9 +153,47 @@ contains
     k = t/this%nj + 1
   end subroutine grid_cell_ijk
 
+  !> Logical indices (0-based) of node n.
+  pure subroutine grid_node_ijk(this, n, i, j, k)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: n
+    integer, intent(out) :: i, j, k
+    integer :: t
+    i = mod(n - 1, this%sx)
+    t = (n - 1)/this%sx
+    j = mod(t, this%nj + 1)
+    k = t/(this%nj + 1)
+  end subroutine grid_node_ijk
+
+  !> Faces of the block that node (i,j,k) lies on: bit f-1 set for face f
+  !> (FACE_XLO .. FACE_ZHI); 0 for an interior node.
+  pure integer function grid_node_faces(this, i, j, k) result(m)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    m = face_mask([i, j, k], this%nlo, this%nhi)
+  end function grid_node_faces
+
+  !> Faces of the block that cell (i,j,k) touches: bit f-1 set for face f.
+  pure integer function grid_cell_faces(this, i, j, k) result(m)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    m = face_mask([i, j, k], this%clo, this%chi)
+  end function grid_cell_faces
+
+  !> Bit 2(d-1) set where ijk(d) = lo(d), bit 2d-1 where ijk(d) = hi(d).
+  pure integer function face_mask(ijk, lo, hi) result(m)
+    integer, intent(in) :: ijk(3), lo(3), hi(3)
+    integer :: d
+    m = 0
+    do d = 1, 3
+      if (ijk(d) == lo(d)) m = ibset(m, 2*(d - 1))
+      if (ijk(d) == hi(d)) m = ibset(m, 2*d - 1)
+    end do
+  end function face_mask
+
   !> Copies a node field f(3,nnode) at the eight nodes of cell c into fn(3,8).
   pure subroutine grid_gather(this, c, f, fn)
-    class(grid_t), intent(in) :: this
+    class(grid_index_t), intent(in) :: this
     integer, intent(in) :: c
     real(wp), intent(in) :: f(:, :)
     real(wp), intent(out) :: fn(3, 8)
@@ -117,12 +211,12 @@ contains
     integer, intent(in) :: ni, nj, ci, cj, ck
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: xn(3, 8)
-    integer :: a, n0, sx, sxy
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
-    n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
+    type(grid_index_t) :: ix
+    integer :: a, n0
+    ix = grid_index(ni, nj, 1)
+    n0 = ix%cell_node0(ci, cj, ck)
     do a = 1, 8
-      xn(:, a) = x(:, n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a))
+      xn(:, a) = x(:, n0 + ix%corner_offset(a))
     end do
   end subroutine block_gather
 

@@ -5,7 +5,7 @@
 !> cell sums to, so the same split must give both.
 module remap_cells
   use base_kinds, only: wp
-  use mesh_grid, only: block_gather
+  use mesh_grid, only: block_gather, grid_index_t, grid_index
   use mesh_geometry, only: hex_tets, tet_det
   implicit none
   private
@@ -21,13 +21,16 @@ contains
     real(wp), intent(out) :: vol(:), centroid(:, :)
     integer :: c, ci, cj, ck, t
     real(wp) :: xn(3, 8), tets(3, 4, 24), v, m(3), vt
+    type(grid_index_t) :: ix
 
-    !$omp parallel do default(none) shared(ni, nj, nk, x, vol, centroid) &
+    ix = grid_index(ni, nj, nk)
+
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, vol, centroid) &
     !$omp private(c, ci, cj, ck, t, xn, tets, v, m, vt) collapse(2) schedule(static)
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          c = ci + ni*((cj - 1) + nj*(ck - 1))
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          c = ix%cell(ci, cj, ck)
           call block_gather(ni, nj, ci, cj, ck, x, xn)
           call hex_tets(xn, tets)
           v = 0.0_wp

@@ -196,7 +196,7 @@ contains
     integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8), given
-    integer :: ncell, c, co, r, i, nbad, stat
+    integer :: ncell, c, co, r, i, nbad, stat, ci, cj, ck
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -215,7 +215,8 @@ contains
     end if
     call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
     do c = 1, ncell
-      open_face(c) = bc_open_face(bc, g, 1 + mod(c - 1, g%ni), 1 + mod((c - 1)/g%ni, g%nj), 1 + (c - 1)/(g%ni*g%nj))
+      call g%cell_ijk(c, ci, cj, ck)
+      open_face(c) = bc_open_face(bc, g, ci, cj, ck)
     end do
     stats%t_prepare = wall_seconds() - w0
 
@@ -232,8 +233,7 @@ contains
       nbad = 0
       do i = 1, size(todo)
         c = todo(i)
-        call block_gather(g%ni, g%nj, 1 + mod(c - 1, g%ni), 1 + mod((c - 1)/g%ni, g%nj), &
-                          1 + (c - 1)/(g%ni*g%nj), xnew, xn)
+        call g%gather(c, xnew, xn)
         vnew = hex_volume(xn)
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
         ! next to an open face a gap is expected (filled below)
@@ -330,13 +330,11 @@ contains
     subroutine mark_window(co, rr)
       integer, intent(in) :: co, rr
       integer :: i0, j0, k0, ii, jj, kk
-      i0 = 1 + mod(co - 1, g%ni)
-      j0 = 1 + mod((co - 1)/g%ni, g%nj)
-      k0 = 1 + (co - 1)/(g%ni*g%nj)
-      do kk = max(1, k0 - rr), min(g%nk, k0 + rr)
-        do jj = max(1, j0 - rr), min(g%nj, j0 + rr)
-          do ii = max(1, i0 - rr), min(g%ni, i0 + rr)
-            redo(ii + g%ni*((jj - 1) + g%nj*(kk - 1))) = .true.
+      call g%cell_ijk(co, i0, j0, k0)
+      do kk = max(g%clo(3), k0 - rr), min(g%chi(3), k0 + rr)
+        do jj = max(g%clo(2), j0 - rr), min(g%chi(2), j0 + rr)
+          do ii = max(g%clo(1), i0 - rr), min(g%chi(1), i0 + rr)
+            redo(g%cell(ii, jj, kk)) = .true.
           end do
         end do
       end do
@@ -449,10 +447,10 @@ contains
     !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, xn, v, m, vf, cref, pn, pd, errc, its, ok, &
     !$omp pcs, j, vreg, big) reduction(+: nmof, nits, nfail) reduction(max: errmax) collapse(2) &
     !$omp schedule(dynamic, 16)
-    do ck = 1, g%nk
-      do cj = 1, g%nj
-        do ci = 1, g%ni
-          c = ci + g%ni*((cj - 1) + g%nj*(ck - 1))
+    do ck = g%clo(3), g%chi(3)
+      do cj = g%clo(2), g%chi(2)
+        do ci = g%clo(1), g%chi(1)
+          c = g%cell(ci, cj, ck)
           call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
           v = old%vreg(c)
           old%rho(c) = h%mass(c)/v
@@ -707,9 +705,7 @@ contains
                j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48), isg
     logical :: box
 
-    ci = 1 + mod(c - 1, g%ni)
-    cj = 1 + mod((c - 1)/g%ni, g%nj)
-    ck = 1 + (c - 1)/(g%ni*g%nj)
+    call g%cell_ijk(c, ci, cj, ck)
     call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
     ! local coordinates about the new cell's centre: round-off scales with the cell
     o = sum(xn, 2)/8.0_wp
@@ -785,10 +781,10 @@ contains
         cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
       end do
     end if
-    do ok_ = max(1, ck - reach), min(g%nk, ck + reach)
-      do oj = max(1, cj - reach), min(g%nj, cj + reach)
-        do oi = max(1, ci - reach), min(g%ni, ci + reach)
-          co = oi + g%ni*((oj - 1) + g%nj*(ok_ - 1))
+    do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
+      do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
+        do oi = max(g%clo(1), ci - reach), min(g%chi(1), ci + reach)
+          co = g%cell(oi, oj, ok_)
           ! an unchanged old cell is all in the identical new cell
           if (.not. old%changed(co)) cycle
           call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)

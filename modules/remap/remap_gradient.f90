@@ -31,7 +31,7 @@
 module remap_gradient
   use base_kinds, only: wp, tiny_wp
   use base_errors, only: error_t, error_set
-  use mesh_grid, only: block_gather
+  use mesh_grid, only: block_gather, grid_index_t, grid_index
   implicit none
   private
   public :: remap_limited_gradients
@@ -62,7 +62,7 @@ module remap_gradient
 contains
 
   !> Limited least-squares gradients of nf cell fields on a block of
-  !> ni x nj x nk cells (cell c = ci + ni*((cj-1) + nj*(ck-1))).
+  !> ni x nj x nk cells (cells numbered by `grid_index_t` of `mesh_grid`).
   !>
   !> x(3, (ni+1)*(nj+1)*(nk+1)): node positions (numbering of `mesh_grid`).
   !> q(nf, ncell): mean of each field over the cell (or a material's part of
@@ -85,6 +85,7 @@ contains
     type(error_t), allocatable, intent(inout), optional :: err
     integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
+    type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
                 qc, qmin, qmax, dq, eps, phi
     real(wp), allocatable :: bmat(:, :), work(:)
@@ -125,24 +126,25 @@ contains
       return
     end if
 
+    ix = grid_index(ni, nj, nk)
     nfail = 0
-    !$omp parallel do default(none) shared(ni, nj, nk, nf, x, q, pos, has, need, grad, lwork) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork) &
     !$omp private(c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
     !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work) &
     !$omp reduction(+:nfail) collapse(2) schedule(static)
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          c = ci + ni*((cj - 1) + nj*(ck - 1))
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          c = ix%cell(ci, cj, ck)
           grad(:, :, c) = 0.0_wp
           if (.not. (need(c) .and. has(c))) cycle
 
           ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
           m = 0
-          do ok_ = max(1, ck - 1), min(nk, ck + 1)
-            do oj = max(1, cj - 1), min(nj, cj + 1)
-              do oi = max(1, ci - 1), min(ni, ci + 1)
-                co = oi + ni*((oj - 1) + nj*(ok_ - 1))
+          do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
+            do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
+              do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
+                co = ix%cell(oi, oj, ok_)
                 if (co == c .or. .not. has(co)) cycle
                 dx = pos(:, co) - pos(:, c)
                 d2 = dx(1)**2 + dx(2)**2 + dx(3)**2

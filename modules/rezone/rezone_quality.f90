@@ -14,7 +14,7 @@
 module rezone_quality
   use base_kinds, only: wp
   use mesh_geometry, only: hex_volume, cross
-  use mesh_grid, only: block_gather
+  use mesh_grid, only: block_gather, grid_index_t, grid_index
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells
@@ -103,16 +103,18 @@ contains
     real(wp), intent(out) :: q(:), q_min, ratio_max, cos_min
     integer :: c, ci, cj, ck
     real(wp) :: xn(3, 8), r, cs
+    type(grid_index_t) :: ix
 
+    ix = grid_index(ni, nj, nk)
     q_min = huge(1.0_wp)
     ratio_max = 0.0_wp
     cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, x, q) private(c, ci, cj, ck, xn, r, cs) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q) private(c, ci, cj, ck, xn, r, cs) &
     !$omp reduction(min: q_min, cos_min) reduction(max: ratio_max) collapse(2) schedule(static)
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          c = ci + ni*((cj - 1) + nj*(ck - 1))
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          c = ix%cell(ci, cj, ck)
           call block_gather(ni, nj, ci, cj, ck, x, xn)
           q(c) = hex_quality(xn)
           call hex_shape(xn, r, cs)

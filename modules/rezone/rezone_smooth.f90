@@ -47,6 +47,7 @@ module rezone_smooth
   use base_errors, only: error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
   use rezone_quality, only: hex_quality
+  use mesh_grid, only: grid_index_t, grid_index
   implicit none
   private
   public :: node_fixed, node_free, node_plane, node_line
@@ -114,8 +115,9 @@ contains
     logical, intent(in), optional :: frozen(:)
     character(len=:), allocatable :: rule
     character(len=200) :: msg
-    integer :: i, j, k, n, d, nb, stat, ci, cj, ck, a, n0, sx, sxy
+    integer :: i, j, k, n, d, nb, stat, ci, cj, ck, a, n0, m
     logical :: on(3)
+    type(grid_index_t) :: ix
 
     if (ni < 1 .or. nj < 1 .or. nk < 1) then
       call error_set(err, 'smooth_mobility_box', 'the block needs at least one cell in each direction')
@@ -134,19 +136,20 @@ contains
       end if
     end if
     mob%ni = ni; mob%nj = nj; mob%nk = nk
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
-    allocate(mob%kind(sxy*(nk + 1)), mob%dir(3, sxy*(nk + 1)), stat=stat, errmsg=msg)
+    ix = grid_index(ni, nj, nk)
+    allocate(mob%kind(ix%nnode), mob%dir(3, ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_mobility_box', 'cannot allocate the mobility: '//trim(msg))
       return
     end if
 
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = 1 + i + sx*j + sxy*k
-          on = [i == 0 .or. i == ni, j == 0 .or. j == nj, k == 0 .or. k == nk]
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
+          n = ix%node(i, j, k)
+          ! on(d): the node lies on the low or high face of direction d
+          m = ix%node_faces(i, j, k)
+          on = [(ibits(m, 2*(d - 1), 2) /= 0, d = 1, 3)]
           nb = count(on)
           mob%dir(:, n) = 0.0_wp
           if (nb == 0 .or. rule == 'free') then
@@ -171,13 +174,13 @@ contains
     end do
 
     if (present(frozen)) then
-      do ck = 1, nk
-        do cj = 1, nj
-          do ci = 1, ni
-            if (.not. frozen(ci + ni*((cj - 1) + nj*(ck - 1)))) cycle
-            n0 = ci + sx*(cj - 1) + sxy*(ck - 1)
+      do ck = ix%clo(3), ix%chi(3)
+        do cj = ix%clo(2), ix%chi(2)
+          do ci = ix%clo(1), ix%chi(1)
+            if (.not. frozen(ix%cell(ci, cj, ck))) cycle
+            n0 = ix%cell_node0(ci, cj, ck)
             do a = 1, 8
-              mob%kind(n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a)) = node_fixed
+              mob%kind(n0 + ix%corner_offset(a)) = node_fixed
             end do
           end do
         end do
@@ -195,8 +198,9 @@ contains
     type(smooth_region_t), intent(out) :: reg
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: slot(:)
-    integer :: ni, nj, nk, sx, sxy, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
+    integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     character(len=200) :: msg
+    type(grid_index_t) :: ix
 
     ni = mob%ni; nj = mob%nj; nk = mob%nk
     ncell_all = ni*nj*nk
@@ -208,17 +212,16 @@ contains
       call error_set(err, 'smooth_region_init', 'active(:) must have one entry per cell')
       return
     end if
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
+    ix = grid_index(ni, nj, nk)
     reg%ni = ni; reg%nj = nj; reg%nk = nk
-    reg%corner_offset = hex_corner(1, :) + sx*hex_corner(2, :) + sxy*hex_corner(3, :)
+    reg%corner_offset = ix%corner_offset
     reg%ncell = count(active)
 
     ! movable nodes: mobility allows it and all cells around are active
     reg%nmove = 0
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
           if (node_moves(i, j, k)) reg%nmove = reg%nmove + 1
         end do
       end do
@@ -234,26 +237,26 @@ contains
 
     slot = 0
     s = 0
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          c = ci + ni*((cj - 1) + nj*(ck - 1))
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          c = ix%cell(ci, cj, ck)
           if (.not. active(c)) cycle
           s = s + 1
           slot(c) = s
           reg%cell(s) = c
-          reg%node0(s) = ci + sx*(cj - 1) + sxy*(ck - 1)
+          reg%node0(s) = ix%cell_node0(ci, cj, ck)
         end do
       end do
     end do
 
     m = 0
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
           if (.not. node_moves(i, j, k)) cycle
           m = m + 1
-          n = 1 + i + sx*j + sxy*k
+          n = ix%node(i, j, k)
           reg%node(m) = n
           reg%kind(m) = mob%kind(n)
           reg%dir(:, m) = mob%dir(:, n)
@@ -263,8 +266,8 @@ contains
             cj = j - hex_corner(2, a) + 1
             ck = k - hex_corner(3, a) + 1
             reg%node_cell(a, m) = 0
-            if (ci >= 1 .and. ci <= ni .and. cj >= 1 .and. cj <= nj .and. ck >= 1 .and. ck <= nk) &
-              reg%node_cell(a, m) = slot(ci + ni*((cj - 1) + nj*(ck - 1)))
+            if (all([ci, cj, ck] >= ix%clo) .and. all([ci, cj, ck] <= ix%chi)) &
+              reg%node_cell(a, m) = slot(ix%cell(ci, cj, ck))
           end do
         end do
       end do
@@ -277,13 +280,13 @@ contains
       integer, intent(in) :: i, j, k
       integer :: di, dj, dk
       logical :: ok
-      node_moves = mob%kind(1 + i + sx*j + sxy*k) /= node_fixed
+      node_moves = mob%kind(ix%node(i, j, k)) /= node_fixed
       if (.not. node_moves) return
       ok = .true.
-      do dk = max(k, 1), min(k + 1, nk)
-        do dj = max(j, 1), min(j + 1, nj)
-          do di = max(i, 1), min(i + 1, ni)
-            ok = ok .and. active(di + ni*((dj - 1) + nj*(dk - 1)))
+      do dk = max(k, ix%clo(3)), min(k + 1, ix%chi(3))
+        do dj = max(j, ix%clo(2)), min(j + 1, ix%chi(2))
+          do di = max(i, ix%clo(1)), min(i + 1, ix%chi(1))
+            ok = ok .and. active(ix%cell(di, dj, dk))
           end do
         end do
       end do
@@ -693,9 +696,12 @@ contains
     logical, intent(in) :: use_kind
     integer :: sx, sxy, i, j, k, i0, i1, j0, j1, k0, k1, n
     real(wp) :: u, v, w, fi, fj, fk, p(3), e(3), c(3)
+    type(grid_index_t) :: ix
 
-    sx = ni + 1
-    sxy = (ni + 1)*(nj + 1)
+    ! (node strides do not depend on nk)
+    ix = grid_index(ni, nj, 1)
+    sx = ix%sx
+    sxy = ix%sxy
     i0 = lo(1); i1 = hi(1); j0 = lo(2); j1 = hi(2); k0 = lo(3); k1 = hi(3)
     ! arc-length parameters on the four edges of each direction, ordered
     ! (low, low), (high, low), (low, high), (high, high) in the other two
@@ -712,12 +718,12 @@ contains
     call edge_parameter(k0, k1, nd(i0, j1, k0), sxy, wa(:, 3))
     call edge_parameter(k0, k1, nd(i1, j1, k0), sxy, wa(:, 4))
 
-    !$omp parallel do default(none) shared(x, ua, va, wa, kind, use_kind, sx, sxy, i0, i1, j0, j1, k0, k1) &
+    !$omp parallel do default(none) shared(x, ua, va, wa, kind, use_kind, ix, i0, i1, j0, j1, k0, k1) &
     !$omp private(i, j, k, n, u, v, w, fi, fj, fk, p, e, c) schedule(static)
     do k = k0 + 1, k1 - 1
       do j = j0 + 1, j1 - 1
         do i = i0 + 1, i1 - 1
-          n = 1 + i + sx*j + sxy*k
+          n = ix%node(i, j, k)
           if (use_kind) then
             if (kind(n) == node_fixed) cycle
           end if
@@ -758,7 +764,7 @@ contains
     !> Flattened index of node (i,j,k).
     pure integer function nd(i, j, k)
       integer, intent(in) :: i, j, k
-      nd = 1 + i + sx*j + sxy*k
+      nd = ix%node(i, j, k)
     end function nd
 
     !> Normalised arc length t(m0:m1) along the node line starting at node
@@ -793,26 +799,25 @@ contains
     real(wp), intent(in) :: xold(:, :), move_min
     real(wp), intent(inout) :: x(:, :)
     integer, intent(out) :: nreset
-    integer :: i, j, k, n, sx, sxy, d, stride(3), idx(3), nmax(3)
+    integer :: i, j, k, n, d, stride(3), idx(3)
     real(wp) :: lmin
+    type(grid_index_t) :: ix
 
-    sx = ni + 1
-    sxy = sx*(nj + 1)
-    stride = [1, sx, sxy]
-    nmax = [ni, nj, nk]
+    ix = grid_index(ni, nj, nk)
+    stride = [1, ix%sx, ix%sxy]
     nreset = 0
-    !$omp parallel do default(none) shared(ni, nj, nk, xold, x, move_min, sx, sxy, stride, nmax) &
+    !$omp parallel do default(none) shared(ix, xold, x, move_min, stride) &
     !$omp private(i, j, k, n, d, idx, lmin) reduction(+: nreset) collapse(2) schedule(static)
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = 1 + i + sx*j + sxy*k
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
+          n = ix%node(i, j, k)
           if (.not. any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) cycle
           idx = [i, j, k]
           lmin = huge(1.0_wp)
           do d = 1, 3
-            if (idx(d) > 0) lmin = min(lmin, norm2(xold(:, n) - xold(:, n - stride(d))))
-            if (idx(d) < nmax(d)) lmin = min(lmin, norm2(xold(:, n + stride(d)) - xold(:, n)))
+            if (idx(d) > ix%nlo(d)) lmin = min(lmin, norm2(xold(:, n) - xold(:, n - stride(d))))
+            if (idx(d) < ix%nhi(d)) lmin = min(lmin, norm2(xold(:, n + stride(d)) - xold(:, n)))
           end do
           if (norm2(x(:, n) - xold(:, n)) < move_min*lmin) then
             x(:, n) = xold(:, n)

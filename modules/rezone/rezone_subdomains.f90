@@ -1,8 +1,7 @@
 !> Distorted subdomain determination (Section 5.2, Fig. 4) and the cell and
 !> node sets that the localized smoothing (Section 5.3) and the localized
 !> remap (Section 5.4) work on, for one structured block of ni x nj x nk cells
-!> (cell c = ci + ni*((cj-1) + nj*(ck-1)), node n = 1 + i + (ni+1)*(j + (nj+1)*k)
-!> as in `mesh_grid`).
+!> (cells and nodes numbered by `grid_index_t` of `mesh_grid`).
 !>
 !> How the paper's words are read here:
 !>
@@ -49,6 +48,7 @@ module rezone_subdomains
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use base_strings, only: itoa
+  use mesh_grid, only: grid_index_t, grid_index
   implicit none
   private
   public :: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_from_boxes, &
@@ -409,10 +409,12 @@ contains
     integer :: ni, nj, nk, ncell, nnode, b, i, j, k, ci, cj, ck, n, stat
     character(len=200) :: msg
     logical :: inside
+    type(grid_index_t) :: ix
 
     ni = sub%ni
     nj = sub%nj
     nk = sub%nk
+    ix = grid_index(ni, nj, nk)
     ncell = ni*nj*nk
     nnode = (ni + 1)*(nj + 1)*(nk + 1)
     allocate(sub%cell_smooth(ncell), sub%cell_remap(ncell), sub%node_move(nnode), stat=stat, errmsg=msg)
@@ -429,7 +431,7 @@ contains
       do ck = sub%lo(3, b), sub%hi(3, b)
         do cj = sub%lo(2, b), sub%hi(2, b)
           do ci = sub%lo(1, b), sub%hi(1, b)
-            sub%cell_smooth(ci + ni*((cj - 1) + nj*(ck - 1))) = .true.
+            sub%cell_smooth(ix%cell(ci, cj, ck)) = .true.
           end do
         end do
       end do
@@ -438,14 +440,14 @@ contains
     if (present(frozen)) sub%cell_smooth = sub%cell_smooth .and. .not. frozen
 
     ! remap region: one more layer of cells, Sect. 5.4
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          if (.not. sub%cell_smooth(ci + ni*((cj - 1) + nj*(ck - 1)))) cycle
-          do k = max(ck - 1, 1), min(ck + 1, nk)
-            do j = max(cj - 1, 1), min(cj + 1, nj)
-              do i = max(ci - 1, 1), min(ci + 1, ni)
-                sub%cell_remap(i + ni*((j - 1) + nj*(k - 1))) = .true.
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          if (.not. sub%cell_smooth(ix%cell(ci, cj, ck))) cycle
+          do k = max(ck - 1, ix%clo(3)), min(ck + 1, ix%chi(3))
+            do j = max(cj - 1, ix%clo(2)), min(cj + 1, ix%chi(2))
+              do i = max(ci - 1, ix%clo(1)), min(ci + 1, ix%chi(1))
+                sub%cell_remap(ix%cell(i, j, k)) = .true.
               end do
             end do
           end do
@@ -454,15 +456,15 @@ contains
     end do
 
     ! a node moves when all of its (up to 8) cells are in the smoothing set
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = 1 + i + (ni + 1)*(j + (nj + 1)*k)
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
+          n = ix%node(i, j, k)
           inside = .true.
-          do ck = max(k, 1), min(k + 1, nk)
-            do cj = max(j, 1), min(j + 1, nj)
-              do ci = max(i, 1), min(i + 1, ni)
-                inside = inside .and. sub%cell_smooth(ci + ni*((cj - 1) + nj*(ck - 1)))
+          do ck = max(k, ix%clo(3)), min(k + 1, ix%chi(3))
+            do cj = max(j, ix%clo(2)), min(j + 1, ix%chi(2))
+              do ci = max(i, ix%clo(1)), min(i + 1, ix%chi(1))
+                inside = inside .and. sub%cell_smooth(ix%cell(ci, cj, ck))
               end do
             end do
           end do
