@@ -213,7 +213,8 @@ contains
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
       return
     end if
-    call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
+    call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats, err)
+    if (allocated(err)) return
     do c = 1, ncell
       call g%cell_ijk(c, ci, cj, ck)
       open_face(c) = bc_open_face(bc, g, ci, cj, ck)
@@ -365,7 +366,7 @@ contains
   !> The old grid's cells: which moved, subcell shares of the nodal masses,
   !> momenta and kinetic energies, MoF planes of the mixed cells that moved,
   !> region centroids, and the gradients of the reconstruction.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats)
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats, err)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -375,12 +376,15 @@ contains
     type(old_t), intent(inout) :: old
     real(wp), intent(out) :: msub(:, :)
     type(remap_stats_t), intent(inout) :: stats
+    type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: wnode(:)
     real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
                 errc(max_mat), vreg(max_mat), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
     type(mof_pieces_t) :: pcs
     logical :: ok
+    integer :: stat
+    character(len=200) :: msg
 
     ncell = g%ncell
     nreg = ncell + mx%nslot
@@ -388,7 +392,11 @@ contains
              old%rcell(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             wnode(g%nnode))
+             wnode(g%nnode), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the old grid''s regions: '//trim(msg))
+      return
+    end if
     old%given = 0_i8
     do c = 1, ncell
       old%gunit(c) = abs(h%vol(c))*2.0_wp**(-50)
@@ -521,24 +529,31 @@ contains
     stats%mof_iterations = nits
     stats%mof_not_converged = nfail
     stats%mof_err_max = errmax
-    if (par%linear) call material_gradients(g, h, mx, nmat, old)
+    if (par%linear) call material_gradients(g, h, mx, nmat, old, err)
+    if (allocated(err)) return
     call subcell_ratios(g, h, mx, old, msub)
   end subroutine prepare_old
 
   !> Limited least-squares gradients of each material's density and energy
   !> about the region centroids, over the cells that hold the material.
-  subroutine material_gradients(g, h, mx, nmat, old)
+  subroutine material_gradients(g, h, mx, nmat, old, err)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     integer, intent(in) :: nmat
     type(old_t), intent(inout) :: old
+    type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: q(:, :), pos(:, :), grad(:, :, :)
     logical, allocatable :: has(:), need(:)
-    integer :: ncell, kmat, c, k, s
+    integer :: ncell, kmat, c, k, s, stat
+    character(len=200) :: msg
 
     ncell = g%ncell
-    allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell))
+    allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the gradient work arrays: '//trim(msg))
+      return
+    end if
     do kmat = 1, nmat
       has = h%mat == kmat
       do c = 1, ncell
@@ -1217,12 +1232,17 @@ contains
     logical, allocatable :: node_changed(:)
     real(wp), allocatable :: dk(:), ie(:), msum(:)
     real(wp) :: xn(3, 8), vtot, mnew
-    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell
+    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
+    character(len=200) :: msg
     logical :: keep(max_mat)
 
     ncell = g%ncell
     ! materials of the changed cells: merge slivers into the largest
-    allocate(nmix(ncell), ie(ncell))
+    allocate(nmix(ncell), ie(ncell), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the assembly work arrays: '//trim(msg))
+      return
+    end if
     nmix = 0
     do c = 1, ncell
       if (.not. old%changed(c)) then
@@ -1261,7 +1281,11 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), msum(g%nnode))
+    allocate(node_changed(g%nnode), dk(g%nnode), msum(g%nnode), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
+      return
+    end if
     node_changed = .false.
     do c = 1, ncell
       if (.not. old%changed(c)) cycle
