@@ -44,7 +44,7 @@ contains
     call config_read(deck_path, cfg, problems)
     if (size(problems) > 0) call refuse(sch%log, problems, 'the deck has '//itoa(size(problems))// &
                                         ' problem(s); nothing was run')
-    sch%restarting = len_trim(cfg%run%restart_from) > 0
+    sch%restarting = len_trim(cfg%control%restart_from) > 0
     if (sch%restarting) then
       call check_restart_deck(cfg, problems, summary)
       if (size(problems) > 0) call refuse(sch%log, problems, summary)
@@ -91,9 +91,9 @@ contains
     integer :: bad_cell
     logical :: last, due
 
-    eps_t = 1.0e-12_wp*cfg%run%t_end
+    eps_t = 1.0e-12_wp*cfg%control%t_end
     wall_last = wall_seconds()
-    do while (st%t < cfg%run%t_end - eps_t .and. st%step < cfg%run%max_steps)
+    do while (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
       if (near_wall_time_limit(cfg, sch)) call stop_for_wall_time(cfg, st, sch, es)
 
       ! LAGRANGE: the step the controller allows, cut to the stable step
@@ -105,8 +105,8 @@ contains
       sch%step_wall = wall_seconds() - w0
       if (bad_cell /= 0) call error_set(err, 'lagrange_step', 'cell '//itoa(bad_cell)// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
-      if (.not. allocated(err) .and. dt < cfg%run%dt_min) call error_set(err, 'time_loop', &
-        'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%run%dt_min)//')', ERR_RUNTIME)
+      if (.not. allocated(err) .and. dt < cfg%control%dt_min) call error_set(err, 'time_loop', &
+        'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//')', ERR_RUNTIME)
       if (allocated(err)) call fail(cfg, st, sch, err)
       st%dt = dt
       st%t = st%t + dt
@@ -119,7 +119,7 @@ contains
         call euler_step(cfg%rezone, st, es, sch%log, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
       end if
-      last = .not. (st%t < cfg%run%t_end - eps_t .and. st%step < cfg%run%max_steps)
+      last = .not. (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
 
       ! OUTPUT
       call gauge_output(cfg, st, sch)
@@ -133,10 +133,10 @@ contains
       if (dump_due(cfg, st, sch, eps_t)) then
         call write_restart(cfg, st, sch, es, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
-        call advance_schedule(sch%t_next_dump, st%t, cfg%run%dump_dt, eps_t)
+        call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
-      if ((cfg%run%progress_steps > 0 .and. mod(st%step, max(cfg%run%progress_steps, 1)) == 0) .or. &
-          wall_seconds() - wall_last >= cfg%run%progress_seconds .or. last) then
+      if ((cfg%control%progress_steps > 0 .and. mod(st%step, max(cfg%control%progress_steps, 1)) == 0) .or. &
+          wall_seconds() - wall_last >= cfg%control%progress_seconds .or. last) then
         call progress(cfg, st, sch, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
         wall_last = wall_seconds()
@@ -152,11 +152,11 @@ contains
     type(schedule_t), intent(in) :: sch
     if (st%step == 0) then
       dt = cfg%hydro%dt_max
-      if (cfg%run%dt_init > 0.0_wp) dt = min(dt, cfg%run%dt_init)
+      if (cfg%control%dt_init > 0.0_wp) dt = min(dt, cfg%control%dt_init)
     else
       dt = min(cfg%hydro%dt_growth*st%dt, cfg%hydro%dt_max)
     end if
-    dt = min(dt, cfg%run%t_end - st%t, sch%t_next_frame - st%t)
+    dt = min(dt, cfg%control%t_end - st%t, sch%t_next_frame - st%t)
   end function step_cap
 
   !> True when the next step and a dump might not fit before the wall-time
@@ -166,9 +166,9 @@ contains
     type(schedule_t), intent(in) :: sch
     real(wp) :: elapsed
     near_wall_time_limit = .false.
-    if (cfg%run%wall_time_limit <= 0.0_wp) return
+    if (cfg%control%wall_time_limit <= 0.0_wp) return
     elapsed = wall_seconds() - sch%t_total%t0
-    near_wall_time_limit = elapsed + 2.0_wp*(sch%step_wall + sch%dump_wall) + 0.5_wp >= cfg%run%wall_time_limit
+    near_wall_time_limit = elapsed + 2.0_wp*(sch%step_wall + sch%dump_wall) + 0.5_wp >= cfg%control%wall_time_limit
   end function near_wall_time_limit
 
   !> Writes a restart (unless the last dump is of this very step) and stops
@@ -189,7 +189,7 @@ contains
     if (.not. have) call write_restart(cfg, st, sch, es, err)
     if (.not. allocated(err)) call progress(cfg, st, sch, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
-    call log_line(sch%log, 'wall-time limit of '//rtoa(cfg%run%wall_time_limit)//' s reached at step '// &
+    call log_line(sch%log, 'wall-time limit of '//rtoa(cfg%control%wall_time_limit)//' s reached at step '// &
                   itoa(st%step)//', t = '//rtoa(st%t))
     call log_line(sch%log, 'to continue, run the same deck with  &run restart_from = '''//path//''' /')
     call gauges_close(sch%gauges)

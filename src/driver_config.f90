@@ -48,7 +48,7 @@ module driver_config
   type :: config_t
     character(len=:), allocatable :: deck_path
     character(len=:), allocatable :: echo            !< resolved deck as namelist text
-    type(run_config_t) :: run
+    type(run_config_t) :: control                 !< &run: time control, restarts, progress
     type(grid_config_t) :: grid
     type(hydro_params_t) :: hydro                    !< &hydro, and &run's cfl, dt_growth, dt_max
     type(material_config_t), allocatable :: materials(:)
@@ -90,7 +90,7 @@ contains
     integer :: k, n
 
     associate (path => deck%path)
-      call run_config_read(cfg%run, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
+      call run_config_read(cfg%control, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
       call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
       call hydro_config_read(cfg%hydro, deck_text(deck, 'hydro'), path, echo, problems)
       n = deck_count(deck, 'material')
@@ -187,8 +187,8 @@ contains
 
     changes = [character(len=max_line) ::]
     call grid_config_changes(old%grid, new%grid, changes)
-    call diff_r(changes, '&run velocity_noise', [old%run%velocity_noise], [new%run%velocity_noise])
-    call diff_i(changes, '&run seed', old%run%seed, new%run%seed)
+    call diff_r(changes, '&run velocity_noise', [old%control%velocity_noise], [new%control%velocity_noise])
+    call diff_i(changes, '&run seed', old%control%seed, new%control%seed)
     call diff_i(changes, 'number of &material groups', size(old%materials), size(new%materials))
     do k = 1, min(size(old%materials), size(new%materials))
       call material_config_changes(k, old%materials(k), new%materials(k), changes)
@@ -210,7 +210,7 @@ contains
     problems = [character(len=max_line) ::]
     call echo_open(echo, problems)
     names(1) = 'material1'
-    call run_config_read(cfg%run, cfg%hydro, empty('run'), 'deck.nml', echo, problems)
+    call run_config_read(cfg%control, cfg%hydro, empty('run'), 'deck.nml', echo, problems)
     call grid_config_read(cfg%grid, empty('grid'), 'deck.nml', echo, problems)
     call hydro_config_read(cfg%hydro, empty('hydro'), 'deck.nml', echo, problems)
     cfg%materials = [material_config_t()]

@@ -42,7 +42,7 @@ contains
     sch%t_next_frame = huge(1.0_wp)
     if (cfg%output%frame_dt > 0.0_wp) sch%t_next_frame = cfg%output%frame_dt
     sch%t_next_dump = huge(1.0_wp)
-    if (cfg%run%dump_dt > 0.0_wp) sch%t_next_dump = cfg%run%dump_dt
+    if (cfg%control%dump_dt > 0.0_wp) sch%t_next_dump = cfg%control%dump_dt
   end subroutine schedule_init
 
   !> Registers the schedule's restart quantities.
@@ -80,7 +80,7 @@ contains
       call error_set(err, 'open_outputs', 'cannot open the log: '//trim(msg), ERR_IO)
       return
     end if
-    call log_line(sch%log, 'lsalepm: '//trim(cfg%run%title))
+    call log_line(sch%log, 'lsalepm: '//trim(cfg%control%title))
     call log_line(sch%log, 'deck: '//cfg%deck_path)
     call log_line(sch%log, 'resolved input:')
     call log_line(sch%log, cfg%echo)
@@ -151,7 +151,7 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
     if (sch%gauges%n == 0) return
-    if (st%t < sch%t_next_gauge .and. st%t < cfg%run%t_end) return
+    if (st%t < sch%t_next_gauge .and. st%t < cfg%control%t_end) return
     call sch%t_output%start()
     call gauges_write(sch%gauges, st%g, st%h, st%t)
     call sch%t_output%stop()
@@ -178,7 +178,7 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
     real(wp), intent(in) :: eps_t
-    dump_due = (cfg%run%dump_steps > 0 .and. mod(st%step, max(cfg%run%dump_steps, 1)) == 0) .or. &
+    dump_due = (cfg%control%dump_steps > 0 .and. mod(st%step, max(cfg%control%dump_steps, 1)) == 0) .or. &
                st%t >= sch%t_next_dump - eps_t
   end function dump_due
 
@@ -209,7 +209,7 @@ contains
     end if
     wall = wall_seconds() - sch%t_total%t0
     left = 0.0_wp
-    if (st%t > 0.0_wp) left = wall*(cfg%run%t_end - st%t)/st%t
+    if (st%t > 0.0_wp) left = wall*(cfg%control%t_end - st%t)/st%t
     write(line, '("step ",i8,"  t ",es12.5,"  dt ",es10.3,"  wall ",f9.2," s  left ",f9.2, &
       &" s  energy drift ",es10.2)') st%step, st%t, st%dt, wall, left, drift
     call log_line(sch%log, trim(line))

@@ -39,13 +39,13 @@ contains
     problems = [character(len=max_line) ::]
     summary = 'cannot restart'
     call hdf5_start(err)
-    if (.not. allocated(err)) call restart_read_deck(trim(cfg%run%restart_from), text, err)
+    if (.not. allocated(err)) call restart_read_deck(trim(cfg%control%restart_from), text, err)
     if (allocated(err)) then
       call problem_add(problems, '&run restart_from: '//err%msg)
       return
     end if
     ! the stored deck is namelist text: read it back through the same reader
-    tmp = trim(cfg%run%restart_from)//'.deck.tmp'
+    tmp = trim(cfg%control%restart_from)//'.deck.tmp'
     open(newunit=u, file=tmp, status='replace', action='write', iostat=ios)
     if (ios /= 0) then
       call problem_add(problems, 'cannot write '//tmp)
@@ -57,7 +57,7 @@ contains
     open(newunit=u, file=tmp, status='old', iostat=ios)
     if (ios == 0) close(u, status='delete')
     if (size(problems) > 0) then
-      summary = 'the deck stored in '//trim(cfg%run%restart_from)//' cannot be read back'
+      summary = 'the deck stored in '//trim(cfg%control%restart_from)//' cannot be read back'
       return
     end if
     call config_state_changes(old, cfg, problems)
@@ -122,7 +122,7 @@ contains
     else
       sch%dumps = [entry]
     end if
-    do while (size(sch%dumps) > cfg%run%dump_keep)
+    do while (size(sch%dumps) > cfg%control%dump_keep)
       open(newunit=u, file=trim(sch%dumps(1)), status='old', iostat=ios)
       if (ios == 0) close(u, status='delete')
       sch%dumps = sch%dumps(2:)
@@ -158,7 +158,7 @@ contains
     character(len=:), allocatable :: path
     integer :: n, nslot
 
-    path = trim(cfg%run%restart_from)
+    path = trim(cfg%control%restart_from)
     call restart_read_int_scalar(path, 'mixed_n', n, err)
     if (.not. allocated(err)) call restart_read_int_scalar(path, 'mixed_nslot', nslot, err)
     if (allocated(err)) then
@@ -198,7 +198,7 @@ contains
     if (allocated(err)) return
     ! settings a restart may change: frame and dump intervals
     sch%t_next_frame = next_time(sch%t_next_frame, cfg%output%frame_dt, st%t)
-    sch%t_next_dump = next_time(sch%t_next_dump, cfg%run%dump_dt, st%t)
+    sch%t_next_dump = next_time(sch%t_next_dump, cfg%control%dump_dt, st%t)
     sch%step_start = st%step
     call log_line(sch%log, 'restarted from '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
     call report_conservation(st, sch%log, 'restart')

@@ -71,12 +71,12 @@ contains
           if (inside(cfg%regions(r), g%x(:, n))) hy%u(:, n) = cfg%regions(r)%velocity
         end do
       end do
-      call rng_seed(st%rng, cfg%run%seed)
-      if (cfg%run%velocity_noise > 0.0_wp) then
+      call rng_seed(st%rng, cfg%control%seed)
+      if (cfg%control%velocity_noise > 0.0_wp) then
         do n = 1, g%nnode
           do a = 1, 3
             rv = rng_uniform(st%rng)
-            hy%u(a, n) = hy%u(a, n) + cfg%run%velocity_noise*(2.0_wp*rv - 1.0_wp)
+            hy%u(a, n) = hy%u(a, n) + cfg%control%velocity_noise*(2.0_wp*rv - 1.0_wp)
           end do
         end do
       end if

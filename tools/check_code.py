@@ -78,7 +78,7 @@ def check_file(path, problems):
                 problems.append(f"{where}: allocate without stat=: {st[:80]}")
         if re.match(r"^(if\s*\(.*\)\s*)?(error\s+)?stop\b", low) and not is_halt:
             problems.append(f"{where}: only driver_halt may stop the program: {st[:80]}")
-        if re.search(r"(?<![%\w])run%", low):
+        if re.search(r"run%", low):
             problems.append(f"{where}: run% (the driver passes its state explicitly)")
         m = re.match(r"^module\s+(\w+)\s*$", low)
         if m and m.group(1) != "procedure":
