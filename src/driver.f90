@@ -87,7 +87,7 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
-    real(wp) :: dt, work, wall_last, eps_t, w0
+    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0
     integer :: bad_cell
     logical :: last, due
 
@@ -135,11 +135,12 @@ contains
         if (allocated(err)) call fail(cfg, st, sch, err)
         call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
+      wall_now = wall_seconds()
       if ((cfg%control%progress_steps > 0 .and. mod(st%step, max(cfg%control%progress_steps, 1)) == 0) .or. &
-          wall_seconds() - wall_last >= cfg%control%progress_seconds .or. last) then
+          wall_now - wall_last >= cfg%control%progress_seconds .or. last) then
         call progress(cfg, st, sch, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
-        wall_last = wall_seconds()
+        wall_last = wall_now
       end if
     end do
   end subroutine time_loop

@@ -207,7 +207,6 @@ contains
     character(len=64) :: names(1)
     integer :: echo
 
-    problems = [character(len=max_line) ::]
     call echo_open(echo, problems)
     names(1) = 'material1'
     call run_config_read(cfg%control, cfg%hydro, empty('run'), 'deck.nml', echo, problems)

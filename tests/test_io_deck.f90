@@ -38,6 +38,7 @@ program test_io_deck
   call check(size(problems) == 1, 'one problem: the unknown group')
   if (size(problems) == 1) call check(index(problems(1), 'group &bogus is not known; valid: &run, &grid, '// &
                                             '&material, &rezone') > 0, 'the problem names it: '//trim(problems(1)))
+  allocate(text(0))   ! (else gfortran -O3 warns of the descriptor of an unallocated array)
   text = deck_text(deck, 'run')
   call check(size(text) == 1, 'a / inside quotes does not end &run')
   text = deck_text(deck, 'grid')
