@@ -12,7 +12,7 @@ module driver_config
   use lagrange_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
-  use io_deck, only: deck_t, deck_read, deck_count, deck_text, echo_open, echo_text
+  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, echo_open, echo_text
   use io_output_config, only: output_config_t, output_config_read
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
                                  scene_config_changes
@@ -29,6 +29,7 @@ module driver_config
   !> Lagrangian step reads them).
   type :: run_config_t
     character(len=200) :: title = 'untitled'
+    character(len=64) :: units = ''            !< the deck's unit system, a label stored with the outputs
     real(wp) :: t_end = 0.0_wp                 !< end time (required, > 0)
     integer :: max_steps = 100000000           !< stop after this many steps
     real(wp) :: dt_init = 0.0_wp               !< cap on the first step (0: the stable step)
@@ -61,18 +62,24 @@ module driver_config
 
 contains
 
-  !> Reads and validates the deck at `path`. On return `problems` holds one
-  !> line per problem found (empty when the deck is usable).
-  subroutine config_read(path, cfg, problems)
+  !> Reads and validates the deck at `path`, or (`text` present) the deck
+  !> text `text` that `path` names. On return `problems` holds one line per
+  !> problem found (empty when the deck is usable).
+  subroutine config_read(path, cfg, problems, text)
     character(len=*), intent(in) :: path
     type(config_t), intent(out) :: cfg
     character(len=max_line), allocatable, intent(out) :: problems(:)
+    character(len=*), intent(in), optional :: text
     type(deck_t) :: deck
     integer :: echo
 
     problems = [character(len=max_line) ::]
     cfg%deck_path = path
-    call deck_read(path, known_groups, deck, problems)
+    if (present(text)) then
+      call deck_from_lines(text_lines(text), path, known_groups, deck, problems)
+    else
+      call deck_read(path, known_groups, deck, problems)
+    end if
     if (size(problems) > 0 .and. size(deck%groups) == 0) return   ! no readable deck
     call echo_open(echo, problems)
     if (echo == no_echo) return
@@ -131,16 +138,17 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: hd
     character(len=200) :: title
+    character(len=64) :: units
     real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
     real(wp) :: velocity_noise, wall_time_limit, dump_dt
     integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios
     character(len=256) :: restart_from
     character(len=max_line) :: msg
-    namelist /run/ title, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
+    namelist /run/ title, units, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
                    progress_steps, progress_seconds, velocity_noise, seed, &
                    restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep
 
-    title = this%title; t_end = this%t_end; max_steps = this%max_steps
+    title = this%title; units = this%units; t_end = this%t_end; max_steps = this%max_steps
     cfl = hd%cfl; dt_init = this%dt_init; dt_max = 0.0_wp; dt_min = this%dt_min; dt_growth = hd%dt_growth
     progress_steps = this%progress_steps; progress_seconds = this%progress_seconds
     velocity_noise = this%velocity_noise; seed = this%seed
@@ -165,7 +173,7 @@ contains
     if (dump_dt < 0.0_wp) call problem_bad(problems, 'run', 'dump_dt', dump_dt, 'must be >= 0 (0: off)')
     if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
     if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
-    this = run_config_t(title=title, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
+    this = run_config_t(title=title, units=units, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
       wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep)

@@ -32,9 +32,8 @@ contains
     character(len=max_line), allocatable, intent(out) :: problems(:)
     character(len=:), allocatable, intent(out) :: summary
     type(error_t), allocatable :: err
-    character(len=:), allocatable :: text, tmp
+    character(len=:), allocatable :: text
     type(config_t) :: old
-    integer :: u, ios
 
     problems = [character(len=max_line) ::]
     summary = 'cannot restart'
@@ -45,17 +44,8 @@ contains
       return
     end if
     ! the stored deck is namelist text: read it back through the same reader
-    tmp = trim(cfg%control%restart_from)//'.deck.tmp'
-    open(newunit=u, file=tmp, status='replace', action='write', iostat=ios)
-    if (ios /= 0) then
-      call problem_add(problems, 'cannot write '//tmp)
-      return
-    end if
-    write(u, '(a)') text
-    close(u)
-    call config_read(tmp, old, problems)
-    open(newunit=u, file=tmp, status='old', iostat=ios)
-    if (ios == 0) close(u, status='delete')
+    ! (from memory: the restart's folder may be read-only)
+    call config_read(cfg%deck_path, old, problems, text)
     if (size(problems) > 0) then
       summary = 'the deck stored in '//trim(cfg%control%restart_from)//' cannot be read back'
       return

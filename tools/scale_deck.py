@@ -54,7 +54,7 @@ WALL = "wall"                 # wall-clock seconds, not simulated time: passed t
 
 DIMENSIONS = {
     "run": {
-        "title": STR, "t_end": TIME, "max_steps": INT, "cfl": NONE, "dt_init": TIME,
+        "title": STR, "units": STR, "t_end": TIME, "max_steps": INT, "cfl": NONE, "dt_init": TIME,
         "dt_max": TIME, "dt_min": TIME, "dt_growth": NONE, "progress_steps": INT,
         "progress_seconds": WALL, "velocity_noise": VEL, "seed": INT, "restart_from": STR,
         "wall_time_limit": WALL, "dump_steps": INT, "dump_dt": TIME, "dump_keep": INT,
@@ -90,7 +90,7 @@ DIMENSIONS = {
         "move_min": NONE,     # a fraction of the shortest edge
         "nodal_mass": STR,
     },
-    "output": {"dir": STR, "name": STR, "frame_dt": TIME, "frame_steps": INT, "gauge_dt": TIME,
+    "output": {"dir": STR, "name": STR, "frame_dt": TIME, "frame_steps": INT, "gauge_dt": TIME, "history_dt": TIME,
                "gauge": LEN},
 }
 

@@ -9,7 +9,7 @@ module io_deck
   use base_config, only: max_line, no_echo, problem_add
   implicit none
   private
-  public :: deck_t, deck_group_t, deck_read, deck_count, deck_text, deck_stem, echo_open, echo_text
+  public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_stem, echo_open, echo_text
 
   !> One group of the deck: its name (lower case), first line and text.
   type :: deck_group_t
@@ -34,8 +34,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line), allocatable :: lines(:)
     character(len=max_line) :: msg
-    character(len=:), allocatable :: valid
-    integer :: unit, ios, i, k
+    integer :: unit, ios
     logical :: exists
 
     deck%path = path
@@ -56,6 +55,19 @@ contains
       call problem_add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
       return
     end if
+    call deck_from_lines(lines, path, known, deck, problems)
+  end subroutine deck_read
+
+  !> The groups of a deck given as its lines (`path` names it in messages).
+  subroutine deck_from_lines(lines, path, known, deck, problems)
+    character(len=*), intent(in) :: lines(:), path, known(:)
+    type(deck_t), intent(out) :: deck
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=:), allocatable :: valid
+    integer :: i, k
+
+    deck%path = path
+    deck%groups = [deck_group_t ::]
     call split_groups(lines, deck%groups)
     valid = ''
     do k = 1, size(known)
@@ -67,7 +79,24 @@ contains
       call problem_add(problems, trim(path)//': group &'//trim(deck%groups(i)%name)// &
                        ' is not known; valid: '//valid)
     end do
-  end subroutine deck_read
+  end subroutine deck_from_lines
+
+  !> A text cut at its newlines into lines.
+  function text_lines(text) result(lines)
+    character(len=*), intent(in) :: text
+    character(len=max_line), allocatable :: lines(:)
+    character(len=max_line) :: line
+    integer :: i, j
+    lines = [character(len=max_line) ::]
+    i = 1
+    do while (i <= len(text))
+      j = index(text(i:), new_line('a'))
+      if (j == 0) j = len(text) - i + 2
+      line = text(i:i + j - 2)
+      lines = [lines, line]
+      i = i + j
+    end do
+  end function text_lines
 
   !> Number of groups called `name` in the deck.
   integer function deck_count(deck, name)

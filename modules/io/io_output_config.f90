@@ -17,6 +17,7 @@ module io_output_config
     real(wp) :: frame_dt = 0.0_wp                     !< time between frames (time; 0: first and last)
     integer :: frame_steps = 0                        !< also a frame every this many steps (0: off)
     real(wp) :: gauge_dt = 0.0_wp                     !< time between gauge rows (time; 0: every step)
+    real(wp) :: history_dt = 0.0_wp                   !< time between energy-history rows (time; 0: off)
     integer :: ngauge = 0                             !< number of gauge points
     real(wp) :: gauges(3, max_gauges) = huge(1.0_wp)  !< gauge points (length); huge: unset
   end type output_config_t
@@ -32,14 +33,14 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=256) :: dir, name
-    real(wp) :: frame_dt, gauge_dt, gauge(3, max_gauges)
+    real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauges)
     integer :: frame_steps, ios, i
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt
 
     dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
-    gauge_dt = this%gauge_dt; gauge = this%gauges
+    gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = this%gauges
     if (size(text) > 0) then
       read(text, nml=output, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'output', ios, msg)
@@ -48,6 +49,8 @@ contains
     if (frame_dt < 0.0_wp) call problem_bad(problems, 'output', 'frame_dt', frame_dt, &
                                             'must be >= 0 (0: first and last frame only)')
     if (gauge_dt < 0.0_wp) call problem_bad(problems, 'output', 'gauge_dt', gauge_dt, 'must be >= 0 (0: every step)')
+    if (.not. (history_dt >= 0.0_wp)) call problem_bad(problems, 'output', 'history_dt', history_dt, &
+                                                       'must be >= 0 (0: off)')
     if (frame_steps < 0) call problem_badi(problems, 'output', 'frame_steps', frame_steps, 'must be >= 0')
     do i = 1, max_gauges
       if (any(gauge(:, i) > 0.5_wp*huge(1.0_wp))) exit
@@ -59,7 +62,7 @@ contains
       end if
     end do
     this%dir = dir; this%name = name; this%frame_dt = frame_dt
-    this%frame_steps = frame_steps; this%gauge_dt = gauge_dt
+    this%frame_steps = frame_steps; this%gauge_dt = gauge_dt; this%history_dt = history_dt
     if (echo /= no_echo) write(echo, nml=output)
   end subroutine output_config_read
 end module io_output_config
