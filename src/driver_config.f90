@@ -5,6 +5,7 @@
 !> the groups). Read-only once the deck has been read.
 module driver_config
   use base_kinds, only: wp
+  use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
@@ -12,7 +13,8 @@ module driver_config
   use lagrange_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
-  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, echo_open, echo_text
+  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, echo_open, &
+                     echo_text
   use io_output_config, only: output_config_t, output_config_read
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
                                  scene_config_changes
@@ -23,6 +25,8 @@ module driver_config
   !> The deck's groups, in the order they are read and echoed.
   character(len=*), parameter :: known_groups(9) = [character(len=8) :: &
     'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'rezone', 'output']
+  !> The groups a deck may give more than once.
+  character(len=*), parameter :: repeatable_groups(3) = [character(len=8) :: 'material', 'region', 'source']
 
   !> The resolved &run group; the initial values are the defaults (cfl,
   !> dt_growth and dt_max are stored in `config_t%hydro`, where the
@@ -76,57 +80,98 @@ contains
     problems = [character(len=max_line) ::]
     cfg%deck_path = path
     if (present(text)) then
-      call deck_from_lines(text_lines(text), path, known_groups, deck, problems)
+      call deck_from_lines(text_lines(text), path, known_groups, repeatable_groups, deck, problems)
     else
-      call deck_read(path, known_groups, deck, problems)
+      call deck_read(path, known_groups, repeatable_groups, deck, problems)
     end if
     if (size(problems) > 0 .and. size(deck%groups) == 0) return   ! no readable deck
+    if (deck%unsafe) return                                          ! values that would trap
     call echo_open(echo, problems)
     if (echo == no_echo) return
     call read_groups(deck, cfg, echo, problems)
     cfg%echo = echo_text(echo)
   end subroutine config_read
 
-  !> Every group of `deck`, in order, each by its package.
+  !> Every group of `deck`, in order, each by its package; each problem a
+  !> group has is prefixed with the deck's name and the group's line.
   subroutine read_groups(deck, cfg, echo, problems)
     type(deck_t), intent(in) :: deck
     type(config_t), intent(inout) :: cfg
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=64), allocatable :: names(:)
-    integer :: k, n
+    integer :: k, n, n0
 
     associate (path => deck%path)
+      n0 = size(problems)
       call run_config_read(cfg%control, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
+      call at_line(problems, n0, deck, 'run')
       call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
+      call at_line(problems, n0, deck, 'grid')
       call hydro_config_read(cfg%hydro, deck_text(deck, 'hydro'), path, echo, problems)
+      call at_line(problems, n0, deck, 'hydro')
       n = deck_count(deck, 'material')
       cfg%materials = [(material_config_t(), k = 1, n)]
       names = [character(len=64) ::]
       if (n == 0) call problem_add(problems, trim(path)//': no &material group (at least one is required)')
       do k = 1, n
+        n0 = size(problems)
         call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names, echo, &
                                   problems)
+        call at_line(problems, n0, deck, 'material', k)
         names = [names, cfg%materials(k)%name]
       end do
       n = deck_count(deck, 'region')
       cfg%regions = [(region_config_t(), k = 1, n)]
       if (n == 0) call problem_add(problems, trim(path)//': no &region group (at least one is required)')
       do k = 1, n
+        n0 = size(problems)
         call region_config_read(cfg%regions(k), k, deck_text(deck, 'region', k), path, names, echo, problems)
+        call at_line(problems, n0, deck, 'region', k)
       end do
       n = deck_count(deck, 'source')
       cfg%sources = [(source_config_t(), k = 1, n)]
       do k = 1, n
+        n0 = size(problems)
         call source_config_read(cfg%sources(k), k, deck_text(deck, 'source', k), path, cfg%grid%xmin, &
                                 cfg%grid%xmax, echo, problems)
+        call at_line(problems, n0, deck, 'source', k)
       end do
+      n0 = size(problems)
       call boundary_config_read(cfg%boundary, deck_text(deck, 'boundary'), path, names, echo, problems)
+      call at_line(problems, n0, deck, 'boundary')
       call rezone_config_read(cfg%rezone, deck_text(deck, 'rezone'), path, echo, problems)
+      call at_line(problems, n0, deck, 'rezone')
       call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
                               problems)
+      call at_line(problems, n0, deck, 'output')
     end associate
   end subroutine read_groups
+
+  !> Prefixes problems n0+1.. (those of one group) with "deck:line: ", the
+  !> line where the group starts (nothing for an absent group); n0 is then
+  !> moved past them.
+  subroutine at_line(problems, n0, deck, name, k)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer, intent(inout) :: n0
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    integer, intent(in), optional :: k
+    character(len=:), allocatable :: head
+    integer :: i, line
+    line = deck_line(deck, name, k)
+    if (line > 0) then
+      head = trim(deck%path)//': '
+      do i = n0 + 1, size(problems)
+        if (problems(i)(1:len(head)) == head) then
+          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)(len(head) + 1:)
+        else
+          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)
+        end if
+      end do
+    end if
+    n0 = size(problems)
+  end subroutine at_line
 
   !> Reads, validates and echoes the &run group; its time-step controls go
   !> to the Lagrangian parameters `hydro`.

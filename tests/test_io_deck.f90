@@ -31,7 +31,7 @@ program test_io_deck
   close(u)
 
   problems = [character(len=max_line) ::]
-  call deck_read(path, known, deck, problems)
+  call deck_read(path, known, [character(len=8) :: 'material'], deck, problems)
   call check(size(deck%groups) == 6, 'six groups found')
   call check(deck_count(deck, 'material') == 2, 'two &material groups')
   call check(deck_count(deck, 'grid') == 1, 'upper-case &GRID found as grid')

@@ -7,9 +7,11 @@
 !> starts, so a missing `/` is reported for the group that lacks it).
 module io_deck
   use base_config, only: max_line, no_echo, problem_add
+  use base_strings, only: itoa
   implicit none
   private
-  public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_stem, echo_open, echo_text
+  public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, deck_stem, &
+            echo_open, echo_text
 
   !> One group of the deck: its name (lower case), first line and text.
   type :: deck_group_t
@@ -22,14 +24,17 @@ module io_deck
   type :: deck_t
     character(len=:), allocatable :: path
     type(deck_group_t), allocatable :: groups(:)
+    !> a value is NaN, infinite or huge: the groups must not be read (their
+    !> checks would trap or overflow)
+    logical :: unsafe = .false.
   end type deck_t
 
 contains
 
   !> Reads the deck at `path` and finds its groups; a group whose name is not
   !> in `known` is a problem (the list of valid names is given).
-  subroutine deck_read(path, known, deck, problems)
-    character(len=*), intent(in) :: path, known(:)
+  subroutine deck_read(path, known, repeatable, deck, problems)
+    character(len=*), intent(in) :: path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line), allocatable :: lines(:)
@@ -55,20 +60,33 @@ contains
       call problem_add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
       return
     end if
-    call deck_from_lines(lines, path, known, deck, problems)
+    call deck_from_lines(lines, path, known, repeatable, deck, problems)
   end subroutine deck_read
 
   !> The groups of a deck given as its lines (`path` names it in messages).
-  subroutine deck_from_lines(lines, path, known, deck, problems)
-    character(len=*), intent(in) :: lines(:), path, known(:)
+  !> Only the groups in `repeatable` may appear more than once. Tabs count
+  !> as blanks and a UTF-8 byte-order mark is skipped.
+  subroutine deck_from_lines(lines, path, known, repeatable, deck, problems)
+    character(len=*), intent(in) :: lines(:), path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=max_line), allocatable :: clean(:)
     character(len=:), allocatable :: valid
+    character(len=*), parameter :: bom = char(239)//char(187)//char(191)
     integer :: i, k
 
     deck%path = path
     deck%groups = [deck_group_t ::]
-    call split_groups(lines, deck%groups)
+    clean = lines
+    do i = 1, size(clean)
+      do k = 1, len_trim(clean(i))
+        if (clean(i)(k:k) == achar(9)) clean(i)(k:k) = ' '
+      end do
+    end do
+    if (size(clean) > 0) then
+      if (clean(1)(1:3) == bom) clean(1) = clean(1)(4:)
+    end if
+    call split_groups(clean, path, deck%groups, problems)
     valid = ''
     do k = 1, size(known)
       valid = valid//merge(', ', '  ', k > 1)//'&'//trim(known(k))
@@ -76,8 +94,23 @@ contains
     valid = valid(3:)
     do i = 1, size(deck%groups)
       if (any(known == deck%groups(i)%name)) cycle
-      call problem_add(problems, trim(path)//': group &'//trim(deck%groups(i)%name)// &
-                       ' is not known; valid: '//valid)
+      call problem_add(problems, trim(path)//':'//itoa(deck%groups(i)%line)//': group &'// &
+                       trim(deck%groups(i)%name)//' is not known; valid: '//valid)
+    end do
+    do i = 1, size(deck%groups)
+      if (.not. values_ok(deck%groups(i), path, problems)) deck%unsafe = .true.
+    end do
+    do i = 1, size(deck%groups)
+      associate (gi => deck%groups(i))
+        if (any(repeatable == gi%name)) cycle
+        do k = 1, i - 1
+          if (deck%groups(k)%name /= gi%name) cycle
+          call problem_add(problems, trim(path)//':'//itoa(gi%line)//': a second &'//trim(gi%name)// &
+                           ' group (the first is at line '//itoa(deck%groups(k)%line)//'); only &material, '// &
+                           '&region and &source may repeat')
+          exit
+        end do
+      end associate
     end do
   end subroutine deck_from_lines
 
@@ -127,87 +160,221 @@ contains
     text = [character(len=max_line) ::]
   end function deck_text
 
-  !> Cuts the lines into groups (see the module header).
-  subroutine split_groups(lines, groups)
-    character(len=*), intent(in) :: lines(:)
-    type(deck_group_t), allocatable, intent(inout) :: groups(:)
-    character(len=:), allocatable :: name
-    integer :: i, first
-    logical :: closed
-
-    first = 0
-    do i = 1, size(lines)
-      name = group_at(lines(i))
-      if (len(name) > 0) then
-        if (first > 0) call append(first, i - 1)
-        first = i
-      end if
-      if (first > 0) then
-        ! the line that starts the group: look for `/` after its name
-        if (i == first) then
-          closed = ends_group(lines(i), index(lines(i), '&') + len(name) + 1)
-        else
-          closed = ends_group(lines(i), 1)
-        end if
-        if (closed) then
-          call append(first, i)
-          first = 0
-        end if
+  !> The line where the k-th group called `name` (default the first) starts;
+  !> 0 if there is none.
+  integer function deck_line(deck, name, k)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    integer, intent(in), optional :: k
+    integer :: i, seen, want
+    want = 1
+    if (present(k)) want = k
+    seen = 0
+    deck_line = 0
+    do i = 1, size(deck%groups)
+      if (deck%groups(i)%name /= name) cycle
+      seen = seen + 1
+      if (seen == want) then
+        deck_line = deck%groups(i)%line
+        return
       end if
     end do
-    if (first > 0) call append(first, size(lines))
+  end function deck_line
+
+  !> Cuts the lines into groups (see the module header), scanning the text
+  !> as a stream: a group may start anywhere outside another group (several
+  !> on one line) and ends at its `/`. Text outside groups that is not blank
+  !> or a `!` comment is a problem (a group that lost its `&`, a stray
+  !> assignment): gfortran would skip it silently.
+  subroutine split_groups(lines, path, groups, problems)
+    character(len=*), intent(in) :: lines(:), path
+    type(deck_group_t), allocatable, intent(inout) :: groups(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(deck_group_t) :: grp
+    character(len=max_line), allocatable :: pieces(:)
+    character(len=max_line) :: line
+    character :: q
+    integer :: i, j, k, from
+    logical :: in_group
+
+    in_group = .false.
+    q = ' '
+    pieces = [character(len=max_line) ::]
+    do i = 1, size(lines)
+      line = lines(i)
+      from = 1
+      j = 0
+      scan: do while (j < len_trim(line))
+        j = j + 1
+        if (q /= ' ') then
+          if (line(j:j) == q) q = ' '
+        else if (line(j:j) == '!') then
+          exit scan
+        else if (in_group .and. (line(j:j) == "'" .or. line(j:j) == '"')) then
+          q = line(j:j)
+        else if (line(j:j) == '&' .and. is_name_start(line, j + 1)) then
+          ! a group starts (and ends one that lacks its `/`)
+          if (in_group) call finish(line(from:j - 1))
+          in_group = .true.
+          grp%name = name_at(line, j + 1)
+          grp%line = i
+          from = j
+          j = j + len_trim(grp%name)
+        else if (in_group .and. line(j:j) == '/') then
+          call finish(line(from:j))
+          in_group = .false.
+        else if (.not. in_group .and. line(j:j) /= ' ') then
+          k = index(line(j:), '!')
+          if (k == 0) k = len_trim(line(j:)) + 1
+          call problem_add(problems, trim(path)//':'//itoa(i)//': text outside any group: '''// &
+                           trim(line(j:j + k - 2))//''' (a group starts with &name and ends with /)')
+          exit scan
+        end if
+      end do scan
+      if (in_group) then
+        line = line(from:)
+        pieces = [pieces, line]
+      end if
+    end do
+    if (in_group) call finish('')
 
   contains
 
-    subroutine append(l0, l1)
-      integer, intent(in) :: l0, l1
-      type(deck_group_t) :: grp
-      grp%name = group_at(lines(l0))
-      grp%line = l0
-      grp%text = lines(l0:l1)
+    !> Ends the current group with `last` as its last piece.
+    subroutine finish(last)
+      character(len=*), intent(in) :: last
+      character(len=max_line) :: piece
+      piece = last
+      if (len_trim(last) > 0) pieces = [pieces, piece]
+      grp%text = pieces
       groups = [groups, grp]
-    end subroutine append
+      pieces = [character(len=max_line) ::]
+    end subroutine finish
   end subroutine split_groups
 
-  !> True if `line` has a `/` outside quotes and comments at or after `from`.
-  pure logical function ends_group(line, from)
+  !> True if a group name starts at position j of line.
+  pure logical function is_name_start(line, j)
     character(len=*), intent(in) :: line
-    integer, intent(in) :: from
-    character :: q
-    integer :: i
-    ends_group = .false.
-    q = ' '
-    do i = max(from, 1), len_trim(line)
-      if (q /= ' ') then
-        if (line(i:i) == q) q = ' '
-      else if (line(i:i) == '''' .or. line(i:i) == '"') then
-        q = line(i:i)
-      else if (line(i:i) == '!') then
-        return
-      else if (line(i:i) == '/') then
-        ends_group = .true.
-        return
-      end if
-    end do
-  end function ends_group
+    integer, intent(in) :: j
+    is_name_start = .false.
+    if (j > len(line)) return
+    is_name_start = scan(lower(line(j:j)), 'abcdefghijklmnopqrstuvwxyz') > 0
+  end function is_name_start
 
-  !> The group name that line starts, lower case, or '' if none.
-  pure function group_at(line) result(name)
+  !> The group name (lower case) that starts at position j of line.
+  pure function name_at(line, j) result(name)
     character(len=*), intent(in) :: line
-    character(len=:), allocatable :: name
-    character(len=:), allocatable :: s
-    integer :: i, j
-    s = adjustl(line)
-    name = ''
-    if (len(s) < 2) return
-    if (s(1:1) /= '&') return
-    j = 1
-    do i = 2, len_trim(s)
-      if (scan(s(i:i), ' /!,') > 0) exit
-      j = i
+    integer, intent(in) :: j
+    character(len=32) :: name
+    integer :: k
+    k = j
+    do while (k <= len(line))
+      if (verify(lower(line(k:k)), 'abcdefghijklmnopqrstuvwxyz0123456789_') /= 0) exit
+      k = k + 1
     end do
-    name = lower(s(2:j))
-  end function group_at
+    name = lower(line(j:k - 1))
+  end function name_at
+
+  !> Checks the values in a group's text without converting them: a NaN or
+  !> infinity, or a number of magnitude 1e30 or more (except the largest
+  !> double, which stands for "none" in echoed decks), is a problem; such a
+  !> value would reach comparisons and arithmetic that trap or overflow.
+  !> Returns true if the group is clean.
+  logical function values_ok(grp, path, problems) result(ok)
+    type(deck_group_t), intent(in) :: grp
+    character(len=*), intent(in) :: path
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=max_line) :: line
+    character :: q
+    integer :: i, j, k, n
+    ok = .true.
+    q = ' '
+    do i = 1, size(grp%text)
+      line = grp%text(i)
+      j = 0
+      do while (j < len_trim(line))
+        j = j + 1
+        if (q /= ' ') then
+          if (line(j:j) == q) q = ' '
+          cycle
+        end if
+        if (line(j:j) == "'" .or. line(j:j) == '"') then
+          q = line(j:j)
+          cycle
+        end if
+        if (line(j:j) == '!') exit
+        if (scan(line(j:j), ' ,=*()/&') > 0) cycle
+        k = j
+        do while (k < len_trim(line))
+          if (scan(line(k + 1:k + 1), ' ,=*()/&!') > 0) exit
+          k = k + 1
+        end do
+        n = k
+        ! the next non-blank after the token: '=' or '(' makes it a name
+        do while (n < len_trim(line))
+          if (line(n + 1:n + 1) /= ' ') exit
+          n = n + 1
+        end do
+        if (n < len_trim(line)) then
+          if (scan(line(n + 1:n + 1), '=(') > 0) then
+            j = k
+            cycle
+          end if
+        end if
+        if (.not. number_ok(lower(line(j:k)))) then
+          call problem_add(problems, trim(path)//':'//itoa(grp%line)//': &'//trim(grp%name)//': the value '''// &
+                           line(j:k)//''' is not allowed (NaN, infinity and magnitudes of 1e30 or more are refused)')
+          ok = .false.
+        end if
+        j = k
+      end do
+    end do
+  end function values_ok
+
+  !> False for NaN, Inf, Infinity (any sign and case) and for a real literal
+  !> of magnitude >= 1e30 other than the largest double (+-1.7976931348623157e308);
+  !> true for anything else (other numbers, logicals, names).
+  pure logical function number_ok(tok) result(ok)
+    character(len=*), intent(in) :: tok
+    character(len=:), allocatable :: t, mant, digits
+    integer :: e, p, ios, ndig, lead
+    ok = .true.
+    if (len(tok) == 0) return
+    if (tok(1:1) == '+' .or. tok(1:1) == '-') then
+      t = tok(2:)
+    else
+      t = tok
+    end if
+    if (t == 'nan' .or. t == 'inf' .or. t == 'infinity' .or. t(1:min(4, len(t))) == 'nan(') then
+      ok = .false.
+      return
+    end if
+    if (len(t) == 0) return
+    if (verify(t(1:1), '0123456789.') /= 0) return
+    if (verify(t, '0123456789.ed+-') /= 0) return
+    p = scan(t, 'ed')
+    e = 0
+    mant = t
+    if (p > 0) then
+      mant = t(1:p - 1)
+      read(t(p + 1:), *, iostat=ios) e
+      if (ios /= 0) return
+    end if
+    ! decimal exponent of the leading digit: digits before the point (less
+    ! leading zeros) - 1, or minus the zeros after the point
+    digits = mant
+    p = index(mant, '.')
+    if (p > 0) digits = mant(1:p - 1)//mant(p + 1:)
+    lead = verify(digits, '0')
+    if (lead == 0) return                        ! zero
+    if (p > 0) then
+      ndig = p - 1 - (lead - 1)
+    else
+      ndig = len(digits) - (lead - 1)
+    end if
+    if (e + ndig - 1 < 30) return
+    ok = e + ndig - 1 == 308 .and. digits(lead:min(len(digits), lead + 16)) == '17976931348623157'
+  end function number_ok
 
   !> Reads all records of an open unit.
   subroutine read_lines(unit, lines, ios, msg)
