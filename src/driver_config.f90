@@ -6,7 +6,7 @@
 module driver_config
   use base_kinds, only: wp
   use base_strings, only: itoa
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
@@ -145,8 +145,32 @@ contains
       call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
                               problems)
       call at_line(problems, n0, deck, 'output')
+      call check_counts(cfg, problems)
     end associate
   end subroutine read_groups
+
+  !> Intervals so short for t_end that the run would write more than
+  !> max_outputs frames, gauge or history rows, dumps or Euler steps by
+  !> interval (1e-300 would loop for ever) are deck mistakes.
+  subroutine check_counts(cfg, problems)
+    type(config_t), intent(in) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    real(wp), parameter :: max_outputs = 1.0e7_wp
+    if (.not. (cfg%control%t_end > 0.0_wp)) return
+    call one('output', 'frame_dt', cfg%output%frame_dt)
+    call one('output', 'gauge_dt', cfg%output%gauge_dt)
+    call one('output', 'history_dt', cfg%output%history_dt)
+    call one('run', 'dump_dt', cfg%control%dump_dt)
+    call one('rezone', 'interval_time', cfg%rezone%interval_time)
+  contains
+    subroutine one(group, var, dt)
+      character(len=*), intent(in) :: group, var
+      real(wp), intent(in) :: dt
+      if (.not. (dt > 0.0_wp)) return
+      if (cfg%control%t_end/dt > max_outputs) call problem_bad(problems, group, var, dt, &
+        'is too short for t_end: more than 1e7 outputs; give a longer interval or 0 (off)')
+    end subroutine one
+  end subroutine check_counts
 
   !> Prefixes problems n0+1.. (those of one group) with "deck:line: ", the
   !> line where the group starts (nothing for an absent group); n0 is then
@@ -218,6 +242,9 @@ contains
     if (dump_dt < 0.0_wp) call problem_bad(problems, 'run', 'dump_dt', dump_dt, 'must be >= 0 (0: off)')
     if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
     if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
+    call problem_long(problems, 'run', 'title', title)
+    call problem_long(problems, 'run', 'units', units)
+    call problem_long(problems, 'run', 'restart_from', restart_from)
     this = run_config_t(title=title, units=units, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &

@@ -12,6 +12,7 @@ module driver_output
   use io_output, only: output_t, output_frame
   use io_gauges, only: gauges_t, gauges_open, gauges_write
   use io_hdf5, only: hdf5_start
+  use io_files, only: io_make_dirs
   use driver_config, only: config_t
   use driver_state, only: state_t, state_totals, energy_drift
   implicit none
@@ -64,16 +65,12 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: dir, base
     character(len=512) :: msg
-    integer :: stat
     logical :: ok
 
     dir = trim(cfg%output%dir)
     base = trim(cfg%output%name)
-    call execute_command_line('mkdir -p "'//dir//'"', exitstat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'open_outputs', 'cannot create the output directory '''//dir//'''', ERR_IO)
-      return
-    end if
+    call io_make_dirs(dir, err)
+    if (allocated(err)) return
     msg = ''
     call log_open(sch%log, dir//'/'//base//'.log', sch%restarting, ok, msg)
     if (.not. ok) then

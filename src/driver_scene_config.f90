@@ -4,7 +4,7 @@
 module driver_scene_config
   use base_kinds, only: wp
   use base_strings, only: itoa
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
   implicit none
   private
   public :: region_config_t, source_config_t, region_config_read, source_config_read, scene_config_changes
@@ -63,6 +63,8 @@ contains
       return
     end if
     write(tag, '(a,i0,a)') 'region(', r, ')'
+    call problem_long(problems, trim(tag), 'shape', shape)
+    call problem_long(problems, trim(tag), 'material', material)
     if (.not. (density > 0.0_wp)) call problem_bad(problems, trim(tag), 'density', density, 'must be > 0')
     if (count([energy >= 0.0_wp, pressure >= 0.0_wp, energy_per_volume >= 0.0_wp]) /= 1) &
       call problem_add(problems, '&'//trim(tag)//': give exactly one of energy (specific internal energy), '// &

@@ -12,7 +12,7 @@ module base_config
   use base_strings, only: itoa
   implicit none
   private
-  public :: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r, diff_s, name_index
+  public :: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r, diff_s, name_index
 
   !> Length of one problem line (and of one deck line).
   integer, parameter :: max_line = 1024
@@ -75,6 +75,15 @@ contains
     end do
     m = 0
   end function name_index
+
+  !> A string that fills its variable was most likely cut short by the
+  !> read: refused, saying how long it may be.
+  subroutine problem_long(list, group, var, value)
+    character(len=max_line), allocatable, intent(inout) :: list(:)
+    character(len=*), intent(in) :: group, var, value
+    if (len_trim(value) < len(value)) return
+    call problem_add(list, '&'//group//': '//var//' is too long (at most '//itoa(len(value) - 1)//' characters)')
+  end subroutine problem_long
 
   !> A restart-compatibility line if two integers differ.
   subroutine diff_i(changes, what, a, b)

@@ -2,7 +2,7 @@
 !> written, and the gauge points.
 module io_output_config
   use base_kinds, only: wp
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
   use io_deck, only: deck_stem
   implicit none
   private
@@ -45,6 +45,8 @@ contains
       read(text, nml=output, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'output', ios, msg)
     end if
+    call problem_long(problems, 'output', 'dir', dir)
+    call problem_long(problems, 'output', 'name', name)
     if (len_trim(name) == 0) name = deck_stem(path)
     if (frame_dt < 0.0_wp) call problem_bad(problems, 'output', 'frame_dt', frame_dt, &
                                             'must be >= 0 (0: first and last frame only)')

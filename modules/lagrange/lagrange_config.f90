@@ -4,7 +4,7 @@
 !> dt_growth, dt_max) are stored in it by the driver's &run reader.
 module lagrange_config
   use base_kinds, only: wp
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml
   use lagrange_state, only: hydro_params_t, VISC_EDGE, VISC_TENSOR
   implicit none
   private
@@ -36,6 +36,7 @@ contains
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
     end if
+    call problem_long(problems, 'hydro', 'viscosity', viscosity)
     select case (trim(viscosity))
     case ('tensor'); par%viscosity = VISC_TENSOR
     case ('edge'); par%viscosity = VISC_EDGE

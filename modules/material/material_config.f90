@@ -4,7 +4,7 @@ module material_config
   use base_kinds, only: wp
   use base_errors, only: error_t
   use base_strings, only: itoa
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml, diff_r, diff_s
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_r, diff_s
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
   implicit none
@@ -48,6 +48,8 @@ contains
       call problem_nml(problems, path, 'material', ios, msg)
       return
     end if
+    call problem_long(problems, 'material', 'name', name)
+    call problem_long(problems, 'material', 'eos', eos)
     if (len_trim(name) == 0) name = 'material'//itoa(m)
     if (any(earlier == name)) call problem_add(problems, &
       '&material: name = '''//trim(name)//''' is used twice; names must be unique')

@@ -3,7 +3,7 @@
 module mesh_boundary_config
   use base_kinds, only: wp
   use base_strings, only: itoa
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_nml, diff_i, diff_r, name_index
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, name_index
   use mesh_boundary, only: bc_kind_from_name, bc_kind_names, BC_SYMMETRY, BC_INFLOW
   implicit none
   private
@@ -56,6 +56,10 @@ contains
       if (ios /= 0) call problem_nml(problems, path, 'boundary', ios, msg)
     end if
     kinds = [xlo, xhi, ylo, yhi, zlo, zhi]
+    do f = 1, 6
+      call problem_long(problems, 'boundary', face_names(f), kinds(f))
+      call problem_long(problems, 'boundary', 'inflow_material('//itoa(f)//')', inflow_material(f))
+    end do
     do f = 1, 6
       this%kind(f) = bc_kind_from_name(kinds(f))
       if (this%kind(f) == 0) call problem_add(problems, '&boundary: '//face_names(f)//' = '''// &

@@ -1,10 +1,14 @@
 !> The &grid group: the structured block (cells per direction and its box).
 module mesh_grid_config
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
+  use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
   implicit none
   private
   public :: grid_config_t, grid_config_read, grid_config_changes
+
+  !> Cut cells are sampled at subsamples^3 points: 64^3 = 2.6e5 per cell at most.
+  integer, parameter :: max_subsamples = 64
 
   !> The resolved &grid group; the initial values are the defaults.
   type :: grid_config_t
@@ -42,7 +46,13 @@ contains
     if (ni < 1) call problem_badi(problems, 'grid', 'ni', ni, 'must be >= 1')
     if (nj < 1) call problem_badi(problems, 'grid', 'nj', nj, 'must be >= 1')
     if (nk < 1) call problem_badi(problems, 'grid', 'nk', nk, 'must be >= 1')
-    if (subsamples < 1) call problem_badi(problems, 'grid', 'subsamples', subsamples, 'must be >= 1')
+    if (subsamples < 1 .or. subsamples > max_subsamples) call problem_badi(problems, 'grid', 'subsamples', &
+      subsamples, 'must be in 1..'//itoa(max_subsamples))
+    ! the cell and node counts are default integers
+    if (int(max(ni, 1), i8)*max(nj, 1)*max(nk, 1) > huge(1) .or. &
+        int(max(ni, 1) + 1, i8)*(max(nj, 1) + 1)*(max(nk, 1) + 1) > huge(1)) call problem_add(problems, &
+      '&grid: ni*nj*nk = '//trim(i8toa(int(ni, i8)*nj*nk))//' cells is more than one run can index ('// &
+      itoa(huge(1))//' cells and nodes)')
     do d = 1, 3
       if (.not. (xmax(d) > xmin(d))) call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
                                                       'must be > xmin('//achar(48 + d)//')')
@@ -61,4 +71,11 @@ contains
     call diff_r(changes, '&grid xmin', old%xmin, new%xmin)
     call diff_r(changes, '&grid xmax', old%xmax, new%xmax)
   end subroutine grid_config_changes
+
+  !> A 64-bit integer as text.
+  pure function i8toa(i) result(s)
+    integer(i8), intent(in) :: i
+    character(len=24) :: s
+    write(s, '(i0)') i
+  end function i8toa
 end module mesh_grid_config

@@ -2,7 +2,7 @@
 !> remap) follows the Lagrangian step.
 module rezone_config
   use base_kinds, only: wp
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
   implicit none
   private
   public :: rezone_config_t, rezone_config_read
@@ -75,6 +75,9 @@ contains
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
     end if
+    call problem_long(problems, 'rezone', 'mode', mode)
+    call problem_long(problems, 'rezone', 'reconstruction', reconstruction)
+    call problem_long(problems, 'rezone', 'nodal_mass', nodal_mass)
     select case (trim(mode))
     case ('none', 'global', 'lssm', 'smooth')
     case default
