@@ -11,9 +11,11 @@ module driver
   use base_config, only: max_line
   use base_timers, only: wall_seconds
   use lagrange_integrator, only: lagrange_step
-  use io_log, only: log_line, log_error
+  use io_log, only: log_t, log_line, log_error
   use io_gauges, only: gauges_close
-  use io_hdf5, only: hdf5_stop
+  use io_hdf5, only: hdf5_stop, hdf5_version
+  use base_build, only: code_version, build_type
+  use, intrinsic :: iso_fortran_env, only: compiler_version
   use driver_halt, only: halt, refuse, EXIT_WALL_TIME
   use driver_config, only: config_t, config_read, config_defaults_text
   use driver_state, only: state_t, state_totals
@@ -24,7 +26,7 @@ module driver
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
   implicit none
   private
-  public :: driver_run, driver_print_defaults
+  public :: driver_run, driver_check, driver_print_defaults, driver_print_version
 
 contains
 
@@ -73,6 +75,28 @@ contains
     call hdf5_stop(err)
     call halt(sch%log, 0)
   end subroutine driver_run
+
+  !> Reads and validates the deck at `deck_path` and prints it resolved
+  !> (`lsalepm --check`): exit status 0 if it can run, else 2 with the
+  !> problems. Nothing is written.
+  subroutine driver_check(deck_path)
+    character(len=*), intent(in) :: deck_path
+    type(config_t) :: cfg
+    type(log_t) :: log
+    character(len=max_line), allocatable :: problems(:)
+    call config_read(deck_path, cfg, problems)
+    if (size(problems) > 0) call refuse(log, problems, 'the deck has '//itoa(size(problems))//' problem(s)')
+    write(*, '(a)', advance='no') cfg%echo
+    write(*, '(a)') 'deck '//deck_path//' is valid'
+    call halt(log, 0)
+  end subroutine driver_check
+
+  !> Prints the version, the build and the libraries (`lsalepm --version`).
+  subroutine driver_print_version()
+    write(*, '(a)') 'lsalepm '//code_version//' ('//build_type//' build)', &
+                    'compiler: '//compiler_version(), &
+                    'HDF5 '//hdf5_version()
+  end subroutine driver_print_version
 
   !> Prints every namelist group with its defaults (`lsalepm --defaults`).
   subroutine driver_print_defaults()

@@ -144,15 +144,18 @@ contains
     integer :: nmat, c, m, k, nmix, nslot, s, nm, r_only
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
     logical :: covered
+    logical, allocatable :: used(:)
     character(len=200) :: msg
 
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
-      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)), stat=k, errmsg=msg)
+      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)), &
+               used(size(cfg%regions)), stat=k, errmsg=msg)
       if (k /= 0) then
         call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
         return
       end if
+      used = .false.
       do k = 1, size(cfg%regions)
         associate (rg => cfg%regions(k))
           if (rg%energy >= 0.0_wp) then
@@ -166,7 +169,7 @@ contains
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only)
+        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
         if (.not. covered) then
           call error_set(err, deck_problem, 'cell '//itoa(c)// &
             ' is not covered by any &region; add a region with shape = ''all'' first', ERR_INPUT)
@@ -192,6 +195,13 @@ contains
           hy%mat(c) = -nmix
         end if
       end do
+      ! a region that gives no cell any material is most likely a mistake
+      ! (outside the box, or hidden by later regions): say so
+      do k = 1, size(cfg%regions)
+        if (.not. used(k)) call log_line(log, 'WARNING: &region('//itoa(k)//') ('//trim(cfg%regions(k)%shape)// &
+          ') fills no part of any cell: it lies outside the grid, is smaller than the sampling, or later '// &
+          'regions cover it')
+      end do
       ! pass 2: the mixed cells' slots
       call mixed_allocate(mx, nmix, nslot, err)
       if (allocated(err)) return
@@ -200,7 +210,7 @@ contains
       do c = 1, g%ncell
         if (hy%mat(c) > 0) cycle
         k = k + 1
-        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only)
+        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
         mx%cell(k) = c
         do m = 1, nmat
           if (.not. (vfm(m) > 0.0_wp)) cycle
@@ -224,7 +234,7 @@ contains
   !> Volume fraction, mass, internal energy and centroid (natural
   !> coordinates, times the volume fraction) of each material in cell c;
   !> r_only is the region that holds the whole cell, if one does (else 0).
-  subroutine sample_cell(cfg, g, vol, c, e_reg, vfm, massm, enm, xim, covered, r_only)
+  subroutine sample_cell(cfg, g, vol, c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: vol
@@ -233,6 +243,7 @@ contains
     real(wp), intent(out) :: vfm(:), massm(:), enm(:), xim(:, :)
     logical, intent(out) :: covered
     integer, intent(out) :: r_only
+    logical, intent(inout) :: used(:)
     real(wp) :: xn(3, 8), xi(3), w
     integer :: a, i, j, k, r, r0, ns
     logical :: same
@@ -277,6 +288,7 @@ contains
       real(wp), intent(in) :: xi_pt(3), wt
       integer :: m
       m = cfg%regions(r)%imat
+      used(r) = .true.
       vfm(m) = vfm(m) + wt
       massm(m) = massm(m) + wt*cfg%regions(r)%density*vol
       enm(m) = enm(m) + wt*cfg%regions(r)%density*e_reg(r)*vol

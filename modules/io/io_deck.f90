@@ -8,6 +8,7 @@
 module io_deck
   use base_config, only: max_line, no_echo, problem_add
   use base_strings, only: itoa
+  use io_files, only: io_is_dir
   implicit none
   private
   public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, deck_stem, &
@@ -47,6 +48,10 @@ contains
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call problem_add(problems, 'deck file '''//trim(path)//''' does not exist')
+      return
+    end if
+    if (io_is_dir(path)) then
+      call problem_add(problems, ''''//trim(path)//''' is a directory, not a deck file')
       return
     end if
     open(newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)

@@ -10,7 +10,7 @@ module io_hdf5
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use hdf5, only: hid_t, hsize_t, size_t, &
-       h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, &
+       h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5get_libversion_f, &
        H5_REAL_KIND, H5_INTEGER_KIND, &
        h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, &
        H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
@@ -28,7 +28,7 @@ module io_hdf5
   private
 
   public :: h5_file_t
-  public :: hdf5_start, hdf5_stop
+  public :: hdf5_start, hdf5_stop, hdf5_version
   public :: h5_create, h5_open_read, h5_close
   public :: h5_create_group, h5_exists
   public :: h5_write_real, h5_write_int
@@ -66,6 +66,16 @@ contains
       return
     end if
   end subroutine hdf5_start
+
+  !> The HDF5 library's version, as text ('1.10.8').
+  function hdf5_version() result(text)
+    character(len=:), allocatable :: text
+    integer :: major, minor, release, hdferr
+    character(len=32) :: buf
+    call h5get_libversion_f(major, minor, release, hdferr)
+    write(buf, '(i0,".",i0,".",i0)') major, minor, release
+    text = trim(buf)
+  end function hdf5_version
 
   !> Closes the HDF5 library (at the end of a run).
   subroutine hdf5_stop(err)
