@@ -16,7 +16,7 @@ release: deps
 	@cmake --build $(BUILD_REL) -j $(JOBS)
 
 debug: deps
-	@cmake -S . -B $(BUILD_DBG) -DCMAKE_BUILD_TYPE=Debug > /dev/null
+	@cmake -S . -B $(BUILD_DBG) -DCMAKE_BUILD_TYPE=Debug -DLSALEPM_OTHER_EXE=$(CURDIR)/$(BUILD_REL)/lsalepm > /dev/null
 	@cmake --build $(BUILD_DBG) -j $(JOBS)
 
 run: release
@@ -24,11 +24,12 @@ run: release
 	@echo "outputs are in out/sedov3d/: sedov3d.xdmf (open in ParaView), sedov3d_NNNNN.h5 frames," \
 	      "sedov3d.log (run log), sedov3d_gauges.txt (gauge histories)"
 
-# Tests run on the debug build: run-time checks and floating-point traps on.
+# Tests run on the debug build: run-time checks and floating-point traps on;
+# the deck fuzzer runs the Release build too.
 # One OpenMP thread per test: ctest runs JOBS tests at once, and more threads
 # than cores make OpenMP's spinning threads crawl (the thread-invariance test
 # sets its own counts).
-test: debug
+test: release debug
 	cd $(BUILD_DBG) && OMP_NUM_THREADS=1 ctest --output-on-failure -j $(JOBS)
 
 bench: release

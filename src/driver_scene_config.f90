@@ -72,14 +72,15 @@ contains
     ! an energy per unit volume (as explosive charges are given) is a
     ! specific energy of energy_per_volume / density
     if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) energy = energy_per_volume/density
+    if (.not. (radius >= 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', radius, 'must be >= 0')
     select case (trim(shape))
     case ('all', 'box')
     case ('half_space')
       if (.not. (norm2(normal) > 0.0_wp)) call problem_add(problems, '&'//trim(tag)// &
         ': normal must not be zero for shape = ''half_space''')
     case ('sphere', 'cylinder')
-      if (.not. (radius > 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', radius, &
-        'must be > 0 for shape = '''//trim(shape)//'''')
+      if (radius >= 0.0_wp .and. .not. (radius > 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', &
+        radius, 'must be > 0 for shape = '''//trim(shape)//'''')
     case default
       call problem_add(problems, '&'//trim(tag)//': shape = '''//trim(shape)// &
         ''' is not known; valid: all, box, sphere, cylinder, half_space')

@@ -34,6 +34,7 @@ contains
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
     integer :: i, status
+    logical :: exists
     character(len=:), allocatable :: part
 
     if (len_trim(path) == 0) then
@@ -43,12 +44,12 @@ contains
     do i = 1, len_trim(path)
       if (path(i:i) /= '/' .and. i < len_trim(path)) cycle
       part = path(1:i)
-      if (part == '/' .or. io_is_dir(part)) cycle
-      ! the result is judged by what exists afterwards (another process may
-      ! have made it meanwhile)
+      if (part == '/') cycle
+      if (io_is_dir(part)) cycle
+      ! judged by what exists afterwards (another process may have made it)
       status = c_mkdir(part//c_null_char, int(o'777', c_int))
-      if (status /= 0 .or. .not. io_is_dir(part)) then
-        if (io_is_dir(part)) cycle
+      exists = io_is_dir(part)
+      if (.not. exists) then
         call error_set(err, 'io_make_dirs', 'cannot create the output directory '''//trim(path)// &
                        ''' ('''//part//''' cannot be made a directory)', ERR_IO)
         return

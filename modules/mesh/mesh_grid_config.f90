@@ -50,7 +50,8 @@ contains
       subsamples, 'must be in 1..'//itoa(max_subsamples))
     ! the cell and node counts are default integers
     if (int(max(ni, 1), i8)*max(nj, 1)*max(nk, 1) > huge(1) .or. &
-        int(max(ni, 1) + 1, i8)*(max(nj, 1) + 1)*(max(nk, 1) + 1) > huge(1)) call problem_add(problems, &
+        (int(max(ni, 1), i8) + 1)*(int(max(nj, 1), i8) + 1)*(int(max(nk, 1), i8) + 1) > huge(1)) &
+      call problem_add(problems, &
       '&grid: ni*nj*nk = '//trim(i8toa(int(ni, i8)*nj*nk))//' cells is more than one run can index ('// &
       itoa(huge(1))//' cells and nodes)')
     do d = 1, 3
