@@ -17,7 +17,7 @@ A grid one cell thick in some direction (a quasi-2D or quasi-1D deck, e.g.
 across its (last) one-cell direction, seen face on with a parallel camera. A
 quasi-1D strip thinner than a twentieth of its length is stretched across
 for display (the label says by how much), and cell edges are left out when
-cells would be narrower than 6 pixels. `--view 3d` keeps the oblique view.
+cells would be narrower than 10 pixels. `--view 3d` keeps the oblique view.
 """
 
 import argparse
@@ -190,9 +190,9 @@ def main(argv):
         shown = cut
         if stretched is not None:
             scale[stretched] = stretch
-        # cells narrower than 6 pixels: the edges would paint the slice dark
+        # cells narrower than 10 pixels: the edges would paint the slice dark
         n_along = max(cells[a] for a in range(3) if a != normal)
-        if n_along * 6 > width:
+        if n_along * 10 > width:
             edges = False
     else:
         shown = reader
@@ -243,6 +243,7 @@ def main(argv):
     centre = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
     if plan is not None:
         # face on, along the slice's normal, parallel projection
+        Render(view)  # the first render resets the camera: have it before placing ours
         normal = plan[0]
         diag = max(((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2) ** 0.5, 1e-30)
         view.CameraFocalPoint = [centre[i] * scale[i] for i in range(3)]
@@ -256,6 +257,17 @@ def main(argv):
         view.CameraViewUp = up
         view.CameraParallelProjection = 1
         view.ResetCamera(False)
+        # fit the slice to the left three quarters (the colour bar is on the
+        # right) and leave room for the label above it
+        w_ext = (b[2 * right + 1] - b[2 * right]) * scale[right]
+        h_ext = (b[2 * plan[1] + 1] - b[2 * plan[1]]) * scale[plan[1]]
+        half_h = max(0.5 * w_ext / 0.75 * height / width, h_ext / 1.4, 1e-30)
+        shift = [0.0, 0.0, 0.0]
+        shift[right] = 0.08 * 2.0 * half_h * width / height
+        view.CameraFocalPoint = [centre[i] * scale[i] + shift[i] for i in range(3)]
+        view.CameraPosition = [centre[i] * scale[i] + shift[i] + (side * 3.0 * diag if i == normal else 0.0)
+                               for i in range(3)]
+        view.CameraParallelScale = half_h
         Render(view)
         SaveScreenshot(out, view, ImageResolution=[width, height], TransparentBackground=0)
         print("render_frame: wrote %s (%s, frame %d, t = %s, range %.6g .. %.6g, 2D slice across %s)"
