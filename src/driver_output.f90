@@ -9,7 +9,8 @@ module driver_output
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t
   use io_log, only: log_t, log_open, log_line
-  use io_output, only: output_t, output_frame
+  use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
+                       units_pressure
   use io_gauges, only: gauges_t, gauges_open, gauges_write
   use io_hdf5, only: hdf5_start
   use io_files, only: io_make_dirs
@@ -90,41 +91,68 @@ contains
   end subroutine open_outputs
 
   !> Writes a frame with each cell's material (the largest by volume in a
-  !> mixed cell) and, with several materials, their volume fractions.
+  !> mixed cell) and, with several materials, each material's fields: its
+  !> volume fraction vf_<name>, density density_<name>, specific internal
+  !> energy energy_<name> and pressure pressure_<name>. In a cell the
+  !> material fills these are the cell's values, in a mixed cell its slot's
+  !> values, elsewhere 0.
   subroutine frame_out(cfg, st, sch, path, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
-    integer :: nmat, c, k, s, m, stat
+    integer, parameter :: nper = 4          ! fields per material: vf, density, energy, pressure
+    integer :: nmat, nf, c, k, s, m, stat
     integer, allocatable :: cellmat(:)
-    real(wp), allocatable :: vf(:, :)
-    character(len=32), allocatable :: names(:)
+    real(wp), allocatable :: fld(:, :)
+    character(len=80), allocatable :: names(:), owner(:)
+    character(len=32), allocatable :: units(:)
+    type(frame_meta_t) :: meta
     character(len=200) :: msg
 
     nmat = size(st%mats)
-    allocate(cellmat(st%g%ncell), vf(st%g%ncell, merge(nmat, 0, nmat > 1)), names(merge(nmat, 0, nmat > 1)), &
-             stat=stat, errmsg=msg)
+    nf = merge(nper*nmat, 0, nmat > 1)
+    allocate(cellmat(st%g%ncell), fld(st%g%ncell, nf), names(nf), owner(nf), units(nf), &
+             meta%materials(nmat), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'frame_out', 'cannot allocate the frame''s cell fields: '//trim(msg))
       return
     end if
     cellmat = st%h%mat
+    do m = 1, nmat
+      meta%materials(m) = st%mats(m)%name
+    end do
+    meta%title = trim(cfg%control%title)
+    meta%unit_system = trim(cfg%control%units)
     if (nmat > 1) then
+      ! columns of material m: vf, density, energy, pressure at nper*(m-1) + 1..4
       do m = 1, nmat
-        names(m) = 'vf_'//st%mats(m)%name
-        vf(:, m) = merge(1.0_wp, 0.0_wp, st%h%mat == m)
+        k = nper*(m - 1)
+        names(k + 1:k + nper) = [character(len=80) :: 'vf_'//st%mats(m)%name, 'density_'//st%mats(m)%name, &
+                                 'energy_'//st%mats(m)%name, 'pressure_'//st%mats(m)%name]
+        units(k + 1:k + nper) = [character(len=32) :: units_none, units_density, units_specific_energy, &
+                                 units_pressure]
+        owner(k + 1:k + nper) = st%mats(m)%name
+        do c = 1, st%g%ncell
+          if (st%h%mat(c) == m) then
+            fld(c, k + 1:k + nper) = [1.0_wp, st%h%rho(c), st%h%e(c), st%h%p(c)]
+          else
+            fld(c, k + 1:k + nper) = 0.0_wp
+          end if
+        end do
       end do
       do k = 1, st%mx%n
         c = st%mx%cell(k)
         do s = st%mx%start(k), st%mx%start(k + 1) - 1
-          vf(c, st%mx%mat(s)) = st%mx%vf(s)
+          m = nper*(st%mx%mat(s) - 1)
+          fld(c, m + 1:m + nper) = [st%mx%vf(s), st%mx%rho(s), st%mx%e(s), st%mx%p(s)]
         end do
-        cellmat(c) = maxloc(vf(c, :), 1)
+        cellmat(c) = maxloc(fld(c, 1:nf:nper), 1)
       end do
     end if
-    call output_frame(sch%out, st%g, st%h, cellmat, names, vf, st%t, st%step, st%tot, cfg%echo, path, err)
+    call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+                      meta, path, err)
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
 

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Code conventions that a reviewer would otherwise have to catch by eye
 (DESIGN.md section 4), checked over the Fortran sources:
 

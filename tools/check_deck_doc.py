@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Check input/README.md against the namelist variables the code declares.
 
     check_deck_doc.py LSALEPM README.md

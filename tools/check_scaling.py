@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Check that a frame of a rescaled run equals the original frame rescaled,
 bit for bit (the dimensional-rescaling invariance test; DESIGN.md section 6).
 
@@ -12,13 +12,24 @@ dataset the check prints its dimension, the factor, the largest relative
 difference max|s a - b| / max|s a|, the number of differing elements and
 whether it is bit-identical.
 
-Every dataset must have a known dimension (table DIMENSIONS; volume
-fractions vf_<material> are dimensionless): an unknown one is refused, so
+Every dataset must have a known dimension (table DIMENSIONS; per-material
+fields by their prefix, MATERIAL_PREFIXES: vf_<material> is dimensionless,
+density_<material>, energy_<material>, pressure_<material> as the cell fields): an unknown one is refused, so
 a new output field cannot go unchecked. `deck` (the resolved deck text,
 which differs by construction) is not compared.
 Exit status: 0 all bit-identical, 1 a mismatch, 2 usage, file or
 unknown-dataset errors.
 """
+try:  # Debian's h5py, numpy belong to /usr/bin/python3; a python3 first on PATH may lack them
+    import h5py, numpy  # noqa: F401
+except ImportError:
+    import os as _os
+    import sys as _sys
+    if _os.access("/usr/bin/python3", _os.X_OK) and \
+            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
+        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
+    raise SystemExit("%s: needs Debian's python3 with h5py, numpy (tools/install-deps.sh)" % _sys.argv[0])
+
 import argparse
 import sys
 
@@ -49,11 +60,21 @@ DIMENSIONS = {
 NOT_COMPARED = {"deck"}
 
 
+# per-material fields <prefix><material> (the frames of a multi-material run)
+MATERIAL_PREFIXES = {
+    "vf_": (0, 0, 0),                  # volume fraction
+    "density_": (-3, 0, 1),
+    "energy_": (2, -2, 0),             # specific internal energy
+    "pressure_": PRES,
+}
+
+
 def dimension(name):
     if name in DIMENSIONS:
         return DIMENSIONS[name]
-    if name.startswith("vf_"):         # volume fraction of a material
-        return (0, 0, 0)
+    for prefix, d in MATERIAL_PREFIXES.items():
+        if name.startswith(prefix) and len(name) > len(prefix):
+            return d
     return None
 
 

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Euler-phase cost and accuracy of the rezone modes on the Sedov octant, as an
 ensemble: the Euler steps fire on trigger thresholds, so their number, the
 cells they remap and the errors move with round-off (at 10^3 and 20^3 by
@@ -22,6 +22,16 @@ rezone and remap). L1 is tools/profile_plot.py's volume-weighted density
 error against the exact solution. Writes DIR/runs/ and DIR/lssm_compare.csv
 and prints a markdown table.
 """
+try:  # Debian's h5py, matplotlib, numpy belong to /usr/bin/python3; a python3 first on PATH may lack them
+    import h5py, matplotlib, numpy  # noqa: F401
+except ImportError:
+    import os as _os
+    import sys as _sys
+    if _os.access("/usr/bin/python3", _os.X_OK) and \
+            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
+        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
+    raise SystemExit("%s: needs Debian's python3 with h5py, matplotlib, numpy (tools/install-deps.sh)" % _sys.argv[0])
+
 import argparse
 import concurrent.futures
 import csv

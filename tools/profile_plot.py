@@ -1,5 +1,8 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot a lsalepm frame against an exact solution (PNG).
+
+--case is required: it names the exact solution to overlay (a frame does not
+say which problem it holds).
 
 Sod / Riemann problems (a quasi-1D run, one cell thick across the axis)::
 
@@ -30,6 +33,16 @@ The module also provides the frame readers used by tools/speed_error.py.
 Run with /usr/bin/python3 (Debian numpy, h5py, matplotlib); no display needed.
 """
 
+try:  # Debian's h5py, matplotlib, numpy belong to /usr/bin/python3; a python3 first on PATH may lack them
+    import h5py, matplotlib, numpy  # noqa: F401
+except ImportError:
+    import os as _os
+    import sys as _sys
+    if _os.access("/usr/bin/python3", _os.X_OK) and \
+            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
+        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
+    raise SystemExit("%s: needs Debian's python3 with h5py, matplotlib, numpy (tools/install-deps.sh)" % _sys.argv[0])
+
 import argparse
 import os
 import sys
@@ -59,6 +72,17 @@ def read_frame(path):
         out["time"] = float(f["time"][()])
         out["step"] = int(f["step"][()])
     return out
+
+
+def frame_materials(path):
+    """Number of materials of a frame (its `material_names` attribute,
+    "1: air, 2: tnt"; 1 for frames written before the attribute existed)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        legend = f.attrs.get("material_names", b"")
+    if isinstance(legend, bytes):
+        legend = legend.decode()
+    return max(1, len([s for s in str(legend).split(",") if s.strip()]))
 
 
 def line_profile(fr, axis="x"):
@@ -230,7 +254,9 @@ def plot_sedov(frame, out, energy, gamma, rho0):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("frame", help="an HDF5 frame <dir>/<name>_NNNNN.h5")
-    p.add_argument("--case", choices=("sod", "sedov"), default="sod")
+    p.add_argument("--case", choices=("sod", "sedov"), required=True,
+                   help="the exact solution to overlay: sod (a Riemann problem, --left/--right) or "
+                        "sedov (--energy); required: the frame does not say which problem it is")
     p.add_argument("--out", help="PNG file (default: the frame name with .png, in the current directory)")
     g = p.add_argument_group("sod / Riemann")
     g.add_argument("--axis", choices=tuple(AXES), default="x")
@@ -248,6 +274,11 @@ def main(argv=None):
     if a.case == "sod":
         gl = a.gamma_left if a.gamma_left is not None else a.gamma
         gr = a.gamma_right if a.gamma_right is not None else a.gamma
+        nmat = frame_materials(a.frame)
+        if nmat > 1 and a.gamma_left is None and a.gamma_right is None:
+            print(f"profile_plot: warning: {a.frame} holds {nmat} materials; the exact solution uses "
+                  f"gamma {gl:g} on both sides (give --gamma-left, --gamma-right, --left, --right)",
+                  file=sys.stderr)
         plot_riemann(a.frame, out, a.axis, a.left, a.right, gl, gr, a.x0)
     else:
         if a.energy is None:

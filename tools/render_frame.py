@@ -11,16 +11,24 @@ shows, the bounding box outlined, a colour bar and the frame time. The camera
 looks from an oblique direction, z up; the default looks from the low x and
 y side and from above, so the two vertical faces through the lowest corner
 (the symmetry planes of an octant run) face the camera.
+
+A grid one cell thick in some direction (a quasi-2D or quasi-1D deck, e.g.
+100 x 1 x 1 cells for Sod) is shown as a 2D slice instead: the mid-plane
+across its (last) one-cell direction, seen face on with a parallel camera. A
+quasi-1D strip thinner than a twentieth of its length is stretched across
+for display (the label says by how much), and cell edges are left out when
+cells would be narrower than 10 pixels. `--view 3d` keeps the oblique view.
 """
 
 import argparse
 import os
 import sys
+import xml.etree.ElementTree as ET
 
 try:
     from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction,
                                  GetScalarBar, Outline, Render, SaveScreenshot,
-                                 Show, Text, Xdmf3ReaderS)
+                                 Show, Slice, Text, Xdmf3ReaderS)
 except ImportError as e:
     sys.exit("render_frame: ParaView's Python modules are missing (%s); "
              "run tools/install-deps.sh --viz and start this with pvbatch "
@@ -47,7 +55,55 @@ def parse_args(argv):
                    help="direction from the grid centre to the camera, "
                         "default -1 -1.35 0.8 (from the low x and y side, above)")
     p.add_argument("--no-edges", action="store_true", help="do not draw the cell edges")
+    p.add_argument("--view", choices=("auto", "3d", "2d"), default="auto",
+                   help="auto (default): a 2D slice for a grid one cell thick in some "
+                        "direction, else 3d (oblique, --view-from); 2d: always the slice")
     return p.parse_args(argv)
+
+
+def grid_cells(path):
+    """Cells (ni, nj, nk) of the first grid of the series, from the XDMF's
+    3DSMesh topology (Dimensions = "nk+1 nj+1 ni+1", slowest first)."""
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError) as e:
+        fail("cannot read %s: %s" % (path, e))
+    for topo in root.iter("Topology"):
+        dims = topo.get("Dimensions") or topo.get("NumberOfElements")
+        if dims:
+            nodes = [int(d) for d in dims.split()]
+            if len(nodes) == 3:
+                nk, nj, ni = (max(n - 1, 0) for n in nodes)
+                return ni, nj, nk
+    fail("%s: no 3D structured topology found" % path)
+
+
+def slice_plan(cells, bounds, force=False):
+    """The 2D view of a grid one cell thick in some direction: (normal axis,
+    axis shown upwards, axis stretched or None, stretch factor); None for a
+    3D grid (unless `force`: then the mid-plane across z). The normal is the
+    last one-cell axis (z before y before x), so a quasi-1D run along x is
+    seen in its x-y face. Upwards is the in-plane axis across a quasi-1D
+    strip (the strip lies horizontal), else the later in-plane axis (y in an
+    x-y plane, z in x-z and y-z planes)."""
+    thin = [a for a in range(3) if cells[a] == 1]
+    if not thin:
+        if not force:
+            return None
+        thin = [2]
+    normal = thin[-1]
+    others = [a for a in range(3) if a != normal]
+    ext = [bounds[2 * a + 1] - bounds[2 * a] for a in range(3)]
+    stretched, stretch = None, 1.0
+    if sum(1 for a in others if cells[a] == 1) == 1:
+        # quasi-1D: the strip along its long axis, stretched across if thin
+        long_axis = [a for a in others if cells[a] > 1][0]
+        up = [a for a in others if a != long_axis][0]
+        if 0.0 < ext[up] < ext[long_axis] / 20.0:
+            stretched, stretch = up, (ext[long_axis] / 8.0) / ext[up]
+    else:
+        up = others[1]
+    return normal, up, stretched, stretch
 
 
 def fail(msg):
@@ -115,10 +171,37 @@ def main(argv):
     if t is not None:
         view.ViewTime = t
 
-    surf = Show(reader, view)
-    surf.Representation = "Surface" if args.no_edges else "Surface With Edges"
+    b = reader.GetDataInformation().GetBounds()
+    cells = grid_cells(path)
+    plan = slice_plan(cells, b, force=args.view == "2d") if args.view != "3d" else None
+    edges = not args.no_edges
+    scale = [1.0, 1.0, 1.0]
+    if plan is not None:
+        normal, _, stretched, stretch = plan
+        centre = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
+        cut = Slice(Input=reader)
+        cut.SliceType = "Plane"
+        cut.SliceType.Origin = centre
+        cut.SliceType.Normal = [1.0 if a == normal else 0.0 for a in range(3)]
+        try:
+            cut.Triangulatetheslice = 0  # keep the cells' quadrilaterals
+        except AttributeError:
+            pass
+        shown = cut
+        if stretched is not None:
+            scale[stretched] = stretch
+        # cells narrower than 10 pixels: the edges would paint the slice dark
+        n_along = max(cells[a] for a in range(3) if a != normal)
+        if n_along * 10 > width:
+            edges = False
+    else:
+        shown = reader
+
+    surf = Show(shown, view)
+    surf.Representation = "Surface With Edges" if edges else "Surface"
     surf.EdgeColor = [0.25, 0.25, 0.25]
     surf.LineWidth = 0.5
+    surf.Scale = scale
     ColorBy(surf, (assoc, args.field, "Magnitude") if ncomp > 1 else (assoc, args.field))
 
     lut = GetColorTransferFunction(args.field)
@@ -140,22 +223,59 @@ def main(argv):
     bar.Position = [0.88, 0.25]
     bar.Visibility = 1
 
-    box = Show(Outline(Input=reader), view)
+    box = Show(Outline(Input=shown), view)
     box.DiffuseColor = box.AmbientColor = [0.0, 0.0, 0.0]
     box.LineWidth = 1.5
+    box.Scale = scale
 
     label = "%s   %s" % (os.path.basename(path), args.field)
     if t is not None:
         label += "   frame %d of %d, t = %.6g" % (index, len(times) - 1, t)
+    if plan is not None:
+        label += "\n2D slice across %s (%d x %d x %d cells)" % ("xyz"[plan[0]], *cells)
+        if plan[2] is not None:
+            label += ", %s stretched x%.3g for display" % ("xyz"[plan[2]], plan[3])
     text = Show(Text(Text=label), view)
     text.Color = [0.0, 0.0, 0.0]
     text.FontSize = 18
     text.WindowLocation = "Upper Left Corner"
 
+    centre = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
+    if plan is not None:
+        # face on, along the slice's normal, parallel projection
+        Render(view)  # the first render resets the camera: have it before placing ours
+        normal = plan[0]
+        diag = max(((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2) ** 0.5, 1e-30)
+        view.CameraFocalPoint = [centre[i] * scale[i] for i in range(3)]
+        up = [1.0 if a == plan[1] else 0.0 for a in range(3)]
+        # the side to look from: the remaining in-plane axis must point right
+        # (right = view direction x up, the view direction being -side*normal)
+        right = [a for a in range(3) if a not in (normal, plan[1])][0]
+        side = 1.0 if (normal, plan[1], right) in ((2, 1, 0), (0, 2, 1), (1, 0, 2)) else -1.0
+        view.CameraPosition = [centre[i] * scale[i] + (side * 3.0 * diag if i == normal else 0.0)
+                               for i in range(3)]
+        view.CameraViewUp = up
+        view.CameraParallelProjection = 1
+        view.ResetCamera(False)
+        # fit the slice to the left three quarters (the colour bar is on the
+        # right) and leave room for the label above it
+        w_ext = (b[2 * right + 1] - b[2 * right]) * scale[right]
+        h_ext = (b[2 * plan[1] + 1] - b[2 * plan[1]]) * scale[plan[1]]
+        half_h = max(0.5 * w_ext / 0.75 * height / width, h_ext / 1.4, 1e-30)
+        shift = [0.0, 0.0, 0.0]
+        shift[right] = 0.08 * 2.0 * half_h * width / height
+        view.CameraFocalPoint = [centre[i] * scale[i] + shift[i] for i in range(3)]
+        view.CameraPosition = [centre[i] * scale[i] + shift[i] + (side * 3.0 * diag if i == normal else 0.0)
+                               for i in range(3)]
+        view.CameraParallelScale = half_h
+        Render(view)
+        SaveScreenshot(out, view, ImageResolution=[width, height], TransparentBackground=0)
+        print("render_frame: wrote %s (%s, frame %d, t = %s, range %.6g .. %.6g, 2D slice across %s)"
+              % (out, args.field, index, "n/a" if t is None else "%.6g" % t, lo, hi, "xyz"[normal]))
+        return
+
     # Oblique camera: along --view-from from the centre of the grid, z up
     # (or y up when looking along z), then fitted to the data.
-    b = reader.GetDataInformation().GetBounds()
-    centre = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
     d = list(args.view_from)
     norm = sum(c * c for c in d) ** 0.5
     if norm == 0.0:

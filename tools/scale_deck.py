@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Write a copy of a deck with every dimensional input rescaled: lengths by
 2^L, times by 2^T, masses by 2^M (the dimensional-rescaling invariance test,
 tests/dimension_invariance.sh; DESIGN.md section 6).

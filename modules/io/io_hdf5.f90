@@ -35,6 +35,13 @@ module io_hdf5
   public :: h5_write_scalar_real, h5_write_scalar_int, h5_write_string
   public :: h5_read_dims, h5_read_real, h5_read_int
   public :: h5_read_scalar_real, h5_read_scalar_int, h5_read_string
+  public :: h5_write_attribute, h5_write_attribute_string, h5_write_attribute_real, &
+            h5_write_attribute_int, h5_read_attribute_string
+
+  !> Writes an attribute on the file's root group or on a dataset or group.
+  interface h5_write_attribute
+    module procedure h5_write_attribute_string, h5_write_attribute_real, h5_write_attribute_int
+  end interface h5_write_attribute
 
   !> An open HDF5 file: its identifier (negative when closed) and its path.
   type :: h5_file_t
@@ -781,5 +788,249 @@ contains
     character(len=:), allocatable :: r
     r = "'"//s//"'"
   end function q
+
+  ! --------------------------------------------------------------- attributes
+  ! Attributes describe a file or a dataset (code version, title, units, a
+  ! legend). `object` names the dataset or group that carries the attribute;
+  ! '' or '/' is the file itself (its root group). Writing an attribute that
+  ! already exists is an error, as for datasets.
+
+  !> Writes `text` (any length, no NUL characters) as the scalar fixed-length
+  !> string attribute `name` of `object` ('' or '/': the file).
+  subroutine h5_write_attribute_string(file, object, name, text, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_write_attribute_string'
+    character(len=:), allocatable, target :: buf
+    integer(hid_t) :: tid
+    integer :: hdferr
+    type(c_ptr) :: ptr
+    ! HDF5 strings need at least one byte: the empty string is stored as NUL
+    if (len(text) == 0) then
+      buf = c_null_char
+    else
+      buf = text
+    end if
+    call string_type(int(len(buf), size_t), tid, hdferr)
+    if (hdferr /= 0) then
+      call error_set(err, here, 'cannot create string type for attribute '//attr_where(file, object, name))
+      return
+    end if
+    ptr = c_loc(buf)
+    call write_attribute(file, object, name, ptr, tid, [integer ::], here, err)
+    call h5tclose_f(tid, hdferr)
+  end subroutine h5_write_attribute_string
+
+  !> Writes the scalar double attribute `name` of `object` ('' or '/': the file).
+  subroutine h5_write_attribute_real(file, object, name, value, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: value
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), target :: buf
+    type(c_ptr) :: ptr
+    buf = value
+    ptr = c_loc(buf)
+    call write_attribute(file, object, name, ptr, h5kind_to_type(wp, H5_REAL_KIND), [integer ::], &
+                         'h5_write_attribute_real', err)
+  end subroutine h5_write_attribute_real
+
+  !> Writes the one-dimensional default-integer attribute `name` of `object`
+  !> ('' or '/': the file) from `values` (at least one value).
+  subroutine h5_write_attribute_int(file, object, name, values, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: values(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_write_attribute_int'
+    integer, allocatable, target :: buf(:)
+    integer :: stat
+    character(len=200) :: msg
+    type(c_ptr) :: ptr
+    if (size(values) < 1) then
+      call error_set(err, here, 'no values for attribute '//attr_where(file, object, name))
+      return
+    end if
+    allocate(buf(size(values)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, here, 'cannot allocate attribute '//attr_where(file, object, name)//': '//trim(msg))
+      return
+    end if
+    buf = values
+    ptr = c_loc(buf(1))
+    call write_attribute(file, object, name, ptr, h5kind_to_type(kind(0), H5_INTEGER_KIND), [size(values)], &
+                         here, err)
+  end subroutine h5_write_attribute_int
+
+  !> Reads the scalar fixed-length string attribute `name` of `object`
+  !> ('' or '/': the file); the text ends at the first NUL.
+  subroutine h5_read_attribute_string(file, object, name, text, err)
+    use hdf5, only: h5oopen_f, h5oclose_f, h5aexists_f, h5aopen_f, h5aclose_f, h5aread_f, h5aget_type_f
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: here = 'h5_read_attribute_string'
+    integer(hid_t) :: oid, aid, ftid, mtid
+    integer(size_t) :: nchar
+    integer :: hdferr, tclass, nul
+    logical :: exists, is_var
+    character(len=:), allocatable, target :: buf
+    type(c_ptr) :: ptr
+    text = ''
+    is_var = .false.
+    oid = -1_hid_t
+    aid = -1_hid_t
+    ftid = -1_hid_t
+    mtid = -1_hid_t
+    body: block
+      if (.not. check_open(file, name, here, err)) exit body
+      if (.not. h5_exists(file, object_path(object))) then
+        call error_set(err, here, 'no object for attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5oopen_f(file%id, object_path(object), oid, hdferr)
+      if (hdferr /= 0) then
+        oid = -1_hid_t
+        call error_set(err, here, 'cannot open the object of attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5aexists_f(oid, name, exists, hdferr)
+      if (hdferr /= 0 .or. .not. exists) then
+        call error_set(err, here, 'no attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5aopen_f(oid, name, aid, hdferr)
+      if (hdferr /= 0) then
+        aid = -1_hid_t
+        call error_set(err, here, 'cannot open attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5aget_type_f(aid, ftid, hdferr)
+      if (hdferr /= 0) then
+        ftid = -1_hid_t
+        call error_set(err, here, 'cannot get the type of attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5tget_class_f(ftid, tclass, hdferr)
+      if (hdferr == 0 .and. tclass == H5T_STRING_F) call h5tis_variable_str_f(ftid, is_var, hdferr)
+      if (hdferr /= 0 .or. tclass /= H5T_STRING_F) then
+        call error_set(err, here, 'not a string attribute: '//attr_where(file, object, name))
+        exit body
+      end if
+      if (is_var) then
+        call error_set(err, here, 'variable-length strings unsupported in attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5tget_size_f(ftid, nchar, hdferr)
+      if (hdferr /= 0 .or. nchar < 1) then
+        call error_set(err, here, 'cannot get the string size of attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call string_type(nchar, mtid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot create string type for attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      buf = repeat(c_null_char, int(nchar))
+      ptr = c_loc(buf)
+      call h5aread_f(aid, mtid, ptr, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot read attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      nul = index(buf, c_null_char)
+      if (nul > 0) then
+        text = buf(1:nul - 1)
+      else
+        call move_alloc(buf, text)
+      end if
+    end block body
+    if (mtid >= 0) call h5tclose_f(mtid, hdferr)
+    if (ftid >= 0) call h5tclose_f(ftid, hdferr)
+    if (aid >= 0) call h5aclose_f(aid, hdferr)
+    if (oid >= 0) call h5oclose_f(oid, hdferr)
+  end subroutine h5_read_attribute_string
+
+  !> Creates attribute `name` on `object` with type `tid` and shape `dims`
+  !> (empty: a scalar) and writes it from the buffer address `ptr`.
+  subroutine write_attribute(file, object, name, ptr, tid, dims, here, err)
+    use hdf5, only: h5oopen_f, h5oclose_f, h5acreate_f, h5aclose_f, h5awrite_f
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(inout) :: ptr
+    integer(hid_t), intent(in) :: tid
+    integer, intent(in) :: dims(:)
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: oid, sid, aid
+    integer(hsize_t) :: hdims(1)
+    integer :: hdferr
+    oid = -1_hid_t
+    sid = -1_hid_t
+    aid = -1_hid_t
+    body: block
+      if (.not. check_open(file, name, here, err)) exit body
+      if (.not. h5_exists(file, object_path(object))) then
+        call error_set(err, here, 'no object for attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5oopen_f(file%id, object_path(object), oid, hdferr)
+      if (hdferr /= 0) then
+        oid = -1_hid_t
+        call error_set(err, here, 'cannot open the object of attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      if (size(dims) == 0) then
+        call h5screate_f(H5S_SCALAR_F, sid, hdferr)
+      else
+        hdims(1) = int(dims(1), hsize_t)
+        call h5screate_simple_f(1, hdims, sid, hdferr)
+      end if
+      if (hdferr /= 0) then
+        sid = -1_hid_t
+        call error_set(err, here, 'cannot create dataspace for attribute '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5acreate_f(oid, name, tid, sid, aid, hdferr)
+      if (hdferr /= 0) then
+        aid = -1_hid_t
+        call error_set(err, here, 'cannot create attribute (exists or bad name) '//attr_where(file, object, name))
+        exit body
+      end if
+      call h5awrite_f(aid, tid, ptr, hdferr)
+      if (hdferr /= 0) call error_set(err, here, 'cannot write attribute '//attr_where(file, object, name))
+    end block body
+    if (aid >= 0) call h5aclose_f(aid, hdferr)
+    if (sid >= 0) call h5sclose_f(sid, hdferr)
+    if (oid >= 0) call h5oclose_f(oid, hdferr)
+  end subroutine write_attribute
+
+  !> The HDF5 path of an attribute's object: '' is the root group '/'.
+  pure function object_path(object) result(path)
+    character(len=*), intent(in) :: object
+    character(len=:), allocatable :: path
+    if (len_trim(object) == 0) then
+      path = '/'
+    else
+      path = trim(object)
+    end if
+  end function object_path
+
+  !> "'name' of 'object' in 'path'" for error messages.
+  function attr_where(file, object, name) result(s)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: s
+    s = q(name)//' of '//q(object_path(object))//' in '//q(fpath(file))
+  end function attr_where
 
 end module io_hdf5

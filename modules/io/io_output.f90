@@ -2,21 +2,40 @@
 !>
 !> Each frame `<dir>/<name>_NNNNN.h5` holds the node positions `x` and
 !> velocities `velocity` (3, ni+1, nj+1, nk+1), the cell fields (ni, nj, nk)
-!> density, pressure, energy, sound_speed, viscosity and material, the scalars
-!> time, step and the conservation totals, and the resolved deck. The XDMF file
-!> `<dir>/<name>.xdmf` is rewritten after every frame. Both are written to a
-!> temporary name and renamed, so a reader never sees a partial file.
+!> density, pressure, energy, sound_speed, viscosity, volume and the integer
+!> material index `material`, further cell fields from the caller (with
+!> several materials: each material's volume fraction, density, specific
+!> internal energy and pressure), the scalars time, step and the conservation
+!> totals, and the resolved deck. HDF5 attributes describe the file (code,
+!> code_version, build_type, title, unit_system, material_names) and each
+!> dataset (`units`, a dimension such as 'mass/length^3' in the deck's unit
+!> system; `material` also carries its legend). The XDMF file
+!> `<dir>/<name>.xdmf` lists every cell and node field and is rewritten after
+!> every frame. Both are written to a temporary name and renamed, so a reader
+!> never sees a partial file.
 module io_output
   use base_kinds, only: wp
+  use base_strings, only: itoa
   use base_errors, only: error_t, error_set
+  use base_build, only: code_version, build_type
   use mesh_grid, only: grid_t
   use lagrange_state, only: hydro_t
-  use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_scalar_real, &
-                     h5_write_scalar_int, h5_write_string
+  use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_int, h5_write_scalar_real, &
+                     h5_write_scalar_int, h5_write_string, h5_write_attribute
   use io_xdmf, only: xdmf_write_series, io_rename
   implicit none
   private
-  public :: output_t, output_frame, totals_t
+  public :: output_t, output_frame, totals_t, frame_meta_t, material_legend
+  public :: units_length, units_velocity, units_density, units_pressure, units_specific_energy, &
+            units_volume, units_energy, units_none
+
+  !> Dimensions written as each dataset's `units` attribute: the code is
+  !> unit-agnostic, so a field's unit is its dimension in the deck's unit
+  !> system (the file's `unit_system` attribute, `&run units`).
+  character(len=*), parameter :: units_length = 'length', units_velocity = 'length/time', &
+    units_density = 'mass/length^3', units_pressure = 'mass/(length*time^2)', &
+    units_specific_energy = 'length^2/time^2', units_volume = 'length^3', &
+    units_energy = 'mass*length^2/time^2', units_none = '1'
 
   !> Integral quantities stored with each frame.
   type :: totals_t
@@ -32,35 +51,72 @@ module io_output
     real(wp), allocatable :: times(:)
   end type output_t
 
-  character(len=*), parameter :: cell_fields(6) = [character(len=16) :: &
-    'density', 'pressure', 'energy', 'sound_speed', 'viscosity', 'material']
+  !> What describes every frame of a run: the deck's title and unit-system
+  !> label ('' when the deck gives none) and the material names, in the
+  !> order of their index in the `material` field (1, 2, ...).
+  type :: frame_meta_t
+    character(len=:), allocatable :: title
+    character(len=:), allocatable :: unit_system
+    character(len=64), allocatable :: materials(:)
+  end type frame_meta_t
+
+  character(len=*), parameter :: real_cell_fields(5) = [character(len=16) :: &
+    'density', 'pressure', 'energy', 'sound_speed', 'viscosity']
+  character(len=*), parameter :: real_cell_units(5) = [character(len=24) :: &
+    units_density, units_pressure, units_specific_energy, units_velocity, units_pressure]
   character(len=*), parameter :: node_fields(1) = [character(len=16) :: 'velocity']
 
 contains
+
+  !> The material legend "1: air, 2: tnt" of `names` (index order).
+  pure function material_legend(names) result(legend)
+    character(len=*), intent(in) :: names(:)
+    character(len=:), allocatable :: legend
+    integer :: m
+    legend = ''
+    do m = 1, size(names)
+      if (m > 1) legend = legend//', '
+      legend = legend//itoa(m)//': '//trim(names(m))
+    end do
+  end function material_legend
 
   !> Writes the next frame and rewrites the XDMF series. `path` returns the
   !> frame's file name.
   !> `material` is each cell's material (the one with the largest volume in
   !> a mixed cell); `extra` holds further cell fields (ncell, size(names)),
-  !> e.g. volume fractions, written and listed in the XDMF under `names`.
-  subroutine output_frame(out, g, h, material, names, extra, time, step, tot, deck, path, err)
+  !> e.g. per-material fields, written and listed in the XDMF under `names`,
+  !> with the dimension `units`(k) and, where `owner`(k) is not blank, the
+  !> name of the material the field belongs to as the attribute `material`.
+  subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
+                          path, err)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: material(:)
     character(len=*), intent(in) :: names(:)
+    character(len=*), intent(in) :: units(:)
+    character(len=*), intent(in) :: owner(:)
     real(wp), intent(in) :: extra(:, :)
     real(wp), intent(in) :: time
     integer, intent(in) :: step
     type(totals_t), intent(in) :: tot
     character(len=*), intent(in) :: deck
+    type(frame_meta_t), intent(in) :: meta
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
     type(h5_file_t) :: f
     character(len=256) :: fname
-    character(len=32), allocatable :: fields(:)
-    integer :: nd(4), cd(3), k
+    character(len=64), allocatable :: fields(:), legend_names(:)
+    real(wp), allocatable :: legend_values(:)
+    integer :: nd(4), cd(3), k, stat, nmat
+    character(len=200) :: msg
 
+    if (size(units) /= size(names) .or. size(owner) /= size(names) .or. size(extra, 2) /= size(names)) then
+      call error_set(err, 'output_frame', 'names, units, owner and extra fields differ in number')
+      return
+    end if
+    nmat = 0
+    if (allocated(meta%materials)) nmat = size(meta%materials)
     write(fname, '(a,"_",i5.5,".h5")') out%name, out%nframe
     path = out%dir//'/'//trim(fname)
     nd = [3, g%ni + 1, g%nj + 1, g%nk + 1]
@@ -74,7 +130,7 @@ contains
     if (.not. allocated(err)) call h5_write_real(f, 'energy', h%e, cd, err)
     if (.not. allocated(err)) call h5_write_real(f, 'sound_speed', h%cs, cd, err)
     if (.not. allocated(err)) call h5_write_real(f, 'viscosity', h%q, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'material', real(material, wp), cd, err)
+    if (.not. allocated(err)) call h5_write_int(f, 'material', material, cd, err)
     do k = 1, size(names)
       if (.not. allocated(err)) call h5_write_real(f, trim(names(k)), extra(:, k), cd, err)
     end do
@@ -88,6 +144,7 @@ contains
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/initial_energy', tot%energy_initial, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/boundary_work', tot%boundary_work, err)
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
+    if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, err)
     if (allocated(err)) then
       block
         type(error_t), allocatable :: err2
@@ -107,16 +164,95 @@ contains
     end if
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
-    allocate(fields(size(cell_fields) + size(names)), stat=k)
-    if (k /= 0) then
-      call error_set(err, 'output_frame', 'cannot allocate the field list')
+    allocate(fields(size(real_cell_fields) + size(names) + 1), legend_names(nmat), legend_values(nmat), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'output_frame', 'cannot allocate the field list: '//trim(msg))
       return
     end if
-    fields(1:size(cell_fields)) = cell_fields
+    fields(1:size(real_cell_fields)) = real_cell_fields
     do k = 1, size(names)
-      fields(size(cell_fields) + k) = names(k)
+      fields(size(real_cell_fields) + k) = names(k)
+    end do
+    fields(size(fields)) = 'volume'
+    ! the legend as field data: ParaView lists "material 1: air" = 1, ...
+    do k = 1, nmat
+      legend_names(k) = 'material '//itoa(k)//': '//trim(meta%materials(k))
+      legend_values(k) = real(k, wp)
     end do
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
-                           g%ni, g%nj, g%nk, node_fields, fields, err)
+                           g%ni, g%nj, g%nk, node_fields, fields, err, &
+                           int_cell_fields=[character(len=8) :: 'material'], &
+                           field_names=legend_names, field_values=legend_values, &
+                           info_names=[character(len=16) :: 'code', 'code_version', 'build_type', 'title', &
+                                       'unit_system', 'material_names'], &
+                           info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
+                                        meta_text(meta%title), meta_text(meta%unit_system), &
+                                        material_legend(legend_source(meta))])
   end subroutine output_frame
+
+  !> The attributes of a frame: the file's identity and each dataset's units.
+  subroutine write_attributes(f, names, units, owner, meta, err)
+    type(h5_file_t), intent(in) :: f
+    character(len=*), intent(in) :: names(:), units(:), owner(:)
+    type(frame_meta_t), intent(in) :: meta
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, m, nmat
+    nmat = 0
+    if (allocated(meta%materials)) nmat = size(meta%materials)
+    call h5_write_attribute(f, '', 'code', 'lsalepm', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, '', 'code_version', code_version, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, '', 'build_type', build_type, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, '', 'title', meta_text(meta%title), err)
+    if (.not. allocated(err)) call h5_write_attribute(f, '', 'unit_system', meta_text(meta%unit_system), err)
+    if (.not. allocated(err)) call h5_write_attribute(f, '', 'material_names', &
+                                                      material_legend(legend_source(meta)), err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'x', 'units', units_length, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'velocity', 'units', units_velocity, err)
+    do k = 1, size(real_cell_fields)
+      if (.not. allocated(err)) call h5_write_attribute(f, trim(real_cell_fields(k)), 'units', &
+                                                        trim(real_cell_units(k)), err)
+    end do
+    if (.not. allocated(err)) call h5_write_attribute(f, 'material', 'units', units_none, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'material', 'names', &
+                                                      material_legend(legend_source(meta)), err)
+    if (.not. allocated(err) .and. nmat > 0) &
+      call h5_write_attribute(f, 'material', 'values', [(m, m = 1, nmat)], err)
+    do k = 1, size(names)
+      if (.not. allocated(err)) call h5_write_attribute(f, trim(names(k)), 'units', trim(units(k)), err)
+      if (len_trim(owner(k)) > 0 .and. .not. allocated(err)) &
+        call h5_write_attribute(f, trim(names(k)), 'material', trim(owner(k)), err)
+    end do
+    if (.not. allocated(err)) call h5_write_attribute(f, 'volume', 'units', units_volume, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'time', 'units', 'time', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'step', 'units', units_none, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/mass', 'units', 'mass', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/momentum', 'units', 'mass*length/time', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/internal_energy', 'units', units_energy, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/kinetic_energy', 'units', units_energy, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/initial_energy', 'units', units_energy, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'totals/boundary_work', 'units', units_energy, err)
+  end subroutine write_attributes
+
+  !> `text` if allocated, else ''.
+  pure function meta_text(text) result(s)
+    character(len=:), allocatable, intent(in) :: text
+    character(len=:), allocatable :: s
+    if (allocated(text)) then
+      s = trim(text)
+    else
+      s = ''
+    end if
+  end function meta_text
+
+  !> The material names of `meta` (none if unset).
+  pure function legend_source(meta) result(names)
+    type(frame_meta_t), intent(in) :: meta
+    character(len=64), allocatable :: names(:)
+    if (allocated(meta%materials)) then
+      names = meta%materials
+    else
+      names = [character(len=64) ::]
+    end if
+  end function legend_source
 end module io_output

@@ -37,8 +37,15 @@ contains
   !> (paths relative to the XDMF file) at `times`, on an ni x nj x nk cell grid.
   !> Each frame holds /x (node coordinates, Fortran shape [3,ni+1,nj+1,nk+1]),
   !> node vectors /name for `node_fields` and cell scalars /name (shape
-  !> [ni,nj,nk]) for `cell_fields`. Written to path//'.tmp', then renamed.
-  subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err)
+  !> [ni,nj,nk]) for `cell_fields` (doubles) and `int_cell_fields` (default
+  !> integers, e.g. the material index). Each frame's time is also field data
+  !> `time` (ParaView shows Grid-centred attributes as field data), and so is
+  !> each (`field_names`(k), `field_values`(k)) pair, the same in every frame
+  !> (e.g. the material legend "material 1: air" = 1). `info_names` and
+  !> `info_values` become <Information> elements of the domain (title, code
+  !> version, unit system). Written to path//'.tmp', then renamed.
+  subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
+                               int_cell_fields, field_names, field_values, info_names, info_values)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -46,8 +53,13 @@ contains
     character(len=*), intent(in) :: node_fields(:)
     character(len=*), intent(in) :: cell_fields(:)
     type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: int_cell_fields(:)
+    character(len=*), intent(in), optional :: field_names(:)
+    real(wp), intent(in), optional :: field_values(:)
+    character(len=*), intent(in), optional :: info_names(:)
+    character(len=*), intent(in), optional :: info_values(:)
     character(len=*), parameter :: here = 'xdmf_write_series'
-    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item
+    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item
     character(len=32) :: tbuf
     character(len=256) :: msg
     integer :: unit, ios, f, k
@@ -61,10 +73,32 @@ contains
       return
     end if
 
+    if (present(field_names) .neqv. present(field_values)) then
+      call error_set(err, here, 'field_names and field_values go together for '//q(path))
+      return
+    end if
+    if (present(field_names) .and. present(field_values)) then
+      if (size(field_names) /= size(field_values)) then
+        call error_set(err, here, 'field_names and field_values differ in size for '//q(path))
+        return
+      end if
+    end if
+    if (present(info_names) .neqv. present(info_values)) then
+      call error_set(err, here, 'info_names and info_values go together for '//q(path))
+      return
+    end if
+    if (present(info_names) .and. present(info_values)) then
+      if (size(info_names) /= size(info_values)) then
+        call error_set(err, here, 'info_names and info_values differ in size for '//q(path))
+        return
+      end if
+    end if
+
     node_dims = itoa(nk + 1)//' '//itoa(nj + 1)//' '//itoa(ni + 1)
     vec_dims = node_dims//' 3'
     cell_dims = itoa(nk)//' '//itoa(nj)//' '//itoa(ni)
     item = ' NumberType="Float" Precision="8" Format="HDF">'
+    int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
 
     open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
@@ -78,6 +112,13 @@ contains
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
          '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '  <Domain>'
+    if (present(info_names) .and. present(info_values)) then
+      do k = 1, size(info_names)
+        if (ios /= 0) exit
+        write(unit, '(a)', iostat=ios, iomsg=msg) '    <Information Name="'//xml(trim(info_names(k)))// &
+             '" Value="'//xml(trim(info_values(k)))//'"/>'
+      end do
+    end if
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
          '    <Grid Name="series" GridType="Collection" CollectionType="Temporal">'
     do f = 1, size(frames)
@@ -111,6 +152,26 @@ contains
              xml(trim(cell_fields(k)))//'</DataItem>'
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
       end do
+      if (present(int_cell_fields)) then
+        do k = 1, size(int_cell_fields)
+          if (ios /= 0) exit
+          write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(int_cell_fields(k)))// &
+               '" AttributeType="Scalar" Center="Cell">'
+          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+               '          <DataItem Dimensions="'//cell_dims//'"'//int_item//xml(trim(frames(f)))//':/'// &
+               xml(trim(int_cell_fields(k)))//'</DataItem>'
+          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+        end do
+      end if
+      ! field data, inline: a scalar HDF5 dataset is no hyperslab for the XDMF reader
+      if (ios == 0) call write_field(unit, 'time', tbuf, ios, msg)
+      if (present(field_names) .and. present(field_values)) then
+        do k = 1, size(field_names)
+          if (ios /= 0) exit
+          write(tbuf, '(es24.16e3)') field_values(k)
+          call write_field(unit, trim(field_names(k)), tbuf, ios, msg)
+        end do
+      end if
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
     end do
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '    </Grid>'
@@ -130,6 +191,21 @@ contains
     call io_rename(tmp, path, err)
   end subroutine xdmf_write_series
 
+
+  !> One Grid-centred (field data) scalar attribute with its value inline.
+  subroutine write_field(unit, name, value, ios, msg)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: value
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(name)// &
+         '" AttributeType="Scalar" Center="Grid">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+         '          <DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">'// &
+         trim(adjustl(value))//'</DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+  end subroutine write_field
 
   !> Escapes the XML special characters of `s`.
   pure function xml(s) result(r)

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Checks of tools/exact/sedov.py (plain script; exit status 1 on failure).
 
 Run:  /usr/bin/python3 tools/exact/test_sedov.py
@@ -33,6 +34,16 @@ spherical 0.851072 (KT's spherical test energy, consistent with our alpha to
 specification; source not independently verified, KT Table 4 prints
 0.984041) are checked at 1e-6.
 """
+
+try:  # Debian's numpy, scipy belong to /usr/bin/python3; a python3 first on PATH may lack them
+    import numpy, scipy  # noqa: F401
+except ImportError:
+    import os as _os
+    import sys as _sys
+    if _os.access("/usr/bin/python3", _os.X_OK) and \
+            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
+        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
+    raise SystemExit("%s: needs Debian's python3 with numpy, scipy (tools/install-deps.sh)" % _sys.argv[0])
 
 import math
 import os

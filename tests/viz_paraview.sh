@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The frames in ParaView, headless (issue 13): a two-material run's XDMF
+# series opened with pvbatch shows the per-material fields, volume, the
+# integer material and the field data (tests/check_paraview.py), and
+# tools/render_frame.sh draws the quasi-1D run as a coloured 2D strip.
+# Skipped (exit 77, ctest SKIP_RETURN_CODE) when pvbatch or xvfb-run is
+# missing: ParaView is optional (tools/install-deps.sh --viz).
+# Usage: viz_paraview.sh EXE DECK MATERIALS WORKDIR
+#   MATERIALS: the deck's material names, comma-separated, in deck order.
+set -u
+exe=$1 deck=$2 materials=$3 dir=$4
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+for tool in pvbatch xvfb-run; do
+  if ! command -v "$tool" >/dev/null 2>&1; then
+    echo "SKIP: $tool not found (tools/install-deps.sh --viz installs ParaView and xvfb)"
+    exit 77
+  fi
+done
+rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+sed -e "s|^&output.*|\&output dir = 'out', name = 'viz' /|" "$deck" > viz.nml
+OMP_NUM_THREADS=1 "$exe" viz.nml > run.log 2>&1 || { echo "FAIL: the run failed (see $dir/run.log)"; exit 1; }
+"$here/../tools/render_frame.sh" out/viz.xdmf --field density --out viz.png --size 800x400 ||
+  { echo "FAIL: tools/render_frame.sh failed"; exit 1; }
+xvfb-run -a pvbatch "$here/check_paraview.py" out/viz.xdmf "$materials" viz.png
