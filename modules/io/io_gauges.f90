@@ -4,7 +4,10 @@
 !> natural coordinates xi of the point in it (the inverse of the cell's
 !> trilinear map, by Newton). The previous row's cell is tried first; if the
 !> point has left it, a walk by nearest centroid from there and a look at the
-!> 26 neighbours of where it ends find the new one (`gauge_locate`). A point
+!> 26 neighbours of where it ends find the new one (`gauge_locate`); a
+!> point on a face shared by cells belongs to the one with the lowest
+!> indices, wherever the search started (so a restarted run, which starts
+!> from cell 1, reads the same cell as the straight run). A point
 !> that the boundary has left behind reads the nearest boundary cell at
 !> clamped xi.
 !>
@@ -228,6 +231,7 @@ contains
     xi = natural_coordinates(xn, p)
     if (maxval(abs(xi)) <= 1.0_wp + tol) then
       c = cs
+      call lowest_containing(g, p, tol, c, xi)
       return
     end if
     cn = nearest_cell(g, p, cs)
@@ -260,8 +264,37 @@ contains
       end do
       if (best_excess <= tol) exit
     end do
+    if (best_excess <= tol) call lowest_containing(g, p, tol, c, xi)
     xi = min(max(xi, -1.0_wp), 1.0_wp)
   end subroutine gauge_locate
+
+  !> A point on a face, edge or corner lies in several cells; the answer
+  !> must not depend on where the search started (a restarted run starts
+  !> from cell 1, the straight run from the previous row's cell), so it is
+  !> the one with the lowest logical indices: from a cell c that contains p
+  !> (natural coordinates xi), move to the lower neighbour along each d with
+  !> xi(d) within tol of -1, if that neighbour contains p too.
+  pure subroutine lowest_containing(g, p, tol, c, xi)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: p(3), tol
+    integer, intent(inout) :: c
+    real(wp), intent(inout) :: xi(3)
+    real(wp) :: xn(3, 8), xit(3)
+    integer :: d, ijk(3), stride(3), cn
+    stride = [1, g%cx, g%cxy]
+    do d = 1, 3
+      if (.not. xi(d) < -1.0_wp + tol) cycle
+      call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+      if (ijk(d) <= 1) cycle
+      cn = c - stride(d)
+      call g%gather(cn, g%x, xn)
+      xit = natural_coordinates(xn, p)
+      if (maxval(abs(xit)) <= 1.0_wp + tol) then
+        c = cn
+        xi = xit
+      end if
+    end do
+  end subroutine lowest_containing
 
   !> Walks from cell c0 to the face neighbour whose centroid (mean of the
   !> nodes) is nearest to p, until no neighbour is nearer.
