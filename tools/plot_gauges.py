@@ -97,8 +97,10 @@ def main(argv=None):
             ax.legend(fontsize=7)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
-    for ax in axes[-1, :]:
-        ax.set_xlabel("time")
+    for i, ax in enumerate(list(axes.flat)[:n]):
+        if i + ncol >= n:  # lowest visible panel of its column
+            ax.set_xlabel("time")
+            ax.tick_params(labelbottom=True)
     fig.suptitle(args.file, fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
