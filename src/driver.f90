@@ -20,7 +20,8 @@ module driver
   use driver_config, only: config_t, config_read, config_defaults_text
   use driver_state, only: state_t, state_totals
   use driver_output, only: schedule_t, schedule_init, open_outputs, write_frame, frame_out, gauge_output, progress, &
-                           report_conservation, frame_due, dump_due, advance_schedule
+                           report_conservation, frame_due, dump_due, advance_schedule, history_output, &
+                           outputs_after_restart, step_limit_text
   use driver_scene, only: build_scene
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
@@ -57,6 +58,7 @@ contains
     if (allocated(err)) call fail(cfg, st, sch, err)
     if (sch%restarting) then
       call read_restart(cfg, st, sch, es, err)
+      if (.not. allocated(err)) call outputs_after_restart(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
     else
       call schedule_init(cfg, sch)
@@ -64,6 +66,7 @@ contains
       call write_frame(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
       call gauge_output(cfg, st, sch)
+      call history_output(cfg, st, sch)
     end if
     call sch%t_setup%stop()
     call time_loop(cfg, st, sch, es)
@@ -111,7 +114,7 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
-    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0
+    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap
     integer :: bad_cell
     logical :: last, due
 
@@ -122,15 +125,18 @@ contains
 
       ! LAGRANGE: the step the controller allows, cut to the stable step
       dt = step_cap(cfg, st, sch)
+      dt_cap = dt
       w0 = wall_seconds()
       call sch%t_lagrange%start()
-      call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell)
+      call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell)
       call sch%t_lagrange%stop()
       sch%step_wall = wall_seconds() - w0
+      sch%dt_by_cell = dt < dt_cap
       if (bad_cell /= 0) call error_set(err, 'lagrange_step', 'cell '//itoa(bad_cell)// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
       if (.not. allocated(err) .and. dt < cfg%control%dt_min) call error_set(err, 'time_loop', &
-        'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//')', ERR_RUNTIME)
+        'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//') at t = '// &
+        rtoa(st%t)//', set by '//step_limit_text(st, sch), ERR_RUNTIME)
       if (allocated(err)) call fail(cfg, st, sch, err)
       st%dt = dt
       st%t = st%t + dt
@@ -147,6 +153,7 @@ contains
 
       ! OUTPUT
       call gauge_output(cfg, st, sch)
+      call history_output(cfg, st, sch)
       sch%steps_since_frame = sch%steps_since_frame + 1
       if (.not. last .and. frame_due(cfg, st, sch, eps_t)) then
         call write_frame(cfg, st, sch, err)

@@ -1,6 +1,7 @@
 !> What a run writes and when: the log, frames (HDF5 + XDMF), gauge rows,
-!> progress lines and the conservation report, with the schedule of frames,
-!> gauges and restart dumps and the phase timers.
+!> the energy history, progress lines and the conservation report, with the
+!> schedule of frames, gauges, history rows and restart dumps and the phase
+!> timers.
 module driver_output
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use base_kinds, only: wp
@@ -8,10 +9,11 @@ module driver_output
   use base_errors, only: error_t, error_set, ERR_IO, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t
-  use io_log, only: log_t, log_open, log_line
+  use base_build, only: code_version, build_type
+  use io_log, only: log_t, log_open, log_line, log_identity
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
                        units_pressure
-  use io_gauges, only: gauges_t, gauges_open, gauges_write
+  use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
   use io_hdf5, only: hdf5_start
   use io_files, only: io_make_dirs
   use driver_config, only: config_t
@@ -19,7 +21,8 @@ module driver_output
   implicit none
   private
   public :: schedule_t, schedule_init, schedule_register_restart, open_outputs, write_frame, frame_out, &
-            gauge_output, progress, report_conservation, frame_due, dump_due, advance_schedule
+            gauge_output, progress, report_conservation, frame_due, dump_due, advance_schedule, &
+            history_output, outputs_after_restart, step_limit_text
 
   !> The output schedule and bookkeeping of this run segment.
   type :: schedule_t
@@ -33,6 +36,10 @@ module driver_output
     character(len=256), allocatable :: dumps(:)    !< this segment's dumps, oldest first
     real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp   !< wall time of the last step, last dump
     type(timer_t) :: t_setup, t_lagrange, t_output, t_total
+    integer :: history_unit = -1                   !< the energy history file (-1: none)
+    real(wp) :: t_next_history = huge(1.0_wp)      !< time of the next history row
+    integer :: dt_cell = 0                         !< cell with the smallest stable step (0: none)
+    logical :: dt_by_cell = .false.                !< that cell set the last step (else the controller did)
   end type schedule_t
 
 contains
@@ -45,6 +52,8 @@ contains
     if (cfg%output%frame_dt > 0.0_wp) sch%t_next_frame = cfg%output%frame_dt
     sch%t_next_dump = huge(1.0_wp)
     if (cfg%control%dump_dt > 0.0_wp) sch%t_next_dump = cfg%control%dump_dt
+    sch%t_next_history = huge(1.0_wp)
+    if (cfg%output%history_dt > 0.0_wp) sch%t_next_history = 0.0_wp
   end subroutine schedule_init
 
   !> Registers the schedule's restart quantities.
@@ -56,10 +65,15 @@ contains
     call reg%add('t_next_dump', 'time', sch%t_next_dump)
     call reg%add('steps_since_frame', '1', sch%steps_since_frame)
     call reg%add('nframe', '1', sch%out%nframe)
+    ! not mandatory: a restart written before the history existed continues
+    ! with the next multiple of history_dt (outputs_after_restart)
+    call reg%add('t_next_history', 'time', sch%t_next_history, mandatory=.false.)
   end subroutine schedule_register_restart
 
   !> Creates the output directory, opens the log (appending on a restart),
-  !> echoes the resolved deck, starts HDF5 and opens the gauge file.
+  !> writes the run's identity, echoes the resolved deck, starts HDF5 and
+  !> opens the gauge and energy history files (on a restart they are opened
+  !> by `outputs_after_restart`, once the restart time is known).
   subroutine open_outputs(cfg, sch, err)
     type(config_t), intent(in) :: cfg
     type(schedule_t), intent(inout) :: sch
@@ -78,6 +92,7 @@ contains
       call error_set(err, 'open_outputs', 'cannot open the log: '//trim(msg), ERR_IO)
       return
     end if
+    call log_identity(sch%log, code_version, build_type)
     call log_line(sch%log, 'lsalepm: '//trim(cfg%control%title))
     call log_line(sch%log, 'deck: '//cfg%deck_path)
     call log_line(sch%log, 'resolved input:')
@@ -85,10 +100,115 @@ contains
     sch%out%dir = dir
     sch%out%name = base
     call hdf5_start(err)
-    if (.not. allocated(err)) call gauges_open(sch%gauges, dir//'/'//base//'_gauges.txt', &
-                                               cfg%output%gauges(:, 1:cfg%output%ngauge), sch%restarting, err)
+    if (.not. allocated(err) .and. .not. sch%restarting) call open_histories(cfg, sch, .false., err)
     if (allocated(err)) err%category = ERR_IO
   end subroutine open_outputs
+
+  !> Opens the gauge file and, with &output history_dt > 0, the energy
+  !> history `<dir>/<name>_history.txt`: new files with their headers, or
+  !> (append) the existing ones to add rows.
+  subroutine open_histories(cfg, sch, append, err)
+    type(config_t), intent(in) :: cfg
+    type(schedule_t), intent(inout) :: sch
+    logical, intent(in) :: append
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=512) :: msg
+    integer :: ios
+
+    call gauges_open(sch%gauges, gauges_path(sch), cfg%output%gauges(:, 1:cfg%output%ngauge), append, err)
+    if (allocated(err) .or. .not. cfg%output%history_dt > 0.0_wp) return
+    if (append) then
+      open(newunit=sch%history_unit, file=history_path(sch), status='unknown', position='append', &
+           action='write', iostat=ios, iomsg=msg)
+    else
+      open(newunit=sch%history_unit, file=history_path(sch), status='replace', action='write', &
+           iostat=ios, iomsg=msg)
+    end if
+    if (ios /= 0) then
+      sch%history_unit = -1
+      call error_set(err, 'open_outputs', 'cannot open '''//history_path(sch)//''': '//trim(msg), ERR_IO)
+      return
+    end if
+    if (append) return
+    write(sch%history_unit, '(a)') '# energy history (lsalepm): a row every &output history_dt = '// &
+      rtoa(cfg%output%history_dt)//' and at the end; total = kinetic + internal; drift = (total - '// &
+      'initial total - boundary work)/|initial total|; energies in the deck''s units'
+    write(sch%history_unit, '(a)') '# time kinetic internal boundary_work total drift'
+    flush(sch%history_unit)
+  end subroutine open_histories
+
+  function gauges_path(sch) result(path)
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: path
+    path = sch%out%dir//'/'//sch%out%name//'_gauges.txt'
+  end function gauges_path
+
+  function history_path(sch) result(path)
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: path
+    path = sch%out%dir//'/'//sch%out%name//'_history.txt'
+  end function history_path
+
+  !> After a restart has been read (st%t is the restart time): drops from the
+  !> gauge and history files the rows the earlier run wrote after this time
+  !> (it may have run on past the dump), then opens both to append, so that a
+  !> run split by a restart leaves the same files as the straight run. A
+  !> history_dt set only now starts at the next multiple of it.
+  subroutine outputs_after_restart(cfg, st, sch, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(in) :: st
+    type(schedule_t), intent(inout) :: sch
+    type(error_t), allocatable, intent(inout) :: err
+
+    if (cfg%output%ngauge > 0) call text_rows_trim(gauges_path(sch), st%t, err)
+    if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) then
+      call text_rows_trim(history_path(sch), st%t, err)
+      if (.not. sch%t_next_history <= st%t + cfg%output%history_dt) &
+        sch%t_next_history = next_multiple(st%t, cfg%output%history_dt)
+    end if
+    if (.not. allocated(err)) call open_histories(cfg, sch, .true., err)
+    if (allocated(err)) err%category = ERR_IO
+  end subroutine outputs_after_restart
+
+  !> The first whole multiple of `interval` after t (time). An interval
+  !> below the resolution of t gives t itself (a row every step), so no
+  !> interval, however small, makes a loop or an overflow.
+  pure real(wp) function next_multiple(t, interval) result(tn)
+    real(wp), intent(in) :: t, interval
+    if (interval <= 4.0_wp*epsilon(1.0_wp)*abs(t)) then
+      tn = t
+    else
+      tn = (aint(t/interval) + 1.0_wp)*interval
+    end if
+  end function next_multiple
+
+  !> An energy history row, if one is due (at history_dt intervals from
+  !> t = 0, and at the end time), and closes the file at the end time.
+  subroutine history_output(cfg, st, sch)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(schedule_t), intent(inout) :: sch
+    real(wp) :: eps_t
+    logical :: last
+    character(len=160) :: row
+
+    if (sch%history_unit == -1) return
+    eps_t = 1.0e-12_wp*cfg%control%t_end
+    last = .not. (st%t < cfg%control%t_end - eps_t)
+    if (st%t < sch%t_next_history - eps_t .and. .not. last) return
+    call sch%t_output%start()
+    call state_totals(st)
+    write(row, '(6es24.16)') st%t, st%tot%kinetic, st%tot%internal, st%tot%boundary_work, &
+      st%tot%kinetic + st%tot%internal, energy_drift(st%tot)
+    write(sch%history_unit, '(a)') trim(row)
+    flush(sch%history_unit)
+    sch%t_next_history = next_multiple(st%t + eps_t, cfg%output%history_dt)
+    if (last) then
+      close(sch%history_unit)
+      sch%history_unit = -1
+    end if
+    call sch%t_output%stop()
+  end subroutine history_output
 
   !> Writes a frame with each cell's material (the largest by volume in a
   !> mixed cell) and, with several materials, each material's fields: its
@@ -216,8 +336,10 @@ contains
     end do
   end subroutine advance_schedule
 
-  !> One progress line: step, time, dt, wall time, estimated time left, and
-  !> the energy balance. A NaN anywhere in the state shows up here.
+  !> One progress line: step, time, dt and what set it (the cell (i,j,k)
+  !> and material with the smallest stable step, or the step controller:
+  !> growth limit, dt_max, end or output time), wall time, estimated time
+  !> left, and the energy balance. A NaN anywhere in the state shows up here.
   subroutine progress(cfg, st, sch, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -237,15 +359,81 @@ contains
     if (st%t > 0.0_wp) left = wall*(cfg%control%t_end - st%t)/st%t
     write(line, '("step ",i8,"  t ",es12.5,"  dt ",es10.3,"  wall ",f9.2," s  left ",f9.2, &
       &" s  energy drift ",es10.2)') st%step, st%t, st%dt, wall, left, drift
-    call log_line(sch%log, trim(line))
+    call log_line(sch%log, trim(line)//'  dt by '//step_limit_text(st, sch))
   end subroutine progress
 
-  !> The conservation report: mass, momentum, energies, boundary work, drift.
+  !> What set the last step: 'cell (i,j,k) <material>' when the stable step
+  !> of that cell did, else 'controller' (growth limit, dt_max, dt_init, end
+  !> or output time) followed by the cell with the smallest stable step.
+  function step_limit_text(st, sch) result(text)
+    type(state_t), intent(in) :: st
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: text
+    if (sch%dt_cell < 1 .or. sch%dt_cell > st%g%ncell) then
+      text = 'controller'
+    else if (sch%dt_by_cell) then
+      text = 'cell '//cell_text(st, sch%dt_cell)
+    else
+      text = 'controller (smallest stable step: cell '//cell_text(st, sch%dt_cell)//')'
+    end if
+  end function step_limit_text
+
+  !> '(i,j,k) <material>' of cell c; a mixed cell names its materials.
+  function cell_text(st, c) result(text)
+    type(state_t), intent(in) :: st
+    integer, intent(in) :: c
+    character(len=:), allocatable :: text
+    integer :: i, j, k, m, s
+    call st%g%cell_ijk(c, i, j, k)
+    text = '('//itoa(i)//','//itoa(j)//','//itoa(k)//') '
+    m = st%h%mat(c)
+    if (m > 0 .and. m <= size(st%mats)) then
+      text = text//st%mats(m)%name
+    else if (m < 0 .and. -m <= st%mx%n) then
+      text = text//'mixed'
+      do s = st%mx%start(-m), st%mx%start(-m + 1) - 1
+        text = text//merge(' (', ', ', s == st%mx%start(-m))//st%mats(st%mx%mat(s))%name
+      end do
+      text = text//')'
+    else
+      text = text//'material '//itoa(m)
+    end if
+  end function cell_text
+
+  !> Mass and internal energy (mass x specific internal energy) of each
+  !> material: its pure cells plus its slots in the mixed cells (mass, energy).
+  !> They add up to the cell totals of `hydro_totals` to round-off, since a
+  !> mixed cell's slots share its mass and energy.
+  subroutine material_totals(st, mass, internal)
+    type(state_t), intent(in) :: st
+    real(wp), intent(out) :: mass(:), internal(:)
+    integer :: c, m, s, k
+    mass = 0.0_wp
+    internal = 0.0_wp
+    do c = 1, st%g%ncell
+      m = st%h%mat(c)
+      if (m > 0) then
+        mass(m) = mass(m) + st%h%mass(c)
+        internal(m) = internal(m) + st%h%mass(c)*st%h%e(c)
+      else if (m < 0) then
+        k = -m
+        do s = st%mx%start(k), st%mx%start(k + 1) - 1
+          mass(st%mx%mat(s)) = mass(st%mx%mat(s)) + st%mx%mass(s)
+          internal(st%mx%mat(s)) = internal(st%mx%mat(s)) + st%mx%mass(s)*st%mx%e(s)
+        end do
+      end if
+    end do
+  end subroutine material_totals
+
+  !> The conservation report: mass, momentum, energies, boundary work,
+  !> drift, then mass and internal energy of each material.
   subroutine report_conservation(st, log, label)
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     character(len=*), intent(in) :: label
     character(len=256) :: line
+    real(wp) :: mass(size(st%mats)), internal(size(st%mats))
+    integer :: m
     call state_totals(st)
     write(line, '("conservation (",a,"): mass ",es22.15,"  momentum ",3es12.4)') &
       label, st%tot%mass, st%tot%momentum
@@ -256,5 +444,11 @@ contains
     write(line, '("  boundary work ",es22.15,"  relative energy drift ",es10.3)') &
       st%tot%boundary_work, energy_drift(st%tot)
     call log_line(log, trim(line))
+    call material_totals(st, mass, internal)
+    do m = 1, size(st%mats)
+      write(line, '("  material ",i0," ",a,": mass ",es22.15,"  internal energy ",es22.15)') &
+        m, st%mats(m)%name, mass(m), internal(m)
+      call log_line(log, trim(line))
+    end do
   end subroutine report_conservation
 end module driver_output

@@ -1,11 +1,16 @@
 !> The run log: every line goes to standard output (errors to standard error)
 !> and to the log file, if one is open. The log is an object the driver
-!> holds and passes; no module keeps it.
+!> holds and passes; no module keeps it. `log_identity` writes the run's
+!> identity (code version, build type, compiler, HDF5 library, date, host,
+!> OpenMP threads), with which every log starts.
 module io_log
-  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, compiler_version
+  use hdf5, only: h5get_libversion_f
+  use base_strings, only: itoa
+  !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
-  public :: log_t, log_open, log_close, log_line, log_error
+  public :: log_t, log_open, log_close, log_line, log_error, log_identity, host_name
 
   !> An open (or not yet open) log file.
   type :: log_t
@@ -62,4 +67,54 @@ contains
       flush(log%unit)
     end if
   end subroutine log_error
+
+  !> Writes the run's identity: code version and build type (both from
+  !> base_build, passed in), compiler, HDF5 library version, the date and time
+  !> the run started (with the UTC offset), the host name and the OpenMP
+  !> thread count (1 in a build without OpenMP).
+  subroutine log_identity(log, code_version, build_type)
+    type(log_t), intent(in) :: log
+    character(len=*), intent(in) :: code_version, build_type
+    character(len=8) :: date
+    character(len=10) :: time
+    character(len=5) :: zone
+    character(len=32) :: hdf5_text
+    integer :: nthreads, major, minor, release, ios
+
+    nthreads = 1
+    !$ nthreads = omp_get_max_threads()
+    call h5get_libversion_f(major, minor, release, ios)
+    if (ios == 0) then
+      write(hdf5_text, '(i0,".",i0,".",i0)') major, minor, release
+    else
+      hdf5_text = 'unknown'
+    end if
+    call date_and_time(date, time, zone)
+    call log_line(log, 'run: lsalepm '//code_version//' ('//build_type//' build), compiler '// &
+                  compiler_version()//', HDF5 '//trim(hdf5_text))
+    call log_line(log, 'run: started '//date(1:4)//'-'//date(5:6)//'-'//date(7:8)//' '//time(1:2)//':'// &
+                  time(3:4)//':'//time(5:6)//' '//zone//' on host '//host_name()//', '// &
+                  itoa(nthreads)//' OpenMP thread(s)')
+  end subroutine log_identity
+
+  !> The machine's host name: /proc/sys/kernel/hostname, else the HOSTNAME
+  !> environment variable, else 'unknown' (no shell is run).
+  function host_name() result(name)
+    character(len=:), allocatable :: name
+    character(len=256) :: buf
+    integer :: u, ios, n
+    buf = ''
+    open(newunit=u, file='/proc/sys/kernel/hostname', status='old', action='read', iostat=ios)
+    if (ios == 0) then
+      read(u, '(a)', iostat=ios) buf
+      close(u)
+      if (ios /= 0) buf = ''
+    end if
+    if (len_trim(buf) == 0) then
+      call get_environment_variable('HOSTNAME', buf, length=n, status=ios)
+      if (ios /= 0) buf = ''
+    end if
+    name = trim(adjustl(buf))
+    if (len(name) == 0) name = 'unknown'
+  end function host_name
 end module io_log

@@ -236,19 +236,29 @@ contains
   !> x must be the positions whose cell volumes are h%vol. Also keeps the
   !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
   !> h%area), so that the forces of the same x, v do not compute it again.
-  subroutine lagrange_strain_rates(g, x, v, h, par, dt_stable)
+  !> `dt_cell` (optional) returns the cell that limits the step: the lowest
+  !> cell index among those whose own step equals dt_stable (0 if no cell
+  !> limits it), the same for any thread count. Each thread keeps its own
+  !> minimum and the first cell (in its increasing cell order) that reaches
+  !> it; the threads' pairs are then combined by (step, cell). min is exact,
+  !> so dt_stable is the same number as with a plain min reduction.
+  subroutine lagrange_strain_rates(g, x, v, h, par, dt_stable, dt_cell)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
-    integer :: c, d, e, n0, ci, cj, ck
-    real(wp) :: xn(3, 8), vn(3, 8), vol, amax, dumax, div, cq, ceff, dtc
+    integer, intent(out), optional :: dt_cell
+    integer :: c, d, e, n0, ci, cj, ck, c_min, c_loc
+    real(wp) :: xn(3, 8), vn(3, 8), vol, amax, dumax, div, cq, ceff, dtc, dt_loc
 
     dt_stable = huge(1.0_wp)
-    !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
-    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc) &
-    !$omp reduction(min: dt_stable) schedule(static)
+    c_min = 0
+    !$omp parallel default(none) shared(g, x, v, h, par, dt_stable, c_min) &
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc, dt_loc, c_loc)
+    dt_loc = huge(1.0_wp)
+    c_loc = 0
+    !$omp do collapse(2) schedule(static)
     do ck = g%clo(3), g%chi(3)
     do cj = g%clo(2), g%chi(2)
     ! consecutive i are consecutive cells and nodes
@@ -277,11 +287,24 @@ contains
       dtc = huge(1.0_wp)
       if (ceff > 0.0_wp) dtc = par%cfl*(h%vol(c)/amax)/ceff
       if (abs(div) > 0.0_wp) dtc = min(dtc, par%dv_max/abs(div))
-      dt_stable = min(dt_stable, dtc)
+      if (dtc < dt_loc) c_loc = c
+      dt_loc = min(dt_loc, dtc)
     end do
     end do
     end do
-    !$omp end parallel do
+    !$omp end do nowait
+    !$omp critical (lagrange_dt_min)
+    if (c_loc > 0) then
+      if (dt_loc < dt_stable) then
+        c_min = c_loc
+      else if (.not. dt_loc > dt_stable .and. (c_min == 0 .or. c_loc < c_min)) then
+        c_min = c_loc   ! a tie: the lower cell index
+      end if
+    end if
+    dt_stable = min(dt_stable, dt_loc)
+    !$omp end critical (lagrange_dt_min)
+    !$omp end parallel
+    if (present(dt_cell)) dt_cell = c_min
   end subroutine lagrange_strain_rates
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell

@@ -24,13 +24,15 @@ module lagrange_integrator
 
 contains
 
-  !> Largest stable step of the current state (no growth limit applied).
-  subroutine lagrange_stable_dt(g, h, par, dt_stable)
+  !> Largest stable step of the current state (no growth limit applied);
+  !> `dt_cell` (optional) the cell that limits it (see `lagrange_strain_rates`).
+  subroutine lagrange_stable_dt(g, h, par, dt_stable, dt_cell)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(out) :: dt_stable
-    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
+    integer, intent(out), optional :: dt_cell
+    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
   end subroutine lagrange_stable_dt
 
   !> Advances the state by one step. On entry `dt` is the largest step the
@@ -38,6 +40,9 @@ contains
   !> step taken: the smaller of that and the stable step. `work` returns the
   !> work done by the boundaries; `bad_cell` is the first cell whose volume
   !> became non-positive (0 if none), in which case the state is not usable.
+  !> `dt_cell` (optional) returns the cell whose stable step is the smallest
+  !> (lowest index on a tie; 0 if none), whether or not that step was taken:
+  !> the step was limited by it when `dt` came back smaller than it went in.
   !>
   !> Particles (Eq. 16-17) enter through two optional node arrays: `f_ext`
   !> (3, nnode), a force added to the assembled corner forces of each node in
@@ -54,7 +59,7 @@ contains
   !> change is -work_ext for forces from particle stresses). The impulse of a
   !> kinematic boundary on f_ext is boundary work, as for the corner forces.
   !> Without f_ext and m_ext the step is unchanged bit for bit.
-  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext)
+  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -67,11 +72,12 @@ contains
     real(wp), intent(in), optional :: f_ext(:, :)
     real(wp), intent(in), optional :: m_ext(:)
     real(wp), intent(out), optional :: work_ext
+    integer, intent(out), optional :: dt_cell
     real(wp) :: dt_stable, w_pred
 
     if (present(work_ext)) work_ext = 0.0_wp
     ! predictor
-    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable)
+    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
