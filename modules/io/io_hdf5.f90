@@ -21,19 +21,20 @@
 !>
 !> The library's own exit handler is switched off (`hdf5_start`): after a
 !> failed H5Fclose (a full disk) HDF5 1.10 keeps an identifier to a file it
-!> has already freed, and its exit handler then crashes. `h5_close` remembers
-!> such a failure and `hdf5_stop` then leaves the library alone; otherwise
-!> `hdf5_stop` closes it (the driver calls it on every way out that has
-!> written files).
+!> has already freed, and its exit handler then crashes (exit 139). Every
+!> routine here closes what it opens, so a file identifier still open when
+!> the run ends is such a remnant: `hdf5_stop` then leaves the library alone
+!> (the OS closes the file at exit), and closes it otherwise. The driver calls
+!> it at the end of a run and on its failure path.
 module io_hdf5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char, c_int, c_int64_t, c_intptr_t
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use hdf5, only: hid_t, hsize_t, size_t, &
        h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5dont_atexit_f, &
        H5_REAL_KIND, H5_INTEGER_KIND, &
-       h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, &
+       h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, H5F_OBJ_ALL_F, H5F_OBJ_FILE_F, &
        H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
        h5screate_f, h5screate_simple_f, h5sclose_f, h5sget_simple_extent_type_f, &
        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, &
@@ -70,14 +71,18 @@ module io_hdf5
   !> Largest dataset rank accepted by the array writers.
   integer, parameter :: max_rank = 7
 
+  interface
+    !> H5Fget_obj_count (ssize_t H5Fget_obj_count(hid_t, unsigned)).
+    function c_h5fget_obj_count(file_id, types) bind(c, name='H5Fget_obj_count') result(n)
+      import :: c_int64_t, c_int, c_intptr_t
+      integer(c_int64_t), value, intent(in) :: file_id   ! hid_t
+      integer(c_int), value, intent(in) :: types
+      integer(c_intptr_t) :: n
+    end function c_h5fget_obj_count
+  end interface
+
   !> Largest chunk of a checksummed dataset (bytes; HDF5's limit is 4 GiB).
   integer(int64), parameter :: max_chunk_bytes = 2_int64**30
-
-  !> Set when an H5Fclose failed: HDF5 then holds an identifier to a freed
-  !> file, and closing the library would crash. This mirrors the library's own
-  !> global state (there is one HDF5 library per process), so it is module
-  !> state rather than an argument.
-  logical, save :: close_failed = .false.
 
 contains
 
@@ -104,14 +109,18 @@ contains
   end subroutine hdf5_start
 
   !> Closes the HDF5 library (at the end of a run, or before a failed run
-  !> halts), unless a file could not be closed: then HDF5 would crash on the
-  !> identifier it keeps, so the library is left as it is and `err` says so
-  !> (the process is about to end; the OS closes the file).
+  !> halts), unless a file is still open: that is one whose close failed, on
+  !> whose identifier HDF5 would crash, so the library is left as it is and
+  !> `err` says so (the process is about to end; the OS closes the file).
   subroutine hdf5_stop(err)
     type(error_t), allocatable, intent(inout) :: err
+    integer(c_intptr_t) :: nopen
     integer :: hdferr
-    if (close_failed) then
-      call error_set(err, 'hdf5_stop', 'a file could not be closed (disk full?): the HDF5 library is left open')
+    ! counting the identifiers does not touch the files they name (the C
+    ! call: HDF5 1.10.8's h5fget_obj_count_f returns a wrong count)
+    nopen = c_h5fget_obj_count(int(H5F_OBJ_ALL_F, c_int64_t), int(H5F_OBJ_FILE_F, c_int))
+    if (nopen /= 0) then
+      call error_set(err, 'hdf5_stop', 'an HDF5 file could not be closed (disk full?): the library is left open')
       return
     end if
     call h5close_f(hdferr)
@@ -193,7 +202,7 @@ contains
 
   !> Flushes and closes `file`; does nothing if it is not open. After a
   !> failed close the identifier is dropped (HDF5 may have freed the file
-  !> already) and `hdf5_stop` will leave the library alone.
+  !> already; `hdf5_stop` will leave the library alone).
   subroutine h5_close(file, err)
     type(h5_file_t), intent(inout) :: file
     type(error_t), allocatable, intent(inout) :: err
@@ -202,7 +211,6 @@ contains
     call h5fflush_f(file%id, H5F_SCOPE_GLOBAL_F, hdferr_flush)
     call h5fclose_f(file%id, hdferr_close)
     file%id = -1_hid_t
-    if (hdferr_close /= 0) close_failed = .true.
     if (hdferr_flush /= 0 .or. hdferr_close /= 0) then
       call error_set(err, 'h5_close', 'cannot flush/close HDF5 file '//q(fpath(file)))
     end if
