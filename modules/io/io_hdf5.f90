@@ -814,7 +814,7 @@ contains
     call h5dopen_f(file%id, name, did, hdferr)
     if (hdferr /= 0) then
       did = -1_hid_t
-      call error_set(err, here, 'cannot open dataset '//where_in(file, name))
+      call error_set(err, here, 'cannot open dataset '//where_in(file, name)//' (its header is damaged or unreadable)')
       return
     end if
     ok = .true.
