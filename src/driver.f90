@@ -232,7 +232,8 @@ contains
   !> input: one ERROR line with the problem and one with what follows
   !> (`where`). Otherwise a FATAL line naming the place, the step and the
   !> problem; a state complete enough to be written is written first (as the
-  !> last frame) for diagnosis.
+  !> last frame) for diagnosis, and a failure to write it is logged too. HDF5
+  !> is closed before the halt (io_hdf5: unless a file could not be closed).
   subroutine fail(cfg, st, sch, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -250,8 +251,15 @@ contains
     if (st%ready .and. allocated(sch%out%dir)) then
       call state_totals(st)
       call frame_out(cfg, st, sch, path, err2)
-      if (.not. allocated(err2)) call log_error(sch%log, 'state at failure written to '//path)
+      if (allocated(err2)) then
+        call log_error(sch%log, 'the state at failure could not be written: '//err2%where//': '//err2%msg)
+      else
+        call log_error(sch%log, 'state at failure written to '//path)
+      end if
     end if
+    if (allocated(err2)) deallocate(err2)
+    call hdf5_stop(err2)
+    if (allocated(err2)) call log_error(sch%log, err2%where//': '//err2%msg)
     call halt(sch%log, error_exit_status(err%category))
   end subroutine fail
 

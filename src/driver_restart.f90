@@ -1,25 +1,57 @@
 !> Restarts for the driver: the registry of a dump (each owner registers its
 !> own quantities), when and where dumps go, reading one back, and refusing a
-!> restart whose deck changes the state.
+!> restart whose deck changes the state or whose file is damaged.
+!>
+!> Reading back trusts nothing in the file: the checksums and shapes are
+!> checked by `io_restart`; here, the stored sizes of the mixed cells are
+!> checked against the grid and against the file's own dataset shapes before
+!> storage is allocated to them, and after the read every quantity against
+!> its physical range (`check_ranges`: positive masses, volumes and
+!> densities, times finite and not negative, counts not negative, material
+!> indices of this deck, a generator state that is not zero, a frame counter
+!> equal to the stored frame list's length). Any failure is an input error:
+!> exit status 2, "cannot restart", a message naming the dataset and value.
+!>
+!> The frame schedule across a restart: a dump taken at the last step of a
+!> run segment is written before the driver writes that segment's final
+!> frame. The dump therefore records the schedule as it is after that frame
+!> (`write_restart`): the frame is in the stored frame list, so a continued
+!> run numbers its frames after it instead of overwriting it; and if the
+!> frame was due by frame_dt or frame_steps, the schedule is advanced past
+!> it, as the straight run does when it writes the same frame within its time
+!> loop (otherwise the continued run would write it again one step later).
 module driver_restart
+  use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_INPUT, ERR_IO
   use base_config, only: max_line, problem_add
   use base_timers, only: wall_seconds
-  use base_registry, only: registry_t
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
-  use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar
+  use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
+                        restart_check_counts
   use driver_config, only: config_t, config_read, config_state_changes
   use driver_state, only: state_t, state_register_restart, state_after_read
-  use driver_output, only: schedule_t, schedule_register_restart, report_conservation
+  use driver_output, only: schedule_t, schedule_register_restart, report_conservation, frame_due, advance_schedule
   use driver_euler, only: euler_state_t, euler_register_restart
   implicit none
   private
   public :: check_restart_deck, restart_path, write_restart, read_restart
+
+  !> Physical ranges of registered quantities (by registered name; a name
+  !> this run does not register is skipped). Real arrays and scalars: > 0 or
+  !> >= 0 (finiteness is checked for all by io_restart); integer scalars >= 0.
+  character(len=*), parameter :: positive(*) = [character(len=24) :: &
+    'density', 'volume', 'mass', 'node_mass', 'mixed_volume_fraction', 'mixed_mass', 'mixed_density']
+  character(len=*), parameter :: nonnegative(*) = [character(len=24) :: &
+    'sound_speed', 'mixed_sound_speed', 'time', 'dt', 't_next_frame', 't_next_gauge', 't_next_dump', &
+    't_next_euler']
+  character(len=*), parameter :: counts(*) = [character(len=24) :: &
+    'step', 'nframe', 'steps_since_frame', 'n_euler', 'mixed_n', 'mixed_nslot']
 
 contains
 
@@ -86,19 +118,41 @@ contains
     type(registry_t) :: reg
     character(len=:), allocatable :: path
     character(len=256) :: entry
-    real(wp) :: w0
-    integer :: u, ios
+    character(len=256), allocatable :: frames(:)
+    real(wp), allocatable :: times(:)
+    real(wp) :: w0, eps_t, t_next_frame
+    integer :: u, ios, nframe, steps_since_frame
 
     w0 = wall_seconds()
     call sch%t_output%start()
     path = restart_path(sch, st%step)
-    ! registered afresh: an Euler step may have reallocated the mixed cells
-    call register_all(st, sch, es, reg)
     if (.not. allocated(sch%out%frames)) then
       sch%out%frames = [character(len=256) ::]
       sch%out%times = [real(wp) ::]
     end if
-    call restart_write(path, reg, cfg%echo, sch%out%frames, sch%out%times, err)
+    frames = sch%out%frames
+    times = sch%out%times
+    ! at the segment's last step: the schedule after its final frame (module
+    ! notes), for this dump only (the driver writes that frame next)
+    nframe = sch%out%nframe
+    steps_since_frame = sch%steps_since_frame
+    t_next_frame = sch%t_next_frame
+    eps_t = 1.0e-12_wp*cfg%control%t_end          ! as the time loop's
+    if (.not. (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)) then
+      if (frame_due(cfg, st, sch, eps_t)) then
+        sch%steps_since_frame = 0
+        call advance_schedule(sch%t_next_frame, st%t, cfg%output%frame_dt, eps_t)
+      end if
+      frames = [character(len=256) :: frames, frame_name(sch, sch%out%nframe)]
+      times = [times, st%t]
+      sch%out%nframe = sch%out%nframe + 1
+    end if
+    ! registered afresh: an Euler step may have reallocated the mixed cells
+    call register_all(st, sch, es, reg)
+    call restart_write(path, reg, cfg%echo, frames, times, err)
+    sch%out%nframe = nframe
+    sch%steps_since_frame = steps_since_frame
+    sch%t_next_frame = t_next_frame
     call sch%t_output%stop()
     if (allocated(err)) then
       err%category = ERR_IO
@@ -118,6 +172,15 @@ contains
       sch%dumps = sch%dumps(2:)
     end do
   end subroutine write_restart
+
+  !> The file name (without folder) of frame number `k`, as io_output names
+  !> it.
+  function frame_name(sch, k) result(name)
+    type(schedule_t), intent(in) :: sch
+    integer, intent(in) :: k
+    character(len=256) :: name
+    write(name, '(a,"_",i5.5,".h5")') sch%out%name, k
+  end function frame_name
 
   !> The next output time after a restart: the stored one if the interval is
   !> on, none if the interval is now off, else the next multiple of it.
@@ -155,9 +218,21 @@ contains
       call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
       return
     end if
-    if (n < 0 .or. nslot < n) then
-      call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: mixed_n = '// &
-                     itoa(n)//', mixed_nslot = '//itoa(nslot), ERR_INPUT)
+    ! the sizes, before anything is allocated to them: against the grid (a
+    ! mixed cell is a grid cell with at least one slot), then against the
+    ! shapes of the file's own mixed-cell arrays
+    if (n < 0 .or. n > st%g%ncell .or. nslot < n) then
+      call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: scalars/mixed_n = '// &
+                     itoa(n)//', scalars/mixed_nslot = '//itoa(nslot)//' (the grid has '//itoa(st%g%ncell)// &
+                     ' cells; each mixed cell has at least one slot)', ERR_INPUT)
+      return
+    end if
+    call register_all(st, sch, es, reg)
+    call restart_check_counts(path, reg, LOC_MIXED_CELL, st%mx%n, n, 'scalars/mixed_n', err)
+    if (.not. allocated(err)) call restart_check_counts(path, reg, LOC_MIXED_SLOT, st%mx%nslot, nslot, &
+                                                        'scalars/mixed_nslot', err)
+    if (allocated(err)) then
+      call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
       return
     end if
     if (n /= st%mx%n .or. nslot /= st%mx%nslot) then
@@ -171,6 +246,8 @@ contains
     end if
     call register_all(st, sch, es, reg)
     call restart_read(path, reg, frames, times, err)
+    if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
+    if (.not. allocated(err)) call check_materials(st, path, err)
     if (allocated(err)) then
       call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
       return
@@ -193,6 +270,77 @@ contains
     call log_line(sch%log, 'restarted from '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
     call report_conservation(st, sch%log, 'restart')
   end subroutine read_restart
+
+  !> Every registered quantity in its physical range (the tables at the top),
+  !> the generator state not zero (a xorshift generator stays at zero) and the
+  !> frame counter equal to the stored frame list's length. Values are finite
+  !> here (io_restart), so the comparisons cannot trap.
+  subroutine check_ranges(reg, nframes, path, err)
+    type(registry_t), intent(in) :: reg
+    integer, intent(in) :: nframes
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=96) :: name
+    integer :: k, bad
+    logical :: pos, nonneg
+
+    do k = 1, reg%n
+      associate (e => reg%e(k))
+        pos = any(positive == e%name)
+        nonneg = any(nonnegative == e%name)
+        select case (e%kind)
+        case (K_REAL)
+          name = 'state/'//trim(e%name)
+          bad = 0
+          if (pos) bad = findloc(e%r > 0.0_wp, .false., 1)
+          if (nonneg) bad = findloc(e%r >= 0.0_wp, .false., 1)
+          if (bad > 0) call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%r(bad))// &
+            ' at entry '//itoa(bad)//trim(merge(' (must be > 0) ', ' (must be >= 0)', pos)))
+        case (K_REAL_SCALAR)
+          name = 'scalars/'//trim(e%name)
+          if ((pos .and. .not. e%rs > 0.0_wp) .or. (nonneg .and. .not. e%rs >= 0.0_wp)) &
+            call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%rs)// &
+                           trim(merge(' (must be > 0) ', ' (must be >= 0)', pos)))
+          if (e%name == 'rng_state') then
+            if (transfer(e%rs, 0_int64) == 0_int64) call error_set(err, 'restart_read', path// &
+              ' is damaged: '//trim(name)//' is zero (a random generator state never is)')
+          end if
+        case (K_INT_SCALAR)
+          name = 'scalars/'//trim(e%name)
+          if (any(counts == e%name) .and. e%is < 0) call error_set(err, 'restart_read', path//' is damaged: '// &
+            trim(name)//' = '//itoa(e%is)//' (must be >= 0)')
+          if (e%name == 'nframe' .and. e%is /= nframes .and. .not. allocated(err)) &
+            call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//itoa(e%is)// &
+                           ', but output/frames lists '//itoa(nframes)//' frames')
+        case (K_INT)
+        end select
+      end associate
+      if (allocated(err)) return
+    end do
+  end subroutine check_ranges
+
+  !> Each cell's material is one of this deck's (1..nmat) or a mixed cell
+  !> (-1..-mixed_n), and each mixed slot's material one of this deck's; the
+  !> message names the first that is not.
+  subroutine check_materials(st, path, err)
+    type(state_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: nmat, bad
+    nmat = size(st%mats)
+    bad = findloc(st%h%mat >= -st%mx%n .and. st%h%mat <= nmat .and. st%h%mat /= 0, .false., 1)
+    if (bad > 0) then
+      call error_set(err, 'restart_read', path//' is damaged: state/material = '//itoa(st%h%mat(bad))// &
+                     ' in cell '//itoa(bad)//' (this deck has materials 1..'//itoa(nmat)//'; -1..-'// &
+                     itoa(st%mx%n)//' are its mixed cells)')
+      return
+    end if
+    if (st%mx%nslot == 0) return
+    bad = findloc(st%mx%mat >= 1 .and. st%mx%mat <= nmat, .false., 1)
+    if (bad > 0) call error_set(err, 'restart_read', path//' is damaged: state/mixed_material = '// &
+                                itoa(st%mx%mat(bad))//' in slot '//itoa(bad)//' (this deck has materials 1..'// &
+                                itoa(nmat)//')')
+  end subroutine check_materials
 
   !> False for mixed cells that do not index the grid and the materials
   !> consistently (a damaged file; later code would index out of bounds):

@@ -15,4 +15,4 @@ derive part2 "$deck" "max_steps = $m, restart_from = '$dump'" split
 [ -f "$dump" ] || fail "no dump $dump"
 "$exe" part2.nml > part2.log 2>&1 || { cat part2.log; fail "restart failed"; }
 grep -q "restarted from $dump at step $n" part2.log || fail "the log does not report the restart"
-"$py" "$cmp" out/straight_00001.h5 out/split_00001.h5 --exact
+"$py" "$cmp" "$(final_frame straight)" "$(final_frame split)" --exact

@@ -8,3 +8,9 @@ derive() {
   grep -q "$vars" "$new.nml" || { echo "FAIL: could not derive $new.nml from $base"; exit 1; }
 }
 fail() { echo "FAIL: $*"; exit 1; }
+# final_frame NAME: the highest-numbered frame out/NAME_NNNNN.h5 (a run's
+# final frame; a split run lists the first segment's final frame too, so the
+# numbers of a straight and a split run's final frames may differ).
+final_frame() {
+  ls out/"$1"_[0-9][0-9][0-9][0-9][0-9].h5 2> /dev/null | sort | tail -1
+}

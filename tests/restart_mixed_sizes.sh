@@ -99,13 +99,13 @@ totals/mass            1e-14 1e-14
 totals/internal_energy 1e-12 1e-12
 totals/kinetic_energy  1e-12 1e-12
 EOF
-"$py" "$cmp" out/grown_00001.h5 out/straight_00001.h5 --tolerances tol_grown.txt || fail "grown differs from straight"
+"$py" "$cmp" "$(final_frame grown)" "$(final_frame straight)" --tolerances tol_grown.txt || fail "grown differs from straight"
 # Making a mixed cell pure keeps every cell's mass and energy: the totals
 # carry on (mass exactly, energy to the run's round-off drift).
 cat > tol_shrunk.txt <<'EOF'
 totals/mass            1e-14 1e-14
 EOF
-"$py" "$cmp" out/shrunk_00001.h5 out/straight_00001.h5 --tolerances tol_shrunk.txt || fail "shrunk lost mass"
+"$py" "$cmp" "$(final_frame shrunk)" "$(final_frame straight)" --tolerances tol_shrunk.txt || fail "shrunk lost mass"
 grep "relative energy drift" shrunk.log | tail -1 | awk '{ d = $NF; if (d < 0) d = -d; exit !(d < 1e-12) }' \
   || fail "shrunk: energy drift $(grep 'relative energy drift' shrunk.log | tail -1)"
 echo "PASS restart_mixed_sizes"

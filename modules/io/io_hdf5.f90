@@ -5,14 +5,36 @@
 !> API stores them reversed, so h5dump shows C order. Dataset names may contain
 !> a group path ("state/rho"): missing intermediate groups are created on
 !> write. Writing a dataset that already exists is an error.
+!>
+!> Checksummed files (`h5_create(..., checksums=.true.)`, used for restarts):
+!> the file is written in the newest format of the library (HDF5 1.10), whose
+!> superblock, object headers, group indexes and chunk indexes all carry
+!> checksums, and every dataset that holds data carries HDF5's Fletcher-32
+!> checksum of its data. The filter needs a chunked layout: an array is one
+!> chunk (cut along its last dimension above 1 GiB, HDF5's chunk limit being
+!> 4 GiB), a scalar (number or string) is stored as a one-element chunked
+!> array (the readers of scalars accept both), and a zero-size array is left
+!> contiguous, as it has no data to checksum (its shape is metadata, covered
+!> by the object header's checksum). HDF5 verifies the checksum on every
+!> read; a mismatch makes the read fail and the reader returns an error naming
+!> the dataset. Frames are written without checksums (h5py, ParaView).
+!>
+!> The library's own exit handler is switched off (`hdf5_start`): after a
+!> failed H5Fclose (a full disk) HDF5 1.10 keeps an identifier to a file it
+!> has already freed, and its exit handler then crashes (exit 139). Every
+!> routine here closes what it opens, so a file identifier still open when
+!> the run ends is such a remnant: `hdf5_stop` then leaves the library alone
+!> (the OS closes the file at exit), and closes it otherwise. The driver calls
+!> it at the end of a run and on its failure path.
 module io_hdf5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char, c_int, c_int64_t, c_intptr_t
+  use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use hdf5, only: hid_t, hsize_t, size_t, &
-       h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5get_libversion_f, &
+       h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5get_libversion_f, h5dont_atexit_f, &
        H5_REAL_KIND, H5_INTEGER_KIND, &
-       h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, &
+       h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5fis_hdf5_f, H5F_OBJ_ALL_F, H5F_OBJ_FILE_F, &
        H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
        h5screate_f, h5screate_simple_f, h5sclose_f, h5sget_simple_extent_type_f, &
        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, &
@@ -21,6 +43,8 @@ module io_hdf5
        h5tget_class_f, h5tis_variable_str_f, &
        H5T_FORTRAN_S1, H5T_STR_NULLPAD_F, H5T_STRING_F, H5T_FLOAT_F, H5T_INTEGER_F, &
        h5pcreate_f, h5pclose_f, h5pset_create_inter_group_f, H5P_LINK_CREATE_F, &
+       H5P_DATASET_CREATE_F, H5P_FILE_ACCESS_F, h5pset_chunk_f, h5pset_fletcher32_f, &
+       h5pset_libver_bounds_f, H5F_LIBVER_LATEST_F, &
        h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, &
        h5dget_space_f, h5dget_type_f, &
        h5gcreate_f, h5gclose_f, h5lexists_f
@@ -43,25 +67,42 @@ module io_hdf5
     module procedure h5_write_attribute_string, h5_write_attribute_real, h5_write_attribute_int
   end interface h5_write_attribute
 
-  !> An open HDF5 file: its identifier (negative when closed) and its path.
+  !> An open HDF5 file: its identifier (negative when closed), its path and
+  !> whether its datasets are written with checksums.
   type :: h5_file_t
     integer(hid_t) :: id = -1_hid_t
     character(len=:), allocatable :: path
+    logical :: checksums = .false.
   end type h5_file_t
 
   !> Largest dataset rank accepted by the array writers.
   integer, parameter :: max_rank = 7
 
+  interface
+    !> H5Fget_obj_count (ssize_t H5Fget_obj_count(hid_t, unsigned)).
+    function c_h5fget_obj_count(file_id, types) bind(c, name='H5Fget_obj_count') result(n)
+      import :: c_int64_t, c_int, c_intptr_t
+      integer(c_int64_t), value, intent(in) :: file_id   ! hid_t
+      integer(c_int), value, intent(in) :: types
+      integer(c_intptr_t) :: n
+    end function c_h5fget_obj_count
+  end interface
+
+  !> Largest chunk of a checksummed dataset (bytes; HDF5's limit is 4 GiB).
+  integer(int64), parameter :: max_chunk_bytes = 2_int64**30
+
 contains
 
   ! ------------------------------------------------------------------ library
 
-  !> Initialises the HDF5 library and silences its error-stack printing.
-  !> Safe to call more than once (h5open_f is; the library keeps its own
-  !> state, this module none); the file openers call it themselves.
+  !> Initialises the HDF5 library (without its exit handler, see the module
+  !> notes) and silences its error-stack printing. Safe to call more than
+  !> once (h5open_f is; H5dont_atexit fails harmlessly once the library is
+  !> up); the file openers call it themselves.
   subroutine hdf5_start(err)
     type(error_t), allocatable, intent(inout) :: err
     integer :: hdferr
+    call h5dont_atexit_f(hdferr)
     call h5open_f(hdferr)
     if (hdferr /= 0) then
       call error_set(err, 'hdf5_start', 'h5open_f failed to initialise the HDF5 library')
@@ -84,10 +125,21 @@ contains
     text = trim(buf)
   end function hdf5_version
 
-  !> Closes the HDF5 library (at the end of a run).
+  !> Closes the HDF5 library (at the end of a run, or before a failed run
+  !> halts), unless a file is still open: that is one whose close failed, on
+  !> whose identifier HDF5 would crash, so the library is left as it is and
+  !> `err` says so (the process is about to end; the OS closes the file).
   subroutine hdf5_stop(err)
     type(error_t), allocatable, intent(inout) :: err
+    integer(c_intptr_t) :: nopen
     integer :: hdferr
+    ! counting the identifiers does not touch the files they name (the C
+    ! call: HDF5 1.10.8's h5fget_obj_count_f returns a wrong count)
+    nopen = c_h5fget_obj_count(int(H5F_OBJ_ALL_F, c_int64_t), int(H5F_OBJ_FILE_F, c_int))
+    if (nopen /= 0) then
+      call error_set(err, 'hdf5_stop', 'an HDF5 file could not be closed (disk full?): the library is left open')
+      return
+    end if
     call h5close_f(hdferr)
     if (hdferr /= 0) call error_set(err, 'hdf5_stop', 'h5close_f failed to close the HDF5 library')
   end subroutine hdf5_stop
@@ -95,18 +147,36 @@ contains
   ! -------------------------------------------------------------------- files
 
   !> Creates `path` (truncating any existing file) and opens it for writing.
-  subroutine h5_create(file, path, err)
+  !> With `checksums` (default false) every dataset written to it carries a
+  !> Fletcher-32 checksum and the file's metadata their own (module notes).
+  subroutine h5_create(file, path, err, checksums)
     type(h5_file_t), intent(inout) :: file
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
-    integer :: hdferr
+    logical, intent(in), optional :: checksums
+    integer(hid_t) :: fapl
+    integer :: hdferr, ierr
     call hdf5_start(err)
     if (allocated(err)) return
     if (file%id >= 0) then
       call error_set(err, 'h5_create', 'handle already open on '//q(file%path)//', cannot create '//q(path))
       return
     end if
-    call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr)
+    file%checksums = .false.
+    if (present(checksums)) file%checksums = checksums
+    if (file%checksums) then
+      ! the newest format: checksummed superblock, object headers and indexes
+      call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, 'h5_create', 'cannot create a file access property list for '//q(path))
+        return
+      end if
+      call h5pset_libver_bounds_f(fapl, H5F_LIBVER_LATEST_F, H5F_LIBVER_LATEST_F, hdferr)
+      if (hdferr == 0) call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr, access_prp=fapl)
+      call h5pclose_f(fapl, ierr)
+    else
+      call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr)
+    end if
     if (hdferr /= 0) then
       file%id = -1_hid_t
       call error_set(err, 'h5_create', 'cannot create HDF5 file '//q(path))
@@ -147,7 +217,9 @@ contains
     file%path = path
   end subroutine h5_open_read
 
-  !> Flushes and closes `file`; does nothing if it is not open.
+  !> Flushes and closes `file`; does nothing if it is not open. After a
+  !> failed close the identifier is dropped (HDF5 may have freed the file
+  !> already; `hdf5_stop` will leave the library alone).
   subroutine h5_close(file, err)
     type(h5_file_t), intent(inout) :: file
     type(error_t), allocatable, intent(inout) :: err
@@ -369,7 +441,7 @@ contains
       if (n == 0) exit body
       ptr = c_loc(data(1))
       call h5dread_f(did, h5kind_to_type(wp, H5_REAL_KIND), ptr, hdferr)
-      if (hdferr /= 0) call error_set(err, here, 'cannot read '//where_in(file, name))
+      if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
   end subroutine h5_read_real
@@ -397,7 +469,7 @@ contains
       if (n == 0) exit body
       ptr = c_loc(data(1))
       call h5dread_f(did, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, hdferr)
-      if (hdferr /= 0) call error_set(err, here, 'cannot read '//where_in(file, name))
+      if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
   end subroutine h5_read_int
@@ -426,7 +498,7 @@ contains
       ptr = c_loc(buf)
       call h5dread_f(did, h5kind_to_type(wp, H5_REAL_KIND), ptr, hdferr)
       if (hdferr /= 0) then
-        call error_set(err, here, 'cannot read '//where_in(file, name))
+        call error_set(err, here, damaged(file, name))
         exit body
       end if
       value = buf
@@ -458,7 +530,7 @@ contains
       ptr = c_loc(buf)
       call h5dread_f(did, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, hdferr)
       if (hdferr /= 0) then
-        call error_set(err, here, 'cannot read '//where_in(file, name))
+        call error_set(err, here, damaged(file, name))
         exit body
       end if
       value = buf
@@ -514,7 +586,7 @@ contains
       ptr = c_loc(buf)
       call h5dread_f(did, mtid, ptr, hdferr)
       if (hdferr /= 0) then
-        call error_set(err, here, 'cannot read '//where_in(file, name))
+        call error_set(err, here, damaged(file, name))
         exit body
       end if
       nul = index(buf, c_null_char)
@@ -539,12 +611,13 @@ contains
     integer(hid_t), intent(in) :: tid
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
-    integer(hid_t) :: did, sid, lcpl
+    integer(hid_t) :: did, sid, lcpl, dcpl
     integer(hsize_t) :: hdims(max_rank)
     integer :: hdferr, rank
     did = -1_hid_t
     sid = -1_hid_t
     lcpl = -1_hid_t
+    dcpl = -1_hid_t
     rank = size(dims)
     body: block
       if (.not. check_open(file, name, here, err)) exit body
@@ -562,7 +635,15 @@ contains
         call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
         exit body
       end if
-      call create_dataset(file, name, tid, sid, lcpl, did, here, err)
+      ! a zero-size array has no data to checksum: contiguous (module notes)
+      if (file%checksums .and. product(hdims(1:rank)) > 0) then
+        call checksum_plist(hdims(1:rank), tid, dcpl, hdferr)
+        if (hdferr /= 0) then
+          call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
+          exit body
+        end if
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
       if (allocated(err)) exit body
       if (product(hdims(1:rank)) == 0) exit body
       call h5dwrite_f(did, tid, ptr, hdferr)
@@ -570,9 +651,11 @@ contains
     end block body
     call release(did, sid, -1_hid_t)
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
+    if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
   end subroutine write_array
 
-  !> Creates and writes a scalar-dataspace dataset from a buffer address.
+  !> Creates and writes a scalar-dataspace dataset from a buffer address; in
+  !> a checksummed file, a one-element chunked array with its checksum.
   subroutine write_scalar(file, name, ptr, tid, here, err)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
@@ -580,29 +663,78 @@ contains
     integer(hid_t), intent(in) :: tid
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
-    integer(hid_t) :: did, sid, lcpl
+    integer(hid_t) :: did, sid, lcpl, dcpl
+    integer(hsize_t), parameter :: one(1) = 1_hsize_t
     integer :: hdferr
     did = -1_hid_t
     sid = -1_hid_t
     lcpl = -1_hid_t
+    dcpl = -1_hid_t
     body: block
       if (.not. check_open(file, name, here, err)) exit body
-      call h5screate_f(H5S_SCALAR_F, sid, hdferr)
+      if (file%checksums) then
+        call h5screate_simple_f(1, one, sid, hdferr)
+      else
+        call h5screate_f(H5S_SCALAR_F, sid, hdferr)
+      end if
       if (hdferr /= 0) then
         call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
         exit body
       end if
-      call create_dataset(file, name, tid, sid, lcpl, did, here, err)
+      if (file%checksums) then
+        call checksum_plist(one, tid, dcpl, hdferr)
+        if (hdferr /= 0) then
+          call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
+          exit body
+        end if
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
       if (allocated(err)) exit body
       call h5dwrite_f(did, tid, ptr, hdferr)
       if (hdferr /= 0) call error_set(err, here, 'cannot write '//where_in(file, name))
     end block body
     call release(did, sid, -1_hid_t)
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
+    if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
   end subroutine write_scalar
 
-  !> Creates dataset `name`, creating missing intermediate groups.
-  subroutine create_dataset(file, name, tid, sid, lcpl, did, here, err)
+  !> Dataset creation property list of a checksummed dataset of shape
+  !> `hdims` (Fortran order, no zero): Fletcher-32 over chunks of the whole
+  !> dataset, cut along the last dimension to at most max_chunk_bytes.
+  subroutine checksum_plist(hdims, tid, dcpl, hdferr)
+    integer(hsize_t), intent(in) :: hdims(:)
+    integer(hid_t), intent(in) :: tid
+    integer(hid_t), intent(out) :: dcpl
+    integer, intent(out) :: hdferr
+    integer(hsize_t) :: chunk(size(hdims))
+    integer(size_t) :: bytes
+    integer(int64) :: slab
+    integer :: rank, ierr
+    rank = size(hdims)
+    call h5tget_size_f(tid, bytes, hdferr)
+    if (hdferr /= 0) then
+      dcpl = -1_hid_t
+      return
+    end if
+    chunk = hdims
+    slab = int(bytes, int64)*product(int(hdims(1:rank - 1), int64))
+    chunk(rank) = int(max(1_int64, min(int(hdims(rank), int64), max_chunk_bytes/max(slab, 1_int64))), hsize_t)
+    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, hdferr)
+    if (hdferr /= 0) then
+      dcpl = -1_hid_t
+      return
+    end if
+    call h5pset_chunk_f(dcpl, rank, chunk, hdferr)
+    if (hdferr == 0) call h5pset_fletcher32_f(dcpl, hdferr)
+    if (hdferr /= 0) then
+      call h5pclose_f(dcpl, ierr)
+      dcpl = -1_hid_t
+    end if
+  end subroutine checksum_plist
+
+  !> Creates dataset `name`, creating missing intermediate groups, with the
+  !> creation property list `dcpl` (none if negative).
+  subroutine create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer(hid_t), intent(in) :: tid, sid
@@ -610,6 +742,7 @@ contains
     integer(hid_t), intent(out) :: did
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t), intent(in) :: dcpl
     integer :: hdferr
     did = -1_hid_t
     call link_plist(lcpl, hdferr)
@@ -617,7 +750,11 @@ contains
       call error_set(err, here, 'cannot create link property list for '//where_in(file, name))
       return
     end if
-    call h5dcreate_f(file%id, name, tid, sid, did, hdferr, lcpl_id=lcpl)
+    if (dcpl >= 0) then
+      call h5dcreate_f(file%id, name, tid, sid, did, hdferr, dcpl_id=dcpl, lcpl_id=lcpl)
+    else
+      call h5dcreate_f(file%id, name, tid, sid, did, hdferr, lcpl_id=lcpl)
+    end if
     if (hdferr /= 0) then
       did = -1_hid_t
       call error_set(err, here, 'cannot create dataset (exists or bad name) '//where_in(file, name))
@@ -694,7 +831,7 @@ contains
     call h5dopen_f(file%id, name, did, hdferr)
     if (hdferr /= 0) then
       did = -1_hid_t
-      call error_set(err, here, 'cannot open dataset '//where_in(file, name))
+      call error_set(err, here, 'cannot open dataset '//where_in(file, name)//' (its header is damaged or unreadable)')
       return
     end if
     ok = .true.
@@ -762,6 +899,16 @@ contains
     if (sid >= 0) call h5sclose_f(sid, hdferr)
     if (did >= 0) call h5dclose_f(did, hdferr)
   end subroutine release
+
+  !> The message of a read that failed on an open dataset of known size:
+  !> its data are damaged (a checksum that does not match, or storage that
+  !> cannot be read or decoded).
+  function damaged(file, name) result(s)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: s
+    s = 'cannot read '//where_in(file, name)//': its data are damaged (checksum mismatch or unreadable storage)'
+  end function damaged
 
   !> "'name' in 'path'" for error messages.
   function where_in(file, name) result(s)

@@ -12,8 +12,21 @@
 !> registry a restart file holds its format version, the resolved deck, and
 !> the output bookkeeping (frame names and times), which change in length
 !> during a run. The file is written under a temporary name, closed (flushed)
-!> and renamed, so a run killed during a dump leaves the previous file intact.
+!> and renamed, so a run killed during a dump leaves the previous file intact;
+!> a dump that fails (a full disk) removes its temporary file.
+!>
+!> Damage is refused, never used: the file is written with checksums
+!> (`io_hdf5`: Fletcher-32 on every dataset that holds data, the newest HDF5
+!> format's checksums on all metadata), so a changed bit makes a read fail
+!> with the dataset's name. Values that are well-formed but impossible are
+!> caught by checks: every array's shape against what this run registered,
+!> sizes against the file's own dataset shapes before anything is allocated
+!> (`restart_check_counts`, the frame list against its times), and every
+!> real value finite, except quantities registered in units 'bits' (a random
+!> generator's state stored in a real). Physical ranges of particular
+!> quantities are the caller's to check.
 module io_restart
+  use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
@@ -21,16 +34,19 @@ module io_restart
                      h5_read_real, h5_read_int, h5_read_scalar_real, h5_read_scalar_int, &
                      h5_read_string, h5_exists
   use io_xdmf, only: io_rename
+  use base_strings, only: itoa
   use base_registry, only: registry_t, location_name, LOC_GLOBAL, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
   public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
-            restart_read_dims, restart_version
+            restart_read_dims, restart_check_counts, restart_version, finite_bits, nonfinite_name
 
   !> Format version written to every file; a reader refuses any other.
   !> 2: the mixed-cell arrays are always present (possibly empty) and their
   !> sizes are stored as the scalars mixed_n and mixed_nslot.
-  integer, parameter :: restart_version = 2
+  !> 3: checksums (HDF5 1.10 format, Fletcher-32 on every dataset with data);
+  !> scalars are stored as one-element arrays.
+  integer, parameter :: restart_version = 3
 
 contains
 
@@ -48,7 +64,7 @@ contains
     integer :: k
     character(len=:), allocatable :: list
 
-    call h5_create(f, path//'.tmp', err)
+    call h5_create(f, path//'.tmp', err, checksums=.true.)
     if (allocated(err)) return
     call h5_write_scalar_int(f, 'restart_version', restart_version, err)
     do k = 1, reg%n
@@ -71,12 +87,25 @@ contains
     if (.not. allocated(err)) call h5_write_real(f, 'output/times', times, [size(times)], err)
     if (allocated(err)) then
       call h5_close(f, err2)
+      call remove_file(path//'.tmp')
       return
     end if
     call h5_close(f, err)
-    if (allocated(err)) return
+    if (allocated(err)) then
+      call remove_file(path//'.tmp')
+      return
+    end if
     call io_rename(path//'.tmp', path, err)
   end subroutine restart_write
+
+  !> Deletes `path` if it exists (a temporary file of a failed dump: it frees
+  !> the space on a full disk). Failure to delete is no error.
+  subroutine remove_file(path)
+    character(len=*), intent(in) :: path
+    integer :: u, ios
+    open(newunit=u, file=path, status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete', iostat=ios)
+  end subroutine remove_file
 
   !> The resolved deck stored in a restart file (and a check of its version).
   subroutine restart_read_deck(path, deck, err)
@@ -124,6 +153,48 @@ contains
     call h5_close(f, err2)
   end subroutine restart_read_dims
 
+  !> Checks, before storage is allocated to a size read from the file, that
+  !> the file's arrays agree with it: every array of `reg` that lives at
+  !> `location` and has `count_now` entries along its last dimension (plus a
+  !> fixed offset, as the n+1 starts of n mixed cells) must be stored with
+  !> `count_file` instead. `count_name` names the stored size in messages.
+  subroutine restart_check_counts(path, reg, location, count_now, count_file, count_name, err)
+    character(len=*), intent(in) :: path
+    type(registry_t), intent(in) :: reg
+    integer, intent(in) :: location, count_now, count_file
+    character(len=*), intent(in) :: count_name
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer, allocatable :: dims(:)
+    integer(int64), allocatable :: want(:)
+    integer :: k, r
+    character(len=128) :: name
+
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    do k = 1, reg%n
+      associate (e => reg%e(k))
+        if (e%location /= location .or. .not. (e%kind == K_REAL .or. e%kind == K_INT)) cycle
+        name = 'state/'//trim(e%name)
+        if (.not. h5_exists(f, trim(name))) cycle   ! restart_read names a missing one
+        call h5_read_dims(f, trim(name), dims, err)
+        if (allocated(err)) exit
+        r = size(e%dims)
+        want = int(e%dims, int64)
+        want(r) = want(r) - count_now + count_file
+        if (size(dims) /= r) then
+          call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has the wrong rank')
+        else if (any(int(dims, int64) /= want)) then
+          call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' has shape '// &
+                         shape_str(dims)//', but '//count_name//' = '//itoa(count_file)//' needs '//shape_str8(want))
+        end if
+      end associate
+      if (allocated(err)) exit
+    end do
+    call h5_close(f, err2)
+  end subroutine restart_check_counts
+
   !> Reads every registered quantity from `path`, checking each one's shape,
   !> and the frame list. Nothing is left half-read silently: on error the
   !> caller must not use the state.
@@ -135,7 +206,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
-    integer :: k, n, p
+    integer :: k, n, p, bad
     integer, allocatable :: dims(:), ibuf(:)
     real(wp), allocatable :: rbuf(:)
     character(len=:), allocatable :: list
@@ -171,6 +242,11 @@ contains
           end if
           if (e%kind == K_REAL) then
             call h5_read_real(f, trim(name), rbuf, err)
+            if (.not. allocated(err) .and. e%units /= 'bits') then
+              bad = findloc(finite_bits(rbuf), .false., 1)
+              if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)// &
+                ' has '//nonfinite_name(rbuf(bad))//' at '//entry_str(bad, e%dims, e%location))
+            end if
             if (.not. allocated(err)) e%r = rbuf
           else
             call h5_read_int(f, trim(name), ibuf, err)
@@ -178,14 +254,34 @@ contains
           end if
         case (K_REAL_SCALAR)
           call h5_read_scalar_real(f, trim(name), e%rs, err)
+          if (.not. allocated(err) .and. e%units /= 'bits') then
+            if (.not. finite_bits(e%rs)) call error_set(err, 'restart_read', trim(path)//' is damaged: '// &
+              trim(name)//' is '//nonfinite_name(e%rs))
+          end if
         case (K_INT_SCALAR)
           call h5_read_scalar_int(f, trim(name), e%is, err)
         end select
       end associate
       if (allocated(err)) exit
     end do
+    ! the frame list: its times only once their count matches the names
     if (.not. allocated(err)) call h5_read_string(f, 'output/frames', list, err)
+    if (.not. allocated(err)) call h5_read_dims(f, 'output/times', dims, err)
+    if (.not. allocated(err)) then
+      n = count_lines(list)
+      if (size(dims) /= 1) then
+        call error_set(err, 'restart_read', trim(path)//' is damaged: output/times is not a list')
+      else if (dims(1) /= n) then
+        call error_set(err, 'restart_read', trim(path)//' is damaged: output/times has '//itoa(dims(1))// &
+                       ' entries, output/frames names '//itoa(n)//' frames')
+      end if
+    end if
     if (.not. allocated(err)) call h5_read_real(f, 'output/times', times, err)
+    if (.not. allocated(err)) then
+      bad = findloc(finite_bits(times), .false., 1)
+      if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: output/times has '// &
+                                  nonfinite_name(times(bad))//' at entry '//itoa(bad))
+    end if
     call h5_close(f, err2)
     if (allocated(err)) return
     n = size(times)
@@ -233,6 +329,52 @@ contains
     if (allocated(err)) call h5_close(f, err2)
   end subroutine open_checked
 
+  !> Number of newline-terminated lines in `text`.
+  pure integer function count_lines(text) result(n)
+    character(len=*), intent(in) :: text
+    integer :: k
+    n = 0
+    do k = 1, len(text)
+      if (text(k:k) == new_line('a')) n = n + 1
+    end do
+  end function count_lines
+
+  !> True unless `x` is a NaN or an infinity, decided on its bits, so that a
+  !> signalling NaN read from a damaged file cannot trap (Debug build's FPE
+  !> traps).
+  elemental logical function finite_bits(x)
+    real(wp), intent(in) :: x
+    integer(int64), parameter :: expo = int(z'7FF', int64)
+    finite_bits = iand(shiftr(transfer(x, 0_int64), 52), expo) /= expo
+  end function finite_bits
+
+  !> 'NaN', '+Infinity' or '-Infinity' for a value that is not finite (from
+  !> its bits, no floating-point operation).
+  function nonfinite_name(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    integer(int64) :: b
+    b = transfer(x, 0_int64)
+    if (iand(b, 2_int64**52 - 1) /= 0) then
+      s = 'NaN'
+    else if (b < 0) then
+      s = '-Infinity'
+    else
+      s = '+Infinity'
+    end if
+  end function nonfinite_name
+
+  !> "entry k" of a flattened array, with the grid entity it belongs to.
+  function entry_str(k, dims, loc) result(s)
+    integer, intent(in) :: k, dims(:), loc
+    character(len=:), allocatable :: s
+    integer :: inner
+    s = 'entry '//itoa(k)
+    if (loc == LOC_GLOBAL .or. size(dims) < 1) return
+    inner = max(1, product(dims(1:size(dims) - 1)))
+    s = s//' ('//location_name(loc)//' '//itoa((k - 1)/inner + 1)//')'
+  end function entry_str
+
   !> " (one per <location>)" for an array that lives on grid entities.
   function where_str(loc) result(s)
     integer, intent(in) :: loc
@@ -254,4 +396,18 @@ contains
     end do
     s = s//')'
   end function shape_str
+
+  function shape_str8(d) result(s)
+    integer(int64), intent(in) :: d(:)
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    integer :: k
+    s = '('
+    do k = 1, size(d)
+      write(buf, '(i0)') d(k)
+      s = s//trim(buf)
+      if (k < size(d)) s = s//','
+    end do
+    s = s//')'
+  end function shape_str8
 end module io_restart
