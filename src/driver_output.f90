@@ -14,7 +14,7 @@ module driver_output
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
                        units_pressure
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
-  use io_hdf5, only: hdf5_start
+  use io_hdf5, only: hdf5_start, hdf5_version
   use io_files, only: io_make_dirs
   use driver_config, only: config_t
   use driver_state, only: state_t, state_totals, energy_drift
@@ -92,7 +92,7 @@ contains
       call error_set(err, 'open_outputs', 'cannot open the log: '//trim(msg), ERR_IO)
       return
     end if
-    call log_identity(sch%log, code_version, build_type)
+    call log_identity(sch%log, code_version, build_type, hdf5_version())
     call log_line(sch%log, 'lsalepm: '//trim(cfg%control%title))
     call log_line(sch%log, 'deck: '//cfg%deck_path)
     call log_line(sch%log, 'resolved input:')

@@ -120,6 +120,8 @@ contains
     character(len=:), allocatable :: text
     integer :: major, minor, release, hdferr
     character(len=32) :: buf
+    ! any HDF5 call starts the library: keep its exit handler off (hdf5_start)
+    call h5dont_atexit_f(hdferr)
     call h5get_libversion_f(major, minor, release, hdferr)
     write(buf, '(i0,".",i0,".",i0)') major, minor, release
     text = trim(buf)

@@ -5,7 +5,6 @@
 !> OpenMP threads), with which every log starts.
 module io_log
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, compiler_version
-  use hdf5, only: h5get_libversion_f
   use base_strings, only: itoa
   !$ use omp_lib, only: omp_get_max_threads
   implicit none
@@ -69,26 +68,19 @@ contains
   end subroutine log_error
 
   !> Writes the run's identity: code version and build type (both from
-  !> base_build, passed in), compiler, HDF5 library version, the date and time
+  !> base_build, passed in), compiler, HDF5 library version (passed in), the date and time
   !> the run started (with the UTC offset), the host name and the OpenMP
   !> thread count (1 in a build without OpenMP).
-  subroutine log_identity(log, code_version, build_type)
+  subroutine log_identity(log, code_version, build_type, hdf5_text)
     type(log_t), intent(in) :: log
-    character(len=*), intent(in) :: code_version, build_type
+    character(len=*), intent(in) :: code_version, build_type, hdf5_text
     character(len=8) :: date
     character(len=10) :: time
     character(len=5) :: zone
-    character(len=32) :: hdf5_text
-    integer :: nthreads, major, minor, release, ios
+    integer :: nthreads
 
     nthreads = 1
     !$ nthreads = omp_get_max_threads()
-    call h5get_libversion_f(major, minor, release, ios)
-    if (ios == 0) then
-      write(hdf5_text, '(i0,".",i0,".",i0)') major, minor, release
-    else
-      hdf5_text = 'unknown'
-    end if
     call date_and_time(date, time, zone)
     call log_line(log, 'run: lsalepm '//code_version//' ('//build_type//' build), compiler '// &
                   compiler_version()//', HDF5 '//trim(hdf5_text))
