@@ -6,7 +6,7 @@
 # (HDF5's exit handler used to segfault after a failed close: exit 139), and
 # no file with its final name left truncated: every *.h5 there
 # must open and read completely (outputs go to NAME.tmp, then are renamed).
-# The XDMF sidecar is only reported on (see the note in the check).
+# The XDMF sidecar must parse too.
 # Needs root (mount); exits 77 (skipped) otherwise or if the mount fails.
 # Usage: restart_disk_full.sh EXE PYTHON DECK WORKDIR   (DECK: ni = 100 in &grid)
 set -u
@@ -38,14 +38,13 @@ for p in sorted(glob.glob(os.path.join(sys.argv[1], "*.h5"))):
         f.visititems(lambda k, o: o[()] if isinstance(o, h5py.Dataset) else None)
     n += 1
 print(f"  {n} final-named .h5 files open and read completely")
-# not asserted (the XDMF writer is io_xdmf's): gfortran reports no error when
-# a formatted write, flush or close runs out of space, so a truncated sidecar
-# can be renamed to its final name
+# the XDMF sidecar too (gfortran reports no error when a formatted write
+# runs out of space; io_xdmf reads its last line back before the rename)
 for p in glob.glob(os.path.join(sys.argv[1], "*.xdmf")):
     try:
         ET.parse(p)
     except ET.ParseError as e:
-        print(f"  note: {os.path.basename(p)} is truncated ({e}): a known defect of the XDMF writer")
+        sys.exit(f"  {os.path.basename(p)} is truncated ({e})")
 PY
   ls mnt/"$name"/*_restart_*.tmp > /dev/null 2>&1 && fail "$name: a failed dump left its temporary file"
   echo "ok: $name (ni = $ni): $(grep -E '^FATAL' "$name.out" | head -1)"

@@ -188,8 +188,34 @@ contains
       call error_set(err, here, 'cannot close '//q(tmp)//': '//trim(msg))
       return
     end if
+    ! gfortran reports no error when a formatted write or close runs out of
+    ! space: read the last line back before the file takes its final name
+    if (.not. last_line_is(tmp, '</Xdmf>')) then
+      open(newunit=unit, file=tmp, status='old', iostat=ios)
+      if (ios == 0) close(unit, status='delete', iostat=ios)
+      call error_set(err, here, 'cannot write '//q(tmp)//': it was cut short (disk full?)')
+      return
+    end if
     call io_rename(tmp, path, err)
   end subroutine xdmf_write_series
+
+  !> True if the last line of the text file `path` is `text`.
+  logical function last_line_is(path, text)
+    character(len=*), intent(in) :: path, text
+    character(len=256) :: line, last
+    integer :: unit, ios
+    last_line_is = .false.
+    open(newunit=unit, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    last = ''
+    do
+      read(unit, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      last = line
+    end do
+    close(unit)
+    last_line_is = trim(last) == text
+  end function last_line_is
 
 
   !> One Grid-centred (field data) scalar attribute with its value inline.
