@@ -4,6 +4,7 @@ module io_output_config
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
   use io_deck, only: deck_stem
+  use io_files, only: io_is_dir
   implicit none
   private
   public :: output_config_t, output_config_read, max_gauges
@@ -47,6 +48,7 @@ contains
     end if
     call problem_long(problems, 'output', 'dir', dir)
     call problem_long(problems, 'output', 'name', name)
+    call check_dir(problems, dir)
     if (len_trim(name) == 0) name = deck_stem(path)
     if (frame_dt < 0.0_wp) call problem_bad(problems, 'output', 'frame_dt', frame_dt, &
                                             'must be >= 0 (0: first and last frame only)')
@@ -67,4 +69,25 @@ contains
     this%frame_steps = frame_steps; this%gauge_dt = gauge_dt; this%history_dt = history_dt
     if (echo /= no_echo) write(echo, nml=output)
   end subroutine output_config_read
+
+  !> A directory whose path runs through an existing file can never be made:
+  !> a deck mistake, found before the run (other failures to create it are
+  !> I/O failures of the run).
+  subroutine check_dir(problems, dir)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: dir
+    integer :: i, j
+    logical :: exists
+    do i = 2, len_trim(dir)
+      if (dir(i:i) /= '/' .and. i < len_trim(dir)) cycle
+      j = i
+      if (dir(i:i) == '/') j = i - 1
+      inquire(file=dir(1:j), exist=exists)
+      if (exists .and. .not. io_is_dir(dir(1:j))) then
+        call problem_add(problems, '&output: dir = '''//trim(dir)//''' cannot be a directory: '''// &
+                         dir(1:j)//''' is a file')
+        return
+      end if
+    end do
+  end subroutine check_dir
 end module io_output_config
