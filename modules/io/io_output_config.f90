@@ -83,7 +83,8 @@ contains
       j = i
       if (dir(i:i) == '/') j = i - 1
       inquire(file=dir(1:j), exist=exists)
-      if (exists .and. .not. io_is_dir(dir(1:j))) then
+      if (.not. exists) return
+      if (.not. io_is_dir(dir(1:j))) then
         call problem_add(problems, '&output: dir = '''//trim(dir)//''' cannot be a directory: '''// &
                          dir(1:j)//''' is a file')
         return
