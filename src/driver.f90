@@ -10,6 +10,7 @@ module driver
   use base_errors, only: error_t, error_set, error_exit_status, ERR_RUNTIME, ERR_INPUT
   use base_config, only: max_line
   use base_timers, only: wall_seconds
+  use base_exit, only: exit_guard_install
   use lagrange_integrator, only: lagrange_step
   use io_log, only: log_t, log_line, log_error
   use io_gauges, only: gauges_close
@@ -42,6 +43,7 @@ contains
     character(len=max_line), allocatable :: problems(:)
     character(len=:), allocatable :: summary
 
+    call exit_guard_install()
     call sch%t_total%start()
     call sch%t_setup%start()
     call config_read(deck_path, cfg, problems)
@@ -87,6 +89,7 @@ contains
     type(config_t) :: cfg
     type(log_t) :: log
     character(len=max_line), allocatable :: problems(:)
+    call exit_guard_install()
     call config_read(deck_path, cfg, problems)
     if (size(problems) > 0) call refuse(log, problems, 'the deck has '//itoa(size(problems))//' problem(s)')
     write(*, '(a)', advance='no') cfg%echo

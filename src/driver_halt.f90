@@ -1,10 +1,12 @@
-!> The one place that ends a run before its end time. Every stop goes
-!> through `halt` with a documented exit status (0 done, 1 runtime failure,
-!> 2 bad input, 3 wall-time limit reached after a restart dump, 4 I/O
-!> failure), so that with several ranks it can become one collective end.
+!> The one place that ends a run. Every stop goes through `halt` with a
+!> documented exit status (0 done, 1 runtime failure, 2 bad input, 3
+!> wall-time limit reached after a restart dump, 4 I/O failure), so that
+!> with several ranks it can become one collective end; any other end of a
+!> run (a Fortran runtime error: a bug) exits with 5 (`base_exit`).
 module driver_halt
   use base_errors, only: error_exit_status, ERR_INPUT
   use io_log, only: log_t, log_error, log_close
+  use base_exit, only: exit_planned
   implicit none
   private
   public :: halt, refuse, EXIT_WALL_TIME
@@ -18,6 +20,7 @@ contains
     type(log_t), intent(inout) :: log
     integer, intent(in) :: status
     call log_close(log)
+    call exit_planned()
     ! F2008 wants a constant stop code
     select case (status)
     case (0); stop

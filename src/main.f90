@@ -50,7 +50,7 @@ contains
                     '       lsalepm --version           version, build type, compiler and libraries', &
                     '       lsalepm --help              this text', &
                     'exit status: 0 done, 1 runtime failure, 2 bad input, 3 wall-time limit (restart written), ' // &
-                    '4 output could not be written', &
+                    '4 output could not be written, 5 internal error (a bug)', &
                     'decks: input/README.md; outputs go to the &output dir (default out/)'
   end subroutine usage
 
