@@ -228,6 +228,7 @@ contains
                   itoa(st%step)//', t = '//rtoa(st%t))
     call log_line(sch%log, 'to continue, run the same deck with  &run restart_from = '''//path//''' /')
     call gauges_close(sch%gauges)
+    call hdf5_stop(err)
     call halt(sch%log, EXIT_WALL_TIME)
   end subroutine stop_for_wall_time
 
