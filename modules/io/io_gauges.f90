@@ -33,7 +33,7 @@ module io_gauges
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_t
-  use mesh_geometry, only: hex_trilinear, hex_corner, cross
+  use mesh_geometry, only: hex_trilinear, hex_natural_unclamped
   use lagrange_state, only: hydro_t
   use io_xdmf, only: io_rename
   use base_strings, only: itoa
@@ -228,7 +228,7 @@ contains
     cs = c0
     if (cs < 1 .or. cs > g%ncell) cs = 1
     call g%gather(cs, g%x, xn)
-    xi = natural_coordinates(xn, p)
+    xi = hex_natural_unclamped(xn, p)
     if (maxval(abs(xi)) <= 1.0_wp + tol) then
       c = cs
       call lowest_containing(g, p, tol, c, xi)
@@ -251,7 +251,7 @@ contains
             cs = g%cell(i, j, k)
           end if
           call g%gather(cs, g%x, xn)
-          xit = natural_coordinates(xn, p)
+          xit = hex_natural_unclamped(xn, p)
           excess = maxval(abs(xit)) - 1.0_wp
           if (excess < best_excess) then
             best_excess = excess
@@ -288,7 +288,7 @@ contains
       if (ijk(d) <= 1) cycle
       cn = c - stride(d)
       call g%gather(cn, g%x, xn)
-      xit = natural_coordinates(xn, p)
+      xit = hex_natural_unclamped(xn, p)
       if (maxval(abs(xit)) <= 1.0_wp + tol) then
         c = cn
         xi = xit
@@ -336,46 +336,6 @@ contains
     call g%gather(c, g%x, xn)
     centroid_dist2 = sum((sum(xn, 2)/8.0_wp - p)**2)
   end function centroid_dist2
-
-  !> Natural coordinates of p in the hex xn: the inverse of `hex_trilinear`
-  !> by Newton's method from the centre, not clamped, so that a point outside
-  !> the cell says on which side it lies (iterates leaving [-4,4]^3 stop:
-  !> the side is then clear; a singular map stops at the last iterate).
-  pure function natural_coordinates(xn, p) result(xi)
-    real(wp), intent(in) :: xn(3, 8), p(3)
-    real(wp) :: xi(3)
-    real(wp) :: r(3), jac(3, 3), sg(3), nfun, det, dxi(3), cof(3, 3), scale
-    integer :: it, a, d
-
-    xi = 0.0_wp
-    scale = maxval(abs(xn(:, 8) - xn(:, 1))) + maxval(abs(xn(:, 7) - xn(:, 2)))
-    do it = 1, 30
-      r = p - hex_trilinear(xn, xi)
-      if (norm2(r) <= 1.0e-14_wp*scale) exit
-      jac = 0.0_wp
-      do a = 1, 8
-        sg = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
-        do d = 1, 3
-          nfun = 0.125_wp*sg(d)
-          if (d /= 1) nfun = nfun*(1.0_wp + sg(1)*xi(1))
-          if (d /= 2) nfun = nfun*(1.0_wp + sg(2)*xi(2))
-          if (d /= 3) nfun = nfun*(1.0_wp + sg(3)*xi(3))
-          jac(:, d) = jac(:, d) + nfun*xn(:, a)
-        end do
-      end do
-      ! Cramer's rule: the columns of the cofactor matrix
-      cof(:, 1) = cross(jac(:, 2), jac(:, 3))
-      cof(:, 2) = cross(jac(:, 3), jac(:, 1))
-      cof(:, 3) = cross(jac(:, 1), jac(:, 2))
-      det = dot_product(jac(:, 1), cof(:, 1))
-      if (.not. abs(det) > tiny(1.0_wp)) exit
-      do d = 1, 3
-        dxi(d) = dot_product(cof(:, d), r)/det
-      end do
-      xi = xi + dxi
-      if (maxval(abs(xi)) > 4.0_wp .or. maxval(abs(dxi)) <= 1.0e-14_wp) exit
-    end do
-  end function natural_coordinates
 
   !> Keeps, of the text table at `path`, the comment lines ('#') and the
   !> rows whose first number (the time) is at most t_keep (time; with a

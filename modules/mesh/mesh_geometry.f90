@@ -15,7 +15,7 @@ module mesh_geometry
   implicit none
   private
   public :: hex_corner, hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
-            hex_median_areas, hex_trilinear, hex_natural, hex_tets, tet_det, cross
+            hex_median_areas, hex_trilinear, hex_natural, hex_natural_unclamped, hex_tets, tet_det, cross
 
   !> Logical corner (i,j,k) in {0,1}^3 of local node a = 1 + i + 2j + 4k.
   integer, parameter :: hex_corner(3, 8) = reshape([0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0, &
@@ -164,7 +164,7 @@ contains
     end do
   end function hex_trilinear
 
-  !> Natural coordinates of the point x in the hex xn: the inverse of
+  !> Natural coordinates of x in the hex xn: the inverse of
   !> `hex_trilinear` by Newton's method from the centre (exact in one step
   !> for a parallelepiped). A point outside the cell, or a cell whose map is
   !> singular, gives the last iterate clamped to [-1,1]^3, so the result is
@@ -172,37 +172,73 @@ contains
   pure function hex_natural(xn, x) result(xi)
     real(wp), intent(in) :: xn(3, 8), x(3)
     real(wp) :: xi(3)
-    real(wp) :: r(3), jac(3, 3), s(3), nfun, det, dxi(3), c(3, 3), scale
-    integer :: it, a, d
+    real(wp) :: dxi(3)
+    logical :: done
+    integer :: it
 
     xi = 0.0_wp
-    scale = maxval(abs(xn(:, 8) - xn(:, 1))) + maxval(abs(xn(:, 7) - xn(:, 2)))
     do it = 1, 20
-      r = x - hex_trilinear(xn, xi)
-      if (norm2(r) <= 1.0e-14_wp*scale) exit
-      jac = 0.0_wp
-      do a = 1, 8
-        s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
-        do d = 1, 3
-          nfun = 0.125_wp*s(d)
-          if (d /= 1) nfun = nfun*(1.0_wp + s(1)*xi(1))
-          if (d /= 2) nfun = nfun*(1.0_wp + s(2)*xi(2))
-          if (d /= 3) nfun = nfun*(1.0_wp + s(3)*xi(3))
-          jac(:, d) = jac(:, d) + nfun*xn(:, a)
-        end do
-      end do
-      ! Cramer's rule: the columns of the cofactor matrix
-      c(:, 1) = cross(jac(:, 2), jac(:, 3))
-      c(:, 2) = cross(jac(:, 3), jac(:, 1))
-      c(:, 3) = cross(jac(:, 1), jac(:, 2))
-      det = dot_product(jac(:, 1), c(:, 1))
-      if (.not. abs(det) > tiny(1.0_wp)) exit
-      do d = 1, 3
-        dxi(d) = dot_product(c(:, d), r)/det
-      end do
+      call natural_step(xn, x, xi, dxi, done)
+      if (done) exit
       xi = min(max(xi + dxi, -1.0_wp), 1.0_wp)
     end do
   end function hex_natural
+
+  !> `hex_natural` not clamped, so that a point outside the cell says on
+  !> which side it lies (iterates leaving [-4,4]^3 stop: the side is then
+  !> clear; a singular map stops at the last iterate).
+  pure function hex_natural_unclamped(xn, x) result(xi)
+    real(wp), intent(in) :: xn(3, 8), x(3)
+    real(wp) :: xi(3)
+    real(wp) :: dxi(3)
+    logical :: done
+    integer :: it
+
+    xi = 0.0_wp
+    do it = 1, 30
+      call natural_step(xn, x, xi, dxi, done)
+      if (done) exit
+      xi = xi + dxi
+      if (maxval(abs(xi)) > 4.0_wp .or. maxval(abs(dxi)) <= 1.0e-14_wp) exit
+    end do
+  end function hex_natural_unclamped
+
+  !> One Newton step of the inverse trilinear map at xi: the correction dxi
+  !> (Cramer's rule on the Jacobian of `hex_trilinear`); `done` when the
+  !> residual is below 1e-14 of the cell's size or the map is singular.
+  pure subroutine natural_step(xn, x, xi, dxi, done)
+    real(wp), intent(in) :: xn(3, 8), x(3), xi(3)
+    real(wp), intent(out) :: dxi(3)
+    logical, intent(out) :: done
+    real(wp) :: r(3), jac(3, 3), s(3), nfun, det, c(3, 3), scale
+    integer :: a, d
+
+    dxi = 0.0_wp
+    done = .true.
+    scale = maxval(abs(xn(:, 8) - xn(:, 1))) + maxval(abs(xn(:, 7) - xn(:, 2)))
+    r = x - hex_trilinear(xn, xi)
+    if (norm2(r) <= 1.0e-14_wp*scale) return
+    jac = 0.0_wp
+    do a = 1, 8
+      s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
+      do d = 1, 3
+        nfun = 0.125_wp*s(d)
+        if (d /= 1) nfun = nfun*(1.0_wp + s(1)*xi(1))
+        if (d /= 2) nfun = nfun*(1.0_wp + s(2)*xi(2))
+        if (d /= 3) nfun = nfun*(1.0_wp + s(3)*xi(3))
+        jac(:, d) = jac(:, d) + nfun*xn(:, a)
+      end do
+    end do
+    c(:, 1) = cross(jac(:, 2), jac(:, 3))
+    c(:, 2) = cross(jac(:, 3), jac(:, 1))
+    c(:, 3) = cross(jac(:, 1), jac(:, 2))
+    det = dot_product(jac(:, 1), c(:, 1))
+    if (.not. abs(det) > tiny(1.0_wp)) return
+    do d = 1, 3
+      dxi(d) = dot_product(c(:, d), r)/det
+    end do
+    done = .false.
+  end subroutine natural_step
 
   !> Six times the signed volume of the tetrahedron t(3,4) (length^3).
   pure function tet_det(t) result(det)
