@@ -187,7 +187,8 @@ contains
           call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has the wrong rank')
         else if (any(int(dims, int64) /= want)) then
           call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' has shape '// &
-                         shape_str(dims)//', but '//count_name//' = '//itoa(count_file)//' needs '//shape_str8(want))
+                         shape_str(int(dims, int64))//', but '//count_name//' = '//itoa(count_file)//' needs '// &
+                         shape_str(want))
         end if
       end associate
       if (allocated(err)) exit
@@ -237,7 +238,8 @@ contains
             exit
           else if (any(dims /= e%dims)) then
             call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has shape '// &
-                           shape_str(dims)//', this run expects '//shape_str(e%dims)//where_str(e%location))
+                           shape_str(int(dims, int64))//', this run expects '//shape_str(int(e%dims, int64))// &
+                           where_str(e%location))
             exit
           end if
           if (e%kind == K_REAL) then
@@ -383,21 +385,8 @@ contains
     if (loc /= LOC_GLOBAL) s = ' (last dimension: one per '//location_name(loc)//')'
   end function where_str
 
+  !> "(n1,n2,...)" for a shape (64-bit, as the counts a file may claim).
   function shape_str(d) result(s)
-    integer, intent(in) :: d(:)
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    integer :: k
-    s = '('
-    do k = 1, size(d)
-      write(buf, '(i0)') d(k)
-      s = s//trim(buf)
-      if (k < size(d)) s = s//','
-    end do
-    s = s//')'
-  end function shape_str
-
-  function shape_str8(d) result(s)
     integer(int64), intent(in) :: d(:)
     character(len=:), allocatable :: s
     character(len=24) :: buf
@@ -409,5 +398,5 @@ contains
       if (k < size(d)) s = s//','
     end do
     s = s//')'
-  end function shape_str8
+  end function shape_str
 end module io_restart
