@@ -141,6 +141,9 @@ contains
       xnew = st%g%x
       call smooth_rezone(rz, st, es, log, xnew, done, err)
       if (allocated(err) .or. .not. done) then
+        ! a skipped step still uses up its interval (else the interval
+        ! trigger fires, and is skipped, at every following step)
+        call rearm_interval(rz, st, es)
         call es%timer%stop()
         return
       end if
@@ -158,11 +161,7 @@ contains
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)
     call mixed_cell_state(st%mx, st%h%p, st%h%cs)
     es%n = es%n + 1
-    if (rz%interval_time > 0.0_wp) then
-      do while (es%t_next <= st%t*(1.0_wp + 1.0e-12_wp))
-        es%t_next = es%t_next + rz%interval_time
-      end do
-    end if
+    call rearm_interval(rz, st, es)
     call es%timer%stop()
 
     ! what came in and went out through open faces is external work
@@ -206,6 +205,18 @@ contains
       end if
     end if
   end subroutine euler_step
+
+  !> The next Euler step by interval_time: past the current time by whole
+  !> intervals.
+  subroutine rearm_interval(rz, st, es)
+    type(rezone_config_t), intent(in) :: rz
+    type(state_t), intent(in) :: st
+    type(euler_state_t), intent(inout) :: es
+    if (.not. rz%interval_time > 0.0_wp) return
+    do while (es%t_next <= st%t*(1.0_wp + 1.0e-12_wp))
+      es%t_next = es%t_next + rz%interval_time
+    end do
+  end subroutine rearm_interval
 
   !> Smoothing rezone. 'lssm' (Sect. 5.2-5.3): the distorted subdomains of
   !> the grid (Q < quality); 'smooth': the whole grid (the global MMALE the
