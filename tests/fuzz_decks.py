@@ -122,6 +122,8 @@ def mutations(text, rng):
         if cand:
             t = rng.choice(cand)
             g = gs[names.index(t[0])]
+            if t[1] == 'gamma' and re.search(r"eos\s*=\s*['\"](jwl|mie_gruneisen)", text[g[1]:g[2]], re.I):
+                continue   # gamma is the ideal gas's: another EOS does not use it
             out.append((cls, text[:g[2] - 1] + ', %s = %s /' % (t[1], t[2]) + text[g[2]:]))
     # non-finite or huge real; wrong type
     reals = [(g, a) for g in gs for a in assignments(text, g)
