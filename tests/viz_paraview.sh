@@ -19,6 +19,20 @@ done
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
 sed -e "s|^&output.*|\&output dir = 'out', name = 'viz' /|" "$deck" > viz.nml
 OMP_NUM_THREADS=1 "$exe" viz.nml > run.log 2>&1 || { echo "FAIL: the run failed (see $dir/run.log)"; exit 1; }
-"$here/../tools/render_frame.sh" out/viz.xdmf --field density --out viz.png --size 800x400 ||
+# A virtual X server that is slow to start on a loaded machine gives "bad X
+# server connection" (seen under parallel ctest): such a start is retried,
+# any other failure is a failure.
+with_x() {
+  local try out rc
+  for try in 1 2 3; do
+    out=$("$@" 2>&1); rc=$?
+    printf '%s\n' "$out"
+    printf '%s\n' "$out" | grep -q "bad X server connection" || return $rc
+    echo "note: the virtual X server was not ready (try $try of 3)"
+    sleep 2
+  done
+  return 1
+}
+with_x "$here/../tools/render_frame.sh" out/viz.xdmf --field density --out viz.png --size 800x400 ||
   { echo "FAIL: tools/render_frame.sh failed"; exit 1; }
-xvfb-run -a pvbatch "$here/check_paraview.py" out/viz.xdmf "$materials" viz.png
+with_x xvfb-run -a pvbatch "$here/check_paraview.py" out/viz.xdmf "$materials" viz.png
