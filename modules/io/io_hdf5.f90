@@ -1019,7 +1019,7 @@ contains
   !> Reads the scalar fixed-length string attribute `name` of `object`
   !> ('' or '/': the file); the text ends at the first NUL.
   subroutine h5_read_attribute_string(file, object, name, text, err)
-    use hdf5, only: h5oopen_f, h5oclose_f, h5aexists_f, h5aopen_f, h5aclose_f, h5aread_f, h5aget_type_f
+    use hdf5, only: h5oclose_f, h5aexists_f, h5aopen_f, h5aclose_f, h5aread_f, h5aget_type_f
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: object
     character(len=*), intent(in) :: name
@@ -1039,17 +1039,7 @@ contains
     ftid = -1_hid_t
     mtid = -1_hid_t
     body: block
-      if (.not. check_open(file, name, here, err)) exit body
-      if (.not. h5_exists(file, object_path(object))) then
-        call error_set(err, here, 'no object for attribute '//attr_where(file, object, name))
-        exit body
-      end if
-      call h5oopen_f(file%id, object_path(object), oid, hdferr)
-      if (hdferr /= 0) then
-        oid = -1_hid_t
-        call error_set(err, here, 'cannot open the object of attribute '//attr_where(file, object, name))
-        exit body
-      end if
+      if (.not. open_object(file, object, name, here, oid, err)) exit body
       call h5aexists_f(oid, name, exists, hdferr)
       if (hdferr /= 0 .or. .not. exists) then
         call error_set(err, here, 'no attribute '//attr_where(file, object, name))
@@ -1110,7 +1100,7 @@ contains
   !> Creates attribute `name` on `object` with type `tid` and shape `dims`
   !> (empty: a scalar) and writes it from the buffer address `ptr`.
   subroutine write_attribute(file, object, name, ptr, tid, dims, here, err)
-    use hdf5, only: h5oopen_f, h5oclose_f, h5acreate_f, h5aclose_f, h5awrite_f
+    use hdf5, only: h5oclose_f, h5acreate_f, h5aclose_f, h5awrite_f
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: object
     character(len=*), intent(in) :: name
@@ -1126,17 +1116,7 @@ contains
     sid = -1_hid_t
     aid = -1_hid_t
     body: block
-      if (.not. check_open(file, name, here, err)) exit body
-      if (.not. h5_exists(file, object_path(object))) then
-        call error_set(err, here, 'no object for attribute '//attr_where(file, object, name))
-        exit body
-      end if
-      call h5oopen_f(file%id, object_path(object), oid, hdferr)
-      if (hdferr /= 0) then
-        oid = -1_hid_t
-        call error_set(err, here, 'cannot open the object of attribute '//attr_where(file, object, name))
-        exit body
-      end if
+      if (.not. open_object(file, object, name, here, oid, err)) exit body
       if (size(dims) == 0) then
         call h5screate_f(H5S_SCALAR_F, sid, hdferr)
       else
@@ -1161,6 +1141,31 @@ contains
     if (sid >= 0) call h5sclose_f(sid, hdferr)
     if (oid >= 0) call h5oclose_f(oid, hdferr)
   end subroutine write_attribute
+
+  !> Opens the object (file root, group or dataset) that attribute `name`
+  !> belongs to; false (with `err` set, `oid` negative) if it cannot.
+  logical function open_object(file, object, name, here, oid, err) result(ok)
+    use hdf5, only: h5oopen_f
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: object, name, here
+    integer(hid_t), intent(out) :: oid
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: hdferr
+    ok = .false.
+    oid = -1_hid_t
+    if (.not. check_open(file, name, here, err)) return
+    if (.not. h5_exists(file, object_path(object))) then
+      call error_set(err, here, 'no object for attribute '//attr_where(file, object, name))
+      return
+    end if
+    call h5oopen_f(file%id, object_path(object), oid, hdferr)
+    if (hdferr /= 0) then
+      oid = -1_hid_t
+      call error_set(err, here, 'cannot open the object of attribute '//attr_where(file, object, name))
+      return
+    end if
+    ok = .true.
+  end function open_object
 
   !> The HDF5 path of an attribute's object: '' is the root group '/'.
   pure function object_path(object) result(path)
