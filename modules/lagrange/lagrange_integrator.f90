@@ -193,42 +193,24 @@ contains
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in), optional :: f_ext(:, :), m_ext(:)
     real(wp) :: no_f(3, 0), no_m(0)
-    integer :: n, i, j, k, c0
-    real(wp) :: f(3)
 
-    if (present(f_ext) .or. present(m_ext)) then
-      if (present(f_ext) .and. present(m_ext)) then
-        call update_nodes_ext(g, h, dt, dtx, f_ext, m_ext, .true., .true.)
-      else if (present(f_ext)) then
-        call update_nodes_ext(g, h, dt, dtx, f_ext, no_m, .true., .false.)
-      else
-        call update_nodes_ext(g, h, dt, dtx, no_f, m_ext, .false., .true.)
-      end if
-      return
+    ! absent arguments as zero-size arrays: the node loop's OpenMP region
+    ! cannot share an absent optional
+    if (present(f_ext) .and. present(m_ext)) then
+      call move_nodes(g, h, dt, dtx, f_ext, m_ext, .true., .true.)
+    else if (present(f_ext)) then
+      call move_nodes(g, h, dt, dtx, f_ext, no_m, .true., .false.)
+    else if (present(m_ext)) then
+      call move_nodes(g, h, dt, dtx, no_f, m_ext, .false., .true.)
+    else
+      call move_nodes(g, h, dt, dtx, no_f, no_m, .false., .false.)
     end if
-    !$omp parallel do default(none) shared(g, h, dt, dtx) collapse(2) &
-    !$omp private(n, i, j, k, c0, f) schedule(static)
-    do k = g%nlo(3), g%nhi(3)
-    do j = g%nlo(2), g%nhi(2)
-    ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
-    n = g%node(g%nlo(1), j, k) - 1
-    c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
-    do i = g%nlo(1), g%nhi(1)
-      n = n + 1
-      c0 = c0 + 1
-      f = node_force(g, h%fc, i, j, k, c0)
-      h%u(:, n) = h%un(:, n) + dt*f/h%mnode(n)
-      h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
-      g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
-    end do
-    end do
-    end do
-    !$omp end parallel do
   end subroutine update_nodes
 
-  !> `update_nodes` with an extra nodal force f_add (if has_f) and an extra
-  !> nodal mass m_add (if has_m).
-  subroutine update_nodes_ext(g, h, dt, dtx, f_add, m_add, has_f, has_m)
+  !> The node loop of `update_nodes`: an extra nodal force f_add (if has_f)
+  !> and an extra nodal mass m_add (if has_m); the switches are the same for
+  !> every node, so the branches cost nothing measurable.
+  subroutine move_nodes(g, h, dt, dtx, f_add, m_add, has_f, has_m)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
@@ -258,7 +240,7 @@ contains
     end do
     end do
     !$omp end parallel do
-  end subroutine update_nodes_ext
+  end subroutine move_nodes
 
   !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
   !> then new volume and density of every cell. bad_cell > 0 names the first
