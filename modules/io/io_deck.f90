@@ -150,19 +150,13 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: k
     character(len=max_line), allocatable :: text(:)
-    integer :: i, seen, want
-    want = 1
-    if (present(k)) want = k
-    seen = 0
-    do i = 1, size(deck%groups)
-      if (deck%groups(i)%name /= name) cycle
-      seen = seen + 1
-      if (seen == want) then
-        text = deck%groups(i)%text
-        return
-      end if
-    end do
-    text = [character(len=max_line) ::]
+    integer :: i
+    i = group_index(deck, name, k)
+    if (i > 0) then
+      text = deck%groups(i)%text
+    else
+      text = [character(len=max_line) ::]
+    end if
   end function deck_text
 
   !> The line where the k-th group called `name` (default the first) starts;
@@ -171,20 +165,29 @@ contains
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: k
-    integer :: i, seen, want
+    integer :: i
+    deck_line = 0
+    i = group_index(deck, name, k)
+    if (i > 0) deck_line = deck%groups(i)%line
+  end function deck_line
+
+  !> Index in deck%groups of the k-th group called `name` (default the
+  !> first); 0 if there is none.
+  integer function group_index(deck, name, k) result(i)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    integer, intent(in), optional :: k
+    integer :: seen, want
     want = 1
     if (present(k)) want = k
     seen = 0
-    deck_line = 0
     do i = 1, size(deck%groups)
       if (deck%groups(i)%name /= name) cycle
       seen = seen + 1
-      if (seen == want) then
-        deck_line = deck%groups(i)%line
-        return
-      end if
+      if (seen == want) return
     end do
-  end function deck_line
+    i = 0
+  end function group_index
 
   !> Cuts the lines into groups (see the module header), scanning the text
   !> as a stream: a group may start anywhere outside another group (several
