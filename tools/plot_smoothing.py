@@ -9,15 +9,8 @@ tangled variants dashed. The dotted line is the target Q_min = 0.9999.
 
 Usage: plot_smoothing.py CSV [--out PNG]     (default PNG: CSV with .png)
 """
-try:  # Debian's matplotlib belong to /usr/bin/python3; a python3 first on PATH may lack them
-    import matplotlib  # noqa: F401
-except ImportError:
-    import os as _os
-    import sys as _sys
-    if _os.access("/usr/bin/python3", _os.X_OK) and \
-            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
-        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
-    raise SystemExit("%s: needs Debian's python3 with matplotlib (tools/install-deps.sh)" % _sys.argv[0])
+import debian_python  # tools/debian_python.py: Debian's python3 if this one lacks the packages
+debian_python.require("matplotlib")
 
 import argparse
 import csv

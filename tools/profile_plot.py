@@ -33,15 +33,8 @@ The module also provides the frame readers used by tools/speed_error.py.
 Run with /usr/bin/python3 (Debian numpy, h5py, matplotlib); no display needed.
 """
 
-try:  # Debian's h5py, matplotlib, numpy belong to /usr/bin/python3; a python3 first on PATH may lack them
-    import h5py, matplotlib, numpy  # noqa: F401
-except ImportError:
-    import os as _os
-    import sys as _sys
-    if _os.access("/usr/bin/python3", _os.X_OK) and \
-            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
-        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
-    raise SystemExit("%s: needs Debian's python3 with h5py, matplotlib, numpy (tools/install-deps.sh)" % _sys.argv[0])
+import debian_python  # tools/debian_python.py: Debian's python3 if this one lacks the packages
+debian_python.require("h5py", "matplotlib", "numpy")
 
 import argparse
 import os

@@ -35,15 +35,11 @@ specification; source not independently verified, KT Table 4 prints
 0.984041) are checked at 1e-6.
 """
 
-try:  # Debian's numpy, scipy belong to /usr/bin/python3; a python3 first on PATH may lack them
-    import numpy, scipy  # noqa: F401
-except ImportError:
-    import os as _os
-    import sys as _sys
-    if _os.access("/usr/bin/python3", _os.X_OK) and \
-            _os.path.realpath(_sys.executable) != _os.path.realpath("/usr/bin/python3"):
-        _os.execv("/usr/bin/python3", ["/usr/bin/python3"] + _sys.argv)  # run again with Debian's
-    raise SystemExit("%s: needs Debian's python3 with numpy, scipy (tools/install-deps.sh)" % _sys.argv[0])
+import os as _os
+import sys as _sys
+_sys.path.insert(0, _os.path.dirname(_os.path.dirname(_os.path.abspath(__file__))))
+import debian_python  # noqa: E402  (tools/debian_python.py)
+debian_python.require("numpy", "scipy")
 
 import math
 import os
