@@ -9,6 +9,7 @@ program test_dt_cell
   use base_kinds, only: wp, i8
   use base_errors, only: error_t
   use test_assert, only: check, check_summary
+  use test_scene, only: ideal_gas_state
   use eos_factory, only: eos_params_t, eos_create
   use mesh_grid, only: grid_t, grid_init_box
   use mesh_geometry, only: hex_volume
@@ -62,32 +63,16 @@ contains
   subroutine build(hot)
     integer, intent(in) :: hot(:)
     type(error_t), allocatable :: err
-    type(eos_params_t) :: ep
-    real(wp) :: xn(3, 8)
+    real(wp), allocatable :: e(:)
     integer :: c
 
     call grid_init_box(g, n, n, n, [0.0_wp, 0.0_wp, 0.0_wp], [real(n, wp), real(n, wp), real(n, wp)], err)
     call check(.not. allocated(err), 'grid_init_box')
-    if (allocated(h%u)) h = hydro_t()
-    call hydro_allocate(h, g%ncell, g%nnode, err)
-    call check(.not. allocated(err), 'hydro_allocate')
-    ep%gamma = 1.4_wp
-    mats(1)%name = 'gas'
-    call eos_create('ideal_gas', ep, mats(1)%eos, err)
-    call check(.not. allocated(err), 'eos_create')
-    h%mat = 1
-    call material_index_cells(mats, h%mat, mx, err)
-    call check(.not. allocated(err), 'material_index_cells')
+    allocate(e(g%ncell))
+    e = 1.0_wp
     do c = 1, g%ncell
-      call g%gather(c, g%x, xn)
-      h%vol(c) = hex_volume(xn)
-      h%rho(c) = 1.0_wp
-      h%e(c) = 1.0_wp
-      if (any(hot == c)) h%e(c) = 4.0_wp
-      h%mass(c) = h%rho(c)*h%vol(c)
+      if (any(hot == c)) e(c) = 4.0_wp
     end do
-    call hydro_subcell_masses(g, g%x, h%rho, h%mnode)
-    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
-    h%u = 0.0_wp
+    call ideal_gas_state(g, [(1.0_wp, c = 1, g%ncell)], e, h, mats, mx)
   end subroutine build
 end program test_dt_cell

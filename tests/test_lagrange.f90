@@ -11,6 +11,7 @@ program test_lagrange
   use base_errors, only: error_t
   use base_random, only: rng_t, rng_seed, rng_uniform
   use test_assert, only: check, check_close, check_summary
+  use test_scene, only: ideal_gas_state
   use eos_factory, only: eos_params_t, eos_create
   use mesh_grid, only: grid_t, grid_init_box
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_corner
@@ -51,8 +52,7 @@ contains
     real(wp), intent(in) :: amp, vel, p_ext
     logical, intent(in), optional :: uniform
     type(error_t), allocatable :: err
-    type(eos_params_t) :: par
-    real(wp) :: xn(3, 8)
+    real(wp), allocatable :: rho(:), e(:)
     integer :: c, i, j, k, d, m
     logical :: same
 
@@ -72,32 +72,17 @@ contains
         end do
       end do
     end do
-    if (allocated(h%u)) then
-      h = hydro_t()
-    end if
-    call hydro_allocate(h, g%ncell, g%nnode, err)
-    call check(.not. allocated(err), 'hydro_allocate')
-    par%gamma = 1.4_wp
-    mats(1)%name = 'gas'
-    call eos_create('ideal_gas', par, mats(1)%eos, err)
-    call check(.not. allocated(err), 'eos_create')
-    h%mat = 1
-    call material_index_cells(mats, h%mat, mx, err)
-    call check(.not. allocated(err), 'material_index_cells')
+    allocate(rho(g%ncell), e(g%ncell))
     do c = 1, g%ncell
-      call g%gather(c, g%x, xn)
-      h%vol(c) = hex_volume(xn)
       if (same) then
-        h%rho(c) = 1.0_wp
-        h%e(c) = 2.5_wp
+        rho(c) = 1.0_wp
+        e(c) = 2.5_wp
       else
-        h%rho(c) = 1.0_wp + rng_uniform(rng)
-        h%e(c) = 1.0_wp + rng_uniform(rng)
+        rho(c) = 1.0_wp + rng_uniform(rng)
+        e(c) = 1.0_wp + rng_uniform(rng)
       end if
-      h%mass(c) = h%rho(c)*h%vol(c)
     end do
-    call hydro_subcell_masses(g, g%x, h%rho, h%mnode)
-    call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
+    call ideal_gas_state(g, rho, e, h, mats, mx)
     do m = 1, g%nnode
       do d = 1, 3
         h%u(d, m) = vel*(2.0_wp*rng_uniform(rng) - 1.0_wp)

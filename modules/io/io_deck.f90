@@ -207,7 +207,9 @@ contains
 
     in_group = .false.
     q = ' '
-    pieces = [character(len=max_line) ::]
+    ! (allocated, not assigned an empty constructor: gfortran -O3 then warns
+    ! of the descriptor of an unallocated array)
+    allocate(pieces(0), stat=k)
     do i = 1, size(lines)
       line = lines(i)
       from = 1
