@@ -9,7 +9,7 @@ module driver_euler
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set
   use base_timers, only: timer_t, wall_seconds
-  use base_registry, only: registry_t
+  use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use rezone_quality, only: grid_quality, grid_worst_cells
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
@@ -78,8 +78,8 @@ contains
   subroutine euler_register_restart(es, reg)
     type(euler_state_t), intent(inout), target :: es
     type(registry_t), intent(inout) :: reg
-    call reg%add('t_next_euler', 'time', es%t_next)
-    call reg%add('n_euler', '1', es%n)
+    call reg%add('t_next_euler', 'time', es%t_next, lower=LOWER_NONNEGATIVE)
+    call reg%add('n_euler', '1', es%n, lower=LOWER_NONNEGATIVE)
   end subroutine euler_register_restart
 
   !> `due` when an Euler step is due after the step just taken: an interval

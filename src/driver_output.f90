@@ -8,7 +8,7 @@ module driver_output
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_IO, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
-  use base_registry, only: registry_t
+  use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use base_build, only: code_version, build_type
   use io_log, only: log_t, log_open, log_line, log_identity
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
@@ -60,11 +60,11 @@ contains
   subroutine schedule_register_restart(sch, reg)
     type(schedule_t), intent(inout), target :: sch
     type(registry_t), intent(inout) :: reg
-    call reg%add('t_next_frame', 'time', sch%t_next_frame)
-    call reg%add('t_next_gauge', 'time', sch%t_next_gauge)
-    call reg%add('t_next_dump', 'time', sch%t_next_dump)
-    call reg%add('steps_since_frame', '1', sch%steps_since_frame)
-    call reg%add('nframe', '1', sch%out%nframe)
+    call reg%add('t_next_frame', 'time', sch%t_next_frame, lower=LOWER_NONNEGATIVE)
+    call reg%add('t_next_gauge', 'time', sch%t_next_gauge, lower=LOWER_NONNEGATIVE)
+    call reg%add('t_next_dump', 'time', sch%t_next_dump, lower=LOWER_NONNEGATIVE)
+    call reg%add('steps_since_frame', '1', sch%steps_since_frame, lower=LOWER_NONNEGATIVE)
+    call reg%add('nframe', '1', sch%out%nframe, lower=LOWER_NONNEGATIVE)
     ! not mandatory: a restart written before the history existed continues
     ! with the next multiple of history_dt (outputs_after_restart)
     call reg%add('t_next_history', 'time', sch%t_next_history, mandatory=.false.)

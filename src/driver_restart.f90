@@ -6,7 +6,7 @@
 !> checked by `io_restart`; here, the stored sizes of the mixed cells are
 !> checked against the grid and against the file's own dataset shapes before
 !> storage is allocated to them, and after the read every quantity against
-!> its physical range (`check_ranges`: positive masses, volumes and
+!> the range its owner registered (`check_ranges`: positive masses, volumes and
 !> densities, times finite and not negative, counts not negative, material
 !> indices of this deck, a generator state that is not zero, a frame counter
 !> equal to the stored frame list's length). Any failure is an input error:
@@ -27,7 +27,8 @@ module driver_restart
   use base_errors, only: error_t, error_set, ERR_INPUT, ERR_IO
   use base_config, only: max_line, problem_add
   use base_timers, only: wall_seconds
-  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR, &
+                           LOWER_POSITIVE, LOWER_NONNEGATIVE
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
   use io_log, only: log_line
@@ -41,17 +42,6 @@ module driver_restart
   implicit none
   private
   public :: check_restart_deck, restart_path, write_restart, read_restart
-
-  !> Physical ranges of registered quantities (by registered name; a name
-  !> this run does not register is skipped). Real arrays and scalars: > 0 or
-  !> >= 0 (finiteness is checked for all by io_restart); integer scalars >= 0.
-  character(len=*), parameter :: positive(*) = [character(len=24) :: &
-    'density', 'volume', 'mass', 'node_mass', 'mixed_volume_fraction', 'mixed_mass', 'mixed_density']
-  character(len=*), parameter :: nonnegative(*) = [character(len=24) :: &
-    'sound_speed', 'mixed_sound_speed', 'time', 'dt', 't_next_frame', 't_next_gauge', 't_next_dump', &
-    't_next_euler']
-  character(len=*), parameter :: counts(*) = [character(len=24) :: &
-    'step', 'nframe', 'steps_since_frame', 'n_euler', 'mixed_n', 'mixed_nslot']
 
 contains
 
@@ -271,7 +261,7 @@ contains
     call report_conservation(st, sch%log, 'restart')
   end subroutine read_restart
 
-  !> Every registered quantity in its physical range (the tables at the top),
+  !> Every registered quantity in the range its owner registered (`lower`),
   !> the generator state not zero (a xorshift generator stays at zero) and the
   !> frame counter equal to the stored frame list's length. Values are finite
   !> here (io_restart), so the comparisons cannot trap.
@@ -286,8 +276,8 @@ contains
 
     do k = 1, reg%n
       associate (e => reg%e(k))
-        pos = any(positive == e%name)
-        nonneg = any(nonnegative == e%name)
+        pos = e%lower == LOWER_POSITIVE
+        nonneg = e%lower == LOWER_NONNEGATIVE
         select case (e%kind)
         case (K_REAL)
           name = 'state/'//trim(e%name)
@@ -307,7 +297,7 @@ contains
           end if
         case (K_INT_SCALAR)
           name = 'scalars/'//trim(e%name)
-          if (any(counts == e%name) .and. e%is < 0) call error_set(err, 'restart_read', path//' is damaged: '// &
+          if (nonneg .and. e%is < 0) call error_set(err, 'restart_read', path//' is damaged: '// &
             trim(name)//' = '//itoa(e%is)//' (must be >= 0)')
           if (e%name == 'nframe' .and. e%is /= nframes .and. .not. allocated(err)) &
             call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//itoa(e%is)// &
@@ -342,8 +332,9 @@ contains
                                 itoa(nmat)//')')
   end subroutine check_materials
 
-  !> False for mixed cells that do not index the grid and the materials
-  !> consistently (a damaged file; later code would index out of bounds):
+  !> False for mixed cells that do not index the grid consistently (a
+  !> damaged file; later code would index out of bounds; their materials are
+  !> checked by check_materials):
   !> mixed cell k is the cell whose material is -k, and no other cell has a
   !> material <= 0.
   logical function mixed_consistent(st) result(ok)
@@ -351,7 +342,6 @@ contains
     integer :: k, c
     associate (mx => st%mx)
       ok = mx%start(1) == 1 .and. mx%start(mx%n + 1) == mx%nslot + 1
-      if (mx%nslot > 0) ok = ok .and. all(mx%mat >= 1 .and. mx%mat <= size(st%mats))
       do k = 1, mx%n
         c = mx%cell(k)
         if (.not. ok) exit

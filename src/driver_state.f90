@@ -4,7 +4,7 @@
 module driver_state
   use base_kinds, only: wp, i8
   use base_random, only: rng_t
-  use base_registry, only: registry_t
+  use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use mesh_grid, only: grid_t, grid_register_restart
   use mesh_boundary, only: bc_t
   use material_table, only: material_t
@@ -55,9 +55,9 @@ contains
     call grid_register_restart(st%g, reg)
     call hydro_register_restart(st%h, reg)
     call mixed_register_restart(st%mx, reg)
-    call reg%add('time', 'time', st%t)
-    call reg%add('dt', 'time', st%dt)
-    call reg%add('step', '1', st%step)
+    call reg%add('time', 'time', st%t, lower=LOWER_NONNEGATIVE)
+    call reg%add('dt', 'time', st%dt, lower=LOWER_NONNEGATIVE)
+    call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)
     call reg%add('boundary_work', 'energy', st%tot%boundary_work)
     call reg%add('initial_energy', 'energy', st%tot%energy_initial)
     call reg%add('rng_state', 'bits', st%rng_bits)

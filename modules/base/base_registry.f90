@@ -14,7 +14,8 @@ module base_registry
   use base_kinds, only: wp
   implicit none
   private
-  public :: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, LOC_MIXED_CELL, LOC_MIXED_SLOT, &
+  public :: registry_t, registry_entry_t, LOWER_NONE, LOWER_POSITIVE, LOWER_NONNEGATIVE, &
+            LOC_GLOBAL, LOC_NODE, LOC_CELL, LOC_MIXED_CELL, LOC_MIXED_SLOT, &
             LOC_PARTICLE, location_name, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
 
   !> Where a quantity lives. LOC_GLOBAL: a scalar or an array of the whole
@@ -23,6 +24,11 @@ module base_registry
                         LOC_PARTICLE = 5
   character(len=*), parameter :: loc_names(0:5) = [character(len=16) :: &
     'global', 'node', 'cell', 'mixed cell', 'mixed slot', 'particle']
+
+  !> The range a quantity must be in to be a valid state (checked when a
+  !> restart is read): any value, > 0 (masses, volumes, densities), >= 0
+  !> (sound speeds, times, counts).
+  integer, parameter :: LOWER_NONE = 0, LOWER_POSITIVE = 1, LOWER_NONNEGATIVE = 2
 
   integer, parameter :: K_REAL = 1, K_INT = 2, K_REAL_SCALAR = 3, K_INT_SCALAR = 4
 
@@ -33,6 +39,7 @@ module base_registry
     integer :: kind = 0
     integer :: location = LOC_GLOBAL
     logical :: mandatory = .true.     !< a restart file without it is refused
+    integer :: lower = LOWER_NONE     !< the range of a valid value
     integer, allocatable :: dims(:)
     real(wp), pointer, contiguous :: r(:) => null()
     integer, pointer, contiguous :: i(:) => null()
@@ -47,7 +54,8 @@ module base_registry
   contains
     procedure, private :: add_r1, add_r2, add_i1, add_rs, add_is
     !> Registers an array (with its location) or a scalar under a name, with
-    !> its units; `mandatory` (default true) says a restart must hold it.
+    !> its units; `mandatory` (default true) says a restart must hold it,
+    !> `lower` (default LOWER_NONE) the range of a valid value.
     generic :: add => add_r1, add_r2, add_i1, add_rs, add_is
     !> Forgets every registered quantity (the storage itself is untouched).
     procedure :: clear => registry_clear
@@ -62,11 +70,12 @@ contains
     name = trim(loc_names(max(0, min(5, loc))))
   end function location_name
 
-  subroutine push(this, name, units, kind, location, dims, mandatory)
+  subroutine push(this, name, units, kind, location, dims, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     integer, intent(in) :: kind, location, dims(:)
     logical, intent(in), optional :: mandatory
+    integer, intent(in), optional :: lower
     type(registry_entry_t) :: blank(32)
     ! grown by assignment, 32 entries at a time (a few dozen in all)
     if (.not. allocated(this%e)) this%e = blank
@@ -79,6 +88,8 @@ contains
     this%e(this%n)%dims = dims
     this%e(this%n)%mandatory = .true.
     if (present(mandatory)) this%e(this%n)%mandatory = mandatory
+    this%e(this%n)%lower = LOWER_NONE
+    if (present(lower)) this%e(this%n)%lower = lower
   end subroutine push
 
   subroutine registry_clear(this)
@@ -87,51 +98,56 @@ contains
     this%n = 0
   end subroutine registry_clear
 
-  subroutine add_r1(this, name, units, location, a, mandatory)
+  subroutine add_r1(this, name, units, location, a, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     integer, intent(in) :: location
     real(wp), intent(inout), target, contiguous :: a(:)
     logical, intent(in), optional :: mandatory
-    call push(this, name, units, K_REAL, location, shape(a), mandatory)
+    integer, intent(in), optional :: lower
+    call push(this, name, units, K_REAL, location, shape(a), mandatory, lower)
     this%e(this%n)%r => a
   end subroutine add_r1
 
-  subroutine add_r2(this, name, units, location, a, mandatory)
+  subroutine add_r2(this, name, units, location, a, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     integer, intent(in) :: location
     real(wp), intent(inout), target, contiguous :: a(:, :)
     logical, intent(in), optional :: mandatory
-    call push(this, name, units, K_REAL, location, shape(a), mandatory)
+    integer, intent(in), optional :: lower
+    call push(this, name, units, K_REAL, location, shape(a), mandatory, lower)
     this%e(this%n)%r(1:size(a)) => a
   end subroutine add_r2
 
-  subroutine add_i1(this, name, units, location, a, mandatory)
+  subroutine add_i1(this, name, units, location, a, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     integer, intent(in) :: location
     integer, intent(inout), target, contiguous :: a(:)
     logical, intent(in), optional :: mandatory
-    call push(this, name, units, K_INT, location, shape(a), mandatory)
+    integer, intent(in), optional :: lower
+    call push(this, name, units, K_INT, location, shape(a), mandatory, lower)
     this%e(this%n)%i => a
   end subroutine add_i1
 
-  subroutine add_rs(this, name, units, a, mandatory)
+  subroutine add_rs(this, name, units, a, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     real(wp), intent(inout), target :: a
     logical, intent(in), optional :: mandatory
-    call push(this, name, units, K_REAL_SCALAR, LOC_GLOBAL, [integer ::], mandatory)
+    integer, intent(in), optional :: lower
+    call push(this, name, units, K_REAL_SCALAR, LOC_GLOBAL, [integer ::], mandatory, lower)
     this%e(this%n)%rs => a
   end subroutine add_rs
 
-  subroutine add_is(this, name, units, a, mandatory)
+  subroutine add_is(this, name, units, a, mandatory, lower)
     class(registry_t), intent(inout) :: this
     character(len=*), intent(in) :: name, units
     integer, intent(inout), target :: a
     logical, intent(in), optional :: mandatory
-    call push(this, name, units, K_INT_SCALAR, LOC_GLOBAL, [integer ::], mandatory)
+    integer, intent(in), optional :: lower
+    call push(this, name, units, K_INT_SCALAR, LOC_GLOBAL, [integer ::], mandatory, lower)
     this%e(this%n)%is => a
   end subroutine add_is
 end module base_registry

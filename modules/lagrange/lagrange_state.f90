@@ -10,7 +10,7 @@ module lagrange_state
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_subcell_volumes
-  use base_registry, only: registry_t, LOC_NODE, LOC_CELL
+  use base_registry, only: registry_t, LOC_NODE, LOC_CELL, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
   public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, hydro_register_restart, &
@@ -127,13 +127,13 @@ contains
     type(hydro_t), intent(inout), target :: h
     type(registry_t), intent(inout) :: reg
     call reg%add('velocity', 'length/time', LOC_NODE, h%u)
-    call reg%add('node_mass', 'mass', LOC_NODE, h%mnode)
-    call reg%add('mass', 'mass', LOC_CELL, h%mass)
-    call reg%add('volume', 'length^3', LOC_CELL, h%vol)
-    call reg%add('density', 'mass/length^3', LOC_CELL, h%rho)
+    call reg%add('node_mass', 'mass', LOC_NODE, h%mnode, lower=LOWER_POSITIVE)
+    call reg%add('mass', 'mass', LOC_CELL, h%mass, lower=LOWER_POSITIVE)
+    call reg%add('volume', 'length^3', LOC_CELL, h%vol, lower=LOWER_POSITIVE)
+    call reg%add('density', 'mass/length^3', LOC_CELL, h%rho, lower=LOWER_POSITIVE)
     call reg%add('energy', 'energy/mass', LOC_CELL, h%e)
     call reg%add('pressure', 'pressure', LOC_CELL, h%p)
-    call reg%add('sound_speed', 'length/time', LOC_CELL, h%cs)
+    call reg%add('sound_speed', 'length/time', LOC_CELL, h%cs, lower=LOWER_NONNEGATIVE)
     call reg%add('viscosity', 'pressure', LOC_CELL, h%q)
     call reg%add('material', '1', LOC_CELL, h%mat)
   end subroutine hydro_register_restart

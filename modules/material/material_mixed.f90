@@ -24,7 +24,7 @@
 module material_mixed
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
-  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
   public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_register_restart
@@ -184,17 +184,17 @@ contains
   subroutine mixed_register_restart(mx, reg)
     type(mixed_t), intent(inout), target :: mx
     type(registry_t), intent(inout) :: reg
-    call reg%add('mixed_n', '1', mx%n)
-    call reg%add('mixed_nslot', '1', mx%nslot)
+    call reg%add('mixed_n', '1', mx%n, lower=LOWER_NONNEGATIVE)
+    call reg%add('mixed_nslot', '1', mx%nslot, lower=LOWER_NONNEGATIVE)
     call reg%add('mixed_cell', '1', LOC_MIXED_CELL, mx%cell)
     call reg%add('mixed_start', '1', LOC_MIXED_CELL, mx%start)
     call reg%add('mixed_material', '1', LOC_MIXED_SLOT, mx%mat)
-    call reg%add('mixed_volume_fraction', '1', LOC_MIXED_SLOT, mx%vf)
-    call reg%add('mixed_mass', 'mass', LOC_MIXED_SLOT, mx%mass)
+    call reg%add('mixed_volume_fraction', '1', LOC_MIXED_SLOT, mx%vf, lower=LOWER_POSITIVE)
+    call reg%add('mixed_mass', 'mass', LOC_MIXED_SLOT, mx%mass, lower=LOWER_POSITIVE)
     call reg%add('mixed_energy', 'energy/mass', LOC_MIXED_SLOT, mx%e)
-    call reg%add('mixed_density', 'mass/length^3', LOC_MIXED_SLOT, mx%rho)
+    call reg%add('mixed_density', 'mass/length^3', LOC_MIXED_SLOT, mx%rho, lower=LOWER_POSITIVE)
     call reg%add('mixed_pressure', 'pressure', LOC_MIXED_SLOT, mx%p)
-    call reg%add('mixed_sound_speed', 'length/time', LOC_MIXED_SLOT, mx%cs)
+    call reg%add('mixed_sound_speed', 'length/time', LOC_MIXED_SLOT, mx%cs, lower=LOWER_NONNEGATIVE)
     call reg%add('mixed_centroid', 'natural coordinates', LOC_MIXED_SLOT, mx%xi)
   end subroutine mixed_register_restart
 end module material_mixed
