@@ -128,7 +128,6 @@ contains
     call es%timer%start()
     par%linear = trim(rz%reconstruction) == 'linear'
     par%mof_max_iter = rz%mof_max_iter
-    par%consistent_nodal_mass = trim(rz%nodal_mass) == 'consistent'
     call hydro_totals(st%h, m0, p0, ie0, ke0)
     pscale = 0.0_wp
     do n = 1, st%g%nnode

@@ -98,7 +98,7 @@ contains
                       ' deposited in cell '//itoa(c))
       end do
 
-      call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode)
+      call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)
 
       call material_index_cells(st%mats, hy%mat, mx, err)
       if (allocated(err)) return

@@ -311,7 +311,7 @@ contains
     end do
     h%p = 0.4_wp*h%rho*h%e
     h%cs = 1.0_wp
-    call hydro_subcell_masses(g, xold, h%rho, h%mnode)
+    call hydro_subcell_masses(g, xold, h%rho, h%mnode, h%mcorner)
     do nn = 1, g%nnode
       h%u(:, nn) = u_field(xold(:, nn))
     end do

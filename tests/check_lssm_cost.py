@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Cost and accuracy of one Sedov run (A) against another (B) with other
-&rezone settings (e.g. move_min, nodal_mass).
+&rezone settings (e.g. move_min).
 
     check_lssm_cost.py LOG_A FRAME_A LOG_B FRAME_B CELL_RATIO L1_RATIO
 

@@ -297,7 +297,7 @@ contains
       end do
       where (h%mat == 2) h%e = 5.0_wp
     end if
-    call hydro_subcell_masses(g, x, h%rho, h%mnode)
+    call hydro_subcell_masses(g, x, h%rho, h%mnode, h%mcorner)
     do n = 1, nn
       if (kind == 'linear') then
         h%u(:, n) = [0.3_wp*x(1, n) - 0.1_wp, 0.2_wp*x(2, n) + 0.1_wp*x(3, n), 0.5_wp - 0.4_wp*x(1, n)]

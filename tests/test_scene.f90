@@ -48,7 +48,7 @@ contains
       h%e(c) = e(c)
       h%mass(c) = h%rho(c)*h%vol(c)
     end do
-    call hydro_subcell_masses(g, g%x, h%rho, h%mnode)
+    call hydro_subcell_masses(g, g%x, h%rho, h%mnode, h%mcorner)
     call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
     h%u = 0.0_wp
   end subroutine ideal_gas_state

@@ -9,12 +9,11 @@ and reports the mean and range of each figure, and the ratio of the mean
 Euler-phase times to that of the first mode.
 
     lssm_compare.py --exe build/release/lsalepm --n 20 --copies 3 --jobs 2 \\
-        --out DIR [--modes lssm:0 smooth:0 lssm:0.1 smooth:0.1] [--nodal-mass consistent]
+        --out DIR [--modes lssm:0 smooth:0 lssm:0.1 smooth:0.1]
 
 A mode is MODE:MOVE_MIN (&rezone mode and move_min); the deck is
 input/sedov3d_lssm.nml (the paper's settings: triggers side ratio 4 or
-cosine 0.7, q = 0.999, Q_min 0.999, N_max 20) with ni = nj = nk = N and
-nodal_mass from --nodal-mass (default 'consistent', as the deck). The
+cosine 0.7, q = 0.999, Q_min 0.999, N_max 20) with ni = nj = nk = N. The
 runs go JOBS at a time with one OpenMP thread each, interleaved across modes
 so that every mode shares the machine alike; the Euler-phase time is the
 `euler` entry of the log's `timers` line (wall seconds of the Euler steps:
@@ -41,18 +40,17 @@ DECK = os.path.join(HERE, "..", "input", "sedov3d_lssm.nml")
 ENERGY, GAMMA, RHO0 = 0.851072, 1.4, 1.0
 
 
-def make_deck(path, outdir, n, mode, move_min, copy, nodal_mass):
+def make_deck(path, outdir, n, mode, move_min, copy):
     with open(DECK) as f:
         text = f.read()
     text = re.sub(r"ni = \d+, nj = \d+, nk = \d+", f"ni = {n}, nj = {n}, nk = {n}", text)
     text = text.replace("mode = 'lssm'", f"mode = '{mode}'")
     text = text.replace("smooth_iterations = 20,", f"smooth_iterations = 20, move_min = {move_min},")
-    text = re.sub(r"nodal_mass = '\w+'", f"nodal_mass = '{nodal_mass}'", text)
     # the ensemble: source energy E0 (1 + copy 1e-9), which moves the shock
     # radius (E^(1/5)) by 2e-10 per copy
     text = text.replace("energy = 0.106384", f"energy = {0.106384 * (1.0 + copy * 1.0e-9):.15e}")
     text = re.sub(r"^&output .*/[ \t]*$", f"&output dir = '{outdir}' /", text, flags=re.M)
-    for what in (f"mode = '{mode}'", f"move_min = {move_min}", f"nodal_mass = '{nodal_mass}'", f"ni = {n}",
+    for what in (f"mode = '{mode}'", f"move_min = {move_min}", f"ni = {n}",
                  "&source position = 0, 0, 0, energy = ",
                  f"&output dir = '{outdir}' /"):
         if what not in text:
@@ -61,12 +59,12 @@ def make_deck(path, outdir, n, mode, move_min, copy, nodal_mass):
         f.write(text)
 
 
-def run_one(exe, out, n, nodal_mass, mode, move_min, copy):
+def run_one(exe, out, n, mode, move_min, copy):
     name = f"{mode}_{move_min}_{copy}"
     rundir = os.path.join(out, "runs", name)
     os.makedirs(rundir, exist_ok=True)
     deck = os.path.join(rundir, name + ".nml")
-    make_deck(deck, rundir, n, mode, move_min, copy, nodal_mass)
+    make_deck(deck, rundir, n, mode, move_min, copy)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     with open(os.path.join(rundir, "stdout.txt"), "w") as so:
         rc = subprocess.run([exe, deck], stdout=so, stderr=subprocess.STDOUT, env=env).returncode
@@ -93,15 +91,13 @@ def main(argv=None):
     p.add_argument("--copies", type=int, default=3)
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--modes", nargs="+", default=["smooth:0", "lssm:0", "lssm:0.1", "smooth:0.1"])
-    p.add_argument("--nodal-mass", default="consistent", choices=("transported", "consistent"),
-                   help="&rezone nodal_mass of every run")
     p.add_argument("--out", required=True)
     a = p.parse_args(argv)
     exe = os.path.abspath(a.exe)
     modes = [tuple(m.split(":")) for m in a.modes]
     jobs = [(mode, mm, c) for c in range(a.copies) for (mode, mm) in modes]
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        rows = list(pool.map(lambda j: run_one(exe, a.out, a.n, a.nodal_mass, *j), jobs))
+        rows = list(pool.map(lambda j: run_one(exe, a.out, a.n, *j), jobs))
     with open(os.path.join(a.out, "lssm_compare.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
@@ -111,7 +107,7 @@ def main(argv=None):
         return f"{fmt.format(sum(vals) / len(vals))} ({fmt.format(min(vals))}-{fmt.format(max(vals))})"
 
     base = None
-    print(f"Sedov {a.n}^3, nodal_mass '{a.nodal_mass}', {a.copies} copies per mode, {a.jobs} runs at a time, "
+    print(f"Sedov {a.n}^3, {a.copies} copies per mode, {a.jobs} runs at a time, "
           f"1 thread each (mean (min-max))\n")
     print("| mode | move_min | Euler steps | cells remapped | Euler phase [s] | ratio of means | L1 density |")
     print("|---|---:|---:|---:|---:|---:|---:|")

@@ -46,7 +46,8 @@ module io_restart
   !> sizes are stored as the scalars mixed_n and mixed_nslot.
   !> 3: checksums (HDF5 1.10 format, Fletcher-32 on every dataset with data);
   !> scalars are stored as one-element arrays.
-  integer, parameter :: restart_version = 3
+  !> 4: the subcell (corner) masses, corner_mass (8, ncell).
+  integer, parameter :: restart_version = 4
 
 contains
 

@@ -2,6 +2,11 @@
 !>
 !> Node-centred: velocity u and nodal mass (first term of Eq. 16, the sum of
 !> the subcell masses around the node, constant in the Lagrangian phase).
+!> The subcell (corner) masses are kept too: set by Eq. (16) (rho_c V_ca)
+!> when the grid is built and after every remap, constant in the Lagrangian
+!> phase like the cell masses, so that a cell's corners always add up to its
+!> mass and a node's to its nodal mass (what the remap's momentum transfer
+!> needs to conserve momentum and keep a uniform flow uniform).
 !> Cell-centred: mass, volume, density, specific internal energy, pressure,
 !> sound speed and artificial viscosity. Work arrays used inside a step are
 !> allocated once here.
@@ -36,6 +41,7 @@ module lagrange_state
   type :: hydro_t
     real(wp), allocatable :: u(:, :)      !< node velocity (3, nnode)
     real(wp), allocatable :: mnode(:)     !< node mass
+    real(wp), allocatable :: mcorner(:, :) !< subcell (corner) masses (8, ncell); sum over a node's corners: mnode
     real(wp), allocatable :: mass(:)      !< cell mass
     real(wp), allocatable :: vol(:)       !< cell volume
     real(wp), allocatable :: rho(:)       !< cell density
@@ -67,7 +73,7 @@ contains
     integer :: stat
     character(len=200) :: msg
 
-    allocate(h%u(3, nnode), h%mnode(nnode), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
+    allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), &
              h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
              h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%sarea(3, 3, ncell), &
@@ -76,7 +82,7 @@ contains
       call error_set(err, 'hydro_allocate', 'cannot allocate the hydro state: '//trim(msg))
       return
     end if
-    h%u = 0.0_wp; h%mnode = 0.0_wp; h%q = 0.0_wp; h%mat = 0
+    h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
     h%dvdx = 0.0_wp; h%sarea = 0.0_wp; h%area = 0.0_wp
   end subroutine hydro_allocate
@@ -128,6 +134,7 @@ contains
     type(registry_t), intent(inout) :: reg
     call reg%add('velocity', 'length/time', LOC_NODE, h%u)
     call reg%add('node_mass', 'mass', LOC_NODE, h%mnode, lower=LOWER_POSITIVE)
+    call reg%add('corner_mass', 'mass', LOC_CELL, h%mcorner, lower=LOWER_NONNEGATIVE)
     call reg%add('mass', 'mass', LOC_CELL, h%mass, lower=LOWER_POSITIVE)
     call reg%add('volume', 'length^3', LOC_CELL, h%vol, lower=LOWER_POSITIVE)
     call reg%add('density', 'mass/length^3', LOC_CELL, h%rho, lower=LOWER_POSITIVE)

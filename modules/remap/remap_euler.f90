@@ -33,35 +33,35 @@
 !> its mass and energy: conservation to round-off whatever the gradients,
 !> and the limiter keeps the new values within the old neighbours' bounds.
 !>
-!> Momentum lives in the old subcells: corner a of an old cell carries the
-!> velocity u_a of its node and its share m_a of the node's mass (the
-!> subcell masses rho V_a normalised so a node's shares add up to its mass).
-!> A fragment of the subcell carries nodal mass r_a mass_f, momentum
-!> r_a mass_f u_a and kinetic energy r_a mass_f u_a^2/2, r_a = m_a/M_a with
-!> M_a the mass the reconstruction puts in the subcell: each subcell hands
-!> out exactly m_a and m_a u_a, a uniform velocity stays uniform, and the
-!> remap tends to the identity as the grid stops moving (a velocity fitted
-!> over whole cells would smooth a curved flow at every remap, however
-!> small the move). The velocity is thus first order (piecewise constant in
-!> subcells).
-!>
-!> Nodal masses (remap_params_t%consistent_nodal_mass). Transported (above):
-!> a node's new mass is what the old subcells hand out, r_a mass_f, so a
-!> uniform velocity stays uniform exactly, whatever the materials. But the
-!> old nodal masses are constant through a Lagrangian phase while the
-!> subcell masses rho V_a change with the cells' shapes, and the remap
-!> carries that mismatch along: in the low-density core of a Sedov blast
-!> the nodal masses fell to a third of rho V_a within 40 steps (10^3), the
-!> nodes' accelerations were three times too large, and the cells around
-!> the origin were crushed every few steps (an Euler step every 2-4 steps).
-!> Consistent: a node's new mass is the reconstructed mass of its subcells,
-!> mass_f summed over its corners (with the momentum and kinetic energy as
-!> above, so both are still conserved), which keeps the nodal masses with
-!> the cells' (Sedov 20^3: 13 Euler steps instead of about 130, and a
-!> smaller error); a uniform velocity then stays uniform only where the old
-!> nodal masses matched the cells' (r_a = 1: one material of uniform
-!> density), not across a density jump in a mixed cell.
-!>
+!> Momentum and nodal masses. Every cell's corners carry subcell masses
+!> m_ca (Eq. 16: rho_c V_ca when set, constant in the Lagrangian phase like
+!> the cell mass, so sum_a m_ca = m_c and a node's mass is the sum of its
+!> corners'). An old cell's momentum sum_a m_ca u_a is handed out in two
+!> parts. Its mean velocity v_c = sum_a m_ca u_a / m_c goes with the mass:
+!> a fragment of mass mass_f carries mass_f v_c into its new cell, whose
+!> momentum is shared among its corners like its mass (Eq. 16 on the new
+!> grid: the new cell's mass in proportion to its subcell volumes). The rest,
+!> the corners' deviations m_ca (u_a - v_c) (they add up to zero over the
+!> cell), goes with the volume of the old subcell: a fragment of volume v_f
+!> of subcell a carries v_f/V_ca of it into the new corner it lands in, so
+!> that the velocity is not averaged over whole cells at every remap (which
+!> would smooth a curved flow however small the move): as the grid stops
+!> moving each corner gets back m_ca u_a. The kinetic energy of a subcell goes
+!> with its volume in the same way. Hence, whatever the densities of the
+!> materials in a mixed cell:
+!>   - momentum is conserved (each old cell hands out m_c v_c and its
+!>     deviations, each exactly once);
+!>   - a uniform velocity stays uniform (v_c = u, no deviations, and every
+!>     new corner gets u times its mass);
+!>   - nodal masses always match the cells (Eq. 16 after each remap): a
+!>     node next to a mixed cell gets its share of the cell's mean density,
+!>     the density its pressure acts on. A node's mass from the material
+!>     reconstruction instead (the air side of a cell holding explosive)
+!>     left the air nodes of a TNT charge a hundredth of the mass the mixed
+!>     cell's pressure pushes, and the grid tangled in the next step; nodal
+!>     masses transported from the old ones drifted from the cells' through
+!>     the Lagrangian phases and crushed the core of a Sedov blast.
+
 !> A tangled old cell, or one the new grid does not cover, hands out its
 !> mean velocity instead. At each new node the difference between
 !> the remapped kinetic energy and 1/2 m u^2 of the new nodal momentum
@@ -83,7 +83,7 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, block_gather
-  use mesh_geometry, only: hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
+  use mesh_geometry, only: hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
@@ -112,9 +112,6 @@ module remap_euler
     logical :: linear = .true.        !< limited linear reconstruction (else piecewise constant)
     integer :: mof_max_iter = 50      !< cap on MoF Gauss-Newton iterations per material
     real(wp) :: vf_min = 1.0e-9_wp    !< a material below this volume fraction is merged into the cell's largest
-    !> new nodal masses from the reconstructed masses of the subcells (consistent
-    !> with the new cells); false: the old nodal masses, transported
-    logical :: consistent_nodal_mass = .false.
   end type remap_params_t
 
   !> What one remap did.
@@ -144,20 +141,17 @@ module remap_euler
   !> The old grid's cells as the remap needs them.
   type :: old_t
     logical, allocatable :: changed(:)          !< cell moved (ncell)
-    !> per corner (subcell) of a moved cell: its share of the node's mass over
-    !> the mass the reconstruction puts in the subcell (8, ncell)
-    real(wp), allocatable :: rsub(:, :)
-    !> per corner, with consistent nodal masses only: the subcell mass rho V_a
-    !> (Eq. 16) of the old grid, what an unchanged cell's corner gives its
-    !> node's new mass (8, ncell)
-    real(wp), allocatable :: mcons(:, :)
-    logical :: consistent = .false.   !< remap_params_t%consistent_nodal_mass
+    !> the cell's mean velocity v_c (3, ncell), carried with the mass
+    real(wp), allocatable :: ucell(:, :)
+    !> per corner of a moved cell, per unit volume of its subcell: the
+    !> deviation m_ca (u_a - v_c) (3, 8, ncell) and its kinetic energy
+    !> m_ca |u_a - v_c|^2/2 (8, ncell), carried with the volume
+    real(wp), allocatable :: dev(:, :, :), kvol(:, :)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
-    !> covered by the new grid): their fragments carry the cell's mean
-    !> velocity ucell, kinetic energy per nodal mass kcell, nodal mass per
-    !> cell mass rcell
+    !> covered by the new grid): their fragments carry only the mean velocity,
+    !> and kinetic energy kcell per unit mass
     logical, allocatable :: uniform(:)
-    real(wp), allocatable :: ucell(:, :), kcell(:), rcell(:)
+    real(wp), allocatable :: kcell(:)
     ! one region per pure cell (index c) or per mixed slot (index ncell + s)
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
@@ -191,8 +185,8 @@ contains
     type(remap_stats_t), intent(out) :: stats
     type(error_t), allocatable, intent(inout) :: err
     type(old_t) :: old
-    real(wp), allocatable :: msub(:, :), avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
-                             cmass(:, :), cmom(:, :, :), cke(:, :), cdef(:, :)
+    real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
+                             cmass(:, :), cmom(:, :, :), cke(:, :), cdef(:, :), pcell(:, :)
     integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8), given
@@ -205,15 +199,16 @@ contains
       return
     end if
     w0 = wall_seconds()
-    allocate(msub(8, ncell), avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
-             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cdef(8, ncell), reach(ncell), &
+    allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
+             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cdef(8, ncell), pcell(4, ncell), &
+             reach(ncell), &
              redo(ncell), open_face(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
       return
     end if
-    call prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats, err)
+    call prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
     if (allocated(err)) return
     do c = 1, ncell
       call g%cell_ijk(c, ci, cj, ck)
@@ -299,12 +294,12 @@ contains
       call intersect_cells(todo, stats%reach, 0.0_wp)
     end if
     stats%t_intersect = wall_seconds() - w0
-    call unchanged_corners(g, h, old, msub, cmass, cmom, cke)
-    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, msub, open_face, avol, amom, amass, aie, &
-                                            cdef, cmass, cmom, cke, stats)
+    call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
+    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, &
+                                            cdef, cmom, cke, pcell, stats)
 
     w0 = wall_seconds()
-    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, stats, err)
+    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, pcell, stats, err)
     stats%t_assemble = wall_seconds() - w0
 
   contains
@@ -318,10 +313,10 @@ contains
       integer :: ii, nn
       nn = size(cells)
       !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
-      !$omp amass, aie, cmass, cmom, cke, cdef) private(ii) schedule(dynamic, 4)
+      !$omp amass, aie, cmom, cke, cdef, pcell) private(ii) schedule(dynamic, 4)
       do ii = 1, nn
         call remap_new_cell(g, h, mx, old, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
-                            amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), cmass(:, cells(ii)), &
+                            amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), pcell(:, cells(ii)), &
                             cmom(:, :, cells(ii)), cke(:, cells(ii)), cdef(:, cells(ii)))
       end do
       !$omp end parallel do
@@ -363,10 +358,11 @@ contains
 
   ! ------------------------------------------------------------ old side
 
-  !> The old grid's cells: which moved, subcell shares of the nodal masses,
-  !> momenta and kinetic energies, MoF planes of the mixed cells that moved,
-  !> region centroids, and the gradients of the reconstruction.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, msub, stats, err)
+  !> The old grid's cells: which moved, their mean velocities and their
+  !> subcells' momentum deviations and kinetic energies, MoF planes of the
+  !> mixed cells that moved, region centroids, and the gradients of the
+  !> reconstruction.
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -374,10 +370,8 @@ contains
     real(wp), intent(in) :: xnew(:, :)
     type(remap_params_t), intent(in) :: par
     type(old_t), intent(inout) :: old
-    real(wp), intent(out) :: msub(:, :)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: wnode(:)
     real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
                 errc(max_mat), vreg(max_mat), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
@@ -388,11 +382,11 @@ contains
 
     ncell = g%ncell
     nreg = ncell + mx%nslot
-    allocate(old%changed(ncell), old%rsub(8, ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
-             old%rcell(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
+    allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
+             old%dev(3, 8, ncell), old%kvol(8, ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             wnode(g%nnode), stat=stat, errmsg=msg)
+             stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the old grid''s regions: '//trim(msg))
       return
@@ -406,7 +400,6 @@ contains
     end do
     old%scale = 1.0_wp
     old%vreg = 0.0_wp
-    old%rsub = 1.0_wp
     old%grho = 0.0_wp
     old%ge = 0.0_wp
 
@@ -421,26 +414,19 @@ contains
       end do
     end do
     !$omp end parallel do
-    ! the subcell masses rho V_a (Eq. 16) now, which share the nodal masses
-    call hydro_subcell_masses(g, g%x, h%rho, wnode, msub)
-    old%consistent = par%consistent_nodal_mass
-    if (old%consistent) old%mcons = msub
-    !$omp parallel do default(none) shared(g, h, msub, wnode, old) private(c, n, a_) schedule(static)
+    ! mean velocities and kinetic energies per unit mass (subcell masses: Eq. 16)
+    !$omp parallel do default(none) shared(g, h, old) private(c, n, a_) schedule(static)
     do c = 1, g%ncell
       n = g%node0(c)
-      do a_ = 1, 8
-        msub(a_, c) = h%mnode(n + g%corner_offset(a_))*(msub(a_, c)/wnode(n + g%corner_offset(a_)))
-      end do
       old%uniform(c) = .false.
       old%ucell(:, c) = 0.0_wp
       old%kcell(c) = 0.0_wp
       do a_ = 1, 8
-        old%ucell(:, c) = old%ucell(:, c) + msub(a_, c)*h%u(:, n + g%corner_offset(a_))
-        old%kcell(c) = old%kcell(c) + 0.5_wp*msub(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
+        old%ucell(:, c) = old%ucell(:, c) + h%mcorner(a_, c)*h%u(:, n + g%corner_offset(a_))
+        old%kcell(c) = old%kcell(c) + 0.5_wp*h%mcorner(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
       end do
-      old%ucell(:, c) = old%ucell(:, c)/sum(msub(:, c))
-      old%kcell(c) = old%kcell(c)/sum(msub(:, c))
-      old%rcell(c) = sum(msub(:, c))/h%mass(c)
+      old%ucell(:, c) = old%ucell(:, c)/sum(h%mcorner(:, c))
+      old%kcell(c) = old%kcell(c)/sum(h%mcorner(:, c))
     end do
     !$omp end parallel do
 
@@ -531,7 +517,7 @@ contains
     stats%mof_err_max = errmax
     if (par%linear) call material_gradients(g, h, mx, nmat, old, err)
     if (allocated(err)) return
-    call subcell_ratios(g, h, mx, old, msub)
+    call subcell_deviations(g, h, old)
   end subroutine prepare_old
 
   !> Limited least-squares gradients of each material's density and energy
@@ -589,70 +575,45 @@ contains
     end do
   end subroutine material_gradients
 
-  !> The momentum of a moved old cell lives in its corners (subcells, Fig.
-  !> 11): corner a carries the velocity of its node and its share m_a of the
-  !> node's mass. The reconstructed density puts a mass M_a in the subcell
-  !> (the six halves of the 24-split at the node, cut by the material
-  !> planes); every fragment of the subcell carries nodal mass and momentum
-  !> in the ratio rsub = m_a/M_a, so the subcell hands out exactly m_a and
-  !> m_a u_a (conservation), a uniform velocity stays uniform, and as the
-  !> grid stops moving each node gets back its own velocity (consistency:
-  !> a velocity field fitted over the whole cell would smooth a curved one
-  !> at every remap, however small the move). A subcell with no positive
-  !> reconstructed mass (a tangled cell) keeps rsub = 1.
-  subroutine subcell_ratios(g, h, mx, old, msub)
+  !> Per corner of a moved old cell: its momentum deviation m_ca (u_a - v_c)
+  !> and kinetic energy m_ca |u_a|^2/2 per unit volume of its subcell (the six
+  !> halves of the 24-split at the node, Fig. 11: the same pieces the
+  !> fragments are cut from, so the fragments of a subcell add up to its
+  !> volume). A tangled cell (an inverted half) hands out its mean velocity
+  !> only (uniform).
+  subroutine subcell_deviations(g, h, old)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
-    type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
-    real(wp), intent(in) :: msub(:, :)
-    real(wp) :: xn(3, 8), o(3), pts(3, 27), t(3, 4), pn(3, max_mat), pd(max_mat), v, m(3), sg, mgeo(8)
-    integer :: c, j, hv(4, 48), corner(48), s, s0, s1, kreg, nm, i
-    logical :: tangled
+    real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), vsub(8), v
+    integer :: c, j, i, n, hv(4, 48), corner(48)
 
-    !$omp parallel do default(none) shared(g, h, mx, old, msub) &
-    !$omp private(c, j, xn, o, pts, hv, corner, t, s, s0, s1, kreg, nm, pn, pd, v, m, sg, mgeo, i, tangled) &
-    !$omp schedule(dynamic, 16)
+    !$omp parallel do default(none) shared(g, h, old) private(c, j, i, n, xn, pts, hv, corner, t, vsub, v) &
+    !$omp schedule(static)
     do c = 1, g%ncell
+      old%dev(:, :, c) = 0.0_wp
+      old%kvol(:, c) = 0.0_wp
       if (.not. old%changed(c)) cycle
       call g%gather(c, g%x, xn)
-      o = sum(xn, 2)/8.0_wp
-      do j = 1, 8
-        xn(:, j) = xn(:, j) - o
-      end do
       call half_tets(xn, pts, hv, corner)
-      call region_slots(h, mx, c, s0, s1)
-      mgeo = 0.0_wp
-      tangled = .false.
-      do s = s0, s1
-        nm = 0
-        kreg = c
-        if (s > 0) then
-          kreg = g%ncell + s
-          if (.not. mx%mass(s) > 0.0_wp) cycle
-          call region_planes(old, s0, s, o, pn, pd, nm)
-        end if
-        do i = 1, 48
-          do j = 1, 4
-            t(:, j) = pts(:, hv(j, i))
-          end do
-          sg = sign(1.0_wp, tet_det(t))
-          if (sg < 0.0_wp) tangled = .true.
-          call tet_clip_planes(t, pn(:, 1:nm), pd(1:nm), v, m)
-          mgeo(corner(i)) = mgeo(corner(i)) + sg*old%scale(kreg)*(old%rho(kreg)*v + &
-                            dot_product(old%grho(:, kreg), m - (old%xr(:, kreg) - o)*v))
+      vsub = 0.0_wp
+      do i = 1, 48
+        do j = 1, 4
+          t(:, j) = pts(:, hv(j, i))
         end do
+        v = tet_det(t)
+        if (.not. v > 0.0_wp) old%uniform(c) = .true.
+        vsub(corner(i)) = vsub(corner(i)) + v/6.0_wp
       end do
-      ! a tangled cell, or a subcell whose reconstructed mass is far from its
-      ! share of the nodal mass, hands out the cell's mean velocity instead
+      if (old%uniform(c)) cycle
+      n = g%node0(c)
       do j = 1, 8
-        if (.not. (mgeo(j) > 0.5_wp*msub(j, c) .and. mgeo(j) < 2.0_wp*msub(j, c))) tangled = .true.
-        if (mgeo(j) > 0.0_wp) old%rsub(j, c) = msub(j, c)/mgeo(j)
+        old%dev(:, j, c) = h%mcorner(j, c)*(h%u(:, n + g%corner_offset(j)) - old%ucell(:, c))/vsub(j)
+        old%kvol(j, c) = 0.5_wp*h%mcorner(j, c)*sum((h%u(:, n + g%corner_offset(j)) - old%ucell(:, c))**2)/vsub(j)
       end do
-      old%uniform(c) = tangled
     end do
     !$omp end parallel do
-  end subroutine subcell_ratios
+  end subroutine subcell_deviations
 
   !> The regions of cell c as a slot range: s0 = s1 = 0 for a pure cell (its
   !> one region is the cell), else its first and last mixed-cell slot.
@@ -695,9 +656,10 @@ contains
 
   !> Intersects the changed new cell c with the old cells within `reach`
   !> index steps: per material the volume, first moment, mass and internal
-  !> energy that land in it, per corner the nodal mass, momentum and
-  !> kinetic energy.
-  subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, cmass, &
+  !> energy that land in it, the momentum carried with the mass (pcell), per
+  !> corner the momentum deviations and kinetic energy carried with the
+  !> volume.
+  subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, pcell, &
                             cmom, cke, cdef)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -707,17 +669,17 @@ contains
     real(wp), intent(in) :: given_sign
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
-    real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), cmass(:), cmom(:, :), cke(:)
+    real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), pcell(:), cmom(:, :), cke(:)
     !> per corner: its volume less what the old grid gave it (a gap at an open face)
     real(wp), intent(out) :: cdef(:)
     real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
-                od(4, 48), ub(3), rb, keb
+                od(4, 48), ub(3), devb(3), kemb, kevb
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, n0, ohv(4, 48), ocorner(48), isg
+               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg
     logical :: box
 
     call g%cell_ijk(c, ci, cj, ck)
@@ -783,7 +745,7 @@ contains
     amom = 0.0_wp
     amass = 0.0_wp
     aie = 0.0_wp
-    cmass = 0.0_wp
+    pcell = 0.0_wp
     cmom = 0.0_wp
     cke = 0.0_wp
     cdef = 0.0_wp
@@ -823,7 +785,6 @@ contains
             call tet_planes(ot, on(:, :, i), od(:, i), isg)
             osg(i) = real(isg, wp)
           end do
-          n0 = g%node0(co)
           call region_slots(h, mx, co, s0, s1)
           ! every material region of the old cell
           do s = s0, s1
@@ -841,14 +802,15 @@ contains
               if (.not. abs(osg(i)) > 0.0_wp) cycle
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
+              ub = old%ucell(:, co)
               if (old%uniform(co)) then
-                ub = old%ucell(:, co)
-                keb = old%kcell(co)
-                rb = old%rcell(co)
+                devb = 0.0_wp
+                kemb = old%kcell(co)
+                kevb = 0.0_wp
               else
-                ub = h%u(:, n0 + g%corner_offset(ocorner(i)))
-                keb = 0.5_wp*dot_product(ub, ub)
-                rb = old%rsub(ocorner(i), co)
+                devb = old%dev(:, ocorner(i), co)
+                kemb = 0.5_wp*dot_product(ub, ub)
+                kevb = old%kvol(ocorner(i), co)
               end if
               if (box) then
                 do j = 1, 4
@@ -1015,11 +977,12 @@ contains
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
       aie(kmat) = aie(kmat) + fie
-      ! nodal mass (the old subcell's share of its node's, or with consistent
-      ! nodal masses the reconstructed mass), momentum and kinetic energy
-      cmass(a) = cmass(a) + merge(fm, rb*fm, old%consistent)
-      cmom(:, a) = cmom(:, a) + rb*fm*ub
-      cke(a) = cke(a) + rb*fm*keb
+      ! momentum: the mean velocity with the mass, the subcell's deviation
+      ! and kinetic energy with the volume (uniform cells: with the mass)
+      pcell(1:3) = pcell(1:3) + fm*ub
+      pcell(4) = pcell(4) + fm*kemb
+      cmom(:, a) = cmom(:, a) + vf*devb
+      cke(a) = cke(a) + vf*kevb
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
         given(kreg) = given(kreg) + nint(given_sign*vf/old%gunit(kreg), i8)
@@ -1093,24 +1056,20 @@ contains
 
   !> The corners of unchanged cells pass on the old subcell mass, momentum
   !> and kinetic energy.
-  subroutine unchanged_corners(g, h, old, msub, cmass, cmom, cke)
+  subroutine unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(old_t), intent(in) :: old
-    real(wp), intent(in) :: msub(:, :)
-    real(wp), intent(inout) :: cmass(:, :), cmom(:, :, :), cke(:, :)
+    real(wp), intent(inout) :: cmass(:, :), cmom(:, :, :), cke(:, :), pcell(:, :)
     integer :: c, n, a
     do c = 1, g%ncell
       if (old%changed(c)) cycle
       n = g%node0(c)
+      pcell(:, c) = 0.0_wp
       do a = 1, 8
-        if (old%consistent) then
-          cmass(a, c) = old%mcons(a, c)
-        else
-          cmass(a, c) = msub(a, c)
-        end if
-        cmom(:, a, c) = msub(a, c)*h%u(:, n + g%corner_offset(a))
-        cke(a, c) = 0.5_wp*msub(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
+        cmass(a, c) = h%mcorner(a, c)
+        cmom(:, a, c) = h%mcorner(a, c)*h%u(:, n + g%corner_offset(a))
+        cke(a, c) = 0.5_wp*h%mcorner(a, c)*sum(h%u(:, n + g%corner_offset(a))**2)
       end do
     end do
   end subroutine unchanged_corners
@@ -1122,17 +1081,16 @@ contains
   !> with the state of the old cell next to it (its largest material, its
   !> velocity): zero-gradient extrapolation. The gap's centroid is taken as
   !> the new cell's centre (it only steers MoF in mixed boundary cells).
-  subroutine open_faces(g, h, mx, bc, old, xnew, msub, open_face, avol, amom, amass, aie, cdef, cmass, cmom, &
-                        cke, stats)
+  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmom, cke, pcell, stats)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(bc_t), intent(in) :: bc
     type(old_t), intent(in) :: old
-    real(wp), intent(in) :: xnew(:, :), msub(:, :), cdef(:, :)
+    real(wp), intent(in) :: xnew(:, :), cdef(:, :)
     integer, intent(in) :: open_face(:)
-    real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
-                               cke(:, :)
+    real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmom(:, :, :), cke(:, :), &
+                               pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     real(wp) :: m_old, p_old(3), e_old, m_new, p_new(3), e_new, xn(3, 8), vcell, rho, e, u(3), dm
     integer :: c, n, a, f, k, ks
@@ -1156,7 +1114,8 @@ contains
         m_new = m_new + h%mass(c)
         e_new = e_new + h%mass(c)*h%e(c)
       end if
-      e_new = e_new + sum(cke(:, c))
+      e_new = e_new + sum(cke(:, c)) + pcell(4, c)
+      p_new = p_new + pcell(1:3, c)
       do a = 1, 8
         p_new = p_new + cmom(:, a, c)
       end do
@@ -1186,14 +1145,8 @@ contains
         rho = old%rho(g%ncell + ks)
         e = old%e(g%ncell + ks)
       end if
-      if (bc%kind(f) /= BC_INFLOW) then
-        ! the old cell's velocity: its corners' momentum over their mass
-        u = 0.0_wp
-        do a = 1, 8
-          u = u + msub(a, c)*h%u(:, g%node0(c) + g%corner_offset(a))
-        end do
-        u = u/sum(msub(:, c))
-      end if
+      ! or the old cell's mean velocity
+      if (bc%kind(f) /= BC_INFLOW) u = old%ucell(:, c)
       do a = 1, 8
         ! a gap of round-off size is no gap
         if (.not. cdef(a, c) > 1.0e-12_wp*vcell) cycle
@@ -1202,9 +1155,8 @@ contains
         amom(:, k, c) = amom(:, k, c) + cdef(a, c)*sum(xn, 2)/8.0_wp
         amass(k, c) = amass(k, c) + dm
         aie(k, c) = aie(k, c) + dm*e
-        cmass(a, c) = cmass(a, c) + dm
-        cmom(:, a, c) = cmom(:, a, c) + dm*u
-        cke(a, c) = cke(a, c) + 0.5_wp*dm*dot_product(u, u)
+        pcell(1:3, c) = pcell(1:3, c) + dm*u
+        pcell(4, c) = pcell(4, c) + 0.5_wp*dm*dot_product(u, u)
         stats%mass_in = stats%mass_in + dm
         stats%momentum_in = stats%momentum_in + dm*u
         stats%energy_in = stats%energy_in + dm*(e + 0.5_wp*dot_product(u, u))
@@ -1214,7 +1166,8 @@ contains
 
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
-  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, stats, err)
+  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, pcell, stats, &
+                      err)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -1225,13 +1178,14 @@ contains
     type(remap_params_t), intent(in) :: par
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
+    real(wp), intent(in) :: pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
-    real(wp), allocatable :: dk(:), ie(:), msum(:)
-    real(wp) :: xn(3, 8), vtot, mnew
+    real(wp), allocatable :: dk(:), ie(:)
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8)
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
     logical :: keep(max_mat)
@@ -1281,7 +1235,7 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), msum(g%nnode), stat=stat, errmsg=msg)
+    allocate(node_changed(g%nnode), dk(g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
       return
@@ -1294,6 +1248,24 @@ contains
         node_changed(n + g%corner_offset(a)) = .true.
       end do
     end do
+    ! a changed cell's corners: its new mass and the momentum carried with
+    ! the mass shared by subcell volume (Eq. 16 on the new grid), plus the
+    ! deviations that landed in them
+    !$omp parallel do default(none) shared(g, old, xnew, amass, pcell, cmass, cmom, cke, ncell) private(c, xn, vs, mnew, a) &
+    !$omp schedule(static)
+    do c = 1, ncell
+      if (.not. old%changed(c)) cycle
+      call g%gather(c, xnew, xn)
+      call hex_subcell_volumes(xn, vs)
+      vs = vs/sum(vs)
+      mnew = sum(amass(:, c))
+      do a = 1, 8
+        cmass(a, c) = mnew*vs(a)
+        cmom(:, a, c) = cmom(:, a, c) + vs(a)*pcell(1:3, c)
+        cke(a, c) = cke(a, c) + vs(a)*pcell(4, c)
+      end do
+    end do
+    !$omp end parallel do
     h%mnode = merge(0.0_wp, h%mnode, node_changed)
     where (node_changed)
       h%u(1, :) = 0.0_wp
@@ -1309,17 +1281,6 @@ contains
         h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
         dk(n + g%corner_offset(a)) = dk(n + g%corner_offset(a)) + cke(a, c)
       end do
-    end do
-    ! consistent nodal masses: where the reconstructed mass would give the
-    ! remapped momentum P more kinetic energy than the remapped K
-    ! (P^2/2m > K: old nodal masses well above the cells'), the node takes
-    ! m = P^2/2K, so averaging never takes energy from the cells (with
-    ! transported masses P^2/2m <= K always, by Cauchy-Schwarz)
-    msum = h%mnode
-    do n = 1, g%nnode
-      if (.not. (node_changed(n) .and. old%consistent)) cycle
-      if (dk(n) > 0.0_wp .and. 2.0_wp*dk(n)*h%mnode(n) < sum(h%u(:, n)**2)) &
-        h%mnode(n) = sum(h%u(:, n)**2)/(2.0_wp*dk(n))
     end do
     do n = 1, g%nnode
       if (.not. node_changed(n)) cycle
@@ -1352,7 +1313,7 @@ contains
       ie(c) = 0.0_wp
       do a = 1, 8
         if (node_changed(n + g%corner_offset(a))) &
-          ie(c) = ie(c) + dk(n + g%corner_offset(a))*cmass(a, c)/msum(n + g%corner_offset(a))
+          ie(c) = ie(c) + dk(n + g%corner_offset(a))*cmass(a, c)/h%mnode(n + g%corner_offset(a))
       end do
       if (.not. old%changed(c)) then
         ! copied: mass, volume, density as they were; energy plus its share of the KE returned
@@ -1372,6 +1333,7 @@ contains
       end if
       mnew = sum(amass(:, c))
       h%mass(c) = mnew
+      h%mcorner(:, c) = cmass(:, c)
       h%vol(c) = hex_volume(xn)
       h%rho(c) = mnew/h%vol(c)
       h%e(c) = (sum(aie(:, c)) + ie(c))/mnew

@@ -40,9 +40,6 @@ module rezone_config
     !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
     !> shortest edge stays where it was (0: every move is kept, as the paper)
     real(wp) :: move_min = 0.0_wp
-    !> nodal masses after a remap: 'transported' (the old ones, carried; a uniform
-    !> velocity stays exact) or 'consistent' (the reconstructed subcell masses)
-    character(len=16) :: nodal_mass = 'transported'
   end type rezone_config_t
 
 contains
@@ -54,7 +51,7 @@ contains
     character(len=*), intent(in) :: text(:), path
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=16) :: mode, reconstruction, nodal_mass
+    character(len=16) :: mode, reconstruction
     real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max, move_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     logical :: check_conservation
@@ -62,7 +59,7 @@ contains
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max, &
-                      move_min, nodal_mass
+                      move_min
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -70,14 +67,12 @@ contains
     check_conservation = defaults%check_conservation
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
-    nodal_mass = defaults%nodal_mass
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
     end if
     call problem_long(problems, 'rezone', 'mode', mode)
     call problem_long(problems, 'rezone', 'reconstruction', reconstruction)
-    call problem_long(problems, 'rezone', 'nodal_mass', nodal_mass)
     select case (trim(mode))
     case ('none', 'global', 'lssm', 'smooth')
     case default
@@ -88,12 +83,6 @@ contains
     case default
       call problem_add(problems, '&rezone: reconstruction = '''//trim(reconstruction)// &
         ''' is not known; valid: linear, constant')
-    end select
-    select case (trim(nodal_mass))
-    case ('transported', 'consistent')
-    case default
-      call problem_add(problems, '&rezone: nodal_mass = '''//trim(nodal_mass)// &
-        ''' is not known; valid: transported, consistent')
     end select
     if (.not. (side_ratio >= 0.0_wp) .or. (side_ratio > 0.0_wp .and. side_ratio <= 1.0_wp)) &
       call problem_bad(problems, 'rezone', 'side_ratio', side_ratio, 'must be 0 (off) or > 1')
@@ -121,8 +110,7 @@ contains
     this = rezone_config_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
-      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
-      nodal_mass=nodal_mass)
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
