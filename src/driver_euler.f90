@@ -5,9 +5,8 @@
 !> the log.
 module driver_euler
   use base_kinds, only: wp
-  use base_build, only: build_checks
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use rezone_quality, only: grid_quality, grid_worst_cells
@@ -40,10 +39,6 @@ module driver_euler
     type(smooth_mobility_t) :: mobility      !< how nodes may move in a smoothing rezone
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
   end type euler_state_t
-
-  !> Relative size of a conservation error that stops a checked run: a
-  !> remap adds up ~ncell fragments per quantity, each exact to ~1e-16.
-  real(wp), parameter :: conservation_tol = 1.0e-11_wp
 
 contains
 
@@ -109,7 +104,8 @@ contains
   end subroutine euler_due
 
   !> One Euler step: rezone, remap, new material states; checks
-  !> conservation (Debug builds, or &rezone check_conservation) and logs.
+  !> conservation in every build (a breach beyond &rezone conservation_tol
+  !> is a runtime failure, never a log line followed by NaN) and logs.
   subroutine euler_step(rz, st, es, log, err)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
@@ -194,14 +190,18 @@ contains
     es%mof = es%mof + rs%mof_cells
     es%mof_iterations = es%mof_iterations + rs%mof_iterations
     es%ke = es%ke + rs%ke_to_internal
-    if (build_checks .or. rz%check_conservation) then
-      if (abs(m1 - m0) > conservation_tol*m0) then
-        call error_set(err, 'euler_step', 'mass not conserved: '//rtoa(m0)//' -> '//rtoa(m1))
-      else if (abs(ie1 + ke1 - ie0 - ke0) > conservation_tol*abs(ie0 + ke0)) then
-        call error_set(err, 'euler_step', 'total energy not conserved: '//rtoa(ie0 + ke0)//' -> '//rtoa(ie1 + ke1))
-      else if (norm2(dp) > conservation_tol*pscale) then
-        call error_set(err, 'euler_step', 'momentum not conserved: change '//rtoa(norm2(dp))//' of '//rtoa(pscale))
-      end if
+    ! (not .not. <=: a NaN total fails too)
+    if (.not. abs(m1 - m0) <= rz%conservation_tol*m0) then
+      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve mass: '//rtoa(m0)//' -> '// &
+                     rtoa(m1)//' (&rezone conservation_tol '//rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
+    else if (.not. abs(ie1 + ke1 - ie0 - ke0) <= rz%conservation_tol*abs(ie0 + ke0)) then
+      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve total energy: '// &
+                     rtoa(ie0 + ke0)//' -> '//rtoa(ie1 + ke1)//' (&rezone conservation_tol '// &
+                     rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
+    else if (.not. norm2(dp) <= rz%conservation_tol*max(pscale, tiny(1.0_wp))) then
+      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve momentum: change '// &
+                     rtoa(norm2(dp))//' of '//rtoa(pscale)//' (&rezone conservation_tol '// &
+                     rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     end if
   end subroutine euler_step
 

@@ -84,7 +84,7 @@ DIMENSIONS = {
     "rezone": {
         "mode": STR, "side_ratio": NONE, "cos_angle": NONE, "interval_steps": INT,
         "interval_time": TIME, "reconstruction": STR, "mof_max_iter": INT,
-        "check_conservation": LOGICAL, "quality": NONE, "quality_target": NONE,
+        "conservation_tol": NONE, "quality": NONE, "quality_target": NONE,
         "smooth_iterations": INT,
         "d_max": NONE,        # in cells
         "move_min": NONE,     # a fraction of the shortest edge

@@ -100,8 +100,6 @@ module remap_euler
                                                     0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
-  !> Widest index window searched around a new cell for old cells.
-  integer, parameter :: max_reach = 8
   !> An old region whose fragments fall short of its volume by more than
   !> this times its cell's volume (round-off of the sums is ~1e-15) is not
   !> covered by the new grid.
@@ -190,7 +188,7 @@ contains
     integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8), given
-    integer :: ncell, c, co, r, i, nbad, stat, ci, cj, ck
+    integer :: ncell, c, co, r, rmax, i, nbad, stat, ci, cj, ck
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -224,6 +222,8 @@ contains
     stats%cells_copied = ncell - size(todo)
     reach = 0
     r = 1
+    ! the whole block: no overlap can lie further
+    rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
     do while (size(todo) > 0)
       call intersect_cells(todo, r, 1.0_wp)
       nbad = 0
@@ -234,7 +234,7 @@ contains
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
         ! next to an open face a gap is expected (filled below)
         if (open_face(c) > 0) defect = 0.0_wp
-        if (defect > 1.0e-9_wp .and. r < max_reach) then
+        if (defect > 1.0e-9_wp .and. r < rmax) then
           nbad = nbad + 1
           todo(nbad) = c
         else
@@ -244,16 +244,17 @@ contains
       end do
       todo = todo(1:nbad)
       if (nbad > 0) then
-        ! take back what these cells gave, then widen their window
+        ! take back what these cells gave, then widen their window (doubling
+        ! it: however far the nodes moved, a few passes find the overlaps)
         call intersect_cells(todo, r, -1.0_wp)
-        r = r + 1
+        r = min(2*r, rmax)
       end if
     end do
     stats%reach = maxval(reach)
     if (stats%volume_defect > 1.0e-9_wp) then
       call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
-                     rtoa(stats%volume_defect)//'): nodes moved more than '//itoa(max_reach)// &
-                     ' cells since the last Euler step (remap more often), or boundary nodes left the boundary')
+                     rtoa(stats%volume_defect)//') even searching the whole block: boundary nodes left the '// &
+                     'boundary, or the old grid is tangled')
       return
     end if
 
@@ -272,7 +273,10 @@ contains
       stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
       if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) cycle
       if (.not. given > 0.0_wp) then
-        call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' lies outside the new grid')
+        call g%cell_ijk(co, ci, cj, ck)
+        call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' (cell ('//itoa(ci)//','//itoa(cj)// &
+                       ','//itoa(ck)//'), volume '//rtoa(old%vreg(c))//' of '//rtoa(h%vol(co))// &
+                       ') lies outside the new grid')
         return
       end if
       stats%regions_rescaled = stats%regions_rescaled + 1
@@ -1184,8 +1188,8 @@ contains
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
-    real(wp), allocatable :: dk(:), ie(:)
-    real(wp) :: xn(3, 8), vtot, mnew, vs(8)
+    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:)
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
     logical :: keep(max_mat)
@@ -1235,7 +1239,8 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), stat=stat, errmsg=msg)
+    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), stat=stat, &
+             errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
       return
@@ -1304,17 +1309,52 @@ contains
     end do
     stats%ke_to_internal = sum(dk)
 
+    ! The kinetic energy averaging returns (dk > 0) goes to the cells around
+    ! the node by corner mass. Where the node's new kinetic energy exceeds
+    ! what it received (dk < 0: the nodal masses, reset by Eq. 16, differ from
+    ! the masses the momentum came with), the difference is taken from the
+    ! internal energy the cells around it have above zero, each cell offering
+    ! an eighth of its own to each of its nodes, so that no cell (and, below,
+    ! no material) is driven negative by it; only a deficit larger than all
+    ! of that is taken by mass.
+    do c = 1, ncell
+      if (old%changed(c)) then
+        avail(c) = sum(max(aie(:, c), 0.0_wp))
+      else if (h%mat(c) > 0) then
+        avail(c) = h%mass(c)*max(h%e(c), 0.0_wp)
+      else
+        k = -h%mat(c)
+        avail(c) = sum(mx%mass(mx%start(k):mx%start(k + 1) - 1)*max(mx%e(mx%start(k):mx%start(k + 1) - 1), 0.0_wp))
+      end if
+    end do
+    navail = 0.0_wp
+    do c = 1, ncell
+      n = g%node0(c)
+      do a = 1, 8
+        navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*avail(c)
+      end do
+    end do
+    do c = 1, ncell
+      n = g%node0(c)
+      ie(c) = 0.0_wp
+      iav(c) = 0.0_wp
+      do a = 1, 8
+        if (.not. node_changed(n + g%corner_offset(a))) cycle
+        take = dk(n + g%corner_offset(a))
+        if (take < 0.0_wp .and. navail(n + g%corner_offset(a)) > 0.0_wp) then
+          frac = min(1.0_wp, -take/navail(n + g%corner_offset(a)))
+          iav(c) = iav(c) - frac*0.125_wp*avail(c)
+          take = take + frac*navail(n + g%corner_offset(a))
+        end if
+        ie(c) = ie(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
+      end do
+    end do
+
     ! cells
     g%x = xnew
     kk = 0
     do c = 1, ncell
       call g%gather(c, g%x, xn)
-      n = g%node0(c)
-      ie(c) = 0.0_wp
-      do a = 1, 8
-        if (node_changed(n + g%corner_offset(a))) &
-          ie(c) = ie(c) + dk(n + g%corner_offset(a))*cmass(a, c)/h%mnode(n + g%corner_offset(a))
-      end do
       if (.not. old%changed(c)) then
         ! copied: mass, volume, density as they were; energy plus its share of the KE returned
         if (nmix(c) > 0) then
@@ -1323,12 +1363,15 @@ contains
           nx%mat(nx%start(kk):nx%start(kk + 1) - 1) = mx%mat(mx%start(k):mx%start(k + 1) - 1)
           nx%vf(nx%start(kk):nx%start(kk + 1) - 1) = mx%vf(mx%start(k):mx%start(k + 1) - 1)
           nx%mass(nx%start(kk):nx%start(kk + 1) - 1) = mx%mass(mx%start(k):mx%start(k + 1) - 1)
-          nx%e(nx%start(kk):nx%start(kk + 1) - 1) = mx%e(mx%start(k):mx%start(k + 1) - 1) + ie(c)/h%mass(c)
+          do s = 0, nmix(c) - 1
+            nx%e(nx%start(kk) + s) = mx%e(mx%start(k) + s) + ie(c)/h%mass(c) + &
+              iav(c)*share(mx%mass(mx%start(k) + s)*mx%e(mx%start(k) + s), avail(c))/mx%mass(mx%start(k) + s)
+          end do
           nx%rho(nx%start(kk):nx%start(kk + 1) - 1) = mx%rho(mx%start(k):mx%start(k + 1) - 1)
           nx%xi(:, nx%start(kk):nx%start(kk + 1) - 1) = mx%xi(:, mx%start(k):mx%start(k + 1) - 1)
           h%mat(c) = -kk
         end if
-        h%e(c) = h%e(c) + ie(c)/h%mass(c)
+        h%e(c) = h%e(c) + (ie(c) + iav(c))/h%mass(c)
         cycle
       end if
       mnew = sum(amass(:, c))
@@ -1336,7 +1379,7 @@ contains
       h%mcorner(:, c) = cmass(:, c)
       h%vol(c) = hex_volume(xn)
       h%rho(c) = mnew/h%vol(c)
-      h%e(c) = (sum(aie(:, c)) + ie(c))/mnew
+      h%e(c) = (sum(aie(:, c)) + ie(c) + iav(c))/mnew
       if (nmix(c) == 0) then
         h%mat(c) = maxloc(avol(:, c), 1)
         cycle
@@ -1350,13 +1393,23 @@ contains
         nx%mat(s) = k
         nx%vf(s) = avol(k, c)/vtot
         nx%mass(s) = amass(k, c)
-        nx%e(s) = (aie(k, c) + ie(c)*amass(k, c)/mnew)/amass(k, c)
+        nx%e(s) = (aie(k, c) + ie(c)*amass(k, c)/mnew + iav(c)*share(aie(k, c), avail(c)))/amass(k, c)
         nx%rho(s) = amass(k, c)/(nx%vf(s)*h%vol(c))
         nx%xi(:, s) = hex_natural(xn, amom(:, k, c)/avol(k, c))
         s = s + 1
       end do
     end do
     call move_mixed(nx, mx)
+
+  contains
+
+    !> The share of a material with internal energy q in what its cell has
+    !> available (total: only positive energies count).
+    pure real(wp) function share(q, total)
+      real(wp), intent(in) :: q, total
+      share = 0.0_wp
+      if (total > 0.0_wp) share = max(q, 0.0_wp)/total
+    end function share
   end subroutine assemble
 
   !> Replaces mx by nx.

@@ -30,7 +30,9 @@ module rezone_config
     integer :: mof_max_iter = 50           !< cap on MoF Gauss-Newton iterations per material
     !> check mass, momentum and energy conservation to round-off at every
     !> Euler step and stop the run if broken (Debug builds always check)
-    logical :: check_conservation = .false.
+    !> an Euler step that changes total mass, momentum or energy by more than
+    !> this (relative) stops the run: round-off is ~1e-14
+    real(wp) :: conservation_tol = 1.0e-10_wp
     ! mode 'lssm' (Sect. 5): only distorted subdomains are smoothed and remapped
     real(wp) :: quality = 0.999_wp         !< a cell with Q (Eq. 46) below this is distorted (the paper's q)
     real(wp) :: quality_target = 0.999_wp  !< smoothing stops when Q_min of the subdomains reaches this
@@ -52,19 +54,18 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction
-    real(wp) :: side_ratio, cos_angle, interval_time, quality, quality_target, d_max, move_min
+    real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
-    logical :: check_conservation
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
-                      mof_max_iter, check_conservation, quality, quality_target, smooth_iterations, d_max, &
+                      mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
     reconstruction = defaults%reconstruction; mof_max_iter = defaults%mof_max_iter
-    check_conservation = defaults%check_conservation
+    conservation_tol = defaults%conservation_tol
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     if (size(text) > 0) then
@@ -92,6 +93,8 @@ contains
       'must be >= 0 (0: off)')
     if (.not. (interval_time >= 0.0_wp)) call problem_bad(problems, 'rezone', 'interval_time', interval_time, &
       'must be >= 0 (0: off)')
+    if (.not. (conservation_tol > 0.0_wp .and. conservation_tol < 1.0_wp)) call problem_bad(problems, 'rezone', &
+      'conservation_tol', conservation_tol, 'must be in (0, 1)')
     if (mof_max_iter < 1) call problem_badi(problems, 'rezone', 'mof_max_iter', mof_max_iter, 'must be >= 1')
     if (.not. (quality > 0.0_wp .and. quality <= 1.0_wp)) &
       call problem_bad(problems, 'rezone', 'quality', quality, 'must be in (0, 1]')
@@ -109,7 +112,7 @@ contains
         'cos_angle > 0, interval_steps > 0 or interval_time > 0')
     this = rezone_config_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
-      mof_max_iter=mof_max_iter, check_conservation=check_conservation, quality=quality, &
+      mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
