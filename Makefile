@@ -4,7 +4,7 @@ JOBS      ?= 2
 BUILD_REL := build/release
 BUILD_DBG := build/debug
 
-.PHONY: all deps release debug run test bench regression-update clean
+.PHONY: all deps release debug run test bench hardcases hardcases-quick regression-update clean
 
 all: release
 
@@ -34,6 +34,16 @@ test: release debug
 
 bench: release
 	bash tools/bench.sh $(BUILD_REL)/lsalepm build/bench
+
+# The stability matrix of hard cases (hardcases/*.nml in several sizes and
+# rezone modes, one run at a time; not part of `make test`): one table in
+# build/hardcases/hardcases.md and .csv; exit status 1 if any row fails.
+# HARDCASES_ARGS="--only tnt --timeout 600" passes options on.
+hardcases: release
+	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases $(HARDCASES_ARGS)
+
+hardcases-quick: release
+	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases --quick $(HARDCASES_ARGS)
 
 # Regenerate the regression references (then commit them, saying why);
 # CASES="sod water_air" limits it to those cases.
