@@ -7,7 +7,9 @@ module driver_config
   use base_kinds, only: wp
   use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
-  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
+  use base_errors, only: error_t
+  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
+  use io_grid_file, only: grid_file_read
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
   use lagrange_state, only: hydro_params_t
@@ -107,19 +109,20 @@ contains
       call run_config_read(cfg%control, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
       call at_line(problems, n0, deck, 'run')
       call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
+      if (size(problems) == n0 .and. len_trim(cfg%grid%file) > 0) call grid_file_check(cfg%grid, problems)
       call at_line(problems, n0, deck, 'grid')
       call hydro_config_read(cfg%hydro, deck_text(deck, 'hydro'), path, echo, problems)
       call at_line(problems, n0, deck, 'hydro')
       n = deck_count(deck, 'material')
       cfg%materials = [(material_config_t(), k = 1, n)]
-      names = [character(len=64) ::]
+      names = [(cfg%materials(k)%name, k = 1, n)]
       if (n == 0) call problem_add(problems, trim(path)//': no &material group (at least one is required)')
       do k = 1, n
         n0 = size(problems)
-        call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names, echo, &
+        call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names(1:k - 1), echo, &
                                   problems)
         call at_line(problems, n0, deck, 'material', k)
-        names = [names, cfg%materials(k)%name]
+        names(k) = cfg%materials(k)%name
       end do
       n = deck_count(deck, 'region')
       cfg%regions = [(region_config_t(), k = 1, n)]
@@ -148,6 +151,24 @@ contains
       call check_counts(cfg, problems)
     end associate
   end subroutine read_groups
+
+  !> A grid from a file (`&grid file`): the file is read and checked now, so
+  !> that a missing or unusable file is a deck problem like any other (found
+  !> by `lsalepm --check`, before anything runs), and the grid's box becomes
+  !> the box around its nodes (sources and gauges must lie in it). The scene
+  !> reads the file again when it builds the grid.
+  subroutine grid_file_check(grid, problems)
+    type(grid_config_t), intent(inout) :: grid
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: x(:, :)
+    call grid_file_read(grid%file_path, grid%ni, grid%nj, grid%nk, x, err)
+    if (allocated(err)) then
+      call problem_add(problems, '&grid: '//err%msg)
+    else
+      call grid_config_box(grid, x)
+    end if
+  end subroutine grid_file_check
 
   !> Intervals so short for t_end that the run would write more than
   !> max_outputs frames, gauge or history rows, dumps or Euler steps by

@@ -7,8 +7,10 @@ module driver_scene
   use base_errors, only: error_t, error_set, ERR_INPUT
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
-  use mesh_grid, only: grid_t, grid_init_box
-  use mesh_geometry, only: hex_volume, hex_trilinear
+  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
+  use mesh_geometry, only: hex_volume, hex_trilinear, hex_jacobian, hex_natural_unclamped, cross
+  use io_grid_file, only: grid_file_read
+  use io_gauges, only: gauge_locate
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
@@ -35,11 +37,24 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     integer :: m, c, n, a, r, s, ijk(3), stat
-    real(wp) :: xn(3, 8), h(3), rv
+    real(wp) :: xn(3, 8), h(3), rv, xi(3)
+    real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
     associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
-      call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err)
+      if (len_trim(gc%file) == 0) then
+        call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err)
+      else
+        ! (the deck reader checked the file; read again, it is checked again)
+        call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
+        if (allocated(err)) then
+          call error_set(err, deck_problem, '&grid: '//err%msg, ERR_INPUT)
+          return
+        end if
+        call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err)
+        deallocate(xfile)
+        call log_line(log, 'grid: node positions from '//gc%file_path)
+      end if
       if (allocated(err)) return
       call hydro_allocate(hy, g%ncell, g%nnode, err)
       if (allocated(err)) return
@@ -66,10 +81,10 @@ contains
       end do
       call fill_regions(cfg, st, log, err)
       if (allocated(err)) return
+      ! a node takes the velocity field of the last region that contains it
       do n = 1, g%nnode
-        do r = 1, size(cfg%regions)
-          if (inside(cfg%regions(r), g%x(:, n))) hy%u(:, n) = cfg%regions(r)%velocity
-        end do
+        r = region_at(cfg%regions, g%x(:, n))
+        if (r > 0) hy%u(:, n) = region_velocity(cfg%regions(r), g%x(:, n))
       end do
       call rng_seed(st%rng, cfg%control%seed)
       if (cfg%control%velocity_noise > 0.0_wp) then
@@ -80,12 +95,26 @@ contains
           end do
         end do
       end if
-      ! energy sources: added to the cell that contains the point
+      ! energy sources: added to the cell that contains the point (on a box
+      ! grid the cell of index int((p - xmin)/h) + 1, a point on a face going
+      ! to the cell above it; on a grid from a file, the cell found by the
+      ! gauges' search, which must contain the point)
       h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
       do s = 1, size(cfg%sources)
-        ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
-        ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
-        c = g%cell(ijk(1), ijk(2), ijk(3))
+        if (len_trim(gc%file) == 0) then
+          ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
+          ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
+          c = g%cell(ijk(1), ijk(2), ijk(3))
+        else
+          call gauge_locate(g, cfg%sources(s)%position, 1, c, xi)
+          call g%gather(c, g%x, xn)
+          xi = hex_natural_unclamped(xn, cfg%sources(s)%position)
+          if (.not. (maxval(abs(xi)) <= 1.0_wp + 1.0e-10_wp)) then
+            call error_set(err, deck_problem, '&source('//itoa(s)//'): position is not inside the grid of '// &
+                           'file '''//trim(gc%file)//'''', ERR_INPUT)
+            return
+          end if
+        end if
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
         if (hy%mat(c) < 0) then
           ! a mixed cell: every material gets the same specific energy
@@ -132,10 +161,11 @@ contains
   !> overriding an earlier one). A cell whose corners and centre all lie in
   !> the same region takes that region's state; any other cell is sampled at
   !> subsamples^3 points (midpoints of a uniform split of its natural
-  !> coordinates: exact volume weights on the initial box grid) and gets
-  !> volume fractions, masses, energies and centroids per material. A cell
-  !> with one material is pure (with the mass-averaged state of its regions);
-  !> a cell with several is a mixed cell.
+  !> coordinates, each weighted by the volume it stands for: the Jacobian of
+  !> the trilinear map there, equal weights in a parallelepiped such as a cell
+  !> of a box grid) and gets volume fractions, masses, energies and centroids
+  !> per material. A cell with one material is pure (with the mass-averaged
+  !> state of its regions); a cell with several is a mixed cell.
   subroutine fill_regions(cfg, st, log, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -244,9 +274,9 @@ contains
     logical, intent(out) :: covered
     integer, intent(out) :: r_only
     logical, intent(inout) :: used(:)
-    real(wp) :: xn(3, 8), xi(3), w
+    real(wp) :: xn(3, 8), xi(3), w, jmin, jmax, jsum
     integer :: a, i, j, k, r, r0, ns
-    logical :: same
+    logical :: same, affine
 
     call g%gather(c, g%x, xn)
     vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
@@ -265,23 +295,50 @@ contains
       return
     end if
     ns = cfg%grid%subsamples
+    ! A sample stands for the volume det J(xi) dxi around it. In a
+    ! parallelepiped det J is constant and the weights are equal (kept exactly
+    ! 1/ns^3, so that box grids fill as they always did); otherwise each is
+    ! det J over the sum of them (a folded corner, det J < 0, counts 0).
+    jmin = huge(1.0_wp)
+    jmax = -huge(1.0_wp)
+    jsum = 0.0_wp
+    do k = 1, ns
+      do j = 1, ns
+        do i = 1, ns
+          w = hex_jacobian(xn, sample_xi(i, j, k))
+          jmin = min(jmin, w)
+          jmax = max(jmax, w)
+          jsum = jsum + max(w, 0.0_wp)
+        end do
+      end do
+    end do
+    affine = jmax - jmin <= 1.0e-12_wp*abs(jmax) .or. .not. (jsum > 0.0_wp)
     w = 1.0_wp/real(ns, wp)**3
     covered = .true.
     do k = 1, ns
       do j = 1, ns
         do i = 1, ns
-          xi = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
+          xi = sample_xi(i, j, k)
           r = region_at(cfg%regions, hex_trilinear(xn, xi))
           if (r == 0) then
             covered = .false.
             return
           end if
+          if (.not. affine) w = max(hex_jacobian(xn, xi), 0.0_wp)/jsum
           call add_sample(r, xi, w)
         end do
       end do
     end do
 
   contains
+
+    !> Natural coordinates of sample (i,j,k): the midpoints of a uniform
+    !> split of [-1,1]^3 into ns^3 parts.
+    pure function sample_xi(i, j, k) result(x)
+      integer, intent(in) :: i, j, k
+      real(wp) :: x(3)
+      x = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
+    end function sample_xi
 
     subroutine add_sample(r, xi_pt, wt)
       integer, intent(in) :: r
@@ -309,6 +366,29 @@ contains
       end if
     end do
   end function region_at
+
+  !> The initial velocity a region gives a node at p (length/time):
+  !> 'uniform' its velocity; 'radial' velocity + speed (p - center)/|p - center|
+  !> (just velocity at the centre itself; speed < 0 points inward, as in
+  !> Noh's problem); 'rotation' velocity + angular_velocity a x (p - center),
+  !> a rigid rotation about the region's axis a through center.
+  pure function region_velocity(rg, p) result(u)
+    type(region_config_t), intent(in) :: rg
+    real(wp), intent(in) :: p(3)
+    real(wp) :: u(3), d(3), r, a(3)
+    u = rg%velocity
+    d = p - rg%center
+    select case (trim(rg%velocity_field))
+    case ('radial')
+      ! (sqrt of a sum of squares, not norm2: exact under scaling by powers of two)
+      r = sqrt(dot_product(d, d))
+      if (r > 0.0_wp) u = u + rg%speed*(d/r)
+    case ('rotation')
+      a = 0.0_wp
+      a(rg%axis) = 1.0_wp
+      u = u + rg%angular_velocity*cross(a, d)
+    end select
+  end function region_velocity
 
   !> True if point p lies in the region's shape.
   pure logical function inside(rg, p)

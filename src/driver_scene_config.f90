@@ -19,11 +19,14 @@ module driver_scene_config
     real(wp) :: energy = -1.0_wp                      !< specific internal energy
     real(wp) :: pressure = -1.0_wp                    !< pressure (energy from the EOS)
     real(wp) :: energy_per_volume = -1.0_wp           !< internal energy per volume (becomes energy)
-    real(wp) :: velocity(3) = 0.0_wp                  !< node velocity
+    real(wp) :: velocity(3) = 0.0_wp                  !< node velocity (length/time)
+    character(len=16) :: velocity_field = 'uniform'   !< uniform, radial, rotation (about center)
+    real(wp) :: speed = 0.0_wp                        !< radial: speed along (x - center)/|x - center|
+    real(wp) :: angular_velocity = 0.0_wp             !< rotation: radians per time about axis
     real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners, cylinder length
     real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere / cylinder
     real(wp) :: normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]  !< half space normal
-    integer :: axis = 3                               !< cylinder axis: 1 x, 2 y, 3 z
+    integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
   end type region_config_t
 
   !> One &source group: energy deposited in the cell containing a point.
@@ -41,21 +44,22 @@ contains
     integer, intent(in) :: r, echo
     character(len=*), intent(in) :: text(:), path, materials(:)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=16) :: shape
+    character(len=16) :: shape, velocity_field
     character(len=64) :: material
     character(len=1) :: axis
     real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius, &
-              normal(3)
+              normal(3), speed, angular_velocity
     integer :: ios, m
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, lo, hi, &
-                    center, radius, axis, normal
+    namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, velocity_field, &
+                      speed, angular_velocity, lo, hi, center, radius, axis, normal
 
     shape = this%shape; material = this%material; density = this%density; energy = this%energy
     pressure = this%pressure; energy_per_volume = this%energy_per_volume
     velocity = this%velocity; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
-    normal = this%normal
+    normal = this%normal; velocity_field = this%velocity_field; speed = this%speed
+    angular_velocity = this%angular_velocity
     axis = 'xyz'(this%axis:this%axis)
     read(text, nml=region, iostat=ios, iomsg=msg)
     if (ios /= 0) then
@@ -87,15 +91,43 @@ contains
     end select
     if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call problem_add(problems, &
       '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
+    call velocity_field_problems(trim(tag), velocity_field, speed, angular_velocity, problems)
     m = name_index(materials, material)
     if (m == 0 .and. len_trim(material) == 0 .and. size(materials) == 1) m = 1
     if (m == 0) call problem_add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
       ''' is not a &material name')
     this = region_config_t(shape=shape, material=material, imat=m, density=density, &
-      energy=energy, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, lo=lo, hi=hi, center=center, &
+      energy=energy, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, &
+      velocity_field=velocity_field, speed=speed, angular_velocity=angular_velocity, lo=lo, hi=hi, center=center, &
       radius=radius, axis=max(1, index('xyz', axis)), normal=normal)
     if (echo /= no_echo) write(echo, nml=region)
   end subroutine region_config_read
+
+  !> The problems of a region's initial velocity field: an unknown field, a
+  !> speed or angular velocity given to a field that does not use it (most
+  !> likely the field was forgotten: the value would be ignored), or a field
+  !> without the value it needs (it would be a uniform one).
+  subroutine velocity_field_problems(tag, field, speed, angular_velocity, problems)
+    character(len=*), intent(in) :: tag, field
+    real(wp), intent(in) :: speed, angular_velocity
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    call problem_long(problems, tag, 'velocity_field', field)
+    select case (trim(field))
+    case ('uniform', 'radial', 'rotation')
+    case default
+      call problem_add(problems, '&'//tag//': velocity_field = '''//trim(field)// &
+        ''' is not known; valid: uniform, radial, rotation')
+      return
+    end select
+    if (abs(speed) > 0.0_wp .and. field /= 'radial') call problem_bad(problems, tag, 'speed', speed, &
+      'applies only to velocity_field = ''radial'' (this region''s is '''//trim(field)//''')')
+    if (abs(angular_velocity) > 0.0_wp .and. field /= 'rotation') call problem_bad(problems, tag, 'angular_velocity', &
+      angular_velocity, 'applies only to velocity_field = ''rotation'' (this region''s is '''//trim(field)//''')')
+    if (field == 'radial' .and. .not. abs(speed) > 0.0_wp) call problem_add(problems, '&'//tag// &
+      ': velocity_field = ''radial'' needs a speed (not 0; < 0 is inward)')
+    if (field == 'rotation' .and. .not. abs(angular_velocity) > 0.0_wp) call problem_add(problems, '&'//tag// &
+      ': velocity_field = ''rotation'' needs an angular_velocity (not 0; radians per unit time)')
+  end subroutine velocity_field_problems
 
   !> Reads, validates and echoes the s-th &source group (`text`); the point
   !> must lie in the grid box xmin..xmax.
@@ -141,6 +173,9 @@ contains
         call diff_r(changes, '&region('//itoa(k)//') energy', [a%energy], [b%energy])
         call diff_r(changes, '&region('//itoa(k)//') pressure', [a%pressure], [b%pressure])
         call diff_r(changes, '&region('//itoa(k)//') velocity', a%velocity, b%velocity)
+        call diff_s(changes, '&region('//itoa(k)//') velocity_field', a%velocity_field, b%velocity_field)
+        call diff_r(changes, '&region('//itoa(k)//') speed', [a%speed], [b%speed])
+        call diff_r(changes, '&region('//itoa(k)//') angular_velocity', [a%angular_velocity], [b%angular_velocity])
         call diff_r(changes, '&region('//itoa(k)//') lo', a%lo, b%lo)
         call diff_r(changes, '&region('//itoa(k)//') hi', a%hi, b%hi)
         call diff_r(changes, '&region('//itoa(k)//') center', a%center, b%center)

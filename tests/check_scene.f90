@@ -20,6 +20,19 @@
 !>       every node speed is at most TOL (an equilibrium must stay at rest).
 !>   check_scene uniform FRAME RHO TOL
 !>       every cell density is within TOL of RHO (a uniform state must stay so).
+!>   check_scene uniform_pressure FRAME P TOL
+!>       every cell pressure p has |p - P| <= TOL P.
+!>
+!>   check_scene radial FRAME CX CY CZ SPEED TOL
+!>       every node velocity is SPEED (x - c)/|x - c| (0 at c itself) within
+!>       TOL in each component (&region velocity_field = 'radial').
+!>   check_scene rotation FRAME CX CY CZ AXIS OMEGA TOL
+!>       every node velocity is OMEGA a x (x - c), a the unit vector of AXIS
+!>       (x, y or z), within TOL in each component, and the kinetic energy of
+!>       the frame is 1/2 I OMEGA^2 within the relative tolerance TOL, I the
+!>       moment of inertia sum_n m_n |a x (x_n - c)|^2 of the nodal masses
+!>       (each cell's density times its subcell volumes, Eq. 16), summed here
+!>       independently of the code (&region velocity_field = 'rotation').
 !>
 !>   check_scene positive FRAME
 !>       every cell pressure is positive.
@@ -106,6 +119,73 @@ program check_scene
     d = maxval(abs(fr%density - arg_real(3)))
     write(*, '(a,es10.3,a,es10.3)') 'largest density deviation ', d, ', tolerance ', tol
     if (.not. (d <= tol)) call check_fail('the uniform state changed')
+  case ('uniform_pressure')
+    tol = arg_real(4)
+    d = maxval(abs(fr%pressure - arg_real(3)))/arg_real(3)
+    write(*, '(a,es10.3,a,es10.3)') 'largest relative pressure deviation ', d, ', tolerance ', tol
+    if (.not. (d <= tol)) call check_fail('the uniform pressure changed')
+  case ('radial')
+    block
+      real(wp) :: centre(3), dx(3), speed, u(3), r, worst
+      centre = [arg_real(3), arg_real(4), arg_real(5)]
+      speed = arg_real(6)
+      tol = arg_real(7)
+      worst = 0.0_wp
+      do n = 1, size(fr%x)/3
+        dx = fr%x(3*n - 2:3*n) - centre
+        r = sqrt(dot_product(dx, dx))
+        u = 0.0_wp
+        if (r > 0.0_wp) u = speed*dx/r
+        worst = max(worst, maxval(abs(fr%velocity(3*n - 2:3*n) - u)))
+      end do
+      write(*, '(a,i0,a,es10.3,a,es10.3)') 'radial field: ', size(fr%x)/3, ' nodes, largest difference ', &
+        worst, ', tolerance ', tol
+      if (.not. (worst <= tol)) call check_fail('node velocities are not speed (x - c)/|x - c|')
+    end block
+  case ('rotation')
+    block
+      use mesh_grid, only: grid_index_t, grid_index
+      use mesh_geometry, only: hex_subcell_volumes, cross
+      type(grid_index_t) :: ix
+      real(wp) :: centre(3), axis(3), omega, worst, xn(3, 8), vsub(8), inertia, ke
+      real(wp), allocatable :: xs(:, :), mnode(:)
+      character(len=:), allocatable :: ax
+      integer :: a
+      centre = [arg_real(3), arg_real(4), arg_real(5)]
+      ax = arg_str(6)
+      axis = 0.0_wp
+      if (index('xyz', ax) < 1 .or. len(ax) /= 1) call check_fail('AXIS must be x, y or z')
+      axis(index('xyz', ax)) = 1.0_wp
+      omega = arg_real(7)
+      tol = arg_real(8)
+      ix = grid_index(fr%ni, fr%nj, fr%nk)
+      xs = reshape(fr%x, [3, ix%nnode])
+      allocate(mnode(ix%nnode), stat=n)
+      if (n /= 0) call check_fail('cannot allocate the nodal masses')
+      mnode = 0.0_wp
+      do c = 1, ix%ncell
+        call ix%gather(c, xs, xn)
+        call hex_subcell_volumes(xn, vsub)
+        do a = 1, 8
+          n = ix%node0(c) + ix%corner_offset(a)
+          mnode(n) = mnode(n) + fr%density(c)*vsub(a)
+        end do
+      end do
+      worst = 0.0_wp
+      inertia = 0.0_wp
+      do n = 1, ix%nnode
+        xn(:, 1) = cross(axis, xs(:, n) - centre)
+        worst = max(worst, maxval(abs(fr%velocity(3*n - 2:3*n) - omega*xn(:, 1))))
+        inertia = inertia + mnode(n)*dot_product(xn(:, 1), xn(:, 1))
+      end do
+      ke = 0.5_wp*inertia*omega**2
+      write(*, '(a,i0,a,es10.3,a,es10.3)') 'rotation about '//ax//': ', ix%nnode, &
+        ' nodes, largest velocity difference ', worst, ', tolerance ', tol
+      write(*, '(a,es22.15,a,es22.15,a,es10.3)') 'kinetic energy ', fr%kinetic, ', 1/2 I omega^2 ', ke, &
+        ', relative difference ', abs(fr%kinetic - ke)/ke
+      if (.not. (worst <= tol)) call check_fail('node velocities are not omega a x (x - c)')
+      if (.not. (abs(fr%kinetic - ke) <= tol*ke)) call check_fail('kinetic energy is not 1/2 I omega^2')
+    end block
   case ('volume')
     block
       use check_support, only: frame_field

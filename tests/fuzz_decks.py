@@ -87,7 +87,8 @@ RANGE = [
 ]
 ENUMS = [('material', 'eos', "'stiffened'"), ('region', 'shape', "'cube'"), ('rezone', 'mode', "'euler'"),
          ('hydro', 'viscosity', "'artificial'"), ('boundary', 'xlo', "'open'"), ('region', 'material', "'nosuch'"),
-         ('rezone', 'reconstruction', "'cubic'"), ('region', 'axis', "'w'")]
+         ('rezone', 'reconstruction', "'cubic'"), ('region', 'axis', "'w'"),
+         ('region', 'velocity_field', "'spiral'")]
 NONFINITE = ['NaN', 'Inf', '-Infinity', '1e300', '-1.0e+45', 'nan']
 # values of the wrong type: for a real, for an integer variable
 TYPES_REAL = ["'abc'", '.true.', '1.2.3', 'abc']

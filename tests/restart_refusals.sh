@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Restarts that must be refused before step 0 with a message naming the
-# problem (changed grid or material, truncated, foreign or missing file), and
-# one that must be accepted (new end time and output name).
+# problem (changed grid, material or initial velocity field, truncated,
+# foreign or missing file), and one that must be accepted (new end time and
+# output name).
 # Usage: restart_refusals.sh EXE DECK WORKDIR PYTHON
 set -u
 exe=$1 deck=$2 dir=$3 py=$4
@@ -27,6 +28,10 @@ expect "changed grid" "&grid ni changed from 100 to 50" grid.nml
 derive gamma "$deck" "max_steps = 20, restart_from = '$dump'" base
 sed -i -e 's/gamma = 1.4/gamma = 1.67/' gamma.nml
 expect "changed gamma" "&material 'gas' gamma changed" gamma.nml
+derive field "$deck" "max_steps = 20, restart_from = '$dump'" base
+sed -i -e "s/^&region shape = 'all',/\&region shape = 'all', velocity_field = 'rotation', angular_velocity = 1,/" field.nml
+expect "changed velocity field" "&region\\(1\\) velocity_field changed" field.nml
+expect "changed angular velocity" "&region\\(1\\) angular_velocity changed" field.nml
 derive trunc "$deck" "max_steps = 20, restart_from = 'truncated.h5'" base
 expect "truncated file" "restart_from: cannot read restart file" trunc.nml
 derive foreign "$deck" "max_steps = 20, restart_from = 'out/base_00000.h5'" base

@@ -4,7 +4,7 @@
 program test_io_deck
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo
-  use io_deck, only: deck_t, deck_read, deck_count, deck_text, echo_open, echo_text
+  use io_deck, only: deck_t, deck_read, deck_from_lines, deck_count, deck_text, deck_line, echo_open, echo_text
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
   use rezone_config, only: rezone_config_t, rezone_config_read
   use test_assert, only: check, check_summary
@@ -16,7 +16,7 @@ program test_io_deck
   type(rezone_config_t) :: rz
   character(len=max_line), allocatable :: problems(:), text(:), changes(:)
   character(len=:), allocatable :: echo_txt
-  character(len=max_line) :: line(1)
+  character(len=max_line) :: line(1), lines(5)
   integer :: u, echo
 
   open(newunit=u, file=path, status='replace', action='write')
@@ -71,6 +71,28 @@ program test_io_deck
   if (size(changes) == 1) call check(trim(changes(1)) == '&grid ni changed from 10 to 20', &
                                      'the change names it: '//trim(changes(1)))
 
+  ! a grid file: relative to the deck's folder, kept when absolute; the box
+  ! may not be given with it; a restart names a changed file
+  problems = [character(len=max_line) ::]
+  line(1) = "&grid ni = 2, nj = 2, nk = 2, file = 'g.h5' /"
+  call grid_config_read(g1, line, 'decks/sub/deck.nml', no_echo, problems)
+  call check(size(problems) == 0, 'a &grid with a file is valid')
+  call check(g1%file_path == 'decks/sub/g.h5', 'a relative grid file is in the deck''s folder: '//g1%file_path)
+  call grid_config_read(g2, line, 'deck.nml', no_echo, problems)
+  call check(g2%file_path == 'g.h5', 'a deck in the current folder: the file name as given: '//g2%file_path)
+  line(1) = "&grid ni = 2, nj = 2, nk = 2, file = '/abs/g.h5' /"
+  call grid_config_read(g2, line, 'decks/deck.nml', no_echo, problems)
+  call check(g2%file_path == '/abs/g.h5', 'an absolute grid file stays: '//g2%file_path)
+  changes = [character(len=max_line) ::]
+  call grid_config_changes(g1, g2, changes)
+  call check(size(changes) == 1, 'a changed grid file is one change')
+  if (size(changes) == 1) call check(trim(changes(1)) == '&grid file changed', 'it is named: '//trim(changes(1)))
+  line(1) = "&grid ni = 2, nj = 2, nk = 2, file = 'g.h5', xmax = 2, 1, 1 /"
+  call grid_config_read(g2, line, 'deck.nml', no_echo, problems)
+  call check(size(problems) == 1, 'a box given with a grid file is a problem')
+  if (size(problems) == 1) call check(index(problems(1), 'xmin and xmax do not apply with file') > 0, &
+                                      'it says so: '//trim(problems(1)))
+
   ! every problem of a group is collected, not just the first
   problems = [character(len=max_line) ::]
   line(1) = "&rezone mode = 'x', side_ratio = 0.5, quality = 2, mof_max_iter = 0 /"
@@ -86,6 +108,27 @@ program test_io_deck
   problems = [character(len=max_line) ::]
   call grid_config_read(g1, deck_text(deck, 'output'), path, no_echo, problems)
   call check(size(problems) == 1, 'an absent &grid is a problem')
+
+  ! repeated groups interleaved with others: the k-th of a name is found
+  ! through the index by name, with its line
+  lines(1) = "&material name = 'a' /"
+  lines(2) = "&region density = 1 /"
+  lines(3) = "&material name = 'b' /  &region density = 2 /"
+  lines(4) = "! a comment"
+  lines(5) = "&material name = 'c' /"
+  problems = [character(len=max_line) ::]
+  call deck_from_lines(lines, path, [character(len=8) :: 'material', 'region'], &
+                       [character(len=8) :: 'material', 'region'], deck, problems)
+  call check(size(problems) == 0 .and. size(deck%groups) == 5, 'five groups, two names')
+  call check(deck_count(deck, 'material') == 3 .and. deck_count(deck, 'region') == 2 .and. &
+             deck_count(deck, 'run') == 0, 'counted by name')
+  text = deck_text(deck, 'material', 3)
+  call check(size(text) == 1 .and. index(text(1), "'c'") > 0, 'the third &material is the last group')
+  text = deck_text(deck, 'region', 2)
+  call check(size(text) == 1 .and. index(text(1), 'density = 2') > 0, 'the second &region shares a line')
+  call check(deck_line(deck, 'region', 2) == 3 .and. deck_line(deck, 'material', 3) == 5, 'their lines')
+  text = deck_text(deck, 'material', 4)
+  call check(size(text) == 0 .and. deck_line(deck, 'material', 4) == 0, 'no fourth &material')
 
   open(newunit=u, file=path, status='old')
   close(u, status='delete')

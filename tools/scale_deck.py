@@ -47,10 +47,12 @@ DENS = (-3, 0, 1)
 PRES = (-1, -2, 1)            # pressure, energy per volume
 SPEC_E = (2, -2, 0)           # specific energy
 ENERGY = (2, -2, 1)
+RATE = (0, -1, 0)             # per unit time (an angular velocity)
 INT = "int"                   # integer: passed through
 STR = "str"                   # string: passed through
 LOGICAL = "logical"           # logical: passed through
 WALL = "wall"                 # wall-clock seconds, not simulated time: passed through
+FILE = "file"                 # a file of dimensional data (a grid): refused unless empty
 
 DIMENSIONS = {
     "run": {
@@ -59,7 +61,7 @@ DIMENSIONS = {
         "progress_seconds": WALL, "velocity_noise": VEL, "seed": INT, "restart_from": STR,
         "wall_time_limit": WALL, "dump_steps": INT, "dump_dt": TIME, "dump_keep": INT,
     },
-    "grid": {"ni": INT, "nj": INT, "nk": INT, "xmin": LEN, "xmax": LEN, "subsamples": INT},
+    "grid": {"ni": INT, "nj": INT, "nk": INT, "xmin": LEN, "xmax": LEN, "subsamples": INT, "file": FILE},
     "hydro": {"viscosity": STR, "q_linear": NONE, "q_quad": NONE, "hourglass": NONE,
               "dv_max": NONE, "relax": NONE},
     "material": {
@@ -69,7 +71,8 @@ DIMENSIONS = {
     },
     "region": {
         "shape": STR, "material": STR, "density": DENS, "energy": SPEC_E, "pressure": PRES,
-        "energy_per_volume": PRES, "velocity": VEL, "lo": LEN, "hi": LEN, "center": LEN,
+        "energy_per_volume": PRES, "velocity": VEL, "velocity_field": STR, "speed": VEL,
+        "angular_velocity": RATE, "lo": LEN, "hi": LEN, "center": LEN,
         "radius": LEN, "axis": STR,
         # half space: the points p with (p - center) . normal >= 0; only the
         # direction of normal matters, so it is left as written
@@ -261,6 +264,12 @@ def scale_groups(groups, path, le, te, me):
                                 f"dimension is not in DIMENSIONS); add it with its dimension")
             dim = table[base]
             values = expand(values)
+            if dim == FILE:
+                if any(v is not None and v.strip("'\"") for v in values):
+                    raise DeckError(f"{where}: the grid's node coordinates are in the file, which this tool "
+                                    f"does not scale (scale its dataset x by 2^L and name the copy)")
+                new_items.append((target, values))
+                continue
             if not isinstance(dim, tuple) or dim == NONE:
                 new_items.append((target, values))
                 continue

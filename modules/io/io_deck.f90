@@ -14,17 +14,23 @@ module io_deck
   public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, deck_stem, &
             echo_open, echo_text
 
-  !> One group of the deck: its name (lower case), first line and text.
+  !> One group of the deck: its name (lower case), first line and text (as
+  !> long as its longest line: decks of many small groups stay small).
   type :: deck_group_t
     character(len=32) :: name = ''
     integer :: line = 0
-    character(len=max_line), allocatable :: text(:)
+    character(len=:), allocatable :: text(:)
   end type deck_group_t
 
-  !> The groups of a deck file, in file order.
+  !> The groups of a deck file, in file order, and an index by name (so
+  !> that finding the k-th group of a name costs nothing like a scan of the
+  !> deck: a deck may hold tens of thousands of &region groups).
   type :: deck_t
     character(len=:), allocatable :: path
     type(deck_group_t), allocatable :: groups(:)
+    character(len=32), allocatable :: names(:)   !< the distinct group names, in order of first appearance
+    integer, allocatable :: first(:)             !< groups called names(u): members(first(u):first(u+1)-1)
+    integer, allocatable :: members(:)           !< indices in groups, by name, in file order within a name
     !> a value is NaN, infinite or huge: the groups must not be read (their
     !> checks would trap or overflow)
     logical :: unsafe = .false.
@@ -65,7 +71,7 @@ contains
       call problem_add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
       return
     end if
-    call deck_from_lines(lines, path, known, repeatable, deck, problems)
+    call cut_deck(lines, path, known, repeatable, deck, problems)
   end subroutine deck_read
 
   !> The groups of a deck given as its lines (`path` names it in messages).
@@ -76,13 +82,23 @@ contains
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line), allocatable :: clean(:)
+    clean = lines
+    call cut_deck(clean, path, known, repeatable, deck, problems)
+  end subroutine deck_from_lines
+
+  !> `deck_from_lines` on lines it may change (tabs to blanks, the BOM
+  !> dropped) in place.
+  subroutine cut_deck(clean, path, known, repeatable, deck, problems)
+    character(len=*), intent(inout) :: clean(:)
+    character(len=*), intent(in) :: path, known(:), repeatable(:)
+    type(deck_t), intent(out) :: deck
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=:), allocatable :: valid
     character(len=*), parameter :: bom = char(239)//char(187)//char(191)
     integer :: i, k
 
     deck%path = path
     deck%groups = [deck_group_t ::]
-    clean = lines
     do i = 1, size(clean)
       do k = 1, len_trim(clean(i))
         if (clean(i)(k:k) == achar(9)) clean(i)(k:k) = ' '
@@ -92,6 +108,7 @@ contains
       if (clean(1)(1:3) == bom) clean(1) = clean(1)(4:)
     end if
     call split_groups(clean, path, deck%groups, problems)
+    call index_groups(deck)
     valid = ''
     do k = 1, size(known)
       valid = valid//merge(', ', '  ', k > 1)//'&'//trim(known(k))
@@ -117,21 +134,31 @@ contains
         end do
       end associate
     end do
-  end subroutine deck_from_lines
+  end subroutine cut_deck
 
-  !> A text cut at its newlines into lines.
+  !> A text cut at its newlines into lines (counted first: one allocation).
   function text_lines(text) result(lines)
     character(len=*), intent(in) :: text
     character(len=max_line), allocatable :: lines(:)
-    character(len=max_line) :: line
-    integer :: i, j
-    lines = [character(len=max_line) ::]
+    character(len=max_line) :: blank
+    integer :: i, j, n
+    n = 0
     i = 1
     do while (i <= len(text))
       j = index(text(i:), new_line('a'))
       if (j == 0) j = len(text) - i + 2
-      line = text(i:i + j - 2)
-      lines = [lines, line]
+      n = n + 1
+      i = i + j
+    end do
+    blank = ''
+    lines = spread(blank, 1, n)
+    n = 0
+    i = 1
+    do while (i <= len(text))
+      j = index(text(i:), new_line('a'))
+      if (j == 0) j = len(text) - i + 2
+      n = n + 1
+      lines(n) = text(i:i + j - 2)
       i = i + j
     end do
   end function text_lines
@@ -140,7 +167,10 @@ contains
   integer function deck_count(deck, name)
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: name
-    deck_count = count(deck%groups%name == name)
+    integer :: u
+    deck_count = 0
+    u = name_slot(deck, name)
+    if (u > 0) deck_count = deck%first(u + 1) - deck%first(u)
   end function deck_count
 
   !> The text of the k-th group called `name` (default the first); an empty
@@ -172,22 +202,80 @@ contains
   end function deck_line
 
   !> Index in deck%groups of the k-th group called `name` (default the
-  !> first); 0 if there is none.
+  !> first); 0 if there is none. (Through the index by name: the readers of
+  !> repeated groups ask for each in turn, and a scan of the deck per
+  !> group made reading a deck quadratic in its number of groups.)
   integer function group_index(deck, name, k) result(i)
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: k
-    integer :: seen, want
+    integer :: want, u
     want = 1
     if (present(k)) want = k
-    seen = 0
-    do i = 1, size(deck%groups)
-      if (deck%groups(i)%name /= name) cycle
-      seen = seen + 1
-      if (seen == want) return
-    end do
     i = 0
+    u = name_slot(deck, name)
+    if (u == 0) return
+    if (want < 1 .or. want > deck%first(u + 1) - deck%first(u)) return
+    i = deck%members(deck%first(u) + want - 1)
   end function group_index
+
+  !> Position of `name` in the deck's list of distinct group names; 0 if no
+  !> group has it (or the deck has not been indexed: no groups).
+  integer function name_slot(deck, name) result(u)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    u = 0
+    if (.not. allocated(deck%names)) return
+    do u = 1, size(deck%names)
+      if (deck%names(u) == name) return
+    end do
+    u = 0
+  end function name_slot
+
+  !> Builds the deck's index by name (a counting sort of the groups by the
+  !> order in which their names first appear: linear in the number of groups
+  !> times the number of distinct names, which is small).
+  subroutine index_groups(deck)
+    type(deck_t), intent(inout) :: deck
+    integer, allocatable :: slot(:), fill(:)
+    integer :: i, u, nu, ng, stat
+    character(len=32), allocatable :: names(:)
+    character(len=200) :: msg
+    ng = size(deck%groups)
+    allocate(slot(ng), names(max(ng, 1)), stat=stat, errmsg=msg)
+    if (stat /= 0) return   ! (then every group reads as absent; the problems say what is missing)
+    nu = 0
+    do i = 1, ng
+      do u = nu, 1, -1
+        if (names(u) == deck%groups(i)%name) exit
+      end do
+      if (u == 0) then
+        nu = nu + 1
+        names(nu) = deck%groups(i)%name
+        u = nu
+      end if
+      slot(i) = u
+    end do
+    allocate(deck%names(nu), deck%first(nu + 1), deck%members(ng), fill(nu), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      if (allocated(deck%names)) deallocate(deck%names)
+      return
+    end if
+    deck%names = names(1:nu)
+    fill = 0
+    do i = 1, ng
+      fill(slot(i)) = fill(slot(i)) + 1
+    end do
+    deck%first(1) = 1
+    do u = 1, nu
+      deck%first(u + 1) = deck%first(u) + fill(u)
+    end do
+    fill = deck%first(1:nu)
+    do i = 1, ng
+      deck%members(fill(slot(i))) = i
+      fill(slot(i)) = fill(slot(i)) + 1
+    end do
+  end subroutine index_groups
 
   !> Cuts the lines into groups (see the module header), scanning the text
   !> as a stream: a group may start anywhere outside another group (several
@@ -199,22 +287,38 @@ contains
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(deck_group_t) :: grp
+    type(deck_group_t), allocatable :: found(:)
     character(len=max_line), allocatable :: pieces(:)
     character(len=max_line) :: line
     character :: q
-    integer :: i, j, k, from
+    integer :: i, j, k, from, ngroup, npiece, last
     logical :: in_group
+    character(len=200) :: msg
 
     in_group = .false.
     q = ' '
-    ! (allocated, not assigned an empty constructor: gfortran -O3 then warns
-    ! of the descriptor of an unallocated array)
-    allocate(pieces(0), stat=k)
+    ! The groups go to an array as large as the number of `&` in the deck
+    ! (every group starts with one), the pieces of the current group to one
+    ! that doubles when full: appending one at a time (`groups = [groups,
+    ! grp]` copies every group, text and all) made the cut quadratic in the
+    ! number of groups.
+    ngroup = 0
+    npiece = 0
+    k = 0
+    do i = 1, size(lines)
+      k = k + count_char(lines(i), '&')
+    end do
+    allocate(found(k), pieces(16), stat=k, errmsg=msg)
+    if (k /= 0) then
+      call problem_add(problems, trim(path)//': cannot cut the deck into groups: '//trim(msg))
+      return
+    end if
     do i = 1, size(lines)
       line = lines(i)
+      last = len_trim(line)
       from = 1
       j = 0
-      scan: do while (j < len_trim(line))
+      scan: do while (j < last)
         j = j + 1
         if (q /= ' ') then
           if (line(j:j) == q) q = ' '
@@ -241,26 +345,87 @@ contains
           exit scan
         end if
       end do scan
-      if (in_group) then
-        line = line(from:)
-        pieces = [pieces, line]
-      end if
+      if (in_group) call add_piece(line(from:))
     end do
     if (in_group) call finish('')
+    ! the groups, exactly as many as were found
+    if (allocated(groups)) deallocate(groups)
+    allocate(groups(ngroup), stat=k, errmsg=msg)
+    if (k /= 0) then
+      call problem_add(problems, trim(path)//': cannot hold the deck''s groups: '//trim(msg))
+      allocate(groups(0), stat=k, errmsg=msg)
+      return
+    end if
+    do k = 1, ngroup
+      call move_group(found(k), groups(k))
+    end do
 
   contains
+
+    !> Appends a line to the current group's pieces.
+    subroutine add_piece(piece)
+      character(len=*), intent(in) :: piece
+      character(len=max_line), allocatable :: tmp(:)
+      integer :: stat
+      if (npiece == size(pieces)) then
+        allocate(tmp(2*size(pieces)), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call problem_add(problems, trim(path)//': cannot hold a group of '//itoa(npiece)//' lines: '//trim(msg))
+          return
+        end if
+        tmp(1:npiece) = pieces(1:npiece)
+        call move_alloc(tmp, pieces)
+      end if
+      npiece = npiece + 1
+      pieces(npiece) = piece
+    end subroutine add_piece
 
     !> Ends the current group with `last` as its last piece.
     subroutine finish(last)
       character(len=*), intent(in) :: last
-      character(len=max_line) :: piece
-      piece = last
-      if (len_trim(last) > 0) pieces = [pieces, piece]
-      grp%text = pieces
-      groups = [groups, grp]
-      pieces = [character(len=max_line) ::]
+      integer :: stat, m, width
+      if (len_trim(last) > 0) call add_piece(last)
+      width = 1
+      do m = 1, npiece
+        width = max(width, len_trim(pieces(m)))
+      end do
+      allocate(character(len=width) :: grp%text(npiece), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call problem_add(problems, trim(path)//': cannot hold a group of '//itoa(npiece)//' lines: '//trim(msg))
+        return
+      end if
+      do m = 1, npiece
+        grp%text(m) = pieces(m)(1:width)
+      end do
+      npiece = 0
+      ngroup = ngroup + 1
+      call move_group(grp, found(ngroup))
     end subroutine finish
   end subroutine split_groups
+
+  !> Number of times character c occurs in line.
+  pure integer function count_char(line, c) result(n)
+    character(len=*), intent(in) :: line
+    character, intent(in) :: c
+    integer :: i, j
+    n = 0
+    i = 1
+    do
+      j = index(line(i:), c)
+      if (j == 0) exit
+      n = n + 1
+      i = i + j
+    end do
+  end function count_char
+
+  !> Moves a group (its text without a copy) from `a` to `b`.
+  pure subroutine move_group(a, b)
+    type(deck_group_t), intent(inout) :: a, b
+    b%name = a%name
+    b%line = a%line
+    if (allocated(b%text)) deallocate(b%text)
+    if (allocated(a%text)) call move_alloc(a%text, b%text)
+  end subroutine move_group
 
   !> True if a group name starts at position j of line.
   pure logical function is_name_start(line, j)
@@ -296,13 +461,14 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line) :: line
     character :: q
-    integer :: i, j, k, n
+    integer :: i, j, k, n, last
     ok = .true.
     q = ' '
     do i = 1, size(grp%text)
       line = grp%text(i)
+      last = len_trim(line)
       j = 0
-      do while (j < len_trim(line))
+      do while (j < last)
         j = j + 1
         if (q /= ' ') then
           if (line(j:j) == q) q = ' '
@@ -315,17 +481,17 @@ contains
         if (line(j:j) == '!') exit
         if (scan(line(j:j), ' ,=*()/&') > 0) cycle
         k = j
-        do while (k < len_trim(line))
+        do while (k < last)
           if (scan(line(k + 1:k + 1), ' ,=*()/&!') > 0) exit
           k = k + 1
         end do
         n = k
         ! the next non-blank after the token: '=' or '(' makes it a name
-        do while (n < len_trim(line))
+        do while (n < last)
           if (line(n + 1:n + 1) /= ' ') exit
           n = n + 1
         end do
-        if (n < len_trim(line)) then
+        if (n < last) then
           if (scan(line(n + 1:n + 1), '=(') > 0) then
             j = k
             cycle
@@ -386,34 +552,29 @@ contains
     ok = e + ndig - 1 == 308 .and. digits(lead:min(len(digits), lead + 16)) == '17976931348623157'
   end function number_ok
 
-  !> Reads all records of an open unit.
+  !> Reads all records of an open unit (counted first: one allocation).
   subroutine read_lines(unit, lines, ios, msg)
     integer, intent(in) :: unit
     character(len=max_line), allocatable, intent(out) :: lines(:)
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
-    character(len=max_line) :: buf
-    character(len=max_line), allocatable :: tmp(:)
-    integer :: n
+    integer :: n, k
 
-    allocate(lines(64), stat=ios, errmsg=msg)
-    if (ios /= 0) return
     n = 0
     rewind(unit)
     do
-      read(unit, '(a)', iostat=ios, iomsg=msg) buf
+      read(unit, '(a)', iostat=ios, iomsg=msg)
       if (ios /= 0) exit
       n = n + 1
-      if (n > size(lines)) then
-        allocate(tmp(2*size(lines)), stat=ios, errmsg=msg)
-        if (ios /= 0) return
-        tmp(1:n - 1) = lines(1:n - 1)
-        call move_alloc(tmp, lines)
-      end if
-      lines(n) = buf
     end do
-    if (ios < 0) ios = 0
-    lines = lines(1:n)
+    if (ios > 0) return
+    allocate(lines(n), stat=ios, errmsg=msg)
+    if (ios /= 0) return
+    rewind(unit)
+    do k = 1, n
+      read(unit, '(a)', iostat=ios, iomsg=msg) lines(k)
+      if (ios /= 0) return
+    end do
   end subroutine read_lines
 
   !> Opens the scratch unit the packages write their resolved groups to.
@@ -430,20 +591,36 @@ contains
   end subroutine echo_open
 
   !> The resolved deck written to the echo unit, as one text, and closes it.
+  !> The lines are appended to a buffer that doubles when full (a deck of
+  !> 40,000 regions echoes 600,000 lines: held as lines of max_line
+  !> characters they took 600 MB, and appending to the text line by line
+  !> copied it once per line).
   function echo_text(unit) result(text)
     integer, intent(in) :: unit
     character(len=:), allocatable :: text
-    character(len=max_line), allocatable :: lines(:)
-    character(len=max_line) :: msg
-    integer :: ios, i
+    character(len=:), allocatable :: buf, tmp
+    character(len=max_line) :: line
+    integer :: ios, n, m
     text = ''
     if (unit == no_echo) return
     rewind(unit)
-    call read_lines(unit, lines, ios, msg)
-    close(unit)
-    do i = 1, size(lines)
-      text = text//squeeze_quoted(trim(lines(i)))//new_line('a')
+    buf = repeat(' ', 4096)
+    n = 0
+    do
+      read(unit, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      line = squeeze_quoted(trim(line))
+      m = len_trim(line)
+      if (n + m + 1 > len(buf)) then
+        tmp = repeat(' ', max(2*len(buf), n + m + 1))
+        tmp(1:n) = buf(1:n)
+        call move_alloc(tmp, buf)
+      end if
+      buf(n + 1:n + m + 1) = line(1:m)//new_line('a')
+      n = n + m + 1
     end do
+    close(unit)
+    text = buf(1:n)
   end function echo_text
 
   !> Drops the blanks that list-directed namelist output pads inside quoted
@@ -451,17 +628,21 @@ contains
   pure function squeeze_quoted(line) result(t)
     character(len=*), intent(in) :: line
     character(len=:), allocatable :: t
-    integer :: i
+    character(len=len(line)) :: buf
+    integer :: i, n
     logical :: inq
-    t = ''
     inq = .false.
+    n = 0
+    buf = ''
     do i = 1, len(line)
       if (line(i:i) == '"') then
-        if (inq) t = trim(t)
+        if (inq) n = len_trim(buf(1:n))
         inq = .not. inq
       end if
-      t = t//line(i:i)
+      n = n + 1
+      buf(n:n) = line(i:i)
     end do
+    t = buf(1:n)
   end function squeeze_quoted
 
   pure function lower(s) result(t)

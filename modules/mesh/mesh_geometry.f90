@@ -15,7 +15,7 @@ module mesh_geometry
   implicit none
   private
   public :: hex_corner, hex_faces, hex_edges, hex_volume, hex_volume_gradient, hex_subcell_volumes, &
-            hex_median_areas, hex_trilinear, hex_natural, hex_natural_unclamped, hex_tets, tet_det, cross
+            hex_median_areas, hex_trilinear, hex_jacobian, hex_natural, hex_natural_unclamped, hex_tets, tet_det, cross
 
   !> Logical corner (i,j,k) in {0,1}^3 of local node a = 1 + i + 2j + 4k.
   integer, parameter :: hex_corner(3, 8) = reshape([0, 0, 0,  1, 0, 0,  0, 1, 0,  1, 1, 0, &
@@ -163,6 +163,24 @@ contains
       x = x + 0.125_wp*(1.0_wp + s(1)*xi(1))*(1.0_wp + s(2)*xi(2))*(1.0_wp + s(3)*xi(3))*xn(:, a)
     end do
   end function hex_trilinear
+
+  !> Jacobian determinant det(dx/dxi) of `hex_trilinear` at xi (length^3 per
+  !> unit natural volume: the cell's volume is its integral over [-1,1]^3;
+  !> constant, V/8, for a parallelepiped).
+  pure real(wp) function hex_jacobian(xn, xi) result(det)
+    real(wp), intent(in) :: xn(3, 8), xi(3)
+    real(wp) :: jac(3, 3), s(3), f(3)
+    integer :: a
+    jac = 0.0_wp
+    do a = 1, 8
+      s = 2.0_wp*real(hex_corner(:, a), wp) - 1.0_wp
+      f = 1.0_wp + s*xi
+      jac(:, 1) = jac(:, 1) + 0.125_wp*s(1)*f(2)*f(3)*xn(:, a)
+      jac(:, 2) = jac(:, 2) + 0.125_wp*s(2)*f(1)*f(3)*xn(:, a)
+      jac(:, 3) = jac(:, 3) + 0.125_wp*s(3)*f(1)*f(2)*xn(:, a)
+    end do
+    det = dot_product(jac(:, 1), cross(jac(:, 2), jac(:, 3)))
+  end function hex_jacobian
 
   !> Natural coordinates of x in the hex xn: the inverse of
   !> `hex_trilinear` by Newton's method from the centre (exact in one step

@@ -17,7 +17,7 @@ module mesh_grid
   use base_registry, only: registry_t, LOC_NODE
   implicit none
   private
-  public :: grid_index_t, grid_index, grid_t, grid_init_box, block_gather, grid_register_restart, &
+  public :: grid_index_t, grid_index, grid_t, grid_init_box, grid_init_nodes, block_gather, grid_register_restart, &
             FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
   !> The six faces of the block; bit f-1 of a face mask is set for face f.
@@ -48,7 +48,7 @@ module mesh_grid
 
   !> Grid: its index arithmetic and node positions.
   type, extends(grid_index_t) :: grid_t
-    real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp   !< initial box
+    real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp   !< initial box (around the initial nodes)
     real(wp), allocatable :: x(:, :)      !< node positions (3, nnode)
   end type grid_t
 
@@ -84,6 +84,31 @@ contains
       end do
     end do
   end subroutine grid_init_box
+
+  !> Builds a grid of ni x nj x nk cells on given node positions x(3, nnode)
+  !> (length; `grid_index` order), e.g. read from a file (`io_grid_file`);
+  !> xmin and xmax become the box around them.
+  subroutine grid_init_nodes(g, ni, nj, nk, x, err)
+    type(grid_t), intent(out) :: g
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+
+    g%grid_index_t = grid_index(ni, nj, nk)
+    if (size(x, 1) /= 3 .or. size(x, 2) /= g%nnode) then
+      call error_set(err, 'grid_init_nodes', 'the node positions do not fit the block')
+      return
+    end if
+    allocate(g%x, source=x, stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'grid_init_nodes', 'cannot allocate node positions: '//trim(msg))
+      return
+    end if
+    g%xmin = minval(x, dim=2)
+    g%xmax = maxval(x, dim=2)
+  end subroutine grid_init_nodes
 
   !> The index arithmetic of a block of ni x nj x nk cells.
   pure function grid_index(ni, nj, nk) result(ix)

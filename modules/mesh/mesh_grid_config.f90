@@ -1,11 +1,13 @@
-!> The &grid group: the structured block (cells per direction and its box).
+!> The &grid group: the structured block (cells per direction and its box,
+!> or node coordinates from a file).
 module mesh_grid_config
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
-  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, diff_i, diff_r
+  use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, &
+                         diff_i, diff_r, diff_s
   implicit none
   private
-  public :: grid_config_t, grid_config_read, grid_config_changes
+  public :: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
 
   !> Cut cells are sampled at subsamples^3 points: 64^3 = 2.6e5 per cell at most.
   integer, parameter :: max_subsamples = 64
@@ -16,12 +18,17 @@ module mesh_grid_config
     real(wp) :: xmin(3) = 0.0_wp                   !< low corner of the box (length)
     real(wp) :: xmax(3) = 1.0_wp                   !< high corner of the box (length)
     integer :: subsamples = 8                      !< sample points per direction in cut cells
+    character(len=256) :: file = ''                !< HDF5 file of node coordinates ('': the box)
+    character(len=:), allocatable :: file_path     !< `file` resolved against the deck's directory (resolved)
   end type grid_config_t
 
 contains
 
   !> Reads, validates and echoes the &grid group (`text`: its lines, empty
-  !> if the deck has none, which is a problem: the sizes are required).
+  !> if the deck has none, which is a problem: the sizes are required). A
+  !> relative `file` is taken relative to the directory of the deck `path`;
+  !> the file itself is read by the driver (`io_grid_file`), which then sets
+  !> xmin and xmax to the box around its nodes (`grid_config_box`).
   subroutine grid_config_read(this, text, path, echo, problems)
     type(grid_config_t), intent(out) :: this
     character(len=*), intent(in) :: text(:), path
@@ -29,11 +36,13 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     integer :: ni, nj, nk, subsamples, ios, d
     real(wp) :: xmin(3), xmax(3)
+    character(len=256) :: file
     character(len=max_line) :: msg
-    namelist /grid/ ni, nj, nk, xmin, xmax, subsamples
+    type(grid_config_t) :: default
+    namelist /grid/ ni, nj, nk, xmin, xmax, subsamples, file
 
     ni = this%ni; nj = this%nj; nk = this%nk; xmin = this%xmin; xmax = this%xmax
-    subsamples = this%subsamples
+    subsamples = this%subsamples; file = this%file
     if (size(text) == 0) then
       call problem_add(problems, trim(path)//': group &grid is missing (ni, nj, nk are required)')
       return
@@ -58,9 +67,39 @@ contains
       if (.not. (xmax(d) > xmin(d))) call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
                                                       'must be > xmin('//achar(48 + d)//')')
     end do
-    this = grid_config_t(ni=ni, nj=nj, nk=nk, xmin=xmin, xmax=xmax, subsamples=subsamples)
+    call problem_long(problems, 'grid', 'file', file)
+    ! the file gives the nodes, the box with them: a box given too is a
+    ! contradiction (most likely a deck edited half way)
+    if (len_trim(file) > 0 .and. (any(abs(xmin - default%xmin) > 0.0_wp) .or. &
+                                 any(abs(xmax - default%xmax) > 0.0_wp))) &
+      call problem_add(problems, '&grid: xmin and xmax do not apply with file = '''//trim(file)// &
+                       ''' (the file gives the nodes); leave them out')
+    this = grid_config_t(ni=ni, nj=nj, nk=nk, xmin=xmin, xmax=xmax, subsamples=subsamples, file=file)
+    this%file_path = resolve_path(file, path)
     if (echo /= no_echo) write(echo, nml=grid)
   end subroutine grid_config_read
+
+  !> Sets the box of a grid read from a file: the box around its nodes x(3, :)
+  !> (for the checks that a point lies in the grid).
+  pure subroutine grid_config_box(this, x)
+    type(grid_config_t), intent(inout) :: this
+    real(wp), intent(in) :: x(:, :)
+    this%xmin = minval(x, dim=2)
+    this%xmax = maxval(x, dim=2)
+  end subroutine grid_config_box
+
+  !> `file` relative to the directory of `deck` unless it is absolute or
+  !> empty (the deck in the current directory: `file` as it is).
+  pure function resolve_path(file, deck) result(full)
+    character(len=*), intent(in) :: file, deck
+    character(len=:), allocatable :: full
+    integer :: k
+    full = trim(file)
+    if (len(full) == 0) return
+    if (full(1:1) == '/') return
+    k = index(deck, '/', back=.true.)
+    if (k > 0) full = deck(1:k)//full
+  end function resolve_path
 
   !> What a restart may not change in &grid: one line per changed variable.
   subroutine grid_config_changes(old, new, changes)
@@ -71,6 +110,7 @@ contains
     call diff_i(changes, '&grid nk', old%nk, new%nk)
     call diff_r(changes, '&grid xmin', old%xmin, new%xmin)
     call diff_r(changes, '&grid xmax', old%xmax, new%xmax)
+    call diff_s(changes, '&grid file', old%file, new%file)
   end subroutine grid_config_changes
 
   !> A 64-bit integer as text.
