@@ -36,23 +36,26 @@
 !> Momentum and nodal masses. Every cell's corners carry subcell masses
 !> m_ca (Eq. 16: rho_c V_ca when set, constant in the Lagrangian phase like
 !> the cell mass, so sum_a m_ca = m_c and a node's mass is the sum of its
-!> corners'). An old cell's momentum sum_a m_ca u_a is handed out in two
-!> parts. Its mean velocity v_c = sum_a m_ca u_a / m_c goes with the mass:
-!> a fragment of mass mass_f carries mass_f v_c into its new cell, whose
-!> momentum is shared among its corners like its mass (Eq. 16 on the new
-!> grid: the new cell's mass in proportion to its subcell volumes). The rest,
-!> the corners' deviations m_ca (u_a - v_c) (they add up to zero over the
-!> cell), goes with the volume of the old subcell: a fragment of volume v_f
-!> of subcell a carries v_f/V_ca of it into the new corner it lands in, so
-!> that the velocity is not averaged over whole cells at every remap (which
-!> would smooth a curved flow however small the move): as the grid stops
-!> moving each corner gets back m_ca u_a. The kinetic energy of a subcell goes
-!> with its volume in the same way. Hence, whatever the densities of the
-!> materials in a mixed cell:
-!>   - momentum is conserved (each old cell hands out m_c v_c and its
-!>     deviations, each exactly once);
-!>   - a uniform velocity stays uniform (v_c = u, no deviations, and every
-!>     new corner gets u times its mass);
+!> corners'). Velocity moves with the mass: a fragment cut from subcell a of
+!> an old cell carries, with its own mass m_f, the corner velocity u_a (plus
+!> a shift per old cell that makes the fragments hand out exactly the old
+!> cell's momentum sum_a m_ca u_a and kinetic energy: `subcell_shifts`). A
+!> new cell's mass M is shared among its corners by subcell volume (Eq. 16
+!> on the new grid), its momentum P the same way plus the deviations of the
+!> momentum that landed in each corner from what the landed mass carries at
+!> the cell's mean velocity P/M; the deviations are scaled down where a
+!> corner received more than its share of mass, so every corner velocity
+!> lies between the cell's mean and the velocity that landed in it
+!> (`assemble`). Hence, whatever the densities of the materials in a mixed
+!> cell:
+!>   - momentum is conserved (each old cell hands out its momentum exactly
+!>     once, each new cell's corners share exactly what it received);
+!>   - a uniform velocity stays uniform (every fragment carries u);
+!>   - no new extrema of velocity: every fragment carries an old corner's
+!>     velocity (shifted by the mismatch of corner and reconstructed masses),
+!>     every corner a mean of those;
+!>   - as the grid stops moving each corner gets back its own velocity (the
+!>     fragments of its own subcell land in it);
 !>   - nodal masses always match the cells (Eq. 16 after each remap): a
 !>     node next to a mixed cell gets its share of the cell's mean density,
 !>     the density its pressure acts on. A node's mass from the material
@@ -61,15 +64,16 @@
 !>     cell's pressure pushes, and the grid tangled in the next step; nodal
 !>     masses transported from the old ones drifted from the cells' through
 !>     the Lagrangian phases and crushed the core of a Sedov blast.
-
+!>
 !> A tangled old cell, or one the new grid does not cover, hands out its
 !> mean velocity instead. At each new node the difference between
 !> the remapped kinetic energy and 1/2 m u^2 of the new nodal momentum
-!> (what averaging velocities loses) is returned to the internal energy of
-!> the cells around the node in proportion to their corner masses. Mass,
-!> momentum and total energy are therefore conserved to round-off (velocity
-!> boundary conditions applied after the remap, and open faces, aside: both
-!> are reported).
+!> (what averaging velocities loses: never negative but for the shifts, by
+!> convexity) is returned to the internal energy of the cells around the
+!> node in proportion to their corner masses. Mass, momentum and total
+!> energy are therefore conserved to round-off (velocity boundary
+!> conditions applied after the remap, and open faces, aside: both are
+!> reported).
 !>
 !> Unchanged cells. A new cell identical to its old cell is copied (its
 !> material data too), and since the new cells tile the domain no other new
@@ -141,10 +145,11 @@ module remap_euler
     logical, allocatable :: changed(:)          !< cell moved (ncell)
     !> the cell's mean velocity v_c (3, ncell), carried with the mass
     real(wp), allocatable :: ucell(:, :)
-    !> per corner of a moved cell, per unit volume of its subcell: the
-    !> deviation m_ca (u_a - v_c) (3, 8, ncell) and its kinetic energy
-    !> m_ca |u_a - v_c|^2/2 (8, ncell), carried with the volume
-    real(wp), allocatable :: dev(:, :, :), kvol(:, :)
+    !> per moved cell: the velocity ushift(3, ncell) added to its corners'
+    !> and the kinetic energy per unit mass kshift(ncell) added to theirs, so
+    !> that fragments carrying them with their mass hand out exactly the
+    !> cell's momentum and kinetic energy (`subcell_shifts`)
+    real(wp), allocatable :: ushift(:, :), kshift(:)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
     !> covered by the new grid): their fragments carry only the mean velocity,
     !> and kinetic energy kcell per unit mass
@@ -184,7 +189,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
-                             cmass(:, :), cmom(:, :, :), cke(:, :), cdef(:, :), pcell(:, :)
+                             cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
+                             pcell(:, :)
     integer, allocatable :: todo(:), reach(:), open_face(:)
     logical, allocatable :: redo(:)
     real(wp) :: w0, vnew, defect, xn(3, 8), given
@@ -198,8 +204,8 @@ contains
     end if
     w0 = wall_seconds()
     allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
-             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cdef(8, ncell), pcell(4, ncell), &
-             reach(ncell), &
+             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
+             pcell(4, ncell), reach(ncell), &
              redo(ncell), open_face(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -300,10 +306,11 @@ contains
     stats%t_intersect = wall_seconds() - w0
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
     if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, &
-                                            cdef, cmom, cke, pcell, stats)
+                                            cdef, cmom, cke, cland, pcell, stats)
 
     w0 = wall_seconds()
-    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, pcell, stats, err)
+    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                  stats, err)
     stats%t_assemble = wall_seconds() - w0
 
   contains
@@ -317,11 +324,11 @@ contains
       integer :: ii, nn
       nn = size(cells)
       !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
-      !$omp amass, aie, cmom, cke, cdef, pcell) private(ii) schedule(dynamic, 4)
+      !$omp amass, aie, cmom, cland, cdef, pcell) private(ii) schedule(dynamic, 4)
       do ii = 1, nn
         call remap_new_cell(g, h, mx, old, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
                             amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), pcell(:, cells(ii)), &
-                            cmom(:, :, cells(ii)), cke(:, cells(ii)), cdef(:, cells(ii)))
+                            cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)))
       end do
       !$omp end parallel do
     end subroutine intersect_cells
@@ -387,7 +394,7 @@ contains
     ncell = g%ncell
     nreg = ncell + mx%nslot
     allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
-             old%dev(3, 8, ncell), old%kvol(8, ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
+             old%ushift(3, ncell), old%kshift(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
              stat=stat, errmsg=msg)
@@ -521,7 +528,7 @@ contains
     stats%mof_err_max = errmax
     if (par%linear) call material_gradients(g, h, mx, nmat, old, err)
     if (allocated(err)) return
-    call subcell_deviations(g, h, old)
+    call subcell_shifts(g, h, mx, old)
   end subroutine prepare_old
 
   !> Limited least-squares gradients of each material's density and energy
@@ -565,7 +572,7 @@ contains
       do c = 1, ncell
         if (h%mat(c) /= kmat .or. .not. need(c)) cycle
         old%grho(:, c) = grad(:, 1, c)
-        old%ge(:, c) = grad(:, 2, c)
+        old%ge(:, c) = grad(:, 2, c)*energy_factor(c, c)
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -573,51 +580,143 @@ contains
         do s = mx%start(k), mx%start(k + 1) - 1
           if (mx%mat(s) /= kmat) cycle
           old%grho(:, ncell + s) = grad(:, 1, c)
-          old%ge(:, ncell + s) = grad(:, 2, c)
+          old%ge(:, ncell + s) = grad(:, 2, c)*energy_factor(c, ncell + s)
         end do
       end do
     end do
+
+  contains
+
+    !> The factor on the limited energy gradient of region r (in cell c) that
+    !> keeps the remapped energies within the limiter's bounds. A fragment of
+    !> volume v whose centroid lies delta from the region's centroid gets the
+    !> mass v rho(x_f) and the energy m_f e + rho_r v ge.delta, so its
+    !> specific energy is e + (rho_r/rho(x_f)) ge.delta: where the density
+    !> falls across the region (a contact, a blast front) the energy
+    !> deviation is amplified by rho_r/rho(x_f), and a cold light gas next to
+    !> a dense one went negative (LeBlanc's tube). Scaling the gradient by
+    !> rho_min/rho_r, rho_min the smallest linear density at the cell's nodes
+    !> (the limited density is linear, so it is smallest at a node of the
+    !> cell, and the region lies within the cell), keeps the amplified
+    !> deviation within the limited one: every fragment's energy stays within
+    !> the old neighbours' bounds. Conservation is untouched (it holds for
+    !> any gradient).
+    real(wp) function energy_factor(c, r)
+      integer, intent(in) :: c, r
+      real(wp) :: xn(3, 8), rho_min
+      integer :: a_
+      call g%gather(c, g%x, xn)
+      rho_min = old%rho(r)
+      do a_ = 1, 8
+        rho_min = min(rho_min, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
+      end do
+      energy_factor = 0.0_wp
+      if (old%rho(r) > 0.0_wp) energy_factor = max(rho_min, 0.0_wp)/old%rho(r)
+    end function energy_factor
   end subroutine material_gradients
 
-  !> Per corner of a moved old cell: its momentum deviation m_ca (u_a - v_c)
-  !> and kinetic energy m_ca |u_a|^2/2 per unit volume of its subcell (the six
-  !> halves of the 24-split at the node, Fig. 11: the same pieces the
-  !> fragments are cut from, so the fragments of a subcell add up to its
-  !> volume). A tangled cell (an inverted half) hands out its mean velocity
-  !> only (uniform).
-  subroutine subcell_deviations(g, h, old)
+  !> The velocity a moved old cell's fragments carry. A fragment of subcell
+  !> a (the six halves of the 24-split at node a, Fig. 11) carries, with its
+  !> own mass m_f from the material reconstruction, the velocity u_a + s_c
+  !> and the kinetic energy per unit mass |u_a + s_c|^2/2 + k_c. The cell's
+  !> momentum is sum_a m_ca u_a with its corner masses m_ca (Eq. 16), but
+  !> the reconstruction puts the mass M_a in subcell a (the density's
+  !> gradient, the materials' regions in a mixed cell, the subcells' volume
+  !> changes since the corner masses were set); the shifts
+  !>   s_c = sum_a (m_ca - M_a) u_a / m_c,
+  !>   k_c = (sum_a m_ca |u_a|^2/2 - sum_a M_a |u_a + s_c|^2/2) / m_c
+  !> make the fragments hand out exactly the cell's momentum and kinetic
+  !> energy (sum_a M_a = m_c). Carrying velocity with the mass that moves
+  !> (rather than momentum with volume) keeps every fragment's velocity a
+  !> shifted corner velocity, whatever the densities: momentum carried with
+  !> the volume of a subcell whose mean density is far above the material
+  !> that lies in it (the air side of a mixed cell, the cold side of a
+  !> contact) gave that material a velocity far beyond any old one, and the
+  !> kinetic energy the nodes then lacked drove the internal energy
+  !> negative. A uniform velocity has s_c = 0 and k_c = 0: it stays uniform
+  !> exactly. A tangled cell (an inverted half) hands out its mean velocity
+  !> and kinetic energy per unit mass only (uniform).
+  subroutine subcell_shifts(g, h, mx, old)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
-    real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), vsub(8), v
-    integer :: c, j, i, n, hv(4, 48), corner(48)
+    real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
+                ua(3, 8), mc, kc, ksum
+    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, kk
+    type(poly_t) :: p
 
-    !$omp parallel do default(none) shared(g, h, old) private(c, j, i, n, xn, pts, hv, corner, t, vsub, v) &
-    !$omp schedule(static)
+    !$omp parallel do default(none) shared(g, h, mx, old) &
+    !$omp private(c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, &
+    !$omp kk, p) schedule(dynamic, 16)
     do c = 1, g%ncell
-      old%dev(:, :, c) = 0.0_wp
-      old%kvol(:, c) = 0.0_wp
+      old%ushift(:, c) = 0.0_wp
+      old%kshift(c) = 0.0_wp
       if (.not. old%changed(c)) cycle
       call g%gather(c, g%x, xn)
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
       call half_tets(xn, pts, hv, corner)
-      vsub = 0.0_wp
+      ! the reconstruction's mass in each subcell
+      msub = 0.0_wp
+      call region_slots(h, mx, c, s0, s1)
       do i = 1, 48
         do j = 1, 4
           t(:, j) = pts(:, hv(j, i))
         end do
         v = tet_det(t)
         if (.not. v > 0.0_wp) old%uniform(c) = .true.
-        vsub(corner(i)) = vsub(corner(i)) + v/6.0_wp
+        if (old%uniform(c)) exit
+        if (s0 == 0) then
+          v = v/6.0_wp
+          m = 0.25_wp*v*sum(t, 2)
+          msub(corner(i)) = msub(corner(i)) + region_mass(c, v, m, o)
+          cycle
+        end if
+        do s = s0, s1
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+          call region_planes(old, s0, s, o, pn, pd, nm)
+          call poly_set_tet(p, t)
+          do kk = 1, nm
+            call poly_clip(p, pn(:, kk), pd(kk))
+            if (p%nv == 0) exit
+          end do
+          if (p%nv == 0) cycle
+          call poly_first_moments(p, v, m)
+          msub(corner(i)) = msub(corner(i)) + region_mass(g%ncell + s, v, m, o)
+        end do
       end do
       if (old%uniform(c)) cycle
       n = g%node0(c)
+      mc = sum(h%mcorner(:, c))
       do j = 1, 8
-        old%dev(:, j, c) = h%mcorner(j, c)*(h%u(:, n + g%corner_offset(j)) - old%ucell(:, c))/vsub(j)
-        old%kvol(j, c) = 0.5_wp*h%mcorner(j, c)*sum((h%u(:, n + g%corner_offset(j)) - old%ucell(:, c))**2)/vsub(j)
+        ua(:, j) = h%u(:, n + g%corner_offset(j))
+        old%ushift(:, c) = old%ushift(:, c) + (h%mcorner(j, c) - msub(j))*ua(:, j)
       end do
+      old%ushift(:, c) = old%ushift(:, c)/mc
+      kc = 0.0_wp
+      ksum = 0.0_wp
+      do j = 1, 8
+        kc = kc + 0.5_wp*h%mcorner(j, c)*dot_product(ua(:, j), ua(:, j))
+        ksum = ksum + 0.5_wp*msub(j)*sum((ua(:, j) + old%ushift(:, c))**2)
+      end do
+      old%kshift(c) = (kc - ksum)/mc
     end do
     !$omp end parallel do
-  end subroutine subcell_deviations
+
+  contains
+
+    !> The reconstructed mass of region r in a piece of volume v and first
+    !> moment m (both about the cell's centre o), as `deposit` computes it.
+    !> (o passed: the loop's private copy, not the host's)
+    real(wp) function region_mass(r, v, m, o)
+      integer, intent(in) :: r
+      real(wp), intent(in) :: v, m(3), o(3)
+      region_mass = old%rho(r)*v + dot_product(old%grho(:, r), m - (old%xr(:, r) - o)*v)
+    end function region_mass
+  end subroutine subcell_shifts
 
   !> The regions of cell c as a slot range: s0 = s1 = 0 for a pure cell (its
   !> one region is the cell), else its first and last mixed-cell slot.
@@ -664,7 +763,7 @@ contains
   !> corner the momentum deviations and kinetic energy carried with the
   !> volume.
   subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, pcell, &
-                            cmom, cke, cdef)
+                            cmom, cland, cdef)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
@@ -673,13 +772,13 @@ contains
     real(wp), intent(in) :: given_sign
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: c, reach
-    real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), pcell(:), cmom(:, :), cke(:)
+    real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), pcell(:), cmom(:, :), cland(:)
     !> per corner: its volume less what the old grid gave it (a gap at an open face)
     real(wp), intent(out) :: cdef(:)
     real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
-                od(4, 48), ub(3), devb(3), kemb, kevb
+                od(4, 48), ub(3), kemb
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
@@ -751,7 +850,7 @@ contains
     aie = 0.0_wp
     pcell = 0.0_wp
     cmom = 0.0_wp
-    cke = 0.0_wp
+    cland = 0.0_wp
     cdef = 0.0_wp
     if (box) then
       do t = 1, 8
@@ -806,15 +905,13 @@ contains
               if (.not. abs(osg(i)) > 0.0_wp) cycle
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
-              ub = old%ucell(:, co)
+              ! the velocity and kinetic energy per unit mass its fragments carry
               if (old%uniform(co)) then
-                devb = 0.0_wp
+                ub = old%ucell(:, co)
                 kemb = old%kcell(co)
-                kevb = 0.0_wp
               else
-                devb = old%dev(:, ocorner(i), co)
-                kemb = 0.5_wp*dot_product(ub, ub)
-                kevb = old%kvol(ocorner(i), co)
+                ub = h%u(:, g%node0(co) + g%corner_offset(ocorner(i))) + old%ushift(:, co)
+                kemb = 0.5_wp*dot_product(ub, ub) + old%kshift(co)
               end if
               if (box) then
                 do j = 1, 4
@@ -981,12 +1078,12 @@ contains
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
       aie(kmat) = aie(kmat) + fie
-      ! momentum: the mean velocity with the mass, the subcell's deviation
-      ! and kinetic energy with the volume (uniform cells: with the mass)
+      ! velocity and kinetic energy with the mass: the cell's totals, and
+      ! the mass and momentum that landed in each of its corners
       pcell(1:3) = pcell(1:3) + fm*ub
       pcell(4) = pcell(4) + fm*kemb
-      cmom(:, a) = cmom(:, a) + vf*devb
-      cke(a) = cke(a) + vf*kevb
+      cmom(:, a) = cmom(:, a) + fm*ub
+      cland(a) = cland(a) + fm
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
         given(kreg) = given(kreg) + nint(given_sign*vf/old%gunit(kreg), i8)
@@ -1085,7 +1182,8 @@ contains
   !> with the state of the old cell next to it (its largest material, its
   !> velocity): zero-gradient extrapolation. The gap's centroid is taken as
   !> the new cell's centre (it only steers MoF in mixed boundary cells).
-  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmom, cke, pcell, stats)
+  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmom, cke, cland, pcell, &
+                        stats)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
@@ -1094,7 +1192,7 @@ contains
     real(wp), intent(in) :: xnew(:, :), cdef(:, :)
     integer, intent(in) :: open_face(:)
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmom(:, :, :), cke(:, :), &
-                               pcell(:, :)
+                               cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     real(wp) :: m_old, p_old(3), e_old, m_new, p_new(3), e_new, xn(3, 8), vcell, rho, e, u(3), dm
     integer :: c, n, a, f, k, ks
@@ -1118,11 +1216,18 @@ contains
         m_new = m_new + h%mass(c)
         e_new = e_new + h%mass(c)*h%e(c)
       end if
-      e_new = e_new + sum(cke(:, c)) + pcell(4, c)
-      p_new = p_new + pcell(1:3, c)
-      do a = 1, 8
-        p_new = p_new + cmom(:, a, c)
-      end do
+      ! a changed cell's momentum and kinetic energy are its totals (its
+      ! corners hold what landed in them, part of those), an unchanged
+      ! cell's its corners'
+      if (old%changed(c)) then
+        e_new = e_new + pcell(4, c)
+        p_new = p_new + pcell(1:3, c)
+      else
+        e_new = e_new + sum(cke(:, c))
+        do a = 1, 8
+          p_new = p_new + cmom(:, a, c)
+        end do
+      end if
     end do
     stats%mass_out = m_old - m_new
     stats%momentum_out = p_old - p_new
@@ -1161,6 +1266,8 @@ contains
         aie(k, c) = aie(k, c) + dm*e
         pcell(1:3, c) = pcell(1:3, c) + dm*u
         pcell(4, c) = pcell(4, c) + 0.5_wp*dm*dot_product(u, u)
+        cmom(:, a, c) = cmom(:, a, c) + dm*u
+        cland(a, c) = cland(a, c) + dm
         stats%mass_in = stats%mass_in + dm
         stats%momentum_in = stats%momentum_in + dm*u
         stats%energy_in = stats%energy_in + dm*(e + 0.5_wp*dot_product(u, u))
@@ -1170,8 +1277,8 @@ contains
 
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
-  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, pcell, stats, &
-                      err)
+  subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                      stats, err)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -1182,14 +1289,14 @@ contains
     type(remap_params_t), intent(in) :: par
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
-    real(wp), intent(in) :: pcell(:, :)
+    real(wp), intent(in) :: cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:)
-    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
     logical :: keep(max_mat)
@@ -1253,21 +1360,45 @@ contains
         node_changed(n + g%corner_offset(a)) = .true.
       end do
     end do
-    ! a changed cell's corners: its new mass and the momentum carried with
-    ! the mass shared by subcell volume (Eq. 16 on the new grid), plus the
-    ! deviations that landed in them
-    !$omp parallel do default(none) shared(g, old, xnew, amass, pcell, cmass, cmom, cke, ncell) private(c, xn, vs, mnew, a) &
-    !$omp schedule(static)
+    ! a changed cell's corners: its new mass M shared by subcell volume
+    ! (Eq. 16 on the new grid), its momentum P shared the same way plus the
+    ! landed momenta's deviations from its mean velocity V = P/M:
+    !   p_a = w_a P + theta (Q_a - L_a V),
+    ! w_a the subcell's volume share, L_a and Q_a the mass and momentum that
+    ! landed in the corner. The deviations add up to zero (momentum is
+    ! conserved); with theta = 1 a corner whose subcell received the mass
+    ! Eq. 16 gives it keeps the velocity that landed (the remap tends to
+    ! the identity as the grid stops moving). A corner that received more
+    ! than its share of mass (L_a > w_a M: a subcell of the new cell in the
+    ! dense part of a contact) would amplify the deviation by L_a/(w_a M);
+    ! theta = min(1, min_a w_a M/L_a) keeps every corner's velocity between
+    ! V and the landed one, within the old velocities. The corner's kinetic
+    ! energy is its own, |p_a|^2/(2 w_a M), plus its volume share of what the
+    ! cell received beyond their sum (never negative but for the shifts'
+    ! round-off: by convexity the corners hold at most the fragments'
+    ! kinetic energy), so that a node gets at least its kinetic energy.
+    !$omp parallel do default(none) shared(g, old, xnew, amass, pcell, cmass, cmom, cke, cland, ncell) &
+    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus) schedule(static)
     do c = 1, ncell
       if (.not. old%changed(c)) cycle
       call g%gather(c, xnew, xn)
       call hex_subcell_volumes(xn, vs)
       vs = vs/sum(vs)
       mnew = sum(amass(:, c))
+      vmean = pcell(1:3, c)/mnew
+      theta = 1.0_wp
+      do a = 1, 8
+        if (abs(cland(a, c)) > vs(a)*mnew) theta = min(theta, vs(a)*mnew/abs(cland(a, c)))
+      end do
+      surplus = pcell(4, c)
       do a = 1, 8
         cmass(a, c) = mnew*vs(a)
-        cmom(:, a, c) = cmom(:, a, c) + vs(a)*pcell(1:3, c)
-        cke(a, c) = cke(a, c) + vs(a)*pcell(4, c)
+        cmom(:, a, c) = vs(a)*pcell(1:3, c) + theta*(cmom(:, a, c) - cland(a, c)*vmean)
+        cke(a, c) = 0.5_wp*dot_product(cmom(:, a, c), cmom(:, a, c))/cmass(a, c)
+        surplus = surplus - cke(a, c)
+      end do
+      do a = 1, 8
+        cke(a, c) = cke(a, c) + vs(a)*surplus
       end do
     end do
     !$omp end parallel do
@@ -1311,8 +1442,8 @@ contains
 
     ! The kinetic energy averaging returns (dk > 0) goes to the cells around
     ! the node by corner mass. Where the node's new kinetic energy exceeds
-    ! what it received (dk < 0: the nodal masses, reset by Eq. 16, differ from
-    ! the masses the momentum came with), the difference is taken from the
+    ! what it received (dk < 0: only through the shifts of `subcell_shifts`,
+    ! or a tangled cell's negative pieces), the difference is taken from the
     ! internal energy the cells around it have above zero, each cell offering
     ! an eighth of its own to each of its nodes, so that no cell (and, below,
     ! no material) is driven negative by it; only a deficit larger than all
