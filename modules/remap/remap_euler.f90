@@ -86,7 +86,7 @@ module remap_euler
   use base_errors, only: error_t, error_set
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
-  use mesh_grid, only: grid_t, block_gather
+  use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
   use mesh_geometry, only: hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
   use material_mixed, only: mixed_t, mixed_allocate
@@ -150,6 +150,14 @@ module remap_euler
     !> that fragments carrying them with their mass hand out exactly the
     !> cell's momentum and kinetic energy (`subcell_shifts`)
     real(wp), allocatable :: ushift(:, :), kshift(:)
+    !> the velocity's linear part about each node (the second order of the
+    !> velocity remap, `velocity_gradients`): its limited gradient
+    !> gu(3, 3, nnode) (gu(:, i, n) that of component i) about the point
+    !> xdual(3, nnode); and per corner of a moved cell its subcell's volume
+    !> and first moment weighted by the regions' smallest densities,
+    !> wv(8, ncell) and ws(3, 8, ncell), whose sums over a node's corners
+    !> make xdual
+    real(wp), allocatable :: gu(:, :, :), xdual(:, :), wv(:, :), ws(:, :, :)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
     !> covered by the new grid): their fragments carry only the mean velocity,
     !> and kinetic energy kcell per unit mass
@@ -159,6 +167,7 @@ module remap_euler
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
     real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
+    real(wp), allocatable :: wreg(:)            !< smallest density of the region's reconstruction (`region_floors`)
     real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
     !> volume given away (ncell + nslot), in units of 2^-50 of the region's
@@ -297,7 +306,13 @@ contains
         if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
           co = c
           if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-          call mark_window(co, stats%reach)
+          ! its nodes lose the velocity's linear part (it would no longer
+          ! add up to zero over them), so every new cell that a fragment
+          ! of a cell next to it may have reached is done again
+          do i = 1, 8
+            old%gu(:, :, g%node0(co) + g%corner_offset(i)) = 0.0_wp
+          end do
+          call mark_window(co, stats%reach + 1)
         end if
       end do
       todo = pack([(c, c = 1, ncell)], redo .and. old%changed)
@@ -394,7 +409,8 @@ contains
     ncell = g%ncell
     nreg = ncell + mx%nslot
     allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
-             old%ushift(3, ncell), old%kshift(ncell), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
+             old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
+             old%wv(8, ncell), old%ws(3, 8, ncell), old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
              stat=stat, errmsg=msg)
@@ -413,6 +429,7 @@ contains
     old%vreg = 0.0_wp
     old%grho = 0.0_wp
     old%ge = 0.0_wp
+    old%wreg = 0.0_wp
 
     ! changed cells
     !$omp parallel do default(none) shared(g, xnew, old) private(c, n, a_) schedule(static)
@@ -528,8 +545,69 @@ contains
     stats%mof_err_max = errmax
     if (par%linear) call material_gradients(g, h, mx, nmat, old, err)
     if (allocated(err)) return
+    call region_floors(g, h, mx, old)
     call subcell_shifts(g, h, mx, old)
+    old%gu = 0.0_wp
+    if (par%linear) call velocity_gradients(g, old, h%u, err)
   end subroutine prepare_old
+
+  !> Each region's smallest density wreg: its limited linear density's
+  !> smallest value at the cell's nodes (the density is linear, so it is
+  !> smallest at a node of the cell, and the region lies within the cell).
+  !> A fragment of volume v whose centroid lies delta from the region's
+  !> centroid gets the mass v rho(x_f) and the energy m_f e + rho_r v
+  !> ge.delta, so its specific energy is e + (rho_r/rho(x_f)) ge.delta:
+  !> where the density falls across the region (a contact, a blast front)
+  !> the energy deviation is amplified by rho_r/rho(x_f), and a cold light
+  !> gas next to a dense one went negative (LeBlanc's tube). Scaling the
+  !> energy gradient by wreg/rho_r keeps the amplified deviation within the
+  !> limited one: every fragment's energy stays within the old neighbours'
+  !> bounds. The velocity's linear part is weighted the same way
+  !> (`deposit`). Conservation is untouched (it holds for any gradient).
+  subroutine region_floors(g, h, mx, old)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(inout) :: old
+    real(wp) :: xn(3, 8)
+    integer :: c, s, s0, s1
+
+    !$omp parallel do default(none) shared(g, h, mx, old) private(c, s, s0, s1, xn) schedule(static)
+    do c = 1, g%ncell
+      if (.not. old%changed(c)) cycle
+      call g%gather(c, g%x, xn)
+      call region_slots(h, mx, c, s0, s1)
+      if (s0 == 0) then
+        call floor_of(c, xn)
+      else
+        do s = s0, s1
+          call floor_of(g%ncell + s, xn)
+        end do
+      end if
+    end do
+    !$omp end parallel do
+
+  contains
+
+    !> Region r of the cell with nodes xn (passed: the loop's private copy,
+    !> which host association would not see).
+    subroutine floor_of(r, xn)
+      integer, intent(in) :: r
+      real(wp), intent(in) :: xn(3, 8)
+      integer :: a_
+      real(wp) :: rmin
+      rmin = old%rho(r)
+      do a_ = 1, 8
+        rmin = min(rmin, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
+      end do
+      old%wreg(r) = max(rmin, 0.0_wp)
+      if (old%rho(r) > 0.0_wp) then
+        old%ge(:, r) = old%ge(:, r)*old%wreg(r)/old%rho(r)
+      else
+        old%ge(:, r) = 0.0_wp
+      end if
+    end subroutine floor_of
+  end subroutine region_floors
 
   !> Limited least-squares gradients of each material's density and energy
   !> about the region centroids, over the cells that hold the material.
@@ -572,7 +650,7 @@ contains
       do c = 1, ncell
         if (h%mat(c) /= kmat .or. .not. need(c)) cycle
         old%grho(:, c) = grad(:, 1, c)
-        old%ge(:, c) = grad(:, 2, c)*energy_factor(c, c)
+        old%ge(:, c) = grad(:, 2, c)
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -580,39 +658,11 @@ contains
         do s = mx%start(k), mx%start(k + 1) - 1
           if (mx%mat(s) /= kmat) cycle
           old%grho(:, ncell + s) = grad(:, 1, c)
-          old%ge(:, ncell + s) = grad(:, 2, c)*energy_factor(c, ncell + s)
+          old%ge(:, ncell + s) = grad(:, 2, c)
         end do
       end do
     end do
 
-  contains
-
-    !> The factor on the limited energy gradient of region r (in cell c) that
-    !> keeps the remapped energies within the limiter's bounds. A fragment of
-    !> volume v whose centroid lies delta from the region's centroid gets the
-    !> mass v rho(x_f) and the energy m_f e + rho_r v ge.delta, so its
-    !> specific energy is e + (rho_r/rho(x_f)) ge.delta: where the density
-    !> falls across the region (a contact, a blast front) the energy
-    !> deviation is amplified by rho_r/rho(x_f), and a cold light gas next to
-    !> a dense one went negative (LeBlanc's tube). Scaling the gradient by
-    !> rho_min/rho_r, rho_min the smallest linear density at the cell's nodes
-    !> (the limited density is linear, so it is smallest at a node of the
-    !> cell, and the region lies within the cell), keeps the amplified
-    !> deviation within the limited one: every fragment's energy stays within
-    !> the old neighbours' bounds. Conservation is untouched (it holds for
-    !> any gradient).
-    real(wp) function energy_factor(c, r)
-      integer, intent(in) :: c, r
-      real(wp) :: xn(3, 8), rho_min
-      integer :: a_
-      call g%gather(c, g%x, xn)
-      rho_min = old%rho(r)
-      do a_ = 1, 8
-        rho_min = min(rho_min, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
-      end do
-      energy_factor = 0.0_wp
-      if (old%rho(r) > 0.0_wp) energy_factor = max(rho_min, 0.0_wp)/old%rho(r)
-    end function energy_factor
   end subroutine material_gradients
 
   !> The velocity a moved old cell's fragments carry. A fragment of subcell
@@ -652,6 +702,8 @@ contains
     do c = 1, g%ncell
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
+      old%wv(:, c) = 0.0_wp
+      old%ws(:, :, c) = 0.0_wp
       if (.not. old%changed(c)) cycle
       call g%gather(c, g%x, xn)
       o = sum(xn, 2)/8.0_wp
@@ -673,6 +725,8 @@ contains
           v = v/6.0_wp
           m = 0.25_wp*v*sum(t, 2)
           msub(corner(i)) = msub(corner(i)) + region_mass(c, v, m, o)
+          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(c)*v
+          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(c)*(m + o*v)
           cycle
         end if
         do s = s0, s1
@@ -686,9 +740,15 @@ contains
           if (p%nv == 0) cycle
           call poly_first_moments(p, v, m)
           msub(corner(i)) = msub(corner(i)) + region_mass(g%ncell + s, v, m, o)
+          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(g%ncell + s)*v
+          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
         end do
       end do
-      if (old%uniform(c)) cycle
+      if (old%uniform(c)) then
+        old%wv(:, c) = 0.0_wp
+        old%ws(:, :, c) = 0.0_wp
+        cycle
+      end if
       n = g%node0(c)
       mc = sum(h%mcorner(:, c))
       do j = 1, 8
@@ -717,6 +777,78 @@ contains
       region_mass = old%rho(r)*v + dot_product(old%grho(:, r), m - (old%xr(:, r) - o)*v)
     end function region_mass
   end subroutine subcell_shifts
+
+  !> The second-order part of the velocity remap: about each node n, the
+  !> velocity u_n + G_n (x - X_n) over its control volume (the subcells
+  !> around it, Fig. 11), G_n the limited least-squares gradient over the
+  !> neighbouring nodes (`remap_limited_gradients` on the dual block: its
+  !> cells are the nodes, its nodes the cell centres, face centres and edge
+  !> midpoints around them; Barth-Jespersen keeps u_n + G_n (x - X_n) at the
+  !> dual cell's corners within the neighbours' velocities). A fragment of a
+  !> region r of that control volume (volume v, first moment m) adds
+  !>   w_r G_n (m - X_n v)
+  !> to the momentum it carries (`deposit`), w_r the region's smallest
+  !> density (`region_floors`): its velocity is then u + (w_r/rho(x_f))
+  !> G_n (x_f - X_n), within the limited range whatever the densities, and
+  !> X_n, the centroid of the moved subcells around n weighted by w_r, makes
+  !> these terms add up to zero over the node: momentum is conserved exactly
+  !> (and the kinetic energy terms u_n . w_r G_n (m - X_n v) with it). A
+  !> uniform velocity has G_n = 0. Subcells of unchanged or tangled cells
+  !> (copied, or handing out their mean velocity) take no part.
+  subroutine velocity_gradients(g, old, u, err)
+    type(grid_t), intent(in) :: g
+    type(old_t), intent(inout) :: old
+    real(wp), intent(in) :: u(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: wsum(:), xd(:, :)
+    logical, allocatable :: has(:)
+    type(grid_index_t) :: dual
+    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat
+    character(len=200) :: msg
+
+    allocate(wsum(g%nnode), has(g%nnode), xd(3, (g%ni + 2)*(g%nj + 2)*(g%nk + 2)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the velocity gradient work arrays: '//trim(msg))
+      return
+    end if
+    wsum = 0.0_wp
+    old%xdual = 0.0_wp
+    do c = 1, g%ncell
+      n = g%node0(c)
+      do a = 1, 8
+        wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
+        old%xdual(:, n + g%corner_offset(a)) = old%xdual(:, n + g%corner_offset(a)) + old%ws(:, a, c)
+      end do
+    end do
+    has = wsum > 0.0_wp
+    do n = 1, g%nnode
+      if (has(n)) old%xdual(:, n) = old%xdual(:, n)/wsum(n)
+    end do
+    if (.not. any(has)) return
+    ! the dual block's nodes: the mean of the grid nodes (i, j, k) with
+    ! i in {I-1, I} within 0..ni (and so on): cell centres inside, face
+    ! centres, edge midpoints and the nodes themselves on the boundary
+    dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
+    do k = 0, g%nk + 1
+      do j = 0, g%nj + 1
+        do i = 0, g%ni + 1
+          m = dual%node(i, j, k)
+          xd(:, m) = 0.0_wp
+          a = 0
+          do dk_ = max(k - 1, 0), min(k, g%nk)
+            do dj = max(j - 1, 0), min(j, g%nj)
+              do di = max(i - 1, 0), min(i, g%ni)
+                xd(:, m) = xd(:, m) + g%x(:, g%node(di, dj, dk_))
+                a = a + 1
+              end do
+            end do
+          end do
+          xd(:, m) = xd(:, m)/real(a, wp)
+        end do
+      end do
+    end do
+    call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err)
+  end subroutine velocity_gradients
 
   !> The regions of cell c as a slot range: s0 = s1 = 0 for a pure cell (its
   !> one region is the cell), else its first and last mixed-cell slot.
@@ -778,11 +910,11 @@ contains
     real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
-                od(4, 48), ub(3), kemb
+                od(4, 48), ub(3), kemb, wb
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg
+               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb
     logical :: box
 
     call g%cell_ijk(c, ci, cj, ck)
@@ -906,12 +1038,16 @@ contains
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
               ! the velocity and kinetic energy per unit mass its fragments carry
+              ! (and, about the subcell's node nb, the velocity's linear part)
+              nb = g%node0(co) + g%corner_offset(ocorner(i))
               if (old%uniform(co)) then
                 ub = old%ucell(:, co)
                 kemb = old%kcell(co)
+                wb = 0.0_wp
               else
-                ub = h%u(:, g%node0(co) + g%corner_offset(ocorner(i))) + old%ushift(:, co)
+                ub = h%u(:, nb) + old%ushift(:, co)
                 kemb = 0.5_wp*dot_product(ub, ub) + old%kshift(co)
+                wb = old%wreg(kreg)
               end if
               if (box) then
                 do j = 1, 4
@@ -1068,7 +1204,8 @@ contains
     subroutine deposit(vf, mf, a)
       real(wp), intent(in) :: vf, mf(3)
       integer, intent(in) :: a
-      real(wp) :: dm(3), fm, fie, sc
+      real(wp) :: dm(3), fm, fie, sc, plin(3)
+      integer :: j_
       sc = old%scale(kreg)
       dm = mf - (old%xr(:, kreg) - o)*vf
       fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
@@ -1078,11 +1215,19 @@ contains
       amom(:, kmat) = amom(:, kmat) + mf
       amass(kmat) = amass(kmat) + fm
       aie(kmat) = aie(kmat) + fie
-      ! velocity and kinetic energy with the mass: the cell's totals, and
-      ! the mass and momentum that landed in each of its corners
-      pcell(1:3) = pcell(1:3) + fm*ub
-      pcell(4) = pcell(4) + fm*kemb
-      cmom(:, a) = cmom(:, a) + fm*ub
+      ! velocity and kinetic energy with the mass (plus the velocity's linear
+      ! part about the old node: `velocity_gradients`): the cell's totals,
+      ! and the mass and momentum that landed in each of its corners
+      plin = 0.0_wp
+      if (wb > 0.0_wp) then
+        dm = mf - (old%xdual(:, nb) - o)*vf
+        do j_ = 1, 3
+          plin(j_) = wb*dot_product(old%gu(:, j_, nb), dm)
+        end do
+      end if
+      pcell(1:3) = pcell(1:3) + fm*ub + plin
+      pcell(4) = pcell(4) + fm*kemb + dot_product(h%u(:, nb), plin)
+      cmom(:, a) = cmom(:, a) + fm*ub + plin
       cland(a) = cland(a) + fm
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
@@ -1295,8 +1440,8 @@ contains
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
-    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:)
-    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus
+    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:)
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
     logical :: keep(max_mat)
@@ -1346,13 +1491,14 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), stat=stat, &
+    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), kdef(ncell), stat=stat, &
              errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
       return
     end if
     node_changed = .false.
+    kdef = 0.0_wp
     do c = 1, ncell
       if (.not. old%changed(c)) cycle
       n = g%node0(c)
@@ -1377,8 +1523,8 @@ contains
     ! cell received beyond their sum (never negative but for the shifts'
     ! round-off: by convexity the corners hold at most the fragments'
     ! kinetic energy), so that a node gets at least its kinetic energy.
-    !$omp parallel do default(none) shared(g, old, xnew, amass, pcell, cmass, cmom, cke, cland, ncell) &
-    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus) schedule(static)
+    !$omp parallel do default(none) shared(g, old, xnew, amass, aie, pcell, cmass, cmom, cke, cland, kdef, ncell) &
+    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean) schedule(static)
     do c = 1, ncell
       if (.not. old%changed(c)) cycle
       call g%gather(c, xnew, xn)
@@ -1387,9 +1533,21 @@ contains
       mnew = sum(amass(:, c))
       vmean = pcell(1:3, c)/mnew
       theta = 1.0_wp
+      kdev = 0.0_wp
       do a = 1, 8
         if (abs(cland(a, c)) > vs(a)*mnew) theta = min(theta, vs(a)*mnew/abs(cland(a, c)))
+        kdev = kdev + 0.5_wp*sum((cmom(:, a, c) - cland(a, c)*vmean)**2)/(vs(a)*mnew)
       end do
+      ! The corners' kinetic energy is 1/2 M |V|^2 + theta^2 kdev (the
+      ! deviations add up to zero). The velocity's linear part hands out its
+      ! kinetic energy to first order only, so the corners may hold more
+      ! than the cell received; the cell pays the difference from its own
+      ! internal energy (kdef), at most half of it (theta is reduced
+      ! further where it would take more: in a cold gas any larger deficit
+      ! drove the energy negative), and its nodes get at least their own
+      ! kinetic energy, never a deficit to take from the cells around.
+      kmean = pcell(4, c) - 0.5_wp*mnew*dot_product(vmean, vmean) + 0.5_wp*sum(max(aie(:, c), 0.0_wp))
+      if (theta**2*kdev > kmean) theta = sqrt(max(kmean, 0.0_wp)/kdev)
       surplus = pcell(4, c)
       do a = 1, 8
         cmass(a, c) = mnew*vs(a)
@@ -1397,8 +1555,9 @@ contains
         cke(a, c) = 0.5_wp*dot_product(cmom(:, a, c), cmom(:, a, c))/cmass(a, c)
         surplus = surplus - cke(a, c)
       end do
+      kdef(c) = min(surplus, 0.0_wp)
       do a = 1, 8
-        cke(a, c) = cke(a, c) + vs(a)*surplus
+        cke(a, c) = cke(a, c) + vs(a)*max(surplus, 0.0_wp)
       end do
     end do
     !$omp end parallel do
@@ -1462,19 +1621,20 @@ contains
     do c = 1, ncell
       n = g%node0(c)
       do a = 1, 8
-        navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*avail(c)
+        navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*(avail(c) + kdef(c))
       end do
     end do
     do c = 1, ncell
       n = g%node0(c)
       ie(c) = 0.0_wp
-      iav(c) = 0.0_wp
+      ! what the cell pays for its corners' kinetic energy, by positive energy
+      iav(c) = kdef(c)
       do a = 1, 8
         if (.not. node_changed(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
         if (take < 0.0_wp .and. navail(n + g%corner_offset(a)) > 0.0_wp) then
           frac = min(1.0_wp, -take/navail(n + g%corner_offset(a)))
-          iav(c) = iav(c) - frac*0.125_wp*avail(c)
+          iav(c) = iav(c) - frac*0.125_wp*(avail(c) + kdef(c))
           take = take + frac*navail(n + g%corner_offset(a))
         end if
         ie(c) = ie(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
