@@ -118,9 +118,10 @@ contains
     type(remap_stats_t) :: rs
     real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3), t_rezone
     real(wp), allocatable :: xnew(:, :)
-    integer :: n, f, nmove
+    integer :: n, f, nmove, stat
     logical :: done
     character(len=400) :: line
+    character(len=200) :: msg
 
     call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
     call es%timer%start()
@@ -147,7 +148,12 @@ contains
     else
       ! back to the initial grid, except where a face moves with the
       ! material (a piston, a free surface): there the grid follows it
-      allocate(xnew, mold=es%x0)
+      allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'euler_step', 'cannot allocate the rezoned grid: '//trim(msg))
+        call es%timer%stop()
+        return
+      end if
       call global_target(st%g%ni, st%g%nj, st%g%nk, [(global_face_rule(st%bc%kind(f)), f = 1, 6)], es%x0, &
                          st%g%x, xnew, nmove, err)
       if (allocated(err)) then

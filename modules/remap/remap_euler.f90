@@ -77,6 +77,18 @@
 !> and a node whose eight cells are all unchanged keeps its mass and velocity
 !> bit for bit. Only the changed cells are intersected, which is what makes a
 !> localized remap (LSSM) cheap.
+!>
+!> Open faces (inflow, outflow). The Lagrangian boundary at an open face may
+!> have moved any number of cells from the face the new grid puts back. A
+!> new cell that reaches past the old face's innermost point may lie partly
+!> in the gap between them: if its fragments fall short it is intersected
+!> again with a window that holds every old cell whose bounding box meets
+!> its own (`remap_bins`), and what is then still missing is gap, filled
+!> with the inflow state or, at an outflow face, with the state of the old
+!> cell at the face on the same grid line. An old cell that reaches past the
+!> new face's innermost point may give less than its volume: the rest has
+!> left the domain. Everywhere else a new cell not covered, or an old cell
+!> wholly outside the new grid, is still an error.
 module remap_euler
   use base_kinds, only: wp, i8
   use base_errors, only: error_t, error_set
