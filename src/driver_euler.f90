@@ -1,5 +1,6 @@
 !> The Euler phase in the time loop: when to run it (the paper's triggers,
-!> or an interval), the rezone (back to the initial grid, or smoothing of the
+!> or an interval), the rezone (back to the initial grid, with moving faces
+!> followed (`rezone_global`), or smoothing of the
 !> distorted subdomains (LSSM) or of the whole grid), the remap
 !> (`remap_euler`), the material state after it, the conservation check and
 !> the log.
@@ -13,6 +14,7 @@ module driver_euler
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_config, only: rezone_config_t
+  use rezone_global, only: global_target, global_face_rule
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
                            smooth_tfi, smooth_q_min, smooth_keep_small_moves
   use material_table, only: material_index_cells, material_eval_eos
@@ -116,9 +118,10 @@ contains
     type(remap_stats_t) :: rs
     real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3), t_rezone
     real(wp), allocatable :: xnew(:, :)
-    integer :: n
+    integer :: n, f, nmove, stat
     logical :: done
     character(len=400) :: line
+    character(len=200) :: msg
 
     call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
     call es%timer%start()
@@ -143,7 +146,22 @@ contains
         return
       end if
     else
-      xnew = es%x0
+      ! back to the initial grid, except where a face moves with the
+      ! material (a piston, a free surface): there the grid follows it
+      allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'euler_step', 'cannot allocate the rezoned grid: '//trim(msg))
+        call es%timer%stop()
+        return
+      end if
+      call global_target(st%g%ni, st%g%nj, st%g%nk, [(global_face_rule(st%bc%kind(f)), f = 1, 6)], es%x0, &
+                         st%g%x, xnew, nmove, err)
+      if (allocated(err)) then
+        call es%timer%stop()
+        return
+      end if
+      if (nmove > 0) call log_line(log, 'global rezone: '//itoa(nmove)//' nodes of moving faces kept where they are, '// &
+                                   'the others back to the initial grid plus the TFI of their displacement')
     end if
     t_rezone = wall_seconds() - t_rezone
     es%t_rezone_total = es%t_rezone_total + t_rezone
@@ -181,6 +199,12 @@ contains
       norm2(dp)/max(pscale, tiny(1.0_wp)), abs(ie1 + ke1 - ie0 - ke0)/max(abs(ie0 + ke0), tiny(1.0_wp)), &
       rs%momentum_constrained
     call log_line(log, trim(line))
+    if (rs%cells_deficit > 0) then
+      write(line, '("  kinetic energy deficits beyond the energy around their nodes: ",i0," cells, ",es10.3, &
+        &" taken from the nearest cells with energy, ",es10.3," by mass")') rs%cells_deficit, &
+        rs%deficit_moved - rs%deficit_by_mass, rs%deficit_by_mass
+      call log_line(log, trim(line))
+    end if
     if (rs%mass_in > 0.0_wp .or. abs(rs%mass_out) > 0.0_wp) then
       write(line, '("  open faces: mass in ",es12.5," out ",es12.5,"; energy in ",es12.5," out ",es12.5)') &
         rs%mass_in, rs%mass_out, rs%energy_in, rs%energy_out

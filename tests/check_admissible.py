@@ -7,8 +7,10 @@ products of the decks that use this; the exact solution never goes below).
     check_admissible.py FRAME_PREFIX E_MIN P_MIN MAT [MAT ...]
 
 FRAME_PREFIX_NNNNN.h5 are the frames; MAT the material names (the frames'
-per-material fields density_MAT, energy_MAT, pressure_MAT, vf_MAT). Prints
-the smallest value of each and fails if any is below its floor.
+per-material fields density_MAT, energy_MAT, pressure_MAT, vf_MAT; a
+one-material scene's frames have only the cell fields density, energy and
+pressure, which then stand for its one material). Prints the smallest value
+of each and fails if any is below its floor.
 """
 import glob
 import sys
@@ -25,10 +27,11 @@ for m in mats:
     lo = {"density": np.inf, "energy": np.inf, "pressure": np.inf}
     for fn in frames:
         with h5py.File(fn, "r") as f:
-            sel = f["vf_" + m][()] > 0.0
+            one = "vf_" + m not in f and len(mats) == 1
+            sel = np.ones(f["density"].shape, bool) if one else f["vf_" + m][()] > 0.0
             for q in lo:
                 if sel.any():
-                    lo[q] = min(lo[q], float(np.min(f[q + "_" + m][()][sel])))
+                    lo[q] = min(lo[q], float(np.min(f[q if one else q + "_" + m][()][sel])))
     for q, floor, strict in (("density", 0.0, True), ("energy", e_min, False), ("pressure", p_min, False)):
         bad = not (lo[q] > floor if strict else lo[q] >= floor)
         ok = ok and not bad

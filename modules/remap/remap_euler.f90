@@ -81,6 +81,18 @@
 !> and a node whose eight cells are all unchanged keeps its mass and velocity
 !> bit for bit. Only the changed cells are intersected, which is what makes a
 !> localized remap (LSSM) cheap.
+!>
+!> Open faces (inflow, outflow). The Lagrangian boundary at an open face may
+!> have moved any number of cells from the face the new grid puts back. A
+!> new cell that reaches past the old face's innermost point may lie partly
+!> in the gap between them: if its fragments fall short it is intersected
+!> again with a window that holds every old cell whose bounding box meets
+!> its own (`remap_bins`), and what is then still missing is gap, filled
+!> with the inflow state or, at an outflow face, with the state of the old
+!> cell at the face on the same grid line. An old cell that reaches past the
+!> new face's innermost point may give less than its volume: the rest has
+!> left the domain. Everywhere else a new cell not covered, or an old cell
+!> wholly outside the new grid, is still an error.
 module remap_euler
   use base_kinds, only: wp, i8
   use base_errors, only: error_t, error_set
@@ -88,13 +100,14 @@ module remap_euler
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
   use mesh_geometry, only: hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
-  use mesh_boundary, only: bc_t, bc_constrain, bc_open_face, BC_INFLOW
+  use mesh_boundary, only: bc_t, bc_constrain, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
   use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
+  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_euler_step
@@ -132,6 +145,11 @@ module remap_euler
     real(wp) :: given_defect = 0.0_wp
     integer :: regions_rescaled = 0   !< old regions not covered entirely, remapped scaled
     real(wp) :: ke_to_internal = 0.0_wp   !< kinetic energy returned to internal energy
+    !> cells whose nodes' kinetic energy deficits the cells around them could
+    !> not pay, the deficit moved to the nearest cells with energy to give,
+    !> and what was left of it, taken by mass (internal energy units)
+    integer :: cells_deficit = 0
+    real(wp) :: deficit_moved = 0.0_wp, deficit_by_mass = 0.0_wp
     real(wp) :: momentum_constrained(3) = 0.0_wp  !< momentum the velocity conditions removed
     ! through open faces (inflow, outflow): what came in and went out
     real(wp) :: mass_in = 0.0_wp, mass_out = 0.0_wp
@@ -200,10 +218,11 @@ contains
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :)
-    integer, allocatable :: todo(:), reach(:), open_face(:)
-    logical, allocatable :: redo(:)
+    integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:)
+    logical, allocatable :: redo(:), beyond(:)
     real(wp) :: w0, vnew, defect, xn(3, 8), given
-    integer :: ncell, c, co, r, rmax, i, nbad, stat, ci, cj, ck
+    integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck
+    logical :: any_open
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -215,7 +234,7 @@ contains
     allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
              aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
              pcell(4, ncell), reach(ncell), &
-             redo(ncell), open_face(ncell), &
+             redo(ncell), gap_face(ncell), gap_cell(ncell), beyond(ncell), gaps(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
@@ -223,10 +242,10 @@ contains
     end if
     call prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
     if (allocated(err)) return
-    do c = 1, ncell
-      call g%cell_ijk(c, ci, cj, ck)
-      open_face(c) = bc_open_face(bc, g, ci, cj, ck)
-    end do
+    any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
+    gap_face = 0
+    beyond = .false.
+    if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
     stats%t_prepare = wall_seconds() - w0
 
     ! intersect every changed new cell, widening the window where the
@@ -239,6 +258,7 @@ contains
     r = 1
     ! the whole block: no overlap can lie further
     rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
+    ngap = 0
     do while (size(todo) > 0)
       call intersect_cells(todo, r, 1.0_wp)
       nbad = 0
@@ -247,9 +267,14 @@ contains
         call g%gather(c, xnew, xn)
         vnew = hex_volume(xn)
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
-        ! next to an open face a gap is expected (filled below)
-        if (open_face(c) > 0) defect = 0.0_wp
-        if (defect > 1.0e-9_wp .and. r < rmax) then
+        if (gap_face(c) > 0 .and. defect > 1.0e-9_wp) then
+          ! maybe in the gap between an open face and the old grid: no
+          ! window makes the fragments add up there; widened below to
+          ! every old cell that can meet it
+          ngap = ngap + 1
+          gaps(ngap) = c
+          reach(c) = r
+        else if (defect > 1.0e-9_wp .and. r < rmax) then
           nbad = nbad + 1
           todo(nbad) = c
         else
@@ -265,6 +290,8 @@ contains
         r = min(2*r, rmax)
       end if
     end do
+    if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
+    if (allocated(err)) return
     stats%reach = maxval(reach)
     if (stats%volume_defect > 1.0e-9_wp) then
       call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
@@ -282,7 +309,7 @@ contains
       ! what lies beyond an open face has left the domain
       co = c
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-      if (open_face(co) > 0) cycle
+      if (beyond(co)) cycle
       ! relative to the cell: a sliver region's own round-off can be larger
       given = real(old%given(c), wp)*old%gunit(c)
       stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
@@ -320,8 +347,8 @@ contains
     end if
     stats%t_intersect = wall_seconds() - w0
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
-    if (any(open_face > 0)) call open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, &
-                                            cdef, cmom, cke, cland, pcell, stats)
+    if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, avol, amom, amass, aie, &
+                                  cdef, cmom, cke, cland, pcell, stats)
 
     w0 = wall_seconds()
     call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
@@ -347,6 +374,63 @@ contains
       end do
       !$omp end parallel do
     end subroutine intersect_cells
+
+    !> The new cells `cells`, intersected with the window rr that found
+    !> their fragments short, again with a window that holds every old
+    !> cell whose bounding box meets theirs (`remap_bins`): what is still
+    !> missing then lies outside the old grid, a gap (filled in
+    !> `open_faces`). Only an excess of fragments counts as a defect.
+    subroutine widen_gaps(cells, err)
+      integer, intent(in) :: cells(:)
+      type(error_t), allocatable, intent(inout) :: err
+      type(remap_bins_t) :: bins
+      integer, allocatable :: rw(:)
+      logical, allocatable :: wider(:)
+      integer :: ii, cc, i0, j0, k0, st
+      real(wp) :: xc(3, 8), vc
+      character(len=200) :: emsg
+
+      call remap_bins_build(g%ni, g%nj, g%nk, g%x, old%changed, bins, err)
+      if (allocated(err)) return
+      allocate(rw(size(cells)), wider(size(cells)), stat=st, errmsg=emsg)
+      if (st /= 0) then
+        call error_set(err, 'remap_euler_step', 'cannot allocate the gap windows: '//trim(emsg))
+        return
+      end if
+      do ii = 1, size(cells)
+        cc = cells(ii)
+        call g%cell_ijk(cc, i0, j0, k0)
+        call g%gather(cc, xnew, xc)
+        rw(ii) = max(remap_bins_reach(bins, i0, j0, k0, minval(xc, 2), maxval(xc, 2)), reach(cc))
+      end do
+      wider = rw > reach(cells)
+      if (any(wider)) then
+        call intersect_each(pack(cells, wider), pack(reach(cells), wider), -1.0_wp)
+        call intersect_each(pack(cells, wider), pack(rw, wider), 1.0_wp)
+      end if
+      do ii = 1, size(cells)
+        cc = cells(ii)
+        reach(cc) = rw(ii)
+        call g%gather(cc, xnew, xc)
+        vc = hex_volume(xc)
+        stats%volume_defect = max(stats%volume_defect, (sum(avol(:, cc)) - vc)/abs(vc))
+      end do
+    end subroutine widen_gaps
+
+    !> `intersect_cells` with a window of its own for each cell (rr(i) for
+    !> cells(i)), one pass per window size.
+    subroutine intersect_each(cells, rr, given_sign)
+      integer, intent(in) :: cells(:), rr(:)
+      real(wp), intent(in) :: given_sign
+      logical :: pend(size(cells))
+      integer :: rc
+      pend = .true.
+      do while (any(pend))
+        rc = minval(rr, mask=pend)
+        call intersect_cells(pack(cells, pend .and. rr == rc), rc, given_sign)
+        where (rr == rc) pend = .false.
+      end do
+    end subroutine intersect_each
 
     !> Marks the new cells within rr index steps of cell co.
     subroutine mark_window(co, rr)
@@ -1320,27 +1404,105 @@ contains
     end do
   end subroutine unchanged_corners
 
+  !> Where the open faces (inflow, outflow) of the new grid xnew and of the
+  !> old grid g%x part, at any depth. A new cell may hold part of the gap
+  !> between an open face f and the old grid if it reaches past the old
+  !> face's innermost point along the face's axis; gap_face(c) is then the
+  !> nearest such face (fewest cells away; the first in face order on a
+  !> tie), and gap_cell(c) the old cell at face f on the same index line
+  !> (the cell itself if it lies at the face), whose state an outflow face
+  !> extrapolates into the gap. An old cell that reaches past an open face
+  !> of the new grid's innermost point (beyond) may lose what lies outside:
+  !> it has left the domain. Both tests are necessary conditions only; the
+  !> fragments say how much is actually missing.
+  subroutine open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xnew(:, :)
+    integer, intent(out) :: gap_face(:), gap_cell(:)
+    logical, intent(out) :: beyond(:)
+    logical :: isopen(6)
+    real(wp) :: bold(6), bnew(6), xn(3, 8), xo(3, 8)
+    integer :: f, a, c, ijk(3), q(3), depth, best, i, j, k, n
+    logical :: high
+
+    isopen = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
+    ! each open face's innermost point along its axis, old and new grids
+    do f = 1, 6
+      if (.not. isopen(f)) cycle
+      a = (f + 1)/2
+      high = mod(f, 2) == 0
+      bold(f) = merge(huge(1.0_wp), -huge(1.0_wp), high)
+      bnew(f) = bold(f)
+      do k = g%nlo(3), g%nhi(3)
+        do j = g%nlo(2), g%nhi(2)
+          do i = g%nlo(1), g%nhi(1)
+            if (.not. btest(g%node_faces(i, j, k), f - 1)) cycle
+            n = g%node(i, j, k)
+            if (high) then
+              bold(f) = min(bold(f), g%x(a, n))
+              bnew(f) = min(bnew(f), xnew(a, n))
+            else
+              bold(f) = max(bold(f), g%x(a, n))
+              bnew(f) = max(bnew(f), xnew(a, n))
+            end if
+          end do
+        end do
+      end do
+    end do
+    do c = 1, g%ncell
+      call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+      call g%gather(c, xnew, xn)
+      call g%gather(c, g%x, xo)
+      gap_face(c) = 0
+      gap_cell(c) = c
+      beyond(c) = .false.
+      best = huge(1)
+      do f = 1, 6
+        if (.not. isopen(f)) cycle
+        a = (f + 1)/2
+        q = ijk
+        if (mod(f, 2) == 0) then
+          beyond(c) = beyond(c) .or. maxval(xo(a, :)) > bnew(f)
+          if (.not. maxval(xn(a, :)) > bold(f)) cycle
+          q(a) = g%chi(a)
+        else
+          beyond(c) = beyond(c) .or. minval(xo(a, :)) < bnew(f)
+          if (.not. minval(xn(a, :)) < bold(f)) cycle
+          q(a) = g%clo(a)
+        end if
+        depth = abs(q(a) - ijk(a))
+        if (depth < best) then
+          best = depth
+          gap_face(c) = f
+          gap_cell(c) = g%cell(q(1), q(2), q(3))
+        end if
+      end do
+    end do
+  end subroutine open_face_cells
+
   !> Open faces. What the old grid had beyond them has left: the outflow is
   !> the old totals less what the new cells received. The gap between an
-  !> open face and the Lagrangian boundary that moved in from it is filled,
-  !> corner by corner, with the face's inflow state, or at an outflow face
-  !> with the state of the old cell next to it (its largest material, its
-  !> velocity): zero-gradient extrapolation. The gap's centroid is taken as
-  !> the new cell's centre (it only steers MoF in mixed boundary cells).
-  subroutine open_faces(g, h, mx, bc, old, xnew, open_face, avol, amom, amass, aie, cdef, cmom, cke, cland, pcell, &
-                        stats)
+  !> open face and the Lagrangian boundary that moved in from it, however
+  !> many cells deep, is filled, corner by corner, with the face's inflow
+  !> state, or at an outflow face with the state of the old cell at the face
+  !> on the same index line (gap_cell: its largest material, its velocity):
+  !> zero-gradient extrapolation. The gap's centroid is taken as the new
+  !> cell's centre (it only steers MoF in mixed boundary cells).
+  subroutine open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, avol, amom, amass, aie, cdef, cmom, cke, &
+                        cland, pcell, stats)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(bc_t), intent(in) :: bc
     type(old_t), intent(in) :: old
     real(wp), intent(in) :: xnew(:, :), cdef(:, :)
-    integer, intent(in) :: open_face(:)
+    integer, intent(in) :: gap_face(:), gap_cell(:)
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmom(:, :, :), cke(:, :), &
                                cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     real(wp) :: m_old, p_old(3), e_old, m_new, p_new(3), e_new, xn(3, 8), vcell, rho, e, u(3), dm
-    integer :: c, n, a, f, k, ks
+    integer :: c, n, a, f, k, ks, gc
 
     ! outflow: old totals less what was received
     m_old = sum(h%mass)
@@ -1380,27 +1542,28 @@ contains
 
     ! inflow: fill the gaps
     do c = 1, g%ncell
-      f = open_face(c)
+      f = gap_face(c)
       if (f == 0 .or. .not. old%changed(c)) cycle
       call g%gather(c, xnew, xn)
       vcell = hex_volume(xn)
+      gc = gap_cell(c)
       if (bc%kind(f) == BC_INFLOW) then
         k = bc%inflow_mat(f)
         rho = bc%inflow_rho(f)
         e = bc%inflow_e(f)
         u = bc%velocity(:, f)
-      else if (h%mat(c) > 0) then
-        k = h%mat(c)
-        rho = old%rho(c)
-        e = old%e(c)
+      else if (h%mat(gc) > 0) then
+        k = h%mat(gc)
+        rho = old%rho(gc)
+        e = old%e(gc)
       else
-        ks = mx%start(-h%mat(c)) - 1 + maxloc(mx%vf(mx%start(-h%mat(c)):mx%start(-h%mat(c) + 1) - 1), 1)
+        ks = mx%start(-h%mat(gc)) - 1 + maxloc(mx%vf(mx%start(-h%mat(gc)):mx%start(-h%mat(gc) + 1) - 1), 1)
         k = mx%mat(ks)
         rho = old%rho(g%ncell + ks)
         e = old%e(g%ncell + ks)
       end if
       ! or the old cell's mean velocity
-      if (bc%kind(f) /= BC_INFLOW) u = old%ucell(:, c)
+      if (bc%kind(f) /= BC_INFLOW) u = old%ucell(:, gc)
       do a = 1, 8
         ! a gap of round-off size is no gap
         if (.not. cdef(a, c) > 1.0e-12_wp*vcell) cycle
@@ -1440,11 +1603,11 @@ contains
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
-    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:)
+    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
-    logical :: keep(max_mat)
+    logical :: keep(max_mat), short
 
     ncell = g%ncell
     ! materials of the changed cells: merge slivers into the largest
@@ -1491,7 +1654,8 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), kdef(ncell), stat=stat, &
+    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), kdef(ncell), rdef(ncell), &
+             stat=stat, &
              errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
@@ -1605,8 +1769,10 @@ contains
     ! or a tangled cell's negative pieces), the difference is taken from the
     ! internal energy the cells around it have above zero, each cell offering
     ! an eighth of its own to each of its nodes, so that no cell (and, below,
-    ! no material) is driven negative by it; only a deficit larger than all
-    ! of that is taken by mass.
+    ! no material) is driven negative by it. A deficit larger than all of
+    ! that (cold gas: nothing above zero around the node) is taken from the
+    ! nearest cells that still have energy to give (`repair_deficits`), and
+    ! only what none of those has is taken by mass.
     do c = 1, ncell
       if (old%changed(c)) then
         avail(c) = sum(max(aie(:, c), 0.0_wp))
@@ -1629,17 +1795,22 @@ contains
       ie(c) = 0.0_wp
       ! what the cell pays for its corners' kinetic energy, by positive energy
       iav(c) = kdef(c)
+      rdef(c) = 0.0_wp
       do a = 1, 8
         if (.not. node_changed(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
+        ! (a deficit beyond what the cells around offer leaves a residual)
+        short = take < 0.0_wp .and. .not. -take < navail(n + g%corner_offset(a))
         if (take < 0.0_wp .and. navail(n + g%corner_offset(a)) > 0.0_wp) then
           frac = min(1.0_wp, -take/navail(n + g%corner_offset(a)))
           iav(c) = iav(c) - frac*0.125_wp*(avail(c) + kdef(c))
           take = take + frac*navail(n + g%corner_offset(a))
         end if
         ie(c) = ie(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
+        if (short) rdef(c) = rdef(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
       end do
     end do
+    if (any(rdef < 0.0_wp)) call repair_deficits()
 
     ! cells
     g%x = xnew
@@ -1693,6 +1864,76 @@ contains
     call move_mixed(nx, mx)
 
   contains
+
+    !> The residual deficits rdef(c) < 0 (kinetic energy the new nodal
+    !> velocities hold beyond what the remap brought and the cells around
+    !> their nodes could give) are taken back from the cells that hold them
+    !> and taken instead from the energy the cells nearest to them still
+    !> have above zero: ring after ring of cells around (index distance 0,
+    !> 1, ... up to max_ring), each ring giving in proportion to what its
+    !> cells have, until the deficit is paid. A cell gives first from the
+    !> kinetic energy returned to it (ie > 0, shared by mass among its
+    !> materials), then from its own internal energy above zero (iav, shared
+    !> in proportion to the materials' positive energies), never past zero.
+    !> Cells are done in index order, so the result does not depend on the
+    !> thread count; what no ring within max_ring can give is taken by
+    !> mass, as before. Total energy is unchanged: only where it sits moves.
+    subroutine repair_deficits()
+      integer, parameter :: max_ring = 4
+      integer :: cc, ring, ci, cj, ck, i, j, k, d
+      real(wp) :: need, total, f, give, t1
+
+      do cc = 1, ncell
+        if (.not. rdef(cc) < 0.0_wp) cycle
+        need = -rdef(cc)
+        ie(cc) = ie(cc) + need
+        stats%cells_deficit = stats%cells_deficit + 1
+        stats%deficit_moved = stats%deficit_moved + need
+        call g%cell_ijk(cc, ci, cj, ck)
+        do ring = 0, max_ring
+          total = 0.0_wp
+          do k = max(g%clo(3), ck - ring), min(g%chi(3), ck + ring)
+            do j = max(g%clo(2), cj - ring), min(g%chi(2), cj + ring)
+              do i = max(g%clo(1), ci - ring), min(g%chi(1), ci + ring)
+                if (max(abs(i - ci), abs(j - cj), abs(k - ck)) /= ring) cycle
+                total = total + capacity(g%cell(i, j, k))
+              end do
+            end do
+          end do
+          if (.not. total > 0.0_wp) cycle
+          f = min(1.0_wp, need/total)
+          do k = max(g%clo(3), ck - ring), min(g%chi(3), ck + ring)
+            do j = max(g%clo(2), cj - ring), min(g%chi(2), cj + ring)
+              do i = max(g%clo(1), ci - ring), min(g%chi(1), ci + ring)
+                if (max(abs(i - ci), abs(j - cj), abs(k - ck)) /= ring) cycle
+                d = g%cell(i, j, k)
+                give = f*capacity(d)
+                t1 = min(give, max(ie(d), 0.0_wp))
+                ie(d) = ie(d) - t1
+                iav(d) = iav(d) - (give - t1)
+              end do
+            end do
+          end do
+          need = need - f*total
+          if (f < 1.0_wp) then
+            need = 0.0_wp
+            exit
+          end if
+        end do
+        ! what is left: by mass
+        if (need > 0.0_wp) then
+          ie(cc) = ie(cc) - need
+          stats%deficit_by_mass = stats%deficit_by_mass + need
+        end if
+      end do
+    end subroutine repair_deficits
+
+    !> What cell d can still give towards a deficit (see repair_deficits).
+    pure real(wp) function capacity(d)
+      integer, intent(in) :: d
+      ! (never quite all of it: round-off must not take a donor below zero)
+      capacity = (1.0_wp - 1.0e-12_wp)*(max(ie(d), 0.0_wp) + max(avail(d) + iav(d), 0.0_wp))
+    end function capacity
 
     !> The share of a material with internal energy q in what its cell has
     !> available (total: only positive energies count).

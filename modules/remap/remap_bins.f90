@@ -1,0 +1,178 @@
+!> Uniform bins over the bounding boxes of the cells of a structured block:
+!> which cells of the old grid can overlap a given box, and how far away in
+!> index space the farthest of them lies.
+!>
+!> The remap (`remap_euler`) intersects a new cell with the old cells of an
+!> index window around it and widens the window until the fragments add up
+!> to the cell. That test cannot end for a new cell that is partly or wholly
+!> outside the old grid: the gap between an open face and a Lagrangian
+!> boundary that moved away from it. For those cells the window is taken
+!> from the bins instead: it holds every old cell whose bounding box meets
+!> the new cell's, so whatever the window then leaves uncovered lies outside
+!> the old grid. Building costs one pass over the cells; a query, the cells
+!> registered in the bins its box meets.
+module remap_bins
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use mesh_grid, only: grid_index_t, grid_index, block_gather
+  implicit none
+  private
+  public :: remap_bins_t, remap_bins_build, remap_bins_reach
+
+  !> The bins: a uniform lattice of nb(1) x nb(2) x nb(3) boxes of size h
+  !> from lo, each listing the cells whose bounding boxes meet it (CSR:
+  !> bin b holds item(start(b) : start(b+1)-1)).
+  type :: remap_bins_t
+    type(grid_index_t) :: ix                !< the block's index arithmetic
+    integer :: nb(3) = 0
+    real(wp) :: lo(3) = 0.0_wp, h(3) = 1.0_wp
+    real(wp), allocatable :: blo(:, :), bhi(:, :)   !< cell bounding boxes (3, ncell)
+    integer, allocatable :: start(:), item(:)
+  end type remap_bins_t
+
+contains
+
+  !> Bins over the cells c of a block of ni x nj x nk cells (nodes x(3,
+  !> nnode), length unit of the deck) with use(c) true; one bin per cell
+  !> of the block in each direction, over the bounding box of those cells.
+  subroutine remap_bins_build(ni, nj, nk, x, use, bins, err)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: x(:, :)
+    logical, intent(in) :: use(:)
+    type(remap_bins_t), intent(out) :: bins
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: xn(3, 8), glo(3), ghi(3)
+    integer :: c, ci, cj, ck, b0(3), b1(3), i, j, k, b, nbin, stat
+    integer, allocatable :: fill(:)
+    character(len=200) :: msg
+
+    bins%ix = grid_index(ni, nj, nk)
+    bins%nb = [max(ni, 1), max(nj, 1), max(nk, 1)]
+    nbin = product(bins%nb)
+    allocate(bins%blo(3, bins%ix%ncell), bins%bhi(3, bins%ix%ncell), bins%start(nbin + 1), fill(nbin), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_bins_build', 'cannot allocate the bins: '//trim(msg))
+      return
+    end if
+    glo = huge(1.0_wp)
+    ghi = -huge(1.0_wp)
+    do ck = 1, nk
+      do cj = 1, nj
+        do ci = 1, ni
+          c = bins%ix%cell(ci, cj, ck)
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
+          bins%blo(:, c) = minval(xn, 2)
+          bins%bhi(:, c) = maxval(xn, 2)
+          if (.not. use(c)) cycle
+          glo = min(glo, bins%blo(:, c))
+          ghi = max(ghi, bins%bhi(:, c))
+        end do
+      end do
+    end do
+    if (.not. any(use)) then
+      ! nothing to find: one empty bin
+      bins%nb = 1
+      glo = 0.0_wp
+      ghi = 1.0_wp
+    end if
+    bins%lo = glo
+    do i = 1, 3
+      bins%h(i) = (ghi(i) - glo(i))/real(bins%nb(i), wp)
+      if (.not. bins%h(i) > 0.0_wp) bins%h(i) = 1.0_wp
+    end do
+    nbin = product(bins%nb)
+
+    ! count, then fill
+    fill = 0
+    do c = 1, bins%ix%ncell
+      if (.not. use(c)) cycle
+      call bin_range(bins, bins%blo(:, c), bins%bhi(:, c), b0, b1)
+      do k = b0(3), b1(3)
+        do j = b0(2), b1(2)
+          do i = b0(1), b1(1)
+            b = bin_index(bins, i, j, k)
+            fill(b) = fill(b) + 1
+          end do
+        end do
+      end do
+    end do
+    bins%start(1) = 1
+    do b = 1, nbin
+      bins%start(b + 1) = bins%start(b) + fill(b)
+    end do
+    allocate(bins%item(bins%start(nbin + 1) - 1), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_bins_build', 'cannot allocate the bins'' lists: '//trim(msg))
+      return
+    end if
+    fill = 0
+    do c = 1, bins%ix%ncell
+      if (.not. use(c)) cycle
+      call bin_range(bins, bins%blo(:, c), bins%bhi(:, c), b0, b1)
+      do k = b0(3), b1(3)
+        do j = b0(2), b1(2)
+          do i = b0(1), b1(1)
+            b = bin_index(bins, i, j, k)
+            bins%item(bins%start(b) + fill(b)) = c
+            fill(b) = fill(b) + 1
+          end do
+        end do
+      end do
+    end do
+  end subroutine remap_bins_build
+
+  !> The largest index distance max(|oi-ci|, |oj-cj|, |ok-ck|) from cell
+  !> (ci,cj,ck) of a binned cell o whose bounding box meets [lo, hi]
+  !> (touching counts; the box is first widened by a relative 1e-9 of its
+  !> size, so that round-off of the caller's own box tests cannot leave a
+  !> cell out); -1 if there is none.
+  pure integer function remap_bins_reach(bins, ci, cj, ck, lo, hi) result(r)
+    type(remap_bins_t), intent(in) :: bins
+    integer, intent(in) :: ci, cj, ck
+    real(wp), intent(in) :: lo(3), hi(3)
+    real(wp) :: qlo(3), qhi(3), pad
+    integer :: b0(3), b1(3), i, j, k, b, t, o, oi, oj, ok
+    r = -1
+    pad = 1.0e-9_wp*maxval(hi - lo)
+    qlo = lo - pad
+    qhi = hi + pad
+    if (any(qhi < bins%lo) .or. any(qlo > bins%lo + bins%h*real(bins%nb, wp))) return
+    call bin_range(bins, qlo, qhi, b0, b1)
+    do k = b0(3), b1(3)
+      do j = b0(2), b1(2)
+        do i = b0(1), b1(1)
+          b = bin_index(bins, i, j, k)
+          do t = bins%start(b), bins%start(b + 1) - 1
+            o = bins%item(t)
+            if (any(bins%bhi(:, o) < qlo) .or. any(bins%blo(:, o) > qhi)) cycle
+            call bins%ix%cell_ijk(o, oi, oj, ok)
+            r = max(r, abs(oi - ci), abs(oj - cj), abs(ok - ck))
+          end do
+        end do
+      end do
+    end do
+  end function remap_bins_reach
+
+  !> The bins (clamped to the lattice) that the box [lo, hi] meets.
+  pure subroutine bin_range(bins, lo, hi, b0, b1)
+    type(remap_bins_t), intent(in) :: bins
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer, intent(out) :: b0(3), b1(3)
+    integer :: d
+    real(wp) :: nbd
+    do d = 1, 3
+      ! clamped before the conversion, so that no far box overflows an integer
+      nbd = real(bins%nb(d), wp)
+      b0(d) = min(int(min(max((lo(d) - bins%lo(d))/bins%h(d), 0.0_wp), nbd)) + 1, bins%nb(d))
+      b1(d) = min(int(min(max((hi(d) - bins%lo(d))/bins%h(d), 0.0_wp), nbd)) + 1, bins%nb(d))
+    end do
+  end subroutine bin_range
+
+  !> Flattened index of bin (i,j,k).
+  pure integer function bin_index(bins, i, j, k) result(b)
+    type(remap_bins_t), intent(in) :: bins
+    integer, intent(in) :: i, j, k
+    b = i + bins%nb(1)*((j - 1) + bins%nb(2)*(k - 1))
+  end function bin_index
+end module remap_bins
