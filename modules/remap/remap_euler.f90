@@ -632,6 +632,7 @@ contains
     call region_floors(g, h, mx, old)
     call subcell_shifts(g, h, mx, old)
     old%gu = 0.0_wp
+    old%xdual = 0.0_wp
     if (par%linear) call velocity_gradients(g, old, h%u, err)
   end subroutine prepare_old
 
