@@ -51,6 +51,10 @@ module remap_shapes
   integer, parameter :: max_pieces = 48
   !> Most bounding planes of one region within a leaf (a box's six).
   integer, parameter :: max_planes = 6
+  !> A curved shape whose nearest point to a piece is within this of its
+  !> radius (squared, relative) only touches it (`misses_box`): an overlap
+  !> 1e-12 R deep has no volume worth keeping.
+  real(wp), parameter :: touch_tol = 1.0e-12_wp
 
   !> One region's shape (lengths in the deck's units).
   type :: shape_t
@@ -139,6 +143,7 @@ contains
     real(wp), intent(out) :: vol(0:), mom(:, 0:)
     type(box_t) :: stack(8*shapes_max_depth + 1), b
     real(wp) :: xc(3), xr(3, 8), ys(3, 8), y0(3), rho, w, phi, xi(3)
+    real(wp) :: blo(3), bhi(3)
     integer :: ns, top, r, rstar, ncut, cuts(size(shapes)), a, dmax, i
     logical :: exact, affine, ok
 
@@ -173,12 +178,16 @@ contains
       rstar = 0
       ncut = 0
       exact = .true.
+      do i = 1, 3
+        blo(i) = minval(ys(i, :)) + xc(i)
+        bhi(i) = maxval(ys(i, :)) + xc(i)
+      end do
       do r = ns, 1, -1
         phi = shape_level(shapes(r), y0 + xc)
         if (phi < -rho) then
           rstar = r
           exit
-        else if (.not. phi > rho) then
+        else if (.not. phi > rho .and. .not. misses_box(shapes(r), blo, bhi)) then
           ncut = ncut + 1
           cuts(ncut) = r
           if (.not. planar_here(shapes(r), y0 + xc, rho)) exact = .false.
@@ -240,62 +249,65 @@ contains
     integer :: np, nq, i, j, k, npl, kk, ns
     logical :: ok
 
-      np = 0
-      if (affine) then
-        np = 1
-        p(1) = poly_from_hex(ys)
-      else
-        do k = 1, 6
-          do j = 1, 4
-            tet(:, j) = ys(:, kuhn(j, k))
-          end do
-          np = np + 1
-          p(np) = poly_from_tet(tet)
+    done = .false.
+    np = 0
+    if (affine) then
+      np = 1
+      p(1) = poly_from_hex(ys)
+    else
+      do k = 1, 6
+        do j = 1, 4
+          tet(:, j) = ys(:, kuhn(j, k))
         end do
-      end if
-      lv = 0.0_wp
-      lm = 0.0_wp
-      done = .false.
-      do i = size(cut), 1, -1
-        call region_planes(shapes(cut(i)), y0 + xc, rho, xc, pn, pd, npl)
-        nq = 0
-        do k = 1, np
-          ! inside: clipped by every plane
-          t = p(k)
-          do j = 1, npl
-            call poly_clip(t, pn(:, j), pd(j), ok)
-            if (t%nv == 0) exit
-          end do
-          call poly_first_moments(t, v, m)
-          lv(cut(i)) = lv(cut(i)) + v
-          lm(:, cut(i)) = lm(:, cut(i)) + m
-          ! outside: beyond plane j and inside planes 1..j-1
-          do j = 1, npl
-            t = p(k)
-            do kk = 1, j - 1
-              call poly_clip(t, pn(:, kk), pd(kk), ok)
-              if (t%nv == 0) exit
-            end do
-            if (t%nv == 0) exit
-            call poly_clip(t, -pn(:, j), -pd(j), ok)
-            if (t%nv == 0) cycle
-            if (nq == max_pieces) return
-            nq = nq + 1
-            q(nq) = t
-          end do
-        end do
-        np = nq
-        p(1:np) = q(1:np)
+        np = np + 1
+        p(np) = poly_from_tet(tet)
       end do
+    end if
+    lv = 0.0_wp
+    lm = 0.0_wp
+    do i = size(cut), 1, -1
+      call region_planes(shapes(cut(i)), y0 + xc, rho, xc, pn, pd, npl)
+      nq = 0
       do k = 1, np
-        call poly_first_moments(p(k), v, m)
-        lv(base) = lv(base) + v
-        lm(:, base) = lm(:, base) + m
+        ! inside: clipped by every plane
+        t = p(k)
+        do j = 1, npl
+          call poly_clip(t, pn(:, j), pd(j), ok)
+          if (.not. ok) return
+          if (t%nv == 0) exit
+        end do
+        call poly_first_moments(t, v, m)
+        lv(cut(i)) = lv(cut(i)) + v
+        lm(:, cut(i)) = lm(:, cut(i)) + m
+        ! outside: beyond plane j and inside planes 1..j-1
+        do j = 1, npl
+          t = p(k)
+          do kk = 1, j - 1
+            call poly_clip(t, pn(:, kk), pd(kk), ok)
+            if (.not. ok) return
+            if (t%nv == 0) exit
+          end do
+          if (t%nv == 0) exit
+          call poly_clip(t, -pn(:, j), -pd(j), ok)
+          if (.not. ok) return
+          if (t%nv == 0) cycle
+          if (nq == max_pieces) return
+          nq = nq + 1
+          q(nq) = t
+        end do
       end do
-      ns = size(shapes)
-      vol(0:ns) = vol(0:ns) + lv
-      mom(:, 0:ns) = mom(:, 0:ns) + lm
-      done = .true.
+      np = nq
+      p(1:np) = q(1:np)
+    end do
+    do k = 1, np
+      call poly_first_moments(p(k), v, m)
+      lv(base) = lv(base) + v
+      lm(:, base) = lm(:, base) + m
+    end do
+    ns = size(shapes)
+    vol(0:ns) = vol(0:ns) + lv
+    mom(:, 0:ns) = mom(:, 0:ns) + lm
+    done = .true.
   end subroutine cut_leaf
 
   !> The last of the regions cand (indices into shapes) that contains x,
@@ -313,6 +325,31 @@ contains
       end if
     end do
   end function region_of
+
+  !> True if the curved shape sh (sphere, cylinder) has no volume in the box
+  !> [blo, bhi] (which holds a piece): the box's nearest point to the centre
+  !> (axis) is at least the radius away (less touch_tol of it: what round-off
+  !> of the coordinates can do to a shape through a node). Exact for the axis-aligned pieces
+  !> of a box grid; it keeps the tangent plane, which holds the shape, from
+  !> giving a piece the shape only touches (a sphere through a node) a
+  !> spurious sliver. False for other shapes (their planes are exact).
+  pure logical function misses_box(sh, blo, bhi)
+    type(shape_t), intent(in) :: sh
+    real(wp), intent(in) :: blo(3), bhi(3)
+    real(wp) :: d(3)
+    select case (sh%kind)
+    case (SHAPE_SPHERE)
+      d = max(blo - sh%center, 0.0_wp, sh%center - bhi)
+      misses_box = sum(d**2) >= sh%radius**2*(1.0_wp - touch_tol)
+    case (SHAPE_CYLINDER)
+      d = max(blo - sh%center, 0.0_wp, sh%center - bhi)
+      d(sh%axis) = 0.0_wp
+      misses_box = sum(d**2) >= sh%radius**2*(1.0_wp - touch_tol) .or. blo(sh%axis) >= sh%hi(sh%axis) .or. &
+                   bhi(sh%axis) <= sh%lo(sh%axis)
+    case default
+      misses_box = .false.
+    end select
+  end function misses_box
 
   !> True if the boundary of sh within the ball (x0, rho) is made of planes
   !> only (so that clipping is exact at any size of the piece).
