@@ -35,9 +35,11 @@
 !> the cell's nodes, not on the steps in between (the plane for the final
 !> fraction is the same however the change was split), so `centroids_refresh`
 !> computes it where the centroids are read, before a remap and before a
-!> restart dump, rather than after every step: the same numbers, one cut per
-!> cell per remap instead of per step. The planes, the state that carries
-!> the interface, are current at all times; mx%xi is current after a refresh.
+!> restart dump, rather than after every step: the same numbers (to the
+!> round-off of the volume roots), one cut per cell per remap instead of per
+!> step (done after every step it made the triple point's Lagrangian phase
+!> five times as long). The planes, the state that carries the interface,
+!> are current at all times; mx%xi is current after a refresh.
 !> A refresh leaves the centroids that one plane per material reproduces
 !> exactly in the cell the remap is about to cut, whatever the fractions did.
 

@@ -234,9 +234,11 @@ contains
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
   !> In a mixed cell the sound speed is the largest of its materials'
-  !> (`mixed_cell_state`), and the volume bound holds for each material's
-  !> share of the cell's change too: dt <= dv_max / (gain |div|), h%gain from
-  !> `mixed_volume_gain` (a soft material takes more than its fraction).
+  !> (`mixed_cell_state`), and when the cell is compressed the volume bound
+  !> holds for each material's share of the cell's change too:
+  !> dt <= dv_max / (gain |div|), h%gain from `mixed_volume_gain` (a soft
+  !> material takes more than its fraction, and could otherwise collapse in
+  !> one step; an expanding cell shrinks none of its materials).
   !> x must be the positions whose cell volumes are h%vol. Also keeps the
   !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
   !> h%area), so that the forces of the same x, v do not compute it again.

@@ -30,9 +30,12 @@
 !> theta (V_m/B_m)/S dV with S = sum_k V_k/B_k: relative to its own volume,
 !> a soft material in a stiff one changes by up to 1/f_m times the cell's
 !> relative change (an air bubble in water takes all of the cell's
-!> compression). The stable step limits that relative change per step
-!> (`lagrange_strain_rates`) as it limits the cell's, so that the 90 % cap
-!> above is a safeguard rather than the rule.
+!> compression). When the cell is compressed the stable step limits that
+!> relative change per step (`lagrange_strain_rates`) as it limits the
+!> cell's, so that no material collapses in one step and the 90 % cap above
+!> is a safeguard rather than the rule. (An expanding cell shrinks none of
+!> its materials through this part; the part that equalises the pressures,
+!> theta d_m, does not scale with dt and is left to the cap.)
 module material_mixed
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
@@ -55,7 +58,11 @@ module material_mixed
     real(wp), allocatable :: rho(:)       !< material density
     real(wp), allocatable :: p(:)         !< material pressure
     real(wp), allocatable :: cs(:)        !< material sound speed
-    real(wp), allocatable :: xi(:, :)     !< material centroid, natural coordinates in [-1,1]^3 (3, nslot)
+    !> material centroid, natural coordinates in [-1,1]^3 (3, nslot); where
+    !> the planes below are known it is that of the plane cutting the
+    !> current fraction as of the last `centroids_refresh` (before each remap
+    !> and dump), the planes carrying it in between
+    real(wp), allocatable :: xi(:, :)
     !> the plane n.xi <= d that bounds the slot's material in the nested
     !> dissection of its cell (slot order), in natural coordinates (the
     !> cell's map taken affine about its centre): (n(1:3), d) with |n| = 1,

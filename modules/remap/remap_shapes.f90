@@ -26,7 +26,10 @@
 !> depth: there the result is exact to round-off without refinement);
 !> otherwise it is split further, down to `depth` levels, where a curved
 !> boundary (sphere, cylinder side) is taken as its tangent plane at the
-!> point nearest the piece's centre and the piece as its six tetrahedra.
+!> point nearest the piece's centre and the piece as its six tetrahedra. A
+!> curved shape is taken to miss a piece whose bounding box it does not
+!> reach (`misses_box`): the tangent plane, which holds the shape, would
+!> otherwise give a piece the shape only touches a spurious sliver.
 !>
 !> Accuracy on curved boundaries: the tangent plane of a sphere of radius R
 !> misses a sliver s^2/(2R) thick at a distance s from its foot, so over a
