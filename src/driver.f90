@@ -19,7 +19,7 @@ module driver
   use, intrinsic :: iso_fortran_env, only: compiler_version
   use driver_halt, only: halt, refuse, EXIT_WALL_TIME
   use driver_config, only: config_t, config_read, config_defaults_text
-  use driver_state, only: state_t, state_totals
+  use driver_state, only: state_t, state_totals, centroid_text
   use driver_output, only: schedule_t, schedule_init, open_outputs, write_frame, frame_out, gauge_output, progress, &
                            report_conservation, frame_due, dump_due, advance_schedule, history_output, &
                            outputs_after_restart, step_limit_text
@@ -284,6 +284,8 @@ contains
     write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, st%step - sch%step_start
     call log_line(sch%log, trim(line))
     call euler_report(es, sch%log)
+    if (es%centroids%fitted + es%centroids%moved + es%centroids%failed > 0) &
+      call log_line(sch%log, 'mixed-cell planes after the remaps: '//centroid_text(es%centroids))
     call log_line(sch%log, 'outputs: '//sch%out%dir//'/'//sch%out%name//'.xdmf (ParaView), '// &
                   sch%out%dir//'/'//sch%out%name//'.log')
     call log_line(sch%log, 'done: t = '//rtoa(st%t)//' after '//itoa(st%step)//' steps')

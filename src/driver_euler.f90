@@ -18,7 +18,8 @@ module driver_euler
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
                            smooth_tfi, smooth_q_min, smooth_keep_small_moves
   use material_table, only: material_index_cells, material_eval_eos
-  use material_mixed, only: mixed_cell_state
+  use material_mixed, only: mixed_cell_state, mixed_forget_planes
+  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use io_log, only: log_t, log_line
@@ -40,6 +41,9 @@ module driver_euler
     type(timer_t) :: timer                   !< wall time of the Euler steps
     type(smooth_mobility_t) :: mobility      !< how nodes may move in a smoothing rezone
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
+    !> this segment's fits of the mixed cells' interface planes after the
+    !> remaps, and refreshes of their centroids before them (and dumps)
+    type(centroid_stats_t) :: centroids
   end type euler_state_t
 
 contains
@@ -165,8 +169,15 @@ contains
     end if
     t_rezone = wall_seconds() - t_rezone
     es%t_rezone_total = es%t_rezone_total + t_rezone
+    ! the reference centroids the remap's MoF gets: those of the planes that
+    ! cut the fractions the Lagrangian steps left
+    call centroids_refresh(st%g, st%mx, es%centroids)
     call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err)
     if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
+    ! the new mixed cells' centroids are the remapped material's: their
+    ! interface planes, fitted to them, carry them to the next remap
+    if (.not. allocated(err)) call mixed_forget_planes(st%mx, err)
+    if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter)
     if (allocated(err)) then
       call es%timer%stop()
       return

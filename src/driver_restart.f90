@@ -31,6 +31,7 @@ module driver_restart
                            LOWER_POSITIVE, LOWER_NONNEGATIVE
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
+  use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
   use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
@@ -115,6 +116,9 @@ contains
 
     w0 = wall_seconds()
     call sch%t_output%start()
+    ! the stored centroids: those of the mixed cells' planes now (what a
+    ! remap would be given; the planes themselves are unchanged by this)
+    call centroids_refresh(st%g, st%mx, es%centroids)
     path = restart_path(sch, st%step)
     if (.not. allocated(sch%out%frames)) then
       sch%out%frames = [character(len=256) ::]

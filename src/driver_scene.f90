@@ -8,17 +8,20 @@ module driver_scene
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
-  use mesh_geometry, only: hex_volume, hex_trilinear, hex_jacobian, hex_natural_unclamped, cross
+  use mesh_geometry, only: hex_volume, hex_natural, hex_natural_unclamped, cross
   use io_grid_file, only: grid_file_read
   use io_gauges, only: gauge_locate
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
+  use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, &
+                          SHAPE_HALF_SPACE, SHAPE_CYLINDER
   use lagrange_state, only: hydro_allocate, hydro_subcell_masses
+  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes
   use io_log, only: log_t, log_line
   use driver_scene_config, only: region_config_t
   use driver_config, only: config_t
-  use driver_state, only: state_t, state_totals
+  use driver_state, only: state_t, state_totals, centroid_text
   implicit none
   private
   public :: build_scene
@@ -37,6 +40,7 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     integer :: m, c, n, a, r, s, ijk(3), stat
+    type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), rv, xi(3)
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
@@ -131,6 +135,10 @@ contains
 
       call material_index_cells(st%mats, hy%mat, mx, err)
       if (allocated(err)) return
+      ! the mixed cells' interface planes, fitted to the exact fractions and
+      ! centroids: how far the first remap's reference is from a plane
+      call centroids_fit_planes(g, mx, planes, cfg%rezone%mof_max_iter)
+      if (mx%n > 0) call log_line(log, 'mixed-cell planes of the scene: '//centroid_text(planes))
       call material_eval_eos(st%mats, hy%rho, hy%e, hy%p, hy%cs, mx)
       call mixed_cell_state(mx, hy%p, hy%cs)
 
@@ -158,35 +166,40 @@ contains
   end subroutine build_scene
 
   !> Fills the cells from the regions (applied in deck order, a later one
-  !> overriding an earlier one). A cell whose corners and centre all lie in
-  !> the same region takes that region's state; any other cell is sampled at
-  !> subsamples^3 points (midpoints of a uniform split of its natural
-  !> coordinates, each weighted by the volume it stands for: the Jacobian of
-  !> the trilinear map there, equal weights in a parallelepiped such as a cell
-  !> of a box grid) and gets volume fractions, masses, energies and centroids
-  !> per material. A cell with one material is pure (with the mass-averaged
-  !> state of its regions); a cell with several is a mixed cell.
+  !> overriding an earlier one). Each cell's volume and first moment held by
+  !> every region come from `shapes_cell_moments` (exact for planar region
+  !> boundaries, curved ones resolved to 1/subsamples of the cell: module
+  !> remap_shapes), which make the volume fractions, masses, energies and
+  !> centroids of its materials. A cell with one material is pure (with the
+  !> state of its region if one region holds it all, else the mass-averaged
+  !> state of its regions); a cell with several is a mixed cell. A region's
+  !> share below 1e-12 of a cell is round-off of the clipping (a boundary
+  !> on a cell face) and is left out.
   subroutine fill_regions(cfg, st, log, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    integer :: nmat, c, m, k, nmix, nslot, s, nm, r_only
+    integer :: nmat, nreg, c, m, k, nmix, nslot, s, nm, r_only, depth
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
+    real(wp), allocatable :: keep(:, :), grown(:, :)
+    type(shape_t), allocatable :: shapes(:)
     logical :: covered
     logical, allocatable :: used(:)
     character(len=200) :: msg
 
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
-      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(size(cfg%regions)), &
-               used(size(cfg%regions)), stat=k, errmsg=msg)
+      nreg = size(cfg%regions)
+      allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(nreg), used(nreg), shapes(nreg), &
+               keep(6*nmat, 64), stat=k, errmsg=msg)
       if (k /= 0) then
         call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
         return
       end if
       used = .false.
-      do k = 1, size(cfg%regions)
+      do k = 1, nreg
+        shapes(k) = region_shape(cfg%regions(k))
         associate (rg => cfg%regions(k))
           if (rg%energy >= 0.0_wp) then
             e_reg(k) = rg%energy
@@ -195,11 +208,18 @@ contains
           end if
         end associate
       end do
-      ! pass 1: pure cells get their state, mixed cells are counted
+      ! the split depth that resolves curved boundaries to 1/subsamples of a cell
+      depth = 0
+      do while (2**depth < cfg%grid%subsamples)
+        depth = depth + 1
+      end do
+      ! pass 1: pure cells get their state, mixed cells are counted and
+      ! their materials kept (6 numbers per material: fraction, mass,
+      ! energy, centroid)
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+        call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used)
         if (.not. covered) then
           call error_set(err, deck_problem, 'cell '//itoa(c)// &
             ' is not covered by any &region; add a region with shape = ''all'' first', ERR_INPUT)
@@ -223,13 +243,23 @@ contains
           nmix = nmix + 1
           nslot = nslot + nm
           hy%mat(c) = -nmix
+          if (nmix > size(keep, 2)) then
+            allocate(grown(size(keep, 1), 2*size(keep, 2)), stat=k, errmsg=msg)
+            if (k /= 0) then
+              call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
+              return
+            end if
+            grown(:, 1:size(keep, 2)) = keep
+            call move_alloc(grown, keep)
+          end if
+          keep(:, nmix) = [vfm, massm, enm, reshape(xim, [3*nmat])]
         end if
       end do
       ! a region that gives no cell any material is most likely a mistake
       ! (outside the box, or hidden by later regions): say so
-      do k = 1, size(cfg%regions)
+      do k = 1, nreg
         if (.not. used(k)) call log_line(log, 'WARNING: &region('//itoa(k)//') ('//trim(cfg%regions(k)%shape)// &
-          ') fills no part of any cell: it lies outside the grid, is smaller than the sampling, or later '// &
+          ') fills no part of any cell: it lies outside the grid or later '// &
           'regions cover it')
       end do
       ! pass 2: the mixed cells' slots
@@ -240,7 +270,10 @@ contains
       do c = 1, g%ncell
         if (hy%mat(c) > 0) cycle
         k = k + 1
-        call sample_cell(cfg, g, hy%vol(c), c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+        vfm = keep(1:nmat, k)
+        massm = keep(nmat + 1:2*nmat, k)
+        enm = keep(2*nmat + 1:3*nmat, k)
+        xim = reshape(keep(3*nmat + 1:6*nmat, k), [3, nmat])
         mx%cell(k) = c
         do m = 1, nmat
           if (.not. (vfm(m) > 0.0_wp)) cycle
@@ -250,7 +283,7 @@ contains
           mx%mass(s) = massm(m)
           mx%e(s) = enm(m)/massm(m)
           mx%rho(s) = massm(m)/(vfm(m)*hy%vol(c))
-          mx%xi(:, s) = xim(:, m)/vfm(m)
+          mx%xi(:, s) = xim(:, m)
         end do
         mx%start(k + 1) = s + 1
         hy%mass(c) = sum(massm)
@@ -262,96 +295,85 @@ contains
   end subroutine fill_regions
 
   !> Volume fraction, mass, internal energy and centroid (natural
-  !> coordinates, times the volume fraction) of each material in cell c;
-  !> r_only is the region that holds the whole cell, if one does (else 0).
-  subroutine sample_cell(cfg, g, vol, c, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+  !> coordinates) of each material in cell c (volume vol) from the regions'
+  !> shapes (`shapes_cell_moments` at the given depth); r_only is the
+  !> region that holds the whole cell, if one does (else 0); covered is false
+  !> if more than round-off of the cell is in no region.
+  subroutine cell_materials(cfg, g, vol, c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: vol
-    integer, intent(in) :: c
+    integer, intent(in) :: c, depth
+    type(shape_t), intent(in) :: shapes(:)
     real(wp), intent(in) :: e_reg(:)
     real(wp), intent(out) :: vfm(:), massm(:), enm(:), xim(:, :)
     logical, intent(out) :: covered
     integer, intent(out) :: r_only
     logical, intent(inout) :: used(:)
-    real(wp) :: xn(3, 8), xi(3), w, jmin, jmax, jsum
-    integer :: a, i, j, k, r, r0, ns
-    logical :: same, affine
+    real(wp) :: xn(3, 8), vreg(0:size(shapes)), mreg(3, 0:size(shapes)), vtot, f, xc(3), mm(3, size(vfm))
+    integer :: r, m, nkept
 
     call g%gather(c, g%x, xn)
-    vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp
-    ! quick test: corners and centre in one region
-    r0 = region_at(cfg%regions, sum(xn, 2)/8.0_wp)
-    same = .true.
-    do a = 1, 8
-      same = same .and. region_at(cfg%regions, xn(:, a)) == r0
-    end do
+    call shapes_cell_moments(xn, shapes, depth, vreg, mreg)
+    vtot = sum(vreg)
+    covered = vreg(0) <= 1.0e-12_wp*vtot
+    vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp; mm = 0.0_wp
     r_only = 0
-    if (same) then
-      covered = (r0 > 0)
-      if (.not. covered) return
-      call add_sample(r0, [0.0_wp, 0.0_wp, 0.0_wp], 1.0_wp)
-      r_only = r0
-      return
-    end if
-    ns = cfg%grid%subsamples
-    ! A sample stands for the volume det J(xi) dxi around it. In a
-    ! parallelepiped det J is constant and the weights are equal (kept exactly
-    ! 1/ns^3, so that box grids fill as they always did); otherwise each is
-    ! det J over the sum of them (a folded corner, det J < 0, counts 0).
-    jmin = huge(1.0_wp)
-    jmax = -huge(1.0_wp)
-    jsum = 0.0_wp
-    do k = 1, ns
-      do j = 1, ns
-        do i = 1, ns
-          w = hex_jacobian(xn, sample_xi(i, j, k))
-          jmin = min(jmin, w)
-          jmax = max(jmax, w)
-          jsum = jsum + max(w, 0.0_wp)
-        end do
-      end do
+    if (.not. covered) return
+    ! round-off slivers out, the others renormalised
+    nkept = 0
+    do r = 1, size(shapes)
+      if (vreg(r) > 1.0e-12_wp*vtot) then
+        nkept = nkept + 1
+        r_only = r
+      else
+        vreg(r) = 0.0_wp
+      end if
     end do
-    affine = jmax - jmin <= 1.0e-12_wp*abs(jmax) .or. .not. (jsum > 0.0_wp)
-    w = 1.0_wp/real(ns, wp)**3
-    covered = .true.
-    do k = 1, ns
-      do j = 1, ns
-        do i = 1, ns
-          xi = sample_xi(i, j, k)
-          r = region_at(cfg%regions, hex_trilinear(xn, xi))
-          if (r == 0) then
-            covered = .false.
-            return
-          end if
-          if (.not. affine) w = max(hex_jacobian(xn, xi), 0.0_wp)/jsum
-          call add_sample(r, xi, w)
-        end do
-      end do
-    end do
-
-  contains
-
-    !> Natural coordinates of sample (i,j,k): the midpoints of a uniform
-    !> split of [-1,1]^3 into ns^3 parts.
-    pure function sample_xi(i, j, k) result(x)
-      integer, intent(in) :: i, j, k
-      real(wp) :: x(3)
-      x = -1.0_wp + (2.0_wp*real([i, j, k], wp) - 1.0_wp)/real(ns, wp)
-    end function sample_xi
-
-    subroutine add_sample(r, xi_pt, wt)
-      integer, intent(in) :: r
-      real(wp), intent(in) :: xi_pt(3), wt
-      integer :: m
-      m = cfg%regions(r)%imat
+    if (nkept /= 1) r_only = 0
+    vtot = sum(vreg(1:size(shapes)))
+    do r = 1, size(shapes)
+      if (.not. vreg(r) > 0.0_wp) cycle
       used(r) = .true.
-      vfm(m) = vfm(m) + wt
-      massm(m) = massm(m) + wt*cfg%regions(r)%density*vol
-      enm(m) = enm(m) + wt*cfg%regions(r)%density*e_reg(r)*vol
-      xim(:, m) = xim(:, m) + wt*xi_pt
-    end subroutine add_sample
-  end subroutine sample_cell
+      m = cfg%regions(r)%imat
+      f = vreg(r)/vtot
+      vfm(m) = vfm(m) + f
+      massm(m) = massm(m) + f*cfg%regions(r)%density*vol
+      enm(m) = enm(m) + f*cfg%regions(r)%density*e_reg(r)*vol
+      mm(:, m) = mm(:, m) + mreg(:, r)
+    end do
+    ! centroids: the first moments are about the mean of the nodes
+    xc = 0.125_wp*sum(xn, 2)
+    do m = 1, size(vfm)
+      if (vfm(m) > 0.0_wp) xim(:, m) = hex_natural(xn, xc + mm(:, m)/(vfm(m)*vtot))
+    end do
+  end subroutine cell_materials
+
+  !> The shape of a region, for `remap_shapes`.
+  pure function region_shape(rg) result(sh)
+    type(region_config_t), intent(in) :: rg
+    type(shape_t) :: sh
+    select case (trim(rg%shape))
+    case ('all')
+      sh%kind = SHAPE_ALL
+    case ('box')
+      sh%kind = SHAPE_BOX
+    case ('sphere')
+      sh%kind = SHAPE_SPHERE
+    case ('half_space')
+      sh%kind = SHAPE_HALF_SPACE
+    case ('cylinder')
+      sh%kind = SHAPE_CYLINDER
+    case default
+      sh%kind = 0
+    end select
+    sh%lo = rg%lo
+    sh%hi = rg%hi
+    sh%center = rg%center
+    sh%radius = rg%radius
+    sh%normal = rg%normal
+    sh%axis = rg%axis
+  end function region_shape
 
   !> The last region (in deck order) that contains point p, or 0.
   pure integer function region_at(regions, p)
@@ -394,23 +416,6 @@ contains
   pure logical function inside(rg, p)
     type(region_config_t), intent(in) :: rg
     real(wp), intent(in) :: p(3)
-    real(wp) :: d(3)
-    select case (trim(rg%shape))
-    case ('all')
-      inside = .true.
-    case ('box')
-      inside = all(p >= rg%lo) .and. all(p <= rg%hi)
-    case ('sphere')
-      inside = sum((p - rg%center)**2) <= rg%radius**2
-    case ('half_space')
-      inside = dot_product(p - rg%center, rg%normal) >= 0.0_wp
-    case ('cylinder')
-      d = p - rg%center
-      d(rg%axis) = 0.0_wp
-      inside = sum(d**2) <= rg%radius**2 .and. p(rg%axis) >= rg%lo(rg%axis) .and. &
-               p(rg%axis) <= rg%hi(rg%axis)
-    case default
-      inside = .false.
-    end select
+    inside = shape_inside(region_shape(rg), p)
   end function inside
 end module driver_scene

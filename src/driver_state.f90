@@ -10,10 +10,11 @@ module driver_state
   use material_table, only: material_t
   use material_mixed, only: mixed_t, mixed_register_restart
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
+  use lagrange_centroids, only: centroid_stats_t
   use io_output, only: totals_t
   implicit none
   private
-  public :: state_t, state_totals, energy_drift, state_register_restart, state_after_read
+  public :: state_t, state_totals, energy_drift, state_register_restart, state_after_read, centroid_text
 
   !> The physical state.
   type :: state_t
@@ -32,6 +33,18 @@ module driver_state
   end type state_t
 
 contains
+
+  !> What fitting and refreshing the mixed cells' interface planes did
+  !> (`lagrange_centroids`), for the log.
+  function centroid_text(cs) result(text)
+    type(centroid_stats_t), intent(in) :: cs
+    character(len=:), allocatable :: text
+    character(len=300) :: line
+    write(line, '(i0," cells fitted by MoF (",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
+      &"), centroids refreshed ",i0," times, ",i0," not fitted or refreshed")') cs%fitted, &
+      real(cs%iterations, wp)/real(max(cs%fitted, 1), wp), cs%capped, cs%err_max, cs%moved, cs%failed
+    text = trim(line)
+  end function centroid_text
 
   !> Mass, momentum, internal and kinetic energy of the state into st%tot.
   subroutine state_totals(st)

@@ -24,7 +24,7 @@ import h5py
 import numpy as np
 
 names = ["cell", "start", "material", "volume_fraction", "mass", "energy", "density",
-         "pressure", "sound_speed", "centroid"]
+         "pressure", "sound_speed", "centroid", "plane"]
 
 
 def rewrite(path, mixed, mat):
@@ -58,6 +58,7 @@ g["mass"] = np.append(g["mass"], frac*cmass[c])
 for k, v in (("energy", e), ("density", rho), ("pressure", p), ("sound_speed", cs)):
     g[k] = np.append(g[k], [v[c], v[c]])
 g["centroid"] = np.concatenate([g["centroid"], np.zeros((2, 3))])
+g["plane"] = np.concatenate([g["plane"], np.zeros((2, 4))])   # not known: fitted if ever needed
 gmat = mat.copy()
 gmat[c] = -(n0 + 1)
 shutil.copy(sys.argv[1], sys.argv[2])
@@ -69,7 +70,7 @@ for k in range(n0):
     s0, s1 = mx["start"][k] - 1, mx["start"][k + 1] - 1
     smat[mx["cell"][k] - 1] = mx["material"][s0 + np.argmax(mx["volume_fraction"][s0:s1])]
 s = {"cell": np.zeros(0, np.int32), "start": np.ones(1, np.int32), "material": np.zeros(0, np.int32),
-     "centroid": np.zeros((0, 3))}
+     "centroid": np.zeros((0, 3)), "plane": np.zeros((0, 4))}
 for k in names:
     s.setdefault(k, np.zeros(0))
 shutil.copy(sys.argv[1], sys.argv[3])

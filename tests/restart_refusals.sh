@@ -43,7 +43,7 @@ with h5py.File(sys.argv[2], "r+") as f:
     f["restart_version"][()] = 99
 PY
 derive future "$deck" "max_steps = 20, restart_from = 'future.h5'" base
-expect "another format version" "has restart format version 99; this program reads version 4" future.nml
+expect "another format version" "has restart format version 99; this program reads version 5" future.nml
 "$py" - "$dump" old.h5 <<'PY'
 import shutil, sys, h5py
 shutil.copy(sys.argv[1], sys.argv[2])
@@ -51,7 +51,7 @@ with h5py.File(sys.argv[2], "r+") as f:
     f["restart_version"][()] = 1
 PY
 derive old "$deck" "max_steps = 20, restart_from = 'old.h5'" base
-expect "the format before mixed-cell sizes were stored" "has restart format version 1; this program reads version 4" old.nml
+expect "the format before mixed-cell sizes were stored" "has restart format version 1; this program reads version 5" old.nml
 "$py" - "$dump" reshaped.h5 <<'PY'
 import shutil, sys, h5py
 shutil.copy(sys.argv[1], sys.argv[2])

@@ -58,7 +58,7 @@ program test_io_deck
   echo_txt = echo_text(echo)
   call check(size(problems) == 0, 'the &grid group is valid')
   call check(g1%ni == 10 .and. g1%nj == 2 .and. g1%nk == 3, '&grid sizes read')
-  call check(all(abs(g1%xmax - 1.0_wp) <= 0.0_wp) .and. g1%subsamples == 8, '&grid defaults kept')
+  call check(all(abs(g1%xmax - 1.0_wp) <= 0.0_wp) .and. g1%subsamples == 16, '&grid defaults kept')
   call check(index(echo_txt, 'NI=10') > 0, 'the echo holds the group: '//echo_txt(1:min(40, len(echo_txt))))
   line(1) = echo_txt   ! assigned: gfortran 12 overruns typed constructors of other lengths
   call grid_config_read(g2, line, path, no_echo, problems)

@@ -63,7 +63,7 @@ DIMENSIONS = {
     },
     "grid": {"ni": INT, "nj": INT, "nk": INT, "xmin": LEN, "xmax": LEN, "subsamples": INT, "file": FILE},
     "hydro": {"viscosity": STR, "q_linear": NONE, "q_quad": NONE, "hourglass": NONE,
-              "dv_max": NONE, "relax": NONE},
+              "dv_max": NONE, "relax": NONE, "dv_vf_min": NONE},
     "material": {
         "name": STR, "eos": STR, "gamma": NONE, "a": PRES, "b": PRES, "r1": NONE, "r2": NONE,
         "omega": NONE, "rho0": DENS, "c0": VEL, "s1": NONE, "gamma0": NONE, "p_min": PRES,

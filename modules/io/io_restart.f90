@@ -47,7 +47,8 @@ module io_restart
   !> 3: checksums (HDF5 1.10 format, Fletcher-32 on every dataset with data);
   !> scalars are stored as one-element arrays.
   !> 4: the subcell (corner) masses, corner_mass (8, ncell).
-  integer, parameter :: restart_version = 4
+  !> 5: the mixed cells' interface planes, mixed_plane (4, nslot).
+  integer, parameter :: restart_version = 5
 
 contains
 

@@ -23,15 +23,16 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
-    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax
+    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
     character(len=16) :: viscosity
     integer :: ios
     character(len=max_line) :: msg
-    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
     hourglass = defaults%hourglass; dv_max = defaults%dv_max; relax = defaults%relax
+    dv_vf_min = defaults%dv_vf_min
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -49,8 +50,10 @@ contains
     if (.not. (dv_max > 0.0_wp)) call problem_bad(problems, 'hydro', 'dv_max', dv_max, 'must be > 0')
     if (.not. (relax > 0.0_wp .and. relax <= 1.0_wp)) call problem_bad(problems, 'hydro', 'relax', relax, &
       'must be in (0, 1]')
+    if (.not. (dv_vf_min > 0.0_wp .and. dv_vf_min <= 1.0_wp)) call problem_bad(problems, 'hydro', 'dv_vf_min', &
+      dv_vf_min, 'must be in (0, 1]')
     par%q_linear = q_linear; par%q_quad = q_quad
-    par%hourglass = hourglass; par%dv_max = dv_max; par%relax = relax
+    par%hourglass = hourglass; par%dv_max = dv_max; par%relax = relax; par%dv_vf_min = dv_vf_min
     if (echo /= no_echo) write(echo, nml=hydro)
   end subroutine hydro_config_read
 end module lagrange_config

@@ -233,6 +233,12 @@ contains
   !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
+  !> In a mixed cell the sound speed is the largest of its materials'
+  !> (`mixed_cell_state`), and when the cell is compressed the volume bound
+  !> holds for each material's share of the cell's change too:
+  !> dt <= dv_max / (gain |div|), h%gain from `mixed_volume_gain` (a soft
+  !> material takes more than its fraction, and could otherwise collapse in
+  !> one step; an expanding cell shrinks none of its materials).
   !> x must be the positions whose cell volumes are h%vol. Also keeps the
   !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
   !> h%area), so that the forces of the same x, v do not compute it again.
@@ -286,7 +292,10 @@ contains
       ceff = cq + sqrt(cq*cq + h%cs(c)**2)
       dtc = huge(1.0_wp)
       if (ceff > 0.0_wp) dtc = par%cfl*(h%vol(c)/amax)/ceff
-      if (abs(div) > 0.0_wp) dtc = min(dtc, par%dv_max/abs(div))
+      if (abs(div) > 0.0_wp) then
+        dtc = min(dtc, par%dv_max/abs(div))
+        if (h%mat(c) < 0 .and. div < 0.0_wp) dtc = min(dtc, par%dv_max/(h%gain(c)*abs(div)))
+      end if
       if (dtc < dt_loc) c_loc = c
       dt_loc = min(dt_loc, dtc)
     end do

@@ -15,7 +15,7 @@ module lagrange_integrator
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
   use material_table, only: material_t, material_eval_eos
-  use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state
+  use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use lagrange_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
   implicit none
@@ -26,6 +26,8 @@ contains
 
   !> Largest stable step of the current state (no growth limit applied);
   !> `dt_cell` (optional) the cell that limits it (see `lagrange_strain_rates`).
+  !> Mixed cells are limited with the material volume gains h%gain of the
+  !> last `lagrange_step` (1 before any).
   subroutine lagrange_stable_dt(g, h, par, dt_stable, dt_cell)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(inout) :: h
@@ -59,6 +61,13 @@ contains
   !> change is -work_ext for forces from particle stresses). The impulse of a
   !> kinematic boundary on f_ext is boundary work, as for the corner forces.
   !> Without f_ext and m_ext the step is unchanged bit for bit.
+  !>
+  !> Mixed cells: the stable step holds each material's volume change to
+  !> dv_max of itself (`mixed_volume_gain`), and the closure shares the
+  !> volume and energy changes in both stages. Their interface planes
+  !> (natural coordinates) follow the grid untouched; the centroids that
+  !> follow from them and the new fractions are computed where they are
+  !> read (`lagrange_centroids`).
   subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
@@ -77,6 +86,7 @@ contains
 
     if (present(work_ext)) work_ext = 0.0_wp
     ! predictor
+    call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
     call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
     dt = min(dt, dt_stable)
     call save_step_start(g, h)

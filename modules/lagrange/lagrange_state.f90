@@ -31,7 +31,10 @@ module lagrange_state
     real(wp) :: q_quad = 1.5_wp       !< quadratic viscosity coefficient
     real(wp) :: hourglass = 0.1_wp    !< Flanagan-Belytschko viscous hourglass coefficient
     real(wp) :: cfl = 0.5_wp          !< Courant number
-    real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step
+    real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step (of a cell, and of a material in a mixed cell)
+    !> below this volume fraction a material's volume change is measured
+    !> against this fraction of its cell for the dv_max limit (`mixed_volume_gain`)
+    real(wp) :: dv_vf_min = 0.01_wp
     real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
     real(wp) :: dt_max = huge(1.0_wp) !< largest step
     real(wp) :: relax = 1.0_wp        !< mixed-cell pressure relaxation per step, (0, 1]
@@ -50,6 +53,10 @@ module lagrange_state
     real(wp), allocatable :: cs(:)        !< cell sound speed
     real(wp), allocatable :: q(:)         !< artificial viscosity (sum over directions)
     integer, allocatable :: mat(:)        !< material of each cell
+    !> mixed cells: the largest ratio of a material's relative volume change
+    !> to the cell's (`mixed_volume_gain`), set at the start of each step for
+    !> the time step; not read for pure cells
+    real(wp), allocatable :: gain(:)
     ! work arrays of one step
     real(wp), allocatable :: xn(:, :), un(:, :), uh(:, :), en(:)
     real(wp), allocatable :: fc(:, :, :)  !< corner forces (3, 8, ncell)
@@ -74,7 +81,7 @@ contains
     character(len=200) :: msg
 
     allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
-             h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), &
+             h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), h%gain(ncell), &
              h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
              h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%sarea(3, 3, ncell), &
              h%area(3, ncell), stat=stat, errmsg=msg)
@@ -82,7 +89,7 @@ contains
       call error_set(err, 'hydro_allocate', 'cannot allocate the hydro state: '//trim(msg))
       return
     end if
-    h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0
+    h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0; h%gain = 1.0_wp
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
     h%dvdx = 0.0_wp; h%sarea = 0.0_wp; h%area = 0.0_wp
   end subroutine hydro_allocate

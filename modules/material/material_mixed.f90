@@ -5,8 +5,11 @@
 !> material present, each with that material's volume fraction, mass,
 !> specific internal energy, density, pressure, sound speed and centroid (in
 !> the cell's natural coordinates, so it moves with a Lagrangian cell; the MoF
-!> interface reconstruction of the remap will use it). A scene without mixed
-!> cells has n = 0 and never enters this module's loops.
+!> interface reconstruction of the remap uses it as its reference). Each slot
+!> also keeps the plane, in natural coordinates, that bounds its material in
+!> the nested dissection of the cell (`lagrange_centroids` keeps
+!> centroids and planes consistent with the volume fractions between remaps).
+!> A scene without mixed cells has n = 0 and never enters this module's loops.
 !>
 !> Pressure closure (Tipton; Shashkov 2008, the paper's ref. [68]): over a
 !> step the cell's volume change dV is shared as dV_m = f_m dV + theta d_m,
@@ -21,13 +24,26 @@
 !> rest of the cell's energy change from the compatible update (viscous and
 !> hourglass heating, linearisation error) is shared by mass, so the cell's
 !> total energy is exactly the compatible one (Eq. 19).
+!>
+!> Time step (`mixed_volume_gain`). The dt-dependent part of a material's
+!> volume change is its share of the cell's, (1 - theta) f_m dV +
+!> theta (V_m/B_m)/S dV with S = sum_k V_k/B_k: relative to its own volume,
+!> a soft material in a stiff one changes by up to 1/f_m times the cell's
+!> relative change (an air bubble in water takes all of the cell's
+!> compression). When the cell is compressed the stable step limits that
+!> relative change per step (`lagrange_strain_rates`) as it limits the
+!> cell's, so that no material collapses in one step and the 90 % cap above
+!> is a safeguard rather than the rule. (An expanding cell shrinks none of
+!> its materials through this part; the part that equalises the pressures,
+!> theta d_m, does not scale with dt and is left to the cap.)
 module material_mixed
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
-  public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_register_restart
+  public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_register_restart, &
+            mixed_forget_planes, mixed_volume_gain
 
   !> Compressed storage of the mixed cells.
   type :: mixed_t
@@ -42,7 +58,17 @@ module material_mixed
     real(wp), allocatable :: rho(:)       !< material density
     real(wp), allocatable :: p(:)         !< material pressure
     real(wp), allocatable :: cs(:)        !< material sound speed
-    real(wp), allocatable :: xi(:, :)     !< material centroid, natural coordinates in [-1,1]^3 (3, nslot)
+    !> material centroid, natural coordinates in [-1,1]^3 (3, nslot); where
+    !> the planes below are known it is that of the plane cutting the
+    !> current fraction as of the last `centroids_refresh` (before each remap
+    !> and dump), the planes carrying it in between
+    real(wp), allocatable :: xi(:, :)
+    !> the plane n.xi <= d that bounds the slot's material in the nested
+    !> dissection of its cell (slot order), in natural coordinates (the
+    !> cell's map taken affine about its centre): (n(1:3), d) with |n| = 1,
+    !> (4, nslot); the last slot of a cell has none (n = 0). A cell whose
+    !> other slots have n = 0: not known (`lagrange_centroids` fits it by MoF)
+    real(wp), allocatable :: plane(:, :)
     ! state at the start of the step
     real(wp), allocatable :: vfn(:), en(:), pn(:), bn(:), voln(:)
   end type mixed_t
@@ -59,7 +85,7 @@ contains
     mx%n = n
     mx%nslot = nslot
     allocate(mx%cell(n), mx%start(n + 1), mx%mat(nslot), mx%vf(nslot), mx%mass(nslot), &
-             mx%e(nslot), mx%rho(nslot), mx%p(nslot), mx%cs(nslot), mx%xi(3, nslot), &
+             mx%e(nslot), mx%rho(nslot), mx%p(nslot), mx%cs(nslot), mx%xi(3, nslot), mx%plane(4, nslot), &
              mx%vfn(nslot), mx%en(nslot), mx%pn(nslot), mx%bn(nslot), mx%voln(n), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -68,9 +94,77 @@ contains
     end if
     mx%start(1) = 1
     mx%xi = 0.0_wp
+    mx%plane = 0.0_wp
     mx%p = 0.0_wp
     mx%cs = 0.0_wp
   end subroutine mixed_allocate
+
+  !> Forgets the interface planes of every mixed cell (after a remap has
+  !> built new mixed cells: their centroids are those of the remapped
+  !> material, their planes not yet known); the storage is sized to nslot.
+  subroutine mixed_forget_planes(mx, err)
+    type(mixed_t), intent(inout) :: mx
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+    if (allocated(mx%plane)) then
+      if (size(mx%plane, 2) /= mx%nslot) deallocate(mx%plane)
+    end if
+    if (.not. allocated(mx%plane)) then
+      allocate(mx%plane(4, mx%nslot), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'mixed_forget_planes', 'cannot allocate the interface planes: '//trim(msg))
+        return
+      end if
+    end if
+    mx%plane = 0.0_wp
+  end subroutine mixed_forget_planes
+
+  !> For the time step: gain(c) of every mixed cell c, the largest ratio over
+  !> its materials of the material's relative volume change to the cell's,
+  !> for the dt-dependent part of the closure's volume change (module
+  !> header): share_m / max(f_m, vf_floor), share_m = (1 - relax) f_m +
+  !> relax (f_m/B_m) / sum_k (f_k/B_k), B = rho c^2 now. A material below the
+  !> volume fraction vf_floor counts as if it had vf_floor: its change is
+  !> measured against that part of the cell (a sliver's collapse is left to
+  !> the closure's cap rather than cutting everyone's step by 1/f_m). The
+  !> gain is >= 1 for the softest material when vf_floor <= its fraction;
+  !> pure cells are not touched (theirs is 1).
+  subroutine mixed_volume_gain(mx, relax, vf_floor, gain)
+    type(mixed_t), intent(in) :: mx
+    real(wp), intent(in) :: relax, vf_floor
+    real(wp), intent(inout) :: gain(:)
+    integer, parameter :: maxmat = 16
+    integer :: k, s, s0, s1, i, nm
+    real(wp) :: bmax, sw, b(maxmat), g
+
+    if (mx%n == 0) return
+    !$omp parallel do default(none) shared(mx, relax, vf_floor, gain) private(k, s, s0, s1, i, nm, bmax, sw, b, g) &
+    !$omp schedule(static)
+    do k = 1, mx%n
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      nm = s1 - s0 + 1
+      bmax = 0.0_wp
+      do s = s0, s1
+        bmax = max(bmax, mx%rho(s)*mx%cs(s)**2)
+      end do
+      sw = 0.0_wp
+      do i = 1, nm
+        s = s0 + i - 1
+        ! the floors of mixed_split
+        b(i) = max(mx%rho(s)*mx%cs(s)**2, 1.0e-12_wp*bmax, tiny(1.0_wp))
+        sw = sw + mx%vf(s)/b(i)
+      end do
+      g = 1.0_wp
+      do i = 1, nm
+        s = s0 + i - 1
+        g = max(g, ((1.0_wp - relax)*mx%vf(s) + relax*(mx%vf(s)/b(i))/sw)/max(mx%vf(s), vf_floor))
+      end do
+      gain(mx%cell(k)) = g
+    end do
+    !$omp end parallel do
+  end subroutine mixed_volume_gain
 
   !> Keeps the material state at the start of a step (vol: cell volumes).
   subroutine mixed_save_step_start(mx, vol)
@@ -196,5 +290,6 @@ contains
     call reg%add('mixed_pressure', 'pressure', LOC_MIXED_SLOT, mx%p)
     call reg%add('mixed_sound_speed', 'length/time', LOC_MIXED_SLOT, mx%cs, lower=LOWER_NONNEGATIVE)
     call reg%add('mixed_centroid', 'natural coordinates', LOC_MIXED_SLOT, mx%xi)
+    call reg%add('mixed_plane', 'natural coordinates', LOC_MIXED_SLOT, mx%plane)
   end subroutine mixed_register_restart
 end module material_mixed

@@ -9,7 +9,8 @@ module mesh_grid_config
   private
   public :: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
 
-  !> Cut cells are sampled at subsamples^3 points: 64^3 = 2.6e5 per cell at most.
+  !> Curved region boundaries in cut cells are resolved to 1/subsamples of
+  !> the cell (`remap_shapes`): 64 is a split 6 levels deep.
   integer, parameter :: max_subsamples = 64
 
   !> The resolved &grid group; the initial values are the defaults.
@@ -17,7 +18,7 @@ module mesh_grid_config
     integer :: ni = 0, nj = 0, nk = 0              !< cells along x, y, z (required, >= 1)
     real(wp) :: xmin(3) = 0.0_wp                   !< low corner of the box (length)
     real(wp) :: xmax(3) = 1.0_wp                   !< high corner of the box (length)
-    integer :: subsamples = 8                      !< sample points per direction in cut cells
+    integer :: subsamples = 16                     !< curved region boundaries resolved to 1/subsamples of a cut cell
     character(len=256) :: file = ''                !< HDF5 file of node coordinates ('': the box)
     character(len=:), allocatable :: file_path     !< `file` resolved against the deck's directory (resolved)
   end type grid_config_t

@@ -59,7 +59,7 @@ module remap_mof
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol
   public :: mof_cell_pieces, mof_pieces_moments, mof_material_pieces
-  public :: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_reconstruct_nested
+  public :: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_reconstruct_nested, mof_nested_cut
 
   !> Most pieces a region of a cell is made of: the 24 tetrahedra of the
   !> split, each of which stays one convex piece under any number of cuts.
@@ -1005,4 +1005,92 @@ contains
       call region_clip(rest, -nk, -dl, ok)
     end do
   end subroutine mof_reconstruct_nested
+
+  !> The nested dissection of `mof_reconstruct_nested` with the normals
+  !> given instead of fitted: for k = 1..nmat = size(vfrac) in order,
+  !> material k is what materials 1..k-1 left of the cell xn(3,8) with
+  !> n(:,k).x <= d(k), d(k) (length times |n(:,k)|) cutting vfrac(k) of the
+  !> cell's volume. No search: one volume root per material, so a plane keeps
+  !> its orientation while its material grows or shrinks. The last material,
+  !> one with n(:,k) = 0 and one that would take all that is left (to 1e-12
+  !> of the cell's volume) take the rest, and the later ones are empty; one
+  !> with vfrac <= 0 is empty. d(k) is then the plane along n(:,k) through
+  !> the farthest (rest) or nearest (empty) point of what was left, or, for
+  !> n(:,k) = 0, 1 (rest) or -1 (empty) in the convention of `poly_clip`.
+  !> vol(k) (length^3) and centroid(:,k) (length) are the volume
+  !> and centroid of each material's region, the smaller side of each cut
+  !> computed directly (not as a difference), so a sliver's centroid is
+  !> exact to round-off of its own size; an empty region has vol = 0 and the
+  !> mean of the nodes as centroid. ok is false if an array is too small
+  !> (nothing is then set), the cell's volume is not positive, or a volume
+  !> root failed. dguess (optional, the units of d) starts each root's
+  !> Newton iteration (a plane that moved little: a few cuts instead of the
+  !> bisection's dozen); the result does not depend on it beyond round-off.
+  pure subroutine mof_nested_cut(xn, vfrac, n, d, vol, centroid, ok, dguess)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(in) :: vfrac(:)
+    real(wp), intent(in) :: n(:, :)
+    real(wp), intent(out) :: d(:), vol(:), centroid(:, :)
+    logical, intent(out) :: ok
+    real(wp), intent(in), optional :: dguess(:)
+    type(mof_pieces_t) :: rest
+    type(cut_t) :: c
+    real(wp) :: vcell, vrest, mom(3), vt, nu(3), nn, dg, smin, smax
+    integer :: nmat, k
+    logical :: okv, all_taken, guess
+
+    nmat = size(vfrac)
+    ok = size(n, 1) == 3 .and. size(n, 2) >= nmat .and. size(d) >= nmat .and. size(vol) >= nmat .and. &
+         size(centroid, 1) == 3 .and. size(centroid, 2) >= nmat .and. nmat >= 1
+    guess = present(dguess)
+    if (guess) ok = ok .and. size(dguess) >= nmat
+    if (.not. ok) return
+    call mof_cell_pieces(xn, rest)
+    call region_moments(rest, vcell, mom)
+    d(1:nmat) = -1.0_wp
+    vol(1:nmat) = 0.0_wp
+    do k = 1, nmat
+      centroid(:, k) = rest%origin
+    end do
+    if (.not. vcell > 0.0_wp) then
+      ok = .false.
+      return
+    end if
+    all_taken = .false.
+    do k = 1, nmat
+      nn = norm2(n(:, k))
+      nu = 0.0_wp
+      if (nn > 0.0_wp) nu = n(:, k)/nn
+      smin = 0.0_wp
+      smax = 0.0_wp
+      if (nn > 0.0_wp .and. rest%np > 0) call region_range(rest, nu, smin, smax)
+      if (all_taken) then
+        if (nn > 0.0_wp) d(k) = nn*(smin + dot_product(nu, rest%origin))
+        cycle
+      end if
+      call region_moments(rest, vrest, mom)
+      vt = 0.0_wp
+      if (vfrac(k) > 0.0_wp) vt = min(vfrac(k), 1.0_wp)*vcell
+      if (k == nmat .or. .not. nn > 0.0_wp .or. vt >= vrest - 1.0e-12_wp*vcell) then
+        d(k) = 1.0_wp
+        if (nn > 0.0_wp) d(k) = nn*(smax + dot_product(nu, rest%origin))
+        vol(k) = vrest
+        if (abs(vrest) > 0.0_wp) centroid(:, k) = rest%origin + mom/vrest
+        all_taken = .true.
+        cycle
+      end if
+      if (vt <= 0.0_wp) then
+        if (nn > 0.0_wp) d(k) = nn*(smin + dot_product(nu, rest%origin))
+        cycle
+      end if
+      dg = 0.0_wp
+      if (guess) dg = dguess(k)/nn - dot_product(nu, rest%origin)
+      call solve_plane(rest, nu, vt, vrest - vt, guess, dg, c, okv)
+      ok = ok .and. okv
+      d(k) = nn*(c%dl + dot_product(nu, rest%origin))
+      vol(k) = c%vol
+      if (abs(c%vol) > 0.0_wp) centroid(:, k) = rest%origin + c%mom/c%vol
+      call region_clip(rest, -nu, -c%dl, ok)
+    end do
+  end subroutine mof_nested_cut
 end module remap_mof

@@ -1,0 +1,243 @@
+!> Material centroids of the mixed cells kept consistent with their volume
+!> fractions through the Lagrangian phase, so that the MoF reconstruction of
+!> the next remap (Sect. 5.4, Fig. 12) is given a reference it can match.
+!>
+!> What moves a material's centroid in a Lagrangian step. Its volume change
+!> is dV_m = f_m dV + theta d_m (Tipton closure, `material_mixed`): the part
+!> f_m dV follows the grid, and a material region carried by the cell's
+!> trilinear map keeps its natural coordinates (exactly so for an affine
+!> motion); the exchange theta d_m (sum zero) moves the interface against
+!> the grid: one material grows into the space another gives up. Keeping xi
+!> fixed (the state before this module) accounts for the first part only, so
+!> the stored centroid drifts away from the volume fraction: for a sliver,
+!> whose centroid the remap's MoF infers from the other material's through
+!> sum_m V_m c_m = V c_cell, by 1/f_m times that drift (the remaps of the
+!> triple point logged centroid errors of 1.4 cell sizes and hit the MoF
+!> iteration cap in 70 cells per Euler step).
+!>
+!> The rule. Each material of a mixed cell is bounded by a plane of the
+!> nested dissection the remap uses (slot order, `mof_reconstruct_nested`),
+!> kept per slot in natural coordinates (`mixed_t%plane`, the cell's map
+!> taken affine about its centre): a plane carried by an affine map stays a
+!> plane, with the normal A^-T n_xi (A = dx/dxi), so the plane follows the
+!> grid as the centroid does. When the fractions have changed, the planes
+!> are moved along their normals until they cut the new volume fractions in
+!> the cell as it is now (one volume root each, no search over normals:
+!> `mof_nested_cut`), and each material's centroid is that of its region:
+!> the interface moves by the closure's exchange and nothing else. Planes
+!> are fitted by MoF to the fractions and centroids where they are not known
+!> (`centroids_fit_planes`: the mixed cells of the initial scene, whose
+!> centroids are exact for the region shapes, and those a remap has just
+!> made, whose centroids are those of the remapped material): one fit per
+!> cell per remap, the same work the remap's own MoF does.
+!>
+!> When. The moved centroid depends only on the plane, the new fractions and
+!> the cell's nodes, not on the steps in between (the plane for the final
+!> fraction is the same however the change was split), so `centroids_refresh`
+!> computes it where the centroids are read, before a remap and before a
+!> restart dump, rather than after every step: the same numbers (to the
+!> round-off of the volume roots), one cut per cell per remap instead of per
+!> step (done after every step it made the triple point's Lagrangian phase
+!> five times as long). The planes, the state that carries the interface,
+!> are current at all times; mx%xi is current after a refresh.
+!> A refresh leaves the centroids that one plane per material reproduces
+!> exactly in the cell the remap is about to cut, whatever the fractions did.
+
+module lagrange_centroids
+  use base_kinds, only: wp
+  use base_errors, only: error_t
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: hex_trilinear, hex_natural, hex_volume, cross
+  use material_mixed, only: mixed_t, mixed_forget_planes
+  use remap_mof, only: mof_reconstruct_nested, mof_nested_cut, mof_max_iter_default
+  implicit none
+  private
+  public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes
+
+  !> Most materials of one mixed cell handled (as in the remap).
+  integer, parameter :: max_mat = 16
+
+  !> What the centroid update did (accumulated over the steps it is given to).
+  type :: centroid_stats_t
+    integer :: fitted = 0             !< cells whose planes were fitted by MoF
+    integer :: iterations = 0         !< the fits' Gauss-Newton iterations, all materials
+    integer :: capped = 0             !< fits that hit the iteration cap or failed
+    real(wp) :: err_max = 0.0_wp      !< largest centroid error of a fit / cell size
+    integer :: moved = 0              !< cells whose centroids were refreshed from their planes
+    integer :: failed = 0             !< cells not fitted or not refreshed (centroids kept)
+  end type centroid_stats_t
+
+contains
+
+  !> The cell's axes at its centre, A(:,i) = dx/dxi_i at xi = 0 (length per
+  !> unit natural coordinate): a plane n_xi.xi = const of the natural cube
+  !> is, through the affine part of the cell's map, the plane with normal
+  !> A^-T n_xi, and a physical normal n is n_xi = A^T n.
+  pure function centre_axes(xn) result(a)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: a(3, 3)
+    ! nodes a = 1 + i + 2j + 4k: the mean of the four high nodes minus the
+    ! mean of the four low ones, halved (xi runs over [-1, 1])
+    a(:, 1) = 0.125_wp*((xn(:, 2) + xn(:, 4) + xn(:, 6) + xn(:, 8)) - (xn(:, 1) + xn(:, 3) + xn(:, 5) + xn(:, 7)))
+    a(:, 2) = 0.125_wp*((xn(:, 3) + xn(:, 4) + xn(:, 7) + xn(:, 8)) - (xn(:, 1) + xn(:, 2) + xn(:, 5) + xn(:, 6)))
+    a(:, 3) = 0.125_wp*((xn(:, 5) + xn(:, 6) + xn(:, 7) + xn(:, 8)) - (xn(:, 1) + xn(:, 2) + xn(:, 3) + xn(:, 4)))
+  end function centre_axes
+
+  !> Fits the interface planes (mx%plane) of every mixed cell whose planes
+  !> are not known, by nested MoF (`mof_reconstruct_nested`, at most max_iter
+  !> iterations per material, default mof_max_iter_default) to its volume
+  !> fractions mx%vf and centroids mx%xi in the cell as it is (g%x); the
+  !> centroids are left as they are. stats accumulates (fits, iterations,
+  !> capped, largest centroid error / cell size); a cell that cannot be fitted
+  !> (volume not positive) keeps no planes (counted failed).
+  subroutine centroids_fit_planes(g, mx, stats, max_iter)
+    type(grid_t), intent(in) :: g
+    type(mixed_t), intent(inout) :: mx
+    type(centroid_stats_t), intent(inout) :: stats
+    integer, intent(in), optional :: max_iter
+    real(wp) :: xn(3, 8), a(3, 3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
+                errc(max_mat), vol, errmax, m(3), xc(3), sc
+    integer :: k, c, s0, s1, nm, j, s, its(max_mat), mi, nfit, nits, ncap, nfail
+    logical :: ok
+
+    if (mx%n == 0) return
+    call check_storage(mx, stats)
+    mi = mof_max_iter_default
+    if (present(max_iter)) mi = max_iter
+    nfit = 0; nits = 0; ncap = 0; nfail = 0
+    errmax = 0.0_wp
+    !$omp parallel do default(none) shared(g, mx, mi) &
+    !$omp private(k, c, s0, s1, nm, j, s, its, ok, xn, a, vf, cref, pn, pd, errc, vol, m, xc, sc) &
+    !$omp reduction(+: nfit, nits, ncap, nfail) reduction(max: errmax) schedule(dynamic, 16)
+    do k = 1, mx%n
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      nm = s1 - s0 + 1
+      if (nm < 2 .or. nm > max_mat) cycle
+      if (planes_known(mx, s0, s1)) cycle
+      c = mx%cell(k)
+      call g%gather(c, g%x, xn)
+      vol = hex_volume(xn)
+      if (.not. (vol > 0.0_wp .and. sum(mx%vf(s0:s1)) > 0.0_wp)) then
+        nfail = nfail + 1
+        cycle
+      end if
+      vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
+      do j = 1, nm
+        cref(:, j) = hex_trilinear(xn, mx%xi(:, s0 + j - 1))
+      end do
+      call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                  its(1:nm), ok, mi)
+      nfit = nfit + 1
+      nits = nits + sum(its(1:nm))
+      if (.not. ok) ncap = ncap + 1
+      errmax = max(errmax, maxval(errc(1:nm))/vol**(1.0_wp/3.0_wp))
+      ! in natural coordinates, x = xc + A xi: n.x <= d is
+      ! (A^T n).xi <= d - n.xc, scaled to a unit normal
+      a = centre_axes(xn)
+      xc = 0.125_wp*sum(xn, 2)
+      do j = 1, nm
+        s = s0 + j - 1
+        m = matmul(pn(:, j), a)
+        sc = norm2(m)
+        mx%plane(:, s) = 0.0_wp
+        if (sc > 0.0_wp) mx%plane(:, s) = [m/sc, (pd(j) - dot_product(pn(:, j), xc))/sc]
+      end do
+    end do
+    !$omp end parallel do
+    stats%fitted = stats%fitted + nfit
+    stats%iterations = stats%iterations + nits
+    stats%capped = stats%capped + ncap
+    stats%err_max = max(stats%err_max, errmax)
+    stats%failed = stats%failed + nfail
+  end subroutine centroids_fit_planes
+
+  !> Sets the centroids mx%xi of every mixed cell with known planes to those
+  !> of its materials' regions when its planes, moved along their normals,
+  !> cut the volume fractions mx%vf from the cell as it is (g%x) (module
+  !> header). The stored planes are not changed (their offsets only start
+  !> the volume roots), so a refresh changes nothing but mx%xi. stats
+  !> accumulates (cells moved; failed: planes not known, cell volume not
+  !> positive or a root that failed, centroids kept).
+  subroutine centroids_refresh(g, mx, stats)
+    type(grid_t), intent(in) :: g
+    type(mixed_t), intent(inout) :: mx
+    type(centroid_stats_t), intent(inout) :: stats
+    real(wp) :: xn(3, 8), a(3, 3), vf(max_mat), pn(3, max_mat), pd(max_mat), vreg(max_mat), cen(3, max_mat), &
+                dg(max_mat), m(3), xc(3), det
+    integer :: k, c, s0, s1, nm, j, nmove, nfail
+    logical :: ok
+
+    if (mx%n == 0) return
+    call check_storage(mx, stats)
+    nmove = 0; nfail = 0
+    !$omp parallel do default(none) shared(g, mx) &
+    !$omp private(k, c, s0, s1, nm, j, ok, xn, a, vf, pn, pd, vreg, cen, dg, m, xc, det) &
+    !$omp reduction(+: nmove, nfail) schedule(dynamic, 16)
+    do k = 1, mx%n
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      nm = s1 - s0 + 1
+      if (nm < 2 .or. nm > max_mat) cycle
+      if (.not. planes_known(mx, s0, s1)) then
+        nfail = nfail + 1
+        cycle
+      end if
+      c = mx%cell(k)
+      call g%gather(c, g%x, xn)
+      ! the planes in the cell: n_xi.A^-1 (x - xc) <= d_xi, i.e.
+      ! pn.x <= det d_xi + pn.xc with pn = det A^-T n_xi (the columns of
+      ! det A^-T are the cofactors a2 x a3, a3 x a1, a1 x a2; det A > 0)
+      a = centre_axes(xn)
+      det = dot_product(a(:, 1), cross(a(:, 2), a(:, 3)))
+      if (.not. det > 0.0_wp .or. .not. sum(mx%vf(s0:s1)) > 0.0_wp) then
+        nfail = nfail + 1
+        cycle
+      end if
+      xc = 0.125_wp*sum(xn, 2)
+      do j = 1, nm
+        m = mx%plane(1:3, s0 + j - 1)
+        pn(:, j) = m(1)*cross(a(:, 2), a(:, 3)) + m(2)*cross(a(:, 3), a(:, 1)) + m(3)*cross(a(:, 1), a(:, 2))
+        dg(j) = det*mx%plane(4, s0 + j - 1) + dot_product(pn(:, j), xc)
+      end do
+      vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
+      call mof_nested_cut(xn, vf(1:nm), pn(:, 1:nm), pd(1:nm), vreg(1:nm), cen(:, 1:nm), ok, dg(1:nm))
+      if (.not. ok) then
+        nfail = nfail + 1
+        cycle
+      end if
+      nmove = nmove + 1
+      do j = 1, nm
+        if (vreg(j) > 0.0_wp) mx%xi(:, s0 + j - 1) = hex_natural(xn, cen(:, j))
+      end do
+    end do
+    !$omp end parallel do
+    stats%moved = stats%moved + nmove
+    stats%failed = stats%failed + nfail
+  end subroutine centroids_refresh
+
+  !> True if the planes of the slots s0..s1 of one mixed cell are known:
+  !> every slot but the last has a normal.
+  pure logical function planes_known(mx, s0, s1)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: s0, s1
+    integer :: s
+    planes_known = .true.
+    do s = s0, s1 - 1
+      if (.not. any(abs(mx%plane(1:3, s)) > 0.0_wp)) planes_known = .false.
+    end do
+  end function planes_known
+
+  !> Planes stored for other slots (storage not resized with the mixed
+  !> cells) are not known: resized and cleared.
+  subroutine check_storage(mx, stats)
+    type(mixed_t), intent(inout) :: mx
+    type(centroid_stats_t), intent(inout) :: stats
+    type(error_t), allocatable :: err
+    logical :: stale
+    stale = .not. allocated(mx%plane)
+    if (.not. stale) stale = size(mx%plane, 2) /= mx%nslot
+    if (stale) call mixed_forget_planes(mx, err)
+    if (allocated(err)) stats%failed = stats%failed + mx%n
+  end subroutine check_storage
+end module lagrange_centroids
