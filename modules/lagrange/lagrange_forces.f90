@@ -179,7 +179,12 @@ contains
           app = a(p, p)
           aqq = a(q, q)
           theta = 0.5_wp*(aqq - app)/apq
-          t = sign(1.0_wp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_wp))
+          ! (a huge theta would overflow theta**2: then t = 1/(2 theta))
+          if (abs(theta) > 1.0e150_wp) then
+            t = 0.5_wp/theta
+          else
+            t = sign(1.0_wp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_wp))
+          end if
           cth = 1.0_wp/sqrt(t*t + 1.0_wp)
           sth = t*cth
           tau = sth/(1.0_wp + cth)
@@ -291,8 +296,11 @@ contains
       cq = par%q_linear*h%cs(c) + par%q_quad*dumax
       ceff = cq + sqrt(cq*cq + h%cs(c)**2)
       dtc = huge(1.0_wp)
-      if (ceff > 0.0_wp) dtc = par%cfl*(h%vol(c)/amax)/ceff
-      if (abs(div) > 0.0_wp) then
+      ! (a signal speed below 1e-100 cell widths per unit time, a cold gas
+      ! at rest, sets no limit: the quotient would overflow)
+      if (ceff > 1.0e-100_wp*(h%vol(c)/amax)) dtc = par%cfl*(h%vol(c)/amax)/ceff
+      ! (a rate so small that dv_max/|div| would overflow sets no limit)
+      if (abs(div) > 2.0_wp*par%dv_max/huge(1.0_wp)) then
         dtc = min(dtc, par%dv_max/abs(div))
         if (h%mat(c) < 0 .and. div < 0.0_wp) dtc = min(dtc, par%dv_max/(h%gain(c)*abs(div)))
       end if

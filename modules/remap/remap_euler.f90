@@ -1712,7 +1712,8 @@ contains
       ! drove the energy negative), and its nodes get at least their own
       ! kinetic energy, never a deficit to take from the cells around.
       kmean = pcell(4, c) - 0.5_wp*mnew*dot_product(vmean, vmean) + 0.5_wp*sum(max(aie(:, c), 0.0_wp))
-      if (theta**2*kdev > kmean) theta = sqrt(max(kmean, 0.0_wp)/kdev)
+      ! (kmean < 0, round-off in a cold gas, with kdev = 0: theta stays)
+      if (theta**2*kdev > kmean .and. kdev > 0.0_wp) theta = sqrt(max(kmean, 0.0_wp)/kdev)
       surplus = pcell(4, c)
       do a = 1, 8
         cmass(a, c) = mnew*vs(a)
