@@ -88,18 +88,21 @@ contains
     logical, intent(out) :: due
     real(wp) :: q_min, ratio_max, cos_min
     integer :: ijk_ratio(3), ijk_cos(3)
+    logical :: axis
     due = .false.
     if (.not. es%on) return
     if (rz%interval_steps > 0) due = mod(st%step, rz%interval_steps) == 0
     if (rz%interval_time > 0.0_wp) due = due .or. st%t >= es%t_next*(1.0_wp - 1.0e-12_wp)
     es%trigger_note = 'interval'
     if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
-    call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min)
+    ! LSSM's box reading measures the inclined angle against the axes
+    axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
+    call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min, axis=axis)
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
     ! where: the worst cell of each measure
-    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos)
+    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, axis)
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
       &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
   end subroutine euler_due
@@ -229,8 +232,8 @@ contains
   !> cells have Eq. (46) Q < quality, nodes of the subdomains move towards
   !> cubes, TFI of the merged cuboids if the target is not reached. With
   !> 'box' (default): a cell is distorted when it fails the Euler-step
-  !> triggers' own tests (side ratio, inclined angle, tangled: the cells
-  !> that made the step due); their subdomains (Sect. 5.2) are smoothed
+  !> triggers' own tests (side ratio, inclined angle against the axes,
+  !> tangled: the cells that made the step due); their subdomains (Sect. 5.2) are smoothed
   !> towards boxes of each cell's own proportions (aspect ratio at most
   !> sqrt(side_ratio)) with a spacing-keeping weighted average, so the
   !> Lagrangian compression of a shock stays; no TFI (it would interpolate
@@ -262,7 +265,7 @@ contains
         ! geometric middle of the paper's cube (1) and the trigger's bound
         aspect_max = huge(1.0_wp)
         if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min, aspect_max)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min, aspect_max, axis=.true.)
         call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail)
       else
         call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min)

@@ -73,9 +73,12 @@ program test_rezone_quality
   a = reshape([1.0_wp - 0.5_wp*c, -0.5_wp*c, 0.0_wp, -0.5_wp*c, 1.0_wp - 0.5_wp*c, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], &
               [3, 3])
   xn = matmul(a, cube)
-  call hex_shape(xn, r, cs)
+  call hex_shape(xn, r, cs, axis=.true.)
   call check(abs(cs - (1.0_wp - 0.5_wp*c)/sqrt((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp .and. cs > 0.85_wp, &
-             'inclined angle of the diagonal compression is the edges'' turn (cos 0.857)')
+             'inclined angle against the axes of the diagonal compression is the edges'' turn (cos 0.857)')
+  call hex_shape(xn, r, cs)
+  call check(abs(cs - 0.25_wp/((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp .and. cs < 0.5_wp, &
+             'between the edges it is sin of their angle (0.47)')
   call check(abs(r - 1.0_wp/sqrt((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp, &
              'side ratio of the diagonal compression')
 

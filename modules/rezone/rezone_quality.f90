@@ -17,26 +17,31 @@
 !> the shear and the tangling Eq. (46) is meant to catch count as before
 !> (for a sheared cube the two are the same, Q = sin of the shear angle).
 !>
-!> The inclined angle of an edge is its angle to the axis of its logical
+!> The inclined angle at a corner is how far the angle between two of its
+!> edges departs from a right angle: cos(inclined) = sin(angle between the
+!> edges) = |e1 x e2| / (|e1| |e2|), 1 for a cube. LSSM's box reading
+!> measures it instead as an edge's angle to the axis of its logical
 !> direction (the paper calls a regular cell "still inclined" when its
 !> sides are not parallel to the axes, Sect. 5.3.1 and Fig. 8, and its
-!> modified GETMe rotates cells back to the axes): cos = |e . a_d| / |e|,
-!> 1 for an axis-aligned box. A run triggers an Euler step when the smallest
-!> of these over all cells falls to the deck's bound (0.7 in the paper's
-!> Sedov test) or the largest side ratio reaches its bound (4). (Measured
-!> before as sin of the angle between two edges at a corner, it fell to 0.47
-!> in a cell compressed 4:1 along a face diagonal, whose edges each turn only
-!> 31 degrees: the compressed shell of the Sedov blast fired it at every
-!> diagonal.)
+!> modified GETMe turns cells back to the axes): cos = |e . a_d| / |e|, 1
+!> for an axis-aligned box. A cell compressed 4:1 along a face diagonal has
+!> sin 0.47 between its edges but each edge turns only 31 degrees (cos
+!> 0.857): the first reading fires at every diagonal of a compressed shock
+!> shell. A run triggers an Euler step when the smallest cosine over all
+!> cells falls to the deck's bound (0.7 in the paper's Sedov test) or the
+!> largest side ratio reaches its bound (4).
 module rezone_quality
   use base_kinds, only: wp
-  use mesh_geometry, only: hex_volume, hex_edges
+  use mesh_geometry, only: hex_volume, hex_edges, cross
   use mesh_grid, only: block_gather, grid_index_t, grid_index
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells, grid_trigger_cells, &
             hex_box_sides, hex_quality_box
 
+  !> The three neighbours of each corner along the three logical directions.
+  integer, parameter :: corner_nbr(3, 8) = reshape([2, 3, 5,  1, 4, 6,  4, 1, 7,  3, 2, 8, &
+                                                    6, 7, 1,  5, 8, 2,  8, 5, 3,  7, 6, 4], [3, 8])
   !> The 12 edges of a hexahedron as (node, node) in the local numbering.
   integer, parameter :: hex_edge_list(2, 12) = reshape([1, 2, 3, 4, 5, 6, 7, 8, &
                                                         1, 3, 2, 4, 5, 7, 6, 8, &
@@ -122,32 +127,60 @@ contains
   end function quad_quality
 
   !> Largest ratio of edge lengths and cosine of the largest inclined angle:
-  !> the smallest |cos| of the angle between an edge and the axis of its
-  !> logical direction (0 for an edge of zero length).
-  pure subroutine hex_shape(xn, side_ratio, cos_incl)
+  !> the smallest |sin| of the angle between two edges at a corner, or with
+  !> axis = .true. the smallest |cos| of the angle between an edge and the
+  !> axis of its logical direction (0 for an edge of zero length).
+  pure subroutine hex_shape(xn, side_ratio, cos_incl, axis)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: side_ratio, cos_incl
-    real(wp) :: lmin, lmax, le, e(3)
-    integer :: d, k
+    logical, intent(in), optional :: axis
+    real(wp) :: lmin, lmax, le, e(3, 3), ne(3)
+    integer :: k, a, i, j, d
+    logical :: by_axis
 
     lmin = huge(1.0_wp)
     lmax = 0.0_wp
-    cos_incl = 1.0_wp
     do d = 1, 3
       do k = 1, 4
-        e = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
-        le = norm2(e)
+        le = norm2(xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d)))
         lmin = min(lmin, le)
         lmax = max(lmax, le)
-        if (le > 0.0_wp) then
-          cos_incl = min(cos_incl, abs(e(d))/le)
-        else
-          cos_incl = 0.0_wp
-        end if
       end do
     end do
     side_ratio = huge(1.0_wp)
     if (lmin > 0.0_wp) side_ratio = lmax/lmin
+    cos_incl = 1.0_wp
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
+    if (by_axis) then
+      do d = 1, 3
+        do k = 1, 4
+          e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
+          le = norm2(e(:, 1))
+          if (le > 0.0_wp) then
+            cos_incl = min(cos_incl, abs(e(d, 1))/le)
+          else
+            cos_incl = 0.0_wp
+          end if
+        end do
+      end do
+      return
+    end if
+    do a = 1, 8
+      do i = 1, 3
+        e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)
+        ne(i) = norm2(e(:, i))
+      end do
+      do i = 1, 2
+        do j = i + 1, 3
+          if (ne(i) > 0.0_wp .and. ne(j) > 0.0_wp) then
+            cos_incl = min(cos_incl, norm2(cross(e(:, i), e(:, j)))/(ne(i)*ne(j)))
+          else
+            cos_incl = 0.0_wp
+          end if
+        end do
+      end do
+    end do
   end subroutine hex_shape
 
   !> Quality of every cell of an ni x nj x nk grid with nodes x(3, nnode)
@@ -155,24 +188,27 @@ contains
   !> and of the inclined-angle cosine and the maximum side ratio. q(c) is
   !> Eq. (46), or with aspect_max (>= 1) Eq. (46) against the cell's own box
   !> (`hex_quality_box`).
-  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max)
+  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max, axis)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: q(:), q_min, ratio_max, cos_min
     real(wp), intent(in), optional :: aspect_max
+    logical, intent(in), optional :: axis
     integer :: c, ci, cj, ck
     real(wp) :: xn(3, 8), r, cs, amax
-    logical :: box
+    logical :: box, by_axis
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
     box = present(aspect_max)
     amax = 1.0_wp
     if (box) amax = aspect_max
     q_min = huge(1.0_wp)
     ratio_max = 0.0_wp
     cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax) private(c, ci, cj, ck, xn, r, cs) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax, by_axis) private(c, ci, cj, ck, xn, r, cs) &
     !$omp reduction(min: q_min, cos_min) reduction(max: ratio_max) collapse(2) schedule(static)
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
@@ -184,7 +220,7 @@ contains
           else
             q(c) = hex_quality(xn)
           end if
-          call hex_shape(xn, r, cs)
+          call hex_shape(xn, r, cs, by_axis)
           q_min = min(q_min, q(c))
           ratio_max = max(ratio_max, r)
           cos_min = min(cos_min, cs)
@@ -200,7 +236,8 @@ contains
   !> > 0), `hex_shape`; or when it is tangled (a corner's three edges, along
   !> +i, +j, +k, span a non-positive volume). These are the cells that make
   !> the grid "determined distorted", so an Euler step that does not move
-  !> them fires again at the next step.
+  !> them fires again at the next step. The inclined angle is measured
+  !> against the axes (`hex_shape` with axis), as the box reading's trigger.
   subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :), side_ratio, cos_angle
@@ -217,7 +254,7 @@ contains
         do ci = ix%clo(1), ix%chi(1)
           c = ix%cell(ci, cj, ck)
           call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_shape(xn, r, cs)
+          call hex_shape(xn, r, cs, .true.)
           jmin = huge(1.0_wp)
           do a = 1, 8
             do d = 1, 3
@@ -239,10 +276,11 @@ contains
   !> Cell indices (i, j, k) of the cell with the largest side ratio and of
   !> the cell with the smallest inclined-angle cosine (the first such cell
   !> in storage order): where a trigger fired.
-  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos)
+  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos, axis)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     integer, intent(out) :: ijk_ratio(3), ijk_cos(3)
+    logical, intent(in), optional :: axis
     integer :: ci, cj, ck
     real(wp) :: xn(3, 8), r, cs, r_max, cs_min
 
@@ -254,7 +292,7 @@ contains
       do cj = 1, nj
         do ci = 1, ni
           call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_shape(xn, r, cs)
+          call hex_shape(xn, r, cs, axis)
           if (r > r_max) then
             r_max = r
             ijk_ratio = [ci, cj, ck]
