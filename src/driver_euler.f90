@@ -10,13 +10,13 @@ module driver_euler
   use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
-  use rezone_quality, only: grid_quality, grid_worst_cells
+  use rezone_quality, only: grid_quality, grid_worst_cells, grid_trigger_cells
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_target, global_face_rule
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
-                           smooth_tfi, smooth_q_min, smooth_keep_small_moves
+                           smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
@@ -33,6 +33,7 @@ module driver_euler
     logical :: on = .false.                  !< an Euler phase is configured
     real(wp), allocatable :: x0(:, :)        !< initial grid, the global rezone's target
     real(wp), allocatable :: quality(:)      !< work: cell quality for the triggers
+    logical, allocatable :: fail(:)          !< work: cells failing the triggers' tests (LSSM, box reading)
     real(wp) :: t_next = 0.0_wp              !< next Euler step by interval_time (restart state)
     integer :: n = 0                         !< Euler steps so far (restart state)
     integer :: cells = 0, mof = 0, mof_iterations = 0   !< this segment's totals
@@ -61,7 +62,7 @@ contains
     es%on = trim(rz%mode) /= 'none'
     if (.not. es%on) return
     allocate(es%x0, source=st%g%x, stat=stat, errmsg=msg)
-    if (stat == 0) allocate(es%quality(st%g%ncell), stat=stat, errmsg=msg)
+    if (stat == 0) allocate(es%quality(st%g%ncell), es%fail(st%g%ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'euler_init', 'cannot allocate the Euler phase''s arrays: '//trim(msg))
       return
@@ -93,18 +94,21 @@ contains
     logical, intent(out) :: due
     real(wp) :: q_min, ratio_max, cos_min
     integer :: ijk_ratio(3), ijk_cos(3)
+    logical :: axis
     due = .false.
     if (.not. es%on) return
     if (rz%interval_steps > 0) due = mod(st%step, rz%interval_steps) == 0
     if (rz%interval_time > 0.0_wp) due = due .or. st%t >= es%t_next*(1.0_wp - 1.0e-12_wp)
     es%trigger_note = 'interval'
     if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
-    call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min)
+    ! LSSM's box reading measures the inclined angle against the axes
+    axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
+    call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min, axis=axis)
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
     ! where: the worst cell of each measure
-    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos)
+    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, axis)
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
       &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
   end subroutine euler_due
@@ -253,12 +257,24 @@ contains
   end subroutine rearm_interval
 
   !> Smoothing rezone. 'lssm' (Sect. 5.2-5.3): the distorted subdomains of
-  !> the grid (Q < quality); 'smooth': the whole grid (the global MMALE the
-  !> paper compares LSSM with). The cells are smoothed by the combined method
-  !> until their Q_min reaches quality_target or smooth_iterations are done,
-  !> then TFI on the merged cuboid subdomains (or the whole block) if the
-  !> target was not reached. x is the grid on entry and the rezoned grid on
-  !> return; done is false if no cell is distorted (nothing to do).
+  !> the grid; 'smooth': the whole grid (the global MMALE the paper compares
+  !> LSSM with, always read as printed: Eq. 46 against a cube, cube targets).
+  !> The cells are smoothed by the combined method until their Q_min reaches
+  !> quality_target or smooth_iterations are done. x is the grid on entry and
+  !> the rezoned grid on return; done is false if no cell is distorted.
+  !>
+  !> 'lssm' with smooth_target = 'cube' is the paper as printed: distorted
+  !> cells have Eq. (46) Q < quality, nodes of the subdomains move towards
+  !> cubes, TFI of the merged cuboids if the target is not reached. With
+  !> 'box' (default): a cell is distorted when it fails the Euler-step
+  !> triggers' own tests (side ratio, inclined angle against the axes,
+  !> tangled: the cells that made the step due); their subdomains (Sect. 5.2) are smoothed
+  !> towards boxes of each cell's own proportions (aspect ratio at most
+  !> sqrt(side_ratio)) with a spacing-keeping weighted average, so the
+  !> Lagrangian compression of a shock stays; no TFI (it would interpolate
+  !> the merged cuboids from their faces, ignoring the spacing inside them).
+  !> In both, a smoothing pass never tangles a cell, and a changed cell left
+  !> tangled goes back.
   subroutine smooth_rezone(rz, st, es, log, x, done, err)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
@@ -270,15 +286,25 @@ contains
     type(rezone_subdomains_t) :: sub
     type(smooth_region_t) :: reg
     integer, allocatable :: mlo(:, :), mhi(:, :)
-    real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min
-    integer :: iterations, b, nreset
-    logical :: tfi
-    character(len=300) :: line
+    real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min, aspect_max
+    integer :: iterations, b, nreset, nrevert
+    logical :: tfi, box
+    character(len=400) :: line
     character(len=60) :: kept
 
     done = .false.
+    box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
     associate (g => st%g)
-      call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min)
+      if (box) then
+        ! Eq. (46) against each cell's own box, aspect ratio up to the
+        ! geometric middle of the paper's cube (1) and the trigger's bound
+        aspect_max = huge(1.0_wp)
+        if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min, aspect_max, axis=.true.)
+        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail)
+      else
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min)
+      end if
       if (trim(rz%mode) == 'smooth') then
         ! the whole block as one subdomain
         call rezone_subdomains_from_boxes(g%ni, g%nj, g%nk, reshape([1, 1, 1], [3, 1]), &
@@ -286,18 +312,32 @@ contains
       else
         d_max = rz%d_max
         if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
-        call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err)
+        if (box) then
+          ! distorted: the cells failing the triggers' tests (q plays no part)
+          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
+                                      distorted=es%fail)
+        else
+          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err)
+        end if
       end if
       if (allocated(err)) return
       done = sub%nbox > 0
       if (.not. done) then
-        call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell has Q < '//rtoa(rz%quality))
+        if (box) then
+          call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell fails the triggers'' tests')
+        else
+          call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell has Q < '//rtoa(rz%quality))
+        end if
         return
       end if
-      call smooth_region_init(es%mobility, sub%cell_smooth, reg, err)
+      if (box) then
+        call smooth_region_init(es%mobility, sub%cell_smooth, reg, err, aspect_max=aspect_max)
+      else
+        call smooth_region_init(es%mobility, sub%cell_smooth, reg, err)
+      end if
       if (allocated(err)) return
       call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min)
-      tfi = q_min < rz%quality_target
+      tfi = q_min < rz%quality_target .and. .not. box
       if (tfi) then
         ! the fallback: transfinite interpolation of each merged cuboid
         ! subdomain from its boundary (node index box = cell box widened by one)
@@ -307,18 +347,20 @@ contains
           call smooth_tfi(g%ni, g%nj, g%nk, mlo(:, b) - 1, mhi(:, b), x, err, es%mobility)
           if (allocated(err)) return
         end do
-        q_min = smooth_q_min(reg, x)
       end if
       kept = ''
       if (rz%move_min > 0.0_wp) then
         ! negligible moves kept out of the remap
         call smooth_keep_small_moves(g%ni, g%nj, g%nk, g%x, x, rz%move_min, nreset)
-        q_min = smooth_q_min(reg, x)
         write(kept, '("; ",i0," nodes moved < move_min kept")') nreset
       end if
-      write(line, '(a," at step ",i0,": ",i0," subdomains, ",i0," cells smoothed (Q_min ",f7.4," -> ",f7.4, &
-        &" after ",i0," iterations",a,")",a)') trim(rz%mode), st%step, sub%nbox, count(sub%cell_smooth), q_min0, &
-        q_min, iterations, trim(merge(', then TFI', '          ', tfi)), trim(kept)
+      ! a changed cell left tangled (by TFI, say) goes back as it was
+      call smooth_revert_tangled(g%ni, g%nj, g%nk, g%x, x, nrevert)
+      q_min = smooth_q_min(reg, x)
+      write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
+        &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
+        &" nodes put back")') trim(rz%mode), st%step, sub%n_distorted, sub%nbox, count(sub%cell_smooth), q_min0, &
+        q_min, iterations, trim(merge(', then TFI', '          ', tfi)), trim(kept), reg%n_guarded, nrevert
       call log_line(log, trim(line))
     end associate
   end subroutine smooth_rezone

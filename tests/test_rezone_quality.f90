@@ -4,10 +4,12 @@ program test_rezone_quality
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_corner
   use test_assert, only: check, check_summary
-  use rezone_quality, only: hex_quality, quad_quality, hex_shape, grid_quality
+  use rezone_quality, only: hex_quality, quad_quality, hex_shape, grid_quality, hex_quality_box, hex_box_sides, &
+                            grid_trigger_cells
   implicit none
-  real(wp) :: cube(3, 8), xn(3, 8), sq(2, 4), r, cs, q_min, ratio_max, cos_min, a(3, 3)
+  real(wp) :: cube(3, 8), xn(3, 8), sq(2, 4), r, cs, q_min, ratio_max, cos_min, a(3, 3), b(3), c, qb
   real(wp), allocatable :: x(:, :), q(:)
+  logical :: fail(2)
   type(rng_t) :: rng
   integer :: i, j, k, n, d
   integer, parameter :: m = 50
@@ -33,6 +35,73 @@ program test_rezone_quality
   call check(abs(r - sqrt(2.0_wp)) < 1e-15_wp, 'side ratio of the sheared cube')
   ! shear keeps the volume; L grows from 12 to 8 + 4 sqrt(2)
   call check(abs(hex_quality(xn) - 1728.0_wp/(8.0_wp + 4.0_wp*sqrt(2.0_wp))**3) < 1e-14_wp, 'Q of the sheared cube')
+
+  ! Eq. (46) against the cell's own box: 1 for a box up to aspect_max,
+  ! Eq. (46) itself with aspect_max = 1
+  xn = cube
+  xn(3, 5:8) = 2.0_wp
+  call check(abs(hex_quality_box(xn, 2.0_wp) - 1.0_wp) < 1e-14_wp, 'box reading: Q = 1 for a 1x1x2 box, aspect_max 2')
+  call check(.not. abs(hex_quality_box(xn, 1.0_wp) - hex_quality(xn)) > 0.0_wp, &
+             'box reading with aspect_max 1 is Eq. (46)')
+  xn = cube
+  xn(3, 5:8) = 0.9_wp
+  write(*, '(a,f8.5,a,f8.5)') 'box compressed by 10 %: Eq. (46) ', hex_quality(xn), ', against its own box ', &
+    hex_quality_box(xn, 2.0_wp)
+  call check(hex_quality(xn) < 0.999_wp .and. abs(hex_quality_box(xn, 2.0_wp) - 1.0_wp) < 1e-14_wp, &
+             'a box compressed by 10 % fails q = 0.999 of Eq. (46), not against its own box')
+  ! a 4:1 box with aspect_max 2: its own box has sides 4^(-1/6), 4^(-1/6), 4^(-2/3) (log spread halved)
+  xn = cube
+  xn(3, 5:8) = 0.25_wp
+  b = hex_box_sides(xn, 2.0_wp)
+  call check(all(abs(b - [4.0_wp**(-1.0_wp/6.0_wp), 4.0_wp**(-1.0_wp/6.0_wp), 4.0_wp**(-2.0_wp/3.0_wp)]) < 1e-14_wp), &
+             'own box of a 4:1 box with aspect_max 2')
+  qb = 27.0_wp*product(b)/sum(b)**3
+  write(*, '(a,f7.4)') '4:1 box against its own box (aspect_max 2): ', hex_quality_box(xn, 2.0_wp)
+  call check(abs(hex_quality_box(xn, 2.0_wp) - hex_quality(xn)/qb) < 1e-14_wp .and. &
+             hex_quality_box(xn, 2.0_wp) < 0.7_wp, 'a 4:1 box is distorted against a box of aspect 2')
+  ! the 45-degree shear: the same as Eq. (46) measured on the sheared unit cube's box
+  a = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 1.0_wp], [3, 3])
+  xn = matmul(a, cube)
+  call check(abs(hex_quality_box(xn, 2.0_wp) - 1.0_wp/sqrt(2.0_wp)) < 1e-14_wp, &
+             'box reading of the 45-degree shear: V / (a1 a2 a3) = 1/sqrt(2)')
+
+  ! inclined angle: against the axis of the edge's direction. A cube
+  ! compressed 4:1 along the face diagonal (1,1,0): each x- and y-edge turns
+  ! by atan(c/2 / (1 - c/2)), c = 3/4 (cos 0.857); the angle between them is
+  ! far from 90 degrees, but no edge is inclined by 45
+  c = 0.75_wp
+  a = reshape([1.0_wp - 0.5_wp*c, -0.5_wp*c, 0.0_wp, -0.5_wp*c, 1.0_wp - 0.5_wp*c, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], &
+              [3, 3])
+  xn = matmul(a, cube)
+  call hex_shape(xn, r, cs, axis=.true.)
+  call check(abs(cs - (1.0_wp - 0.5_wp*c)/sqrt((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp .and. cs > 0.85_wp, &
+             'inclined angle against the axes of the diagonal compression is the edges'' turn (cos 0.857)')
+  call hex_shape(xn, r, cs)
+  call check(abs(cs - 0.25_wp/((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp .and. cs < 0.5_wp, &
+             'between the edges it is sin of their angle (0.47)')
+  call check(abs(r - 1.0_wp/sqrt((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp, &
+             'side ratio of the diagonal compression')
+
+  ! cells failing the triggers' tests: a 2 x 1 x 1 grid, the second cell
+  ! 5 long (side ratio 5 >= 4); then its far corner folded back (tangled)
+  allocate(x(3, 12))
+  do k = 0, 1
+    do j = 0, 1
+      do i = 0, 2
+        x(:, 1 + i + 3*(j + 2*k)) = [real(i, wp), real(j, wp), real(k, wp)]
+      end do
+    end do
+  end do
+  x(1, 3:12:3) = 6.0_wp
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.7_wp, fail)
+  call check(.not. fail(1) .and. fail(2), 'trigger cells: the 5:1 cell fails, the cube does not')
+  call grid_trigger_cells(2, 1, 1, x, 0.0_wp, 0.7_wp, fail)
+  call check(.not. any(fail), 'trigger cells: side-ratio test off')
+  x(1, 3:12:3) = 2.0_wp
+  x(:, 12) = [0.5_wp, 0.2_wp, 0.3_wp]
+  call grid_trigger_cells(2, 1, 1, x, 0.0_wp, 0.0_wp, fail)
+  call check(.not. fail(1) .and. fail(2), 'trigger cells: a tangled cell fails with both tests off')
+  deallocate(x)
 
   ! an inverted cell has Q < 0
   xn = cube

@@ -10,12 +10,12 @@ program test_rezone_smooth
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_corner, hex_edges, hex_volume
   use mesh_grid, only: block_gather
-  use rezone_quality, only: hex_quality
+  use rezone_quality, only: hex_quality, hex_quality_box
   use rezone_smooth, only: node_fixed, node_free, node_plane, node_line, smooth_mobility_t, smooth_region_t, &
                            smooth_mobility_box, smooth_region_init, smooth_modified_getme, smooth_weighted_average, &
                            smooth_getme_original, smooth_combined, smooth_q_min, smooth_tfi, hex_centroid, &
                            hex_cube_target, hex_getme_target, hex_min_tet_volume, hex_min_corner_jacobian, &
-                           smooth_keep_small_moves
+                           smooth_keep_small_moves, hex_box_target, smooth_revert_tangled
   use test_assert, only: check, check_summary
   use omp_lib, only: omp_get_max_threads, omp_set_num_threads
   implicit none
@@ -32,6 +32,8 @@ program test_rezone_smooth
   call test_threads()
   call test_tfi()
   call test_keep_small_moves()
+  call test_box_reading()
+  call test_guard_and_revert()
   call test_errors()
   call check_summary('test_rezone_smooth')
 
@@ -147,6 +149,153 @@ contains
     if (.not. allocated(err)) call smooth_region_init(mob, active, reg, err)
     call check(.not. allocated(err), 'whole-block region builds')
   end subroutine whole_region
+
+  !> A tensor-product grid of n^3 cells on [0,n]^3 graded geometrically:
+  !> spacings ratio^i along x, 1 along y, ratio^-k along z.
+  subroutine graded_grid(n, ratio, x)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: ratio
+    real(wp), intent(out) :: x(:, :)
+    real(wp) :: px(0:n), pz(0:n)
+    integer :: i, j, k
+    px(0) = 0.0_wp
+    pz(0) = 0.0_wp
+    do i = 1, n
+      px(i) = px(i - 1) + ratio**(i - 1)
+      pz(i) = pz(i - 1) + ratio**(1 - i)
+    end do
+    px = px*real(n, wp)/px(n)
+    pz = pz*real(n, wp)/pz(n)
+    do k = 0, n
+      do j = 0, n
+        do i = 0, n
+          x(:, 1 + i + (n + 1)*(j + (n + 1)*k)) = [px(i), real(j, wp), pz(k)]
+        end do
+      end do
+    end do
+  end subroutine graded_grid
+
+  !> The box reading (LSSM's default): a box of aspect ratio up to
+  !> aspect_max is its own target; a graded tensor-product grid is a fixed
+  !> point of both passes and meets any target; a compressed layer that is
+  !> also sheared keeps its volume (its compression) under the box reading,
+  !> while the paper's cubes expand it.
+  subroutine test_box_reading()
+    integer, parameter :: n = 6
+    type(smooth_mobility_t) :: mob
+    type(smooth_region_t) :: reg, regc
+    type(error_t), allocatable :: err
+    logical :: active(n**3)
+    real(wp) :: cube(3, 8), xn(3, 8), xt(3, 8), x0(3, (n + 1)**3), x(3, (n + 1)**3), xc(3, (n + 1)**3), q, v0, vb, vc
+    integer :: it, i, j, k
+
+    cube = real(hex_corner, wp)
+    xn = cube
+    xn(3, 5:8) = 0.5_wp
+    xn(1, :) = 3.0_wp*xn(1, :)
+    xn(2, :) = 1.5_wp*xn(2, :)
+    call hex_box_target(xn, 6.0_wp, xt)
+    call check(maxval(abs(xt - xn)) < 1e-14_wp, 'box target: a 3 x 1.5 x 0.5 box (aspect 6) is its own target')
+    call hex_box_target(xn, 2.0_wp, xt)
+    call check(abs(hex_volume(xt) - hex_volume(xn)) < 1e-14_wp .and. &
+               abs(hex_quality_box(xt, 2.0_wp) - 1.0_wp) < 1e-14_wp .and. &
+               abs((xt(1, 2) - xt(1, 1))/(xt(3, 5) - xt(3, 1)) - 2.0_wp) < 1e-13_wp, &
+               'box target, aspect_max 2: the same volume, aspect 2')
+
+    call graded_grid(n, 1.3_wp, x0)
+    call smooth_mobility_box(n, n, n, mob, err)
+    active = .true.
+    if (.not. allocated(err)) call smooth_region_init(mob, active, reg, err, aspect_max=huge(1.0_wp))
+    call check(.not. allocated(err), 'box-reading region builds')
+    x = x0
+    call smooth_modified_getme(reg, x)
+    call check(maxval(abs(x - x0)) < 1e-12_wp, 'graded grid: fixed point of the box-reading modified GETMe')
+    x = x0
+    call smooth_weighted_average(reg, x)
+    call check(maxval(abs(x - x0)) < 1e-12_wp, 'graded grid: fixed point of the spacing-keeping weighted average')
+    x = x0
+    call smooth_combined(reg, x, 0.999_wp, 20, it, q)
+    call check(it == 0 .and. abs(q - 1.0_wp) < 1e-12_wp, 'graded grid meets the box-reading target as it is')
+
+    ! a layer (k = 3) compressed 4:1 and sheared: its top nodes pushed by a
+    ! tenth of a cell along x, alternately
+    call perturbed_grid(n, 0.0_wp, x0)
+    do k = 3, n
+      do j = 0, n
+        do i = 0, n
+          x0(3, 1 + i + (n + 1)*(j + (n + 1)*k)) = real(k, wp) - 0.75_wp
+        end do
+      end do
+    end do
+    do j = 1, n - 1
+      do i = 1, n - 1
+        x0(1, 1 + i + (n + 1)*(j + (n + 1)*3)) = real(i, wp) + 0.1_wp*real(1 - 2*mod(i + j, 2), wp)
+      end do
+    end do
+    v0 = layer_volume(n, x0)
+    call smooth_region_init(mob, active, reg, err, aspect_max=4.0_wp)
+    call smooth_region_init(mob, active, regc, err)
+    x = x0
+    call smooth_combined(reg, x, 0.999_wp, 20, it, q)
+    vb = layer_volume(n, x)
+    xc = x0
+    call smooth_combined(regc, xc, 0.999_wp, 20, it, q)
+    vc = layer_volume(n, xc)
+    write(*, '(a,f7.4,a,f7.4,a,f7.4)') 'compressed sheared layer: volume ', v0, ', box reading ', vb, ', cubes ', vc
+    call check(abs(vb/v0 - 1.0_wp) < 0.05_wp, 'box reading keeps the compressed layer (volume within 5 %)')
+    call check(vc/v0 > 1.5_wp, 'the paper''s cubes undo the compression (volume +50 % or more)')
+  end subroutine test_box_reading
+
+  !> Volume of the cells of layer k = 3 of an n^3 grid.
+  real(wp) function layer_volume(n, xg)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: xg(:, :)
+    integer :: ci, cj
+    real(wp) :: xh(3, 8)
+    layer_volume = 0.0_wp
+    do cj = 1, n
+      do ci = 1, n
+        call block_gather(n, n, ci, cj, 3, xg, xh)
+        layer_volume = layer_volume + hex_volume(xh)
+      end do
+    end do
+  end function layer_volume
+
+  !> No smoothing pass tangles a cell that was untangled before it (the
+  !> untangling guard), and smooth_revert_tangled puts back the nodes of a
+  !> changed cell left tangled, and only those.
+  subroutine test_guard_and_revert()
+    integer, parameter :: n = 8
+    type(smooth_mobility_t) :: mob
+    type(smooth_region_t) :: reg
+    real(wp) :: x0(3, (n + 1)**3), x(3, (n + 1)**3), q, vol, tet, jac
+    integer :: it, trial, nrev, nd
+
+    call whole_region(n, mob, reg)
+    do trial = 1, 3
+      call perturbed_grid(n, 0.3_wp, x0)
+      call grid_worst(n, x0, q, vol, tet, jac)
+      if (.not. (tet > 0.0_wp .and. jac > 0.0_wp)) cycle
+      x = x0
+      call smooth_combined(reg, x, 1.0_wp, 3, it, q)
+      call grid_worst(n, x, q, vol, tet, jac)
+      call check(tet > 0.0_wp .and. jac > 0.0_wp, 'an untangled grid stays untangled through the passes')
+    end do
+
+    call perturbed_grid(n, 0.0_wp, x0)
+    x = x0
+    ! node (4,4,4) pushed through its neighbour (5,4,4): its cells tangle;
+    ! node (1,1,1) moved a little: its cells stay valid
+    nd = 1 + 4 + (n + 1)*(4 + (n + 1)*4)
+    x(1, nd) = 5.5_wp
+    x(:, 1 + 1 + (n + 1)*(1 + (n + 1)*1)) = [1.1_wp, 0.95_wp, 1.05_wp]
+    call smooth_revert_tangled(n, n, n, x0, x, nrev)
+    call check(nrev >= 1 .and. .not. any(abs(x(:, nd) - x0(:, nd)) > 0.0_wp), 'revert: the tangling node goes back')
+    call check(all(abs(x(:, 1 + 1 + (n + 1)*(1 + (n + 1)*1)) - [1.1_wp, 0.95_wp, 1.05_wp]) < 1e-15_wp), &
+               'revert: a harmless move stays')
+    call grid_worst(n, x, q, vol, tet, jac)
+    call check(tet > 0.0_wp .and. jac > 0.0_wp, 'revert: the grid is untangled')
+  end subroutine test_guard_and_revert
 
   !> Cell transformations on their own: Q = 1 for a cube, the centroid of
   !> Eq. (49), the cube of Eq. (50), the GETMe transformation (Eq. 48).

@@ -50,6 +50,18 @@ program test_rezone_subdomains
   call check(count(s%cell_remap) == 343, 'one cell: 343 remap cells')
   call check_sets(s, 'one cell')
 
+  ! ---- a cell marked distorted by the caller (it fails the triggers'
+  ! tests) seeds the same subdomain whatever its Q; q = -huge: Q plays no part
+  quality = 1.0_wp
+  quality(cell(3, 3, 3)) = qd
+  frozen = .false.
+  frozen(cell(10, 10, 10)) = .true.
+  call rezone_subdomains_find(m, m, m, quality, -huge(1.0_wp), 4.0_wp, t, err, distorted=frozen)
+  call check(.not. allocated(err) .and. t%nbox == 1 .and. t%n_distorted == 1, &
+             'a marked cell is distorted, a low Q alone is not when q = -huge')
+  call check_box(t, 1, [8, 8, 8], [12, 12, 12], 'marked cell: box 8..12 after the expansion')
+  frozen = .false.
+
   ! ---- two distorted cells within range: one subdomain ----
   ! cell (11,12,9) comes first in the cell loop (k = 9 < 10): it seeds the
   ! subdomain with centre (11,12,9), box 10..12 x 11..13 x 8..10; (10,10,10)

@@ -42,6 +42,10 @@ module rezone_config
     !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
     !> shortest edge stays where it was (0: every move is kept, as the paper)
     real(wp) :: move_min = 0.0_wp
+    !> 'lssm': 'box' (distorted cells are those failing the triggers' tests;
+    !> only their nodes move, towards boxes of the cells' own proportions) or
+    !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
+    character(len=16) :: smooth_target = 'box'
   end type rezone_config_t
 
 contains
@@ -53,14 +57,14 @@ contains
     character(len=*), intent(in) :: text(:), path
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=16) :: mode, reconstruction
+    character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
-                      move_min
+                      move_min, smooth_target
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -68,12 +72,19 @@ contains
     conservation_tol = defaults%conservation_tol
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
+    smooth_target = defaults%smooth_target
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
     end if
     call problem_long(problems, 'rezone', 'mode', mode)
     call problem_long(problems, 'rezone', 'reconstruction', reconstruction)
+    call problem_long(problems, 'rezone', 'smooth_target', smooth_target)
+    select case (trim(smooth_target))
+    case ('box', 'cube')
+    case default
+      call problem_add(problems, '&rezone: smooth_target = '''//trim(smooth_target)//''' is not known; valid: box, cube')
+    end select
     select case (trim(mode))
     case ('none', 'global', 'lssm', 'smooth')
     case default
@@ -113,7 +124,8 @@ contains
     this = rezone_config_t(mode=mode, side_ratio=side_ratio, cos_angle=cos_angle, &
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
-      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min)
+      quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
+      smooth_target=smooth_target)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config

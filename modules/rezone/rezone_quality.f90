@@ -5,27 +5,47 @@
 !> Q = 1728 V / L^3 for a hexahedron (V its exact volume, L the sum of its 12
 !> edge lengths) and Q = 16 S / L^2 for a quadrilateral (S its area, L its
 !> perimeter); both are 1 for a cube or a square and fall as a cell is
-!> stretched, sheared or tangled (Q <= 0 for an inverted cell). The inclined
-!> angle at a corner is how far the angle between two of its edges departs
-!> from a right angle: cos(inclined) = sin(angle between the edges) =
-!> |e1 x e2| / (|e1| |e2|), 1 for a cube; a run triggers an Euler step when
-!> the smallest of these over all cells falls to the deck's bound (0.7 in the
-!> paper's Sedov test) or the largest side ratio reaches its bound (4).
+!> stretched, sheared or tangled (Q <= 0 for an inverted cell).
+!>
+!> Eq. (46) against the cell's own box (`hex_quality_box`): Q divided by the
+!> Q of the box whose sides are the cell's mean edge lengths along its three
+!> logical directions (their aspect ratio capped at aspect_max). 1 for any
+!> such box, so it does not count a cell merely compressed or stretched
+!> along the grid lines, which is how a Lagrangian grid resolves a shock: a
+!> box compressed by 10 % has Eq. (46) Q = 0.996, already "distorted" for
+!> the paper's q = 0.999 (Sect. 7.3; the Sedov shock compresses 6:1), while
+!> the shear and the tangling Eq. (46) is meant to catch count as before
+!> (for a sheared cube the two are the same, Q = sin of the shear angle).
+!>
+!> The inclined angle at a corner is how far the angle between two of its
+!> edges departs from a right angle: cos(inclined) = sin(angle between the
+!> edges) = |e1 x e2| / (|e1| |e2|), 1 for a cube. LSSM's box reading
+!> measures it instead as an edge's angle to the axis of its logical
+!> direction (the paper calls a regular cell "still inclined" when its
+!> sides are not parallel to the axes, Sect. 5.3.1 and Fig. 8, and its
+!> modified GETMe turns cells back to the axes): cos = |e . a_d| / |e|, 1
+!> for an axis-aligned box. A cell compressed 4:1 along a face diagonal has
+!> sin 0.47 between its edges but each edge turns only 31 degrees (cos
+!> 0.857): the first reading fires at every diagonal of a compressed shock
+!> shell. A run triggers an Euler step when the smallest cosine over all
+!> cells falls to the deck's bound (0.7 in the paper's Sedov test) or the
+!> largest side ratio reaches its bound (4).
 module rezone_quality
   use base_kinds, only: wp
-  use mesh_geometry, only: hex_volume, cross
+  use mesh_geometry, only: hex_volume, hex_edges, cross
   use mesh_grid, only: block_gather, grid_index_t, grid_index
   implicit none
   private
-  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells
+  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells, grid_trigger_cells, &
+            hex_box_sides, hex_quality_box
 
+  !> The three neighbours of each corner along the three logical directions.
+  integer, parameter :: corner_nbr(3, 8) = reshape([2, 3, 5,  1, 4, 6,  4, 1, 7,  3, 2, 8, &
+                                                    6, 7, 1,  5, 8, 2,  8, 5, 3,  7, 6, 4], [3, 8])
   !> The 12 edges of a hexahedron as (node, node) in the local numbering.
   integer, parameter :: hex_edge_list(2, 12) = reshape([1, 2, 3, 4, 5, 6, 7, 8, &
                                                         1, 3, 2, 4, 5, 7, 6, 8, &
                                                         1, 5, 2, 6, 3, 7, 4, 8], [2, 12])
-  !> The three neighbours of each corner along the three logical directions.
-  integer, parameter :: corner_nbr(3, 8) = reshape([2, 3, 5,  1, 4, 6,  4, 1, 7,  3, 2, 8, &
-                                                    6, 7, 1,  5, 8, 2,  8, 5, 3,  7, 6, 4], [3, 8])
 
 contains
 
@@ -41,6 +61,53 @@ contains
     end do
     q = 1728.0_wp*hex_volume(xn)/l**3
   end function hex_quality
+
+  !> Sides (length) of a hexahedron's own box: the mean lengths of its four
+  !> edges along each logical direction, their spread shrunk (in log space,
+  !> about their geometric mean, which is kept) until the largest over the
+  !> smallest is at most aspect_max (>= 1; 1 gives the cube of the same
+  !> geometric mean). Returned as they are if an edge mean is zero.
+  pure function hex_box_sides(xn, aspect_max) result(b)
+    real(wp), intent(in) :: xn(3, 8), aspect_max
+    real(wp) :: b(3)
+    real(wp) :: t(3), g, spread
+    integer :: d, e
+    do d = 1, 3
+      b(d) = 0.0_wp
+      do e = 1, 4
+        b(d) = b(d) + norm2(xn(:, hex_edges(2, e, d)) - xn(:, hex_edges(1, e, d)))
+      end do
+      b(d) = 0.25_wp*b(d)
+    end do
+    if (any(.not. b > 0.0_wp)) return
+    ! logs of the ratios to b(1), so that scaling the cell by a power of two
+    ! scales the result bit for bit (dimensional invariance)
+    t = log(b/b(1))
+    g = sum(t)/3.0_wp
+    t = t - g
+    spread = maxval(t) - minval(t)
+    if (spread > log(aspect_max)) then
+      t = t*(log(aspect_max)/spread)
+      b = b(1)*exp(g + t)
+    end if
+  end function hex_box_sides
+
+  !> Eq. (46) against the cell's own box (`hex_box_sides` with aspect_max):
+  !> 1728 V / L^3 divided by 27 b1 b2 b3 / (b1 + b2 + b3)^3, the Eq. (46) of
+  !> the box. 1 for a box of aspect ratio at most aspect_max whatever its
+  !> proportions; below 1 as the cell is sheared, tangled or stretched beyond
+  !> aspect_max (a 4:1 box has 0.69 with aspect_max 2). aspect_max = 1 gives
+  !> Eq. (46) itself (exactly); so does a cell with a zero mean edge.
+  pure function hex_quality_box(xn, aspect_max) result(q)
+    real(wp), intent(in) :: xn(3, 8), aspect_max
+    real(wp) :: q
+    real(wp) :: b(3)
+    q = hex_quality(xn)
+    if (.not. aspect_max > 1.0_wp) return
+    b = hex_box_sides(xn, aspect_max)
+    if (any(.not. b > 0.0_wp)) return
+    q = q*sum(b)**3/(27.0_wp*product(b))
+  end function hex_quality_box
 
   !> Eq. (46) for a plane quadrilateral with corners xq(2,4) in cyclic order:
   !> 16 S / L^2.
@@ -59,24 +126,46 @@ contains
     q = 16.0_wp*s/l**2
   end function quad_quality
 
-  !> Largest ratio of edge lengths and cosine of the largest inclined angle
-  !> (the smallest |sin| of the angle between two edges at a corner).
-  pure subroutine hex_shape(xn, side_ratio, cos_incl)
+  !> Largest ratio of edge lengths and cosine of the largest inclined angle:
+  !> the smallest |sin| of the angle between two edges at a corner, or with
+  !> axis = .true. the smallest |cos| of the angle between an edge and the
+  !> axis of its logical direction (0 for an edge of zero length).
+  pure subroutine hex_shape(xn, side_ratio, cos_incl, axis)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: side_ratio, cos_incl
+    logical, intent(in), optional :: axis
     real(wp) :: lmin, lmax, le, e(3, 3), ne(3)
-    integer :: k, a, i, j
+    integer :: k, a, i, j, d
+    logical :: by_axis
 
     lmin = huge(1.0_wp)
     lmax = 0.0_wp
-    do k = 1, 12
-      le = norm2(xn(:, hex_edge_list(2, k)) - xn(:, hex_edge_list(1, k)))
-      lmin = min(lmin, le)
-      lmax = max(lmax, le)
+    do d = 1, 3
+      do k = 1, 4
+        le = norm2(xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d)))
+        lmin = min(lmin, le)
+        lmax = max(lmax, le)
+      end do
     end do
     side_ratio = huge(1.0_wp)
     if (lmin > 0.0_wp) side_ratio = lmax/lmin
     cos_incl = 1.0_wp
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
+    if (by_axis) then
+      do d = 1, 3
+        do k = 1, 4
+          e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
+          le = norm2(e(:, 1))
+          if (le > 0.0_wp) then
+            cos_incl = min(cos_incl, abs(e(d, 1))/le)
+          else
+            cos_incl = 0.0_wp
+          end if
+        end do
+      end do
+      return
+    end if
     do a = 1, 8
       do i = 1, 3
         e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)
@@ -96,28 +185,42 @@ contains
 
   !> Quality of every cell of an ni x nj x nk grid with nodes x(3, nnode)
   !> (structured numbering of `mesh_grid`), with the grid-wide minimum of Q
-  !> and of the inclined-angle cosine and the maximum side ratio.
-  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min)
+  !> and of the inclined-angle cosine and the maximum side ratio. q(c) is
+  !> Eq. (46), or with aspect_max (>= 1) Eq. (46) against the cell's own box
+  !> (`hex_quality_box`).
+  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max, axis)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: q(:), q_min, ratio_max, cos_min
+    real(wp), intent(in), optional :: aspect_max
+    logical, intent(in), optional :: axis
     integer :: c, ci, cj, ck
-    real(wp) :: xn(3, 8), r, cs
+    real(wp) :: xn(3, 8), r, cs, amax
+    logical :: box, by_axis
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
+    box = present(aspect_max)
+    amax = 1.0_wp
+    if (box) amax = aspect_max
     q_min = huge(1.0_wp)
     ratio_max = 0.0_wp
     cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q) private(c, ci, cj, ck, xn, r, cs) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax, by_axis) private(c, ci, cj, ck, xn, r, cs) &
     !$omp reduction(min: q_min, cos_min) reduction(max: ratio_max) collapse(2) schedule(static)
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
         do ci = ix%clo(1), ix%chi(1)
           c = ix%cell(ci, cj, ck)
           call block_gather(ni, nj, ci, cj, ck, x, xn)
-          q(c) = hex_quality(xn)
-          call hex_shape(xn, r, cs)
+          if (box) then
+            q(c) = hex_quality_box(xn, amax)
+          else
+            q(c) = hex_quality(xn)
+          end if
+          call hex_shape(xn, r, cs, by_axis)
           q_min = min(q_min, q(c))
           ratio_max = max(ratio_max, r)
           cos_min = min(cos_min, cs)
@@ -127,13 +230,57 @@ contains
     !$omp end parallel do
   end subroutine grid_quality
 
+  !> The cells of an ni x nj x nk grid that fail the Euler-step triggers' own
+  !> tests (Sect. 5.1): fail(c) is true when the cell's side ratio reaches
+  !> side_ratio (if > 0) or its inclined-angle cosine falls to cos_angle (if
+  !> > 0), `hex_shape`; or when it is tangled (a corner's three edges, along
+  !> +i, +j, +k, span a non-positive volume). These are the cells that make
+  !> the grid "determined distorted", so an Euler step that does not move
+  !> them fires again at the next step. The inclined angle is measured
+  !> against the axes (`hex_shape` with axis), as the box reading's trigger.
+  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: x(:, :), side_ratio, cos_angle
+    logical, intent(out) :: fail(:)
+    integer :: c, ci, cj, ck, a, d, b
+    real(wp) :: xn(3, 8), r, cs, e(3, 3), jmin
+    type(grid_index_t) :: ix
+
+    ix = grid_index(ni, nj, nk)
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, side_ratio, cos_angle, fail) &
+    !$omp private(c, ci, cj, ck, a, d, b, xn, r, cs, e, jmin) collapse(2) schedule(static)
+    do ck = ix%clo(3), ix%chi(3)
+      do cj = ix%clo(2), ix%chi(2)
+        do ci = ix%clo(1), ix%chi(1)
+          c = ix%cell(ci, cj, ck)
+          call block_gather(ni, nj, ci, cj, ck, x, xn)
+          call hex_shape(xn, r, cs, .true.)
+          jmin = huge(1.0_wp)
+          do a = 1, 8
+            do d = 1, 3
+              b = 1 + ieor(a - 1, 2**(d - 1))
+              e(:, d) = xn(:, b) - xn(:, a)
+              if (btest(a - 1, d - 1)) e(:, d) = -e(:, d)
+            end do
+            jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
+                       e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
+          end do
+          fail(c) = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle) &
+                    .or. .not. jmin > 0.0_wp
+        end do
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine grid_trigger_cells
+
   !> Cell indices (i, j, k) of the cell with the largest side ratio and of
   !> the cell with the smallest inclined-angle cosine (the first such cell
   !> in storage order): where a trigger fired.
-  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos)
+  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos, axis)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     integer, intent(out) :: ijk_ratio(3), ijk_cos(3)
+    logical, intent(in), optional :: axis
     integer :: ci, cj, ck
     real(wp) :: xn(3, 8), r, cs, r_max, cs_min
 
@@ -145,7 +292,7 @@ contains
       do cj = 1, nj
         do ci = 1, ni
           call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_shape(xn, r, cs)
+          call hex_shape(xn, r, cs, axis)
           if (r > r_max) then
             r_max = r
             ijk_ratio = [ci, cj, ck]

@@ -46,7 +46,7 @@ module rezone_smooth
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
-  use rezone_quality, only: hex_quality
+  use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides
   use mesh_grid, only: grid_index_t, grid_index
   implicit none
   private
@@ -54,8 +54,8 @@ module rezone_smooth
   public :: smooth_mobility_t, smooth_region_t
   public :: smooth_mobility_box, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
-  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves
-  public :: hex_centroid, hex_cube_target, hex_getme_target, getme_b_default
+  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled
+  public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
   public :: hex_min_tet_volume, hex_min_corner_jacobian
 
   !> Node kinds of a mobility: never moves, moves freely, slides in the
@@ -91,6 +91,21 @@ module rezone_smooth
     real(wp), allocatable :: xt(:, :, :)   !< (3, 8, ncell) work: proposed node positions
     real(wp), allocatable :: xcell(:, :)   !< (3, ncell) work: cell centres
     real(wp), allocatable :: wcell(:)      !< (ncell) work: cell weights
+    !> The box reading (`smooth_region_init` with aspect_max): cells are
+    !> smoothed towards boxes of their own proportions (`hex_box_target`),
+    !> the weighted average keeps the node spacing (weights 1/(a1 a2 a3)) and
+    !> the quality is Eq. (46) against the cell's own box. Else the paper's
+    !> cubes, volume weights and Eq. (46).
+    logical :: box = .false.
+    real(wp) :: aspect_max = 1.0_wp        !< largest aspect ratio of a target box (box reading)
+    integer :: n_guarded = 0               !< node moves the untangling guard halved or undid (last smoothing)
+    real(wp), allocatable :: xsave(:, :)   !< (3, nmove) work: positions before a pass
+    integer, allocatable :: nhalve(:)      !< (nmove) work: times a node's move was halved
+    logical, allocatable :: hit(:)         !< (nmove) work: near a cell the pass tangled
+    integer, allocatable :: node_slot(:)   !< (nnode of the block) work: slot in node(:), 0 if the node does not move
+    !> (2, ncell) work: smallest corner Jacobian and smallest tetrahedron of
+    !> each active cell before a pass
+    real(wp), allocatable :: valid0(:, :)
   end type smooth_region_t
 
 contains
@@ -191,12 +206,14 @@ contains
   !> Builds the region of the cells with active(c) true on the block of
   !> `mob`: the active cells, the nodes that may move (mobility not fixed
   !> and every cell of the block around the node active) and the work
-  !> arrays of the passes.
-  subroutine smooth_region_init(mob, active, reg, err)
+  !> arrays of the passes. With aspect_max (>= 1), the box reading (see
+  !> `smooth_region_t`).
+  subroutine smooth_region_init(mob, active, reg, err, aspect_max)
     type(smooth_mobility_t), intent(in) :: mob
     logical, intent(in) :: active(:)
     type(smooth_region_t), intent(out) :: reg
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: aspect_max
     integer, allocatable :: slot(:)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     character(len=200) :: msg
@@ -211,6 +228,14 @@ contains
     if (size(active) /= ncell_all) then
       call error_set(err, 'smooth_region_init', 'active(:) must have one entry per cell')
       return
+    end if
+    if (present(aspect_max)) then
+      if (.not. aspect_max >= 1.0_wp) then
+        call error_set(err, 'smooth_region_init', 'aspect_max must be >= 1')
+        return
+      end if
+      reg%box = .true.
+      reg%aspect_max = aspect_max
     end if
     ix = grid_index(ni, nj, nk)
     reg%ni = ni; reg%nj = nj; reg%nk = nk
@@ -229,7 +254,10 @@ contains
 
     allocate(slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
              reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
-             reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), stat=stat, errmsg=msg)
+             reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
+             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), reg%hit(reg%nmove), &
+             reg%node_slot(ix%nnode), reg%valid0(2, reg%ncell), &
+             stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', 'cannot allocate the region: '//trim(msg))
       return
@@ -397,6 +425,29 @@ contains
     end do
   end subroutine hex_cube_target
 
+  !> The modified GETMe transformation towards the cell's own box (the box
+  !> reading of Eq. 50): the axis-aligned box centred on the centroid of
+  !> Eq. (49) whose sides keep the proportions of the cell's mean edge
+  !> lengths along its logical directions (aspect ratio capped at
+  !> aspect_max, `hex_box_sides`), scaled to the cell's volume (the volume
+  !> option of the GETMe scaling, after Eq. 48) when the cell is untangled,
+  !> so that a cell compressed along a grid line stays compressed; Eq. (50)
+  !> itself is this with the cube of the mean edge (aspect_max = 1, no
+  !> scaling). A box of aspect ratio at most aspect_max maps onto itself.
+  pure subroutine hex_box_target(xn, aspect_max, xt)
+    real(wp), intent(in) :: xn(3, 8), aspect_max
+    real(wp), intent(out) :: xt(3, 8)
+    real(wp) :: xc(3), b(3), v
+    integer :: a
+    xc = hex_centroid(xn)
+    b = hex_box_sides(xn, aspect_max)
+    v = hex_volume(xn)
+    if (v > 0.0_wp .and. all(b > 0.0_wp)) b = b*(v/product(b))**(1.0_wp/3.0_wp)
+    do a = 1, 8
+      xt(:, a) = xc + 0.5_wp*b*real(2*hex_corner(:, a) - 1, wp)
+    end do
+  end subroutine hex_box_target
+
   !> Original GETMe transformation of one hexahedron (Vartziotis and Wipper's
   !> dual-element transformation, Eqs. 47-48): the centres of the six faces
   !> span the dual octahedron; the octahedron face of corner a (the triangle
@@ -514,7 +565,11 @@ contains
     !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
-      call hex_cube_target(xn, reg%xt(:, :, s))
+      if (reg%box) then
+        call hex_box_target(xn, reg%aspect_max, reg%xt(:, :, s))
+      else
+        call hex_cube_target(xn, reg%xt(:, :, s))
+      end if
     end do
     !$omp end parallel do
     call move_to_mean_target(reg, x)
@@ -560,7 +615,12 @@ contains
       do d = 1, 3
         reg%xcell(d, s) = 0.125_wp*sum(xn(d, :))
       end do
-      reg%wcell(s) = max(hex_volume(xn), 0.0_wp)
+      if (reg%box) then
+        ! 1/(a1 a2 a3): every tensor-product (graded) grid is a fixed point
+        reg%wcell(s) = 1.0_wp/max(product(hex_box_sides(xn, huge(1.0_wp))), tiny(1.0_wp))
+      else
+        reg%wcell(s) = max(hex_volume(xn), 0.0_wp)
+      end if
     end do
     !$omp end parallel do
 
@@ -602,17 +662,23 @@ contains
     !$omp parallel do default(none) shared(reg, x) private(s, xn) reduction(min: q_min) schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
-      q_min = min(q_min, hex_quality(xn))
+      if (reg%box) then
+        q_min = min(q_min, hex_quality_box(xn, reg%aspect_max))
+      else
+        q_min = min(q_min, hex_quality(xn))
+      end if
     end do
     !$omp end parallel do
   end function smooth_q_min
 
   !> The combined smoothing of Sect. 5.3.2 (step 1): while Q_min over the
   !> active cells is below q_target and fewer than n_max iterations were
-  !> done, one modified GETMe pass then one weighted-average pass. Returns
-  !> the iterations done (0 if the grid already met the target) and the
-  !> final Q_min. The TFI fallback (step 2) is the caller's: it needs the
-  !> merged cuboid subdomains (`smooth_tfi`). x(3, nnode) in length units.
+  !> done, one modified GETMe pass then one weighted-average pass. After
+  !> each pass the untangling guard (`guard_undo`) takes back the moves
+  !> that tangled a cell. Returns the iterations done (0 if the grid already
+  !> met the target) and the final Q_min. The TFI fallback (step 2) is the
+  !> caller's: it needs the merged cuboid subdomains (`smooth_tfi`).
+  !> x(3, nnode) in length units.
   subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
@@ -620,16 +686,108 @@ contains
     integer, intent(in) :: n_max
     integer, intent(out) :: iterations
     real(wp), intent(out) :: q_min
+    integer :: m
 
+    reg%node_slot = 0
+    do m = 1, reg%nmove
+      reg%node_slot(reg%node(m)) = m
+    end do
     iterations = 0
+    reg%n_guarded = 0
     q_min = smooth_q_min(reg, x)
     do while (q_min < q_target .and. iterations < n_max)
+      call guard_start(reg, x)
       call smooth_modified_getme(reg, x)
       call smooth_weighted_average(reg, x)
+      call guard_undo(reg, x)
       iterations = iterations + 1
       q_min = smooth_q_min(reg, x)
     end do
   end subroutine smooth_combined
+
+  !> Before a smoothing pass: keeps the movable nodes' positions and, for
+  !> each active cell, its smallest corner Jacobian and smallest tetrahedron
+  !> of the 24-tet split (what the remap intersects).
+  subroutine guard_start(reg, x)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(in) :: x(:, :)
+    integer :: s, m
+    real(wp) :: xn(3, 8)
+    do m = 1, reg%nmove
+      reg%xsave(:, m) = x(:, reg%node(m))
+    end do
+    !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      reg%valid0(1, s) = hex_min_corner_jacobian(xn)
+      reg%valid0(2, s) = hex_min_tet_volume(xn)
+    end do
+    !$omp end parallel do
+  end subroutine guard_start
+
+  !> After a smoothing pass: around every cell the pass tangled (a cell
+  !> untangled before it with a corner Jacobian or a tetrahedron of the
+  !> 24-tet split now non-positive) the moves of the movable nodes within
+  !> guard_reach nodes of the cell (in index space) are halved, round after
+  !> round; a node halved guard_rounds times goes back where it was. Halving
+  !> a neighbourhood, not just the cell's own nodes, keeps the motion
+  !> smooth (undoing single nodes leaves their neighbours half moved and
+  !> tangles the next cells). Every round halves or undoes at least one node
+  !> and an undone node stays put, so this ends; no cell untangled before
+  !> the pass is tangled after it. Cells tangled before the pass are the
+  !> smoother's to mend and are not held to it.
+  subroutine guard_undo(reg, x)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    integer, parameter :: guard_reach = 2, guard_rounds = 5
+    integer :: s, m, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, n, mm
+    real(wp) :: xn(3, 8)
+    logical :: changed
+    sx = reg%ni + 1
+    sxy = sx*(reg%nj + 1)
+    reg%nhalve = 0
+    do
+      nbad = 0
+      reg%hit = .false.
+      do s = 1, reg%ncell
+        if (.not. (reg%valid0(1, s) > 0.0_wp .and. reg%valid0(2, s) > 0.0_wp)) cycle
+        call region_gather(reg, s, x, xn)
+        if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
+        nbad = nbad + 1
+        ! the cell's lowest node (i0, j0, k0), 0-based
+        n0 = reg%node0(s) - 1
+        i0 = mod(n0, sx)
+        j0 = mod(n0/sx, reg%nj + 1)
+        k0 = n0/sxy
+        do k = max(k0 - guard_reach, 0), min(k0 + 1 + guard_reach, reg%nk)
+          do j = max(j0 - guard_reach, 0), min(j0 + 1 + guard_reach, reg%nj)
+            do i = max(i0 - guard_reach, 0), min(i0 + 1 + guard_reach, reg%ni)
+              n = 1 + i + sx*j + sxy*k
+              mm = reg%node_slot(n)
+              if (mm > 0) reg%hit(mm) = .true.
+            end do
+          end do
+        end do
+      end do
+      if (nbad == 0) exit
+      changed = .false.
+      do m = 1, reg%nmove
+        if (.not. reg%hit(m)) cycle
+        if (.not. any(abs(x(:, reg%node(m)) - reg%xsave(:, m)) > 0.0_wp)) cycle
+        changed = .true.
+        reg%nhalve(m) = reg%nhalve(m) + 1
+        reg%n_guarded = reg%n_guarded + 1
+        if (reg%nhalve(m) >= guard_rounds) then
+          x(:, reg%node(m)) = reg%xsave(:, m)
+        else
+          x(:, reg%node(m)) = 0.5_wp*(x(:, reg%node(m)) + reg%xsave(:, m))
+        end if
+      end do
+      ! (a tangled cell with none of its neighbourhood left to undo cannot be
+      ! the pass's doing: all its nodes are where they were)
+      if (.not. changed) exit
+    end do
+  end subroutine guard_undo
 
   !> Transfinite interpolation (Eq. 53) of the nodes strictly inside the
   !> node index box lo(d) <= i_d <= hi(d) (0-based node indices of an
@@ -785,6 +943,56 @@ contains
       t(m1) = 1.0_wp
     end subroutine edge_parameter
   end subroutine tfi_box
+
+  !> The last safeguard of a rezone: every cell of an ni x nj x nk block that
+  !> the rezone changed (a node of x differs from xold) and that is tangled in
+  !> x (a corner Jacobian or a tetrahedron of the 24-tet split non-positive)
+  !> has its nodes put back where they were, round after round (putting
+  !> nodes back can tangle a neighbour, whose nodes then go back too; every
+  !> round puts back at least one node and no node moves twice, so this
+  !> ends). The new grid's cells are then untangled or unchanged, which is
+  !> what the remap needs (a changed tangled cell has no exact intersection
+  !> with the old grid). nrevert is the number of nodes put back.
+  subroutine smooth_revert_tangled(ni, nj, nk, xold, x, nrevert)
+    integer, intent(in) :: ni, nj, nk
+    real(wp), intent(in) :: xold(:, :)
+    real(wp), intent(inout) :: x(:, :)
+    integer, intent(out) :: nrevert
+    integer :: ci, cj, ck, a, n0, n, nround
+    real(wp) :: xn(3, 8)
+    logical :: changed
+    type(grid_index_t) :: ix
+
+    ix = grid_index(ni, nj, nk)
+    nrevert = 0
+    do
+      nround = 0
+      do ck = ix%clo(3), ix%chi(3)
+        do cj = ix%clo(2), ix%chi(2)
+          do ci = ix%clo(1), ix%chi(1)
+            n0 = ix%cell_node0(ci, cj, ck)
+            changed = .false.
+            do a = 1, 8
+              n = n0 + ix%corner_offset(a)
+              xn(:, a) = x(:, n)
+              changed = changed .or. any(abs(x(:, n) - xold(:, n)) > 0.0_wp)
+            end do
+            if (.not. changed) cycle
+            if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
+            do a = 1, 8
+              n = n0 + ix%corner_offset(a)
+              if (any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) then
+                x(:, n) = xold(:, n)
+                nround = nround + 1
+              end if
+            end do
+          end do
+        end do
+      end do
+      nrevert = nrevert + nround
+      if (nround == 0) exit
+    end do
+  end subroutine smooth_revert_tangled
 
   !> Puts back where they were (x = xold) the nodes of an ni x nj x nk block
   !> that the rezone moved by less than move_min times the shortest grid

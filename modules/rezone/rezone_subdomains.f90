@@ -22,7 +22,8 @@
 !>   see `rezone_subdomains_default_dmax`.
 !> - Cell loop in increasing cell index c (i fastest, then j, then k), so the
 !>   result is deterministic. Each distorted cell (Q < q, Eq. 46; a NaN
-!>   quality also counts as distorted) that is not frozen:
+!>   quality also counts as distorted; or marked by the caller, e.g. a cell
+!>   that fails the Euler-step triggers' tests) that is not frozen:
 !>   the "subdomain loop" enlarges EVERY existing subdomain whose range holds
 !>   the cell, so its box becomes the bounding index box of the old box and the
 !>   cell's 3x3x3 neighbourhood (clipped to the block); "the center of subdomain
@@ -111,18 +112,19 @@ contains
   !> quality(ncell) is Eq. (46) per cell (dimensionless), q the distortion
   !> threshold (cells with quality < q are distorted), d_max the maximum side
   !> length of a subdomain's range in cells (see the module notes), frozen
-  !> (optional, ncell) marks cells that must not move (solid particles).
-  subroutine rezone_subdomains_find(ni, nj, nk, quality, q, d_max, sub, err, frozen)
+  !> (optional, ncell) marks cells that must not move (solid particles),
+  !> distorted (optional, ncell) cells that are distorted whatever their Q.
+  subroutine rezone_subdomains_find(ni, nj, nk, quality, q, d_max, sub, err, frozen, distorted)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: quality(:), q, d_max
     type(rezone_subdomains_t), intent(out) :: sub
     type(error_t), allocatable, intent(inout) :: err
-    logical, intent(in), optional :: frozen(:)
+    logical, intent(in), optional :: frozen(:), distorted(:)
     character(len=*), parameter :: where = 'rezone_subdomains_find'
     integer, allocatable :: lo(:, :), hi(:, :), centre(:, :)
     integer :: n(3), l(3), nlo(3), nhi(3), c, ci, cj, ck, b, d, nbox
     real(wp) :: half
-    logical :: found
+    logical :: found, is_distorted
 
     call check_block(ni, nj, nk, where, err, frozen)
     if (allocated(err)) return
@@ -130,6 +132,13 @@ contains
       call error_set(err, where, 'quality has '//itoa(size(quality))//' entries, the block has ' &
                      //itoa(ni*nj*nk)//' cells')
       return
+    end if
+    if (present(distorted)) then
+      if (size(distorted) /= ni*nj*nk) then
+        call error_set(err, where, 'distorted has '//itoa(size(distorted))//' entries, the block has ' &
+                       //itoa(ni*nj*nk)//' cells')
+        return
+      end if
     end if
     if (ieee_is_nan(d_max) .or. ieee_is_nan(q)) then
       call error_set(err, where, 'd_max and q must be numbers')
@@ -143,6 +152,7 @@ contains
     n = [ni, nj, nk]
     half = 0.5_wp*d_max
     nbox = 0
+
     call grow_boxes(lo, hi, centre, 16, where, err)
     if (allocated(err)) return
     c = 0
@@ -152,8 +162,12 @@ contains
           c = c + 1
           ! Step 1: distorted when Q < q (Eq. 46); an undefined Q is distorted too
           if (.not. ieee_is_nan(quality(c))) then
-            if (quality(c) >= q) cycle
+            is_distorted = quality(c) < q
+          else
+            is_distorted = .true.
           end if
+          if (present(distorted)) is_distorted = is_distorted .or. distorted(c)
+          if (.not. is_distorted) cycle
           if (present(frozen)) then
             if (frozen(c)) then
               sub%n_frozen_distorted = sub%n_frozen_distorted + 1
