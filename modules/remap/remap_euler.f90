@@ -178,9 +178,21 @@ module remap_euler
     real(wp), allocatable :: gu(:, :, :), xdual(:, :), wv(:, :), ws(:, :, :)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
     !> covered by the new grid): their fragments carry only the mean velocity,
-    !> and kinetic energy kcell per unit mass
+    !> and kinetic energy kcell per unit mass about it
     logical, allocatable :: uniform(:)
     real(wp), allocatable :: kcell(:)
+    !> Kinetic energies are counted about a local velocity, never as the
+    !> difference of two totals in the lab frame: such a difference carries
+    !> round-off of eps |u|^2 per unit mass, which a material whose internal
+    !> energy is far below its kinetic energy (a body 1e6 denser than the
+    !> gas around it at the same pressure, in a flow: e/|u|^2 ~ 1e-6) takes
+    !> as a relative error of eps |u|^2/e per Euler step. Counted about a
+    !> local velocity, a uniform flow's differences vanish to eps^2 and a
+    !> fluid at rest's exactly. uref(3, ncell): per new cell, the mean of the
+    !> old velocities at its nodes, about which its fragments' kinetic
+    !> energy is summed (pcell(4)); the old cell's shifts and kcell are about
+    !> its mean velocity, a node's returned energy about its new velocity.
+    real(wp), allocatable :: uref(:, :)
     ! one region per pure cell (index c) or per mixed slot (index ncell + s)
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
@@ -492,7 +504,7 @@ contains
 
     ncell = g%ncell
     nreg = ncell + mx%nslot
-    allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), &
+    allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
              old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
              old%wv(8, ncell), old%ws(3, 8, ncell), old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
@@ -533,11 +545,16 @@ contains
       old%uniform(c) = .false.
       old%ucell(:, c) = 0.0_wp
       old%kcell(c) = 0.0_wp
+      old%uref(:, c) = 0.0_wp
       do a_ = 1, 8
         old%ucell(:, c) = old%ucell(:, c) + h%mcorner(a_, c)*h%u(:, n + g%corner_offset(a_))
-        old%kcell(c) = old%kcell(c) + 0.5_wp*h%mcorner(a_, c)*sum(h%u(:, n + g%corner_offset(a_))**2)
+        old%uref(:, c) = old%uref(:, c) + h%u(:, n + g%corner_offset(a_))
       end do
       old%ucell(:, c) = old%ucell(:, c)/sum(h%mcorner(:, c))
+      old%uref(:, c) = 0.125_wp*old%uref(:, c)
+      do a_ = 1, 8
+        old%kcell(c) = old%kcell(c) + 0.5_wp*h%mcorner(a_, c)*sum((h%u(:, n + g%corner_offset(a_)) - old%ucell(:, c))**2)
+      end do
       old%kcell(c) = old%kcell(c)/sum(h%mcorner(:, c))
     end do
     !$omp end parallel do
@@ -759,7 +776,8 @@ contains
   !> gradient, the materials' regions in a mixed cell, the subcells' volume
   !> changes since the corner masses were set); the shifts
   !>   s_c = sum_a (m_ca - M_a) u_a / m_c,
-  !>   k_c = (sum_a m_ca |u_a|^2/2 - sum_a M_a |u_a + s_c|^2/2) / m_c
+  !>   k_c = (sum_a m_ca |u_a - v_c|^2/2 - sum_a M_a |u_a + s_c - v_c|^2/2) / m_c
+  !> (v_c the cell's mean velocity: the kinetic energies about it)
   !> make the fragments hand out exactly the cell's momentum and kinetic
   !> energy (sum_a M_a = m_c). Carrying velocity with the mass that moves
   !> (rather than momentum with volume) keeps every fragment's velocity a
@@ -843,9 +861,10 @@ contains
       old%ushift(:, c) = old%ushift(:, c)/mc
       kc = 0.0_wp
       ksum = 0.0_wp
+      ! (about the cell's mean velocity: `old_t`)
       do j = 1, 8
-        kc = kc + 0.5_wp*h%mcorner(j, c)*dot_product(ua(:, j), ua(:, j))
-        ksum = ksum + 0.5_wp*msub(j)*sum((ua(:, j) + old%ushift(:, c))**2)
+        kc = kc + 0.5_wp*h%mcorner(j, c)*sum((ua(:, j) - old%ucell(:, c))**2)
+        ksum = ksum + 0.5_wp*msub(j)*sum((ua(:, j) + old%ushift(:, c) - old%ucell(:, c))**2)
       end do
       old%kshift(c) = (kc - ksum)/mc
     end do
@@ -1127,11 +1146,11 @@ contains
               nb = g%node0(co) + g%corner_offset(ocorner(i))
               if (old%uniform(co)) then
                 ub = old%ucell(:, co)
-                kemb = old%kcell(co)
+                kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kcell(co)
                 wb = 0.0_wp
               else
                 ub = h%u(:, nb) + old%ushift(:, co)
-                kemb = 0.5_wp*dot_product(ub, ub) + old%kshift(co)
+                kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kshift(co)
                 wb = old%wreg(kreg)
               end if
               if (box) then
@@ -1311,7 +1330,7 @@ contains
         end do
       end if
       pcell(1:3) = pcell(1:3) + fm*ub + plin
-      pcell(4) = pcell(4) + fm*kemb + dot_product(h%u(:, nb), plin)
+      pcell(4) = pcell(4) + fm*kemb + dot_product(h%u(:, nb) - old%uref(:, c), plin)
       cmom(:, a) = cmom(:, a) + fm*ub + plin
       cland(a) = cland(a) + fm
       if (abs(given_sign) > 0.0_wp) then
@@ -1386,7 +1405,9 @@ contains
   ! ------------------------------------------------------------ assembly
 
   !> The corners of unchanged cells pass on the old subcell mass, momentum
-  !> and kinetic energy.
+  !> and kinetic energy (cke: in the frame of the nodal velocities, for the
+  !> open faces' outflow count; `assemble` then uses cke for what a changed
+  !> cell's corners hold beyond their own kinetic energy).
   subroutine unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -1528,7 +1549,9 @@ contains
       ! corners hold what landed in them, part of those), an unchanged
       ! cell's its corners'
       if (old%changed(c)) then
-        e_new = e_new + pcell(4, c)
+        ! (pcell(4) is about uref: `old_t`)
+        e_new = e_new + pcell(4, c) + dot_product(old%uref(:, c), pcell(1:3, c)) - &
+                0.5_wp*sum(amass(:, c))*dot_product(old%uref(:, c), old%uref(:, c))
         p_new = p_new + pcell(1:3, c)
       else
         e_new = e_new + sum(cke(:, c))
@@ -1574,7 +1597,7 @@ contains
         amass(k, c) = amass(k, c) + dm
         aie(k, c) = aie(k, c) + dm*e
         pcell(1:3, c) = pcell(1:3, c) + dm*u
-        pcell(4, c) = pcell(4, c) + 0.5_wp*dm*dot_product(u, u)
+        pcell(4, c) = pcell(4, c) + 0.5_wp*dm*sum((u - old%uref(:, c))**2)
         cmom(:, a, c) = cmom(:, a, c) + dm*u
         cland(a, c) = cland(a, c) + dm
         stats%mass_in = stats%mass_in + dm
@@ -1604,8 +1627,8 @@ contains
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
-    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:)
-    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean
+    real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
     character(len=200) :: msg
     logical :: keep(max_mat), short
@@ -1684,12 +1707,13 @@ contains
     ! dense part of a contact) would amplify the deviation by L_a/(w_a M);
     ! theta = min(1, min_a w_a M/L_a) keeps every corner's velocity between
     ! V and the landed one, within the old velocities. The corner's kinetic
-    ! energy is its own, |p_a|^2/(2 w_a M), plus its volume share of what the
-    ! cell received beyond their sum (never negative but for the shifts'
-    ! round-off: by convexity the corners hold at most the fragments'
-    ! kinetic energy), so that a node gets at least its kinetic energy.
+    ! energy is its own, |p_a|^2/(2 w_a M), plus cke(a), its volume share of
+    ! what the cell received beyond their sum (never negative but for the
+    ! shifts' round-off: by convexity the corners hold at most the
+    ! fragments' kinetic energy), so that a node gets at least its kinetic
+    ! energy.
     !$omp parallel do default(none) shared(g, old, xnew, amass, aie, pcell, cmass, cmom, cke, cland, kdef, ncell) &
-    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean) schedule(static)
+    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean, kland, kscale) schedule(static)
     do c = 1, ncell
       if (.not. old%changed(c)) cycle
       call g%gather(c, xnew, xn)
@@ -1711,20 +1735,26 @@ contains
       ! further where it would take more: in a cold gas any larger deficit
       ! drove the energy negative), and its nodes get at least their own
       ! kinetic energy, never a deficit to take from the cells around.
-      kmean = pcell(4, c) - 0.5_wp*mnew*dot_product(vmean, vmean) + 0.5_wp*sum(max(aie(:, c), 0.0_wp))
+      ! kland: the kinetic energy that landed about V (pcell(4) is about
+      ! uref). Negative only through the linear part's first-order energy,
+      ! or round-off: the difference of two sums of size kscale, exact to
+      ! some hundred eps of it (a cold gas with a velocity precursor has
+      ! nodes whose velocities differ by orders of magnitude; uref then
+      ! lies far from V). A negative value within that is zero, not a
+      ! deficit the cell's internal energy (none, in a cold gas) must pay.
+      kscale = 0.5_wp*mnew*sum((vmean - old%uref(:, c))**2)
+      kland = pcell(4, c) - kscale
+      if (kland < 0.0_wp .and. -kland < 1.0e-13_wp*(abs(pcell(4, c)) + kscale)) kland = 0.0_wp
+      kmean = kland + 0.5_wp*sum(max(aie(:, c), 0.0_wp))
       ! (kmean < 0, round-off in a cold gas, with kdev = 0: theta stays)
       if (theta**2*kdev > kmean .and. kdev > 0.0_wp) theta = sqrt(max(kmean, 0.0_wp)/kdev)
-      surplus = pcell(4, c)
       do a = 1, 8
         cmass(a, c) = mnew*vs(a)
         cmom(:, a, c) = vs(a)*pcell(1:3, c) + theta*(cmom(:, a, c) - cland(a, c)*vmean)
-        cke(a, c) = 0.5_wp*dot_product(cmom(:, a, c), cmom(:, a, c))/cmass(a, c)
-        surplus = surplus - cke(a, c)
       end do
+      surplus = kland - theta**2*kdev
       kdef(c) = min(surplus, 0.0_wp)
-      do a = 1, 8
-        cke(a, c) = cke(a, c) + vs(a)*max(surplus, 0.0_wp)
-      end do
+      cke(:, c) = vs*max(surplus, 0.0_wp)
     end do
     !$omp end parallel do
     h%mnode = merge(0.0_wp, h%mnode, node_changed)
@@ -1733,14 +1763,12 @@ contains
       h%u(2, :) = 0.0_wp
       h%u(3, :) = 0.0_wp
     end where
-    dk = 0.0_wp
     do c = 1, ncell
       n = g%node0(c)
       do a = 1, 8
         if (.not. node_changed(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
         h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
-        dk(n + g%corner_offset(a)) = dk(n + g%corner_offset(a)) + cke(a, c)
       end do
     end do
     do n = 1, g%nnode
@@ -1751,24 +1779,34 @@ contains
       end if
       h%u(:, n) = h%u(:, n)/h%mnode(n)
     end do
+    ! what the node's corners hold beyond its kinetic energy, about its
+    ! velocity (`old_t`): sum_a |p_a - m_a u_n|^2/(2 m_a) (never negative)
+    ! plus what the changed cells' corners received beyond their own
+    dk = 0.0_wp
+    do c = 1, ncell
+      n = g%node0(c)
+      do a = 1, 8
+        k = n + g%corner_offset(a)
+        if (.not. node_changed(k)) cycle
+        if (cmass(a, c) > 0.0_wp) dk(k) = dk(k) + 0.5_wp*sum((cmom(:, a, c) - cmass(a, c)*h%u(:, k))**2)/cmass(a, c)
+        if (old%changed(c)) dk(k) = dk(k) + cke(a, c)
+      end do
+    end do
+    ! the velocity conditions: the momentum and kinetic energy they take
+    uc = h%u
+    call bc_constrain(bc, h%u)
     stats%momentum_constrained = 0.0_wp
     do n = 1, g%nnode
-      if (node_changed(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*h%u(:, n)
-    end do
-    call bc_constrain(bc, h%u)
-    do n = 1, g%nnode
-      if (node_changed(n)) stats%momentum_constrained = stats%momentum_constrained - h%mnode(n)*h%u(:, n)
-    end do
-    do n = 1, g%nnode
       if (.not. node_changed(n)) cycle
-      dk(n) = dk(n) - 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2)
+      stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, n) - h%u(:, n))
+      dk(n) = dk(n) + 0.5_wp*h%mnode(n)*dot_product(uc(:, n) - h%u(:, n), uc(:, n) + h%u(:, n))
     end do
     stats%ke_to_internal = sum(dk)
 
     ! The kinetic energy averaging returns (dk > 0) goes to the cells around
     ! the node by corner mass. Where the node's new kinetic energy exceeds
-    ! what it received (dk < 0: only through the shifts of `subcell_shifts`,
-    ! or a tangled cell's negative pieces), the difference is taken from the
+    ! what it received (dk < 0: only where a velocity condition raised the
+    ! node's kinetic energy, a piston), the difference is taken from the
     ! internal energy the cells around it have above zero, each cell offering
     ! an eighth of its own to each of its nodes, so that no cell (and, below,
     ! no material) is driven negative by it. A deficit larger than all of
