@@ -198,7 +198,7 @@ contains
     if (st%t < sch%t_next_history - eps_t .and. .not. last) return
     call sch%t_output%start()
     call state_totals(st)
-    write(row, '(6es24.16)') st%t, st%tot%kinetic, st%tot%internal, st%tot%boundary_work, &
+    write(row, '(6es25.16e3)') st%t, st%tot%kinetic, st%tot%internal, st%tot%boundary_work, &
       st%tot%kinetic + st%tot%internal, energy_drift(st%tot)
     write(sch%history_unit, '(a)') trim(row)
     flush(sch%history_unit)

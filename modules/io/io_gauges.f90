@@ -98,7 +98,7 @@ contains
       'the cell fields interpolated trilinearly between the cell centres around the point, and the velocity '// &
       'interpolated from that cell''s nodes (see io_gauges.f90); the last header row names the columns'
     do i = 1, gs%n
-      write(gs%unit, '(a,i0,a,3es24.16)') '# gauge ', i, ' at ', gs%point(:, i)
+      write(gs%unit, '(a,i0,a,3es25.16e3)') '# gauge ', i, ' at ', gs%point(:, i)
     end do
     names = '# time'
     do i = 1, gs%n
@@ -121,10 +121,10 @@ contains
     real(wp) :: vals(gauge_nfield)
 
     if (gs%unit == -1) return
-    write(gs%unit, '(es24.16)', advance='no') t
+    write(gs%unit, '(es25.16e3)', advance='no') t
     do i = 1, gs%n
       call gauge_sample(g, h, gs%point(:, i), gs%cell(i), vals)
-      write(gs%unit, '(1x,i0,7es24.16)', advance='no') gs%cell(i), vals
+      write(gs%unit, '(1x,i0,7es25.16e3)', advance='no') gs%cell(i), vals
     end do
     write(gs%unit, '(a)') ''
     flush(gs%unit)

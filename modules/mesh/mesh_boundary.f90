@@ -16,7 +16,7 @@ module mesh_boundary
   private
   public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, &
             BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, BC_INFLOW, BC_OUTFLOW, bc_kind_from_name, &
-            bc_kind_names, bc_open_face
+            bc_kind_names
 
   integer, parameter :: BC_SYMMETRY = 1, BC_WALL = 2, BC_VELOCITY = 3, BC_PRESSURE = 4
   !> Open faces of a grid that the Euler phase brings back to its initial
@@ -185,20 +185,6 @@ contains
       c = g%cell(i1 + 1, i2 + 1, merge(g%clo(3), g%chi(3), f == FACE_ZLO))
     end select
   end function quad_cell
-
-  !> The first open (inflow or outflow) face that cell (ci,cj,ck) of grid g
-  !> touches, 0 if none.
-  pure integer function bc_open_face(bc, g, ci, cj, ck) result(f)
-    type(bc_t), intent(in) :: bc
-    type(grid_t), intent(in) :: g
-    integer, intent(in) :: ci, cj, ck
-    integer :: m
-    m = g%cell_faces(ci, cj, ck)
-    do f = 1, 6
-      if (btest(m, f - 1) .and. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) return
-    end do
-    f = 0
-  end function bc_open_face
 
   !> Applies the kinematic conditions to the velocities u(3, nnode) of all
   !> boundary nodes (used on the initial state).
