@@ -47,7 +47,7 @@ contains
     character(len=16) :: shape, velocity_field
     character(len=64) :: material
     character(len=1) :: axis
-    real(wp) :: density, energy, pressure, energy_per_volume, velocity(3), lo(3), hi(3), center(3), radius, &
+    real(wp) :: density, energy, pressure, energy_per_volume, e_given, velocity(3), lo(3), hi(3), center(3), radius, &
               normal(3), speed, angular_velocity
     integer :: ios, m
     character(len=max_line) :: msg
@@ -75,7 +75,9 @@ contains
                'pressure and energy_per_volume, >= 0')
     ! an energy per unit volume (as explosive charges are given) is a
     ! specific energy of energy_per_volume / density
-    if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) energy = energy_per_volume/density
+    ! (kept out of the echo, which must read back as given: a restart reads it)
+    e_given = energy
+    if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) e_given = energy_per_volume/density
     if (.not. (radius >= 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', radius, 'must be >= 0')
     select case (trim(shape))
     case ('all', 'box')
@@ -97,7 +99,7 @@ contains
     if (m == 0) call problem_add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
       ''' is not a &material name')
     this = region_config_t(shape=shape, material=material, imat=m, density=density, &
-      energy=energy, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, &
+      energy=e_given, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, &
       velocity_field=velocity_field, speed=speed, angular_velocity=angular_velocity, lo=lo, hi=hi, center=center, &
       radius=radius, axis=max(1, index('xyz', axis)), normal=normal)
     if (echo /= no_echo) write(echo, nml=region)
