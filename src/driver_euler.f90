@@ -16,7 +16,7 @@ module driver_euler
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_target, global_face_rule
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
-                           smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled
+                           smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
@@ -271,10 +271,11 @@ contains
   !> tangled: the cells that made the step due); their subdomains (Sect. 5.2) are smoothed
   !> towards boxes of each cell's own proportions (aspect ratio at most
   !> sqrt(side_ratio)) with a spacing-keeping weighted average, so the
-  !> Lagrangian compression of a shock stays; no TFI (it would interpolate
-  !> the merged cuboids from their faces, ignoring the spacing inside them).
-  !> In both, a smoothing pass never tangles a cell, and a changed cell left
-  !> tangled goes back.
+  !> Lagrangian compression of a shock stays; TFI (which interpolates the
+  !> merged cuboids from their faces, ignoring the spacing inside them) only
+  !> for the merged cuboids in which a cell is still tangled after the
+  !> smoothing. In both, a smoothing pass never tangles a cell, and a changed
+  !> cell left tangled goes back.
   subroutine smooth_rezone(rz, st, es, log, x, done, err)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
@@ -337,13 +338,21 @@ contains
       end if
       if (allocated(err)) return
       call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min)
+      ! the fallback: transfinite interpolation of each merged cuboid
+      ! subdomain from its boundary (node index box = cell box widened by
+      ! one); with 'box' only of those the smoothing left a tangled cell in
+      ! (the Lagrangian phase can hand over cells whose corners are inverted,
+      ! which the guarded smoothing cannot undo: left so, they only get
+      ! worse until the old grid cannot be remapped)
       tfi = q_min < rz%quality_target .and. .not. box
-      if (tfi) then
-        ! the fallback: transfinite interpolation of each merged cuboid
-        ! subdomain from its boundary (node index box = cell box widened by one)
+      if (tfi .or. box) then
         call rezone_subdomains_merge(sub%lo(:, 1:sub%nbox), sub%hi(:, 1:sub%nbox), mlo, mhi, err)
         if (allocated(err)) return
         do b = 1, size(mlo, 2)
+          if (box) then
+            if (.not. smooth_any_tangled(g%ni, g%nj, g%nk, mlo(:, b), mhi(:, b), x)) cycle
+            tfi = .true.
+          end if
           call smooth_tfi(g%ni, g%nj, g%nk, mlo(:, b) - 1, mhi(:, b), x, err, es%mobility)
           if (allocated(err)) return
         end do

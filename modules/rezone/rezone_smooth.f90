@@ -54,7 +54,7 @@ module rezone_smooth
   public :: smooth_mobility_t, smooth_region_t
   public :: smooth_mobility_box, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
-  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled
+  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
   public :: hex_min_tet_volume, hex_min_corner_jacobian
 
@@ -943,6 +943,32 @@ contains
       t(m1) = 1.0_wp
     end subroutine edge_parameter
   end subroutine tfi_box
+
+  !> True if a cell of the cell index box lo..hi of an ni x nj x nk block is
+  !> tangled in x (a corner Jacobian or a tetrahedron of the 24-tet split
+  !> non-positive), as `smooth_revert_tangled` tests it.
+  logical function smooth_any_tangled(ni, nj, nk, lo, hi, x) result(any_tangled)
+    integer, intent(in) :: ni, nj, nk, lo(3), hi(3)
+    real(wp), intent(in) :: x(:, :)
+    integer :: ci, cj, ck, a, n0
+    real(wp) :: xn(3, 8)
+    type(grid_index_t) :: ix
+
+    ix = grid_index(ni, nj, nk)
+    any_tangled = .true.
+    do ck = lo(3), hi(3)
+      do cj = lo(2), hi(2)
+        do ci = lo(1), hi(1)
+          n0 = ix%cell_node0(ci, cj, ck)
+          do a = 1, 8
+            xn(:, a) = x(:, n0 + ix%corner_offset(a))
+          end do
+          if (.not. (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp)) return
+        end do
+      end do
+    end do
+    any_tangled = .false.
+  end function smooth_any_tangled
 
   !> The last safeguard of a rezone: every cell of an ni x nj x nk block that
   !> the rezone changed (a node of x differs from xold) and that is tangled in
