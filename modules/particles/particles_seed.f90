@@ -30,7 +30,7 @@ module particles_seed
   use particles_shape, only: particles_map
   implicit none
   private
-  public :: seed_cell, seed_shape, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, rigid_velocity
 
 contains
 
@@ -72,55 +72,71 @@ contains
     integer, allocatable, intent(out) :: cell(:)
     real(wp), allocatable, intent(out) :: xi(:, :), x(:, :), vol(:)
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: cxi(:, :), cx(:, :), cvol(:)
-    real(wp) :: xn(3, 8), xc(3), rad
-    integer :: c, s, np, pass, stat, a
+    integer :: np, stat
     character(len=200) :: msg
 
     if (n < 1) then
       call error_set(err, 'seed_shape', 'particles per cell per direction must be >= 1')
       return
     end if
-    allocate(cxi(3, n**3), cx(3, n**3), cvol(n**3), cell(0), xi(3, 0), x(3, 0), vol(0), stat=stat, errmsg=msg)
+    np = seed_count(g, sh, n)
+    allocate(cell(np), xi(3, np), x(3, np), vol(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'seed_shape', 'cannot allocate work arrays: '//trim(msg))
+      call error_set(err, 'seed_shape', 'cannot allocate the seeded particles: '//trim(msg))
       return
     end if
-    ! pass 1 counts, pass 2 fills
-    do pass = 1, 2
-      np = 0
-      do c = 1, g%ncell
-        call g%gather(c, g%x, xn)
-        do a = 1, 3
-          xc(a) = 0.125_wp*sum(xn(a, :))
-        end do
-        rad = 0.0_wp
-        do a = 1, 8
-          rad = max(rad, norm2(xn(:, a) - xc))
-        end do
-        if (shape_level(sh, xc) > rad) cycle
-        call seed_cell(xn, n, cxi, cx, cvol)
-        do s = 1, n**3
-          if (.not. shape_inside(sh, cx(:, s))) cycle
-          np = np + 1
-          if (pass == 2) then
-            cell(np) = c
-            xi(:, np) = cxi(:, s)
-            x(:, np) = cx(:, s)
-            vol(np) = cvol(s)
-          end if
-        end do
-      end do
-      if (pass == 1) then
-        deallocate(cell, xi, x, vol)
-        allocate(cell(np), xi(3, np), x(3, np), vol(np), stat=stat, errmsg=msg)
-        if (stat /= 0) then
-          call error_set(err, 'seed_shape', 'cannot allocate the seeded particles: '//trim(msg))
-          return
-        end if
-      end if
-    end do
+    call visit(g, sh, n, .true., np, cell, xi, x, vol)
   end subroutine seed_shape
+
+  !> How many particles `seed_shape` seeds (nothing stored: for checking a
+  !> deck before the run).
+  integer function seed_count(g, sh, n) result(np)
+    type(grid_t), intent(in) :: g
+    type(shape_t), intent(in) :: sh
+    integer, intent(in) :: n
+    integer :: cell(0)
+    real(wp) :: xi(3, 0), x(3, 0), vol(0)
+    call visit(g, sh, n, .false., np, cell, xi, x, vol)
+  end function seed_count
+
+  !> Counts (np) the sub-box centres of g inside sh and, with `fill`, stores
+  !> them in cell, xi, x, vol (sized by a counting visit).
+  subroutine visit(g, sh, n, fill, np, cell, xi, x, vol)
+    type(grid_t), intent(in) :: g
+    type(shape_t), intent(in) :: sh
+    integer, intent(in) :: n
+    logical, intent(in) :: fill
+    integer, intent(out) :: np
+    integer, intent(inout) :: cell(:)
+    real(wp), intent(inout) :: xi(:, :), x(:, :), vol(:)
+    real(wp) :: cxi(3, n**3), cx(3, n**3), cvol(n**3)
+    real(wp) :: xn(3, 8), xc(3), rad
+    integer :: c, s, a
+
+    np = 0
+    do c = 1, g%ncell
+      call g%gather(c, g%x, xn)
+      do a = 1, 3
+        xc(a) = 0.125_wp*sum(xn(a, :))
+      end do
+      rad = 0.0_wp
+      do a = 1, 8
+        rad = max(rad, norm2(xn(:, a) - xc))
+      end do
+      if (shape_level(sh, xc) > rad) cycle
+      call seed_cell(xn, n, cxi, cx, cvol)
+      do s = 1, n**3
+        if (.not. shape_inside(sh, cx(:, s))) cycle
+        np = np + 1
+        if (fill) then
+          cell(np) = c
+          xi(:, np) = cxi(:, s)
+          x(:, np) = cx(:, s)
+          vol(np) = cvol(s)
+        end if
+      end do
+    end do
+  end subroutine visit
 
   !> The velocity (length/time) at x (length) of a body moving with velocity
   !> v0 and rotating rigidly at angular velocity omega (radians per unit

@@ -40,7 +40,7 @@ module particles_state
   use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE
   implicit none
   private
-  public :: particles_t, particles_allocate, particles_order, particles_bin, particles_register_restart, &
+  public :: particles_t, particles_allocate, particles_order, particles_index, particles_bin, particles_register_restart, &
             particles_check
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
@@ -136,12 +136,28 @@ contains
     p%rho = p%rho(order)
     p%stress = p%stress(:, order)
     p%hist = p%hist(:, order)
+    call particles_index(p, ncell, err)
+  end subroutine particles_order
+
+  !> The material ranges (mat_start) and the cell binning of particles
+  !> already sorted by material (as after a restart read: the stored order
+  !> is kept, so a continued run sees the arrays of the straight run).
+  subroutine particles_index(p, ncell, err)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: ncell
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: s
+    if (p%np == 0) return
+    if (any(p%mat(2:) < p%mat(:p%np - 1))) then
+      call error_set(err, 'particles_index', 'the particles are not sorted by material')
+      return
+    end if
     p%mat_start(1) = 1
     do s = 1, p%nsolid
       p%mat_start(s + 1) = p%mat_start(s) + count(p%mat == s)
     end do
     call particles_bin(p, ncell, err)
-  end subroutine particles_order
+  end subroutine particles_index
 
   !> The binning of the particles by host cell (cell_start, perm), by a
   !> counting sort of the current array order (within a cell: array order).
@@ -196,7 +212,7 @@ contains
 
   !> Registers the particles' restart fields (nothing without particles):
   !> everything that is state; the binning and mat_start are rebuilt from it
-  !> (`particles_check`, then `particles_order`).
+  !> (`particles_check`, then `particles_index`).
   subroutine particles_register_restart(p, reg)
     type(particles_t), intent(inout), target :: p
     type(registry_t), intent(inout) :: reg
