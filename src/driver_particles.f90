@@ -130,8 +130,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: vfile(:)
     real(wp) :: xn(3, 8)
-    integer :: i, n, c, guess
+    integer :: i, n, c, guess, stat
     logical :: found
+    character(len=200) :: msg
 
     call points_file_read(pc%file_path, gr%x, vfile, err)
     if (allocated(err)) then
@@ -140,7 +141,11 @@ contains
       return
     end if
     n = size(gr%x, 2)
-    allocate(gr%cell(n), gr%xi(3, n), gr%vol(n))
+    allocate(gr%cell(n), gr%xi(3, n), gr%vol(n), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'seed_file', 'cannot allocate '//itoa(n)//' particles: '//trim(msg))
+      return
+    end if
     guess = 1
     do i = 1, n
       call particles_locate(st%g, gr%x(:, i), guess, c, gr%xi(:, i), found)

@@ -174,7 +174,13 @@ contains
       call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
       return
     end if
-    if (.not. allocated(p%perm)) allocate(p%perm(p%np))
+    if (.not. allocated(p%perm)) then
+      allocate(p%perm(p%np), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
+        return
+      end if
+    end if
     ! counts, then exclusive prefix sums, then placement in array order
     p%cell_start = 0
     do k = 1, p%np
@@ -239,9 +245,14 @@ contains
     integer, intent(in) :: ncell
     type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: seen(:)
-    integer :: k
+    integer :: k, stat
+    character(len=200) :: msg
     if (p%np == 0) return
-    allocate(seen(p%np), source=.false.)
+    allocate(seen(p%np), source=.false., stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_check', 'cannot allocate work arrays: '//trim(msg))
+      return
+    end if
     do k = 1, p%np
       if (p%cell(k) < 1 .or. p%cell(k) > ncell) then
         call bad('particle_cell', p%cell(k), 'the grid has cells 1..'//itoa(ncell))
