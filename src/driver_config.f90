@@ -182,7 +182,8 @@ contains
       names(k) = cfg%solids(k)%name
     end do
     n = deck_count(deck, 'particles')
-    cfg%particles = [(particles_config_t(), k = 1, n)]
+    if (allocated(cfg%particles)) deallocate(cfg%particles)
+    allocate(cfg%particles(n))
     do k = 1, n
       n0 = size(problems)
       call particles_config_read(cfg%particles(k), k, deck_text(deck, 'particles', k), deck%path, names, &
@@ -443,7 +444,7 @@ contains
     call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &
                             problems)
     cfg%solids = [solid_config_t()]
-    cfg%particles = [particles_config_t()]
+    allocate(cfg%particles(1))   ! (default-initialized; a constructor would copy an unset file_path)
     call solid_config_read(cfg%solids(1), 1, empty('solid'), 'deck.nml', [character(len=64) ::], echo, problems)
     call particles_config_read(cfg%particles(1), 1, empty('particles'), 'deck.nml', [cfg%solids(1)%name], &
                                cfg%grid%xmin, cfg%grid%xmax, echo, problems)
