@@ -18,17 +18,24 @@ module driver_config
   use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, echo_open, &
                      echo_text
   use io_output_config, only: output_config_t, output_config_read
+  use io_points_file, only: points_file_read
+  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
+  use mesh_shapes, only: shape_t, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER
+  use particles_seed, only: seed_count
+  use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
+                              particles_config_changes
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
                                  scene_config_changes
   implicit none
   private
-  public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text
+  public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text, group_shape
 
   !> The deck's groups, in the order they are read and echoed.
-  character(len=*), parameter :: known_groups(9) = [character(len=8) :: &
-    'run', 'grid', 'hydro', 'material', 'region', 'source', 'boundary', 'rezone', 'output']
+  character(len=*), parameter :: known_groups(11) = [character(len=9) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'solid', 'particles', 'boundary', 'rezone', 'output']
   !> The groups a deck may give more than once.
-  character(len=*), parameter :: repeatable_groups(3) = [character(len=8) :: 'material', 'region', 'source']
+  character(len=*), parameter :: repeatable_groups(5) = [character(len=9) :: 'material', 'region', 'source', &
+                                                         'solid', 'particles']
 
   !> The resolved &run group; the initial values are the defaults (cfl,
   !> dt_growth and dt_max are stored in `config_t%hydro`, where the
@@ -61,6 +68,8 @@ module driver_config
     type(material_config_t), allocatable :: materials(:)
     type(region_config_t), allocatable :: regions(:)
     type(source_config_t), allocatable :: sources(:)
+    type(solid_config_t), allocatable :: solids(:)              !< &solid: solid materials of the particles
+    type(particles_config_t), allocatable :: particles(:)       !< &particles: seeding (none: no particles)
     type(boundary_config_t) :: boundary
     type(rezone_config_t) :: rezone
     type(output_config_t) :: output
@@ -140,6 +149,7 @@ contains
                                 cfg%grid%xmax, echo, problems)
         call at_line(problems, n0, deck, 'source', k)
       end do
+      call read_particle_groups(deck, cfg, echo, problems)
       n0 = size(problems)
       call boundary_config_read(cfg%boundary, deck_text(deck, 'boundary'), path, names, echo, problems)
       call at_line(problems, n0, deck, 'boundary')
@@ -151,6 +161,117 @@ contains
       call check_counts(cfg, problems)
     end associate
   end subroutine read_groups
+
+  !> The &solid and &particles groups, each by the particles package; a
+  !> file of points is read and checked now (a missing or unusable file, or a
+  !> point outside the grid's box, is a deck problem found by --check).
+  subroutine read_particle_groups(deck, cfg, echo, problems)
+    type(deck_t), intent(in) :: deck
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=64), allocatable :: names(:)
+    integer :: k, n, n0
+    n = deck_count(deck, 'solid')
+    cfg%solids = [(solid_config_t(), k = 1, n)]
+    names = [(cfg%solids(k)%name, k = 1, n)]
+    do k = 1, n
+      n0 = size(problems)
+      call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), echo, problems)
+      call at_line(problems, n0, deck, 'solid', k)
+      names(k) = cfg%solids(k)%name
+    end do
+    n = deck_count(deck, 'particles')
+    if (allocated(cfg%particles)) deallocate(cfg%particles)
+    allocate(cfg%particles(n))
+    do k = 1, n
+      n0 = size(problems)
+      call particles_config_read(cfg%particles(k), k, deck_text(deck, 'particles', k), deck%path, names, &
+                                 cfg%grid%xmin, cfg%grid%xmax, echo, problems)
+      if (size(problems) == n0 .and. cfg%particles(k)%shape == 'file') &
+        call points_file_check(cfg%particles(k), k, cfg%grid%xmin, cfg%grid%xmax, problems)
+      call at_line(problems, n0, deck, 'particles', k)
+    end do
+    if (n > 0 .and. size(problems) == 0) call empty_shapes_check(deck, cfg, problems)
+  end subroutine read_particle_groups
+
+  !> A shape that seeds no particle (smaller than the spacing of the
+  !> sub-cell centres, or between them) is a deck mistake, found now by
+  !> counting on the deck's grid (`seed_count`; the scene seeds again).
+  subroutine empty_shapes_check(deck, cfg, problems)
+    type(deck_t), intent(in) :: deck
+    type(config_t), intent(in) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(grid_t) :: g
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: x(:, :)
+    integer :: k, n0
+    if (len_trim(cfg%grid%file) == 0) then
+      call grid_init_box(g, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, cfg%grid%xmin, cfg%grid%xmax, err)
+    else
+      call grid_file_read(cfg%grid%file_path, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, x, err)
+      if (.not. allocated(err)) call grid_init_nodes(g, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, x, err)
+    end if
+    if (allocated(err)) return     ! the grid's own problem is reported by &grid
+    do k = 1, size(cfg%particles)
+      associate (pc => cfg%particles(k))
+        if (pc%shape == 'file') cycle
+        n0 = size(problems)
+        if (seed_count(g, group_shape(pc), pc%per_cell) == 0) call problem_add(problems, '&particles('// &
+          itoa(k)//'): the '//trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)// &
+          ' (no sub-cell centre lies in it): make it larger or raise per_cell')
+        call at_line(problems, n0, deck, 'particles', k)
+      end associate
+    end do
+  end subroutine empty_shapes_check
+
+  !> The shape of a &particles group (not 'file'), for the seeding.
+  pure function group_shape(pc) result(sh)
+    type(particles_config_t), intent(in) :: pc
+    type(shape_t) :: sh
+    select case (trim(pc%shape))
+    case ('all')
+      sh%kind = SHAPE_ALL
+    case ('box')
+      sh%kind = SHAPE_BOX
+    case ('sphere')
+      sh%kind = SHAPE_SPHERE
+    case ('cylinder')
+      sh%kind = SHAPE_CYLINDER
+    case default
+      sh%kind = 0
+    end select
+    sh%lo = pc%lo
+    sh%hi = pc%hi
+    sh%center = pc%center
+    sh%radius = pc%radius
+    sh%axis = pc%axis
+  end function group_shape
+
+  !> The points of a &particles shape = 'file' group: a readable file
+  !> (`io_points_file`) whose points lie in the grid's box. The scene reads
+  !> the file again when it seeds the particles.
+  subroutine points_file_check(pc, k, xmin, xmax, problems)
+    type(particles_config_t), intent(in) :: pc
+    integer, intent(in) :: k
+    real(wp), intent(in) :: xmin(3), xmax(3)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: x(:, :), vol(:)
+    integer :: i
+    call points_file_read(pc%file_path, x, vol, err)
+    if (allocated(err)) then
+      call problem_add(problems, '&particles('//itoa(k)//'): '//err%msg)
+      return
+    end if
+    do i = 1, size(x, 2)
+      if (any(x(:, i) < xmin) .or. any(x(:, i) > xmax)) then
+        call problem_add(problems, '&particles('//itoa(k)//'): point '//itoa(i)//' of file '''//trim(pc%file)// &
+                         ''' is outside the grid box xmin..xmax')
+        return
+      end if
+    end do
+  end subroutine points_file_check
 
   !> A grid from a file (`&grid file`): the file is read and checked now, so
   !> that a missing or unusable file is a deck problem like any other (found
@@ -295,6 +416,7 @@ contains
       call material_config_changes(k, old%materials(k), new%materials(k), changes)
     end do
     call scene_config_changes(old%regions, new%regions, old%sources, new%sources, changes)
+    call particles_config_changes(old%solids, new%solids, old%particles, new%particles, changes)
     call boundary_config_changes(old%boundary, new%boundary, changes)
   end subroutine config_state_changes
 
@@ -321,6 +443,11 @@ contains
     call region_config_read(cfg%regions(1), 1, empty('region'), 'deck.nml', names, echo, problems)
     call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &
                             problems)
+    cfg%solids = [solid_config_t()]
+    allocate(cfg%particles(1))   ! (default-initialized; a constructor would copy an unset file_path)
+    call solid_config_read(cfg%solids(1), 1, empty('solid'), 'deck.nml', [character(len=64) ::], echo, problems)
+    call particles_config_read(cfg%particles(1), 1, empty('particles'), 'deck.nml', [cfg%solids(1)%name], &
+                               cfg%grid%xmin, cfg%grid%xmax, echo, problems)
     call boundary_config_read(cfg%boundary, empty('boundary'), 'deck.nml', names, echo, problems)
     call rezone_config_read(cfg%rezone, empty('rezone'), 'deck.nml', echo, problems)
     call output_config_read(cfg%output, empty('output'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, problems)

@@ -271,8 +271,9 @@ contains
         cellmat(c) = maxloc(fld(c, 1:nf:nper), 1)
       end do
     end if
+    if (st%pt%np > 0) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
     call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                      meta, path, err)
+                      meta, path, err, pt=st%pt)
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
 

@@ -31,6 +31,7 @@ module driver_restart
                            LOWER_POSITIVE, LOWER_NONNEGATIVE
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
+  use particles_state, only: particles_check, particles_index
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
@@ -242,6 +243,13 @@ contains
     call restart_read(path, reg, frames, times, err)
     if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
     if (.not. allocated(err)) call check_materials(st, path, err)
+    ! the particles' indices, then their material ranges and cell binning
+    ! (derived, not stored)
+    if (.not. allocated(err)) then
+      call particles_check(st%pt, st%g%ncell, err)
+      if (.not. allocated(err)) call particles_index(st%pt, st%g%ncell, err)
+      if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
+    end if
     if (allocated(err)) then
       call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
       return

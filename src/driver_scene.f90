@@ -1,6 +1,7 @@
 !> Builds the scene of a deck: grid, materials and their EOS, the initial
 !> state from the regions (volume fractions and mixed cells where regions
-!> cut cells), energy sources, nodal masses (Eq. 16) and boundaries.
+!> cut cells), energy sources, nodal masses (Eq. 16), boundaries and the
+!> MPM particles (`driver_particles`).
 module driver_scene
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
@@ -22,6 +23,7 @@ module driver_scene
   use driver_scene_config, only: region_config_t
   use driver_config, only: config_t
   use driver_state, only: state_t, state_totals, centroid_text
+  use driver_particles, only: build_particles
   implicit none
   private
   public :: build_scene
@@ -158,6 +160,9 @@ contains
         call bc_constrain(bc, hy%u)
       end associate
     end associate
+    ! the MPM particles (none without &particles: nothing allocated)
+    call build_particles(cfg, st, log, err)
+    if (allocated(err)) return
     call state_totals(st)
     st%tot%energy_initial = st%tot%internal + st%tot%kinetic
     st%ready = .true.

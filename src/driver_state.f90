@@ -1,5 +1,5 @@
 !> The physical state of a run: grid, hydro state, boundaries, materials,
-!> mixed cells (later particles), time and step, the conservation totals and
+!> mixed cells, particles, time and step, the conservation totals and
 !> the random-number state, with what it registers for restarts.
 module driver_state
   use base_kinds, only: wp, i8
@@ -11,6 +11,7 @@ module driver_state
   use material_mixed, only: mixed_t, mixed_register_restart
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
   use lagrange_centroids, only: centroid_stats_t
+  use particles_state, only: particles_t, particles_register_restart
   use io_output, only: totals_t
   implicit none
   private
@@ -23,6 +24,7 @@ module driver_state
     type(bc_t) :: bc
     type(material_t), allocatable :: mats(:)
     type(mixed_t) :: mx
+    type(particles_t) :: pt               !< MPM particles (np = 0, nothing allocated, without &particles)
     real(wp) :: t = 0.0_wp                !< time
     real(wp) :: dt = 0.0_wp               !< last step
     integer :: step = 0
@@ -68,6 +70,7 @@ contains
     call grid_register_restart(st%g, reg)
     call hydro_register_restart(st%h, reg)
     call mixed_register_restart(st%mx, reg)
+    call particles_register_restart(st%pt, reg)
     call reg%add('time', 'time', st%t, lower=LOWER_NONNEGATIVE)
     call reg%add('dt', 'time', st%dt, lower=LOWER_NONNEGATIVE)
     call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)

@@ -2,7 +2,8 @@
 """Compare two hydrocode frames (HDF5) field by field.
 
     compare_frames.py RUN.h5 REF.h5 --exact
-        every compared dataset must be bit-for-bit identical
+        every compared dataset must be bit-for-bit identical (the default
+        fields, and every particles/ dataset when the frames have particles)
     compare_frames.py RUN.h5 REF.h5 --tolerances TOL.txt
         per field: max relative difference  max|a-b| / max|b|  and
         L1 relative difference  sum|a-b| / sum|b|  must not exceed the
@@ -41,6 +42,14 @@ def read_tolerances(path):
     if not tol:
         raise ValueError(f"{path}: no tolerances")
     return tol
+
+
+def particle_fields(path):
+    """The datasets under particles/ of a frame (none without particles)."""
+    with h5py.File(path, "r") as f:
+        if "particles" not in f:
+            return set()
+        return {"particles/" + k for k in f["particles"]}
 
 
 def load(path, names):
@@ -85,11 +94,19 @@ def main():
         if a.exact:
             if a.ref is None:
                 p.error("--exact needs RUN and REF")
-            run, ref = load(a.run, DEFAULT_FIELDS), load(a.ref, DEFAULT_FIELDS)
-            bad = [n for n in DEFAULT_FIELDS if run[n].shape != ref[n].shape
+            # the particles' datasets too, when either frame has particles
+            # (a frame with them and one without differ)
+            pr, pf = particle_fields(a.run), particle_fields(a.ref)
+            if pr != pf:
+                print(f"particle datasets differ: {sorted(pr)} against {sorted(pf)}")
+                print("FAIL: frames differ")
+                return 1
+            fields = DEFAULT_FIELDS + sorted(pr)
+            run, ref = load(a.run, fields), load(a.ref, fields)
+            bad = [n for n in fields if run[n].shape != ref[n].shape
                    or not np.array_equal(run[n].view(np.uint64) if run[n].dtype == np.float64 else run[n],
                                          ref[n].view(np.uint64) if ref[n].dtype == np.float64 else ref[n])]
-            for n in DEFAULT_FIELDS:
+            for n in fields:
                 print(f"{n:28s} {'identical' if n not in bad else 'DIFFERENT'}")
             print("PASS: bit-for-bit identical" if not bad else "FAIL: frames differ")
             return 0 if not bad else 1

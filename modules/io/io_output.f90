@@ -13,6 +13,14 @@
 !> `<dir>/<name>.xdmf` lists every cell and node field and is rewritten after
 !> every frame. Both are written to a temporary name and renamed, so a reader
 !> never sees a partial file.
+!>
+!> With MPM particles the frame also holds, under `particles/`, their
+!> positions `x` and velocities `velocity` (3, np), `density`, `volume`,
+!> `mass` (np), the Cauchy stress `stress` (6, np) in XDMF Tensor6 order xx,
+!> xy, xz, yy, yz, zz (attribute `components`), and the integers `material`
+!> (solid index, legend in its attribute `names`), `body`, `id` (seeding
+!> number) and `cell` (host cell, i fastest); the XDMF lists them as a
+!> Polyvertex grid next to the hex grid. Without particles nothing changes.
 module io_output
   use base_kinds, only: wp
   use base_strings, only: itoa
@@ -20,6 +28,7 @@ module io_output
   use base_build, only: code_version, build_type
   use mesh_grid, only: grid_t
   use lagrange_state, only: hydro_t
+  use particles_state, only: particles_t
   use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_int, h5_write_scalar_real, &
                      h5_write_scalar_int, h5_write_string, h5_write_attribute
   use io_xdmf, only: xdmf_write_series, io_rename
@@ -58,6 +67,7 @@ module io_output
     character(len=:), allocatable :: title
     character(len=:), allocatable :: unit_system
     character(len=64), allocatable :: materials(:)
+    character(len=64), allocatable :: solids(:)     !< solid names (particles' material index order)
   end type frame_meta_t
 
   character(len=*), parameter :: real_cell_fields(5) = [character(len=16) :: &
@@ -87,8 +97,9 @@ contains
   !> e.g. per-material fields, written and listed in the XDMF under `names`,
   !> with the dimension `units`(k) and, where `owner`(k) is not blank, the
   !> name of the material the field belongs to as the attribute `material`.
+  !> `pt` (optional): the particles, written when there are any.
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err)
+                          path, err, pt)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -104,8 +115,10 @@ contains
     type(frame_meta_t), intent(in) :: meta
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
+    type(particles_t), intent(in), optional :: pt
     type(h5_file_t) :: f
     character(len=256) :: fname
+    integer :: np
     character(len=64), allocatable :: fields(:), legend_names(:)
     real(wp), allocatable :: legend_values(:)
     integer :: nd(4), cd(3), k, stat, nmat
@@ -145,6 +158,9 @@ contains
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/boundary_work', tot%boundary_work, err)
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
     if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, err)
+    np = 0
+    if (present(pt)) np = pt%np
+    if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, err)
     if (allocated(err)) then
       block
         type(error_t), allocatable :: err2
@@ -188,8 +204,48 @@ contains
                                        'unit_system', 'material_names'], &
                            info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
                                         meta_text(meta%title), meta_text(meta%unit_system), &
-                                        material_legend(legend_source(meta))])
+                                        material_legend(legend_source(meta))], &
+                           npart=np, part_vectors=[character(len=8) :: 'velocity'], &
+                           part_scalars=[character(len=8) :: 'density', 'volume', 'mass'], &
+                           part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
+                           part_tensors=[character(len=8) :: 'stress'])
   end subroutine output_frame
+
+  !> The particles' datasets and their attributes (module notes).
+  subroutine write_particles(f, pt, meta, err)
+    type(h5_file_t), intent(in) :: f
+    type(particles_t), intent(in) :: pt
+    type(frame_meta_t), intent(in) :: meta
+    type(error_t), allocatable, intent(inout) :: err
+    ! Voigt (xx, yy, zz, yz, xz, xy) to XDMF Tensor6 (xx, xy, xz, yy, yz, zz)
+    integer, parameter :: tensor6(6) = [1, 6, 5, 2, 4, 3]
+    integer :: np
+    np = pt%np
+    call h5_write_real(f, 'particles/x', pt%x, [3, np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/velocity', pt%v, [3, np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/density', pt%rho, [np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/volume', pt%vol, [np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/mass', pt%m, [np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/stress', pt%stress(tensor6, :), [6, np], err)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/material', pt%mat, [np], err)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/body', pt%body, [np], err)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/id', pt%id, [np], err)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/cell', pt%cell, [np], err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/x', 'units', units_length, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/velocity', 'units', units_velocity, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/density', 'units', units_density, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/volume', 'units', units_volume, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/mass', 'units', 'mass', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'units', units_pressure, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'components', 'xx, xy, xz, yy, yz, zz', &
+                                                      err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/material', 'units', units_none, err)
+    if (.not. allocated(err) .and. allocated(meta%solids)) &
+      call h5_write_attribute(f, 'particles/material', 'names', material_legend(meta%solids), err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/body', 'units', units_none, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/id', 'units', units_none, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/cell', 'units', units_none, err)
+  end subroutine write_particles
 
   !> The attributes of a frame: the file's identity and each dataset's units.
   subroutine write_attributes(f, names, units, owner, meta, err)

@@ -44,8 +44,19 @@ contains
   !> (e.g. the material legend "material 1: air" = 1). `info_names` and
   !> `info_values` become <Information> elements of the domain (title, code
   !> version, unit system). Written to path//'.tmp', then renamed.
+  !>
+  !> Particles (`npart` > 0): each frame is then a spatial collection of the
+  !> grid above and a Polyvertex grid "particles" of npart points at
+  !> /particles/x (3, npart), with node-centred attributes /particles/<name>:
+  !> `part_vectors` (3, npart), `part_scalars` (npart, doubles),
+  !> `part_ints` (npart, default integers) and `part_tensors` (6, npart,
+  !> XDMF Tensor6 order xx, xy, xz, yy, yz, zz), so ParaView shows the
+  !> particles with the grid; one vertex cell per particle, its connectivity
+  !> /particles/id - 1 (ids are a permutation of 1..npart). Without
+  !> particles the file is as before.
   subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
-                               int_cell_fields, field_names, field_values, info_names, info_values)
+                               int_cell_fields, field_names, field_values, info_names, info_values, &
+                               npart, part_vectors, part_scalars, part_ints, part_tensors)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -58,8 +69,11 @@ contains
     real(wp), intent(in), optional :: field_values(:)
     character(len=*), intent(in), optional :: info_names(:)
     character(len=*), intent(in), optional :: info_values(:)
+    integer, intent(in), optional :: npart
+    character(len=*), intent(in), optional :: part_vectors(:), part_scalars(:), part_ints(:), part_tensors(:)
     character(len=*), parameter :: here = 'xdmf_write_series'
-    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item
+    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item, ind
+    integer :: np
     character(len=32) :: tbuf
     character(len=256) :: msg
     integer :: unit, ios, f, k
@@ -100,6 +114,10 @@ contains
     item = ' NumberType="Float" Precision="8" Format="HDF">'
     int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
+    np = 0
+    if (present(npart)) np = npart
+    ! with particles the frame's grid sits one level deeper, in a spatial collection
+    ind = repeat(' ', merge(2, 0, np > 0))
 
     open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
          iostat=ios, iomsg=msg)
@@ -124,53 +142,67 @@ contains
     do f = 1, size(frames)
       if (ios /= 0) exit
       write(tbuf, '(es24.16e3)') times(f)
+      if (np > 0) then
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Collection" CollectionType="Spatial">'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '        <Grid Name="grid" GridType="Uniform">'
+      else
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+             '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      end if
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
+           ind//'        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Geometry GeometryType="XYZ">'
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Geometry GeometryType="XYZ">'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/x</DataItem>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Geometry>'
+           ind//'          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/x</DataItem>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Geometry>'
       do k = 1, size(node_fields)
         if (ios /= 0) exit
-        write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(node_fields(k)))// &
+        write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(node_fields(k)))// &
              '" AttributeType="Vector" Center="Node">'
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/'// &
+             ind//'          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/'// &
              xml(trim(node_fields(k)))//'</DataItem>'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
       end do
       do k = 1, size(cell_fields)
         if (ios /= 0) exit
-        write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(cell_fields(k)))// &
+        write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(cell_fields(k)))// &
              '" AttributeType="Scalar" Center="Cell">'
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '          <DataItem Dimensions="'//cell_dims//'"'//item//xml(trim(frames(f)))//':/'// &
+             ind//'          <DataItem Dimensions="'//cell_dims//'"'//item//xml(trim(frames(f)))//':/'// &
              xml(trim(cell_fields(k)))//'</DataItem>'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
       end do
       if (present(int_cell_fields)) then
         do k = 1, size(int_cell_fields)
           if (ios /= 0) exit
-          write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(trim(int_cell_fields(k)))// &
+          write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(int_cell_fields(k)))// &
                '" AttributeType="Scalar" Center="Cell">'
           if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-               '          <DataItem Dimensions="'//cell_dims//'"'//int_item//xml(trim(frames(f)))//':/'// &
+               ind//'          <DataItem Dimensions="'//cell_dims//'"'//int_item//xml(trim(frames(f)))//':/'// &
                xml(trim(int_cell_fields(k)))//'</DataItem>'
-          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
         end do
       end if
       ! field data, inline: a scalar HDF5 dataset is no hyperslab for the XDMF reader
-      if (ios == 0) call write_field(unit, 'time', tbuf, ios, msg)
+      if (ios == 0) call write_field(unit, ind, 'time', tbuf, ios, msg)
       if (present(field_names) .and. present(field_values)) then
         do k = 1, size(field_names)
           if (ios /= 0) exit
           write(tbuf, '(es24.16e3)') field_values(k)
-          call write_field(unit, trim(field_names(k)), tbuf, ios, msg)
+          call write_field(unit, ind, trim(field_names(k)), tbuf, ios, msg)
         end do
+      end if
+      if (np > 0) then
+        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
+        if (ios == 0) call write_particles(unit, trim(frames(f)), np, part_vectors, part_scalars, part_ints, &
+                                           part_tensors, ios, msg)
       end if
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
     end do
@@ -218,19 +250,78 @@ contains
   end function last_line_is
 
 
+  !> The Polyvertex grid of the particles of frame file `frame` (see
+  !> `xdmf_write_series`).
+  subroutine write_particles(unit, frame, np, vectors, scalars, ints, tensors, ios, msg)
+    integer, intent(in) :: unit, np
+    character(len=*), intent(in) :: frame
+    character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    character(len=:), allocatable :: fitem, iitem
+    integer :: k
+    fitem = ' NumberType="Float" Precision="8" Format="HDF">'//xml(frame)//':/particles/'
+    iitem = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'//xml(frame)//':/particles/'
+    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Grid Name="particles" GridType="Uniform">'
+    ! one vertex cell per particle (without cells ParaView draws nothing):
+    ! the connectivity is a permutation of 0..np-1, here id - 1
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Topology TopologyType="Polyvertex" '// &
+         'NumberOfElements="'//itoa(np)//'" NodesPerElement="1">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem ItemType="Function" '// &
+         'Function="$0 - 1" Dimensions="'//itoa(np)//'">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '              <DataItem Dimensions="'//itoa(np)//'"'// &
+         iitem//'id</DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            </DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Topology>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Geometry GeometryType="XYZ">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//itoa(np)//' 3"'// &
+         fitem//'x</DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Geometry>'
+    if (present(vectors)) then
+      do k = 1, size(vectors)
+        if (ios == 0) call one(trim(vectors(k)), 'Vector', itoa(np)//' 3', fitem)
+      end do
+    end if
+    if (present(scalars)) then
+      do k = 1, size(scalars)
+        if (ios == 0) call one(trim(scalars(k)), 'Scalar', itoa(np), fitem)
+      end do
+    end if
+    if (present(ints)) then
+      do k = 1, size(ints)
+        if (ios == 0) call one(trim(ints(k)), 'Scalar', itoa(np), iitem)
+      end do
+    end if
+    if (present(tensors)) then
+      do k = 1, size(tensors)
+        if (ios == 0) call one(trim(tensors(k)), 'Tensor6', itoa(np)//' 6', fitem)
+      end do
+    end if
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
+  contains
+    subroutine one(name, kind, dims, item)
+      character(len=*), intent(in) :: name, kind, dims, item
+      write(unit, '(a)', iostat=ios, iomsg=msg) '          <Attribute Name="'//xml(name)//'" AttributeType="'// &
+           kind//'" Center="Node">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//dims//'"'// &
+           item//xml(name)//'</DataItem>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Attribute>'
+    end subroutine one
+  end subroutine write_particles
+
   !> One Grid-centred (field data) scalar attribute with its value inline.
-  subroutine write_field(unit, name, value, ios, msg)
+  subroutine write_field(unit, ind, name, value, ios, msg)
     integer, intent(in) :: unit
-    character(len=*), intent(in) :: name
+    character(len=*), intent(in) :: ind, name
     character(len=*), intent(in) :: value
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
-    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(name)// &
+    write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(name)// &
          '" AttributeType="Scalar" Center="Grid">'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-         '          <DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">'// &
+         ind//'          <DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">'// &
          trim(adjustl(value))//'</DataItem>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
   end subroutine write_field
 
   !> Escapes the XML special characters of `s`.

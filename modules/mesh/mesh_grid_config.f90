@@ -7,7 +7,7 @@ module mesh_grid_config
                          diff_i, diff_r, diff_s
   implicit none
   private
-  public :: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
+  public :: grid_config_t, grid_config_read, grid_config_changes, grid_config_box, resolve_path
 
   !> Curved region boundaries in cut cells are resolved to 1/subsamples of
   !> the cell (`remap_shapes`): 64 is a split 6 levels deep.

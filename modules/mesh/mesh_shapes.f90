@@ -1,0 +1,79 @@
+!> The shapes of a scene (deck: &region and &particles shape) as point
+!> predicates: all, box [lo, hi], sphere (center, radius), half_space
+!> n.(x - center) >= 0, cylinder (radius about the axis through center,
+!> between lo and hi along it). `shape_inside` says whether a point lies in
+!> a shape, `shape_level` gives a 1-Lipschitz level function (<= 0 inside).
+!> The volumes of shapes in cells (`remap_shapes`) and particle seeding
+!> (`particles_seed`) both build on these; they live in mesh so that both
+!> packages can use them (DESIGN §2: particles come before remap).
+module mesh_shapes
+  use base_kinds, only: wp
+  implicit none
+  private
+  public :: shape_t, shape_inside, shape_level
+  public :: SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE, SHAPE_CYLINDER
+
+  integer, parameter :: SHAPE_ALL = 1, SHAPE_BOX = 2, SHAPE_SPHERE = 3, SHAPE_HALF_SPACE = 4, SHAPE_CYLINDER = 5
+
+  !> One region's shape (lengths in the deck's units).
+  type :: shape_t
+    integer :: kind = SHAPE_ALL
+    real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box; cylinder's extent along its axis
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp          !< sphere, cylinder, half-space point
+    real(wp) :: normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]          !< half-space: inside is normal.(x - center) >= 0
+    integer :: axis = 3                                       !< cylinder axis: 1 x, 2 y, 3 z
+  end type shape_t
+
+contains
+
+  !> True if the point p (length) lies in the shape (boundary included).
+  pure logical function shape_inside(sh, p)
+    type(shape_t), intent(in) :: sh
+    real(wp), intent(in) :: p(3)
+    real(wp) :: d(3)
+    select case (sh%kind)
+    case (SHAPE_ALL)
+      shape_inside = .true.
+    case (SHAPE_BOX)
+      shape_inside = all(p >= sh%lo) .and. all(p <= sh%hi)
+    case (SHAPE_SPHERE)
+      shape_inside = sum((p - sh%center)**2) <= sh%radius**2
+    case (SHAPE_HALF_SPACE)
+      shape_inside = dot_product(p - sh%center, sh%normal) >= 0.0_wp
+    case (SHAPE_CYLINDER)
+      d = p - sh%center
+      d(sh%axis) = 0.0_wp
+      shape_inside = sum(d**2) <= sh%radius**2 .and. p(sh%axis) >= sh%lo(sh%axis) .and. &
+                     p(sh%axis) <= sh%hi(sh%axis)
+    case default
+      shape_inside = .false.
+    end select
+  end function shape_inside
+
+  !> The shape's level function at p (length): <= 0 inside, and
+  !> |phi(p) - phi(q)| <= |p - q| (the distance to the surface, or a lower
+  !> bound of it outside a box's or a cylinder's edges).
+  pure real(wp) function shape_level(sh, p) result(phi)
+    type(shape_t), intent(in) :: sh
+    real(wp), intent(in) :: p(3)
+    real(wp) :: d(3)
+    integer :: a
+    select case (sh%kind)
+    case (SHAPE_ALL)
+      phi = -huge(1.0_wp)
+    case (SHAPE_BOX)
+      phi = maxval(max(sh%lo - p, p - sh%hi))
+    case (SHAPE_SPHERE)
+      phi = sqrt(sum((p - sh%center)**2)) - sh%radius
+    case (SHAPE_HALF_SPACE)
+      phi = -dot_product(p - sh%center, sh%normal)/norm2(sh%normal)
+    case (SHAPE_CYLINDER)
+      a = sh%axis
+      d = p - sh%center
+      d(a) = 0.0_wp
+      phi = max(sqrt(sum(d**2)) - sh%radius, sh%lo(a) - p(a), p(a) - sh%hi(a))
+    case default
+      phi = huge(1.0_wp)
+    end select
+  end function shape_level
+end module mesh_shapes

@@ -1,0 +1,349 @@
+!> The &solid and &particles groups: the solid materials of a scene and how
+!> its MPM particles are seeded (read / validate / echo / compare for a
+!> restart; DESIGN §4). Both may be given several times; a deck without
+!> &particles has no particles and allocates nothing for them.
+!>
+!> &solid: a name, a reference density, the pressure law (an `eos_factory`
+!> EOS with its parameters, or 'none': pressure from the bulk modulus), the
+!> elastic moduli (bulk and shear, or Young's modulus and Poisson's ratio)
+!> and a strength model: 'elastic' or 'bilinear' (linear hardening from
+!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2). The values are
+!> stored only: the strength models, the stress update (Eqs. 29-32) and the
+!> pressure come with the next issue, through a strength factory that will
+!> own `strength_names`.
+!>
+!> &particles: a shape (box, sphere, cylinder, all, or file: a text file of
+!> points), particles per cell per direction, the solid, density (default
+!> the solid's), initial velocity (uniform, or a rigid rotation about the x,
+!> y or z axis through center) and stress, and a body id.
+module particles_config
+  use base_kinds, only: wp
+  use base_strings, only: itoa, rtoa
+  use mesh_grid_config, only: resolve_path
+  use base_errors, only: error_t
+  use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml, &
+                         diff_i, diff_r, diff_s, name_index
+  use eos_base, only: eos_t
+  use eos_factory, only: eos_params_t, eos_create
+  implicit none
+  private
+  public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
+            strength_names, max_per_cell
+
+  !> The strength models a &solid may name (stored now; the models come later).
+  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
+  !> Most particles per cell per direction (per_cell^3 per cell).
+  integer, parameter :: max_per_cell = 16
+  !> poisson_ratio's "not given" (outside its valid range (-1, 0.5)).
+  real(wp), parameter :: nu_unset = -1.0_wp
+
+  !> One resolved &solid group; the initial values are the defaults.
+  type :: solid_config_t
+    character(len=64) :: name = ''                 !< '' becomes 'solid<N>'
+    real(wp) :: density = 0.0_wp                   !< reference density (required, > 0)
+    character(len=64) :: eos = 'none'              !< 'none' (pressure K (rho/rho0 - 1)) or an eos_factory name
+    type(eos_params_t) :: par                      !< EOS parameters
+    real(wp) :: bulk_modulus = 0.0_wp              !< K (pressure); resolved from E, nu if those are given
+    real(wp) :: shear_modulus = 0.0_wp             !< G (pressure); resolved from E, nu if those are given
+    !   (the echo shows the deck's own values; K and G here are resolved)
+    real(wp) :: youngs_modulus = 0.0_wp            !< E (pressure), with poisson_ratio instead of K, G
+    real(wp) :: poisson_ratio = nu_unset           !< nu in (-1, 0.5)
+    character(len=16) :: strength = 'elastic'      !< a name of strength_names
+    real(wp) :: yield_stress = 0.0_wp              !< bilinear: initial yield stress (pressure)
+    real(wp) :: tangent_modulus = 0.0_wp           !< bilinear: slope of stress against strain after yield
+  end type solid_config_t
+
+  !> One resolved &particles group; the initial values are the defaults.
+  type :: particles_config_t
+    character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file (required)
+    real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners; cylinder's extent along its axis
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere, cylinder; centre of a rotation
+    integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
+    character(len=256) :: file = ''                   !< shape = 'file': the points (text)
+    character(len=:), allocatable :: file_path        !< `file` resolved against the deck's folder
+    integer :: per_cell = 2                           !< particles per cell per direction
+    character(len=64) :: solid = ''                   !< a &solid name
+    integer :: isolid = 0                             !< its index (resolved)
+    real(wp) :: density = 0.0_wp                      !< 0: the solid's density
+    real(wp) :: velocity(3) = 0.0_wp                  !< uniform velocity (added to the rotation)
+    character(len=16) :: velocity_field = 'uniform'   !< uniform, rotation
+    real(wp) :: angular_velocity = 0.0_wp             !< rotation: radians per time about axis through center
+    real(wp) :: stress(6) = 0.0_wp                    !< initial Cauchy stress xx, yy, zz, yz, xz, xy
+    integer :: body = 0                               !< body id; 0: the group's number
+  end type particles_config_t
+
+contains
+
+  !> Reads, validates and echoes the s-th &solid group (`text`); `earlier`
+  !> are the names of the groups before it (names must be unique).
+  subroutine solid_config_read(this, s, text, path, earlier, echo, problems)
+    type(solid_config_t), intent(out) :: this
+    integer, intent(in) :: s, echo
+    character(len=*), intent(in) :: text(:), path, earlier(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=64) :: name, eos
+    character(len=16) :: strength
+    real(wp) :: density, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, shear_modulus, &
+                youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
+    integer :: ios
+    character(len=max_line) :: msg
+    character(len=:), allocatable :: tag
+    class(eos_t), allocatable :: trial
+    type(error_t), allocatable :: err
+    logical :: by_e
+    namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
+                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus
+
+    name = this%name; density = this%density; eos = this%eos
+    associate (d => this%par)
+      gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2
+      omega = d%omega; rho0 = d%rho0; c0 = d%c0; s1 = d%s1; gamma0 = d%gamma0
+    end associate
+    bulk_modulus = this%bulk_modulus; shear_modulus = this%shear_modulus
+    youngs_modulus = this%youngs_modulus; poisson_ratio = this%poisson_ratio
+    strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
+    read(text, nml=solid, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'solid', ios, msg)
+      return
+    end if
+    call problem_long(problems, 'solid', 'name', name)
+    call problem_long(problems, 'solid', 'eos', eos)
+    call problem_long(problems, 'solid', 'strength', strength)
+    if (len_trim(name) == 0) name = 'solid'//itoa(s)
+    if (any(earlier == name)) call problem_add(problems, &
+      '&solid: name = '''//trim(name)//''' is used twice; names must be unique')
+    tag = 'solid '''//trim(name)//''''
+    if (.not. (density > 0.0_wp)) call problem_bad(problems, tag, 'density', density, 'must be > 0')
+    ! the moduli: (E, nu) or (K, G), not both
+    ! (the resolved moduli in k_mod, g_mod: the echo keeps what the deck gave,
+    ! so that it reads back the same)
+    k_mod = bulk_modulus
+    g_mod = shear_modulus
+    by_e = abs(youngs_modulus) > 0.0_wp .or. abs(poisson_ratio - nu_unset) > 0.0_wp
+    if (by_e) then
+      if (.not. (youngs_modulus > 0.0_wp)) call problem_bad(problems, tag, 'youngs_modulus', youngs_modulus, &
+        'must be > 0 (give youngs_modulus and poisson_ratio together)')
+      if (.not. (poisson_ratio > -1.0_wp .and. poisson_ratio < 0.5_wp)) call problem_bad(problems, tag, &
+        'poisson_ratio', poisson_ratio, 'must be in (-1, 0.5) (give youngs_modulus and poisson_ratio together)')
+      if (abs(bulk_modulus) > 0.0_wp .or. abs(shear_modulus) > 0.0_wp) call problem_add(problems, '&'//tag// &
+        ': give either bulk_modulus and shear_modulus or youngs_modulus and poisson_ratio, not both')
+      if (youngs_modulus > 0.0_wp .and. poisson_ratio > -1.0_wp .and. poisson_ratio < 0.5_wp) then
+        ! K = E/(3(1 - 2 nu)), G = E/(2(1 + nu))
+        k_mod = youngs_modulus/(3.0_wp*(1.0_wp - 2.0_wp*poisson_ratio))
+        g_mod = youngs_modulus/(2.0_wp*(1.0_wp + poisson_ratio))
+      end if
+    else
+      if (.not. (shear_modulus > 0.0_wp)) call problem_bad(problems, tag, 'shear_modulus', shear_modulus, &
+        'must be > 0 (or give youngs_modulus and poisson_ratio)')
+      if (trim(eos) == 'none' .and. .not. (bulk_modulus > 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', &
+        bulk_modulus, 'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
+      if (.not. (bulk_modulus >= 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, 'must be >= 0')
+    end if
+    if (trim(eos) /= 'none') then
+      this%par = eos_params_t(gamma=gamma, a=a, b=b, r1=r1, r2=r2, omega=omega, rho0=rho0, c0=c0, s1=s1, gamma0=gamma0)
+      ! the factory validates the model name and its parameters
+      call eos_create(eos, this%par, trial, err)
+      if (allocated(err)) call problem_add(problems, '&'//tag//': '//err%msg//' (or eos = ''none'': pressure '// &
+                                           'from bulk_modulus)')
+    end if
+    ! the strength model and its parameters
+    select case (trim(strength))
+    case ('elastic')
+      if (abs(yield_stress) > 0.0_wp) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''elastic'')')
+      if (abs(tangent_modulus) > 0.0_wp) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''elastic'')')
+    case ('bilinear')
+      if (.not. (yield_stress > 0.0_wp)) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
+        'must be > 0 for strength = ''bilinear''')
+      if (.not. (tangent_modulus >= 0.0_wp)) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
+        'must be >= 0 for strength = ''bilinear''')
+      if (k_mod > 0.0_wp .and. g_mod > 0.0_wp .and. tangent_modulus >= 0.0_wp) then
+        ! Young's modulus E = 9KG/(3K + G): hardening steeper than elasticity is no hardening
+        e_mod = 9.0_wp*k_mod*g_mod/(3.0_wp*k_mod + g_mod)
+        if (.not. (tangent_modulus < e_mod)) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
+          'must be below Young''s modulus '//rtoa(e_mod))
+      end if
+    case default
+      call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
+                       name_list(strength_names))
+    end select
+    this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
+      shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
+      yield_stress=yield_stress, tangent_modulus=tangent_modulus)
+    if (echo /= no_echo) write(echo, nml=solid)
+  end subroutine solid_config_read
+
+  !> Reads, validates and echoes the k-th &particles group (`text`);
+  !> `solids` are the &solid names, `xmin`, `xmax` the grid's box (a shape
+  !> must reach into it); the point file is resolved against the deck's
+  !> folder (`file_path`).
+  subroutine particles_config_read(this, k, text, path, solids, xmin, xmax, echo, problems)
+    type(particles_config_t), intent(out) :: this
+    integer, intent(in) :: k, echo
+    character(len=*), intent(in) :: text(:), path, solids(:)
+    real(wp), intent(in) :: xmin(3), xmax(3)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: shape, velocity_field
+    character(len=64) :: solid
+    character(len=256) :: file
+    character(len=1) :: axis
+    real(wp) :: lo(3), hi(3), center(3), radius, density, velocity(3), angular_velocity, stress(6), blo(3), bhi(3)
+    integer :: per_cell, body, ios, m, ax
+    character(len=max_line) :: msg
+    character(len=:), allocatable :: tag
+    namelist /particles/ shape, lo, hi, center, radius, axis, file, per_cell, solid, density, velocity, &
+                         velocity_field, angular_velocity, stress, body
+
+    shape = this%shape; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
+    axis = 'xyz'(this%axis:this%axis); file = this%file; per_cell = this%per_cell; solid = this%solid
+    density = this%density; velocity = this%velocity; velocity_field = this%velocity_field
+    angular_velocity = this%angular_velocity; stress = this%stress; body = this%body
+    read(text, nml=particles, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, path, 'particles', ios, msg)
+      return
+    end if
+    tag = 'particles('//itoa(k)//')'
+    call problem_long(problems, tag, 'shape', shape)
+    call problem_long(problems, tag, 'solid', solid)
+    call problem_long(problems, tag, 'file', file)
+    call problem_long(problems, tag, 'velocity_field', velocity_field)
+    ax = max(1, index('xyz', axis))
+    if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call problem_add(problems, &
+      '&'//tag//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
+    ! the shape, its parameters, and that it reaches into the grid's box
+    blo = xmin
+    bhi = xmax
+    select case (trim(shape))
+    case ('all')
+    case ('box')
+      if (.not. (all(abs(lo) < huge(1.0_wp)) .and. all(abs(hi) < huge(1.0_wp)))) then
+        call problem_add(problems, '&'//tag//': shape = ''box'' needs lo and hi (all three components)')
+      else if (.not. all(hi > lo)) then
+        call problem_add(problems, '&'//tag//': shape = ''box'' needs hi > lo in every component')
+      else
+        blo = lo
+        bhi = hi
+      end if
+    case ('sphere', 'cylinder')
+      if (.not. (radius > 0.0_wp)) then
+        call problem_bad(problems, tag, 'radius', radius, 'must be > 0 for shape = '''//trim(shape)//'''')
+      else
+        blo = center - radius
+        bhi = center + radius
+      end if
+      if (trim(shape) == 'cylinder') then
+        if (.not. (abs(lo(ax)) < huge(1.0_wp) .and. abs(hi(ax)) < huge(1.0_wp) .and. hi(ax) > lo(ax))) then
+          call problem_add(problems, '&'//tag//': shape = ''cylinder'' needs lo < hi along its axis '''// &
+                           axis//''' (its ends)')
+        else
+          blo(ax) = lo(ax)
+          bhi(ax) = hi(ax)
+        end if
+      end if
+    case ('file')
+      if (len_trim(file) == 0) call problem_add(problems, '&'//tag//': shape = ''file'' needs a file of points')
+    case ('')
+      call problem_add(problems, '&'//tag//': shape is required; valid: box, sphere, cylinder, all, file')
+    case default
+      call problem_add(problems, '&'//tag//': shape = '''//trim(shape)// &
+                       ''' is not known; valid: box, sphere, cylinder, all, file')
+    end select
+    if (len_trim(file) > 0 .and. trim(shape) /= 'file') call problem_add(problems, '&'//tag// &
+      ': file applies only to shape = ''file'' (this group''s is '''//trim(shape)//''')')
+    if (any(bhi < xmin) .or. any(blo > xmax)) call problem_add(problems, '&'//tag//': the '//trim(shape)// &
+      ' lies outside the grid box xmin..xmax: it would seed no particle')
+    if (per_cell < 1 .or. per_cell > max_per_cell) call problem_badi(problems, tag, 'per_cell', per_cell, &
+      'must be in 1..'//itoa(max_per_cell))
+    if (.not. (density >= 0.0_wp)) call problem_bad(problems, tag, 'density', density, &
+      'must be >= 0 (0: the solid''s density)')
+    if (body < 0) call problem_badi(problems, tag, 'body', body, 'must be >= 0 (0: the group''s number)')
+    select case (trim(velocity_field))
+    case ('uniform')
+      if (abs(angular_velocity) > 0.0_wp) call problem_bad(problems, tag, 'angular_velocity', angular_velocity, &
+        'applies only to velocity_field = ''rotation'' (this group''s is ''uniform'')')
+    case ('rotation')
+      if (.not. abs(angular_velocity) > 0.0_wp) call problem_add(problems, '&'//tag// &
+        ': velocity_field = ''rotation'' needs an angular_velocity (not 0; radians per unit time)')
+    case default
+      call problem_add(problems, '&'//tag//': velocity_field = '''//trim(velocity_field)// &
+                       ''' is not known; valid: uniform, rotation')
+    end select
+    m = name_index(solids, solid)
+    if (m == 0 .and. len_trim(solid) == 0 .and. size(solids) == 1) m = 1
+    if (size(solids) == 0) then
+      call problem_add(problems, '&'//tag//': there is no &solid group (particles need a solid material)')
+    else if (m == 0) then
+      call problem_add(problems, '&'//tag//': solid = '''//trim(solid)//''' is not a &solid name; valid: '// &
+                       name_list(solids))
+    end if
+    this = particles_config_t(shape=shape, lo=lo, hi=hi, center=center, radius=radius, axis=ax, file=file, &
+      per_cell=per_cell, solid=solid, isolid=m, density=density, velocity=velocity, velocity_field=velocity_field, &
+      angular_velocity=angular_velocity, stress=stress, body=merge(body, k, body > 0))
+    this%file_path = resolve_path(file, path)
+    if (echo /= no_echo) write(echo, nml=particles)
+  end subroutine particles_config_read
+
+  !> What a restart may not change in the solids and particles: one line per
+  !> changed variable.
+  subroutine particles_config_changes(old_solids, new_solids, old_groups, new_groups, changes)
+    type(solid_config_t), intent(in) :: old_solids(:), new_solids(:)
+    type(particles_config_t), intent(in) :: old_groups(:), new_groups(:)
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    character(len=24) :: w
+    integer :: k
+    call diff_i(changes, 'number of &solid groups', size(old_solids), size(new_solids))
+    do k = 1, min(size(old_solids), size(new_solids))
+      associate (a => old_solids(k), b => new_solids(k))
+        w = '&solid('//itoa(k)//')'
+        call diff_s(changes, trim(w)//' name', a%name, b%name)
+        call diff_r(changes, trim(w)//' density', [a%density], [b%density])
+        call diff_s(changes, trim(w)//' eos', a%eos, b%eos)
+        call diff_r(changes, trim(w)//' eos parameters', [a%par%gamma, a%par%a, a%par%b, a%par%r1, a%par%r2, &
+                    a%par%omega, a%par%rho0, a%par%c0, a%par%s1, a%par%gamma0], [b%par%gamma, b%par%a, b%par%b, &
+                    b%par%r1, b%par%r2, b%par%omega, b%par%rho0, b%par%c0, b%par%s1, b%par%gamma0])
+        call diff_r(changes, trim(w)//' bulk_modulus, shear_modulus', [a%bulk_modulus, a%shear_modulus], &
+                    [b%bulk_modulus, b%shear_modulus])
+        call diff_s(changes, trim(w)//' strength', a%strength, b%strength)
+        call diff_r(changes, trim(w)//' yield_stress, tangent_modulus', [a%yield_stress, a%tangent_modulus], &
+                    [b%yield_stress, b%tangent_modulus])
+      end associate
+    end do
+    call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))
+    do k = 1, min(size(old_groups), size(new_groups))
+      associate (a => old_groups(k), b => new_groups(k))
+        w = '&particles('//itoa(k)//')'
+        call diff_s(changes, trim(w)//' shape', a%shape, b%shape)
+        call diff_r(changes, trim(w)//' lo', a%lo, b%lo)
+        call diff_r(changes, trim(w)//' hi', a%hi, b%hi)
+        call diff_r(changes, trim(w)//' center', a%center, b%center)
+        call diff_r(changes, trim(w)//' radius', [a%radius], [b%radius])
+        call diff_i(changes, trim(w)//' axis', a%axis, b%axis)
+        call diff_s(changes, trim(w)//' file', a%file, b%file)
+        call diff_i(changes, trim(w)//' per_cell', a%per_cell, b%per_cell)
+        call diff_s(changes, trim(w)//' solid', a%solid, b%solid)
+        call diff_r(changes, trim(w)//' density', [a%density], [b%density])
+        call diff_r(changes, trim(w)//' velocity', a%velocity, b%velocity)
+        call diff_s(changes, trim(w)//' velocity_field', a%velocity_field, b%velocity_field)
+        call diff_r(changes, trim(w)//' angular_velocity', [a%angular_velocity], [b%angular_velocity])
+        call diff_r(changes, trim(w)//' stress', a%stress, b%stress)
+        call diff_i(changes, trim(w)//' body', a%body, b%body)
+      end associate
+    end do
+  end subroutine particles_config_changes
+
+  !> "a, b, c" of a list of names.
+  pure function name_list(names) result(s)
+    character(len=*), intent(in) :: names(:)
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, size(names)
+      if (k > 1) s = s//', '
+      s = s//trim(names(k))
+    end do
+    if (size(names) == 0) s = '(none)'
+  end function name_list
+end module particles_config

@@ -1,0 +1,198 @@
+!> Shape functions of a particle in its host hex, in natural coordinates
+!> xi in [0,1]^3 (PARTICLES.md §1.3), and the inverse map: the host cell
+!> and natural coordinates of a physical point (§1.5, general fallback).
+!>
+!> Corners are numbered a = 1 + i + 2j + 4k as in `mesh_geometry`, so bit d
+!> of (a-1) picks the factor of direction d:
+!>   N_a(xi) = prod_d ( bit_d(a-1) ? xi_d : 1 - xi_d ),
+!>   dN_a/dxi_d = (bit_d(a-1) ? +1 : -1) prod_{e /= d} ( ... ).
+!> x(xi) = sum_a N_a(xi) x_a is the trilinear map of the cell; it is the
+!> map of `mesh_geometry::hex_trilinear` with xi_mesh = 2 xi - 1. [0,1]^3
+!> is used here (not [-1,1]^3) because then a sub-box of a box grid, or the
+!> fractional part of (x - xmin)/h (the pre-positioning of Remark 2), is a
+!> natural coordinate without rescaling.
+!>
+!> Inverse map (`particles_natural`): Newton on r(xi) = x(xi) - x_p from the
+!> cell centre, J_ij = sum_a x_a,i dN_a/dxi_j solved by Cramer's rule, the
+!> step halved (at most 10 times) while |r| does not decrease, stopped when
+!> |r| is round-off of the cell's size (8 eps) or the step is below 1e-15;
+!> exact in one step for a parallelepiped. `particles_locate` walks from a
+!> guessed cell to the neighbour on the side where xi leaves [0,1], and
+!> searches every cell if the walk fails (a tangled or strongly curved
+!> grid; setup only).
+module particles_shape
+  use base_kinds, only: wp
+  use mesh_geometry, only: cross
+  use mesh_grid, only: grid_t
+  implicit none
+  private
+  public :: particles_shape_values, particles_shape_gradients, particles_map, particles_natural, &
+            particles_locate, inside_tol
+
+  !> How far outside [0,1] a natural coordinate may be and still count as
+  !> inside the cell (then clamped): round-off of the inverse map.
+  real(wp), parameter :: inside_tol = 1.0e-10_wp
+
+contains
+
+  !> The eight shape functions at xi (natural coordinates in [0,1]^3).
+  pure function particles_shape_values(xi) result(n)
+    real(wp), intent(in) :: xi(3)
+    real(wp) :: n(8)
+    real(wp) :: f(0:1, 3)
+    integer :: a
+    f(0, :) = 1.0_wp - xi
+    f(1, :) = xi
+    do a = 1, 8
+      n(a) = f(ibits(a - 1, 0, 1), 1)*f(ibits(a - 1, 1, 1), 2)*f(ibits(a - 1, 2, 1), 3)
+    end do
+  end function particles_shape_values
+
+  !> dN_a/dxi_d (8, 3) at xi (per unit natural coordinate).
+  pure function particles_shape_gradients(xi) result(dn)
+    real(wp), intent(in) :: xi(3)
+    real(wp) :: dn(8, 3)
+    real(wp) :: f(0:1, 3)
+    integer :: a, b(3)
+    real(wp), parameter :: sgn(0:1) = [-1.0_wp, 1.0_wp]
+    f(0, :) = 1.0_wp - xi
+    f(1, :) = xi
+    do a = 1, 8
+      b = [ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)]
+      dn(a, 1) = sgn(b(1))*f(b(2), 2)*f(b(3), 3)
+      dn(a, 2) = sgn(b(2))*f(b(1), 1)*f(b(3), 3)
+      dn(a, 3) = sgn(b(3))*f(b(1), 1)*f(b(2), 2)
+    end do
+  end function particles_shape_gradients
+
+  !> The position (length) at natural coordinates xi of the hex xn(3,8):
+  !> x = sum_a N_a(xi) x_a (Eq. 25 with constant xi: the particle follows
+  !> the grid).
+  pure function particles_map(xn, xi) result(x)
+    real(wp), intent(in) :: xn(3, 8), xi(3)
+    real(wp) :: x(3)
+    real(wp) :: n(8)
+    integer :: a
+    n = particles_shape_values(xi)
+    x = 0.0_wp
+    do a = 1, 8
+      x = x + n(a)*xn(:, a)
+    end do
+  end function particles_map
+
+  !> Natural coordinates xi (unclamped) of the point x (length) in the hex
+  !> xn(3,8) by damped Newton (module notes); `inside` if every xi_d is in
+  !> [-inside_tol, 1 + inside_tol] and Newton converged (xi is then clamped
+  !> into [0,1]^3).
+  pure subroutine particles_natural(xn, x, xi, inside)
+    real(wp), intent(in) :: xn(3, 8), x(3)
+    real(wp), intent(out) :: xi(3)
+    logical, intent(out) :: inside
+    real(wp) :: r(3), rt(3), jac(3, 3), c(3, 3), det, dxi(3), scale, s, rn, rtn, trial(3)
+    real(wp) :: dn(8, 3)
+    integer :: it, a, d, half
+    logical :: converged
+
+    scale = maxval(abs(xn(:, 8) - xn(:, 1))) + maxval(abs(xn(:, 7) - xn(:, 2)))
+    xi = 0.5_wp
+    r = particles_map(xn, xi) - x
+    rn = norm2(r)
+    converged = .false.
+    do it = 1, 40
+      if (rn <= 8.0_wp*epsilon(1.0_wp)*scale) then
+        converged = .true.
+        exit
+      end if
+      dn = particles_shape_gradients(xi)
+      jac = 0.0_wp
+      do d = 1, 3
+        do a = 1, 8
+          jac(:, d) = jac(:, d) + dn(a, d)*xn(:, a)
+        end do
+      end do
+      c(:, 1) = cross(jac(:, 2), jac(:, 3))
+      c(:, 2) = cross(jac(:, 3), jac(:, 1))
+      c(:, 3) = cross(jac(:, 1), jac(:, 2))
+      det = dot_product(jac(:, 1), c(:, 1))
+      if (.not. abs(det) > tiny(1.0_wp)) exit
+      do d = 1, 3
+        dxi(d) = -dot_product(c(:, d), r)/det
+      end do
+      ! backtracking: halve the step while the residual does not decrease
+      s = 1.0_wp
+      do half = 0, 10
+        trial = xi + s*dxi
+        rt = particles_map(xn, trial) - x
+        rtn = norm2(rt)
+        if (rtn < rn) exit
+        s = 0.5_wp*s
+      end do
+      if (.not. rtn < rn) then
+        ! no decrease at all: the residual is round-off (or the map folds)
+        converged = maxval(abs(dxi)) <= 1.0e-12_wp
+        exit
+      end if
+      xi = trial
+      r = rt
+      rn = rtn
+      if (maxval(abs(s*dxi)) <= 1.0e-15_wp) then
+        converged = .true.
+        exit
+      end if
+      if (maxval(abs(xi)) > 8.0_wp) exit   ! far outside: the side is clear
+    end do
+    inside = converged .and. all(xi >= -inside_tol) .and. all(xi <= 1.0_wp + inside_tol)
+    if (inside) xi = min(max(xi, 0.0_wp), 1.0_wp)
+  end subroutine particles_natural
+
+  !> The host cell of point x (length) and its natural coordinates xi in
+  !> [0,1]^3: a walk from cell `guess` (module notes), then, if the walk
+  !> does not end in a cell containing x, every cell in index order.
+  !> found = .false. (cell = 0) if no cell contains x.
+  pure subroutine particles_locate(g, x, guess, cell, xi, found)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(3)
+    integer, intent(in) :: guess
+    integer, intent(out) :: cell
+    real(wp), intent(out) :: xi(3)
+    logical, intent(out) :: found
+    real(wp) :: xn(3, 8)
+    integer :: ijk(3), nmax(3), step, d, c
+    logical :: moved
+
+    nmax = [g%ni, g%nj, g%nk]
+    c = max(1, min(g%ncell, guess))
+    call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+    do step = 1, sum(nmax) + 3
+      c = g%cell(ijk(1), ijk(2), ijk(3))
+      call g%gather(c, g%x, xn)
+      call particles_natural(xn, x, xi, found)
+      if (found) then
+        cell = c
+        return
+      end if
+      moved = .false.
+      do d = 1, 3
+        if (xi(d) < -inside_tol .and. ijk(d) > 1) then
+          ijk(d) = ijk(d) - 1
+          moved = .true.
+        else if (xi(d) > 1.0_wp + inside_tol .and. ijk(d) < nmax(d)) then
+          ijk(d) = ijk(d) + 1
+          moved = .true.
+        end if
+      end do
+      if (.not. moved) exit
+    end do
+    do c = 1, g%ncell
+      call g%gather(c, g%x, xn)
+      call particles_natural(xn, x, xi, found)
+      if (found) then
+        cell = c
+        return
+      end if
+    end do
+    cell = 0
+    xi = 0.0_wp
+    found = .false.
+  end subroutine particles_locate
+end module particles_shape

@@ -1,0 +1,280 @@
+!> The MPM particles of a scene (PARTICLES.md §1.2): structure of arrays,
+!> sized once (np is fixed for a run: a failed particle will be flagged,
+!> never deleted, so that the restart registry walks the same arrays),
+!> allocated only when the deck seeds particles (DESIGN §3: a scene without
+!> solids pays nothing).
+!>
+!> Order and binning. The arrays are sorted by solid material (`mat`), so
+!> that material s is the contiguous range mat_start(s) .. mat_start(s+1)-1
+!> (a strength model is dispatched once per material, then loops over its
+!> range), and within a material by host cell, stable in seeding order.
+!> `cell_start`/`perm` bin the particles by host cell (CSR): the particles
+!> of cell c are perm(cell_start(c) .. cell_start(c+1)-1), in array order.
+!> Both are built by counting sorts, so the result depends only on the keys
+!> and the seeding order, never on thread count or timing (deterministic).
+!> The binning is rebuilt whenever host cells change (after an Euler step,
+!> Remark 2 of Sect. 5.2: hook `particles_bin`); it is not restart state.
+!>
+!> Host and natural coordinates (§1.3-1.4). `cell` is the host cell's index
+!> and `xi` the natural coordinates in [0,1]^3 of the particle in it, with
+!> shape functions N_a(xi) = prod_d (bit_d(a-1) ? xi_d : 1 - xi_d) over the
+!> cell's corners a = 1 + i + 2j + 4k (`particles_shape`). Through a
+!> Lagrangian phase cell and xi stay fixed and x = sum_a N_a(xi) x_a follows
+!> the grid exactly (Eq. 25 with constant parametric coordinates).
+!>
+!> Stress is the full Cauchy stress in Voigt order xx, yy, zz, yz, xz, xy
+!> (sign: tension positive); `hist` holds nhist history variables per
+!> particle (plastic strain, damage, porosity...: nhist = 0 until a strength
+!> model needs them; allocated (0, np) then).
+!>
+!> Hooks for later issues (not built yet): nodal mass and force of Eqs.
+!> (16)-(17) from m, vol, stress; g2p velocity and position (Eqs. 23-25);
+!> the virtual-grid stress update (Eqs. 29-32) writing stress and hist;
+!> volume and density from the virtual velocity gradient (§1.10); the
+!> Euler-phase re-location (Remark 2) rewriting cell, xi and calling
+!> `particles_bin`.
+module particles_state
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use base_strings, only: itoa
+  use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE
+  implicit none
+  private
+  public :: particles_t, particles_allocate, particles_order, particles_index, particles_bin, particles_register_restart, &
+            particles_check
+
+  !> The particles. Units: x length, v length/time, m mass, vol length^3,
+  !> rho mass/length^3, stress mass/(length time^2).
+  type :: particles_t
+    integer :: np = 0                        !< number of particles (0: none, nothing allocated)
+    integer :: nsolid = 0                    !< number of solid materials
+    integer :: nhist = 0                     !< history variables per particle
+    integer, allocatable :: id(:)            !< seeding number 1..np (follows the particle through sorts)
+    integer, allocatable :: mat(:)           !< solid material 1..nsolid
+    integer, allocatable :: body(:)          !< body id (>= 1)
+    integer, allocatable :: cell(:)          !< host cell
+    real(wp), allocatable :: xi(:, :)        !< (3, np) natural coordinates in the host, in [0,1]^3
+    real(wp), allocatable :: x(:, :)         !< (3, np) position
+    real(wp), allocatable :: v(:, :)         !< (3, np) velocity
+    real(wp), allocatable :: m(:)            !< mass (constant)
+    real(wp), allocatable :: vol(:)          !< volume
+    real(wp), allocatable :: rho(:)          !< density m/vol
+    real(wp), allocatable :: stress(:, :)    !< (6, np) Cauchy stress, Voigt xx, yy, zz, yz, xz, xy
+    real(wp), allocatable :: hist(:, :)      !< (nhist, np) history variables
+    integer, allocatable :: mat_start(:)     !< (nsolid+1) material s: mat_start(s) .. mat_start(s+1)-1
+    integer, allocatable :: cell_start(:)    !< (ncell+1) CSR of the particles by host cell
+    integer, allocatable :: perm(:)          !< (np) particle indices, cell by cell
+  end type particles_t
+
+contains
+
+  !> Allocates np particles of nsolid materials with nhist history variables
+  !> each (fields zero, ids 1..np).
+  subroutine particles_allocate(p, np, nsolid, nhist, err)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: np, nsolid, nhist
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat, k
+    character(len=200) :: msg
+    p = particles_t()
+    if (np < 0 .or. nsolid < 0 .or. nhist < 0) then
+      call error_set(err, 'particles_allocate', 'negative size')
+      return
+    end if
+    allocate(p%id(np), p%mat(np), p%body(np), p%cell(np), p%xi(3, np), p%x(3, np), p%v(3, np), p%m(np), &
+             p%vol(np), p%rho(np), p%stress(6, np), p%hist(nhist, np), p%mat_start(nsolid + 1), p%perm(np), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      p = particles_t()
+      call error_set(err, 'particles_allocate', 'cannot allocate '//itoa(np)// &
+                     ' particles: '//trim(msg))
+      return
+    end if
+    p%np = np
+    p%nsolid = nsolid
+    p%nhist = nhist
+    p%id = [(k, k = 1, np)]
+    p%mat = 1; p%body = 1; p%cell = 1
+    p%xi = 0.0_wp; p%x = 0.0_wp; p%v = 0.0_wp; p%m = 0.0_wp; p%vol = 0.0_wp; p%rho = 0.0_wp
+    p%stress = 0.0_wp; p%hist = 0.0_wp
+    p%mat_start = 1
+    p%perm = 0
+  end subroutine particles_allocate
+
+  !> Sorts the particles by material, then by host cell, stable (two
+  !> counting sorts, least significant key first), and builds mat_start and
+  !> the cell binning. mat must be in 1..nsolid and cell in 1..ncell.
+  subroutine particles_order(p, ncell, err)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: ncell
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: order(:), by_cell(:)
+    integer :: s, stat
+    character(len=200) :: msg
+    if (p%np == 0) return
+    if (any(p%cell < 1) .or. any(p%cell > ncell) .or. any(p%mat < 1) .or. any(p%mat > p%nsolid)) then
+      call error_set(err, 'particles_order', 'a host cell or material index is out of range')
+      return
+    end if
+    allocate(order(p%np), by_cell(p%np), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_order', 'cannot allocate work arrays: '//trim(msg))
+      return
+    end if
+    ! stable sort by cell, then stably by material: (mat, cell) order
+    call counting_sort(p%cell, ncell, [(s, s = 1, p%np)], by_cell)
+    call counting_sort(p%mat, p%nsolid, by_cell, order)
+    p%id = p%id(order)
+    p%mat = p%mat(order)
+    p%body = p%body(order)
+    p%cell = p%cell(order)
+    p%xi = p%xi(:, order)
+    p%x = p%x(:, order)
+    p%v = p%v(:, order)
+    p%m = p%m(order)
+    p%vol = p%vol(order)
+    p%rho = p%rho(order)
+    p%stress = p%stress(:, order)
+    p%hist = p%hist(:, order)
+    call particles_index(p, ncell, err)
+  end subroutine particles_order
+
+  !> The material ranges (mat_start) and the cell binning of particles
+  !> already sorted by material (as after a restart read: the stored order
+  !> is kept, so a continued run sees the arrays of the straight run).
+  subroutine particles_index(p, ncell, err)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: ncell
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: s
+    if (p%np == 0) return
+    if (any(p%mat(2:) < p%mat(:p%np - 1))) then
+      call error_set(err, 'particles_index', 'the particles are not sorted by material')
+      return
+    end if
+    p%mat_start(1) = 1
+    do s = 1, p%nsolid
+      p%mat_start(s + 1) = p%mat_start(s) + count(p%mat == s)
+    end do
+    call particles_bin(p, ncell, err)
+  end subroutine particles_index
+
+  !> The binning of the particles by host cell (cell_start, perm), by a
+  !> counting sort of the current array order (within a cell: array order).
+  subroutine particles_bin(p, ncell, err)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: ncell
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, c, stat
+    character(len=200) :: msg
+    if (p%np == 0) return
+    if (allocated(p%cell_start)) deallocate(p%cell_start)
+    allocate(p%cell_start(ncell + 1), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
+      return
+    end if
+    if (.not. allocated(p%perm)) then
+      allocate(p%perm(p%np), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
+        return
+      end if
+    end if
+    ! counts, then exclusive prefix sums, then placement in array order
+    p%cell_start = 0
+    do k = 1, p%np
+      c = p%cell(k)
+      p%cell_start(c + 1) = p%cell_start(c + 1) + 1
+    end do
+    p%cell_start(1) = 1
+    do c = 1, ncell
+      p%cell_start(c + 1) = p%cell_start(c + 1) + p%cell_start(c)
+    end do
+    call counting_sort(p%cell, ncell, [(k, k = 1, p%np)], p%perm)
+  end subroutine particles_bin
+
+  !> out = items stably sorted by key(items) in 1..nkey (key(i) the key of
+  !> particle i; items a list of particle indices).
+  pure subroutine counting_sort(key, nkey, items, out)
+    integer, intent(in) :: key(:), nkey, items(:)
+    integer, intent(out) :: out(:)
+    integer :: next(nkey + 1), k, j
+    next = 0
+    do k = 1, size(items)
+      j = key(items(k))
+      next(j + 1) = next(j + 1) + 1
+    end do
+    next(1) = 1
+    do j = 1, nkey
+      next(j + 1) = next(j + 1) + next(j)
+    end do
+    do k = 1, size(items)
+      j = key(items(k))
+      out(next(j)) = items(k)
+      next(j) = next(j) + 1
+    end do
+  end subroutine counting_sort
+
+  !> Registers the particles' restart fields (nothing without particles):
+  !> everything that is state; the binning and mat_start are rebuilt from it
+  !> (`particles_check`, then `particles_index`).
+  subroutine particles_register_restart(p, reg)
+    type(particles_t), intent(inout), target :: p
+    type(registry_t), intent(inout) :: reg
+    if (p%np == 0) return
+    call reg%add('particle_id', '1', LOC_PARTICLE, p%id)
+    call reg%add('particle_material', '1', LOC_PARTICLE, p%mat)
+    call reg%add('particle_body', '1', LOC_PARTICLE, p%body)
+    call reg%add('particle_cell', '1', LOC_PARTICLE, p%cell)
+    call reg%add('particle_xi', '1', LOC_PARTICLE, p%xi)
+    call reg%add('particle_x', 'length', LOC_PARTICLE, p%x)
+    call reg%add('particle_velocity', 'length/time', LOC_PARTICLE, p%v)
+    call reg%add('particle_mass', 'mass', LOC_PARTICLE, p%m, lower=LOWER_POSITIVE)
+    call reg%add('particle_volume', 'length^3', LOC_PARTICLE, p%vol, lower=LOWER_POSITIVE)
+    call reg%add('particle_density', 'mass/length^3', LOC_PARTICLE, p%rho, lower=LOWER_POSITIVE)
+    call reg%add('particle_stress', 'mass/(length*time^2)', LOC_PARTICLE, p%stress)
+    if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
+  end subroutine particles_register_restart
+
+  !> The particles' indices after a restart read: host cells in 1..ncell,
+  !> materials in 1..nsolid, ids a permutation of 1..np, natural coordinates
+  !> in [0,1]; the message names the first particle that is not.
+  subroutine particles_check(p, ncell, err)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: ncell
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: seen(:)
+    integer :: k, stat
+    character(len=200) :: msg
+    if (p%np == 0) return
+    allocate(seen(p%np), source=.false., stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_check', 'cannot allocate work arrays: '//trim(msg))
+      return
+    end if
+    do k = 1, p%np
+      if (p%cell(k) < 1 .or. p%cell(k) > ncell) then
+        call bad('particle_cell', p%cell(k), 'the grid has cells 1..'//itoa(ncell))
+      else if (p%mat(k) < 1 .or. p%mat(k) > p%nsolid) then
+        call bad('particle_material', p%mat(k), 'this deck has solids 1..'//itoa(p%nsolid))
+      else if (p%id(k) < 1 .or. p%id(k) > p%np) then
+        call bad('particle_id', p%id(k), 'ids run over 1..'//itoa(p%np))
+      else if (seen(p%id(k))) then
+        call bad('particle_id', p%id(k), 'the id is repeated')
+      else if (.not. all(p%xi(:, k) >= 0.0_wp .and. p%xi(:, k) <= 1.0_wp)) then
+        call error_set(err, 'particles_check', 'state/particle_xi of particle '//itoa(k)// &
+                       ' is outside [0,1]^3')
+      end if
+      if (allocated(err)) return
+      seen(p%id(k)) = .true.
+    end do
+  contains
+    subroutine bad(name, value, rule)
+      character(len=*), intent(in) :: name, rule
+      integer, intent(in) :: value
+      call error_set(err, 'particles_check', 'state/'//name//' = '//itoa(value)//' at particle '// &
+                     itoa(k)//' ('//rule//')')
+    end subroutine bad
+  end subroutine particles_check
+end module particles_state

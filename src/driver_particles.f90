@@ -1,0 +1,167 @@
+!> Builds the MPM particles of a scene from its &particles groups (none:
+!> nothing is allocated): each group seeded from its shape
+!> (`particles_seed`, shapes of `mesh_shapes`) or its file of points
+!> (`io_points_file`, each point located in the grid by `particles_locate`),
+!> given its solid, density, initial velocity and stress and body id, then
+!> all sorted by solid and host cell and binned (`particles_order`).
+!>
+!> Not coupled yet (hooks for the next steps of issue 14): the particles do
+!> not enter the nodal mass and force (Eqs. 16-17), do not move (Eqs.
+!> 23-25) and are not re-located after an Euler step (Remark 2); they are
+!> written in every frame and restart.
+module driver_particles
+  use base_kinds, only: wp
+  use base_strings, only: itoa, rtoa
+  use base_errors, only: error_t, error_set, ERR_INPUT
+  use mesh_geometry, only: hex_volume
+  use particles_config, only: particles_config_t
+  use particles_shape, only: particles_locate
+  use particles_seed, only: seed_shape, rigid_velocity
+  use particles_state, only: particles_t, particles_allocate, particles_order
+  use io_points_file, only: points_file_read
+  use io_log, only: log_t, log_line
+  use driver_config, only: config_t, group_shape
+  use driver_state, only: state_t
+  implicit none
+  private
+  public :: build_particles
+
+  !> One seeded group before assembly.
+  type :: seeded_t
+    integer, allocatable :: cell(:)
+    real(wp), allocatable :: xi(:, :), x(:, :), vol(:)
+  end type seeded_t
+
+contains
+
+  !> The particles of every &particles group into st%pt (module notes).
+  subroutine build_particles(cfg, st, log, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    type(seeded_t), allocatable :: groups(:)
+    real(wp) :: axis(3), rho
+    integer :: k, i, np, q, stat
+    character(len=200) :: msg
+
+    if (.not. allocated(cfg%particles)) return
+    if (size(cfg%particles) == 0) return
+    allocate(groups(size(cfg%particles)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'build_particles', 'cannot allocate the groups: '//trim(msg))
+      return
+    end if
+    np = 0
+    do k = 1, size(cfg%particles)
+      associate (pc => cfg%particles(k), gr => groups(k))
+        if (pc%shape == 'file') then
+          call seed_file(st, pc, k, gr, err)
+        else
+          call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
+        end if
+        if (allocated(err)) return
+        if (size(gr%cell) == 0) then
+          call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): the '// &
+            trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)//' (no sub-cell centre '// &
+            'lies in it): make it larger or raise per_cell', ERR_INPUT)
+          return
+        end if
+        np = np + size(gr%cell)
+      end associate
+    end do
+    call particles_allocate(st%pt, np, size(cfg%solids), 0, err)
+    if (allocated(err)) return
+    q = 0
+    do k = 1, size(cfg%particles)
+      associate (pc => cfg%particles(k), gr => groups(k), p => st%pt)
+        rho = pc%density
+        if (.not. rho > 0.0_wp) rho = cfg%solids(pc%isolid)%density
+        axis = 0.0_wp
+        axis(pc%axis) = 1.0_wp
+        do i = 1, size(gr%cell)
+          q = q + 1
+          p%mat(q) = pc%isolid
+          p%body(q) = pc%body
+          p%cell(q) = gr%cell(i)
+          p%xi(:, q) = gr%xi(:, i)
+          p%x(:, q) = gr%x(:, i)
+          p%vol(q) = gr%vol(i)
+          p%rho(q) = rho
+          p%m(q) = rho*gr%vol(i)
+          if (pc%velocity_field == 'rotation') then
+            p%v(:, q) = rigid_velocity(pc%velocity, pc%angular_velocity, axis, pc%center, gr%x(:, i))
+          else
+            p%v(:, q) = pc%velocity
+          end if
+          p%stress(:, q) = pc%stress
+        end do
+        call log_line(log, 'particles('//itoa(k)//'): '//itoa(size(gr%cell))//' particles of solid '''// &
+          trim(cfg%solids(pc%isolid)%name)//''', body '//itoa(pc%body)//', volume '//rtoa(sum(gr%vol))// &
+          ', mass '//rtoa(rho*sum(gr%vol)))
+      end associate
+    end do
+    call particles_order(st%pt, st%g%ncell, err)
+    if (allocated(err)) return
+    call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count(cell_used(st%pt, st%g%ncell)))// &
+                  ' host cells, '//itoa(size(cfg%solids))//' solid(s)')
+  end subroutine build_particles
+
+  !> Which cells host particles.
+  function cell_used(p, ncell) result(used)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: ncell
+    logical :: used(ncell)
+    integer :: c
+    do c = 1, ncell
+      used(c) = p%cell_start(c + 1) > p%cell_start(c)
+    end do
+  end function cell_used
+
+  !> The particles of a file of points: each point's host cell and natural
+  !> coordinates (a walk from the previous point's cell), its volume from the
+  !> file or, without a volume column, the host cell's volume / per_cell^3.
+  !> A point in no cell is a deck mistake.
+  subroutine seed_file(st, pc, k, gr, err)
+    type(state_t), intent(in) :: st
+    type(particles_config_t), intent(in) :: pc
+    integer, intent(in) :: k
+    type(seeded_t), intent(inout) :: gr
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: vfile(:)
+    real(wp) :: xn(3, 8)
+    integer :: i, n, c, guess, stat
+    logical :: found
+    character(len=200) :: msg
+
+    call points_file_read(pc%file_path, gr%x, vfile, err)
+    if (allocated(err)) then
+      call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): '//err%msg, &
+                     ERR_INPUT)
+      return
+    end if
+    n = size(gr%x, 2)
+    allocate(gr%cell(n), gr%xi(3, n), gr%vol(n), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'seed_file', 'cannot allocate '//itoa(n)//' particles: '//trim(msg))
+      return
+    end if
+    guess = 1
+    do i = 1, n
+      call particles_locate(st%g, gr%x(:, i), guess, c, gr%xi(:, i), found)
+      if (.not. found) then
+        call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): point '// &
+                       itoa(i)//' of file '''//trim(pc%file)//''' lies in no cell of the grid', ERR_INPUT)
+        return
+      end if
+      gr%cell(i) = c
+      guess = c
+      if (size(vfile) > 0) then
+        gr%vol(i) = vfile(i)
+      else
+        call st%g%gather(c, st%g%x, xn)
+        gr%vol(i) = hex_volume(xn)/real(pc%per_cell, wp)**3
+      end if
+    end do
+  end subroutine seed_file
+end module driver_particles
