@@ -171,7 +171,7 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=64), allocatable :: names(:)
-    integer :: k, n, n0
+    integer :: k, n, n0, stat
     n = deck_count(deck, 'solid')
     cfg%solids = [(solid_config_t(), k = 1, n)]
     names = [(cfg%solids(k)%name, k = 1, n)]
@@ -183,7 +183,11 @@ contains
     end do
     n = deck_count(deck, 'particles')
     if (allocated(cfg%particles)) deallocate(cfg%particles)
-    allocate(cfg%particles(n))
+    allocate(cfg%particles(n), stat=stat)
+    if (stat /= 0) then
+      call problem_add(problems, 'cannot allocate the configuration of '//itoa(n)//' &particles groups')
+      return
+    end if
     do k = 1, n
       n0 = size(problems)
       call particles_config_read(cfg%particles(k), k, deck_text(deck, 'particles', k), deck%path, names, &
@@ -428,7 +432,7 @@ contains
     type(config_t) :: cfg
     character(len=max_line), allocatable :: problems(:)
     character(len=64) :: names(1)
-    integer :: echo
+    integer :: echo, stat
 
     call echo_open(echo, problems)
     names(1) = 'material1'
@@ -444,7 +448,12 @@ contains
     call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &
                             problems)
     cfg%solids = [solid_config_t()]
-    allocate(cfg%particles(1))   ! (default-initialized; a constructor would copy an unset file_path)
+    ! (default-initialized; a constructor would copy an unset file_path)
+    allocate(cfg%particles(1), stat=stat)
+    if (stat /= 0) then
+      text = ''   ! (what the documentation check would then report)
+      return
+    end if
     call solid_config_read(cfg%solids(1), 1, empty('solid'), 'deck.nml', [character(len=64) ::], echo, problems)
     call particles_config_read(cfg%particles(1), 1, empty('particles'), 'deck.nml', [cfg%solids(1)%name], &
                                cfg%grid%xmin, cfg%grid%xmax, echo, problems)
