@@ -311,7 +311,12 @@ def _cases():
         Case("sod2", "sod2.nml",
              [Size("100", tube(100, 1.0), quick=True), Size("1000", tube(1000, 1.0))],
              ["lagrange", "ale", "lssm"], error_sod2,
-             rezone={"ale": sod_interval, "lssm": dict(sod_interval, quality="0.75")},
+             # (LSSM as the paper runs Sod: cells with Q < 0.75 of Eq. 46 are
+             # distorted, the cube reading; the box reading's tests are the
+             # triggers', which the interval trigger leaves off. Measured: no
+             # cell of this tube falls below 0.75 either, so its 5 Euler
+             # steps are skipped and the run is the Lagrangian one)
+             rezone={"ale": sod_interval, "lssm": dict(sod_interval, quality="0.75", smooth_target=q("cube"))},
              params=dict(left=(1.0, 0.0, 2.0, 2.0), right=(0.125, 0.0, 0.1, 1.4), x0=0.5)),
         Case("water_air", "water_air.nml",
              [Size("200", grid(200, 1, 1, "1, 0.005, 0.005"), quick=True),
