@@ -20,7 +20,7 @@ module driver_config
   use io_output_config, only: output_config_t, output_config_read
   use io_points_file, only: points_file_read
   use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
-  use mesh_shapes, only: shape_t, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_CYLINDER
+  use mesh_shapes, only: shape_t, shape_kind
   use particles_seed, only: seed_count
   use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
                               particles_config_changes
@@ -233,23 +233,8 @@ contains
   pure function group_shape(pc) result(sh)
     type(particles_config_t), intent(in) :: pc
     type(shape_t) :: sh
-    select case (trim(pc%shape))
-    case ('all')
-      sh%kind = SHAPE_ALL
-    case ('box')
-      sh%kind = SHAPE_BOX
-    case ('sphere')
-      sh%kind = SHAPE_SPHERE
-    case ('cylinder')
-      sh%kind = SHAPE_CYLINDER
-    case default
-      sh%kind = 0
-    end select
-    sh%lo = pc%lo
-    sh%hi = pc%hi
-    sh%center = pc%center
-    sh%radius = pc%radius
-    sh%axis = pc%axis
+    ! ('half_space' is not a particle shape: the group's validation refuses it)
+    sh = shape_t(kind=shape_kind(pc%shape), lo=pc%lo, hi=pc%hi, center=pc%center, radius=pc%radius, axis=pc%axis)
   end function group_shape
 
   !> The points of a &particles shape = 'file' group: a readable file

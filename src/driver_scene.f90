@@ -15,8 +15,8 @@ module driver_scene
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_allocate, mixed_cell_state
-  use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, &
-                          SHAPE_HALF_SPACE, SHAPE_CYLINDER
+  use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments
+  use mesh_shapes, only: shape_kind
   use lagrange_state, only: hydro_allocate, hydro_subcell_masses
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes
   use io_log, only: log_t, log_line
@@ -358,26 +358,8 @@ contains
   pure function region_shape(rg) result(sh)
     type(region_config_t), intent(in) :: rg
     type(shape_t) :: sh
-    select case (trim(rg%shape))
-    case ('all')
-      sh%kind = SHAPE_ALL
-    case ('box')
-      sh%kind = SHAPE_BOX
-    case ('sphere')
-      sh%kind = SHAPE_SPHERE
-    case ('half_space')
-      sh%kind = SHAPE_HALF_SPACE
-    case ('cylinder')
-      sh%kind = SHAPE_CYLINDER
-    case default
-      sh%kind = 0
-    end select
-    sh%lo = rg%lo
-    sh%hi = rg%hi
-    sh%center = rg%center
-    sh%radius = rg%radius
-    sh%normal = rg%normal
-    sh%axis = rg%axis
+    sh = shape_t(kind=shape_kind(rg%shape), lo=rg%lo, hi=rg%hi, center=rg%center, radius=rg%radius, &
+                 normal=rg%normal, axis=rg%axis)
   end function region_shape
 
   !> The last region (in deck order) that contains point p, or 0.

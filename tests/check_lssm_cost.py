@@ -11,33 +11,16 @@ solution (tools/profile_plot.py's sedov_l1, E = 0.851072 for the full
 sphere, gamma 1.4, rho0 1) must be at most L1_RATIO times B's.
 """
 import os
-import re
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-import profile_plot  # noqa: E402
-
-
-def cells_remapped(log):
-    with open(log) as f:
-        for line in f:
-            m = re.match(r"euler steps: (\d+), cells remapped (\d+)", line)
-            if m:
-                return int(m.group(1)), int(m.group(2))
-    print(f"FAIL: no 'euler steps:' summary in {log}")
-    sys.exit(1)
-
-
-def l1(frame):
-    fr = profile_plot.read_frame(frame)
-    sol = profile_plot.make_sedov(1.4, 0.851072, 1.0)
-    return profile_plot.sedov_l1(profile_plot.radial_cells(fr), sol, fr["time"])[0]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lssm_runs import cells_remapped, sedov_l1  # noqa: E402
 
 
 log_m, frame_m, log_p, frame_p = sys.argv[1:5]
 cell_ratio, l1_ratio = float(sys.argv[5]), float(sys.argv[6])
 (em, cm), (ep, cp) = cells_remapped(log_m), cells_remapped(log_p)
-lm, lp = l1(frame_m), l1(frame_p)
+lm, lp = sedov_l1(frame_m)[0], sedov_l1(frame_p)[0]
 print(f"A: {em} Euler steps, {cm} cells remapped, L1 {lm:.5e}")
 print(f"B: {ep} Euler steps, {cp} cells remapped, L1 {lp:.5e}")
 print(f"cells ratio {cm / cp:.3f} (bound {cell_ratio}), L1 ratio {lm / lp:.4f} (bound {l1_ratio})")

@@ -13,33 +13,16 @@ the full sphere, gamma 1.4, rho0 1) must be at most L1_MAX, and at most
 L1_RATIO times B's.
 """
 import os
-import re
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-import profile_plot  # noqa: E402
-
-
-def cells_remapped(log):
-    with open(log) as f:
-        for line in f:
-            m = re.match(r"euler steps: (\d+), cells remapped (\d+)", line)
-            if m:
-                return int(m.group(1)), int(m.group(2))
-    print(f"FAIL: no 'euler steps:' summary in {log}")
-    sys.exit(1)
-
-
-def l1(frame):
-    fr = profile_plot.read_frame(frame)
-    sol = profile_plot.make_sedov(1.4, 0.851072, 1.0)
-    return profile_plot.sedov_l1(profile_plot.radial_cells(fr), sol, fr["time"])[0], float(fr["density"].max())
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lssm_runs import cells_remapped, sedov_l1  # noqa: E402
 
 
 log_a, frame_a, log_b, frame_b = sys.argv[1:5]
 ncell, share_max, l1_max, l1_ratio = int(sys.argv[5]), float(sys.argv[6]), float(sys.argv[7]), float(sys.argv[8])
 (ea, ca), (eb, cb) = cells_remapped(log_a), cells_remapped(log_b)
-(la, pa), (lb, pb) = l1(frame_a), l1(frame_b)
+(la, pa), (lb, pb) = sedov_l1(frame_a), sedov_l1(frame_b)
 share_a = ca / max(ea, 1) / ncell
 share_b = cb / max(eb, 1) / ncell
 print(f"A (LSSM):   {ea} Euler steps, {ca} cells remapped, {share_a:.3f} of the grid per Euler step, "

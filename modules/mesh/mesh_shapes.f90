@@ -10,7 +10,7 @@ module mesh_shapes
   use base_kinds, only: wp
   implicit none
   private
-  public :: shape_t, shape_inside, shape_level
+  public :: shape_t, shape_inside, shape_level, shape_kind
   public :: SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE, SHAPE_CYLINDER
 
   integer, parameter :: SHAPE_ALL = 1, SHAPE_BOX = 2, SHAPE_SPHERE = 3, SHAPE_HALF_SPACE = 4, SHAPE_CYLINDER = 5
@@ -25,6 +25,26 @@ module mesh_shapes
   end type shape_t
 
 contains
+
+  !> The kind of the shape named name as decks write it ('all', 'box',
+  !> 'sphere', 'half_space', 'cylinder'), 0 if none of them.
+  pure integer function shape_kind(name)
+    character(len=*), intent(in) :: name
+    select case (trim(name))
+    case ('all')
+      shape_kind = SHAPE_ALL
+    case ('box')
+      shape_kind = SHAPE_BOX
+    case ('sphere')
+      shape_kind = SHAPE_SPHERE
+    case ('half_space')
+      shape_kind = SHAPE_HALF_SPACE
+    case ('cylinder')
+      shape_kind = SHAPE_CYLINDER
+    case default
+      shape_kind = 0
+    end select
+  end function shape_kind
 
   !> True if the point p (length) lies in the shape (boundary included).
   pure logical function shape_inside(sh, p)
