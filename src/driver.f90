@@ -133,14 +133,16 @@ contains
       w0 = wall_seconds()
       call sch%t_lagrange%start()
       bad_particle = 0
+      sch%dt_particle = 0
       if (st%pt%np > 0 .and. cfg%hydro%particles_coupled) then
-        call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell)
+        call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell, &
+                            dt_particle=sch%dt_particle)
       else
         call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell)
       end if
       call sch%t_lagrange%stop()
       sch%step_wall = wall_seconds() - w0
-      sch%dt_by_cell = dt < dt_cap
+      sch%dt_by_cell = dt < dt_cap .and. sch%dt_particle == 0
       if (bad_cell /= 0) call error_set(err, 'lagrange_step', 'cell '//itoa(bad_cell)// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
       if (.not. allocated(err) .and. bad_particle /= 0) call error_set(err, 'particles_step', 'particle '// &

@@ -157,15 +157,17 @@ contains
   !> velocities (&hydro stress_update = 'original', Eqs. 26-27), both with
   !> grad N at x^{n+1/2}, and the stress, volume and density update.
   !> dt as in `lagrange_step`; bad_particle > 0 names a particle whose host
-  !> is inverted at it or whose volume would not stay positive.
-  subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell)
+  !> is inverted at it or whose volume would not stay positive; dt_particle
+  !> the particle whose stable step was taken (0 if the cells or the caller
+  !> set the step).
+  subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell, dt_particle)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
-    integer, intent(out), optional :: dt_cell
-    real(wp) :: dtp, w_ext
+    integer, intent(out), optional :: dt_cell, dt_particle
+    real(wp) :: dtp, w_ext, dt_in
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       if (.not. pw%mass_ready) then
@@ -173,9 +175,11 @@ contains
         pw%mass_ready = .true.
       end if
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, dtp, kp)
+      dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
                          dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle)
+      if (present(dt_particle)) dt_particle = merge(kp, 0, dtp < dt_in .and. .not. dt < dtp)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
       do n = 1, g%nnode

@@ -27,12 +27,10 @@
 !> particle (plastic strain, damage, porosity...: nhist = 0 until a strength
 !> model needs them; allocated (0, np) then).
 !>
-!> Hooks for later issues (not built yet): nodal mass and force of Eqs.
-!> (16)-(17) from m, vol, stress; g2p velocity and position (Eqs. 23-25);
-!> the virtual-grid stress update (Eqs. 29-32) writing stress and hist;
-!> volume and density from the virtual velocity gradient (§1.10); the
-!> Euler-phase re-location (Remark 2) rewriting cell, xi and calling
-!> `particles_bin`.
+!> The Lagrangian phase (Eqs. 16-17, 23-25, 29-32, §1.10) is in
+!> `particles_lagrange`; it writes x, v, vol, rho, stress and hist. Hook for
+!> a later step (not built yet): the Euler-phase re-location (Remark 2)
+!> rewriting cell, xi, mvf and calling `particles_bin`.
 module particles_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
