@@ -10,11 +10,12 @@
 !> Euler step with particles yet, so the Lagrangian phase is the whole run),
 !> one history variable (plastic strain), the strength model of each solid
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
-!> (PARTICLES.md §1.7-1.11). Not built yet (next steps of issue 14): the
-!> Euler phase with particles (Remark 2), the energy accounting of §1.12
-!> (the conservation report counts neither the particles' kinetic and
-!> internal energy nor their share of the nodal mass), the trial stress at
-!> n+1/2 for the corrector, the nodal time-step guard of §1.11 (risk R1), a
+!> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
+!> built yet (next steps of issue 14): the Euler phase with particles
+!> (Remark 2), the energy accounting of §1.12 (the conservation report
+!> counts neither the particles' kinetic and internal energy nor their
+!> share of the nodal mass), the trial stress at n+1/2 for the corrector,
+!> the (1 - theta_c) scaling of the virtual fluid's viscosity (§1.7), a
 !> solid EOS.
 module driver_particles
   use base_kinds, only: wp
@@ -174,7 +175,7 @@ contains
         call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
         pw%mass_ready = .true.
       end if
-      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, dtp, kp)
+      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp)
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &

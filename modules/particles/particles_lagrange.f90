@@ -349,16 +349,24 @@ contains
   !> Stable step of the particles (§1.11): min_p cfl L_c/(c_p + |v_p|), L_c
   !> the host cell's volume over its largest median-surface area (grid x),
   !> c_p^2 = (K + 4G/3)/rho_p; huge if there are none. kmin: the particle
-  !> that sets it.
-  subroutine particles_stable_dt(g, x, p, models, cfl, dt, kmin)
+  !> that sets it (the host particle of the node when the guard below does).
+  !>
+  !> Guard for light nodes next to stiff particles (§1.11, risk R1): at each
+  !> node, dt_I = 2 cfl sqrt(m_I/k_I) with m_I = mnode + mp (the coupled
+  !> nodal mass) and k_I = sum_p V_p (K + 4G/3)_p |grad N_Ip|^2 (Gershgorin
+  !> bound of the particles' stiffness at the node); k_I is summed in the
+  !> cell colours, so the result does not depend on the thread count. kw
+  !> (nnode) is work.
+  subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin)
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: x(:, :), cfl
+    real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
     type(particles_t), intent(in) :: p
     type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
-    integer :: k, a, n0
-    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q
+    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
     dt = huge(1.0_wp)
     kmin = 0
     do k = 1, p%np
@@ -375,5 +383,55 @@ contains
         kmin = k
       end if
     end do
+    ! the nodal guard
+    kw = 0.0_wp
+    do col = 0, 7
+      !$omp parallel do default(none) shared(g, p, x, models, kw, col) &
+      !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
+      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
+      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
+      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+        c = g%cell(ci, cj, ck)
+        n0 = g%cell_node0(ci, cj, ck)
+        if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+        do a = 1, 8
+          xn(:, a) = x(:, n0 + g%corner_offset(a))
+        end do
+        do q = p%cell_start(c), p%cell_start(c + 1) - 1
+          k = p%perm(q)
+          call particles_gradients(xn, p%xi(:, k), gradn, detj)
+          mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
+          do a = 1, 8
+            kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
+          end do
+        end do
+      end do
+      end do
+      end do
+      !$omp end parallel do
+    end do
+    do n = 1, size(kw)
+      if (.not. kw(n) > 0.0_wp) cycle
+      dtk = 2.0_wp*cfl*sqrt((mnode(n) + mp(n))/kw(n))
+      if (dtk < dt) then
+        dt = dtk
+        kmin = node_particle(n)
+      end if
+    end do
+  contains
+    !> A particle whose host has node n as a corner (the first in array order).
+    integer function node_particle(n) result(kp)
+      integer, intent(in) :: n
+      integer :: j, b
+      kp = 0
+      do j = 1, p%np
+        do b = 1, 8
+          if (g%node0(p%cell(j)) + g%corner_offset(b) == n) then
+            kp = j
+            return
+          end if
+        end do
+      end do
+    end function node_particle
   end subroutine particles_stable_dt
 end module particles_lagrange
