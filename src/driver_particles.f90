@@ -14,7 +14,7 @@
 !> built yet (next steps of issue 14): the Euler phase with particles
 !> (Remark 2), the energy accounting of §1.12 (the conservation report
 !> counts neither the particles' kinetic and internal energy nor their
-!> share of the nodal mass), the trial stress at n+1/2 for the corrector,
+!> share of the nodal mass),
 !> the (1 - theta_c) scaling of the virtual fluid's viscosity (§1.7), a
 !> solid EOS.
 module driver_particles
@@ -145,7 +145,7 @@ contains
       end associate
       if (allocated(err)) return
     end do
-    call particles_work_init(st%pw, st%g%nnode, st%pt%np, err)
+    call particles_work_init(st%pw, st%g%nnode, st%pt%np, st%pt%nhist, err)
   end subroutine couple_particles
 
   !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the

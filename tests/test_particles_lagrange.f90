@@ -143,7 +143,7 @@ contains
     real(wp) :: lin(3, 3), lgrad(3, 3, 8)
     integer :: k
     call one_cell(g, p)
-    call particles_work_init(w, g%nnode, p%np, err)
+    call particles_work_init(w, g%nnode, p%np, p%nhist, err)
     lin = reshape([0.1_wp, -0.3_wp, 0.2_wp, 0.5_wp, 0.05_wp, -0.4_wp, 0.7_wp, 0.0_wp, -0.2_wp], [3, 3])
     do k = 1, p%np
       w%vh(:, k) = [1.0_wp, 2.0_wp, 3.0_wp] + matmul(lin, p%x(:, k))

@@ -28,7 +28,7 @@ module particles_lagrange
   private
   public :: particles_work_t, strength_slot_t, particles_work_init, particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
-            particles_stress_update, particles_stable_dt, mass_guard
+            particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
@@ -51,25 +51,31 @@ module particles_lagrange
     real(wp), allocatable :: xh(:, :)           !< (3, nnode) x^{n+1/2}
     real(wp), allocatable :: vh(:, :)           !< (3, np) particle v^{n+1/2} (Eq. 24)
     real(wp), allocatable :: lgrad(:, :, :)     !< (3, 3, np) velocity gradient L_ij = dv_i/dx_j
+    real(wp), allocatable :: stress_h(:, :)     !< (6, np) trial stress at n+1/2 (corrector)
+    real(wp), allocatable :: hist_h(:, :)       !< (nhist, np) trial history at n+1/2
+    real(wp), allocatable :: vol_h(:), rho_h(:) !< (np) trial volume and density at n+1/2
     type(strength_slot_t), allocatable :: models(:)  !< (nsolid) strength models
   end type particles_work_t
 
 contains
 
-  !> Allocates the work arrays for nnode nodes and np particles.
-  subroutine particles_work_init(w, nnode, np, err)
+  !> Allocates the work arrays for nnode nodes and np particles with nhist
+  !> history variables each.
+  subroutine particles_work_init(w, nnode, np, nhist, err)
     type(particles_work_t), intent(inout) :: w
-    integer, intent(in) :: nnode, np
+    integer, intent(in) :: nnode, np, nhist
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
     character(len=200) :: msg
     allocate(w%mp(nnode), w%f(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%vh(3, np), &
-             w%lgrad(3, 3, np), stat=stat, errmsg=msg)
+             w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
+             stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
       return
     end if
     w%mp = 0.0_wp; w%f = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%vh = 0.0_wp; w%lgrad = 0.0_wp
+    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp
     w%mass_ready = .false.
   end subroutine particles_work_init
 
@@ -145,11 +151,27 @@ contains
   !> The particles' nodal force (Eq. 17): f_I = -sum_p V_p (sigma_p + P_c I)
   !> . grad N_Ip, grad N in the grid x (3, nnode), P_c = pcell of the host
   !> (the virtual fluid's stress -P_c I that the corner forces already put on
-  !> the particle's volume). bad: the first particle whose host has det J <= 0
-  !> at it (0 if none).
-  subroutine particles_nodal_force(g, x, p, pcell, f, bad)
+  !> the particle's volume), with the particles' stress and volume, or with
+  !> `stress` (6, np) and `vol` (np) if given (the trial state at n+1/2).
+  !> bad: the first particle whose host has det J <= 0 at it (0 if none).
+  subroutine particles_nodal_force(g, x, p, pcell, f, bad, stress, vol)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), pcell(:)
+    type(particles_t), intent(in) :: p
+    real(wp), intent(out) :: f(:, :)
+    integer, intent(out) :: bad
+    real(wp), intent(in), optional :: stress(:, :), vol(:)
+    if (present(stress) .and. present(vol)) then
+      call force_kernel(g, x, p, stress, vol, pcell, f, bad)
+    else
+      call force_kernel(g, x, p, p%stress, p%vol, pcell, f, bad)
+    end if
+  end subroutine particles_nodal_force
+
+  !> The loop of `particles_nodal_force` (module notes: cell colours).
+  subroutine force_kernel(g, x, p, stress, vol, pcell, f, bad)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), pcell(:), stress(:, :), vol(:)
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :)
     integer, intent(out) :: bad
@@ -158,7 +180,7 @@ contains
     f = 0.0_wp
     bad = huge(1)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, x, pcell, f, col) &
+      !$omp parallel do default(none) shared(g, p, x, pcell, f, col, stress, vol) &
       !$omp private(ci, cj, ck, c, q, k, a, n, n0, xn, gradn, detj, s) reduction(min: bad) collapse(2) schedule(static)
       do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
       do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
@@ -173,13 +195,13 @@ contains
           k = p%perm(q)
           call particles_gradients(xn, p%xi(:, k), gradn, detj)
           if (.not. detj > 0.0_wp) bad = min(bad, k)
-          s = p%stress(:, k)
+          s = stress(:, k)
           s(1:3) = s(1:3) + pcell(c)
           do a = 1, 8
             n = n0 + g%corner_offset(a)
-            f(1, n) = f(1, n) - p%vol(k)*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
-            f(2, n) = f(2, n) - p%vol(k)*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
-            f(3, n) = f(3, n) - p%vol(k)*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
+            f(1, n) = f(1, n) - vol(k)*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
+            f(2, n) = f(2, n) - vol(k)*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
+            f(3, n) = f(3, n) - vol(k)*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
           end do
         end do
       end do
@@ -188,7 +210,7 @@ contains
       !$omp end parallel do
     end do
     if (bad == huge(1)) bad = 0
-  end subroutine particles_nodal_force
+  end subroutine force_kernel
 
   !> Particle velocity and position from the nodes (Eqs. 23-25): with the
   !> nodal increments du_I = u_I^{n+1} - u_I^n = dt a_I,
@@ -300,10 +322,23 @@ contains
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     integer, intent(out) :: bad
+    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad)
+  end subroutine particles_stress_update
+
+  !> `particles_stress_update` on given arrays (stress (6, np), hist
+  !> (nhist, np), vol, rho (np)) of particles sorted by solid (mat_start) with
+  !> masses m: the trial state at n+1/2 is updated so, on copies.
+  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad)
+    integer, intent(in) :: mat_start(:)
+    real(wp), intent(in) :: m(:)
+    type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(in) :: lgrad(:, :, :), dt
+    real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:)
+    integer, intent(out) :: bad
     integer :: s
     bad = huge(1)
-    do s = 1, p%nsolid
-      call update_range(models(s)%m, p%mat_start(s), p%mat_start(s + 1) - 1)
+    do s = 1, size(mat_start) - 1
+      call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
     end do
     if (bad == huge(1)) bad = 0
   contains
@@ -317,17 +352,42 @@ contains
         f = lgrad(:, :, k)*dt
         deps = 0.5_wp*(f + transpose(f))
         dw = 0.5_wp*(f - transpose(f))
-        call model%update(deps, dw, p%stress(:, k), p%hist(:, k))
+        call model%update(deps, dw, stress(:, k), hist(:, k))
         detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
         if (.not. detf > 0.0_wp) then
           bad = min(bad, k)
           cycle
         end if
-        p%vol(k) = p%vol(k)*detf
-        p%rho(k) = p%m(k)/p%vol(k)
+        vol(k) = vol(k)*detf
+        rho(k) = m(k)/vol(k)
       end do
     end subroutine update_range
-  end subroutine particles_stress_update
+  end subroutine particles_stress_arrays
+
+  !> Particle velocities at n+1/2 predicted from the nodes' predictor
+  !> velocities u* (Eq. 24 with the predicted accelerations, PARTICLES.md
+  !> §1.8 step 2): vh = v_p^n + 1/2 sum_I (u*_I - u^n_I) N_Ip; the particles
+  !> are not changed.
+  subroutine particles_half_velocity(g, p, un, u, vh)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: un(:, :), u(:, :)
+    real(wp), intent(out) :: vh(:, :)
+    integer :: k, a, n, n0
+    real(wp) :: sh(8), dv(3)
+    !$omp parallel do default(none) shared(g, p, un, u, vh) private(k, a, n, n0, sh, dv) schedule(static)
+    do k = 1, p%np
+      sh = particles_shape_values(p%xi(:, k))
+      n0 = g%node0(p%cell(k))
+      dv = 0.0_wp
+      do a = 1, 8
+        n = n0 + g%corner_offset(a)
+        dv = dv + sh(a)*(u(:, n) - un(:, n))
+      end do
+      vh(:, k) = p%v(:, k) + 0.5_wp*dv
+    end do
+    !$omp end parallel do
+  end subroutine particles_half_velocity
 
   !> I + sgn f/2.
   pure function half_step(f, sgn) result(a)
