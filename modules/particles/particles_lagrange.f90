@@ -425,7 +425,7 @@ contains
     real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
-    integer :: k, a, n0, n, col, ci, cj, ck, c, q
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
     dt = huge(1.0_wp)
     kmin = 0
@@ -470,14 +470,16 @@ contains
       end do
       !$omp end parallel do
     end do
+    nmin = 0
     do n = 1, size(kw)
       if (.not. kw(n) > 0.0_wp) cycle
       dtk = 2.0_wp*cfl*sqrt((mnode(n) + mp(n))/kw(n))
       if (dtk < dt) then
         dt = dtk
-        kmin = node_particle(n)
+        nmin = n
       end if
     end do
+    if (nmin > 0) kmin = node_particle(nmin)
   contains
     !> A particle whose host has node n as a corner (the first in array order).
     integer function node_particle(n) result(kp)
