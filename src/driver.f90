@@ -12,6 +12,7 @@ module driver
   use base_timers, only: wall_seconds
   use base_exit, only: exit_guard_install
   use lagrange_integrator, only: lagrange_step
+  use driver_particles, only: particles_step
   use io_log, only: log_t, log_line, log_error
   use io_gauges, only: gauges_close
   use io_hdf5, only: hdf5_stop, hdf5_version
@@ -118,7 +119,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
     real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap
-    integer :: bad_cell
+    integer :: bad_cell, bad_particle
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
@@ -131,12 +132,22 @@ contains
       dt_cap = dt
       w0 = wall_seconds()
       call sch%t_lagrange%start()
-      call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell)
+      bad_particle = 0
+      sch%dt_particle = 0
+      if (st%pt%np > 0 .and. cfg%hydro%particles_coupled) then
+        call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell, &
+                            dt_particle=sch%dt_particle)
+      else
+        call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell)
+      end if
       call sch%t_lagrange%stop()
       sch%step_wall = wall_seconds() - w0
-      sch%dt_by_cell = dt < dt_cap
+      sch%dt_by_cell = dt < dt_cap .and. sch%dt_particle == 0
       if (bad_cell /= 0) call error_set(err, 'lagrange_step', 'cell '//itoa(bad_cell)// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
+      if (.not. allocated(err) .and. bad_particle /= 0) call error_set(err, 'particles_step', 'particle '// &
+        itoa(bad_particle)//' (id '//itoa(st%pt%id(bad_particle))//') has an inverted host cell or a '// &
+        'non-positive volume at t = '//rtoa(st%t), ERR_RUNTIME)
       if (.not. allocated(err) .and. dt < cfg%control%dt_min) call error_set(err, 'time_loop', &
         'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//') at t = '// &
         rtoa(st%t)//', set by '//step_limit_text(st, sch), ERR_RUNTIME)

@@ -40,6 +40,7 @@ module driver_output
     real(wp) :: t_next_history = huge(1.0_wp)      !< time of the next history row
     integer :: dt_cell = 0                         !< cell with the smallest stable step (0: none)
     logical :: dt_by_cell = .false.                !< that cell set the last step (else the controller did)
+    integer :: dt_particle = 0                     !< the particle whose stable step set the last step (0: none)
   end type schedule_t
 
 contains
@@ -370,7 +371,10 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
     character(len=:), allocatable :: text
-    if (sch%dt_cell < 1 .or. sch%dt_cell > st%g%ncell) then
+    if (sch%dt_particle > 0 .and. sch%dt_particle <= st%pt%np) then
+      text = 'particle '//itoa(sch%dt_particle)//' (id '//itoa(st%pt%id(sch%dt_particle))//', solid '// &
+             itoa(st%pt%mat(sch%dt_particle))//', cell '//cell_text(st, st%pt%cell(sch%dt_particle))//')'
+    else if (sch%dt_cell < 1 .or. sch%dt_cell > st%g%ncell) then
       text = 'controller'
     else if (sch%dt_by_cell) then
       text = 'cell '//cell_text(st, sch%dt_cell)

@@ -5,10 +5,18 @@
 !> given its solid, density, initial velocity and stress and body id, then
 !> all sorted by solid and host cell and binned (`particles_order`).
 !>
-!> Not coupled yet (hooks for the next steps of issue 14): the particles do
-!> not enter the nodal mass and force (Eqs. 16-17), do not move (Eqs.
-!> 23-25) and are not re-located after an Euler step (Remark 2); they are
-!> written in every frame and restart.
+!> Coupled particles (&hydro particles = 'coupled', the default) also get
+!> their virtual-fluid mass m'_p = host density x V_p (frozen: there is no
+!> Euler step with particles yet, so the Lagrangian phase is the whole run),
+!> one history variable (plastic strain), the strength model of each solid
+!> and the coupling work arrays; `particles_step` is their Lagrangian step
+!> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
+!> built yet (next steps of issue 14): the Euler phase with particles
+!> (Remark 2), the energy accounting of §1.12 (the conservation report
+!> counts neither the particles' kinetic and internal energy nor their
+!> share of the nodal mass),
+!> the (1 - theta_c) scaling of the virtual fluid's viscosity (§1.7), a
+!> solid EOS.
 module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
@@ -18,13 +26,18 @@ module driver_particles
   use particles_shape, only: particles_locate
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order
+  use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
+                                particles_virtual_grid, particles_velocity_gradients, particles_stress_update
+  use strength_models, only: strength_create
+  use mesh_boundary, only: bc_constrain
+  use lagrange_integrator, only: lagrange_step
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
   use driver_state, only: state_t
   implicit none
   private
-  public :: build_particles
+  public :: build_particles, particles_step
 
   !> One seeded group before assembly.
   type :: seeded_t
@@ -70,7 +83,7 @@ contains
         np = np + size(gr%cell)
       end associate
     end do
-    call particles_allocate(st%pt, np, size(cfg%solids), 0, err)
+    call particles_allocate(st%pt, np, size(cfg%solids), merge(1, 0, cfg%hydro%particles_coupled), err)
     if (allocated(err)) return
     q = 0
     do k = 1, size(cfg%particles)
@@ -103,9 +116,86 @@ contains
     end do
     call particles_order(st%pt, st%g%ncell, err)
     if (allocated(err)) return
+    if (cfg%hydro%particles_coupled) call couple_particles(cfg, st, err)
+    if (allocated(err)) return
     call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count(cell_used(st%pt, st%g%ncell)))// &
                   ' host cells, '//itoa(size(cfg%solids))//' solid(s)')
   end subroutine build_particles
+
+  !> The coupling of the particles (module notes): virtual-fluid masses
+  !> (Eq. 16, §1.7), strength models, work arrays.
+  subroutine couple_particles(cfg, st, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, s, stat
+    character(len=200) :: msg
+    allocate(st%pt%mvf(st%pt%np), st%pw%models(size(cfg%solids)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'couple_particles', 'cannot allocate: '//trim(msg))
+      return
+    end if
+    do k = 1, st%pt%np
+      st%pt%mvf(k) = st%h%rho(st%pt%cell(k))*st%pt%vol(k)
+    end do
+    do s = 1, size(cfg%solids)
+      associate (sc => cfg%solids(s))
+        call strength_create(sc%strength, sc%bulk_modulus, sc%shear_modulus, sc%yield_stress, sc%tangent_modulus, &
+                             st%pw%models(s)%m, err)
+      end associate
+      if (allocated(err)) return
+    end do
+    call particles_work_init(st%pw, st%g%nnode, st%pt%np, st%pt%nhist, err)
+  end subroutine couple_particles
+
+  !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the
+  !> particles' share of the nodal mass (once per phase: here once per run
+  !> or restart, from the frozen m'_p), their stable step (§1.11) on top of
+  !> the cells', the predictor-corrector with their forces (Eq. 17,
+  !> `lagrange_step`), then their velocity and position (Eqs. 23-25), the
+  !> strain and spin increments on the virtual solid grid (Eqs. 29-32, with
+  !> the kinematic conditions applied to it) or from the mixed nodal
+  !> velocities (&hydro stress_update = 'original', Eqs. 26-27), both with
+  !> grad N at x^{n+1/2}, and the stress, volume and density update.
+  !> dt as in `lagrange_step`; bad_particle > 0 names a particle whose host
+  !> is inverted at it or whose volume would not stay positive; dt_particle
+  !> the particle whose stable step was taken (0 if the cells or the caller
+  !> set the step).
+  subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell, dt_particle)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    real(wp), intent(inout) :: dt
+    real(wp), intent(out) :: work
+    integer, intent(out) :: bad_cell, bad_particle
+    integer, intent(out), optional :: dt_cell, dt_particle
+    real(wp) :: dtp, w_ext, dt_in
+    integer :: kp, n
+    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
+      if (.not. pw%mass_ready) then
+        call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
+        pw%mass_ready = .true.
+      end if
+      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp)
+      dt_in = dt
+      dt = min(dt, dtp)
+      call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
+                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle)
+      if (present(dt_particle)) dt_particle = merge(kp, 0, dtp < dt_in .and. .not. dt < dtp)
+      if (bad_cell /= 0 .or. bad_particle /= 0) return
+      call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
+      do n = 1, g%nnode
+        pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
+      end do
+      if (cfg%hydro%stress_decoupled) then
+        call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
+        call bc_constrain(st%bc, pw%vs)
+        call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
+      else
+        call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
+      end if
+      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle)
+    end associate
+  end subroutine particles_step
 
   !> Which cells host particles.
   function cell_used(p, ncell) result(used)

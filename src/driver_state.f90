@@ -12,6 +12,7 @@ module driver_state
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
+  use particles_lagrange, only: particles_work_t
   use io_output, only: totals_t
   implicit none
   private
@@ -25,6 +26,7 @@ module driver_state
     type(material_t), allocatable :: mats(:)
     type(mixed_t) :: mx
     type(particles_t) :: pt               !< MPM particles (np = 0, nothing allocated, without &particles)
+    type(particles_work_t) :: pw          !< their coupling work arrays and strength models (if coupled)
     real(wp) :: t = 0.0_wp                !< time
     real(wp) :: dt = 0.0_wp               !< last step
     integer :: step = 0

@@ -24,15 +24,17 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
     real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
-    character(len=16) :: viscosity
+    character(len=16) :: viscosity, particles, stress_update
     integer :: ios
     character(len=max_line) :: msg
-    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
     hourglass = defaults%hourglass; dv_max = defaults%dv_max; relax = defaults%relax
     dv_vf_min = defaults%dv_vf_min
+    particles = merge('coupled', 'inert  ', defaults%particles_coupled)
+    stress_update = merge('decoupled', 'original ', defaults%stress_decoupled)
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -43,6 +45,21 @@ contains
     case ('edge'); par%viscosity = VISC_EDGE
     case default
       call problem_add(problems, '&hydro: viscosity = '''//trim(viscosity)//''' is not known; valid: tensor, edge')
+    end select
+    call problem_long(problems, 'hydro', 'particles', particles)
+    call problem_long(problems, 'hydro', 'stress_update', stress_update)
+    select case (trim(particles))
+    case ('coupled'); par%particles_coupled = .true.
+    case ('inert'); par%particles_coupled = .false.
+    case default
+      call problem_add(problems, '&hydro: particles = '''//trim(particles)//''' is not known; valid: coupled, inert')
+    end select
+    select case (trim(stress_update))
+    case ('decoupled'); par%stress_decoupled = .true.
+    case ('original'); par%stress_decoupled = .false.
+    case default
+      call problem_add(problems, '&hydro: stress_update = '''//trim(stress_update)// &
+                       ''' is not known; valid: decoupled, original')
     end select
     if (q_linear < 0.0_wp) call problem_bad(problems, 'hydro', 'q_linear', q_linear, 'must be >= 0')
     if (q_quad < 0.0_wp) call problem_bad(problems, 'hydro', 'q_quad', q_quad, 'must be >= 0')

@@ -13,11 +13,14 @@ module lagrange_integrator
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
-  use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
+  use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
   use material_table, only: material_t, material_eval_eos
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use lagrange_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
+  use particles_state, only: particles_t
+  use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_half_velocity, &
+                                particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -62,13 +65,24 @@ contains
   !> kinematic boundary on f_ext is boundary work, as for the corner forces.
   !> Without f_ext and m_ext the step is unchanged bit for bit.
   !>
+  !> Coupled MPM particles (`pt` with its work arrays `pw`, instead of f_ext
+  !> and m_ext): pw%mp, their share of the nodal mass (Eq. 16, frozen for the
+  !> phase), is the extra mass, and their force (Eq. 17) is evaluated in each
+  !> stage with the host pressure and grad N of the stage: sigma^n, V^n
+  !> (x^n and p^n in the predictor, x^{n+1/2} and p^{n+1/2} in the
+  !> corrector), the corrector's with the particles' trial stress and volume
+  !> at n+1/2 (`particle_trial_state`, PARTICLES.md §1.8 step 2).
+  !> `bad_particle` (0 if none) names a particle whose host has det J <= 0
+  !> at it or whose trial volume is not positive.
+  !>
   !> Mixed cells: the stable step holds each material's volume change to
   !> dv_max of itself (`mixed_volume_gain`), and the closure shares the
   !> volume and energy changes in both stages. Their interface planes
   !> (natural coordinates) follow the grid untouched; the centroids that
   !> follow from them and the new fractions are computed where they are
   !> read (`lagrange_centroids`).
-  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell)
+  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell, pt, pw, &
+                           bad_particle)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -82,7 +96,16 @@ contains
     real(wp), intent(in), optional :: m_ext(:)
     real(wp), intent(out), optional :: work_ext
     integer, intent(out), optional :: dt_cell
+    type(particles_t), intent(in), optional :: pt
+    type(particles_work_t), intent(inout), optional :: pw
+    integer, intent(out), optional :: bad_particle
     real(wp) :: dt_stable, w_pred
+    integer :: badp
+
+    if (present(pt) .and. present(pw)) then
+      call particle_step(pt, pw)
+      return
+    end if
 
     if (present(work_ext)) work_ext = 0.0_wp
     ! predictor
@@ -111,6 +134,75 @@ contains
     call lagrange_update_cells(g, h, dt, bad_cell)
     if (bad_cell /= 0) return
     call update_materials(h, mats, mx, par)
+  contains
+    !> The step with coupled particles (notes above).
+    subroutine particle_step(pt, pw)
+      type(particles_t), intent(in) :: pt
+      type(particles_work_t), intent(inout) :: pw
+      if (present(bad_particle)) bad_particle = 0
+      if (present(work_ext)) work_ext = 0.0_wp
+      call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
+      call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
+      dt = min(dt, dt_stable)
+      call save_step_start(g, h)
+      call mixed_save_step_start(mx, h%vol)
+      call bc_pressure_forces(bc, g, g%x, h%p)
+      call lagrange_corner_forces(g, g%x, h%u, h, par)
+      call particles_nodal_force(g, g%x, pt, h%p, pw%f, badp)
+      if (present(bad_particle)) bad_particle = badp
+      call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
+      call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
+      call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
+      if (bad_cell /= 0) return
+      call update_materials(h, mats, mx, par)
+      call particle_trial_state(pt, pw)
+      call bc_pressure_forces(bc, g, g%x, h%p)
+      call lagrange_corner_forces(g, g%x, h%uh, h, par)
+      call particles_nodal_force(g, g%x, pt, h%p, pw%f, badp, pw%stress_h, pw%vol_h)
+      if (present(bad_particle)) then
+        if (bad_particle == 0) bad_particle = badp
+      end if
+      call update_nodes(g, h, dt, dt, pw%f, pw%mp)
+      call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, pw%mp)
+      if (present(work_ext)) work_ext = dt*node_work(pw%f, h%uh)
+      call lagrange_update_cells(g, h, dt, bad_cell)
+      if (bad_cell /= 0) return
+      call update_materials(h, mats, mx, par)
+    end subroutine particle_step
+
+    !> The particles' trial state at n+1/2 for the corrector (PARTICLES.md
+    !> §1.8 step 2), on copies: velocities from the predicted nodal
+    !> accelerations, strain and spin increments over dt/2 from the virtual
+    !> solid grid (or the predictor's nodal velocities u*^{1/2}, original
+    !> scheme) with grad N at x^{n+1/4}, the constitutive update. Without it
+    !> the corrector's particle forces would use sigma^n, and an undamped
+    !> elastic wave would grow (the amplification of x' = x + h v', v' = v - h x
+    !> with the trapezoid velocity has determinant 1 + h^2/2).
+    subroutine particle_trial_state(pt, pw)
+      type(particles_t), intent(in) :: pt
+      type(particles_work_t), intent(inout) :: pw
+      integer :: n, bad_h
+      do n = 1, g%nnode
+        pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
+      end do
+      if (par%stress_decoupled) then
+        call particles_half_velocity(g, pt, h%un, h%u, pw%vh)
+        call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
+        call bc_constrain(bc, pw%vs)
+        call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
+      else
+        call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
+      end if
+      pw%stress_h = pt%stress
+      pw%hist_h = pt%hist
+      pw%vol_h = pt%vol
+      pw%rho_h = pt%rho
+      call particles_stress_arrays(pt%mat_start, pt%m, pw%models, pw%lgrad, 0.5_wp*dt, pw%stress_h, pw%hist_h, &
+                                   pw%vol_h, pw%rho_h, bad_h)
+      if (present(bad_particle)) then
+        if (bad_particle == 0) bad_particle = bad_h
+      end if
+    end subroutine particle_trial_state
   end subroutine lagrange_step
 
   !> sum_n f(:,n) . u(:,n), in node order (force x velocity).

@@ -38,6 +38,12 @@ module lagrange_state
     real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
     real(wp) :: dt_max = huge(1.0_wp) !< largest step
     real(wp) :: relax = 1.0_wp        !< mixed-cell pressure relaxation per step, (0, 1]
+    !> particles coupled to the grid (Eqs. 16-17, 23-25, 29-32), or inert
+    !> (seeded and written only: they neither move nor act on the gas)
+    logical :: particles_coupled = .true.
+    !> strain increments of the particles from the virtual solid grid (Eqs.
+    !> 29-32, 'decoupled') or from the mixed nodal velocities (Eqs. 26-27)
+    logical :: stress_decoupled = .true.
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.

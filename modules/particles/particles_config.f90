@@ -7,10 +7,10 @@
 !> EOS with its parameters, or 'none': pressure from the bulk modulus), the
 !> elastic moduli (bulk and shear, or Young's modulus and Poisson's ratio)
 !> and a strength model: 'elastic' or 'bilinear' (linear hardening from
-!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2). The values are
-!> stored only: the strength models, the stress update (Eqs. 29-32) and the
-!> pressure come with the next issue, through a strength factory that will
-!> own `strength_names`.
+!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2), a name of the
+!> strength factory's list (`strength_models::strength_names`). Coupled
+!> particles use K, G and the model (`strength_create`); a solid EOS is
+!> refused with coupled particles for now (the driver's deck check).
 !>
 !> &particles: a shape (box, sphere, cylinder, all, or file: a text file of
 !> points), particles per cell per direction, the solid, density (default
@@ -25,13 +25,12 @@ module particles_config
                          diff_i, diff_r, diff_s, name_index
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
+  use strength_models, only: strength_names
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
             strength_names, max_per_cell
 
-  !> The strength models a &solid may name (stored now; the models come later).
-  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
   !> Most particles per cell per direction (per_cell^3 per cell).
   integer, parameter :: max_per_cell = 16
   !> poisson_ratio's "not given" (outside its valid range (-1, 0.5)).

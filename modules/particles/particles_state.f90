@@ -27,12 +27,10 @@
 !> particle (plastic strain, damage, porosity...: nhist = 0 until a strength
 !> model needs them; allocated (0, np) then).
 !>
-!> Hooks for later issues (not built yet): nodal mass and force of Eqs.
-!> (16)-(17) from m, vol, stress; g2p velocity and position (Eqs. 23-25);
-!> the virtual-grid stress update (Eqs. 29-32) writing stress and hist;
-!> volume and density from the virtual velocity gradient (§1.10); the
-!> Euler-phase re-location (Remark 2) rewriting cell, xi and calling
-!> `particles_bin`.
+!> The Lagrangian phase (Eqs. 16-17, 23-25, 29-32, §1.10) is in
+!> `particles_lagrange`; it writes x, v, vol, rho, stress and hist. Hook for
+!> a later step (not built yet): the Euler-phase re-location (Remark 2)
+!> rewriting cell, xi, mvf and calling `particles_bin`.
 module particles_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
@@ -61,6 +59,10 @@ module particles_state
     real(wp), allocatable :: rho(:)          !< density m/vol
     real(wp), allocatable :: stress(:, :)    !< (6, np) Cauchy stress, Voigt xx, yy, zz, yz, xz, xy
     real(wp), allocatable :: hist(:, :)      !< (nhist, np) history variables
+    !> (np) virtual-fluid mass m'_p = host density x V_p, frozen for a
+    !> Lagrangian phase (PARTICLES.md §1.7); allocated only when the particles
+    !> are coupled to the grid (&hydro particles = 'coupled')
+    real(wp), allocatable :: mvf(:)
     integer, allocatable :: mat_start(:)     !< (nsolid+1) material s: mat_start(s) .. mat_start(s+1)-1
     integer, allocatable :: cell_start(:)    !< (ncell+1) CSR of the particles by host cell
     integer, allocatable :: perm(:)          !< (np) particle indices, cell by cell
@@ -136,6 +138,7 @@ contains
     p%rho = p%rho(order)
     p%stress = p%stress(:, order)
     p%hist = p%hist(:, order)
+    if (allocated(p%mvf)) p%mvf = p%mvf(order)
     call particles_index(p, ncell, err)
   end subroutine particles_order
 
@@ -235,6 +238,7 @@ contains
     call reg%add('particle_density', 'mass/length^3', LOC_PARTICLE, p%rho, lower=LOWER_POSITIVE)
     call reg%add('particle_stress', 'mass/(length*time^2)', LOC_PARTICLE, p%stress)
     if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
+    if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf)
   end subroutine particles_register_restart
 
   !> The particles' indices after a restart read: host cells in 1..ncell,

@@ -1,0 +1,499 @@
+!> The particles in the Lagrangian phase (PARTICLES.md §1.6-1.11): their
+!> share of the nodal mass and force (Eqs. 16-17), velocity and position
+!> from the nodes (Eqs. 23-25 with constant natural coordinates), the strain
+!> and spin increments from the virtual solid grid (Eqs. 29-32) or from the
+!> mixed nodal velocities (original scheme, Eqs. 26-27), the stress update
+!> through the strength models, volume and density (§1.10) and the stable
+!> step (§1.11).
+!>
+!> Determinism (1 and 2 threads bit-identical): every particle-to-node sum
+!> loops over the cells in 8 colours (parity of i, j, k; cells of one colour
+!> share no node), the cells of a colour in parallel, the particles of a
+!> cell in array order (the CSR binning of `particles_state`). A node's sum
+!> is therefore always taken in the same order, whatever the thread count.
+!>
+!> Shape-function gradients (§1.6): grad N_a = J^{-T} dN_a/dxi with
+!> J_ij = sum_a x_a,i dN_a/dxi_j at the particle's xi, in the configuration
+!> the caller passes (x^n in the predictor, x^{n+1/2} in the corrector and
+!> for the strain increments).
+module particles_lagrange
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use mesh_grid, only: grid_t
+  use mesh_geometry, only: hex_volume, hex_median_areas
+  use particles_state, only: particles_t
+  use particles_shape, only: particles_shape_values, particles_shape_gradients
+  use strength_models, only: strength_t
+  implicit none
+  private
+  public :: particles_work_t, strength_slot_t, particles_work_init, particles_gradients, particles_nodal_mass, &
+            particles_nodal_force, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
+            particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard
+
+  !> Guard of §1.7: a node's mass is at least mass_guard times its cell
+  !> (virtual-fluid included) plus solid mass.
+  real(wp), parameter :: mass_guard = 1.0e-3_wp
+
+  !> One solid's strength model (a slot, so that an array can hold models of
+  !> different types).
+  type :: strength_slot_t
+    class(strength_t), allocatable :: m
+  end type strength_slot_t
+
+  !> Node work arrays of the coupling, allocated once (nnode) and the
+  !> particles' per-step kinematics (np).
+  type :: particles_work_t
+    logical :: mass_ready = .false.             !< mp holds this phase's particle mass term
+    real(wp), allocatable :: mp(:)              !< (nnode) sum_p (m_p - m'_p) N_Ip, guarded (Eq. 16)
+    real(wp), allocatable :: f(:, :)            !< (3, nnode) particle force (Eq. 17)
+    real(wp), allocatable :: ms(:)              !< (nnode) virtual solid grid mass (Eq. 29)
+    real(wp), allocatable :: vs(:, :)           !< (3, nnode) virtual solid grid velocity (Eq. 30)
+    real(wp), allocatable :: xh(:, :)           !< (3, nnode) x^{n+1/2}
+    real(wp), allocatable :: vh(:, :)           !< (3, np) particle v^{n+1/2} (Eq. 24)
+    real(wp), allocatable :: lgrad(:, :, :)     !< (3, 3, np) velocity gradient L_ij = dv_i/dx_j
+    real(wp), allocatable :: stress_h(:, :)     !< (6, np) trial stress at n+1/2 (corrector)
+    real(wp), allocatable :: hist_h(:, :)       !< (nhist, np) trial history at n+1/2
+    real(wp), allocatable :: vol_h(:), rho_h(:) !< (np) trial volume and density at n+1/2
+    type(strength_slot_t), allocatable :: models(:)  !< (nsolid) strength models
+  end type particles_work_t
+
+contains
+
+  !> Allocates the work arrays for nnode nodes and np particles with nhist
+  !> history variables each.
+  subroutine particles_work_init(w, nnode, np, nhist, err)
+    type(particles_work_t), intent(inout) :: w
+    integer, intent(in) :: nnode, np, nhist
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+    allocate(w%mp(nnode), w%f(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%vh(3, np), &
+             w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
+             stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
+      return
+    end if
+    w%mp = 0.0_wp; w%f = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%vh = 0.0_wp; w%lgrad = 0.0_wp
+    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp
+    w%mass_ready = .false.
+  end subroutine particles_work_init
+
+  !> grad N_a (3, 8) (1/length) at natural coordinates xi of the hex xn(3,8)
+  !> and det J (length^3 per unit natural volume): grad N_a = J^{-T} dN_a/dxi.
+  pure subroutine particles_gradients(xn, xi, gradn, detj)
+    real(wp), intent(in) :: xn(3, 8), xi(3)
+    real(wp), intent(out) :: gradn(3, 8), detj
+    real(wp) :: dn(8, 3), jac(3, 3), cof(3, 3)
+    integer :: a, d
+    dn = particles_shape_gradients(xi)
+    jac = 0.0_wp
+    do d = 1, 3
+      do a = 1, 8
+        jac(:, d) = jac(:, d) + dn(a, d)*xn(:, a)
+      end do
+    end do
+    ! cofactors: J^{-1} = cof^T / det, so J^{-T} = cof / det
+    cof(1, 1) = jac(2, 2)*jac(3, 3) - jac(2, 3)*jac(3, 2)
+    cof(1, 2) = jac(2, 3)*jac(3, 1) - jac(2, 1)*jac(3, 3)
+    cof(1, 3) = jac(2, 1)*jac(3, 2) - jac(2, 2)*jac(3, 1)
+    cof(2, 1) = jac(1, 3)*jac(3, 2) - jac(1, 2)*jac(3, 3)
+    cof(2, 2) = jac(1, 1)*jac(3, 3) - jac(1, 3)*jac(3, 1)
+    cof(2, 3) = jac(1, 2)*jac(3, 1) - jac(1, 1)*jac(3, 2)
+    cof(3, 1) = jac(1, 2)*jac(2, 3) - jac(1, 3)*jac(2, 2)
+    cof(3, 2) = jac(1, 3)*jac(2, 1) - jac(1, 1)*jac(2, 3)
+    cof(3, 3) = jac(1, 1)*jac(2, 2) - jac(1, 2)*jac(2, 1)
+    detj = jac(1, 1)*cof(1, 1) + jac(1, 2)*cof(1, 2) + jac(1, 3)*cof(1, 3)
+    do a = 1, 8
+      gradn(:, a) = matmul(cof, dn(a, :))/detj
+    end do
+  end subroutine particles_gradients
+
+  !> The particles' share of the nodal mass (Eq. 16), mp = sum_p (m_p - mvf_p)
+  !> N_Ip, raised where needed so that mnode + mp >= mass_guard (mnode +
+  !> sum_p m_p N_Ip) (§1.7: the particle quadrature of the virtual fluid can
+  !> exceed the subcell masses in covered cells). mvf: virtual-fluid masses
+  !> m'_p, frozen for the Lagrangian phase. ms is work (nnode).
+  subroutine particles_nodal_mass(g, p, mvf, mnode, mp, ms)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: mvf(:), mnode(:)
+    real(wp), intent(out) :: mp(:), ms(:)
+    integer :: col, ci, cj, ck, c, q, k, a, n0
+    real(wp) :: sh(8)
+    mp = 0.0_wp
+    ms = 0.0_wp
+    do col = 0, 7
+      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, col) private(ci, cj, ck, c, q, k, a, n0, sh) &
+      !$omp collapse(2) schedule(static)
+      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
+      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
+      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+        c = g%cell(ci, cj, ck)
+        n0 = g%cell_node0(ci, cj, ck)
+        do q = p%cell_start(c), p%cell_start(c + 1) - 1
+          k = p%perm(q)
+          sh = particles_shape_values(p%xi(:, k))
+          do a = 1, 8
+            mp(n0 + g%corner_offset(a)) = mp(n0 + g%corner_offset(a)) + (p%m(k) - mvf(k))*sh(a)
+            ms(n0 + g%corner_offset(a)) = ms(n0 + g%corner_offset(a)) + p%m(k)*sh(a)
+          end do
+        end do
+      end do
+      end do
+      end do
+      !$omp end parallel do
+    end do
+    ! the guard of §1.7
+    mp = max(mp, mass_guard*(mnode + ms) - mnode)
+  end subroutine particles_nodal_mass
+
+  !> The particles' nodal force (Eq. 17): f_I = -sum_p V_p (sigma_p + P_c I)
+  !> . grad N_Ip, grad N in the grid x (3, nnode), P_c = pcell of the host
+  !> (the virtual fluid's stress -P_c I that the corner forces already put on
+  !> the particle's volume), with the particles' stress and volume, or with
+  !> `stress` (6, np) and `vol` (np) if given (the trial state at n+1/2).
+  !> bad: the first particle whose host has det J <= 0 at it (0 if none).
+  subroutine particles_nodal_force(g, x, p, pcell, f, bad, stress, vol)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), pcell(:)
+    type(particles_t), intent(in) :: p
+    real(wp), intent(out) :: f(:, :)
+    integer, intent(out) :: bad
+    real(wp), intent(in), optional :: stress(:, :), vol(:)
+    if (present(stress) .and. present(vol)) then
+      call force_kernel(g, x, p, stress, vol, pcell, f, bad)
+    else
+      call force_kernel(g, x, p, p%stress, p%vol, pcell, f, bad)
+    end if
+  end subroutine particles_nodal_force
+
+  !> The loop of `particles_nodal_force` (module notes: cell colours).
+  subroutine force_kernel(g, x, p, stress, vol, pcell, f, bad)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), pcell(:), stress(:, :), vol(:)
+    type(particles_t), intent(in) :: p
+    real(wp), intent(out) :: f(:, :)
+    integer, intent(out) :: bad
+    integer :: col, ci, cj, ck, c, q, k, a, n, n0
+    real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6)
+    f = 0.0_wp
+    bad = huge(1)
+    do col = 0, 7
+      !$omp parallel do default(none) shared(g, p, x, pcell, f, col, stress, vol) &
+      !$omp private(ci, cj, ck, c, q, k, a, n, n0, xn, gradn, detj, s) reduction(min: bad) collapse(2) schedule(static)
+      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
+      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
+      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+        c = g%cell(ci, cj, ck)
+        n0 = g%cell_node0(ci, cj, ck)
+        if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+        do a = 1, 8
+          xn(:, a) = x(:, n0 + g%corner_offset(a))
+        end do
+        do q = p%cell_start(c), p%cell_start(c + 1) - 1
+          k = p%perm(q)
+          call particles_gradients(xn, p%xi(:, k), gradn, detj)
+          if (.not. detj > 0.0_wp) bad = min(bad, k)
+          s = stress(:, k)
+          s(1:3) = s(1:3) + pcell(c)
+          do a = 1, 8
+            n = n0 + g%corner_offset(a)
+            f(1, n) = f(1, n) - vol(k)*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
+            f(2, n) = f(2, n) - vol(k)*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
+            f(3, n) = f(3, n) - vol(k)*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
+          end do
+        end do
+      end do
+      end do
+      end do
+      !$omp end parallel do
+    end do
+    if (bad == huge(1)) bad = 0
+  end subroutine force_kernel
+
+  !> Particle velocity and position from the nodes (Eqs. 23-25): with the
+  !> nodal increments du_I = u_I^{n+1} - u_I^n = dt a_I,
+  !> v_p^{n+1} = v_p^n + sum_I du_I N_Ip (Eq. 23), vh = v_p^n + 1/2 sum_I du_I
+  !> N_Ip (Eq. 24), x_p = sum_I N_Ip x_I^{n+1} (Eq. 25 with constant xi, §1.4).
+  subroutine particles_g2p(g, p, un, u, x, vh)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(inout) :: p
+    real(wp), intent(in) :: un(:, :), u(:, :), x(:, :)
+    real(wp), intent(out) :: vh(:, :)
+    integer :: k, a, n, n0
+    real(wp) :: sh(8), dv(3), xp(3)
+    !$omp parallel do default(none) shared(g, p, un, u, x, vh) private(k, a, n, n0, sh, dv, xp) schedule(static)
+    do k = 1, p%np
+      sh = particles_shape_values(p%xi(:, k))
+      n0 = g%node0(p%cell(k))
+      dv = 0.0_wp
+      xp = 0.0_wp
+      do a = 1, 8
+        n = n0 + g%corner_offset(a)
+        dv = dv + sh(a)*(u(:, n) - un(:, n))
+        xp = xp + sh(a)*x(:, n)
+      end do
+      vh(:, k) = p%v(:, k) + 0.5_wp*dv
+      p%v(:, k) = p%v(:, k) + dv
+      p%x(:, k) = xp
+    end do
+    !$omp end parallel do
+  end subroutine particles_g2p
+
+  !> The virtual solid grid (Eqs. 29-30): ms_I = sum_p m_p N_Ip, vs_I =
+  !> sum_p m_p vh_p N_Ip / ms_I (0 where no particle reaches the node).
+  subroutine particles_virtual_grid(g, p, vh, ms, vs)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: vh(:, :)
+    real(wp), intent(out) :: ms(:), vs(:, :)
+    integer :: col, ci, cj, ck, c, q, k, a, n, n0
+    real(wp) :: sh(8)
+    ms = 0.0_wp
+    vs = 0.0_wp
+    do col = 0, 7
+      !$omp parallel do default(none) shared(g, p, vh, ms, vs, col) private(ci, cj, ck, c, q, k, a, n, n0, sh) &
+      !$omp collapse(2) schedule(static)
+      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
+      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
+      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+        c = g%cell(ci, cj, ck)
+        n0 = g%cell_node0(ci, cj, ck)
+        do q = p%cell_start(c), p%cell_start(c + 1) - 1
+          k = p%perm(q)
+          sh = particles_shape_values(p%xi(:, k))
+          do a = 1, 8
+            n = n0 + g%corner_offset(a)
+            ms(n) = ms(n) + p%m(k)*sh(a)
+            vs(:, n) = vs(:, n) + p%m(k)*sh(a)*vh(:, k)
+          end do
+        end do
+      end do
+      end do
+      end do
+      !$omp end parallel do
+    end do
+    do n = 1, size(ms)
+      if (ms(n) > 0.0_wp) vs(:, n) = vs(:, n)/ms(n)
+    end do
+  end subroutine particles_virtual_grid
+
+  !> Velocity gradient at every particle, L_ij = sum_I v_I,i dN_I/dx_j (Eqs.
+  !> 31-32 with the virtual-grid velocities, Eqs. 26-27 with the mixed nodal
+  !> ones), grad N in the grid x (x^{n+1/2}).
+  subroutine particles_velocity_gradients(g, p, x, v, lgrad)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: x(:, :), v(:, :)
+    real(wp), intent(out) :: lgrad(:, :, :)
+    integer :: k, a, n, n0, j
+    real(wp) :: xn(3, 8), gradn(3, 8), detj
+    !$omp parallel do default(none) shared(g, p, x, v, lgrad) private(k, a, n, n0, j, xn, gradn, detj) schedule(static)
+    do k = 1, p%np
+      n0 = g%node0(p%cell(k))
+      do a = 1, 8
+        xn(:, a) = x(:, n0 + g%corner_offset(a))
+      end do
+      call particles_gradients(xn, p%xi(:, k), gradn, detj)
+      lgrad(:, :, k) = 0.0_wp
+      do a = 1, 8
+        n = n0 + g%corner_offset(a)
+        do j = 1, 3
+          lgrad(:, j, k) = lgrad(:, j, k) + v(:, n)*gradn(j, a)
+        end do
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine particles_velocity_gradients
+
+  !> The stress update of every particle over dt (PARTICLES.md §2.0) with
+  !> the velocity gradients lgrad: deps = sym(L) dt, dw = skew(L) dt, the
+  !> model of the particle's solid (dispatched once per solid: the particles
+  !> are sorted by solid), then V_p *= J and rho_p = m_p/V_p (§1.10), with
+  !> J = det(I + dt L/2)/det(I - dt L/2): L is taken in the mid-step grid
+  !> x^{n+1/2}, so that dx^{n+1} = (I + dt L/2) dx^{n+1/2} and dx^n =
+  !> (I - dt L/2) dx^{n+1/2} and J is the exact volume ratio of the linear
+  !> motion; it equals det(I + dt L) to second order and is exactly 1 for a
+  !> rigid rotation (det(I + dt L) would grow the volume by (omega dt)^2 per
+  !> step). bad: the first particle whose volume would not stay positive.
+  subroutine particles_stress_update(p, models, lgrad, dt, bad)
+    type(particles_t), intent(inout) :: p
+    type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(in) :: lgrad(:, :, :), dt
+    integer, intent(out) :: bad
+    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad)
+  end subroutine particles_stress_update
+
+  !> `particles_stress_update` on given arrays (stress (6, np), hist
+  !> (nhist, np), vol, rho (np)) of particles sorted by solid (mat_start) with
+  !> masses m: the trial state at n+1/2 is updated so, on copies.
+  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad)
+    integer, intent(in) :: mat_start(:)
+    real(wp), intent(in) :: m(:)
+    type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(in) :: lgrad(:, :, :), dt
+    real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:)
+    integer, intent(out) :: bad
+    integer :: s
+    bad = huge(1)
+    do s = 1, size(mat_start) - 1
+      call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
+    end do
+    if (bad == huge(1)) bad = 0
+  contains
+    subroutine update_range(model, k1, k2)
+      class(strength_t), intent(in) :: model
+      integer, intent(in) :: k1, k2
+      integer :: k
+      real(wp) :: f(3, 3), deps(3, 3), dw(3, 3), detf
+      ! (a contained procedure: the loop is serial, it sees the host's bad)
+      do k = k1, k2
+        f = lgrad(:, :, k)*dt
+        deps = 0.5_wp*(f + transpose(f))
+        dw = 0.5_wp*(f - transpose(f))
+        call model%update(deps, dw, stress(:, k), hist(:, k))
+        detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
+        if (.not. detf > 0.0_wp) then
+          bad = min(bad, k)
+          cycle
+        end if
+        vol(k) = vol(k)*detf
+        rho(k) = m(k)/vol(k)
+      end do
+    end subroutine update_range
+  end subroutine particles_stress_arrays
+
+  !> Particle velocities at n+1/2 predicted from the nodes' predictor
+  !> velocities u* (Eq. 24 with the predicted accelerations, PARTICLES.md
+  !> §1.8 step 2): vh = v_p^n + 1/2 sum_I (u*_I - u^n_I) N_Ip; the particles
+  !> are not changed.
+  subroutine particles_half_velocity(g, p, un, u, vh)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: un(:, :), u(:, :)
+    real(wp), intent(out) :: vh(:, :)
+    integer :: k, a, n, n0
+    real(wp) :: sh(8), dv(3)
+    !$omp parallel do default(none) shared(g, p, un, u, vh) private(k, a, n, n0, sh, dv) schedule(static)
+    do k = 1, p%np
+      sh = particles_shape_values(p%xi(:, k))
+      n0 = g%node0(p%cell(k))
+      dv = 0.0_wp
+      do a = 1, 8
+        n = n0 + g%corner_offset(a)
+        dv = dv + sh(a)*(u(:, n) - un(:, n))
+      end do
+      vh(:, k) = p%v(:, k) + 0.5_wp*dv
+    end do
+    !$omp end parallel do
+  end subroutine particles_half_velocity
+
+  !> I + sgn f/2.
+  pure function half_step(f, sgn) result(a)
+    real(wp), intent(in) :: f(3, 3), sgn
+    real(wp) :: a(3, 3)
+    a = 0.5_wp*sgn*f
+    a(1, 1) = a(1, 1) + 1.0_wp
+    a(2, 2) = a(2, 2) + 1.0_wp
+    a(3, 3) = a(3, 3) + 1.0_wp
+  end function half_step
+
+  !> Determinant of a 3x3 matrix.
+  pure real(wp) function det3(a)
+    real(wp), intent(in) :: a(3, 3)
+    det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - a(2, 3)*a(3, 1)) &
+         + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
+  end function det3
+
+  !> Stable step of the particles (§1.11): min_p cfl L_c/(c_p + |v_p|), L_c
+  !> the host cell's volume over its largest median-surface area (grid x),
+  !> c_p^2 = (K + 4G/3)/rho_p; huge if there are none. kmin: the particle
+  !> that sets it (the host particle of the node when the guard below does).
+  !>
+  !> Guard for light nodes next to stiff particles (§1.11, risk R1): at each
+  !> node, dt_I = 2 cfl sqrt(m_I/k_I) with m_I = mnode + mp (the coupled
+  !> nodal mass) and k_I = sum_p V_p (K + 4G/3)_p |grad N_Ip|^2 (Gershgorin
+  !> bound of the particles' stiffness at the node); k_I is summed in the
+  !> cell colours, so the result does not depend on the thread count. kw
+  !> (nnode) is work.
+  subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
+    type(particles_t), intent(in) :: p
+    type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(out) :: kw(:)
+    real(wp), intent(out) :: dt
+    integer, intent(out) :: kmin
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin
+    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
+    dt = huge(1.0_wp)
+    kmin = 0
+    do k = 1, p%np
+      n0 = g%node0(p%cell(k))
+      do a = 1, 8
+        xn(:, a) = x(:, n0 + g%corner_offset(a))
+      end do
+      call hex_median_areas(xn, sarea)
+      len_c = hex_volume(xn)/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))
+      c2 = models(p%mat(k))%m%wave_modulus()/p%rho(k)
+      dtk = cfl*len_c/(sqrt(c2) + norm2(p%v(:, k)))
+      if (dtk < dt) then
+        dt = dtk
+        kmin = k
+      end if
+    end do
+    ! the nodal guard
+    kw = 0.0_wp
+    do col = 0, 7
+      !$omp parallel do default(none) shared(g, p, x, models, kw, col) &
+      !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
+      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
+      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
+      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+        c = g%cell(ci, cj, ck)
+        n0 = g%cell_node0(ci, cj, ck)
+        if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+        do a = 1, 8
+          xn(:, a) = x(:, n0 + g%corner_offset(a))
+        end do
+        do q = p%cell_start(c), p%cell_start(c + 1) - 1
+          k = p%perm(q)
+          call particles_gradients(xn, p%xi(:, k), gradn, detj)
+          mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
+          do a = 1, 8
+            kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
+          end do
+        end do
+      end do
+      end do
+      end do
+      !$omp end parallel do
+    end do
+    nmin = 0
+    do n = 1, size(kw)
+      if (.not. kw(n) > 0.0_wp) cycle
+      dtk = 2.0_wp*cfl*sqrt((mnode(n) + mp(n))/kw(n))
+      if (dtk < dt) then
+        dt = dtk
+        nmin = n
+      end if
+    end do
+    if (nmin > 0) kmin = node_particle(nmin)
+  contains
+    !> A particle whose host has node n as a corner (the first in array order).
+    integer function node_particle(n) result(kp)
+      integer, intent(in) :: n
+      integer :: j, b
+      kp = 0
+      do j = 1, p%np
+        do b = 1, 8
+          if (g%node0(p%cell(j)) + g%corner_offset(b) == n) then
+            kp = j
+            return
+          end if
+        end do
+      end do
+    end function node_particle
+  end subroutine particles_stable_dt
+end module particles_lagrange
