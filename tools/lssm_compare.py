@@ -45,15 +45,17 @@ def make_deck(path, outdir, n, mode, move_min, copy):
         text = f.read()
     text = re.sub(r"ni = \d+, nj = \d+, nk = \d+", f"ni = {n}, nj = {n}, nk = {n}", text)
     text = text.replace("mode = 'lssm'", f"mode = '{mode}'")
-    text = text.replace("smooth_iterations = 20,", f"smooth_iterations = 20, move_min = {move_min},")
+    # (in the groups, not the header's comments)
+    text = re.sub(r"^([^!\n]*smooth_iterations = \d+)", rf"\1, move_min = {move_min}", text, flags=re.M)
     # the ensemble: source energy E0 (1 + copy 1e-9), which moves the shock
     # radius (E^(1/5)) by 2e-10 per copy
     text = text.replace("energy = 0.106384", f"energy = {0.106384 * (1.0 + copy * 1.0e-9):.15e}")
     text = re.sub(r"^&output .*/[ \t]*$", f"&output dir = '{outdir}' /", text, flags=re.M)
+    body = "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("!"))
     for what in (f"mode = '{mode}'", f"move_min = {move_min}", f"ni = {n}",
                  "&source position = 0, 0, 0, energy = ",
                  f"&output dir = '{outdir}' /"):
-        if what not in text:
+        if what not in body:
             raise SystemExit(f"{DECK}: could not set {what}")
     with open(path, "w") as f:
         f.write(text)
