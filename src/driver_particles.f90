@@ -168,7 +168,7 @@ contains
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, dt_in
+    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       if (.not. pw%mass_ready) then
@@ -179,7 +179,7 @@ contains
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
-                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle)
+                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle, work_vf=w_vf)
       if (present(dt_particle)) dt_particle = merge(kp, 0, dtp < dt_in .and. .not. dt < dtp)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
@@ -193,7 +193,15 @@ contains
       else
         call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
       end if
+      e_old = dot_product(pt%m, pt%e)
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle)
+      ! the energy balance (PARTICLES.md §1.12): the particle forces' work
+      ! w_ext on the nodes is the virtual-fluid part w_vf plus the particle
+      ! stress part; the constitutive work books -(stress part) as particle
+      ! internal energy where the real and virtual strains agree, the rest
+      ! is the decoupling work
+      st%tot%vf_work = st%tot%vf_work + w_vf
+      st%tot%decoupling_work = st%tot%decoupling_work + (w_ext - w_vf) + (dot_product(pt%m, pt%e) - e_old)
     end associate
   end subroutine particles_step
 
