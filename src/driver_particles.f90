@@ -12,11 +12,17 @@
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
 !> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
 !> built yet (next steps of issue 14): the Euler phase with particles
-!> (Remark 2), the energy accounting of §1.12 (the conservation report
-!> counts neither the particles' kinetic and internal energy nor their
-!> share of the nodal mass),
-!> the (1 - theta_c) scaling of the virtual fluid's viscosity (§1.7), a
-!> solid EOS.
+!> (Remark 2), the (1 - theta_c) scaling of the virtual fluid's viscosity
+!> (§1.7), a solid EOS, erosion energy.
+!>
+!> Energy accounting (§1.12): the conservation report takes the kinetic
+!> energy and momentum with the full nodal mass (`state_totals`), the
+!> particles' internal energy sum_p m_p e_p (e_p from the constitutive
+!> work, `particles_stress_arrays`), the virtual-fluid pressure work given
+!> to the host cells (`particles_vf_energy`, inside `lagrange_step`), and
+!> the decoupling work (the particle-stress force work on the nodes plus
+!> the constitutive work, which cancel where the real and virtual strains
+!> and the stresses of both agree) as its own line, in the balance.
 module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa

@@ -72,6 +72,11 @@ contains
   !> (x^n and p^n in the predictor, x^{n+1/2} and p^{n+1/2} in the
   !> corrector), the corrector's with the particles' trial stress and volume
   !> at n+1/2 (`particle_trial_state`, PARTICLES.md §1.8 step 2).
+  !> The virtual-fluid part of that force (-V_p P_c grad N_Ip) does work on
+  !> the nodes that the corner forces had put into the cells' virtual fluid:
+  !> in each stage the host cell's internal energy gives it back
+  !> (`particles_vf_energy`, PARTICLES.md §1.12), so that work_ext - work_vf
+  !> (the corrector's, returned in `work_vf`) is the particle-stress work.
   !> `bad_particle` (0 if none) names a particle whose host has det J <= 0
   !> at it or whose trial volume is not positive.
   !>
