@@ -202,12 +202,15 @@ contains
       e_old = dot_product(pt%m, pt%e)
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle)
       ! the energy balance (PARTICLES.md §1.12): the particle forces' work
-      ! w_ext on the nodes is the virtual-fluid part w_vf plus the particle
-      ! stress part; the constitutive work books -(stress part) as particle
-      ! internal energy where the real and virtual strains agree, the rest
-      ! is the decoupling work
+      ! w_ext on the nodes is the virtual-fluid part w_vf (given to the host
+      ! cells) plus the particle-stress part -dt sum_p V_p sigma_p : D_real;
+      ! the constitutive work dt sum_p V_p sigma_p : D_virtual is the
+      ! particles' internal energy; the decoupling work is their difference
+      ! dt sum_p V_p sigma_p : (D_real - D_virtual), which the constitutive
+      ! update does not see (with the time-integration difference of the
+      ! corrector's trial stress at n+1/2 and the trapezoid)
       st%tot%vf_work = st%tot%vf_work + w_vf
-      st%tot%decoupling_work = st%tot%decoupling_work + (w_ext - w_vf) + (dot_product(pt%m, pt%e) - e_old)
+      st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (dot_product(pt%m, pt%e) - e_old)
     end associate
   end subroutine particles_step
 

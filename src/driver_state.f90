@@ -73,12 +73,14 @@ contains
     st%tot%internal = st%tot%internal + st%tot%particle_internal
   end subroutine state_totals
 
-  !> (E - E0 - W)/|E0|: total energy change not explained by boundary work
-  !> (and, with coupled particles, by the decoupling work of PARTICLES.md
-  !> §1.12; the virtual-fluid work is in the host cells' internal energy).
+  !> (E - E0 - W + D)/|E0|: total energy change not explained by boundary
+  !> work W (and, with coupled particles, by the decoupling work D of
+  !> PARTICLES.md §1.12, the stress work on the real grid that the
+  !> constitutive update does not book; the virtual-fluid work is in the host
+  !> cells' internal energy).
   pure real(wp) function energy_drift(tot)
     type(totals_t), intent(in) :: tot
-    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work - tot%decoupling_work)/ &
+    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work + tot%decoupling_work)/ &
                    max(abs(tot%energy_initial), tiny(1.0_wp))
   end function energy_drift
 
