@@ -449,6 +449,11 @@ contains
     write(line, '("  boundary work ",es22.15,"  relative energy drift ",es10.3)') &
       st%tot%boundary_work, energy_drift(st%tot)
     call log_line(log, trim(line))
+    if (st%pt%np > 0 .and. allocated(st%pw%mp)) then
+      write(line, '("  particles: internal energy ",es22.15,"  virtual-fluid work ",es22.15, &
+        &"  decoupling work ",es22.15)') st%tot%particle_internal, st%tot%vf_work, st%tot%decoupling_work
+      call log_line(log, trim(line))
+    end if
     call material_totals(st, mass, internal)
     do m = 1, size(st%mats)
       write(line, '("  material ",i0," ",a,": mass ",es22.15,"  internal energy ",es22.15)') &

@@ -12,11 +12,17 @@
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
 !> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
 !> built yet (next steps of issue 14): the Euler phase with particles
-!> (Remark 2), the energy accounting of §1.12 (the conservation report
-!> counts neither the particles' kinetic and internal energy nor their
-!> share of the nodal mass),
-!> the (1 - theta_c) scaling of the virtual fluid's viscosity (§1.7), a
-!> solid EOS.
+!> (Remark 2), the (1 - theta_c) scaling of the virtual fluid's viscosity
+!> (§1.7), a solid EOS, erosion energy.
+!>
+!> Energy accounting (§1.12): the conservation report takes the kinetic
+!> energy and momentum with the full nodal mass (`state_totals`), the
+!> particles' internal energy sum_p m_p e_p (e_p from the constitutive
+!> work, `particles_stress_arrays`), the virtual-fluid pressure work given
+!> to the host cells (`particles_vf_energy`, inside `lagrange_step`), and
+!> the decoupling work (the particle-stress force work on the nodes plus
+!> the constitutive work, which cancel where the real and virtual strains
+!> and the stresses of both agree) as its own line, in the balance.
 module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
@@ -168,7 +174,7 @@ contains
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, dt_in
+    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       if (.not. pw%mass_ready) then
@@ -179,7 +185,7 @@ contains
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
-                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle)
+                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle, work_vf=w_vf)
       if (present(dt_particle)) dt_particle = merge(kp, 0, dtp < dt_in .and. .not. dt < dtp)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
@@ -193,7 +199,18 @@ contains
       else
         call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
       end if
+      e_old = dot_product(pt%m, pt%e)
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle)
+      ! the energy balance (PARTICLES.md §1.12): the particle forces' work
+      ! w_ext on the nodes is the virtual-fluid part w_vf (given to the host
+      ! cells) plus the particle-stress part -dt sum_p V_p sigma_p : D_real;
+      ! the constitutive work dt sum_p V_p sigma_p : D_virtual is the
+      ! particles' internal energy; the decoupling work is their difference
+      ! dt sum_p V_p sigma_p : (D_real - D_virtual), which the constitutive
+      ! update does not see (with the time-integration difference of the
+      ! corrector's trial stress at n+1/2 and the trapezoid)
+      st%tot%vf_work = st%tot%vf_work + w_vf
+      st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (dot_product(pt%m, pt%e) - e_old)
     end associate
   end subroutine particles_step
 

@@ -12,7 +12,7 @@ module driver_state
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
-  use particles_lagrange, only: particles_work_t
+  use particles_lagrange, only: particles_work_t, particles_nodal_mass
   use io_output, only: totals_t
   implicit none
   private
@@ -51,15 +51,36 @@ contains
   end function centroid_text
 
   !> Mass, momentum, internal and kinetic energy of the state into st%tot.
+  !> With coupled particles the kinetic energy and momentum take the full
+  !> nodal mass (cells' plus the particles' share m_p - m'_p, Eq. 16: the
+  !> mass the nodes move with) and the internal energy adds sum_p m_p e_p
+  !> (PARTICLES.md §1.12).
   subroutine state_totals(st)
     type(state_t), intent(inout) :: st
+    integer :: n
     call hydro_totals(st%h, st%tot%mass, st%tot%momentum, st%tot%internal, st%tot%kinetic)
+    st%tot%particle_internal = 0.0_wp
+    if (.not. allocated(st%pw%mp)) return
+    if (.not. st%pw%mass_ready) then
+      call particles_nodal_mass(st%g, st%pt, st%pt%mvf, st%h%mnode, st%pw%mp, st%pw%ms)
+      st%pw%mass_ready = .true.
+    end if
+    do n = 1, size(st%pw%mp)
+      st%tot%momentum = st%tot%momentum + st%pw%mp(n)*st%h%u(:, n)
+      st%tot%kinetic = st%tot%kinetic + 0.5_wp*st%pw%mp(n)*dot_product(st%h%u(:, n), st%h%u(:, n))
+    end do
+    st%tot%particle_internal = dot_product(st%pt%m, st%pt%e)
+    st%tot%internal = st%tot%internal + st%tot%particle_internal
   end subroutine state_totals
 
-  !> (E - E0 - W)/|E0|: total energy change not explained by boundary work.
+  !> (E - E0 - W + D)/|E0|: total energy change not explained by boundary
+  !> work W (and, with coupled particles, by the decoupling work D of
+  !> PARTICLES.md §1.12, the stress work on the real grid that the
+  !> constitutive update does not book; the virtual-fluid work is in the host
+  !> cells' internal energy).
   pure real(wp) function energy_drift(tot)
     type(totals_t), intent(in) :: tot
-    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work)/ &
+    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work + tot%decoupling_work)/ &
                    max(abs(tot%energy_initial), tiny(1.0_wp))
   end function energy_drift
 
@@ -78,6 +99,10 @@ contains
     call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)
     call reg%add('boundary_work', 'energy', st%tot%boundary_work)
     call reg%add('initial_energy', 'energy', st%tot%energy_initial)
+    if (st%pt%np > 0) then
+      call reg%add('virtual_fluid_work', 'energy', st%tot%vf_work)
+      call reg%add('decoupling_work', 'energy', st%tot%decoupling_work)
+    end if
     call reg%add('rng_state', 'bits', st%rng_bits)
   end subroutine state_register_restart
 

@@ -80,7 +80,7 @@ contains
   subroutine test_force_cancels()
     type(grid_t) :: g
     type(particles_t) :: p
-    real(wp) :: f(3, 8), xn(3, 8), vol, dvdx(3, 8), pc(1), err_max
+    real(wp) :: f(3, 8), fvf(3, 8), xn(3, 8), vol, dvdx(3, 8), pc(1), err_max
     integer :: bad, a
     call one_cell(g, p)
     ! a sheared, stretched parallelepiped
@@ -92,15 +92,18 @@ contains
     p%stress = 0.0_wp
     p%stress(1:3, :) = -2.5_wp
     pc = 0.0_wp
-    call particles_nodal_force(g, g%x, p, pc, f, bad)
+    call particles_nodal_force(g, g%x, p, pc, f, fvf, bad)
     call hex_volume_gradient(xn, vol, dvdx)
     err_max = maxval(abs(f - 2.5_wp*dvdx))
     call check(bad == 0, 'no inverted host')
     call check_close('particle force - p dV/dx (parallelepiped, 8 particles)', err_max, 0.0_wp, 64*eps*2.5_wp*3.0_wp)
     ! with the host pressure equal to the particles' -stress the force is zero
     pc = 2.5_wp
-    call particles_nodal_force(g, g%x, p, pc, f, bad)
+    call particles_nodal_force(g, g%x, p, pc, f, fvf, bad)
     call check_close('particle force with sigma = -P_host I', maxval(abs(f)), 0.0_wp, 0.0_wp)
+    ! its virtual-fluid part is -V_p P_c grad N: -P_c dV/dx
+    err_max = maxval(abs(fvf + 2.5_wp*dvdx))
+    call check_close('virtual-fluid part of the particle force', err_max, 0.0_wp, 64*eps*2.5_wp*3.0_wp)
   end subroutine test_force_cancels
 
   subroutine test_uniaxial_strain()

@@ -50,6 +50,12 @@ module io_output
   type :: totals_t
     real(wp) :: mass = 0.0_wp, momentum(3) = 0.0_wp, internal = 0.0_wp, kinetic = 0.0_wp
     real(wp) :: energy_initial = 0.0_wp, boundary_work = 0.0_wp
+    !> coupled particles (PARTICLES.md §1.12): their internal energy (part of
+    !> `internal`), the work of the virtual-fluid pressure on the nodes (given
+    !> to the host cells' internal energy) and the rest of the particle-force
+    !> work that the constitutive (virtual) strain work does not book, the
+    !> decoupling work (both summed over the steps)
+    real(wp) :: particle_internal = 0.0_wp, vf_work = 0.0_wp, decoupling_work = 0.0_wp
   end type totals_t
 
   !> Frame bookkeeping.
@@ -206,7 +212,7 @@ contains
                                         meta_text(meta%title), meta_text(meta%unit_system), &
                                         material_legend(legend_source(meta))], &
                            npart=np, part_vectors=[character(len=8) :: 'velocity'], &
-                           part_scalars=[character(len=8) :: 'density', 'volume', 'mass'], &
+                           part_scalars=[character(len=8) :: 'density', 'volume', 'mass', 'energy'], &
                            part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
                            part_tensors=[character(len=8) :: 'stress'])
   end subroutine output_frame
@@ -226,6 +232,7 @@ contains
     if (.not. allocated(err)) call h5_write_real(f, 'particles/density', pt%rho, [np], err)
     if (.not. allocated(err)) call h5_write_real(f, 'particles/volume', pt%vol, [np], err)
     if (.not. allocated(err)) call h5_write_real(f, 'particles/mass', pt%m, [np], err)
+    if (.not. allocated(err)) call h5_write_real(f, 'particles/energy', pt%e, [np], err)
     if (.not. allocated(err)) call h5_write_real(f, 'particles/stress', pt%stress(tensor6, :), [6, np], err)
     if (.not. allocated(err)) call h5_write_int(f, 'particles/material', pt%mat, [np], err)
     if (.not. allocated(err)) call h5_write_int(f, 'particles/body', pt%body, [np], err)
@@ -236,6 +243,7 @@ contains
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/density', 'units', units_density, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/volume', 'units', units_volume, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/mass', 'units', 'mass', err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/energy', 'units', units_specific_energy, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'units', units_pressure, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'components', 'xx, xy, xz, yy, yz, zz', &
                                                       err)

@@ -19,7 +19,7 @@ module lagrange_integrator
   use lagrange_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
   use particles_state, only: particles_t
-  use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_half_velocity, &
+  use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays
   implicit none
   private
@@ -72,6 +72,11 @@ contains
   !> (x^n and p^n in the predictor, x^{n+1/2} and p^{n+1/2} in the
   !> corrector), the corrector's with the particles' trial stress and volume
   !> at n+1/2 (`particle_trial_state`, PARTICLES.md §1.8 step 2).
+  !> The virtual-fluid part of that force (-V_p P_c grad N_Ip) does work on
+  !> the nodes that the corner forces had put into the cells' virtual fluid:
+  !> in each stage the host cell's internal energy gives it back
+  !> (`particles_vf_energy`, PARTICLES.md §1.12), so that work_ext - work_vf
+  !> (the corrector's, returned in `work_vf`) is the particle-stress work.
   !> `bad_particle` (0 if none) names a particle whose host has det J <= 0
   !> at it or whose trial volume is not positive.
   !>
@@ -82,7 +87,7 @@ contains
   !> follow from them and the new fractions are computed where they are
   !> read (`lagrange_centroids`).
   subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell, pt, pw, &
-                           bad_particle)
+                           bad_particle, work_vf)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -99,7 +104,8 @@ contains
     type(particles_t), intent(in), optional :: pt
     type(particles_work_t), intent(inout), optional :: pw
     integer, intent(out), optional :: bad_particle
-    real(wp) :: dt_stable, w_pred
+    real(wp), intent(out), optional :: work_vf
+    real(wp) :: dt_stable, w_pred, w_vf
     integer :: badp
 
     if (present(pt) .and. present(pw)) then
@@ -141,6 +147,7 @@ contains
       type(particles_work_t), intent(inout) :: pw
       if (present(bad_particle)) bad_particle = 0
       if (present(work_ext)) work_ext = 0.0_wp
+      if (present(work_vf)) work_vf = 0.0_wp
       call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
       call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
       dt = min(dt, dt_stable)
@@ -148,17 +155,19 @@ contains
       call mixed_save_step_start(mx, h%vol)
       call bc_pressure_forces(bc, g, g%x, h%p)
       call lagrange_corner_forces(g, g%x, h%u, h, par)
-      call particles_nodal_force(g, g%x, pt, h%p, pw%f, badp)
+      call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
       if (present(bad_particle)) bad_particle = badp
       call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
       call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
       call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
       if (bad_cell /= 0) return
+      call particles_vf_energy(g, h%xn, pt, pt%vol, h%p, h%uh, 0.5_wp*dt, h%mass, h%e, w_vf)
       call update_materials(h, mats, mx, par)
       call particle_trial_state(pt, pw)
       call bc_pressure_forces(bc, g, g%x, h%p)
       call lagrange_corner_forces(g, g%x, h%uh, h, par)
-      call particles_nodal_force(g, g%x, pt, h%p, pw%f, badp, pw%stress_h, pw%vol_h)
+      pw%xc = g%x
+      call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h)
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = badp
       end if
@@ -167,6 +176,8 @@ contains
       if (present(work_ext)) work_ext = dt*node_work(pw%f, h%uh)
       call lagrange_update_cells(g, h, dt, bad_cell)
       if (bad_cell /= 0) return
+      call particles_vf_energy(g, pw%xc, pt, pw%vol_h, h%p, h%uh, dt, h%mass, h%e, w_vf)
+      if (present(work_vf)) work_vf = w_vf
       call update_materials(h, mats, mx, par)
     end subroutine particle_step
 

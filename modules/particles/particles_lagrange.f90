@@ -27,7 +27,7 @@ module particles_lagrange
   implicit none
   private
   public :: particles_work_t, strength_slot_t, particles_work_init, particles_gradients, particles_nodal_mass, &
-            particles_nodal_force, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
+            particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
@@ -46,9 +46,11 @@ module particles_lagrange
     logical :: mass_ready = .false.             !< mp holds this phase's particle mass term
     real(wp), allocatable :: mp(:)              !< (nnode) sum_p (m_p - m'_p) N_Ip, guarded (Eq. 16)
     real(wp), allocatable :: f(:, :)            !< (3, nnode) particle force (Eq. 17)
+    real(wp), allocatable :: fvf(:, :)          !< (3, nnode) its virtual-fluid part -sum_p V_p P_c grad N_Ip
     real(wp), allocatable :: ms(:)              !< (nnode) virtual solid grid mass (Eq. 29)
     real(wp), allocatable :: vs(:, :)           !< (3, nnode) virtual solid grid velocity (Eq. 30)
     real(wp), allocatable :: xh(:, :)           !< (3, nnode) x^{n+1/2}
+    real(wp), allocatable :: xc(:, :)           !< (3, nnode) the grid of the corrector's forces
     real(wp), allocatable :: vh(:, :)           !< (3, np) particle v^{n+1/2} (Eq. 24)
     real(wp), allocatable :: lgrad(:, :, :)     !< (3, 3, np) velocity gradient L_ij = dv_i/dx_j
     real(wp), allocatable :: stress_h(:, :)     !< (6, np) trial stress at n+1/2 (corrector)
@@ -67,14 +69,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
     character(len=200) :: msg
-    allocate(w%mp(nnode), w%f(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%vh(3, np), &
+    allocate(w%mp(nnode), w%f(3, nnode), w%fvf(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%xc(3, nnode), &
+             w%vh(3, np), &
              w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
       return
     end if
-    w%mp = 0.0_wp; w%f = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%vh = 0.0_wp; w%lgrad = 0.0_wp
+    w%mp = 0.0_wp; w%f = 0.0_wp; w%fvf = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%xc = 0.0_wp
+    w%vh = 0.0_wp; w%lgrad = 0.0_wp
     w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp
     w%mass_ready = .false.
   end subroutine particles_work_init
@@ -152,35 +156,38 @@ contains
   !> . grad N_Ip, grad N in the grid x (3, nnode), P_c = pcell of the host
   !> (the virtual fluid's stress -P_c I that the corner forces already put on
   !> the particle's volume), with the particles' stress and volume, or with
-  !> `stress` (6, np) and `vol` (np) if given (the trial state at n+1/2).
-  !> bad: the first particle whose host has det J <= 0 at it (0 if none).
-  subroutine particles_nodal_force(g, x, p, pcell, f, bad, stress, vol)
+  !> `stress` (6, np) and `vol` (np) if given (the trial state at n+1/2);
+  !> fvf: its virtual-fluid part -sum_p V_p P_c grad N_Ip (for the energy
+  !> accounting of §1.12). bad: the first particle whose host has det J <= 0
+  !> at it (0 if none).
+  subroutine particles_nodal_force(g, x, p, pcell, f, fvf, bad, stress, vol)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), pcell(:)
     type(particles_t), intent(in) :: p
-    real(wp), intent(out) :: f(:, :)
+    real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
     real(wp), intent(in), optional :: stress(:, :), vol(:)
     if (present(stress) .and. present(vol)) then
-      call force_kernel(g, x, p, stress, vol, pcell, f, bad)
+      call force_kernel(g, x, p, stress, vol, pcell, f, fvf, bad)
     else
-      call force_kernel(g, x, p, p%stress, p%vol, pcell, f, bad)
+      call force_kernel(g, x, p, p%stress, p%vol, pcell, f, fvf, bad)
     end if
   end subroutine particles_nodal_force
 
   !> The loop of `particles_nodal_force` (module notes: cell colours).
-  subroutine force_kernel(g, x, p, stress, vol, pcell, f, bad)
+  subroutine force_kernel(g, x, p, stress, vol, pcell, f, fvf, bad)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), pcell(:), stress(:, :), vol(:)
     type(particles_t), intent(in) :: p
-    real(wp), intent(out) :: f(:, :)
+    real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
     integer :: col, ci, cj, ck, c, q, k, a, n, n0
     real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6)
     f = 0.0_wp
+    fvf = 0.0_wp
     bad = huge(1)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, x, pcell, f, col, stress, vol) &
+      !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, col, stress, vol) &
       !$omp private(ci, cj, ck, c, q, k, a, n, n0, xn, gradn, detj, s) reduction(min: bad) collapse(2) schedule(static)
       do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
       do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
@@ -202,6 +209,7 @@ contains
             f(1, n) = f(1, n) - vol(k)*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
             f(2, n) = f(2, n) - vol(k)*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
             f(3, n) = f(3, n) - vol(k)*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
+            fvf(:, n) = fvf(:, n) - vol(k)*pcell(c)*gradn(:, a)
           end do
         end do
       end do
@@ -211,6 +219,45 @@ contains
     end do
     if (bad == huge(1)) bad = 0
   end subroutine force_kernel
+
+  !> The virtual-fluid pressure work given to the host cells (PARTICLES.md
+  !> §1.12): the part -V_p P_c grad N_Ip of the particle force (grid x,
+  !> volumes vol) does the work dt sum_I (-V_p P_c grad N_Ip) . u_I on the
+  !> nodes (u the stage's half-step velocities), which the host's internal
+  !> energy gives back: m_c e_c -= that work, on top of the compatible update
+  !> (a mixed cell's total, which `mixed_split` then shares). Cells in
+  !> parallel, the particles of a cell in array order. wsum: the total work.
+  subroutine particles_vf_energy(g, x, p, vol, pcell, u, dt, mass, e, wsum)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), vol(:), pcell(:), u(:, :), dt, mass(:)
+    type(particles_t), intent(in) :: p
+    real(wp), intent(inout) :: e(:)
+    real(wp), intent(out) :: wsum
+    integer :: c, q, k, a, n0
+    real(wp) :: xn(3, 8), un(3, 8), gradn(3, 8), detj, w
+    wsum = 0.0_wp
+    !$omp parallel do default(none) shared(g, p, x, vol, pcell, u, dt, mass, e) &
+    !$omp private(c, q, k, a, n0, xn, un, gradn, detj, w) reduction(+: wsum) schedule(static)
+    do c = 1, g%ncell
+      if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+      n0 = g%node0(c)
+      do a = 1, 8
+        xn(:, a) = x(:, n0 + g%corner_offset(a))
+        un(:, a) = u(:, n0 + g%corner_offset(a))
+      end do
+      w = 0.0_wp
+      do q = p%cell_start(c), p%cell_start(c + 1) - 1
+        k = p%perm(q)
+        call particles_gradients(xn, p%xi(:, k), gradn, detj)
+        do a = 1, 8
+          w = w - dt*vol(k)*pcell(c)*dot_product(gradn(:, a), un(:, a))
+        end do
+      end do
+      e(c) = e(c) - w/mass(c)
+      wsum = wsum + w
+    end do
+    !$omp end parallel do
+  end subroutine particles_vf_energy
 
   !> Particle velocity and position from the nodes (Eqs. 23-25): with the
   !> nodal increments du_I = u_I^{n+1} - u_I^n = dt a_I,
@@ -322,19 +369,23 @@ contains
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     integer, intent(out) :: bad
-    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad)
+    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad, p%e)
   end subroutine particles_stress_update
 
   !> `particles_stress_update` on given arrays (stress (6, np), hist
   !> (nhist, np), vol, rho (np)) of particles sorted by solid (mat_start) with
-  !> masses m: the trial state at n+1/2 is updated so, on copies.
-  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad)
+  !> masses m: the trial state at n+1/2 is updated so, on copies. With e
+  !> (np), the specific internal energy takes the constitutive work of the
+  !> step (trapezoid, PARTICLES.md §1.12): m_p Delta e_p = 1/2 (sigma^n +
+  !> sigma^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}).
+  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad, e)
     integer, intent(in) :: mat_start(:)
     real(wp), intent(in) :: m(:)
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:)
     integer, intent(out) :: bad
+    real(wp), intent(inout), optional :: e(:)
     integer :: s
     bad = huge(1)
     do s = 1, size(mat_start) - 1
@@ -346,17 +397,24 @@ contains
       class(strength_t), intent(in) :: model
       integer, intent(in) :: k1, k2
       integer :: k
-      real(wp) :: f(3, 3), deps(3, 3), dw(3, 3), detf
+      real(wp) :: f(3, 3), deps(3, 3), dw(3, 3), detf, s0(6), sm(6), work
       ! (a contained procedure: the loop is serial, it sees the host's bad)
       do k = k1, k2
         f = lgrad(:, :, k)*dt
         deps = 0.5_wp*(f + transpose(f))
         dw = 0.5_wp*(f - transpose(f))
+        s0 = stress(:, k)
         call model%update(deps, dw, stress(:, k), hist(:, k))
         detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
         if (.not. detf > 0.0_wp) then
           bad = min(bad, k)
           cycle
+        end if
+        if (present(e)) then
+          sm = 0.5_wp*(s0 + stress(:, k))
+          work = sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
+               + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2))
+          e(k) = e(k) + work*0.5_wp*vol(k)*(1.0_wp + detf)/m(k)
         end if
         vol(k) = vol(k)*detf
         rho(k) = m(k)/vol(k)

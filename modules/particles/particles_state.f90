@@ -59,6 +59,9 @@ module particles_state
     real(wp), allocatable :: rho(:)          !< density m/vol
     real(wp), allocatable :: stress(:, :)    !< (6, np) Cauchy stress, Voigt xx, yy, zz, yz, xz, xy
     real(wp), allocatable :: hist(:, :)      !< (nhist, np) history variables
+    !> (np) specific internal energy, from the constitutive (virtual) strain
+    !> work (PARTICLES.md §1.12): m_p e_p is the particle's internal energy
+    real(wp), allocatable :: e(:)
     !> (np) virtual-fluid mass m'_p = host density x V_p, frozen for a
     !> Lagrangian phase (PARTICLES.md §1.7); allocated only when the particles
     !> are coupled to the grid (&hydro particles = 'coupled')
@@ -84,7 +87,7 @@ contains
       return
     end if
     allocate(p%id(np), p%mat(np), p%body(np), p%cell(np), p%xi(3, np), p%x(3, np), p%v(3, np), p%m(np), &
-             p%vol(np), p%rho(np), p%stress(6, np), p%hist(nhist, np), p%mat_start(nsolid + 1), p%perm(np), &
+             p%vol(np), p%rho(np), p%e(np), p%stress(6, np), p%hist(nhist, np), p%mat_start(nsolid + 1), p%perm(np), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       p = particles_t()
@@ -97,7 +100,7 @@ contains
     p%nhist = nhist
     p%id = [(k, k = 1, np)]
     p%mat = 1; p%body = 1; p%cell = 1
-    p%xi = 0.0_wp; p%x = 0.0_wp; p%v = 0.0_wp; p%m = 0.0_wp; p%vol = 0.0_wp; p%rho = 0.0_wp
+    p%xi = 0.0_wp; p%x = 0.0_wp; p%v = 0.0_wp; p%m = 0.0_wp; p%vol = 0.0_wp; p%rho = 0.0_wp; p%e = 0.0_wp
     p%stress = 0.0_wp; p%hist = 0.0_wp
     p%mat_start = 1
     p%perm = 0
@@ -136,6 +139,7 @@ contains
     p%m = p%m(order)
     p%vol = p%vol(order)
     p%rho = p%rho(order)
+    p%e = p%e(order)
     p%stress = p%stress(:, order)
     p%hist = p%hist(:, order)
     if (allocated(p%mvf)) p%mvf = p%mvf(order)
@@ -237,6 +241,7 @@ contains
     call reg%add('particle_volume', 'length^3', LOC_PARTICLE, p%vol, lower=LOWER_POSITIVE)
     call reg%add('particle_density', 'mass/length^3', LOC_PARTICLE, p%rho, lower=LOWER_POSITIVE)
     call reg%add('particle_stress', 'mass/(length*time^2)', LOC_PARTICLE, p%stress)
+    call reg%add('particle_energy', 'energy/mass', LOC_PARTICLE, p%e)
     if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
     if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf)
   end subroutine particles_register_restart
