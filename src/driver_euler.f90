@@ -6,6 +6,7 @@
 !> the log.
 module driver_euler
   use base_kinds, only: wp
+  use mesh_grid, only: grid_t
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
@@ -23,7 +24,10 @@ module driver_euler
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use io_log, only: log_t, log_line
+  use particles_euler, only: particles_snap
   use driver_state, only: state_t
+  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_pic, &
+                              particles_euler_finish
   implicit none
   private
   public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_step, euler_report
@@ -124,6 +128,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
+    type(particles_euler_t) :: pe
     real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3), t_rezone
     real(wp), allocatable :: xnew(:, :)
     integer :: n, f, nmove, stat
@@ -145,7 +150,20 @@ contains
     t_rezone = wall_seconds()
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       xnew = st%g%x
-      call smooth_rezone(rz, st, es, log, xnew, done, err)
+      if (st%pt%np > 0) then
+        ! Remark 2 (Sect. 5.2): the particles placed in the standard grid;
+        ! the cells they occupy there are the smoothing's fixed inner boundary
+        call particles_euler_preposition(st, es%x0, pe, err)
+        if (.not. allocated(err)) call smooth_mobility_box(st%g%ni, st%g%nj, st%g%nk, es%mobility, err, &
+                                                           frozen=pe%occupied)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+        call smooth_rezone(rz, st, es, log, xnew, done, err, pe%occupied)
+      else
+        call smooth_rezone(rz, st, es, log, xnew, done, err)
+      end if
       if (allocated(err) .or. .not. done) then
         ! a skipped step still uses up its interval (else the interval
         ! trigger fires, and is skipped, at every following step)
@@ -176,6 +194,8 @@ contains
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left
     call centroids_refresh(st%g, st%mx, es%centroids)
+    ! coupled particles: their share of the nodal momentum goes with them (PIC)
+    if (allocated(st%pt%mvf)) call particles_euler_pic(st, pe)
     call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err)
     if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
     ! the new mixed cells' centroids are the remapped material's: their
@@ -242,6 +262,13 @@ contains
                      rtoa(norm2(dp))//' of '//rtoa(pscale)//' (&rezone conservation_tol '// &
                      rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     end if
+    ! the particles in the new grid and their share of the nodes rebuilt
+    ! (after the fluid's check: the fluid's remap conserves by itself)
+    if (.not. allocated(err) .and. st%pt%np > 0) then
+      call es%timer%start()
+      call particles_euler_finish(st, pe, log, err)
+      call es%timer%stop()
+    end if
   end subroutine euler_step
 
   !> The next Euler step by interval_time: past the current time by whole
@@ -276,7 +303,7 @@ contains
   !> for the merged cuboids in which a cell is still tangled after the
   !> smoothing. In both, a smoothing pass never tangles a cell, and a changed
   !> cell left tangled goes back.
-  subroutine smooth_rezone(rz, st, es, log, x, done, err)
+  subroutine smooth_rezone(rz, st, es, log, x, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
     type(euler_state_t), intent(inout) :: es
@@ -284,6 +311,8 @@ contains
     real(wp), intent(inout) :: x(:, :)
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: occupied(:)
+    logical, allocatable :: moved(:), touched(:)
     type(rezone_subdomains_t) :: sub
     type(smooth_region_t) :: reg
     integer, allocatable :: mlo(:, :), mhi(:, :)
@@ -296,6 +325,17 @@ contains
     done = .false.
     box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
     associate (g => st%g)
+      if (present(occupied)) then
+        ! Remark 2: the occupied cells put at their standard places; the
+        ! other cells around the nodes that moved so are distorted
+        allocate(moved(g%nnode), touched(g%ncell), stat=nreset)
+        if (nreset /= 0) then
+          call error_set(err, 'smooth_rezone', 'cannot allocate the particles'' work arrays')
+          return
+        end if
+        call particles_snap(g, occupied, es%x0, x, moved)
+        call cells_touched(g, moved, occupied, touched)
+      end if
       if (box) then
         ! Eq. (46) against each cell's own box, aspect ratio up to the
         ! geometric middle of the paper's cube (1) and the trigger's bound
@@ -315,14 +355,30 @@ contains
         if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
         if (box) then
           ! distorted: the cells failing the triggers' tests (q plays no part)
-          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
-                                      distorted=es%fail)
+          if (present(occupied)) then
+            es%fail = es%fail .or. touched
+            call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
+                                        distorted=es%fail, frozen=occupied)
+          else
+            call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
+                                        distorted=es%fail)
+          end if
+        else if (present(occupied)) then
+          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err, &
+                                      distorted=touched, frozen=occupied)
         else
           call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err)
         end if
       end if
       if (allocated(err)) return
       done = sub%nbox > 0
+      if (.not. done .and. present(occupied)) then
+        ! only the snapped nodes move (every cell around them holds particles)
+        done = any(moved)
+        if (done) call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)// &
+                                ': no cell to smooth; the particles'' cells put back on the standard grid')
+        return
+      end if
       if (.not. done) then
         if (box) then
           call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell fails the triggers'' tests')
@@ -373,6 +429,21 @@ contains
       call log_line(log, trim(line))
     end associate
   end subroutine smooth_rezone
+
+  !> The cells not occupied by particles with a node that moved.
+  subroutine cells_touched(g, moved, occupied, touched)
+    type(grid_t), intent(in) :: g
+    logical, intent(in) :: moved(:), occupied(:)
+    logical, intent(out) :: touched(:)
+    integer :: c, a
+    do c = 1, g%ncell
+      touched(c) = .false.
+      if (occupied(c)) cycle
+      do a = 1, 8
+        touched(c) = touched(c) .or. moved(g%node0(c) + g%corner_offset(a))
+      end do
+    end do
+  end subroutine cells_touched
 
   !> Summary line of the run's Euler steps.
   subroutine euler_report(es, log)

@@ -451,7 +451,8 @@ contains
     call log_line(log, trim(line))
     if (st%pt%np > 0 .and. allocated(st%pw%mp)) then
       write(line, '("  particles: internal energy ",es22.15,"  virtual-fluid work ",es22.15, &
-        &"  decoupling work ",es22.15)') st%tot%particle_internal, st%tot%vf_work, st%tot%decoupling_work
+        &"  decoupling work ",es22.15,"  Euler-step transfer ",es22.15)') st%tot%particle_internal, st%tot%vf_work, &
+        st%tot%decoupling_work, st%tot%transfer_energy
       call log_line(log, trim(line))
     end if
     call material_totals(st, mass, internal)

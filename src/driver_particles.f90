@@ -26,10 +26,11 @@
 module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_INPUT
+  use base_errors, only: error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_geometry, only: hex_volume
   use particles_config, only: particles_config_t
-  use particles_shape, only: particles_locate
+  use particles_shape, only: particles_locate, particles_shape_values
+  use particles_euler, only: particles_pic, particles_relocate, particles_occupied
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order
   use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
@@ -43,7 +44,19 @@ module driver_particles
   use driver_state, only: state_t
   implicit none
   private
-  public :: build_particles, particles_step
+  public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_pic, &
+            particles_euler_finish
+
+  !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
+  type :: particles_euler_t
+    !> (np) where the walk for each particle's new host starts: its host in
+    !> the standard grid (pre-positioning) or its old host
+    integer, allocatable :: guess(:)
+    !> (ncell) cells of the standard grid holding particles (smoothing rezones)
+    logical, allocatable :: occupied(:)
+    !> the particles' share of the nodal kinetic energy and momentum before the remap
+    real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp
+  end type particles_euler_t
 
   !> One seeded group before assembly.
   type :: seeded_t
@@ -213,6 +226,143 @@ contains
       st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (dot_product(pt%m, pt%e) - e_old)
     end associate
   end subroutine particles_step
+
+  !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
+  !> in the standard (initial) grid x0 by its position, and the cells of
+  !> that grid the particles occupy (the smoothing's fixed inner boundary).
+  !> A particle outside the standard grid (faces that moved with the
+  !> material) is a runtime failure: the pre-positioning needs the grid box.
+  subroutine particles_euler_preposition(st, x0, pe, err)
+    type(state_t), intent(in) :: st
+    real(wp), intent(in) :: x0(:, :)
+    type(particles_euler_t), intent(inout) :: pe
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xi(:, :)
+    integer :: bad, stat
+    character(len=200) :: msg
+    allocate(xi(3, st%pt%np), pe%guess(st%pt%np), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_euler_preposition', 'cannot allocate: '//trim(msg))
+      return
+    end if
+    call particles_relocate(st%g, x0, st%pt, st%pt%cell, pe%guess, xi, bad)
+    if (bad /= 0) then
+      call error_set(err, 'particles_euler_preposition', 'particle '//itoa(st%pt%id(bad))//' at ('// &
+                     rtoa(st%pt%x(1, bad))//', '//rtoa(st%pt%x(2, bad))//', '//rtoa(st%pt%x(3, bad))// &
+                     ') lies outside the initial grid, in which Remark 2 places the particles before smoothing', &
+                     ERR_RUNTIME)
+      return
+    end if
+    pe%occupied = particles_occupied(pe%guess, st%g%ncell)
+  end subroutine particles_euler_preposition
+
+  !> Before the remap (PARTICLES.md §1.13 item 1): the particles' share of
+  !> the nodal kinetic energy and momentum, then the particles' velocities
+  !> from the grid's (PIC). Coupled particles only.
+  subroutine particles_euler_pic(st, pe)
+    type(state_t), intent(inout) :: st
+    type(particles_euler_t), intent(inout) :: pe
+    integer :: n
+    associate (g => st%g, h => st%h, pw => st%pw)
+      if (.not. pw%mass_ready) then
+        call particles_nodal_mass(g, st%pt, st%pt%mvf, h%mnode, pw%mp, pw%ms)
+        pw%mass_ready = .true.
+      end if
+      pe%ke_solid = 0.0_wp
+      pe%p_solid = 0.0_wp
+      do n = 1, g%nnode
+        pe%ke_solid = pe%ke_solid + 0.5_wp*pw%mp(n)*dot_product(h%u(:, n), h%u(:, n))
+        pe%p_solid = pe%p_solid + pw%mp(n)*h%u(:, n)
+      end do
+      call particles_pic(g, st%pt, h%u)
+    end associate
+  end subroutine particles_euler_pic
+
+  !> After the remap (PARTICLES.md §1.13 items 3-4): every particle's host
+  !> and natural coordinates in the rezoned grid by its position (the walk
+  !> from pe%guess, else from the old host), its position put on the new
+  !> grid's map, the particles re-sorted and re-binned; coupled particles
+  !> get their virtual-fluid masses from the new hosts' densities, the
+  !> nodal mass term (Eq. 16) is rebuilt and each node reached by particles
+  !> gets u = (m_f u_f + m_p,I vbar_I)/(m_f + m_p,I): u_f the remapped fluid
+  !> velocity, m_p,I = sum_p (m_p - m'_p) N_Ip (guarded), vbar_I the
+  !> particles' mass-weighted mean velocity at the node (Eq. 30 with v_p),
+  !> so that a uniform flow carrying a body stays uniform exactly; then the
+  !> kinematic conditions. The change of the nodal momentum and kinetic
+  !> energy this makes (the PIC transfer's smoothing, the virtual fluid
+  !> re-weighted by its new host density) is logged and the energy part
+  !> booked as the transfer energy of the conservation report.
+  subroutine particles_euler_finish(st, pe, log, err)
+    type(state_t), intent(inout) :: st
+    type(particles_euler_t), intent(inout) :: pe
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: cell(:)
+    real(wp), allocatable :: xi(:, :)
+    real(wp) :: sh(8), ke_f, p_f(3), ke1, p1(3), mt
+    integer :: bad, k, a, n, n0, stat
+    character(len=300) :: line
+    character(len=200) :: msg
+
+    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
+      allocate(cell(pt%np), xi(3, pt%np), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_euler_finish', 'cannot allocate: '//trim(msg))
+        return
+      end if
+      if (.not. allocated(pe%guess)) pe%guess = pt%cell
+      call particles_relocate(g, g%x, pt, pe%guess, cell, xi, bad)
+      if (bad /= 0) then
+        call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(bad))//' at ('// &
+                       rtoa(pt%x(1, bad))//', '//rtoa(pt%x(2, bad))//', '//rtoa(pt%x(3, bad))// &
+                       ') lies in no cell of the rezoned grid', ERR_RUNTIME)
+        return
+      end if
+      pt%cell = cell
+      pt%xi = xi
+      do k = 1, pt%np
+        sh = particles_shape_values(pt%xi(:, k))
+        n0 = g%node0(pt%cell(k))
+        pt%x(:, k) = 0.0_wp
+        do a = 1, 8
+          pt%x(:, k) = pt%x(:, k) + sh(a)*g%x(:, n0 + g%corner_offset(a))
+        end do
+      end do
+      call particles_order(pt, g%ncell, err)
+      if (allocated(err)) return
+      if (.not. allocated(pt%mvf)) return
+      do k = 1, pt%np
+        pt%mvf(k) = h%rho(pt%cell(k))*pt%vol(k)
+      end do
+      ke_f = 0.0_wp
+      p_f = 0.0_wp
+      do n = 1, g%nnode
+        ke_f = ke_f + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
+        p_f = p_f + h%mnode(n)*h%u(:, n)
+      end do
+      call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
+      pw%mass_ready = .true.
+      call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
+      do n = 1, g%nnode
+        if (.not. pw%ms(n) > 0.0_wp) cycle
+        mt = h%mnode(n) + pw%mp(n)
+        h%u(:, n) = (h%mnode(n)*h%u(:, n) + pw%mp(n)*pw%vs(:, n))/mt
+      end do
+      call bc_constrain(st%bc, h%u)
+      ke1 = 0.0_wp
+      p1 = 0.0_wp
+      do n = 1, g%nnode
+        mt = h%mnode(n) + pw%mp(n)
+        ke1 = ke1 + 0.5_wp*mt*dot_product(h%u(:, n), h%u(:, n))
+        p1 = p1 + mt*h%u(:, n)
+      end do
+      st%tot%transfer_energy = st%tot%transfer_energy + (ke1 - ke_f - pe%ke_solid)
+      write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &
+        &", kinetic energy change ",es10.3," (PIC transfer, virtual fluid re-weighted)")') pt%np, &
+        count(pt%cell_start(2:) > pt%cell_start(:g%ncell)), p1 - p_f - pe%p_solid, ke1 - ke_f - pe%ke_solid
+      call log_line(log, trim(line))
+    end associate
+  end subroutine particles_euler_finish
 
   !> Which cells host particles.
   function cell_used(p, ncell) result(used)

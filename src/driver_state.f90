@@ -73,15 +73,16 @@ contains
     st%tot%internal = st%tot%internal + st%tot%particle_internal
   end subroutine state_totals
 
-  !> (E - E0 - W + D)/|E0|: total energy change not explained by boundary
+  !> Total energy change not explained by boundary
   !> work W (and, with coupled particles, by the decoupling work D of
   !> PARTICLES.md §1.12, the stress work on the real grid that the
   !> constitutive update does not book; the virtual-fluid work is in the host
-  !> cells' internal energy).
+  !> cells' internal energy) and the transfer energy T of the Euler steps
+  !> (§1.13): (E - E0 - W + D - T)/|E0|.
   pure real(wp) function energy_drift(tot)
     type(totals_t), intent(in) :: tot
-    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work + tot%decoupling_work)/ &
-                   max(abs(tot%energy_initial), tiny(1.0_wp))
+    energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work + tot%decoupling_work - &
+                    tot%transfer_energy)/max(abs(tot%energy_initial), tiny(1.0_wp))
   end function energy_drift
 
   !> Registers the state's restart quantities: each package its own fields,
@@ -102,6 +103,7 @@ contains
     if (st%pt%np > 0) then
       call reg%add('virtual_fluid_work', 'energy', st%tot%vf_work)
       call reg%add('decoupling_work', 'energy', st%tot%decoupling_work)
+      call reg%add('particle_transfer_energy', 'energy', st%tot%transfer_energy)
     end if
     call reg%add('rng_state', 'bits', st%rng_bits)
   end subroutine state_register_restart

@@ -54,8 +54,10 @@ module io_output
     !> `internal`), the work of the virtual-fluid pressure on the nodes (given
     !> to the host cells' internal energy) and the rest of the particle-force
     !> work that the constitutive (virtual) strain work does not book, the
-    !> decoupling work (both summed over the steps)
-    real(wp) :: particle_internal = 0.0_wp, vf_work = 0.0_wp, decoupling_work = 0.0_wp
+    !> decoupling work (both summed over the steps); the change of the
+    !> nodal kinetic energy by the particles' transfer at Euler steps
+    !> (PARTICLES.md §1.13)
+    real(wp) :: particle_internal = 0.0_wp, vf_work = 0.0_wp, decoupling_work = 0.0_wp, transfer_energy = 0.0_wp
   end type totals_t
 
   !> Frame bookkeeping.

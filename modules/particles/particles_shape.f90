@@ -148,14 +148,16 @@ contains
   !> The host cell of point x (length) and its natural coordinates xi in
   !> [0,1]^3: a walk from cell `guess` (module notes), then, if the walk
   !> does not end in a cell containing x, every cell in index order.
-  !> found = .false. (cell = 0) if no cell contains x.
-  pure subroutine particles_locate(g, x, guess, cell, xi, found)
+  !> found = .false. (cell = 0) if no cell contains x. The grid's nodes are
+  !> at g%x, or at xg(3, nnode) if given (the standard grid of Remark 2).
+  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(3)
     integer, intent(in) :: guess
     integer, intent(out) :: cell
     real(wp), intent(out) :: xi(3)
     logical, intent(out) :: found
+    real(wp), intent(in), optional :: xg(:, :)
     real(wp) :: xn(3, 8)
     integer :: ijk(3), nmax(3), step, d, c
     logical :: moved
@@ -165,7 +167,7 @@ contains
     call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
     do step = 1, sum(nmax) + 3
       c = g%cell(ijk(1), ijk(2), ijk(3))
-      call g%gather(c, g%x, xn)
+      call corners(c, xn)
       call particles_natural(xn, x, xi, found)
       if (found) then
         cell = c
@@ -184,7 +186,7 @@ contains
       if (.not. moved) exit
     end do
     do c = 1, g%ncell
-      call g%gather(c, g%x, xn)
+      call corners(c, xn)
       call particles_natural(xn, x, xi, found)
       if (found) then
         cell = c
@@ -194,5 +196,16 @@ contains
     cell = 0
     xi = 0.0_wp
     found = .false.
+  contains
+    !> The corners of cell c in the grid searched.
+    pure subroutine corners(c, xc)
+      integer, intent(in) :: c
+      real(wp), intent(out) :: xc(3, 8)
+      if (present(xg)) then
+        call g%gather(c, xg, xc)
+      else
+        call g%gather(c, g%x, xc)
+      end if
+    end subroutine corners
   end subroutine particles_locate
 end module particles_shape

@@ -1,0 +1,107 @@
+!> The particles in the Euler phase ("physical variables correction with
+!> solid particles", PARTICLES.md §1.13, Remark 2 of Sect. 5.2): the
+!> kernels the driver (`driver_particles`) strings together around the
+!> fluid's rezone and remap.
+!>
+!> 1. `particles_pic`: before the remap, each particle's velocity becomes the
+!>    grid's at it, v_p = sum_I N_Ip v_I (PIC): then the particles' share of
+!>    the nodal momentum, sum_I (sum_p (m_p - m'_p) N_Ip) v_I, is what the
+!>    particles carry, sum_p (m_p - m'_p) v_p (partition of unity).
+!> 2. `particles_relocate`: each particle's host cell and natural coordinates
+!>    in a grid (the standard grid for the pre-positioning of Remark 2, the
+!>    rezoned grid after the remap), by its physical position, walking from a
+!>    guess. The particles' positions do not change.
+!> 3. `particles_occupied`: the cells holding particles (the fixed inner
+!>    boundary of the smoothing, Fig. 4f).
+!> 4. `particles_snap`: the nodes of the occupied cells put at their places
+!>    in the standard grid; `node_moved` tells the caller which nodes moved.
+!> After the remap the driver re-sorts and re-bins the particles, gives them
+!> new virtual-fluid masses from their new hosts' densities and rebuilds the
+!> nodal velocity from the remapped fluid momentum and the particles'.
+module particles_euler
+  use base_kinds, only: wp
+  use mesh_grid, only: grid_t
+  use particles_state, only: particles_t
+  use particles_shape, only: particles_shape_values, particles_locate
+  implicit none
+  private
+  public :: particles_pic, particles_relocate, particles_occupied, particles_snap
+
+contains
+
+  !> v_p = sum_a N_a(xi_p) u_a over the host's corners (item 1).
+  subroutine particles_pic(g, p, u)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(inout) :: p
+    real(wp), intent(in) :: u(:, :)
+    integer :: k, a, n0
+    real(wp) :: sh(8), v(3)
+    !$omp parallel do default(none) shared(g, p, u) private(k, a, n0, sh, v) schedule(static)
+    do k = 1, p%np
+      sh = particles_shape_values(p%xi(:, k))
+      n0 = g%node0(p%cell(k))
+      v = 0.0_wp
+      do a = 1, 8
+        v = v + sh(a)*u(:, n0 + g%corner_offset(a))
+      end do
+      p%v(:, k) = v
+    end do
+    !$omp end parallel do
+  end subroutine particles_pic
+
+  !> Host cell(np) and natural coordinates xi(3, np) of every particle's
+  !> position in the grid with nodes at x(3, nnode), the walk starting at
+  !> guess(np) (item 2). bad: the first particle in no cell (0 if none).
+  subroutine particles_relocate(g, x, p, guess, cell, xi, bad)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: guess(:)
+    integer, intent(out) :: cell(:)
+    real(wp), intent(out) :: xi(:, :)
+    integer, intent(out) :: bad
+    integer :: k
+    logical :: found
+    bad = huge(1)
+    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi) private(k, found) reduction(min: bad) &
+    !$omp schedule(dynamic, 256)
+    do k = 1, p%np
+      call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x)
+      if (.not. found) bad = min(bad, k)
+    end do
+    !$omp end parallel do
+    if (bad == huge(1)) bad = 0
+  end subroutine particles_relocate
+
+  !> The cells that host a particle of cell(np) (item 3).
+  pure function particles_occupied(cell, ncell) result(occ)
+    integer, intent(in) :: cell(:), ncell
+    logical :: occ(ncell)
+    integer :: k
+    occ = .false.
+    do k = 1, size(cell)
+      occ(cell(k)) = .true.
+    end do
+  end function particles_occupied
+
+  !> The corners of the cells with occ(c) true put at their standard places
+  !> x0 (item 4); node_moved(nnode): the nodes this changed.
+  subroutine particles_snap(g, occ, x0, x, node_moved)
+    type(grid_t), intent(in) :: g
+    logical, intent(in) :: occ(:)
+    real(wp), intent(in) :: x0(:, :)
+    real(wp), intent(inout) :: x(:, :)
+    logical, intent(out) :: node_moved(:)
+    integer :: c, a, n
+    node_moved = .false.
+    do c = 1, g%ncell
+      if (.not. occ(c)) cycle
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        if (node_moved(n)) cycle
+        node_moved(n) = any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+        x(:, n) = x0(:, n)
+      end do
+    end do
+  end subroutine particles_snap
+end module particles_euler

@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""Ladder rung 2 of issue 14: gas and an elastic body (prestressed to -p0 I)
+translating together at a uniform velocity U, with Euler steps, must stay a
+uniform translation.
+
+    check_particles_translate.py FRAME0 FRAME P0 UX UY UZ E TOL
+
+Checks in FRAME against FRAME0 (the start, particles matched by id): the
+largest |p - P0|/P0 over the cells, |u - U|/|U| over the nodes and the
+particles, the largest stress change over the solid's modulus E (its
+strain's round-off), and the particle positions
+against x0 + U t (over |U| t). All against TOL. Run with /usr/bin/python3.
+"""
+import sys
+
+import h5py
+import numpy as np
+
+
+def by_id(f, name):
+    order = np.argsort(f["particles/id"][()])
+    return f["particles/" + name][()][order]
+
+
+def main():
+    f0, f1 = h5py.File(sys.argv[1], "r"), h5py.File(sys.argv[2], "r")
+    p0 = float(sys.argv[3])
+    u0 = np.array([float(v) for v in sys.argv[4:7]])
+    modulus = float(sys.argv[7])
+    tol = float(sys.argv[8])
+    t = float(f1["time"][()]) - float(f0["time"][()])
+    speed = float(np.linalg.norm(u0))
+    checks = {
+        "|p - p0| / p0 (cells)": np.max(np.abs(f1["pressure"][()] - p0)) / p0,
+        "|u - U| / |U| (nodes)": np.max(np.linalg.norm(f1["velocity"][()].reshape(-1, 3) - u0, axis=1)) / speed,
+        "|v_p - U| / |U| (particles)": np.max(np.linalg.norm(by_id(f1, "velocity") - u0, axis=1)) / speed,
+        "|stress change| / E": np.max(np.abs(by_id(f1, "stress") - by_id(f0, "stress"))) / modulus,
+        "|x_p - x0 - U t| / (|U| t)": np.max(np.linalg.norm(by_id(f1, "x") - by_id(f0, "x") - u0 * t, axis=1))
+        / (speed * t),
+    }
+    ok = t > 0
+    print(f"t = {t:.4g} (step {int(f1['step'][()])}), tolerance {tol:.1e}:")
+    for label, value in checks.items():
+        good = value <= tol
+        ok = ok and good
+        print(f"  {label:30s} {value:.3e}  {'ok' if good else 'FAIL'}")
+    print("PASS" if ok else "FAIL")
+    sys.exit(0 if ok else 1)
+
+
+main()
