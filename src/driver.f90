@@ -23,7 +23,7 @@ module driver
   use driver_state, only: state_t, state_totals, centroid_text
   use driver_output, only: schedule_t, schedule_init, open_outputs, write_frame, frame_out, gauge_output, progress, &
                            report_conservation, frame_due, dump_due, advance_schedule, history_output, &
-                           outputs_after_restart, step_limit_text
+                           outputs_after_restart, step_limit_text, tracks_init, tracks_close
   use driver_scene, only: build_scene
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
@@ -57,6 +57,7 @@ contains
     end if
     call open_outputs(cfg, sch, err)
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err)
+    if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
     if (.not. allocated(err)) call euler_init(cfg%rezone, st, es, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
     if (sch%restarting) then
@@ -76,6 +77,7 @@ contains
     call write_frame(cfg, st, sch, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
     call gauges_close(sch%gauges)
+    call tracks_close(sch)
     call sch%t_total%stop()
     call report_end(st, sch, es)
     call hdf5_stop(err)
@@ -239,6 +241,7 @@ contains
                   itoa(st%step)//', t = '//rtoa(st%t))
     call log_line(sch%log, 'to continue, run the same deck with  &run restart_from = '''//path//''' /')
     call gauges_close(sch%gauges)
+    call tracks_close(sch)
     call hdf5_stop(err)
     call halt(sch%log, EXIT_WALL_TIME)
   end subroutine stop_for_wall_time

@@ -159,6 +159,7 @@ contains
       call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
                               problems)
       call at_line(problems, n0, deck, 'output')
+      call track_points_check(cfg, problems)
       call check_counts(cfg, problems)
     end associate
   end subroutine read_groups
@@ -199,6 +200,19 @@ contains
     end do
     if (n > 0 .and. size(problems) == 0) call empty_shapes_check(deck, cfg, problems)
   end subroutine read_particle_groups
+
+  !> Track points (&output track) name particles: a deck without any is
+  !> refused before step 0.
+  subroutine track_points_check(cfg, problems)
+    type(config_t), intent(in) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer :: n
+    if (cfg%output%ntrack == 0) return
+    n = 0
+    if (allocated(cfg%particles)) n = size(cfg%particles)
+    if (n == 0) call problem_add(problems, '&output: track = '//itoa(cfg%output%ntrack)//' point(s) but the deck '// &
+      'has no &particles group: track points name particles; add a &particles group or remove track')
+  end subroutine track_points_check
 
   !> What coupled particles cannot do yet (issue 14 is built in steps): a
   !> solid EOS.

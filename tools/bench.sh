@@ -5,9 +5,12 @@
 # octant with global ALE (Euler time per Euler step against Lagrangian time
 # per step); L1 density error against wall time for Sod (N = 100..800) and
 # Sedov (N^3, N = 10..40) through tools/speed_error.py; and mesh smoothing
-# (Sect. 7.1, tests/bench_smooth.f90).
+# (Sect. 7.1, tests/bench_smooth.f90); the cost of coupled MPM particles
+# (issue 14): a gas pushing an elastic block of 64000 particles in a 40^3
+# grid, against the same scene without the particles, 1 and 2 threads.
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
+# BENCH_ONLY=particles runs only the particle section.
 set -euo pipefail
 SECONDS=0
 exe=$(realpath "$1"); mkdir -p "$2"; outdir=$(realpath "$2")
@@ -15,6 +18,55 @@ remap_exe=$(realpath "${3:-$(dirname "$exe")/tests/bench_remap}")
 root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 cd "$work"
+
+# ---- Coupled particles (issue 14): cost per particle-step ----
+# A Lagrangian scene (no Euler phase: coupled particles have none yet): gas
+# at rest with a pressure jump at x = 0.25 pushing an elastic block
+# [0.3,0.8]x[0.25,0.75]^2 = 20^3 cells at per_cell 2 (64000 particles) in a
+# 40^3 box, 120 steps, frames only at the start and the end. The same deck
+# without &solid/&particles is the reference, run in the same bench run. The
+# particle part of a step is (Lagrangian time per step with particles -
+# without), from the run log's timers (the output timer, frames included,
+# is apart); cost per particle-step is that over the particle count.
+particles_bench() {
+  cat > pblock.nml <<'DECK'
+&run title = 'bench: gas pushing an elastic block, 40^3', t_end = 100, max_steps = 120, progress_seconds = 600 /
+&grid ni = 40, nj = 40, nk = 40, xmin = 0, 0, 0, xmax = 1, 1, 1 /
+&material name = 'gas', eos = 'ideal_gas', gamma = 1.4 /
+&region shape = 'all', material = 'gas', density = 1.0, pressure = 1.0 /
+&region shape = 'box', lo = 0, 0, 0, hi = 0.25, 1, 1, material = 'gas', density = 5.0, pressure = 20.0 /
+&solid name = 'block', density = 4, youngs_modulus = 200, poisson_ratio = 0.3, strength = 'elastic' /
+&particles shape = 'box', lo = 0.3, 0.25, 0.25, hi = 0.8, 0.75, 0.75, solid = 'block', per_cell = 2 /
+&boundary xlo = 'wall', xhi = 'wall', ylo = 'wall', yhi = 'wall', zlo = 'wall', zhi = 'wall' /
+&output dir = 'out/pblock', frame_dt = 1000 /
+DECK
+  grep -v '^&solid\|^&particles' pblock.nml | sed -e "s|out/pblock|out/pgas|" > pgas.nml
+  echo "## Coupled particles: gas + elastic block in 40^3, 120 steps, with and without particles (Release)"
+  for th in 1 2; do
+    for scene in pgas pblock; do
+      OMP_NUM_THREADS=$th OMP_PROC_BIND=true "$exe" $scene.nml > ${scene}_$th.log
+      cp ${scene}_$th.log "$outdir/bench_${scene}_$th.log"
+    done
+    awk -v th=$th '
+      FNR == 1 {f++}
+      /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "lagrange") lag[f] = $(i + 1)}
+      /^throughput:/ {rate[f] = $2; steps[f] = $5}
+      /^particles: [0-9]+ in all/ {np = $2}
+      END {
+        per0 = lag[1] / steps[1]; per1 = lag[2] / steps[2]
+        printf "threads %d: without particles %.3e cell-cycles/s (%.2f ms/step, %d steps); ", th, rate[1], 1e3 * per0, steps[1]
+        printf "with %d particles %.3e cell-cycles/s (%.2f ms/step, %d steps)\n", np, rate[2], 1e3 * per1, steps[2]
+        printf "threads %d: particle part %.2f ms/step = %.3e s per particle-step (%.2f x the gas step)\n", \
+               th, 1e3 * (per1 - per0), (per1 - per0) / np, per1 / per0
+      }' pgas_$th.log pblock_$th.log
+  done
+}
+if [[ "${BENCH_ONLY:-}" == particles ]]; then
+  particles_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
+
 sed -e 's/ni = 20, nj = 20, nk = 20/ni = 40, nj = 40, nk = 40/' \
     -e "s|^&output.*|\&output dir = 'out/sedov40' /|" "$root/input/sedov3d.nml" > sedov40.nml
 
@@ -81,6 +133,9 @@ echo "## Mesh smoothing (Sect. 7.1): 50^3 grid, interior nodes moved by up to 0.
 smooth_exe=$(dirname "$exe")/tests/bench_smooth
 OMP_NUM_THREADS=1 "$smooth_exe" 50 100 "$outdir/smoothing.csv" | tee "$outdir/bench_smooth.txt"
 /usr/bin/python3 "$root/tools/plot_smoothing.py" "$outdir/smoothing.csv" --out "$outdir/smoothing.png"
+
+echo
+particles_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"

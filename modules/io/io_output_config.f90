@@ -1,5 +1,6 @@
 !> The &output group: where outputs go, when frames and gauge rows are
-!> written, and the gauge points.
+!> written, the gauge points and the track points (each names the particle
+!> nearest to it at t = 0, whose history is written on the gauge schedule).
 module io_output_config
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
@@ -7,9 +8,10 @@ module io_output_config
   use io_files, only: io_is_dir
   implicit none
   private
-  public :: output_config_t, output_config_read, max_gauges
+  public :: output_config_t, output_config_read, max_gauges, max_tracks
 
   integer, parameter :: max_gauges = 64
+  integer, parameter :: max_tracks = 64
 
   !> The resolved &output group; the initial values are the defaults.
   type :: output_config_t
@@ -21,6 +23,8 @@ module io_output_config
     real(wp) :: history_dt = 0.0_wp                   !< time between energy-history rows (time; 0: off)
     integer :: ngauge = 0                             !< number of gauge points
     real(wp) :: gauges(3, max_gauges) = huge(1.0_wp)  !< gauge points (length); huge: unset
+    integer :: ntrack = 0                             !< number of track points
+    real(wp) :: tracks(3, max_tracks) = huge(1.0_wp)  !< track points (length); huge: unset
   end type output_config_t
 
 contains
@@ -34,14 +38,15 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=256) :: dir, name
-    real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauges)
+    real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauges), track(3, max_tracks)
     integer :: frame_steps, ios, i
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt, track
 
     dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
     gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = this%gauges
+    track = this%tracks
     if (size(text) > 0) then
       read(text, nml=output, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'output', ios, msg)
@@ -62,6 +67,15 @@ contains
       this%gauges(:, i) = gauge(:, i)
       if (any(gauge(:, i) < xmin) .or. any(gauge(:, i) > xmax)) then
         write(tag, '(a,i0,a)') 'gauge(:,', i, ')'
+        call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
+      end if
+    end do
+    do i = 1, max_tracks
+      if (any(track(:, i) > 0.5_wp*huge(1.0_wp))) exit
+      this%ntrack = i
+      this%tracks(:, i) = track(:, i)
+      if (any(track(:, i) < xmin) .or. any(track(:, i) > xmax)) then
+        write(tag, '(a,i0,a)') 'track(:,', i, ')'
         call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
       end if
     end do
