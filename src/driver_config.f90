@@ -201,22 +201,16 @@ contains
   end subroutine read_particle_groups
 
   !> What coupled particles cannot do yet (issue 14 is built in steps): an
-  !> Euler phase (Remark 2 of Sect. 5.2) and a solid EOS.
+  !> Euler phase (Remark 2 of Sect. 5.2).
   subroutine coupled_particles_check(cfg, problems)
     type(config_t), intent(in) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer :: k
     if (.not. allocated(cfg%particles)) return
     if (size(cfg%particles) == 0 .or. .not. cfg%hydro%particles_coupled) return
     ! (the Euler phase with particles, Remark 2 of Sect. 5.2, is not built yet)
     if (trim(cfg%rezone%mode) /= 'none') call problem_add(problems, '&rezone: mode = '''// &
       trim(cfg%rezone%mode)//''' with coupled particles: the Euler phase with particles is not built yet; '// &
       'use mode = ''none'' (pure Lagrangian) or &hydro particles = ''inert''')
-    do k = 1, size(cfg%solids)
-      if (trim(cfg%solids(k)%eos) /= 'none') call problem_add(problems, '&solid '''//trim(cfg%solids(k)%name)// &
-        ''': eos = '''//trim(cfg%solids(k)%eos)//''' with coupled particles is not built yet; use eos = ''none'' '// &
-        '(pressure from bulk_modulus) or &hydro particles = ''inert''')
-    end do
   end subroutine coupled_particles_check
 
   !> A shape that seeds no particle (smaller than the spacing of the
