@@ -155,7 +155,6 @@ contains
       call at_line(problems, n0, deck, 'boundary')
       call rezone_config_read(cfg%rezone, deck_text(deck, 'rezone'), path, echo, problems)
       call at_line(problems, n0, deck, 'rezone')
-      call coupled_particles_check(cfg, problems)
       call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
                               problems)
       call at_line(problems, n0, deck, 'output')
@@ -213,21 +212,6 @@ contains
     if (n == 0) call problem_add(problems, '&output: track = '//itoa(cfg%output%ntrack)//' point(s) but the deck '// &
       'has no &particles group: track points name particles; add a &particles group or remove track')
   end subroutine track_points_check
-
-  !> What coupled particles cannot do yet (issue 14 is built in steps): a
-  !> solid EOS.
-  subroutine coupled_particles_check(cfg, problems)
-    type(config_t), intent(in) :: cfg
-    character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer :: k
-    if (.not. allocated(cfg%particles)) return
-    if (size(cfg%particles) == 0 .or. .not. cfg%hydro%particles_coupled) return
-    do k = 1, size(cfg%solids)
-      if (trim(cfg%solids(k)%eos) /= 'none') call problem_add(problems, '&solid '''//trim(cfg%solids(k)%name)// &
-        ''': eos = '''//trim(cfg%solids(k)%eos)//''' with coupled particles is not built yet; use eos = ''none'' '// &
-        '(pressure from bulk_modulus) or &hydro particles = ''inert''')
-    end do
-  end subroutine coupled_particles_check
 
   !> A shape that seeds no particle (smaller than the spacing of the
   !> sub-cell centres, or between them) is a deck mistake, found now by

@@ -12,8 +12,10 @@
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
 !> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
 !> built yet (next steps of issue 14): the Euler phase with particles
-!> (Remark 2), the (1 - theta_c) scaling of the virtual fluid's viscosity
-!> (§1.7), a solid EOS, erosion energy.
+!> (Remark 2), erosion energy. A solid with eos = 'mie_gruneisen' gets its
+!> EOS in its strength slot (pressure p(rho, e), `particles_lagrange`) and
+!> its particles' initial energy from the EOS at their density and the
+!> pressure of their initial stress.
 !>
 !> Energy accounting (§1.12): the conservation report takes the kinetic
 !> energy and momentum with the full nodal mass (`state_totals`), the
@@ -36,6 +38,7 @@ module driver_particles
   use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_create
+  use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
   use io_points_file, only: points_file_read
@@ -149,6 +152,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, s, stat
     character(len=200) :: msg
+    real(wp) :: p0
     allocate(st%pt%mvf(st%pt%np), st%pw%models(size(cfg%solids)), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'couple_particles', 'cannot allocate: '//trim(msg))
@@ -160,11 +164,18 @@ contains
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
         call strength_create(sc%strength, sc%bulk_modulus, sc%shear_modulus, sc%yield_stress, sc%tangent_modulus, &
-                             st%pw%models(s)%m, err)
+                             st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
+        if (trim(sc%eos) == 'mie_gruneisen') then
+          st%pw%models(s)%eos = mie_gruneisen_t(rho0=sc%par%rho0, c0=sc%par%c0, s1=sc%par%s1, gamma0=sc%par%gamma0)
+          do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
+            p0 = -(st%pt%stress(1, k) + st%pt%stress(2, k) + st%pt%stress(3, k))/3.0_wp
+            st%pt%e(k) = st%pw%models(s)%eos%energy(st%pt%rho(k), p0)
+          end do
+        end if
       end associate
       if (allocated(err)) return
     end do
-    call particles_work_init(st%pw, st%g%nnode, st%pt%np, st%pt%nhist, err)
+    call particles_work_init(st%pw, st%g%nnode, st%g%ncell, st%pt%np, st%pt%nhist, err)
   end subroutine couple_particles
 
   !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the

@@ -24,10 +24,11 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
     real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
-    character(len=16) :: viscosity, particles, stress_update
+    character(len=16) :: viscosity, particles, stress_update, particle_viscosity
     integer :: ios
     character(len=max_line) :: msg
-    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update
+    namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update, &
+                     particle_viscosity
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
@@ -35,6 +36,7 @@ contains
     dv_vf_min = defaults%dv_vf_min
     particles = merge('coupled', 'inert  ', defaults%particles_coupled)
     stress_update = merge('decoupled', 'original ', defaults%stress_decoupled)
+    particle_viscosity = merge('scaled', 'full  ', defaults%particle_visc_scaled)
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -48,6 +50,7 @@ contains
     end select
     call problem_long(problems, 'hydro', 'particles', particles)
     call problem_long(problems, 'hydro', 'stress_update', stress_update)
+    call problem_long(problems, 'hydro', 'particle_viscosity', particle_viscosity)
     select case (trim(particles))
     case ('coupled'); par%particles_coupled = .true.
     case ('inert'); par%particles_coupled = .false.
@@ -60,6 +63,13 @@ contains
     case default
       call problem_add(problems, '&hydro: stress_update = '''//trim(stress_update)// &
                        ''' is not known; valid: decoupled, original')
+    end select
+    select case (trim(particle_viscosity))
+    case ('scaled'); par%particle_visc_scaled = .true.
+    case ('full'); par%particle_visc_scaled = .false.
+    case default
+      call problem_add(problems, '&hydro: particle_viscosity = '''//trim(particle_viscosity)// &
+                       ''' is not known; valid: scaled, full')
     end select
     if (q_linear < 0.0_wp) call problem_bad(problems, 'hydro', 'q_linear', q_linear, 'must be >= 0')
     if (q_quad < 0.0_wp) call problem_bad(problems, 'hydro', 'q_quad', q_quad, 'must be >= 0')

@@ -91,9 +91,10 @@ contains
   !> stress -q_k n_k n_k: f_a = q_k n_k (n_k . dV/dx_a). The forces sum to zero,
   !> their work is -sum_k q_k V lambda_k >= 0, and the result does not depend
   !> on how the grid is oriented with respect to the shock. phi_k is the
-  !> limiter along n_k (see lagrange_corner_forces).
-  pure subroutine tensor_viscosity(b, vol, s, lam, ev, phik, rho, cs, par, f, qsum)
-    real(wp), intent(in) :: b(3, 8), vol, s(3, 3), lam(3), ev(3, 3), phik(3), rho, cs
+  !> limiter along n_k (see lagrange_corner_forces); sc scales q_k (1 - theta_c
+  !> in cells hosting particles, else 1: x 1 is exact).
+  pure subroutine tensor_viscosity(b, vol, s, lam, ev, phik, rho, cs, par, sc, f, qsum)
+    real(wp), intent(in) :: b(3, 8), vol, s(3, 3), lam(3), ev(3, 3), phik(3), rho, cs, sc
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(inout) :: f(3, 8)
     real(wp), intent(out) :: qsum
@@ -106,7 +107,7 @@ contains
       n = ev(:, k)
       len_k = vol/sum(abs(matmul(n, s)))
       du = len_k*lam(k)
-      qk = rho*(1.0_wp - phik(k))*(par%q_quad*du*du - par%q_linear*cs*du)
+      qk = sc*(rho*(1.0_wp - phik(k))*(par%q_quad*du*du - par%q_linear*cs*du))
       qsum = qsum + qk
       do a = 1, 8
         f(:, a) = f(:, a) + (qk*dot_product(n, b(:, a)))*n
@@ -327,22 +328,38 @@ contains
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
   !> h%sarea, h%area) of the same x, v, as left by `lagrange_strain_rates`
-  !> or by `lagrange_update_cells` with `geometry`.
-  subroutine lagrange_corner_forces(g, x, v, h, par)
+  !> or by `lagrange_update_cells` with `geometry`. vscale (ncell, optional):
+  !> a factor on each cell's artificial viscosity (1 - theta_c of the
+  !> particles, PARTICLES.md §1.7; h%q is the scaled one); without it the
+  !> factor is 1, and a product with 1 is exact, so the forces are the same
+  !> bit for bit.
+  subroutine lagrange_corner_forces(g, x, v, h, par, vscale)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
+    real(wp), intent(in), optional, target :: vscale(:)
     integer :: c, d, e, a, k, m, n0, ci, cj, ck, ilog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3), area3(3)
-    real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div
+    real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div, sc
+    real(wp), target :: one(1)
+    real(wp), pointer :: scale(:)
+    integer :: sstride
+    ! (without vscale every cell reads the one factor 1)
+    one = 1.0_wp
+    scale => one
+    sstride = 0
+    if (present(vscale)) then
+      scale => vscale
+      sstride = 1
+    end if
 
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
-    !$omp parallel do default(none) shared(g, x, v, h, par) collapse(2) &
+    !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
-    !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div) &
+    !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div, sc) &
     !$omp schedule(static, 1)
     do ck = g%clo(3), g%chi(3)
     do cj = g%clo(2), g%chi(2)
@@ -357,6 +374,7 @@ contains
         vn(:, a) = v(:, n0 + g%corner_offset(a))
       end do
       vol = h%vol(c)
+      sc = scale(1 + sstride*(c - 1))
       b = h%dvdx(:, :, c)
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
@@ -382,7 +400,7 @@ contains
                               sum(h%grad(:, neighbour(g, c, ilog, -off))), &
                               sum(h%grad(:, neighbour(g, c, ilog, off))))
           end do
-          call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, f, qsum)
+          call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, sc, f, qsum)
         end if
       else
         do d = 1, 3
@@ -393,7 +411,7 @@ contains
                         h%grad(d, neighbour(g, c, ilog, unit(:, d))))
           du = norm2(dv)
           area = abs(sdv)/du
-          qd = h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*du)
+          qd = sc*(h%rho(c)*(1.0_wp - phi)*(par%q_quad*du*du + par%q_linear*h%cs(c)*du))
           qsum = qsum + qd
           ! force along -dv on the high side, +dv on the low side
           dv = (0.25_wp*qd*area/du)*dv

@@ -20,7 +20,8 @@ module lagrange_integrator
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
   use particles_state, only: particles_t
   use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
-                                particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays
+                                particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays, &
+                                particles_cell_fraction
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -79,6 +80,13 @@ contains
   !> (the corrector's, returned in `work_vf`) is the particle-stress work.
   !> `bad_particle` (0 if none) names a particle whose host has det J <= 0
   !> at it or whose trial volume is not positive.
+  !> With &hydro particle_viscosity = 'scaled' the artificial viscosity of a
+  !> cell hosting particles is scaled by 1 - theta_c (PARTICLES.md §1.7,
+  !> `particles_cell_fraction`), theta_c from the particles' and the cells'
+  !> volumes at the start of the step, in both stages: inside a solid the
+  !> virtual fluid's viscosity would damp the solid (risk R2). The hourglass
+  !> control is kept: a solid of one particle per cell does not resist the
+  !> hourglass modes of its host.
   !>
   !> Mixed cells: the stable step holds each material's volume change to
   !> dv_max of itself (`mixed_volume_gain`), and the closure shares the
@@ -153,8 +161,9 @@ contains
       dt = min(dt, dt_stable)
       call save_step_start(g, h)
       call mixed_save_step_start(mx, h%vol)
+      if (par%particle_visc_scaled) call particles_cell_fraction(g, pt, pt%vol, h%vol, pw%vscale)
       call bc_pressure_forces(bc, g, g%x, h%p)
-      call lagrange_corner_forces(g, g%x, h%u, h, par)
+      call corner_forces(h%u)
       call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
       if (present(bad_particle)) bad_particle = badp
       call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
@@ -165,7 +174,7 @@ contains
       call update_materials(h, mats, mx, par)
       call particle_trial_state(pt, pw)
       call bc_pressure_forces(bc, g, g%x, h%p)
-      call lagrange_corner_forces(g, g%x, h%uh, h, par)
+      call corner_forces(h%uh)
       pw%xc = g%x
       call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h)
       if (present(bad_particle)) then
@@ -180,6 +189,16 @@ contains
       if (present(work_vf)) work_vf = w_vf
       call update_materials(h, mats, mx, par)
     end subroutine particle_step
+
+    !> The corner forces for the velocities v, the viscosity scaled if asked.
+    subroutine corner_forces(v)
+      real(wp), intent(in) :: v(:, :)
+      if (par%particle_visc_scaled) then
+        call lagrange_corner_forces(g, g%x, v, h, par, pw%vscale)
+      else
+        call lagrange_corner_forces(g, g%x, v, h, par)
+      end if
+    end subroutine corner_forces
 
     !> The particles' trial state at n+1/2 for the corrector (PARTICLES.md
     !> §1.8 step 2), on copies: velocities from the predicted nodal
@@ -208,8 +227,9 @@ contains
       pw%hist_h = pt%hist
       pw%vol_h = pt%vol
       pw%rho_h = pt%rho
+      pw%e_h = pt%e
       call particles_stress_arrays(pt%mat_start, pt%m, pw%models, pw%lgrad, 0.5_wp*dt, pw%stress_h, pw%hist_h, &
-                                   pw%vol_h, pw%rho_h, bad_h)
+                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h)
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = bad_h
       end if

@@ -44,6 +44,10 @@ module lagrange_state
     !> strain increments of the particles from the virtual solid grid (Eqs.
     !> 29-32, 'decoupled') or from the mixed nodal velocities (Eqs. 26-27)
     logical :: stress_decoupled = .true.
+    !> artificial viscosity of cells hosting coupled particles scaled by
+    !> 1 - theta_c, theta_c their particles' volume fraction ('scaled', PARTICLES.md
+    !> §1.7), or the cells' own ('full')
+    logical :: particle_visc_scaled = .true.
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.

@@ -9,8 +9,13 @@
 !> and a strength model: 'elastic' or 'bilinear' (linear hardening from
 !> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2), a name of the
 !> strength factory's list (`strength_models::strength_names`). Coupled
-!> particles use K, G and the model (`strength_create`); a solid EOS is
-!> refused with coupled particles for now (the driver's deck check).
+!> particles use K, G and the model (`strength_create`), or with eos =
+!> 'mie_gruneisen' (the only EOS a solid takes) the EOS's pressure p(rho,
+!> e), G and the model's deviator. With an EOS the deck gives no
+!> bulk_modulus (its pressure would contradict the EOS): the resolved K is
+!> E/(3(1 - 2 nu)) if youngs_modulus and poisson_ratio are given, else the
+!> EOS's rho0 c0^2, and serves only Young's modulus of the bilinear
+!> hardening modulus; rho0 = 0 (not given) means the solid's density.
 !>
 !> &particles: a shape (box, sphere, cylinder, all, or file: a text file of
 !> points), particles per cell per direction, the solid, density (default
@@ -42,7 +47,7 @@ module particles_config
     real(wp) :: density = 0.0_wp                   !< reference density (required, > 0)
     character(len=64) :: eos = 'none'              !< 'none' (pressure K (rho/rho0 - 1)) or an eos_factory name
     type(eos_params_t) :: par                      !< EOS parameters
-    real(wp) :: bulk_modulus = 0.0_wp              !< K (pressure); resolved from E, nu if those are given
+    real(wp) :: bulk_modulus = 0.0_wp              !< K (pressure); resolved from E, nu or the EOS (module notes)
     real(wp) :: shear_modulus = 0.0_wp             !< G (pressure); resolved from E, nu if those are given
     !   (the echo shows the deck's own values; K and G here are resolved)
     real(wp) :: youngs_modulus = 0.0_wp            !< E (pressure), with poisson_ratio instead of K, G
@@ -139,13 +144,26 @@ contains
         bulk_modulus, 'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
       if (.not. (bulk_modulus >= 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, 'must be >= 0')
     end if
-    if (trim(eos) /= 'none') then
+    select case (trim(eos))
+    case ('none')
+    case ('mie_gruneisen')
+      if (abs(bulk_modulus) > 0.0_wp) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
+        'applies only to eos = ''none'' (with eos = '''//trim(eos)//''' the pressure comes from the EOS)')
+      ! rho0 not given: the solid's density
+      if (.not. abs(rho0) > 0.0_wp) rho0 = density
       this%par = eos_params_t(gamma=gamma, a=a, b=b, r1=r1, r2=r2, omega=omega, rho0=rho0, c0=c0, s1=s1, gamma0=gamma0)
-      ! the factory validates the model name and its parameters
+      ! the factory validates the parameters
       call eos_create(eos, this%par, trial, err)
-      if (allocated(err)) call problem_add(problems, '&'//tag//': '//err%msg//' (or eos = ''none'': pressure '// &
-                                           'from bulk_modulus)')
-    end if
+      if (allocated(err)) then
+        call problem_add(problems, '&'//tag//': '//err%msg//' (or eos = ''none'': pressure from bulk_modulus)')
+      else if (.not. by_e) then
+        ! K only for Young's modulus of the hardening (module notes): rho0 c0^2
+        k_mod = rho0*c0**2
+      end if
+    case default
+      call problem_add(problems, '&'//tag//': eos = '''//trim(eos)//''' is not known for a solid; valid: none, '// &
+                       'mie_gruneisen')
+    end select
     ! the strength model and its parameters
     select case (trim(strength))
     case ('elastic')

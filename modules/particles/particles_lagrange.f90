@@ -6,6 +6,19 @@
 !> through the strength models, volume and density (§1.10) and the stable
 !> step (§1.11).
 !>
+!> Solids with an equation of state (&solid eos = 'mie_gruneisen', §2.0
+!> step 2): the strength model updates the deviator only (its k is 0) and
+!> the pressure is p(rho, e) of the EOS (`eos_mie_gruneisen`, the fluid's
+!> kernel), with the energy of the step from the trapezoid of §1.12,
+!> m Delta e = 1/2 Vbar (s^n + s^{n+1}) : Delta eps - 1/2 (p^n + p^{n+1})
+!> Delta V, in which the implicit p^{n+1} = K(rho^{n+1}) + gamma0 rho0 e^{n+1}
+!> is linear in e^{n+1} and solved in closed form. Sound speed for the step:
+!> c^2 = c_EOS^2 + 4G/(3 rho).
+!>
+!> The virtual fluid's artificial viscosity (§1.7, risk R2): the host
+!> cells' coverage theta_c = sum_p V_p / V_c (`particles_cell_fraction`)
+!> scales it by 1 - theta_c (&hydro particle_viscosity = 'scaled').
+!>
 !> Determinism (1 and 2 threads bit-identical): every particle-to-node sum
 !> loops over the cells in 8 colours (parity of i, j, k; cells of one colour
 !> share no node), the cells of a colour in parallel, the particles of a
@@ -24,20 +37,24 @@ module particles_lagrange
   use particles_state, only: particles_t
   use particles_shape, only: particles_shape_values, particles_shape_gradients
   use strength_models, only: strength_t
+  use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state, mie_gruneisen_reference
   implicit none
   private
   public :: particles_work_t, strength_slot_t, particles_work_init, particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
-            particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard
+            particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
+            particles_cell_fraction
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
   real(wp), parameter :: mass_guard = 1.0e-3_wp
 
   !> One solid's strength model (a slot, so that an array can hold models of
-  !> different types).
+  !> different types) and, if its pressure comes from an EOS, that EOS (the
+  !> model's k is then 0: module notes).
   type :: strength_slot_t
     class(strength_t), allocatable :: m
+    type(mie_gruneisen_t), allocatable :: eos
   end type strength_slot_t
 
   !> Node work arrays of the coupling, allocated once (nnode) and the
@@ -56,30 +73,33 @@ module particles_lagrange
     real(wp), allocatable :: stress_h(:, :)     !< (6, np) trial stress at n+1/2 (corrector)
     real(wp), allocatable :: hist_h(:, :)       !< (nhist, np) trial history at n+1/2
     real(wp), allocatable :: vol_h(:), rho_h(:) !< (np) trial volume and density at n+1/2
+    real(wp), allocatable :: e_h(:)             !< (np) trial specific internal energy at n+1/2
+    real(wp), allocatable :: vscale(:)          !< (ncell) viscosity scale 1 - theta_c of the cells
     type(strength_slot_t), allocatable :: models(:)  !< (nsolid) strength models
   end type particles_work_t
 
 contains
 
-  !> Allocates the work arrays for nnode nodes and np particles with nhist
-  !> history variables each.
-  subroutine particles_work_init(w, nnode, np, nhist, err)
+  !> Allocates the work arrays for nnode nodes, ncell cells and np particles
+  !> with nhist history variables each.
+  subroutine particles_work_init(w, nnode, ncell, np, nhist, err)
     type(particles_work_t), intent(inout) :: w
-    integer, intent(in) :: nnode, np, nhist
+    integer, intent(in) :: nnode, ncell, np, nhist
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
     character(len=200) :: msg
     allocate(w%mp(nnode), w%f(3, nnode), w%fvf(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%xc(3, nnode), &
              w%vh(3, np), &
-             w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
-             stat=stat, errmsg=msg)
+             w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), w%e_h(np), &
+             w%vscale(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
       return
     end if
     w%mp = 0.0_wp; w%f = 0.0_wp; w%fvf = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%xc = 0.0_wp
     w%vh = 0.0_wp; w%lgrad = 0.0_wp
-    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp
+    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp; w%e_h = 0.0_wp
+    w%vscale = 1.0_wp
     w%mass_ready = .false.
   end subroutine particles_work_init
 
@@ -373,23 +393,31 @@ contains
   end subroutine particles_stress_update
 
   !> `particles_stress_update` on given arrays (stress (6, np), hist
-  !> (nhist, np), vol, rho (np)) of particles sorted by solid (mat_start) with
-  !> masses m: the trial state at n+1/2 is updated so, on copies. With e
-  !> (np), the specific internal energy takes the constitutive work of the
-  !> step (trapezoid, PARTICLES.md §1.12): m_p Delta e_p = 1/2 (sigma^n +
-  !> sigma^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}).
+  !> (nhist, np), vol, rho, e (np)) of particles sorted by solid (mat_start)
+  !> with masses m: the trial state at n+1/2 is updated so, on copies. The
+  !> specific internal energy e takes the constitutive work of the step
+  !> (trapezoid, PARTICLES.md §1.12): without an EOS m_p Delta e_p = 1/2
+  !> (sigma^n + sigma^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}); with one
+  !> (`eos_update`) the pressure part is -1/2 (p^n + p^{n+1}) Delta V.
   subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad, e)
     integer, intent(in) :: mat_start(:)
     real(wp), intent(in) :: m(:)
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
-    real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:)
+    real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:), e(:)
     integer, intent(out) :: bad
-    real(wp), intent(inout), optional :: e(:)
-    integer :: s
+    integer :: s, k
     bad = huge(1)
     do s = 1, size(mat_start) - 1
-      call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
+      if (allocated(models(s)%eos)) then
+        do k = mat_start(s), mat_start(s + 1) - 1
+          call eos_update(models(s)%m, models(s)%eos, lgrad(:, :, k)*dt, m(k), stress(:, k), hist(:, k), vol(k), &
+                          rho(k), e(k))
+          if (.not. vol(k) > 0.0_wp) bad = min(bad, k)
+        end do
+      else
+        call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
+      end if
     end do
     if (bad == huge(1)) bad = 0
   contains
@@ -410,17 +438,82 @@ contains
           bad = min(bad, k)
           cycle
         end if
-        if (present(e)) then
-          sm = 0.5_wp*(s0 + stress(:, k))
-          work = sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
-               + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2))
-          e(k) = e(k) + work*0.5_wp*vol(k)*(1.0_wp + detf)/m(k)
-        end if
+        sm = 0.5_wp*(s0 + stress(:, k))
+        work = sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
+             + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2))
+        e(k) = e(k) + work*0.5_wp*vol(k)*(1.0_wp + detf)/m(k)
         vol(k) = vol(k)*detf
         rho(k) = m(k)/vol(k)
       end do
     end subroutine update_range
   end subroutine particles_stress_arrays
+
+  !> One particle of a solid with an EOS over the increment f = L dt
+  !> (module notes): the model (k = 0) advances the deviator; V^{n+1} = V^n J
+  !> (J as in `particles_stress_update`; a non-positive J leaves vol = 0
+  !> and the rest unchanged: the caller flags it); the energy from the
+  !> trapezoid, m (e^{n+1} - e^n) = W_dev - 1/2 (p^n + p^{n+1}) Delta V with
+  !> W_dev = 1/2 (s^n + s^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}) and
+  !> p^{n+1} = K(rho^{n+1}) + B e^{n+1}, B = gamma0 rho0, so that
+  !>   e^{n+1} = (e^n + (W_dev - 1/2 (p^n + K) Delta V)/m) / (1 + B Delta V/(2m));
+  !> then the mean stress is -p^{n+1}. Units: m mass, vol length^3, rho
+  !> density, e velocity^2, stress pressure.
+  pure subroutine eos_update(model, eos, f, m, stress, hist, vol, rho, e)
+    class(strength_t), intent(in) :: model
+    type(mie_gruneisen_t), intent(in) :: eos
+    real(wp), intent(in) :: f(3, 3), m
+    real(wp), intent(inout) :: stress(6), hist(:), vol, rho, e
+    real(wp) :: deps(3, 3), dw(3, 3), detf, s0(6), sm(6), p0, pm, vnew, dvol, wdev, kref, dk, b
+    deps = 0.5_wp*(f + transpose(f))
+    dw = 0.5_wp*(f - transpose(f))
+    s0 = stress
+    p0 = -(s0(1) + s0(2) + s0(3))/3.0_wp
+    detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
+    if (.not. detf > 0.0_wp) then
+      vol = 0.0_wp
+      return
+    end if
+    call model%update(deps, dw, stress, hist)
+    vnew = vol*detf
+    dvol = vnew - vol
+    ! the deviatoric stress work (s^n and s^{n+1} deviators: s : deps = s : dev(deps))
+    sm = 0.5_wp*(s0 + stress)
+    pm = (sm(1) + sm(2) + sm(3))/3.0_wp
+    sm(1:3) = sm(1:3) - pm
+    wdev = (sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
+         + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2)))*0.5_wp*(vol + vnew)
+    rho = m/vnew
+    call mie_gruneisen_reference(eos, rho, kref, dk)
+    b = eos%gamma0*eos%rho0
+    e = (e + (wdev - 0.5_wp*(p0 + kref)*dvol)/m)/(1.0_wp + 0.5_wp*b*dvol/m)
+    pm = (stress(1) + stress(2) + stress(3))/3.0_wp
+    stress(1:3) = stress(1:3) - pm - (kref + b*e)
+    vol = vnew
+  end subroutine eos_update
+
+  !> The viscosity scale of the cells (PARTICLES.md §1.7, risk R2): 1 -
+  !> theta_c with theta_c = sum_p V_p / V_c (vol the particles' volumes,
+  !> vcell the cells'), clamped to [0, 1]; 1 in cells without particles.
+  !> Cells in parallel, the particles of a cell in array order.
+  subroutine particles_cell_fraction(g, p, vol, vcell, vscale)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    real(wp), intent(in) :: vol(:), vcell(:)
+    real(wp), intent(out) :: vscale(:)
+    integer :: c, q
+    real(wp) :: vp
+    !$omp parallel do default(none) shared(g, p, vol, vcell, vscale) private(c, q, vp) schedule(static)
+    do c = 1, g%ncell
+      vscale(c) = 1.0_wp
+      if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+      vp = 0.0_wp
+      do q = p%cell_start(c), p%cell_start(c + 1) - 1
+        vp = vp + vol(p%perm(q))
+      end do
+      vscale(c) = 1.0_wp - max(0.0_wp, min(1.0_wp, vp/vcell(c)))
+    end do
+    !$omp end parallel do
+  end subroutine particles_cell_fraction
 
   !> Particle velocities at n+1/2 predicted from the nodes' predictor
   !> velocities u* (Eq. 24 with the predicted accelerations, PARTICLES.md
@@ -466,13 +559,15 @@ contains
 
   !> Stable step of the particles (§1.11): min_p cfl L_c/(c_p + |v_p|), L_c
   !> the host cell's volume over its largest median-surface area (grid x),
-  !> c_p^2 = (K + 4G/3)/rho_p; huge if there are none. kmin: the particle
+  !> c_p^2 = (K + 4G/3)/rho_p, or c_EOS^2 + 4G/(3 rho_p) for a solid with
+  !> an EOS (c_EOS at rho_p, e_p); huge if there are none. kmin: the particle
   !> that sets it (the host particle of the node when the guard below does).
   !>
   !> Guard for light nodes next to stiff particles (§1.11, risk R1): at each
   !> node, dt_I = 2 cfl sqrt(m_I/k_I) with m_I = mnode + mp (the coupled
   !> nodal mass) and k_I = sum_p V_p (K + 4G/3)_p |grad N_Ip|^2 (Gershgorin
-  !> bound of the particles' stiffness at the node); k_I is summed in the
+  !> bound of the particles' stiffness at the node; rho_p c_EOS^2 for K with
+  !> an EOS); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
   subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin)
@@ -495,6 +590,7 @@ contains
       call hex_median_areas(xn, sarea)
       len_c = hex_volume(xn)/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))
       c2 = models(p%mat(k))%m%wave_modulus()/p%rho(k)
+      if (allocated(models(p%mat(k))%eos)) c2 = c2 + eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
       dtk = cfl*len_c/(sqrt(c2) + norm2(p%v(:, k)))
       if (dtk < dt) then
         dt = dtk
@@ -519,6 +615,7 @@ contains
           k = p%perm(q)
           call particles_gradients(xn, p%xi(:, k), gradn, detj)
           mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
+          if (allocated(models(p%mat(k))%eos)) mw = mw + p%vol(k)*p%rho(k)*eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
           do a = 1, 8
             kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
           end do
@@ -539,6 +636,15 @@ contains
     end do
     if (nmin > 0) kmin = node_particle(nmin)
   contains
+    !> The EOS sound speed squared at rho, e.
+    pure real(wp) function eos_c2(eos, rho, e) result(c2)
+      type(mie_gruneisen_t), intent(in) :: eos
+      real(wp), intent(in) :: rho, e
+      real(wp) :: pe, ce
+      call mie_gruneisen_state(eos, rho, e, pe, ce)
+      c2 = ce*ce
+    end function eos_c2
+
     !> A particle whose host has node n as a corner (the first in array order).
     integer function node_particle(n) result(kp)
       integer, intent(in) :: n

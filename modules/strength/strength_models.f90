@@ -13,6 +13,12 @@
 !>     symmetrically: sigma* = Q (sigma + dsig/2) Q^T + dsig/2;
 !>  3. the model's return (elastic: none; bilinear: radial return on the
 !>     deviator, exact for linear hardening).
+!> A solid whose pressure comes from an equation of state (&solid eos =
+!> 'mie_gruneisen', PARTICLES.md §2.0 step 2) has a model with k = 0: the
+!> update then leaves the mean stress as it was (the rotation keeps the
+!> trace) and the caller sets the pressure from the EOS
+!> (`particles_lagrange`); its bulk modulus only enters Young's modulus of
+!> the bilinear hardening modulus.
 !> Stresses are Voigt (xx, yy, zz, yz, xz, xy), tension positive.
 module strength_models
   use base_kinds, only: wp
@@ -65,11 +71,15 @@ contains
 
   !> The model `name` with bulk modulus k, shear modulus g, and for
   !> 'bilinear' yield stress y0 and tangent modulus et (all pressure).
-  subroutine strength_create(name, k, g, y0, et, model, err)
+  !> eos_pressure (default false): the pressure comes from an EOS, the
+  !> model's own k is 0 and k serves only Young's modulus E = 9kg/(3k + g)
+  !> of the hardening modulus (module notes).
+  subroutine strength_create(name, k, g, y0, et, model, err, eos_pressure)
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: k, g, y0, et
     class(strength_t), allocatable, intent(out) :: model
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: eos_pressure
     real(wp) :: e
     select case (trim(name))
     case ('elastic')
@@ -80,7 +90,11 @@ contains
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: elastic, bilinear', &
                      ERR_INPUT)
+      return
     end select
+    if (present(eos_pressure)) then
+      if (eos_pressure) model%k = 0.0_wp
+    end if
   end subroutine strength_create
 
   !> K + 4G/3, the modulus of the elastic longitudinal wave (pressure).
