@@ -26,7 +26,7 @@ module driver_euler
   use io_log, only: log_t, log_line
   use particles_euler, only: particles_snap
   use driver_state, only: state_t
-  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_pic, &
+  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, &
                               particles_euler_finish
   implicit none
   private
@@ -194,8 +194,8 @@ contains
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left
     call centroids_refresh(st%g, st%mx, es%centroids)
-    ! coupled particles: their share of the nodal momentum goes with them (PIC)
-    if (allocated(st%pt%mvf)) call particles_euler_pic(st, pe)
+    ! coupled particles: their share of the nodal momentum goes with them
+    if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err)
     if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
     ! the new mixed cells' centroids are the remapped material's: their

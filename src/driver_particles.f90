@@ -32,7 +32,7 @@ module driver_particles
   use mesh_geometry, only: hex_volume
   use particles_config, only: particles_config_t
   use particles_shape, only: particles_locate, particles_shape_values
-  use particles_euler, only: particles_pic, particles_relocate, particles_occupied
+  use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order
   use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
@@ -47,7 +47,7 @@ module driver_particles
   use driver_state, only: state_t
   implicit none
   private
-  public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_pic, &
+  public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
@@ -176,7 +176,30 @@ contains
       if (allocated(err)) return
     end do
     call particles_work_init(st%pw, st%g%nnode, st%g%ncell, st%pt%np, st%pt%nhist, err)
+    ! the nodes the particles reach start with their share of the momentum
+    if (.not. allocated(err)) call share_velocities(st)
   end subroutine couple_particles
+
+  !> The particles' nodal mass term (Eq. 16, from the current m'_p), and at
+  !> each node the particles reach the velocity u = (m_f u + m_p,I vbar_I) /
+  !> (m_f + m_p,I), vbar_I the particles' mass-weighted mean velocity there
+  !> (Eq. 30 with v_p); the kinematic conditions; the change u - vbar given
+  !> to the particles (`particles_flip`), so that particles and nodes agree.
+  subroutine share_velocities(st)
+    type(state_t), intent(inout) :: st
+    integer :: n
+    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
+      call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
+      pw%mass_ready = .true.
+      call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
+      do n = 1, g%nnode
+        if (.not. pw%ms(n) > 0.0_wp) cycle
+        h%u(:, n) = (h%mnode(n)*h%u(:, n) + pw%mp(n)*pw%vs(:, n))/(h%mnode(n) + pw%mp(n))
+      end do
+      call bc_constrain(st%bc, h%u)
+      call particles_flip(g, pt, h%u, pw%vs)
+    end associate
+  end subroutine share_velocities
 
   !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the
   !> particles' share of the nodal mass (once per phase: here once per run
@@ -267,10 +290,9 @@ contains
     pe%occupied = particles_occupied(pe%guess, st%g%ncell)
   end subroutine particles_euler_preposition
 
-  !> Before the remap (PARTICLES.md §1.13 item 1): the particles' share of
-  !> the nodal kinetic energy and momentum, then the particles' velocities
-  !> from the grid's (PIC). Coupled particles only.
-  subroutine particles_euler_pic(st, pe)
+  !> Before the remap: the particles' share of the nodal kinetic energy
+  !> and momentum (the transfer's balance). Coupled particles only.
+  subroutine particles_euler_save(st, pe)
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
     integer :: n
@@ -285,9 +307,8 @@ contains
         pe%ke_solid = pe%ke_solid + 0.5_wp*pw%mp(n)*dot_product(h%u(:, n), h%u(:, n))
         pe%p_solid = pe%p_solid + pw%mp(n)*h%u(:, n)
       end do
-      call particles_pic(g, st%pt, h%u)
     end associate
-  end subroutine particles_euler_pic
+  end subroutine particles_euler_save
 
   !> After the remap (PARTICLES.md §1.13 items 3-4): every particle's host
   !> and natural coordinates in the rezoned grid by its position (the walk
@@ -299,10 +320,11 @@ contains
   !> velocity, m_p,I = sum_p (m_p - m'_p) N_Ip (guarded), vbar_I the
   !> particles' mass-weighted mean velocity at the node (Eq. 30 with v_p),
   !> so that a uniform flow carrying a body stays uniform exactly; then the
-  !> kinematic conditions. The change of the nodal momentum and kinetic
-  !> energy this makes (the PIC transfer's smoothing, the virtual fluid
-  !> re-weighted by its new host density) is logged and the energy part
-  !> booked as the transfer energy of the conservation report.
+  !> kinematic conditions, and the change u - vbar given to the particles
+  !> (`particles_flip`). The change of the nodal momentum and kinetic energy
+  !> this makes (the particles' share rebuilt from their own velocities, the
+  !> virtual fluid re-weighted by its new host density) is logged and the
+  !> energy part booked as the transfer energy of the conservation report.
   subroutine particles_euler_finish(st, pe, log, err)
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
@@ -351,15 +373,7 @@ contains
         ke_f = ke_f + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
         p_f = p_f + h%mnode(n)*h%u(:, n)
       end do
-      call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
-      pw%mass_ready = .true.
-      call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
-      do n = 1, g%nnode
-        if (.not. pw%ms(n) > 0.0_wp) cycle
-        mt = h%mnode(n) + pw%mp(n)
-        h%u(:, n) = (h%mnode(n)*h%u(:, n) + pw%mp(n)*pw%vs(:, n))/mt
-      end do
-      call bc_constrain(st%bc, h%u)
+      call share_velocities(st)
       ke1 = 0.0_wp
       p1 = 0.0_wp
       do n = 1, g%nnode
@@ -369,7 +383,7 @@ contains
       end do
       st%tot%transfer_energy = st%tot%transfer_energy + (ke1 - ke_f - pe%ke_solid)
       write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &
-        &", kinetic energy change ",es10.3," (PIC transfer, virtual fluid re-weighted)")') pt%np, &
+        &", kinetic energy change ",es10.3," (share of the particles rebuilt)")') pt%np, &
         count(pt%cell_start(2:) > pt%cell_start(:g%ncell)), p1 - p_f - pe%p_solid, ke1 - ke_f - pe%ke_solid
       call log_line(log, trim(line))
     end associate

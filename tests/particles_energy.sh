@@ -21,7 +21,7 @@ awk -v b="$bound" -v db="$dbound" '
   /^conservation \(final\)/ {fin = 1}
   fin && /total/ && /energy: internal/ {e = $NF}
   fin && /relative energy drift/ {d = $NF}
-  fin && /decoupling work/ {w = $NF}
+  fin && /decoupling work/ {for (i = 1; i < NF; i++) if ($i == "decoupling" && $(i + 1) == "work") w = $(i + 2)}
   END {
     if (d == "" || w == "" || e == "") {print "FAIL: no final conservation report"; exit 1}
     r = w/e; if (r < 0) r = -r; a = d; if (a < 0) a = -a
