@@ -6,13 +6,14 @@
 !> all sorted by solid and host cell and binned (`particles_order`).
 !>
 !> Coupled particles (&hydro particles = 'coupled', the default) also get
-!> their virtual-fluid mass m'_p = host density x V_p (frozen: there is no
-!> Euler step with particles yet, so the Lagrangian phase is the whole run),
+!> their virtual-fluid mass m'_p = host density x V_p (frozen through a
+!> Lagrangian phase, taken again at each Euler step), the nodes they reach
+!> their share of the momentum (`share_velocities`),
 !> one history variable (plastic strain), the strength model of each solid
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
-!> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11). Not
-!> built yet (next steps of issue 14): the Euler phase with particles
-!> (Remark 2), erosion energy. A solid with eos = 'mie_gruneisen' gets its
+!> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11); the
+!> `particles_euler_*` hooks are their part of an Euler step (§1.13, Remark 2
+!> of Sect. 5.2). Not built yet: erosion energy (issue 15). A solid with eos = 'mie_gruneisen' gets its
 !> EOS in its strength slot (pressure p(rho, e), `particles_lagrange`) and
 !> its particles' initial energy from the EOS at their density and the
 !> pressure of their initial stress.

@@ -39,6 +39,7 @@ module driver_restart
                         restart_check_counts
   use driver_config, only: config_t, config_read, config_state_changes
   use driver_state, only: state_t, state_register_restart, state_after_read
+  use particles_state, only: particles_index
   use driver_output, only: schedule_t, schedule_register_restart, report_conservation, frame_due, advance_schedule
   use driver_euler, only: euler_state_t, euler_register_restart
   implicit none
@@ -260,6 +261,11 @@ contains
       return
     end if
     call state_after_read(st)
+    ! the particles' hosts are the dump's (Euler steps relocate them): bin
+    ! them again; the nodal mass term follows at the first step
+    call particles_index(st%pt, st%g%ncell, err)
+    if (allocated(err)) return
+    st%pw%mass_ready = .false.
     ! the frame list continues the XDMF series where it was
     sch%out%frames = frames
     sch%out%times = times

@@ -28,9 +28,10 @@
 !> model needs them; allocated (0, np) then).
 !>
 !> The Lagrangian phase (Eqs. 16-17, 23-25, 29-32, §1.10) is in
-!> `particles_lagrange`; it writes x, v, vol, rho, stress and hist. Hook for
-!> a later step (not built yet): the Euler-phase re-location (Remark 2)
-!> rewriting cell, xi, mvf and calling `particles_bin`.
+!> `particles_lagrange`; it writes x, v, vol, rho, stress and hist. At Euler
+!> steps (Remark 2, `particles_euler` and `driver_particles`) cell, xi, x and
+!> mvf are rewritten and the particles re-sorted (`particles_order`); after a
+!> restart read they are binned again (`particles_index`).
 module particles_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
