@@ -43,7 +43,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from riemann import _Side  # noqa: E402  (the gas's pressure function and star density)
+from riemann import _Side, star_pressure  # noqa: E402  (the gas's pressure function, star density, root)
 
 __all__ = ["GasSolidSolution"]
 
@@ -105,27 +105,8 @@ class GasSolidSolution:
         if f0 >= 0.0:
             raise ValueError("the gas cannot hold the solid: the interface cavitates "
                              f"(F(0) = {f0} >= 0); the exact solver does not handle it")
-        lo, hi = 0.0, max(G.p, abs(self.p_s), 1.0e-300)
-        while self._func(hi)[0] < 0.0:
-            lo, hi = hi, 4.0 * hi
-            if hi > 1.0e300:
-                raise RuntimeError("could not bracket the star pressure")
-        p = 0.5 * (lo + hi)
-        for _ in range(max_iter):
-            fv, dv = self._func(p)
-            if fv == 0.0:
-                return p
-            if fv < 0.0:
-                lo = max(lo, p)
-            else:
-                hi = min(hi, p)
-            pn = p - fv / dv
-            if not (lo < pn < hi):
-                pn = 0.5 * (lo + hi)
-            if abs(pn - p) <= tol * 0.5 * (pn + p) or hi - lo <= tol * hi:
-                return pn
-            p = pn
-        raise RuntimeError("star pressure iteration did not converge")
+        hi = max(G.p, abs(self.p_s), 1.0e-300)
+        return star_pressure(self._func, hi, 0.5 * hi, tol, max_iter)
 
     def sample_speed(self, s):
         """(p, u, rho) on the rays s = (x - x0)/t (array-valued); p is the gas

@@ -74,6 +74,36 @@ class _Side:
         return self.rho * ratio ** (1.0 / g)  # isentrope (Toro 4.53 / 4.60)
 
 
+def star_pressure(func, hi, guess, tol, max_iter):
+    """The root p > 0 of an increasing func(p) -> (f, df/dp) with f(0+) < 0:
+    bracket [lo, hi] with f(lo) < 0 < f(hi) (hi grown by 4 from the given
+    one), then Newton from guess (clipped into the bracket), bisecting
+    whenever Newton leaves the bracket."""
+    lo = 0.0
+    while func(hi)[0] < 0.0:
+        lo, hi = hi, 4.0 * hi
+        if hi > 1.0e300:
+            raise RuntimeError("could not bracket the star pressure")
+    p = min(guess, hi)
+    if p <= lo:
+        p = 0.5 * (lo + hi)
+    for _ in range(max_iter):
+        fv, dv = func(p)
+        if fv == 0.0:
+            return p
+        if fv < 0.0:
+            lo = max(lo, p)
+        else:
+            hi = min(hi, p)
+        pn = p - fv / dv if dv > 0.0 else 0.5 * (lo + hi)
+        if not (lo < pn < hi):          # Newton left the bracket: bisect
+            pn = 0.5 * (lo + hi)
+        if abs(pn - p) <= tol * 0.5 * (pn + p) or hi - lo <= tol * hi:
+            return pn
+        p = pn
+    raise RuntimeError("star pressure iteration did not converge")
+
+
 class RiemannSolution:
     """Exact solution of the ideal-gas Riemann problem (two gammas allowed).
 
@@ -107,33 +137,9 @@ class RiemannSolution:
         L, R = self.left, self.right
         # bracket [lo, hi] with f(lo) < 0 < f(hi); f(0+) < 0 is the
         # no-vacuum condition checked above, f -> +inf as p -> inf.
-        lo = 0.0
-        hi = max(L.p, R.p)
-        while self._func(hi)[0] < 0.0:
-            lo = hi
-            hi *= 4.0
-            if hi > 1.0e300:
-                raise RuntimeError("could not bracket the star pressure")
-        # start: primitive-variable (linearised) guess, clipped into the bracket
+        # start: primitive-variable (linearised) guess
         pvrs = 0.5 * (L.p + R.p) - 0.125 * (R.u - L.u) * (L.rho + R.rho) * (L.a + R.a)
-        p = min(max(pvrs, 1.0e-6 * min(L.p, R.p)), hi)
-        if p <= lo:
-            p = 0.5 * (lo + hi)
-        for _ in range(max_iter):
-            fv, dv = self._func(p)
-            if fv == 0.0:
-                return p
-            if fv < 0.0:
-                lo = max(lo, p)
-            else:
-                hi = min(hi, p)
-            pn = p - fv / dv if dv > 0.0 else 0.5 * (lo + hi)
-            if not (lo < pn < hi):          # Newton left the bracket: bisect
-                pn = 0.5 * (lo + hi)
-            if abs(pn - p) <= tol * 0.5 * (pn + p) or hi - lo <= tol * hi:
-                return pn
-            p = pn
-        raise RuntimeError("star pressure iteration did not converge")
+        return star_pressure(self._func, max(L.p, R.p), max(pvrs, 1.0e-6 * min(L.p, R.p)), tol, max_iter)
 
     # ---------------------------------------------------------------- waves
     def _wave_speeds(self):
