@@ -7,10 +7,12 @@
 # Sedov (N^3, N = 10..40) through tools/speed_error.py; and mesh smoothing
 # (Sect. 7.1, tests/bench_smooth.f90); the cost of coupled MPM particles
 # (issue 14): a gas pushing an elastic block of 64000 particles in a 40^3
-# grid, against the same scene without the particles, 1 and 2 threads.
+# grid, against the same scene without the particles, 1 and 2 threads; the
+# rotating projectile of paper Sect. 7.4 (Table 2) with LSSM against global
+# smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
-# BENCH_ONLY=particles runs only the particle section.
+# BENCH_ONLY=particles runs only the particle sections.
 set -euo pipefail
 SECONDS=0
 exe=$(realpath "$1"); mkdir -p "$2"; outdir=$(realpath "$2")
@@ -61,8 +63,17 @@ DECK
       }' pgas_$th.log pblock_$th.log
   done
 }
+# Paper Sect. 7.4 (Table 2): the Euler phase of LSSM against global
+# smoothing for the rotating projectile, same sitting, 1 thread.
+projectile_bench() {
+  echo "## Rotating projectile (paper 7.4, Table 2): LSSM against global smoothing, to t = 0.1, 1 thread"
+  /usr/bin/python3 "$root/tools/projectile_compare.py" "$exe" "$work/projectile" --n 4,8 --t-end 0.1 \
+    | tee "$outdir/projectile_compare.md"
+}
 if [[ "${BENCH_ONLY:-}" == particles ]]; then
   particles_bench
+  echo
+  projectile_bench
   echo "bench wall time: ${SECONDS} s"
   exit 0
 fi
@@ -136,6 +147,8 @@ OMP_NUM_THREADS=1 "$smooth_exe" 50 100 "$outdir/smoothing.csv" | tee "$outdir/be
 
 echo
 particles_bench
+echo
+projectile_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"
