@@ -353,21 +353,15 @@ contains
       else
         d_max = rz%d_max
         if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
+        ! (occupied and touched absent or unallocated without particles)
         if (box) then
           ! distorted: the cells failing the triggers' tests (q plays no part)
-          if (present(occupied)) then
-            es%fail = es%fail .or. touched
-            call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
-                                        distorted=es%fail, frozen=occupied)
-          else
-            call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
-                                        distorted=es%fail)
-          end if
-        else if (present(occupied)) then
+          if (present(occupied)) es%fail = es%fail .or. touched
+          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
+                                      distorted=es%fail, frozen=occupied)
+        else
           call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err, &
                                       distorted=touched, frozen=occupied)
-        else
-          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err)
         end if
       end if
       if (allocated(err)) return
@@ -375,9 +369,11 @@ contains
       if (.not. done .and. present(occupied)) then
         ! only the snapped nodes move (every cell around them holds particles)
         done = any(moved)
-        if (done) call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)// &
-                                ': no cell to smooth; the particles'' cells put back on the standard grid')
-        return
+        if (done) then
+          call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)// &
+                        ': no cell to smooth; the particles'' cells put back on the standard grid')
+          return
+        end if
       end if
       if (.not. done) then
         if (box) then
