@@ -15,6 +15,7 @@ module driver_output
                        units_pressure
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
   use io_hdf5, only: hdf5_start, hdf5_version
+  use strength_models, only: strength_fields
   use io_files, only: io_make_dirs
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
@@ -361,7 +362,7 @@ contains
     integer, parameter :: nper = 4          ! fields per material: vf, density, energy, pressure
     integer :: nmat, nf, c, k, s, m, stat
     integer, allocatable :: cellmat(:)
-    real(wp), allocatable :: fld(:, :)
+    real(wp), allocatable :: fld(:, :), pfld(:, :)
     character(len=80), allocatable :: names(:), owner(:)
     character(len=32), allocatable :: units(:)
     type(frame_meta_t) :: meta
@@ -408,8 +409,27 @@ contains
       end do
     end if
     if (st%pt%np > 0) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
-    call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                      meta, path, err, pt=st%pt)
+    if (st%pt%nhist > 0) then
+      ! the strength models' history fields and failure flags (1 failed)
+      allocate(pfld(size(strength_fields) + 1, st%pt%np), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'frame_out', 'cannot allocate the frame''s particle fields: '//trim(msg))
+        return
+      end if
+      do k = 1, st%pt%np
+        associate (model => st%pw%models(st%pt%mat(k))%m)
+          do m = 1, size(strength_fields)
+            pfld(m, k) = model%field(trim(strength_fields(m)), st%pt%hist(:, k))
+          end do
+          pfld(size(pfld, 1), k) = merge(1.0_wp, 0.0_wp, model%failed(st%pt%hist(:, k)))
+        end associate
+      end do
+      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+                        meta, path, err, pt=st%pt, pnames=[character(len=16) :: strength_fields, 'failed'], pfields=pfld)
+    else
+      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+                        meta, path, err, pt=st%pt)
+    end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
 
@@ -588,8 +608,8 @@ contains
     call log_line(log, trim(line))
     if (st%pt%np > 0 .and. allocated(st%pw%mp)) then
       write(line, '("  particles: internal energy ",es22.15,"  virtual-fluid work ",es22.15, &
-        &"  decoupling work ",es22.15,"  Euler-step transfer ",es22.15)') st%tot%particle_internal, st%tot%vf_work, &
-        st%tot%decoupling_work, st%tot%transfer_energy
+        &"  decoupling work ",es22.15,"  Euler-step transfer ",es22.15,"  erosion (in internal) ",es22.15)') &
+        st%tot%particle_internal, st%tot%vf_work, st%tot%decoupling_work, st%tot%transfer_energy, st%tot%erosion_energy
       call log_line(log, trim(line))
     end if
     call material_totals(st, mass, internal)

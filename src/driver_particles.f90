@@ -13,7 +13,7 @@
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
 !> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11); the
 !> `particles_euler_*` hooks are their part of an Euler step (§1.13, Remark 2
-!> of Sect. 5.2). Not built yet: erosion energy (issue 15). A solid with eos = 'mie_gruneisen' gets its
+!> of Sect. 5.2). A solid with eos = 'mie_gruneisen' gets its
 !> EOS in its strength slot (pressure p(rho, e), `particles_lagrange`) and
 !> its particles' initial energy from the EOS at their density and the
 !> pressure of their initial stress.
@@ -38,7 +38,7 @@ module driver_particles
   use particles_state, only: particles_t, particles_allocate, particles_order
   use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
-  use strength_models, only: strength_create
+  use strength_models, only: strength_create, strength_nhist, strength_params_t
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
@@ -78,7 +78,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(seeded_t), allocatable :: groups(:)
     real(wp) :: axis(3), rho
-    integer :: k, i, np, q, stat
+    integer :: k, i, np, q, stat, nhist
     character(len=200) :: msg
 
     if (.not. allocated(cfg%particles)) return
@@ -106,7 +106,13 @@ contains
         np = np + size(gr%cell)
       end associate
     end do
-    call particles_allocate(st%pt, np, size(cfg%solids), merge(1, 0, cfg%hydro%particles_coupled), err)
+    nhist = 0
+    if (cfg%hydro%particles_coupled) then
+      do k = 1, size(cfg%solids)
+        nhist = max(nhist, strength_nhist(cfg%solids(k)%strength))
+      end do
+    end if
+    call particles_allocate(st%pt, np, size(cfg%solids), nhist, err)
     if (allocated(err)) return
     q = 0
     do k = 1, size(cfg%particles)
@@ -164,8 +170,13 @@ contains
     end do
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
-        call strength_create(sc%strength, sc%bulk_modulus, sc%shear_modulus, sc%yield_stress, sc%tangent_modulus, &
-                             st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
+        call strength_create(sc%strength, strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, &
+                             y0=sc%yield_stress, et=sc%tangent_modulus), st%pw%models(s)%m, err, &
+                             eos_pressure=trim(sc%eos) == 'mie_gruneisen')
+        if (allocated(err)) return
+        do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
+          call st%pw%models(s)%m%hist_init(st%pt%hist(:, k))
+        end do
         if (trim(sc%eos) == 'mie_gruneisen') then
           st%pw%models(s)%eos = mie_gruneisen_t(rho0=sc%par%rho0, c0=sc%par%c0, s1=sc%par%s1, gamma0=sc%par%gamma0)
           do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
@@ -222,7 +233,7 @@ contains
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old
+    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, eroded
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       if (.not. pw%mass_ready) then
@@ -248,7 +259,8 @@ contains
         call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
       end if
       e_old = dot_product(pt%m, pt%e)
-      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle)
+      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, eroded)
+      st%tot%erosion_energy = st%tot%erosion_energy + eroded
       ! the energy balance (PARTICLES.md §1.12): the particle forces' work
       ! w_ext on the nodes is the virtual-fluid part w_vf (given to the host
       ! cells) plus the particle-stress part -dt sum_p V_p sigma_p : D_real;

@@ -104,6 +104,7 @@ contains
       call reg%add('virtual_fluid_work', 'energy', st%tot%vf_work)
       call reg%add('decoupling_work', 'energy', st%tot%decoupling_work)
       call reg%add('particle_transfer_energy', 'energy', st%tot%transfer_energy)
+      call reg%add('erosion_energy', 'energy', st%tot%erosion_energy, mandatory=.false.)
     end if
     call reg%add('rng_state', 'bits', st%rng_bits)
   end subroutine state_register_restart

@@ -45,7 +45,7 @@ program test_particles_lagrange
   use particles_lagrange, only: particles_work_t, particles_work_init, particles_nodal_force, &
                                 particles_velocity_gradients, particles_virtual_grid, particles_stress_update, &
                                 strength_slot_t
-  use strength_models, only: strength_create
+  use strength_models, only: strength_create, strength_params_t
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use particles_lagrange, only: particles_stable_dt, particles_cell_fraction
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate
@@ -97,7 +97,7 @@ contains
     type(strength_slot_t), allocatable, intent(out) :: models(:)
     type(error_t), allocatable :: err
     allocate(models(1))
-    call strength_create(name, kmod, gmod, y0, et, models(1)%m, err)
+    call strength_create(name, strength_params_t(k=kmod, g=gmod, y0=y0, et=et), models(1)%m, err)
     call check(.not. allocated(err), 'strength model '//name)
   end subroutine models_of
 
@@ -305,7 +305,8 @@ contains
     type(error_t), allocatable :: err
     allocate(models(1))
     ! K = rho0 c0^2 serves only the hardening modulus (y0 large: elastic here)
-    call strength_create('bilinear', cu_rho0*cu_c0**2, cu_g, y0, 0.0_wp, models(1)%m, err, eos_pressure=.true.)
+    call strength_create('bilinear', strength_params_t(k=cu_rho0*cu_c0**2, g=cu_g, y0=y0), models(1)%m, err, &
+                         eos_pressure=.true.)
     call check(.not. allocated(err), 'copper strength model')
     models(1)%eos = mie_gruneisen_t(rho0=cu_rho0, c0=cu_c0, s1=cu_s1, gamma0=cu_gamma0)
   end subroutine copper

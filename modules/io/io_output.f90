@@ -56,8 +56,10 @@ module io_output
     !> work that the constitutive (virtual) strain work does not book, the
     !> decoupling work (both summed over the steps); the change of the
     !> nodal kinetic energy by the particles' transfer at Euler steps
-    !> (PARTICLES.md §1.13)
+    !> (PARTICLES.md §1.13); the elastic energy failed particles' stresses
+    !> gave up (erosion, kept in their internal energy as heat)
     real(wp) :: particle_internal = 0.0_wp, vf_work = 0.0_wp, decoupling_work = 0.0_wp, transfer_energy = 0.0_wp
+    real(wp) :: erosion_energy = 0.0_wp
   end type totals_t
 
   !> Frame bookkeeping.
@@ -105,9 +107,11 @@ contains
   !> e.g. per-material fields, written and listed in the XDMF under `names`,
   !> with the dimension `units`(k) and, where `owner`(k) is not blank, the
   !> name of the material the field belongs to as the attribute `material`.
-  !> `pt` (optional): the particles, written when there are any.
+  !> `pt` (optional): the particles, written when there are any, with
+  !> their further fields `pfields` (size(pnames), np) named `pnames`
+  !> (dimensionless: the strength models' history, optional).
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err, pt)
+                          path, err, pt, pnames, pfields)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -124,10 +128,13 @@ contains
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
     type(particles_t), intent(in), optional :: pt
+    character(len=*), intent(in), optional :: pnames(:)
+    real(wp), intent(in), optional :: pfields(:, :)
     type(h5_file_t) :: f
     character(len=256) :: fname
     integer :: np
     character(len=64), allocatable :: fields(:), legend_names(:)
+    character(len=16), allocatable :: pscalars(:)
     real(wp), allocatable :: legend_values(:)
     integer :: nd(4), cd(3), k, stat, nmat
     character(len=200) :: msg
@@ -169,6 +176,14 @@ contains
     np = 0
     if (present(pt)) np = pt%np
     if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, err)
+    pscalars = [character(len=16) :: 'density', 'volume', 'mass', 'energy']
+    if (present(pnames) .and. np > 0) then
+      do k = 1, size(pnames)
+        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), pfields(k, :), [np], err)
+        if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//trim(pnames(k)), 'units', '1', err)
+      end do
+      pscalars = [pscalars, [character(len=16) :: pnames]]
+    end if
     if (allocated(err)) then
       block
         type(error_t), allocatable :: err2
@@ -214,7 +229,7 @@ contains
                                         meta_text(meta%title), meta_text(meta%unit_system), &
                                         material_legend(legend_source(meta))], &
                            npart=np, part_vectors=[character(len=8) :: 'velocity'], &
-                           part_scalars=[character(len=8) :: 'density', 'volume', 'mass', 'energy'], &
+                           part_scalars=pscalars, &
                            part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
                            part_tensors=[character(len=8) :: 'stress'])
   end subroutine output_frame

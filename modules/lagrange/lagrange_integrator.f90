@@ -212,6 +212,7 @@ contains
       type(particles_t), intent(in) :: pt
       type(particles_work_t), intent(inout) :: pw
       integer :: n, bad_h
+      real(wp) :: eroded_h   ! (the trial update's erosion is not booked)
       do n = 1, g%nnode
         pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
       end do
@@ -229,7 +230,7 @@ contains
       pw%rho_h = pt%rho
       pw%e_h = pt%e
       call particles_stress_arrays(pt%mat_start, pt%m, pw%models, pw%lgrad, 0.5_wp*dt, pw%stress_h, pw%hist_h, &
-                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h)
+                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h, eroded_h)
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = bad_h
       end if

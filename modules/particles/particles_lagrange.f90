@@ -36,7 +36,7 @@ module particles_lagrange
   use mesh_geometry, only: hex_volume, hex_median_areas
   use particles_state, only: particles_t
   use particles_shape, only: particles_shape_values, particles_shape_gradients
-  use strength_models, only: strength_t
+  use strength_models, only: strength_t, strength_point_t
   use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state, mie_gruneisen_reference
   implicit none
   private
@@ -384,12 +384,15 @@ contains
   !> motion; it equals det(I + dt L) to second order and is exactly 1 for a
   !> rigid rotation (det(I + dt L) would grow the volume by (omega dt)^2 per
   !> step). bad: the first particle whose volume would not stay positive.
-  subroutine particles_stress_update(p, models, lgrad, dt, bad)
+  subroutine particles_stress_update(p, models, lgrad, dt, bad, eroded)
     type(particles_t), intent(inout) :: p
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     integer, intent(out) :: bad
-    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad, p%e)
+    real(wp), intent(out), optional :: eroded
+    real(wp) :: er
+    call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad, p%e, er)
+    if (present(eroded)) eroded = er
   end subroutine particles_stress_update
 
   !> `particles_stress_update` on given arrays (stress (6, np), hist
@@ -399,21 +402,27 @@ contains
   !> (trapezoid, PARTICLES.md §1.12): without an EOS m_p Delta e_p = 1/2
   !> (sigma^n + sigma^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}); with one
   !> (`eos_update`) the pressure part is -1/2 (p^n + p^{n+1}) Delta V.
-  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad, e)
+  !> eroded: the energy failures removed from the stresses in this step
+  !> (sum of the models' eroded x volume; it stays in e as heat).
+  subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad, e, eroded)
     integer, intent(in) :: mat_start(:)
     real(wp), intent(in) :: m(:)
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:), e(:)
     integer, intent(out) :: bad
+    real(wp), intent(out) :: eroded
     integer :: s, k
+    real(wp) :: er
     bad = huge(1)
+    eroded = 0.0_wp
     do s = 1, size(mat_start) - 1
       if (allocated(models(s)%eos)) then
         do k = mat_start(s), mat_start(s + 1) - 1
-          call eos_update(models(s)%m, models(s)%eos, lgrad(:, :, k)*dt, m(k), stress(:, k), hist(:, k), vol(k), &
-                          rho(k), e(k))
+          call eos_update(models(s)%m, models(s)%eos, lgrad(:, :, k)*dt, dt, m(k), stress(:, k), hist(:, k), &
+                          vol(k), rho(k), e(k), er)
           if (.not. vol(k) > 0.0_wp) bad = min(bad, k)
+          eroded = eroded + er
         end do
       else
         call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
@@ -426,18 +435,21 @@ contains
       integer, intent(in) :: k1, k2
       integer :: k
       real(wp) :: f(3, 3), deps(3, 3), dw(3, 3), detf, s0(6), sm(6), work
+      type(strength_point_t) :: pt
       ! (a contained procedure: the loop is serial, it sees the host's bad)
       do k = k1, k2
         f = lgrad(:, :, k)*dt
         deps = 0.5_wp*(f + transpose(f))
         dw = 0.5_wp*(f - transpose(f))
         s0 = stress(:, k)
-        call model%update(deps, dw, stress(:, k), hist(:, k))
         detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
         if (.not. detf > 0.0_wp) then
           bad = min(bad, k)
           cycle
         end if
+        pt = strength_point_t(dt=dt, rho=m(k)/(vol(k)*detf))
+        call model%update(deps, dw, pt, stress(:, k), hist(:, k))
+        eroded = eroded + pt%eroded*vol(k)*detf
         sm = 0.5_wp*(s0 + stress(:, k))
         work = sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
              + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2))
@@ -458,24 +470,31 @@ contains
   !>   e^{n+1} = (e^n + (W_dev - 1/2 (p^n + K) Delta V)/m) / (1 + B Delta V/(2m));
   !> then the mean stress is -p^{n+1}. Units: m mass, vol length^3, rho
   !> density, e velocity^2, stress pressure.
-  pure subroutine eos_update(model, eos, f, m, stress, hist, vol, rho, e)
+  pure subroutine eos_update(model, eos, f, dt, m, stress, hist, vol, rho, e, eroded)
     class(strength_t), intent(in) :: model
     type(mie_gruneisen_t), intent(in) :: eos
-    real(wp), intent(in) :: f(3, 3), m
+    real(wp), intent(in) :: f(3, 3), dt, m
     real(wp), intent(inout) :: stress(6), hist(:), vol, rho, e
-    real(wp) :: deps(3, 3), dw(3, 3), detf, s0(6), sm(6), p0, pm, vnew, dvol, wdev, kref, dk, b
+    real(wp), intent(out) :: eroded
+    real(wp) :: deps(3, 3), dw(3, 3), detf, s0(6), sm(6), p0, pm, vnew, dvol, wdev, kref, dk, b, pnew, e0
+    type(strength_point_t) :: pt
     deps = 0.5_wp*(f + transpose(f))
     dw = 0.5_wp*(f - transpose(f))
     s0 = stress
     p0 = -(s0(1) + s0(2) + s0(3))/3.0_wp
+    eroded = 0.0_wp
     detf = det3(half_step(f, 1.0_wp))/det3(half_step(f, -1.0_wp))
     if (.not. detf > 0.0_wp) then
       vol = 0.0_wp
       return
     end if
-    call model%update(deps, dw, stress, hist)
     vnew = vol*detf
     dvol = vnew - vol
+    ! the model sees the EOS pressure predicted with e^n
+    call mie_gruneisen_reference(eos, m/vnew, kref, dk)
+    pt = strength_point_t(dt=dt, rho=m/vnew, p=kref + eos%gamma0*eos%rho0*e)
+    call model%update(deps, dw, pt, stress, hist)
+    eroded = pt%eroded*vnew
     ! the deviatoric stress work (s^n and s^{n+1} deviators: s : deps = s : dev(deps))
     sm = 0.5_wp*(s0 + stress)
     pm = (sm(1) + sm(2) + sm(3))/3.0_wp
@@ -483,11 +502,18 @@ contains
     wdev = (sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
          + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2)))*0.5_wp*(vol + vnew)
     rho = m/vnew
-    call mie_gruneisen_reference(eos, rho, kref, dk)
     b = eos%gamma0*eos%rho0
-    e = (e + (wdev - 0.5_wp*(p0 + kref)*dvol)/m)/(1.0_wp + 0.5_wp*b*dvol/m)
     pm = (stress(1) + stress(2) + stress(3))/3.0_wp
-    stress(1:3) = stress(1:3) - pm - (kref + b*e)
+    e0 = e
+    e = (e + (wdev - 0.5_wp*(p0 + kref)*dvol)/m)/(1.0_wp + 0.5_wp*b*dvol/m)
+    pnew = kref + b*e
+    ! a failed particle carries no tension (module notes of strength_models):
+    ! p^{n+1} = 0 in the trapezoid then
+    if (model%failed(hist) .and. pnew < 0.0_wp) then
+      pnew = 0.0_wp
+      e = e0 + (wdev - 0.5_wp*p0*dvol)/m
+    end if
+    stress(1:3) = stress(1:3) - pm - pnew
     vol = vnew
   end subroutine eos_update
 

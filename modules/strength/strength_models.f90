@@ -19,6 +19,20 @@
 !> trace) and the caller sets the pressure from the EOS
 !> (`particles_lagrange`); its bulk modulus only enters Young's modulus of
 !> the bilinear hardening modulus.
+!>
+!> The interface every model implements (issue 15 adds models behind it):
+!>  - `update(deps, dw, pt, stress, hist)`: pt (`strength_point_t`) carries
+!>    the step's dt (rates), the density at the end of the step, the EOS's
+!>    predicted pressure when the solid has one, and gives back the energy
+!>    per unit volume a failure removed in this step (`eroded`);
+!>  - `nhist()` history variables per particle, `hist_init(hist)` their
+!>    initial values, and `field(name, hist)` the common output fields
+!>    ('plastic_strain', 'damage', 'temperature', 'porosity'; 0 where a
+!>    model has none) and `failed(hist)`. A model with history keeps its
+!>    equivalent plastic strain in hist(1) (tracked-particle rows read it). A failed particle keeps its mass
+!>    and carries no tension or shear (the model's update zeroes its
+!>    deviator and tension; the EOS path clips its pressure at 0).
+!> Model parameters reach the factory in one `strength_params_t`.
 !> Stresses are Voigt (xx, yy, zz, yz, xz, xy), tension positive.
 module strength_models
   use base_kinds, only: wp
@@ -26,10 +40,35 @@ module strength_models
   implicit none
   private
   public :: strength_t, strength_elastic_t, strength_bilinear_t, strength_create, strength_names, &
-            strength_rotate, strength_trial, voigt_to_tensor, tensor_to_voigt
+            strength_params_t, strength_point_t, strength_nhist, strength_fields, &
+            strength_rotate, strength_trial, strength_mises, voigt_to_tensor, tensor_to_voigt
 
   !> The names the factory knows.
   character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
+
+  !> The common per-particle output fields of the history (`field`).
+  character(len=*), parameter :: strength_fields(4) = [character(len=14) :: 'plastic_strain', 'damage', &
+                                                       'temperature', 'porosity']
+
+  !> Every model's parameters (pressure units for moduli and stresses); a
+  !> model reads the ones it uses.
+  type :: strength_params_t
+    real(wp) :: k = 0.0_wp    !< bulk modulus
+    real(wp) :: g = 0.0_wp    !< shear modulus
+    real(wp) :: y0 = 0.0_wp   !< bilinear: initial yield stress
+    real(wp) :: et = 0.0_wp   !< bilinear: tangent modulus
+  end type strength_params_t
+
+  !> One particle's step context (module notes): in dt, rho (density at the
+  !> end of the step), p (the EOS's predicted pressure at the end of the
+  !> step, solids with an EOS only); out eroded (energy per unit volume a
+  !> failure removed in this step, 0 otherwise).
+  type :: strength_point_t
+    real(wp) :: dt = 0.0_wp
+    real(wp) :: rho = 0.0_wp
+    real(wp) :: p = 0.0_wp
+    real(wp) :: eroded = 0.0_wp
+  end type strength_point_t
 
   !> A hypoelastic solid: bulk modulus k and shear modulus g (pressure).
   type, abstract :: strength_t
@@ -38,15 +77,21 @@ module strength_models
   contains
     procedure(update_i), deferred :: update
     procedure :: wave_modulus => strength_wave_modulus
+    procedure :: nhist => strength_no_hist
+    procedure :: hist_init => strength_hist_zero
+    procedure :: field => strength_no_field
+    procedure :: failed => strength_never_fails
   end type strength_t
 
   abstract interface
     !> Advances the stress(6) (and the history hist(:), if the model has
-    !> any) of one particle by the increments deps(3,3), dw(3,3).
-    pure subroutine update_i(this, deps, dw, stress, hist)
-      import :: strength_t, wp
+    !> any) of one particle by the increments deps(3,3), dw(3,3) (module
+    !> notes for pt).
+    pure subroutine update_i(this, deps, dw, pt, stress, hist)
+      import :: strength_t, strength_point_t, wp
       class(strength_t), intent(in) :: this
       real(wp), intent(in) :: deps(3, 3), dw(3, 3)
+      type(strength_point_t), intent(inout) :: pt
       real(wp), intent(inout) :: stress(6), hist(:)
     end subroutine update_i
   end interface
@@ -65,37 +110,100 @@ module strength_models
     real(wp) :: h = 0.0_wp    !< plastic modulus (pressure)
   contains
     procedure :: update => bilinear_update
+    procedure :: nhist => one_hist
+    procedure :: field => plastic_strain_field
   end type strength_bilinear_t
 
 contains
 
-  !> The model `name` with bulk modulus k, shear modulus g, and for
-  !> 'bilinear' yield stress y0 and tangent modulus et (all pressure).
+  !> The model `name` with the parameters par (module notes).
   !> eos_pressure (default false): the pressure comes from an EOS, the
-  !> model's own k is 0 and k serves only Young's modulus E = 9kg/(3k + g)
-  !> of the hardening modulus (module notes).
-  subroutine strength_create(name, k, g, y0, et, model, err, eos_pressure)
+  !> model's own k is 0 and par%k serves only Young's modulus
+  !> E = 9kg/(3k + g) of the hardening modulus (module notes).
+  subroutine strength_create(name, par, model, err, eos_pressure)
     character(len=*), intent(in) :: name
-    real(wp), intent(in) :: k, g, y0, et
+    type(strength_params_t), intent(in) :: par
     class(strength_t), allocatable, intent(out) :: model
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: eos_pressure
     real(wp) :: e
     select case (trim(name))
     case ('elastic')
-      model = strength_elastic_t(k=k, g=g)
+      model = strength_elastic_t(k=par%k, g=par%g)
     case ('bilinear')
-      e = 9.0_wp*k*g/(3.0_wp*k + g)
-      model = strength_bilinear_t(k=k, g=g, y0=y0, h=e*et/(e - et))
+      e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
+      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
     case default
-      call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: elastic, bilinear', &
-                     ERR_INPUT)
+      call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
+                     'elastic, bilinear', ERR_INPUT)
       return
     end select
     if (present(eos_pressure)) then
       if (eos_pressure) model%k = 0.0_wp
     end if
   end subroutine strength_create
+
+  !> The history variables per particle of the model `name` (0 for a
+  !> name the factory does not know), so that particles can be allocated
+  !> before the models are built.
+  integer function strength_nhist(name) result(n)
+    character(len=*), intent(in) :: name
+    class(strength_t), allocatable :: model
+    type(error_t), allocatable :: err
+    n = 0
+    call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
+    if (allocated(model)) n = model%nhist()
+  end function strength_nhist
+
+  !> No history (the default).
+  pure integer function strength_no_hist(this) result(n)
+    class(strength_t), intent(in) :: this
+    n = 0
+    if (this%g < 0.0_wp) n = 0   ! (this unused)
+  end function strength_no_hist
+
+  !> One history variable: the equivalent plastic strain.
+  pure integer function one_hist(this) result(n)
+    class(strength_bilinear_t), intent(in) :: this
+    n = 1
+    if (this%g < 0.0_wp) n = 1   ! (this unused)
+  end function one_hist
+
+  !> Initial history: zero (the default).
+  pure subroutine strength_hist_zero(this, hist)
+    class(strength_t), intent(in) :: this
+    real(wp), intent(inout) :: hist(:)
+    hist = 0.0_wp
+    if (this%g < 0.0_wp) hist = 0.0_wp   ! (this unused)
+  end subroutine strength_hist_zero
+
+  !> The output field `name` (strength_fields) of a particle: 0 (the
+  !> default: the model has none of them).
+  pure real(wp) function strength_no_field(this, name, hist) result(v)
+    class(strength_t), intent(in) :: this
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: hist(:)
+    v = 0.0_wp
+    if (this%g < 0.0_wp .and. len(name) + size(hist) < 0) v = 0.0_wp   ! (unused)
+  end function strength_no_field
+
+  !> The equivalent plastic strain hist(1) as 'plastic_strain'.
+  pure real(wp) function plastic_strain_field(this, name, hist) result(v)
+    class(strength_bilinear_t), intent(in) :: this
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: hist(:)
+    v = 0.0_wp
+    if (name == 'plastic_strain') v = hist(1)
+    if (this%g < 0.0_wp) v = 0.0_wp   ! (this unused)
+  end function plastic_strain_field
+
+  !> Never failed (the default).
+  pure logical function strength_never_fails(this, hist) result(f)
+    class(strength_t), intent(in) :: this
+    real(wp), intent(in) :: hist(:)
+    f = .false.
+    if (this%g < 0.0_wp .and. size(hist) < 0) f = .false.   ! (unused)
+  end function strength_never_fails
 
   !> K + 4G/3, the modulus of the elastic longitudinal wave (pressure).
   pure real(wp) function strength_wave_modulus(this) result(m)
@@ -172,28 +280,30 @@ contains
   end subroutine strength_trial
 
   !> Elastic (§2.1): the trial stress.
-  pure subroutine elastic_update(this, deps, dw, stress, hist)
+  pure subroutine elastic_update(this, deps, dw, pt, stress, hist)
     class(strength_elastic_t), intent(in) :: this
     real(wp), intent(in) :: deps(3, 3), dw(3, 3)
+    type(strength_point_t), intent(inout) :: pt
     real(wp), intent(inout) :: stress(6), hist(:)
     call strength_trial(this%k, this%g, deps, dw, stress)
-    if (size(hist) < 0) stress = 0.0_wp   ! (no history: hist unused)
+    if (size(hist) < 0) pt%eroded = 0.0_wp   ! (no history, no failure: hist and pt unused)
   end subroutine elastic_update
 
   !> Bilinear (§2.2): radial return of the trial deviator, exact for linear
   !> hardening: deps_p = (q* - sy)/(3G + H), s = s* (1 - 3G deps_p/q*),
   !> eps_p += deps_p (hist(1)), sy = y0 + H eps_p.
-  pure subroutine bilinear_update(this, deps, dw, stress, hist)
+  pure subroutine bilinear_update(this, deps, dw, pt, stress, hist)
     class(strength_bilinear_t), intent(in) :: this
     real(wp), intent(in) :: deps(3, 3), dw(3, 3)
+    type(strength_point_t), intent(inout) :: pt
     real(wp), intent(inout) :: stress(6), hist(:)
     real(wp) :: s(6), p, q, sy, dep
     call strength_trial(this%k, this%g, deps, dw, stress)
     p = (stress(1) + stress(2) + stress(3))/3.0_wp
     s = stress
     s(1:3) = s(1:3) - p
-    ! von Mises q = sqrt(3/2 s:s), the shear components counted twice
-    q = sqrt(1.5_wp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_wp*(s(4)**2 + s(5)**2 + s(6)**2)))
+    q = strength_mises(s)
+    pt%eroded = 0.0_wp
     sy = this%y0 + this%h*hist(1)
     if (q > sy) then
       dep = (q - sy)/(3.0_wp*this%g + this%h)
@@ -203,4 +313,11 @@ contains
       stress(1:3) = stress(1:3) + p
     end if
   end subroutine bilinear_update
+
+  !> The von Mises stress q = sqrt(3/2 s:s) of the deviator s(6) (Voigt:
+  !> the shear components count twice).
+  pure real(wp) function strength_mises(s) result(q)
+    real(wp), intent(in) :: s(6)
+    q = sqrt(1.5_wp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_wp*(s(4)**2 + s(5)**2 + s(6)**2)))
+  end function strength_mises
 end module strength_models
