@@ -38,7 +38,8 @@ module driver_particles
   use particles_state, only: particles_t, particles_allocate, particles_order
   use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
-  use strength_models, only: strength_create, strength_nhist, strength_params_t
+  use strength_models, only: strength_params_t
+  use strength_factory, only: strength_create, strength_nhist
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step

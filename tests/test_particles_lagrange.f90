@@ -45,7 +45,8 @@ program test_particles_lagrange
   use particles_lagrange, only: particles_work_t, particles_work_init, particles_nodal_force, &
                                 particles_velocity_gradients, particles_virtual_grid, particles_stress_update, &
                                 strength_slot_t
-  use strength_models, only: strength_create, strength_params_t
+  use strength_models, only: strength_params_t
+  use strength_factory, only: strength_create
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use particles_lagrange, only: particles_stable_dt, particles_cell_fraction
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate

@@ -30,7 +30,7 @@ module particles_config
                          diff_i, diff_r, diff_s, name_index
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
-  use strength_models, only: strength_names
+  use strength_factory, only: strength_names
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &

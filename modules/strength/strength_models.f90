@@ -1,7 +1,7 @@
 !> Hypoelastic strength models of the solid particles (PARTICLES.md §2.0-2.2):
 !> an abstract `strength_t` with one type-bound update, the elastic and the
-!> bilinear (linear hardening, radial return) models, and the factory that
-!> owns the list of valid names (`strength_create`).
+!> bilinear (linear hardening, radial return) models; the factory is
+!> `strength_factory`, each further model has its own module.
 !>
 !> Common update of one particle over one step (§2.0), given the strain
 !> increment deps = sym(L) dt and the spin increment dw = skew(L) dt from the
@@ -32,19 +32,16 @@
 !>    equivalent plastic strain in hist(1) (tracked-particle rows read it). A failed particle keeps its mass
 !>    and carries no tension or shear (the model's update zeroes its
 !>    deviator and tension; the EOS path clips its pressure at 0).
-!> Model parameters reach the factory in one `strength_params_t`.
+!> Model parameters reach the factory (`strength_factory`) in one
+!> `strength_params_t`.
 !> Stresses are Voigt (xx, yy, zz, yz, xz, xy), tension positive.
 module strength_models
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set, ERR_INPUT
   implicit none
   private
-  public :: strength_t, strength_elastic_t, strength_bilinear_t, strength_create, strength_names, &
-            strength_params_t, strength_point_t, strength_nhist, strength_fields, &
+  public :: strength_t, strength_elastic_t, strength_bilinear_t, &
+            strength_params_t, strength_point_t, strength_fields, &
             strength_rotate, strength_trial, strength_mises, voigt_to_tensor, tensor_to_voigt
-
-  !> The names the factory knows.
-  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
 
   !> The common per-particle output fields of the history (`field`).
   character(len=*), parameter :: strength_fields(4) = [character(len=14) :: 'plastic_strain', 'damage', &
@@ -115,45 +112,6 @@ module strength_models
   end type strength_bilinear_t
 
 contains
-
-  !> The model `name` with the parameters par (module notes).
-  !> eos_pressure (default false): the pressure comes from an EOS, the
-  !> model's own k is 0 and par%k serves only Young's modulus
-  !> E = 9kg/(3k + g) of the hardening modulus (module notes).
-  subroutine strength_create(name, par, model, err, eos_pressure)
-    character(len=*), intent(in) :: name
-    type(strength_params_t), intent(in) :: par
-    class(strength_t), allocatable, intent(out) :: model
-    type(error_t), allocatable, intent(inout) :: err
-    logical, intent(in), optional :: eos_pressure
-    real(wp) :: e
-    select case (trim(name))
-    case ('elastic')
-      model = strength_elastic_t(k=par%k, g=par%g)
-    case ('bilinear')
-      e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
-      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
-    case default
-      call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
-                     'elastic, bilinear', ERR_INPUT)
-      return
-    end select
-    if (present(eos_pressure)) then
-      if (eos_pressure) model%k = 0.0_wp
-    end if
-  end subroutine strength_create
-
-  !> The history variables per particle of the model `name` (0 for a
-  !> name the factory does not know), so that particles can be allocated
-  !> before the models are built.
-  integer function strength_nhist(name) result(n)
-    character(len=*), intent(in) :: name
-    class(strength_t), allocatable :: model
-    type(error_t), allocatable :: err
-    n = 0
-    call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
-    if (allocated(model)) n = model%nhist()
-  end function strength_nhist
 
   !> No history (the default).
   pure integer function strength_no_hist(this) result(n)

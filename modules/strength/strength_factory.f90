@@ -1,0 +1,58 @@
+!> The strength factory: the names of the models a deck may choose
+!> (`strength_names`), each model built from its name and the parameters
+!> (`strength_create`), and the history size of a model by name
+!> (`strength_nhist`). A new model: its own module extending
+!> `strength_models::strength_t`, its parameters in `strength_params_t`, a
+!> case here and its name in `strength_names`.
+module strength_factory
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set, ERR_INPUT
+  use strength_models, only: strength_t, strength_elastic_t, strength_bilinear_t, strength_params_t
+  implicit none
+  private
+  public :: strength_create, strength_names, strength_nhist
+
+  !> The names the factory knows.
+  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
+
+contains
+
+  !> The model `name` with the parameters par (module notes).
+  !> eos_pressure (default false): the pressure comes from an EOS, the
+  !> model's own k is 0 and par%k serves only Young's modulus
+  !> E = 9kg/(3k + g) of the hardening modulus (module notes).
+  subroutine strength_create(name, par, model, err, eos_pressure)
+    character(len=*), intent(in) :: name
+    type(strength_params_t), intent(in) :: par
+    class(strength_t), allocatable, intent(out) :: model
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: eos_pressure
+    real(wp) :: e
+    select case (trim(name))
+    case ('elastic')
+      model = strength_elastic_t(k=par%k, g=par%g)
+    case ('bilinear')
+      e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
+      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
+    case default
+      call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
+                     'elastic, bilinear', ERR_INPUT)
+      return
+    end select
+    if (present(eos_pressure)) then
+      if (eos_pressure) model%k = 0.0_wp
+    end if
+  end subroutine strength_create
+
+  !> The history variables per particle of the model `name` (0 for a
+  !> name the factory does not know), so that particles can be allocated
+  !> before the models are built.
+  integer function strength_nhist(name) result(n)
+    character(len=*), intent(in) :: name
+    class(strength_t), allocatable :: model
+    type(error_t), allocatable :: err
+    n = 0
+    call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
+    if (allocated(model)) n = model%nhist()
+  end function strength_nhist
+end module strength_factory
