@@ -305,11 +305,12 @@ contains
   !>
   !> Nodes put back at their standard (initial) places first (`snap_nodes`):
   !> those of the cells coupled particles occupy (`occupied`, Remark 2),
-  !> those of inflow and outflow faces (an open face is the domain's fixed
-  !> edge: left to the Lagrangian motion it drifts with the through-flow and
-  !> the domain goes with it), and with &rezone drift_max > 0 every node
-  !> that drifted more than drift_max of its standard spacing. The other
-  !> cells around the nodes so moved join the distorted cells.
+  !> those of inflow and outflow faces that drifted more than &rezone
+  !> drift_open of their standard spacing (an open face is the domain's
+  !> fixed edge: left to the Lagrangian motion it drifts with the
+  !> through-flow and the domain goes with it), and with drift_max > 0 every
+  !> other node that drifted more than drift_max of it. The other cells
+  !> around the nodes so moved join the distorted cells.
   subroutine smooth_rezone(rz, st, es, log, x, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
@@ -442,7 +443,7 @@ contains
     integer, intent(out) :: nsnap
     logical, intent(in), optional :: occupied(:)
     integer :: n, c, a, i, j, k, d, f, nb(3), ijk(3), stride(3)
-    real(wp) :: h0
+    real(wp) :: h0, limit
     logical :: snap, open(6)
     open = [(st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
     associate (g => st%g)
@@ -451,18 +452,22 @@ contains
       do n = 1, g%nnode
         call g%node_ijk(n, i, j, k)
         ijk = [i, j, k]
-        snap = .false.
+        ! the drift allowed: drift_open on open faces, drift_max inside
+        ! (0: none on open faces, any inside)
+        limit = rz%drift_max
+        if (.not. limit > 0.0_wp) limit = huge(1.0_wp)
         do f = 1, 6
-          if (open(f) .and. btest(g%node_faces(i, j, k), f - 1)) snap = .true.
+          if (open(f) .and. btest(g%node_faces(i, j, k), f - 1)) limit = rz%drift_open
         end do
-        if (.not. snap .and. rz%drift_max > 0.0_wp) then
+        snap = .false.
+        if (limit < huge(1.0_wp)) then
           ! the standard spacing: the shortest edge of x0 at the node
           h0 = huge(1.0_wp)
           do d = 1, 3
             if (ijk(d) > 0) h0 = min(h0, norm2(x0(:, n) - x0(:, n - stride(d))))
             if (ijk(d) < nb(d)) h0 = min(h0, norm2(x0(:, n) - x0(:, n + stride(d))))
           end do
-          snap = norm2(x(:, n) - x0(:, n)) > rz%drift_max*h0
+          snap = norm2(x(:, n) - x0(:, n)) > limit*h0
         end if
         moved(n) = snap .and. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
         if (snap) x(:, n) = x0(:, n)
