@@ -17,8 +17,16 @@
 !> would leave it is replaced by bisection (the slope is infinite at eps_p
 !> = 0 for n < 1 and the rate slope C/rate is infinite at rate 0+, so
 !> Newton alone cannot be trusted near dp = 0; `jc_slope` evaluates the
-!> strain slope at a floor, never dividing by zero). Converged when |g| <=
-!> tol q* (tol = 1e-12) or the bracket is a few ulps wide. The rate guard
+!> strain slope at a floor, never dividing by zero). A trial with g(0) <=
+!> tol q* is elastic (dp = 0). Converged when |g| <=
+!> tol q* (tol = 1e-12), the bracket is a few ulps wide, or its upper end
+!> is below 1e-30: the root then is a plastic strain increment of no
+!> consequence (for n << 1 it may lie below the smallest representable
+!> number: B dp^0.01 is still 0.19 B at dp = 5e-324), and the step is
+!> taken as elastic (dp = 0, the trial a hair above the flow stress stays,
+!> as with g(0) <= tol q*). While the bracket
+!> spans more than three decades the fallback is its geometric midpoint,
+!> so a tiny root is reached in tens of steps, not thousands. The rate guard
 !> (rates below eps_dot0 give factor 1) is `jc_flow`'s.
 !>
 !> Temperature (hist(2), initially T_room): the flow stress of a step is
@@ -43,6 +51,10 @@ module strength_johnson_cook
   !> Most iterations of the return (bisection alone halves a bracket of
   !> relative width 1 to 1e-16 in 54).
   integer, parameter :: max_iter = 200
+  !> Plastic increments below this are zero: a root below it (n << 1 and a
+  !> trial a hair above the flow stress: dp = (r/B)^(1/n) may not even be
+  !> representable) ends the iteration with the bracket [0, dp_floor].
+  real(wp), parameter :: dp_floor = 1.0e-30_wp
 
   !> Johnson-Cook: the flow stress, the Taylor-Quinney coefficient chi and
   !> the specific heat cp (energy per mass and temperature; 0: no heating).
@@ -106,7 +118,7 @@ contains
     ok = .true.
     dp = 0.0_wp
     r = q - jc_flow(jc, eps_p, 0.0_wp, t)
-    if (.not. r > 0.0_wp) return
+    if (.not. r > jc_tol*q) return
     lo = 0.0_wp
     ! the perfectly plastic estimate, an upper end (module notes)
     hi = min(r/(3.0_wp*g), q/(3.0_wp*g))
@@ -127,11 +139,20 @@ contains
         ok = .true.
         exit
       end if
-      ! Newton inside the bracket, else bisection (dr < 0 always)
+      if (hi <= dp_floor) then
+        ! (the root is below the floor: no plastic increment; lo is 0 then)
+        dp = lo
+        ok = .true.
+        exit
+      end if
+      ! Newton inside the bracket, else bisection (dr < 0 always), geometric
+      ! while the bracket spans orders of magnitude (a root far below hi)
       step = -r/dr
       trial = dp + step
       if (trial > lo .and. trial < hi) then
         dp = trial
+      else if (lo < 1.0e-3_wp*hi) then
+        dp = sqrt(max(lo, 0.5_wp*dp_floor))*sqrt(hi)
       else
         dp = 0.5_wp*(lo + hi)
       end if
