@@ -48,6 +48,13 @@
 !>     step, all particles alike, q at eps_p 0.05 and 0.1 = 645.3, 674.9;
 !>     the output fields 'plastic_strain' and 'temperature' are hist(1),
 !>     hist(2).
+!>  8. With eos = 'mie_gruneisen' (the model's k = 0, the EOS sets the
+!>     pressure): copper (rho0 8.93 g/cm^3, c0 3.94 km/s, s1 1.49, gamma0
+!>     2.0; JC as in 3, heating with c_p 383 J/(kg K)) in uniaxial strain
+!>     compression to 5 % at 1e3/s through the particle path: plastic, q =
+!>     sigma_y(eps_p, dp/dt, T) to 1e-11 after every plastic step with T of
+!>     the step's start, the pressure = the EOS's p(rho, e) to 1e-12, T
+!>     above T_room.
 program test_strength_jc
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -58,6 +65,7 @@ program test_strength_jc
   use strength_factory, only: strength_create
   use strength_jc_flow, only: jc_flow_t, jc_flow
   use strength_johnson_cook, only: strength_johnson_cook_t, jc_return
+  use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state
   use test_assert, only: check, check_close, check_summary
   implicit none
   real(wp), parameter :: st_e = 210000.0_wp, st_nu = 0.3_wp
@@ -72,6 +80,7 @@ program test_strength_jc
   call test_newton_at_zero()
   call test_rate_guard()
   call test_particle_path()
+  call test_mie_gruneisen()
   call check_summary('test_strength_jc')
 
 contains
@@ -483,6 +492,48 @@ contains
     call check_close('particle path: field temperature = T_room (no c_p)', &
                      models(1)%m%field('temperature', p%hist(:, 5)), jc%t_room, 0.0_wp)
   end subroutine test_particle_path
+
+  subroutine test_mie_gruneisen()
+    type(strength_slot_t), allocatable :: models(:)
+    type(error_t), allocatable :: err
+    type(grid_t) :: g
+    type(particles_t) :: p
+    type(jc_flow_t) :: jc
+    type(strength_params_t) :: par
+    real(wp) :: lgrad(3, 3, 8), dt, worst, pw, pe, cs, ep0, t0, q
+    integer :: step, bad
+    ! (MPa, s, mm: rho tonne/mm^3, c0 mm/s, c_p mm^2/(s^2 K))
+    real(wp), parameter :: rho0 = 8.93e-9_wp
+    allocate(models(1))
+    par = copper()
+    par%k = rho0*3.94e6_wp**2
+    par%jc_cp = 3.83e8_wp
+    call strength_create('johnson_cook', par, models(1)%m, err, eos_pressure=.true.)
+    call check(.not. allocated(err) .and. abs(models(1)%m%k) <= 0.0_wp, 'MG: johnson_cook with k = 0')
+    models(1)%eos = mie_gruneisen_t(rho0=rho0, c0=3.94e6_wp, s1=1.49_wp, gamma0=2.0_wp)
+    jc = flow_of(models(1)%m)
+    call one_cell(g, p, models(1)%m, rho0)
+    dt = 1.0e-7_wp
+    lgrad = 0.0_wp
+    lgrad(1, 1, :) = -1.0e3_wp
+    worst = 0.0_wp
+    pw = 0.0_wp
+    do step = 1, 500
+      ep0 = p%hist(1, 1)
+      t0 = p%hist(2, 1)
+      call particles_stress_update(p, models, lgrad, dt, bad)
+      if (p%hist(1, 1) > ep0) then
+        q = mises_of(p%stress(:, 1))
+        worst = max(worst, abs(q/jc_flow(jc, p%hist(1, 1), (p%hist(1, 1) - ep0)/dt, t0) - 1.0_wp))
+      end if
+      call mie_gruneisen_state(models(1)%eos, p%rho(1), p%e(1), pe, cs)
+      pw = max(pw, abs(-sum(p%stress(1:3, 1))/3.0_wp/pe - 1.0_wp))
+    end do
+    call check(bad == 0 .and. p%hist(1, 1) > 0.01_wp, 'MG uniaxial strain: volumes positive, plastic')
+    call check_close('MG uniaxial strain: max |q/sigma_y(eps_p, dp/dt, T) - 1|', worst, 0.0_wp, solver_tol)
+    call check_close('MG uniaxial strain: max |p/p_EOS(rho, e) - 1|', pw, 0.0_wp, 1.0e-12_wp)
+    call check(p%hist(2, 1) > jc%t_room, 'MG uniaxial strain: plastic heating raised T')
+  end subroutine test_mie_gruneisen
 
   !> sigma_yy of particle 1 after the step of p with node velocities (r x,
   !> s y, s z), on the copy pc.
