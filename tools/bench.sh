@@ -9,7 +9,9 @@
 # (issue 14): a gas pushing an elastic block of 64000 particles in a 40^3
 # grid, against the same scene without the particles, 1 and 2 threads; the
 # rotating projectile of paper Sect. 7.4 (Table 2) with LSSM against global
-# smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py).
+# smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py); the
+# Taylor bar's resolution study (issue 15, about 25 minutes; BENCH_ONLY=taylor
+# runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -70,6 +72,32 @@ projectile_bench() {
   /usr/bin/python3 "$root/tools/projectile_compare.py" "$exe" "$work/projectile" --n 4,8 --t-end 0.1 \
     | tee "$outdir/projectile_compare.md"
 }
+# The Taylor bar (PARTICLES.md §2.7 anchor 1, input/taylor_bar.nml):
+# resolution study, Release, 1 thread, one run at a time (about 4, 5 and 14
+# minutes): cells 0.8 mm with 2 and 3 particles per cell per direction
+# (spacings 0.4, 0.267) and cells 0.64 with 3 (0.213, the deck as it is);
+# tools/taylor_measure.py measures each against DynELA's L_f 26.52, D_f 11.15.
+taylor_bench() {
+  echo "## Taylor bar 42CrMo4, 287 m/s, 80 us (input/taylor_bar.nml): resolution study, 1 thread"
+  local deck=$root/input/taylor_bar.nml dirs=() v grid ppc
+  for v in "h0.80_pc2|ni = 9, nj = 9, nk = 42, xmin = 0, 0, 0, xmax = 7.2, 7.2, 33.6|2" \
+           "h0.80_pc3|ni = 9, nj = 9, nk = 42, xmin = 0, 0, 0, xmax = 7.2, 7.2, 33.6|3" \
+           "h0.64_pc3||3"; do
+    IFS='|' read -r name grid ppc <<< "$v"
+    sed -e "s|dir = 'out/taylor_bar'|dir = '$work/taylor/$name'|" -e "s|per_cell = [0-9]*|per_cell = $ppc|" \
+        ${grid:+-e "s|^&grid .* /|\&grid $grid /|"} "$deck" > "taylor_$name.nml"
+    /usr/bin/time -f "$name: %e s wall" env OMP_NUM_THREADS=1 "$exe" "taylor_$name.nml" > "$outdir/taylor_$name.log" 2>&1 \
+      || echo "$name: run failed (see $outdir/taylor_$name.log)"
+    tail -1 "$outdir/taylor_$name.log"
+    dirs+=("$work/taylor/$name")
+  done
+  /usr/bin/python3 "$root/tools/taylor_measure.py" "${dirs[@]}" | tee "$outdir/taylor_measure.txt" || true
+}
+if [[ "${BENCH_ONLY:-}" == taylor ]]; then
+  taylor_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == particles ]]; then
   particles_bench
   echo
@@ -149,6 +177,8 @@ echo
 particles_bench
 echo
 projectile_bench
+echo
+taylor_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"

@@ -6,8 +6,10 @@
 !> &solid: a name, a reference density, the pressure law (an `eos_factory`
 !> EOS with its parameters, or 'none': pressure from the bulk modulus), the
 !> elastic moduli (bulk and shear, or Young's modulus and Poisson's ratio)
-!> and a strength model: 'elastic' or 'bilinear' (linear hardening from
-!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2), a name of the
+!> and a strength model: 'elastic', 'bilinear' (linear hardening from
+!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2) or
+!> 'johnson_cook' (jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt,
+!> specific_heat, taylor_quinney; §2.3), a name of the
 !> strength factory's list (`strength_models::strength_names`). Coupled
 !> particles use K, G and the model (`strength_create`), or with eos =
 !> 'mie_gruneisen' (the only EOS a solid takes) the EOS's pressure p(rho,
@@ -56,6 +58,10 @@ module particles_config
     character(len=16) :: strength = 'elastic'      !< a name of strength_names
     real(wp) :: yield_stress = 0.0_wp              !< bilinear: initial yield stress (pressure)
     real(wp) :: tangent_modulus = 0.0_wp           !< bilinear: slope of stress against strain after yield
+    ! johnson_cook (PARTICLES.md §2.3): A, B (pressure), n, C, eps_dot0 (1/time), m (0: no softening),
+    ! T_room, T_melt, c_p (energy/(mass temperature), 0: no heating), Taylor-Quinney chi
+    real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_n = 1.0_wp, jc_c = 0.0_wp, jc_eps0 = 1.0_wp, jc_m = 0.0_wp
+    real(wp) :: t_room = 293.15_wp, t_melt = 0.0_wp, specific_heat = 0.0_wp, taylor_quinney = 0.9_wp
   end type solid_config_t
 
   !> One resolved &particles group; the initial values are the defaults.
@@ -91,6 +97,7 @@ contains
     character(len=16) :: strength
     real(wp) :: density, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, shear_modulus, &
                 youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
+    real(wp) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney
     integer :: ios
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
@@ -98,7 +105,8 @@ contains
     type(error_t), allocatable :: err
     logical :: by_e
     namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
-                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus
+                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
+                     jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney
 
     name = this%name; density = this%density; eos = this%eos
     associate (d => this%par)
@@ -108,6 +116,8 @@ contains
     bulk_modulus = this%bulk_modulus; shear_modulus = this%shear_modulus
     youngs_modulus = this%youngs_modulus; poisson_ratio = this%poisson_ratio
     strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
+    jc_a = this%jc_a; jc_b = this%jc_b; jc_n = this%jc_n; jc_c = this%jc_c; jc_eps0 = this%jc_eps0; jc_m = this%jc_m
+    t_room = this%t_room; t_melt = this%t_melt; specific_heat = this%specific_heat; taylor_quinney = this%taylor_quinney
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -184,14 +194,51 @@ contains
         if (.not. (tangent_modulus < e_mod)) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
           'must be below Young''s modulus '//rtoa(e_mod))
       end if
+    case ('johnson_cook')
+      call johnson_cook_check()
     case default
       call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
                        name_list(strength_names))
     end select
+    if (trim(strength) == 'elastic' .or. trim(strength) == 'bilinear') call johnson_cook_unused()
     this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
       yield_stress=yield_stress, tangent_modulus=tangent_modulus)
+    this%jc_a = jc_a; this%jc_b = jc_b; this%jc_n = jc_n; this%jc_c = jc_c; this%jc_eps0 = jc_eps0; this%jc_m = jc_m
+    this%t_room = t_room; this%t_melt = t_melt; this%specific_heat = specific_heat
+    this%taylor_quinney = taylor_quinney
     if (echo /= no_echo) write(echo, nml=solid)
+  contains
+    !> strength = 'johnson_cook': its parameters (PARTICLES.md §2.3).
+    subroutine johnson_cook_check()
+      character(len=*), parameter :: for = ' for strength = ''johnson_cook'''
+      if (.not. (jc_a > 0.0_wp)) call problem_bad(problems, tag, 'jc_a', jc_a, 'must be > 0'//for)
+      if (.not. (jc_b >= 0.0_wp)) call problem_bad(problems, tag, 'jc_b', jc_b, 'must be >= 0'//for)
+      if (.not. (jc_n > 0.0_wp)) call problem_bad(problems, tag, 'jc_n', jc_n, 'must be > 0'//for)
+      if (.not. (jc_c >= 0.0_wp)) call problem_bad(problems, tag, 'jc_c', jc_c, 'must be >= 0'//for)
+      if (.not. (jc_eps0 > 0.0_wp)) call problem_bad(problems, tag, 'jc_eps0', jc_eps0, &
+        'must be > 0'//for//' (the reference strain rate, 1/time)')
+      if (.not. (jc_m >= 0.0_wp)) call problem_bad(problems, tag, 'jc_m', jc_m, 'must be >= 0'//for// &
+        ' (0: no thermal softening)')
+      if (.not. (abs(t_room) < huge(1.0_wp))) call problem_bad(problems, tag, 't_room', t_room, 'must be finite')
+      if (jc_m > 0.0_wp .and. .not. (t_melt > t_room)) call problem_bad(problems, tag, 't_melt', t_melt, &
+        'must be above t_room = '//rtoa(t_room)//' with thermal softening (jc_m > 0)')
+      if (.not. (specific_heat >= 0.0_wp)) call problem_bad(problems, tag, 'specific_heat', specific_heat, &
+        'must be >= 0'//for//' (0: no plastic heating)')
+      if (.not. (taylor_quinney >= 0.0_wp .and. taylor_quinney <= 1.0_wp)) call problem_bad(problems, tag, &
+        'taylor_quinney', taylor_quinney, 'must be in [0, 1]')
+    end subroutine johnson_cook_check
+
+    !> The Johnson-Cook parameters given to a model that has none.
+    subroutine johnson_cook_unused()
+      character(len=:), allocatable :: why
+      why = 'applies only to strength = ''johnson_cook'' (this solid''s is '''//trim(strength)//''')'
+      if (abs(jc_a) > 0.0_wp) call problem_bad(problems, tag, 'jc_a', jc_a, why)
+      if (abs(jc_b) > 0.0_wp) call problem_bad(problems, tag, 'jc_b', jc_b, why)
+      if (abs(jc_c) > 0.0_wp) call problem_bad(problems, tag, 'jc_c', jc_c, why)
+      if (abs(jc_m) > 0.0_wp) call problem_bad(problems, tag, 'jc_m', jc_m, why)
+      if (abs(specific_heat) > 0.0_wp) call problem_bad(problems, tag, 'specific_heat', specific_heat, why)
+    end subroutine johnson_cook_unused
   end subroutine solid_config_read
 
   !> Reads, validates and echoes the k-th &particles group (`text`);
@@ -333,6 +380,10 @@ contains
         call diff_s(changes, trim(w)//' strength', a%strength, b%strength)
         call diff_r(changes, trim(w)//' yield_stress, tangent_modulus', [a%yield_stress, a%tangent_modulus], &
                     [b%yield_stress, b%tangent_modulus])
+        call diff_r(changes, trim(w)//' jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m', [a%jc_a, a%jc_b, a%jc_n, a%jc_c, &
+                    a%jc_eps0, a%jc_m], [b%jc_a, b%jc_b, b%jc_n, b%jc_c, b%jc_eps0, b%jc_m])
+        call diff_r(changes, trim(w)//' t_room, t_melt, specific_heat, taylor_quinney', [a%t_room, a%t_melt, &
+                    a%specific_heat, a%taylor_quinney], [b%t_room, b%t_melt, b%specific_heat, b%taylor_quinney])
       end associate
     end do
     call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))

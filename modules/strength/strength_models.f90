@@ -54,6 +54,10 @@ module strength_models
     real(wp) :: g = 0.0_wp    !< shear modulus
     real(wp) :: y0 = 0.0_wp   !< bilinear: initial yield stress
     real(wp) :: et = 0.0_wp   !< bilinear: tangent modulus
+    real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_n = 1.0_wp, jc_c = 0.0_wp   !< johnson_cook: A, B (pressure), n, C
+    real(wp) :: jc_eps0 = 1.0_wp, jc_m = 0.0_wp          !< johnson_cook: eps_dot0 (1/time), m (0: no softening)
+    real(wp) :: jc_t_room = 0.0_wp, jc_t_melt = 1.0_wp   !< johnson_cook: T_room, T_melt (temperature)
+    real(wp) :: jc_cp = 0.0_wp, jc_chi = 0.9_wp          !< johnson_cook: c_p (0: no heating), Taylor-Quinney chi
   end type strength_params_t
 
   !> One particle's step context (module notes): in dt, rho (density at the
