@@ -8,12 +8,13 @@ module strength_factory
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set, ERR_INPUT
   use strength_models, only: strength_t, strength_elastic_t, strength_bilinear_t, strength_params_t
+  use strength_gurson, only: strength_gurson_t
   implicit none
   private
   public :: strength_create, strength_names, strength_nhist
 
   !> The names the factory knows.
-  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
+  character(len=*), parameter :: strength_names(3) = [character(len=8) :: 'elastic', 'bilinear', 'gurson']
 
 contains
 
@@ -34,9 +35,13 @@ contains
     case ('bilinear')
       e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
       model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
+    case ('gurson')
+      model = strength_gurson_t(k=par%k, g=par%g, jc=par%jc, q1=par%gurson_q1, q2=par%gurson_q2, fn=par%gurson_fn, &
+                                epsn=par%gurson_epsn, sn=par%gurson_sn, fc=par%gurson_fc, ff=par%gurson_ff, &
+                                eps_f=par%gurson_eps_f, f0=par%gurson_f0)
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
-                     'elastic, bilinear', ERR_INPUT)
+                     'elastic, bilinear, gurson', ERR_INPUT)
       return
     end select
     if (present(eos_pressure)) then
