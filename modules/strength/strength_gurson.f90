@@ -294,8 +294,11 @@ contains
         call matrix_state(this, sm, dv, qs, hist(gtn_eps), hist(gtn_f), pt%dt, dm, f, sy, q, rad)
         fail = .not. rad > 0.0_wp
       end if
+      ! the return only shrinks the deviator (near the apex q = sigma_M sqrt(rad) is
+      ! the square root of round-off and may exceed a round-off qs); trace-free
       if (qs > 0.0_wp) then
-        s = s*(q/qs)
+        s = s*min(1.0_wp, q/qs)
+        s(1:3) = s(1:3) - (s(1) + s(2) + s(3))/3.0_wp
       else
         s = 0.0_wp
       end if
