@@ -40,6 +40,7 @@ module driver_particles
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
+  use strength_jc_flow, only: jc_flow_t
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
@@ -172,7 +173,11 @@ contains
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
         call strength_create(sc%strength, strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, &
-                             y0=sc%yield_stress, et=sc%tangent_modulus), st%pw%models(s)%m, err, &
+                             y0=sc%yield_stress, et=sc%tangent_modulus, &
+                             jc=jc_flow_t(a=sc%jc_a, b=sc%jc_b, n=sc%jc_n, c=sc%jc_c, eps0=sc%jc_eps0), &
+                             gurson_q1=sc%gtn_q1, gurson_q2=sc%gtn_q2, gurson_fn=sc%gtn_fn, gurson_epsn=sc%gtn_epsn, &
+                             gurson_sn=sc%gtn_sn, gurson_fc=sc%gtn_fc, gurson_ff=sc%gtn_ff, &
+                             gurson_eps_f=sc%failure_strain, gurson_f0=sc%void_mean), st%pw%models(s)%m, err, &
                              eos_pressure=trim(sc%eos) == 'mie_gruneisen')
         if (allocated(err)) return
         do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1

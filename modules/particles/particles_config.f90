@@ -55,6 +55,14 @@ module particles_config
     character(len=16) :: strength = 'elastic'      !< a name of strength_names
     real(wp) :: yield_stress = 0.0_wp              !< bilinear: initial yield stress (pressure)
     real(wp) :: tangent_modulus = 0.0_wp           !< bilinear: slope of stress against strain after yield
+    ! Johnson-Cook flow stress (gurson's matrix; shared with the jc model)
+    real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_n = 1.0_wp, jc_c = 0.0_wp, jc_eps0 = 1.0_wp
+    ! gurson (GTN + TEPLA-F, PARTICLES.md 2.4)
+    real(wp) :: gtn_q1 = 1.5_wp, gtn_q2 = 1.0_wp                    !< yield function q1, q2 (q3 = q1^2)
+    real(wp) :: gtn_fn = 0.0_wp, gtn_epsn = 0.3_wp, gtn_sn = 0.1_wp   !< nucleation f_N, eps_N, s_N
+    real(wp) :: gtn_fc = 0.15_wp, gtn_ff = 0.25_wp                  !< coalescence f_c (TEPLA-F's), final f_F
+    real(wp) :: failure_strain = 0.0_wp                             !< equivalent plastic strain at failure
+    real(wp) :: void_mean = 0.0_wp, void_std = 0.0_wp               !< initial porosity f0: mean, standard deviation
   end type solid_config_t
 
   !> One resolved &particles group; the initial values are the defaults.
@@ -89,6 +97,8 @@ contains
     character(len=16) :: strength
     real(wp) :: density, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, shear_modulus, &
                 youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
+    real(wp) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
+                failure_strain, void_mean, void_std
     integer :: ios
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
@@ -96,7 +106,9 @@ contains
     type(error_t), allocatable :: err
     logical :: by_e
     namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
-                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus
+                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
+                     jc_a, jc_b, jc_n, jc_c, jc_eps0, gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
+                     failure_strain, void_mean, void_std
 
     name = this%name; density = this%density; eos = this%eos
     associate (d => this%par)
@@ -106,6 +118,10 @@ contains
     bulk_modulus = this%bulk_modulus; shear_modulus = this%shear_modulus
     youngs_modulus = this%youngs_modulus; poisson_ratio = this%poisson_ratio
     strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
+    jc_a = this%jc_a; jc_b = this%jc_b; jc_n = this%jc_n; jc_c = this%jc_c; jc_eps0 = this%jc_eps0
+    gtn_q1 = this%gtn_q1; gtn_q2 = this%gtn_q2; gtn_fn = this%gtn_fn; gtn_epsn = this%gtn_epsn; gtn_sn = this%gtn_sn
+    gtn_fc = this%gtn_fc; gtn_ff = this%gtn_ff; failure_strain = this%failure_strain
+    void_mean = this%void_mean; void_std = this%void_std
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -182,15 +198,60 @@ contains
         if (.not. (tangent_modulus < e_mod)) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
           'must be below Young''s modulus '//rtoa(e_mod))
       end if
+    case ('gurson')
+      call gurson_problems(problems, tag, jc_a, jc_b, jc_n, jc_c, jc_eps0, gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, &
+                           gtn_fc, gtn_ff, failure_strain, void_mean, void_std)
     case default
       call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
                        name_list(strength_names))
     end select
+    ! the gurson parameters belong to strength = 'gurson'
+    if (trim(strength) /= 'gurson') then
+      associate (d => solid_config_t())
+        if (any(abs([gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, void_mean, void_std] - &
+                     [d%gtn_q1, d%gtn_q2, d%gtn_fn, d%gtn_epsn, d%gtn_sn, d%gtn_fc, d%gtn_ff, d%void_mean, &
+                      d%void_std]) > 0.0_wp)) call problem_add(problems, '&'//tag//': gtn_q1, gtn_q2, gtn_fn, '// &
+          'gtn_epsn, gtn_sn, gtn_fc, gtn_ff, void_mean, void_std apply only to strength = ''gurson'' (this '// &
+          'solid''s is '''//trim(strength)//''')')
+      end associate
+    end if
     this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
-      yield_stress=yield_stress, tangent_modulus=tangent_modulus)
+      yield_stress=yield_stress, tangent_modulus=tangent_modulus, jc_a=jc_a, jc_b=jc_b, jc_n=jc_n, jc_c=jc_c, &
+      jc_eps0=jc_eps0, gtn_q1=gtn_q1, gtn_q2=gtn_q2, gtn_fn=gtn_fn, gtn_epsn=gtn_epsn, gtn_sn=gtn_sn, gtn_fc=gtn_fc, &
+      gtn_ff=gtn_ff, failure_strain=failure_strain, void_mean=void_mean, void_std=void_std)
     if (echo /= no_echo) write(echo, nml=solid)
   end subroutine solid_config_read
+
+  !> The problems of a gurson solid's parameters (PARTICLES.md 2.4; Table 5's
+  !> f_F = 0.0021 < f0 is refused here: input/README.md).
+  subroutine gurson_problems(problems, tag, jc_a, jc_b, jc_n, jc_c, jc_eps0, q1, q2, fn, epsn, sn, fc, ff, &
+                             failure_strain, void_mean, void_std)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag
+    real(wp), intent(in) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, q1, q2, fn, epsn, sn, fc, ff, failure_strain, &
+                            void_mean, void_std
+    if (.not. (jc_a > 0.0_wp)) call problem_bad(problems, tag, 'jc_a', jc_a, 'must be > 0 for strength = ''gurson''')
+    if (.not. (jc_b >= 0.0_wp)) call problem_bad(problems, tag, 'jc_b', jc_b, 'must be >= 0')
+    if (.not. (jc_n > 0.0_wp)) call problem_bad(problems, tag, 'jc_n', jc_n, 'must be > 0')
+    if (.not. (jc_c >= 0.0_wp)) call problem_bad(problems, tag, 'jc_c', jc_c, 'must be >= 0')
+    if (.not. (jc_eps0 > 0.0_wp)) call problem_bad(problems, tag, 'jc_eps0', jc_eps0, 'must be > 0')
+    if (.not. (q1 > 0.0_wp)) call problem_bad(problems, tag, 'gtn_q1', q1, 'must be > 0')
+    if (.not. (q2 > 0.0_wp)) call problem_bad(problems, tag, 'gtn_q2', q2, 'must be > 0')
+    if (.not. (fn >= 0.0_wp .and. fn < 1.0_wp)) call problem_bad(problems, tag, 'gtn_fn', fn, 'must be in [0, 1)')
+    if (.not. (epsn >= 0.0_wp)) call problem_bad(problems, tag, 'gtn_epsn', epsn, 'must be >= 0')
+    if (.not. (sn > 0.0_wp)) call problem_bad(problems, tag, 'gtn_sn', sn, 'must be > 0')
+    if (.not. (fc > 0.0_wp .and. fc < 1.0_wp)) call problem_bad(problems, tag, 'gtn_fc', fc, 'must be in (0, 1)')
+    if (.not. (ff > fc .and. ff <= 1.0_wp)) call problem_bad(problems, tag, 'gtn_ff', ff, &
+      'must be in (gtn_fc, 1] (gtn_fc = '//rtoa(fc)//'; Table 5''s 0.0021 is a misprint: input/README.md)')
+    if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
+      'must be >= 0 (0: no strain term in TEPLA-F)')
+    if (.not. (void_mean >= 0.0_wp .and. void_mean < fc)) call problem_bad(problems, tag, 'void_mean', void_mean, &
+      'must be in [0, gtn_fc) (gtn_fc = '//rtoa(fc)//': at f0 >= f_c TEPLA-F fails every particle at once)')
+    if (.not. (void_std >= 0.0_wp)) call problem_bad(problems, tag, 'void_std', void_std, 'must be >= 0')
+    if (void_std > 0.0_wp) call problem_bad(problems, tag, 'void_std', void_std, &
+      'needs the random void field, not in this build (give 0: uniform f0 = void_mean)')
+  end subroutine gurson_problems
 
   !> Reads, validates and echoes the k-th &particles group (`text`);
   !> `solids` are the &solid names, `xmin`, `xmax` the grid's box (a shape
@@ -326,6 +387,11 @@ contains
         call diff_s(changes, trim(w)//' strength', a%strength, b%strength)
         call diff_r(changes, trim(w)//' yield_stress, tangent_modulus', [a%yield_stress, a%tangent_modulus], &
                     [b%yield_stress, b%tangent_modulus])
+        call diff_r(changes, trim(w)//' jc_a, jc_b, jc_n, jc_c, jc_eps0', [a%jc_a, a%jc_b, a%jc_n, a%jc_c, a%jc_eps0], &
+                    [b%jc_a, b%jc_b, b%jc_n, b%jc_c, b%jc_eps0])
+        call diff_r(changes, trim(w)//' gurson parameters', [a%gtn_q1, a%gtn_q2, a%gtn_fn, a%gtn_epsn, a%gtn_sn, &
+                    a%gtn_fc, a%gtn_ff, a%failure_strain, a%void_mean, a%void_std], [b%gtn_q1, b%gtn_q2, b%gtn_fn, &
+                    b%gtn_epsn, b%gtn_sn, b%gtn_fc, b%gtn_ff, b%failure_strain, b%void_mean, b%void_std])
       end associate
     end do
     call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))
