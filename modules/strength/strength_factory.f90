@@ -38,7 +38,7 @@ contains
     case ('gurson')
       model = strength_gurson_t(k=par%k, g=par%g, jc=par%jc, q1=par%gurson_q1, q2=par%gurson_q2, fn=par%gurson_fn, &
                                 epsn=par%gurson_epsn, sn=par%gurson_sn, fc=par%gurson_fc, ff=par%gurson_ff, &
-                                eps_f=par%gurson_eps_f, f0=par%gurson_f0)
+                                eps_f=par%gurson_eps_f, f0=par%gurson_f0, kv=par%k)
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
                      'elastic, bilinear, gurson', ERR_INPUT)
