@@ -248,7 +248,8 @@ contains
     type(particles_config_t), intent(in) :: pc
     type(shape_t) :: sh
     ! ('half_space' is not a particle shape: the group's validation refuses it)
-    sh = shape_t(kind=shape_kind(pc%shape), lo=pc%lo, hi=pc%hi, center=pc%center, radius=pc%radius, axis=pc%axis)
+    sh = shape_t(kind=shape_kind(pc%shape), lo=pc%lo, hi=pc%hi, center=pc%center, radius=pc%radius, &
+                 inner_radius=pc%inner_radius, axis=pc%axis)
   end function group_shape
 
   !> The points of a &particles shape = 'file' group: a readable file

@@ -24,7 +24,7 @@ module driver_euler
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use io_log, only: log_t, log_line
-  use particles_euler, only: particles_snap
+  use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use driver_state, only: state_t
   use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, &
                               particles_euler_finish
@@ -160,10 +160,9 @@ contains
           call es%timer%stop()
           return
         end if
-        call smooth_rezone(rz, st, es, log, xnew, done, err, pe%occupied)
-      else
-        call smooth_rezone(rz, st, es, log, xnew, done, err)
       end if
+      ! (pe%occupied unallocated without particles: absent)
+      call smooth_rezone(rz, st, es, log, xnew, done, err, pe%occupied)
       if (allocated(err) .or. .not. done) then
         ! a skipped step still uses up its interval (else the interval
         ! trigger fires, and is skipped, at every following step)
@@ -303,6 +302,15 @@ contains
   !> for the merged cuboids in which a cell is still tangled after the
   !> smoothing. In both, a smoothing pass never tangles a cell, and a changed
   !> cell left tangled goes back.
+  !>
+  !> Nodes put back at their standard (initial) places first (`snap_nodes`):
+  !> those of the cells coupled particles occupy (`occupied`, Remark 2),
+  !> those of inflow and outflow faces that drifted more than &rezone
+  !> drift_open of their standard spacing (an open face is the domain's
+  !> fixed edge: left to the Lagrangian motion it drifts with the
+  !> through-flow and the domain goes with it), and with drift_max > 0 every
+  !> other node that drifted more than drift_max of it. The other cells
+  !> around the nodes so moved join the distorted cells.
   subroutine smooth_rezone(rz, st, es, log, x, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
@@ -317,7 +325,7 @@ contains
     type(smooth_region_t) :: reg
     integer, allocatable :: mlo(:, :), mhi(:, :)
     real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min, aspect_max
-    integer :: iterations, b, nreset, nrevert
+    integer :: iterations, b, nreset, nrevert, nsnap
     logical :: tfi, box
     character(len=400) :: line
     character(len=60) :: kept
@@ -325,17 +333,13 @@ contains
     done = .false.
     box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
     associate (g => st%g)
-      if (present(occupied)) then
-        ! Remark 2: the occupied cells put at their standard places; the
-        ! other cells around the nodes that moved so are distorted
-        allocate(moved(g%nnode), touched(g%ncell), stat=nreset)
-        if (nreset /= 0) then
-          call error_set(err, 'smooth_rezone', 'cannot allocate the particles'' work arrays')
-          return
-        end if
-        call particles_snap(g, occupied, es%x0, x, moved)
-        call cells_touched(g, moved, occupied, touched)
+      allocate(moved(g%nnode), touched(g%ncell), stat=nreset)
+      if (nreset /= 0) then
+        call error_set(err, 'smooth_rezone', 'cannot allocate the snapping work arrays')
+        return
       end if
+      call snap_nodes(rz, st, es%x0, x, moved, nsnap, occupied)
+      call cells_touched(g, moved, touched, occupied)
       if (box) then
         ! Eq. (46) against each cell's own box, aspect ratio up to the
         ! geometric middle of the paper's cube (1) and the trigger's bound
@@ -356,7 +360,7 @@ contains
         ! (occupied and touched absent or unallocated without particles)
         if (box) then
           ! distorted: the cells failing the triggers' tests (q plays no part)
-          if (present(occupied)) es%fail = es%fail .or. touched
+          es%fail = es%fail .or. touched
           call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
                                       distorted=es%fail, frozen=occupied)
         else
@@ -366,12 +370,12 @@ contains
       end if
       if (allocated(err)) return
       done = sub%nbox > 0
-      if (.not. done .and. present(occupied)) then
-        ! only the snapped nodes move (every cell around them holds particles)
+      if (.not. done) then
+        ! only the snapped nodes move (every cell around them is occupied)
         done = any(moved)
         if (done) then
-          call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)// &
-                        ': no cell to smooth; the particles'' cells put back on the standard grid')
+          call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)//': no cell to smooth; '//itoa(nsnap)// &
+                        ' nodes put back on the standard grid')
           return
         end if
       end if
@@ -420,21 +424,80 @@ contains
       q_min = smooth_q_min(reg, x)
       write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
         &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
-        &" nodes put back")') trim(rz%mode), st%step, sub%n_distorted, sub%nbox, count(sub%cell_smooth), q_min0, &
-        q_min, iterations, trim(merge(', then TFI', '          ', tfi)), trim(kept), reg%n_guarded, nrevert
+        &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), st%step, sub%n_distorted, &
+        sub%nbox, count(sub%cell_smooth), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
+        trim(kept), reg%n_guarded, nrevert, nsnap
       call log_line(log, trim(line))
     end associate
   end subroutine smooth_rezone
 
-  !> The cells not occupied by particles with a node that moved.
-  subroutine cells_touched(g, moved, occupied, touched)
+  !> The nodes `smooth_rezone` puts back on the standard grid x0 before
+  !> smoothing (its notes): x(:, n) = x0(:, n) for each; moved(n) tells
+  !> whether node n's place changed so, nsnap counts them.
+  subroutine snap_nodes(rz, st, x0, x, moved, nsnap, occupied)
+    type(rezone_config_t), intent(in) :: rz
+    type(state_t), intent(in) :: st
+    real(wp), intent(in) :: x0(:, :)
+    real(wp), intent(inout) :: x(:, :)
+    logical, intent(out) :: moved(:)
+    integer, intent(out) :: nsnap
+    logical, intent(in), optional :: occupied(:)
+    integer :: n, c, a, i, j, k, d, f, nb(3), ijk(3), stride(3)
+    real(wp) :: h0, limit
+    logical :: snap, open(6)
+    open = [(st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
+    associate (g => st%g)
+      stride = [1, g%sx, g%sxy]
+      nb = [g%ni, g%nj, g%nk]
+      do n = 1, g%nnode
+        call g%node_ijk(n, i, j, k)
+        ijk = [i, j, k]
+        ! the drift allowed: drift_open on open faces, drift_max inside
+        ! (0: none on open faces, any inside)
+        limit = rz%drift_max
+        if (.not. limit > 0.0_wp) limit = huge(1.0_wp)
+        do f = 1, 6
+          if (open(f) .and. btest(g%node_faces(i, j, k), f - 1)) limit = rz%drift_open
+        end do
+        snap = .false.
+        if (limit < huge(1.0_wp)) then
+          ! the standard spacing: the shortest edge of x0 at the node
+          h0 = huge(1.0_wp)
+          do d = 1, 3
+            if (ijk(d) > 0) h0 = min(h0, norm2(x0(:, n) - x0(:, n - stride(d))))
+            if (ijk(d) < nb(d)) h0 = min(h0, norm2(x0(:, n) - x0(:, n + stride(d))))
+          end do
+          snap = norm2(x(:, n) - x0(:, n)) > limit*h0
+        end if
+        moved(n) = snap .and. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+        if (snap) x(:, n) = x0(:, n)
+      end do
+      if (present(occupied)) then
+        do c = 1, g%ncell
+          if (.not. occupied(c)) cycle
+          do a = 1, 8
+            n = g%node0(c) + g%corner_offset(a)
+            moved(n) = moved(n) .or. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+            x(:, n) = x0(:, n)
+          end do
+        end do
+      end if
+      nsnap = count(moved)
+    end associate
+  end subroutine snap_nodes
+
+  !> The cells (not occupied by particles) with a node that moved.
+  subroutine cells_touched(g, moved, touched, occupied)
     type(grid_t), intent(in) :: g
-    logical, intent(in) :: moved(:), occupied(:)
+    logical, intent(in) :: moved(:)
     logical, intent(out) :: touched(:)
+    logical, intent(in), optional :: occupied(:)
     integer :: c, a
     do c = 1, g%ncell
       touched(c) = .false.
-      if (occupied(c)) cycle
+      if (present(occupied)) then
+        if (occupied(c)) cycle
+      end if
       do a = 1, 8
         touched(c) = touched(c) .or. moved(g%node0(c) + g%corner_offset(a))
       end do

@@ -359,7 +359,7 @@ contains
     type(region_config_t), intent(in) :: rg
     type(shape_t) :: sh
     sh = shape_t(kind=shape_kind(rg%shape), lo=rg%lo, hi=rg%hi, center=rg%center, radius=rg%radius, &
-                 normal=rg%normal, axis=rg%axis)
+                 inner_radius=rg%inner_radius, normal=rg%normal, axis=rg%axis)
   end function region_shape
 
   !> The last region (in deck order) that contains point p, or 0.

@@ -3,6 +3,7 @@
 !> `driver_scene`.
 module driver_scene_config
   use base_kinds, only: wp
+  use mesh_shapes, only: shape_inner_radius_problem
   use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
   implicit none
@@ -25,6 +26,7 @@ module driver_scene_config
     real(wp) :: angular_velocity = 0.0_wp             !< rotation: radians per time about axis
     real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners, cylinder length
     real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere / cylinder
+    real(wp) :: inner_radius = 0.0_wp                 !< sphere / cylinder: hollow inside it
     real(wp) :: normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]  !< half space normal
     integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
   end type region_config_t
@@ -48,18 +50,18 @@ contains
     character(len=64) :: material
     character(len=1) :: axis
     real(wp) :: density, energy, pressure, energy_per_volume, e_given, velocity(3), lo(3), hi(3), center(3), radius, &
-              normal(3), speed, angular_velocity
+              normal(3), speed, angular_velocity, inner_radius
     integer :: ios, m
     character(len=max_line) :: msg
     character(len=16) :: tag
     namelist /region/ shape, material, density, energy, pressure, energy_per_volume, velocity, velocity_field, &
-                      speed, angular_velocity, lo, hi, center, radius, axis, normal
+                      speed, angular_velocity, lo, hi, center, radius, axis, normal, inner_radius
 
     shape = this%shape; material = this%material; density = this%density; energy = this%energy
     pressure = this%pressure; energy_per_volume = this%energy_per_volume
     velocity = this%velocity; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
     normal = this%normal; velocity_field = this%velocity_field; speed = this%speed
-    angular_velocity = this%angular_velocity
+    angular_velocity = this%angular_velocity; inner_radius = this%inner_radius
     axis = 'xyz'(this%axis:this%axis)
     read(text, nml=region, iostat=ios, iomsg=msg)
     if (ios /= 0) then
@@ -79,6 +81,8 @@ contains
     e_given = energy
     if (energy_per_volume >= 0.0_wp .and. density > 0.0_wp) e_given = energy_per_volume/density
     if (.not. (radius >= 0.0_wp)) call problem_bad(problems, trim(tag), 'radius', radius, 'must be >= 0')
+    msg = shape_inner_radius_problem(shape, radius, inner_radius)
+    if (len_trim(msg) > 0) call problem_bad(problems, trim(tag), 'inner_radius', inner_radius, trim(msg))
     select case (trim(shape))
     case ('all', 'box')
     case ('half_space')
@@ -101,7 +105,7 @@ contains
     this = region_config_t(shape=shape, material=material, imat=m, density=density, &
       energy=e_given, pressure=pressure, energy_per_volume=energy_per_volume, velocity=velocity, &
       velocity_field=velocity_field, speed=speed, angular_velocity=angular_velocity, lo=lo, hi=hi, center=center, &
-      radius=radius, axis=max(1, index('xyz', axis)), normal=normal)
+      radius=radius, inner_radius=inner_radius, axis=max(1, index('xyz', axis)), normal=normal)
     if (echo /= no_echo) write(echo, nml=region)
   end subroutine region_config_read
 
@@ -182,6 +186,7 @@ contains
         call diff_r(changes, '&region('//itoa(k)//') hi', a%hi, b%hi)
         call diff_r(changes, '&region('//itoa(k)//') center', a%center, b%center)
         call diff_r(changes, '&region('//itoa(k)//') radius', [a%radius], [b%radius])
+        call diff_r(changes, '&region('//itoa(k)//') inner_radius', [a%inner_radius], [b%inner_radius])
         call diff_i(changes, '&region('//itoa(k)//') axis', a%axis, b%axis)
         call diff_r(changes, '&region('//itoa(k)//') normal', a%normal, b%normal)
       end associate

@@ -3,13 +3,16 @@
 translating together at a uniform velocity U, with Euler steps, must stay a
 uniform translation.
 
-    check_particles_translate.py FRAME0 FRAME P0 UX UY UZ E TOL
+    check_particles_translate.py FRAME0 FRAME P0 UX UY UZ E TOL [DRIFT]
 
 Checks in FRAME against FRAME0 (the start, particles matched by id): the
 largest |p - P0|/P0 over the cells, |u - U|/|U| over the nodes and the
 particles, the largest stress change over the solid's modulus E (its
 strain's round-off), and the particle positions
-against x0 + U t (over |U| t). All against TOL. Run with /usr/bin/python3.
+against x0 + U t (over |U| t). All against TOL. With DRIFT, also the
+largest distance of a grid node from its place in FRAME0 against DRIFT
+(a localized rezone that lets the grid drift with the flow fails it).
+Run with /usr/bin/python3.
 """
 import sys
 
@@ -38,7 +41,13 @@ def main():
         "|x_p - x0 - U t| / (|U| t)": np.max(np.linalg.norm(by_id(f1, "x") - by_id(f0, "x") - u0 * t, axis=1))
         / (speed * t),
     }
-    ok = t > 0
+    if len(sys.argv) > 9:
+        drift = np.max(np.linalg.norm(f1["x"][()].reshape(-1, 3) - f0["x"][()].reshape(-1, 3), axis=1))
+        print(f"grid drift {drift:.3e} (bound {float(sys.argv[9]):.3e})  {'ok' if drift <= float(sys.argv[9]) else 'FAIL'}")
+        ok0 = drift <= float(sys.argv[9])
+    else:
+        ok0 = True
+    ok = t > 0 and ok0
     print(f"t = {t:.4g} (step {int(f1['step'][()])}), tolerance {tol:.1e}:")
     for label, value in checks.items():
         good = value <= tol

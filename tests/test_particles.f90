@@ -29,6 +29,7 @@ program test_particles
   call test_shape_functions()
   call test_box_exact()
   call test_sphere_convergence()
+  call test_hollow_sphere()
   call test_rigid_rotation()
   call test_distorted_locate()
   call test_order_bin()
@@ -165,6 +166,34 @@ contains
       call check_close(trim(line), rms(l)/rms(l + 1), 100.0_wp, 97.0_wp)
     end do
   end subroutine test_sphere_convergence
+
+  !> A hollow sphere (inner_radius 0.17, radius 0.31) seeded as above at
+  !> n = 4 and 8: its volume within the first-order band bound of both
+  !> surfaces, A_out + A_in times sqrt(3) h/(2n), and every particle in
+  !> the shell (inner_radius <= r <= radius).
+  subroutine test_hollow_sphere()
+    type(grid_t) :: g
+    type(shape_t) :: sh
+    type(error_t), allocatable :: err
+    integer, allocatable :: cell(:)
+    real(wp), allocatable :: xi(:, :), x(:, :), vol(:), r(:)
+    real(wp) :: h, vexact, bound
+    integer :: n, k
+    call grid_init_box(g, 12, 12, 12, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
+    h = 1.0_wp/12.0_wp
+    sh%kind = SHAPE_SPHERE
+    sh%center = [0.51_wp, 0.49_wp, 0.5_wp]
+    sh%radius = 0.31_wp
+    sh%inner_radius = 0.17_wp
+    vexact = 4.0_wp/3.0_wp*pi*(sh%radius**3 - sh%inner_radius**3)
+    do n = 4, 8, 4
+      call seed_shape(g, sh, n, cell, xi, x, vol, err)
+      bound = 4.0_wp*pi*(sh%radius**2 + sh%inner_radius**2)*sqrt(3.0_wp)*h/(2.0_wp*n)/vexact
+      call check(abs(sum(vol) - vexact)/vexact <= bound, 'hollow sphere: volume within the band bound')
+      r = [(norm2(x(:, k) - sh%center), k = 1, size(vol))]
+      call check(all(r >= sh%inner_radius .and. r <= sh%radius), 'hollow sphere: every particle in the shell')
+    end do
+  end subroutine test_hollow_sphere
 
   !> v = omega z x (x - c): exactly (-omega (y - cy), omega (x - cx), 0) +
   !> v0 (the same operations, so bit for bit), and |v - v0| = |omega| r.

@@ -23,6 +23,7 @@
 !> y or z axis through center) and stress, and a body id.
 module particles_config
   use base_kinds, only: wp
+  use mesh_shapes, only: shape_inner_radius_problem
   use base_strings, only: itoa, rtoa
   use mesh_grid_config, only: resolve_path
   use base_errors, only: error_t
@@ -70,6 +71,7 @@ module particles_config
     character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file (required)
     real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners; cylinder's extent along its axis
     real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere, cylinder; centre of a rotation
+    real(wp) :: inner_radius = 0.0_wp                 !< sphere, cylinder: hollow inside it
     integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
     character(len=256) :: file = ''                   !< shape = 'file': the points (text)
     character(len=:), allocatable :: file_path        !< `file` resolved against the deck's folder
@@ -267,17 +269,19 @@ contains
     character(len=64) :: solid
     character(len=256) :: file
     character(len=1) :: axis
-    real(wp) :: lo(3), hi(3), center(3), radius, density, velocity(3), angular_velocity, stress(6), blo(3), bhi(3)
+    real(wp) :: lo(3), hi(3), center(3), radius, density, velocity(3), angular_velocity, stress(6), blo(3), bhi(3), &
+                inner_radius
     integer :: per_cell, body, ios, m, ax
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
     namelist /particles/ shape, lo, hi, center, radius, axis, file, per_cell, solid, density, velocity, &
-                         velocity_field, angular_velocity, stress, body
+                         velocity_field, angular_velocity, stress, body, inner_radius
 
     shape = this%shape; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
     axis = 'xyz'(this%axis:this%axis); file = this%file; per_cell = this%per_cell; solid = this%solid
     density = this%density; velocity = this%velocity; velocity_field = this%velocity_field
     angular_velocity = this%angular_velocity; stress = this%stress; body = this%body
+    inner_radius = this%inner_radius
     read(text, nml=particles, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'particles', ios, msg)
@@ -329,6 +333,8 @@ contains
       call problem_add(problems, '&'//tag//': shape = '''//trim(shape)// &
                        ''' is not known; valid: box, sphere, cylinder, all, file')
     end select
+    msg = shape_inner_radius_problem(shape, radius, inner_radius)
+    if (len_trim(msg) > 0) call problem_bad(problems, tag, 'inner_radius', inner_radius, trim(msg))
     if (len_trim(file) > 0 .and. trim(shape) /= 'file') call problem_add(problems, '&'//tag// &
       ': file applies only to shape = ''file'' (this group''s is '''//trim(shape)//''')')
     if (any(bhi < xmin) .or. any(blo > xmax)) call problem_add(problems, '&'//tag//': the '//trim(shape)// &
@@ -357,7 +363,8 @@ contains
       call problem_add(problems, '&'//tag//': solid = '''//trim(solid)//''' is not a &solid name; valid: '// &
                        name_list(solids))
     end if
-    this = particles_config_t(shape=shape, lo=lo, hi=hi, center=center, radius=radius, axis=ax, file=file, &
+    this = particles_config_t(shape=shape, lo=lo, hi=hi, center=center, radius=radius, inner_radius=inner_radius, &
+      axis=ax, file=file, &
       per_cell=per_cell, solid=solid, isolid=m, density=density, velocity=velocity, velocity_field=velocity_field, &
       angular_velocity=angular_velocity, stress=stress, body=merge(body, k, body > 0))
     this%file_path = resolve_path(file, path)
@@ -403,6 +410,7 @@ contains
         call diff_r(changes, trim(w)//' hi', a%hi, b%hi)
         call diff_r(changes, trim(w)//' center', a%center, b%center)
         call diff_r(changes, trim(w)//' radius', [a%radius], [b%radius])
+        call diff_r(changes, trim(w)//' inner_radius', [a%inner_radius], [b%inner_radius])
         call diff_i(changes, trim(w)//' axis', a%axis, b%axis)
         call diff_s(changes, trim(w)//' file', a%file, b%file)
         call diff_i(changes, trim(w)//' per_cell', a%per_cell, b%per_cell)

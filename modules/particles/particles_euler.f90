@@ -17,8 +17,8 @@
 !>    guess. The particles' positions do not change.
 !> 3. `particles_occupied`: the cells holding particles (the fixed inner
 !>    boundary of the smoothing, Fig. 4f).
-!> 4. `particles_snap`: the nodes of the occupied cells put at their places
-!>    in the standard grid; `node_moved` tells the caller which nodes moved.
+!> 4. (the driver, `driver_euler::snap_nodes`) the nodes of the occupied
+!>    cells put at their places in the standard grid.
 !> After the remap the driver re-sorts and re-bins the particles, gives them
 !> new virtual-fluid masses from their new hosts' densities and rebuilds the
 !> nodal velocity from the remapped fluid momentum and the particles'; then
@@ -32,7 +32,7 @@ module particles_euler
   use particles_shape, only: particles_shape_values, particles_locate
   implicit none
   private
-  public :: particles_flip, particles_relocate, particles_occupied, particles_snap
+  public :: particles_flip, particles_relocate, particles_occupied
 
 contains
 
@@ -92,25 +92,4 @@ contains
       occ(cell(k)) = .true.
     end do
   end function particles_occupied
-
-  !> The corners of the cells with occ(c) true put at their standard places
-  !> x0 (item 4); node_moved(nnode): the nodes this changed.
-  subroutine particles_snap(g, occ, x0, x, node_moved)
-    type(grid_t), intent(in) :: g
-    logical, intent(in) :: occ(:)
-    real(wp), intent(in) :: x0(:, :)
-    real(wp), intent(inout) :: x(:, :)
-    logical, intent(out) :: node_moved(:)
-    integer :: c, a, n
-    node_moved = .false.
-    do c = 1, g%ncell
-      if (.not. occ(c)) cycle
-      do a = 1, 8
-        n = g%node0(c) + g%corner_offset(a)
-        if (node_moved(n)) cycle
-        node_moved(n) = any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
-        x(:, n) = x0(:, n)
-      end do
-    end do
-  end subroutine particles_snap
 end module particles_euler

@@ -42,6 +42,13 @@ module rezone_config
     !> 'lssm', 'smooth': a node the smoothing moves by less than this times its
     !> shortest edge stays where it was (0: every move is kept, as the paper)
     real(wp) :: move_min = 0.0_wp
+    !> 'lssm', 'smooth': a node that drifted from its initial place by more
+    !> than this times its shortest initial edge is put back there before
+    !> the smoothing (0: off; inflow and outflow faces: drift_open)
+    real(wp) :: drift_max = 0.0_wp
+    !> 'lssm', 'smooth': the same for the nodes of inflow and outflow faces
+    !> (0: put back whenever they moved)
+    real(wp) :: drift_open = 0.5_wp
     !> 'lssm': 'box' (distorted cells are those failing the triggers' tests;
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
@@ -58,13 +65,14 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction, smooth_target
-    real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min
+    real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
+                drift_max, drift_open
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
-                      move_min, smooth_target
+                      move_min, smooth_target, drift_max, drift_open
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -72,7 +80,7 @@ contains
     conservation_tol = defaults%conservation_tol
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
-    smooth_target = defaults%smooth_target
+    smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
@@ -117,6 +125,9 @@ contains
       'must be >= 0 (0: a tenth of the smallest grid dimension)')
     if (.not. (move_min >= 0.0_wp .and. move_min < 0.5_wp)) call problem_bad(problems, 'rezone', 'move_min', &
       move_min, 'must be in [0, 0.5) (0: off)')
+    if (.not. (drift_max >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_max', drift_max, 'must be >= 0 (0: off)')
+    if (.not. (drift_open >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_open', drift_open, &
+      'must be >= 0 (0: open faces put back whenever they moved)')
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
                                             interval_steps > 0 .or. interval_time > 0.0_wp)) &
       call problem_add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
@@ -125,7 +136,7 @@ contains
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
-      smooth_target=smooth_target)
+      smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
