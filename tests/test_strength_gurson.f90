@@ -43,7 +43,7 @@
 !>  6. EOS path (k = 0): the kernel at a given EOS pressure (tension 0.5
 !>     sigma_0) in shear: Phi(q, -p) = 0 to 1e-12 while plastic, f = 1 - (1 -
 !>     f0) exp(-sum tr(deps) over the plastic steps) (1e-13), a compression
-!>     beyond the apex crushes the voids (f = 0, q = sigma_0 to 1e-12, not
+!>     beyond the apex (4 sigma_0; 40 with nucleation on) crushes the voids (f = 0, q = sigma_0 to 1e-12, not
 !>     failed), a tension beyond it fails; Mie-Gruneisen steel through the particle path: a cell
 !>     pulled in tension and shear fails, and
 !>     from then on carry no deviator and no tension.
@@ -459,10 +459,10 @@ contains
     type(particles_t) :: p
     type(strength_slot_t), allocatable :: models(:)
     type(strength_params_t) :: par
-    type(strength_gurson_t) :: m
+    type(strength_gurson_t) :: m, m2
     type(strength_point_t) :: pt
     real(wp) :: lgrad(3, 3, 8), errphi, sy, eold, stress(6), hist(4), dw(3, 3), fs, s2(6), h2(4)
-    integer :: step, bad, nfail, nplast
+    integer :: step, bad, nfail, nplast, j
     ! the kernel with k = 0 at a given EOS pressure (tension 0.5 sigma_0, rigid-plastic matrix)
     m = gtn(0.0_wp, 1.0e7_wp, rigid, 0.0_wp, 0.5_wp, 0.0_wp)
     call m%hist_init(hist)
@@ -485,17 +485,24 @@ contains
     call check_close('EOS path kernel: max |Phi(q, -p)| while plastic', errphi, 0.0_wp, 1.0e-12_wp)
     call check_close('EOS path kernel: growth (1 - f) tr(deps) while plastic, f', hist(gtn_f), &
                      1.0_wp - (1.0_wp - f0)*exp(-nplast*3.0e-6_wp), 1.0e-13_wp)
-    ! compression beyond the apex (p = 4 sigma_0): voids crushed, the dense matrix's J2 (q = sigma_0)
-    call m%hist_init(h2)
-    s2 = 0.0_wp
-    pt%p = 4.0_wp
-    do step = 1, 20
-      call m%update(shear(1.0e-5_wp), dw, pt, s2, h2)
+    ! compression beyond the apex (p = 4 sigma_0; 40 sigma_0, as a detonation's, with nucleation from
+    ! eps_M = 0 on): voids crushed, the dense matrix's J2 (q = sigma_0), not failed (at 4 sigma_0 the
+    ! nucleated f ~ 1e-5 would have its apex at 7.5 sigma_0: nucleation off there)
+    do j = 1, 2
+      m2 = m
+      m2%fn = merge(0.0_wp, 0.001_wp, j == 1)
+      m2%epsn = 0.0_wp
+      call m2%hist_init(h2)
+      s2 = 0.0_wp
+      pt%p = merge(4.0_wp, 40.0_wp, j == 1)
+      do step = 1, 20
+        call m2%update(shear(1.0e-5_wp), dw, pt, s2, h2)
+      end do
+      call check(.not. m2%failed(h2), 'EOS path kernel: compression beyond the apex does not fail')
+      call check_close('EOS path kernel: compression beyond the apex: f', h2(gtn_f), 0.0_wp, 0.0_wp)
+      call check_close('EOS path kernel: compression beyond the apex: q/sigma_0 - 1', strength_mises(s2) - 1.0_wp, &
+                       0.0_wp, 1.0e-12_wp)
     end do
-    call check(.not. m%failed(h2), 'EOS path kernel: compression beyond the apex does not fail')
-    call check_close('EOS path kernel: compression beyond the apex: f', h2(gtn_f), 0.0_wp, 0.0_wp)
-    call check_close('EOS path kernel: compression beyond the apex: q/sigma_0 - 1', strength_mises(s2) - 1.0_wp, &
-                     0.0_wp, 1.0e-12_wp)
     ! beyond the apex (p = -4 sigma_0 > 3.26): the return itself leaves q = 0, the particle fails
     ! (nothing left for the failure to remove: eroded 0)
     pt%p = -4.0_wp

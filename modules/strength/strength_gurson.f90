@@ -40,8 +40,9 @@
 !>    PARTICLES.md §2.4 (a) writes it; with the total strain the elastic
 !>    compression of a 20 kbar wave, ~2 %, closes a 0.5 % porosity). A
 !>    pressure beyond the apex (q_y undefined) cannot be carried: the
-!>    particle fails; a compression beyond it crushes the voids (f = 0,
-!>    the dense matrix from then on: a detonation-driven shell sees tens of
+!>    particle fails; a compression beyond it (at the start or at the end
+!>    of the step) crushes the voids (f = 0 and no nucleation in that step,
+!>    the dense matrix until a tension grows voids again: a detonation-driven shell sees tens of
 !>    sigma_M, and the symmetric cosh would otherwise leave it no strength).
 !>
 !> TEPLA-F: the particle fails when D = (f/f_c)^2 + (eps_M/eps_f)^2 >= 1
@@ -268,7 +269,8 @@ contains
     type(strength_point_t), intent(inout) :: pt
     real(wp), intent(inout) :: stress(6), hist(:)
     real(wp) :: s(6), sm, sm_n, qs, sy0, fs, tr, dv, dm, f, sy, q, rad, f_in
-    logical :: fail
+    logical :: fail, crushed
+    type(strength_gurson_t) :: dense
     pt%eroded = 0.0_wp
     sm_n = (stress(1) + stress(2) + stress(3))/3.0_wp
     call strength_trial(this%k, this%g, deps, dw, stress)
@@ -301,14 +303,22 @@ contains
         dv = tr
         if (this%kv > 0.0_wp) dv = tr - (sm - sm_n)/this%kv
         f_in = hist(gtn_f)
-        if (sm < 0.0_wp .and. .not. 1.0_wp + this%q1**2*fs**2 - 2.0_wp*this%q1*fs*cosh(xarg(this, sm, sy0)) > 0.0_wp) then
-          ! a compression beyond the apex crushes the voids: the dense matrix's J2 return
+        crushed = sm < 0.0_wp .and. .not. 1.0_wp + this%q1**2*fs**2 - 2.0_wp*this%q1*fs*cosh(xarg(this, sm, sy0)) &
+                  > 0.0_wp
+        if (.not. crushed) then
+          call matrix_state(this, sm, dv, qs, hist(gtn_eps), f_in, pt%dt, dm, f, sy, q, rad)
+          ! a tension beyond the apex cannot be carried; a compression crushes the voids
+          fail = sm > 0.0_wp .and. .not. rad > 0.0_wp
+          crushed = sm <= 0.0_wp .and. .not. rad > 0.0_wp
+        end if
+        if (crushed) then
+          ! the dense matrix's J2 return: no voids, none nucleated in this step
+          dense = this
+          dense%fn = 0.0_wp
           f_in = 0.0_wp
           dv = 0.0_wp
+          call matrix_state(dense, sm, dv, qs, hist(gtn_eps), f_in, pt%dt, dm, f, sy, q, rad)
         end if
-        call matrix_state(this, sm, dv, qs, hist(gtn_eps), f_in, pt%dt, dm, f, sy, q, rad)
-        ! a tension beyond the apex cannot be carried
-        fail = .not. rad > 0.0_wp
       end if
       ! the return only shrinks the deviator (near the apex q = sigma_M sqrt(rad) is
       ! the square root of round-off and may exceed a round-off qs); trace-free
