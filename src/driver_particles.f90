@@ -40,6 +40,9 @@ module driver_particles
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
+  use strength_jc_flow, only: jc_flow_t
+  use strength_gurson, only: gtn_f, gtn_f0
+  use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
@@ -148,9 +151,84 @@ contains
     if (allocated(err)) return
     if (cfg%hydro%particles_coupled) call couple_particles(cfg, st, err)
     if (allocated(err)) return
+    if (cfg%hydro%particles_coupled) call gurson_voids(cfg, st, log, err)
+    if (allocated(err)) return
     call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count(cell_used(st%pt, st%g%ncell)))// &
                   ' host cells, '//itoa(size(cfg%solids))//' solid(s)')
   end subroutine build_particles
+
+  !> The random initial porosity of the particles of each gurson solid with
+  !> void_std > 0 (&solid void_*, PARTICLES.md §3), after their models'
+  !> hist_init: a Gaussian random field (`strength_random_field`, correlation
+  !> length void_length, 0: uncorrelated) over the solid's particles'
+  !> bounding box, sampled at the particles in seeding-id order (a 2D field
+  !> through a one-cell-thick grid, nk = 1), mapped to f0 = void_mean +
+  !> void_std g (or lognormal) truncated to [1e-6, min(0.5, gtn_fc)]; f and
+  !> the kept f0 of the history take it. The log gives the sample's mean,
+  !> standard deviation and range, the clipped variance share and the
+  !> number truncated. A restart reads the history back over these values.
+  subroutine gurson_voids(cfg, st, log, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    type(random_field_t) :: field
+    integer, allocatable :: order(:), at(:)
+    real(wp), allocatable :: xs(:, :), g(:), f0(:)
+    real(wp) :: lo(3), hi(3), spacing, clipped, fm, fs
+    integer :: s, k, n, i, ntrunc, stat
+    character(len=200) :: msg
+    do s = 1, size(cfg%solids)
+      associate (sc => cfg%solids(s), p => st%pt)
+        if (trim(sc%strength) /= 'gurson' .or. .not. sc%void_std > 0.0_wp) cycle
+        n = p%mat_start(s + 1) - p%mat_start(s)
+        if (n == 0) cycle
+        allocate(order(n), at(p%np), xs(3, n), g(n), f0(n), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'gurson_voids', 'cannot allocate: '//trim(msg))
+          return
+        end if
+        ! the solid's particles in seeding-id order
+        at = 0
+        do k = p%mat_start(s), p%mat_start(s + 1) - 1
+          at(p%id(k)) = k
+        end do
+        i = 0
+        do k = 1, p%np
+          if (at(k) > 0) then
+            i = i + 1
+            order(i) = at(k)
+          end if
+        end do
+        xs = p%x(:, order)
+        lo = minval(xs, dim=2)
+        hi = maxval(xs, dim=2)
+        if (st%g%nk == 1) then
+          ! plane strain, one cell thick: a 2D field
+          hi(3) = lo(3)
+          xs(3, :) = lo(3)
+        end if
+        spacing = minval(p%vol(order))**(1.0_wp/3.0_wp)
+        call random_field_build(lo, hi, spacing, sc%void_length, sc%void_covariance, sc%void_seed, field, clipped, err)
+        if (allocated(err)) return
+        call random_field_sample(field, xs, g, err)
+        if (allocated(err)) return
+        call void_fraction_from_field(g, sc%void_mean, sc%void_std, sc%void_distribution, f0, ntrunc, err, &
+                                      f_max=min(0.5_wp, sc%gtn_fc))
+        if (allocated(err)) return
+        p%hist(gtn_f, order) = f0
+        p%hist(gtn_f0, order) = f0
+        fm = sum(f0)/n
+        fs = sqrt(sum((f0 - fm)**2)/max(n - 1, 1))
+        call log_line(log, 'gurson voids of solid '''//trim(sc%name)//''': '//itoa(n)//' particles, f0 mean '// &
+          rtoa(fm)//', std '//rtoa(fs)//', range '//rtoa(minval(f0))//' .. '//rtoa(maxval(f0))//' ('// &
+          trim(sc%void_distribution)//', '//trim(sc%void_covariance)//' covariance, length '//rtoa(sc%void_length)// &
+          ', seed '//itoa(sc%void_seed)//'); '//itoa(ntrunc)//' truncated to [1e-6, '// &
+          rtoa(min(0.5_wp, sc%gtn_fc))//'], variance share clipped '//rtoa(clipped))
+        deallocate(order, at, xs, g, f0)
+      end associate
+    end do
+  end subroutine gurson_voids
 
   !> The coupling of the particles (module notes): virtual-fluid masses
   !> (Eq. 16, §1.7), strength models, work arrays.
@@ -172,10 +250,13 @@ contains
     end do
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
-        par = strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, y0=sc%yield_stress, et=sc%tangent_modulus)
-        par%jc_a = sc%jc_a; par%jc_b = sc%jc_b; par%jc_n = sc%jc_n; par%jc_c = sc%jc_c; par%jc_eps0 = sc%jc_eps0
-        par%jc_m = sc%jc_m; par%jc_t_room = sc%t_room; par%jc_t_melt = sc%t_melt; par%jc_cp = sc%specific_heat
-        par%jc_chi = sc%taylor_quinney
+        par = strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, y0=sc%yield_stress, et=sc%tangent_modulus, &
+                                jc=jc_flow_t(a=sc%jc_a, b=sc%jc_b, n=sc%jc_n, c=sc%jc_c, eps0=sc%jc_eps0, m=sc%jc_m, &
+                                             t_room=sc%t_room, t_melt=sc%t_melt), &
+                                jc_cp=sc%specific_heat, jc_chi=sc%taylor_quinney, &
+                                gurson_q1=sc%gtn_q1, gurson_q2=sc%gtn_q2, gurson_fn=sc%gtn_fn, gurson_epsn=sc%gtn_epsn, &
+                                gurson_sn=sc%gtn_sn, gurson_fc=sc%gtn_fc, gurson_ff=sc%gtn_ff, &
+                                gurson_eps_f=sc%failure_strain, gurson_f0=sc%void_mean)
         call strength_create(sc%strength, par, st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
         if (allocated(err)) return
         do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1

@@ -88,13 +88,13 @@ contains
   !> 1045 steel (PARTICLES.md §2.3, B = 320 MPa) with rate sensitivity c.
   type(strength_params_t) function steel(c) result(par)
     real(wp), intent(in) :: c
-    par = strength_params_t(k=st_k, g=st_g, jc_a=507.0_wp, jc_b=320.0_wp, jc_n=0.28_wp, jc_c=c, jc_eps0=1.0_wp)
+    par = strength_params_t(k=st_k, g=st_g, jc=jc_flow_t(a=507.0_wp, b=320.0_wp, n=0.28_wp, c=c, eps0=1.0_wp))
   end function steel
 
   !> OFHC copper (Johnson & Cook 1983, PARTICLES.md §2.3).
   type(strength_params_t) function copper() result(par)
-    par = strength_params_t(k=cu_k, g=cu_g, jc_a=90.0_wp, jc_b=292.0_wp, jc_n=0.31_wp, jc_c=0.025_wp, jc_eps0=1.0_wp, &
-                            jc_m=1.09_wp, jc_t_room=298.0_wp, jc_t_melt=1356.0_wp)
+    par = strength_params_t(k=cu_k, g=cu_g, jc=jc_flow_t(a=90.0_wp, b=292.0_wp, n=0.31_wp, c=0.025_wp, eps0=1.0_wp, &
+                                                        m=1.09_wp, t_room=298.0_wp, t_melt=1356.0_wp))
   end function copper
 
   !> The Johnson-Cook model of par.
@@ -345,7 +345,7 @@ contains
     real(wp) :: worst, q_first, t_end, lgrad(3, 3, 8), u(3, 8), dt, r, expect
     integer :: np, n, step, bad
     ! (units MPa, s, mm: rho tonne/mm^3, c_p mm^2/(s^2 K), rho c_p MPa/K)
-    par = strength_params_t(k=st_k, g=st_g, jc_a=a, jc_n=0.5_wp, jc_t_room=t0, jc_cp=cp, jc_chi=chi)
+    par = strength_params_t(k=st_k, g=st_g, jc=jc_flow_t(a=a, n=0.5_wp, t_room=t0), jc_cp=cp, jc_chi=chi)
     call make(par, model)
     call uniaxial_run(model, 1.0e-3_wp, 1.0e-3_wp, t0, 0.3_wp, ep, qs, np, worst, q_first, rho=rho, t_end=t_end)
     call check_close('heating, perfectly plastic, kernel: (T - T_room)/(chi A eps_p/(rho c_p)) - 1', &

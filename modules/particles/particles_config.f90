@@ -34,6 +34,7 @@ module particles_config
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
   use strength_factory, only: strength_names
+  use strength_random_field, only: random_field_covariances, void_fraction_distributions
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
@@ -58,10 +59,21 @@ module particles_config
     character(len=16) :: strength = 'elastic'      !< a name of strength_names
     real(wp) :: yield_stress = 0.0_wp              !< bilinear: initial yield stress (pressure)
     real(wp) :: tangent_modulus = 0.0_wp           !< bilinear: slope of stress against strain after yield
-    ! johnson_cook (PARTICLES.md §2.3): A, B (pressure), n, C, eps_dot0 (1/time), m (0: no softening),
-    ! T_room, T_melt, c_p (energy/(mass temperature), 0: no heating), Taylor-Quinney chi
+    ! johnson_cook (PARTICLES.md §2.3; A, B, n, C, eps_dot0 also gurson's matrix): A, B (pressure), n, C,
+    ! eps_dot0 (1/time), m (0: no softening), T_room, T_melt, c_p (energy/(mass temperature), 0: no heating),
+    ! Taylor-Quinney chi
     real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_n = 1.0_wp, jc_c = 0.0_wp, jc_eps0 = 1.0_wp, jc_m = 0.0_wp
     real(wp) :: t_room = 293.15_wp, t_melt = 0.0_wp, specific_heat = 0.0_wp, taylor_quinney = 0.9_wp
+    ! gurson (GTN + TEPLA-F, PARTICLES.md 2.4)
+    real(wp) :: gtn_q1 = 1.5_wp, gtn_q2 = 1.0_wp                    !< yield function q1, q2 (q3 = q1^2)
+    real(wp) :: gtn_fn = 0.0_wp, gtn_epsn = 0.3_wp, gtn_sn = 0.1_wp   !< nucleation f_N, eps_N, s_N
+    real(wp) :: gtn_fc = 0.15_wp, gtn_ff = 0.25_wp                  !< coalescence f_c (TEPLA-F's), final f_F
+    real(wp) :: failure_strain = 0.0_wp                             !< equivalent plastic strain at failure
+    real(wp) :: void_mean = 0.0_wp, void_std = 0.0_wp               !< initial porosity f0: mean, standard deviation
+    real(wp) :: void_length = 0.0_wp                                !< f0 field's correlation length (0: uncorrelated)
+    integer :: void_seed = 1                                        !< f0 field's seed
+    character(len=16) :: void_covariance = 'gaussian'               !< f0 field's covariance (random_field_covariances)
+    character(len=16) :: void_distribution = 'normal'               !< f0's distribution (void_fraction_distributions)
   end type solid_config_t
 
   !> One resolved &particles group; the initial values are the defaults.
@@ -98,6 +110,9 @@ contains
     real(wp) :: density, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, shear_modulus, &
                 youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
     real(wp) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney
+    real(wp) :: gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, failure_strain, void_mean, void_std, void_length
+    integer :: void_seed
+    character(len=16) :: void_covariance, void_distribution
     integer :: ios
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
@@ -106,7 +121,9 @@ contains
     logical :: by_e
     namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
                      shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
-                     jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney
+                     jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney, &
+                     gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
+                     failure_strain, void_mean, void_std, void_length, void_seed, void_covariance, void_distribution
 
     name = this%name; density = this%density; eos = this%eos
     associate (d => this%par)
@@ -118,6 +135,10 @@ contains
     strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
     jc_a = this%jc_a; jc_b = this%jc_b; jc_n = this%jc_n; jc_c = this%jc_c; jc_eps0 = this%jc_eps0; jc_m = this%jc_m
     t_room = this%t_room; t_melt = this%t_melt; specific_heat = this%specific_heat; taylor_quinney = this%taylor_quinney
+    gtn_q1 = this%gtn_q1; gtn_q2 = this%gtn_q2; gtn_fn = this%gtn_fn; gtn_epsn = this%gtn_epsn; gtn_sn = this%gtn_sn
+    gtn_fc = this%gtn_fc; gtn_ff = this%gtn_ff; failure_strain = this%failure_strain
+    void_mean = this%void_mean; void_std = this%void_std; void_length = this%void_length; void_seed = this%void_seed
+    void_covariance = this%void_covariance; void_distribution = this%void_distribution
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -196,17 +217,39 @@ contains
       end if
     case ('johnson_cook')
       call johnson_cook_check()
+    case ('gurson')
+      call gurson_problems(problems, tag, jc_a, jc_b, jc_n, jc_c, jc_eps0, gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, &
+                           gtn_fc, gtn_ff, failure_strain, void_mean, void_std, void_length, void_seed, &
+                           void_covariance, void_distribution)
+      ! (the gurson model has no temperature)
+      if (abs(jc_m) > 0.0_wp) call problem_bad(problems, tag, 'jc_m', jc_m, 'applies only to strength = '// &
+        '''johnson_cook'' (gurson has no thermal softening)')
+      if (abs(specific_heat) > 0.0_wp) call problem_bad(problems, tag, 'specific_heat', specific_heat, &
+        'applies only to strength = ''johnson_cook'' (gurson has no plastic heating)')
     case default
       call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
                        name_list(strength_names))
     end select
     if (trim(strength) == 'elastic' .or. trim(strength) == 'bilinear') call johnson_cook_unused()
+    ! the gurson parameters belong to strength = 'gurson'
+    if (trim(strength) /= 'gurson') then
+      associate (d => solid_config_t())
+        if (any(abs([gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, void_mean, void_std, void_length] - &
+                     [d%gtn_q1, d%gtn_q2, d%gtn_fn, d%gtn_epsn, d%gtn_sn, d%gtn_fc, d%gtn_ff, d%void_mean, &
+                      d%void_std, d%void_length]) > 0.0_wp) .or. void_seed /= d%void_seed .or. &
+            void_covariance /= d%void_covariance .or. void_distribution /= d%void_distribution) &
+          call problem_add(problems, '&'//tag//': gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, '// &
+          'void_mean, void_std, void_length, void_seed, void_covariance, void_distribution apply only to '// &
+          'strength = ''gurson'' (this solid''s is '''//trim(strength)//''')')
+      end associate
+    end if
     this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
-      yield_stress=yield_stress, tangent_modulus=tangent_modulus)
-    this%jc_a = jc_a; this%jc_b = jc_b; this%jc_n = jc_n; this%jc_c = jc_c; this%jc_eps0 = jc_eps0; this%jc_m = jc_m
-    this%t_room = t_room; this%t_melt = t_melt; this%specific_heat = specific_heat
-    this%taylor_quinney = taylor_quinney
+      yield_stress=yield_stress, tangent_modulus=tangent_modulus, jc_a=jc_a, jc_b=jc_b, jc_n=jc_n, jc_c=jc_c, &
+      jc_eps0=jc_eps0, gtn_q1=gtn_q1, gtn_q2=gtn_q2, gtn_fn=gtn_fn, gtn_epsn=gtn_epsn, gtn_sn=gtn_sn, gtn_fc=gtn_fc, &
+      gtn_ff=gtn_ff, failure_strain=failure_strain, void_mean=void_mean, void_std=void_std, void_length=void_length, &
+      void_seed=void_seed, void_covariance=void_covariance, void_distribution=void_distribution, jc_m=jc_m, &
+      t_room=t_room, t_melt=t_melt, specific_heat=specific_heat, taylor_quinney=taylor_quinney)
     if (echo /= no_echo) write(echo, nml=solid)
   contains
     !> strength = 'johnson_cook': its parameters (PARTICLES.md §2.3).
@@ -240,6 +283,46 @@ contains
       if (abs(specific_heat) > 0.0_wp) call problem_bad(problems, tag, 'specific_heat', specific_heat, why)
     end subroutine johnson_cook_unused
   end subroutine solid_config_read
+
+  !> The problems of a gurson solid's parameters (PARTICLES.md 2.4; Table 5's
+  !> f_F = 0.0021 < f0 is refused here: input/README.md).
+  subroutine gurson_problems(problems, tag, jc_a, jc_b, jc_n, jc_c, jc_eps0, q1, q2, fn, epsn, sn, fc, ff, &
+                             failure_strain, void_mean, void_std, void_length, void_seed, void_covariance, &
+                             void_distribution)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag, void_covariance, void_distribution
+    real(wp), intent(in) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, q1, q2, fn, epsn, sn, fc, ff, failure_strain, &
+                            void_mean, void_std, void_length
+    integer, intent(in) :: void_seed
+    if (.not. (jc_a > 0.0_wp)) call problem_bad(problems, tag, 'jc_a', jc_a, 'must be > 0 for strength = ''gurson''')
+    if (.not. (jc_b >= 0.0_wp)) call problem_bad(problems, tag, 'jc_b', jc_b, 'must be >= 0')
+    if (.not. (jc_n > 0.0_wp)) call problem_bad(problems, tag, 'jc_n', jc_n, 'must be > 0')
+    if (.not. (jc_c >= 0.0_wp)) call problem_bad(problems, tag, 'jc_c', jc_c, 'must be >= 0')
+    if (.not. (jc_eps0 > 0.0_wp)) call problem_bad(problems, tag, 'jc_eps0', jc_eps0, 'must be > 0')
+    if (.not. (q1 > 0.0_wp)) call problem_bad(problems, tag, 'gtn_q1', q1, 'must be > 0')
+    if (.not. (q2 > 0.0_wp)) call problem_bad(problems, tag, 'gtn_q2', q2, 'must be > 0')
+    if (.not. (fn >= 0.0_wp .and. fn < 1.0_wp)) call problem_bad(problems, tag, 'gtn_fn', fn, 'must be in [0, 1)')
+    if (.not. (epsn >= 0.0_wp)) call problem_bad(problems, tag, 'gtn_epsn', epsn, 'must be >= 0')
+    if (.not. (sn > 0.0_wp)) call problem_bad(problems, tag, 'gtn_sn', sn, 'must be > 0')
+    if (.not. (fc > 0.0_wp .and. fc < 1.0_wp)) call problem_bad(problems, tag, 'gtn_fc', fc, 'must be in (0, 1)')
+    if (.not. (ff > fc .and. ff <= 1.0_wp)) call problem_bad(problems, tag, 'gtn_ff', ff, &
+      'must be in (gtn_fc, 1] (gtn_fc = '//rtoa(fc)//'; Table 5''s 0.0021 is a misprint: input/README.md)')
+    if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
+      'must be >= 0 (0: no strain term in TEPLA-F)')
+    if (.not. (void_mean >= 0.0_wp .and. void_mean < fc)) call problem_bad(problems, tag, 'void_mean', void_mean, &
+      'must be in [0, gtn_fc) (gtn_fc = '//rtoa(fc)//': at f0 >= f_c TEPLA-F fails every particle at once)')
+    if (.not. (void_std >= 0.0_wp)) call problem_bad(problems, tag, 'void_std', void_std, 'must be >= 0')
+    if (void_std > 0.0_wp .and. .not. void_mean > 0.0_wp) call problem_bad(problems, tag, 'void_std', void_std, &
+      'needs void_mean > 0 (a random f0 about its mean)')
+    if (.not. (void_length >= 0.0_wp)) call problem_bad(problems, tag, 'void_length', void_length, &
+      'must be >= 0 (0: uncorrelated f0)')
+    if (void_seed < 0) call problem_badi(problems, tag, 'void_seed', void_seed, 'must be >= 0')
+    if (.not. any(random_field_covariances == void_covariance)) call problem_add(problems, '&'//tag// &
+      ': void_covariance = '''//trim(void_covariance)//''' is not known; valid: '//name_list(random_field_covariances))
+    if (.not. any(void_fraction_distributions == void_distribution)) call problem_add(problems, '&'//tag// &
+      ': void_distribution = '''//trim(void_distribution)//''' is not known; valid: '// &
+      name_list(void_fraction_distributions))
+  end subroutine gurson_problems
 
   !> Reads, validates and echoes the k-th &particles group (`text`);
   !> `solids` are the &solid names, `xmin`, `xmax` the grid's box (a shape
@@ -384,6 +467,13 @@ contains
                     a%jc_eps0, a%jc_m], [b%jc_a, b%jc_b, b%jc_n, b%jc_c, b%jc_eps0, b%jc_m])
         call diff_r(changes, trim(w)//' t_room, t_melt, specific_heat, taylor_quinney', [a%t_room, a%t_melt, &
                     a%specific_heat, a%taylor_quinney], [b%t_room, b%t_melt, b%specific_heat, b%taylor_quinney])
+        call diff_r(changes, trim(w)//' gurson parameters', [a%gtn_q1, a%gtn_q2, a%gtn_fn, a%gtn_epsn, a%gtn_sn, &
+                    a%gtn_fc, a%gtn_ff, a%failure_strain, a%void_mean, a%void_std], [b%gtn_q1, b%gtn_q2, b%gtn_fn, &
+                    b%gtn_epsn, b%gtn_sn, b%gtn_fc, b%gtn_ff, b%failure_strain, b%void_mean, b%void_std])
+        call diff_r(changes, trim(w)//' void_length', [a%void_length], [b%void_length])
+        call diff_i(changes, trim(w)//' void_seed', a%void_seed, b%void_seed)
+        call diff_s(changes, trim(w)//' void_covariance', a%void_covariance, b%void_covariance)
+        call diff_s(changes, trim(w)//' void_distribution', a%void_distribution, b%void_distribution)
       end associate
     end do
     call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))

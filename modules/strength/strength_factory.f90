@@ -10,12 +10,14 @@ module strength_factory
   use strength_models, only: strength_t, strength_elastic_t, strength_bilinear_t, strength_params_t
   use strength_jc_flow, only: jc_flow_t
   use strength_johnson_cook, only: strength_johnson_cook_t
+  use strength_gurson, only: strength_gurson_t
   implicit none
   private
   public :: strength_create, strength_names, strength_nhist
 
   !> The names the factory knows.
-  character(len=*), parameter :: strength_names(3) = [character(len=12) :: 'elastic', 'bilinear', 'johnson_cook']
+  character(len=*), parameter :: strength_names(4) = [character(len=12) :: 'elastic', 'bilinear', 'johnson_cook', &
+                                                                      'gurson']
 
 contains
 
@@ -37,12 +39,14 @@ contains
       e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
       model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
     case ('johnson_cook')
-      model = strength_johnson_cook_t(k=par%k, g=par%g, chi=par%jc_chi, cp=par%jc_cp, &
-        jc=jc_flow_t(a=par%jc_a, b=par%jc_b, n=par%jc_n, c=par%jc_c, eps0=par%jc_eps0, m=par%jc_m, &
-                     t_room=par%jc_t_room, t_melt=par%jc_t_melt))
+      model = strength_johnson_cook_t(k=par%k, g=par%g, chi=par%jc_chi, cp=par%jc_cp, jc=par%jc)
+    case ('gurson')
+      model = strength_gurson_t(k=par%k, g=par%g, jc=par%jc, q1=par%gurson_q1, q2=par%gurson_q2, fn=par%gurson_fn, &
+                                epsn=par%gurson_epsn, sn=par%gurson_sn, fc=par%gurson_fc, ff=par%gurson_ff, &
+                                eps_f=par%gurson_eps_f, f0=par%gurson_f0, kv=par%k)
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
-                     'elastic, bilinear, johnson_cook', ERR_INPUT)
+                     'elastic, bilinear, johnson_cook, gurson', ERR_INPUT)
       return
     end select
     if (present(eos_pressure)) then

@@ -37,6 +37,7 @@
 !> Stresses are Voigt (xx, yy, zz, yz, xz, xy), tension positive.
 module strength_models
   use base_kinds, only: wp
+  use strength_jc_flow, only: jc_flow_t
   implicit none
   private
   public :: strength_t, strength_elastic_t, strength_bilinear_t, &
@@ -54,9 +55,12 @@ module strength_models
     real(wp) :: g = 0.0_wp    !< shear modulus
     real(wp) :: y0 = 0.0_wp   !< bilinear: initial yield stress
     real(wp) :: et = 0.0_wp   !< bilinear: tangent modulus
-    real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_n = 1.0_wp, jc_c = 0.0_wp   !< johnson_cook: A, B (pressure), n, C
-    real(wp) :: jc_eps0 = 1.0_wp, jc_m = 0.0_wp          !< johnson_cook: eps_dot0 (1/time), m (0: no softening)
-    real(wp) :: jc_t_room = 0.0_wp, jc_t_melt = 1.0_wp   !< johnson_cook: T_room, T_melt (temperature)
+    type(jc_flow_t) :: jc     !< Johnson-Cook flow stress (johnson_cook; gurson's matrix)
+    real(wp) :: gurson_q1 = 1.5_wp, gurson_q2 = 1.0_wp   !< gurson: yield function q1, q2 (q3 = q1^2)
+    real(wp) :: gurson_fn = 0.0_wp, gurson_epsn = 0.3_wp, gurson_sn = 0.1_wp   !< gurson: nucleation f_N, eps_N, s_N
+    real(wp) :: gurson_fc = 0.15_wp, gurson_ff = 0.25_wp   !< gurson: coalescence f_c (TEPLA-F's too), f_F
+    real(wp) :: gurson_eps_f = 0.0_wp   !< gurson: TEPLA-F failure strain (0: no strain term)
+    real(wp) :: gurson_f0 = 0.0_wp      !< gurson: initial porosity
     real(wp) :: jc_cp = 0.0_wp, jc_chi = 0.9_wp          !< johnson_cook: c_p (0: no heating), Taylor-Quinney chi
   end type strength_params_t
 
