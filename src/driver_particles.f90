@@ -161,6 +161,7 @@ contains
     integer :: k, s, stat
     character(len=200) :: msg
     real(wp) :: p0
+    type(strength_params_t) :: par
     allocate(st%pt%mvf(st%pt%np), st%pw%models(size(cfg%solids)), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'couple_particles', 'cannot allocate: '//trim(msg))
@@ -171,9 +172,15 @@ contains
     end do
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
-        call strength_create(sc%strength, strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, &
-                             y0=sc%yield_stress, et=sc%tangent_modulus), st%pw%models(s)%m, err, &
-                             eos_pressure=trim(sc%eos) == 'mie_gruneisen')
+        ! (hjc: its hjc_* values and the solid's density as its rho0)
+        par = sc%hjc
+        par%k = sc%bulk_modulus
+        par%g = sc%shear_modulus
+        par%y0 = sc%yield_stress
+        par%et = sc%tangent_modulus
+        par%failure_strain = sc%failure_strain
+        par%hjc_rho0 = sc%density
+        call strength_create(sc%strength, par, st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
         if (allocated(err)) return
         do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
           call st%pw%models(s)%m%hist_init(st%pt%hist(:, k))

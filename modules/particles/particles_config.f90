@@ -30,7 +30,8 @@ module particles_config
                          diff_i, diff_r, diff_s, name_index
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
-  use strength_factory, only: strength_names
+  use strength_factory, only: strength_names, strength_create
+  use strength_models, only: strength_t, strength_params_t
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
@@ -55,6 +56,8 @@ module particles_config
     character(len=16) :: strength = 'elastic'      !< a name of strength_names
     real(wp) :: yield_stress = 0.0_wp              !< bilinear: initial yield stress (pressure)
     real(wp) :: tangent_modulus = 0.0_wp           !< bilinear: slope of stress against strain after yield
+    real(wp) :: failure_strain = 0.0_wp            !< equivalent plastic strain at failure (0: never fails)
+    type(strength_params_t) :: hjc                 !< strength = 'hjc': its hjc_* values (other fields unused)
   end type solid_config_t
 
   !> One resolved &particles group; the initial values are the defaults.
@@ -95,8 +98,13 @@ contains
     class(eos_t), allocatable :: trial
     type(error_t), allocatable :: err
     logical :: by_e
+    real(wp) :: failure_strain, hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
+                hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
+    type(strength_params_t) :: hp
     namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
-                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus
+                     shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
+                     failure_strain, hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
+                     hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
 
     name = this%name; density = this%density; eos = this%eos
     associate (d => this%par)
@@ -106,6 +114,13 @@ contains
     bulk_modulus = this%bulk_modulus; shear_modulus = this%shear_modulus
     youngs_modulus = this%youngs_modulus; poisson_ratio = this%poisson_ratio
     strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
+    failure_strain = this%failure_strain
+    associate (h => this%hjc)
+      hjc_a = h%hjc_a; hjc_b = h%hjc_b; hjc_n = h%hjc_n; hjc_c = h%hjc_c; hjc_fc = h%hjc_fc; hjc_smax = h%hjc_smax
+      hjc_t = h%hjc_t; hjc_d1 = h%hjc_d1; hjc_d2 = h%hjc_d2; hjc_efmin = h%hjc_efmin; hjc_pcrush = h%hjc_pcrush
+      hjc_mucrush = h%hjc_mucrush; hjc_plock = h%hjc_plock; hjc_mulock = h%hjc_mulock; hjc_k1 = h%hjc_k1
+      hjc_k2 = h%hjc_k2; hjc_k3 = h%hjc_k3; hjc_eps0 = h%hjc_eps0
+    end associate
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -140,8 +155,9 @@ contains
     else
       if (.not. (shear_modulus > 0.0_wp)) call problem_bad(problems, tag, 'shear_modulus', shear_modulus, &
         'must be > 0 (or give youngs_modulus and poisson_ratio)')
-      if (trim(eos) == 'none' .and. .not. (bulk_modulus > 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', &
-        bulk_modulus, 'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
+      if (trim(eos) == 'none' .and. trim(strength) /= 'hjc' .and. .not. (bulk_modulus > 0.0_wp)) &
+        call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
+        'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
       if (.not. (bulk_modulus >= 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, 'must be >= 0')
     end if
     select case (trim(eos))
@@ -165,6 +181,15 @@ contains
                        'mie_gruneisen')
     end select
     ! the strength model and its parameters
+    hp = strength_params_t(hjc_a=hjc_a, hjc_b=hjc_b, hjc_n=hjc_n, hjc_c=hjc_c, hjc_fc=hjc_fc, hjc_smax=hjc_smax, &
+      hjc_t=hjc_t, hjc_d1=hjc_d1, hjc_d2=hjc_d2, hjc_efmin=hjc_efmin, hjc_pcrush=hjc_pcrush, hjc_mucrush=hjc_mucrush, &
+      hjc_plock=hjc_plock, hjc_mulock=hjc_mulock, hjc_k1=hjc_k1, hjc_k2=hjc_k2, hjc_k3=hjc_k3, hjc_eps0=hjc_eps0)
+    if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
+      'must be >= 0 (0: never fails)')
+    if (trim(strength) /= 'hjc') call hjc_not_here(problems, tag, strength, hp)
+    if (trim(strength) /= 'bilinear' .and. abs(failure_strain) > 0.0_wp) call problem_bad(problems, tag, &
+      'failure_strain', failure_strain, 'applies only to strength = ''bilinear'' (this solid''s is '''// &
+      trim(strength)//''')')
     select case (trim(strength))
     case ('elastic')
       if (abs(yield_stress) > 0.0_wp) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
@@ -182,15 +207,80 @@ contains
         if (.not. (tangent_modulus < e_mod)) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
           'must be below Young''s modulus '//rtoa(e_mod))
       end if
+    case ('hjc')
+      if (abs(yield_stress) > 0.0_wp) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''hjc'')')
+      if (abs(tangent_modulus) > 0.0_wp) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''hjc'')')
+      call hjc_check(problems, tag, eos, bulk_modulus, hp, g_mod, density)
     case default
       call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
                        name_list(strength_names))
     end select
     this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
-      yield_stress=yield_stress, tangent_modulus=tangent_modulus)
+      yield_stress=yield_stress, tangent_modulus=tangent_modulus, failure_strain=failure_strain, hjc=hp)
     if (echo /= no_echo) write(echo, nml=solid)
   end subroutine solid_config_read
+
+  !> strength = 'hjc' (strength_hjc): its own pressure (eos = 'none', no
+  !> bulk_modulus), each hjc_* in its range, then what the model checks
+  !> when it is built (the region III polynomial reaching hjc_plock, the
+  !> crushing slope); g and rho0 the solid's.
+  subroutine hjc_check(problems, tag, eos, bulk_modulus, hp, g, rho0)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag, eos
+    real(wp), intent(in) :: bulk_modulus, g, rho0
+    type(strength_params_t), intent(in) :: hp
+    class(strength_t), allocatable :: trial
+    type(error_t), allocatable :: err
+    type(strength_params_t) :: par
+    integer :: i, nbad
+    real(wp) :: v(17)
+    character(len=11), parameter :: names(17) = [character(len=11) :: 'hjc_fc', 'hjc_t', 'hjc_pcrush', &
+      'hjc_mucrush', 'hjc_plock', 'hjc_k1', 'hjc_n', 'hjc_smax', 'hjc_efmin', 'hjc_d2', 'hjc_eps0', &
+      'hjc_a', 'hjc_b', 'hjc_c', 'hjc_d1', 'hjc_mulock', 'hjc_k3']
+    if (trim(eos) /= 'none') call problem_add(problems, '&'//tag//': eos = '''//trim(eos)//''' cannot be used '// &
+      'with strength = ''hjc'' (the HJC model has its own equation of state): eos = ''none''')
+    if (abs(bulk_modulus) > 0.0_wp) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
+      'does not apply to strength = ''hjc'' (its pressure comes from its own equation of state, hjc_*)')
+    v = [hp%hjc_fc, hp%hjc_t, hp%hjc_pcrush, hp%hjc_mucrush, hp%hjc_plock, hp%hjc_k1, hp%hjc_n, hp%hjc_smax, &
+         hp%hjc_efmin, hp%hjc_d2, hp%hjc_eps0, hp%hjc_a, hp%hjc_b, hp%hjc_c, hp%hjc_d1, hp%hjc_mulock, hp%hjc_k3]
+    nbad = 0
+    do i = 1, 11
+      if (.not. (v(i) > 0.0_wp)) then
+        call problem_bad(problems, tag, trim(names(i)), v(i), 'must be > 0 for strength = ''hjc''')
+        nbad = nbad + 1
+      end if
+    end do
+    do i = 12, 17
+      if (.not. (v(i) >= 0.0_wp)) then
+        call problem_bad(problems, tag, trim(names(i)), v(i), 'must be >= 0 for strength = ''hjc''')
+        nbad = nbad + 1
+      end if
+    end do
+    if (.not. (hp%hjc_plock > hp%hjc_pcrush)) then
+      call problem_bad(problems, tag, 'hjc_plock', hp%hjc_plock, 'must be > hjc_pcrush = '//rtoa(hp%hjc_pcrush))
+      nbad = nbad + 1
+    end if
+    if (nbad > 0 .or. .not. (g > 0.0_wp .and. rho0 > 0.0_wp)) return
+    par = hp
+    par%g = g
+    par%hjc_rho0 = rho0
+    call strength_create('hjc', par, trial, err)
+    if (allocated(err)) call problem_add(problems, '&'//tag//': '//err%msg)
+  end subroutine hjc_check
+
+  !> The hjc_* variables given to a solid whose strength is not 'hjc'.
+  subroutine hjc_not_here(problems, tag, strength, hp)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag, strength
+    type(strength_params_t), intent(in) :: hp
+    type(strength_params_t) :: d
+    if (any(abs(hjc_values(hp) - hjc_values(d)) > 0.0_wp)) &
+      call problem_add(problems, '&'//tag//': the hjc_* variables apply only to strength = ''hjc'' (this solid''s '// &
+                       'is '''//trim(strength)//''')')
+  end subroutine hjc_not_here
 
   !> Reads, validates and echoes the k-th &particles group (`text`);
   !> `solids` are the &solid names, `xmin`, `xmax` the grid's box (a shape
@@ -303,6 +393,14 @@ contains
     if (echo /= no_echo) write(echo, nml=particles)
   end subroutine particles_config_read
 
+  !> The hjc_* values of p, in the namelist's order.
+  pure function hjc_values(p) result(v)
+    type(strength_params_t), intent(in) :: p
+    real(wp) :: v(18)
+    v = [p%hjc_a, p%hjc_b, p%hjc_n, p%hjc_c, p%hjc_fc, p%hjc_smax, p%hjc_t, p%hjc_d1, p%hjc_d2, p%hjc_efmin, &
+         p%hjc_pcrush, p%hjc_mucrush, p%hjc_plock, p%hjc_mulock, p%hjc_k1, p%hjc_k2, p%hjc_k3, p%hjc_eps0]
+  end function hjc_values
+
   !> What a restart may not change in the solids and particles: one line per
   !> changed variable.
   subroutine particles_config_changes(old_solids, new_solids, old_groups, new_groups, changes)
@@ -326,6 +424,8 @@ contains
         call diff_s(changes, trim(w)//' strength', a%strength, b%strength)
         call diff_r(changes, trim(w)//' yield_stress, tangent_modulus', [a%yield_stress, a%tangent_modulus], &
                     [b%yield_stress, b%tangent_modulus])
+        call diff_r(changes, trim(w)//' failure_strain', [a%failure_strain], [b%failure_strain])
+        call diff_r(changes, trim(w)//' hjc_*', hjc_values(a%hjc), hjc_values(b%hjc))
       end associate
     end do
     call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))

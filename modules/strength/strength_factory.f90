@@ -8,12 +8,13 @@ module strength_factory
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set, ERR_INPUT
   use strength_models, only: strength_t, strength_elastic_t, strength_bilinear_t, strength_params_t
+  use strength_hjc, only: strength_hjc_t, hjc_new, hjc_nhist
   implicit none
   private
   public :: strength_create, strength_names, strength_nhist
 
   !> The names the factory knows.
-  character(len=*), parameter :: strength_names(2) = [character(len=8) :: 'elastic', 'bilinear']
+  character(len=*), parameter :: strength_names(3) = [character(len=8) :: 'elastic', 'bilinear', 'hjc']
 
 contains
 
@@ -28,15 +29,32 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: eos_pressure
     real(wp) :: e
+    type(strength_hjc_t) :: hjc
+    character(len=:), allocatable :: msg
     select case (trim(name))
     case ('elastic')
       model = strength_elastic_t(k=par%k, g=par%g)
     case ('bilinear')
       e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
-      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
+      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et), ef=par%failure_strain)
+    case ('hjc')
+      ! the model owns its pressure (strength_hjc): no EOS
+      if (present(eos_pressure)) then
+        if (eos_pressure) then
+          call error_set(err, 'strength_create', 'strength = ''hjc'' has its own equation of state: eos = ''none''', &
+                         ERR_INPUT)
+          return
+        end if
+      end if
+      call hjc_new(par, hjc, msg)
+      if (len(msg) > 0) then
+        call error_set(err, 'strength_create', msg, ERR_INPUT)
+        return
+      end if
+      model = hjc
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
-                     'elastic, bilinear', ERR_INPUT)
+                     'elastic, bilinear, hjc', ERR_INPUT)
       return
     end select
     if (present(eos_pressure)) then
@@ -52,6 +70,8 @@ contains
     class(strength_t), allocatable :: model
     type(error_t), allocatable :: err
     n = 0
+    if (trim(name) == 'hjc') n = hjc_nhist
+    if (n > 0) return
     call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
     if (allocated(model)) n = model%nhist()
   end function strength_nhist
