@@ -260,7 +260,7 @@ contains
       end if
     end do
     if (.not. (hp%hjc_plock > hp%hjc_pcrush)) then
-      call problem_bad(problems, tag, 'hjc_plock', hp%hjc_plock, 'must be > hjc_pcrush = '//rtoa(hp%hjc_pcrush))
+      call problem_bad(problems, tag, 'hjc_plock', hp%hjc_plock, 'must be > hjc_pcrush')
       nbad = nbad + 1
     end if
     if (nbad > 0 .or. .not. (g > 0.0_wp .and. rho0 > 0.0_wp)) return
