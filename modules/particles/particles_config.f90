@@ -6,9 +6,12 @@
 !> &solid: a name, a reference density, the pressure law (an `eos_factory`
 !> EOS with its parameters, or 'none': pressure from the bulk modulus), the
 !> elastic moduli (bulk and shear, or Young's modulus and Poisson's ratio)
-!> and a strength model: 'elastic' or 'bilinear' (linear hardening from
-!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2), a name of the
-!> strength factory's list (`strength_models::strength_names`). Coupled
+!> and a strength model: 'elastic', 'bilinear' (linear hardening from
+!> yield_stress with tangent_modulus, optionally failing at failure_strain;
+!> PARTICLES.md §2.1-2.2) or 'hjc' (Holmquist-Johnson-Cook concrete from
+!> the hjc_* variables, §2.5: its own pressure, so eos = 'none' and no
+!> bulk_modulus), a name of the strength factory's list
+!> (`strength_factory::strength_names`). Coupled
 !> particles use K, G and the model (`strength_create`), or with eos =
 !> 'mie_gruneisen' (the only EOS a solid takes) the EOS's pressure p(rho,
 !> e), G and the model's deviator. With an EOS the deck gives no
