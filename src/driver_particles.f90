@@ -250,13 +250,20 @@ contains
     end do
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
-        par = strength_params_t(k=sc%bulk_modulus, g=sc%shear_modulus, y0=sc%yield_stress, et=sc%tangent_modulus, &
-                                jc=jc_flow_t(a=sc%jc_a, b=sc%jc_b, n=sc%jc_n, c=sc%jc_c, eps0=sc%jc_eps0, m=sc%jc_m, &
-                                             t_room=sc%t_room, t_melt=sc%t_melt), &
-                                jc_cp=sc%specific_heat, jc_chi=sc%taylor_quinney, &
-                                gurson_q1=sc%gtn_q1, gurson_q2=sc%gtn_q2, gurson_fn=sc%gtn_fn, gurson_epsn=sc%gtn_epsn, &
-                                gurson_sn=sc%gtn_sn, gurson_fc=sc%gtn_fc, gurson_ff=sc%gtn_ff, &
-                                gurson_eps_f=sc%failure_strain, gurson_f0=sc%void_mean)
+        ! (hjc: its hjc_* values and the solid's density as its rho0)
+        par = sc%hjc
+        par%k = sc%bulk_modulus
+        par%g = sc%shear_modulus
+        par%y0 = sc%yield_stress
+        par%et = sc%tangent_modulus
+        par%failure_strain = sc%failure_strain
+        par%hjc_rho0 = sc%density
+        par%jc = jc_flow_t(a=sc%jc_a, b=sc%jc_b, n=sc%jc_n, c=sc%jc_c, eps0=sc%jc_eps0, m=sc%jc_m, t_room=sc%t_room, &
+                           t_melt=sc%t_melt)
+        par%jc_cp = sc%specific_heat
+        par%jc_chi = sc%taylor_quinney
+        par%gurson_q1 = sc%gtn_q1; par%gurson_q2 = sc%gtn_q2; par%gurson_fn = sc%gtn_fn; par%gurson_epsn = sc%gtn_epsn
+        par%gurson_sn = sc%gtn_sn; par%gurson_fc = sc%gtn_fc; par%gurson_ff = sc%gtn_ff; par%gurson_f0 = sc%void_mean
         call strength_create(sc%strength, par, st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
         if (allocated(err)) return
         do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1

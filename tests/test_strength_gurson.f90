@@ -419,9 +419,9 @@ contains
     p%rho = 7.8e-3_wp
     p%m = 7.8e-3_wp*p%vol
     par = strength_params_t(k=st_k, g=st_g, jc=steel, gurson_fn=0.001_wp, gurson_epsn=0.04_wp, gurson_sn=0.01_wp, &
-                            gurson_fc=0.2109_wp, gurson_ff=0.25_wp, gurson_eps_f=0.43_wp, gurson_f0=f0)
+                            gurson_fc=0.2109_wp, gurson_ff=0.25_wp, failure_strain=0.43_wp, gurson_f0=f0)
     call gurson_slot(par, models, .false.)
-    par%gurson_eps_f = 0.0_wp
+    par%failure_strain = 0.0_wp
     call gurson_slot(par, twins, .false.)
     do k = 1, 8
       call models(1)%m%hist_init(p%hist(:, k))
@@ -517,7 +517,7 @@ contains
     par = strength_params_t(k=7.8_wp*0.357_wp**2, g=0.8077_wp, &
                             jc=jc_flow_t(a=5.07e-3_wp, b=3.2e-3_wp, n=0.28_wp, c=0.0_wp), &
                             gurson_fn=0.001_wp, gurson_epsn=0.04_wp, gurson_sn=0.01_wp, gurson_fc=0.2109_wp, &
-                            gurson_ff=0.25_wp, gurson_eps_f=0.43_wp, gurson_f0=f0)
+                            gurson_ff=0.25_wp, failure_strain=0.43_wp, gurson_f0=f0)
     call gurson_slot(par, models, .true.)
     models(1)%eos = mie_gruneisen_t(rho0=7.8_wp, c0=0.357_wp, s1=1.92_wp, gamma0=1.8_wp)
     do step = 1, 8

@@ -7,10 +7,13 @@
 !> EOS with its parameters, or 'none': pressure from the bulk modulus), the
 !> elastic moduli (bulk and shear, or Young's modulus and Poisson's ratio)
 !> and a strength model: 'elastic', 'bilinear' (linear hardening from
-!> yield_stress with tangent_modulus; PARTICLES.md §2.1-2.2) or
-!> 'johnson_cook' (jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt,
-!> specific_heat, taylor_quinney; §2.3), a name of the
-!> strength factory's list (`strength_models::strength_names`). Coupled
+!> yield_stress with tangent_modulus, optionally failing at failure_strain;
+!> PARTICLES.md §2.1-2.2), 'johnson_cook' (jc_a, jc_b, jc_n, jc_c, jc_eps0,
+!> jc_m, t_room, t_melt, specific_heat, taylor_quinney; §2.3), 'gurson'
+!> (the jc_* matrix, gtn_*, failure_strain, void_*; §2.4) or 'hjc'
+!> (Holmquist-Johnson-Cook concrete from the hjc_* variables, §2.5: its own
+!> pressure, so eos = 'none' and no bulk_modulus), a name of the strength
+!> factory's list (`strength_factory::strength_names`). Coupled
 !> particles use K, G and the model (`strength_create`), or with eos =
 !> 'mie_gruneisen' (the only EOS a solid takes) the EOS's pressure p(rho,
 !> e), G and the model's deviator. With an EOS the deck gives no
@@ -33,7 +36,8 @@ module particles_config
                          diff_i, diff_r, diff_s, name_index
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
-  use strength_factory, only: strength_names
+  use strength_factory, only: strength_names, strength_create
+  use strength_models, only: strength_t, strength_params_t
   use strength_random_field, only: random_field_covariances, void_fraction_distributions
   implicit none
   private
@@ -74,6 +78,7 @@ module particles_config
     integer :: void_seed = 1                                        !< f0 field's seed
     character(len=16) :: void_covariance = 'gaussian'               !< f0 field's covariance (random_field_covariances)
     character(len=16) :: void_distribution = 'normal'               !< f0's distribution (void_fraction_distributions)
+    type(strength_params_t) :: hjc                 !< strength = 'hjc': its hjc_* values (other fields unused)
   end type solid_config_t
 
   !> One resolved &particles group; the initial values are the defaults.
@@ -119,11 +124,16 @@ contains
     class(eos_t), allocatable :: trial
     type(error_t), allocatable :: err
     logical :: by_e
+    real(wp) :: hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
+                hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
+    type(strength_params_t) :: hp
     namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
                      shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
                      jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney, &
                      gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
-                     failure_strain, void_mean, void_std, void_length, void_seed, void_covariance, void_distribution
+                     failure_strain, void_mean, void_std, void_length, void_seed, void_covariance, void_distribution, &
+                     hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
+                     hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
 
     name = this%name; density = this%density; eos = this%eos
     associate (d => this%par)
@@ -139,6 +149,12 @@ contains
     gtn_fc = this%gtn_fc; gtn_ff = this%gtn_ff; failure_strain = this%failure_strain
     void_mean = this%void_mean; void_std = this%void_std; void_length = this%void_length; void_seed = this%void_seed
     void_covariance = this%void_covariance; void_distribution = this%void_distribution
+    associate (h => this%hjc)
+      hjc_a = h%hjc_a; hjc_b = h%hjc_b; hjc_n = h%hjc_n; hjc_c = h%hjc_c; hjc_fc = h%hjc_fc; hjc_smax = h%hjc_smax
+      hjc_t = h%hjc_t; hjc_d1 = h%hjc_d1; hjc_d2 = h%hjc_d2; hjc_efmin = h%hjc_efmin; hjc_pcrush = h%hjc_pcrush
+      hjc_mucrush = h%hjc_mucrush; hjc_plock = h%hjc_plock; hjc_mulock = h%hjc_mulock; hjc_k1 = h%hjc_k1
+      hjc_k2 = h%hjc_k2; hjc_k3 = h%hjc_k3; hjc_eps0 = h%hjc_eps0
+    end associate
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -173,8 +189,9 @@ contains
     else
       if (.not. (shear_modulus > 0.0_wp)) call problem_bad(problems, tag, 'shear_modulus', shear_modulus, &
         'must be > 0 (or give youngs_modulus and poisson_ratio)')
-      if (trim(eos) == 'none' .and. .not. (bulk_modulus > 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', &
-        bulk_modulus, 'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
+      if (trim(eos) == 'none' .and. trim(strength) /= 'hjc' .and. .not. (bulk_modulus > 0.0_wp)) &
+        call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
+        'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
       if (.not. (bulk_modulus >= 0.0_wp)) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, 'must be >= 0')
     end if
     select case (trim(eos))
@@ -198,6 +215,15 @@ contains
                        'mie_gruneisen')
     end select
     ! the strength model and its parameters
+    hp = strength_params_t(hjc_a=hjc_a, hjc_b=hjc_b, hjc_n=hjc_n, hjc_c=hjc_c, hjc_fc=hjc_fc, hjc_smax=hjc_smax, &
+      hjc_t=hjc_t, hjc_d1=hjc_d1, hjc_d2=hjc_d2, hjc_efmin=hjc_efmin, hjc_pcrush=hjc_pcrush, hjc_mucrush=hjc_mucrush, &
+      hjc_plock=hjc_plock, hjc_mulock=hjc_mulock, hjc_k1=hjc_k1, hjc_k2=hjc_k2, hjc_k3=hjc_k3, hjc_eps0=hjc_eps0)
+    if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
+      'must be >= 0 (0: never fails)')
+    if (trim(strength) /= 'hjc') call hjc_not_here(problems, tag, strength, hp)
+    if (trim(strength) /= 'bilinear' .and. trim(strength) /= 'gurson' .and. abs(failure_strain) > 0.0_wp) &
+      call problem_bad(problems, tag, 'failure_strain', failure_strain, 'applies only to strength = ''bilinear'' '// &
+      'or ''gurson'' (this solid''s is '''//trim(strength)//''')')
     select case (trim(strength))
     case ('elastic')
       if (abs(yield_stress) > 0.0_wp) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
@@ -226,6 +252,12 @@ contains
         '''johnson_cook'' (gurson has no thermal softening)')
       if (abs(specific_heat) > 0.0_wp) call problem_bad(problems, tag, 'specific_heat', specific_heat, &
         'applies only to strength = ''johnson_cook'' (gurson has no plastic heating)')
+    case ('hjc')
+      if (abs(yield_stress) > 0.0_wp) call problem_bad(problems, tag, 'yield_stress', yield_stress, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''hjc'')')
+      if (abs(tangent_modulus) > 0.0_wp) call problem_bad(problems, tag, 'tangent_modulus', tangent_modulus, &
+        'applies only to strength = ''bilinear'' (this solid''s is ''hjc'')')
+      call hjc_check(problems, tag, eos, bulk_modulus, hp, g_mod, density)
     case default
       call problem_add(problems, '&'//tag//': strength = '''//trim(strength)//''' is not known; valid: '// &
                        name_list(strength_names))
@@ -249,7 +281,7 @@ contains
       jc_eps0=jc_eps0, gtn_q1=gtn_q1, gtn_q2=gtn_q2, gtn_fn=gtn_fn, gtn_epsn=gtn_epsn, gtn_sn=gtn_sn, gtn_fc=gtn_fc, &
       gtn_ff=gtn_ff, failure_strain=failure_strain, void_mean=void_mean, void_std=void_std, void_length=void_length, &
       void_seed=void_seed, void_covariance=void_covariance, void_distribution=void_distribution, jc_m=jc_m, &
-      t_room=t_room, t_melt=t_melt, specific_heat=specific_heat, taylor_quinney=taylor_quinney)
+      t_room=t_room, t_melt=t_melt, specific_heat=specific_heat, taylor_quinney=taylor_quinney, hjc=hp)
     if (echo /= no_echo) write(echo, nml=solid)
   contains
     !> strength = 'johnson_cook': its parameters (PARTICLES.md §2.3).
@@ -323,6 +355,65 @@ contains
       ': void_distribution = '''//trim(void_distribution)//''' is not known; valid: '// &
       name_list(void_fraction_distributions))
   end subroutine gurson_problems
+
+  !> strength = 'hjc' (strength_hjc): its own pressure (eos = 'none', no
+  !> bulk_modulus), each hjc_* in its range, then what the model checks
+  !> when it is built (the region III polynomial reaching hjc_plock, the
+  !> crushing slope); g and rho0 the solid's.
+  subroutine hjc_check(problems, tag, eos, bulk_modulus, hp, g, rho0)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag, eos
+    real(wp), intent(in) :: bulk_modulus, g, rho0
+    type(strength_params_t), intent(in) :: hp
+    class(strength_t), allocatable :: trial
+    type(error_t), allocatable :: err
+    type(strength_params_t) :: par
+    integer :: i, nbad
+    real(wp) :: v(17)
+    character(len=11), parameter :: names(17) = [character(len=11) :: 'hjc_fc', 'hjc_t', 'hjc_pcrush', &
+      'hjc_mucrush', 'hjc_plock', 'hjc_k1', 'hjc_n', 'hjc_smax', 'hjc_efmin', 'hjc_d2', 'hjc_eps0', &
+      'hjc_a', 'hjc_b', 'hjc_c', 'hjc_d1', 'hjc_mulock', 'hjc_k3']
+    if (trim(eos) /= 'none') call problem_add(problems, '&'//tag//': eos = '''//trim(eos)//''' cannot be used '// &
+      'with strength = ''hjc'' (the HJC model has its own equation of state): eos = ''none''')
+    if (abs(bulk_modulus) > 0.0_wp) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
+      'does not apply to strength = ''hjc'' (its pressure comes from its own equation of state, hjc_*)')
+    v = [hp%hjc_fc, hp%hjc_t, hp%hjc_pcrush, hp%hjc_mucrush, hp%hjc_plock, hp%hjc_k1, hp%hjc_n, hp%hjc_smax, &
+         hp%hjc_efmin, hp%hjc_d2, hp%hjc_eps0, hp%hjc_a, hp%hjc_b, hp%hjc_c, hp%hjc_d1, hp%hjc_mulock, hp%hjc_k3]
+    nbad = 0
+    do i = 1, 11
+      if (.not. (v(i) > 0.0_wp)) then
+        call problem_bad(problems, tag, trim(names(i)), v(i), 'must be > 0 for strength = ''hjc''')
+        nbad = nbad + 1
+      end if
+    end do
+    do i = 12, 17
+      if (.not. (v(i) >= 0.0_wp)) then
+        call problem_bad(problems, tag, trim(names(i)), v(i), 'must be >= 0 for strength = ''hjc''')
+        nbad = nbad + 1
+      end if
+    end do
+    if (.not. (hp%hjc_plock > hp%hjc_pcrush)) then
+      call problem_bad(problems, tag, 'hjc_plock', hp%hjc_plock, 'must be > hjc_pcrush')
+      nbad = nbad + 1
+    end if
+    if (nbad > 0 .or. .not. (g > 0.0_wp .and. rho0 > 0.0_wp)) return
+    par = hp
+    par%g = g
+    par%hjc_rho0 = rho0
+    call strength_create('hjc', par, trial, err)
+    if (allocated(err)) call problem_add(problems, '&'//tag//': '//err%msg)
+  end subroutine hjc_check
+
+  !> The hjc_* variables given to a solid whose strength is not 'hjc'.
+  subroutine hjc_not_here(problems, tag, strength, hp)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: tag, strength
+    type(strength_params_t), intent(in) :: hp
+    type(strength_params_t) :: d
+    if (any(abs(hjc_values(hp) - hjc_values(d)) > 0.0_wp)) &
+      call problem_add(problems, '&'//tag//': the hjc_* variables apply only to strength = ''hjc'' (this solid''s '// &
+                       'is '''//trim(strength)//''')')
+  end subroutine hjc_not_here
 
   !> Reads, validates and echoes the k-th &particles group (`text`);
   !> `solids` are the &solid names, `xmin`, `xmax` the grid's box (a shape
@@ -440,6 +531,14 @@ contains
     if (echo /= no_echo) write(echo, nml=particles)
   end subroutine particles_config_read
 
+  !> The hjc_* values of p, in the namelist's order.
+  pure function hjc_values(p) result(v)
+    type(strength_params_t), intent(in) :: p
+    real(wp) :: v(18)
+    v = [p%hjc_a, p%hjc_b, p%hjc_n, p%hjc_c, p%hjc_fc, p%hjc_smax, p%hjc_t, p%hjc_d1, p%hjc_d2, p%hjc_efmin, &
+         p%hjc_pcrush, p%hjc_mucrush, p%hjc_plock, p%hjc_mulock, p%hjc_k1, p%hjc_k2, p%hjc_k3, p%hjc_eps0]
+  end function hjc_values
+
   !> What a restart may not change in the solids and particles: one line per
   !> changed variable.
   subroutine particles_config_changes(old_solids, new_solids, old_groups, new_groups, changes)
@@ -474,6 +573,7 @@ contains
         call diff_i(changes, trim(w)//' void_seed', a%void_seed, b%void_seed)
         call diff_s(changes, trim(w)//' void_covariance', a%void_covariance, b%void_covariance)
         call diff_s(changes, trim(w)//' void_distribution', a%void_distribution, b%void_distribution)
+        call diff_r(changes, trim(w)//' hjc_*', hjc_values(a%hjc), hjc_values(b%hjc))
       end associate
     end do
     call diff_i(changes, 'number of &particles groups', size(old_groups), size(new_groups))

@@ -11,13 +11,14 @@ module strength_factory
   use strength_jc_flow, only: jc_flow_t
   use strength_johnson_cook, only: strength_johnson_cook_t
   use strength_gurson, only: strength_gurson_t
+  use strength_hjc, only: strength_hjc_t, hjc_new, hjc_nhist
   implicit none
   private
   public :: strength_create, strength_names, strength_nhist
 
   !> The names the factory knows.
-  character(len=*), parameter :: strength_names(4) = [character(len=12) :: 'elastic', 'bilinear', 'johnson_cook', &
-                                                                      'gurson']
+  character(len=*), parameter :: strength_names(5) = [character(len=12) :: 'elastic', 'bilinear', 'johnson_cook', &
+                                                                      'gurson', 'hjc']
 
 contains
 
@@ -32,21 +33,38 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: eos_pressure
     real(wp) :: e
+    type(strength_hjc_t) :: hjc
+    character(len=:), allocatable :: msg
     select case (trim(name))
     case ('elastic')
       model = strength_elastic_t(k=par%k, g=par%g)
     case ('bilinear')
       e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
-      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et))
+      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et), ef=par%failure_strain)
     case ('johnson_cook')
       model = strength_johnson_cook_t(k=par%k, g=par%g, chi=par%jc_chi, cp=par%jc_cp, jc=par%jc)
     case ('gurson')
       model = strength_gurson_t(k=par%k, g=par%g, jc=par%jc, q1=par%gurson_q1, q2=par%gurson_q2, fn=par%gurson_fn, &
                                 epsn=par%gurson_epsn, sn=par%gurson_sn, fc=par%gurson_fc, ff=par%gurson_ff, &
-                                eps_f=par%gurson_eps_f, f0=par%gurson_f0, kv=par%k)
+                                eps_f=par%failure_strain, f0=par%gurson_f0, kv=par%k)
+    case ('hjc')
+      ! the model owns its pressure (strength_hjc): no EOS
+      if (present(eos_pressure)) then
+        if (eos_pressure) then
+          call error_set(err, 'strength_create', 'strength = ''hjc'' has its own equation of state: eos = ''none''', &
+                         ERR_INPUT)
+          return
+        end if
+      end if
+      call hjc_new(par, hjc, msg)
+      if (len(msg) > 0) then
+        call error_set(err, 'strength_create', msg, ERR_INPUT)
+        return
+      end if
+      model = hjc
     case default
       call error_set(err, 'strength_create', 'strength = '''//trim(name)//''' is not known; valid: '// &
-                     'elastic, bilinear, johnson_cook, gurson', ERR_INPUT)
+                     'elastic, bilinear, johnson_cook, gurson, hjc', ERR_INPUT)
       return
     end select
     if (present(eos_pressure)) then
@@ -62,6 +80,8 @@ contains
     class(strength_t), allocatable :: model
     type(error_t), allocatable :: err
     n = 0
+    if (trim(name) == 'hjc') n = hjc_nhist
+    if (n > 0) return
     call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
     if (allocated(model)) n = model%nhist()
   end function strength_nhist

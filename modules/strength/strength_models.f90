@@ -59,9 +59,14 @@ module strength_models
     real(wp) :: gurson_q1 = 1.5_wp, gurson_q2 = 1.0_wp   !< gurson: yield function q1, q2 (q3 = q1^2)
     real(wp) :: gurson_fn = 0.0_wp, gurson_epsn = 0.3_wp, gurson_sn = 0.1_wp   !< gurson: nucleation f_N, eps_N, s_N
     real(wp) :: gurson_fc = 0.15_wp, gurson_ff = 0.25_wp   !< gurson: coalescence f_c (TEPLA-F's too), f_F
-    real(wp) :: gurson_eps_f = 0.0_wp   !< gurson: TEPLA-F failure strain (0: no strain term)
     real(wp) :: gurson_f0 = 0.0_wp      !< gurson: initial porosity
     real(wp) :: jc_cp = 0.0_wp, jc_chi = 0.9_wp          !< johnson_cook: c_p (0: no heating), Taylor-Quinney chi
+    real(wp) :: failure_strain = 0.0_wp   !< equivalent plastic strain at failure (bilinear: 0 never fails; gurson: TEPLA-F's eps_p^f, 0 no strain term)
+    ! hjc (strength_hjc): the &solid hjc_* variables and the reference density
+    real(wp) :: hjc_a = 0.0_wp, hjc_b = 0.0_wp, hjc_n = 0.0_wp, hjc_c = 0.0_wp, hjc_fc = 0.0_wp, hjc_smax = 0.0_wp
+    real(wp) :: hjc_t = 0.0_wp, hjc_d1 = 0.0_wp, hjc_d2 = 0.0_wp, hjc_efmin = 0.0_wp
+    real(wp) :: hjc_pcrush = 0.0_wp, hjc_mucrush = 0.0_wp, hjc_plock = 0.0_wp, hjc_mulock = 0.0_wp
+    real(wp) :: hjc_k1 = 0.0_wp, hjc_k2 = 0.0_wp, hjc_k3 = 0.0_wp, hjc_eps0 = 1.0_wp, hjc_rho0 = 0.0_wp
   end type strength_params_t
 
   !> One particle's step context (module notes): in dt, rho (density at the
@@ -109,14 +114,24 @@ module strength_models
 
   !> Linear isotropic hardening (§2.2): yield stress y0 + h eps_p, with the
   !> plastic modulus h = E Et/(E - Et) from the tangent modulus Et; hist(1) is
-  !> the equivalent plastic strain.
+  !> the equivalent plastic strain. Optional failure (ef > 0): the particle
+  !> fails in the step its eps_p reaches ef, and is failed while hist(1) >=
+  !> ef (so the flag needs no history of its own: eps_p no longer grows
+  !> once the deviator is gone); a failed particle carries no shear and, with
+  !> its own bulk modulus, no tension (p = max(p, 0); with an EOS, k = 0, the
+  !> caller clips the pressure). pt%eroded is the elastic energy per unit
+  !> volume removed: s:s/(4G) + p^2/(2K) of the tension (K = k; none with
+  !> k = 0) of the stress after the return in the failing step, of the
+  !> step's trial stress in later steps.
   type, extends(strength_t) :: strength_bilinear_t
     real(wp) :: y0 = 0.0_wp   !< initial yield stress (pressure)
     real(wp) :: h = 0.0_wp    !< plastic modulus (pressure)
+    real(wp) :: ef = 0.0_wp   !< equivalent plastic strain at failure (0: never fails)
   contains
     procedure :: update => bilinear_update
     procedure :: nhist => one_hist
     procedure :: field => plastic_strain_field
+    procedure :: failed => bilinear_failed
   end type strength_bilinear_t
 
 contains
@@ -170,6 +185,13 @@ contains
     f = .false.
     if (this%g < 0.0_wp .and. size(hist) < 0) f = .false.   ! (unused)
   end function strength_never_fails
+
+  !> Bilinear failed: eps_p has reached the failure strain (type notes).
+  pure logical function bilinear_failed(this, hist) result(f)
+    class(strength_bilinear_t), intent(in) :: this
+    real(wp), intent(in) :: hist(:)
+    f = this%ef > 0.0_wp .and. hist(1) >= this%ef
+  end function bilinear_failed
 
   !> K + 4G/3, the modulus of the elastic longitudinal wave (pressure).
   pure real(wp) function strength_wave_modulus(this) result(m)
@@ -270,6 +292,10 @@ contains
     s(1:3) = s(1:3) - p
     q = strength_mises(s)
     pt%eroded = 0.0_wp
+    if (bilinear_failed(this, hist)) then
+      call bilinear_remove(this, q, p, pt, stress)
+      return
+    end if
     sy = this%y0 + this%h*hist(1)
     if (q > sy) then
       dep = (q - sy)/(3.0_wp*this%g + this%h)
@@ -277,8 +303,29 @@ contains
       hist(1) = hist(1) + dep
       stress = s
       stress(1:3) = stress(1:3) + p
+      ! fails in this step (type notes)
+      if (bilinear_failed(this, hist)) call bilinear_remove(this, q - 3.0_wp*this%g*dep, p, pt, stress)
     end if
   end subroutine bilinear_update
+
+  !> A failed bilinear particle (type notes): stress with von Mises q and
+  !> mean stress p (tension positive) loses its deviator and, with k > 0, its
+  !> tension; pt%eroded the elastic energy per unit volume removed.
+  pure subroutine bilinear_remove(this, q, p, pt, stress)
+    class(strength_bilinear_t), intent(in) :: this
+    real(wp), intent(in) :: q, p
+    type(strength_point_t), intent(inout) :: pt
+    real(wp), intent(inout) :: stress(6)
+    real(wp) :: pk
+    pt%eroded = q**2/(6.0_wp*this%g)
+    pk = p
+    if (this%k > 0.0_wp .and. p > 0.0_wp) then
+      pt%eroded = pt%eroded + p**2/(2.0_wp*this%k)
+      pk = 0.0_wp
+    end if
+    stress(1:3) = pk
+    stress(4:6) = 0.0_wp
+  end subroutine bilinear_remove
 
   !> The von Mises stress q = sqrt(3/2 s:s) of the deviator s(6) (Voigt:
   !> the shear components count twice).
