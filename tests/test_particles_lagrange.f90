@@ -52,6 +52,7 @@ program test_particles_lagrange
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
   use test_assert, only: check, check_close, check_summary
+  use test_one_cell, only: one_cell
   implicit none
   real(wp), parameter :: kmod = 5.0_wp, gmod = 3.0_wp
   real(wp), parameter :: eps = epsilon(1.0_wp)
@@ -70,26 +71,6 @@ program test_particles_lagrange
 
 contains
 
-  !> One cell [0,1]^3 with eight particles at the quarter points, each of
-  !> volume 1/8, mass 1/8, stress zero.
-  subroutine one_cell(g, p)
-    type(grid_t), intent(out) :: g
-    type(particles_t), intent(out) :: p
-    type(error_t), allocatable :: err
-    integer :: a
-    call grid_init_box(g, 1, 1, 1, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
-    call particles_allocate(p, 8, 1, 1, err)
-    call check(.not. allocated(err), 'one cell, eight particles')
-    do a = 1, 8
-      p%xi(:, a) = 0.25_wp + 0.5_wp*real([ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)], wp)
-      p%x(:, a) = p%xi(:, a)
-    end do
-    p%cell = 1
-    p%vol = 0.125_wp
-    p%m = 0.125_wp
-    p%rho = 1.0_wp
-    call particles_order(p, g%ncell, err)
-  end subroutine one_cell
 
   !> The models: elastic, or bilinear with yield y0 and tangent modulus et.
   subroutine models_of(name, y0, et, models)
@@ -107,7 +88,7 @@ contains
     type(particles_t) :: p
     real(wp) :: f(3, 8), fvf(3, 8), xn(3, 8), vol, dvdx(3, 8), pc(1), err_max
     integer :: bad, a
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     ! a sheared, stretched parallelepiped
     do a = 1, 8
       g%x(:, a) = [2.0_wp*g%x(1, a) + 0.3_wp*g%x(2, a), 1.5_wp*g%x(2, a) + 0.2_wp*g%x(3, a), g%x(3, a)]
@@ -137,7 +118,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt, r, e, v0
     integer :: n, bad, step
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     call models_of('elastic', 0.0_wp, 0.0_wp, models)
     r = -0.01_wp
     dt = 0.1_wp
@@ -170,7 +151,7 @@ contains
     type(error_t), allocatable :: err
     real(wp) :: lin(3, 3), lgrad(3, 3, 8)
     integer :: k
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     call particles_work_init(w, g%nnode, g%ncell, p%np, p%nhist, err)
     lin = reshape([0.1_wp, -0.3_wp, 0.2_wp, 0.5_wp, 0.05_wp, -0.4_wp, 0.7_wp, 0.0_wp, -0.2_wp], [3, 3])
     do k = 1, p%np
@@ -193,7 +174,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt
     integer :: n, bad, step
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     call models_of('elastic', 0.0_wp, 0.0_wp, models)
     dt = 1.0_wp/nsteps
     do n = 1, 8
@@ -228,7 +209,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt, w, s0(6), i1, j2, j2_0
     integer :: n, bad, step, nsteps
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     call models_of('elastic', 0.0_wp, 0.0_wp, models)
     s0 = [3.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     p%stress = spread(s0, 2, 8)
@@ -270,7 +251,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt, r, y0, et, e_mod, h, eps_y, s_a, s_b, tangent, e
     integer :: n, bad, step, first_plastic
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     y0 = 0.06_wp
     et = 0.5_wp
     call models_of('bilinear', y0, et, models)
@@ -335,7 +316,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: lgrad(3, 3, 8), a, pold, vold, work, pnow
     integer :: step, bad, d
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     p%rho = cu_rho0
     p%m = cu_rho0*p%vol
     call copper(models, 1.0_wp)
@@ -408,7 +389,7 @@ contains
     type(strength_slot_t), allocatable :: models(:)
     real(wp) :: lgrad(3, 3, 8), r, s0(6), v0, work, pm, sdev, dt, kw(8), mnode(8), mp(8)
     integer :: step, bad, kmin
-    call one_cell(g, p)
+    call one_cell(g, p, 1)
     p%rho = cu_rho0
     p%m = cu_rho0*p%vol
     call copper(models, 1.0_wp)

@@ -59,6 +59,7 @@ program test_strength_gurson
   use strength_jc_flow, only: jc_flow_t, jc_flow
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use test_assert, only: check, check_close, check_summary
+  use test_one_cell, only: one_cell
   implicit none
   real(wp), parameter :: q1 = 1.5_wp, q2 = 1.0_wp, f0 = 0.005_wp
   ! 1045 steel (MPa; PARTICLES.md §2.3), E 210 GPa, nu 0.3
@@ -345,26 +346,6 @@ contains
     write(itoa_, '(i0)') i
   end function itoa_
 
-  !> One cell [0,1]^3 with eight particles at the quarter points, each of
-  !> volume 1/8, mass 1/8 (test_particles_lagrange's set-up).
-  subroutine one_cell(g, p)
-    type(grid_t), intent(out) :: g
-    type(particles_t), intent(out) :: p
-    type(error_t), allocatable :: err
-    integer :: a
-    call grid_init_box(g, 1, 1, 1, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
-    call particles_allocate(p, 8, 1, 4, err)
-    call check(.not. allocated(err), 'one cell, eight particles')
-    do a = 1, 8
-      p%xi(:, a) = 0.25_wp + 0.5_wp*real([ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)], wp)
-      p%x(:, a) = p%xi(:, a)
-    end do
-    p%cell = 1
-    p%vol = 0.125_wp
-    p%m = 0.125_wp
-    p%rho = 1.0_wp
-    call particles_order(p, g%ncell, err)
-  end subroutine one_cell
 
   !> The model slot of a Gurson solid through the factory.
   subroutine gurson_slot(par, models, eos_pressure)
@@ -384,7 +365,7 @@ contains
     real(wp), parameter :: kk = 1.0e7_wp, r = 1.0e-4_wp
     real(wp) :: lgrad(3, 3, 8), errx, ev
     integer :: step, bad, k, d
-    call one_cell(g, p)
+    call one_cell(g, p, 4)
     call gurson_slot(strength_params_t(k=kk, g=kk, jc=rigid, gurson_fc=0.5_wp, gurson_ff=0.6_wp, gurson_f0=f0), &
                      models, .false.)
     do k = 1, 8
@@ -415,7 +396,7 @@ contains
     type(strength_params_t) :: par
     real(wp) :: lgrad(3, 3, 8), eroded, er2, expect
     integer :: step, bad, k, nfail
-    call one_cell(g, p)
+    call one_cell(g, p, 4)
     p%rho = 7.8e-3_wp
     p%m = 7.8e-3_wp*p%vol
     par = strength_params_t(k=st_k, g=st_g, jc=steel, gurson_fn=0.001_wp, gurson_epsn=0.04_wp, gurson_sn=0.01_wp, &
@@ -511,7 +492,7 @@ contains
     call check(.not. abs(pt%eroded) > 0.0_wp .and. .not. maxval(abs(stress)) > 0.0_wp, &
                'EOS path kernel: beyond the apex q = 0, nothing eroded')
     ! steel (g/cm^3, cm/us, Mbar): rho 7.8, c0 0.357, s1 1.92, Gamma0 1.8, G 0.8077, JC A 5.07e-3, B 3.2e-3
-    call one_cell(g, p)
+    call one_cell(g, p, 4)
     p%rho = 7.8_wp
     p%m = 7.8_wp*p%vol
     par = strength_params_t(k=7.8_wp*0.357_wp**2, g=0.8077_wp, &

@@ -50,6 +50,7 @@ program test_strength_hjc
   use strength_factory, only: strength_create
   use strength_hjc, only: strength_hjc_t, hjc_new, hjc_load, hjc_unload_modulus, hjc_nhist
   use test_assert, only: check, check_close, check_summary
+  use test_one_cell, only: one_cell
   implicit none
   real(wp), parameter :: eps = epsilon(1.0_wp)
   ! Table 7 (MPa), G and rho0 (module notes)
@@ -350,28 +351,6 @@ contains
     call check(nfail == 0, 'hjc: fully damaged under pressure does not fail')
   end subroutine test_damage
 
-  !> One cell [0,1]^3 with eight particles at the quarter points, each of
-  !> volume 1/8, density rho_, stress zero, nhist history variables.
-  subroutine one_cell(g, p, rho_, nhist)
-    type(grid_t), intent(out) :: g
-    type(particles_t), intent(out) :: p
-    real(wp), intent(in) :: rho_
-    integer, intent(in) :: nhist
-    type(error_t), allocatable :: err
-    integer :: a
-    call grid_init_box(g, 1, 1, 1, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
-    call particles_allocate(p, 8, 1, nhist, err)
-    call check(.not. allocated(err), 'one cell, eight particles')
-    do a = 1, 8
-      p%xi(:, a) = 0.25_wp + 0.5_wp*real([ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)], wp)
-      p%x(:, a) = p%xi(:, a)
-    end do
-    p%cell = 1
-    p%vol = 0.125_wp
-    p%m = 0.125_wp*rho_
-    p%rho = rho_
-    call particles_order(p, g%ncell, err)
-  end subroutine one_cell
 
   subroutine test_particles_hydrostatic()
     type(grid_t) :: g
@@ -380,7 +359,7 @@ contains
     type(error_t), allocatable :: err
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt, mu, misfit, dev, mu_max, p_max, f, ku
     integer :: n, bad, k, stp
-    call one_cell(g, p, rho0, hjc_nhist)
+    call one_cell(g, p, hjc_nhist, rho0)
     allocate(models(1))
     call strength_create('hjc', table7(efmin), models(1)%m, err)
     call check(.not. allocated(err), 'hjc from the factory')
@@ -433,7 +412,7 @@ contains
     real(wp), parameter :: kmod = 5.0_wp, y0 = 0.06_wp, et = 0.5_wp, g3 = 3.0_wp
     real(wp) :: u(3, 8), lgrad(3, 3, 8), dt, e, e_mod, h, ef, eroded, epsp, q, pm, vol, jstep, expect
     integer :: n, bad, stp, nfail
-    call one_cell(g, p, 1.0_wp, 1)
+    call one_cell(g, p, 1)
     e_mod = 9.0_wp*kmod*g3/(3.0_wp*kmod + g3)
     h = e_mod*et/(e_mod - et)
     dt = y0/(2.0_wp*g3)/10.5_wp

@@ -67,6 +67,7 @@ program test_strength_jc
   use strength_johnson_cook, only: strength_johnson_cook_t, jc_return
   use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state
   use test_assert, only: check, check_close, check_summary
+  use test_one_cell, only: one_cell
   implicit none
   real(wp), parameter :: st_e = 210000.0_wp, st_nu = 0.3_wp
   real(wp), parameter :: st_k = st_e/(3.0_wp*(1.0_wp - 2.0_wp*st_nu)), st_g = st_e/(2.0_wp*(1.0_wp + st_nu))
@@ -310,29 +311,6 @@ contains
     end do
   end subroutine test_copper
 
-  !> Particles of one cell [0,1]^3 (eight at the quarter points, volume and
-  !> mass 1/8 x rho) with nhist history variables from model's hist_init.
-  subroutine one_cell(g, p, model, rho)
-    type(grid_t), intent(out) :: g
-    type(particles_t), intent(out) :: p
-    class(strength_t), intent(in) :: model
-    real(wp), intent(in) :: rho
-    type(error_t), allocatable :: err
-    integer :: a
-    call grid_init_box(g, 1, 1, 1, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
-    call particles_allocate(p, 8, 1, model%nhist(), err)
-    call check(.not. allocated(err), 'one cell, eight particles')
-    do a = 1, 8
-      p%xi(:, a) = 0.25_wp + 0.5_wp*real([ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)], wp)
-      p%x(:, a) = p%xi(:, a)
-      call model%hist_init(p%hist(:, a))
-    end do
-    p%cell = 1
-    p%vol = 0.125_wp
-    p%m = 0.125_wp*rho
-    p%rho = rho
-    call particles_order(p, g%ncell, err)
-  end subroutine one_cell
 
   subroutine test_heating()
     class(strength_t), allocatable :: model
@@ -354,7 +332,7 @@ contains
     ! the particle path, isochoric plane strain L = diag(r, -r, 0)
     allocate(models(1))
     call make(par, models(1)%m)
-    call one_cell(g, p, models(1)%m, rho)
+    call one_cell(g, p, models(1)%m%nhist(), rho, models(1)%m)
     r = 1.0_wp
     dt = 1.0e-3_wp
     do n = 1, 8
@@ -445,7 +423,7 @@ contains
     allocate(models(1), ep(2000), qs(2000))
     call make(steel(0.064_wp), models(1)%m)
     jc = flow_of(models(1)%m)
-    call one_cell(g, p, models(1)%m, rho)
+    call one_cell(g, p, models(1)%m%nhist(), rho, models(1)%m)
     r = 1.0e-3_wp
     dt = 0.1_wp           ! axial strain 1e-4 per step
     s1 = -0.3_wp*r
@@ -512,7 +490,7 @@ contains
     call check(.not. allocated(err) .and. abs(models(1)%m%k) <= 0.0_wp, 'MG: johnson_cook with k = 0')
     models(1)%eos = mie_gruneisen_t(rho0=rho0, c0=3.94e6_wp, s1=1.49_wp, gamma0=2.0_wp)
     jc = flow_of(models(1)%m)
-    call one_cell(g, p, models(1)%m, rho0)
+    call one_cell(g, p, models(1)%m%nhist(), rho0, models(1)%m)
     dt = 1.0e-7_wp
     lgrad = 0.0_wp
     lgrad(1, 1, :) = -1.0e3_wp
