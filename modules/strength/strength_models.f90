@@ -61,7 +61,8 @@ module strength_models
     real(wp) :: gurson_fc = 0.15_wp, gurson_ff = 0.25_wp   !< gurson: coalescence f_c (TEPLA-F's too), f_F
     real(wp) :: gurson_f0 = 0.0_wp      !< gurson: initial porosity
     real(wp) :: jc_cp = 0.0_wp, jc_chi = 0.9_wp          !< johnson_cook: c_p (0: no heating), Taylor-Quinney chi
-    real(wp) :: failure_strain = 0.0_wp   !< equivalent plastic strain at failure (bilinear: 0 never fails; gurson: TEPLA-F's eps_p^f, 0 no strain term)
+    !> equivalent plastic strain at failure (bilinear: 0 never fails; gurson: TEPLA-F's eps_p^f, 0 no strain term)
+    real(wp) :: failure_strain = 0.0_wp
     ! hjc (strength_hjc): the &solid hjc_* variables and the reference density
     real(wp) :: hjc_a = 0.0_wp, hjc_b = 0.0_wp, hjc_n = 0.0_wp, hjc_c = 0.0_wp, hjc_fc = 0.0_wp, hjc_smax = 0.0_wp
     real(wp) :: hjc_t = 0.0_wp, hjc_d1 = 0.0_wp, hjc_d2 = 0.0_wp, hjc_efmin = 0.0_wp
