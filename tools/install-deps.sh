@@ -16,7 +16,8 @@ for a in "$@"; do
   esac
 done
 
-pkgs=(gfortran libc6-dev cmake make pkg-config libhdf5-dev hdf5-tools liblapack-dev libfftw3-dev
+pkgs=(gfortran libc6-dev cmake make pkg-config libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
+      liblapack-dev libfftw3-dev
       python3 python3-numpy python3-h5py python3-matplotlib python3-scipy)
 if [ "$viz" -eq 1 ]; then
   pkgs+=(paraview python3-paraview xvfb xauth)
