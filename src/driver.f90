@@ -15,7 +15,7 @@ module driver
   use driver_particles, only: particles_step
   use io_log, only: log_t, log_line, log_error
   use io_gauges, only: gauges_close
-  use io_hdf5, only: hdf5_stop, hdf5_version
+  use io_hdf5, only: hdf5_start, hdf5_stop, hdf5_version
   use base_build, only: code_version, build_type
   use, intrinsic :: iso_fortran_env, only: compiler_version
   use driver_halt, only: halt, refuse, EXIT_WALL_TIME
@@ -27,6 +27,9 @@ module driver
   use driver_scene, only: build_scene
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
+  use parallel_comm, only: parallel_start
+  use mesh_grid, only: grid_index_t
+  use driver_parallel, only: parallel_refusals, parallel_blocks, agree_error
   implicit none
   private
   public :: driver_run, driver_check, driver_print_defaults, driver_print_version
@@ -43,11 +46,20 @@ contains
     type(error_t), allocatable :: err
     character(len=max_line), allocatable :: problems(:)
     character(len=:), allocatable :: summary
+    type(grid_index_t) :: block
 
     call exit_guard_install()
+    ! HDF5 starts before MPI: started after MPI_Init, parallel HDF5 would
+    ! close itself inside MPI_Finalize, which crashes on a file whose close
+    ! failed (a full disk) instead of leaving it to the OS (`hdf5_stop`)
+    call hdf5_start(err)
+    call parallel_start(sch%pc)
+    ! one rank speaks for all (each reads the deck and finds the same problems)
+    sch%log%quiet = sch%pc%rank /= 0
     call sch%t_total%start()
     call sch%t_setup%start()
     call config_read(deck_path, cfg, problems)
+    if (size(problems) == 0) call parallel_refusals(cfg, sch%pc%nranks, problems)
     if (size(problems) > 0) call refuse(sch%log, problems, 'the deck has '//itoa(size(problems))// &
                                         ' problem(s); nothing was run')
     sch%restarting = len_trim(cfg%control%restart_from) > 0
@@ -55,8 +67,14 @@ contains
       call check_restart_deck(cfg, problems, summary)
       if (size(problems) > 0) call refuse(sch%log, problems, summary)
     end if
-    call open_outputs(cfg, sch, err)
-    if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err)
+    if (.not. allocated(err)) call open_outputs(cfg, sch, err)
+    call agree_error(sch%pc, err)
+    if (.not. allocated(err)) call parallel_blocks(cfg, sch%pc, block, st%halo, err)
+    if (.not. allocated(err) .and. sch%pc%nranks > 1) &
+      call log_line(sch%log, 'run: '//itoa(sch%pc%nranks)//' MPI ranks, blocks '//itoa(sch%pc%dims(1))//' x '// &
+                    itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
+    if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
+    call agree_error(sch%pc, err)
     if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
     if (.not. allocated(err)) call euler_init(cfg%rezone, st, es, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
@@ -121,7 +139,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
     real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap
-    integer :: bad_cell, bad_particle
+    integer :: bad_cell, bad_particle, report
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
@@ -140,13 +158,15 @@ contains
         call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell, &
                             dt_particle=sch%dt_particle)
       else
-        call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell)
+        call lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=sch%dt_cell, &
+                           halo=st%halo)
       end if
       call sch%t_lagrange%stop()
       sch%step_wall = wall_seconds() - w0
       sch%dt_by_cell = dt < dt_cap .and. sch%dt_particle == 0
-      if (bad_cell /= 0) call error_set(err, 'lagrange_step', 'cell '//itoa(bad_cell)// &
+      if (bad_cell > 0) call error_set(err, 'lagrange_step', 'cell '//itoa(st%g%global_cell(bad_cell))// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
+      if (bad_cell /= 0) call agree_error(sch%pc, err)   ! (-1: on another rank)
       if (.not. allocated(err) .and. bad_particle /= 0) call error_set(err, 'particles_step', 'particle '// &
         itoa(bad_particle)//' (id '//itoa(st%pt%id(bad_particle))//') has an inverted host cell or a '// &
         'non-positive volume at t = '//rtoa(st%t), ERR_RUNTIME)
@@ -183,8 +203,11 @@ contains
         call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
       wall_now = wall_seconds()
+      ! (the ranks agree on a progress line: it sums over all of them)
+      report = merge(1, 0, wall_now - wall_last >= cfg%control%progress_seconds)
+      if (sch%pc%nranks > 1) call st%halo%max_int(report)
       if ((cfg%control%progress_steps > 0 .and. mod(st%step, max(cfg%control%progress_steps, 1)) == 0) .or. &
-          wall_now - wall_last >= cfg%control%progress_seconds .or. last) then
+          report == 1 .or. last) then
         call progress(cfg, st, sch, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
         wall_last = wall_now
@@ -265,7 +288,7 @@ contains
       line(1) = err%msg   ! assigned: gfortran 12 overruns a typed constructor of a longer string
       call refuse(sch%log, line, err%where)
     end if
-    call log_error(sch%log, 'FATAL [rank 0, step '//itoa(st%step)//'] '//err%where//': '//err%msg)
+    call log_error(sch%log, 'FATAL [rank '//itoa(err%rank)//', step '//itoa(st%step)//'] '//err%where//': '//err%msg)
     if (st%ready .and. allocated(sch%out%dir)) then
       call state_totals(st)
       call frame_out(cfg, st, sch, path, err2)
@@ -291,7 +314,7 @@ contains
     call report_conservation(st, sch%log, 'final')
     rate = 0.0_wp
     if (sch%t_lagrange%total > 0.0_wp) &
-      rate = real(st%g%ncell, wp)*real(st%step - sch%step_start, wp)/sch%t_lagrange%total
+      rate = real(product(st%g%gn), wp)*real(st%step - sch%step_start, wp)/sch%t_lagrange%total
     write(line, '("timers [s]: setup ",f9.3,"  lagrange ",f9.3,"  euler ",f9.3,"  output ",f9.3,"  total ",f9.3)') &
       sch%t_setup%total, sch%t_lagrange%total, es%timer%total, sch%t_output%total, sch%t_total%total
     call log_line(sch%log, trim(line))

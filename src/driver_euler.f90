@@ -140,7 +140,7 @@ contains
     call es%timer%start()
     par%linear = trim(rz%reconstruction) == 'linear'
     par%mof_max_iter = rz%mof_max_iter
-    call hydro_totals(st%h, m0, p0, ie0, ke0)
+    call hydro_totals(st%g, st%h, st%halo, m0, p0, ie0, ke0)
     pscale = 0.0_wp
     do n = 1, st%g%nnode
       pscale = pscale + st%h%mnode(n)*norm2(st%h%u(:, n))
@@ -213,7 +213,7 @@ contains
 
     ! what came in and went out through open faces is external work
     st%tot%boundary_work = st%tot%boundary_work + rs%energy_in - rs%energy_out
-    call hydro_totals(st%h, m1, p1, ie1, ke1)
+    call hydro_totals(st%g, st%h, st%halo, m1, p1, ie1, ke1)
     m1 = m1 - rs%mass_in + rs%mass_out
     ie1 = ie1 - rs%energy_in + rs%energy_out
     dp = p1 - p0 + rs%momentum_constrained - rs%momentum_in + rs%momentum_out

@@ -7,6 +7,7 @@ module driver_halt
   use base_errors, only: error_exit_status, ERR_INPUT
   use io_log, only: log_t, log_error, log_close
   use base_exit, only: exit_planned
+  use parallel_comm, only: parallel_stop
   implicit none
   private
   public :: halt, refuse, EXIT_WALL_TIME
@@ -21,6 +22,9 @@ contains
     integer, intent(in) :: status
     call log_close(log)
     call exit_planned()
+    ! (every rank halts together: after a refusal every rank found the same
+    ! problems, and failures are agreed first, `driver_parallel`)
+    call parallel_stop()
     ! F2008 wants a constant stop code
     select case (status)
     case (0); stop

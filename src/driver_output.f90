@@ -14,12 +14,17 @@ module driver_output
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
                        units_pressure
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
-  use io_hdf5, only: hdf5_start, hdf5_version
+  use io_hdf5, only: hdf5_version
   use strength_models, only: strength_fields
   use io_files, only: io_make_dirs
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
   use driver_config, only: config_t
+  use parallel_comm, only: comm_t, parallel_nomem
+  use parallel_gather, only: gather_cells, gather_nodes
+  use driver_parallel, only: agree_error
+  use mesh_grid, only: grid_t, grid_index
+  use lagrange_state, only: hydro_t, hydro_allocate
   use driver_state, only: state_t, state_totals, energy_drift
   implicit none
   private
@@ -30,6 +35,7 @@ module driver_output
   !> The output schedule and bookkeeping of this run segment.
   type :: schedule_t
     type(log_t) :: log
+    type(comm_t) :: pc                             !< the MPI ranks (one without mpirun)
     type(output_t) :: out                          !< frame names and times
     type(gauges_t) :: gauges
     real(wp) :: t_next_frame = 0.0_wp, t_next_gauge = 0.0_wp, t_next_dump = 0.0_wp
@@ -92,6 +98,10 @@ contains
 
     dir = trim(cfg%output%dir)
     base = trim(cfg%output%name)
+    sch%out%dir = dir
+    sch%out%name = base
+    ! rank 0 writes the log and the files of the whole grid
+    if (sch%pc%rank /= 0) return
     call io_make_dirs(dir, err)
     if (allocated(err)) return
     msg = ''
@@ -105,10 +115,7 @@ contains
     call log_line(sch%log, 'deck: '//cfg%deck_path)
     call log_line(sch%log, 'resolved input:')
     call log_line(sch%log, cfg%echo)
-    sch%out%dir = dir
-    sch%out%name = base
-    call hdf5_start(err)
-    if (.not. allocated(err) .and. .not. sch%restarting) call open_histories(cfg, sch, .false., err)
+    if (.not. sch%restarting) call open_histories(cfg, sch, .false., err)
     if (allocated(err)) err%category = ERR_IO
   end subroutine open_outputs
 
@@ -426,12 +433,65 @@ contains
       end do
       call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
                         meta, path, err, pt=st%pt, pnames=[character(len=16) :: strength_fields, 'failed'], pfields=pfld)
+    else if (sch%pc%nranks > 1) then
+      call frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, path, err)
     else
       call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
                         meta, path, err, pt=st%pt)
     end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
+
+  !> The frame of a decomposed run: the blocks' owned nodes and cells
+  !> gathered on rank 0, which writes them as the frame of a single block
+  !> (the same file as on one rank; path is '' on the other ranks).
+  subroutine frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, path, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(in) :: st
+    type(schedule_t), intent(inout) :: sch
+    integer, intent(in) :: cellmat(:)
+    character(len=*), intent(in) :: names(:), units(:), owner(:)
+    real(wp), intent(in) :: fld(:, :)
+    type(frame_meta_t), intent(in) :: meta
+    character(len=:), allocatable, intent(out) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: a(:, :), wn(:, :), wc(:, :)
+    type(grid_t) :: gw
+    type(hydro_t) :: hw
+    integer :: nf, c, stat
+
+    nf = size(fld, 2)
+    allocate(a(6, st%g%nnode), stat=stat)
+    call parallel_nomem(stat, 'frame_gathered')
+    a(1:3, :) = st%g%x
+    a(4:6, :) = st%h%u
+    call gather_nodes(sch%pc, st%g%grid_index_t, a, wn)
+    deallocate(a)
+    allocate(a(7 + nf, st%g%ncell), stat=stat)
+    call parallel_nomem(stat, 'frame_gathered')
+    do c = 1, st%g%ncell
+      a(1:7, c) = [st%h%rho(c), st%h%p(c), st%h%e(c), st%h%cs(c), st%h%q(c), st%h%vol(c), real(cellmat(c), wp)]
+      a(8:, c) = fld(c, :)
+    end do
+    call gather_cells(sch%pc, st%g%grid_index_t, a, wc)
+    path = ''
+    if (sch%pc%rank /= 0) return
+    gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
+    gw%xmin = st%g%xmin
+    gw%xmax = st%g%xmax
+    gw%x = wn(1:3, :)
+    call hydro_allocate(hw, gw%ncell, gw%nnode, err)
+    if (allocated(err)) return
+    hw%u = wn(4:6, :)
+    hw%rho = wc(1, :)
+    hw%p = wc(2, :)
+    hw%e = wc(3, :)
+    hw%cs = wc(4, :)
+    hw%q = wc(5, :)
+    hw%vol = wc(6, :)
+    call output_frame(sch%out, gw, hw, nint(wc(7, :)), names, units, owner, transpose(wc(8:, :)), st%t, st%step, &
+                      st%tot, cfg%echo, meta, path, err, pt=st%pt)
+  end subroutine frame_gathered
 
   !> Updates the totals, writes a frame and logs it.
   subroutine write_frame(cfg, st, sch, err)
@@ -443,6 +503,7 @@ contains
     call sch%t_output%start()
     call state_totals(st)
     call frame_out(cfg, st, sch, path, err)
+    call agree_error(sch%pc, err)
     call sch%t_output%stop()
     if (.not. allocated(err)) call log_line(sch%log, 'frame '//path//' at t = '//rtoa(st%t))
   end subroutine write_frame

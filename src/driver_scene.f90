@@ -8,7 +8,8 @@ module driver_scene
   use base_errors, only: error_t, error_set, ERR_INPUT
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
-  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
+  use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes
+  use mesh_halo, only: halo_t
   use mesh_geometry, only: hex_volume, hex_natural, hex_natural_unclamped, cross
   use io_grid_file, only: grid_file_read
   use io_gauges, only: gauge_locate
@@ -36,11 +37,12 @@ contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
   !> masses (first term of Eq. 16) and boundary lists.
-  subroutine build_scene(cfg, st, log, err)
+  subroutine build_scene(cfg, st, log, err, block)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
+    type(grid_index_t), intent(in), optional :: block
     integer :: m, c, n, a, r, s, ijk(3), stat
     type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), rv, xi(3)
@@ -49,7 +51,7 @@ contains
 
     associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
       if (len_trim(gc%file) == 0) then
-        call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err)
+        call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)
       else
         ! (the deck reader checked the file; read again, it is checked again)
         call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
@@ -102,14 +104,19 @@ contains
         end do
       end if
       ! energy sources: added to the cell that contains the point (on a box
-      ! grid the cell of index int((p - xmin)/h) + 1, a point on a face going
-      ! to the cell above it; on a grid from a file, the cell found by the
-      ! gauges' search, which must contain the point)
+      ! grid the cell of global index int((p - xmin)/h) + 1, a point on a
+      ! face going to the cell above it, on every block that stores it; on a
+      ! grid from a file, the cell found by the gauges' search, which must
+      ! contain the point)
       h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
       do s = 1, size(cfg%sources)
         if (len_trim(gc%file) == 0) then
           ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
           ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
+          call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
+                        ' deposited in cell '//itoa(ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))))
+          ijk = ijk - g%off
+          if (any(ijk < g%slo .or. ijk > g%shi)) cycle
           c = g%cell(ijk(1), ijk(2), ijk(3))
         else
           call gauge_locate(g, cfg%sources(s)%position, 1, c, xi)
@@ -120,6 +127,8 @@ contains
                            'file '''//trim(gc%file)//'''', ERR_INPUT)
             return
           end if
+          call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
+                        ' deposited in cell '//itoa(c))
         end if
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
         if (hy%mat(c) < 0) then
@@ -129,8 +138,6 @@ contains
               mx%e(mx%start(k):mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
           end associate
         end if
-        call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
-                      ' deposited in cell '//itoa(c))
       end do
 
       call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)

@@ -10,6 +10,7 @@ module driver_state
   use material_table, only: material_t
   use material_mixed, only: mixed_t, mixed_register_restart
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
+  use mesh_halo, only: halo_t
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
   use particles_lagrange, only: particles_work_t, particles_nodal_mass
@@ -34,6 +35,7 @@ module driver_state
     type(rng_t) :: rng
     real(wp) :: rng_bits = 0.0_wp         !< rng state as stored in restarts
     logical :: ready = .false.            !< complete enough to be written
+    class(halo_t), allocatable :: halo    !< this block's halo and global reductions (`mesh_halo`)
   end type state_t
 
 contains
@@ -58,7 +60,7 @@ contains
   subroutine state_totals(st)
     type(state_t), intent(inout) :: st
     integer :: n
-    call hydro_totals(st%h, st%tot%mass, st%tot%momentum, st%tot%internal, st%tot%kinetic)
+    call hydro_totals(st%g, st%h, st%halo, st%tot%mass, st%tot%momentum, st%tot%internal, st%tot%kinetic)
     st%tot%particle_internal = 0.0_wp
     if (.not. allocated(st%pw%mp)) return
     if (.not. st%pw%mass_ready) then

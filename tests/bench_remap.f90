@@ -46,6 +46,7 @@ program bench_remap
   use mesh_boundary, only: bc_t, bc_init
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
+  use mesh_halo, only: halo_t
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_max_iter_default
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
@@ -316,7 +317,7 @@ contains
       h%u(:, nn) = u_field(xold(:, nn))
     end do
 
-    call hydro_totals(h, m0, p0, ie0, ke0)
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     pscale = 0.0_wp
     do nn = 1, g%nnode
       pscale = pscale + h%mnode(nn)*norm2(h%u(:, nn))
@@ -328,7 +329,7 @@ contains
     call cpu_time(tcpu)
     tcpu = tcpu - c0
     call stop_on(e)
-    call hydro_totals(h, m1, p1, ie1, ke1)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     ! momentum: what the symmetry conditions removed at the boundary nodes
     ! does not count, and the scale is sum m|u| (the total is near zero)
     change = [abs(m1 - m0)/m0, norm2(p1 - p0 + stats%momentum_constrained)/pscale, &

@@ -18,6 +18,7 @@ program test_lagrange
   use mesh_boundary, only: bc_t, bc_init, bc_constrain, BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t
+  use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, &
                             VISC_EDGE, VISC_TENSOR
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
@@ -185,11 +186,11 @@ contains
       else
         call build(22, 0.3_wp, 0.5_wp, [(BC_PRESSURE, f = 1, 6)], 0.7_wp)
       end if
-      call hydro_totals(h, m0, p0, ie0, ke0)
+      call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
       dt = huge(1.0_wp)
       call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad)
       call check(bad == 0, 'energy balance: step valid')
-      call hydro_totals(h, m1, p1, ie1, ke1)
+      call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
       call check_close(merge('energy balance, walls: dE - work   ', 'energy balance, pressure: dE - work', kind == 1), &
                        (ie1 + ke1) - (ie0 + ke0) - work, 0.0_wp, 1.0e3_wp*eps*(ie0 + ke0))
       if (kind == 2) call check(abs(work) > 1.0e3_wp*eps*(ie0 + ke0), 'the pressure faces do work')
@@ -217,11 +218,11 @@ contains
           h%u(:, i) = h%u(:, i) + ushift
         end do
       end if
-      call hydro_totals(h, m0, p0, ie0, ke0)
+      call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
       dt = 0.5_wp*dt0
       call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad)
       call check(bad == 0 .and. abs(dt - 0.5_wp*dt0) <= 0.0_wp, 'galilean: step valid, same dt')
-      call hydro_totals(h, m1, p1, ie1, ke1)
+      call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
       die(run) = ie1 - ie0
       if (run == 1) u1 = h%u
     end do
@@ -306,12 +307,12 @@ contains
     call check_close('extra force: max |u (m + m_ext)/dt - f| / |f|', worst, 0.0_wp, 1.0e3_wp*eps)
 
     ! energy accounting over a full-size step from the current state
-    call hydro_totals(h, m0, p0, ie0, ke0)
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     kx0 = ext_kinetic(m_ext)
     dt = 0.5_wp*dt0
     call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad, f_ext=f_ext, m_ext=m_ext, work_ext=wext)
     call check(bad == 0, 'extra force: full step valid')
-    call hydro_totals(h, m1, p1, ie1, ke1)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     kx1 = ext_kinetic(m_ext)
     call check(abs(wext) > 1.0e3_wp*eps*(ie0 + ke0 + kx0), 'extra force: f_ext does work')
     call check_close('extra force: dE (kinetic with m + m_ext) - work - work_ext', &

@@ -14,6 +14,7 @@ program test_remap_euler
   use mesh_geometry, only: hex_volume, hex_natural
   use mesh_boundary, only: bc_t
   use material_mixed, only: mixed_t, mixed_allocate
+  use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume
@@ -40,7 +41,7 @@ program test_remap_euler
 
   ! 1. constant density and energy, uniform velocity: kept exactly
   call setup(xa, 'constant')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
   call check(.not. allocated(err), 'remap of a uniform state runs')
   call check(maxval(abs(h%rho - 2.0_wp)) < 1e-13_wp, 'constant density kept')
@@ -58,12 +59,12 @@ program test_remap_euler
   ! limiter may cut a gradient: boundary nodes lie outside the range of the
   ! neighbouring centroids)
   call setup(xa, 'linear')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   t0 = wall_seconds()
   call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
   write(*, '(a,f9.2,a)') 'remap: ', 1.0e6_wp*(wall_seconds() - t0)/nc, ' us per cell (this build)'
   call check(.not. allocated(err), 'remap of a linear state runs')
-  call hydro_totals(h, m1, p1, ie1, ke1)
+  call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
   write(*, '(a,3es10.2)') 'linear state: relative change of mass, momentum, energy: ', &
     abs(m1 - m0)/m0, norm2(p1 - p0)/norm2(p0), abs(ie1 + ke1 - ie0 - ke0)/(ie0 + ke0)
   call check(abs(m1 - m0) <= 1e-13_wp*m0, 'mass conserved to 1e-13')
@@ -84,7 +85,7 @@ program test_remap_euler
   ! fractions are the plane's exact cuts of the new cells; each material's
   ! mass is conserved
   call setup(xa, 'plane')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   call material_masses(ma0, mb0)
   call remap_euler_step(g, h, mx, 2, bc, xb, par, st, err)
   call check(.not. allocated(err), 'remap of two materials runs')
@@ -97,7 +98,7 @@ program test_remap_euler
   err_max = plane_error()
   write(*, '(a,es10.3)') 'plane: largest volume-fraction error of a new cell ', err_max
   call check(err_max < 1e-9_wp, 'new volume fractions are the exact cuts of the plane')
-  call hydro_totals(h, m1, p1, ie1, ke1)
+  call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
   call check(abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'two materials: total energy conserved')
 
   ! 4. only some nodes move: cells away from them are copied bit for bit and
@@ -125,9 +126,9 @@ program test_remap_euler
   call make_grid(xb, 23, 0.0_wp)
   call cell_moments(ni, nj, nk, xb, vb, cb)
   call setup(xa, 'linear')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   call remap_euler_step(g, h, mx, 1, bc, xb, par, st, err)
-  call hydro_totals(h, m1, p1, ie1, ke1)
+  call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
   call check(.not. allocated(err) .and. abs(m1 - m0) <= 1e-13_wp*m0 .and. norm2(p1 - p0) <= 1e-13_wp*norm2(p0) .and. &
              abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'to the box grid: conservation to 1e-13')
   err_max = 0.0_wp

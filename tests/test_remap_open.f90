@@ -23,6 +23,7 @@ program test_remap_open
   use mesh_geometry, only: hex_volume
   use mesh_boundary, only: bc_t, bc_init, BC_SYMMETRY, BC_WALL, BC_OUTFLOW
   use material_mixed, only: mixed_t
+  use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
@@ -47,11 +48,11 @@ program test_remap_open
   xold = x0
   xold(1, :) = 0.75_wp*x0(1, :)
   call setup(BC_OUTFLOW, 'uniform')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   call remap_euler_step(g, h, mx, 1, bc, x0, par, st, err)
   call check(.not. allocated(err), 'gap 2.5 cells deep at an outflow face: remapped')
   if (allocated(err)) write(*, '(a)') 'message: '//err%msg
-  call hydro_totals(h, m1, p1, ie1, ke1)
+  call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
   write(*, '(a,es12.5,a,es12.5,a,i0)') 'gap: mass in ', st%mass_in, ' (rho V_gap ', 2.0_wp*0.25_wp*area, &
     '), window ', st%reach
   call check(abs(st%mass_in - 2.0_wp*0.25_wp*area) <= 1.0e-13_wp, 'gap: what came in is rho V_gap')
@@ -86,11 +87,11 @@ program test_remap_open
   xold = x0
   xold(1, :) = 1.25_wp*x0(1, :)
   call setup(BC_OUTFLOW, 'uniform')
-  call hydro_totals(h, m0, p0, ie0, ke0)
+  call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
   call remap_euler_step(g, h, mx, 1, bc, x0, par, st, err)
   call check(.not. allocated(err), '2.5 cells of old grid beyond an outflow face: remapped')
   if (allocated(err)) write(*, '(a)') 'message: '//err%msg
-  call hydro_totals(h, m1, p1, ie1, ke1)
+  call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
   write(*, '(a,es12.5,a,es12.5,a)') 'beyond: mass out ', st%mass_out, ' (rho V_beyond ', 2.0_wp*0.25_wp*area, ')'
   call check(abs(st%mass_out - 2.0_wp*0.25_wp*area) <= 1.0e-13_wp .and. .not. st%mass_in > 0.0_wp, &
              'beyond: what left is rho V_beyond')
@@ -194,11 +195,11 @@ contains
       ! a shear flow along x
       h%u(:, n) = [-1.0_wp - 0.5_wp*sin(7.0_wp*xold(1, n))*cos(9.0_wp*xold(2, n) + 5.0_wp*xold(3, n)), 0.0_wp, 0.0_wp]
     end do
-    call hydro_totals(h, m0, p0, ie0, ke0)
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call remap_euler_step(g, h, mx, 1, bc, x0, par, st, err)
     call check(.not. allocated(err), 'cold gas: remapped')
     if (allocated(err)) write(*, '(a)') 'message: '//err%msg
-    call hydro_totals(h, m1, p1, ie1, ke1)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     write(*, '(a,i0,a,es10.3,a,es10.3,a,es10.3,a,es10.3)') 'cold gas: deficits of ', st%cells_deficit, &
       ' cells (', st%deficit_moved, ') moved, ', st%deficit_by_mass, ' by mass; smallest energy ', minval(h%e), &
       ', energy change ', (ie1 + ke1 - ie0 - ke0)/(ie0 + ke0)

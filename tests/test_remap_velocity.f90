@@ -14,6 +14,7 @@ program test_remap_velocity
   use mesh_geometry, only: hex_volume
   use mesh_boundary, only: bc_t
   use material_mixed, only: mixed_t
+  use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   implicit none
@@ -88,10 +89,10 @@ contains
         end do
       end do
     end do
-    call hydro_totals(h, m0, p0, ie0, ke0)
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call remap_euler_step(g, h, mx, 1, bc, xnew, par, st, err)
     call check(.not. allocated(err), 'remap runs')
-    call hydro_totals(h, m1, p1, ie1, ke1)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     cons = [norm2(p1 - p0)/norm2(p0), abs(ie1 + ke1 - ie0 - ke0)/(ie0 + ke0)]
     err_max = 0.0_wp
     do kk = 0, 1

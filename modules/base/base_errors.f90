@@ -19,6 +19,7 @@ module base_errors
     character(len=:), allocatable :: where
     character(len=:), allocatable :: msg
     integer :: category = ERR_RUNTIME
+    integer :: rank = 0                  !< the MPI rank where it happened
   end type error_t
 
 contains

@@ -14,6 +14,7 @@ module io_log
   !> An open (or not yet open) log file.
   type :: log_t
     integer :: unit = -1
+    logical :: quiet = .false.   !< write nothing (an MPI rank other than 0)
   end type log_t
 
 contains
@@ -47,6 +48,7 @@ contains
   subroutine log_line(log, text)
     type(log_t), intent(in) :: log
     character(len=*), intent(in) :: text
+    if (log%quiet) return
     write(output_unit, '(a)') text
     flush(output_unit)
     if (log%unit /= -1) then
@@ -59,6 +61,7 @@ contains
   subroutine log_error(log, text)
     type(log_t), intent(in) :: log
     character(len=*), intent(in) :: text
+    if (log%quiet) return
     write(error_unit, '(a)') text
     flush(error_unit)
     if (log%unit /= -1) then

@@ -144,11 +144,13 @@ contains
   end subroutine strain_principal
 
   !> The cell at logical offset off from cell c = (ilog), or c itself where
-  !> that leaves the owned cells (a mirror neighbour, as at a symmetry plane).
+  !> that leaves the stored cells (a mirror neighbour, as at a symmetry plane;
+  !> ghosts are stored two deep, so an owned cell and the ghost layer next
+  !> to it find their neighbours).
   pure integer function neighbour(g, c, ilog, off)
     type(grid_t), intent(in) :: g
     integer, intent(in) :: c, ilog(3), off(3)
-    if (any(ilog + off < g%clo) .or. any(ilog + off > g%chi)) then
+    if (any(ilog + off < g%slo) .or. any(ilog + off > g%shi)) then
       neighbour = c
     else
       neighbour = g%cell(ilog(1) + off(1), ilog(2) + off(2), ilog(3) + off(3))
@@ -271,12 +273,12 @@ contains
     dt_loc = huge(1.0_wp)
     c_loc = 0
     !$omp do collapse(2) schedule(static)
-    do ck = g%clo(3), g%chi(3)
-    do cj = g%clo(2), g%chi(2)
+    do ck = g%slo(3), g%shi(3)
+    do cj = g%slo(2), g%shi(2)
     ! consecutive i are consecutive cells and nodes
-    c = g%cell(g%clo(1), cj, ck) - 1
-    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
-    do ci = g%clo(1), g%chi(1)
+    c = g%cell(g%slo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%slo(1), cj, ck) - 1
+    do ci = g%slo(1), g%shi(1)
       c = c + 1
       n0 = n0 + 1
       do e = 1, 8
@@ -304,6 +306,10 @@ contains
       if (abs(div) > 2.0_wp*par%dv_max/huge(1.0_wp)) then
         dtc = min(dtc, par%dv_max/abs(div))
         if (h%mat(c) < 0 .and. div < 0.0_wp) dtc = min(dtc, par%dv_max/(h%gain(c)*abs(div)))
+      end if
+      ! (the step of a ghost cell is its owner's to take)
+      if (g%ng > 0) then
+        if (.not. g%owns_cell(ci, cj, ck)) cycle
       end if
       if (dtc < dt_loc) c_loc = c
       dt_loc = min(dt_loc, dtc)
@@ -345,7 +351,9 @@ contains
     real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div, sc
     real(wp), target :: one(1)
     real(wp), pointer :: scale(:)
-    integer :: sstride
+    integer :: sstride, lo(3), hi(3)
+    ! the owned cells and one ghost layer: every cell around an owned node
+    call g%cells_around(1, lo, hi)
     ! (without vscale every cell reads the one factor 1)
     one = 1.0_wp
     scale => one
@@ -357,16 +365,16 @@ contains
 
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
-    !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride) collapse(2) &
+    !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride, lo, hi) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div, sc) &
     !$omp schedule(static, 1)
-    do ck = g%clo(3), g%chi(3)
-    do cj = g%clo(2), g%chi(2)
+    do ck = lo(3), hi(3)
+    do cj = lo(2), hi(2)
     ! consecutive i are consecutive cells and nodes
-    c = g%cell(g%clo(1), cj, ck) - 1
-    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
-    do ci = g%clo(1), g%chi(1)
+    c = g%cell(lo(1), cj, ck) - 1
+    n0 = g%cell_node0(lo(1), cj, ck) - 1
+    do ci = lo(1), hi(1)
       c = c + 1
       n0 = n0 + 1
       do a = 1, 8

@@ -12,6 +12,8 @@
 module lagrange_integrator
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
+  use mesh_halo, only: halo_t
+  use base_xsum, only: xsum_t, xsum_value
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
   use material_table, only: material_t, material_eval_eos
@@ -45,7 +47,12 @@ contains
   !> caller allows (end time, output times, growth limit); on exit it is the
   !> step taken: the smaller of that and the stable step. `work` returns the
   !> work done by the boundaries; `bad_cell` is the first cell whose volume
-  !> became non-positive (0 if none), in which case the state is not usable.
+  !> became non-positive (0 if none; -1 if only another block has one), in
+  !> which case the state is not usable.
+  !> With `halo` (a block of an MPI decomposition) the ghost nodes are
+  !> refreshed after each stage's node update and the outer ghost cells'
+  !> energy after its cell update; the stable step, the boundary work and a
+  !> tangled cell are agreed over all blocks.
   !> `dt_cell` (optional) returns the cell whose stable step is the smallest
   !> (lowest index on a tie; 0 if none), whether or not that step was taken:
   !> the step was limited by it when `dt` came back smaller than it went in.
@@ -95,7 +102,7 @@ contains
   !> follow from them and the new fractions are computed where they are
   !> read (`lagrange_centroids`).
   subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell, pt, pw, &
-                           bad_particle, work_vf)
+                           bad_particle, work_vf, halo)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -113,8 +120,10 @@ contains
     type(particles_work_t), intent(inout), optional :: pw
     integer, intent(out), optional :: bad_particle
     real(wp), intent(out), optional :: work_vf
+    class(halo_t), intent(in), optional :: halo
     real(wp) :: dt_stable, w_pred, w_vf
-    integer :: badp
+    integer :: badp, dtc
+    type(xsum_t) :: wacc(1)
 
     if (present(pt) .and. present(pw)) then
       call particle_step(pt, pw)
@@ -124,7 +133,9 @@ contains
     if (present(work_ext)) work_ext = 0.0_wp
     ! predictor
     call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
-    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
+    call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dtc)
+    if (present(halo)) call halo%min_step(dt_stable, dtc)
+    if (present(dt_cell)) dt_cell = dtc
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
@@ -132,23 +143,52 @@ contains
     call lagrange_corner_forces(g, g%x, h%u, h, par)
     call update_nodes(g, h, dt, 0.5_wp*dt, f_ext, m_ext)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, m_ext)
+    call halo_nodes()
     ! the geometry of x^{1/2} (volumes, their gradients, median areas, strain
     ! rates for u*^{1/2}) is computed here once, for the densities and for the
     ! corrector
     call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
+    call agree_bad()
     if (bad_cell /= 0) return
+    if (present(halo)) call halo%cells(h%e)
     call update_materials(h, mats, mx, par)
 
     ! corrector
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%uh, h, par)
     call update_nodes(g, h, dt, dt, f_ext, m_ext)
-    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext)
+    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext, wacc(1))
+    if (present(halo)) then
+      call halo%sums(wacc)
+      work = xsum_value(wacc(1))
+    end if
+    call halo_nodes()
     if (present(f_ext) .and. present(work_ext)) work_ext = dt*node_work(f_ext, h%uh)
     call lagrange_update_cells(g, h, dt, bad_cell)
+    call agree_bad()
     if (bad_cell /= 0) return
+    if (present(halo)) call halo%cells(h%e)
     call update_materials(h, mats, mx, par)
   contains
+    !> Ghost nodes from the neighbouring blocks: positions, new and
+    !> half-step velocities of the stage just taken.
+    subroutine halo_nodes()
+      if (.not. present(halo)) return
+      call halo%nodes(g%x)
+      call halo%nodes(h%u)
+      call halo%nodes(h%uh)
+    end subroutine halo_nodes
+
+    !> Every block stops where one found a tangled cell: bad_cell = -1 on
+    !> the blocks that did not.
+    subroutine agree_bad()
+      integer :: k
+      if (.not. present(halo)) return
+      k = merge(1, 0, bad_cell /= 0)
+      call halo%max_int(k)
+      if (k /= 0 .and. bad_cell == 0) bad_cell = -1
+    end subroutine agree_bad
+
     !> The step with coupled particles (notes above).
     subroutine particle_step(pt, pw)
       type(particles_t), intent(in) :: pt
@@ -283,7 +323,9 @@ contains
 
   !> Sum of the corner forces fc(3,8,ncell) of the cells around node (i,j,k)
   !> of grid g (force); c0 is cell (i+1, j+1, k+1), used only where all
-  !> eight cells are owned.
+  !> eight cells are stored. The order of the terms is the same wherever the
+  !> node lies in its block, so a node on a face between two blocks gets the
+  !> same sum from both.
   pure function node_force(g, fc, i, j, k, c0) result(f)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: fc(:, :, :)
@@ -291,8 +333,8 @@ contains
     real(wp) :: f(3)
     integer :: ii, jj, kk, ci, cj, ck, sj, sk
 
-    if (i > g%nlo(1) .and. i < g%nhi(1) .and. j > g%nlo(2) .and. j < g%nhi(2) .and. &
-        k > g%nlo(3) .and. k < g%nhi(3)) then
+    if (i >= g%slo(1) .and. i < g%shi(1) .and. j >= g%slo(2) .and. j < g%shi(2) .and. &
+        k >= g%slo(3) .and. k < g%shi(3)) then
       ! interior node: all eight cells exist (same order as below)
       sj = g%cx
       sk = g%cxy
@@ -304,13 +346,13 @@ contains
       ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
       do kk = 0, 1
         ck = k + 1 - kk
-        if (ck < g%clo(3) .or. ck > g%chi(3)) cycle
+        if (ck < g%slo(3) .or. ck > g%shi(3)) cycle
         do jj = 0, 1
           cj = j + 1 - jj
-          if (cj < g%clo(2) .or. cj > g%chi(2)) cycle
+          if (cj < g%slo(2) .or. cj > g%shi(2)) cycle
           do ii = 0, 1
             ci = i + 1 - ii
-            if (ci < g%clo(1) .or. ci > g%chi(1)) cycle
+            if (ci < g%slo(1) .or. ci > g%shi(1)) cycle
             f = f + fc(:, 1 + ii + 2*jj + 4*kk, g%cell(ci, cj, ck))
           end do
         end do
@@ -378,7 +420,10 @@ contains
 
   !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
   !> then new volume and density of every cell. bad_cell > 0 names the first
-  !> cell with a non-positive volume. With `geometry` (default false), also
+  !> owned cell with a non-positive volume. In a block with ghosts the energy
+  !> is updated where the corner forces are known (`cells_around(1)`), the
+  !> geometry in every stored cell; the outer ghost layer's energy comes
+  !> from the halo. With `geometry` (default false), also
   !> leaves the geometry of the new positions and the strain rates of the
   !> half-step velocity h%uh in h (h%dvdx, h%sarea, h%area, h%grad), as
   !> `lagrange_strain_rates` would for (g%x, h%uh), so that the forces of the
@@ -391,29 +436,33 @@ contains
     real(wp), intent(in) :: dte
     integer, intent(out) :: bad_cell
     logical, intent(in), optional :: geometry
-    integer :: c, a, n0, ci, cj, ck
+    integer :: c, a, n0, ci, cj, ck, lo(3), hi(3)
     real(wp) :: de, xn(3, 8), vn(3, 8), dumax
-    logical :: geom
+    logical :: geom, forced
 
     geom = .false.
     if (present(geometry)) geom = geometry
+    ! the cells whose corner forces are known (owned and one ghost layer)
+    call g%cells_around(1, lo, hi)
     bad_cell = huge(1)
-    !$omp parallel do default(none) shared(g, h, dte, geom) private(c, a, n0, ci, cj, ck, de, xn, vn, dumax) &
+    !$omp parallel do default(none) shared(g, h, dte, geom, lo, hi) &
+    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, dumax, forced) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
-    do ck = g%clo(3), g%chi(3)
-    do cj = g%clo(2), g%chi(2)
+    do ck = g%slo(3), g%shi(3)
+    do cj = g%slo(2), g%shi(2)
     ! consecutive i are consecutive cells and nodes
-    c = g%cell(g%clo(1), cj, ck) - 1
-    n0 = g%cell_node0(g%clo(1), cj, ck) - 1
-    do ci = g%clo(1), g%chi(1)
+    c = g%cell(g%slo(1), cj, ck) - 1
+    n0 = g%cell_node0(g%slo(1), cj, ck) - 1
+    do ci = g%slo(1), g%shi(1)
       c = c + 1
       n0 = n0 + 1
+      forced = ci >= lo(1) .and. ci <= hi(1) .and. cj >= lo(2) .and. cj <= hi(2) .and. ck >= lo(3) .and. ck <= hi(3)
       de = 0.0_wp
       do a = 1, 8
-        de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
+        if (forced) de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
         xn(:, a) = g%x(:, n0 + g%corner_offset(a))
       end do
-      h%e(c) = h%en(c) + dte*de/h%mass(c)
+      if (forced) h%e(c) = h%en(c) + dte*de/h%mass(c)
       if (geom) then
         do a = 1, 8
           vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
@@ -426,7 +475,7 @@ contains
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
         if (geom) call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
-      else
+      else if (g%owns_cell(ci, cj, ck)) then
         bad_cell = min(bad_cell, c)
       end if
     end do

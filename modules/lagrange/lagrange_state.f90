@@ -14,6 +14,8 @@ module lagrange_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_t
+  use mesh_halo, only: halo_t
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_geometry, only: hex_subcell_volumes
   use base_registry, only: registry_t, LOC_NODE, LOC_CELL, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
@@ -129,20 +131,43 @@ contains
     end do
   end subroutine hydro_subcell_masses
 
-  !> Total mass, momentum, internal and kinetic energy.
-  subroutine hydro_totals(h, mass, momentum, internal, kinetic)
+  !> Total mass, momentum, internal and kinetic energy of the whole grid:
+  !> each term added exactly (`base_xsum`) over the owned cells and the
+  !> nodes the block counts, and the blocks' sums added by `halo`, so the
+  !> totals are the same numbers on any number of ranks and threads.
+  subroutine hydro_totals(g, h, halo, mass, momentum, internal, kinetic)
+    type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
+    class(halo_t), intent(in) :: halo
     real(wp), intent(out) :: mass, momentum(3), internal, kinetic
-    integer :: n
+    type(xsum_t) :: acc(6)
+    integer :: i, j, k, c, n, d
 
-    mass = sum(h%mass)
-    internal = dot_product(h%mass, h%e)
-    momentum = 0.0_wp
-    kinetic = 0.0_wp
-    do n = 1, size(h%mnode)
-      momentum = momentum + h%mnode(n)*h%u(:, n)
-      kinetic = kinetic + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          c = g%cell(i, j, k)
+          call xsum_add(acc(1), h%mass(c))
+          call xsum_add(acc(5), h%mass(c)*h%e(c))
+        end do
+      end do
     end do
+    do k = g%ulo(3), g%nhi(3)
+      do j = g%ulo(2), g%nhi(2)
+        do i = g%ulo(1), g%nhi(1)
+          n = g%node(i, j, k)
+          do d = 1, 3
+            call xsum_add(acc(1 + d), h%mnode(n)*h%u(d, n))
+          end do
+          call xsum_add(acc(6), 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n)))
+        end do
+      end do
+    end do
+    call halo%sums(acc)
+    mass = xsum_value(acc(1))
+    momentum = [xsum_value(acc(2)), xsum_value(acc(3)), xsum_value(acc(4))]
+    internal = xsum_value(acc(5))
+    kinetic = xsum_value(acc(6))
   end subroutine hydro_totals
 
   !> Registers the hydro state's restart fields (not the work arrays).

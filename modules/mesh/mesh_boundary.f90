@@ -10,6 +10,7 @@
 module mesh_boundary
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_grid, only: grid_t, FACE_XLO, FACE_YLO, FACE_ZLO
   use mesh_geometry, only: cross
   implicit none
@@ -42,6 +43,7 @@ module mesh_boundary
     integer :: nb = 0                     !< number of boundary nodes
     integer, allocatable :: node(:)       !< boundary node indices (nb)
     integer, allocatable :: mask(:)       !< bit f-1 set if the node lies on face f
+    logical, allocatable :: counted(:)    !< the node's work counts in this block's sum (`grid_counts_node`)
     integer, allocatable :: bindex(:)     !< node -> position in node(:), 0 inside (pressure only)
     logical :: any_pressure = .false.
     real(wp), allocatable :: fext(:, :)   !< external pressure force on boundary nodes (3, nb)
@@ -79,7 +81,7 @@ contains
         end do
       end do
     end do
-    allocate(bc%node(nb), bc%mask(nb), bc%fext(3, nb), stat=stat, errmsg=msg)
+    allocate(bc%node(nb), bc%mask(nb), bc%counted(nb), bc%fext(3, nb), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'bc_init', 'cannot allocate boundary lists: '//trim(msg))
       return
@@ -93,6 +95,7 @@ contains
           bc%nb = bc%nb + 1
           bc%node(bc%nb) = g%node(i, j, k)
           bc%mask(bc%nb) = m
+          bc%counted(bc%nb) = g%counts_node(i, j, k)
         end do
       end do
     end do
@@ -119,7 +122,7 @@ contains
     type(bc_t), intent(inout) :: bc
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), p(:)
-    integer :: f, axis, i1, i2, d1, d2, nq(4), q
+    integer :: f, axis, i1, i2, d1, d2, nq(4), q, lo(3), hi(3)
     real(wp) :: a(3), sgn, pext
 
     if (.not. bc%any_pressure) return
@@ -135,8 +138,12 @@ contains
       case (2); d1 = 1; d2 = 3
       case default; d1 = 1; d2 = 2
       end select
-      do i2 = g%nlo(d2), g%nhi(d2) - 1
-        do i1 = g%nlo(d1), g%nhi(d1) - 1
+      if (.not. on_face(g, f)) cycle
+      ! the quads of the owned cells and of one ghost layer around them:
+      ! every quad at an owned node
+      call g%cells_around(1, lo, hi)
+      do i2 = lo(d2) - 1, hi(d2) - 1
+        do i1 = lo(d1) - 1, hi(d1) - 1
           nq = quad_nodes(g, f, i1, i2)
           a = 0.5_wp*cross(x(:, nq(3)) - x(:, nq(1)), x(:, nq(4)) - x(:, nq(2)))
           if (sgn*a(axis) < 0.0_wp) a = -a
@@ -144,13 +151,26 @@ contains
           if (bc%kind(f) == BC_OUTFLOW) pext = p(quad_cell(g, f, i1, i2))
           do q = 1, 4
             associate (b => bc%bindex(nq(q)))
-              bc%fext(:, b) = bc%fext(:, b) - 0.25_wp*pext*a
+              if (b > 0) bc%fext(:, b) = bc%fext(:, b) - 0.25_wp*pext*a   ! (0: a ghost node)
             end associate
           end do
         end do
       end do
     end do
   end subroutine bc_pressure_forces
+
+  !> True if the block of g lies on face f of the whole grid.
+  pure logical function on_face(g, f)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: f
+    integer :: d
+    d = face_axis(f)
+    if (mod(f, 2) == 1) then
+      on_face = g%off(d) == 0
+    else
+      on_face = g%off(d) + g%nhi(d) == g%gn(d)
+    end if
+  end function on_face
 
   !> The four nodes (cyclic order) of boundary quad (i1,i2) on face f.
   pure function quad_nodes(g, f, i1, i2) result(nq)
@@ -220,22 +240,26 @@ contains
   !> Completes the node update on boundary nodes: adds the external pressure
   !> impulse, applies the kinematic conditions to u (new velocity), then
   !> recomputes the half-step velocity uh = (un+u)/2 and x = xn + dtx*uh.
-  !> Returns in `work` the work done on the system by the boundary over dt.
+  !> Returns in `work` the work done on the system by the boundary over dt
+  !> (at the nodes this block counts, `bc%counted`), summed exactly
+  !> (`base_xsum`; the sum itself in `work_acc` if present, for the blocks'
+  !> total).
   !> A node's mass is mnode, plus m_ext if present (particle mass carried by
   !> the node, see `lagrange_step`).
-  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work, m_ext)
+  subroutine bc_apply(bc, dt, dtx, mnode, un, xn, u, uh, x, work, m_ext, work_acc)
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: dt, dtx
     real(wp), intent(in) :: mnode(:), un(:, :), xn(:, :)
     real(wp), intent(inout) :: u(:, :), uh(:, :), x(:, :)
     real(wp), intent(out) :: work
     real(wp), intent(in), optional :: m_ext(:)
+    type(xsum_t), intent(out), optional :: work_acc
     integer :: b, n
     real(wp) :: unc(3), imp(3), m
     logical :: has_m
+    type(xsum_t) :: acc
 
     has_m = present(m_ext)
-    work = 0.0_wp
     do b = 1, bc%nb
       n = bc%node(b)
       m = mnode(n)
@@ -246,7 +270,9 @@ contains
       imp = m*(u(:, n) - unc)
       uh(:, n) = 0.5_wp*(un(:, n) + u(:, n))
       x(:, n) = xn(:, n) + dtx*uh(:, n)
-      work = work + dot_product(imp + dt*bc%fext(:, b), uh(:, n))
+      if (bc%counted(b)) call xsum_add(acc, dot_product(imp + dt*bc%fext(:, b), uh(:, n)))
     end do
+    work = xsum_value(acc)
+    if (present(work_acc)) work_acc = acc
   end subroutine bc_apply
 end module mesh_boundary

@@ -1,15 +1,21 @@
 !> The structured hexahedral grid: index arithmetic and node positions.
 !>
-!> `grid_index_t` owns all index arithmetic of a block of ni x nj x nk cells.
-!> Cells are (i,j,k), i = 1..ni, nodes (i,j,k), i = 0..ni; both are stored
-!> with i fastest, then j, then k: c = i + ni*((j-1) + nj*(k-1)) and
-!> n = 1 + i + sx*(j + (nj+1)*k), sx = ni+1. The nodes of cell c are
-!> node0(c) + corner_offset(a), a = 1..8, in the local order of
-!> `mesh_geometry` (a = 1 + i + 2j + 4k). Kernels loop over the ranges
-!> `clo..chi` (owned cells) and `nlo..nhi` (owned nodes) and ask the type for
-!> indices (in hot loops once per row: consecutive i are consecutive indices),
-!> so that a halo (ghost width ng > 0, not used yet: ng = 0) changes this
-!> type only. `grid_t` is a grid_index_t with node positions.
+!> `grid_index_t` owns all index arithmetic of a block of ni x nj x nk owned
+!> cells. Owned cells are (i,j,k), i = 1..ni, owned nodes i = 0..ni. A block
+!> of an MPI decomposition (`grid_index_block`) also stores ghost cells, glo(d)
+!> layers below and ghi(d) above in direction d (only towards another block;
+!> a physical face has none), and the nodes of those cells: stored cells
+!> i = slo(1)..shi(1), stored nodes i = slo(1)-1..shi(1). Both are stored with
+!> i fastest, then j, then k, and the nodes of cell c are node0(c) +
+!> corner_offset(a), a = 1..8, in the local order of `mesh_geometry`
+!> (a = 1 + i + 2j + 4k). Kernels loop over the ranges `clo..chi` (owned
+!> cells), `nlo..nhi` (owned nodes) or `cells_around` (owned cells widened
+!> into the ghosts) and ask the type for indices (in hot loops once per
+!> row: consecutive i are consecutive indices). A single block (`grid_index`,
+!> ng = 0) stores exactly its owned cells, in the order c = i + ni*((j-1) +
+!> nj*(k-1)), n = 1 + i + (ni+1)*(j + (nj+1)*k). off(d) is the block's place
+!> in the whole grid (global cell i + off(1)), gn(d) the whole grid's cells.
+!> `grid_t` is a grid_index_t with node positions.
 module mesh_grid
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
@@ -17,7 +23,8 @@ module mesh_grid
   use base_registry, only: registry_t, LOC_NODE
   implicit none
   private
-  public :: grid_index_t, grid_index, grid_t, grid_init_box, grid_init_nodes, block_gather, grid_register_restart, &
+  public :: grid_index_t, grid_index, grid_index_block, grid_t, grid_init_box, grid_init_nodes, block_gather, &
+            grid_register_restart, &
             FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
   !> The six faces of the block; bit f-1 of a face mask is set for face f.
@@ -26,12 +33,18 @@ module mesh_grid
   !> Index arithmetic of a block of cells: sizes, ranges and strides.
   type :: grid_index_t
     integer :: ni = 0, nj = 0, nk = 0     !< owned cells per direction
-    integer :: ng = 0                     !< ghost width (0: no halo)
+    integer :: ng = 0                     !< largest ghost width (0: no halo)
+    integer :: glo(3) = 0, ghi(3) = 0     !< ghost layers below / above in each direction
+    integer :: off(3) = 0                 !< global cell index of owned cell i is i + off
+    integer :: gn(3) = 0                  !< cells of the whole grid per direction
     integer :: clo(3) = 1, chi(3) = 0     !< owned cells (i,j,k) range
     integer :: nlo(3) = 0, nhi(3) = -1    !< owned nodes (i,j,k) range
+    integer :: ulo(3) = 0                 !< first node this block counts in sums (nlo, or nlo+1 after a ghost)
+    integer :: slo(3) = 1, shi(3) = 0     !< stored cells (owned and ghost) range
     integer :: nnode = 0, ncell = 0       !< stored nodes and cells
     integer :: sx = 0, sxy = 0            !< node strides in j and k
     integer :: cx = 0, cxy = 0            !< cell strides in j and k (offsets to neighbour cells)
+    integer :: cbase = 0, nbase = 0       !< cell(i,j,k) = cbase + i + cx j + cxy k; node likewise
     integer :: corner_offset(8) = 0       !< node index offsets of the local corners
   contains
     procedure :: cell => grid_cell
@@ -44,6 +57,10 @@ module mesh_grid
     procedure :: node_faces => grid_node_faces
     procedure :: cell_faces => grid_cell_faces
     procedure :: gather => grid_gather
+    procedure :: cells_around => grid_cells_around
+    procedure :: owns_cell => grid_owns_cell
+    procedure :: counts_node => grid_counts_node
+    procedure :: global_cell => grid_global_cell
   end type grid_index_t
 
   !> Grid: its index arithmetic and node positions.
@@ -54,17 +71,23 @@ module mesh_grid
 
 contains
 
-  !> Builds a uniform box grid of ni x nj x nk cells between xmin and xmax.
-  subroutine grid_init_box(g, ni, nj, nk, xmin, xmax, err)
+  !> Builds a uniform box grid of ni x nj x nk cells between xmin and xmax,
+  !> or the block `ix` of it (`grid_index_block`, its ghost nodes included).
+  subroutine grid_init_box(g, ni, nj, nk, xmin, xmax, err, ix)
     type(grid_t), intent(out) :: g
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: xmin(3), xmax(3)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, j, k, n, stat
+    type(grid_index_t), intent(in), optional :: ix
+    integer :: i, j, k, n, stat, ig(3)
     character(len=200) :: msg
     real(wp) :: h(3)
 
-    g%grid_index_t = grid_index(ni, nj, nk)
+    if (present(ix)) then
+      g%grid_index_t = ix
+    else
+      g%grid_index_t = grid_index(ni, nj, nk)
+    end if
     g%xmin = xmin; g%xmax = xmax
     allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -72,14 +95,15 @@ contains
       return
     end if
     h = (xmax - xmin)/real([ni, nj, nk], wp)
-    do k = g%nlo(3), g%nhi(3)
-      do j = g%nlo(2), g%nhi(2)
-        do i = g%nlo(1), g%nhi(1)
+    do k = g%slo(3) - 1, g%shi(3)
+      do j = g%slo(2) - 1, g%shi(2)
+        do i = g%slo(1) - 1, g%shi(1)
           n = g%node(i, j, k)
+          ig = [i, j, k] + g%off
           ! the far face is placed exactly at xmax, not at xmin + n*h
-          g%x(1, n) = merge(xmax(1), xmin(1) + i*h(1), i == ni)
-          g%x(2, n) = merge(xmax(2), xmin(2) + j*h(2), j == nj)
-          g%x(3, n) = merge(xmax(3), xmin(3) + k*h(3), k == nk)
+          g%x(1, n) = merge(xmax(1), xmin(1) + ig(1)*h(1), ig(1) == ni)
+          g%x(2, n) = merge(xmax(2), xmin(2) + ig(2)*h(2), ig(2) == nj)
+          g%x(3, n) = merge(xmax(3), xmin(3) + ig(3)*h(3), ig(3) == nk)
         end do
       end do
     end do
@@ -110,44 +134,101 @@ contains
     g%xmax = maxval(x, dim=2)
   end subroutine grid_init_nodes
 
-  !> The index arithmetic of a block of ni x nj x nk cells.
+  !> The index arithmetic of a single block of ni x nj x nk cells (no ghosts).
   pure function grid_index(ni, nj, nk) result(ix)
     integer, intent(in) :: ni, nj, nk
     type(grid_index_t) :: ix
-    ix%ni = ni; ix%nj = nj; ix%nk = nk
-    ix%ng = 0
-    ix%clo = 1
-    ix%chi = [ni, nj, nk]
-    ix%nlo = 0
-    ix%nhi = [ni, nj, nk]
-    ix%sx = ni + 1
-    ix%sxy = (ni + 1)*(nj + 1)
-    ix%cx = ni
-    ix%cxy = ni*nj
-    ix%nnode = (ni + 1)*(nj + 1)*(nk + 1)
-    ix%ncell = ni*nj*nk
-    ix%corner_offset = hex_corner(1, :) + ix%sx*hex_corner(2, :) + ix%sxy*hex_corner(3, :)
+    ix = grid_index_block([ni, nj, nk], [0, 0, 0], [0, 0, 0], [0, 0, 0], [ni, nj, nk])
   end function grid_index
+
+  !> The index arithmetic of a block of n(3) owned cells with glo(d) / ghi(d)
+  !> ghost layers below / above, at global offset off in a grid of gn cells.
+  pure function grid_index_block(n, glo, ghi, off, gn) result(ix)
+    integer, intent(in) :: n(3), glo(3), ghi(3), off(3), gn(3)
+    type(grid_index_t) :: ix
+    integer :: ns(3)
+    ix%ni = n(1); ix%nj = n(2); ix%nk = n(3)
+    ix%glo = glo
+    ix%ghi = ghi
+    ix%ng = max(maxval(glo), maxval(ghi))
+    ix%off = off
+    ix%gn = gn
+    ix%clo = 1
+    ix%chi = n
+    ix%nlo = 0
+    ix%nhi = n
+    ix%ulo = merge(1, 0, glo > 0)
+    ix%slo = 1 - glo
+    ix%shi = n + ghi
+    ns = ix%shi - ix%slo + 1
+    ix%sx = ns(1) + 1
+    ix%sxy = (ns(1) + 1)*(ns(2) + 1)
+    ix%cx = ns(1)
+    ix%cxy = ns(1)*ns(2)
+    ix%nnode = (ns(1) + 1)*(ns(2) + 1)*(ns(3) + 1)
+    ix%ncell = ns(1)*ns(2)*ns(3)
+    ix%cbase = 1 - ix%slo(1) - ix%cx*ix%slo(2) - ix%cxy*ix%slo(3)
+    ix%nbase = 1 - (ix%slo(1) - 1) - ix%sx*(ix%slo(2) - 1) - ix%sxy*(ix%slo(3) - 1)
+    ix%corner_offset = hex_corner(1, :) + ix%sx*hex_corner(2, :) + ix%sxy*hex_corner(3, :)
+  end function grid_index_block
 
   !> Flattened index of cell (i,j,k), 1-based logical indices.
   pure integer function grid_cell(this, i, j, k)
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
-    grid_cell = i + this%cx*(j - 1) + this%cxy*(k - 1)
+    grid_cell = this%cbase + i + this%cx*j + this%cxy*k
   end function grid_cell
 
   !> Flattened index of node (i,j,k), 0-based logical indices.
   pure integer function grid_node(this, i, j, k)
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
-    grid_node = 1 + i + this%sx*j + this%sxy*k
+    grid_node = this%nbase + i + this%sx*j + this%sxy*k
   end function grid_node
+
+  !> The owned cells widened by up to w ghost layers on each side that has
+  !> them: the cells a stage computes so that its owned nodes see every
+  !> cell around them (w = 1) or the neighbours of those (w = 2).
+  pure subroutine grid_cells_around(this, w, lo, hi)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: w
+    integer, intent(out) :: lo(3), hi(3)
+    lo = this%clo - min(w, this%glo)
+    hi = this%chi + min(w, this%ghi)
+  end subroutine grid_cells_around
+
+  !> True if cell (i,j,k) is owned (not a ghost).
+  pure logical function grid_owns_cell(this, i, j, k)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    grid_owns_cell = all([i, j, k] >= this%clo) .and. all([i, j, k] <= this%chi)
+  end function grid_owns_cell
+
+  !> True if this block counts owned node (i,j,k) in global sums: a node on
+  !> the face shared with the block below is counted there.
+  pure logical function grid_counts_node(this, i, j, k)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: i, j, k
+    grid_counts_node = all([i, j, k] >= this%ulo) .and. all([i, j, k] <= this%nhi)
+  end function grid_counts_node
+
+  !> The whole grid's index of stored cell c (its single-block order: what
+  !> a decomposed run reports, the same on any rank count).
+  pure integer function grid_global_cell(this, c) result(gc)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: c
+    integer :: i, j, k
+    call this%cell_ijk(c, i, j, k)
+    associate (o => this%off, n => this%gn)
+      gc = (i + o(1)) + n(1)*((j + o(2) - 1) + n(2)*(k + o(3) - 1))
+    end associate
+  end function grid_global_cell
 
   !> Index of the first (local a = 1) node of cell (i,j,k): node (i-1,j-1,k-1).
   pure integer function grid_cell_node0(this, i, j, k)
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
-    grid_cell_node0 = i + this%sx*(j - 1) + this%sxy*(k - 1)
+    grid_cell_node0 = this%nbase + (i - 1) + this%sx*(j - 1) + this%sxy*(k - 1)
   end function grid_cell_node0
 
   !> Index of the first (local a = 1) node of cell c.
@@ -171,11 +252,12 @@ contains
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: c
     integer, intent(out) :: i, j, k
-    integer :: t
-    i = mod(c - 1, this%ni) + 1
-    t = (c - 1)/this%ni
-    j = mod(t, this%nj) + 1
-    k = t/this%nj + 1
+    integer :: t, ny
+    ny = this%shi(2) - this%slo(2) + 1
+    i = mod(c - 1, this%cx) + this%slo(1)
+    t = (c - 1)/this%cx
+    j = mod(t, ny) + this%slo(2)
+    k = t/ny + this%slo(3)
   end subroutine grid_cell_ijk
 
   !> Logical indices (0-based) of node n.
@@ -183,26 +265,28 @@ contains
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: n
     integer, intent(out) :: i, j, k
-    integer :: t
-    i = mod(n - 1, this%sx)
+    integer :: t, ny
+    ny = this%shi(2) - this%slo(2) + 2
+    i = mod(n - 1, this%sx) + this%slo(1) - 1
     t = (n - 1)/this%sx
-    j = mod(t, this%nj + 1)
-    k = t/(this%nj + 1)
+    j = mod(t, ny) + this%slo(2) - 1
+    k = t/ny + this%slo(3) - 1
   end subroutine grid_node_ijk
 
-  !> Faces of the block that node (i,j,k) lies on: bit f-1 set for face f
-  !> (FACE_XLO .. FACE_ZHI); 0 for an interior node.
+  !> Physical faces of the grid that node (i,j,k) lies on: bit f-1 set for
+  !> face f (FACE_XLO .. FACE_ZHI); 0 for an interior node. A block's face
+  !> towards another block is no face.
   pure integer function grid_node_faces(this, i, j, k) result(m)
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
-    m = face_mask([i, j, k], this%nlo, this%nhi)
+    m = face_mask([i, j, k] + this%off, [0, 0, 0], this%gn)
   end function grid_node_faces
 
-  !> Faces of the block that cell (i,j,k) touches: bit f-1 set for face f.
+  !> Physical faces of the grid that cell (i,j,k) touches: bit f-1 set for face f.
   pure integer function grid_cell_faces(this, i, j, k) result(m)
     class(grid_index_t), intent(in) :: this
     integer, intent(in) :: i, j, k
-    m = face_mask([i, j, k], this%clo, this%chi)
+    m = face_mask([i, j, k] + this%off, [1, 1, 1], this%gn)
   end function grid_cell_faces
 
   !> Bit 2(d-1) set where ijk(d) = lo(d), bit 2d-1 where ijk(d) = hi(d).

@@ -1,0 +1,115 @@
+!> Exact sums of reals, the same whatever the order of the terms: each term
+!> is added exactly to a long fixed-point integer (limbs of 32 bits held in
+!> 64-bit integers, covering every binary64 exponent), so the result depends
+!> only on the set of terms. Blocks of a decomposition sum their own terms
+!> and add their accumulators limb by limb (an integer sum, exact in any
+!> order); `xsum_value` then rounds the one exact total to a real. This
+!> makes global totals identical on any number of ranks and threads.
+module base_xsum
+  use base_kinds, only: wp, i8
+  implicit none
+  private
+  public :: xsum_t, xsum_add, xsum_value, xsum_normalize, XSUM_LIMBS
+
+  integer, parameter :: XSUM_LIMBS = 72       !< 32-bit limbs: 2304 bits
+  integer, parameter :: BIAS = 1200           !< bit 0 of limb 0 is 2^-BIAS
+  integer, parameter :: ROOM = 2**30          !< terms between carry passes
+  integer(i8), parameter :: MASK32 = 4294967295_i8
+
+  !> An exact running sum.
+  type :: xsum_t
+    integer(i8) :: limb(0:XSUM_LIMBS - 1) = 0_i8
+    integer :: terms = 0   !< terms since the last carry pass
+  end type xsum_t
+
+contains
+
+  !> Adds x exactly (finite x; a NaN or infinity is not representable).
+  pure subroutine xsum_add(s, x)
+    type(xsum_t), intent(inout) :: s
+    real(wp), intent(in) :: x
+    integer(i8) :: m, a, r
+    integer :: b, l, sh
+    if (abs(x) <= 0.0_wp) return
+    ! x = m 2^(e - 53), m < 2^53 an integer
+    m = int(scale(fraction(abs(x)), digits(x)), i8)
+    b = exponent(x) - digits(x) + BIAS
+    l = b/32
+    sh = mod(b, 32)
+    ! the bits of m that fall in limb l, and the rest for limbs l+1, l+2
+    a = ishft(iand(m, ishft(1_i8, 32 - sh) - 1_i8), sh)
+    r = ishft(m, -(32 - sh))
+    if (x > 0.0_wp) then
+      s%limb(l) = s%limb(l) + a
+      s%limb(l + 1) = s%limb(l + 1) + iand(r, MASK32)
+      s%limb(l + 2) = s%limb(l + 2) + ishft(r, -32)
+    else
+      s%limb(l) = s%limb(l) - a
+      s%limb(l + 1) = s%limb(l + 1) - iand(r, MASK32)
+      s%limb(l + 2) = s%limb(l + 2) - ishft(r, -32)
+    end if
+    s%terms = s%terms + 1
+    if (s%terms >= ROOM) call xsum_normalize(s)
+  end subroutine xsum_add
+
+  !> Carries: every limb but the last in [0, 2^32), the last holds the sign.
+  pure subroutine xsum_normalize(s)
+    type(xsum_t), intent(inout) :: s
+    integer(i8) :: c
+    integer :: l
+    do l = 0, XSUM_LIMBS - 2
+      c = shifta(s%limb(l), 32)
+      s%limb(l) = s%limb(l) - ishft(c, 32)
+      s%limb(l + 1) = s%limb(l + 1) + c
+    end do
+    s%terms = 0
+  end subroutine xsum_normalize
+
+  !> The sum correctly rounded to the nearest real (ties to even): a
+  !> function of the exact total only, so it commutes with scaling by a
+  !> power of two and does not depend on how the terms were grouped.
+  pure real(wp) function xsum_value(s0) result(v)
+    type(xsum_t), intent(in) :: s0
+    type(xsum_t) :: s
+    integer, parameter :: W = 55            ! 53 digits, a guard and a round bit
+    integer(i8) :: q
+    integer :: l, h, top, b, low
+    logical :: sticky, negative
+    s = s0
+    call xsum_normalize(s)
+    negative = s%limb(XSUM_LIMBS - 1) < 0_i8
+    if (negative) then
+      s%limb = -s%limb
+      call xsum_normalize(s)
+    end if
+    h = -1
+    do l = XSUM_LIMBS - 1, 0, -1
+      if (s%limb(l) /= 0_i8) then
+        h = l
+        exit
+      end if
+    end do
+    v = 0.0_wp
+    if (h < 0) return
+    top = 32*h + 63 - leadz(s%limb(h))      ! the leading bit of the total
+    ! the W bits from `top` down, and whether any bit below them is set
+    low = top - W + 1
+    q = 0_i8
+    do b = top, max(low, 0), -1
+      q = ishft(q, 1)
+      if (btest(s%limb(b/32), mod(b, 32))) q = q + 1_i8
+    end do
+    if (low < 0) q = ishft(q, -low)
+    sticky = .false.
+    if (low > 0) then
+      sticky = iand(s%limb(low/32), ishft(1_i8, mod(low, 32)) - 1_i8) /= 0_i8
+      do l = 0, low/32 - 1
+        sticky = sticky .or. s%limb(l) /= 0_i8
+      end do
+    end if
+    ! round the 53 leading bits to nearest, ties to even
+    if (btest(q, 1) .and. (btest(q, 0) .or. sticky .or. btest(q, 2))) q = q + 4_i8
+    v = scale(real(ishft(q, -2), wp), low + 2 - BIAS)
+    if (negative) v = -v
+  end function xsum_value
+end module base_xsum

@@ -1,0 +1,67 @@
+!> The halo of a block: how the Lagrangian step and the drivers refresh the
+!> ghost nodes and cells of a block and turn a block's result into the whole
+!> grid's. `halo_t` is the single block (the whole grid, no ghosts): nothing
+!> to exchange, every result already global. The MPI decomposition extends
+!> it (`parallel_halo`), so that the kernels and the integrator never call
+!> MPI themselves.
+module mesh_halo
+  use base_kinds, only: wp
+  use base_xsum, only: xsum_t
+  implicit none
+  private
+  public :: halo_t
+
+  !> Ghost refresh and global reductions of one block (here: the only one).
+  type :: halo_t
+    integer :: nblocks = 1   !< blocks of the decomposition
+  contains
+    procedure :: nodes => halo_nodes
+    procedure :: cells => halo_cells
+    procedure :: min_step => halo_min_step
+    procedure :: max_int => halo_max_int
+    procedure :: sums => halo_sums
+  end type halo_t
+
+contains
+
+  !> Refreshes the ghost nodes of a node field a(m, nnode).
+  subroutine halo_nodes(this, a)
+    class(halo_t), intent(in) :: this
+    real(wp), intent(inout) :: a(:, :)
+    if (this%nblocks < 1) a = 0.0_wp   ! (a single block has no ghosts)
+  end subroutine halo_nodes
+
+  !> Refreshes the ghost cells of a cell field a(ncell).
+  subroutine halo_cells(this, a)
+    class(halo_t), intent(in) :: this
+    real(wp), intent(inout) :: a(:)
+    if (this%nblocks < 1) a = 0.0_wp
+  end subroutine halo_cells
+
+  !> The smallest stable step of all blocks, dt (time), and the cell that
+  !> sets it: on entry this block's (local index, 0 if none); on exit the
+  !> limiting cell's local index on the block that owns it (the lowest
+  !> global index on a tie), 0 on the others.
+  subroutine halo_min_step(this, dt, cell)
+    class(halo_t), intent(in) :: this
+    real(wp), intent(inout) :: dt
+    integer, intent(inout) :: cell
+    if (this%nblocks < 1) cell = 0
+    if (this%nblocks < 1) dt = 0.0_wp
+  end subroutine halo_min_step
+
+  !> The largest of an integer over all blocks (a failure flag or a count).
+  subroutine halo_max_int(this, k)
+    class(halo_t), intent(in) :: this
+    integer, intent(inout) :: k
+    if (this%nblocks < 1) k = 0
+  end subroutine halo_max_int
+
+  !> Adds the exact sums acc(:) of all blocks: on exit every block holds the
+  !> totals (`base_xsum`).
+  subroutine halo_sums(this, acc)
+    class(halo_t), intent(in) :: this
+    type(xsum_t), intent(inout) :: acc(:)
+    if (this%nblocks < 1) acc(1)%terms = 0
+  end subroutine halo_sums
+end module mesh_halo

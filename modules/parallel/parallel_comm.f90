@@ -1,0 +1,166 @@
+!> The MPI side of a run: start and stop, the ranks' Cartesian layout and
+!> each rank's block of the grid (a block decomposition of the structured
+!> grid, hybrid with OpenMP inside each rank). Without mpirun the program is
+!> one rank (an MPI singleton) and everything here reduces to the whole grid.
+module parallel_comm
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use mpi_f08
+  use base_errors, only: error_t, error_set, ERR_INPUT
+  use base_strings, only: itoa
+  use mesh_grid, only: grid_index_t, grid_index_block
+  implicit none
+  private
+  public :: comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
+            parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem
+
+  !> The ranks and their Cartesian layout.
+  type :: comm_t
+    type(MPI_Comm) :: world = MPI_COMM_NULL   !< all ranks
+    type(MPI_Comm) :: cart = MPI_COMM_NULL    !< the Cartesian communicator (after `parallel_decompose`)
+    integer :: rank = 0, nranks = 1
+    integer :: dims(3) = 1, coords(3) = 0     !< ranks per direction and this rank's place
+    integer :: nbr(6) = -1                    !< rank across each face (MPI_PROC_NULL if none)
+  end type comm_t
+
+contains
+
+  !> Starts MPI (threads funnelled: only the master thread of a rank calls
+  !> MPI) unless already started.
+  subroutine parallel_start(pc)
+    type(comm_t), intent(out) :: pc
+    logical :: ready
+    integer :: provided
+    call MPI_Initialized(ready)
+    if (.not. ready) call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+    pc%world = MPI_COMM_WORLD
+    call MPI_Comm_rank(pc%world, pc%rank)
+    call MPI_Comm_size(pc%world, pc%nranks)
+    pc%cart = MPI_COMM_WORLD
+  end subroutine parallel_start
+
+  !> This rank's number in MPI_COMM_WORLD (0 before MPI starts).
+  integer function parallel_rank() result(r)
+    logical :: ready
+    r = 0
+    call MPI_Initialized(ready)
+    if (ready) call MPI_Comm_rank(MPI_COMM_WORLD, r)
+  end function parallel_rank
+
+  !> Ends MPI on a planned, collective exit (every rank calls it).
+  subroutine parallel_stop()
+    logical :: ready, done
+    call MPI_Initialized(ready)
+    call MPI_Finalized(done)
+    if (ready .and. .not. done) call MPI_Finalize()
+  end subroutine parallel_stop
+
+  !> Ends every rank at once with exit status `code` (a failure found on
+  !> one rank only, where the others cannot be told in step).
+  subroutine parallel_abort(code)
+    integer, intent(in) :: code
+    logical :: ready, done
+    call MPI_Initialized(ready)
+    call MPI_Finalized(done)
+    if (ready .and. .not. done) call MPI_Abort(MPI_COMM_WORLD, code)
+  end subroutine parallel_abort
+
+  !> Ends every rank if an allocation of a collective step (a halo buffer,
+  !> a gather) failed (stat /= 0): the other ranks are already waiting in
+  !> the exchange and cannot be told otherwise.
+  subroutine parallel_nomem(stat, what)
+    integer, intent(in) :: stat
+    character(len=*), intent(in) :: what
+    if (stat == 0) return
+    write(error_unit, '(a)') 'FATAL [rank '//itoa(parallel_rank())//'] out of memory in '//what
+    call parallel_abort(1)
+  end subroutine parallel_nomem
+
+  !> Waits for every rank.
+  subroutine parallel_barrier(pc)
+    type(comm_t), intent(in) :: pc
+    call MPI_Barrier(pc%world)
+  end subroutine parallel_barrier
+
+  !> Broadcasts a text from rank `root` (allocated on every rank on exit).
+  subroutine parallel_bcast_text(pc, text, root)
+    type(comm_t), intent(in) :: pc
+    character(len=:), allocatable, intent(inout) :: text
+    integer, intent(in) :: root
+    integer :: n, stat
+    n = 0
+    if (pc%rank == root) n = len(text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, root, pc%world)
+    if (pc%rank /= root) then
+      if (allocated(text)) deallocate(text)
+      allocate(character(len=n) :: text, stat=stat)
+      call parallel_nomem(stat, 'parallel_bcast_text')
+    end if
+    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, root, pc%world)
+  end subroutine parallel_bcast_text
+
+  !> Ranks per direction for nranks ranks on a grid of gn cells: `fixed`
+  !> where positive (from the deck), else the layout with the least halo
+  !> surface sum_d (p_d - 1) A_d (A_d the grid's cross-section normal to d),
+  !> among those with at least `min_cells` cells per block in each direction
+  !> that is cut; on a tie the
+  !> layout cut more in z, then y (whole x rows stay together). Returns 0s if
+  !> none fits.
+  pure function parallel_dims(nranks, gn, fixed, min_cells) result(dims)
+    integer, intent(in) :: nranks, gn(3), fixed(3), min_cells
+    integer :: dims(3)
+    integer :: p1, p2, p3, p(3)
+    real(8) :: area, best
+    dims = 0
+    best = huge(1.0d0)
+    do p3 = nranks, 1, -1
+      if (mod(nranks, p3) /= 0) cycle
+      do p2 = nranks/p3, 1, -1
+        if (mod(nranks/p3, p2) /= 0) cycle
+        p1 = nranks/(p3*p2)
+        p = [p1, p2, p3]
+        if (any(fixed > 0 .and. p /= fixed)) cycle
+        if (any(p > 1 .and. gn < p*min_cells)) cycle
+        area = (p1 - 1)*real(gn(2), 8)*gn(3) + (p2 - 1)*real(gn(1), 8)*gn(3) + (p3 - 1)*real(gn(1), 8)*gn(2)
+        if (area < best) then
+          best = area
+          dims = p
+        end if
+      end do
+    end do
+  end function parallel_dims
+
+  !> Lays the ranks out on the grid of gn cells (`dims_deck` from the deck,
+  !> 0 to choose) and returns this rank's block with ng ghost layers towards
+  !> each neighbouring block. A layout that leaves some block thinner than
+  !> ng cells is refused.
+  subroutine parallel_decompose(pc, gn, dims_deck, ng, ix, err)
+    type(comm_t), intent(inout) :: pc
+    integer, intent(in) :: gn(3), dims_deck(3), ng
+    type(grid_index_t), intent(out) :: ix
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: d, n(3), off(3), glo(3), ghi(3), base, extra
+    logical, parameter :: periodic(3) = .false.
+
+    pc%dims = parallel_dims(pc%nranks, gn, dims_deck, max(ng, 1))
+    if (any(pc%dims == 0)) then
+      call error_set(err, 'the deck has 1 problem(s); nothing was run', 'no layout of '//itoa(pc%nranks)// &
+        ' ranks gives every block at least '//itoa(max(ng, 1))//' cells in each direction it is cut on a grid of '// &
+        itoa(gn(1))//' x '//itoa(gn(2))//' x '//itoa(gn(3))//' cells; run on fewer ranks', ERR_INPUT)
+      return
+    end if
+    call MPI_Cart_create(pc%world, 3, pc%dims, periodic, .false., pc%cart)
+    call MPI_Comm_rank(pc%cart, pc%rank)
+    call MPI_Cart_coords(pc%cart, pc%rank, 3, pc%coords)
+    do d = 1, 3
+      call MPI_Cart_shift(pc%cart, d - 1, 1, pc%nbr(2*d - 1), pc%nbr(2*d))
+      ! gn(d) cells over dims(d) blocks, the first mod(gn, dims) one larger
+      base = gn(d)/pc%dims(d)
+      extra = mod(gn(d), pc%dims(d))
+      n(d) = base + merge(1, 0, pc%coords(d) < extra)
+      off(d) = pc%coords(d)*base + min(pc%coords(d), extra)
+      glo(d) = merge(ng, 0, pc%coords(d) > 0)
+      ghi(d) = merge(ng, 0, pc%coords(d) < pc%dims(d) - 1)
+    end do
+    ix = grid_index_block(n, glo, ghi, off, gn)
+  end subroutine parallel_decompose
+end module parallel_comm

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Rank invariance: a deck run as one process (no mpirun), then on 2 and 4
+# MPI ranks (oversubscribed, one OpenMP thread each), must give final frames
+# bit-identical to the single process's (`compare_frames.py --exact`: node
+# positions, velocities, cell fields, the conservation totals, time, step).
+# With --fail the deck must fail (a tangled cell in one block): every run
+# ends with exit status 1, the FATAL line names the rank that failed, which
+# on 2 and 4 ranks is not rank 0, and the failure frame is written and is
+# the single process's failure frame bit for bit.
+# Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail]
+set -u
+mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6 mode=${7:-}
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
+export OMP_NUM_THREADS=1
+for n in 1 2 4; do
+  sed -e "s|^&output.*|\&output dir = 'r$n', name = 'run' /|" "$deck" > "r$n.nml"
+  if [ "$n" -eq 1 ]; then
+    timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
+  else
+    timeout 600 "$mpiexec" "${root[@]}" --oversubscribe -np "$n" "$exe" "r$n.nml" > "r$n.out" 2>&1; rc=$?
+    grep -q "^run: $n MPI ranks" "r$n.out" || { tail -20 "r$n.out"; fail "$n ranks: no layout line in the log"; }
+  fi
+  grep -E -q "Segmentation|Backtrace|SIGSEGV|Program received" "r$n.out" && { tail -20 "r$n.out"; fail "$n ranks: crashed"; }
+  last=$(ls r$n/run_[0-9][0-9][0-9][0-9][0-9].h5 2> /dev/null | sort | tail -1)
+  [ -n "$last" ] || { tail -20 "r$n.out"; fail "$n ranks: no frame written"; }
+  if [ "$mode" = --fail ]; then
+    [ "$rc" -eq 1 ] || { tail -20 "r$n.out"; fail "$n rank(s): exit status $rc, expected 1"; }
+    fatal=$(grep -E '^FATAL \[rank [0-9]+' "r$n.out" | head -1)
+    [ -n "$fatal" ] || fail "$n rank(s): no FATAL line"
+    [ "$(grep -c '^FATAL' "r$n.out")" -eq 1 ] || fail "$n rank(s): the FATAL line is printed more than once"
+    if [ "$n" -gt 1 ]; then
+      [[ "$fatal" =~ ^FATAL\ \[rank\ 0, ]] && fail "$n ranks: the failure is not reported from the rank that failed: $fatal"
+    fi
+    grep -q "state at failure written to r$n/" "r$n.out" || fail "$n rank(s): no failure frame"
+    echo "ok: $n rank(s): exit 1, $fatal"
+  else
+    [ "$rc" -eq 0 ] || { tail -20 "r$n.out"; fail "$n rank(s): exit status $rc"; }
+  fi
+  if [ "$n" -gt 1 ]; then
+    "$py" "$tools/compare_frames.py" "$last" "$ref" --exact > "cmp$n.txt" || \
+      { cat "cmp$n.txt"; fail "$n ranks: final frame differs from the single process's"; }
+    echo "ok: $n ranks: $(basename "$last") bit-identical to one process's"
+  else
+    ref=$last
+  fi
+done
+echo "PASS mpi_ranks $(basename "$deck") $mode"
