@@ -30,6 +30,7 @@ module driver
   use parallel_comm, only: parallel_start
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_refusals, parallel_blocks, agree_error
+  use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart
   implicit none
   private
   public :: driver_run, driver_check, driver_print_defaults, driver_print_version
@@ -76,10 +77,22 @@ contains
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
-    if (.not. allocated(err)) call euler_init(cfg%rezone, st, es, err)
+    if (.not. allocated(err)) call whole_build(cfg, sch%pc%nranks, st, err)
+    if (.not. allocated(err)) then
+      if (allocated(st%whole)) then
+        call euler_init(cfg%rezone, st%whole, es, err)
+      else
+        call euler_init(cfg%rezone, st, es, err)
+      end if
+    end if
+    call agree_error(sch%pc, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
     if (sch%restarting) then
-      call read_restart(cfg, st, sch, es, err)
+      if (allocated(st%whole)) then
+        call whole_restart(cfg, st, sch, es, err)
+      else
+        call read_restart(cfg, st, sch, es, err)
+      end if
       if (.not. allocated(err)) call outputs_after_restart(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
     else
@@ -139,13 +152,18 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
     real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap
-    integer :: bad_cell, bad_particle, report
+    integer :: bad_cell, bad_particle, report, stop_now
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
     wall_last = wall_seconds()
     do while (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
-      if (near_wall_time_limit(cfg, sch)) call stop_for_wall_time(cfg, st, sch, es)
+      if (cfg%control%wall_time_limit > 0.0_wp) then
+        ! (the ranks agree: each measures its own wall time)
+        stop_now = merge(1, 0, near_wall_time_limit(cfg, sch))
+        call st%halo%max_int(stop_now)
+        if (stop_now == 1) call stop_for_wall_time(cfg, st, sch, es)
+      end if
 
       ! LAGRANGE: the step the controller allows, cut to the stable step
       dt = step_cap(cfg, st, sch)
@@ -180,10 +198,16 @@ contains
       st%tot%boundary_work = st%tot%boundary_work + work
 
       ! INSPECT, EULER
-      call euler_due(cfg%rezone, st, es, due)
-      if (due) then
-        call euler_step(cfg%rezone, st, es, sch%log, err)
+      if (allocated(st%whole)) then
+        ! (a decomposed run: on the whole grid, `driver_whole`)
+        call whole_euler(cfg, sch%pc, st, es, sch%log, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
+      else
+        call euler_due(cfg%rezone, st, es, due)
+        if (due) then
+          call euler_step(cfg%rezone, st, es, sch%log, err)
+          if (allocated(err)) call fail(cfg, st, sch, err)
+        end if
       end if
       last = .not. (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
 
@@ -198,7 +222,7 @@ contains
         call advance_schedule(sch%t_next_frame, st%t, cfg%output%frame_dt, eps_t)
       end if
       if (dump_due(cfg, st, sch, eps_t)) then
-        call write_restart(cfg, st, sch, es, err)
+        call dump(cfg, st, sch, es, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
         call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
@@ -242,6 +266,22 @@ contains
     near_wall_time_limit = elapsed + 2.0_wp*(sch%step_wall + sch%dump_wall) + 0.5_wp >= cfg%control%wall_time_limit
   end function near_wall_time_limit
 
+  !> A restart dump (of the whole grid on a decomposed run), the ranks
+  !> agreeing on its outcome.
+  subroutine dump(cfg, st, sch, es, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(schedule_t), intent(inout) :: sch
+    type(euler_state_t), intent(inout) :: es
+    type(error_t), allocatable, intent(inout) :: err
+    if (allocated(st%whole)) then
+      call whole_dump(cfg, sch%pc, st, sch, es, err)
+      call agree_error(sch%pc, err)
+    else
+      call write_restart(cfg, st, sch, es, err)
+    end if
+  end subroutine dump
+
   !> Writes a restart (unless the last dump is of this very step) and stops
   !> with exit status 3, saying how to continue.
   subroutine stop_for_wall_time(cfg, st, sch, es)
@@ -252,12 +292,15 @@ contains
     type(error_t), allocatable :: err
     character(len=:), allocatable :: path
     logical :: have
+    integer :: k
     path = restart_path(sch, st%step)
     have = .false.
     if (allocated(sch%dumps)) then
       if (size(sch%dumps) > 0) have = (trim(sch%dumps(size(sch%dumps))) == path)
     end if
-    if (.not. have) call write_restart(cfg, st, sch, es, err)
+    k = merge(1, 0, have)
+    call st%halo%max_int(k)   ! (only rank 0 keeps the list of dumps)
+    if (k == 0) call dump(cfg, st, sch, es, err)
     if (.not. allocated(err)) call progress(cfg, st, sch, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
     call log_line(sch%log, 'wall-time limit of '//rtoa(cfg%control%wall_time_limit)//' s reached at step '// &

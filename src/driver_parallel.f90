@@ -29,11 +29,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=*), parameter :: tail = ' is not available on more than one MPI rank yet (run it on one rank)'
     if (nranks <= 1) return
-    if (trim(cfg%rezone%mode) /= 'none') call add('&rezone mode = '''//trim(cfg%rezone%mode)//''' (the Euler phase)')
     if (size(cfg%particles) > 0) call add('&particles (MPM particles)')
-    if (len_trim(cfg%control%restart_from) > 0) call add('&run restart_from (restarts)')
-    if (cfg%control%dump_steps > 0 .or. cfg%control%dump_dt > 0.0d0 .or. cfg%control%wall_time_limit > 0.0d0) &
-      call add('&run dump_steps, dump_dt, wall_time_limit (restarts)')
     if (cfg%output%ngauge > 0 .or. cfg%output%ntrack > 0 .or. cfg%output%history_dt > 0.0d0) &
       call add('&output gauge, track, history_dt')
     if (cfg%control%velocity_noise > 0.0d0) call add('&run velocity_noise')

@@ -49,6 +49,14 @@ contains
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
+    ! a single block's halo (no exchange) unless the driver gave a block's
+    if (.not. allocated(st%halo)) then
+      allocate(halo_t :: st%halo, stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'build_scene', 'out of memory')
+        return
+      end if
+    end if
     associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
       if (len_trim(gc%file) == 0) then
         call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)

@@ -36,6 +36,9 @@ module driver_state
     real(wp) :: rng_bits = 0.0_wp         !< rng state as stored in restarts
     logical :: ready = .false.            !< complete enough to be written
     class(halo_t), allocatable :: halo    !< this block's halo and global reductions (`mesh_halo`)
+    !> on a decomposed run with Euler steps or restarts: the whole grid's
+    !> state, the same on every rank (`driver_whole`)
+    type(state_t), allocatable :: whole
   end type state_t
 
 contains

@@ -43,7 +43,7 @@ module material_mixed
   implicit none
   private
   public :: mixed_t, mixed_allocate, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_register_restart, &
-            mixed_forget_planes, mixed_volume_gain
+            mixed_forget_planes, mixed_volume_gain, mixed_subset
 
   !> Compressed storage of the mixed cells.
   type :: mixed_t
@@ -98,6 +98,42 @@ contains
     mx%p = 0.0_wp
     mx%cs = 0.0_wp
   end subroutine mixed_allocate
+
+  !> The mixed cells pick(1..m) of mx, in that order, as cells cell(1..m) of
+  !> another numbering (a block's cells as the whole grid's, or the reverse):
+  !> every stored quantity of their slots copied (the step-start values are
+  !> set at each step and are not).
+  subroutine mixed_subset(mx, pick, cell, out, err)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: pick(:), cell(:)
+    type(mixed_t), intent(out) :: out
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: q, k, s0, s1, ns
+    ns = 0
+    do q = 1, size(pick)
+      ns = ns + mx%start(pick(q) + 1) - mx%start(pick(q))
+    end do
+    call mixed_allocate(out, size(pick), ns, err)
+    if (allocated(err)) return
+    do q = 1, size(pick)
+      k = pick(q)
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      out%cell(q) = cell(q)
+      out%start(q + 1) = out%start(q) + s1 - s0 + 1
+      associate (t0 => out%start(q), t1 => out%start(q + 1) - 1)
+        out%mat(t0:t1) = mx%mat(s0:s1)
+        out%vf(t0:t1) = mx%vf(s0:s1)
+        out%mass(t0:t1) = mx%mass(s0:s1)
+        out%e(t0:t1) = mx%e(s0:s1)
+        out%rho(t0:t1) = mx%rho(s0:s1)
+        out%p(t0:t1) = mx%p(s0:s1)
+        out%cs(t0:t1) = mx%cs(s0:s1)
+        out%xi(:, t0:t1) = mx%xi(:, s0:s1)
+        out%plane(:, t0:t1) = mx%plane(:, s0:s1)
+      end associate
+    end do
+  end subroutine mixed_subset
 
   !> Forgets the interface planes of every mixed cell (after a remap has
   !> built new mixed cells: their centroids are those of the remapped

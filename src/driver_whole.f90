@@ -1,0 +1,303 @@
+!> The whole grid on every rank of a decomposed run, for the parts of a run
+!> that do not yet work block by block: the Euler phase (rezone and remap of
+!> the whole grid, computed alike on every rank, each rank then taking its
+!> block back) and restarts (a dump holds the whole grid in the layout of one
+!> process, so a dump written on P ranks continues on any Q).
+!>
+!> What is copied is what a restart holds (the quantities the packages
+!> register, `base_registry`), then what a restart read rebuilds from them
+!> (`state_after_read`, the materials' cell lists): a state made this way
+!> continues exactly as the one it was copied from, which the restart tests
+!> check for every registered quantity. Node and cell arrays go through the
+!> blocks' owned ranges (`parallel_gather`); the mixed cells through their
+!> owned cells, renumbered and put back in cell order (the order one
+!> process keeps them in).
+!>
+!> This costs the whole grid's memory on every rank and a gather of the
+!> whole state per Euler step: it makes a decomposed run with Euler steps
+!> give the single process's answer, not run faster.
+module driver_whole
+  use base_kinds, only: wp
+  use base_errors, only: error_t, error_set
+  use base_registry, only: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, &
+                           K_REAL_SCALAR, K_INT_SCALAR
+  use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
+  use material_table, only: material_index_cells
+  use io_log, only: log_t
+  use parallel_comm, only: comm_t
+  use parallel_gather, only: gather_cells, gather_nodes, gather_concat
+  use driver_config, only: config_t
+  use driver_state, only: state_t, state_register_restart, state_after_read
+  use driver_scene, only: build_scene
+  use driver_euler, only: euler_state_t, euler_due, euler_step
+  use driver_output, only: schedule_t
+  use driver_restart, only: write_restart, read_restart
+  implicit none
+  private
+  public :: whole_build, whole_euler, whole_dump, whole_restart, whole_gather, whole_scatter
+
+contains
+
+  !> Builds st%whole from the deck when a decomposed run needs it (Euler
+  !> steps, restart dumps or a restart); nothing otherwise.
+  subroutine whole_build(cfg, nranks, st, err)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nranks
+    type(state_t), intent(inout) :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(log_t) :: silent
+    integer :: stat
+    if (nranks == 1) return
+    if (trim(cfg%rezone%mode) == 'none' .and. cfg%control%dump_steps <= 0 .and. cfg%control%dump_dt <= 0.0_wp &
+        .and. cfg%control%wall_time_limit <= 0.0_wp .and. len_trim(cfg%control%restart_from) == 0) return
+    allocate(st%whole, stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
+      return
+    end if
+    silent%quiet = .true.   ! (the blocks' scene has been logged)
+    call build_scene(cfg, st%whole, silent, err)
+  end subroutine whole_build
+
+  !> The Euler phase of a decomposed run after a Lagrangian step: whether it
+  !> is due, from the whole grid's positions (gathered only when a quality
+  !> trigger needs them), then the Euler step on the whole grid and each
+  !> block taken back from it.
+  subroutine whole_euler(cfg, pc, st, es, log, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :)
+    logical :: due
+    if (.not. es%on) return
+    st%whole%t = st%t
+    st%whole%dt = st%dt
+    st%whole%step = st%step
+    if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
+      call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+      st%whole%g%x = x
+    end if
+    call euler_due(cfg%rezone, st%whole, es, due)
+    if (.not. due) return
+    call whole_gather(pc, st, err)
+    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
+    if (.not. allocated(err)) call whole_scatter(st, err)
+  end subroutine whole_euler
+
+  !> A restart dump of a decomposed run: the whole grid's state, written by
+  !> rank 0 (the file of one process: any rank count can continue it).
+  subroutine whole_dump(cfg, pc, st, sch, es, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(schedule_t), intent(inout) :: sch
+    type(euler_state_t), intent(inout) :: es
+    type(error_t), allocatable, intent(inout) :: err
+    call whole_gather(pc, st, err)
+    if (.not. allocated(err) .and. pc%rank == 0) call write_restart(cfg, st%whole, sch, es, err)
+  end subroutine whole_dump
+
+  !> A decomposed run's restart: every rank reads the file into the whole
+  !> grid's state and takes its block from it.
+  subroutine whole_restart(cfg, st, sch, es, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout), target :: st
+    type(schedule_t), intent(inout) :: sch
+    type(euler_state_t), intent(inout) :: es
+    type(error_t), allocatable, intent(inout) :: err
+    call read_restart(cfg, st%whole, sch, es, err)
+    if (.not. allocated(err)) call whole_scatter(st, err)
+  end subroutine whole_restart
+
+  !> Every rank's st%whole: the whole grid's state assembled from the
+  !> blocks' st (st%whole built from the deck on the whole grid first,
+  !> `build_scene` without a block).
+  subroutine whole_gather(pc, st, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(registry_t) :: rb, rw
+    real(wp), allocatable :: whole(:, :)
+    real(wp), pointer, contiguous :: a(:, :)
+    integer :: e, m, n
+
+    call mixed_gather(pc, st, err)
+    if (allocated(err)) return
+    call state_register_restart(st, rb)
+    call state_register_restart(st%whole, rw)
+    do e = 1, rb%n
+      associate (b => rb%e(e), v => rw%e(e))
+        select case (b%location)
+        case (LOC_NODE, LOC_CELL)
+          m = product(b%dims(1:size(b%dims) - 1))
+          n = b%dims(size(b%dims))
+          if (b%kind == K_REAL) then
+            a(1:m, 1:n) => b%r
+            call gather_entry(a)
+            v%r = reshape(whole, [size(whole)])
+          else
+            ! (integers: material indices, exact as reals)
+            call gather_entry(reshape(real(b%i, wp), [m, n]))
+            v%i = nint(reshape(whole, [size(whole)]))
+          end if
+        case (LOC_GLOBAL)
+          if (.not. mixed_entry(b)) call copy_global(b, v)
+        end select
+      end associate
+    end do
+    call state_after_read(st%whole)
+    call material_index_cells(st%whole%mats, st%whole%h%mat, st%whole%mx, err)
+  contains
+    subroutine gather_entry(x)
+      real(wp), intent(in) :: x(:, :)
+      if (rb%e(e)%location == LOC_NODE) then
+        call gather_nodes(pc, st%g%grid_index_t, x, whole, all=.true.)
+      else
+        call gather_cells(pc, st%g%grid_index_t, x, whole, all=.true.)
+      end if
+    end subroutine gather_entry
+  end subroutine whole_gather
+
+  !> The counts of the mixed cells (copied with the cells themselves).
+  logical function mixed_entry(e)
+    type(registry_entry_t), intent(in) :: e
+    mixed_entry = e%name(1:6) == 'mixed_'
+  end function mixed_entry
+
+  !> This rank's block st (owned and ghost cells and nodes) taken from the
+  !> whole grid's state st%whole.
+  subroutine whole_scatter(st, err)
+    type(state_t), intent(inout), target :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(registry_t) :: rb, rw
+    integer, allocatable :: pick(:), cell(:)
+    integer :: e, k, i, j, l, c, n, m, q, ijk(3), stat
+    logical :: nodes
+
+    ! the mixed cells the block stores, in the whole grid's (cell) order
+    associate (g => st%g, wx => st%whole%mx, wg => st%whole%g)
+      allocate(pick(wx%n), cell(wx%n), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'whole_scatter', 'out of memory')
+        return
+      end if
+      m = 0
+      do k = 1, wx%n
+        call wg%cell_ijk(wx%cell(k), ijk(1), ijk(2), ijk(3))
+        ijk = ijk - g%off
+        if (any(ijk < g%slo .or. ijk > g%shi)) cycle
+        m = m + 1
+        pick(m) = k
+        cell(m) = g%cell(ijk(1), ijk(2), ijk(3))
+      end do
+      call mixed_subset(wx, pick(:m), cell(:m), st%mx, err)
+      if (allocated(err)) return
+    end associate
+    call state_register_restart(st, rb)
+    call state_register_restart(st%whole, rw)
+    do e = 1, rb%n
+      associate (b => rb%e(e), v => rw%e(e), g => st%g, wg => st%whole%g)
+        select case (b%location)
+        case (LOC_NODE, LOC_CELL)
+          nodes = b%location == LOC_NODE
+          m = product(b%dims(1:size(b%dims) - 1))
+          do l = g%slo(3) - merge(1, 0, nodes), g%shi(3)
+            do j = g%slo(2) - merge(1, 0, nodes), g%shi(2)
+              do i = g%slo(1) - merge(1, 0, nodes), g%shi(1)
+                if (nodes) then
+                  n = g%node(i, j, l)
+                  c = wg%node(i + g%off(1), j + g%off(2), l + g%off(3))
+                else
+                  n = g%cell(i, j, l)
+                  c = wg%cell(i + g%off(1), j + g%off(2), l + g%off(3))
+                end if
+                do q = 1, m
+                  if (b%kind == K_REAL) then
+                    b%r(m*(n - 1) + q) = v%r(m*(c - 1) + q)
+                  else
+                    b%i(m*(n - 1) + q) = v%i(m*(c - 1) + q)
+                  end if
+                end do
+              end do
+            end do
+          end do
+        case (LOC_GLOBAL)
+          if (.not. mixed_entry(b)) call copy_global(v, b)
+        end select
+      end associate
+    end do
+    call state_after_read(st)
+    call material_index_cells(st%mats, st%h%mat, st%mx, err)
+  end subroutine whole_scatter
+
+  !> A quantity of the whole run (time, step, energy bookkeeping, the random
+  !> numbers' state): the same on every rank, copied.
+  subroutine copy_global(from, to)
+    type(registry_entry_t), intent(in) :: from
+    type(registry_entry_t), intent(inout) :: to
+    select case (from%kind)
+    case (K_REAL); to%r = from%r
+    case (K_INT); to%i = from%i
+    case (K_REAL_SCALAR); to%rs = from%rs
+    case (K_INT_SCALAR); to%is = from%is
+    end select
+  end subroutine copy_global
+
+  !> The whole grid's mixed cells (st%whole%mx) from the cells each block
+  !> owns.
+  subroutine mixed_gather(pc, st, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout) :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(mixed_t) :: own, cat
+    integer, allocatable :: pick(:), gcell(:), cells(:), nslots(:), mats(:), at(:)
+    real(wp), allocatable :: r(:)
+    integer :: k, q, m, stat, ijk(3)
+
+    allocate(pick(st%mx%n), gcell(st%mx%n), at(st%whole%g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'whole_gather', 'out of memory')
+      return
+    end if
+    m = 0
+    do k = 1, st%mx%n
+      call st%g%cell_ijk(st%mx%cell(k), ijk(1), ijk(2), ijk(3))
+      if (.not. st%g%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
+      m = m + 1
+      pick(m) = k
+      gcell(m) = st%g%global_cell(st%mx%cell(k))
+    end do
+    call mixed_subset(st%mx, pick(:m), gcell(:m), own, err)
+    if (allocated(err)) return
+    call gather_concat(pc, own%cell, cells)
+    call gather_concat(pc, own%start(2:) - own%start(:own%n), nslots)
+    call gather_concat(pc, own%mat, mats)
+    call mixed_allocate(cat, size(cells), size(mats), err)
+    if (allocated(err)) return
+    cat%cell = cells
+    do k = 1, cat%n
+      cat%start(k + 1) = cat%start(k) + nslots(k)
+    end do
+    cat%mat = mats
+    call gather_concat(pc, own%vf, cat%vf)
+    call gather_concat(pc, own%mass, cat%mass)
+    call gather_concat(pc, own%e, cat%e)
+    call gather_concat(pc, own%rho, cat%rho)
+    call gather_concat(pc, own%p, cat%p)
+    call gather_concat(pc, own%cs, cat%cs)
+    call gather_concat(pc, reshape(own%xi, [3*own%nslot]), r)
+    cat%xi = reshape(r, [3, cat%nslot])
+    call gather_concat(pc, reshape(own%plane, [4*own%nslot]), r)
+    cat%plane = reshape(r, [4, cat%nslot])
+    ! in cell order (each cell is owned by one block)
+    at = 0
+    do k = 1, cat%n
+      at(cat%cell(k)) = k
+    end do
+    pick = pack(at, at > 0)
+    call mixed_subset(cat, pick, [(cat%cell(pick(q)), q = 1, size(pick))], st%whole%mx, err)
+  end subroutine mixed_gather
+end module driver_whole
