@@ -363,6 +363,15 @@ contains
     call log_line(sch%log, trim(line))
     write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, st%step - sch%step_start
     call log_line(sch%log, trim(line))
+    if (sch%pc%nranks > 1 .and. st%step > sch%step_start) then
+      ! rank 0's block (the one that writes the log)
+      write(line, '("halo (rank 0): ",f9.3," s in exchanges and the global step (",f5.1," % of lagrange); per ", &
+        &"step ",f7.1," messages, ",es10.3," bytes sent")') st%halo%seconds, &
+        100.0_wp*st%halo%seconds/max(sch%t_lagrange%total, tiny(1.0_wp)), &
+        real(st%halo%messages, wp)/real(st%step - sch%step_start, wp), &
+        real(st%halo%bytes, wp)/real(st%step - sch%step_start, wp)
+      call log_line(sch%log, trim(line))
+    end if
     call euler_report(es, sch%log)
     if (es%centroids%fitted + es%centroids%moved + es%centroids%failed > 0) &
       call log_line(sch%log, 'mixed-cell planes after the remaps: '//centroid_text(es%centroids))

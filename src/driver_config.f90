@@ -56,6 +56,7 @@ module driver_config
     integer :: dump_steps = 0                  !< a restart every this many steps (0: off)
     real(wp) :: dump_dt = 0.0_wp               !< a restart every this much time (0: off)
     integer :: dump_keep = 2                   !< keep the newest this many restarts
+    integer :: blocks(3) = 0                   !< MPI ranks per direction (0: chosen)
   end type run_config_t
 
   !> The resolved deck.
@@ -356,19 +357,19 @@ contains
     character(len=64) :: units
     real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
     real(wp) :: velocity_noise, wall_time_limit, dump_dt
-    integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios
+    integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios, blocks(3)
     character(len=256) :: restart_from
     character(len=max_line) :: msg
     namelist /run/ title, units, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
                    progress_steps, progress_seconds, velocity_noise, seed, &
-                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks
 
     title = this%title; units = this%units; t_end = this%t_end; max_steps = this%max_steps
     cfl = hd%cfl; dt_init = this%dt_init; dt_max = 0.0_wp; dt_min = this%dt_min; dt_growth = hd%dt_growth
     progress_steps = this%progress_steps; progress_seconds = this%progress_seconds
     velocity_noise = this%velocity_noise; seed = this%seed
     restart_from = this%restart_from; wall_time_limit = this%wall_time_limit; dump_steps = this%dump_steps
-    dump_dt = this%dump_dt; dump_keep = this%dump_keep
+    dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks
     if (size(text) == 0) then
       call problem_add(problems, trim(path)//': group &run is missing (t_end is required)')
     else
@@ -388,13 +389,14 @@ contains
     if (dump_dt < 0.0_wp) call problem_bad(problems, 'run', 'dump_dt', dump_dt, 'must be >= 0 (0: off)')
     if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
     if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
+    if (any(blocks < 0)) call problem_badi(problems, 'run', 'blocks', minval(blocks), 'must be >= 0 (0: chosen)')
     call problem_long(problems, 'run', 'title', title)
     call problem_long(problems, 'run', 'units', units)
     call problem_long(problems, 'run', 'restart_from', restart_from)
     this = run_config_t(title=title, units=units, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
-      wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep)
+      wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks)
     hydro%cfl = cfl
     hydro%dt_growth = dt_growth
     hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)

@@ -8,6 +8,7 @@ module driver_output
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_IO, ERR_RUNTIME, ERR_INPUT
   use base_timers, only: timer_t, wall_seconds
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use base_build, only: code_version, build_type
   use io_log, only: log_t, log_open, log_line, log_identity
@@ -455,7 +456,7 @@ contains
     type(frame_meta_t), intent(in) :: meta
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: a(:, :), wn(:, :), wc(:, :)
+    real(wp), allocatable :: a(:, :), wn(:, :), wc(:, :), extra(:, :)
     type(grid_t) :: gw
     type(hydro_t) :: hw
     integer :: nf, c, stat
@@ -489,7 +490,8 @@ contains
     hw%cs = wc(4, :)
     hw%q = wc(5, :)
     hw%vol = wc(6, :)
-    call output_frame(sch%out, gw, hw, nint(wc(7, :)), names, units, owner, transpose(wc(8:, :)), st%t, st%step, &
+    extra = transpose(wc(8:, :))
+    call output_frame(sch%out, gw, hw, nint(wc(7, :)), names, units, owner, extra, st%t, st%step, &
                       st%tot, cfg%echo, meta, path, err, pt=st%pt)
   end subroutine frame_gathered
 
@@ -627,25 +629,33 @@ contains
   !> material: its pure cells plus its slots in the mixed cells (mass, energy).
   !> They add up to the cell totals of `hydro_totals` to round-off, since a
   !> mixed cell's slots share its mass and energy.
+  !> Sums over the owned cells of every block, exact (`base_xsum`).
   subroutine material_totals(st, mass, internal)
     type(state_t), intent(in) :: st
     real(wp), intent(out) :: mass(:), internal(:)
-    integer :: c, m, s, k
-    mass = 0.0_wp
-    internal = 0.0_wp
-    do c = 1, st%g%ncell
-      m = st%h%mat(c)
-      if (m > 0) then
-        mass(m) = mass(m) + st%h%mass(c)
-        internal(m) = internal(m) + st%h%mass(c)*st%h%e(c)
-      else if (m < 0) then
-        k = -m
-        do s = st%mx%start(k), st%mx%start(k + 1) - 1
-          mass(st%mx%mat(s)) = mass(st%mx%mat(s)) + st%mx%mass(s)
-          internal(st%mx%mat(s)) = internal(st%mx%mat(s)) + st%mx%mass(s)*st%mx%e(s)
+    type(xsum_t) :: acc(2*size(mass))
+    integer :: c, m, s, i, j, k, nm
+    nm = size(mass)
+    do k = st%g%clo(3), st%g%chi(3)
+      do j = st%g%clo(2), st%g%chi(2)
+        do i = st%g%clo(1), st%g%chi(1)
+          c = st%g%cell(i, j, k)
+          m = st%h%mat(c)
+          if (m > 0) then
+            call xsum_add(acc(m), st%h%mass(c))
+            call xsum_add(acc(nm + m), st%h%mass(c)*st%h%e(c))
+          else if (m < 0) then
+            do s = st%mx%start(-m), st%mx%start(-m + 1) - 1
+              call xsum_add(acc(st%mx%mat(s)), st%mx%mass(s))
+              call xsum_add(acc(nm + st%mx%mat(s)), st%mx%mass(s)*st%mx%e(s))
+            end do
+          end if
         end do
-      end if
+      end do
     end do
+    call st%halo%sums(acc)
+    mass = [(xsum_value(acc(m)), m = 1, nm)]
+    internal = [(xsum_value(acc(nm + m)), m = 1, nm)]
   end subroutine material_totals
 
   !> The conservation report: mass, momentum, energies, boundary work,

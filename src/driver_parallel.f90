@@ -55,7 +55,7 @@ contains
       ix = grid_index(cfg%grid%ni, cfg%grid%nj, cfg%grid%nk)
       allocate(halo_t :: halo, stat=stat)
     else
-      call parallel_decompose(pc, [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], [0, 0, 0], GHOST_WIDTH, ix, err)
+      call parallel_decompose(pc, [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], cfg%control%blocks, GHOST_WIDTH, ix, err)
       if (allocated(err)) return
       call mpi_halo_init(mh, pc, ix)
       allocate(halo, source=mh, stat=stat)

@@ -175,6 +175,9 @@ contains
         call bc_constrain(bc, hy%u)
       end associate
     end associate
+    ! (a block constrains the boundary nodes it owns; its ghost nodes on a
+    ! wall get theirs from the block that owns them)
+    call st%halo%nodes(st%h%u)
     ! the MPM particles (none without &particles: nothing allocated)
     call build_particles(cfg, st, log, err)
     if (allocated(err)) return

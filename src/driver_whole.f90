@@ -148,6 +148,7 @@ contains
         end select
       end associate
     end do
+    call mixed_numbers(st%whole)
     call state_after_read(st%whole)
     call material_index_cells(st%whole%mats, st%whole%h%mat, st%whole%mx, err)
   contains
@@ -229,9 +230,20 @@ contains
         end select
       end associate
     end do
+    call mixed_numbers(st)
     call state_after_read(st)
     call material_index_cells(st%mats, st%h%mat, st%mx, err)
   end subroutine whole_scatter
+
+  !> A mixed cell's material is minus its mixed-cell number, which differs
+  !> between a block and the whole grid: renumbered from the mixed cells.
+  subroutine mixed_numbers(st)
+    type(state_t), intent(inout) :: st
+    integer :: k
+    do k = 1, st%mx%n
+      st%h%mat(st%mx%cell(k)) = -k
+    end do
+  end subroutine mixed_numbers
 
   !> A quantity of the whole run (time, step, energy bookkeeping, the random
   !> numbers' state): the same on every rank, copied.

@@ -11,7 +11,10 @@
 # rotating projectile of paper Sect. 7.4 (Table 2) with LSSM against global
 # smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py); the
 # Taylor bar's resolution study (issue 15, about 25 minutes; BENCH_ONLY=taylor
-# runs only that).
+# runs only that); MPI (issue 16): Sedov 40^3 Lagrangian and with LSSM, 1
+# rank x 2 threads against 2 ranks x 1 thread, the halo's share of the
+# Lagrangian time and its messages and bytes per step, and 4 ranks
+# oversubscribed for the halo counts (BENCH_ONLY=mpi runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -93,6 +96,42 @@ taylor_bench() {
   done
   /usr/bin/python3 "$root/tools/taylor_measure.py" "${dirs[@]}" | tee "$outdir/taylor_measure.txt" || true
 }
+# ---- MPI (issue 16): ranks against threads on the same 2 cores ----
+# Sedov 40^3 (input/sedov3d.nml at 40^3) to t = 0.5, Lagrangian and with
+# LSSM (input/sedov3d_lssm.nml at 40^3). Each configuration's log gives the
+# Lagrangian throughput, the phase timers and, on several ranks, the halo
+# line (rank 0: seconds in exchanges and the global step, their share of the
+# Lagrangian time, messages and bytes sent per step). 4 ranks on 2 cores are
+# oversubscribed: their times mean nothing, their halo counts do.
+mpi_bench() {
+  local mpiexec root_flag=() deck name
+  mpiexec=$(command -v mpirun)
+  [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
+  for deck in sedov3d sedov3d_lssm; do
+    name=${deck/sedov3d/sedov40}
+    sed -e 's/ni = 20, nj = 20, nk = 20/ni = 40, nj = 40, nk = 40/' -e 's/t_end = 1.0/t_end = 0.5/' \
+        -e "s|^&output.*|\&output dir = 'out/$name' /|" "$root/input/$deck.nml" > $name.nml
+    echo "## MPI: $name.nml (Sedov 40^3 to t = 0.5$([[ $deck == *lssm ]] && echo ', LSSM'), Release)"
+    OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" $name.nml > ${name}_r1t2.log
+    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" -np 2 --bind-to core "$exe" $name.nml > ${name}_r2t1.log
+    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" $name.nml > ${name}_r4t1.log
+    for c in r1t2 r2t1 r4t1; do
+      cp ${name}_$c.log "$outdir/bench_mpi_${name}_$c.log"
+      echo "$c: $(grep '^throughput:' ${name}_$c.log) | $(grep '^timers' ${name}_$c.log)"
+      grep '^halo' ${name}_$c.log || true
+    done
+    awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot[f] = $(i + 1)}
+         /^throughput:/ {rate[f] = $2}
+         END {printf "2 ranks x 1 thread against 1 rank x 2 threads: Lagrangian throughput x%.2f, total wall time x%.2f\n", \
+              rate[2] / rate[1], tot[1] / tot[2]}' ${name}_r1t2.log ${name}_r2t1.log
+    echo
+  done
+}
+if [[ "${BENCH_ONLY:-}" == mpi ]]; then
+  mpi_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == taylor ]]; then
   taylor_bench
   echo "bench wall time: ${SECONDS} s"
@@ -179,6 +218,8 @@ echo
 projectile_bench
 echo
 taylor_bench
+echo
+mpi_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"

@@ -120,7 +120,7 @@ contains
     type(particles_work_t), intent(inout), optional :: pw
     integer, intent(out), optional :: bad_particle
     real(wp), intent(out), optional :: work_vf
-    class(halo_t), intent(in), optional :: halo
+    class(halo_t), intent(inout), optional :: halo
     real(wp) :: dt_stable, w_pred, w_vf
     integer :: badp, dtc
     type(xsum_t) :: wacc(1)

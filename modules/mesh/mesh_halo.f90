@@ -5,7 +5,7 @@
 !> it (`parallel_halo`), so that the kernels and the integrator never call
 !> MPI themselves.
 module mesh_halo
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_xsum, only: xsum_t
   implicit none
   private
@@ -14,6 +14,10 @@ module mesh_halo
   !> Ghost refresh and global reductions of one block (here: the only one).
   type :: halo_t
     integer :: nblocks = 1   !< blocks of the decomposition
+    !> the cost of the exchanges and of the step's global minimum so far:
+    !> wall seconds, messages sent and bytes sent by this block
+    real(wp) :: seconds = 0.0_wp
+    integer(i8) :: messages = 0_i8, bytes = 0_i8
   contains
     procedure :: nodes => halo_nodes
     procedure :: cells => halo_cells
@@ -26,14 +30,14 @@ contains
 
   !> Refreshes the ghost nodes of a node field a(m, nnode).
   subroutine halo_nodes(this, a)
-    class(halo_t), intent(in) :: this
+    class(halo_t), intent(inout) :: this
     real(wp), intent(inout) :: a(:, :)
     if (this%nblocks < 1) a = 0.0_wp   ! (a single block has no ghosts)
   end subroutine halo_nodes
 
   !> Refreshes the ghost cells of a cell field a(ncell).
   subroutine halo_cells(this, a)
-    class(halo_t), intent(in) :: this
+    class(halo_t), intent(inout) :: this
     real(wp), intent(inout) :: a(:)
     if (this%nblocks < 1) a = 0.0_wp
   end subroutine halo_cells
@@ -43,7 +47,7 @@ contains
   !> limiting cell's local index on the block that owns it (the lowest
   !> global index on a tie), 0 on the others.
   subroutine halo_min_step(this, dt, cell)
-    class(halo_t), intent(in) :: this
+    class(halo_t), intent(inout) :: this
     real(wp), intent(inout) :: dt
     integer, intent(inout) :: cell
     if (this%nblocks < 1) cell = 0

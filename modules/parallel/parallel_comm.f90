@@ -143,9 +143,16 @@ contains
 
     pc%dims = parallel_dims(pc%nranks, gn, dims_deck, max(ng, 1))
     if (any(pc%dims == 0)) then
-      call error_set(err, 'the deck has 1 problem(s); nothing was run', 'no layout of '//itoa(pc%nranks)// &
-        ' ranks gives every block at least '//itoa(max(ng, 1))//' cells in each direction it is cut on a grid of '// &
-        itoa(gn(1))//' x '//itoa(gn(2))//' x '//itoa(gn(3))//' cells; run on fewer ranks', ERR_INPUT)
+      if (any(dims_deck > 0)) then
+        call error_set(err, 'the deck has 1 problem(s); nothing was run', '&run blocks = '//itoa(dims_deck(1))// &
+          ', '//itoa(dims_deck(2))//', '//itoa(dims_deck(3))//' does not fit '//itoa(pc%nranks)//' ranks on a grid of '// &
+          itoa(gn(1))//' x '//itoa(gn(2))//' x '//itoa(gn(3))//' cells (the product of the non-zero entries must '// &
+          'divide the rank count, and every block cut must keep at least '//itoa(max(ng, 1))//' cells)', ERR_INPUT)
+      else
+        call error_set(err, 'the deck has 1 problem(s); nothing was run', 'no layout of '//itoa(pc%nranks)// &
+          ' ranks gives every block at least '//itoa(max(ng, 1))//' cells in each direction it is cut on a grid of '// &
+          itoa(gn(1))//' x '//itoa(gn(2))//' x '//itoa(gn(3))//' cells; run on fewer ranks', ERR_INPUT)
+      end if
       return
     end if
     call MPI_Cart_create(pc%world, 3, pc%dims, periodic, .false., pc%cart)

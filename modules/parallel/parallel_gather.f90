@@ -53,7 +53,7 @@ contains
     real(wp), allocatable, intent(out) :: w(:, :)
     logical, intent(in) :: nodes, all
     integer :: m, lo(3), hi(3), box(6), r, i, j, k, p, q, stat
-    integer, allocatable :: boxes(:, :), counts(:), displs(:)
+    integer :: boxes(6, 0:pc%nranks - 1), counts(0:pc%nranks - 1), displs(0:pc%nranks - 1)
     real(wp), allocatable :: sbuf(:), rbuf(:)
     type(grid_index_t) :: whole
     logical :: mine
@@ -77,8 +77,6 @@ contains
         end do
       end do
     end do
-    allocate(boxes(6, 0:pc%nranks - 1), counts(0:pc%nranks - 1), displs(0:pc%nranks - 1), stat=stat)
-    call parallel_nomem(stat, 'a gather')
     call MPI_Allgather(box, 6, MPI_INTEGER, boxes, 6, MPI_INTEGER, pc%cart)
     do r = 0, pc%nranks - 1
       counts(r) = m*product(max(boxes(4:6, r) - boxes(1:3, r) + 1, 0))

@@ -45,10 +45,12 @@ contains
   !> (its ghosts above its shared face), ghi(d) nodes below the upper face to
   !> the block above.
   subroutine mpi_nodes(this, a)
-    class(mpi_halo_t), intent(in) :: this
+    class(mpi_halo_t), intent(inout) :: this
     real(wp), intent(inout) :: a(:, :)
     integer :: d
+    real(wp) :: t0
     if (this%nblocks == 1) return
+    t0 = MPI_Wtime()
     associate (ix => this%ix)
       do d = 1, 3
         call swap(this, a, size(a, 1), size(a, 2), d, .true., &
@@ -56,14 +58,17 @@ contains
                   [ix%nhi(d) - ix%ghi(d), ix%nhi(d) - 1], [ix%nhi(d) + 1, ix%nhi(d) + ix%ghi(d)])
       end do
     end associate
+    this%seconds = this%seconds + (MPI_Wtime() - t0)
   end subroutine mpi_nodes
 
   !> Ghost cells of a(ncell).
   subroutine mpi_cells(this, a)
-    class(mpi_halo_t), intent(in) :: this
+    class(mpi_halo_t), intent(inout) :: this
     real(wp), intent(inout) :: a(:)
     integer :: d
+    real(wp) :: t0
     if (this%nblocks == 1) return
+    t0 = MPI_Wtime()
     associate (ix => this%ix)
       do d = 1, 3
         call swap(this, a, 1, size(a), d, .false., &
@@ -71,13 +76,14 @@ contains
                   [ix%chi(d) - ix%ghi(d) + 1, ix%chi(d)], [ix%chi(d) + 1, ix%chi(d) + ix%ghi(d)])
       end do
     end associate
+    this%seconds = this%seconds + (MPI_Wtime() - t0)
   end subroutine mpi_cells
 
   !> One direction d of an exchange: layers send_lo go down and recv_hi
   !> come from above; send_hi go up and recv_lo come from below (index
   !> ranges in d; the other two directions over the whole stored range).
   subroutine swap(this, a, m, n, d, nodes, send_lo, recv_lo, send_hi, recv_hi)
-    class(mpi_halo_t), intent(in) :: this
+    class(mpi_halo_t), intent(inout) :: this
     integer, intent(in) :: m, n
     real(wp), intent(inout) :: a(m, n)
     integer, intent(in) :: d
@@ -90,6 +96,7 @@ contains
     hi = this%ix%shi
     ! down: my lowest owned layers to the block below, its into my upper ghosts
     call pack(send_lo, sbuf)
+    call count_send(this%nbr(2*d - 1))
     allocate(rbuf(size(a, 1)*(recv_hi(2) - recv_hi(1) + 1)*plane(d)), stat=stat)
     call parallel_nomem(stat, 'a halo exchange')
     call MPI_Sendrecv(sbuf, size(sbuf), MPI_DOUBLE_PRECISION, this%nbr(2*d - 1), 10 + d, &
@@ -98,12 +105,20 @@ contains
     deallocate(sbuf, rbuf)
     ! up
     call pack(send_hi, sbuf)
+    call count_send(this%nbr(2*d))
     allocate(rbuf(size(a, 1)*(recv_lo(2) - recv_lo(1) + 1)*plane(d)), stat=stat)
     call parallel_nomem(stat, 'a halo exchange')
     call MPI_Sendrecv(sbuf, size(sbuf), MPI_DOUBLE_PRECISION, this%nbr(2*d), 20 + d, &
                       rbuf, size(rbuf), MPI_DOUBLE_PRECISION, this%nbr(2*d - 1), 20 + d, this%comm, MPI_STATUS_IGNORE)
     call unpack(recv_lo, rbuf)
   contains
+    subroutine count_send(to)
+      integer, intent(in) :: to
+      if (to == MPI_PROC_NULL) return
+      this%messages = this%messages + 1_i8
+      this%bytes = this%bytes + 8_i8*size(sbuf, kind=i8)
+    end subroutine count_send
+
     integer function plane(dd)
       integer, intent(in) :: dd
       integer :: e
@@ -164,18 +179,22 @@ contains
   !> Global smallest step; the limiting cell kept on its owner (lowest
   !> global index on a tie, the order a single block uses).
   subroutine mpi_min_step(this, dt, cell)
-    class(mpi_halo_t), intent(in) :: this
+    class(mpi_halo_t), intent(inout) :: this
     real(wp), intent(inout) :: dt
     integer, intent(inout) :: cell
-    real(wp) :: pair(2), best(2)
+    real(wp) :: pair(2), best(2), t0
     integer :: gcell
     if (this%nblocks == 1) return
+    t0 = MPI_Wtime()
     gcell = huge(1)
     if (cell > 0) gcell = this%ix%global_cell(cell)
     pair = [dt, real(gcell, wp)]
     call MPI_Allreduce(pair, best, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, this%comm)
     dt = best(1)
     if (cell > 0 .and. gcell /= nint(best(2))) cell = 0
+    this%seconds = this%seconds + (MPI_Wtime() - t0)
+    this%messages = this%messages + 1_i8   ! (a reduction)
+    this%bytes = this%bytes + 16_i8
   end subroutine mpi_min_step
 
   !> Global largest integer.
