@@ -94,6 +94,7 @@ contains
         call read_restart(cfg, st, sch, es, err)
       end if
       if (.not. allocated(err)) call outputs_after_restart(cfg, st, sch, err)
+      call agree_error(sch%pc, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
     else
       call schedule_init(cfg, sch)

@@ -47,6 +47,8 @@ module driver_output
     real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp   !< wall time of the last step, last dump
     type(timer_t) :: t_setup, t_lagrange, t_output, t_total
     integer :: history_unit = -1                   !< the energy history file (-1: none)
+    !> rows still to come (on every rank: a row's totals are summed by all)
+    logical :: history_on = .false.
     real(wp) :: t_next_history = huge(1.0_wp)      !< time of the next history row
     integer :: dt_cell = 0                         !< cell with the smallest stable step (0: none)
     logical :: dt_by_cell = .false.                !< that cell set the last step (else the controller did)
@@ -101,6 +103,7 @@ contains
     base = trim(cfg%output%name)
     sch%out%dir = dir
     sch%out%name = base
+    sch%history_on = cfg%output%history_dt > 0.0_wp
     ! rank 0 writes the log and the files of the whole grid
     if (sch%pc%rank /= 0) return
     call io_make_dirs(dir, err)
@@ -301,16 +304,17 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(error_t), allocatable, intent(inout) :: err
 
+    if (cfg%output%history_dt > 0.0_wp) then
+      if (.not. sch%t_next_history <= st%t + cfg%output%history_dt) &
+        sch%t_next_history = next_multiple(st%t, cfg%output%history_dt)
+    end if
+    if (sch%pc%rank /= 0) return   ! (rank 0 writes the files)
     if (cfg%output%ngauge > 0) call text_rows_trim(gauges_path(sch), st%t, err)
     if (.not. allocated(err) .and. cfg%output%ntrack > 0) then
       call text_rows_trim(tracks_path(sch), st%t, err)
       if (.not. allocated(err)) call tracks_open(cfg, st, sch, .true., err)
     end if
-    if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) then
-      call text_rows_trim(history_path(sch), st%t, err)
-      if (.not. sch%t_next_history <= st%t + cfg%output%history_dt) &
-        sch%t_next_history = next_multiple(st%t, cfg%output%history_dt)
-    end if
+    if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(history_path(sch), st%t, err)
     if (.not. allocated(err)) call open_histories(cfg, sch, .true., err)
     if (allocated(err)) err%category = ERR_IO
   end subroutine outputs_after_restart
@@ -337,7 +341,7 @@ contains
     logical :: last
     character(len=160) :: row
 
-    if (sch%history_unit == -1) return
+    if (.not. sch%history_on) return
     eps_t = 1.0e-12_wp*cfg%control%t_end
     last = .not. (st%t < cfg%control%t_end - eps_t)
     if (st%t < sch%t_next_history - eps_t .and. .not. last) return
@@ -345,12 +349,15 @@ contains
     call state_totals(st)
     write(row, '(6es25.16e3)') st%t, st%tot%kinetic, st%tot%internal, st%tot%boundary_work, &
       st%tot%kinetic + st%tot%internal, energy_drift(st%tot)
-    write(sch%history_unit, '(a)') trim(row)
-    flush(sch%history_unit)
+    if (sch%history_unit /= -1) then   ! (rank 0)
+      write(sch%history_unit, '(a)') trim(row)
+      flush(sch%history_unit)
+    end if
     sch%t_next_history = next_multiple(st%t + eps_t, cfg%output%history_dt)
     if (last) then
-      close(sch%history_unit)
+      if (sch%history_unit /= -1) close(sch%history_unit)
       sch%history_unit = -1
+      sch%history_on = .false.
     end if
     call sch%t_output%stop()
   end subroutine history_output

@@ -6,7 +6,8 @@
 # With --fail the deck must fail (a tangled cell in one block): every run
 # ends with exit status 1, the FATAL line names the rank that failed, which
 # on 2 and 4 ranks is not rank 0, and the failure frame is written and is
-# the single process's failure frame bit for bit.
+# the single process's failure frame bit for bit. The energy history
+# (&output history_dt = t_end/8) must be the same text on every rank count.
 # Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail]
 set -u
 mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6 mode=${7:-}
@@ -14,8 +15,10 @@ fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
 root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
 export OMP_NUM_THREADS=1
+t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')
+hdt=$(awk -v t="$t_end" 'BEGIN {printf "%.6e", t/8}')
 for n in 1 2 4; do
-  sed -e "s|^&output.*|\&output dir = 'r$n', name = 'run' /|" "$deck" > "r$n.nml"
+  sed -e "s|^&output.*|\&output dir = 'r$n', name = 'run', history_dt = $hdt /|" "$deck" > "r$n.nml"
   if [ "$n" -eq 1 ]; then
     timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
   else
@@ -42,6 +45,9 @@ for n in 1 2 4; do
     "$py" "$tools/compare_frames.py" "$last" "$ref" --exact > "cmp$n.txt" || \
       { cat "cmp$n.txt"; fail "$n ranks: final frame differs from the single process's"; }
     echo "ok: $n ranks: $(basename "$last") bit-identical to one process's"
+    cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
+      fail "$n ranks: the energy history differs from one process's"; }
+    echo "ok: $n ranks: energy history ($(grep -vc '^#' r1/run_history.txt) rows) the same as one process's"
   else
     ref=$last
   fi
