@@ -11,7 +11,7 @@ module driver_euler
   use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
-  use rezone_quality, only: grid_quality, grid_worst_cells, grid_trigger_cells
+  use rezone_quality, only: grid_quality, grid_worst_cells, grid_trigger_cells, hex_shape
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_config, only: rezone_config_t
@@ -30,7 +30,7 @@ module driver_euler
                               particles_euler_finish
   implicit none
   private
-  public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_step, euler_report
+  public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_shape, euler_step, euler_report
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -90,12 +90,15 @@ contains
 
   !> `due` when an Euler step is due after the step just taken: an interval
   !> has passed, or the grid's largest side ratio or smallest cosine of the
-  !> inclined angle has reached its bound.
-  subroutine euler_due(rz, st, es, due)
+  !> inclined angle has reached its bound. With `shape` (a decomposed run:
+  !> the largest side ratio and smallest cosine of all blocks, `euler_shape`
+  !> and a global reduction) the grid in st is not read.
+  subroutine euler_due(rz, st, es, due, shape)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
     type(euler_state_t), intent(inout) :: es
     logical, intent(out) :: due
+    real(wp), intent(in), optional :: shape(2)
     real(wp) :: q_min, ratio_max, cos_min
     integer :: ijk_ratio(3), ijk_cos(3)
     logical :: axis
@@ -105,17 +108,55 @@ contains
     if (rz%interval_time > 0.0_wp) due = due .or. st%t >= es%t_next*(1.0_wp - 1.0e-12_wp)
     es%trigger_note = 'interval'
     if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
-    ! LSSM's box reading measures the inclined angle against the axes
-    axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
-    call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min, axis=axis)
+    axis = euler_axis(rz)
+    if (present(shape)) then
+      ratio_max = shape(1)
+      cos_min = shape(2)
+    else
+      call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min, axis=axis)
+    end if
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
+    if (present(shape)) then
+      write(es%trigger_note, '("side ratio ",f0.2,", cosine ",f0.3," (all blocks)")') ratio_max, cos_min
+      return
+    end if
     ! where: the worst cell of each measure
     call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, axis)
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
       &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
   end subroutine euler_due
+
+  !> Whether the triggers measure the inclined angle against the axes (LSSM's
+  !> box reading).
+  logical function euler_axis(rz)
+    type(rezone_config_t), intent(in) :: rz
+    euler_axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
+  end function euler_axis
+
+  !> The largest side ratio and smallest inclined-angle cosine over the
+  !> cells a block owns (`hex_shape`, as `grid_quality` measures them).
+  subroutine euler_shape(rz, g, shape)
+    type(rezone_config_t), intent(in) :: rz
+    type(grid_t), intent(in) :: g
+    real(wp), intent(out) :: shape(2)
+    real(wp) :: xn(3, 8), r, cs
+    integer :: i, j, k
+    logical :: axis
+    axis = euler_axis(rz)
+    shape = [0.0_wp, 1.0_wp]
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          call g%gather(g%cell(i, j, k), g%x, xn)
+          call hex_shape(xn, r, cs, axis)
+          shape(1) = max(shape(1), r)
+          shape(2) = min(shape(2), cs)
+        end do
+      end do
+    end do
+  end subroutine euler_shape
 
   !> One Euler step: rezone, remap, new material states; checks
   !> conservation in every build (a breach beyond &rezone conservation_tol

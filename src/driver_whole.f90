@@ -17,6 +17,7 @@
 !> whole state per Euler step: it makes a decomposed run with Euler steps
 !> give the single process's answer, not run faster.
 module driver_whole
+  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_MIN
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use base_registry, only: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, &
@@ -29,7 +30,7 @@ module driver_whole
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
-  use driver_euler, only: euler_state_t, euler_due, euler_step
+  use driver_euler, only: euler_state_t, euler_due, euler_shape, euler_step
   use driver_output, only: schedule_t
   use driver_restart, only: write_restart, read_restart
   implicit none
@@ -60,9 +61,9 @@ contains
   end subroutine whole_build
 
   !> The Euler phase of a decomposed run after a Lagrangian step: whether it
-  !> is due, from the whole grid's positions (gathered only when a quality
-  !> trigger needs them), then the Euler step on the whole grid and each
-  !> block taken back from it.
+  !> is due (the quality triggers from each block's owned cells, reduced:
+  !> a maximum and a minimum, exact in any order), then the Euler step on
+  !> the whole grid and each block taken back from it.
   subroutine whole_euler(cfg, pc, st, es, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -70,17 +71,19 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: x(:, :)
+    real(wp) :: mine(2), shape(2)
     logical :: due
     if (.not. es%on) return
     st%whole%t = st%t
     st%whole%dt = st%dt
     st%whole%step = st%step
+    shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
-      call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
-      st%whole%g%x = x
+      call euler_shape(cfg%rezone, st%g, mine)
+      call MPI_Allreduce(mine(1), shape(1), 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+      call MPI_Allreduce(mine(2), shape(2), 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
     end if
-    call euler_due(cfg%rezone, st%whole, es, due)
+    call euler_due(cfg%rezone, st%whole, es, due, shape)
     if (.not. due) return
     call whole_gather(pc, st, err)
     if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
