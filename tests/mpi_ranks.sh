@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Rank invariance: a deck run as one process (no mpirun), then on 2 and 4
-# MPI ranks (oversubscribed, one OpenMP thread each), must give final frames
+# Rank invariance: a deck run as one process (no mpirun), then on 2 MPI
+# ranks of 2 OpenMP threads and on 4 ranks of 1 (oversubscribed), must give final frames
 # bit-identical to the single process's (`compare_frames.py --exact`: node
 # positions, velocities, cell fields, the conservation totals, time, step).
 # With --fail the deck must fail (a tangled cell in one block): every run
@@ -22,8 +22,10 @@ for n in 1 2 4; do
   if [ "$n" -eq 1 ]; then
     timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
   else
-    timeout 600 "$mpiexec" "${root[@]}" --oversubscribe -np "$n" "$exe" "r$n.nml" > "r$n.out" 2>&1; rc=$?
+    OMP_NUM_THREADS=$((n == 2 ? 2 : 1)) timeout 600 "$mpiexec" "${root[@]}" --oversubscribe -np "$n" \
+      "$exe" "r$n.nml" > "r$n.out" 2>&1; rc=$?
     grep -q "^run: $n MPI ranks" "r$n.out" || { tail -20 "r$n.out"; fail "$n ranks: no layout line in the log"; }
+    grep -q ", $((n == 2 ? 2 : 1)) OpenMP thread(s)" "r$n.out" || fail "$n ranks: not the OpenMP threads asked for"
   fi
   grep -E -q "Segmentation|Backtrace|SIGSEGV|Program received" "r$n.out" && { tail -20 "r$n.out"; fail "$n ranks: crashed"; }
   last=$(ls r$n/run_[0-9][0-9][0-9][0-9][0-9].h5 2> /dev/null | sort | tail -1)
