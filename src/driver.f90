@@ -202,6 +202,7 @@ contains
       if (allocated(st%whole)) then
         ! (a decomposed run: on the whole grid, `driver_whole`)
         call whole_euler(cfg, sch%pc, st, es, sch%log, err)
+        call agree_error(sch%pc, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
       else
         call euler_due(cfg%rezone, st, es, due)
