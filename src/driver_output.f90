@@ -104,8 +104,13 @@ contains
     sch%out%dir = dir
     sch%out%name = base
     sch%history_on = cfg%output%history_dt > 0.0_wp
-    ! rank 0 writes the log and the files of the whole grid
-    if (sch%pc%rank /= 0) return
+    ! rank 0 writes the log and the files of the whole grid (the other ranks
+    ! sample the gauges with it)
+    if (sch%pc%rank /= 0) then
+      call gauges_open(sch%gauges, gauges_path(sch), cfg%output%gauges(:, 1:cfg%output%ngauge), .false., err, &
+                       file=.false.)
+      return
+    end if
     call io_make_dirs(dir, err)
     if (allocated(err)) return
     msg = ''
@@ -526,7 +531,7 @@ contains
     if (sch%gauges%n == 0 .and. sch%track_unit == -1) return
     if (st%t < sch%t_next_gauge .and. st%t < cfg%control%t_end) return
     call sch%t_output%start()
-    call gauges_write(sch%gauges, st%g, st%h, st%t)
+    call gauges_write(sch%gauges, st%g, st%h, st%t, st%halo)
     call tracks_write(st, sch)
     call sch%t_output%stop()
     if (cfg%output%gauge_dt > 0.0_wp) then

@@ -30,7 +30,7 @@ contains
     character(len=*), parameter :: tail = ' is not available on more than one MPI rank yet (run it on one rank)'
     if (nranks <= 1) return
     if (size(cfg%particles) > 0) call add('&particles (MPM particles)')
-    if (cfg%output%ngauge > 0 .or. cfg%output%ntrack > 0) call add('&output gauge, track')
+    if (cfg%output%ntrack > 0) call add('&output track')
     if (cfg%control%velocity_noise > 0.0d0) call add('&run velocity_noise')
     if (len_trim(cfg%grid%file) > 0) call add('&grid file')
   contains

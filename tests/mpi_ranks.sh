@@ -7,7 +7,8 @@
 # ends with exit status 1, the FATAL line names the rank that failed, which
 # on 2 and 4 ranks is not rank 0, and the failure frame is written and is
 # the single process's failure frame bit for bit. The energy history
-# (&output history_dt = t_end/8) must be the same text on every rank count.
+# (&output history_dt = t_end/8) and the deck's gauge histories must be the
+# same text on every rank count.
 # Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail]
 set -u
 mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6 mode=${7:-}
@@ -18,7 +19,7 @@ export OMP_NUM_THREADS=1
 t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')
 hdt=$(awk -v t="$t_end" 'BEGIN {printf "%.6e", t/8}')
 for n in 1 2 4; do
-  sed -e "s|^&output.*|\&output dir = 'r$n', name = 'run', history_dt = $hdt /|" "$deck" > "r$n.nml"
+  sed -e "s|^&output dir = '[^']*'|\&output dir = 'r$n', name = 'run', history_dt = $hdt|" "$deck" > "r$n.nml"
   if [ "$n" -eq 1 ]; then
     timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
   else
@@ -50,6 +51,11 @@ for n in 1 2 4; do
     cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
       fail "$n ranks: the energy history differs from one process's"; }
     echo "ok: $n ranks: energy history ($(grep -vc '^#' r1/run_history.txt) rows) the same as one process's"
+    if [ -f r1/run_gauges.txt ]; then
+      cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
+        fail "$n ranks: the gauge histories differ from one process's"; }
+      echo "ok: $n ranks: gauge histories ($(grep -vc '^#' r1/run_gauges.txt) rows) the same as one process's"
+    fi
   else
     ref=$last
   fi

@@ -35,6 +35,7 @@ module io_gauges
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_trilinear, hex_natural_unclamped
   use lagrange_state, only: hydro_t
+  use mesh_halo, only: halo_t
   use io_xdmf, only: io_rename
   use base_strings, only: itoa
   implicit none
@@ -62,13 +63,15 @@ contains
   !> Opens the history file at `path` for the gauge points(3, n) (length)
   !> and writes its header (comment lines starting with '#', the last one
   !> naming every column), or (append, on a restart) adds rows to the
-  !> existing file.
-  subroutine gauges_open(gs, path, points, append, err)
+  !> existing file. With file = .false. only the points are kept (a rank of a
+  !> decomposed run that samples the gauges but does not write them).
+  subroutine gauges_open(gs, path, points, append, err, file)
     type(gauges_t), intent(out) :: gs
     character(len=*), intent(in) :: path
     real(wp), intent(in) :: points(:, :)
     logical, intent(in) :: append
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: file
     integer :: ios, i, f
     character(len=256) :: msg
     character(len=:), allocatable :: names
@@ -77,10 +80,13 @@ contains
     if (gs%n == 0) return
     gs%path = path
     gs%point = points
-    allocate(gs%cell(gs%n), source=1, stat=ios, errmsg=msg)
+    allocate(gs%cell(gs%n), source=0, stat=ios, errmsg=msg)
     if (ios /= 0) then
       call error_set(err, 'gauges_open', 'cannot allocate the gauges: '//trim(msg))
       return
+    end if
+    if (present(file)) then
+      if (.not. file) return   ! (a rank that samples but does not write)
     end if
     if (append) then
       open(newunit=gs%unit, file=path, status='unknown', position='append', action='write', &
@@ -112,20 +118,40 @@ contains
   end subroutine gauges_open
 
   !> Appends one row at time t.
-  subroutine gauges_write(gs, g, h, t)
+  !> On a decomposed run every block samples each gauge; the block that owns
+  !> the cell containing the point answers (the lowest cell of the whole
+  !> grid that contains it, as on one block), and only the block with the
+  !> file (rank 0) writes. A point in no cell (moved out of the grid) takes
+  !> the answer of the block whose nearest cell has the nearest centroid.
+  subroutine gauges_write(gs, g, h, t, halo)
     type(gauges_t), intent(inout) :: gs
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     real(wp), intent(in) :: t
-    integer :: i
-    real(wp) :: vals(gauge_nfield)
+    class(halo_t), intent(in) :: halo
+    integer :: i, ijk(3)
+    real(wp) :: vals(gauge_nfield + 1), key
+    logical :: inside, own
 
-    if (gs%unit == -1) return
-    write(gs%unit, '(es25.16e3)', advance='no') t
+    if (gs%n == 0) return
+    if (gs%unit /= -1) write(gs%unit, '(es25.16e3)', advance='no') t
     do i = 1, gs%n
-      call gauge_sample(g, h, gs%point(:, i), gs%cell(i), vals)
-      write(gs%unit, '(1x,i0,7es25.16e3)', advance='no') gs%cell(i), vals
+      call gauge_sample(g, h, gs%point(:, i), gs%cell(i), vals(:gauge_nfield), inside)
+      call g%cell_ijk(gs%cell(i), ijk(1), ijk(2), ijk(3))
+      own = g%owns_cell(ijk(1), ijk(2), ijk(3))
+      vals(gauge_nfield + 1) = real(g%global_cell(gs%cell(i)), wp)
+      key = huge(1.0_wp)
+      if (inside .and. own) key = vals(gauge_nfield + 1)
+      call halo%choose(key, vals)
+      if (.not. key < huge(1.0_wp)) then
+        key = huge(1.0_wp)
+        if (own) key = centroid_dist2(g, gs%cell(i), gs%point(:, i))
+        call halo%choose(key, vals)
+      end if
+      if (gs%unit /= -1) write(gs%unit, '(1x,i0,7es25.16e3)', advance='no') nint(vals(gauge_nfield + 1)), &
+        vals(:gauge_nfield)
     end do
+    if (gs%unit == -1) return
     write(gs%unit, '(a)') ''
     flush(gs%unit)
   end subroutine gauges_write
@@ -142,26 +168,30 @@ contains
   !> in the order of `gauge_field_names`. On entry `c` is a cell to start the
   !> search from (any cell: the previous answer is the cheapest), on exit the
   !> cell that contains p.
-  pure subroutine gauge_sample(g, h, p, c, vals)
+  pure subroutine gauge_sample(g, h, p, c, vals, inside)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     real(wp), intent(in) :: p(3)
     integer, intent(inout) :: c
     real(wp), intent(out) :: vals(gauge_nfield)
-    real(wp) :: xi(3), un(3, 8), s(3), w(3)
-    integer :: ijk(3), lo(3), hi(3), nlog(3), d, cc(2, 2, 2), a, b, e, c0
+    logical, intent(out), optional :: inside
+    real(wp) :: xi(3), un(3, 8), w(3)
+    integer :: ijk(3), lo(3), hi(3), nlog(3), d, cc(2, 2, 2), a, b, e, c0, f
 
     c0 = c
-    call gauge_locate(g, p, c0, c, xi)
+    call gauge_locate(g, p, c0, c, xi, inside)
     call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-    nlog = [g%ni, g%nj, g%nk]
+    ! the whole grid's cells (a block's own and ghost cells around its own)
+    nlog = g%gn - g%off
     do d = 1, 3
-      ! logical coordinate: cell centres at whole numbers, faces at halves
-      s(d) = real(ijk(d), wp) + 0.5_wp*xi(d)
-      lo(d) = floor(s(d))
-      w(d) = s(d) - real(lo(d), wp)
+      ! logical coordinate ijk + xi/2: cell centres at whole numbers, faces
+      ! at halves; the weight from xi alone (not rounded with the index,
+      ! which differs between a block and the whole grid)
+      f = floor(0.5_wp*xi(d))
+      lo(d) = ijk(d) + f
+      w(d) = 0.5_wp*xi(d) - real(f, wp)
       hi(d) = lo(d) + 1
-      if (lo(d) < 1) lo(d) = 1
+      if (lo(d) < 1 - g%off(d)) lo(d) = 1 - g%off(d)
       if (hi(d) > nlog(d)) hi(d) = nlog(d)
       if (lo(d) > hi(d)) lo(d) = hi(d)
     end do
@@ -214,24 +244,33 @@ contains
   !> one of its 26 neighbours: the one whose natural coordinates of p leave
   !> the cube least. (Newton's inverse is reliable only for points near the
   !> cell, which is why it is not what steers the walk.) A point outside the
-  !> grid gets the nearest cell and xi clamped to the cube.
-  pure subroutine gauge_locate(g, p, c0, c, xi)
+  !> grid gets the nearest cell and xi clamped to the cube; `inside` says
+  !> whether the point is in the cell found. On a block of a decomposition
+  !> the walk goes over the block's own cells (the search of a point in
+  !> another block ends outside).
+  pure subroutine gauge_locate(g, p, c0, c, xi, inside)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: p(3)
     integer, intent(in) :: c0
     integer, intent(out) :: c
     real(wp), intent(out) :: xi(3)
+    logical, intent(out), optional :: inside
     real(wp), parameter :: tol = 1.0e-10_wp
     real(wp) :: xn(3, 8), xit(3), excess, best_excess
     integer :: ijk(3), lo(3), hi(3), i, j, k, cn, cs
 
     cs = c0
-    if (cs < 1 .or. cs > g%ncell) cs = 1
+    if (cs < 1 .or. cs > g%ncell) cs = g%cell(g%clo(1), g%clo(2), g%clo(3))
+    call g%cell_ijk(cs, ijk(1), ijk(2), ijk(3))
+    if (.not. g%owns_cell(ijk(1), ijk(2), ijk(3))) cs = g%cell(g%clo(1), g%clo(2), g%clo(3))
+    if (present(inside)) inside = .true.
     call g%gather(cs, g%x, xn)
     xi = hex_natural_unclamped(xn, p)
     if (maxval(abs(xi)) <= 1.0_wp + tol) then
       c = cs
       call lowest_containing(g, p, tol, c, xi)
+      ! (clamped as below: the same answer whichever way it was found)
+      xi = min(max(xi, -1.0_wp), 1.0_wp)
       return
     end if
     cn = nearest_cell(g, p, cs)
@@ -265,6 +304,7 @@ contains
       if (best_excess <= tol) exit
     end do
     if (best_excess <= tol) call lowest_containing(g, p, tol, c, xi)
+    if (present(inside)) inside = best_excess <= tol
     xi = min(max(xi, -1.0_wp), 1.0_wp)
   end subroutine gauge_locate
 
@@ -285,7 +325,7 @@ contains
     do d = 1, 3
       if (.not. xi(d) < -1.0_wp + tol) cycle
       call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-      if (ijk(d) <= 1) cycle
+      if (ijk(d) <= g%slo(d)) cycle
       cn = c - stride(d)
       call g%gather(cn, g%x, xn)
       xit = hex_natural_unclamped(xn, p)
@@ -302,10 +342,9 @@ contains
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: p(3)
     integer, intent(in) :: c0
-    integer :: d, s, cn, ijk(3), nlog(3), stride(3), best
+    integer :: d, s, cn, ijk(3), stride(3), best
     real(wp) :: dbest, dn
 
-    nlog = [g%ni, g%nj, g%nk]
     stride = [1, g%cx, g%cxy]
     c = c0
     dbest = centroid_dist2(g, c, p)
@@ -314,7 +353,7 @@ contains
       best = c
       do d = 1, 3
         do s = -1, 1, 2
-          if (ijk(d) + s < 1 .or. ijk(d) + s > nlog(d)) cycle
+          if (ijk(d) + s < g%clo(d) .or. ijk(d) + s > g%chi(d)) cycle
           cn = c + s*stride(d)
           dn = centroid_dist2(g, cn, p)
           if (dn < dbest) then

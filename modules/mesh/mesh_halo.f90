@@ -24,6 +24,7 @@ module mesh_halo
     procedure :: min_step => halo_min_step
     procedure :: max_int => halo_max_int
     procedure :: sums => halo_sums
+    procedure :: choose => halo_choose
   end type halo_t
 
 contains
@@ -68,4 +69,12 @@ contains
     type(xsum_t), intent(inout) :: acc(:)
     if (this%nblocks < 1) acc(1)%terms = 0
   end subroutine halo_sums
+
+  !> The values of the block with the smallest key (the lowest-numbered
+  !> block on a tie): on exit key and vals are that block's, on every block.
+  subroutine halo_choose(this, key, vals)
+    class(halo_t), intent(in) :: this
+    real(wp), intent(inout) :: key, vals(:)
+    if (this%nblocks < 1) vals = key
+  end subroutine halo_choose
 end module mesh_halo

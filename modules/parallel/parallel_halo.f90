@@ -26,6 +26,7 @@ module parallel_halo
     procedure :: min_step => mpi_min_step
     procedure :: max_int => mpi_max_int
     procedure :: sums => mpi_sums
+    procedure :: choose => mpi_choose
   end type mpi_halo_t
 
 contains
@@ -227,4 +228,19 @@ contains
       acc(q)%terms = 0
     end do
   end subroutine mpi_sums
+
+  !> The values of the block with the smallest key (lowest rank on a tie),
+  !> on every block.
+  subroutine mpi_choose(this, key, vals)
+    class(mpi_halo_t), intent(in) :: this
+    real(wp), intent(inout) :: key, vals(:)
+    real(wp) :: pair(2), best(2)
+    integer :: rank
+    if (this%nblocks == 1) return
+    call MPI_Comm_rank(this%comm, rank)
+    pair = [key, real(rank, wp)]
+    call MPI_Allreduce(pair, best, 1, MPI_2DOUBLE_PRECISION, MPI_MINLOC, this%comm)
+    key = best(1)
+    call MPI_Bcast(vals, size(vals), MPI_DOUBLE_PRECISION, nint(best(2)), this%comm)
+  end subroutine mpi_choose
 end module parallel_halo
