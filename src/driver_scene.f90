@@ -67,7 +67,7 @@ contains
           call error_set(err, deck_problem, '&grid: '//err%msg, ERR_INPUT)
           return
         end if
-        call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err)
+        call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err, block)
         deallocate(xfile)
         call log_line(log, 'grid: node positions from '//gc%file_path)
       end if

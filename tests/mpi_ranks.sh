@@ -9,11 +9,17 @@
 # the single process's failure frame bit for bit. The energy history
 # (&output history_dt = t_end/8) and the deck's gauge histories must be the
 # same text on every rank count.
-# Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail]
+# Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail] [FILE...]
+# FILEs (a deck's grid file) are copied into WORKDIR, where the decks run.
 set -u
-mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6 mode=${7:-}
+mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6
+shift 6
+mode=''
+if [ "${1:-}" = --fail ]; then mode=--fail; shift; fi
 fail() { echo "FAIL: $*"; exit 1; }
-rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+rm -rf "$dir"; mkdir -p "$dir"
+for extra in "$@"; do cp "$extra" "$dir"/ || fail "cannot copy $extra"; done
+cd "$dir" || exit 1
 root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
 export OMP_NUM_THREADS=1
 t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')

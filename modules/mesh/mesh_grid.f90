@@ -110,26 +110,38 @@ contains
   end subroutine grid_init_box
 
   !> Builds a grid of ni x nj x nk cells on given node positions x(3, nnode)
-  !> (length; `grid_index` order), e.g. read from a file (`io_grid_file`);
-  !> xmin and xmax become the box around them.
-  subroutine grid_init_nodes(g, ni, nj, nk, x, err)
+  !> (length; `grid_index` order of the whole grid), e.g. read from a file
+  !> (`io_grid_file`), or the block `ix` of it (its stored nodes taken from
+  !> x); xmin and xmax become the box around all of them.
+  subroutine grid_init_nodes(g, ni, nj, nk, x, err, ix)
     type(grid_t), intent(out) :: g
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: stat
+    type(grid_index_t), intent(in), optional :: ix
+    type(grid_index_t) :: whole
+    integer :: stat, i, j, k
     character(len=200) :: msg
 
-    g%grid_index_t = grid_index(ni, nj, nk)
-    if (size(x, 1) /= 3 .or. size(x, 2) /= g%nnode) then
-      call error_set(err, 'grid_init_nodes', 'the node positions do not fit the block')
+    whole = grid_index(ni, nj, nk)
+    g%grid_index_t = whole
+    if (present(ix)) g%grid_index_t = ix
+    if (size(x, 1) /= 3 .or. size(x, 2) /= whole%nnode) then
+      call error_set(err, 'grid_init_nodes', 'the node positions do not fit the grid')
       return
     end if
-    allocate(g%x, source=x, stat=stat, errmsg=msg)
+    allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'grid_init_nodes', 'cannot allocate node positions: '//trim(msg))
       return
     end if
+    do k = g%slo(3) - 1, g%shi(3)
+      do j = g%slo(2) - 1, g%shi(2)
+        do i = g%slo(1) - 1, g%shi(1)
+          g%x(:, g%node(i, j, k)) = x(:, whole%node(i + g%off(1), j + g%off(2), k + g%off(3)))
+        end do
+      end do
+    end do
     g%xmin = minval(x, dim=2)
     g%xmax = maxval(x, dim=2)
   end subroutine grid_init_nodes
