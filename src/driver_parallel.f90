@@ -32,7 +32,6 @@ contains
     if (size(cfg%particles) > 0) call add('&particles (MPM particles)')
     if (cfg%output%ntrack > 0) call add('&output track')
     if (cfg%control%velocity_noise > 0.0d0) call add('&run velocity_noise')
-    if (len_trim(cfg%grid%file) > 0 .and. size(cfg%sources) > 0) call add('&source on a grid from &grid file')
   contains
     subroutine add(what)
       character(len=*), intent(in) :: what

@@ -10,7 +10,7 @@ module driver_scene
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes
   use mesh_halo, only: halo_t
-  use mesh_geometry, only: hex_volume, hex_natural, hex_natural_unclamped, cross
+  use mesh_geometry, only: hex_volume, hex_natural, cross
   use io_grid_file, only: grid_file_read
   use io_gauges, only: gauge_locate
   use mesh_boundary, only: bc_init, bc_constrain
@@ -45,7 +45,8 @@ contains
     type(grid_index_t), intent(in), optional :: block
     integer :: m, c, n, a, r, s, ijk(3), stat
     type(centroid_stats_t) :: planes
-    real(wp) :: xn(3, 8), h(3), rv, xi(3)
+    real(wp) :: xn(3, 8), h(3), rv, xi(3), key
+    logical :: inside
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
@@ -121,23 +122,27 @@ contains
         if (len_trim(gc%file) == 0) then
           ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
           ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
-          call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
-                        ' deposited in cell '//itoa(ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))))
-          ijk = ijk - g%off
-          if (any(ijk < g%slo .or. ijk > g%shi)) cycle
-          c = g%cell(ijk(1), ijk(2), ijk(3))
         else
-          call gauge_locate(g, cfg%sources(s)%position, 1, c, xi)
-          call g%gather(c, g%x, xn)
-          xi = hex_natural_unclamped(xn, cfg%sources(s)%position)
-          if (.not. (maxval(abs(xi)) <= 1.0_wp + 1.0e-10_wp)) then
+          ! the block that owns the cell containing the point says which
+          ! (the lowest such cell of the whole grid, `gauge_locate`)
+          call gauge_locate(g, cfg%sources(s)%position, 0, c, xi, inside)
+          call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+          key = huge(1.0_wp)
+          if (inside .and. g%owns_cell(ijk(1), ijk(2), ijk(3))) key = real(g%global_cell(c), wp)
+          call st%halo%choose(key, xi)
+          if (.not. key < huge(1.0_wp)) then
             call error_set(err, deck_problem, '&source('//itoa(s)//'): position is not inside the grid of '// &
                            'file '''//trim(gc%file)//'''', ERR_INPUT)
             return
           end if
-          call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
-                        ' deposited in cell '//itoa(c))
+          ijk = [mod(nint(key) - 1, gc%ni) + 1, mod((nint(key) - 1)/gc%ni, gc%nj) + 1, (nint(key) - 1)/(gc%ni*gc%nj) + 1]
         end if
+        call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
+                      ' deposited in cell '//itoa(ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))))
+        ! (every block that stores the cell)
+        ijk = ijk - g%off
+        if (any(ijk < g%slo .or. ijk > g%shi)) cycle
+        c = g%cell(ijk(1), ijk(2), ijk(3))
         hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
         if (hy%mat(c) < 0) then
           ! a mixed cell: every material gets the same specific energy
