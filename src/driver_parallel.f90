@@ -31,7 +31,6 @@ contains
     if (nranks <= 1) return
     if (size(cfg%particles) > 0) call add('&particles (MPM particles)')
     if (cfg%output%ntrack > 0) call add('&output track')
-    if (cfg%control%velocity_noise > 0.0d0) call add('&run velocity_noise')
   contains
     subroutine add(what)
       character(len=*), intent(in) :: what

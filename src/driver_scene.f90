@@ -43,7 +43,7 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: block
-    integer :: m, c, n, a, r, s, ijk(3), stat
+    integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
     type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), rv, xi(3), key
     logical :: inside
@@ -105,10 +105,19 @@ contains
       end do
       call rng_seed(st%rng, cfg%control%seed)
       if (cfg%control%velocity_noise > 0.0_wp) then
-        do n = 1, g%nnode
-          do a = 1, 3
-            rv = rng_uniform(st%rng)
-            hy%u(a, n) = hy%u(a, n) + cfg%control%velocity_noise*(2.0_wp*rv - 1.0_wp)
+        ! drawn for every node of the whole grid in its order, so that a
+        ! block's nodes get the numbers they get on one block
+        do k = 0, g%gn(3)
+          do j = 0, g%gn(2)
+            do i = 0, g%gn(1)
+              ijk = [i, j, k] - g%off
+              n = 0
+              if (all(ijk >= g%slo - 1 .and. ijk <= g%shi)) n = g%node(ijk(1), ijk(2), ijk(3))
+              do a = 1, 3
+                rv = rng_uniform(st%rng)
+                if (n > 0) hy%u(a, n) = hy%u(a, n) + cfg%control%velocity_noise*(2.0_wp*rv - 1.0_wp)
+              end do
+            end do
           end do
         end do
       end if
