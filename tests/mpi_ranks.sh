@@ -16,7 +16,8 @@ mpiexec=$1 exe=$2 py=$3 tools=$4 deck=$5 dir=$6
 shift 6
 mode=''
 if [ "${1:-}" = --fail ]; then mode=--fail; shift; fi
-fail() { echo "FAIL: $*"; exit 1; }
+# (on a failure the run's last lines, for a diagnosis from the CI log)
+fail() { [ -n "${out:-}" ] && [ -f "$out" ] && tail -15 "$out"; echo "FAIL: $*"; exit 1; }
 rm -rf "$dir"; mkdir -p "$dir"
 for extra in "$@"; do cp "$extra" "$dir"/ || fail "cannot copy $extra"; done
 cd "$dir" || exit 1
@@ -25,20 +26,21 @@ export OMP_NUM_THREADS=1
 t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')
 hdt=$(awk -v t="$t_end" 'BEGIN {printf "%.6e", t/8}')
 for n in 1 2 4; do
+  out=r$n.out
   sed -e "s|^&output dir = '[^']*'|\&output dir = 'r$n', name = 'run', history_dt = $hdt|" "$deck" > "r$n.nml"
   if [ "$n" -eq 1 ]; then
     timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
   else
     OMP_NUM_THREADS=$((n == 2 ? 2 : 1)) timeout 600 "$mpiexec" "${root[@]}" --oversubscribe -np "$n" \
       "$exe" "r$n.nml" > "r$n.out" 2>&1; rc=$?
-    grep -q "^run: $n MPI ranks" "r$n.out" || { tail -20 "r$n.out"; fail "$n ranks: no layout line in the log"; }
+    grep -q "^run: $n MPI ranks" "r$n.out" || fail "$n ranks: no layout line in the log"
     grep -q ", $((n == 2 ? 2 : 1)) OpenMP thread(s)" "r$n.out" || fail "$n ranks: not the OpenMP threads asked for"
   fi
-  grep -E -q "Segmentation|Backtrace|SIGSEGV|Program received" "r$n.out" && { tail -20 "r$n.out"; fail "$n ranks: crashed"; }
+  grep -E -q "Segmentation|Backtrace|SIGSEGV|Program received" "r$n.out" && fail "$n ranks: crashed"
   last=$(ls r$n/run_[0-9][0-9][0-9][0-9][0-9].h5 2> /dev/null | sort | tail -1)
-  [ -n "$last" ] || { tail -20 "r$n.out"; fail "$n ranks: no frame written"; }
+  [ -n "$last" ] || fail "$n ranks: no frame written"
   if [ "$mode" = --fail ]; then
-    [ "$rc" -eq 1 ] || { tail -20 "r$n.out"; fail "$n rank(s): exit status $rc, expected 1"; }
+    [ "$rc" -eq 1 ] || fail "$n rank(s): exit status $rc, expected 1"
     fatal=$(grep -E '^FATAL \[rank [0-9]+' "r$n.out" | head -1)
     [ -n "$fatal" ] || fail "$n rank(s): no FATAL line"
     [ "$(grep -c '^FATAL' "r$n.out")" -eq 1 ] || fail "$n rank(s): the FATAL line is printed more than once"
@@ -48,7 +50,7 @@ for n in 1 2 4; do
     grep -q "state at failure written to r$n/" "r$n.out" || fail "$n rank(s): no failure frame"
     echo "ok: $n rank(s): exit 1, $fatal"
   else
-    [ "$rc" -eq 0 ] || { tail -20 "r$n.out"; fail "$n rank(s): exit status $rc"; }
+    [ "$rc" -eq 0 ] || fail "$n rank(s): exit status $rc"
   fi
   if [ "$n" -gt 1 ]; then
     "$py" "$tools/compare_frames.py" "$last" "$ref" --exact > "cmp$n.txt" || \
