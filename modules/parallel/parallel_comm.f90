@@ -25,13 +25,26 @@ module parallel_comm
 contains
 
   !> Starts MPI (threads funnelled: only the master thread of a rank calls
-  !> MPI) unless already started.
+  !> MPI) unless already started, when the process was launched by an MPI
+  !> launcher (mpirun, mpiexec, srun: it sets one of the variables below).
+  !> A process started on its own is one rank without MPI: an MPI singleton
+  !> would cost about 0.3 s of start-up per run, which the test suite's
+  !> thousands of short runs would feel. Nothing calls MPI on one rank.
   subroutine parallel_start(pc)
     type(comm_t), intent(out) :: pc
+    character(len=*), parameter :: launched(5) = [character(len=20) :: 'OMPI_COMM_WORLD_SIZE', 'PMIX_RANK', &
+                                                   'PMI_RANK', 'PMI_SIZE', 'SLURM_STEP_ID']
     logical :: ready
-    integer :: provided
+    integer :: provided, i, n, status
     call MPI_Initialized(ready)
-    if (.not. ready) call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+    if (.not. ready) then
+      do i = 1, size(launched)
+        call get_environment_variable(trim(launched(i)), length=n, status=status)
+        if (status == 0) exit
+      end do
+      if (i > size(launched)) return   ! (on its own: pc is one rank)
+      call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+    end if
     pc%world = MPI_COMM_WORLD
     call MPI_Comm_rank(pc%world, pc%rank)
     call MPI_Comm_size(pc%world, pc%nranks)
