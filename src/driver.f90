@@ -185,10 +185,10 @@ contains
       sch%dt_by_cell = dt < dt_cap .and. sch%dt_particle == 0
       if (bad_cell > 0) call error_set(err, 'lagrange_step', 'cell '//itoa(st%g%global_cell(bad_cell))// &
         ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
-      if (bad_cell /= 0) call agree_error(sch%pc, err)   ! (-1: on another rank)
-      if (.not. allocated(err) .and. bad_particle /= 0) call error_set(err, 'particles_step', 'particle '// &
+      if (.not. allocated(err) .and. bad_particle > 0) call error_set(err, 'particles_step', 'particle '// &
         itoa(bad_particle)//' (id '//itoa(st%pt%id(bad_particle))//') has an inverted host cell or a '// &
         'non-positive volume at t = '//rtoa(st%t), ERR_RUNTIME)
+      if (bad_cell /= 0 .or. bad_particle /= 0) call agree_error(sch%pc, err)   ! (-1: on another rank)
       if (.not. allocated(err) .and. dt < cfg%control%dt_min) call error_set(err, 'time_loop', &
         'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//') at t = '// &
         rtoa(st%t)//', set by '//step_limit_text(st, sch), ERR_RUNTIME)

@@ -52,7 +52,7 @@ module driver_output
     real(wp) :: t_next_history = huge(1.0_wp)      !< time of the next history row
     integer :: dt_cell = 0                         !< cell with the smallest stable step (0: none)
     logical :: dt_by_cell = .false.                !< that cell set the last step (else the controller did)
-    integer :: dt_particle = 0                     !< the particle whose stable step set the last step (0: none)
+    integer :: dt_particle = 0                     !< the id of the particle whose stable step set the last step
     integer :: track_unit = -1                     !< the tracked-particle file (-1: none)
     integer, allocatable :: track_id(:)            !< (ntrack) seeding id of each tracked particle
     integer, allocatable :: track_idx(:)           !< (ntrack) its array index at the last row
@@ -603,9 +603,14 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
     character(len=:), allocatable :: text
-    if (sch%dt_particle > 0 .and. sch%dt_particle <= st%pt%np) then
-      text = 'particle '//itoa(sch%dt_particle)//' (id '//itoa(st%pt%id(sch%dt_particle))//', solid '// &
-             itoa(st%pt%mat(sch%dt_particle))//', cell '//cell_text(st, st%pt%cell(sch%dt_particle))//')'
+    integer :: k
+    k = 0
+    if (sch%dt_particle > 0 .and. st%pt%np > 0) k = findloc(st%pt%id, sch%dt_particle, 1)
+    if (k > 0) then
+      text = 'particle id '//itoa(sch%dt_particle)//' (solid '//itoa(st%pt%mat(k))//', cell '// &
+             cell_text(st, st%pt%cell(k))//')'
+    else if (sch%dt_particle > 0) then
+      text = 'particle id '//itoa(sch%dt_particle)
     else if (sch%dt_cell < 1 .or. sch%dt_cell > st%g%ncell) then
       text = 'controller'
     else if (sch%dt_by_cell) then

@@ -49,7 +49,7 @@ module driver_particles
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
-  use driver_state, only: state_t
+  use driver_state, only: state_t, particles_internal
   implicit none
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
@@ -315,9 +315,9 @@ contains
   !> velocities (&hydro stress_update = 'original', Eqs. 26-27), both with
   !> grad N at x^{n+1/2}, and the stress, volume and density update.
   !> dt as in `lagrange_step`; bad_particle > 0 names a particle whose host
-  !> is inverted at it or whose volume would not stay positive; dt_particle
-  !> the particle whose stable step was taken (0 if the cells or the caller
-  !> set the step).
+  !> is inverted at it or whose volume would not stay positive (-1: one on
+  !> another block); dt_particle the id of the particle whose stable step
+  !> was taken (0 if the cells or the caller set the step).
   subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell, dt_particle)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -325,7 +325,7 @@ contains
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, eroded
+    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1)
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       if (.not. pw%mass_ready) then
@@ -333,11 +333,16 @@ contains
         pw%mass_ready = .true.
       end if
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp)
+      ! the blocks' smallest (the particle's id with it)
+      key(1) = 0.0_wp
+      if (kp > 0) key(1) = real(pt%id(kp), wp)
+      call st%halo%choose(dtp, key)
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
-                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle, work_vf=w_vf)
-      if (present(dt_particle)) dt_particle = merge(kp, 0, dtp < dt_in .and. .not. dt < dtp)
+                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle, work_vf=w_vf, halo=st%halo)
+      if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
+      call agree_bad(bad_particle)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
       do n = 1, g%nnode
@@ -346,12 +351,15 @@ contains
       if (cfg%hydro%stress_decoupled) then
         call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
         call bc_constrain(st%bc, pw%vs)
+        call st%halo%nodes(pw%vs)
         call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
       else
         call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
       end if
-      e_old = dot_product(pt%m, pt%e)
-      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, eroded)
+      e_old = particles_internal(st)
+      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
+      call agree_bad(bad_particle)
+      e_new = particles_internal(st, pw%eroded, eroded)
       st%tot%erosion_energy = st%tot%erosion_energy + eroded
       ! the energy balance (PARTICLES.md §1.12): the particle forces' work
       ! w_ext on the nodes is the virtual-fluid part w_vf (given to the host
@@ -362,8 +370,17 @@ contains
       ! update does not see (with the time-integration difference of the
       ! corrector's trial stress at n+1/2 and the trapezoid)
       st%tot%vf_work = st%tot%vf_work + w_vf
-      st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (dot_product(pt%m, pt%e) - e_old)
+      st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (e_new - e_old)
     end associate
+  contains
+    !> Every block stops where one found a bad particle: -1 on the others.
+    subroutine agree_bad(bad)
+      integer, intent(inout) :: bad
+      integer :: k
+      k = merge(1, 0, bad /= 0)
+      call st%halo%max_int(k)
+      if (k /= 0 .and. bad == 0) bad = -1
+    end subroutine agree_bad
   end subroutine particles_step
 
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host

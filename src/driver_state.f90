@@ -3,6 +3,7 @@
 !> the random-number state, with what it registers for restarts.
 module driver_state
   use base_kinds, only: wp, i8
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_random, only: rng_t
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use mesh_grid, only: grid_t, grid_register_restart
@@ -17,7 +18,7 @@ module driver_state
   use io_output, only: totals_t
   implicit none
   private
-  public :: state_t, state_totals, energy_drift, state_register_restart, state_after_read, centroid_text
+  public :: state_t, state_totals, particles_internal, energy_drift, state_register_restart, state_after_read, centroid_text
 
   !> The physical state.
   type :: state_t
@@ -62,7 +63,8 @@ contains
   !> (PARTICLES.md §1.12).
   subroutine state_totals(st)
     type(state_t), intent(inout) :: st
-    integer :: n
+    type(xsum_t) :: acc(4)
+    integer :: n, i, j, k, d
     call hydro_totals(st%g, st%h, st%halo, st%tot%mass, st%tot%momentum, st%tot%internal, st%tot%kinetic)
     st%tot%particle_internal = 0.0_wp
     if (.not. allocated(st%pw%mp)) return
@@ -70,11 +72,22 @@ contains
       call particles_nodal_mass(st%g, st%pt, st%pt%mvf, st%h%mnode, st%pw%mp, st%pw%ms)
       st%pw%mass_ready = .true.
     end if
-    do n = 1, size(st%pw%mp)
-      st%tot%momentum = st%tot%momentum + st%pw%mp(n)*st%h%u(:, n)
-      st%tot%kinetic = st%tot%kinetic + 0.5_wp*st%pw%mp(n)*dot_product(st%h%u(:, n), st%h%u(:, n))
+    ! the particles' share of the nodal mass, at the nodes the block counts
+    do k = st%g%ulo(3), st%g%nhi(3)
+      do j = st%g%ulo(2), st%g%nhi(2)
+        do i = st%g%ulo(1), st%g%nhi(1)
+          n = st%g%node(i, j, k)
+          do d = 1, 3
+            call xsum_add(acc(d), st%pw%mp(n)*st%h%u(d, n))
+          end do
+          call xsum_add(acc(4), 0.5_wp*st%pw%mp(n)*dot_product(st%h%u(:, n), st%h%u(:, n)))
+        end do
+      end do
     end do
-    st%tot%particle_internal = dot_product(st%pt%m, st%pt%e)
+    call st%halo%sums(acc)
+    st%tot%momentum = st%tot%momentum + [xsum_value(acc(1)), xsum_value(acc(2)), xsum_value(acc(3))]
+    st%tot%kinetic = st%tot%kinetic + xsum_value(acc(4))
+    st%tot%particle_internal = particles_internal(st)
     st%tot%internal = st%tot%internal + st%tot%particle_internal
   end subroutine state_totals
 
@@ -84,6 +97,25 @@ contains
   !> constitutive update does not book; the virtual-fluid work is in the host
   !> cells' internal energy) and the transfer energy T of the Euler steps
   !> (§1.13): (E - E0 - W + D - T)/|E0|.
+  !> The particles' internal energy sum_p m_p e_p over the particles the
+  !> blocks own, exact (`base_xsum`: the same on any rank count); with
+  !> `each` (np), also the exact total of each(:) over them in `total`.
+  real(wp) function particles_internal(st, each, total) result(ep)
+    type(state_t), intent(in) :: st
+    real(wp), intent(in), optional :: each(:)
+    real(wp), intent(out), optional :: total
+    type(xsum_t) :: acc(2)
+    integer :: k
+    do k = 1, st%pt%np
+      if (.not. st%pw%owned(k)) cycle
+      call xsum_add(acc(1), st%pt%m(k)*st%pt%e(k))
+      if (present(each)) call xsum_add(acc(2), each(k))
+    end do
+    call st%halo%sums(acc)
+    ep = xsum_value(acc(1))
+    if (present(total)) total = xsum_value(acc(2))
+  end function particles_internal
+
   pure real(wp) function energy_drift(tot)
     type(totals_t), intent(in) :: tot
     energy_drift = (tot%internal + tot%kinetic - tot%energy_initial - tot%boundary_work + tot%decoupling_work - &

@@ -13,7 +13,7 @@ module lagrange_integrator
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_halo, only: halo_t
-  use base_xsum, only: xsum_t, xsum_value
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
   use material_table, only: material_t, material_eval_eos
@@ -121,7 +121,7 @@ contains
     integer, intent(out), optional :: bad_particle
     real(wp), intent(out), optional :: work_vf
     class(halo_t), intent(inout), optional :: halo
-    real(wp) :: dt_stable, w_pred, w_vf
+    real(wp) :: dt_stable, w_pred
     integer :: badp, dtc
     type(xsum_t) :: wacc(1)
 
@@ -163,7 +163,11 @@ contains
       work = xsum_value(wacc(1))
     end if
     call halo_nodes()
-    if (present(f_ext) .and. present(work_ext)) work_ext = dt*node_work(f_ext, h%uh)
+    if (present(f_ext) .and. present(work_ext)) then
+      call node_work(g, f_ext, h%uh, wacc(1))
+      if (present(halo)) call halo%sums(wacc)
+      work_ext = dt*xsum_value(wacc(1))
+    end if
     call lagrange_update_cells(g, h, dt, bad_cell)
     call agree_bad()
     if (bad_cell /= 0) return
@@ -189,15 +193,21 @@ contains
       if (k /= 0 .and. bad_cell == 0) bad_cell = -1
     end subroutine agree_bad
 
-    !> The step with coupled particles (notes above).
+    !> The step with coupled particles (notes above). In a block the
+    !> particles of its owned cells and of one ghost layer take part (what
+    !> every owned node needs); the ghost nodes are taken from the
+    !> neighbours after each stage, as without particles.
     subroutine particle_step(pt, pw)
       type(particles_t), intent(in) :: pt
       type(particles_work_t), intent(inout) :: pw
+      type(xsum_t) :: acc(2)
       if (present(bad_particle)) bad_particle = 0
       if (present(work_ext)) work_ext = 0.0_wp
       if (present(work_vf)) work_vf = 0.0_wp
       call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
-      call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dt_cell)
+      call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dtc)
+      if (present(halo)) call halo%min_step(dt_stable, dtc)
+      if (present(dt_cell)) dt_cell = dtc
       dt = min(dt, dt_stable)
       call save_step_start(g, h)
       call mixed_save_step_start(mx, h%vol)
@@ -208,9 +218,12 @@ contains
       if (present(bad_particle)) bad_particle = badp
       call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
       call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
+      call halo_nodes()
       call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
+      call agree_bad()
       if (bad_cell /= 0) return
-      call particles_vf_energy(g, h%xn, pt, pt%vol, h%p, h%uh, 0.5_wp*dt, h%mass, h%e, w_vf)
+      call particles_vf_energy(g, h%xn, pt, pt%vol, h%p, h%uh, 0.5_wp*dt, h%mass, h%e, pw%wcell, acc(2))
+      if (present(halo)) call halo%cells(h%e)
       call update_materials(h, mats, mx, par)
       call particle_trial_state(pt, pw)
       call bc_pressure_forces(bc, g, g%x, h%p)
@@ -221,12 +234,21 @@ contains
         if (bad_particle == 0) bad_particle = badp
       end if
       call update_nodes(g, h, dt, dt, pw%f, pw%mp)
-      call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, pw%mp)
-      if (present(work_ext)) work_ext = dt*node_work(pw%f, h%uh)
+      call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, pw%mp, wacc(1))
+      call node_work(g, pw%f, h%uh, acc(1))
+      call halo_nodes()
       call lagrange_update_cells(g, h, dt, bad_cell)
+      call agree_bad()
       if (bad_cell /= 0) return
-      call particles_vf_energy(g, pw%xc, pt, pw%vol_h, h%p, h%uh, dt, h%mass, h%e, w_vf)
-      if (present(work_vf)) work_vf = w_vf
+      call particles_vf_energy(g, pw%xc, pt, pw%vol_h, h%p, h%uh, dt, h%mass, h%e, pw%wcell, acc(2))
+      if (present(halo)) then
+        call halo%cells(h%e)
+        call halo%sums(wacc)
+        call halo%sums(acc)
+      end if
+      work = xsum_value(wacc(1))
+      if (present(work_ext)) work_ext = dt*xsum_value(acc(1))
+      if (present(work_vf)) work_vf = xsum_value(acc(2))
       call update_materials(h, mats, mx, par)
     end subroutine particle_step
 
@@ -251,8 +273,7 @@ contains
     subroutine particle_trial_state(pt, pw)
       type(particles_t), intent(in) :: pt
       type(particles_work_t), intent(inout) :: pw
-      integer :: n, bad_h
-      real(wp) :: eroded_h   ! (the trial update's erosion is not booked)
+      integer :: n, bad_h   ! (the trial update's erosion, pw%eroded, is not booked)
       do n = 1, g%nnode
         pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
       end do
@@ -260,6 +281,7 @@ contains
         call particles_half_velocity(g, pt, h%un, h%u, pw%vh)
         call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
         call bc_constrain(bc, pw%vs)
+        if (present(halo)) call halo%nodes(pw%vs)
         call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
       else
         call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
@@ -270,23 +292,29 @@ contains
       pw%rho_h = pt%rho
       pw%e_h = pt%e
       call particles_stress_arrays(pt%mat_start, pt%m, pw%models, pw%lgrad, 0.5_wp*dt, pw%stress_h, pw%hist_h, &
-                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h, eroded_h)
+                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h, pw%eroded)
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = bad_h
       end if
     end subroutine particle_trial_state
   end subroutine lagrange_step
 
-  !> sum_n f(:,n) . u(:,n), in node order (force x velocity).
-  pure function node_work(f, u) result(w)
+  !> acc: sum_n f(:,n) . u(:,n) over the nodes this block counts, exact
+  !> (force x velocity; `base_xsum`).
+  pure subroutine node_work(g, f, u, acc)
+    type(grid_t), intent(in) :: g
     real(wp), intent(in) :: f(:, :), u(:, :)
-    real(wp) :: w
-    integer :: n
-    w = 0.0_wp
-    do n = 1, size(f, 2)
-      w = w + dot_product(f(:, n), u(:, n))
+    type(xsum_t), intent(out) :: acc
+    integer :: i, j, k, n
+    do k = g%ulo(3), g%nhi(3)
+      do j = g%ulo(2), g%nhi(2)
+        do i = g%ulo(1), g%nhi(1)
+          n = g%node(i, j, k)
+          call xsum_add(acc, dot_product(f(:, n), u(:, n)))
+        end do
+      end do
     end do
-  end function node_work
+  end subroutine node_work
 
   !> Material states after a stage: mixed cells share their volume and
   !> energy change among their materials (Tipton), every material's EOS is

@@ -61,6 +61,7 @@ module mesh_grid
     procedure :: owns_cell => grid_owns_cell
     procedure :: counts_node => grid_counts_node
     procedure :: global_cell => grid_global_cell
+    procedure :: colour_first => grid_colour_first
   end type grid_index_t
 
   !> Grid: its index arithmetic and node positions.
@@ -208,6 +209,19 @@ contains
     lo = this%clo - min(w, this%glo)
     hi = this%chi + min(w, this%ghi)
   end subroutine grid_cells_around
+
+  !> The first cell at or after lo (i,j,k) of colour col (0..7): bit d-1 of
+  !> col is the parity of the whole grid's index in direction d. Cells of one
+  !> colour share no node, so a nodal sum taken colour by colour adds a
+  !> node's cells in the same order in any block and on any thread count.
+  pure function grid_colour_first(this, lo, col) result(first)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: lo(3), col
+    integer :: first(3), d
+    do d = 1, 3
+      first(d) = lo(d) + modulo(ibits(col, d - 1, 1) - (lo(d) + this%off(d) - 1), 2)
+    end do
+  end function grid_colour_first
 
   !> True if cell (i,j,k) is owned (not a ghost).
   pure logical function grid_owns_cell(this, i, j, k)

@@ -32,6 +32,7 @@
 module particles_lagrange
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use base_xsum, only: xsum_t, xsum_add
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume, hex_median_areas
   use particles_state, only: particles_t
@@ -75,6 +76,12 @@ module particles_lagrange
     real(wp), allocatable :: vol_h(:), rho_h(:) !< (np) trial volume and density at n+1/2
     real(wp), allocatable :: e_h(:)             !< (np) trial specific internal energy at n+1/2
     real(wp), allocatable :: vscale(:)          !< (ncell) viscosity scale 1 - theta_c of the cells
+    real(wp), allocatable :: wcell(:)           !< (ncell) virtual-fluid work of each cell (work)
+    real(wp), allocatable :: eroded(:)          !< (np) energy each particle's failure removed this step
+    !> (np) true for the particles whose host cell this block owns (all on
+    !> one process): the ones it counts in the totals; the others are the
+    !> copies of its neighbours' particles in its ghost cells
+    logical, allocatable :: owned(:)
     type(strength_slot_t), allocatable :: models(:)  !< (nsolid) strength models
   end type particles_work_t
 
@@ -91,7 +98,7 @@ contains
     allocate(w%mp(nnode), w%f(3, nnode), w%fvf(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%xc(3, nnode), &
              w%vh(3, np), &
              w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), w%e_h(np), &
-             w%vscale(ncell), stat=stat, errmsg=msg)
+             w%vscale(ncell), w%wcell(ncell), w%eroded(np), w%owned(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
       return
@@ -100,6 +107,9 @@ contains
     w%vh = 0.0_wp; w%lgrad = 0.0_wp
     w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp; w%e_h = 0.0_wp
     w%vscale = 1.0_wp
+    w%wcell = 0.0_wp
+    w%eroded = 0.0_wp
+    w%owned = .true.
     w%mass_ready = .false.
   end subroutine particles_work_init
 
@@ -143,16 +153,18 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: mvf(:), mnode(:)
     real(wp), intent(out) :: mp(:), ms(:)
-    integer :: col, ci, cj, ck, c, q, k, a, n0
+    integer :: col, ci, cj, ck, c, q, k, a, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     mp = 0.0_wp
     ms = 0.0_wp
+    call g%cells_around(1, lo, hi)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, col) private(ci, cj, ck, c, q, k, a, n0, sh) &
+      f0 = g%colour_first(lo, col)
+      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, f0, hi) private(ci, cj, ck, c, q, k, a, n0, sh) &
       !$omp collapse(2) schedule(static)
-      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
-      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
-      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+      do ck = f0(3), hi(3), 2
+      do cj = f0(2), hi(2), 2
+      do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         do q = p%cell_start(c), p%cell_start(c + 1) - 1
@@ -201,17 +213,19 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
-    integer :: col, ci, cj, ck, c, q, k, a, n, n0
+    integer :: col, ci, cj, ck, c, q, k, a, n, n0, lo(3), hi(3), f0(3)
     real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6)
     f = 0.0_wp
     fvf = 0.0_wp
     bad = huge(1)
+    call g%cells_around(1, lo, hi)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, col, stress, vol) &
+      f0 = g%colour_first(lo, col)
+      !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, f0, hi, stress, vol) &
       !$omp private(ci, cj, ck, c, q, k, a, n, n0, xn, gradn, detj, s) reduction(min: bad) collapse(2) schedule(static)
-      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
-      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
-      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+      do ck = f0(3), hi(3), 2
+      do cj = f0(2), hi(2), 2
+      do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         if (p%cell_start(c + 1) == p%cell_start(c)) cycle
@@ -246,19 +260,21 @@ contains
   !> nodes (u the stage's half-step velocities), which the host's internal
   !> energy gives back: m_c e_c -= that work, on top of the compatible update
   !> (a mixed cell's total, which `mixed_split` then shares). Cells in
-  !> parallel, the particles of a cell in array order. wsum: the total work.
-  subroutine particles_vf_energy(g, x, p, vol, pcell, u, dt, mass, e, wsum)
+  !> parallel, the particles of a cell in array order. wc (ncell): each
+  !> cell's work; wsum: their exact sum over the owned cells (`base_xsum`).
+  subroutine particles_vf_energy(g, x, p, vol, pcell, u, dt, mass, e, wc, wsum)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), vol(:), pcell(:), u(:, :), dt, mass(:)
     type(particles_t), intent(in) :: p
     real(wp), intent(inout) :: e(:)
-    real(wp), intent(out) :: wsum
-    integer :: c, q, k, a, n0
+    real(wp), intent(out) :: wc(:)
+    type(xsum_t), intent(out) :: wsum
+    integer :: c, q, k, a, n0, i, j, l
     real(wp) :: xn(3, 8), un(3, 8), gradn(3, 8), detj, w
-    wsum = 0.0_wp
-    !$omp parallel do default(none) shared(g, p, x, vol, pcell, u, dt, mass, e) &
-    !$omp private(c, q, k, a, n0, xn, un, gradn, detj, w) reduction(+: wsum) schedule(static)
+    !$omp parallel do default(none) shared(g, p, x, vol, pcell, u, dt, mass, e, wc) &
+    !$omp private(c, q, k, a, n0, xn, un, gradn, detj, w) schedule(static)
     do c = 1, g%ncell
+      wc(c) = 0.0_wp
       if (p%cell_start(c + 1) == p%cell_start(c)) cycle
       n0 = g%node0(c)
       do a = 1, 8
@@ -274,9 +290,17 @@ contains
         end do
       end do
       e(c) = e(c) - w/mass(c)
-      wsum = wsum + w
+      wc(c) = w
     end do
     !$omp end parallel do
+    do l = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          c = g%cell(i, j, l)
+          if (p%cell_start(c + 1) > p%cell_start(c)) call xsum_add(wsum, wc(c))
+        end do
+      end do
+    end do
   end subroutine particles_vf_energy
 
   !> Particle velocity and position from the nodes (Eqs. 23-25): with the
@@ -315,16 +339,18 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: vh(:, :)
     real(wp), intent(out) :: ms(:), vs(:, :)
-    integer :: col, ci, cj, ck, c, q, k, a, n, n0
+    integer :: col, ci, cj, ck, c, q, k, a, n, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     ms = 0.0_wp
     vs = 0.0_wp
+    call g%cells_around(1, lo, hi)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, vh, ms, vs, col) private(ci, cj, ck, c, q, k, a, n, n0, sh) &
+      f0 = g%colour_first(lo, col)
+      !$omp parallel do default(none) shared(g, p, vh, ms, vs, f0, hi) private(ci, cj, ck, c, q, k, a, n, n0, sh) &
       !$omp collapse(2) schedule(static)
-      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
-      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
-      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+      do ck = f0(3), hi(3), 2
+      do cj = f0(2), hi(2), 2
+      do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         do q = p%cell_start(c), p%cell_start(c + 1) - 1
@@ -389,8 +415,8 @@ contains
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(in) :: lgrad(:, :, :), dt
     integer, intent(out) :: bad
-    real(wp), intent(out), optional :: eroded
-    real(wp) :: er
+    real(wp), intent(out), optional :: eroded(:)
+    real(wp) :: er(p%np)
     call particles_stress_arrays(p%mat_start, p%m, models, lgrad, dt, p%stress, p%hist, p%vol, p%rho, bad, p%e, er)
     if (present(eroded)) eroded = er
   end subroutine particles_stress_update
@@ -402,8 +428,8 @@ contains
   !> (trapezoid, PARTICLES.md §1.12): without an EOS m_p Delta e_p = 1/2
   !> (sigma^n + sigma^{n+1}) : Delta eps 1/2 (V^n + V^{n+1}); with one
   !> (`eos_update`) the pressure part is -1/2 (p^n + p^{n+1}) Delta V.
-  !> eroded: the energy failures removed from the stresses in this step
-  !> (sum of the models' eroded x volume; it stays in e as heat).
+  !> eroded (np): the energy each particle's failure removed from its stress
+  !> in this step (the model's eroded x volume; it stays in e as heat).
   subroutine particles_stress_arrays(mat_start, m, models, lgrad, dt, stress, hist, vol, rho, bad, e, eroded)
     integer, intent(in) :: mat_start(:)
     real(wp), intent(in) :: m(:)
@@ -411,18 +437,16 @@ contains
     real(wp), intent(in) :: lgrad(:, :, :), dt
     real(wp), intent(inout) :: stress(:, :), hist(:, :), vol(:), rho(:), e(:)
     integer, intent(out) :: bad
-    real(wp), intent(out) :: eroded
+    real(wp), intent(out) :: eroded(:)
     integer :: s, k
-    real(wp) :: er
     bad = huge(1)
     eroded = 0.0_wp
     do s = 1, size(mat_start) - 1
       if (allocated(models(s)%eos)) then
         do k = mat_start(s), mat_start(s + 1) - 1
           call eos_update(models(s)%m, models(s)%eos, lgrad(:, :, k)*dt, dt, m(k), stress(:, k), hist(:, k), &
-                          vol(k), rho(k), e(k), er)
+                          vol(k), rho(k), e(k), eroded(k))
           if (.not. vol(k) > 0.0_wp) bad = min(bad, k)
-          eroded = eroded + er
         end do
       else
         call update_range(models(s)%m, mat_start(s), mat_start(s + 1) - 1)
@@ -449,7 +473,7 @@ contains
         end if
         pt = strength_point_t(dt=dt, rho=m(k)/(vol(k)*detf))
         call model%update(deps, dw, pt, stress(:, k), hist(:, k))
-        eroded = eroded + pt%eroded*vol(k)*detf
+        eroded(k) = pt%eroded*vol(k)*detf
         sm = 0.5_wp*(s0 + stress(:, k))
         work = sm(1)*deps(1, 1) + sm(2)*deps(2, 2) + sm(3)*deps(3, 3) &
              + 2.0_wp*(sm(4)*deps(2, 3) + sm(5)*deps(1, 3) + sm(6)*deps(1, 2))
@@ -604,7 +628,7 @@ contains
     real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
-    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
     dt = huge(1.0_wp)
     kmin = 0
@@ -625,12 +649,14 @@ contains
     end do
     ! the nodal guard
     kw = 0.0_wp
+    call g%cells_around(1, lo, hi)
     do col = 0, 7
-      !$omp parallel do default(none) shared(g, p, x, models, kw, col) &
+      f0 = g%colour_first(lo, col)
+      !$omp parallel do default(none) shared(g, p, x, models, kw, f0, hi) &
       !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
-      do ck = g%clo(3) + ibits(col, 2, 1), g%chi(3), 2
-      do cj = g%clo(2) + ibits(col, 1, 1), g%chi(2), 2
-      do ci = g%clo(1) + ibits(col, 0, 1), g%chi(1), 2
+      do ck = f0(3), hi(3), 2
+      do cj = f0(2), hi(2), 2
+      do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         if (p%cell_start(c + 1) == p%cell_start(c)) cycle
@@ -651,14 +677,20 @@ contains
       end do
       !$omp end parallel do
     end do
+    ! (the owned nodes: a block has every particle around them)
     nmin = 0
-    do n = 1, size(kw)
-      if (.not. kw(n) > 0.0_wp) cycle
-      dtk = 2.0_wp*cfl*sqrt((mnode(n) + mp(n))/kw(n))
-      if (dtk < dt) then
-        dt = dtk
-        nmin = n
-      end if
+    do l = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
+          n = g%node(i, j, l)
+          if (.not. kw(n) > 0.0_wp) cycle
+          dtk = 2.0_wp*cfl*sqrt((mnode(n) + mp(n))/kw(n))
+          if (dtk < dt) then
+            dt = dtk
+            nmin = n
+          end if
+        end do
+      end do
     end do
     if (nmin > 0) kmin = node_particle(nmin)
   contains
