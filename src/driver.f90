@@ -77,7 +77,7 @@ contains
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
-    if (.not. allocated(err)) call whole_build(cfg, sch%pc%nranks, st, err)
+    if (.not. allocated(err)) call whole_build(cfg, sch%pc%nranks, st, sch%log, err)
     if (.not. allocated(err)) then
       if (allocated(st%whole)) then
         call euler_init(cfg%rezone, st%whole, es, err)
@@ -173,7 +173,7 @@ contains
       call sch%t_lagrange%start()
       bad_particle = 0
       sch%dt_particle = 0
-      if (st%pt%np > 0 .and. cfg%hydro%particles_coupled) then
+      if (allocated(st%pw%mp)) then   ! (coupled particles; a block may hold none)
         call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell, &
                             dt_particle=sch%dt_particle)
       else

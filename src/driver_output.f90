@@ -27,6 +27,8 @@ module driver_output
   use mesh_grid, only: grid_t, grid_index
   use lagrange_state, only: hydro_t, hydro_allocate
   use driver_state, only: state_t, state_totals, energy_drift
+  use driver_particles, only: particles_gathered
+  use particles_state, only: particles_t
   implicit none
   private
   public :: schedule_t, schedule_init, schedule_register_restart, open_outputs, write_frame, frame_out, &
@@ -375,7 +377,7 @@ contains
   !> values, elsewhere 0.
   subroutine frame_out(cfg, st, sch, path, err)
     type(config_t), intent(in) :: cfg
-    type(state_t), intent(in) :: st
+    type(state_t), intent(inout), target :: st
     type(schedule_t), intent(inout) :: sch
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
@@ -385,7 +387,9 @@ contains
     real(wp), allocatable :: fld(:, :), pfld(:, :)
     character(len=80), allocatable :: names(:), owner(:)
     character(len=32), allocatable :: units(:)
+    character(len=16), allocatable :: pnames(:)
     type(frame_meta_t) :: meta
+    type(particles_t) :: pt
     character(len=200) :: msg
 
     nmat = size(st%mats)
@@ -428,29 +432,42 @@ contains
         cellmat(c) = maxloc(fld(c, 1:nf:nper), 1)
       end do
     end if
-    if (st%pt%np > 0) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
-    if (st%pt%nhist > 0) then
+    if (allocated(st%pt%id)) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
+    ! the particles in the whole run's order (a decomposed run gathers them)
+    if (allocated(st%pwhole)) then
+      call particles_gathered(sch%pc, st, pt, err)
+      if (allocated(err)) return
+    else
+      pt = st%pt
+    end if
+    if (pt%nhist > 0) then
       ! the strength models' history fields and failure flags (1 failed)
-      allocate(pfld(size(strength_fields) + 1, st%pt%np), stat=stat, errmsg=msg)
+      allocate(pfld(size(strength_fields) + 1, pt%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'frame_out', 'cannot allocate the frame''s particle fields: '//trim(msg))
         return
       end if
-      do k = 1, st%pt%np
-        associate (model => st%pw%models(st%pt%mat(k))%m)
+      do k = 1, pt%np
+        associate (model => st%pw%models(pt%mat(k))%m)
           do m = 1, size(strength_fields)
-            pfld(m, k) = model%field(trim(strength_fields(m)), st%pt%hist(:, k))
+            pfld(m, k) = model%field(trim(strength_fields(m)), pt%hist(:, k))
           end do
-          pfld(size(pfld, 1), k) = merge(1.0_wp, 0.0_wp, model%failed(st%pt%hist(:, k)))
+          pfld(size(pfld, 1), k) = merge(1.0_wp, 0.0_wp, model%failed(pt%hist(:, k)))
         end associate
       end do
-      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=st%pt, pnames=[character(len=16) :: strength_fields, 'failed'], pfields=pfld)
-    else if (sch%pc%nranks > 1) then
-      call frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, path, err)
+      pnames = [character(len=16) :: strength_fields, 'failed']
+    else
+      allocate(pfld(0, pt%np), pnames(0), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'frame_out', 'cannot allocate: '//trim(msg))
+        return
+      end if
+    end if
+    if (sch%pc%nranks > 1) then
+      call frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, pt, pnames, pfld, path, err)
     else
       call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=st%pt)
+                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
     end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
@@ -458,14 +475,15 @@ contains
   !> The frame of a decomposed run: the blocks' owned nodes and cells
   !> gathered on rank 0, which writes them as the frame of a single block
   !> (the same file as on one rank; path is '' on the other ranks).
-  subroutine frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, path, err)
+  subroutine frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, pt, pnames, pfld, path, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
     integer, intent(in) :: cellmat(:)
-    character(len=*), intent(in) :: names(:), units(:), owner(:)
-    real(wp), intent(in) :: fld(:, :)
+    character(len=*), intent(in) :: names(:), units(:), owner(:), pnames(:)
+    real(wp), intent(in) :: fld(:, :), pfld(:, :)
     type(frame_meta_t), intent(in) :: meta
+    type(particles_t), intent(in) :: pt
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: a(:, :), wn(:, :), wc(:, :), extra(:, :)
@@ -504,7 +522,7 @@ contains
     hw%vol = wc(6, :)
     extra = transpose(wc(8:, :))
     call output_frame(sch%out, gw, hw, nint(wc(7, :)), names, units, owner, extra, st%t, st%step, &
-                      st%tot, cfg%echo, meta, path, err, pt=st%pt)
+                      st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
   end subroutine frame_gathered
 
   !> Updates the totals, writes a frame and logs it.
@@ -694,7 +712,7 @@ contains
     write(line, '("  boundary work ",es22.15,"  relative energy drift ",es10.3)') &
       st%tot%boundary_work, energy_drift(st%tot)
     call log_line(log, trim(line))
-    if (st%pt%np > 0 .and. allocated(st%pw%mp)) then
+    if (allocated(st%pw%mp)) then
       write(line, '("  particles: internal energy ",es22.15,"  virtual-fluid work ",es22.15, &
         &"  decoupling work ",es22.15,"  Euler-step transfer ",es22.15,"  erosion (in internal) ",es22.15)') &
         st%tot%particle_internal, st%tot%vf_work, st%tot%decoupling_work, st%tot%transfer_energy, st%tot%erosion_energy

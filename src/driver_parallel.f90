@@ -29,7 +29,6 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=*), parameter :: tail = ' is not available on more than one MPI rank yet (run it on one rank)'
     if (nranks <= 1) return
-    if (size(cfg%particles) > 0) call add('&particles (MPM particles)')
     if (cfg%output%ntrack > 0) call add('&output track')
   contains
     subroutine add(what)

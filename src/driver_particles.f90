@@ -35,8 +35,12 @@ module driver_particles
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_seed, only: seed_shape, rigid_velocity
-  use particles_state, only: particles_t, particles_allocate, particles_order
-  use particles_lagrange, only: particles_work_init, particles_nodal_mass, particles_stable_dt, particles_g2p, &
+  use particles_state, only: particles_t, particles_allocate, particles_order, particles_index, particles_register_restart
+  use base_registry, only: registry_t, K_REAL
+  use parallel_comm, only: comm_t
+  use parallel_gather, only: gather_concat
+  use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_nodal_mass, &
+                                particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
@@ -53,7 +57,7 @@ module driver_particles
   implicit none
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
-            particles_euler_finish
+            particles_euler_finish, particles_take, particles_gathered
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -382,6 +386,132 @@ contains
       if (k /= 0 .and. bad == 0) bad = -1
     end subroutine agree_bad
   end subroutine particles_step
+
+  !> A block's particles taken from the whole run's (st%whole%pt, after the
+  !> scene is built, an Euler step or a restart read): those whose host cell
+  !> is one of the block's owned cells or of the ghost layer around them
+  !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
+  !> order (so sorted as one process sorts them), with their whole index in
+  !> st%pwhole and pw%owned marking the ones it owns. The work arrays are
+  !> sized anew; the strength models are the whole run's.
+  subroutine particles_take(st, err)
+    type(state_t), intent(inout), target :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(registry_t) :: rb, rw
+    type(strength_slot_t), allocatable :: models(:)
+    integer, allocatable :: pick(:)
+    integer :: k, n, e, m, q, lo(3), hi(3), ijk(3), stat
+    character(len=200) :: msg
+
+    associate (g => st%g, w => st%whole%pt, wg => st%whole%g)
+      call g%cells_around(1, lo, hi)
+      allocate(pick(w%np), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
+        return
+      end if
+      n = 0
+      do k = 1, w%np
+        call wg%cell_ijk(w%cell(k), ijk(1), ijk(2), ijk(3))
+        ijk = ijk - g%off
+        if (any(ijk < lo .or. ijk > hi)) cycle
+        n = n + 1
+        pick(n) = k
+      end do
+      call particles_allocate(st%pt, n, w%nsolid, w%nhist, err)
+      if (allocated(err)) return
+      if (allocated(w%mvf)) then
+        allocate(st%pt%mvf(n), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
+          return
+        end if
+      end if
+      st%pwhole = pick(:n)
+      call particles_register_restart(st%pt, rb)
+      call particles_register_restart(w, rw)
+      do e = 1, rb%n
+        associate (b => rb%e(e), v => rw%e(e))
+          m = product(b%dims(1:size(b%dims) - 1))
+          do q = 1, n
+            if (b%kind == K_REAL) then
+              b%r(m*(q - 1) + 1:m*q) = v%r(m*(pick(q) - 1) + 1:m*pick(q))
+            else
+              b%i(m*(q - 1) + 1:m*q) = v%i(m*(pick(q) - 1) + 1:m*pick(q))
+            end if
+          end do
+        end associate
+      end do
+      do q = 1, n
+        call wg%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
+        ijk = ijk - g%off
+        st%pt%cell(q) = g%cell(ijk(1), ijk(2), ijk(3))
+      end do
+      call particles_index(st%pt, g%ncell, err)
+      if (allocated(err)) return
+      if (.not. allocated(st%whole%pw%models)) return
+      models = st%whole%pw%models
+      st%pw = particles_work_t()
+      call particles_work_init(st%pw, g%nnode, g%ncell, n, st%pt%nhist, err)
+      if (allocated(err)) return
+      call move_alloc(models, st%pw%models)
+      do q = 1, n
+        call g%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
+        st%pw%owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
+      end do
+    end associate
+  end subroutine particles_take
+
+  !> The particles of a decomposed run in the whole run's order (ptw, host
+  !> cells numbered in the whole grid): each block gives the ones it owns
+  !> with their whole index (st%pwhole). On every rank (collective).
+  subroutine particles_gathered(pc, st, ptw, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(particles_t), intent(inout), target :: ptw
+    type(error_t), allocatable, intent(inout) :: err
+    type(registry_t) :: rb, rw
+    integer, allocatable :: own(:), at(:), iw(:), cells(:)
+    real(wp), allocatable :: rw_(:)
+    integer :: k, e, m, q, j, stat
+    character(len=200) :: msg
+
+    own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
+    call gather_concat(pc, st%pwhole(own), at)
+    call particles_allocate(ptw, size(at), st%pt%nsolid, st%pt%nhist, err)
+    if (allocated(err)) return
+    if (allocated(st%pt%mvf)) then
+      allocate(ptw%mvf(size(at)), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_gathered', 'cannot allocate: '//trim(msg))
+        return
+      end if
+    end if
+    ! (host cells in the whole grid's numbering while they are sent)
+    cells = st%pt%cell
+    do k = 1, st%pt%np
+      st%pt%cell(k) = st%g%global_cell(cells(k))
+    end do
+    call particles_register_restart(st%pt, rb)
+    call particles_register_restart(ptw, rw)
+    do e = 1, rb%n
+      associate (b => rb%e(e), v => rw%e(e))
+        m = product(b%dims(1:size(b%dims) - 1))
+        if (b%kind == K_REAL) then
+          call gather_concat(pc, [((b%r(m*(own(q) - 1) + j), j = 1, m), q = 1, size(own))], rw_)
+          do q = 1, size(at)
+            v%r(m*(at(q) - 1) + 1:m*at(q)) = rw_(m*(q - 1) + 1:m*q)
+          end do
+        else
+          call gather_concat(pc, [((b%i(m*(own(q) - 1) + j), j = 1, m), q = 1, size(own))], iw)
+          do q = 1, size(at)
+            v%i(m*(at(q) - 1) + 1:m*at(q)) = iw(m*(q - 1) + 1:m*q)
+          end do
+        end if
+      end associate
+    end do
+    st%pt%cell = cells
+  end subroutine particles_gathered
 
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
   !> in the standard (initial) grid x0 by its position, and the cells of

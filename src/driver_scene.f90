@@ -193,7 +193,9 @@ contains
     ! wall get theirs from the block that owns them)
     call st%halo%nodes(st%h%u)
     ! the MPM particles (none without &particles: nothing allocated)
-    call build_particles(cfg, st, log, err)
+    ! (a block of a decomposed run takes them from the whole grid's:
+    ! `whole_build`)
+    if (st%halo%nblocks == 1) call build_particles(cfg, st, log, err)
     if (allocated(err)) return
     call state_totals(st)
     st%tot%energy_initial = st%tot%internal + st%tot%kinetic

@@ -40,6 +40,9 @@ module driver_state
     !> on a decomposed run with Euler steps or restarts: the whole grid's
     !> state, the same on every rank (`driver_whole`)
     type(state_t), allocatable :: whole
+    !> (np) each particle's index in st%whole%pt (a decomposed run: the
+    !> block's particles are a subsequence of the whole run's arrays)
+    integer, allocatable :: pwhole(:)
   end type state_t
 
 contains
@@ -137,7 +140,7 @@ contains
     call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)
     call reg%add('boundary_work', 'energy', st%tot%boundary_work)
     call reg%add('initial_energy', 'energy', st%tot%energy_initial)
-    if (st%pt%np > 0) then
+    if (allocated(st%pt%id)) then
       call reg%add('virtual_fluid_work', 'energy', st%tot%vf_work)
       call reg%add('decoupling_work', 'energy', st%tot%decoupling_work)
       call reg%add('particle_transfer_energy', 'energy', st%tot%transfer_energy)

@@ -24,7 +24,10 @@ module driver_whole
                            K_REAL_SCALAR, K_INT_SCALAR
   use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
   use material_table, only: material_index_cells
-  use io_log, only: log_t
+  use io_log, only: log_t, log_line
+  use base_strings, only: itoa
+  use particles_state, only: particles_index
+  use driver_particles, only: particles_gathered, particles_take
   use parallel_comm, only: comm_t
   use parallel_gather, only: gather_cells, gather_nodes, gather_concat
   use driver_config, only: config_t
@@ -40,17 +43,20 @@ module driver_whole
 contains
 
   !> Builds st%whole from the deck when a decomposed run needs it (Euler
-  !> steps, restart dumps or a restart); nothing otherwise.
-  subroutine whole_build(cfg, nranks, st, err)
+  !> steps, restart dumps, a restart or particles); nothing otherwise. With
+  !> particles the blocks are then taken from it.
+  subroutine whole_build(cfg, nranks, st, log, err)
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: nranks
-    type(state_t), intent(inout) :: st
+    type(state_t), intent(inout), target :: st
+    type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(log_t) :: silent
     integer :: stat
     if (nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. cfg%control%dump_steps <= 0 .and. cfg%control%dump_dt <= 0.0_wp &
-        .and. cfg%control%wall_time_limit <= 0.0_wp .and. len_trim(cfg%control%restart_from) == 0) return
+        .and. cfg%control%wall_time_limit <= 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. &
+        size(cfg%particles) == 0) return
     allocate(st%whole, stat=stat)
     if (stat /= 0) then
       call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
@@ -58,6 +64,11 @@ contains
     end if
     silent%quiet = .true.   ! (the blocks' scene has been logged)
     call build_scene(cfg, st%whole, silent, err)
+    if (allocated(err) .or. .not. allocated(st%whole%pt%id)) return
+    ! the particles are seeded on the whole grid (the order of one process);
+    ! each block takes those of its cells, and the nodes their momentum
+    call log_line(log, 'particles: '//itoa(st%whole%pt%np)//' in all, seeded on the whole grid')
+    call whole_scatter(st, err)
   end subroutine whole_build
 
   !> The Euler phase of a decomposed run after a Lagrangian step: whether it
@@ -129,6 +140,12 @@ contains
 
     call mixed_gather(pc, st, err)
     if (allocated(err)) return
+    if (allocated(st%pwhole)) then
+      call particles_gathered(pc, st, st%whole%pt, err)
+      if (.not. allocated(err)) call particles_index(st%whole%pt, st%whole%g%ncell, err)
+      if (allocated(err)) return
+      st%whole%pw%mass_ready = .false.
+    end if
     call state_register_restart(st, rb)
     call state_register_restart(st%whole, rw)
     do e = 1, rb%n
@@ -200,6 +217,10 @@ contains
       call mixed_subset(wx, pick(:m), cell(:m), st%mx, err)
       if (allocated(err)) return
     end associate
+    if (allocated(st%whole%pt%id)) then
+      call particles_take(st, err)
+      if (allocated(err)) return
+    end if
     call state_register_restart(st, rb)
     call state_register_restart(st%whole, rw)
     do e = 1, rb%n

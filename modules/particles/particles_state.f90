@@ -155,7 +155,7 @@ contains
     integer, intent(in) :: ncell
     type(error_t), allocatable, intent(inout) :: err
     integer :: s
-    if (p%np == 0) return
+    if (.not. allocated(p%id)) return   ! (a block may hold none of them)
     if (any(p%mat(2:) < p%mat(:p%np - 1))) then
       call error_set(err, 'particles_index', 'the particles are not sorted by material')
       return
@@ -175,7 +175,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, c, stat
     character(len=200) :: msg
-    if (p%np == 0) return
+    if (.not. allocated(p%id)) return   ! (a block may hold none of them)
     if (allocated(p%cell_start)) deallocate(p%cell_start)
     allocate(p%cell_start(ncell + 1), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -230,7 +230,7 @@ contains
   subroutine particles_register_restart(p, reg)
     type(particles_t), intent(inout), target :: p
     type(registry_t), intent(inout) :: reg
-    if (p%np == 0) return
+    if (.not. allocated(p%id)) return   ! (a block may hold none of them)
     call reg%add('particle_id', '1', LOC_PARTICLE, p%id)
     call reg%add('particle_material', '1', LOC_PARTICLE, p%mat)
     call reg%add('particle_body', '1', LOC_PARTICLE, p%body)
