@@ -29,7 +29,7 @@ module driver
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
   use parallel_comm, only: parallel_start
   use mesh_grid, only: grid_index_t
-  use driver_parallel, only: parallel_refusals, parallel_blocks, agree_error
+  use driver_parallel, only: parallel_blocks, agree_error
   use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart
   implicit none
   private
@@ -60,7 +60,6 @@ contains
     call sch%t_total%start()
     call sch%t_setup%start()
     call config_read(deck_path, cfg, problems)
-    if (size(problems) == 0) call parallel_refusals(cfg, sch%pc%nranks, problems)
     if (size(problems) > 0) call refuse(sch%log, problems, 'the deck has '//itoa(size(problems))// &
                                         ' problem(s); nothing was run')
     sch%restarting = len_trim(cfg%control%restart_from) > 0
@@ -76,8 +75,15 @@ contains
                     itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
     call agree_error(sch%pc, err)
-    if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
     if (.not. allocated(err)) call whole_build(cfg, sch%pc%nranks, st, sch%log, err)
+    if (.not. allocated(err)) then
+      ! (chosen on the seeded particles: a decomposed run's whole grid holds them)
+      if (allocated(st%whole)) then
+        call tracks_init(cfg, st%whole, sch, err)
+      else
+        call tracks_init(cfg, st, sch, err)
+      end if
+    end if
     if (.not. allocated(err)) then
       if (allocated(st%whole)) then
         call euler_init(cfg%rezone, st%whole, es, err)

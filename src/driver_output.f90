@@ -21,11 +21,8 @@ module driver_output
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
   use driver_config, only: config_t
-  use parallel_comm, only: comm_t, parallel_nomem
-  use parallel_gather, only: gather_cells, gather_nodes
+  use parallel_comm, only: comm_t
   use driver_parallel, only: agree_error
-  use mesh_grid, only: grid_t, grid_index
-  use lagrange_state, only: hydro_t, hydro_allocate
   use driver_state, only: state_t, state_totals, energy_drift
   use driver_particles, only: particles_gathered
   use particles_state, only: particles_t
@@ -57,6 +54,7 @@ module driver_output
     integer :: dt_particle = 0                     !< the id of the particle whose stable step set the last step
     integer :: track_unit = -1                     !< the tracked-particle file (-1: none)
     integer, allocatable :: track_id(:)            !< (ntrack) seeding id of each tracked particle
+    integer, allocatable :: track_mat(:)           !< (ntrack) its solid
     integer, allocatable :: track_idx(:)           !< (ntrack) its array index at the last row
     integer, allocatable :: track_at(:)            !< (np) work: array index of each id
   end type schedule_t
@@ -178,9 +176,10 @@ contains
   !> The particles named by the &output track points (the nearest to each at
   !> t = 0, by seeding id: `particles_track`), chosen on the seeded particles
   !> (a restart seeds the same ones before it reads the dump, so it names the
-  !> same particles), logged, and for a new run the file
-  !> `<dir>/<name>_tracks.txt` opened with its header (on a restart
-  !> `outputs_after_restart` opens it). Call after the scene is built.
+  !> same particles; a decomposed run chooses on the whole run's, st%whole),
+  !> logged, and for a new run the file `<dir>/<name>_tracks.txt` opened by
+  !> rank 0 with its header (on a restart `outputs_after_restart` opens it).
+  !> Call after the scene is built.
   subroutine tracks_init(cfg, st, sch, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
@@ -194,7 +193,7 @@ contains
       call error_set(err, 'tracks_init', '&output track points but no particles', ERR_INPUT)
       return
     end if
-    allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(st%pt%np), stat=stat, errmsg=msg)
+    allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(st%pt%np), sch%track_mat(n), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'tracks_init', 'cannot allocate the tracked particles: '//trim(msg))
       return
@@ -202,10 +201,11 @@ contains
     call particles_nearest_ids(st%pt, cfg%output%tracks(:, 1:n), sch%track_id)
     call particles_index_of_ids(st%pt, sch%track_id, sch%track_at, sch%track_idx)
     do k = 1, n
+      sch%track_mat(k) = st%pt%mat(sch%track_idx(k))
       call log_line(sch%log, 'track '//itoa(k)//': particle id '//itoa(sch%track_id(k))//' seeded at '// &
         xyz_text(st%pt%x(:, sch%track_idx(k)))//', nearest to '//xyz_text(cfg%output%tracks(:, k)))
     end do
-    if (.not. sch%restarting) call tracks_open(cfg, st, sch, .false., err)
+    if (.not. sch%restarting .and. sch%pc%rank == 0) call tracks_open(cfg, st%pt%nhist, sch, .false., err)
   end subroutine tracks_init
 
   function xyz_text(x) result(text)
@@ -217,10 +217,11 @@ contains
   !> Opens the tracked-particle file: a new one with its header (comment
   !> lines starting with '#', the last naming every column), or (append, on
   !> a restart) the existing one to add rows (a new one if it is missing).
-  !> st: the seeded particles (t = 0) for the header's seeding positions.
-  subroutine tracks_open(cfg, st, sch, append, err)
+  !> nhist: the particles' history variables (a plastic strain column if
+  !> any).
+  subroutine tracks_open(cfg, nhist, sch, append, err)
     type(config_t), intent(in) :: cfg
-    type(state_t), intent(in) :: st
+    integer, intent(in) :: nhist
     type(schedule_t), intent(inout) :: sch
     logical, intent(in) :: append
     type(error_t), allocatable, intent(inout) :: err
@@ -243,8 +244,7 @@ contains
       return
     end if
     if (.not. new) return
-    call particles_index_of_ids(st%pt, sch%track_id, sch%track_at, sch%track_idx)
-    nf = track_nfield + merge(1, 0, st%pt%nhist > 0)
+    nf = track_nfield + merge(1, 0, nhist > 0)
     write(sch%track_unit, '(a)') '# tracked particles (lsalepm): a row on the gauge schedule (&output gauge_dt); '// &
       'for each track point k the particle nearest to it at t = 0, by seeding id (id_k): position, velocity, '// &
       'Cauchy stress (Voigt xx yy zz yz xz xy, tension positive), pressure -trace/3, von Mises stress, specific '// &
@@ -252,7 +252,7 @@ contains
       '; the last header row names the columns'
     do k = 1, size(sch%track_id)
       write(sch%track_unit, '(a,i0,a,3es25.16e3,a,i0,a)') '# track ', k, ' at ', cfg%output%tracks(:, k), &
-        ': particle id ', sch%track_id(k), ' of solid '''//trim(cfg%solids(st%pt%mat(sch%track_idx(k)))%name)//''''
+        ': particle id ', sch%track_id(k), ' of solid '''//trim(cfg%solids(sch%track_mat(k))%name)//''''
     end do
     names = '# time'
     do k = 1, size(sch%track_id)
@@ -267,22 +267,33 @@ contains
 
   !> Appends a tracked-particle row at st%t: each tracked particle found by
   !> its id through the inverse id permutation (rebuilt here: the particles
-  !> may have been re-sorted since the last row).
+  !> may have been re-sorted since the last row); on a decomposed run the
+  !> block that owns it gives its values (`halo%choose`) and rank 0 writes.
   subroutine tracks_write(st, sch)
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
-    real(wp) :: vals(track_nfield + 1)
-    integer :: k, nf
+    real(wp) :: vals(track_nfield + 1), key
+    integer :: k, nf, q
     character(len=32) :: fmt
-    if (sch%track_unit == -1) return
+    if (.not. allocated(sch%track_id)) return
     nf = track_nfield + merge(1, 0, st%pt%nhist > 0)
     write(fmt, '(a,i0,a)') '(1x,i0,', nf, 'es25.16e3)'
     call particles_index_of_ids(st%pt, sch%track_id, sch%track_at, sch%track_idx)
-    write(sch%track_unit, '(es25.16e3)', advance='no') st%t
+    if (sch%track_unit /= -1) write(sch%track_unit, '(es25.16e3)', advance='no') st%t
     do k = 1, size(sch%track_id)
-      call particles_track_values(st%pt, sch%track_idx(k), vals(1:nf))
-      write(sch%track_unit, fmt, advance='no') sch%track_id(k), vals(1:nf)
+      ! (key 0 on the block that owns the particle, 1 elsewhere)
+      q = sch%track_idx(k)
+      key = 1.0_wp
+      vals = 0.0_wp
+      if (q > 0) then
+        key = 0.0_wp
+        if (allocated(st%pw%owned)) key = merge(0.0_wp, 1.0_wp, st%pw%owned(q))
+      end if
+      if (q > 0) call particles_track_values(st%pt, q, vals(1:nf))
+      call st%halo%choose(key, vals(1:nf))
+      if (sch%track_unit /= -1) write(sch%track_unit, fmt, advance='no') sch%track_id(k), vals(1:nf)
     end do
+    if (sch%track_unit == -1) return
     write(sch%track_unit, '(a)') ''
     flush(sch%track_unit)
   end subroutine tracks_write
@@ -319,7 +330,7 @@ contains
     if (cfg%output%ngauge > 0) call text_rows_trim(gauges_path(sch), st%t, err)
     if (.not. allocated(err) .and. cfg%output%ntrack > 0) then
       call text_rows_trim(tracks_path(sch), st%t, err)
-      if (.not. allocated(err)) call tracks_open(cfg, st, sch, .true., err)
+      if (.not. allocated(err)) call tracks_open(cfg, st%pt%nhist, sch, .true., err)
     end if
     if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(history_path(sch), st%t, err)
     if (.not. allocated(err)) call open_histories(cfg, sch, .true., err)
@@ -463,67 +474,15 @@ contains
         return
       end if
     end if
-    if (sch%pc%nranks > 1) then
-      call frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, pt, pnames, pfld, path, err)
+    if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
+      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, comm=sch%pc%world)
     else
       call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
                         meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
     end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
-
-  !> The frame of a decomposed run: the blocks' owned nodes and cells
-  !> gathered on rank 0, which writes them as the frame of a single block
-  !> (the same file as on one rank; path is '' on the other ranks).
-  subroutine frame_gathered(cfg, st, sch, cellmat, names, units, owner, fld, meta, pt, pnames, pfld, path, err)
-    type(config_t), intent(in) :: cfg
-    type(state_t), intent(in) :: st
-    type(schedule_t), intent(inout) :: sch
-    integer, intent(in) :: cellmat(:)
-    character(len=*), intent(in) :: names(:), units(:), owner(:), pnames(:)
-    real(wp), intent(in) :: fld(:, :), pfld(:, :)
-    type(frame_meta_t), intent(in) :: meta
-    type(particles_t), intent(in) :: pt
-    character(len=:), allocatable, intent(out) :: path
-    type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: a(:, :), wn(:, :), wc(:, :), extra(:, :)
-    type(grid_t) :: gw
-    type(hydro_t) :: hw
-    integer :: nf, c, stat
-
-    nf = size(fld, 2)
-    allocate(a(6, st%g%nnode), stat=stat)
-    call parallel_nomem(stat, 'frame_gathered')
-    a(1:3, :) = st%g%x
-    a(4:6, :) = st%h%u
-    call gather_nodes(sch%pc, st%g%grid_index_t, a, wn)
-    deallocate(a)
-    allocate(a(7 + nf, st%g%ncell), stat=stat)
-    call parallel_nomem(stat, 'frame_gathered')
-    do c = 1, st%g%ncell
-      a(1:7, c) = [st%h%rho(c), st%h%p(c), st%h%e(c), st%h%cs(c), st%h%q(c), st%h%vol(c), real(cellmat(c), wp)]
-      a(8:, c) = fld(c, :)
-    end do
-    call gather_cells(sch%pc, st%g%grid_index_t, a, wc)
-    path = ''
-    if (sch%pc%rank /= 0) return
-    gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
-    gw%xmin = st%g%xmin
-    gw%xmax = st%g%xmax
-    gw%x = wn(1:3, :)
-    call hydro_allocate(hw, gw%ncell, gw%nnode, err)
-    if (allocated(err)) return
-    hw%u = wn(4:6, :)
-    hw%rho = wc(1, :)
-    hw%p = wc(2, :)
-    hw%e = wc(3, :)
-    hw%cs = wc(4, :)
-    hw%q = wc(5, :)
-    hw%vol = wc(6, :)
-    extra = transpose(wc(8:, :))
-    call output_frame(sch%out, gw, hw, nint(wc(7, :)), names, units, owner, extra, st%t, st%step, &
-                      st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
-  end subroutine frame_gathered
 
   !> Updates the totals, writes a frame and logs it.
   subroutine write_frame(cfg, st, sch, err)

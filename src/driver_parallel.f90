@@ -1,10 +1,8 @@
-!> The driver's side of a run on several MPI ranks: what a decomposed run
-!> does not do yet (refused before anything runs), the blocks and their
+!> The driver's side of a run on several MPI ranks: the blocks and their
 !> halo, and errors agreed by all ranks so that every rank ends together
 !> with the message of the rank that failed.
 module driver_parallel
   use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN, MPI_MAX
-  use base_config, only: max_line
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_index_t, grid_index
   use mesh_halo, only: halo_t
@@ -13,29 +11,13 @@ module driver_parallel
   use driver_config, only: config_t
   implicit none
   private
-  public :: GHOST_WIDTH, parallel_refusals, parallel_blocks, agree_error
+  public :: GHOST_WIDTH, parallel_blocks, agree_error
 
   !> Ghost layers: the corner forces of the first ghost layer need the
   !> strain rates of its neighbours (the viscosity limiter).
   integer, parameter :: GHOST_WIDTH = 2
 
 contains
-
-  !> The problems of a deck that this version cannot run on more than one
-  !> rank (none on one rank).
-  subroutine parallel_refusals(cfg, nranks, problems)
-    type(config_t), intent(in) :: cfg
-    integer, intent(in) :: nranks
-    character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=*), parameter :: tail = ' is not available on more than one MPI rank yet (run it on one rank)'
-    if (nranks <= 1) return
-    if (cfg%output%ntrack > 0) call add('&output track')
-  contains
-    subroutine add(what)
-      character(len=*), intent(in) :: what
-      problems = [character(len=max_line) :: problems, what//tail]
-    end subroutine add
-  end subroutine parallel_refusals
 
   !> This rank's block of the deck's grid and its halo (the whole grid and
   !> the halo of a single block on one rank).

@@ -392,14 +392,15 @@ contains
   !> is one of the block's owned cells or of the ghost layer around them
   !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
   !> order (so sorted as one process sorts them), with their whole index in
-  !> st%pwhole and pw%owned marking the ones it owns. The work arrays are
-  !> sized anew; the strength models are the whole run's.
+  !> st%pwhole and pw%owned marking the ones it owns. The coupling's work
+  !> arrays are sized anew; the strength models are the whole run's.
   subroutine particles_take(st, err)
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
     type(registry_t) :: rb, rw
     type(strength_slot_t), allocatable :: models(:)
     integer, allocatable :: pick(:)
+    logical, allocatable :: owned(:)
     integer :: k, n, e, m, q, lo(3), hi(3), ijk(3), stat
     character(len=200) :: msg
 
@@ -449,16 +450,23 @@ contains
       end do
       call particles_index(st%pt, g%ncell, err)
       if (allocated(err)) return
-      if (.not. allocated(st%whole%pw%models)) return
-      models = st%whole%pw%models
-      st%pw = particles_work_t()
-      call particles_work_init(st%pw, g%nnode, g%ncell, n, st%pt%nhist, err)
-      if (allocated(err)) return
-      call move_alloc(models, st%pw%models)
+      allocate(owned(n), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
+        return
+      end if
       do q = 1, n
         call g%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
-        st%pw%owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
+        owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
       end do
+      st%pw = particles_work_t()
+      if (allocated(st%whole%pw%models)) then
+        models = st%whole%pw%models
+        call particles_work_init(st%pw, g%nnode, g%ncell, n, st%pt%nhist, err)
+        if (allocated(err)) return
+        call move_alloc(models, st%pw%models)
+      end if
+      call move_alloc(owned, st%pw%owned)
     end associate
   end subroutine particles_take
 

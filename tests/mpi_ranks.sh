@@ -2,13 +2,15 @@
 # Rank invariance: a deck run as one process (no mpirun), then on 2 MPI
 # ranks of 2 OpenMP threads and on 4 ranks of 1 (oversubscribed), must give final frames
 # bit-identical to the single process's (`compare_frames.py --exact`: node
-# positions, velocities, cell fields, the conservation totals, time, step).
+# positions, velocities, cell fields, the conservation totals, time, step;
+# and h5diff: the whole file but the deck, which names the output
+# directory), and the same XDMF series.
 # With --fail the deck must fail (a tangled cell in one block): every run
 # ends with exit status 1, the FATAL line names the rank that failed, which
 # on 2 and 4 ranks is not rank 0, and the failure frame is written and is
 # the single process's failure frame bit for bit. The energy history
-# (&output history_dt = t_end/8) and the deck's gauge histories must be the
-# same text on every rank count.
+# (&output history_dt = t_end/8), the deck's gauge histories and its
+# tracked-particle histories must be the same text on every rank count.
 # Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail] [FILE...]
 # FILEs (a deck's grid file) are copied into WORKDIR, where the decks run.
 set -u
@@ -56,6 +58,11 @@ for n in 1 2 4; do
     "$py" "$tools/compare_frames.py" "$last" "$ref" --exact > "cmp$n.txt" || \
       { cat "cmp$n.txt"; fail "$n ranks: final frame differs from the single process's"; }
     echo "ok: $n ranks: $(basename "$last") bit-identical to one process's"
+    # (the file the ranks wrote together: every dataset and attribute, but
+    # the deck, whose output directory differs)
+    h5diff --exclude-path /deck "$last" "$ref" > "h5diff$n.txt" || { head -5 "h5diff$n.txt"; \
+      fail "$n ranks: final frame file differs from the single process's (h5diff)"; }
+    cmp -s "r$n/run.xdmf" r1/run.xdmf || fail "$n ranks: the XDMF series differs from one process's"
     cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
       fail "$n ranks: the energy history differs from one process's"; }
     echo "ok: $n ranks: energy history ($(grep -vc '^#' r1/run_history.txt) rows) the same as one process's"
@@ -63,6 +70,11 @@ for n in 1 2 4; do
       cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
         fail "$n ranks: the gauge histories differ from one process's"; }
       echo "ok: $n ranks: gauge histories ($(grep -vc '^#' r1/run_gauges.txt) rows) the same as one process's"
+    fi
+    if [ -f r1/run_tracks.txt ]; then
+      cmp -s "r$n/run_tracks.txt" r1/run_tracks.txt || { diff "r$n/run_tracks.txt" r1/run_tracks.txt | head -4; \
+        fail "$n ranks: the tracked-particle histories differ from one process's"; }
+      echo "ok: $n ranks: tracked particles ($(grep -vc '^#' r1/run_tracks.txt) rows) the same as one process's"
     fi
   else
     ref=$last

@@ -47,7 +47,10 @@ module io_hdf5
        h5pset_libver_bounds_f, H5F_LIBVER_LATEST_F, &
        h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, &
        h5dget_space_f, h5dget_type_f, &
-       h5gcreate_f, h5gclose_f, h5lexists_f
+       h5gcreate_f, h5gclose_f, h5lexists_f, &
+       h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, H5P_DATASET_XFER_F, &
+       h5sselect_none_f, h5sselect_hyperslab_f, H5S_SELECT_SET_F
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_INFO_NULL
   implicit none
   private
 
@@ -55,7 +58,7 @@ module io_hdf5
   public :: hdf5_start, hdf5_stop, hdf5_version
   public :: h5_create, h5_open_read, h5_close
   public :: h5_create_group, h5_exists
-  public :: h5_write_real, h5_write_int
+  public :: h5_write_real, h5_write_int, h5_write_part_real, h5_write_part_int
   public :: h5_write_scalar_real, h5_write_scalar_int, h5_write_string
   public :: h5_read_dims, h5_read_real, h5_read_int
   public :: h5_read_scalar_real, h5_read_scalar_int, h5_read_string
@@ -67,12 +70,15 @@ module io_hdf5
     module procedure h5_write_attribute_string, h5_write_attribute_real, h5_write_attribute_int
   end interface h5_write_attribute
 
-  !> An open HDF5 file: its identifier (negative when closed), its path and
-  !> whether its datasets are written with checksums.
+  !> An open HDF5 file: its identifier (negative when closed), its path,
+  !> whether its datasets are written with checksums, and for a file written
+  !> by several MPI ranks together (`h5_create` with `comm`) this rank.
   type :: h5_file_t
     integer(hid_t) :: id = -1_hid_t
     character(len=:), allocatable :: path
     logical :: checksums = .false.
+    logical :: parallel = .false.   !< created by the ranks of a communicator (MPI-IO)
+    integer :: rank = 0             !< this rank in it (0 on one process)
   end type h5_file_t
 
   !> Largest dataset rank accepted by the array writers.
@@ -151,13 +157,19 @@ contains
   !> Creates `path` (truncating any existing file) and opens it for writing.
   !> With `checksums` (default false) every dataset written to it carries a
   !> Fletcher-32 checksum and the file's metadata their own (module notes).
-  subroutine h5_create(file, path, err, checksums)
+  !> With `comm` of more than one rank every rank of it calls this (and
+  !> every later call on the file: HDF5's parallel rules): the file is
+  !> written through MPI-IO; the whole-array writers then write rank 0's
+  !> data (the other ranks' is not read) and `h5_write_part_*` each rank's
+  !> part of a dataset, collectively.
+  subroutine h5_create(file, path, err, checksums, comm)
     type(h5_file_t), intent(inout) :: file
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: checksums
+    type(MPI_Comm), intent(in), optional :: comm
     integer(hid_t) :: fapl
-    integer :: hdferr, ierr
+    integer :: hdferr, ierr, nranks
     call hdf5_start(err)
     if (allocated(err)) return
     if (file%id >= 0) then
@@ -166,7 +178,26 @@ contains
     end if
     file%checksums = .false.
     if (present(checksums)) file%checksums = checksums
-    if (file%checksums) then
+    file%parallel = .false.
+    file%rank = 0
+    nranks = 1
+    if (present(comm)) then
+      call MPI_Comm_size(comm, nranks)
+      call MPI_Comm_rank(comm, file%rank)
+    end if
+    if (nranks > 1 .and. file%checksums) then
+      ! (Fletcher-32 is a filter: parallel HDF5 1.10 writes filtered data
+      ! only collectively, which the whole-array writers are not)
+      call error_set(err, 'h5_create', 'a checksummed file is written by one rank: '//q(path))
+      return
+    end if
+    if (nranks > 1) then
+      file%parallel = .true.
+      call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
+      if (hdferr == 0) call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, hdferr)
+      if (hdferr == 0) call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr, access_prp=fapl)
+      call h5pclose_f(fapl, ierr)
+    else if (file%checksums) then
       ! the newest format: checksummed superblock, object headers and indexes
       call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
       if (hdferr /= 0) then
@@ -320,6 +351,40 @@ contains
     end if
     call write_array(file, name, ptr, dims, h5kind_to_type(kind(0), H5_INTEGER_KIND), 'h5_write_int', err)
   end subroutine h5_write_int
+
+  !> This rank's part (a box of shape `count` at the 0-based `start`) of the
+  !> double dataset `name` of shape `dims`, from the contiguous buffer `data`
+  !> (product(count) values), written by all ranks of a parallel file
+  !> together (`h5_create` with `comm`; on one process the whole dataset).
+  subroutine h5_write_part_real(file, name, data, dims, start, count, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    real(wp), intent(in), target :: data(*)
+    integer, intent(in) :: dims(:), start(:), count(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(c_ptr) :: ptr
+    ptr = c_null_ptr
+    if (size(count) > 0) then
+      if (all(count > 0)) ptr = c_loc(data(1))
+    end if
+    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', err)
+  end subroutine h5_write_part_real
+
+  !> `h5_write_part_real` for a default-integer dataset.
+  subroutine h5_write_part_int(file, name, data, dims, start, count, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    integer, intent(in), target :: data(*)
+    integer, intent(in) :: dims(:), start(:), count(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(c_ptr) :: ptr
+    ptr = c_null_ptr
+    if (size(count) > 0) then
+      if (all(count > 0)) ptr = c_loc(data(1))
+    end if
+    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(kind(0), H5_INTEGER_KIND), &
+                    'h5_write_part_int', err)
+  end subroutine h5_write_part_int
 
   !> Writes a scalar double dataset.
   subroutine h5_write_scalar_real(file, name, value, err)
@@ -604,6 +669,80 @@ contains
 
   ! ------------------------------------------------------------------ helpers
 
+  !> Writes a whole dataset from ptr; in a file of several ranks rank 0's
+  !> data (the others select nothing).
+  subroutine write_root(file, did, tid, sid, ptr, hdferr)
+    type(h5_file_t), intent(in) :: file
+    integer(hid_t), intent(in) :: did, tid, sid
+    type(c_ptr), intent(inout) :: ptr
+    integer, intent(out) :: hdferr
+    if (file%parallel .and. file%rank /= 0) then
+      call h5sselect_none_f(sid, hdferr)
+      if (hdferr == 0) call h5dwrite_f(did, tid, ptr, hdferr, mem_space_id=sid, file_space_id=sid)
+    else
+      call h5dwrite_f(did, tid, ptr, hdferr)
+    end if
+  end subroutine write_root
+
+  !> Creates the dataset `name` of shape `dims` (Fortran order) in a file of
+  !> several ranks and writes this rank's part of it, the box of shape
+  !> `count` at `start` (0-based, Fortran order), from the contiguous buffer
+  !> ptr (product(count) values), all ranks together (collective MPI-IO).
+  !> In a file of one process, count must be dims (the whole dataset).
+  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(inout) :: ptr
+    integer, intent(in) :: dims(:), start(:), count(:)
+    integer(hid_t), intent(in) :: tid
+    character(len=*), intent(in) :: here
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: did, sid, msid, lcpl, xfer
+    integer :: hdferr, rank
+    if (.not. file%parallel) then
+      if (any(count /= dims) .or. any(start /= 0)) then
+        call error_set(err, here, 'a part of '//where_in(file, name)//' in a file of one process')
+        return
+      end if
+      call write_array(file, name, ptr, dims, tid, here, err)
+      return
+    end if
+    did = -1_hid_t
+    sid = -1_hid_t
+    msid = -1_hid_t
+    lcpl = -1_hid_t
+    xfer = -1_hid_t
+    rank = size(dims)
+    body: block
+      if (.not. check_open(file, name, here, err)) exit body
+      if (rank < 1 .or. rank > max_rank .or. size(start) /= rank .or. size(count) /= rank) then
+        call error_set(err, here, 'rank must be 1..7, the same for the part, for '//where_in(file, name))
+        exit body
+      end if
+      if (any(start < 0) .or. any(count < 0) .or. any(start + count > dims)) then
+        call error_set(err, here, 'the part lies outside '//where_in(file, name))
+        exit body
+      end if
+      call h5screate_simple_f(rank, int(dims, hsize_t), sid, hdferr)
+      if (hdferr == 0) call h5screate_simple_f(rank, int(count, hsize_t), msid, hdferr)
+      if (hdferr /= 0) then
+        call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
+        exit body
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err, -1_hid_t)
+      if (allocated(err)) exit body
+      call h5sselect_hyperslab_f(sid, H5S_SELECT_SET_F, int(start, hsize_t), int(count, hsize_t), hdferr)
+      if (hdferr == 0) call h5pcreate_f(H5P_DATASET_XFER_F, xfer, hdferr)
+      if (hdferr == 0) call h5pset_dxpl_mpio_f(xfer, H5FD_MPIO_COLLECTIVE_F, hdferr)
+      if (hdferr == 0) call h5dwrite_f(did, tid, ptr, hdferr, mem_space_id=msid, file_space_id=sid, xfer_prp=xfer)
+      if (hdferr /= 0) call error_set(err, here, 'cannot write this rank''s part of '//where_in(file, name))
+    end block body
+    call release(did, sid, -1_hid_t)
+    if (msid >= 0) call h5sclose_f(msid, hdferr)
+    if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
+    if (xfer >= 0) call h5pclose_f(xfer, hdferr)
+  end subroutine write_part
+
   !> Creates and writes a simple-dataspace dataset from a buffer address.
   subroutine write_array(file, name, ptr, dims, tid, here, err)
     type(h5_file_t), intent(in) :: file
@@ -648,7 +787,7 @@ contains
       call create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
       if (allocated(err)) exit body
       if (product(hdims(1:rank)) == 0) exit body
-      call h5dwrite_f(did, tid, ptr, hdferr)
+      call write_root(file, did, tid, sid, ptr, hdferr)
       if (hdferr /= 0) call error_set(err, here, 'cannot write '//where_in(file, name))
     end block body
     call release(did, sid, -1_hid_t)
@@ -692,7 +831,7 @@ contains
       end if
       call create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
       if (allocated(err)) exit body
-      call h5dwrite_f(did, tid, ptr, hdferr)
+      call write_root(file, did, tid, sid, ptr, hdferr)
       if (hdferr /= 0) call error_set(err, here, 'cannot write '//where_in(file, name))
     end block body
     call release(did, sid, -1_hid_t)

@@ -29,6 +29,8 @@ module io_output
   use mesh_grid, only: grid_t
   use lagrange_state, only: hydro_t
   use particles_state, only: particles_t
+  use mpi_f08, only: MPI_Comm
+  use io_hdf5, only: h5_write_part_real, h5_write_part_int
   use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_int, h5_write_scalar_real, &
                      h5_write_scalar_int, h5_write_string, h5_write_attribute
   use io_xdmf, only: xdmf_write_series, io_rename
@@ -110,8 +112,13 @@ contains
   !> `pt` (optional): the particles, written when there are any, with
   !> their further fields `pfields` (size(pnames), np) named `pnames`
   !> (dimensionless: the strength models' history, optional).
+  !> With `comm` (a decomposed run: every rank calls this with its block g,
+  !> h, material and extra) the ranks write the one file together, each its
+  !> owned nodes and cells (parallel HDF5, collective), in the layout of one
+  !> process; rank 0 writes everything else (pt: the whole run's particles
+  !> on every rank) and the XDMF series; `path` is the same on every rank.
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err, pt, pnames, pfields)
+                          path, err, pt, pnames, pfields, comm)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -130,13 +137,15 @@ contains
     type(particles_t), intent(in), optional :: pt
     character(len=*), intent(in), optional :: pnames(:)
     real(wp), intent(in), optional :: pfields(:, :)
+    type(MPI_Comm), intent(in), optional :: comm
     type(h5_file_t) :: f
     character(len=256) :: fname
     integer :: np
     character(len=64), allocatable :: fields(:), legend_names(:)
     character(len=16), allocatable :: pscalars(:)
-    real(wp), allocatable :: legend_values(:)
-    integer :: nd(4), cd(3), k, stat, nmat
+    real(wp), allocatable :: legend_values(:), buf(:)
+    integer, allocatable :: ibuf(:)
+    integer :: nd(4), cd(3), ns(4), nc(4), cs(3), cc(3), k, stat, nmat, i, j, l
     character(len=200) :: msg
 
     if (size(units) /= size(names) .or. size(owner) /= size(names) .or. size(extra, 2) /= size(names)) then
@@ -147,22 +156,32 @@ contains
     if (allocated(meta%materials)) nmat = size(meta%materials)
     write(fname, '(a,"_",i5.5,".h5")') out%name, out%nframe
     path = out%dir//'/'//trim(fname)
-    nd = [3, g%ni + 1, g%nj + 1, g%nk + 1]
-    cd = [g%ni, g%nj, g%nk]
-    call h5_create(f, path//'.tmp', err)
+    ! the whole grid's shapes (of the nodes with their 3 components, of the
+    ! cells) and this block's part of them: the nodes it counts and the
+    ! cells it owns (all of them on one process)
+    nd = [3, g%gn + 1]
+    cd = g%gn
+    ns = [0, g%ulo + g%off]
+    nc = [3, g%nhi - g%ulo + 1]
+    cs = g%clo - 1 + g%off
+    cc = g%chi - g%clo + 1
+    call h5_create(f, path//'.tmp', err, comm=comm)
     if (allocated(err)) return
-    call h5_write_real(f, 'x', g%x, nd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'velocity', h%u, nd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'density', h%rho, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'pressure', h%p, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'energy', h%e, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'sound_speed', h%cs, cd, err)
-    if (.not. allocated(err)) call h5_write_real(f, 'viscosity', h%q, cd, err)
-    if (.not. allocated(err)) call h5_write_int(f, 'material', material, cd, err)
+    call put_nodes('x', g%x)
+    call put_nodes('velocity', h%u)
+    call put_cells('density', h%rho)
+    call put_cells('pressure', h%p)
+    call put_cells('energy', h%e)
+    call put_cells('sound_speed', h%cs)
+    call put_cells('viscosity', h%q)
+    if (.not. allocated(err)) then
+      ibuf = [(((material(g%cell(i, j, l)), i = g%clo(1), g%chi(1)), j = g%clo(2), g%chi(2)), l = g%clo(3), g%chi(3))]
+      call h5_write_part_int(f, 'material', ibuf, cd, cs, cc, err)
+    end if
     do k = 1, size(names)
-      if (.not. allocated(err)) call h5_write_real(f, trim(names(k)), extra(:, k), cd, err)
+      call put_cells(trim(names(k)), extra(:, k))
     end do
-    if (.not. allocated(err)) call h5_write_real(f, 'volume', h%vol, cd, err)
+    call put_cells('volume', h%vol)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'time', time, err)
     if (.not. allocated(err)) call h5_write_scalar_int(f, 'step', step, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/mass', tot%mass, err)
@@ -193,7 +212,7 @@ contains
     end if
     call h5_close(f, err)
     if (allocated(err)) return
-    call io_rename(path//'.tmp', path, err)
+    if (f%rank == 0) call io_rename(path//'.tmp', path, err)
     if (allocated(err)) return
 
     out%nframe = out%nframe + 1
@@ -203,6 +222,7 @@ contains
     end if
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
+    if (f%rank /= 0) return   ! (rank 0 writes the series)
     allocate(fields(size(real_cell_fields) + size(names) + 1), legend_names(nmat), legend_values(nmat), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -220,7 +240,7 @@ contains
       legend_values(k) = real(k, wp)
     end do
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
-                           g%ni, g%nj, g%nk, node_fields, fields, err, &
+                           g%gn(1), g%gn(2), g%gn(3), node_fields, fields, err, &
                            int_cell_fields=[character(len=8) :: 'material'], &
                            field_names=legend_names, field_values=legend_values, &
                            info_names=[character(len=16) :: 'code', 'code_version', 'build_type', 'title', &
@@ -232,6 +252,24 @@ contains
                            part_scalars=pscalars, &
                            part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
                            part_tensors=[character(len=8) :: 'stress'])
+  contains
+    !> Node array a(3, nnode): this block's part.
+    subroutine put_nodes(name, a)
+      character(len=*), intent(in) :: name
+      real(wp), intent(in) :: a(:, :)
+      if (allocated(err)) return
+      buf = [((((a(:, g%node(i, j, l))), i = g%ulo(1), g%nhi(1)), j = g%ulo(2), g%nhi(2)), l = g%ulo(3), g%nhi(3))]
+      call h5_write_part_real(f, name, buf, nd, ns, nc, err)
+    end subroutine put_nodes
+
+    !> Cell array a(ncell): this block's part.
+    subroutine put_cells(name, a)
+      character(len=*), intent(in) :: name
+      real(wp), intent(in) :: a(:)
+      if (allocated(err)) return
+      buf = [(((a(g%cell(i, j, l)), i = g%clo(1), g%chi(1)), j = g%clo(2), g%chi(2)), l = g%clo(3), g%chi(3))]
+      call h5_write_part_real(f, name, buf, cd, cs, cc, err)
+    end subroutine put_cells
   end subroutine output_frame
 
   !> The particles' datasets and their attributes (module notes).

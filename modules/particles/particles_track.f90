@@ -54,20 +54,22 @@ contains
   end subroutine particles_nearest_ids
 
   !> idx(k): the array index of the particle with id ids(k), through the
-  !> inverse permutation `at` (np work array: at(id) = index), rebuilt here.
-  !> An id not in 1..np gives 0.
+  !> inverse permutation `at` (work array over all ids: at(id) = index),
+  !> rebuilt here. An id that is not among p's particles (out of range, or
+  !> held by another block of a decomposed run) gives 0.
   pure subroutine particles_index_of_ids(p, ids, at, idx)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: ids(:)
     integer, intent(inout) :: at(:)
     integer, intent(out) :: idx(:)
     integer :: q, k
+    at = 0
     do q = 1, p%np
       at(p%id(q)) = q
     end do
     do k = 1, size(ids)
       idx(k) = 0
-      if (ids(k) >= 1 .and. ids(k) <= p%np) idx(k) = at(ids(k))
+      if (ids(k) >= 1 .and. ids(k) <= size(at)) idx(k) = at(ids(k))
     end do
   end subroutine particles_index_of_ids
 
