@@ -104,28 +104,42 @@ taylor_bench() {
 # Lagrangian time, messages and bytes sent per step). 4 ranks on 2 cores are
 # oversubscribed: their times mean nothing, their halo counts do.
 mpi_bench() {
-  local mpiexec root_flag=() deck name
-  mpiexec=$(command -v mpirun)
-  [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
+  local deck name
   for deck in sedov3d sedov3d_lssm; do
     name=${deck/sedov3d/sedov40}
     sed -e 's/ni = 20, nj = 20, nk = 20/ni = 40, nj = 40, nk = 40/' -e 's/t_end = 1.0/t_end = 0.5/' \
         -e "s|^&output.*|\&output dir = 'out/$name' /|" "$root/input/$deck.nml" > $name.nml
     echo "## MPI: $name.nml (Sedov 40^3 to t = 0.5$([[ $deck == *lssm ]] && echo ', LSSM'), Release)"
-    OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" $name.nml > ${name}_r1t2.log
-    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" -np 2 --bind-to core "$exe" $name.nml > ${name}_r2t1.log
-    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" $name.nml > ${name}_r4t1.log
-    for c in r1t2 r2t1 r4t1; do
-      cp ${name}_$c.log "$outdir/bench_mpi_${name}_$c.log"
-      echo "$c: $(grep '^throughput:' ${name}_$c.log) | $(grep '^timers' ${name}_$c.log)"
-      grep '^halo' ${name}_$c.log || true
-    done
-    awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot[f] = $(i + 1)}
-         /^throughput:/ {rate[f] = $2}
-         END {printf "2 ranks x 1 thread against 1 rank x 2 threads: Lagrangian throughput x%.2f, total wall time x%.2f\n", \
-              rate[2] / rate[1], tot[1] / tot[2]}' ${name}_r1t2.log ${name}_r2t1.log
-    echo
+    mpi_runs $name
   done
+  # coupled particles: the Gurson steel ring refined to 96 x 96 x 4 cells
+  # (14432 particles), 200 steps with global-ALE Euler steps
+  sed -e 's/ni = 24, nj = 24, nk = 1/ni = 96, nj = 96, nk = 4/' -e 's/max_steps = 120/max_steps = 200/' \
+      -e "s|^&output dir = '[^']*'|\&output dir = 'out/ring96'|" "$root/tests/decks/strength_shell_small.nml" > ring96.nml
+  echo "## MPI: ring96.nml (the Gurson ring of tests/decks/strength_shell_small.nml at 96 x 96 x 4, particles, Release)"
+  mpi_runs ring96
+}
+
+# One deck on 1 rank x 2 threads, 2 ranks x 1 thread and 4 ranks x 1
+# (oversubscribed): the logs' throughput, timers and halo lines, and the
+# 2-rank run against the 1-rank one.
+mpi_runs() {
+  local name=$1 mpiexec root_flag=() c
+  mpiexec=$(command -v mpirun)
+  [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
+  OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" $name.nml > ${name}_r1t2.log
+  OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" -np 2 --bind-to core "$exe" $name.nml > ${name}_r2t1.log
+  OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" $name.nml > ${name}_r4t1.log
+  for c in r1t2 r2t1 r4t1; do
+    cp ${name}_$c.log "$outdir/bench_mpi_${name}_$c.log"
+    echo "$c: $(grep '^throughput:' ${name}_$c.log) | $(grep '^timers' ${name}_$c.log)"
+    grep '^halo' ${name}_$c.log || true
+  done
+  awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot[f] = $(i + 1)}
+       /^throughput:/ {rate[f] = $2}
+       END {printf "2 ranks x 1 thread against 1 rank x 2 threads: Lagrangian throughput x%.2f, total wall time x%.2f\n", \
+            rate[2] / rate[1], tot[1] / tot[2]}' ${name}_r1t2.log ${name}_r2t1.log
+  echo
 }
 if [[ "${BENCH_ONLY:-}" == mpi ]]; then
   mpi_bench
