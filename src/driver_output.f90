@@ -3,7 +3,7 @@
 !> schedule of frames, gauges, history rows and restart dumps and the phase
 !> timers.
 module driver_output
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_value, ieee_quiet_nan
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_IO, ERR_RUNTIME, ERR_INPUT
@@ -291,6 +291,8 @@ contains
       end if
       if (q > 0) call particles_track_values(st%pt, q, vals(1:nf))
       call st%halo%choose(key, vals(1:nf))
+      ! (held by no block: the particle left the grid through an open face)
+      if (key > 0.0_wp) vals = ieee_value(1.0_wp, ieee_quiet_nan)
       if (sch%track_unit /= -1) write(sch%track_unit, fmt, advance='no') sch%track_id(k), vals(1:nf)
     end do
     if (sch%track_unit == -1) return
@@ -505,7 +507,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
-    if (sch%gauges%n == 0 .and. sch%track_unit == -1) return
+    if (sch%gauges%n == 0 .and. .not. allocated(sch%track_id)) return   ! (rank 0 alone has the units)
     if (st%t < sch%t_next_gauge .and. st%t < cfg%control%t_end) return
     call sch%t_output%start()
     call gauges_write(sch%gauges, st%g, st%h, st%t, st%halo)

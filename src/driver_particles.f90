@@ -35,11 +35,13 @@ module driver_particles
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_seed, only: seed_shape, rigid_velocity
-  use particles_state, only: particles_t, particles_allocate, particles_order, particles_index, particles_register_restart
+  use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
+                             particles_register_restart
   use base_registry, only: registry_t, K_REAL
   use parallel_comm, only: comm_t
   use parallel_gather, only: gather_concat
-  use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_nodal_mass, &
+  use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
+                                particles_nodal_mass, &
                                 particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_params_t
@@ -48,7 +50,7 @@ module driver_particles
   use strength_gurson, only: gtn_f, gtn_f0
   use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field
   use eos_mie_gruneisen, only: mie_gruneisen_t
-  use mesh_boundary, only: bc_constrain
+  use mesh_boundary, only: bc_constrain, BC_INFLOW, BC_OUTFLOW
   use lagrange_integrator, only: lagrange_step
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
@@ -397,11 +399,10 @@ contains
   subroutine particles_take(st, err)
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
-    type(registry_t) :: rb, rw
     type(strength_slot_t), allocatable :: models(:)
     integer, allocatable :: pick(:)
     logical, allocatable :: owned(:)
-    integer :: k, n, e, m, q, lo(3), hi(3), ijk(3), stat
+    integer :: k, n, q, lo(3), hi(3), ijk(3), stat
     character(len=200) :: msg
 
     associate (g => st%g, w => st%whole%pt, wg => st%whole%g)
@@ -419,30 +420,9 @@ contains
         n = n + 1
         pick(n) = k
       end do
-      call particles_allocate(st%pt, n, w%nsolid, w%nhist, err)
-      if (allocated(err)) return
-      if (allocated(w%mvf)) then
-        allocate(st%pt%mvf(n), stat=stat, errmsg=msg)
-        if (stat /= 0) then
-          call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
-          return
-        end if
-      end if
       st%pwhole = pick(:n)
-      call particles_register_restart(st%pt, rb)
-      call particles_register_restart(w, rw)
-      do e = 1, rb%n
-        associate (b => rb%e(e), v => rw%e(e))
-          m = product(b%dims(1:size(b%dims) - 1))
-          do q = 1, n
-            if (b%kind == K_REAL) then
-              b%r(m*(q - 1) + 1:m*q) = v%r(m*(pick(q) - 1) + 1:m*pick(q))
-            else
-              b%i(m*(q - 1) + 1:m*q) = v%i(m*(pick(q) - 1) + 1:m*pick(q))
-            end if
-          end do
-        end associate
-      end do
+      st%pt = w
+      call particles_select(st%pt, st%pwhole)
       do q = 1, n
         call wg%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
         ijk = ijk - g%off
@@ -524,15 +504,16 @@ contains
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
   !> in the standard (initial) grid x0 by its position, and the cells of
   !> that grid the particles occupy (the smoothing's fixed inner boundary).
-  !> A particle outside the standard grid (faces that moved with the
-  !> material) is a runtime failure: the pre-positioning needs the grid box.
+  !> A particle outside the standard grid that went out through an open
+  !> face (`particles_leave` takes it out after the remap) occupies none;
+  !> any other is a runtime failure: the pre-positioning needs the grid box.
   subroutine particles_euler_preposition(st, x0, pe, err)
     type(state_t), intent(in) :: st
     real(wp), intent(in) :: x0(:, :)
     type(particles_euler_t), intent(inout) :: pe
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xi(:, :)
-    integer :: bad, stat
+    integer :: bad, k, stat
     character(len=200) :: msg
     allocate(xi(3, st%pt%np), pe%guess(st%pt%np), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -540,14 +521,17 @@ contains
       return
     end if
     call particles_relocate(st%g, x0, st%pt, st%pt%cell, pe%guess, xi, bad)
-    if (bad /= 0) then
-      call error_set(err, 'particles_euler_preposition', 'particle '//itoa(st%pt%id(bad))//' at ('// &
-                     rtoa(st%pt%x(1, bad))//', '//rtoa(st%pt%x(2, bad))//', '//rtoa(st%pt%x(3, bad))// &
+    do k = 1, st%pt%np
+      if (pe%guess(k) > 0 .or. at_open_face(st, st%pt%cell(k))) cycle
+      call error_set(err, 'particles_euler_preposition', 'particle '//itoa(st%pt%id(k))//' at ('// &
+                     rtoa(st%pt%x(1, k))//', '//rtoa(st%pt%x(2, k))//', '//rtoa(st%pt%x(3, k))// &
                      ') lies outside the initial grid, in which Remark 2 places the particles before smoothing', &
                      ERR_RUNTIME)
       return
-    end if
-    pe%occupied = particles_occupied(pe%guess, st%g%ncell)
+    end do
+    pe%occupied = particles_occupied(pack(pe%guess, pe%guess > 0), st%g%ncell)
+    ! (the walk after the remap starts at the old host of one that left)
+    if (bad /= 0) pe%guess = merge(pe%guess, st%pt%cell, pe%guess > 0)
   end subroutine particles_euler_preposition
 
   !> Before the remap: the particles' share of the nodal kinetic energy
@@ -592,7 +576,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cell(:)
     real(wp), allocatable :: xi(:, :)
-    real(wp) :: sh(8), ke_f, p_f(3), ke1, p1(3), mt
+    real(wp) :: sh(8), ke_f, p_f(3), ke1, p1(3), mt, ke_out, p_out(3)
     integer :: bad, k, a, n, n0, stat
     character(len=300) :: line
     character(len=200) :: msg
@@ -605,11 +589,11 @@ contains
       end if
       if (.not. allocated(pe%guess)) pe%guess = pt%cell
       call particles_relocate(g, g%x, pt, pe%guess, cell, xi, bad)
+      ke_out = 0.0_wp
+      p_out = 0.0_wp
       if (bad /= 0) then
-        call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(bad))//' at ('// &
-                       rtoa(pt%x(1, bad))//', '//rtoa(pt%x(2, bad))//', '//rtoa(pt%x(3, bad))// &
-                       ') lies in no cell of the rezoned grid', ERR_RUNTIME)
-        return
+        call particles_leave(st, cell, xi, ke_out, p_out, log, err)
+        if (allocated(err)) return
       end if
       pt%cell = cell
       pt%xi = xi
@@ -641,13 +625,87 @@ contains
         ke1 = ke1 + 0.5_wp*mt*dot_product(h%u(:, n), h%u(:, n))
         p1 = p1 + mt*h%u(:, n)
       end do
-      st%tot%transfer_energy = st%tot%transfer_energy + (ke1 - ke_f - pe%ke_solid)
+      ! (the share of the particles that left went out with them)
+      st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + ke_out - ke_f - pe%ke_solid)
       write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &
         &", kinetic energy change ",es10.3," (share of the particles rebuilt)")') pt%np, &
-        count(pt%cell_start(2:) > pt%cell_start(:g%ncell)), p1 - p_f - pe%p_solid, ke1 - ke_f - pe%ke_solid
+        count(pt%cell_start(2:) > pt%cell_start(:g%ncell)), p1 + p_out - p_f - pe%p_solid, ke1 + ke_out - ke_f - pe%ke_solid
       call log_line(log, trim(line))
     end associate
   end subroutine particles_euler_finish
+
+  !> The particles a rezone left in no cell (cell(k) = 0 from
+  !> `particles_relocate`): those whose host lay on an inflow or outflow face
+  !> went out through it (the rezone brought the face back behind them) and
+  !> leave the run, with cell and xi; the coupled ones' mass, momentum and
+  !> energy leave as through the face (their internal energy and their
+  !> share (m_p - m'_p) of the nodal kinetic energy taken from the boundary
+  !> work, so the balance stays closed). Any other particle in no cell is a
+  !> runtime failure (the grid lost it).
+  subroutine particles_leave(st, cell, xi, ke_out, p_out, log, err)
+    type(state_t), intent(inout) :: st
+    integer, allocatable, intent(inout) :: cell(:)
+    real(wp), allocatable, intent(inout) :: xi(:, :)
+    real(wp), intent(out) :: ke_out, p_out(3)
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: pick(:)
+    real(wp) :: mx, m_out, e_out
+    integer :: k
+    character(len=300) :: line
+
+    associate (pt => st%pt)
+      do k = 1, pt%np
+        if (cell(k) > 0 .or. at_open_face(st, pt%cell(k))) cycle
+        call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(k))//' at ('// &
+                       rtoa(pt%x(1, k))//', '//rtoa(pt%x(2, k))//', '//rtoa(pt%x(3, k))// &
+                       ') lies in no cell of the rezoned grid', ERR_RUNTIME)
+        return
+      end do
+      m_out = 0.0_wp
+      p_out = 0.0_wp
+      ke_out = 0.0_wp
+      e_out = 0.0_wp
+      if (allocated(pt%mvf)) then
+        do k = 1, pt%np
+          if (cell(k) > 0) cycle
+          mx = pt%m(k) - pt%mvf(k)
+          m_out = m_out + pt%m(k)
+          p_out = p_out + mx*pt%v(:, k)
+          ke_out = ke_out + 0.5_wp*mx*dot_product(pt%v(:, k), pt%v(:, k))
+          e_out = e_out + pt%m(k)*pt%e(k)
+        end do
+        e_out = e_out + ke_out
+        st%tot%boundary_work = st%tot%boundary_work - e_out
+      end if
+      pick = pack([(k, k = 1, pt%np)], cell > 0)
+      write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
+        &", energy ",es12.5,"); ",i0," remain")') pt%np - size(pick), m_out, p_out, e_out, size(pick)
+      call log_line(log, trim(line))
+      call particles_select(pt, pick)
+      cell = cell(pick)
+      xi = xi(:, pick)
+      if (allocated(st%pw%vh)) call particles_work_resize(st%pw, pt%np, pt%nhist, err)
+    end associate
+  end subroutine particles_leave
+
+  !> Whether cell c of st's (whole) grid lies on an inflow or outflow face.
+  logical function at_open_face(st, c)
+    type(state_t), intent(in) :: st
+    integer, intent(in) :: c
+    integer :: ijk(3), f, d
+    call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+    at_open_face = .false.
+    do f = 1, 6
+      if (.not. (st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW)) cycle
+      d = (f + 1)/2
+      if (mod(f, 2) == 1) then
+        at_open_face = at_open_face .or. ijk(d) == st%g%clo(d)
+      else
+        at_open_face = at_open_face .or. ijk(d) == st%g%chi(d)
+      end if
+    end do
+  end function at_open_face
 
   !> Which cells host particles.
   function cell_used(p, ncell) result(used)

@@ -27,19 +27,19 @@ module driver_restart
   use base_errors, only: error_t, error_set, ERR_INPUT, ERR_IO
   use base_config, only: max_line, problem_add
   use base_timers, only: wall_seconds
-  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR, &
+  use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR, &
                            LOWER_POSITIVE, LOWER_NONNEGATIVE
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
-  use particles_state, only: particles_check, particles_index
+  use particles_state, only: particles_check, particles_index, particles_allocate
+  use particles_lagrange, only: particles_work_resize
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
   use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
-                        restart_check_counts
+                        restart_check_counts, restart_read_dims
   use driver_config, only: config_t, config_read, config_state_changes
   use driver_state, only: state_t, state_register_restart, state_after_read
-  use particles_state, only: particles_index
   use driver_output, only: schedule_t, schedule_register_restart, report_conservation, frame_due, advance_schedule
   use driver_euler, only: euler_state_t, euler_register_restart
   implicit none
@@ -205,7 +205,9 @@ contains
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
-    integer :: n, nslot
+    integer, allocatable :: dims(:)
+    integer :: n, nslot, nseed, nsolid, nhist, stat
+    logical :: coupled
 
     path = trim(cfg%control%restart_from)
     call restart_read_int_scalar(path, 'mixed_n', n, err)
@@ -240,6 +242,40 @@ contains
       end if
       call log_line(sch%log, 'restart: '//itoa(n)//' mixed cells ('//itoa(nslot)//' material slots)')
     end if
+    ! the particles the file holds: fewer than the deck seeds once some left
+    ! the grid through an open face
+    nseed = st%pt%np
+    if (nseed > 0) then
+      call restart_read_dims(path, 'particle_id', dims, err)
+      if (.not. allocated(err)) then
+        if (size(dims) /= 1) call error_set(err, 'restart_read', path//': state/particle_id has the wrong rank')
+      end if
+      if (.not. allocated(err)) then
+        if (dims(1) > nseed) call error_set(err, 'restart_read', path//' holds '//itoa(dims(1))// &
+                                            ' particles; the deck seeds '//itoa(nseed))
+      end if
+      if (.not. allocated(err)) call restart_check_counts(path, reg, LOC_PARTICLE, nseed, dims(1), &
+                                                          'the count of state/particle_id', err)
+      if (allocated(err)) then
+        call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
+        return
+      end if
+      if (dims(1) /= nseed) then
+        coupled = allocated(st%pt%mvf)
+        nsolid = st%pt%nsolid
+        nhist = st%pt%nhist
+        call particles_allocate(st%pt, dims(1), nsolid, nhist, err)
+        if (.not. allocated(err) .and. coupled) then
+          allocate(st%pt%mvf(dims(1)), stat=stat)
+          if (stat /= 0) call error_set(err, 'read_restart', 'out of memory for the particles')
+        end if
+        if (.not. allocated(err) .and. allocated(st%pw%vh)) &
+          call particles_work_resize(st%pw, dims(1), nhist, err)
+        if (allocated(err)) return
+        call log_line(sch%log, 'restart: '//itoa(dims(1))//' particles ('//itoa(nseed - dims(1))// &
+                      ' of those seeded left the grid)')
+      end if
+    end if
     call register_all(st, sch, es, reg)
     call restart_read(path, reg, frames, times, err)
     if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
@@ -247,7 +283,7 @@ contains
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
     if (.not. allocated(err)) then
-      call particles_check(st%pt, st%g%ncell, err)
+      call particles_check(st%pt, st%g%ncell, nseed, err)
       if (.not. allocated(err)) call particles_index(st%pt, st%g%ncell, err)
       if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
     end if

@@ -11,7 +11,9 @@ spacing of each other at t = 0 (the spacing: the median nearest-neighbour
 distance; the default 1.1 bonds lattice neighbours along the axes only,
 so that a crack one particle wide separates, however it runs across the
 lattice) and neither has failed; a fragment is a connected set of bonded
-particles (failed particles are the cracks). In the plane through CENTER
+particles (failed particles are the cracks). Particles that have left the
+grid through an open face (missing from a frame) belong to no fragment;
+the "left" column counts them. In the plane through CENTER
 (default 0, 0) each fragment is measured along its midline:
 
 - width: its angular extent times its mean radius;
@@ -35,12 +37,26 @@ import h5py
 import numpy as np
 
 
-def load(path):
+def load(path, ids0=None):
+    """Time, positions and failure flags in id order. With ids0 (the first
+    frame's ids), on those ids: a particle that has left the grid through
+    an open face (not in the frame) gets NaN position, and gone True."""
     with h5py.File(path, "r") as f:
-        order = np.argsort(f["particles/id"][()])
+        ids = f["particles/id"][()]
+        order = np.argsort(ids)
         x = f["particles/x"][()][order]
         failed = f["particles/failed"][()][order] > 0.5 if "particles/failed" in f else np.zeros(len(x), bool)
-        return float(f["time"][()]), x, failed
+        t = float(f["time"][()])
+    if ids0 is None:
+        return t, x, failed, ids[order]
+    at = np.searchsorted(ids0, ids[order])
+    if np.any(at >= len(ids0)) or np.any(ids0[np.minimum(at, len(ids0) - 1)] != ids[order]):
+        sys.exit(f"{path}: particle ids that the first frame does not have")
+    xa = np.full((len(ids0), 3), np.nan)
+    fa = np.zeros(len(ids0), bool)
+    gone = np.ones(len(ids0), bool)
+    xa[at], fa[at], gone[at] = x, failed, False
+    return t, xa, fa, gone
 
 
 def bonds(x0, factor):
@@ -100,20 +116,18 @@ def main():
     a = ap.parse_args()
     if len(a.frames) < 2:
         sys.exit("give the first frame and at least one more")
-    _, x0, _ = load(a.frames[0])
+    _, x0, _, ids0 = load(a.frames[0])
     pairs, spacing = bonds(x0, a.bond)
     n = len(x0)
     print(f"{n} particles, spacing {spacing:.4g}, {len(pairs)} bonds (within {a.bond} spacings at t = 0)")
-    print(f"{'time':>12s} {'failed':>7s} {'fragments':>9s} {'main':>5s}")
+    print(f"{'time':>12s} {'failed':>7s} {'left':>5s} {'fragments':>9s} {'main':>5s}")
     first_crack = None
     for path in a.frames[1:]:
-        t, x, failed = load(path)
-        if len(x) != n:
-            sys.exit(f"{path}: {len(x)} particles, the first frame has {n}")
-        labels = components(n, pairs, ~failed)
+        t, x, failed, gone = load(path, ids0)
+        labels = components(n, pairs, ~failed & ~gone)
         ids, sizes = np.unique(labels[labels >= 0], return_counts=True)
         main_ids = ids[sizes >= a.main * n]
-        print(f"{t:12.5g} {int(failed.sum()):7d} {len(ids):9d} {len(main_ids):5d}")
+        print(f"{t:12.5g} {int(failed.sum()):7d} {int(gone.sum()):5d} {len(ids):9d} {len(main_ids):5d}")
         if first_crack is None and len(main_ids) >= 2:
             first_crack = t
     print(f"first frame with two or more main fragments (first through-crack): "

@@ -7,7 +7,9 @@ all main; the two at the symmetry planes flagged, their widths doubled;
 first through-crack at the second frame; thickness 4 within a spacing
 (lattice columns are cut by the slices); widths pi/6 r_mean (middle) and
 2 pi/6 r_mean (doubled) within 2 spacings (the crack takes one spacing,
-the + spacing of the measure gives one back)."""
+the + spacing of the measure gives one back). A third frame without the
+particles beyond y = 38 (they left the grid): the "left" column counts
+them exactly, and the fragments are still 3."""
 import os
 import re
 import subprocess
@@ -20,10 +22,10 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def write(path, t, x, failed):
+def write(path, t, x, failed, ids=None):
     with h5py.File(path, "w") as f:
         f["time"] = t
-        f["particles/id"] = np.arange(1, len(x) + 1, dtype=np.int32)
+        f["particles/id"] = np.arange(1, len(x) + 1, dtype=np.int32) if ids is None else ids
         f["particles/x"] = x
         f["particles/failed"] = failed.astype(float)
 
@@ -47,14 +49,24 @@ def main():
         f0, f1 = os.path.join(d, "f0.h5"), os.path.join(d, "f1.h5")
         write(f0, 0.0, x, np.zeros(len(x), bool))
         write(f1, 1.0, x1, failed)
-        out = subprocess.run([sys.executable, os.path.join(HERE, "fragments.py"), f0, f1, "--quarter"],
+        f2 = os.path.join(d, "f2.h5")
+        stay = x1[:, 1] <= 38.0
+        write(f2, 2.0, x1[stay], failed[stay], np.arange(1, len(x) + 1, dtype=np.int32)[stay])
+        out = subprocess.run([sys.executable, os.path.join(HERE, "fragments.py"), f0, f1, f2, "--quarter"],
                              capture_output=True, text=True)
+        out1 = subprocess.run([sys.executable, os.path.join(HERE, "fragments.py"), f0, f1, "--quarter"],
+                              capture_output=True, text=True)
+    print(out.stdout, out.stderr)
+    row2 = re.search(r"^\s+2\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s*$", out.stdout, re.M)
+    left_ok = row2 is not None and int(row2.group(2)) == int((~stay).sum()) and int(row2.group(4)) == 3
+    out = out1
     print(out.stdout, out.stderr)
     ok = out.returncode == 0
     table = out.stdout.split("main fragments at")[-1]
     rows = re.findall(r"^\s+(\d+)\s+([\d.eE+-]+)\s+([\d.eE+-]+)(\s+sym)?", table, re.M)
     rm = 38.0
     checks = [
+        (f"{int((~stay).sum())} left, 3 main fragments in the third frame", left_ok),
         ("3 main fragments", len(rows) == 3),
         ("first through-crack at t = 1", "first through-crack): 1" in out.stdout),
         ("two flagged at the symmetry planes", sum(1 for r in rows if r[3]) == 2),

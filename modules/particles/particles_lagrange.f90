@@ -41,7 +41,8 @@ module particles_lagrange
   use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state, mie_gruneisen_reference
   implicit none
   private
-  public :: particles_work_t, strength_slot_t, particles_work_init, particles_gradients, particles_nodal_mass, &
+  public :: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
+            particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
             particles_cell_fraction
@@ -96,22 +97,39 @@ contains
     integer :: stat
     character(len=200) :: msg
     allocate(w%mp(nnode), w%f(3, nnode), w%fvf(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%xc(3, nnode), &
-             w%vh(3, np), &
-             w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), w%e_h(np), &
-             w%vscale(ncell), w%wcell(ncell), w%eroded(np), w%owned(np), stat=stat, errmsg=msg)
+             w%vscale(ncell), w%wcell(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
       return
     end if
     w%mp = 0.0_wp; w%f = 0.0_wp; w%fvf = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%xc = 0.0_wp
-    w%vh = 0.0_wp; w%lgrad = 0.0_wp
-    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp; w%e_h = 0.0_wp
     w%vscale = 1.0_wp
     w%wcell = 0.0_wp
+    call particles_work_resize(w, np, nhist, err)
+  end subroutine particles_work_init
+
+  !> The per-particle work arrays sized anew for np particles with nhist
+  !> history variables (after particles left the grid, or a restart read
+  !> another count); all particles owned, the nodal mass term to rebuild.
+  subroutine particles_work_resize(w, np, nhist, err)
+    type(particles_work_t), intent(inout) :: w
+    integer, intent(in) :: np, nhist
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+    if (allocated(w%vh)) deallocate(w%vh, w%lgrad, w%stress_h, w%hist_h, w%vol_h, w%rho_h, w%e_h, w%eroded, w%owned)
+    allocate(w%vh(3, np), w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
+             w%e_h(np), w%eroded(np), w%owned(np), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_work_resize', 'cannot allocate the coupling arrays: '//trim(msg))
+      return
+    end if
+    w%vh = 0.0_wp; w%lgrad = 0.0_wp
+    w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp; w%e_h = 0.0_wp
     w%eroded = 0.0_wp
     w%owned = .true.
     w%mass_ready = .false.
-  end subroutine particles_work_init
+  end subroutine particles_work_resize
 
   !> grad N_a (3, 8) (1/length) at natural coordinates xi of the hex xn(3,8)
   !> and det J (length^3 per unit natural volume): grad N_a = J^{-T} dN_a/dxi.

@@ -1,8 +1,9 @@
 !> The MPM particles of a scene (PARTICLES.md §1.2): structure of arrays,
-!> sized once (np is fixed for a run: a failed particle will be flagged,
-!> never deleted, so that the restart registry walks the same arrays),
 !> allocated only when the deck seeds particles (DESIGN §3: a scene without
-!> solids pays nothing).
+!> solids pays nothing). A failed particle is flagged, never deleted; np
+!> shrinks only when particles leave the grid through an open face at an
+!> Euler step (`particles_select`). Ids are the seeding numbers and stay
+!> with the particles (unique, in 1..the number seeded).
 !>
 !> Order and binning. The arrays are sorted by solid material (`mat`), so
 !> that material s is the contiguous range mat_start(s) .. mat_start(s+1)-1
@@ -39,8 +40,8 @@ module particles_state
   use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE
   implicit none
   private
-  public :: particles_t, particles_allocate, particles_order, particles_index, particles_bin, particles_register_restart, &
-            particles_check
+  public :: particles_t, particles_allocate, particles_order, particles_select, particles_index, particles_bin, &
+            particles_register_restart, particles_check
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
   !> rho mass/length^3, stress mass/(length time^2).
@@ -130,22 +131,32 @@ contains
     ! stable sort by cell, then stably by material: (mat, cell) order
     call counting_sort(p%cell, ncell, [(s, s = 1, p%np)], by_cell)
     call counting_sort(p%mat, p%nsolid, by_cell, order)
-    p%id = p%id(order)
-    p%mat = p%mat(order)
-    p%body = p%body(order)
-    p%cell = p%cell(order)
-    p%xi = p%xi(:, order)
-    p%x = p%x(:, order)
-    p%v = p%v(:, order)
-    p%m = p%m(order)
-    p%vol = p%vol(order)
-    p%rho = p%rho(order)
-    p%e = p%e(order)
-    p%stress = p%stress(:, order)
-    p%hist = p%hist(:, order)
-    if (allocated(p%mvf)) p%mvf = p%mvf(order)
+    call particles_select(p, order)
     call particles_index(p, ncell, err)
   end subroutine particles_order
+
+  !> The particles pick(:) of p, in that order (a permutation, or a subset:
+  !> np becomes size(pick)); the binning is then stale (`particles_index`).
+  subroutine particles_select(p, pick)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: pick(:)
+    p%np = size(pick)
+    p%id = p%id(pick)
+    p%mat = p%mat(pick)
+    p%body = p%body(pick)
+    p%cell = p%cell(pick)
+    p%xi = p%xi(:, pick)
+    p%x = p%x(:, pick)
+    p%v = p%v(:, pick)
+    p%m = p%m(pick)
+    p%vol = p%vol(pick)
+    p%rho = p%rho(pick)
+    p%e = p%e(pick)
+    p%stress = p%stress(:, pick)
+    p%hist = p%hist(:, pick)
+    if (allocated(p%mvf)) p%mvf = p%mvf(pick)
+    if (allocated(p%perm)) deallocate(p%perm)
+  end subroutine particles_select
 
   !> The material ranges (mat_start) and the cell binning of particles
   !> already sorted by material (as after a restart read: the stored order
@@ -248,17 +259,18 @@ contains
   end subroutine particles_register_restart
 
   !> The particles' indices after a restart read: host cells in 1..ncell,
-  !> materials in 1..nsolid, ids a permutation of 1..np, natural coordinates
-  !> in [0,1]; the message names the first particle that is not.
-  subroutine particles_check(p, ncell, err)
+  !> materials in 1..nsolid, ids unique in 1..idmax (the number seeded),
+  !> natural coordinates in [0,1]; the message names the first particle
+  !> that is not.
+  subroutine particles_check(p, ncell, idmax, err)
     type(particles_t), intent(in) :: p
-    integer, intent(in) :: ncell
+    integer, intent(in) :: ncell, idmax
     type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: seen(:)
     integer :: k, stat
     character(len=200) :: msg
     if (p%np == 0) return
-    allocate(seen(p%np), source=.false., stat=stat, errmsg=msg)
+    allocate(seen(idmax), source=.false., stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_check', 'cannot allocate work arrays: '//trim(msg))
       return
@@ -268,8 +280,8 @@ contains
         call bad('particle_cell', p%cell(k), 'the grid has cells 1..'//itoa(ncell))
       else if (p%mat(k) < 1 .or. p%mat(k) > p%nsolid) then
         call bad('particle_material', p%mat(k), 'this deck has solids 1..'//itoa(p%nsolid))
-      else if (p%id(k) < 1 .or. p%id(k) > p%np) then
-        call bad('particle_id', p%id(k), 'ids run over 1..'//itoa(p%np))
+      else if (p%id(k) < 1 .or. p%id(k) > idmax) then
+        call bad('particle_id', p%id(k), 'the deck seeds ids 1..'//itoa(idmax))
       else if (seen(p%id(k))) then
         call bad('particle_id', p%id(k), 'the id is repeated')
       else if (.not. all(p%xi(:, k) >= 0.0_wp .and. p%xi(:, k) <= 1.0_wp)) then
