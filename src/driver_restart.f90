@@ -113,6 +113,7 @@ contains
     character(len=256) :: entry
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
+    integer, allocatable :: nparts(:)
     real(wp) :: w0, eps_t, t_next_frame
     integer :: u, ios, nframe, steps_since_frame
 
@@ -125,9 +126,11 @@ contains
     if (.not. allocated(sch%out%frames)) then
       sch%out%frames = [character(len=256) ::]
       sch%out%times = [real(wp) ::]
+      sch%out%nparts = [integer ::]
     end if
     frames = sch%out%frames
     times = sch%out%times
+    nparts = sch%out%nparts
     ! at the segment's last step: the schedule after its final frame (module
     ! notes), for this dump only (the driver writes that frame next)
     nframe = sch%out%nframe
@@ -141,11 +144,12 @@ contains
       end if
       frames = [character(len=256) :: frames, frame_name(sch, sch%out%nframe)]
       times = [times, st%t]
+      nparts = [nparts, st%pt%np]
       sch%out%nframe = sch%out%nframe + 1
     end if
     ! registered afresh: an Euler step may have reallocated the mixed cells
     call register_all(st, sch, es, reg)
-    call restart_write(path, reg, cfg%echo, frames, times, err)
+    call restart_write(path, reg, cfg%echo, frames, times, err, nparts)
     sch%out%nframe = nframe
     sch%steps_since_frame = steps_since_frame
     sch%t_next_frame = t_next_frame
@@ -205,8 +209,8 @@ contains
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
-    integer, allocatable :: dims(:)
-    integer :: n, nslot, nseed, nsolid, nhist, stat
+    integer, allocatable :: dims(:), nparts(:)
+    integer :: n, nslot, nseed, nsolid, nhist, stat, k
     logical :: coupled
 
     path = trim(cfg%control%restart_from)
@@ -277,7 +281,7 @@ contains
       end if
     end if
     call register_all(st, sch, es, reg)
-    call restart_read(path, reg, frames, times, err)
+    call restart_read(path, reg, frames, times, err, nparts)
     if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
     if (.not. allocated(err)) call check_materials(st, path, err)
     ! the particles' indices, then their material ranges and cell binning
@@ -305,6 +309,9 @@ contains
     ! the frame list continues the XDMF series where it was
     sch%out%frames = frames
     sch%out%times = times
+    ! (a dump from before particles could leave: every frame had them all)
+    if (.not. allocated(nparts)) nparts = [(st%pt%np, k = 1, size(times))]
+    sch%out%nparts = nparts
     call material_index_cells(st%mats, st%h%mat, st%mx, err)
     if (allocated(err)) return
     ! settings a restart may change: frame and dump intervals

@@ -1,9 +1,12 @@
 """Opens a run with particles in ParaView, headless, and checks that the
 particles show next to the grid (run under pvbatch by viz_particles.sh):
 
-    xvfb-run -a pvbatch check_paraview_particles.py SERIES.xdmf FRAME.h5
+    xvfb-run -a pvbatch check_paraview_particles.py SERIES.xdmf FRAME.h5 [STEP]
 
-- the last time step is a multiblock of a structured grid (the hex cells)
+FRAME.h5 is the series' time step STEP (default -1, the last; particles
+that left the grid make the frames' particle counts differ).
+
+- the time step is a multiblock of a structured grid (the hex cells)
   and an unstructured grid with one vertex cell per particle (so ParaView
   draws them);
 - the particle block has the point arrays velocity (3), density, volume,
@@ -33,7 +36,8 @@ xp, vp = frame["particles/x"][()], frame["particles/velocity"][()]
 ncell = frame["density"].size
 r = Xdmf3ReaderS(FileName=[sys.argv[1]])
 r.UpdatePipelineInformation()
-r.UpdatePipeline(r.TimestepValues[-1])
+step = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+r.UpdatePipeline(r.TimestepValues[step])
 d = servermanager.Fetch(r)
 blocks = []
 it = d.NewIterator()

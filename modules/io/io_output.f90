@@ -19,8 +19,10 @@
 !> `mass` (np), the Cauchy stress `stress` (6, np) in XDMF Tensor6 order xx,
 !> xy, xz, yy, yz, zz (attribute `components`), and the integers `material`
 !> (solid index, legend in its attribute `names`), `body`, `id` (seeding
-!> number) and `cell` (host cell, i fastest); the XDMF lists them as a
-!> Polyvertex grid next to the hex grid. Without particles nothing changes.
+!> number), `cell` (host cell, i fastest) and `vertex` (0..np-1, the
+!> vertex cells' connectivity); the XDMF lists them as a Polyvertex grid
+!> next to the hex grid, with each frame's own count (particles leave
+!> through open faces; `out%nparts`). Without particles nothing changes.
 module io_output
   use base_kinds, only: wp
   use base_strings, only: itoa
@@ -70,6 +72,7 @@ module io_output
     integer :: nframe = 0
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
+    integer, allocatable :: nparts(:)     !< each frame's particle count
   end type output_t
 
   !> What describes every frame of a run: the deck's title and unit-system
@@ -220,8 +223,10 @@ contains
       out%frames = [character(len=256) ::]
       out%times = [real(wp) ::]
     end if
+    if (.not. allocated(out%nparts)) out%nparts = [integer ::]
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
+    out%nparts = [out%nparts, np]
     if (f%rank /= 0) return   ! (rank 0 writes the series)
     allocate(fields(size(real_cell_fields) + size(names) + 1), legend_names(nmat), legend_values(nmat), &
              stat=stat, errmsg=msg)
@@ -248,7 +253,7 @@ contains
                            info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
                                         meta_text(meta%title), meta_text(meta%unit_system), &
                                         material_legend(legend_source(meta))], &
-                           npart=np, part_vectors=[character(len=8) :: 'velocity'], &
+                           nparts=out%nparts, part_vectors=[character(len=8) :: 'velocity'], &
                            part_scalars=pscalars, &
                            part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
                            part_tensors=[character(len=8) :: 'stress'])
@@ -280,7 +285,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     ! Voigt (xx, yy, zz, yz, xz, xy) to XDMF Tensor6 (xx, xy, xz, yy, yz, zz)
     integer, parameter :: tensor6(6) = [1, 6, 5, 2, 4, 3]
-    integer :: np
+    integer :: np, k
     np = pt%np
     call h5_write_real(f, 'particles/x', pt%x, [3, np], err)
     if (.not. allocated(err)) call h5_write_real(f, 'particles/velocity', pt%v, [3, np], err)
@@ -293,6 +298,7 @@ contains
     if (.not. allocated(err)) call h5_write_int(f, 'particles/body', pt%body, [np], err)
     if (.not. allocated(err)) call h5_write_int(f, 'particles/id', pt%id, [np], err)
     if (.not. allocated(err)) call h5_write_int(f, 'particles/cell', pt%cell, [np], err)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/vertex', [(k - 1, k = 1, np)], [np], err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/x', 'units', units_length, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/velocity', 'units', units_velocity, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/density', 'units', units_density, err)
@@ -308,6 +314,7 @@ contains
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/body', 'units', units_none, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/id', 'units', units_none, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/cell', 'units', units_none, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/vertex', 'units', units_none, err)
   end subroutine write_particles
 
   !> The attributes of a frame: the file's identity and each dataset's units.

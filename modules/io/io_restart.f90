@@ -52,15 +52,17 @@ module io_restart
 
 contains
 
-  !> Writes every registered quantity, the deck and the frame list to `path`
-  !> (atomically: `path`.tmp, then rename).
-  subroutine restart_write(path, reg, deck, frames, times, err)
+  !> Writes every registered quantity, the deck and the frame list (with
+  !> each frame's particle count, if given) to `path` (atomically:
+  !> `path`.tmp, then rename).
+  subroutine restart_write(path, reg, deck, frames, times, err, nparts)
     character(len=*), intent(in) :: path
     type(registry_t), intent(in) :: reg
     character(len=*), intent(in) :: deck
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: nparts(:)
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
     integer :: k
@@ -87,6 +89,8 @@ contains
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
     if (.not. allocated(err)) call h5_write_string(f, 'output/frames', list, err)
     if (.not. allocated(err)) call h5_write_real(f, 'output/times', times, [size(times)], err)
+    if (present(nparts) .and. .not. allocated(err)) &
+      call h5_write_int(f, 'output/particle_counts', nparts, [size(nparts)], err)
     if (allocated(err)) then
       call h5_close(f, err2)
       call remove_file(path//'.tmp')
@@ -199,14 +203,16 @@ contains
   end subroutine restart_check_counts
 
   !> Reads every registered quantity from `path`, checking each one's shape,
-  !> and the frame list. Nothing is left half-read silently: on error the
-  !> caller must not use the state.
-  subroutine restart_read(path, reg, frames, times, err)
+  !> and the frame list (with the frames' particle counts in nparts when
+  !> the file has them; unallocated otherwise). Nothing is left half-read
+  !> silently: on error the caller must not use the state.
+  subroutine restart_read(path, reg, frames, times, err, nparts)
     character(len=*), intent(in) :: path
     type(registry_t), intent(inout) :: reg
     character(len=256), allocatable, intent(out) :: frames(:)
     real(wp), allocatable, intent(out) :: times(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable, intent(out), optional :: nparts(:)
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
     integer :: k, n, p, bad
@@ -285,6 +291,15 @@ contains
       bad = findloc(finite_bits(times), .false., 1)
       if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: output/times has '// &
                                   nonfinite_name(times(bad))//' at entry '//itoa(bad))
+    end if
+    if (present(nparts) .and. .not. allocated(err)) then
+      if (h5_exists(f, 'output/particle_counts')) then
+        call h5_read_int(f, 'output/particle_counts', nparts, err)
+        if (.not. allocated(err)) then
+          if (size(nparts) /= size(times) .or. any(nparts < 0)) call error_set(err, 'restart_read', trim(path)// &
+            ' is damaged: output/particle_counts does not match the frame list')
+        end if
+      end if
     end if
     call h5_close(f, err2)
     if (allocated(err)) return

@@ -45,18 +45,19 @@ contains
   !> `info_values` become <Information> elements of the domain (title, code
   !> version, unit system). Written to path//'.tmp', then renamed.
   !>
-  !> Particles (`npart` > 0): each frame is then a spatial collection of the
-  !> grid above and a Polyvertex grid "particles" of npart points at
-  !> /particles/x (3, npart), with node-centred attributes /particles/<name>:
+  !> Particles (`nparts`, the count of each frame, some of them > 0): each
+  !> frame is then a spatial collection of the grid above and, when
+  !> the frame has particles, a Polyvertex grid "particles" of its npart
+  !> points at /particles/x (3, npart) (the count falls as particles leave
+  !> the grid), with node-centred attributes /particles/<name>:
   !> `part_vectors` (3, npart), `part_scalars` (npart, doubles),
   !> `part_ints` (npart, default integers) and `part_tensors` (6, npart,
   !> XDMF Tensor6 order xx, xy, xz, yy, yz, zz), so ParaView shows the
   !> particles with the grid; one vertex cell per particle, its connectivity
-  !> /particles/id - 1 (ids are a permutation of 1..npart). Without
-  !> particles the file is as before.
+  !> /particles/vertex (0..npart-1). Without particles the file is as before.
   subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
                                int_cell_fields, field_names, field_values, info_names, info_values, &
-                               npart, part_vectors, part_scalars, part_ints, part_tensors)
+                               nparts, part_vectors, part_scalars, part_ints, part_tensors)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -69,11 +70,11 @@ contains
     real(wp), intent(in), optional :: field_values(:)
     character(len=*), intent(in), optional :: info_names(:)
     character(len=*), intent(in), optional :: info_values(:)
-    integer, intent(in), optional :: npart
+    integer, intent(in), optional :: nparts(:)
     character(len=*), intent(in), optional :: part_vectors(:), part_scalars(:), part_ints(:), part_tensors(:)
     character(len=*), parameter :: here = 'xdmf_write_series'
     character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item, ind
-    integer :: np
+    logical :: with_particles
     character(len=32) :: tbuf
     character(len=256) :: msg
     integer :: unit, ios, f, k
@@ -81,6 +82,14 @@ contains
     if (size(frames) /= size(times)) then
       call error_set(err, here, 'frames and times differ in size for '//q(path))
       return
+    end if
+    with_particles = .false.
+    if (present(nparts)) then
+      if (size(nparts) /= size(frames)) then
+        call error_set(err, here, 'frames and particle counts differ in size for '//q(path))
+        return
+      end if
+      with_particles = any(nparts > 0)
     end if
     if (ni < 1 .or. nj < 1 .or. nk < 1) then
       call error_set(err, here, 'grid size must be positive for '//q(path))
@@ -114,10 +123,8 @@ contains
     item = ' NumberType="Float" Precision="8" Format="HDF">'
     int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
-    np = 0
-    if (present(npart)) np = npart
     ! with particles the frame's grid sits one level deeper, in a spatial collection
-    ind = repeat(' ', merge(2, 0, np > 0))
+    ind = repeat(' ', merge(2, 0, with_particles))
 
     open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
          iostat=ios, iomsg=msg)
@@ -142,7 +149,7 @@ contains
     do f = 1, size(frames)
       if (ios /= 0) exit
       write(tbuf, '(es24.16e3)') times(f)
-      if (np > 0) then
+      if (with_particles) then
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
              '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Collection" CollectionType="Spatial">'
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
@@ -199,10 +206,10 @@ contains
           call write_field(unit, ind, trim(field_names(k)), tbuf, ios, msg)
         end do
       end if
-      if (np > 0) then
+      if (with_particles) then
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
-        if (ios == 0) call write_particles(unit, trim(frames(f)), np, part_vectors, part_scalars, part_ints, &
-                                           part_tensors, ios, msg)
+        if (ios == 0 .and. nparts(f) > 0) call write_particles(unit, trim(frames(f)), nparts(f), part_vectors, &
+                                                              part_scalars, part_ints, part_tensors, ios, msg)
       end if
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
     end do
@@ -264,14 +271,11 @@ contains
     iitem = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'//xml(frame)//':/particles/'
     write(unit, '(a)', iostat=ios, iomsg=msg) '        <Grid Name="particles" GridType="Uniform">'
     ! one vertex cell per particle (without cells ParaView draws nothing):
-    ! the connectivity is a permutation of 0..np-1, here id - 1
+    ! the connectivity 0..np-1 (the frame's particles/vertex)
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Topology TopologyType="Polyvertex" '// &
          'NumberOfElements="'//itoa(np)//'" NodesPerElement="1">'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem ItemType="Function" '// &
-         'Function="$0 - 1" Dimensions="'//itoa(np)//'">'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '              <DataItem Dimensions="'//itoa(np)//'"'// &
-         iitem//'id</DataItem>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            </DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//itoa(np)//'"'// &
+         iitem//'vertex</DataItem>'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Topology>'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Geometry GeometryType="XYZ">'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//itoa(np)//' 3"'// &
