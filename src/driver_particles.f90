@@ -666,18 +666,17 @@ contains
       p_out = 0.0_wp
       ke_out = 0.0_wp
       e_out = 0.0_wp
-      if (allocated(pt%mvf)) then
-        do k = 1, pt%np
-          if (cell(k) > 0) cycle
-          mx = pt%m(k) - pt%mvf(k)
-          m_out = m_out + pt%m(k)
-          p_out = p_out + mx*pt%v(:, k)
-          ke_out = ke_out + 0.5_wp*mx*dot_product(pt%v(:, k), pt%v(:, k))
-          e_out = e_out + pt%m(k)*pt%e(k)
-        end do
-        e_out = e_out + ke_out
-        st%tot%boundary_work = st%tot%boundary_work - e_out
-      end if
+      do k = 1, pt%np
+        if (cell(k) > 0) cycle
+        m_out = m_out + pt%m(k)
+        if (.not. allocated(pt%mvf)) cycle   ! (inert particles carry nothing of the balance)
+        mx = pt%m(k) - pt%mvf(k)
+        p_out = p_out + mx*pt%v(:, k)
+        ke_out = ke_out + 0.5_wp*mx*dot_product(pt%v(:, k), pt%v(:, k))
+        e_out = e_out + pt%m(k)*pt%e(k)
+      end do
+      e_out = e_out + ke_out
+      st%tot%boundary_work = st%tot%boundary_work - e_out
       pick = pack([(k, k = 1, pt%np)], cell > 0)
       write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
         &", energy ",es12.5,"); ",i0," remain")') pt%np - size(pick), m_out, p_out, e_out, size(pick)
