@@ -75,7 +75,7 @@ contains
                     itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
     call agree_error(sch%pc, err)
-    if (.not. allocated(err)) call whole_build(cfg, sch%pc%nranks, st, sch%log, err)
+    if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, err)
     if (.not. allocated(err)) then
       ! (chosen on the seeded particles: a decomposed run's whole grid holds them)
       if (allocated(st%whole)) then

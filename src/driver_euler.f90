@@ -236,7 +236,7 @@ contains
     call centroids_refresh(st%g, st%mx, es%centroids)
     ! coupled particles: their share of the nodal momentum goes with them
     if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-    call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err)
+    call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err, st%share)
     if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
     ! the new mixed cells' centroids are the remapped material's: their
     ! interface planes, fitted to them, carry them to the next remap

@@ -654,6 +654,8 @@ contains
     integer :: k
     character(len=300) :: line
 
+    p_out = 0.0_wp
+    ke_out = 0.0_wp
     associate (pt => st%pt)
       do k = 1, pt%np
         if (cell(k) > 0 .or. at_open_face(st, pt%cell(k))) cycle
@@ -663,8 +665,6 @@ contains
         return
       end do
       m_out = 0.0_wp
-      p_out = 0.0_wp
-      ke_out = 0.0_wp
       e_out = 0.0_wp
       do k = 1, pt%np
         if (cell(k) > 0) cycle

@@ -12,6 +12,7 @@ module driver_state
   use material_mixed, only: mixed_t, mixed_register_restart
   use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
   use mesh_halo, only: halo_t
+  use base_share, only: share_t
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
   use particles_lagrange, only: particles_work_t, particles_nodal_mass
@@ -40,6 +41,9 @@ module driver_state
     !> on a decomposed run with Euler steps or restarts: the whole grid's
     !> state, the same on every rank (`driver_whole`)
     type(state_t), allocatable :: whole
+    !> the ranks that share the work of an Euler step on st (allocated on
+    !> st%whole of a decomposed run: `base_share`; else absent, one process)
+    class(share_t), allocatable :: share
     !> (np) each particle's index in st%whole%pt (a decomposed run: the
     !> block's particles are a subsequence of the whole run's arrays)
     integer, allocatable :: pwhole(:)

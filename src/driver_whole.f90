@@ -29,6 +29,7 @@ module driver_whole
   use particles_state, only: particles_index
   use driver_particles, only: particles_gathered, particles_take
   use parallel_comm, only: comm_t
+  use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_cells, gather_nodes, gather_concat
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read
@@ -45,15 +46,16 @@ contains
   !> Builds st%whole from the deck when a decomposed run needs it (Euler
   !> steps, restart dumps, a restart or particles); nothing otherwise. With
   !> particles the blocks are then taken from it.
-  subroutine whole_build(cfg, nranks, st, log, err)
+  subroutine whole_build(cfg, pc, st, log, err)
     type(config_t), intent(in) :: cfg
-    integer, intent(in) :: nranks
+    type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(log_t) :: silent
+    type(mpi_share_t) :: share
     integer :: stat
-    if (nranks == 1) return
+    if (pc%nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. cfg%control%dump_steps <= 0 .and. cfg%control%dump_dt <= 0.0_wp &
         .and. cfg%control%wall_time_limit <= 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. &
         size(cfg%particles) == 0) return
@@ -64,6 +66,12 @@ contains
     end if
     silent%quiet = .true.   ! (the blocks' scene has been logged)
     call build_scene(cfg, st%whole, silent, err)
+    if (.not. allocated(err)) then
+      ! the ranks share the Euler step's intersections on the whole grid
+      call mpi_share_init(share, pc)
+      allocate(st%whole%share, source=share, stat=stat)
+      if (stat /= 0) call error_set(err, 'whole_build', 'out of memory')
+    end if
     if (allocated(err) .or. .not. allocated(st%whole%pt%id)) return
     ! the particles are seeded on the whole grid (the order of one process);
     ! each block takes those of its cells, and the nodes their momentum

@@ -346,12 +346,14 @@ contains
     integer, intent(in) :: ni, nj, ci, cj, ck
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: xn(3, 8)
-    type(grid_index_t) :: ix
-    integer :: a, n0
-    ix = grid_index(ni, nj, 1)
-    n0 = ix%cell_node0(ci, cj, ck)
+    integer :: a, n0, sx, sxy
+    ! (the numbering of `grid_index(ni, nj, nk)`, without building it: this
+    ! is called once per cell by every whole-grid loop)
+    sx = ni + 1
+    sxy = (ni + 1)*(nj + 1)
+    n0 = 1 + (ci - 1) + sx*(cj - 1) + sxy*(ck - 1)
     do a = 1, 8
-      xn(:, a) = x(:, n0 + ix%corner_offset(a))
+      xn(:, a) = x(:, n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a))
     end do
   end subroutine block_gather
 

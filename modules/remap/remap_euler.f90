@@ -108,6 +108,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
+  use base_share, only: share_t
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_euler_step
@@ -216,7 +217,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -226,12 +227,18 @@ contains
     type(remap_params_t), intent(in) :: par
     type(remap_stats_t), intent(out) :: stats
     type(error_t), allocatable, intent(inout) :: err
+    !> the ranks sharing the intersection of the changed cells, when every
+    !> rank holds the whole grid (`base_share`; absent: this process does all)
+    class(share_t), intent(in), optional :: share
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :)
     integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:)
     logical, allocatable :: redo(:), beyond(:)
+    integer(i8), allocatable :: before(:)
+    real(wp), allocatable :: buf(:, :)
+    logical :: sharing
     real(wp) :: w0, vnew, defect, xn(3, 8), given
     integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck
     logical :: any_open
@@ -254,6 +261,16 @@ contains
     end if
     call prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
     if (allocated(err)) return
+    sharing = .false.
+    if (present(share)) sharing = share%nparts > 1
+    if (sharing) then
+      ! a changed cell's results, gathered from the rank that computed them
+      allocate(before(size(old%given)), buf(6*nmat + 44, count(old%changed)), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler_step', 'cannot allocate the shared work''s buffers: '//trim(msg))
+        return
+      end if
+    end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
     gap_face = 0
     beyond = .false.
@@ -375,6 +392,49 @@ contains
     subroutine intersect_cells(cells, rr, given_sign)
       integer, intent(in) :: cells(:), rr
       real(wp), intent(in) :: given_sign
+      integer :: ii, nn, k
+      nn = size(cells)
+      if (.not. sharing) then
+        call intersect_list(cells, rr, given_sign)
+        return
+      end if
+      ! this rank's cells; what they gave away added over the ranks (exact
+      ! integers), their results gathered from the ranks that computed them
+      before = old%given
+      call intersect_list(pack(cells, share%mine([(ii, ii = 1, nn)])), rr, given_sign)
+      if (abs(given_sign) > 0.0_wp) then
+        before = old%given - before   ! (this rank's part)
+        old%given = old%given - before
+        call share%sum_i8(before)
+        old%given = old%given + before
+      end if
+      k = 0
+      do ii = share%part + 1, nn, share%nparts
+        k = k + 1
+        associate (c => cells(ii))
+          buf(:, k) = [avol(:, c), reshape(amom(:, :, c), [3*nmat]), amass(:, c), aie(:, c), pcell(:, c), &
+                       reshape(cmom(:, :, c), [24]), cland(:, c), cdef(:, c)]
+        end associate
+      end do
+      call share%columns(nn, buf(:, :nn))
+      do ii = 1, nn
+        associate (c => cells(ii), b => buf(:, ii))
+          avol(:, c) = b(1:nmat)
+          amom(:, :, c) = reshape(b(nmat + 1:4*nmat), [3, nmat])
+          amass(:, c) = b(4*nmat + 1:5*nmat)
+          aie(:, c) = b(5*nmat + 1:6*nmat)
+          pcell(:, c) = b(6*nmat + 1:6*nmat + 4)
+          cmom(:, :, c) = reshape(b(6*nmat + 5:6*nmat + 28), [3, 8])
+          cland(:, c) = b(6*nmat + 29:6*nmat + 36)
+          cdef(:, c) = b(6*nmat + 37:6*nmat + 44)
+        end associate
+      end do
+    end subroutine intersect_cells
+
+    !> `intersect_cells` on this process.
+    subroutine intersect_list(cells, rr, given_sign)
+      integer, intent(in) :: cells(:), rr
+      real(wp), intent(in) :: given_sign
       integer :: ii, nn
       nn = size(cells)
       !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
@@ -385,7 +445,7 @@ contains
                             cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)))
       end do
       !$omp end parallel do
-    end subroutine intersect_cells
+    end subroutine intersect_list
 
     !> The new cells `cells`, intersected with the window rr that found
     !> their fragments short, again with a window that holds every old
