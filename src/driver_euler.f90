@@ -176,6 +176,7 @@ contains
     logical :: done
     character(len=400) :: line
     character(len=200) :: msg
+    character(len=40) :: shared
 
     call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
     call es%timer%start()
@@ -252,6 +253,8 @@ contains
     call rearm_interval(rz, st, es)
     call es%timer%stop()
 
+    shared = ''
+    if (rs%parts > 1) shared = ' shared by '//itoa(rs%parts)//' ranks'
     ! what came in and went out through open faces is external work
     st%tot%boundary_work = st%tot%boundary_work + rs%energy_in - rs%energy_out
     call hydro_totals(st%g, st%h, st%halo, m1, p1, ie1, ke1)
@@ -262,11 +265,12 @@ contains
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
       &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
-      &", assemble ",f7.3,")")') &
+      &a,", assemble ",f7.3,")")') &
       es%n, st%step, st%t, rs%cells_remapped, rs%cells_copied, rs%reach, rs%volume_defect, &
       rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, &
       real(rs%mof_iterations, wp)/real(max(rs%mof_cells, 1), wp), rs%mof_not_converged, rs%mof_err_max, &
       rs%ke_to_internal, t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &
+      trim(shared), &
       rs%t_assemble
     call log_line(log, trim(line))
     write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2, &

@@ -15,22 +15,27 @@ contains
 
   !> Volume and centroid of every cell of a grid of ni x nj x nk cells with
   !> node positions x(3, nnode) (structured numbering of `mesh_grid`).
-  subroutine cell_moments(ni, nj, nk, x, vol, centroid)
+  subroutine cell_moments(ni, nj, nk, x, vol, centroid, mask)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
-    real(wp), intent(out) :: vol(:), centroid(:, :)
+    real(wp), intent(inout) :: vol(:), centroid(:, :)
+    !> only the cells where mask(c) is true (the others are left as they are)
+    logical, intent(in), optional :: mask(:)
     integer :: c, ci, cj, ck, t
     real(wp) :: xn(3, 8), tets(3, 4, 24), v, m(3), vt
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
 
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, vol, centroid) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, vol, centroid, mask) &
     !$omp private(c, ci, cj, ck, t, xn, tets, v, m, vt) collapse(2) schedule(static)
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
         do ci = ix%clo(1), ix%chi(1)
           c = ix%cell(ci, cj, ck)
+          if (present(mask)) then
+            if (.not. mask(c)) cycle
+          end if
           call block_gather(ni, nj, ci, cj, ck, x, xn)
           call hex_tets(xn, tets)
           v = 0.0_wp

@@ -109,6 +109,7 @@ module remap_euler
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
   use base_share, only: share_t
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_euler_step
@@ -157,6 +158,7 @@ module remap_euler
     real(wp) :: momentum_in(3) = 0.0_wp, momentum_out(3) = 0.0_wp
     real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
+    integer :: parts = 1   !< ranks that shared the intersections (`base_share`)
   end type remap_stats_t
 
   !> The old grid's cells as the remap needs them.
@@ -259,10 +261,15 @@ contains
       call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
       return
     end if
-    call prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
+    any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
+    gap_face = 0
+    beyond = .false.
+    if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
+    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err)
     if (allocated(err)) return
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
+    if (sharing) stats%parts = share%nparts
     if (sharing) then
       ! a changed cell's results, gathered from the rank that computed them
       allocate(before(size(old%given)), buf(6*nmat + 44, count(old%changed)), stat=stat, errmsg=msg)
@@ -271,10 +278,6 @@ contains
         return
       end if
     end if
-    any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
-    gap_face = 0
-    beyond = .false.
-    if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
     stats%t_prepare = wall_seconds() - w0
 
     ! intersect every changed new cell, widening the window where the
@@ -543,14 +546,20 @@ contains
   !> The old grid's cells: which moved, their mean velocities and their
   !> subcells' momentum deviations and kinetic energies, MoF planes of the
   !> mixed cells that moved, region centroids, and the gradients of the
-  !> reconstruction.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, old, stats, err)
+  !> reconstruction. Only the old cells a remap reads are prepared: those
+  !> that moved (only they give fragments), their neighbours (the gradients'
+  !> stencils) and the cells open-face gaps take their state from
+  !> (gap_face, gap_cell of `open_face_cells`); the other cells' state is NaN
+  !> here, so that a read of it could not pass unnoticed. An Euler step that
+  !> moves a few cells of a large grid then costs little more than them.
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
     integer, intent(in) :: nmat
     real(wp), intent(in) :: xnew(:, :)
     type(remap_params_t), intent(in) :: par
+    integer, intent(in) :: gap_face(:), gap_cell(:)
     type(old_t), intent(inout) :: old
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
@@ -559,17 +568,20 @@ contains
     integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
     type(mof_pieces_t) :: pcs
     logical :: ok
-    integer :: stat
+    logical, allocatable :: near(:)
+    real(wp) :: nan
+    integer :: stat, oi, oj, ok_
     character(len=200) :: msg
 
     ncell = g%ncell
+    nan = ieee_value(1.0_wp, ieee_quiet_nan)
     nreg = ncell + mx%nslot
     allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
              old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
              old%wv(8, ncell), old%ws(3, 8, ncell), old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             stat=stat, errmsg=msg)
+             near(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', 'cannot allocate the old grid''s regions: '//trim(msg))
       return
@@ -598,11 +610,34 @@ contains
       end do
     end do
     !$omp end parallel do
+    ! the cells read
+    near = .false.
+    do c = 1, ncell
+      if (.not. old%changed(c)) cycle
+      call g%cell_ijk(c, ci, cj, ck)
+      do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
+        do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
+          do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
+            near(g%cell(oi, oj, ok_)) = .true.
+          end do
+        end do
+      end do
+      if (gap_face(c) > 0) near(gap_cell(c)) = .true.
+    end do
+    old%uniform = .false.
+    old%ucell = nan
+    old%kcell = nan
+    old%uref = nan
+    old%rho = nan
+    old%e = nan
+    old%xr = nan
+    old%pn = 0.0_wp
+    old%pd = 1.0_wp
     ! mean velocities and kinetic energies per unit mass (subcell masses: Eq. 16)
-    !$omp parallel do default(none) shared(g, h, old) private(c, n, a_) schedule(static)
+    !$omp parallel do default(none) shared(g, h, old, near) private(c, n, a_) schedule(static)
     do c = 1, g%ncell
+      if (.not. near(c)) cycle
       n = g%node0(c)
-      old%uniform(c) = .false.
       old%ucell(:, c) = 0.0_wp
       old%kcell(c) = 0.0_wp
       old%uref(:, c) = 0.0_wp
@@ -621,12 +656,12 @@ contains
 
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
-    call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell))
+    call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell), near)
     nmof = 0
     nits = 0
     nfail = 0
     errmax = 0.0_wp
-    !$omp parallel do default(none) shared(g, h, mx, old, par, ncell) &
+    !$omp parallel do default(none) shared(g, h, mx, old, par, ncell, near) &
     !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, xn, v, m, vf, cref, pn, pd, errc, its, ok, &
     !$omp pcs, j, vreg, big) reduction(+: nmof, nits, nfail) reduction(max: errmax) collapse(2) &
     !$omp schedule(dynamic, 16)
@@ -634,6 +669,7 @@ contains
       do cj = g%clo(2), g%chi(2)
         do ci = g%clo(1), g%chi(1)
           c = g%cell(ci, cj, ck)
+          if (.not. near(c)) cycle
           call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
           v = old%vreg(c)
           old%rho(c) = h%mass(c)/v
@@ -647,8 +683,6 @@ contains
             old%rho(ncell + s) = mx%rho(s)
             old%e(ncell + s) = mx%e(s)
             old%xr(:, ncell + s) = hex_trilinear(xn, mx%xi(:, s))
-            old%pn(:, s) = 0.0_wp
-            old%pd(s) = 1.0_wp
           end do
           if (.not. old%changed(c)) cycle
           vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
