@@ -99,7 +99,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     logical, intent(out) :: due
     real(wp), intent(in), optional :: shape(2)
-    real(wp) :: q_min, ratio_max, cos_min
+    real(wp) :: ratio_max, cos_min, mine(2)
     integer :: ijk_ratio(3), ijk_cos(3)
     logical :: axis
     due = .false.
@@ -113,7 +113,9 @@ contains
       ratio_max = shape(1)
       cos_min = shape(2)
     else
-      call grid_quality(st%g%ni, st%g%nj, st%g%nk, st%g%x, es%quality, q_min, ratio_max, cos_min, axis=axis)
+      call euler_shape(rz, st%g, mine)
+      ratio_max = mine(1)
+      cos_min = mine(2)
     end if
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
@@ -141,21 +143,26 @@ contains
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     real(wp), intent(out) :: shape(2)
-    real(wp) :: xn(3, 8), r, cs
+    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min
     integer :: i, j, k
     logical :: axis
     axis = euler_axis(rz)
-    shape = [0.0_wp, 1.0_wp]
+    ratio_max = 0.0_wp
+    cos_min = 1.0_wp
+    !$omp parallel do default(none) shared(g, axis) private(i, j, k, xn, r, cs) &
+    !$omp reduction(max: ratio_max) reduction(min: cos_min) collapse(2) schedule(static)
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
           call g%gather(g%cell(i, j, k), g%x, xn)
           call hex_shape(xn, r, cs, axis)
-          shape(1) = max(shape(1), r)
-          shape(2) = min(shape(2), cs)
+          ratio_max = max(ratio_max, r)
+          cos_min = min(cos_min, cs)
         end do
       end do
     end do
+    !$omp end parallel do
+    shape = [ratio_max, cos_min]
   end subroutine euler_shape
 
   !> One Euler step: rezone, remap, new material states; checks

@@ -134,53 +134,60 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: side_ratio, cos_incl
     logical, intent(in), optional :: axis
-    real(wp) :: lmin, lmax, le, e(3, 3), ne(3)
+    real(wp) :: l2min, l2max, le2, e(3, 3), ne2(3), c2, cr(3), den
     integer :: k, a, i, j, d
     logical :: by_axis
 
-    lmin = huge(1.0_wp)
-    lmax = 0.0_wp
+    ! squares throughout, one square root at the end of each measure (the
+    ! triggers evaluate this for every cell at every step)
+    l2min = huge(1.0_wp)
+    l2max = 0.0_wp
     do d = 1, 3
       do k = 1, 4
-        le = norm2(xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d)))
-        lmin = min(lmin, le)
-        lmax = max(lmax, le)
+        e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
+        le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
+        l2min = min(l2min, le2)
+        l2max = max(l2max, le2)
       end do
     end do
     side_ratio = huge(1.0_wp)
-    if (lmin > 0.0_wp) side_ratio = lmax/lmin
-    cos_incl = 1.0_wp
+    if (l2min > 0.0_wp) side_ratio = sqrt(l2max/l2min)
+    c2 = 1.0_wp
     by_axis = .false.
     if (present(axis)) by_axis = axis
     if (by_axis) then
       do d = 1, 3
         do k = 1, 4
           e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
-          le = norm2(e(:, 1))
-          if (le > 0.0_wp) then
-            cos_incl = min(cos_incl, abs(e(d, 1))/le)
+          le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
+          if (le2 > 0.0_wp) then
+            c2 = min(c2, e(d, 1)**2/le2)
           else
-            cos_incl = 0.0_wp
+            c2 = 0.0_wp
           end if
         end do
       end do
+      cos_incl = sqrt(c2)
       return
     end if
     do a = 1, 8
       do i = 1, 3
         e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)
-        ne(i) = norm2(e(:, i))
+        ne2(i) = e(1, i)**2 + e(2, i)**2 + e(3, i)**2
       end do
       do i = 1, 2
         do j = i + 1, 3
-          if (ne(i) > 0.0_wp .and. ne(j) > 0.0_wp) then
-            cos_incl = min(cos_incl, norm2(cross(e(:, i), e(:, j)))/(ne(i)*ne(j)))
+          den = ne2(i)*ne2(j)
+          if (den > 0.0_wp) then
+            cr = cross(e(:, i), e(:, j))
+            c2 = min(c2, (cr(1)**2 + cr(2)**2 + cr(3)**2)/den)
           else
-            cos_incl = 0.0_wp
+            c2 = 0.0_wp
           end if
         end do
       end do
     end do
+    cos_incl = sqrt(c2)
   end subroutine hex_shape
 
   !> Quality of every cell of an ni x nj x nk grid with nodes x(3, nnode)
