@@ -30,6 +30,7 @@ module driver
   use parallel_comm, only: parallel_start
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_blocks, agree_error
+  use base_memory, only: memory_keep_freed
   use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart
   implicit none
   private
@@ -50,6 +51,8 @@ contains
     type(grid_index_t) :: block
 
     call exit_guard_install()
+    ! freed work arrays kept for the next Euler step (`base_memory`)
+    call memory_keep_freed()
     ! HDF5 starts before MPI: started after MPI_Init, parallel HDF5 would
     ! close itself inside MPI_Finalize, which crashes on a file whose close
     ! failed (a full disk) instead of leaving it to the OS (`hdf5_stop`)

@@ -376,7 +376,7 @@ contains
     type(rezone_subdomains_t) :: sub
     type(smooth_region_t) :: reg
     integer, allocatable :: mlo(:, :), mhi(:, :)
-    real(wp) :: q_min, q_min0, d_max, ratio_max, cos_min, aspect_max
+    real(wp) :: q_min, q_min0, d_max, aspect_max
     integer :: iterations, b, nreset, nrevert, nsnap
     logical :: tfi, box
     character(len=400) :: line
@@ -397,10 +397,10 @@ contains
         ! geometric middle of the paper's cube (1) and the trigger's bound
         aspect_max = huge(1.0_wp)
         if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min, aspect_max, axis=.true.)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max)
         call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail)
       else
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, ratio_max, cos_min)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0)
       end if
       if (trim(rz%mode) == 'smooth') then
         ! the whole block as one subdomain

@@ -192,31 +192,34 @@ contains
 
   !> Quality of every cell of an ni x nj x nk grid with nodes x(3, nnode)
   !> (structured numbering of `mesh_grid`), with the grid-wide minimum of Q
-  !> and of the inclined-angle cosine and the maximum side ratio. q(c) is
-  !> Eq. (46), or with aspect_max (>= 1) Eq. (46) against the cell's own box
-  !> (`hex_quality_box`).
+  !> and, if asked for, of the inclined-angle cosine and the maximum side
+  !> ratio (`hex_shape`, with axis). q(c) is Eq. (46), or with aspect_max
+  !> (>= 1) Eq. (46) against the cell's own box (`hex_quality_box`).
   subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max, axis)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
-    real(wp), intent(out) :: q(:), q_min, ratio_max, cos_min
+    real(wp), intent(out) :: q(:), q_min
+    real(wp), intent(out), optional :: ratio_max, cos_min
     real(wp), intent(in), optional :: aspect_max
     logical, intent(in), optional :: axis
     integer :: c, ci, cj, ck
-    real(wp) :: xn(3, 8), r, cs, amax
-    logical :: box, by_axis
+    real(wp) :: xn(3, 8), r, cs, amax, rmax, cmin
+    logical :: box, by_axis, shape
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
     by_axis = .false.
     if (present(axis)) by_axis = axis
+    shape = present(ratio_max) .or. present(cos_min)
     box = present(aspect_max)
     amax = 1.0_wp
     if (box) amax = aspect_max
     q_min = huge(1.0_wp)
-    ratio_max = 0.0_wp
-    cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax, by_axis) private(c, ci, cj, ck, xn, r, cs) &
-    !$omp reduction(min: q_min, cos_min) reduction(max: ratio_max) collapse(2) schedule(static)
+    rmax = 0.0_wp
+    cmin = 1.0_wp
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax, by_axis, shape) &
+    !$omp private(c, ci, cj, ck, xn, r, cs) reduction(min: q_min, cmin) reduction(max: rmax) collapse(2) &
+    !$omp schedule(static)
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
         do ci = ix%clo(1), ix%chi(1)
@@ -227,14 +230,17 @@ contains
           else
             q(c) = hex_quality(xn)
           end if
-          call hex_shape(xn, r, cs, by_axis)
           q_min = min(q_min, q(c))
-          ratio_max = max(ratio_max, r)
-          cos_min = min(cos_min, cs)
+          if (.not. shape) cycle
+          call hex_shape(xn, r, cs, by_axis)
+          rmax = max(rmax, r)
+          cmin = min(cmin, cs)
         end do
       end do
     end do
     !$omp end parallel do
+    if (present(ratio_max)) ratio_max = rmax
+    if (present(cos_min)) cos_min = cmin
   end subroutine grid_quality
 
   !> The cells of an ni x nj x nk grid that fail the Euler-step triggers' own
