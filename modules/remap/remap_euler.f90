@@ -229,7 +229,7 @@ contains
     type(remap_params_t), intent(in) :: par
     type(remap_stats_t), intent(out) :: stats
     type(error_t), allocatable, intent(inout) :: err
-    !> the ranks sharing the intersection of the changed cells, when every
+    !> the ranks sharing the intersections and MoF of the changed cells, when every
     !> rank holds the whole grid (`base_share`; absent: this process does all)
     class(share_t), intent(in), optional :: share
     type(old_t) :: old
@@ -265,7 +265,7 @@ contains
     gap_face = 0
     beyond = .false.
     if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
-    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err)
+    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
     if (allocated(err)) return
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
@@ -552,7 +552,7 @@ contains
   !> (gap_face, gap_cell of `open_face_cells`); the other cells' state is NaN
   !> here, so that a read of it could not pass unnoticed. An Euler step that
   !> moves a few cells of a large grid then costs little more than them.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err)
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -563,14 +563,16 @@ contains
     type(old_t), intent(inout) :: old
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
-                errc(max_mat), vreg(max_mat), errmax
-    integer :: c, ci, cj, ck, n, a_, k, s, s0, s1, nm, its(max_mat), ncell, nreg, j, big, nmof, nits, nfail
-    type(mof_pieces_t) :: pcs
+    class(share_t), intent(in), optional :: share
+    real(wp) :: xn(3, 8), errmax
+    integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail
     logical :: ok
-    logical, allocatable :: near(:)
-    real(wp) :: nan
-    integer :: stat, oi, oj, ok_
+    logical, allocatable :: near(:), mine(:)
+    integer, allocatable :: mof(:)
+    real(wp), allocatable :: res(:, :)
+    real(wp) :: nan, err1
+    integer :: stat, oi, oj, ok_, its1
+    logical :: sharing
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -657,73 +659,69 @@ contains
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
     call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell), near)
-    nmof = 0
-    nits = 0
-    nfail = 0
-    errmax = 0.0_wp
-    !$omp parallel do default(none) shared(g, h, mx, old, par, ncell, near) &
-    !$omp private(c, ci, cj, ck, k, s, s0, s1, nm, xn, v, m, vf, cref, pn, pd, errc, its, ok, &
-    !$omp pcs, j, vreg, big) reduction(+: nmof, nits, nfail) reduction(max: errmax) collapse(2) &
-    !$omp schedule(dynamic, 16)
+    !$omp parallel do default(none) shared(g, h, mx, old, ncell, near) private(c, ci, cj, ck, k, s, xn) &
+    !$omp collapse(2) schedule(static)
     do ck = g%clo(3), g%chi(3)
       do cj = g%clo(2), g%chi(2)
         do ci = g%clo(1), g%chi(1)
           c = g%cell(ci, cj, ck)
           if (.not. near(c)) cycle
-          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
-          v = old%vreg(c)
-          old%rho(c) = h%mass(c)/v
+          old%rho(c) = h%mass(c)/old%vreg(c)
           old%e(c) = h%e(c)
           if (h%mat(c) > 0) cycle
+          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
           k = -h%mat(c)
-          s0 = mx%start(k)
-          s1 = mx%start(k + 1) - 1
-          nm = s1 - s0 + 1
-          do s = s0, s1
+          do s = mx%start(k), mx%start(k + 1) - 1
             old%rho(ncell + s) = mx%rho(s)
             old%e(ncell + s) = mx%e(s)
             old%xr(:, ncell + s) = hex_trilinear(xn, mx%xi(:, s))
-          end do
-          if (.not. old%changed(c)) cycle
-          vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
-          cref(:, 1:nm) = old%xr(:, ncell + s0:ncell + s1)
-          call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
-                                      its(1:nm), ok, par%mof_max_iter)
-          nmof = nmof + 1
-          nits = nits + sum(its(1:nm))
-          if (.not. ok) nfail = nfail + 1
-          errmax = max(errmax, maxval(errc(1:nm))/v**(1.0_wp/3.0_wp))
-          ! each material's region: its exact volume and centroid, the point
-          ! its linear reconstruction is about
-          do j = 1, nm
-            s = s0 + j - 1
-            old%pn(:, s) = pn(:, j)
-            old%pd(s) = pd(j)
-            call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, ok)
-            call mof_pieces_moments(pcs, vreg(j), m)
-            old%vreg(ncell + s) = vreg(j)
-            if (vreg(j) > 0.0_wp) old%xr(:, ncell + s) = m
-          end do
-          ! a material whose region has no volume (a fraction below round-off)
-          ! cannot hand its mass to any fragment: the largest material takes
-          ! it, energy with it
-          big = s0 - 1 + maxloc(vreg(1:nm), 1)
-          do j = 1, nm
-            s = s0 + j - 1
-            if (s == big .or. vreg(j) > 0.0_wp .or. .not. mx%mass(s) > 0.0_wp) cycle
-            mx%e(big) = (mx%mass(big)*mx%e(big) + mx%mass(s)*mx%e(s))/(mx%mass(big) + mx%mass(s))
-            mx%mass(big) = mx%mass(big) + mx%mass(s)
-            mx%mass(s) = 0.0_wp
-          end do
-          do j = 1, nm
-            s = s0 + j - 1
-            old%e(ncell + s) = mx%e(s)
-            if (vreg(j) > 0.0_wp) old%rho(ncell + s) = mx%mass(s)/vreg(j)
           end do
         end do
       end do
     end do
     !$omp end parallel do
+    ! the mixed cells that moved: MoF (shared by the ranks, as the
+    ! intersections: each item's result is the same whoever computes it)
+    mof = pack([(k, k = 1, mx%n)], [(old%changed(mx%cell(k)), k = 1, mx%n)])
+    nmof = size(mof)
+    sharing = .false.
+    if (present(share)) sharing = share%nparts > 1
+    nm = 0
+    do k = 1, mx%n
+      nm = max(nm, mx%start(k + 1) - mx%start(k))
+    end do
+    allocate(res(3 + 12*nm, nmof), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', 'cannot allocate the MoF results: '//trim(msg))
+      return
+    end if
+    mine = [(.true., j = 1, nmof)]
+    if (sharing) mine = share%mine([(j, j = 1, nmof)])
+    !$omp parallel do default(none) shared(g, mx, old, par, mof, nmof, mine, res) private(j, its1, ok, err1) &
+    !$omp schedule(dynamic, 4)
+    do j = 1, nmof
+      if (.not. mine(j)) cycle
+      call mof_cell(g, mx, old, par, mof(j), its1, ok, err1)
+      res(1:3, j) = [real(its1, wp), merge(0.0_wp, 1.0_wp, ok), err1]
+    end do
+    !$omp end parallel do
+    if (sharing) then
+      ! this rank's cells' results, their slots' state with them
+      k = 0
+      do j = share%part + 1, nmof, share%nparts
+        k = k + 1
+        res(:, k) = res(:, j)
+        call slot_state(mof(j), res(4:, k), .true.)
+      end do
+      call share%columns(nmof, res)
+      do j = 1, nmof
+        call slot_state(mof(j), res(4:, j), .false.)
+      end do
+    end if
+    nits = nint(sum(res(1, :)))
+    nfail = nint(sum(res(2, :)))
+    errmax = 0.0_wp
+    if (nmof > 0) errmax = maxval(res(3, :))
     ! only what the intersection hands out counts as a region: pure cells
     ! and slots with mass, of cells that moved
     do c = 1, ncell
@@ -745,7 +743,96 @@ contains
     old%gu = 0.0_wp
     old%xdual = 0.0_wp
     if (par%linear) call velocity_gradients(g, old, h%u, err)
+
+  contains
+
+    !> The state MoF sets in the slots of mixed cell k, packed into b
+    !> (to_buffer) or unpacked from it: 12 values per slot.
+    subroutine slot_state(k, b, to_buffer)
+      integer, intent(in) :: k
+      real(wp), intent(inout) :: b(:)
+      logical, intent(in) :: to_buffer
+      integer :: q, r
+      do q = mx%start(k), mx%start(k + 1) - 1
+        r = ncell + q
+        associate (v => b(12*(q - mx%start(k)) + 1:12*(q - mx%start(k) + 1)))
+          if (to_buffer) then
+            v = [old%pn(:, q), old%pd(q), old%vreg(r), old%xr(:, r), old%rho(r), old%e(r), mx%e(q), mx%mass(q)]
+          else
+            old%pn(:, q) = v(1:3)
+            old%pd(q) = v(4)
+            old%vreg(r) = v(5)
+            old%xr(:, r) = v(6:8)
+            old%rho(r) = v(9)
+            old%e(r) = v(10)
+            mx%e(q) = v(11)
+            mx%mass(q) = v(12)
+          end if
+        end associate
+      end do
+    end subroutine slot_state
   end subroutine prepare_old
+
+  !> MoF in mixed cell k (which moved): each material's plane (nested
+  !> dissection), its region's exact volume and centroid, the point its
+  !> linear reconstruction is about, and its mean density and energy; its
+  !> iterations (its), whether it converged (ok) and its largest centroid
+  !> error relative to the cell's size (err_rel).
+  subroutine mof_cell(g, mx, old, par, k, its_sum, ok, err_rel)
+    type(grid_t), intent(in) :: g
+    type(mixed_t), intent(inout) :: mx
+    type(old_t), intent(inout) :: old
+    type(remap_params_t), intent(in) :: par
+    integer, intent(in) :: k
+    integer, intent(out) :: its_sum
+    logical, intent(out) :: ok
+    real(wp), intent(out) :: err_rel
+    real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
+                errc(max_mat), vreg(max_mat)
+    integer :: c, s, s0, s1, nm, its(max_mat), j, big, ncell
+    type(mof_pieces_t) :: pcs
+    logical :: okp
+    ncell = g%ncell
+    c = mx%cell(k)
+    call g%gather(c, g%x, xn)
+    v = old%vreg(c)
+    s0 = mx%start(k)
+    s1 = mx%start(k + 1) - 1
+    nm = s1 - s0 + 1
+    vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
+    cref(:, 1:nm) = old%xr(:, ncell + s0:ncell + s1)
+    call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                its(1:nm), ok, par%mof_max_iter)
+    its_sum = sum(its(1:nm))
+    err_rel = maxval(errc(1:nm))/v**(1.0_wp/3.0_wp)
+    ! each material's region: its exact volume and centroid, the point
+    ! its linear reconstruction is about
+    do j = 1, nm
+      s = s0 + j - 1
+      old%pn(:, s) = pn(:, j)
+      old%pd(s) = pd(j)
+      call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, okp)
+      call mof_pieces_moments(pcs, vreg(j), m)
+      old%vreg(ncell + s) = vreg(j)
+      if (vreg(j) > 0.0_wp) old%xr(:, ncell + s) = m
+    end do
+    ! a material whose region has no volume (a fraction below round-off)
+    ! cannot hand its mass to any fragment: the largest material takes
+    ! it, energy with it
+    big = s0 - 1 + maxloc(vreg(1:nm), 1)
+    do j = 1, nm
+      s = s0 + j - 1
+      if (s == big .or. vreg(j) > 0.0_wp .or. .not. mx%mass(s) > 0.0_wp) cycle
+      mx%e(big) = (mx%mass(big)*mx%e(big) + mx%mass(s)*mx%e(s))/(mx%mass(big) + mx%mass(s))
+      mx%mass(big) = mx%mass(big) + mx%mass(s)
+      mx%mass(s) = 0.0_wp
+    end do
+    do j = 1, nm
+      s = s0 + j - 1
+      old%e(ncell + s) = mx%e(s)
+      if (vreg(j) > 0.0_wp) old%rho(ncell + s) = mx%mass(s)/vreg(j)
+    end do
+  end subroutine mof_cell
 
   !> Each region's smallest density wreg: its limited linear density's
   !> smallest value at the cell's nodes (the density is linear, so it is
