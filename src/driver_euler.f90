@@ -397,10 +397,10 @@ contains
         ! geometric middle of the paper's cube (1) and the trigger's bound
         aspect_max = huge(1.0_wp)
         if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max)
-        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max, share=st%share)
+        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail, st%share)
       else
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, share=st%share)
       end if
       if (trim(rz%mode) == 'smooth') then
         ! the whole block as one subdomain

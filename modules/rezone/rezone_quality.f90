@@ -34,6 +34,7 @@ module rezone_quality
   use base_kinds, only: wp
   use mesh_geometry, only: hex_volume, hex_edges, cross
   use mesh_grid, only: block_gather, grid_index_t, grid_index
+  use base_share, only: share_t
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells, grid_trigger_cells, &
@@ -194,17 +195,21 @@ contains
   !> (structured numbering of `mesh_grid`), with the grid-wide minimum of Q
   !> and, if asked for, of the inclined-angle cosine and the maximum side
   !> ratio (`hex_shape`, with axis). q(c) is Eq. (46), or with aspect_max
-  !> (>= 1) Eq. (46) against the cell's own box (`hex_quality_box`).
-  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max, axis)
+  !> (>= 1) Eq. (46) against the cell's own box (`hex_quality_box`). With
+  !> share (ranks that all hold the grid) each rank computes its share of
+  !> the cells and every rank gets all (`base_share`).
+  subroutine grid_quality(ni, nj, nk, x, q, q_min, ratio_max, cos_min, aspect_max, axis, share)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: q(:), q_min
     real(wp), intent(out), optional :: ratio_max, cos_min
     real(wp), intent(in), optional :: aspect_max
     logical, intent(in), optional :: axis
-    integer :: c, ci, cj, ck
-    real(wp) :: xn(3, 8), r, cs, amax, rmax, cmin
-    logical :: box, by_axis, shape
+    class(share_t), intent(in), optional :: share
+    integer :: c, ci, cj, ck, k, nmine, p0, np, stat
+    real(wp) :: amax, rmax, cmin, m(3)
+    real(wp), allocatable :: v(:, :)
+    logical :: box, by_axis, shape, sharing
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
@@ -217,30 +222,66 @@ contains
     q_min = huge(1.0_wp)
     rmax = 0.0_wp
     cmin = 1.0_wp
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, q, box, amax, by_axis, shape) &
-    !$omp private(c, ci, cj, ck, xn, r, cs) reduction(min: q_min, cmin) reduction(max: rmax) collapse(2) &
-    !$omp schedule(static)
-    do ck = ix%clo(3), ix%chi(3)
-      do cj = ix%clo(2), ix%chi(2)
-        do ci = ix%clo(1), ix%chi(1)
-          c = ix%cell(ci, cj, ck)
-          call block_gather(ni, nj, ci, cj, ck, x, xn)
-          if (box) then
-            q(c) = hex_quality_box(xn, amax)
-          else
-            q(c) = hex_quality(xn)
-          end if
-          q_min = min(q_min, q(c))
-          if (.not. shape) cycle
-          call hex_shape(xn, r, cs, by_axis)
-          rmax = max(rmax, r)
-          cmin = min(cmin, cs)
+    sharing = .false.
+    if (present(share)) sharing = share%nparts > 1
+    ! (no room for the shared results: every cell here)
+    if (sharing) allocate(v(3, ix%ncell), stat=stat)
+    if (sharing) sharing = stat == 0
+    if (.not. sharing) then
+      !$omp parallel do default(none) shared(ix, q) private(c, ci, cj, ck, m) &
+      !$omp reduction(min: q_min, cmin) reduction(max: rmax) collapse(2) schedule(static)
+      do ck = ix%clo(3), ix%chi(3)
+        do cj = ix%clo(2), ix%chi(2)
+          do ci = ix%clo(1), ix%chi(1)
+            c = ix%cell(ci, cj, ck)
+            call measure(ci, cj, ck, m)
+            q(c) = m(1)
+            q_min = min(q_min, m(1))
+            rmax = max(rmax, m(2))
+            cmin = min(cmin, m(3))
+          end do
         end do
       end do
-    end do
-    !$omp end parallel do
+      !$omp end parallel do
+    else
+      ! this rank's cells (list order), then every rank's gathered
+      p0 = share%part
+      np = share%nparts
+      nmine = (ix%ncell - p0 + np - 1)/np
+      !$omp parallel do default(none) shared(ix, v, p0, np, nmine) private(k, ci, cj, ck) schedule(static)
+      do k = 1, nmine
+        call ix%cell_ijk(p0 + 1 + (k - 1)*np, ci, cj, ck)
+        call measure(ci, cj, ck, v(:, k))
+      end do
+      !$omp end parallel do
+      call share%columns(ix%ncell, v)
+      do c = 1, ix%ncell
+        q(c) = v(1, c)
+        q_min = min(q_min, v(1, c))
+        rmax = max(rmax, v(2, c))
+        cmin = min(cmin, v(3, c))
+      end do
+    end if
     if (present(ratio_max)) ratio_max = rmax
     if (present(cos_min)) cos_min = cmin
+
+  contains
+
+    !> Cell (i, j, k)'s quality and, if asked for, its side ratio and
+    !> cosine (else 0 and 1).
+    subroutine measure(i, j, k, m)
+      integer, intent(in) :: i, j, k
+      real(wp), intent(out) :: m(3)
+      real(wp) :: xn(3, 8)
+      call block_gather(ni, nj, i, j, k, x, xn)
+      if (box) then
+        m(1) = hex_quality_box(xn, amax)
+      else
+        m(1) = hex_quality(xn)
+      end if
+      m(2:3) = [0.0_wp, 1.0_wp]
+      if (shape) call hex_shape(xn, m(2), m(3), by_axis)
+    end subroutine measure
   end subroutine grid_quality
 
   !> The cells of an ni x nj x nk grid that fail the Euler-step triggers' own
@@ -251,39 +292,69 @@ contains
   !> the grid "determined distorted", so an Euler step that does not move
   !> them fires again at the next step. The inclined angle is measured
   !> against the axes (`hex_shape` with axis), as the box reading's trigger.
-  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail)
+  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail, share)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :), side_ratio, cos_angle
     logical, intent(out) :: fail(:)
-    integer :: c, ci, cj, ck, a, d, b
-    real(wp) :: xn(3, 8), r, cs, e(3, 3), jmin
+    !> ranks that all hold the grid, sharing the cells (`base_share`)
+    class(share_t), intent(in), optional :: share
+    integer :: c, ci, cj, ck, k, nmine, p0, np, stat
+    real(wp), allocatable :: v(:, :)
+    logical :: sharing
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, side_ratio, cos_angle, fail) &
-    !$omp private(c, ci, cj, ck, a, d, b, xn, r, cs, e, jmin) collapse(2) schedule(static)
-    do ck = ix%clo(3), ix%chi(3)
-      do cj = ix%clo(2), ix%chi(2)
-        do ci = ix%clo(1), ix%chi(1)
-          c = ix%cell(ci, cj, ck)
-          call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_shape(xn, r, cs, .true.)
-          jmin = huge(1.0_wp)
-          do a = 1, 8
-            do d = 1, 3
-              b = 1 + ieor(a - 1, 2**(d - 1))
-              e(:, d) = xn(:, b) - xn(:, a)
-              if (btest(a - 1, d - 1)) e(:, d) = -e(:, d)
-            end do
-            jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
-                       e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
+    sharing = .false.
+    if (present(share)) sharing = share%nparts > 1
+    if (sharing) allocate(v(1, ix%ncell), stat=stat)
+    if (sharing) sharing = stat == 0
+    if (.not. sharing) then
+      !$omp parallel do default(none) shared(ix, fail) private(c, ci, cj, ck) collapse(2) schedule(static)
+      do ck = ix%clo(3), ix%chi(3)
+        do cj = ix%clo(2), ix%chi(2)
+          do ci = ix%clo(1), ix%chi(1)
+            c = ix%cell(ci, cj, ck)
+            fail(c) = fails(ci, cj, ck)
           end do
-          fail(c) = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle) &
-                    .or. .not. jmin > 0.0_wp
         end do
       end do
+      !$omp end parallel do
+      return
+    end if
+    p0 = share%part
+    np = share%nparts
+    nmine = (ix%ncell - p0 + np - 1)/np
+    !$omp parallel do default(none) shared(ix, v, p0, np, nmine) private(k, ci, cj, ck) schedule(static)
+    do k = 1, nmine
+      call ix%cell_ijk(p0 + 1 + (k - 1)*np, ci, cj, ck)
+      v(1, k) = merge(1.0_wp, 0.0_wp, fails(ci, cj, ck))
     end do
     !$omp end parallel do
+    call share%columns(ix%ncell, v)
+    fail = v(1, :) > 0.5_wp
+
+  contains
+
+    !> Whether cell (i, j, k) fails the tests.
+    logical function fails(i, j, kk)
+      integer, intent(in) :: i, j, kk
+      real(wp) :: xn(3, 8), r, cs, e(3, 3), jmin
+      integer :: a, d, b
+      call block_gather(ni, nj, i, j, kk, x, xn)
+      call hex_shape(xn, r, cs, .true.)
+      jmin = huge(1.0_wp)
+      do a = 1, 8
+        do d = 1, 3
+          b = 1 + ieor(a - 1, 2**(d - 1))
+          e(:, d) = xn(:, b) - xn(:, a)
+          if (btest(a - 1, d - 1)) e(:, d) = -e(:, d)
+        end do
+        jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
+                   e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
+      end do
+      fails = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle) &
+              .or. .not. jmin > 0.0_wp
+    end function fails
   end subroutine grid_trigger_cells
 
   !> Cell indices (i, j, k) of the cell with the largest side ratio and of
