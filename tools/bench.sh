@@ -118,6 +118,15 @@ mpi_bench() {
       -e "s|^&output dir = '[^']*'|\&output dir = 'out/ring96'|" "$root/tests/decks/strength_shell_small.nml" > ring96.nml
   echo "## MPI: ring96.nml (the Gurson ring of tests/decks/strength_shell_small.nml at 96 x 96 x 4, particles, Release)"
   mpi_runs ring96
+  # two materials: the TNT sphere of hardcases/tnt_sphere.nml at 32^3 with an
+  # Euler step (global rezone) after every step to 6 us: MoF in the mixed
+  # cells, open faces, every cell remapped
+  sed -e 's/ni = 16, nj = 16, nk = 16/ni = 32, nj = 32, nk = 32/' -e 's/t_end = 12.0/t_end = 6.0/' \
+      -e "s|^&output dir = 'out/tnt_sphere', frame_dt = 1.0,|\&output dir = 'out/tnt32', frame_dt = 10.0,|" \
+      "$root/hardcases/tnt_sphere.nml" > tnt32.nml
+  echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> tnt32.nml
+  echo "## MPI: tnt32.nml (hardcases/tnt_sphere.nml at 32^3, an Euler step every step, two materials, Release)"
+  mpi_runs tnt32
 }
 
 # One deck on 1 rank x 2 threads, 2 ranks x 1 thread and 4 ranks x 1

@@ -158,7 +158,7 @@ module remap_euler
     real(wp) :: momentum_in(3) = 0.0_wp, momentum_out(3) = 0.0_wp
     real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
-    integer :: parts = 1   !< ranks that shared the intersections (`base_share`)
+    integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
   end type remap_stats_t
 
   !> The old grid's cells as the remap needs them.
