@@ -97,7 +97,7 @@ contains
     call agree_error(sch%pc, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
     if (sch%restarting) then
-      if (allocated(st%whole)) then
+      if (sch%pc%nranks > 1) then
         call whole_restart(cfg, st, sch, es, err)
       else
         call read_restart(cfg, st, sch, es, err)
@@ -277,15 +277,15 @@ contains
     near_wall_time_limit = elapsed + 2.0_wp*(sch%step_wall + sch%dump_wall) + 0.5_wp >= cfg%control%wall_time_limit
   end function near_wall_time_limit
 
-  !> A restart dump (of the whole grid on a decomposed run), the ranks
-  !> agreeing on its outcome.
+  !> A restart dump (written by all ranks together on a decomposed run,
+  !> `whole_dump`), the ranks agreeing on its outcome.
   subroutine dump(cfg, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    if (allocated(st%whole)) then
+    if (sch%pc%nranks > 1) then
       call whole_dump(cfg, sch%pc, st, sch, es, err)
       call agree_error(sch%pc, err)
     else
@@ -310,7 +310,7 @@ contains
       if (size(sch%dumps) > 0) have = (trim(sch%dumps(size(sch%dumps))) == path)
     end if
     k = merge(1, 0, have)
-    call st%halo%max_int(k)   ! (only rank 0 keeps the list of dumps)
+    call st%halo%max_int(k)
     if (k == 0) call dump(cfg, st, sch, es, err)
     if (.not. allocated(err)) call progress(cfg, st, sch, err)
     if (allocated(err)) call fail(cfg, st, sch, err)

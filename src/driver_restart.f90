@@ -30,7 +30,8 @@ module driver_restart
   use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR, &
                            LOWER_POSITIVE, LOWER_NONNEGATIVE
   use material_table, only: material_index_cells
-  use material_mixed, only: mixed_t, mixed_allocate
+  use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
+  use mesh_grid, only: grid_t, grid_index_t, grid_index
   use particles_state, only: particles_check, particles_index, particles_allocate
   use particles_lagrange, only: particles_work_resize
   use lagrange_centroids, only: centroids_refresh
@@ -44,7 +45,7 @@ module driver_restart
   use driver_euler, only: euler_state_t, euler_register_restart
   implicit none
   private
-  public :: check_restart_deck, restart_path, write_restart, read_restart
+  public :: check_restart_deck, restart_path, write_restart, read_restart, mixed_of_block, mixed_numbers
 
 contains
 
@@ -102,6 +103,9 @@ contains
   end function restart_path
 
   !> Writes a restart dump and keeps only the last dump_keep of this run.
+  !> On several ranks every rank calls this with its block, whose mixed
+  !> cells and particles are then the whole run's (`whole_dump`): the ranks
+  !> write the file together.
   subroutine write_restart(cfg, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -120,8 +124,9 @@ contains
     w0 = wall_seconds()
     call sch%t_output%start()
     ! the stored centroids: those of the mixed cells' planes now (what a
-    ! remap would be given; the planes themselves are unchanged by this)
-    call centroids_refresh(st%g, st%mx, es%centroids)
+    ! remap would be given; the planes themselves are unchanged by this; a
+    ! decomposed run's blocks were refreshed by the caller, `whole_dump`)
+    if (sch%pc%nranks == 1) call centroids_refresh(st%g, st%mx, es%centroids)
     path = restart_path(sch, st%step)
     if (.not. allocated(sch%out%frames)) then
       sch%out%frames = [character(len=256) ::]
@@ -149,7 +154,11 @@ contains
     end if
     ! registered afresh: an Euler step may have reallocated the mixed cells
     call register_all(st, sch, es, reg)
-    call restart_write(path, reg, cfg%echo, frames, times, err, nparts)
+    if (sch%pc%nranks > 1) then
+      call restart_write(path, reg, cfg%echo, frames, times, err, nparts, comm=sch%pc%world, ix=st%g%grid_index_t)
+    else
+      call restart_write(path, reg, cfg%echo, frames, times, err, nparts)
+    end if
     sch%out%nframe = nframe
     sch%steps_since_frame = steps_since_frame
     sch%t_next_frame = t_next_frame
@@ -167,8 +176,10 @@ contains
       sch%dumps = [entry]
     end if
     do while (size(sch%dumps) > cfg%control%dump_keep)
-      open(newunit=u, file=trim(sch%dumps(1)), status='old', iostat=ios)
-      if (ios == 0) close(u, status='delete')
+      if (sch%pc%rank == 0) then
+        open(newunit=u, file=trim(sch%dumps(1)), status='old', iostat=ios)
+        if (ios == 0) close(u, status='delete')
+      end if
       sch%dumps = sch%dumps(2:)
     end do
   end subroutine write_restart
@@ -199,13 +210,22 @@ contains
   !> The file's mixed cells may be more or fewer than the deck's (a remap
   !> changes them): their storage is first reallocated to the stored sizes.
   !> A file that cannot be used is an input error.
-  subroutine read_restart(cfg, st, sch, es, err)
+  !>
+  !> With `block` (a block of a decomposed run without particles) each rank
+  !> reads its block's nodes and cells from the file and the whole grid's
+  !> mixed cells, then keeps those of its cells (`mixed_of_block`); the
+  !> conservation report is then the caller's.
+  subroutine read_restart(cfg, st, sch, es, err, block)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: block
     type(registry_t) :: reg
+    type(mixed_t) :: wx
+    integer, allocatable :: pick(:)
+    logical :: blocks
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
@@ -213,6 +233,8 @@ contains
     integer :: n, nslot, nseed, nsolid, nhist, stat, k
     logical :: coupled
 
+    blocks = .false.
+    if (present(block)) blocks = block
     path = trim(cfg%control%restart_from)
     call restart_read_int_scalar(path, 'mixed_n', n, err)
     if (.not. allocated(err)) call restart_read_int_scalar(path, 'mixed_nslot', nslot, err)
@@ -223,9 +245,9 @@ contains
     ! the sizes, before anything is allocated to them: against the grid (a
     ! mixed cell is a grid cell with at least one slot), then against the
     ! shapes of the file's own mixed-cell arrays
-    if (n < 0 .or. n > st%g%ncell .or. nslot < n) then
+    if (n < 0 .or. n > product(st%g%gn) .or. nslot < n) then
       call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: scalars/mixed_n = '// &
-                     itoa(n)//', scalars/mixed_nslot = '//itoa(nslot)//' (the grid has '//itoa(st%g%ncell)// &
+                     itoa(n)//', scalars/mixed_nslot = '//itoa(nslot)//' (the grid has '//itoa(product(st%g%gn))// &
                      ' cells; each mixed cell has at least one slot)', ERR_INPUT)
       return
     end if
@@ -281,9 +303,28 @@ contains
       end if
     end if
     call register_all(st, sch, es, reg)
-    call restart_read(path, reg, frames, times, err, nparts)
+    if (blocks) then
+      call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t)
+    else
+      call restart_read(path, reg, frames, times, err, nparts)
+    end if
     if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
     if (.not. allocated(err)) call check_materials(st, path, err)
+    if (blocks .and. .not. allocated(err)) then
+      ! the block's mixed cells, each named by its cell's material in the
+      ! whole list, then numbered in the block
+      wx = st%mx
+      call mixed_of_block(st%g, wx, st%mx, err, pick)
+      if (allocated(err)) return
+      do k = 1, st%mx%n
+        if (st%h%mat(st%mx%cell(k)) /= -pick(k)) then
+          call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: its mixed cells do '// &
+                         'not match its cell materials', ERR_INPUT)
+          return
+        end if
+      end do
+      call mixed_numbers(st)
+    end if
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
     if (.not. allocated(err)) then
@@ -319,7 +360,9 @@ contains
     sch%t_next_dump = next_time(sch%t_next_dump, cfg%control%dump_dt, st%t)
     sch%step_start = st%step
     call log_line(sch%log, 'restarted from '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
-    call report_conservation(st, sch%log, 'restart')
+    ! (its sums are the ranks' together: a block's caller reports once the
+    ! ranks agree that every block was read)
+    if (.not. blocks) call report_conservation(st, sch%log, 'restart')
   end subroutine read_restart
 
   !> Every registered quantity in the range its owner registered (`lower`),
@@ -412,4 +455,46 @@ contains
       ok = ok .and. count(st%h%mat <= 0) == mx%n
     end associate
   end function mixed_consistent
+
+  !> The mixed cells mx of the block of grid g (its owned and ghost cells),
+  !> in cell order and numbered in the block, from the whole grid's wx (in
+  !> cell order, cells numbered in the whole grid); pick(q): the number of
+  !> mixed cell q in wx.
+  subroutine mixed_of_block(g, wx, mx, err, pick)
+    type(grid_t), intent(in) :: g
+    type(mixed_t), intent(in) :: wx
+    type(mixed_t), intent(inout) :: mx
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable, intent(out) :: pick(:)
+    type(grid_index_t) :: whole
+    integer, allocatable :: cell(:)
+    integer :: k, m, ijk(3), stat
+    allocate(pick(wx%n), cell(wx%n), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'mixed_of_block', 'out of memory')
+      return
+    end if
+    whole = grid_index(g%gn(1), g%gn(2), g%gn(3))
+    m = 0
+    do k = 1, wx%n
+      call whole%cell_ijk(wx%cell(k), ijk(1), ijk(2), ijk(3))
+      ijk = ijk - g%off
+      if (any(ijk < g%slo .or. ijk > g%shi)) cycle
+      m = m + 1
+      pick(m) = k
+      cell(m) = g%cell(ijk(1), ijk(2), ijk(3))
+    end do
+    pick = pick(:m)
+    call mixed_subset(wx, pick, cell(:m), mx, err)
+  end subroutine mixed_of_block
+
+  !> A mixed cell's material is minus its mixed-cell number, which differs
+  !> between a block and the whole grid: renumbered from the mixed cells.
+  subroutine mixed_numbers(st)
+    type(state_t), intent(inout) :: st
+    integer :: k
+    do k = 1, st%mx%n
+      st%h%mat(st%mx%cell(k)) = -k
+    end do
+  end subroutine mixed_numbers
 end module driver_restart

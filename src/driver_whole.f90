@@ -1,8 +1,11 @@
 !> The whole grid on every rank of a decomposed run, for the parts of a run
 !> that do not yet work block by block: the Euler phase (rezone and remap of
 !> the whole grid, computed alike on every rank, each rank then taking its
-!> block back) and restarts (a dump holds the whole grid in the layout of one
-!> process, so a dump written on P ranks continues on any Q).
+!> block back), the particles' moves at Euler steps, and reading a restart
+!> (every rank reads the file into the whole grid and takes its block).
+!> Restart dumps need no whole grid: the ranks write their blocks into one
+!> file together (`whole_dump`), the file of one process, so a dump written
+!> on P ranks continues on any Q.
 !>
 !> What is copied is what a restart holds (the quantities the packages
 !> register, `base_registry`), then what a restart read rebuilds from them
@@ -15,9 +18,13 @@
 !>
 !> This costs the whole grid's memory on every rank and a gather of the
 !> whole state per Euler step: it makes a decomposed run with Euler steps
-!> give the single process's answer, not run faster.
+!> give the single process's answer (the costly parts of the Euler step are
+!> shared over the ranks, `base_share`). A run without Euler steps or
+!> particles holds it only while it reads a restart.
 module driver_whole
-  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_MIN
+  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_IN_PLACE, MPI_MAX, MPI_MIN, MPI_SUM
+  use base_sort, only: sort_order
+  use lagrange_centroids, only: centroid_stats_t, centroids_refresh
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use base_registry, only: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, &
@@ -26,7 +33,7 @@ module driver_whole
   use material_table, only: material_index_cells
   use io_log, only: log_t, log_line
   use base_strings, only: itoa
-  use particles_state, only: particles_index
+  use particles_state, only: particles_t, particles_index
   use driver_particles, only: particles_gathered, particles_take
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
@@ -35,8 +42,9 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_due, euler_shape, euler_step
-  use driver_output, only: schedule_t
-  use driver_restart, only: write_restart, read_restart
+  use driver_output, only: schedule_t, report_conservation
+  use driver_parallel, only: agree_error
+  use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
   implicit none
   private
   public :: whole_build, whole_euler, whole_dump, whole_restart, whole_gather, whole_scatter
@@ -44,8 +52,8 @@ module driver_whole
 contains
 
   !> Builds st%whole from the deck when a decomposed run needs it (Euler
-  !> steps, restart dumps, a restart or particles); nothing otherwise. With
-  !> particles the blocks are then taken from it.
+  !> steps or particles); nothing otherwise. With particles the blocks are
+  !> then taken from it.
   subroutine whole_build(cfg, pc, st, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -56,9 +64,7 @@ contains
     type(mpi_share_t) :: share
     integer :: stat
     if (pc%nranks == 1) return
-    if (trim(cfg%rezone%mode) == 'none' .and. cfg%control%dump_steps <= 0 .and. cfg%control%dump_dt <= 0.0_wp &
-        .and. cfg%control%wall_time_limit <= 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. &
-        size(cfg%particles) == 0) return
+    if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
     allocate(st%whole, stat=stat)
     if (stat /= 0) then
       call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
@@ -109,8 +115,15 @@ contains
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler
 
-  !> A restart dump of a decomposed run: the whole grid's state, written by
-  !> rank 0 (the file of one process: any rank count can continue it).
+  !> A restart dump of a decomposed run, written by the ranks together
+  !> (`write_restart`, `restart_write`): each block its owned nodes and cells
+  !> of the node and cell quantities, rank 0 the rest, which must be the
+  !> whole run's: the mixed cells (their centroids refreshed in each block,
+  !> then gathered in cell order, `mixed_gather`) and the particles (in the
+  !> whole run's order) are put in the block's place for the dump, and a
+  !> mixed cell's material (minus its number in the block's storage) its
+  !> number among the whole grid's. The file is the one a single process
+  !> writes; the whole grid's state is not needed.
   subroutine whole_dump(cfg, pc, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -118,20 +131,71 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    call whole_gather(pc, st, err)
-    if (.not. allocated(err) .and. pc%rank == 0) call write_restart(cfg, st%whole, sch, es, err)
+    type(mixed_t) :: mw, mb
+    type(particles_t) :: pw, pb
+    type(centroid_stats_t) :: cs
+    integer, allocatable :: mat(:), keep(:)
+    integer :: k, c, lo, hi, mid, gc, n(2), ijk(3)
+
+    call mixed_gather(pc, st, mw, err, cs)
+    if (allocated(err)) return
+    n = [cs%moved, cs%failed]
+    call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
+    es%centroids%moved = es%centroids%moved + n(1)
+    es%centroids%failed = es%centroids%failed + n(2)
+    ! the owned mixed cells' numbers in the whole grid's list (ascending cells)
+    mat = st%h%mat
+    do k = 1, st%mx%n
+      c = st%mx%cell(k)
+      call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+      if (.not. st%g%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
+      gc = st%g%global_cell(c)
+      lo = 1; hi = mw%n
+      do while (lo < hi)
+        mid = (lo + hi)/2
+        if (mw%cell(mid) < gc) then
+          lo = mid + 1
+        else
+          hi = mid
+        end if
+      end do
+      mat(c) = -lo
+    end do
+    if (allocated(st%pwhole)) then
+      call particles_gathered(pc, st, pw, err)
+      if (allocated(err)) return
+      pb = st%pt
+      st%pt = pw
+    end if
+    mb = st%mx
+    st%mx = mw
+    call move_alloc(st%h%mat, keep)
+    call move_alloc(mat, st%h%mat)
+    call write_restart(cfg, st, sch, es, err)
+    ! the block's own again
+    call move_alloc(keep, st%h%mat)
+    st%mx = mb
+    if (allocated(st%pwhole)) st%pt = pb
   end subroutine whole_dump
 
-  !> A decomposed run's restart: every rank reads the file into the whole
-  !> grid's state and takes its block from it.
+  !> A decomposed run's restart: with the whole grid held (Euler steps,
+  !> particles) every rank reads the file into it and takes its block from
+  !> it; otherwise each rank reads its block (`read_restart`).
   subroutine whole_restart(cfg, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout), target :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    call read_restart(cfg, st%whole, sch, es, err)
-    if (.not. allocated(err)) call whole_scatter(st, err)
+    if (allocated(st%whole)) then
+      call read_restart(cfg, st%whole, sch, es, err)
+      if (.not. allocated(err)) call whole_scatter(st, err)
+    else
+      call read_restart(cfg, st, sch, es, err, block=.true.)
+      ! (a block's file may be damaged where another's is not)
+      call agree_error(sch%pc, err)
+      if (.not. allocated(err)) call report_conservation(st, sch%log, 'restart')
+    end if
   end subroutine whole_restart
 
   !> Every rank's st%whole: the whole grid's state assembled from the
@@ -146,7 +210,7 @@ contains
     real(wp), pointer, contiguous :: a(:, :)
     integer :: e, m, n
 
-    call mixed_gather(pc, st, err)
+    call mixed_gather(pc, st, st%whole%mx, err)
     if (allocated(err)) return
     if (allocated(st%pwhole)) then
       call particles_gathered(pc, st, st%whole%pt, err)
@@ -202,29 +266,13 @@ contains
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
     type(registry_t) :: rb, rw
-    integer, allocatable :: pick(:), cell(:)
-    integer :: e, k, i, j, l, c, n, m, q, ijk(3), stat
+    integer, allocatable :: pick(:)
+    integer :: e, i, j, l, c, n, m, q
     logical :: nodes
 
     ! the mixed cells the block stores, in the whole grid's (cell) order
-    associate (g => st%g, wx => st%whole%mx, wg => st%whole%g)
-      allocate(pick(wx%n), cell(wx%n), stat=stat)
-      if (stat /= 0) then
-        call error_set(err, 'whole_scatter', 'out of memory')
-        return
-      end if
-      m = 0
-      do k = 1, wx%n
-        call wg%cell_ijk(wx%cell(k), ijk(1), ijk(2), ijk(3))
-        ijk = ijk - g%off
-        if (any(ijk < g%slo .or. ijk > g%shi)) cycle
-        m = m + 1
-        pick(m) = k
-        cell(m) = g%cell(ijk(1), ijk(2), ijk(3))
-      end do
-      call mixed_subset(wx, pick(:m), cell(:m), st%mx, err)
-      if (allocated(err)) return
-    end associate
+    call mixed_of_block(st%g, st%whole%mx, st%mx, err, pick)
+    if (allocated(err)) return
     if (allocated(st%whole%pt%id)) then
       call particles_take(st, err)
       if (allocated(err)) return
@@ -267,16 +315,6 @@ contains
     call material_index_cells(st%mats, st%h%mat, st%mx, err)
   end subroutine whole_scatter
 
-  !> A mixed cell's material is minus its mixed-cell number, which differs
-  !> between a block and the whole grid: renumbered from the mixed cells.
-  subroutine mixed_numbers(st)
-    type(state_t), intent(inout) :: st
-    integer :: k
-    do k = 1, st%mx%n
-      st%h%mat(st%mx%cell(k)) = -k
-    end do
-  end subroutine mixed_numbers
-
   !> A quantity of the whole run (time, step, energy bookkeeping, the random
   !> numbers' state): the same on every rank, copied.
   subroutine copy_global(from, to)
@@ -290,20 +328,24 @@ contains
     end select
   end subroutine copy_global
 
-  !> The whole grid's mixed cells (st%whole%mx) from the cells each block
-  !> owns.
-  subroutine mixed_gather(pc, st, err)
+  !> The whole grid's mixed cells mw, in cell order, from the cells each
+  !> block owns (on every rank). With `refreshed` the centroids of each
+  !> block's owned mixed cells are refreshed first (`centroids_refresh`,
+  !> counted in it; the block's own storage is left as it is).
+  subroutine mixed_gather(pc, st, mw, err, refreshed)
     type(comm_t), intent(in) :: pc
-    type(state_t), intent(inout) :: st
+    type(state_t), intent(in) :: st
+    type(mixed_t), intent(inout) :: mw
     type(error_t), allocatable, intent(inout) :: err
+    type(centroid_stats_t), intent(inout), optional :: refreshed
     type(mixed_t) :: own, cat
-    integer, allocatable :: pick(:), gcell(:), cells(:), nslots(:), mats(:), at(:)
+    integer, allocatable :: pick(:), cells(:), nslots(:), mats(:)
     real(wp), allocatable :: r(:)
-    integer :: k, q, m, stat, ijk(3)
+    integer :: k, m, stat, ijk(3)
 
-    allocate(pick(st%mx%n), gcell(st%mx%n), at(st%whole%g%ncell), stat=stat)
+    allocate(pick(st%mx%n), cells(st%mx%n), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'whole_gather', 'out of memory')
+      call error_set(err, 'mixed_gather', 'out of memory')
       return
     end if
     m = 0
@@ -312,10 +354,13 @@ contains
       if (.not. st%g%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
       m = m + 1
       pick(m) = k
-      gcell(m) = st%g%global_cell(st%mx%cell(k))
     end do
-    call mixed_subset(st%mx, pick(:m), gcell(:m), own, err)
+    call mixed_subset(st%mx, pick(:m), st%mx%cell(pick(:m)), own, err)
     if (allocated(err)) return
+    if (present(refreshed)) call centroids_refresh(st%g, own, refreshed)
+    do k = 1, own%n
+      own%cell(k) = st%g%global_cell(own%cell(k))
+    end do
     call gather_concat(pc, own%cell, cells)
     call gather_concat(pc, own%start(2:) - own%start(:own%n), nslots)
     call gather_concat(pc, own%mat, mats)
@@ -337,11 +382,13 @@ contains
     call gather_concat(pc, reshape(own%plane, [4*own%nslot]), r)
     cat%plane = reshape(r, [4, cat%nslot])
     ! in cell order (each cell is owned by one block)
-    at = 0
-    do k = 1, cat%n
-      at(cat%cell(k)) = k
-    end do
-    pick = pack(at, at > 0)
-    call mixed_subset(cat, pick, [(cat%cell(pick(q)), q = 1, size(pick))], st%whole%mx, err)
+    deallocate(pick)
+    allocate(pick(cat%n), stat=stat)
+    if (stat == 0) call sort_order(cat%cell, pick, stat)
+    if (stat /= 0) then
+      call error_set(err, 'mixed_gather', 'out of memory')
+      return
+    end if
+    call mixed_subset(cat, pick, cat%cell(pick), mw, err)
   end subroutine mixed_gather
 end module driver_whole

@@ -49,7 +49,7 @@ module io_hdf5
        h5dget_space_f, h5dget_type_f, &
        h5gcreate_f, h5gclose_f, h5lexists_f, &
        h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, H5P_DATASET_XFER_F, &
-       h5sselect_none_f, h5sselect_hyperslab_f, H5S_SELECT_SET_F
+       h5sselect_none_f, h5sselect_hyperslab_f, H5S_SELECT_SET_F, H5S_SELECT_OR_F
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_INFO_NULL
   implicit none
   private
@@ -158,10 +158,11 @@ contains
   !> With `checksums` (default false) every dataset written to it carries a
   !> Fletcher-32 checksum and the file's metadata their own (module notes).
   !> With `comm` of more than one rank every rank of it calls this (and
-  !> every later call on the file: HDF5's parallel rules): the file is
-  !> written through MPI-IO; the whole-array writers then write rank 0's
-  !> data (the other ranks' is not read) and `h5_write_part_*` each rank's
-  !> part of a dataset, collectively.
+  !> every later call on the file, with the same names and shapes: HDF5's
+  !> parallel rules): the file is written through MPI-IO, every write
+  !> collective; the whole-array writers then write rank 0's data (the other
+  !> ranks' is not read) and `h5_write_part_*` each rank's part of a
+  !> dataset.
   subroutine h5_create(file, path, err, checksums, comm)
     type(h5_file_t), intent(inout) :: file
     character(len=*), intent(in) :: path
@@ -185,16 +186,14 @@ contains
       call MPI_Comm_size(comm, nranks)
       call MPI_Comm_rank(comm, file%rank)
     end if
-    if (nranks > 1 .and. file%checksums) then
-      ! (Fletcher-32 is a filter: parallel HDF5 1.10 writes filtered data
-      ! only collectively, which the whole-array writers are not)
-      call error_set(err, 'h5_create', 'a checksummed file is written by one rank: '//q(path))
-      return
-    end if
     if (nranks > 1) then
+      ! (every write is collective: parallel HDF5 1.10 writes filtered data,
+      ! the checksums', only so)
       file%parallel = .true.
       call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
       if (hdferr == 0) call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, hdferr)
+      if (hdferr == 0 .and. file%checksums) &
+        call h5pset_libver_bounds_f(fapl, H5F_LIBVER_LATEST_F, H5F_LIBVER_LATEST_F, hdferr)
       if (hdferr == 0) call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr, access_prp=fapl)
       call h5pclose_f(fapl, ierr)
     else if (file%checksums) then
@@ -356,34 +355,39 @@ contains
   !> double dataset `name` of shape `dims`, from the contiguous buffer `data`
   !> (product(count) values), written by all ranks of a parallel file
   !> together (`h5_create` with `comm`; on one process the whole dataset).
-  subroutine h5_write_part_real(file, name, data, dims, start, count, err)
+  !> With `grid` the dataset's last dimension is a grid of that shape,
+  !> flattened, and the box is given in the grid's dimensions (`write_part`).
+  subroutine h5_write_part_real(file, name, data, dims, start, count, err, grid)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), intent(in), target :: data(*)
     integer, intent(in) :: dims(:), start(:), count(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: grid(3)
     type(c_ptr) :: ptr
     ptr = c_null_ptr
     if (size(count) > 0) then
       if (all(count > 0)) ptr = c_loc(data(1))
     end if
-    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', err)
+    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', err, &
+                    grid)
   end subroutine h5_write_part_real
 
   !> `h5_write_part_real` for a default-integer dataset.
-  subroutine h5_write_part_int(file, name, data, dims, start, count, err)
+  subroutine h5_write_part_int(file, name, data, dims, start, count, err, grid)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, intent(in), target :: data(*)
     integer, intent(in) :: dims(:), start(:), count(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: grid(3)
     type(c_ptr) :: ptr
     ptr = c_null_ptr
     if (size(count) > 0) then
       if (all(count > 0)) ptr = c_loc(data(1))
     end if
     call write_part(file, name, ptr, dims, start, count, h5kind_to_type(kind(0), H5_INTEGER_KIND), &
-                    'h5_write_part_int', err)
+                    'h5_write_part_int', err, grid)
   end subroutine h5_write_part_int
 
   !> Writes a scalar double dataset.
@@ -485,12 +489,15 @@ contains
     call release(did, sid, -1_hid_t)
   end subroutine h5_read_dims
 
-  !> Reads a floating-point dataset of any shape, flattened in Fortran order.
-  subroutine h5_read_real(file, name, data, err)
+  !> Reads a floating-point dataset of any shape, flattened in Fortran order;
+  !> with grid, start and count only a box of it, as `h5_write_part_real`
+  !> writes one (the caller has checked that it lies in the dataset).
+  subroutine h5_read_real(file, name, data, err, grid, start, count)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), allocatable, target, intent(out) :: data(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: grid(3), start(:), count(:)
     character(len=*), parameter :: here = 'h5_read_real'
     integer(hid_t) :: did, sid
     integer(hsize_t) :: n
@@ -500,6 +507,7 @@ contains
     sid = -1_hid_t
     body: block
       if (.not. open_checked(file, name, H5T_FLOAT_F, 'floating-point', here, did, sid, n, err)) exit body
+      if (present(grid)) n = product(int(count, hsize_t))
       allocate(data(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
@@ -507,18 +515,20 @@ contains
       end if
       if (n == 0) exit body
       ptr = c_loc(data(1))
-      call h5dread_f(did, h5kind_to_type(wp, H5_REAL_KIND), ptr, hdferr)
+      call read_selected(did, sid, h5kind_to_type(wp, H5_REAL_KIND), ptr, n, hdferr, grid, start, count)
       if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
   end subroutine h5_read_real
 
-  !> Reads an integer dataset of any shape, flattened in Fortran order.
-  subroutine h5_read_int(file, name, data, err)
+  !> Reads an integer dataset of any shape, flattened in Fortran order (or a
+  !> box of it, as `h5_read_real`).
+  subroutine h5_read_int(file, name, data, err, grid, start, count)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, allocatable, target, intent(out) :: data(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: grid(3), start(:), count(:)
     character(len=*), parameter :: here = 'h5_read_int'
     integer(hid_t) :: did, sid
     integer(hsize_t) :: n
@@ -528,6 +538,7 @@ contains
     sid = -1_hid_t
     body: block
       if (.not. open_checked(file, name, H5T_INTEGER_F, 'integer', here, did, sid, n, err)) exit body
+      if (present(grid)) n = product(int(count, hsize_t))
       allocate(data(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
@@ -535,7 +546,7 @@ contains
       end if
       if (n == 0) exit body
       ptr = c_loc(data(1))
-      call h5dread_f(did, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, hdferr)
+      call read_selected(did, sid, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, n, hdferr, grid, start, count)
       if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
@@ -676,20 +687,49 @@ contains
     integer(hid_t), intent(in) :: did, tid, sid
     type(c_ptr), intent(inout) :: ptr
     integer, intent(out) :: hdferr
-    if (file%parallel .and. file%rank /= 0) then
-      call h5sselect_none_f(sid, hdferr)
-      if (hdferr == 0) call h5dwrite_f(did, tid, ptr, hdferr, mem_space_id=sid, file_space_id=sid)
-    else
+    integer(hid_t) :: xfer
+    integer :: ierr
+    if (.not. file%parallel) then
       call h5dwrite_f(did, tid, ptr, hdferr)
+      return
     end if
+    call collective_plist(xfer, hdferr)
+    if (hdferr /= 0) return
+    if (file%rank /= 0) then
+      call h5sselect_none_f(sid, hdferr)
+      if (hdferr == 0) call h5dwrite_f(did, tid, ptr, hdferr, mem_space_id=sid, file_space_id=sid, xfer_prp=xfer)
+    else
+      call h5dwrite_f(did, tid, ptr, hdferr, xfer_prp=xfer)
+    end if
+    call h5pclose_f(xfer, ierr)
   end subroutine write_root
+
+  !> A data transfer property list for collective MPI-IO.
+  subroutine collective_plist(xfer, hdferr)
+    integer(hid_t), intent(out) :: xfer
+    integer, intent(out) :: hdferr
+    integer :: ierr
+    call h5pcreate_f(H5P_DATASET_XFER_F, xfer, hdferr)
+    if (hdferr /= 0) then
+      xfer = -1_hid_t
+      return
+    end if
+    call h5pset_dxpl_mpio_f(xfer, H5FD_MPIO_COLLECTIVE_F, hdferr)
+    if (hdferr /= 0) then
+      call h5pclose_f(xfer, ierr)
+      xfer = -1_hid_t
+    end if
+  end subroutine collective_plist
 
   !> Creates the dataset `name` of shape `dims` (Fortran order) in a file of
   !> several ranks and writes this rank's part of it, the box of shape
   !> `count` at `start` (0-based, Fortran order), from the contiguous buffer
   !> ptr (product(count) values), all ranks together (collective MPI-IO).
-  !> In a file of one process, count must be dims (the whole dataset).
-  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err)
+  !> With `grid`, the last dimension of the dataset is a grid of shape
+  !> grid(1:3) flattened (i fastest), and start and count give the box in
+  !> the leading dimensions and then in the grid's three (size(dims) + 2
+  !> values). In a file of one process the part must be the whole dataset.
+  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err, grid)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     type(c_ptr), intent(inout) :: ptr
@@ -697,10 +737,34 @@ contains
     integer(hid_t), intent(in) :: tid
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
-    integer(hid_t) :: did, sid, msid, lcpl, xfer
-    integer :: hdferr, rank
+    integer, intent(in), optional :: grid(3)
+    integer(hid_t) :: did, sid, msid, lcpl, xfer, dcpl
+    integer, allocatable :: whole(:)
+    integer :: hdferr, rank, nlead
+    rank = size(dims)
+    nlead = rank - 1
+    ! the part's box in the dataset's own dimensions, or in the grid's
+    if (present(grid)) then
+      whole = [dims(1:nlead), grid]
+    else
+      whole = dims
+    end if
+    if (rank < 1 .or. rank > max_rank .or. size(start) /= size(whole) .or. size(count) /= size(whole)) then
+      call error_set(err, here, 'rank must be 1..7, the same for the part, for '//where_in(file, name))
+      return
+    end if
+    if (present(grid)) then
+      if (dims(rank) /= product(grid)) then
+        call error_set(err, here, 'the grid does not match the last dimension of '//where_in(file, name))
+        return
+      end if
+    end if
+    if (any(start < 0) .or. any(count < 0) .or. any(start + count > whole)) then
+      call error_set(err, here, 'the part lies outside '//where_in(file, name))
+      return
+    end if
     if (.not. file%parallel) then
-      if (any(count /= dims) .or. any(start /= 0)) then
+      if (any(count /= whole)) then
         call error_set(err, here, 'a part of '//where_in(file, name)//' in a file of one process')
         return
       end if
@@ -712,28 +776,33 @@ contains
     msid = -1_hid_t
     lcpl = -1_hid_t
     xfer = -1_hid_t
-    rank = size(dims)
+    dcpl = -1_hid_t
     body: block
       if (.not. check_open(file, name, here, err)) exit body
-      if (rank < 1 .or. rank > max_rank .or. size(start) /= rank .or. size(count) /= rank) then
-        call error_set(err, here, 'rank must be 1..7, the same for the part, for '//where_in(file, name))
-        exit body
-      end if
-      if (any(start < 0) .or. any(count < 0) .or. any(start + count > dims)) then
-        call error_set(err, here, 'the part lies outside '//where_in(file, name))
-        exit body
-      end if
       call h5screate_simple_f(rank, int(dims, hsize_t), sid, hdferr)
-      if (hdferr == 0) call h5screate_simple_f(rank, int(count, hsize_t), msid, hdferr)
+      if (hdferr == 0) call h5screate_simple_f(1, [int(product(count), hsize_t)], msid, hdferr)
       if (hdferr /= 0) then
         call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
         exit body
       end if
-      call create_dataset(file, name, tid, sid, lcpl, did, here, err, -1_hid_t)
-      if (allocated(err)) exit body
-      call h5sselect_hyperslab_f(sid, H5S_SELECT_SET_F, int(start, hsize_t), int(count, hsize_t), hdferr)
-      if (hdferr == 0) call h5pcreate_f(H5P_DATASET_XFER_F, xfer, hdferr)
-      if (hdferr == 0) call h5pset_dxpl_mpio_f(xfer, H5FD_MPIO_COLLECTIVE_F, hdferr)
+      if (file%checksums .and. product(dims) > 0) then
+        call checksum_plist(int(dims, hsize_t), tid, dcpl, hdferr)
+        if (hdferr /= 0) then
+          call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
+          exit body
+        end if
+      end if
+      call create_dataset(file, name, tid, sid, lcpl, did, here, err, dcpl)
+      if (allocated(err) .or. product(dims) == 0) exit body
+      if (product(count) == 0) then
+        call h5sselect_none_f(sid, hdferr)
+        if (hdferr == 0) call h5sselect_none_f(msid, hdferr)
+      else if (present(grid)) then
+        call select_box(sid, rank, grid, start, count, hdferr)
+      else
+        call h5sselect_hyperslab_f(sid, H5S_SELECT_SET_F, int(start, hsize_t), int(count, hsize_t), hdferr)
+      end if
+      if (hdferr == 0) call collective_plist(xfer, hdferr)
       if (hdferr == 0) call h5dwrite_f(did, tid, ptr, hdferr, mem_space_id=msid, file_space_id=sid, xfer_prp=xfer)
       if (hdferr /= 0) call error_set(err, here, 'cannot write this rank''s part of '//where_in(file, name))
     end block body
@@ -741,7 +810,61 @@ contains
     if (msid >= 0) call h5sclose_f(msid, hdferr)
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
     if (xfer >= 0) call h5pclose_f(xfer, hdferr)
+    if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
   end subroutine write_part
+
+  !> Selects in sid (a dataset of `rank` dimensions whose last is a grid of
+  !> shape grid flattened, i fastest) the box at start of shape count, given
+  !> in the leading dimensions and then the grid's three (rank + 2 values):
+  !> one hyperslab per grid plane of the box, its rows each a run of i with
+  !> the leading dimensions whole. The selection's order (HDF5's, by offset)
+  !> is a buffer's filled with the leading dimensions fastest, then i, j, k.
+  subroutine select_box(sid, rank, grid, start, count, hdferr)
+    integer(hid_t), intent(in) :: sid
+    integer, intent(in) :: rank, grid(3), start(:), count(:)
+    integer, intent(out) :: hdferr
+    integer(hsize_t) :: hs(rank), hc(rank), hst(rank), hb(rank)
+    integer :: k
+    hs(1:rank - 1) = int(start(1:rank - 1), hsize_t)
+    hb(1:rank - 1) = int(count(1:rank - 1), hsize_t)
+    hc(1:rank - 1) = 1_hsize_t
+    hst(1:rank - 1) = max(hb(1:rank - 1), 1_hsize_t)
+    hc(rank) = int(count(rank + 1), hsize_t)
+    hb(rank) = int(count(rank), hsize_t)
+    hst(rank) = int(grid(1), hsize_t)
+    hdferr = 0
+    do k = start(rank + 2), start(rank + 2) + count(rank + 2) - 1
+      hs(rank) = int(start(rank), hsize_t) + int(grid(1), hsize_t)*(int(start(rank + 1), hsize_t) + &
+                 int(grid(2), hsize_t)*int(k, hsize_t))
+      call h5sselect_hyperslab_f(sid, merge(H5S_SELECT_SET_F, H5S_SELECT_OR_F, k == start(rank + 2)), &
+                                 hs, hc, hdferr, hst, hb)
+      if (hdferr /= 0) return
+    end do
+  end subroutine select_box
+
+  !> Reads a dataset into ptr: the whole of it, or with grid the box at
+  !> start of shape count (n values; `select_box`, which must lie in it).
+  subroutine read_selected(did, sid, tid, ptr, n, hdferr, grid, start, count)
+    integer(hid_t), intent(in) :: did, sid, tid
+    type(c_ptr), intent(inout) :: ptr
+    integer(hsize_t), intent(in) :: n
+    integer, intent(out) :: hdferr
+    integer, intent(in), optional :: grid(3), start(:), count(:)
+    integer(hid_t) :: msid
+    integer :: rank, ierr
+    if (.not. present(grid)) then
+      call h5dread_f(did, tid, ptr, hdferr)
+      return
+    end if
+    call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+    if (hdferr /= 0) return
+    call select_box(sid, rank, grid, start, count, hdferr)
+    if (hdferr /= 0) return
+    call h5screate_simple_f(1, [n], msid, hdferr)
+    if (hdferr /= 0) return
+    call h5dread_f(did, tid, ptr, hdferr, mem_space_id=msid, file_space_id=sid)
+    call h5sclose_f(msid, ierr)
+  end subroutine read_selected
 
   !> Creates and writes a simple-dataspace dataset from a buffer address.
   subroutine write_array(file, name, ptr, dims, tid, here, err)

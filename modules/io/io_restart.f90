@@ -29,13 +29,17 @@ module io_restart
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank
+  use mesh_grid, only: grid_index_t
   use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
+                     h5_write_part_real, h5_write_part_int, &
                      h5_write_scalar_real, h5_write_scalar_int, h5_write_string, h5_read_dims, &
                      h5_read_real, h5_read_int, h5_read_scalar_real, h5_read_scalar_int, &
                      h5_read_string, h5_exists
   use io_xdmf, only: io_rename
   use base_strings, only: itoa
-  use base_registry, only: registry_t, location_name, LOC_GLOBAL, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
+  use base_registry, only: registry_t, registry_entry_t, location_name, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, &
+                           K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
   public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
@@ -55,7 +59,14 @@ contains
   !> Writes every registered quantity, the deck and the frame list (with
   !> each frame's particle count, if given) to `path` (atomically:
   !> `path`.tmp, then rename).
-  subroutine restart_write(path, reg, deck, frames, times, err, nparts)
+  !>
+  !> With `comm` and `ix` (a block of a decomposed run, every rank of comm
+  !> calling this) the ranks write the file together: each its owned nodes
+  !> and cells of the node and cell quantities (the block's index ix) into
+  !> the whole grid's datasets, rank 0 everything else (which must then be
+  !> the whole run's: the caller's concern). The file is the one a single
+  !> process writes of the same state.
+  subroutine restart_write(path, reg, deck, frames, times, err, nparts, comm, ix)
     character(len=*), intent(in) :: path
     type(registry_t), intent(in) :: reg
     character(len=*), intent(in) :: deck
@@ -63,17 +74,31 @@ contains
     real(wp), intent(in) :: times(:)
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: nparts(:)
+    type(MPI_Comm), intent(in), optional :: comm
+    type(grid_index_t), intent(in), optional :: ix
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
-    integer :: k
+    integer :: k, rank
+    logical :: blocks
     character(len=:), allocatable :: list
 
-    call h5_create(f, path//'.tmp', err, checksums=.true.)
+    blocks = present(comm) .and. present(ix)
+    rank = 0
+    if (blocks) then
+      call MPI_Comm_rank(comm, rank)
+      call h5_create(f, path//'.tmp', err, checksums=.true., comm=comm)
+    else
+      call h5_create(f, path//'.tmp', err, checksums=.true.)
+    end if
     if (allocated(err)) return
     call h5_write_scalar_int(f, 'restart_version', restart_version, err)
     do k = 1, reg%n
       if (allocated(err)) exit
       associate (e => reg%e(k))
+        if (blocks .and. (e%location == LOC_NODE .or. e%location == LOC_CELL)) then
+          call write_owned(e)
+          cycle
+        end if
         select case (e%kind)
         case (K_REAL); call h5_write_real(f, 'state/'//trim(e%name), e%r, e%dims, err)
         case (K_INT); call h5_write_int(f, 'state/'//trim(e%name), e%i, e%dims, err)
@@ -93,15 +118,67 @@ contains
       call h5_write_int(f, 'output/particle_counts', nparts, [size(nparts)], err)
     if (allocated(err)) then
       call h5_close(f, err2)
-      call remove_file(path//'.tmp')
+      if (rank == 0) call remove_file(path//'.tmp')
       return
     end if
     call h5_close(f, err)
     if (allocated(err)) then
-      call remove_file(path//'.tmp')
+      if (rank == 0) call remove_file(path//'.tmp')
       return
     end if
-    call io_rename(path//'.tmp', path, err)
+    if (rank == 0) call io_rename(path//'.tmp', path, err)
+  contains
+    !> A node or cell quantity: this block's owned nodes (those it counts,
+    !> every node once) or cells, in the whole grid's dataset.
+    subroutine write_owned(e)
+      type(registry_entry_t), intent(in) :: e
+      integer, allocatable :: lead(:), ibuf(:)
+      real(wp), allocatable :: rbuf(:)
+      integer :: lo(3), hi(3), grid(3), m, n, p, i, j, l, q, stat
+      logical :: nodes
+      nodes = e%location == LOC_NODE
+      if (nodes) then
+        lo = ix%ulo; hi = ix%nhi; grid = ix%gn + 1
+      else
+        lo = ix%clo; hi = ix%chi; grid = ix%gn
+      end if
+      lead = e%dims(1:size(e%dims) - 1)
+      m = product(lead)
+      n = m*product(hi - lo + 1)
+      if (e%kind == K_REAL) then
+        allocate(rbuf(n), ibuf(0), stat=stat)
+      else
+        allocate(rbuf(0), ibuf(n), stat=stat)
+      end if
+      if (stat /= 0) then
+        call error_set(err, 'restart_write', 'out of memory for '//trim(e%name))
+        return
+      end if
+      p = 0
+      do l = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            q = m*(merge(ix%node(i, j, l), ix%cell(i, j, l), nodes) - 1)
+            if (e%kind == K_REAL) then
+              rbuf(p + 1:p + m) = e%r(q + 1:q + m)
+            else
+              ibuf(p + 1:p + m) = e%i(q + 1:q + m)
+            end if
+            p = p + m
+          end do
+        end do
+      end do
+      ! the box in the whole grid, 0-based (nodes are numbered from 0, cells from 1)
+      hi = hi - lo + 1
+      lo = lo + ix%off - merge(0, 1, nodes)
+      if (e%kind == K_REAL) then
+        call h5_write_part_real(f, 'state/'//trim(e%name), rbuf, [lead, product(grid)], [0*lead, lo], [lead, hi], &
+                                err, grid)
+      else
+        call h5_write_part_int(f, 'state/'//trim(e%name), ibuf, [lead, product(grid)], [0*lead, lo], [lead, hi], &
+                               err, grid)
+      end if
+    end subroutine write_owned
   end subroutine restart_write
 
   !> Deletes `path` if it exists (a temporary file of a failed dump: it frees
@@ -205,18 +282,23 @@ contains
   !> Reads every registered quantity from `path`, checking each one's shape,
   !> and the frame list (with the frames' particle counts in nparts when
   !> the file has them; unallocated otherwise). Nothing is left half-read
-  !> silently: on error the caller must not use the state.
-  subroutine restart_read(path, reg, frames, times, err, nparts)
+  !> silently: on error the caller must not use the state. With `ix` (a
+  !> block of a decomposed run) the node and cell quantities are the block's
+  !> box (its owned and ghost nodes and cells) of the whole grid's datasets;
+  !> everything else is read whole.
+  subroutine restart_read(path, reg, frames, times, err, nparts, ix)
     character(len=*), intent(in) :: path
     type(registry_t), intent(inout) :: reg
     character(len=256), allocatable, intent(out) :: frames(:)
     real(wp), allocatable, intent(out) :: times(:)
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable, intent(out), optional :: nparts(:)
+    type(grid_index_t), intent(in), optional :: ix
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
-    integer :: k, n, p, bad
-    integer, allocatable :: dims(:), ibuf(:)
+    integer :: k, n, p, bad, lo(3), cnt(3), grid(3)
+    logical :: box
+    integer, allocatable :: dims(:), want(:), ibuf(:)
     real(wp), allocatable :: rbuf(:)
     character(len=:), allocatable :: list
     character(len=128) :: name
@@ -241,26 +323,48 @@ contains
         case (K_REAL, K_INT)
           call h5_read_dims(f, trim(name), dims, err)
           if (allocated(err)) exit
-          if (size(dims) /= size(e%dims)) then
+          ! a block's nodes or cells: its stored box of the whole grid's
+          box = present(ix) .and. (e%location == LOC_NODE .or. e%location == LOC_CELL)
+          want = e%dims
+          if (box) then
+            if (e%location == LOC_NODE) then
+              grid = ix%gn + 1; lo = ix%slo - 1 + ix%off; cnt = ix%shi - ix%slo + 2
+            else
+              grid = ix%gn; lo = ix%slo - 1 + ix%off; cnt = ix%shi - ix%slo + 1
+            end if
+            want(size(want)) = product(grid)
+          end if
+          if (size(dims) /= size(want)) then
             call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has the wrong rank')
             exit
-          else if (any(dims /= e%dims)) then
+          else if (any(dims /= want)) then
             call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has shape '// &
-                           shape_str(int(dims, int64))//', this run expects '//shape_str(int(e%dims, int64))// &
+                           shape_str(int(dims, int64))//', this run expects '//shape_str(int(want, int64))// &
                            where_str(e%location))
             exit
           end if
-          if (e%kind == K_REAL) then
+          if (box) then
+            if (e%kind == K_REAL) then
+              call h5_read_real(f, trim(name), rbuf, err, grid, [0*want(:size(want) - 1), lo], &
+                                [want(:size(want) - 1), cnt])
+            else
+              call h5_read_int(f, trim(name), ibuf, err, grid, [0*want(:size(want) - 1), lo], &
+                               [want(:size(want) - 1), cnt])
+            end if
+          else if (e%kind == K_REAL) then
             call h5_read_real(f, trim(name), rbuf, err)
+          else
+            call h5_read_int(f, trim(name), ibuf, err)
+          end if
+          if (e%kind == K_REAL) then
             if (.not. allocated(err) .and. e%units /= 'bits') then
               bad = findloc(finite_bits(rbuf), .false., 1)
               if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)// &
                 ' has '//nonfinite_name(rbuf(bad))//' at '//entry_str(bad, e%dims, e%location))
             end if
             if (.not. allocated(err)) e%r = rbuf
-          else
-            call h5_read_int(f, trim(name), ibuf, err)
-            if (.not. allocated(err)) e%i = ibuf
+          else if (.not. allocated(err)) then
+            e%i = ibuf
           end if
         case (K_REAL_SCALAR)
           call h5_read_scalar_real(f, trim(name), e%rs, err)

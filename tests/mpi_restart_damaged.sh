@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# A damaged restart read block by block (a decomposed run without Euler
+# steps or particles reads only its block's nodes and cells): two mixed
+# cells of a dump have their numbers in state/material swapped (the file
+# rewritten through h5py, so its checksums are valid: only the restart's own
+# consistency check can find it). The single process refuses it; on 2 and 4
+# ranks only the blocks holding those cells see it, yet every rank must end
+# with exit status 2 and the same refusal, without hanging.
+# Usage: mpi_restart_damaged.sh MPIEXEC EXE PYTHON DECK WORKDIR
+set -u
+mpiexec=$1 exe=$2 py=$3 deck=$4 dir=$5
+. "$(dirname "$0")/restart_lib.sh"
+rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
+root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
+export OMP_NUM_THREADS=1
+derive part1 "$deck" "max_steps = 10, dump_steps = 10" part1
+derive bad "$deck" "max_steps = 20, restart_from = 'bad.h5'" bad
+"$exe" part1.nml > part1.log 2>&1 || fail "the run to step 10 failed"
+"$py" - out/part1_restart_00000010.h5 bad.h5 <<'PY' || fail "could not damage the dump"
+import shutil, sys
+import h5py, numpy as np
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], 'r+') as h:
+    m = h['state/material'][...]
+    a, b = np.where(m == -1)[0][0], np.where(m == -2)[0][0]
+    m[a], m[b] = -2, -1
+    h['state/material'][...] = m
+PY
+want="bad.h5 is damaged: its mixed cells do not match its cell materials"
+"$exe" bad.nml > one.log 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "one process: exit status $rc, not 2"
+grep -q "$want" one.log || fail "one process: no refusal naming the damage"
+for np in 2 4; do
+  timeout 120 "$mpiexec" "${root[@]}" --oversubscribe -np $np "$exe" bad.nml > ranks$np.log 2>&1; rc=$?
+  [ $rc -eq 124 ] && fail "$np ranks: hung (killed after 120 s)"
+  [ $rc -eq 2 ] || { tail -5 ranks$np.log; fail "$np ranks: exit status $rc, not 2"; }
+  [ "$(grep -c "$want" ranks$np.log)" -eq 1 ] || { cat ranks$np.log; fail "$np ranks: the refusal is not printed once"; }
+  echo "ok: $np ranks refuse the damaged dump with exit 2, printed once"
+done
+echo "PASS mpi_restart_damaged"
