@@ -8,9 +8,19 @@
 # must open and read completely (outputs go to NAME.tmp, then are renamed).
 # The XDMF sidecar must parse too.
 # Needs root (mount); exits 77 (skipped) otherwise or if the mount fails.
-# Usage: restart_disk_full.sh EXE PYTHON DECK WORKDIR   (DECK: ni = 100 in &grid)
+# With MPIEXEC and NP the runs are on NP ranks, which write each file
+# together: one rank failing alone inside HDF5's collective calls would leave
+# the others waiting for ever, so the ranks refuse a file the disk has no
+# room for before they start it (the timeout below catches a hang).
+# Usage: restart_disk_full.sh EXE PYTHON DECK WORKDIR [MPIEXEC NP]   (DECK: ni = 100 in &grid)
 set -u
 exe=$1 py=$2 deck=$3 dir=$4
+run=()
+if [ $# -ge 6 ]; then
+  run=("$5"); [ "$(id -u)" -eq 0 ] && run+=(--allow-run-as-root)
+  run+=(--oversubscribe -np "$6")
+  export OMP_NUM_THREADS=1
+fi
 . "$(dirname "$0")/restart_lib.sh"
 [ "$(id -u)" -eq 0 ] || { echo "SKIP: needs root to mount a tmpfs"; exit 77; }
 rm -rf "$dir"; mkdir -p "$dir/mnt"; cd "$dir" || exit 1
@@ -21,7 +31,8 @@ full() { # NAME NI RUN_VARS OUTPUT_VARS
   rm -rf mnt/*
   derive "$name" "$deck" "$3" "$name"
   sed -i -e "s|^&output .*|\&output dir = 'mnt/$name', name = '$name', $4 /|" -e "s/ni = 100,/ni = $ni,/" "$name.nml"
-  out=$(timeout 300 "$exe" "$name.nml" 2>&1); rc=$?
+  out=$(timeout 300 "${run[@]}" "$exe" "$name.nml" 2>&1); rc=$?
+  [ "$rc" -eq 124 ] && fail "$name: hung (killed after 300 s)"
   printf '%s\n' "$out" > "$name.out"
   printf '%s\n' "$out" | grep -E -q "Segmentation|Backtrace|SIGSEGV|Program received" && \
     { tail -20 "$name.out"; fail "$name: crashed"; }

@@ -27,10 +27,12 @@
 !> (the OS closes the file at exit), and closes it otherwise. The driver calls
 !> it at the end of a run and on its failure path.
 module io_hdf5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char, c_int, c_int64_t, c_intptr_t
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char, c_int, c_int64_t, c_intptr_t, &
+                                         c_long, c_char
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
+  use base_strings, only: itoa
   use hdf5, only: hid_t, hsize_t, size_t, &
        h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5get_libversion_f, h5dont_atexit_f, &
        H5_REAL_KIND, H5_INTEGER_KIND, &
@@ -50,7 +52,7 @@ module io_hdf5
        h5gcreate_f, h5gclose_f, h5lexists_f, &
        h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, H5P_DATASET_XFER_F, &
        h5sselect_none_f, h5sselect_hyperslab_f, H5S_SELECT_SET_F, H5S_SELECT_OR_F
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_INFO_NULL
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_INFO_NULL, MPI_Allreduce, MPI_LOGICAL, MPI_LOR
   implicit none
   private
 
@@ -79,6 +81,7 @@ module io_hdf5
     logical :: checksums = .false.
     logical :: parallel = .false.   !< created by the ranks of a communicator (MPI-IO)
     integer :: rank = 0             !< this rank in it (0 on one process)
+    type(MPI_Comm) :: comm          !< its communicator (parallel)
   end type h5_file_t
 
   !> Largest dataset rank accepted by the array writers.
@@ -92,6 +95,24 @@ module io_hdf5
       integer(c_int), value, intent(in) :: types
       integer(c_intptr_t) :: n
     end function c_h5fget_obj_count
+  end interface
+
+  !> glibc's struct statvfs on 64-bit Linux (every count an unsigned long;
+  !> the spare words padded beyond its size).
+  type, bind(c) :: c_statvfs_t
+    integer(c_long) :: f_bsize, f_frsize, f_blocks, f_bfree, f_bavail, f_files, f_ffree, f_favail, f_fsid, &
+                       f_flag, f_namemax
+    integer(c_int) :: spare(16)
+  end type c_statvfs_t
+
+  interface
+    !> statvfs(3): 0 on success.
+    function c_statvfs(path, buf) bind(c, name='statvfs') result(rc)
+      import :: c_char, c_int, c_statvfs_t
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_statvfs_t), intent(out) :: buf
+      integer(c_int) :: rc
+    end function c_statvfs
   end interface
 
   !> Largest chunk of a checksummed dataset (bytes; HDF5's limit is 4 GiB).
@@ -163,12 +184,21 @@ contains
   !> collective; the whole-array writers then write rank 0's data (the other
   !> ranks' is not read) and `h5_write_part_*` each rank's part of a
   !> dataset.
-  subroutine h5_create(file, path, err, checksums, comm)
+  !>
+  !> `need` (bytes, with comm): the file's size, about. HDF5's collective
+  !> calls do not survive a failure on one rank (a dataset's space that one
+  !> rank cannot allocate leaves the others waiting in HDF5 for ever), so a
+  !> file of several ranks is refused, on every rank, when its folder's
+  !> file system has less space free for it (statvfs; no check where that
+  !> fails). A disk filled by others while the file is written can still
+  !> hang the ranks.
+  subroutine h5_create(file, path, err, checksums, comm, need)
     type(h5_file_t), intent(inout) :: file
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: checksums
     type(MPI_Comm), intent(in), optional :: comm
+    integer(int64), intent(in), optional :: need
     integer(hid_t) :: fapl
     integer :: hdferr, ierr, nranks
     call hdf5_start(err)
@@ -190,6 +220,12 @@ contains
       ! (every write is collective: parallel HDF5 1.10 writes filtered data,
       ! the checksums', only so)
       file%parallel = .true.
+      file%comm = comm
+      if (present(need)) then
+        if (file%rank == 0) call check_space(path, need, err)
+        call agree_outcome(file, 'h5_create', 'not enough space on the disk for '//q(path), err)
+        if (allocated(err)) return
+      end if
       call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
       if (hdferr == 0) call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, hdferr)
       if (hdferr == 0 .and. file%checksums) &
@@ -216,6 +252,26 @@ contains
     end if
     file%path = path
   end subroutine h5_create
+
+  !> An error if the file system holding `path` has fewer than `need` bytes
+  !> free for it (nothing if its free space cannot be found).
+  subroutine check_space(path, need, err)
+    character(len=*), intent(in) :: path
+    integer(int64), intent(in) :: need
+    type(error_t), allocatable, intent(inout) :: err
+    type(c_statvfs_t) :: st
+    integer(int64) :: free
+    integer :: k
+    character(len=:), allocatable :: dir
+    k = index(path, '/', back=.true.)
+    dir = '.'
+    if (k > 1) dir = path(1:k - 1)
+    if (k == 1) dir = '/'
+    if (c_statvfs(dir//c_null_char, st) /= 0) return
+    free = int(st%f_bavail, int64)*int(st%f_frsize, int64)
+    if (free < need) call error_set(err, 'h5_create', 'not enough space on the disk for '//q(path)//': '// &
+                                    itoa(free)//' bytes free, about '//itoa(need)//' needed')
+  end subroutine check_space
 
   !> Opens the existing HDF5 file `path` read-only.
   subroutine h5_open_read(file, path, err)
@@ -263,6 +319,7 @@ contains
     if (hdferr_flush /= 0 .or. hdferr_close /= 0) then
       call error_set(err, 'h5_close', 'cannot flush/close HDF5 file '//q(fpath(file)))
     end if
+    call agree_outcome(file, 'h5_close', 'cannot flush/close HDF5 file '//q(fpath(file)), err)
   end subroutine h5_close
 
   !> Creates group `name` (a path; missing parent groups are created too).
@@ -751,16 +808,16 @@ contains
     end if
     if (rank < 1 .or. rank > max_rank .or. size(start) /= size(whole) .or. size(count) /= size(whole)) then
       call error_set(err, here, 'rank must be 1..7, the same for the part, for '//where_in(file, name))
-      return
-    end if
-    if (present(grid)) then
-      if (dims(rank) /= product(grid)) then
+    else if (present(grid)) then
+      if (dims(rank) /= product(grid)) &
         call error_set(err, here, 'the grid does not match the last dimension of '//where_in(file, name))
-        return
-      end if
     end if
-    if (any(start < 0) .or. any(count < 0) .or. any(start + count > whole)) then
-      call error_set(err, here, 'the part lies outside '//where_in(file, name))
+    if (.not. allocated(err)) then
+      if (any(start < 0) .or. any(count < 0) .or. any(start + count > whole)) &
+        call error_set(err, here, 'the part lies outside '//where_in(file, name))
+    end if
+    if (allocated(err)) then
+      call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
       return
     end if
     if (.not. file%parallel) then
@@ -811,7 +868,23 @@ contains
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
     if (xfer >= 0) call h5pclose_f(xfer, hdferr)
     if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
+    call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
   end subroutine write_part
+
+  !> In a file of several ranks: an error on any rank an error on all (a
+  !> rank's MPI-IO write can fail alone, a full disk under its aggregator;
+  !> every rank must then leave the file's collective calls together),
+  !> with `msg` on the ranks where nothing failed. A no-op on one process.
+  subroutine agree_outcome(file, here, msg, err)
+    type(h5_file_t), intent(in) :: file
+    character(len=*), intent(in) :: here, msg
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: mine, some
+    if (.not. file%parallel) return
+    mine = allocated(err)
+    call MPI_Allreduce(mine, some, 1, MPI_LOGICAL, MPI_LOR, file%comm)
+    if (some .and. .not. mine) call error_set(err, here, msg//' (failed on another rank)')
+  end subroutine agree_outcome
 
   !> Selects in sid (a dataset of `rank` dimensions whose last is a grid of
   !> shape grid flattened, i fastest) the box at start of shape count, given
@@ -916,6 +989,7 @@ contains
     call release(did, sid, -1_hid_t)
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
     if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
+    call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
   end subroutine write_array
 
   !> Creates and writes a scalar-dataspace dataset from a buffer address; in
@@ -960,6 +1034,7 @@ contains
     call release(did, sid, -1_hid_t)
     if (lcpl >= 0) call h5pclose_f(lcpl, hdferr)
     if (dcpl >= 0) call h5pclose_f(dcpl, hdferr)
+    call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
   end subroutine write_scalar
 
   !> Dataset creation property list of a checksummed dataset of shape

@@ -24,7 +24,7 @@
 !> next to the hex grid, with each frame's own count (particles leave
 !> through open faces; `out%nparts`). Without particles nothing changes.
 module io_output
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_strings, only: itoa
   use base_errors, only: error_t, error_set
   use base_build, only: code_version, build_type
@@ -168,7 +168,15 @@ contains
     nc = [3, g%nhi - g%ulo + 1]
     cs = g%clo - 1 + g%off
     cc = g%chi - g%clo + 1
-    call h5_create(f, path//'.tmp', err, comm=comm)
+    ! (its size, about, for the free-space check of a file of several ranks:
+    ! coordinates, velocities, cell fields, particles, 4 KiB per dataset)
+    np = 0
+    if (present(pt)) np = pt%np
+    k = 0
+    if (present(pnames)) k = size(pnames)
+    call h5_create(f, path//'.tmp', err, comm=comm, need=65536_i8 + len(deck) + &
+                   48_i8*product(int(g%gn + 1, i8)) + (8_i8*(6 + size(names)) + 4)*product(int(g%gn, i8)) + &
+                   8_i8*np*(16 + k) + 4096_i8*(32 + size(names) + k))
     if (allocated(err)) return
     call put_nodes('x', g%x)
     call put_nodes('velocity', h%u)
@@ -195,8 +203,6 @@ contains
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/boundary_work', tot%boundary_work, err)
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
     if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, err)
-    np = 0
-    if (present(pt)) np = pt%np
     if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, err)
     pscalars = [character(len=16) :: 'density', 'volume', 'mass', 'energy']
     if (present(pnames) .and. np > 0) then

@@ -86,7 +86,7 @@ contains
     rank = 0
     if (blocks) then
       call MPI_Comm_rank(comm, rank)
-      call h5_create(f, path//'.tmp', err, checksums=.true., comm=comm)
+      call h5_create(f, path//'.tmp', err, checksums=.true., comm=comm, need=file_bytes())
     else
       call h5_create(f, path//'.tmp', err, checksums=.true.)
     end if
@@ -128,6 +128,32 @@ contains
     end if
     if (rank == 0) call io_rename(path//'.tmp', path, err)
   contains
+    !> The file's size, about: its data (the node and cell quantities the
+    !> whole grid's), the deck and the frame list, and 4 KiB per dataset.
+    integer(int64) function file_bytes() result(n)
+      integer :: q, m
+      n = 65536_int64 + len(deck) + 256_int64*size(frames)
+      do q = 1, reg%n
+        associate (e => reg%e(q))
+          m = 1
+          if (e%location == LOC_NODE .or. e%location == LOC_CELL) m = product(e%dims(1:size(e%dims) - 1))
+          select case (e%kind)
+          case (K_REAL, K_INT)
+            if (e%location == LOC_NODE) then
+              n = n + 8_int64*m*product(int(ix%gn + 1, int64))
+            else if (e%location == LOC_CELL) then
+              n = n + 8_int64*m*product(int(ix%gn, int64))
+            else if (e%kind == K_REAL) then
+              n = n + 8_int64*size(e%r, kind=int64)
+            else
+              n = n + 4_int64*size(e%i, kind=int64)
+            end if
+          end select
+          n = n + 4096
+        end associate
+      end do
+    end function file_bytes
+
     !> A node or cell quantity: this block's owned nodes (those it counts,
     !> every node once) or cells, in the whole grid's dataset.
     subroutine write_owned(e)
