@@ -223,15 +223,15 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: block
     type(registry_t) :: reg
+    character(len=*), parameter :: mixed_damaged = ' is damaged: its mixed cells do not match its cell materials'
     type(mixed_t) :: wx
     integer, allocatable :: pick(:)
-    logical :: blocks
+    logical :: blocks, ok, coupled
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
     integer, allocatable :: dims(:), nparts(:)
     integer :: n, nslot, nseed, nsolid, nhist, stat, k
-    logical :: coupled
 
     blocks = .false.
     if (present(block)) blocks = block
@@ -313,17 +313,18 @@ contains
     if (blocks .and. .not. allocated(err)) then
       ! the block's mixed cells, each named by its cell's material in the
       ! whole list, then numbered in the block
-      wx = st%mx
-      call mixed_of_block(st%g, wx, st%mx, err, pick)
-      if (allocated(err)) return
-      do k = 1, st%mx%n
-        if (st%h%mat(st%mx%cell(k)) /= -pick(k)) then
-          call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: its mixed cells do '// &
-                         'not match its cell materials', ERR_INPUT)
-          return
-        end if
-      end do
-      call mixed_numbers(st)
+      ok = mixed_well_formed(st%mx, product(st%g%gn))
+      if (ok) then
+        wx = st%mx
+        call mixed_of_block(st%g, wx, st%mx, err, pick)
+        if (allocated(err)) return
+        ok = all(st%h%mat(st%mx%cell(1:st%mx%n)) == -pick)
+        call mixed_numbers(st)
+      end if
+      if (.not. ok) then
+        call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
+        return
+      end if
     end if
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
@@ -337,8 +338,7 @@ contains
       return
     end if
     if (.not. mixed_consistent(st)) then
-      call error_set(err, 'cannot restart', '&run restart_from: '//path//' is damaged: its mixed cells do '// &
-                     'not match its cell materials', ERR_INPUT)
+      call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
       return
     end if
     call state_after_read(st)
@@ -443,18 +443,27 @@ contains
   !> material <= 0.
   logical function mixed_consistent(st) result(ok)
     type(state_t), intent(in) :: st
-    integer :: k, c
-    associate (mx => st%mx)
-      ok = mx%start(1) == 1 .and. mx%start(mx%n + 1) == mx%nslot + 1
-      do k = 1, mx%n
-        c = mx%cell(k)
-        if (.not. ok) exit
-        ok = mx%start(k + 1) > mx%start(k) .and. c >= 1 .and. c <= st%g%ncell
-        if (ok) ok = st%h%mat(c) == -k
-      end do
-      ok = ok .and. count(st%h%mat <= 0) == mx%n
-    end associate
+    integer :: k
+    ok = mixed_well_formed(st%mx, st%g%ncell)
+    do k = 1, st%mx%n
+      if (.not. ok) exit
+      ok = st%h%mat(st%mx%cell(k)) == -k
+    end do
+    ok = ok .and. count(st%h%mat <= 0) == st%mx%n
   end function mixed_consistent
+
+  !> True for mixed cells whose slots follow on from one another, at least
+  !> one each, and whose cells are among the grid's ncell.
+  logical function mixed_well_formed(mx, ncell) result(ok)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: ncell
+    integer :: k
+    ok = mx%start(1) == 1 .and. mx%start(mx%n + 1) == mx%nslot + 1
+    do k = 1, mx%n
+      if (.not. ok) exit
+      ok = mx%start(k + 1) > mx%start(k) .and. mx%cell(k) >= 1 .and. mx%cell(k) <= ncell
+    end do
+  end function mixed_well_formed
 
   !> The mixed cells mx of the block of grid g (its owned and ghost cells),
   !> in cell order and numbered in the block, from the whole grid's wx (in

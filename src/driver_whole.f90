@@ -1,11 +1,13 @@
 !> The whole grid on every rank of a decomposed run, for the parts of a run
 !> that do not yet work block by block: the Euler phase (rezone and remap of
 !> the whole grid, computed alike on every rank, each rank then taking its
-!> block back), the particles' moves at Euler steps, and reading a restart
-!> (every rank reads the file into the whole grid and takes its block).
+!> block back) and the particles (seeded on the whole grid, moved on it at
+!> Euler steps); a run that holds it for these reads a restart into it too.
 !> Restart dumps need no whole grid: the ranks write their blocks into one
 !> file together (`whole_dump`), the file of one process, so a dump written
-!> on P ranks continues on any Q.
+!> on P ranks continues on any Q; a run without Euler steps or particles
+!> reads its blocks from it (`read_restart`) and never holds the whole
+!> grid.
 !>
 !> What is copied is what a restart holds (the quantities the packages
 !> register, `base_registry`), then what a restart read rebuilds from them
@@ -19,8 +21,7 @@
 !> This costs the whole grid's memory on every rank and a gather of the
 !> whole state per Euler step: it makes a decomposed run with Euler steps
 !> give the single process's answer (the costly parts of the Euler step are
-!> shared over the ranks, `base_share`). A run without Euler steps or
-!> particles holds it only while it reads a restart.
+!> shared over the ranks, `base_share`).
 module driver_whole
   use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_IN_PLACE, MPI_MAX, MPI_MIN, MPI_SUM
   use base_sort, only: sort_order
