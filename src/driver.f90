@@ -113,6 +113,9 @@ contains
       call gauge_output(cfg, st, sch)
       call history_output(cfg, st, sch)
     end if
+    ! (a decomposed run with particles but no Euler steps needed the whole
+    ! grid only to seed them, or to read their restart)
+    if (allocated(st%whole) .and. trim(cfg%rezone%mode) == 'none') deallocate(st%whole)
     call sch%t_setup%stop()
     call time_loop(cfg, st, sch, es)
     call write_frame(cfg, st, sch, err)

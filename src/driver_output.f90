@@ -21,7 +21,8 @@ module driver_output
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
   use driver_config, only: config_t
-  use parallel_comm, only: comm_t
+  use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN
+  use parallel_comm, only: comm_t, parallel_bcast_text
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift
   use driver_particles, only: particles_gathered
@@ -578,34 +579,45 @@ contains
   !> What set the last step: 'cell (i,j,k) <material>' when the stable step
   !> of that cell did, else 'controller' (growth limit, dt_max, dt_init, end
   !> or output time) followed by the cell with the smallest stable step.
+  !> On several ranks every rank calls this and gets the same text.
   function step_limit_text(st, sch) result(text)
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
     character(len=:), allocatable :: text
-    integer :: k
+    integer :: k, mine, best
+    logical :: here
     k = 0
     if (sch%dt_particle > 0 .and. st%pt%np > 0) k = findloc(st%pt%id, sch%dt_particle, 1)
+    here = k > 0 .or. (sch%dt_particle == 0 .and. sch%dt_cell >= 1 .and. sch%dt_cell <= st%g%ncell)
     if (k > 0) then
       text = 'particle id '//itoa(sch%dt_particle)//' (solid '//itoa(st%pt%mat(k))//', cell '// &
              cell_text(st, st%pt%cell(k))//')'
     else if (sch%dt_particle > 0) then
       text = 'particle id '//itoa(sch%dt_particle)
-    else if (sch%dt_cell < 1 .or. sch%dt_cell > st%g%ncell) then
+    else if (.not. here) then
       text = 'controller'
     else if (sch%dt_by_cell) then
       text = 'cell '//cell_text(st, sch%dt_cell)
     else
       text = 'controller (smallest stable step: cell '//cell_text(st, sch%dt_cell)//')'
     end if
+    if (sch%pc%nranks == 1) return
+    ! (a decomposed run, every rank calling: the text of the block holding
+    ! the limiting cell or particle, the lowest rank's if none does)
+    mine = merge(0, sch%pc%nranks, here) + sch%pc%rank
+    call MPI_Allreduce(mine, best, 1, MPI_INTEGER, MPI_MIN, sch%pc%world)
+    call parallel_bcast_text(sch%pc, text, mod(best, sch%pc%nranks))
   end function step_limit_text
 
-  !> '(i,j,k) <material>' of cell c; a mixed cell names its materials.
+  !> '(i,j,k) <material>' of cell c (its indices in the whole grid); a
+  !> mixed cell names its materials.
   function cell_text(st, c) result(text)
     type(state_t), intent(in) :: st
     integer, intent(in) :: c
     character(len=:), allocatable :: text
     integer :: i, j, k, m, s
     call st%g%cell_ijk(c, i, j, k)
+    i = i + st%g%off(1); j = j + st%g%off(2); k = k + st%g%off(3)
     text = '('//itoa(i)//','//itoa(j)//','//itoa(k)//') '
     m = st%h%mat(c)
     if (m > 0 .and. m <= size(st%mats)) then

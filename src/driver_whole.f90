@@ -2,7 +2,8 @@
 !> that do not yet work block by block: the Euler phase (rezone and remap of
 !> the whole grid, computed alike on every rank, each rank then taking its
 !> block back) and the particles (seeded on the whole grid, moved on it at
-!> Euler steps); a run that holds it for these reads a restart into it too.
+!> Euler steps; without Euler steps the whole grid is let go once they are
+!> seeded); a run that holds it for these reads a restart into it too.
 !> Restart dumps need no whole grid: the ranks write their blocks into one
 !> file together (`whole_dump`), the file of one process, so a dump written
 !> on P ranks continues on any Q; a run without Euler steps or particles

@@ -29,7 +29,10 @@ t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')
 hdt=$(awk -v t="$t_end" 'BEGIN {printf "%.6e", t/8}')
 for n in 1 2 4; do
   out=r$n.out
-  sed -e "s|^&output dir = '[^']*'|\&output dir = 'r$n', name = 'run', history_dt = $hdt|" "$deck" > "r$n.nml"
+  # (a progress line every 5 steps and none by wall time: the lines of
+  # every rank count name the same step-limiting cell)
+  sed -e "s|^&output dir = '[^']*'|\&output dir = 'r$n', name = 'run', history_dt = $hdt|" \
+      -e "s|^\(&run .*\)/ *\$|\1, progress_steps = 5, progress_seconds = 1e9 /|" "$deck" > "r$n.nml"
   if [ "$n" -eq 1 ]; then
     timeout 600 "$exe" r1.nml > r1.out 2>&1; rc=$?
   else
@@ -66,6 +69,12 @@ for n in 1 2 4; do
     cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
       fail "$n ranks: the energy history differs from one process's"; }
     echo "ok: $n ranks: energy history ($(grep -vc '^#' r1/run_history.txt) rows) the same as one process's"
+    if grep -q 'progress_steps = 5' r1.nml; then
+      limits() { grep -E '^step +[0-9]+ .* dt by ' "$1" | sed -E 's/^step +([0-9]+) .* dt by (.*)$/\1 \2/'; }
+      [ "$(limits "r$n.out")" = "$(limits r1.out)" ] || { diff <(limits "r$n.out") <(limits r1.out) | head -4; \
+        fail "$n ranks: the progress lines name other step limits than one process's"; }
+      echo "ok: $n ranks: the step limits of $(limits r1.out | wc -l) progress lines the same as one process's"
+    fi
     if [ -f r1/run_gauges.txt ]; then
       cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
         fail "$n ranks: the gauge histories differ from one process's"; }
