@@ -30,7 +30,8 @@ module driver_euler
                               particles_euler_finish
   implicit none
   private
-  public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_shape, euler_step, euler_report
+  public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, euler_step, &
+            euler_report
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -92,7 +93,8 @@ contains
   !> has passed, or the grid's largest side ratio or smallest cosine of the
   !> inclined angle has reached its bound. With `shape` (a decomposed run:
   !> the largest side ratio and smallest cosine of all blocks, `euler_shape`
-  !> and a global reduction) the grid in st is not read.
+  !> and a global reduction) the grid in st is not read, and the log's note
+  !> of where the grid is worst is the caller's (`euler_due_where`).
   subroutine euler_due(rz, st, es, due, shape)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
@@ -100,15 +102,12 @@ contains
     logical, intent(out) :: due
     real(wp), intent(in), optional :: shape(2)
     real(wp) :: ratio_max, cos_min, mine(2)
-    integer :: ijk_ratio(3), ijk_cos(3)
-    logical :: axis
     due = .false.
     if (.not. es%on) return
     if (rz%interval_steps > 0) due = mod(st%step, rz%interval_steps) == 0
     if (rz%interval_time > 0.0_wp) due = due .or. st%t >= es%t_next*(1.0_wp - 1.0e-12_wp)
     es%trigger_note = 'interval'
     if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
-    axis = euler_axis(rz)
     if (present(shape)) then
       ratio_max = shape(1)
       cos_min = shape(2)
@@ -120,15 +119,24 @@ contains
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rz%side_ratio) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
-    if (present(shape)) then
-      write(es%trigger_note, '("side ratio ",f0.2,", cosine ",f0.3," (all blocks)")') ratio_max, cos_min
-      return
-    end if
-    ! where: the worst cell of each measure
-    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, axis)
-    write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
-      &i0,",",i0,",",i0,")")') ratio_max, ijk_ratio, cos_min, ijk_cos
+    es%trigger_note = 'shape'
+    if (.not. present(shape)) call euler_due_where(rz, st, es, [ratio_max, cos_min])
   end subroutine euler_due
+
+  !> The log's note of a step due by the grid's shape (largest side ratio
+  !> and smallest cosine, shape): the worst cell of each measure in the grid
+  !> of st (a decomposed run's caller: in the whole grid, once gathered).
+  subroutine euler_due_where(rz, st, es, shape)
+    type(rezone_config_t), intent(in) :: rz
+    type(state_t), intent(in) :: st
+    type(euler_state_t), intent(inout) :: es
+    real(wp), intent(in) :: shape(2)
+    integer :: ijk_ratio(3), ijk_cos(3)
+    if (es%trigger_note /= 'shape') return
+    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, euler_axis(rz))
+    write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
+      &i0,",",i0,",",i0,")")') shape(1), ijk_ratio, shape(2), ijk_cos
+  end subroutine euler_due_where
 
   !> Whether the triggers measure the inclined angle against the axes (LSSM's
   !> box reading).

@@ -43,7 +43,7 @@ module driver_whole
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
-  use driver_euler, only: euler_state_t, euler_due, euler_shape, euler_step
+  use driver_euler, only: euler_state_t, euler_due, euler_due_where, euler_shape, euler_step
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
@@ -113,6 +113,7 @@ contains
     call euler_due(cfg%rezone, st%whole, es, due, shape)
     if (.not. due) return
     call whole_gather(pc, st, err)
+    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole, es, shape)
     if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler

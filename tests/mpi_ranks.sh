@@ -75,6 +75,10 @@ for n in 1 2 4; do
         fail "$n ranks: the progress lines name other step limits than one process's"; }
       echo "ok: $n ranks: the step limits of $(limits r1.out | wc -l) progress lines the same as one process's"
     fi
+    # why each Euler step was due (the worst cells by shape: whole-grid indices)
+    dues() { grep -E '^euler [0-9]+ due at step' "$1"; }
+    [ "$(dues "r$n.out")" = "$(dues r1.out)" ] || { diff <(dues "r$n.out") <(dues r1.out) | head -4; \
+      fail "$n ranks: the Euler steps' triggers are logged otherwise than one process's"; }
     if [ -f r1/run_gauges.txt ]; then
       cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
         fail "$n ranks: the gauge histories differ from one process's"; }
