@@ -30,7 +30,7 @@ module driver
   use parallel_comm, only: parallel_start
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_blocks, agree_error
-  use base_memory, only: memory_keep_freed
+  use base_memory, only: memory_keep_freed, memory_peak_mib
   use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart
   implicit none
   private
@@ -367,8 +367,19 @@ contains
     type(euler_state_t), intent(in) :: es
     character(len=256) :: line
     real(wp) :: rate
+    integer :: peak, most
 
     call report_conservation(st, sch%log, 'final')
+    ! (every rank's peak: the largest, and rank 0's)
+    peak = memory_peak_mib()
+    most = peak
+    call st%halo%max_int(most)
+    if (sch%pc%nranks > 1) then
+      call log_line(sch%log, 'memory: peak resident '//itoa(most)//' MiB on the most loaded of '// &
+                    itoa(sch%pc%nranks)//' ranks ('//itoa(peak)//' MiB on rank 0)')
+    else
+      call log_line(sch%log, 'memory: peak resident '//itoa(peak)//' MiB')
+    end if
     rate = 0.0_wp
     if (sch%t_lagrange%total > 0.0_wp) &
       rate = real(product(st%g%gn), wp)*real(st%step - sch%step_start, wp)/sch%t_lagrange%total

@@ -168,7 +168,9 @@ contains
       return
     end if
     sch%dump_wall = wall_seconds() - w0
-    call log_line(sch%log, 'restart '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
+    write(entry, '(f12.3)') sch%dump_wall
+    call log_line(sch%log, 'restart '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t)//' ('// &
+                  trim(adjustl(entry))//' s)')
     entry = path
     if (allocated(sch%dumps)) then
       sch%dumps = [sch%dumps, entry]

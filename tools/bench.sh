@@ -14,7 +14,8 @@
 # runs only that); MPI (issue 16): Sedov 40^3 Lagrangian and with LSSM, 1
 # rank x 2 threads against 2 ranks x 1 thread, the halo's share of the
 # Lagrangian time and its messages and bytes per step, and 4 ranks
-# oversubscribed for the halo counts (BENCH_ONLY=mpi runs only that).
+# oversubscribed for the halo counts; restart dumps and peak memory of Sedov
+# 80^3 on 1 process and 2 ranks (BENCH_ONLY=mpi runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -127,6 +128,43 @@ mpi_bench() {
   echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> tnt32.nml
   echo "## MPI: tnt32.nml (hardcases/tnt_sphere.nml at 32^3, an Euler step every step, two materials, Release)"
   mpi_runs tnt32
+  mpi_dump_bench
+}
+
+# Restart dumps and memory: Sedov 80^3 Lagrangian (512 000 cells), a dump
+# at step 6, continued from it to step 8, on 1 process (1 thread) and on 2
+# ranks x 1 thread: each log's dump time and peak resident memory (the
+# ranks write one file together and hold no whole-grid copy). The two
+# dumps must be equal (h5diff).
+mpi_dump_bench() {
+  local mpiexec root_flag=() n
+  mpiexec=$(command -v mpirun)
+  [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
+  echo "## MPI: restart dumps, Sedov 80^3 Lagrangian (input/sedov3d.nml at 80^3), Release"
+  for n in 1 2; do
+    sed -e 's/ni = 20, nj = 20, nk = 20/ni = 80, nj = 80, nk = 80/' \
+        -e "s|^\(&run .*\)/ *\$|\1, max_steps = 6, dump_steps = 6 /|" \
+        -e "s|^&output.*|\&output dir = 'out/dump80_r$n', name = 'd' /|" "$root/input/sedov3d.nml" > dump80_r$n.nml
+    sed -e "s|max_steps = 6, dump_steps = 6|max_steps = 8, restart_from = 'out/dump80_r$n/d_restart_00000006.h5'|" \
+        dump80_r$n.nml > dump80_r${n}_cont.nml
+    if [ "$n" -eq 1 ]; then
+      OMP_NUM_THREADS=1 "$exe" dump80_r1.nml > dump80_r1.log
+      OMP_NUM_THREADS=1 "$exe" dump80_r1_cont.nml > dump80_r1_cont.log
+    else
+      OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" -np 2 --bind-to core "$exe" dump80_r2.nml > dump80_r2.log
+      OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" -np 2 --bind-to core "$exe" dump80_r2_cont.nml > dump80_r2_cont.log
+    fi
+    echo "$n rank(s): $(grep '^restart out' dump80_r$n.log) | $(grep '^memory' dump80_r$n.log)"
+    echo "  continued: $(grep '^memory' dump80_r${n}_cont.log)"
+    cp dump80_r$n.log dump80_r${n}_cont.log "$outdir/"
+  done
+  if h5diff --exclude-path /deck out/dump80_r1/d_restart_00000006.h5 out/dump80_r2/d_restart_00000006.h5 \
+    > /dev/null; then
+    echo "the 2-rank dump equals the single process's (h5diff, but the deck naming the output folder)"
+  else
+    echo "the 2-rank dump DIFFERS from the single process's"
+  fi
+  echo
 }
 
 # One deck on 1 rank x 2 threads, 2 ranks x 1 thread and 4 ranks x 1

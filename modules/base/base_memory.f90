@@ -9,11 +9,15 @@
 !> are reused by the next step. The process then keeps its peak memory
 !> rather than shrinking between steps; blocks above 32 MiB (grids beyond
 !> about a million cells) are still mapped and unmapped each time.
+!>
+!> `memory_peak_mib`: the process's peak resident memory so far (Linux's
+!> VmHWM), for the log.
 module base_memory
   use, intrinsic :: iso_c_binding, only: c_int
+  use base_kinds, only: i8
   implicit none
   private
-  public :: memory_keep_freed
+  public :: memory_keep_freed, memory_peak_mib
 
   !> glibc's malloc.h: mallopt parameters
   integer(c_int), parameter :: M_TRIM_THRESHOLD = -1_c_int, M_MMAP_THRESHOLD = -3_c_int
@@ -36,4 +40,24 @@ contains
     ok = mallopt(M_MMAP_THRESHOLD, 33554432_c_int)
     ok = mallopt(M_TRIM_THRESHOLD, huge(1_c_int))
   end subroutine memory_keep_freed
+
+  !> The peak resident memory of this process so far in MiB (VmHWM of
+  !> /proc/self/status); -1 where that cannot be read.
+  integer function memory_peak_mib() result(mib)
+    character(len=256) :: line
+    integer(i8) :: kib
+    integer :: u, ios
+    mib = -1
+    open(newunit=u, file='/proc/self/status', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (line(1:6) /= 'VmHWM:') cycle
+      read(line(7:), *, iostat=ios) kib
+      if (ios == 0) mib = int((kib + 1023_i8)/1024_i8)
+      exit
+    end do
+    close(u)
+  end function memory_peak_mib
 end module base_memory

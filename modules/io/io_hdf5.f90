@@ -10,9 +10,12 @@
 !> the file is written in the newest format of the library (HDF5 1.10), whose
 !> superblock, object headers, group indexes and chunk indexes all carry
 !> checksums, and every dataset that holds data carries HDF5's Fletcher-32
-!> checksum of its data. The filter needs a chunked layout: an array is one
-!> chunk (cut along its last dimension above 1 GiB, HDF5's chunk limit being
-!> 4 GiB), a scalar (number or string) is stored as a one-element chunked
+!> checksum of its data. The filter needs a chunked layout: an array is cut
+!> along its last dimension into chunks of at most 1 MiB (in a file of
+!> several ranks HDF5 gives each chunk to one rank, which checksums and
+!> writes it: with one chunk per array a dump of 512 000 cells took 0.75 s
+!> on 2 ranks, with chunks of 1 MiB 0.4-0.5 s; one process: 0.07-0.3 s),
+!> a scalar (number or string) is stored as a one-element chunked
 !> array (the readers of scalars accept both), and a zero-size array is left
 !> contiguous, as it has no data to checksum (its shape is metadata, covered
 !> by the object header's checksum). HDF5 verifies the checksum on every
@@ -115,8 +118,8 @@ module io_hdf5
     end function c_statvfs
   end interface
 
-  !> Largest chunk of a checksummed dataset (bytes; HDF5's limit is 4 GiB).
-  integer(int64), parameter :: max_chunk_bytes = 2_int64**30
+  !> Largest chunk of a checksummed dataset (bytes; module notes).
+  integer(int64), parameter :: max_chunk_bytes = 2_int64**20
 
 contains
 
