@@ -29,7 +29,7 @@ module io_restart
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_LOGICAL, MPI_LOR
   use mesh_grid, only: grid_index_t
   use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
                      h5_write_part_real, h5_write_part_int, &
@@ -78,14 +78,25 @@ contains
     type(grid_index_t), intent(in), optional :: ix
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
-    integer :: k, rank
-    logical :: blocks
+    integer, allocatable :: ibuf(:)
+    real(wp), allocatable :: rbuf(:)
+    integer :: k, rank, stat
+    logical :: blocks, short
     character(len=:), allocatable :: list
 
     blocks = present(comm) .and. present(ix)
     rank = 0
     if (blocks) then
       call MPI_Comm_rank(comm, rank)
+      ! the buffers of this block's parts, allocated before the collective
+      ! writes and agreed on (a rank short of memory in the middle of them
+      ! would leave the others waiting)
+      allocate(rbuf(buffer_size(K_REAL)), ibuf(buffer_size(K_INT)), stat=stat)
+      call MPI_Allreduce(stat /= 0, short, 1, MPI_LOGICAL, MPI_LOR, comm)
+      if (short) then
+        call error_set(err, 'restart_write', 'out of memory for the parts of '//path//' (on some rank)')
+        return
+      end if
       call h5_create(f, path//'.tmp', err, checksums=.true., comm=comm, need=file_bytes())
     else
       call h5_create(f, path//'.tmp', err, checksums=.true.)
@@ -154,13 +165,30 @@ contains
       end do
     end function file_bytes
 
+    !> The largest part of a node or cell quantity of this kind this block
+    !> writes (values).
+    integer function buffer_size(kind) result(n)
+      integer, intent(in) :: kind
+      integer :: q
+      n = 0
+      do q = 1, reg%n
+        associate (e => reg%e(q))
+          if (e%kind /= kind) cycle
+          if (e%location == LOC_NODE) then
+            n = max(n, product(e%dims(1:size(e%dims) - 1))*product(ix%nhi - ix%ulo + 1))
+          else if (e%location == LOC_CELL) then
+            n = max(n, product(e%dims(1:size(e%dims) - 1))*product(ix%chi - ix%clo + 1))
+          end if
+        end associate
+      end do
+    end function buffer_size
+
     !> A node or cell quantity: this block's owned nodes (those it counts,
     !> every node once) or cells, in the whole grid's dataset.
     subroutine write_owned(e)
       type(registry_entry_t), intent(in) :: e
-      integer, allocatable :: lead(:), ibuf(:)
-      real(wp), allocatable :: rbuf(:)
-      integer :: lo(3), hi(3), grid(3), m, n, p, i, j, l, q, stat
+      integer, allocatable :: lead(:)
+      integer :: lo(3), hi(3), grid(3), m, p, i, j, l, q
       logical :: nodes
       nodes = e%location == LOC_NODE
       if (nodes) then
@@ -170,16 +198,6 @@ contains
       end if
       lead = e%dims(1:size(e%dims) - 1)
       m = product(lead)
-      n = m*product(hi - lo + 1)
-      if (e%kind == K_REAL) then
-        allocate(rbuf(n), ibuf(0), stat=stat)
-      else
-        allocate(rbuf(0), ibuf(n), stat=stat)
-      end if
-      if (stat /= 0) then
-        call error_set(err, 'restart_write', 'out of memory for '//trim(e%name))
-        return
-      end if
       p = 0
       do l = lo(3), hi(3)
         do j = lo(2), hi(2)
