@@ -24,14 +24,16 @@ module driver_euler
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   use io_log, only: log_t, log_line
-  use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
+  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
+  use base_share, only: share_t
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use driver_state, only: state_t
   use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, &
                               particles_euler_finish
   implicit none
   private
-  public :: euler_state_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, euler_step, &
-            euler_report
+  public :: euler_state_t, euler_start_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, &
+            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -51,6 +53,14 @@ module driver_euler
     !> remaps, and refreshes of their centroids before them (and dumps)
     type(centroid_stats_t) :: centroids
   end type euler_state_t
+
+  !> What an Euler step starts from: the totals it must conserve (mass,
+  !> momentum, internal and kinetic energy), the scale of its momentum
+  !> (sum of |m u| over the nodes) and its rezone's wall time.
+  type :: euler_start_t
+    real(wp) :: mass = 0.0_wp, momentum(3) = 0.0_wp, internal = 0.0_wp, kinetic = 0.0_wp, pscale = 0.0_wp
+    real(wp) :: t_rezone = 0.0_wp
+  end type euler_start_t
 
 contains
 
@@ -175,39 +185,31 @@ contains
 
   !> One Euler step: rezone, remap, new material states; checks
   !> conservation in every build (a breach beyond &rezone conservation_tol
-  !> is a runtime failure, never a log line followed by NaN) and logs.
-  subroutine euler_step(rz, st, es, log, err)
+  !> is a runtime failure, never a log line followed by NaN) and logs. With
+  !> xrezoned the grid is rezoned already (a decomposed run's, on the whole
+  !> grid's node positions: `driver_whole`) and e0 holds what the step
+  !> started from (`euler_begin` done).
+  subroutine euler_step(rz, st, es, log, err, xrezoned, e0)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: xrezoned(:, :)
+    type(euler_start_t), intent(in), optional :: e0
+    type(euler_start_t) :: start
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
-    real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3), t_rezone
     real(wp), allocatable :: xnew(:, :)
-    integer :: n, f, nmove, stat
     logical :: done
-    character(len=400) :: line
-    character(len=200) :: msg
-    character(len=40) :: shared
 
-    call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
-    call es%timer%start()
-    par%linear = trim(rz%reconstruction) == 'linear'
-    par%mof_max_iter = rz%mof_max_iter
-    call hydro_totals(st%g, st%h, st%halo, m0, p0, ie0, ke0)
-    pscale = 0.0_wp
-    do n = 1, st%g%nnode
-      pscale = pscale + st%h%mnode(n)*norm2(st%h%u(:, n))
-    end do
-
-    ! rezone: back to the initial grid, or smoothing (localized or global)
-    t_rezone = wall_seconds()
-    if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
-      xnew = st%g%x
-      if (st%pt%np > 0) then
+    if (present(xrezoned)) then
+      start = e0
+      xnew = xrezoned
+    else
+      call euler_begin(st, es, log, start)
+      if (st%pt%np > 0 .and. (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth')) then
         ! Remark 2 (Sect. 5.2): the particles placed in the standard grid;
         ! the cells they occupy there are the smoothing's fixed inner boundary
         call particles_euler_preposition(st, es%x0, pe, err)
@@ -219,34 +221,10 @@ contains
         end if
       end if
       ! (pe%occupied unallocated without particles: absent)
-      call smooth_rezone(rz, st, es, log, xnew, done, err, pe%occupied)
-      if (allocated(err) .or. .not. done) then
-        ! a skipped step still uses up its interval (else the interval
-        ! trigger fires, and is skipped, at every following step)
-        call rearm_interval(rz, st, es)
-        call es%timer%stop()
-        return
-      end if
-    else
-      ! back to the initial grid, except where a face moves with the
-      ! material (a piston, a free surface): there the grid follows it
-      allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'euler_step', 'cannot allocate the rezoned grid: '//trim(msg))
-        call es%timer%stop()
-        return
-      end if
-      call global_target(st%g%ni, st%g%nj, st%g%nk, [(global_face_rule(st%bc%kind(f)), f = 1, 6)], es%x0, &
-                         st%g%x, xnew, nmove, err)
-      if (allocated(err)) then
-        call es%timer%stop()
-        return
-      end if
-      if (nmove > 0) call log_line(log, 'global rezone: '//itoa(nmove)//' nodes of moving faces kept where they are, '// &
-                                   'the others back to the initial grid plus the TFI of their displacement')
+      call euler_rezone(rz, st%g, st%bc, st%share, st%step, st%t, es, log, start, xnew, done, err, pe%occupied)
+      if (allocated(err) .or. .not. done) return
     end if
-    t_rezone = wall_seconds() - t_rezone
-    es%t_rezone_total = es%t_rezone_total + t_rezone
+    par = remap_params(rz)
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left
     call centroids_refresh(st%g, st%mx, es%centroids)
@@ -264,18 +242,136 @@ contains
     end if
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)
     call mixed_cell_state(st%mx, st%h%p, st%h%cs)
-    es%n = es%n + 1
-    call rearm_interval(rz, st, es)
-    call es%timer%stop()
+    call euler_finish(rz, st, es, log, start, rs, err)
+    ! the particles in the new grid and their share of the nodes rebuilt
+    ! (after the fluid's check: the fluid's remap conserves by itself)
+    if (.not. allocated(err) .and. st%pt%np > 0) then
+      call es%timer%start()
+      call particles_euler_finish(st, pe, log, err)
+      call es%timer%stop()
+    end if
+  end subroutine euler_step
 
+  !> The remap's settings from the deck.
+  function remap_params(rz) result(par)
+    type(rezone_config_t), intent(in) :: rz
+    type(remap_params_t) :: par
+    par%linear = trim(rz%reconstruction) == 'linear'
+    par%mof_max_iter = rz%mof_max_iter
+  end function remap_params
+
+  !> An Euler step begins: its log line, its timer, and the totals it must
+  !> conserve (st: the whole grid, or a block of a decomposed run; the
+  !> totals are exact sums, the same on any rank count).
+  subroutine euler_begin(st, es, log, e0)
+    type(state_t), intent(in) :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    type(euler_start_t), intent(out) :: e0
+    type(xsum_t) :: acc(1)
+    integer :: i, j, k, n
+    call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
+    call es%timer%start()
+    call hydro_totals(st%g, st%h, st%halo, e0%mass, e0%momentum, e0%internal, e0%kinetic)
+    do k = st%g%ulo(3), st%g%nhi(3)
+      do j = st%g%ulo(2), st%g%nhi(2)
+        do i = st%g%ulo(1), st%g%nhi(1)
+          n = st%g%node(i, j, k)
+          call xsum_add(acc(1), st%h%mnode(n)*norm2(st%h%u(:, n)))
+        end do
+      end do
+    end do
+    call st%halo%sums(acc)
+    e0%pscale = xsum_value(acc(1))
+  end subroutine euler_begin
+
+  !> The rezone of an Euler step: back to the initial grid, with moving
+  !> faces followed (&rezone mode 'global'), or smoothing ('lssm',
+  !> 'smooth'), of the grid g (one process's, or the whole grid's node
+  !> positions on every rank of a decomposed run, share: the ranks that
+  !> share its quality measures). xnew: the rezoned grid; done false (the
+  !> step skipped, its interval used up, its timer stopped) if no cell needs
+  !> it, or on an error.
+  subroutine euler_rezone(rz, g, bc, share, step, t, es, log, e0, xnew, done, err, occupied)
+    type(rezone_config_t), intent(in) :: rz
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    class(share_t), intent(in), optional :: share
+    integer, intent(in) :: step
+    real(wp), intent(in) :: t
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    type(euler_start_t), intent(inout) :: e0
+    real(wp), allocatable, intent(out) :: xnew(:, :)
+    logical, intent(out) :: done
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: occupied(:)
+    integer :: f, nmove, stat
+    character(len=200) :: msg
+
+    e0%t_rezone = wall_seconds()
+    done = .true.
+    if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
+      xnew = g%x
+      call smooth_rezone(rz, g, bc, share, step, es, log, xnew, done, err, occupied)
+    else
+      ! back to the initial grid, except where a face moves with the
+      ! material (a piston, a free surface): there the grid follows it
+      allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'euler_step', 'cannot allocate the rezoned grid: '//trim(msg))
+      else
+        call global_target(g%ni, g%nj, g%nk, [(global_face_rule(bc%kind(f)), f = 1, 6)], es%x0, g%x, xnew, &
+                           nmove, err)
+      end if
+      if (.not. allocated(err) .and. nmove > 0) &
+        call log_line(log, 'global rezone: '//itoa(nmove)//' nodes of moving faces kept where they are, '// &
+                      'the others back to the initial grid plus the TFI of their displacement')
+    end if
+    if (allocated(err) .or. .not. done) then
+      ! a skipped step still uses up its interval (else the interval
+      ! trigger fires, and is skipped, at every following step)
+      call rearm_interval(rz, t, es)
+      call es%timer%stop()
+      done = .false.
+      return
+    end if
+    e0%t_rezone = wall_seconds() - e0%t_rezone
+    es%t_rezone_total = es%t_rezone_total + e0%t_rezone
+  end subroutine euler_rezone
+
+  !> An Euler step's end, once the remapped state is in st (the whole grid,
+  !> or a decomposed run's blocks) and rs says what the remap did (on a
+  !> decomposed run: summed over the ranks): its count, the next interval,
+  !> the log and the conservation check against e0.
+  subroutine euler_finish(rz, st, es, log, e0, rs, err)
+    type(rezone_config_t), intent(in) :: rz
+    type(state_t), intent(inout) :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    type(euler_start_t), intent(in) :: e0
+    type(remap_stats_t), intent(in) :: rs
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: m0, ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3)
+    character(len=400) :: line
+    character(len=40) :: shared
+
+    es%n = es%n + 1
+    call rearm_interval(rz, st%t, es)
+    call es%timer%stop()
+    m0 = e0%mass
+    ie0 = e0%internal
+    ke0 = e0%kinetic
+    pscale = e0%pscale
     shared = ''
     if (rs%parts > 1) shared = ' shared by '//itoa(rs%parts)//' ranks'
+    if (rs%parts < 0) shared = ' in '//itoa(-rs%parts)//' windows'
     ! what came in and went out through open faces is external work
     st%tot%boundary_work = st%tot%boundary_work + rs%energy_in - rs%energy_out
     call hydro_totals(st%g, st%h, st%halo, m1, p1, ie1, ke1)
     m1 = m1 - rs%mass_in + rs%mass_out
     ie1 = ie1 - rs%energy_in + rs%energy_out
-    dp = p1 - p0 + rs%momentum_constrained - rs%momentum_in + rs%momentum_out
+    dp = p1 - e0%momentum + rs%momentum_constrained - rs%momentum_in + rs%momentum_out
     write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
@@ -284,7 +380,7 @@ contains
       es%n, st%step, st%t, rs%cells_remapped, rs%cells_copied, rs%reach, rs%volume_defect, &
       rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, &
       real(rs%mof_iterations, wp)/real(max(rs%mof_cells, 1), wp), rs%mof_not_converged, rs%mof_err_max, &
-      rs%ke_to_internal, t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &
+      rs%ke_to_internal, e0%t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &
       trim(shared), &
       rs%t_assemble
     call log_line(log, trim(line))
@@ -321,23 +417,16 @@ contains
                      rtoa(norm2(dp))//' of '//rtoa(pscale)//' (&rezone conservation_tol '// &
                      rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     end if
-    ! the particles in the new grid and their share of the nodes rebuilt
-    ! (after the fluid's check: the fluid's remap conserves by itself)
-    if (.not. allocated(err) .and. st%pt%np > 0) then
-      call es%timer%start()
-      call particles_euler_finish(st, pe, log, err)
-      call es%timer%stop()
-    end if
-  end subroutine euler_step
+  end subroutine euler_finish
 
   !> The next Euler step by interval_time: past the current time by whole
   !> intervals.
-  subroutine rearm_interval(rz, st, es)
+  subroutine rearm_interval(rz, t, es)
     type(rezone_config_t), intent(in) :: rz
-    type(state_t), intent(in) :: st
+    real(wp), intent(in) :: t
     type(euler_state_t), intent(inout) :: es
     if (.not. rz%interval_time > 0.0_wp) return
-    do while (es%t_next <= st%t*(1.0_wp + 1.0e-12_wp))
+    do while (es%t_next <= t*(1.0_wp + 1.0e-12_wp))
       es%t_next = es%t_next + rz%interval_time
     end do
   end subroutine rearm_interval
@@ -371,9 +460,12 @@ contains
   !> through-flow and the domain goes with it), and with drift_max > 0 every
   !> other node that drifted more than drift_max of it. The other cells
   !> around the nodes so moved join the distorted cells.
-  subroutine smooth_rezone(rz, st, es, log, x, done, err, occupied)
+  subroutine smooth_rezone(rz, g, bc, share, step, es, log, x, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
-    type(state_t), intent(in) :: st
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    class(share_t), intent(in), optional :: share
+    integer, intent(in) :: step
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
     real(wp), intent(inout) :: x(:, :)
@@ -392,23 +484,22 @@ contains
 
     done = .false.
     box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
-    associate (g => st%g)
       allocate(moved(g%nnode), touched(g%ncell), stat=nreset)
       if (nreset /= 0) then
         call error_set(err, 'smooth_rezone', 'cannot allocate the snapping work arrays')
         return
       end if
-      call snap_nodes(rz, st, es%x0, x, moved, nsnap, occupied)
+      call snap_nodes(rz, g, bc, es%x0, x, moved, nsnap, occupied)
       call cells_touched(g, moved, touched, occupied)
       if (box) then
         ! Eq. (46) against each cell's own box, aspect ratio up to the
         ! geometric middle of the paper's cube (1) and the trigger's bound
         aspect_max = huge(1.0_wp)
         if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max, share=st%share)
-        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail, st%share)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max, share=share)
+        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail, share)
       else
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, share=st%share)
+        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, share=share)
       end if
       if (trim(rz%mode) == 'smooth') then
         ! the whole block as one subdomain
@@ -434,16 +525,16 @@ contains
         ! only the snapped nodes move (every cell around them is occupied)
         done = any(moved)
         if (done) then
-          call log_line(log, trim(rz%mode)//' at step '//itoa(st%step)//': no cell to smooth; '//itoa(nsnap)// &
+          call log_line(log, trim(rz%mode)//' at step '//itoa(step)//': no cell to smooth; '//itoa(nsnap)// &
                         ' nodes put back on the standard grid')
           return
         end if
       end if
       if (.not. done) then
         if (box) then
-          call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell fails the triggers'' tests')
+          call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell fails the triggers'' tests')
         else
-          call log_line(log, 'euler step skipped at step '//itoa(st%step)//': no cell has Q < '//rtoa(rz%quality))
+          call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell has Q < '//rtoa(rz%quality))
         end if
         return
       end if
@@ -484,19 +575,19 @@ contains
       q_min = smooth_q_min(reg, x)
       write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
         &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
-        &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), st%step, sub%n_distorted, &
+        &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), step, sub%n_distorted, &
         sub%nbox, count(sub%cell_smooth), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
         trim(kept), reg%n_guarded, nrevert, nsnap
       call log_line(log, trim(line))
-    end associate
   end subroutine smooth_rezone
 
   !> The nodes `smooth_rezone` puts back on the standard grid x0 before
   !> smoothing (its notes): x(:, n) = x0(:, n) for each; moved(n) tells
   !> whether node n's place changed so, nsnap counts them.
-  subroutine snap_nodes(rz, st, x0, x, moved, nsnap, occupied)
+  subroutine snap_nodes(rz, g, bc, x0, x, moved, nsnap, occupied)
     type(rezone_config_t), intent(in) :: rz
-    type(state_t), intent(in) :: st
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: x0(:, :)
     real(wp), intent(inout) :: x(:, :)
     logical, intent(out) :: moved(:)
@@ -505,8 +596,7 @@ contains
     integer :: n, c, a, i, j, k, d, f, nb(3), ijk(3), stride(3)
     real(wp) :: h0, limit
     logical :: snap, open(6)
-    open = [(st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
-    associate (g => st%g)
+    open = [(bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
       stride = [1, g%sx, g%sxy]
       nb = [g%ni, g%nj, g%nk]
       do n = 1, g%nnode
@@ -543,7 +633,6 @@ contains
         end do
       end if
       nsnap = count(moved)
-    end associate
   end subroutine snap_nodes
 
   !> The cells (not occupied by particles) with a node that moved.

@@ -10,7 +10,7 @@ module parallel_gather
   use parallel_comm, only: comm_t, parallel_nomem
   implicit none
   private
-  public :: gather_cells, gather_nodes, gather_concat
+  public :: gather_cells, gather_nodes, gather_box, gather_concat
 
   !> Concatenation over the ranks, in rank order, on every rank.
   interface gather_concat
@@ -112,6 +112,83 @@ contains
       end do
     end do
   end subroutine gather
+
+  !> w(m, nodes or cells of a box) on every rank from every block's a(m,
+  !> nnode or ncell): the box of cells lo..hi (whole-grid indices; its nodes
+  !> lo-1..hi), stored as a single block of that size (`grid_index`). Each
+  !> rank asks for its own box; the blocks send what they own of each
+  !> (their owned cells, or the owned nodes they count), so that a rank
+  !> receives only the part of the whole grid it asked for.
+  subroutine gather_box(pc, ix, a, lo, hi, w, nodes)
+    type(comm_t), intent(in) :: pc
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: a(:, :)
+    integer, intent(in) :: lo(3), hi(3)
+    real(wp), allocatable, intent(out) :: w(:, :)
+    logical, intent(in) :: nodes
+    integer :: boxes(12, 0:pc%nranks - 1), mine(12), scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), &
+               sdispls(0:pc%nranks - 1), rdispls(0:pc%nranks - 1)
+    integer :: m, r, i, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    type(grid_index_t) :: box
+
+    m = size(a, 1)
+    ! (owned range, then asked box, in whole-grid node or cell indices)
+    if (nodes) then
+      mine = [ix%ulo + ix%off, ix%nhi + ix%off, lo - 1, hi]
+    else
+      mine = [ix%clo + ix%off, ix%chi + ix%off, lo, hi]
+    end if
+    call MPI_Allgather(mine, 12, MPI_INTEGER, boxes, 12, MPI_INTEGER, pc%cart)
+    do r = 0, pc%nranks - 1
+      ! what this rank sends to r, and receives from r
+      scounts(r) = m*product(max(min(mine(4:6), boxes(10:12, r)) - max(mine(1:3), boxes(7:9, r)) + 1, 0))
+      rcounts(r) = m*product(max(min(boxes(4:6, r), mine(10:12)) - max(boxes(1:3, r), mine(7:9)) + 1, 0))
+    end do
+    sdispls(0) = 0
+    rdispls(0) = 0
+    do r = 1, pc%nranks - 1
+      sdispls(r) = sdispls(r - 1) + scounts(r - 1)
+      rdispls(r) = rdispls(r - 1) + rcounts(r - 1)
+    end do
+    allocate(sbuf(max(sum(scounts), 1)), rbuf(max(sum(rcounts), 1)), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    do r = 0, pc%nranks - 1
+      blo = max(mine(1:3), boxes(7:9, r)) - ix%off
+      bhi = min(mine(4:6), boxes(10:12, r)) - ix%off
+      p = sdispls(r)
+      do k = blo(3), bhi(3)
+        do j = blo(2), bhi(2)
+          do i = blo(1), bhi(1)
+            q = merge(ix%node(i, j, k), ix%cell(i, j, k), nodes)
+            sbuf(p + 1:p + m) = a(:, q)
+            p = p + m
+          end do
+        end do
+      end do
+    end do
+    call MPI_Alltoallv(sbuf, scounts, sdispls, MPI_DOUBLE_PRECISION, rbuf, rcounts, rdispls, MPI_DOUBLE_PRECISION, &
+                       pc%cart)
+    box = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
+    allocate(w(m, merge(box%nnode, box%ncell, nodes)), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    ! (box index = whole-grid index - b)
+    b = lo - 1
+    do r = 0, pc%nranks - 1
+      olo = max(boxes(1:3, r), mine(7:9))
+      ohi = min(boxes(4:6, r), mine(10:12))
+      p = rdispls(r)
+      do k = olo(3), ohi(3)
+        do j = olo(2), ohi(2)
+          do i = olo(1), ohi(1)
+            q = merge(box%node(i - b(1), j - b(2), k - b(3)), box%cell(i - b(1), j - b(2), k - b(3)), nodes)
+            w(:, q) = rbuf(p + 1:p + m)
+            p = p + m
+          end do
+        end do
+      end do
+    end do
+  end subroutine gather_box
 
   !> The counts and offsets of a concatenation of n items per rank.
   subroutine concat_counts(pc, n, counts, displs)

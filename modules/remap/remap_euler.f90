@@ -112,7 +112,7 @@ module remap_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_euler_step
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -159,7 +159,33 @@ module remap_euler
     real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
+    !> with a zone: owned new cells the old cells within reach_max did not
+    !> cover, and owned old regions the computed new cells did not cover
+    !> (neither is an error there: the caller remaps the whole grid instead)
+    integer :: cells_short = 0, regions_uncovered = 0
   end type remap_stats_t
+
+  !> A remap of a window of the grid: one rank's block widened by the
+  !> cells around it (a box of the whole grid; `driver_whole`), of which
+  !> only some cells come out right. The new cells `compute` are
+  !> intersected (the others are copied as if unchanged); `own` (cells) and
+  !> `own_node` (nodes) are those the stats count and the checks look at,
+  !> each cell and node of the whole grid in one rank's zone only. A new
+  !> cell is searched within reach_max index steps at most. What the whole
+  !> grid's remap does beyond the window is not done but counted
+  !> (remap_stats_t's cells_short, regions_uncovered and cells_deficit:
+  !> the kinetic energy deficits taken from cells further away, in cell
+  !> order over the whole grid): the caller checks that none occurred in
+  !> any zone, else the results of this remap are not those of the whole
+  !> grid's. With compute = own + max(1 + the results needed around own,
+  !> reach_max) and the window = compute + reach_max + 2 (the old cells
+  !> within reach and their gradients' stencils), the results in own and in
+  !> the layers around it that compute leaves valid are bit for bit those
+  !> of the whole grid's remap.
+  type :: remap_zone_t
+    logical, allocatable :: compute(:), own(:), own_node(:)
+    integer :: reach_max = 2
+  end type remap_zone_t
 
   !> The old grid's cells as the remap needs them.
   type :: old_t
@@ -219,7 +245,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -232,6 +258,8 @@ contains
     !> the ranks sharing the intersections and MoF of the changed cells, when every
     !> rank holds the whole grid (`base_share`; absent: this process does all)
     class(share_t), intent(in), optional :: share
+    !> a window's remap (the module's `remap_zone_t`; absent: the whole grid)
+    type(remap_zone_t), intent(in), optional :: zone
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
@@ -243,10 +271,12 @@ contains
     logical :: sharing
     real(wp) :: w0, vnew, defect, xn(3, 8), given
     integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck
-    logical :: any_open
+    logical :: any_open, windowed
+    logical, allocatable :: own(:)
     character(len=200) :: msg
 
     ncell = g%ncell
+    windowed = present(zone)
     if (nmat > max_mat) then
       call error_set(err, 'remap_euler_step', 'at most '//itoa(max_mat)//' materials')
       return
@@ -262,10 +292,19 @@ contains
       return
     end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
+    if (windowed) then
+      if (any_open) then
+        call error_set(err, 'remap_euler_step', 'a window''s remap with open faces')
+        return
+      end if
+      own = zone%own
+    else
+      own = [(.true., c = 1, ncell)]
+    end if
     gap_face = 0
     beyond = .false.
     if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
-    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
+    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, own, share)
     if (allocated(err)) return
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
@@ -284,12 +323,16 @@ contains
     ! fragments do not add up to the cell (a node moved further than a cell)
     w0 = wall_seconds()
     todo = pack([(c, c = 1, ncell)], old%changed)
-    stats%cells_remapped = size(todo)
-    stats%cells_copied = ncell - size(todo)
-    reach = 0
-    r = 1
+    stats%cells_remapped = count(old%changed .and. own)
+    stats%cells_copied = count(own) - stats%cells_remapped
     ! the whole block: no overlap can lie further
     rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
+    if (windowed) then
+      todo = pack([(c, c = 1, ncell)], old%changed .and. zone%compute)
+      rmax = min(rmax, zone%reach_max)
+    end if
+    reach = 0
+    r = 1
     ngap = 0
     do while (size(todo) > 0)
       call intersect_cells(todo, r, 1.0_wp)
@@ -309,6 +352,11 @@ contains
         else if (defect > 1.0e-9_wp .and. r < rmax) then
           nbad = nbad + 1
           todo(nbad) = c
+        else if (windowed) then
+          ! (beyond the window's reach: the caller's to redo)
+          if (own(c) .and. defect > 1.0e-9_wp) stats%cells_short = stats%cells_short + 1
+          if (own(c) .and. .not. defect > 1.0e-9_wp) stats%volume_defect = max(stats%volume_defect, defect)
+          if (own(c)) reach(c) = r
         else
           stats%volume_defect = max(stats%volume_defect, defect)
           reach(c) = r
@@ -341,11 +389,18 @@ contains
       ! what lies beyond an open face has left the domain
       co = c
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-      if (beyond(co)) cycle
+      if (beyond(co) .or. .not. own(co)) cycle
       ! relative to the cell: a sliver region's own round-off can be larger
       given = real(old%given(c), wp)*old%gunit(c)
+      if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) then
+        stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
+        cycle
+      end if
+      if (windowed) then
+        stats%regions_uncovered = stats%regions_uncovered + 1
+        cycle
+      end if
       stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
-      if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) cycle
       if (.not. given > 0.0_wp) then
         call g%cell_ijk(co, ci, cj, ck)
         call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' (cell ('//itoa(ci)//','//itoa(cj)// &
@@ -378,13 +433,20 @@ contains
       call intersect_cells(todo, stats%reach, 0.0_wp)
     end if
     stats%t_intersect = wall_seconds() - w0
+    ! (a window's cells not computed are copied: their results are not used)
+    if (windowed) old%changed = old%changed .and. zone%compute
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
     if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, avol, amom, amass, aie, &
                                   cdef, cmom, cke, cland, pcell, stats)
 
     w0 = wall_seconds()
-    call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                  stats, err)
+    if (windowed) then
+      call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                    stats, err, own, zone%own_node)
+    else
+      call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                    stats, err)
+    end if
     stats%t_assemble = wall_seconds() - w0
 
   contains
@@ -552,7 +614,7 @@ contains
   !> (gap_face, gap_cell of `open_face_cells`); the other cells' state is NaN
   !> here, so that a read of it could not pass unnoticed. An Euler step that
   !> moves a few cells of a large grid then costs little more than them.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, own, share)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -563,6 +625,7 @@ contains
     type(old_t), intent(inout) :: old
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in) :: own(:)   !< the cells the stats count
     class(share_t), intent(in), optional :: share
     real(wp) :: xn(3, 8), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail
@@ -718,10 +781,11 @@ contains
         call slot_state(mof(j), res(4:, j), .false.)
       end do
     end if
-    nits = nint(sum(res(1, :)))
-    nfail = nint(sum(res(2, :)))
+    mine = [(own(mx%cell(mof(j))), j = 1, nmof)]
+    nits = nint(sum(res(1, :), mask=mine))
+    nfail = nint(sum(res(2, :), mask=mine))
     errmax = 0.0_wp
-    if (nmof > 0) errmax = maxval(res(3, :))
+    if (nmof > 0) errmax = maxval(res(3, :), mask=mine)
     ! only what the intersection hands out counts as a region: pure cells
     ! and slots with mass, of cells that moved
     do c = 1, ncell
@@ -732,7 +796,7 @@ contains
         if (.not. old%changed(mx%cell(k)) .or. .not. mx%mass(s) > 0.0_wp) old%vreg(ncell + s) = 0.0_wp
       end do
     end do
-    stats%mof_cells = nmof
+    stats%mof_cells = count(mine)
     stats%mof_iterations = nits
     stats%mof_not_converged = nfail
     stats%mof_err_max = errmax
@@ -1791,7 +1855,7 @@ contains
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
   subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err)
+                      stats, err, own, own_node)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -1805,6 +1869,9 @@ contains
     real(wp), intent(in) :: cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
+    !> a window's (`remap_zone_t`): the cells and nodes the stats count; the
+    !> kinetic energy deficits are counted there, not repaired
+    logical, intent(in), optional :: own(:), own_node(:)
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:)
     logical, allocatable :: node_changed(:)
@@ -1833,7 +1900,7 @@ contains
       keep(big) = .true.
       do k = 1, nmat
         if (keep(k) .or. .not. abs(avol(k, c)) > 0.0_wp) cycle
-        stats%slivers_merged = stats%slivers_merged + 1
+        if (counted(c)) stats%slivers_merged = stats%slivers_merged + 1
         amass(big, c) = amass(big, c) + amass(k, c)
         aie(big, c) = aie(big, c) + aie(k, c)
         avol(big, c) = avol(big, c) + avol(k, c)
@@ -1979,10 +2046,14 @@ contains
     stats%momentum_constrained = 0.0_wp
     do n = 1, g%nnode
       if (.not. node_changed(n)) cycle
-      stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, n) - h%u(:, n))
+      if (node_counted(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, n) - h%u(:, n))
       dk(n) = dk(n) + 0.5_wp*h%mnode(n)*dot_product(uc(:, n) - h%u(:, n), uc(:, n) + h%u(:, n))
     end do
-    stats%ke_to_internal = sum(dk)
+    if (present(own_node)) then
+      stats%ke_to_internal = sum(dk, mask=own_node)
+    else
+      stats%ke_to_internal = sum(dk)
+    end if
 
     ! The kinetic energy averaging returns (dk > 0) goes to the cells around
     ! the node by corner mass. Where the node's new kinetic energy exceeds
@@ -2031,7 +2102,12 @@ contains
         if (short) rdef(c) = rdef(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
       end do
     end do
-    if (any(rdef < 0.0_wp)) call repair_deficits()
+    if (present(own)) then
+      ! (the repair reaches cells further away, in the whole grid's order)
+      stats%cells_deficit = count(rdef < 0.0_wp .and. own)
+    else if (any(rdef < 0.0_wp)) then
+      call repair_deficits()
+    end if
 
     ! cells
     g%x = xnew
@@ -2085,6 +2161,20 @@ contains
     call move_mixed(nx, mx)
 
   contains
+
+    !> Whether the stats count cell cc.
+    logical function counted(cc)
+      integer, intent(in) :: cc
+      counted = .true.
+      if (present(own)) counted = own(cc)
+    end function counted
+
+    !> Whether the stats count node nn.
+    logical function node_counted(nn)
+      integer, intent(in) :: nn
+      node_counted = .true.
+      if (present(own_node)) node_counted = own_node(nn)
+    end function node_counted
 
     !> The residual deficits rdef(c) < 0 (kinetic energy the new nodal
     !> velocities hold beyond what the remap brought and the cells around
