@@ -89,9 +89,11 @@ contains
     end if
     if (.not. allocated(err)) then
       if (allocated(st%whole)) then
-        call euler_init(cfg%rezone, st%whole, es, err)
+        call euler_init(cfg%rezone, st%whole%g, es, err)
+      else if (allocated(st%gw)) then
+        call euler_init(cfg%rezone, st%gw, es, err)
       else
-        call euler_init(cfg%rezone, st, es, err)
+        call euler_init(cfg%rezone, st%g, es, err)
       end if
     end if
     call agree_error(sch%pc, err)
@@ -211,8 +213,8 @@ contains
       st%tot%boundary_work = st%tot%boundary_work + work
 
       ! INSPECT, EULER
-      if (allocated(st%whole)) then
-        ! (a decomposed run: on the whole grid, `driver_whole`)
+      if (sch%pc%nranks > 1) then
+        ! (a decomposed run: on windows or the whole grid, `driver_whole`)
         call whole_euler(cfg, sch%pc, st, es, sch%log, err)
         call agree_error(sch%pc, err)
         if (allocated(err)) call fail(cfg, st, sch, err)

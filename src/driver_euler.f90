@@ -65,26 +65,27 @@ module driver_euler
 contains
 
   !> Keeps the initial grid (the global rezone's target), the node mobility
-  !> of the smoothers and the first interval time. Call after the scene is
-  !> built, before a restart is read.
-  subroutine euler_init(rz, st, es, err)
+  !> of the smoothers and the first interval time, on the grid g the rezone
+  !> works on (one process's, or the whole grid's on every rank of a
+  !> decomposed run). Call after the scene is built, before a restart is read.
+  subroutine euler_init(rz, g, es, err)
     type(rezone_config_t), intent(in) :: rz
-    type(state_t), intent(in) :: st
+    type(grid_t), intent(in) :: g
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
     character(len=200) :: msg
     es%on = trim(rz%mode) /= 'none'
     if (.not. es%on) return
-    allocate(es%x0, source=st%g%x, stat=stat, errmsg=msg)
-    if (stat == 0) allocate(es%quality(st%g%ncell), es%fail(st%g%ncell), stat=stat, errmsg=msg)
+    allocate(es%x0, source=g%x, stat=stat, errmsg=msg)
+    if (stat == 0) allocate(es%quality(g%ncell), es%fail(g%ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'euler_init', 'cannot allocate the Euler phase''s arrays: '//trim(msg))
       return
     end if
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       ! face nodes slide in their face, edge nodes along their edge, corners stay
-      call smooth_mobility_box(st%g%ni, st%g%nj, st%g%nk, es%mobility, err)
+      call smooth_mobility_box(g%ni, g%nj, g%nk, es%mobility, err)
       if (allocated(err)) return
     end if
     es%t_next = huge(1.0_wp)
@@ -130,20 +131,20 @@ contains
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
     es%trigger_note = 'shape'
-    if (.not. present(shape)) call euler_due_where(rz, st, es, [ratio_max, cos_min])
+    if (.not. present(shape)) call euler_due_where(rz, st%g, es, [ratio_max, cos_min])
   end subroutine euler_due
 
   !> The log's note of a step due by the grid's shape (largest side ratio
   !> and smallest cosine, shape): the worst cell of each measure in the grid
-  !> of st (a decomposed run's caller: in the whole grid, once gathered).
-  subroutine euler_due_where(rz, st, es, shape)
+  !> g (a decomposed run's caller: the whole grid, once gathered).
+  subroutine euler_due_where(rz, g, es, shape)
     type(rezone_config_t), intent(in) :: rz
-    type(state_t), intent(in) :: st
+    type(grid_t), intent(in) :: g
     type(euler_state_t), intent(inout) :: es
     real(wp), intent(in) :: shape(2)
     integer :: ijk_ratio(3), ijk_cos(3)
     if (es%trigger_note /= 'shape') return
-    call grid_worst_cells(st%g%ni, st%g%nj, st%g%nk, st%g%x, ijk_ratio, ijk_cos, euler_axis(rz))
+    call grid_worst_cells(g%ni, g%nj, g%nk, g%x, ijk_ratio, ijk_cos, euler_axis(rz))
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
       &i0,",",i0,",",i0,")")') shape(1), ijk_ratio, shape(2), ijk_cos
   end subroutine euler_due_where

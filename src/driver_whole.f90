@@ -39,17 +39,30 @@ module driver_whole
   use driver_particles, only: particles_gathered, particles_take
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
-  use parallel_gather, only: gather_cells, gather_nodes, gather_concat
+  use parallel_gather, only: gather_nodes, gather_box, gather_concat
+  use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
+  use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
+  use remap_euler, only: remap_zone_t, remap_stats_t, remap_euler_step
+  use material_mixed, only: mixed_forget_planes
+  use material_table, only: material_eval_eos
+  use material_mixed, only: mixed_cell_state
+  use lagrange_centroids, only: centroids_fit_planes
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
-  use driver_euler, only: euler_state_t, euler_due, euler_due_where, euler_shape, euler_step
+  use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
+                          euler_rezone, euler_finish, remap_params
   use driver_output, only: schedule_t, report_conservation
-  use driver_parallel, only: agree_error
+  use driver_parallel, only: agree_error, GHOST_WIDTH
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
   implicit none
   private
   public :: whole_build, whole_euler, whole_dump, whole_restart, whole_gather, whole_scatter
+
+  !> The windows of an Euler step on several ranks (`window_euler`) first
+  !> hold a search for a new cell's old cells within this many index steps
+  !> (doubled, and the windows widened, when a step needs more).
+  integer, parameter :: window_reach_first = 2
 
 contains
 
@@ -62,11 +75,30 @@ contains
     type(state_t), intent(inout), target :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
+    if (pc%nranks == 1) return
+    if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
+    if (size(cfg%particles) == 0 .and. .not. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)) then
+      call window_build(cfg, pc, st, err)
+      return
+    end if
+    call whole_state_build(cfg, pc, st, err)
+    if (allocated(err) .or. .not. allocated(st%whole%pt%id)) return
+    ! the particles are seeded on the whole grid (the order of one process);
+    ! each block takes those of its cells, and the nodes their momentum
+    call log_line(log, 'particles: '//itoa(st%whole%pt%np)//' in all, seeded on the whole grid')
+    call whole_scatter(st, err)
+  end subroutine whole_build
+
+  !> st%whole built from the deck on the whole grid, its Euler steps' work
+  !> shared by the ranks.
+  subroutine whole_state_build(cfg, pc, st, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(error_t), allocatable, intent(inout) :: err
     type(log_t) :: silent
     type(mpi_share_t) :: share
     integer :: stat
-    if (pc%nranks == 1) return
-    if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
     allocate(st%whole, stat=stat)
     if (stat /= 0) then
       call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
@@ -80,17 +112,80 @@ contains
       allocate(st%whole%share, source=share, stat=stat)
       if (stat /= 0) call error_set(err, 'whole_build', 'out of memory')
     end if
-    if (allocated(err) .or. .not. allocated(st%whole%pt%id)) return
-    ! the particles are seeded on the whole grid (the order of one process);
-    ! each block takes those of its cells, and the nodes their momentum
-    call log_line(log, 'particles: '//itoa(st%whole%pt%np)//' in all, seeded on the whole grid')
-    call whole_scatter(st, err)
-  end subroutine whole_build
+  end subroutine whole_state_build
+
+  !> The Euler phase of a decomposed run without particles or open faces
+  !> works on windows (`window_euler`): st%win (`window_resize`) and st%gw,
+  !> the whole grid's node positions (the rezone's; its quality measures
+  !> shared by the ranks, st%share).
+  subroutine window_build(cfg, pc, st, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(error_t), allocatable, intent(inout) :: err
+    type(mpi_share_t) :: share
+    real(wp), allocatable :: x(:, :)
+    integer :: stat
+    allocate(st%gw, stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'window_build', 'out of memory for the Euler phase''s window')
+      return
+    end if
+    call window_resize(cfg, st, window_reach_first, err)
+    if (allocated(err)) return
+    call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+    st%gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
+    call move_alloc(x, st%gw%x)
+    call mpi_share_init(share, pc)
+    allocate(st%share, source=share, stat=stat)
+    if (stat /= 0) call error_set(err, 'window_build', 'out of memory')
+  end subroutine window_build
+
+  !> st%win, this rank's window for a search within `reach` index steps:
+  !> its block widened by window_margin(reach) cells (within the grid),
+  !> built from the deck as a single block at its place in the whole grid.
+  subroutine window_resize(cfg, st, reach, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout), target :: st
+    integer, intent(in) :: reach
+    type(error_t), allocatable, intent(inout) :: err
+    type(log_t) :: silent
+    type(grid_index_t) :: ix
+    integer :: stat, lo(3), hi(3)
+    lo = max(1, st%g%clo + st%g%off - window_margin(reach))
+    hi = min(st%g%gn, st%g%chi + st%g%off + window_margin(reach))
+    ix = grid_index_block(hi - lo + 1, [0, 0, 0], [0, 0, 0], lo - 1, st%g%gn)
+    if (allocated(st%win)) deallocate(st%win)
+    allocate(st%win, stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'window_resize', 'out of memory for the Euler phase''s window')
+      return
+    end if
+    st%win_reach = reach
+    silent%quiet = .true.   ! (the blocks' scene has been logged)
+    call build_scene(cfg, st%win, silent, err, ix)
+  end subroutine window_resize
+
+  !> The new cells of a window computed around the block: its ghost layers
+  !> and the cells around their nodes (one more layer), and the reach of
+  !> the search (every new cell an owned old cell may give to).
+  pure integer function window_compute(reach)
+    integer, intent(in) :: reach
+    window_compute = max(GHOST_WIDTH + 1, reach)
+  end function window_compute
+
+  !> A window's width around its block: the computed cells, the old cells
+  !> within reach of them and the stencils of their gradients (two layers).
+  pure integer function window_margin(reach)
+    integer, intent(in) :: reach
+    window_margin = window_compute(reach) + reach + 2
+  end function window_margin
 
   !> The Euler phase of a decomposed run after a Lagrangian step: whether it
   !> is due (the quality triggers from each block's owned cells, reduced:
   !> a maximum and a minimum, exact in any order), then the Euler step on
-  !> the whole grid and each block taken back from it.
+  !> the ranks' windows (`window_euler`) or on the whole grid, each block
+  !> taken back from it.
   subroutine whole_euler(cfg, pc, st, es, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -101,22 +196,233 @@ contains
     real(wp) :: mine(2), shape(2)
     logical :: due
     if (.not. es%on) return
-    st%whole%t = st%t
-    st%whole%dt = st%dt
-    st%whole%step = st%step
     shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
       call euler_shape(cfg%rezone, st%g, mine)
       call MPI_Allreduce(mine(1), shape(1), 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
       call MPI_Allreduce(mine(2), shape(2), 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
     end if
-    call euler_due(cfg%rezone, st%whole, es, due, shape)
+    call euler_due(cfg%rezone, st, es, due, shape)
     if (.not. due) return
+    if (allocated(st%win)) then
+      call window_euler(cfg, pc, st, es, log, shape, err)
+      return
+    end if
     call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole, es, shape)
+    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole%g, es, shape)
     if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler
+
+  !> An Euler step on windows. Every rank rezones the whole grid's node
+  !> positions (gathered; the rezone reads the whole grid: its subdomains,
+  !> its smoothing's quality target), and remaps its window (`remap_zone_t`):
+  !> the new cells of its block and window_compute layers around it (the
+  !> ghost layers and the cells around their nodes, whose results are right
+  !> when the old cells within window_reach of them are in the window), the
+  !> old state of the window gathered from the blocks that own it
+  !> (`gather_box`). Each block then takes its owned and ghost cells and
+  !> nodes from its window. When a remap needs more than the windows hold
+  !> (a new cell whose old cells lie further, an old region the new grid
+  !> does not cover, kinetic energy deficits moved to cells further away),
+  !> on any rank, the step is done on the whole grid instead (`whole_gather`,
+  !> the whole state built for it and let go after): either way the result
+  !> is the single process's, bit for bit.
+  subroutine window_euler(cfg, pc, st, es, log, shape, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    real(wp), intent(in) :: shape(2)
+    type(error_t), allocatable, intent(inout) :: err
+    type(euler_start_t) :: e0
+    real(wp), allocatable :: xnew(:, :), x(:, :)
+    logical :: done, redo, wider
+
+    call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+    call move_alloc(x, st%gw%x)
+    call euler_due_where(cfg%rezone, st%gw, es, shape)
+    call euler_begin(st, es, log, e0)
+    call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, st%step, st%t, es, log, e0, xnew, done, err)
+    if (allocated(err) .or. .not. done) return
+    call window_remap(cfg, pc, st, es, log, xnew, e0, redo, wider, err)
+    if (allocated(err) .or. .not. redo) return
+    if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
+    call agree_error(pc, err)
+    if (.not. allocated(err)) call whole_gather(pc, st, err)
+    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0)
+    if (.not. allocated(err)) call whole_scatter(st, err)
+    if (.not. allocated(err)) deallocate(st%whole)
+    if (allocated(err) .or. .not. wider) return
+    ! the next steps' search as far as this one's went: the windows widened
+    call window_resize(cfg, st, 2*st%win_reach, err)
+    call agree_error(pc, err)
+    if (.not. allocated(err)) call log_line(log, 'euler windows widened: search within '//itoa(st%win_reach)// &
+                                            ' cells, '//itoa(window_margin(st%win_reach))//' cells around each block')
+  end subroutine window_euler
+
+  !> The remap of an Euler step on this rank's window (`window_euler`),
+  !> from the blocks' state to the rezoned grid xnew (the whole grid's
+  !> nodes), and each block taken from its window; redo if it needs more
+  !> than a window holds, on some rank (nothing changed then but st%win).
+  subroutine window_remap(cfg, pc, st, es, log, xnew, e0, redo, wider, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    real(wp), intent(in) :: xnew(:, :)
+    type(euler_start_t), intent(in) :: e0
+    logical, intent(out) :: redo, wider
+    type(error_t), allocatable, intent(inout) :: err
+    type(centroid_stats_t) :: cs, others
+    type(remap_zone_t) :: zone
+    type(remap_stats_t) :: rs
+    real(wp), allocatable :: xw(:, :)
+    logical, allocatable :: owned(:)
+    character(len=:), allocatable :: why
+    integer :: n(3), i, j, k, stat
+
+    redo = .false.
+    wider = .false.
+    call copy_gather(pc, st, .true., err, cs)
+    associate (w => st%win, wg => st%win%g)
+      if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
+      if (.not. allocated(err)) then
+        allocate(xw(3, wg%nnode), stat=stat)
+        if (stat /= 0) call error_set(err, 'window_remap', 'out of memory')
+      end if
+      if (.not. allocated(err)) then
+        do k = 0, wg%nk
+          do j = 0, wg%nj
+            do i = 0, wg%ni
+              xw(:, wg%node(i, j, k)) = xnew(:, st%gw%node(i + wg%off(1), j + wg%off(2), k + wg%off(3)))
+            end do
+          end do
+        end do
+        call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, remap_params(cfg%rezone), rs, err, zone=zone)
+      end if
+      call agree_error(pc, err)
+      if (allocated(err)) then
+        call es%timer%stop()
+        return
+      end if
+      n = [rs%cells_short, rs%regions_uncovered, rs%cells_deficit]
+      call MPI_Allreduce(MPI_IN_PLACE, n, 3, MPI_INTEGER, MPI_SUM, pc%world)
+      if (any(n > 0)) then
+        redo = .true.
+        wider = n(1) > 0
+        why = ''
+        if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
+        if (n(2) > 0) why = why//', old regions the new grid does not cover'
+        if (n(3) > 0) why = why//', kinetic energy deficits to move'
+        call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)// &
+                      '): remapped on the whole grid')
+        return
+      end if
+      call material_index_cells(w%mats, w%h%mat, w%mx, err)
+      ! the new mixed cells' planes (`euler_step`), those of the block's
+      ! owned cells first: the log counts them
+      if (.not. allocated(err)) call mixed_forget_planes(w%mx, err)
+      if (.not. allocated(err)) then
+        owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
+        call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned)
+        call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter)
+        call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
+        call mixed_cell_state(w%mx, w%h%p, w%h%cs)
+      end if
+    end associate
+    if (.not. allocated(err)) call block_from(st, .true., err)
+    call agree_error(pc, err)
+    if (allocated(err)) then
+      call es%timer%stop()
+      return
+    end if
+    call centroids_reduce(pc, cs)
+    es%centroids%fitted = es%centroids%fitted + cs%fitted
+    es%centroids%iterations = es%centroids%iterations + cs%iterations
+    es%centroids%capped = es%centroids%capped + cs%capped
+    es%centroids%err_max = max(es%centroids%err_max, cs%err_max)
+    es%centroids%moved = es%centroids%moved + cs%moved
+    es%centroids%failed = es%centroids%failed + cs%failed
+    call remap_stats_reduce(pc, rs)
+    call euler_finish(cfg%rezone, st, es, log, e0, rs, err)
+  end subroutine window_remap
+
+  !> The zone of this rank's window wg (`remap_zone_t`) around its block g:
+  !> own its owned cells and the nodes it counts, compute those and
+  !> window_compute layers around them.
+  subroutine window_zone(g, wg, reach, zone, err)
+    type(grid_t), intent(in) :: g, wg
+    integer, intent(in) :: reach
+    type(remap_zone_t), intent(out) :: zone
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, k, stat, ijk(3)
+    allocate(zone%compute(wg%ncell), zone%own(wg%ncell), zone%own_node(wg%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'window_zone', 'out of memory')
+      return
+    end if
+    zone%reach_max = reach
+    do k = 1, wg%nk
+      do j = 1, wg%nj
+        do i = 1, wg%ni
+          ! (in the block's indices)
+          ijk = [i, j, k] + wg%off - g%off
+          zone%own(wg%cell(i, j, k)) = all(ijk >= g%clo .and. ijk <= g%chi)
+          zone%compute(wg%cell(i, j, k)) = all(ijk >= g%clo - window_compute(reach) .and. &
+                                                ijk <= g%chi + window_compute(reach))
+        end do
+      end do
+    end do
+    do k = 0, wg%nk
+      do j = 0, wg%nj
+        do i = 0, wg%ni
+          ijk = [i, j, k] + wg%off - g%off
+          zone%own_node(wg%node(i, j, k)) = all(ijk >= g%ulo .and. ijk <= g%nhi)
+        end do
+      end do
+    end do
+  end subroutine window_zone
+
+  !> What the ranks' window remaps did, as one remap of the whole grid:
+  !> counts and energies summed, largest values the largest (rs%parts
+  !> minus the number of windows, for the log).
+  subroutine remap_stats_reduce(pc, rs)
+    type(comm_t), intent(in) :: pc
+    type(remap_stats_t), intent(inout) :: rs
+    integer :: ni(6), nx(1)
+    real(wp) :: r(4), x(6)
+    ni = [rs%cells_remapped, rs%cells_copied, rs%mof_cells, rs%mof_iterations, rs%mof_not_converged, &
+          rs%slivers_merged]
+    nx = [rs%reach]
+    r = [rs%ke_to_internal, rs%momentum_constrained]
+    x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
+    call MPI_Allreduce(MPI_IN_PLACE, ni, 6, MPI_INTEGER, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, nx, 1, MPI_INTEGER, MPI_MAX, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, r, 4, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, x, 6, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+    rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
+    rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6)
+    rs%reach = nx(1)
+    rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4)
+    rs%volume_defect = x(1); rs%given_defect = x(2); rs%mof_err_max = x(3)
+    rs%t_prepare = x(4); rs%t_intersect = x(5); rs%t_assemble = x(6)
+    rs%parts = -pc%nranks
+  end subroutine remap_stats_reduce
+
+  !> A fit or refresh of the blocks' owned mixed cells counted as one of
+  !> the whole grid's.
+  subroutine centroids_reduce(pc, cs)
+    type(comm_t), intent(in) :: pc
+    type(centroid_stats_t), intent(inout) :: cs
+    integer :: n(5)
+    n = [cs%fitted, cs%iterations, cs%capped, cs%moved, cs%failed]
+    call MPI_Allreduce(MPI_IN_PLACE, n, 5, MPI_INTEGER, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, cs%err_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+    cs%fitted = n(1); cs%iterations = n(2); cs%capped = n(3); cs%moved = n(4); cs%failed = n(5)
+  end subroutine centroids_reduce
 
   !> A restart dump of a decomposed run, written by the ranks together
   !> (`write_restart`, `restart_write`): each block its owned nodes and cells
@@ -208,21 +514,50 @@ contains
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
-    type(registry_t) :: rb, rw
-    real(wp), allocatable :: whole(:, :)
-    real(wp), pointer, contiguous :: a(:, :)
-    integer :: e, m, n
-
-    call mixed_gather(pc, st, st%whole%mx, err)
-    if (allocated(err)) return
     if (allocated(st%pwhole)) then
       call particles_gathered(pc, st, st%whole%pt, err)
       if (.not. allocated(err)) call particles_index(st%whole%pt, st%whole%g%ncell, err)
       if (allocated(err)) return
       st%whole%pw%mass_ready = .false.
     end if
+    call copy_gather(pc, st, .false., err)
+  end subroutine whole_gather
+
+  !> The state of a box of the whole grid, st%whole or (window) st%win,
+  !> assembled from the blocks' st (built from the deck first): the node
+  !> and cell quantities a restart holds, gathered from the blocks that own
+  !> them (`gather_box`), the mixed cells in the box (`mixed_gather`, with
+  !> `refreshed` their centroids refreshed first), the quantities of the
+  !> whole run copied, and what a restart read rebuilds.
+  subroutine copy_gather(pc, st, window, err, refreshed)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    logical, intent(in) :: window
+    type(error_t), allocatable, intent(inout) :: err
+    type(centroid_stats_t), intent(inout), optional :: refreshed
+    type(state_t), pointer :: d
+    type(registry_t) :: rb, rw
+    type(mixed_t) :: mw
+    real(wp), allocatable :: box(:, :)
+    real(wp), pointer, contiguous :: a(:, :)
+    integer, allocatable :: pick(:)
+    integer :: e, m, n, lo(3), hi(3)
+
+    if (window) then
+      d => st%win
+    else
+      d => st%whole
+    end if
+    d%t = st%t
+    d%dt = st%dt
+    d%step = st%step
+    call mixed_gather(pc, st, mw, err, refreshed)
+    if (.not. allocated(err)) call mixed_of_block(d%g, mw, d%mx, err, pick)
+    if (allocated(err)) return
+    lo = d%g%off + 1
+    hi = d%g%off + [d%g%ni, d%g%nj, d%g%nk]
     call state_register_restart(st, rb)
-    call state_register_restart(st%whole, rw)
+    call state_register_restart(d, rw)
     do e = 1, rb%n
       associate (b => rb%e(e), v => rw%e(e))
         select case (b%location)
@@ -231,31 +566,23 @@ contains
           n = b%dims(size(b%dims))
           if (b%kind == K_REAL) then
             a(1:m, 1:n) => b%r
-            call gather_entry(a)
-            v%r = reshape(whole, [size(whole)])
+            call gather_box(pc, st%g%grid_index_t, a, lo, hi, box, b%location == LOC_NODE)
+            v%r = reshape(box, [size(box)])
           else
             ! (integers: material indices, exact as reals)
-            call gather_entry(reshape(real(b%i, wp), [m, n]))
-            v%i = nint(reshape(whole, [size(whole)]))
+            call gather_box(pc, st%g%grid_index_t, reshape(real(b%i, wp), [m, n]), lo, hi, box, &
+                            b%location == LOC_NODE)
+            v%i = nint(reshape(box, [size(box)]))
           end if
         case (LOC_GLOBAL)
           if (.not. mixed_entry(b)) call copy_global(b, v)
         end select
       end associate
     end do
-    call mixed_numbers(st%whole)
-    call state_after_read(st%whole)
-    call material_index_cells(st%whole%mats, st%whole%h%mat, st%whole%mx, err)
-  contains
-    subroutine gather_entry(x)
-      real(wp), intent(in) :: x(:, :)
-      if (rb%e(e)%location == LOC_NODE) then
-        call gather_nodes(pc, st%g%grid_index_t, x, whole, all=.true.)
-      else
-        call gather_cells(pc, st%g%grid_index_t, x, whole, all=.true.)
-      end if
-    end subroutine gather_entry
-  end subroutine whole_gather
+    call mixed_numbers(d)
+    call state_after_read(d)
+    call material_index_cells(d%mats, d%h%mat, d%mx, err)
+  end subroutine copy_gather
 
   !> The counts of the mixed cells (copied with the cells themselves).
   logical function mixed_entry(e)
@@ -268,22 +595,45 @@ contains
   subroutine whole_scatter(st, err)
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
-    type(registry_t) :: rb, rw
-    integer, allocatable :: pick(:)
-    integer :: e, i, j, l, c, n, m, q
-    logical :: nodes
-
-    ! the mixed cells the block stores, in the whole grid's (cell) order
-    call mixed_of_block(st%g, st%whole%mx, st%mx, err, pick)
-    if (allocated(err)) return
     if (allocated(st%whole%pt%id)) then
       call particles_take(st, err)
       if (allocated(err)) return
     end if
+    call block_from(st, .false., err)
+  end subroutine whole_scatter
+
+  !> This rank's block st (owned and ghost cells and nodes) taken from the
+  !> state of a box of the whole grid that holds it: st%whole, or (window)
+  !> st%win.
+  subroutine block_from(st, window, err)
+    type(state_t), intent(inout), target :: st
+    logical, intent(in) :: window
+    type(error_t), allocatable, intent(inout) :: err
+    type(state_t), pointer :: src
+    type(registry_t) :: rb, rw
+    type(mixed_t) :: mw
+    integer, allocatable :: pick(:)
+    integer :: e, i, j, l, c, n, m, q, k, o(3)
+    logical :: nodes
+
+    if (window) then
+      src => st%win
+    else
+      src => st%whole
+    end if
+    ! the mixed cells the block stores, in cell order (numbered in the whole grid)
+    mw = src%mx
+    do k = 1, mw%n
+      mw%cell(k) = src%g%global_cell(mw%cell(k))
+    end do
+    call mixed_of_block(st%g, mw, st%mx, err, pick)
+    if (allocated(err)) return
+    ! (a block index in the source's)
+    o = st%g%off - src%g%off
     call state_register_restart(st, rb)
-    call state_register_restart(st%whole, rw)
+    call state_register_restart(src, rw)
     do e = 1, rb%n
-      associate (b => rb%e(e), v => rw%e(e), g => st%g, wg => st%whole%g)
+      associate (b => rb%e(e), v => rw%e(e), g => st%g, wg => src%g)
         select case (b%location)
         case (LOC_NODE, LOC_CELL)
           nodes = b%location == LOC_NODE
@@ -293,10 +643,10 @@ contains
               do i = g%slo(1) - merge(1, 0, nodes), g%shi(1)
                 if (nodes) then
                   n = g%node(i, j, l)
-                  c = wg%node(i + g%off(1), j + g%off(2), l + g%off(3))
+                  c = wg%node(i + o(1), j + o(2), l + o(3))
                 else
                   n = g%cell(i, j, l)
-                  c = wg%cell(i + g%off(1), j + g%off(2), l + g%off(3))
+                  c = wg%cell(i + o(1), j + o(2), l + o(3))
                 end if
                 do q = 1, m
                   if (b%kind == K_REAL) then
@@ -316,7 +666,7 @@ contains
     call mixed_numbers(st)
     call state_after_read(st)
     call material_index_cells(st%mats, st%h%mat, st%mx, err)
-  end subroutine whole_scatter
+  end subroutine block_from
 
   !> A quantity of the whole run (time, step, energy bookkeeping, the random
   !> numbers' state): the same on every rank, copied.

@@ -90,11 +90,13 @@ contains
   !> centroids are left as they are. stats accumulates (fits, iterations,
   !> capped, largest centroid error / cell size); a cell that cannot be fitted
   !> (volume not positive) keeps no planes (counted failed).
-  subroutine centroids_fit_planes(g, mx, stats, max_iter)
+  subroutine centroids_fit_planes(g, mx, stats, max_iter, only)
     type(grid_t), intent(in) :: g
     type(mixed_t), intent(inout) :: mx
     type(centroid_stats_t), intent(inout) :: stats
     integer, intent(in), optional :: max_iter
+    !> (mx%n) the mixed cells fitted (absent: all)
+    logical, intent(in), optional :: only(:)
     real(wp) :: xn(3, 8), a(3, 3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
                 errc(max_mat), vol, errmax, m(3), xc(3), sc
     integer :: k, c, s0, s1, nm, j, s, its(max_mat), mi, nfit, nits, ncap, nfail
@@ -106,7 +108,7 @@ contains
     if (present(max_iter)) mi = max_iter
     nfit = 0; nits = 0; ncap = 0; nfail = 0
     errmax = 0.0_wp
-    !$omp parallel do default(none) shared(g, mx, mi) &
+    !$omp parallel do default(none) shared(g, mx, mi, only) &
     !$omp private(k, c, s0, s1, nm, j, s, its, ok, xn, a, vf, cref, pn, pd, errc, vol, m, xc, sc) &
     !$omp reduction(+: nfit, nits, ncap, nfail) reduction(max: errmax) schedule(dynamic, 16)
     do k = 1, mx%n
@@ -115,6 +117,9 @@ contains
       nm = s1 - s0 + 1
       if (nm < 2 .or. nm > max_mat) cycle
       if (planes_known(mx, s0, s1)) cycle
+      if (present(only)) then
+        if (.not. only(k)) cycle
+      end if
       c = mx%cell(k)
       call g%gather(c, g%x, xn)
       vol = hex_volume(xn)

@@ -159,9 +159,10 @@ module remap_euler
     real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
-    !> with a zone: owned new cells the old cells within reach_max did not
-    !> cover, and owned old regions the computed new cells did not cover
-    !> (neither is an error there: the caller remaps the whole grid instead)
+    !> with a zone: computed new cells the old cells within reach_max did
+    !> not cover (the remap then stops), and owned old regions the computed
+    !> new cells did not cover (neither is an error there: the caller remaps
+    !> the whole grid instead)
     integer :: cells_short = 0, regions_uncovered = 0
   end type remap_stats_t
 
@@ -353,8 +354,9 @@ contains
           nbad = nbad + 1
           todo(nbad) = c
         else if (windowed) then
-          ! (beyond the window's reach: the caller's to redo)
-          if (own(c) .and. defect > 1.0e-9_wp) stats%cells_short = stats%cells_short + 1
+          ! (beyond the window's reach: the caller's to redo; any computed
+          ! cell, whose results would be wrong, and whose owner finds it too)
+          if (defect > 1.0e-9_wp) stats%cells_short = stats%cells_short + 1
           if (own(c) .and. .not. defect > 1.0e-9_wp) stats%volume_defect = max(stats%volume_defect, defect)
           if (own(c)) reach(c) = r
         else
@@ -373,6 +375,8 @@ contains
     if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
     if (allocated(err)) return
     stats%reach = maxval(reach)
+    ! (nothing more to do in a window that cannot hold the step)
+    if (stats%cells_short > 0) return
     if (stats%volume_defect > 1.0e-9_wp) then
       call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
                      rtoa(stats%volume_defect)//') even searching the whole block: boundary nodes left the '// &
