@@ -57,6 +57,9 @@ module driver_config
     real(wp) :: dump_dt = 0.0_wp               !< a restart every this much time (0: off)
     integer :: dump_keep = 2                   !< keep the newest this many restarts
     integer :: blocks(3) = 0                   !< MPI ranks per direction (0: chosen)
+    !> Euler steps on several ranks: 'windows' (each rank its block and the
+    !> cells around it) or 'whole' (the whole grid on every rank, the work shared)
+    character(len=8) :: euler_ranks = 'windows'
   end type run_config_t
 
   !> The resolved deck.
@@ -359,17 +362,18 @@ contains
     real(wp) :: velocity_noise, wall_time_limit, dump_dt
     integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios, blocks(3)
     character(len=256) :: restart_from
+    character(len=64) :: euler_ranks
     character(len=max_line) :: msg
     namelist /run/ title, units, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
                    progress_steps, progress_seconds, velocity_noise, seed, &
-                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks, euler_ranks
 
     title = this%title; units = this%units; t_end = this%t_end; max_steps = this%max_steps
     cfl = hd%cfl; dt_init = this%dt_init; dt_max = 0.0_wp; dt_min = this%dt_min; dt_growth = hd%dt_growth
     progress_steps = this%progress_steps; progress_seconds = this%progress_seconds
     velocity_noise = this%velocity_noise; seed = this%seed
     restart_from = this%restart_from; wall_time_limit = this%wall_time_limit; dump_steps = this%dump_steps
-    dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks
+    dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks; euler_ranks = this%euler_ranks
     if (size(text) == 0) then
       call problem_add(problems, trim(path)//': group &run is missing (t_end is required)')
     else
@@ -390,13 +394,17 @@ contains
     if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
     if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
     if (any(blocks < 0)) call problem_badi(problems, 'run', 'blocks', minval(blocks), 'must be >= 0 (0: chosen)')
+    if (trim(euler_ranks) /= 'windows' .and. trim(euler_ranks) /= 'whole') &
+      call problem_add(problems, trim(path)//': &run euler_ranks = '''//trim(euler_ranks)// &
+                       ''' is not one of ''windows'', ''whole''')
     call problem_long(problems, 'run', 'title', title)
     call problem_long(problems, 'run', 'units', units)
     call problem_long(problems, 'run', 'restart_from', restart_from)
     this = run_config_t(title=title, units=units, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
-      wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks)
+      wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks, &
+      euler_ranks=euler_ranks(1:8))
     hydro%cfl = cfl
     hydro%dt_growth = dt_growth
     hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)

@@ -1,14 +1,33 @@
-!> The whole grid on every rank of a decomposed run, for the parts of a run
-!> that do not yet work block by block: the Euler phase (rezone and remap of
-!> the whole grid, computed alike on every rank, each rank then taking its
-!> block back) and the particles (seeded on the whole grid, moved on it at
-!> Euler steps; without Euler steps the whole grid is let go once they are
-!> seeded); a run that holds it for these reads a restart into it too.
-!> Restart dumps need no whole grid: the ranks write their blocks into one
-!> file together (`whole_dump`), the file of one process, so a dump written
-!> on P ranks continues on any Q; a run without Euler steps or particles
-!> reads its blocks from it (`read_restart`) and never holds the whole
-!> grid.
+!> What a decomposed run's Euler phase and particles need beyond each
+!> rank's block.
+!>
+!> Euler steps on windows (runs without particles or open faces): each rank
+!> holds a window, its block widened by the cells its remap reads (a box of
+!> the whole grid, built from the deck once), and the whole grid's node
+!> positions. At an Euler step every rank rezones the whole grid's node
+!> positions (the rezone reads the whole grid: LSSM's subdomains and its
+!> smoothing's quality target; its quality measures are shared by the
+!> ranks), gathers its window's old state from the blocks that own it
+!> (`gather_box`), remaps it (`remap_zone_t`) and takes its block back from
+!> it. A step that needs more than the windows hold (a new cell whose old
+!> cells lie further than the windows' search, an old region the new grid
+!> does not cover, kinetic energy deficits moved to cells further away) is
+!> done on the whole grid instead, and the windows are widened when the
+!> search fell short. Either way the result is the single process's, bit
+!> for bit.
+!>
+!> The whole grid on every rank (runs with particles or open faces, and the
+!> Euler steps the windows cannot hold): rezone and remap of the whole grid,
+!> computed alike on every rank (the intersections and MoF shared over the
+!> ranks, `base_share`), each rank then taking its block back; the particles
+!> are seeded on it and moved on it at Euler steps (without Euler steps it
+!> is let go once they are seeded); a run that holds it reads a restart into
+!> it too.
+!>
+!> Restart dumps need neither: the ranks write their blocks into one file
+!> together (`whole_dump`), the file of one process, so a dump written on P
+!> ranks continues on any Q; a run without a whole grid reads its blocks
+!> from it (`read_restart`).
 !>
 !> What is copied is what a restart holds (the quantities the packages
 !> register, `base_registry`), then what a restart read rebuilds from them
@@ -18,11 +37,6 @@
 !> blocks' owned ranges (`parallel_gather`); the mixed cells through their
 !> owned cells, renumbered and put back in cell order (the order one
 !> process keeps them in).
-!>
-!> This costs the whole grid's memory on every rank and a gather of the
-!> whole state per Euler step: it makes a decomposed run with Euler steps
-!> give the single process's answer (the costly parts of the Euler step are
-!> shared over the ranks, `base_share`).
 module driver_whole
   use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_IN_PLACE, MPI_MAX, MPI_MIN, MPI_SUM
   use base_sort, only: sort_order
@@ -77,7 +91,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     if (pc%nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
-    if (size(cfg%particles) == 0 .and. .not. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)) then
+    if (size(cfg%particles) == 0 .and. .not. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW) .and. &
+        trim(cfg%control%euler_ranks) == 'windows') then
       call window_build(cfg, pc, st, err)
       return
     end if
@@ -214,20 +229,14 @@ contains
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler
 
-  !> An Euler step on windows. Every rank rezones the whole grid's node
-  !> positions (gathered; the rezone reads the whole grid: its subdomains,
-  !> its smoothing's quality target), and remaps its window (`remap_zone_t`):
-  !> the new cells of its block and window_compute layers around it (the
-  !> ghost layers and the cells around their nodes, whose results are right
-  !> when the old cells within window_reach of them are in the window), the
-  !> old state of the window gathered from the blocks that own it
-  !> (`gather_box`). Each block then takes its owned and ghost cells and
-  !> nodes from its window. When a remap needs more than the windows hold
-  !> (a new cell whose old cells lie further, an old region the new grid
-  !> does not cover, kinetic energy deficits moved to cells further away),
-  !> on any rank, the step is done on the whole grid instead (`whole_gather`,
-  !> the whole state built for it and let go after): either way the result
-  !> is the single process's, bit for bit.
+  !> An Euler step on windows (module header). Every rank rezones the whole
+  !> grid's node positions (gathered) and remaps its window: the new cells
+  !> of its block and window_compute layers around it, whose results are
+  !> right when the old cells within st%win_reach of them are in the window.
+  !> When a remap needs more than the windows hold, on any rank, the step is
+  !> done on the whole grid instead (`whole_gather`, the whole state built
+  !> for it and let go after), and if the search fell short the windows are
+  !> widened (its reach doubled).
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -339,13 +348,7 @@ contains
       call es%timer%stop()
       return
     end if
-    call centroids_reduce(pc, cs)
-    es%centroids%fitted = es%centroids%fitted + cs%fitted
-    es%centroids%iterations = es%centroids%iterations + cs%iterations
-    es%centroids%capped = es%centroids%capped + cs%capped
-    es%centroids%err_max = max(es%centroids%err_max, cs%err_max)
-    es%centroids%moved = es%centroids%moved + cs%moved
-    es%centroids%failed = es%centroids%failed + cs%failed
+    call centroids_count(pc, cs, es%centroids)
     call remap_stats_reduce(pc, rs)
     call euler_finish(cfg%rezone, st, es, log, e0, rs, err)
   end subroutine window_remap
@@ -412,17 +415,24 @@ contains
     rs%parts = -pc%nranks
   end subroutine remap_stats_reduce
 
-  !> A fit or refresh of the blocks' owned mixed cells counted as one of
-  !> the whole grid's.
-  subroutine centroids_reduce(pc, cs)
+  !> The blocks' fits or refreshes of their owned mixed cells (cs) added to
+  !> the run's count (total) as one of the whole grid's.
+  subroutine centroids_count(pc, cs, total)
     type(comm_t), intent(in) :: pc
-    type(centroid_stats_t), intent(inout) :: cs
+    type(centroid_stats_t), intent(in) :: cs
+    type(centroid_stats_t), intent(inout) :: total
     integer :: n(5)
+    real(wp) :: e
     n = [cs%fitted, cs%iterations, cs%capped, cs%moved, cs%failed]
     call MPI_Allreduce(MPI_IN_PLACE, n, 5, MPI_INTEGER, MPI_SUM, pc%world)
-    call MPI_Allreduce(MPI_IN_PLACE, cs%err_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
-    cs%fitted = n(1); cs%iterations = n(2); cs%capped = n(3); cs%moved = n(4); cs%failed = n(5)
-  end subroutine centroids_reduce
+    call MPI_Allreduce(cs%err_max, e, 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+    total%fitted = total%fitted + n(1)
+    total%iterations = total%iterations + n(2)
+    total%capped = total%capped + n(3)
+    total%moved = total%moved + n(4)
+    total%failed = total%failed + n(5)
+    total%err_max = max(total%err_max, e)
+  end subroutine centroids_count
 
   !> A restart dump of a decomposed run, written by the ranks together
   !> (`write_restart`, `restart_write`): each block its owned nodes and cells
@@ -444,14 +454,11 @@ contains
     type(particles_t) :: pw, pb
     type(centroid_stats_t) :: cs
     integer, allocatable :: mat(:), keep(:)
-    integer :: k, c, lo, hi, mid, gc, n(2), ijk(3)
+    integer :: k, c, lo, hi, mid, gc, ijk(3)
 
     call mixed_gather(pc, st, mw, err, cs)
     if (allocated(err)) return
-    n = [cs%moved, cs%failed]
-    call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
-    es%centroids%moved = es%centroids%moved + n(1)
-    es%centroids%failed = es%centroids%failed + n(2)
+    call centroids_count(pc, cs, es%centroids)
     ! the owned mixed cells' numbers in the whole grid's list (ascending cells)
     mat = st%h%mat
     do k = 1, st%mx%n

@@ -113,6 +113,22 @@ mpi_bench() {
     echo "## MPI: $name.nml (Sedov 40^3 to t = 0.5$([[ $deck == *lssm ]] && echo ', LSSM'), Release)"
     mpi_runs $name
   done
+  # the LSSM run's Euler steps on 2 ranks with the whole grid on each
+  # (&run euler_ranks = 'whole': the intersections shared round robin)
+  # against the windows (the default: each rank its block and the cells
+  # around it): the Euler time of rank 0 and the peak memory per rank
+  sed -e "s|^&run |\&run euler_ranks = 'whole', |" sedov40_lssm.nml > sedov40_lssm_whole.nml
+  OMP_NUM_THREADS=1 "$(command -v mpirun)" $([ "$(id -u)" -eq 0 ] && echo --allow-run-as-root) -np 2 --bind-to core \
+    "$exe" sedov40_lssm_whole.nml > sedov40_lssm_whole_r2t1.log
+  cp sedov40_lssm_whole_r2t1.log "$outdir/bench_mpi_sedov40_lssm_whole_r2t1.log"
+  echo "## MPI: sedov40_lssm.nml on 2 ranks, Euler steps on windows (default) against the whole grid on each rank"
+  for f in sedov40_lssm_r2t1 sedov40_lssm_whole_r2t1; do
+    echo "$f: $(grep '^timers' $f.log) | $(grep '^memory:' $f.log)"
+  done
+  awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eu[f] = $(i + 1)}
+       END {printf "Euler time, windows against whole: x%.2f\n", eu[1] / eu[2]}' sedov40_lssm_r2t1.log \
+      sedov40_lssm_whole_r2t1.log
+  echo
   # coupled particles: the Gurson steel ring refined to 96 x 96 x 4 cells
   # (14432 particles), 200 steps with global-ALE Euler steps
   sed -e 's/ni = 24, nj = 24, nk = 1/ni = 96, nj = 96, nk = 4/' -e 's/max_steps = 120/max_steps = 200/' \
@@ -181,6 +197,7 @@ mpi_runs() {
     cp ${name}_$c.log "$outdir/bench_mpi_${name}_$c.log"
     echo "$c: $(grep '^throughput:' ${name}_$c.log) | $(grep '^timers' ${name}_$c.log)"
     grep '^halo' ${name}_$c.log || true
+    grep '^memory:' ${name}_$c.log || true
   done
   awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot[f] = $(i + 1)}
        /^throughput:/ {rate[f] = $2}
