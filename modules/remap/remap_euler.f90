@@ -178,11 +178,12 @@ module remap_euler
   !> the kinetic energy deficits taken from cells further away, in cell
   !> order over the whole grid): the caller checks that none occurred in
   !> any zone, else the results of this remap are not those of the whole
-  !> grid's. With compute = own + max(1 + the results needed around own,
-  !> reach_max) and the window = compute + reach_max + 2 (the old cells
-  !> within reach and their gradients' stencils), the results in own and in
-  !> the layers around it that compute leaves valid are bit for bit those
-  !> of the whole grid's remap.
+  !> grid's. With compute = own widened by max(w + 1, reach_max) layers and
+  !> the window = compute widened by reach_max + 2 (the old cells within
+  !> reach of a computed cell, and their gradients' stencils), the results
+  !> in own and the w layers around it are bit for bit those of the whole
+  !> grid's remap (a node needs every cell around it computed, a cell its
+  !> nodes; an owned old region every new cell within reach).
   type :: remap_zone_t
     logical, allocatable :: compute(:), own(:), own_node(:)
     integer :: reach_max = 2
