@@ -115,9 +115,10 @@ contains
       call gauge_output(cfg, st, sch)
       call history_output(cfg, st, sch)
     end if
-    ! (a decomposed run with particles but no Euler steps needed the whole
-    ! grid only to seed them, or to read their restart)
-    if (allocated(st%whole) .and. trim(cfg%rezone%mode) == 'none') deallocate(st%whole)
+    ! (a decomposed run with particles but no Euler steps, or Euler steps
+    ! on windows, needed the whole grid only to seed them, or to read their
+    ! restart)
+    if (allocated(st%whole) .and. (trim(cfg%rezone%mode) == 'none' .or. allocated(st%win))) deallocate(st%whole)
     call sch%t_setup%stop()
     call time_loop(cfg, st, sch, es)
     call write_frame(cfg, st, sch, err)

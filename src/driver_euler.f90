@@ -33,7 +33,7 @@ module driver_euler
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, &
-            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params
+            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, euler_preposition
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -190,7 +190,7 @@ contains
   !> xrezoned the grid is rezoned already (a decomposed run's, on the whole
   !> grid's node positions: `driver_whole`) and e0 holds what the step
   !> started from (`euler_begin` done).
-  subroutine euler_step(rz, st, es, log, err, xrezoned, e0)
+  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
     type(euler_state_t), intent(inout) :: es
@@ -198,6 +198,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), intent(in), optional :: xrezoned(:, :)
     type(euler_start_t), intent(in), optional :: e0
+    !> with xrezoned: the particles' pre-positioning done with the rezone
+    type(particles_euler_t), intent(in), optional :: pe0
     type(euler_start_t) :: start
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
@@ -208,19 +210,11 @@ contains
     if (present(xrezoned)) then
       start = e0
       xnew = xrezoned
+      if (present(pe0)) pe = pe0
     else
       call euler_begin(st, es, log, start)
-      if (st%pt%np > 0 .and. (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth')) then
-        ! Remark 2 (Sect. 5.2): the particles placed in the standard grid;
-        ! the cells they occupy there are the smoothing's fixed inner boundary
-        call particles_euler_preposition(st, es%x0, pe, err)
-        if (.not. allocated(err)) call smooth_mobility_box(st%g%ni, st%g%nj, st%g%nk, es%mobility, err, &
-                                                           frozen=pe%occupied)
-        if (allocated(err)) then
-          call es%timer%stop()
-          return
-        end if
-      end if
+      call euler_preposition(rz, st, es, pe, err)
+      if (allocated(err)) return
       ! (pe%occupied unallocated without particles: absent)
       call euler_rezone(rz, st%g, st%bc, st%share, st%step, st%t, es, log, start, xnew, done, err, pe%occupied)
       if (allocated(err) .or. .not. done) return
@@ -252,6 +246,23 @@ contains
       call es%timer%stop()
     end if
   end subroutine euler_step
+
+  !> Remark 2 (Sect. 5.2), before a smoothing rezone (lssm, smooth): the
+  !> particles of st (the whole grid's) placed in the standard grid; the
+  !> cells they occupy there (pe%occupied) are the smoothing's fixed inner
+  !> boundary (es%mobility). On an error the Euler step's timer stops.
+  subroutine euler_preposition(rz, st, es, pe, err)
+    type(rezone_config_t), intent(in) :: rz
+    type(state_t), intent(in) :: st
+    type(euler_state_t), intent(inout) :: es
+    type(particles_euler_t), intent(inout) :: pe
+    type(error_t), allocatable, intent(inout) :: err
+    if (st%pt%np == 0 .or. .not. (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth')) return
+    call particles_euler_preposition(st, es%x0, pe, err)
+    if (.not. allocated(err)) call smooth_mobility_box(st%g%ni, st%g%nj, st%g%nk, es%mobility, err, &
+                                                       frozen=pe%occupied)
+    if (allocated(err)) call es%timer%stop()
+  end subroutine euler_preposition
 
   !> The remap's settings from the deck.
   function remap_params(rz) result(par)

@@ -31,6 +31,7 @@ module driver_particles
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_geometry, only: hex_volume
+  use mesh_grid, only: grid_index_t
   use particles_config, only: particles_config_t
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
@@ -56,10 +57,12 @@ module driver_particles
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
   use driver_state, only: state_t, particles_internal
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   implicit none
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
-            particles_euler_finish, particles_take, particles_gathered
+            particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
+            particles_gathered, count_hosts
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -68,8 +71,9 @@ module driver_particles
     integer, allocatable :: guess(:)
     !> (ncell) cells of the standard grid holding particles (smoothing rezones)
     logical, allocatable :: occupied(:)
-    !> the particles' share of the nodal kinetic energy and momentum before the remap
-    real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp
+    !> the particles' share of the nodal kinetic energy and momentum before the
+    !> remap, and the share of those that left through open faces
+    real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp, ke_out = 0.0_wp, p_out(3) = 0.0_wp
   end type particles_euler_t
 
   !> One seeded group before assembly.
@@ -307,6 +311,10 @@ contains
         h%u(:, n) = (h%mnode(n)*h%u(:, n) + pw%mp(n)*pw%vs(:, n))/(h%mnode(n) + pw%mp(n))
       end do
       call bc_constrain(st%bc, h%u)
+      ! (a block's ghost nodes as their owners have them: its particles in
+      ! ghost cells reach nodes whose sums the block does not complete)
+      call st%halo%nodes(h%u)
+      call st%halo%nodes(pw%vs)
       call particles_flip(g, pt, h%u, pw%vs)
     end associate
   end subroutine share_velocities
@@ -389,15 +397,19 @@ contains
     end subroutine agree_bad
   end subroutine particles_step
 
-  !> A block's particles taken from the whole run's (st%whole%pt, after the
-  !> scene is built, an Euler step or a restart read): those whose host cell
+  !> A block's particles taken from the whole run's (w, on the whole grid's
+  !> index wix: after the scene is built, an Euler step or a restart read;
+  !> models the strength models, the whole run's): those whose host cell
   !> is one of the block's owned cells or of the ghost layer around them
   !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
   !> order (so sorted as one process sorts them), with their whole index in
   !> st%pwhole and pw%owned marking the ones it owns. The coupling's work
-  !> arrays are sized anew; the strength models are the whole run's.
-  subroutine particles_take(st, err)
+  !> arrays are sized anew.
+  subroutine particles_take(st, w, wix, models_in, err)
     type(state_t), intent(inout), target :: st
+    type(particles_t), intent(in) :: w
+    type(grid_index_t), intent(in) :: wix
+    type(strength_slot_t), allocatable, intent(in) :: models_in(:)
     type(error_t), allocatable, intent(inout) :: err
     type(strength_slot_t), allocatable :: models(:)
     integer, allocatable :: pick(:)
@@ -405,7 +417,7 @@ contains
     integer :: k, n, q, lo(3), hi(3), ijk(3), stat
     character(len=200) :: msg
 
-    associate (g => st%g, w => st%whole%pt, wg => st%whole%g)
+    associate (g => st%g, wg => wix)
       call g%cells_around(1, lo, hi)
       allocate(pick(w%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
@@ -440,8 +452,8 @@ contains
         owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
       end do
       st%pw = particles_work_t()
-      if (allocated(st%whole%pw%models)) then
-        models = st%whole%pw%models
+      if (allocated(models_in)) then
+        models = models_in
         call particles_work_init(st%pw, g%nnode, g%ncell, n, st%pt%nhist, err)
         if (allocated(err)) return
         call move_alloc(models, st%pw%models)
@@ -535,53 +547,52 @@ contains
   end subroutine particles_euler_preposition
 
   !> Before the remap: the particles' share of the nodal kinetic energy
-  !> and momentum (the transfer's balance). Coupled particles only.
+  !> and momentum (the transfer's balance), summed exactly over the nodes
+  !> the block counts (`nodal_sums`). Coupled particles only.
   subroutine particles_euler_save(st, pe)
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
-    integer :: n
     associate (g => st%g, h => st%h, pw => st%pw)
       if (.not. pw%mass_ready) then
         call particles_nodal_mass(g, st%pt, st%pt%mvf, h%mnode, pw%mp, pw%ms)
         pw%mass_ready = .true.
       end if
-      pe%ke_solid = 0.0_wp
-      pe%p_solid = 0.0_wp
-      do n = 1, g%nnode
-        pe%ke_solid = pe%ke_solid + 0.5_wp*pw%mp(n)*dot_product(h%u(:, n), h%u(:, n))
-        pe%p_solid = pe%p_solid + pw%mp(n)*h%u(:, n)
-      end do
+      call nodal_sums(st, pw%mp, pe%ke_solid, pe%p_solid)
     end associate
   end subroutine particles_euler_save
 
-  !> After the remap (PARTICLES.md §1.13 items 3-4): every particle's host
-  !> and natural coordinates in the rezoned grid by its position (the walk
-  !> from pe%guess, else from the old host), its position put on the new
-  !> grid's map, the particles re-sorted and re-binned; coupled particles
-  !> get their virtual-fluid masses from the new hosts' densities, the
-  !> nodal mass term (Eq. 16) is rebuilt and each node reached by particles
-  !> gets u = (m_f u_f + m_p,I vbar_I)/(m_f + m_p,I): u_f the remapped fluid
-  !> velocity, m_p,I = sum_p (m_p - m'_p) N_Ip (guarded), vbar_I the
-  !> particles' mass-weighted mean velocity at the node (Eq. 30 with v_p),
-  !> so that a uniform flow carrying a body stays uniform exactly; then the
-  !> kinematic conditions, and the change u - vbar given to the particles
-  !> (`particles_flip`). The change of the nodal momentum and kinetic energy
-  !> this makes (the particles' share rebuilt from their own velocities, the
-  !> virtual fluid re-weighted by its new host density) is logged and the
-  !> energy part booked as the transfer energy of the conservation report.
+  !> After the remap (PARTICLES.md §1.13 items 3-4): `particles_euler_relocate`
+  !> and `particles_euler_couple` on the same state (one process, or a
+  !> decomposed run's whole grid).
   subroutine particles_euler_finish(st, pe, log, err)
+    type(state_t), intent(inout) :: st
+    type(particles_euler_t), intent(inout) :: pe
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    call particles_euler_relocate(st, pe, log, err)
+    if (.not. allocated(err)) call particles_euler_couple(st, pe, st%pt%np, count_hosts(st%pt, st%g%ncell), log)
+  end subroutine particles_euler_finish
+
+  !> After the remap, item 3: every particle's host and natural coordinates
+  !> in the rezoned grid st%g by its position (the walk from pe%guess, else
+  !> from the old host), its position put on the new grid's map, the
+  !> particles re-sorted and re-binned; those the rezone left beyond an
+  !> open face leave (`particles_leave`), their share of the nodal momentum
+  !> and kinetic energy kept in pe (ke_out, p_out) for the balance. Needs
+  !> only st%g, st%pt, st%bc and st%tot: a decomposed run does it on the
+  !> whole grid's particles, the same on every rank.
+  subroutine particles_euler_relocate(st, pe, log, err)
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cell(:)
     real(wp), allocatable :: xi(:, :)
-    real(wp) :: sh(8), ke_f, p_f(3), ke1, p1(3), mt, ke_out, p_out(3)
-    integer :: bad, k, a, n, n0, stat
-    character(len=300) :: line
+    real(wp) :: sh(8)
+    integer :: bad, k, a, n0, stat
     character(len=200) :: msg
 
-    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
+    associate (g => st%g, pt => st%pt)
       allocate(cell(pt%np), xi(3, pt%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'particles_euler_finish', 'cannot allocate: '//trim(msg))
@@ -589,10 +600,10 @@ contains
       end if
       if (.not. allocated(pe%guess)) pe%guess = pt%cell
       call particles_relocate(g, g%x, pt, pe%guess, cell, xi, bad)
-      ke_out = 0.0_wp
-      p_out = 0.0_wp
+      pe%ke_out = 0.0_wp
+      pe%p_out = 0.0_wp
       if (bad /= 0) then
-        call particles_leave(st, cell, xi, ke_out, p_out, log, err)
+        call particles_leave(st, cell, xi, pe%ke_out, pe%p_out, log, err)
         if (allocated(err)) return
       end if
       pt%cell = cell
@@ -606,33 +617,82 @@ contains
         end do
       end do
       call particles_order(pt, g%ncell, err)
-      if (allocated(err)) return
+    end associate
+  end subroutine particles_euler_relocate
+
+  !> After the remap, item 4, on st's grid (one process's, or a block with
+  !> the particles of its owned and ghost cells, relocated): coupled
+  !> particles get their virtual-fluid masses from the new hosts' densities,
+  !> the nodal mass term (Eq. 16) is rebuilt and each node reached by
+  !> particles gets u = (m_f u_f + m_p,I vbar_I)/(m_f + m_p,I): u_f the
+  !> remapped fluid velocity, m_p,I = sum_p (m_p - m'_p) N_Ip (guarded),
+  !> vbar_I the particles' mass-weighted mean velocity at the node (Eq. 30
+  !> with v_p), so that a uniform flow carrying a body stays uniform
+  !> exactly; then the kinematic conditions, and the change u - vbar given
+  !> to the particles (`share_velocities`). The change of the nodal
+  !> momentum and kinetic energy this makes (the particles' share rebuilt
+  !> from their own velocities, the virtual fluid re-weighted by its new
+  !> host density), exact sums over the nodes the blocks count, is logged
+  !> and the energy part booked as the transfer energy of the conservation
+  !> report. np and hosts: the run's particles and host cells (the log's).
+  subroutine particles_euler_couple(st, pe, np, hosts, log)
+    type(state_t), intent(inout) :: st
+    type(particles_euler_t), intent(in) :: pe
+    integer, intent(in) :: np, hosts
+    type(log_t), intent(in) :: log
+    real(wp) :: ke_f, p_f(3), ke1, p1(3)
+    integer :: k
+    character(len=300) :: line
+
+    associate (h => st%h, pt => st%pt, pw => st%pw)
       if (.not. allocated(pt%mvf)) return
       do k = 1, pt%np
         pt%mvf(k) = h%rho(pt%cell(k))*pt%vol(k)
       end do
-      ke_f = 0.0_wp
-      p_f = 0.0_wp
-      do n = 1, g%nnode
-        ke_f = ke_f + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
-        p_f = p_f + h%mnode(n)*h%u(:, n)
-      end do
+      call nodal_sums(st, h%mnode, ke_f, p_f)
       call share_velocities(st)
-      ke1 = 0.0_wp
-      p1 = 0.0_wp
-      do n = 1, g%nnode
-        mt = h%mnode(n) + pw%mp(n)
-        ke1 = ke1 + 0.5_wp*mt*dot_product(h%u(:, n), h%u(:, n))
-        p1 = p1 + mt*h%u(:, n)
-      end do
+      call nodal_sums(st, h%mnode + pw%mp, ke1, p1)
       ! (the share of the particles that left went out with them)
-      st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + ke_out - ke_f - pe%ke_solid)
+      st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + pe%ke_out - ke_f - pe%ke_solid)
       write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &
-        &", kinetic energy change ",es10.3," (share of the particles rebuilt)")') pt%np, &
-        count(pt%cell_start(2:) > pt%cell_start(:g%ncell)), p1 + p_out - p_f - pe%p_solid, ke1 + ke_out - ke_f - pe%ke_solid
+        &", kinetic energy change ",es10.3," (share of the particles rebuilt)")') np, hosts, &
+        p1 + pe%p_out - p_f - pe%p_solid, ke1 + pe%ke_out - ke_f - pe%ke_solid
       call log_line(log, trim(line))
     end associate
-  end subroutine particles_euler_finish
+  end subroutine particles_euler_couple
+
+  !> Kinetic energy ke and momentum p of the nodes' velocities st%h%u with
+  !> masses m, exact sums over the nodes st's block counts, over all blocks.
+  subroutine nodal_sums(st, m, ke, p)
+    type(state_t), intent(in) :: st
+    real(wp), intent(in) :: m(:)
+    real(wp), intent(out) :: ke, p(3)
+    type(xsum_t) :: acc(4)
+    integer :: i, j, k, n, d
+    associate (g => st%g, u => st%h%u)
+      do k = g%ulo(3), g%nhi(3)
+        do j = g%ulo(2), g%nhi(2)
+          do i = g%ulo(1), g%nhi(1)
+            n = g%node(i, j, k)
+            call xsum_add(acc(4), 0.5_wp*m(n)*dot_product(u(:, n), u(:, n)))
+            do d = 1, 3
+              call xsum_add(acc(d), m(n)*u(d, n))
+            end do
+          end do
+        end do
+      end do
+    end associate
+    call st%halo%sums(acc)
+    ke = xsum_value(acc(4))
+    p = [(xsum_value(acc(d)), d = 1, 3)]
+  end subroutine nodal_sums
+
+  !> How many cells host particles (of p, binned on a grid of ncell cells).
+  integer function count_hosts(p, ncell)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: ncell
+    count_hosts = count(p%cell_start(2:ncell + 1) > p%cell_start(:ncell))
+  end function count_hosts
 
   !> The particles a rezone left in no cell (cell(k) = 0 from
   !> `particles_relocate`): those whose host lay on an inflow or outflow face

@@ -36,17 +36,19 @@ module driver_scene
 contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
-  !> masses (first term of Eq. 16) and boundary lists.
-  subroutine build_scene(cfg, st, log, err, block)
+  !> masses (first term of Eq. 16) and boundary lists; the particles unless
+  !> fluid_only (a decomposed run's window: `driver_whole`).
+  subroutine build_scene(cfg, st, log, err, block, fluid_only)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: block
+    logical, intent(in), optional :: fluid_only
     integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
     type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), rv, xi(3), key
-    logical :: inside
+    logical :: inside, fluid
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
@@ -195,7 +197,9 @@ contains
     ! the MPM particles (none without &particles: nothing allocated)
     ! (a block of a decomposed run takes them from the whole grid's:
     ! `whole_build`)
-    if (st%halo%nblocks == 1) call build_particles(cfg, st, log, err)
+    fluid = .false.
+    if (present(fluid_only)) fluid = fluid_only
+    if (st%halo%nblocks == 1 .and. .not. fluid) call build_particles(cfg, st, log, err)
     if (allocated(err)) return
     call state_totals(st)
     st%tot%energy_initial = st%tot%internal + st%tot%kinetic

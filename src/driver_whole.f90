@@ -1,7 +1,7 @@
 !> What a decomposed run's Euler phase and particles need beyond each
 !> rank's block.
 !>
-!> Euler steps on windows (runs without particles or open faces): each rank
+!> Euler steps on windows (the default, &run euler_ranks): each rank
 !> holds a window, its block widened by the cells its remap reads (a box of
 !> the whole grid, built from the deck once), and the whole grid's node
 !> positions. At an Euler step every rank rezones the whole grid's node
@@ -16,13 +16,27 @@
 !> search fell short. Either way the result is the single process's, bit
 !> for bit.
 !>
-!> The whole grid on every rank (runs with particles or open faces, and the
-!> Euler steps the windows cannot hold): rezone and remap of the whole grid,
+!> Open faces: the gap search of a window's remap takes each open face's
+!> innermost points and bins over the moved cells from the whole grid's node
+!> positions (`remap_zone_open`), and the flows through the faces are exact
+!> sums added over the ranks.
+!>
+!> Particles at an Euler step on windows: every rank gathers all of them in
+!> the whole run's order, pre-positions them in the standard grid (Remark
+!> 2: the cells they occupy freeze the smoothing) and relocates them in the
+!> rezoned grid, the same on every rank (those that leave through open
+!> faces too); each block then takes those of its owned and ghost cells and
+!> couples them to its nodes (`particles_euler_couple`: the nodal sums of
+!> its owned nodes are complete, its ghost nodes get their owners' values),
+!> the energy sums exact over the blocks.
+!>
+!> The whole grid on every rank (&run euler_ranks = 'whole', and the Euler
+!> steps the windows cannot hold): rezone and remap of the whole grid,
 !> computed alike on every rank (the intersections and MoF shared over the
-!> ranks, `base_share`), each rank then taking its block back; the particles
-!> are seeded on it and moved on it at Euler steps (without Euler steps it
-!> is let go once they are seeded); a run that holds it reads a restart into
-!> it too.
+!> ranks, `base_share`), each rank then taking its block back. The
+!> particles are seeded on it (it is let go once the run has started on
+!> windows or without Euler steps); a run that holds it then reads a
+!> restart into it too.
 !>
 !> Restart dumps need neither: the ranks write their blocks into one file
 !> together (`whole_dump`), the file of one process, so a dump written on P
@@ -50,13 +64,15 @@ module driver_whole
   use io_log, only: log_t, log_line
   use base_strings, only: itoa
   use particles_state, only: particles_t, particles_index
-  use driver_particles, only: particles_gathered, particles_take
+  use driver_particles, only: particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
+                              particles_euler_relocate, particles_euler_couple, count_hosts
+  use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_concat
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
-  use remap_euler, only: remap_zone_t, remap_stats_t, remap_euler_step
+  use remap_euler, only: remap_zone_t, remap_stats_t, remap_euler_step, remap_zone_open, remap_stats_flows
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos
   use material_mixed, only: mixed_cell_state
@@ -65,7 +81,7 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params
+                          euler_rezone, euler_finish, remap_params, euler_preposition
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error, GHOST_WIDTH
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
@@ -91,8 +107,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     if (pc%nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
-    if (size(cfg%particles) == 0 .and. .not. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW) .and. &
-        trim(cfg%control%euler_ranks) == 'windows') then
+    if (size(cfg%particles) == 0 .and. trim(cfg%control%euler_ranks) == 'windows') then
       call window_build(cfg, pc, st, err)
       return
     end if
@@ -102,6 +117,10 @@ contains
     ! each block takes those of its cells, and the nodes their momentum
     call log_line(log, 'particles: '//itoa(st%whole%pt%np)//' in all, seeded on the whole grid')
     call whole_scatter(st, err)
+    call agree_error(pc, err)
+    ! (the whole state is let go once the run has started: `driver`)
+    if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none' .and. trim(cfg%control%euler_ranks) == 'windows') &
+      call window_build(cfg, pc, st, err)
   end subroutine whole_build
 
   !> st%whole built from the deck on the whole grid, its Euler steps' work
@@ -129,7 +148,7 @@ contains
     end if
   end subroutine whole_state_build
 
-  !> The Euler phase of a decomposed run without particles or open faces
+  !> The Euler phase of a decomposed run without particles
   !> works on windows (`window_euler`): st%win (`window_resize`) and st%gw,
   !> the whole grid's node positions (the rezone's; its quality measures
   !> shared by the ranks, st%share).
@@ -147,6 +166,7 @@ contains
       return
     end if
     call window_resize(cfg, st, window_reach_first, err)
+    call agree_error(pc, err)
     if (allocated(err)) return
     call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
     st%gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
@@ -178,7 +198,7 @@ contains
     end if
     st%win_reach = reach
     silent%quiet = .true.   ! (the blocks' scene has been logged)
-    call build_scene(cfg, st%win, silent, err, ix)
+    call build_scene(cfg, st%win, silent, err, ix, fluid_only=.true.)
   end subroutine window_resize
 
   !> The new cells of a window computed around the block: its ghost layers
@@ -236,7 +256,10 @@ contains
   !> When a remap needs more than the windows hold, on any rank, the step is
   !> done on the whole grid instead (`whole_gather`, the whole state built
   !> for it and let go after), and if the search fell short the windows are
-  !> widened (its reach doubled).
+  !> widened (its reach doubled). Particles: every rank gathers them all
+  !> (in the whole run's order), pre-positions them in the standard grid and
+  !> relocates them in the rezoned one, the same on every rank; each block
+  !> then takes its own and couples them to its nodes.
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -246,21 +269,39 @@ contains
     real(wp), intent(in) :: shape(2)
     type(error_t), allocatable, intent(inout) :: err
     type(euler_start_t) :: e0
+    type(particles_euler_t) :: pe
+    type(state_t) :: sw
     real(wp), allocatable :: xnew(:, :), x(:, :)
-    logical :: done, redo, wider
+    logical :: done, redo, wider, parts
 
     call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
     call move_alloc(x, st%gw%x)
     call euler_due_where(cfg%rezone, st%gw, es, shape)
     call euler_begin(st, es, log, e0)
-    call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, st%step, st%t, es, log, e0, xnew, done, err)
+    parts = allocated(st%pwhole)
+    if (parts) then
+      ! (sw: the whole grid's nodes and particles, on every rank)
+      sw%g = st%gw
+      sw%bc = st%bc
+      call particles_gathered(pc, st, sw%pt, err)
+      if (.not. allocated(err)) call particles_index(sw%pt, sw%g%ncell, err)
+      if (.not. allocated(err)) call euler_preposition(cfg%rezone, sw, es, pe, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
+    end if
+    call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, st%step, st%t, es, log, e0, xnew, done, err, pe%occupied)
     if (allocated(err) .or. .not. done) return
+    if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     call window_remap(cfg, pc, st, es, log, xnew, e0, redo, wider, err)
-    if (allocated(err) .or. .not. redo) return
+    if (allocated(err)) return
+    if (.not. redo) then
+      if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
+      return
+    end if
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0)
+    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe)
     if (.not. allocated(err)) call whole_scatter(st, err)
     if (.not. allocated(err)) deallocate(st%whole)
     if (allocated(err) .or. .not. wider) return
@@ -270,6 +311,37 @@ contains
     if (.not. allocated(err)) call log_line(log, 'euler windows widened: search within '//itoa(st%win_reach)// &
                                             ' cells, '//itoa(window_margin(st%win_reach))//' cells around each block')
   end subroutine window_euler
+
+  !> The particles' part of an Euler step on windows, after the blocks took
+  !> the remapped fluid: all of them (sw%pt, the whole grid's, on every
+  !> rank) relocated in the rezoned grid xnew, each block's then taken from
+  !> them and coupled to its nodes (`particles_euler_couple`).
+  subroutine window_particles(pc, st, es, sw, xnew, pe, log, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(euler_state_t), intent(inout) :: es
+    type(state_t), intent(inout) :: sw
+    real(wp), allocatable, intent(inout) :: xnew(:, :)
+    type(particles_euler_t), intent(inout) :: pe
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    type(strength_slot_t), allocatable :: models(:)
+    call es%timer%start()
+    call move_alloc(xnew, sw%g%x)
+    ! (those that leave through open faces take their energy from the
+    ! boundary work, alike on every rank)
+    sw%tot = st%tot
+    call particles_euler_relocate(sw, pe, log, err)
+    call agree_error(pc, err)
+    if (.not. allocated(err)) then
+      st%tot%boundary_work = sw%tot%boundary_work
+      if (allocated(st%pw%models)) models = st%pw%models
+      call particles_take(st, sw%pt, sw%g%grid_index_t, models, err)
+    end if
+    call agree_error(pc, err)
+    if (.not. allocated(err)) call particles_euler_couple(st, pe, sw%pt%np, count_hosts(sw%pt, sw%g%ncell), log)
+    call es%timer%stop()
+  end subroutine window_particles
 
   !> The remap of an Euler step on this rank's window (`window_euler`),
   !> from the blocks' state to the rezoned grid xnew (the whole grid's
@@ -298,6 +370,8 @@ contains
     call copy_gather(pc, st, .true., err, cs)
     associate (w => st%win, wg => st%win%g)
       if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
+      if (.not. allocated(err) .and. any(w%bc%kind == BC_INFLOW .or. w%bc%kind == BC_OUTFLOW)) &
+        call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xnew, err)
       if (.not. allocated(err)) then
         allocate(xw(3, wg%nnode), stat=stat)
         if (stat /= 0) call error_set(err, 'window_remap', 'out of memory')
@@ -349,6 +423,8 @@ contains
       return
     end if
     call centroids_count(pc, cs, es%centroids)
+    call st%halo%sums(rs%flow)
+    call remap_stats_flows(rs)
     call remap_stats_reduce(pc, rs)
     call euler_finish(cfg%rezone, st, es, log, e0, rs, err)
   end subroutine window_remap
@@ -547,7 +623,7 @@ contains
     type(mixed_t) :: mw
     real(wp), allocatable :: box(:, :)
     real(wp), pointer, contiguous :: a(:, :)
-    integer, allocatable :: pick(:)
+    integer, allocatable :: pick(:), map(:)
     integer :: e, m, n, lo(3), hi(3)
 
     if (window) then
@@ -565,8 +641,10 @@ contains
     hi = d%g%off + [d%g%ni, d%g%nj, d%g%nk]
     call state_register_restart(st, rb)
     call state_register_restart(d, rw)
+    map = entry_map(rb, rw)
     do e = 1, rb%n
-      associate (b => rb%e(e), v => rw%e(e))
+      if (map(e) == 0) cycle
+      associate (b => rb%e(e), v => rw%e(map(e)))
         select case (b%location)
         case (LOC_NODE, LOC_CELL)
           m = product(b%dims(1:size(b%dims) - 1))
@@ -591,6 +669,23 @@ contains
     call material_index_cells(d%mats, d%h%mat, d%mx, err)
   end subroutine copy_gather
 
+  !> For each entry of registry a, the entry of b with its name (0: none; a
+  !> window holds no particles).
+  function entry_map(a, b) result(map)
+    type(registry_t), intent(in) :: a, b
+    integer :: map(a%n)
+    integer :: e, f
+    map = 0
+    do e = 1, a%n
+      do f = 1, b%n
+        if (a%e(e)%name == b%e(f)%name) then
+          map(e) = f
+          exit
+        end if
+      end do
+    end do
+  end function entry_map
+
   !> The counts of the mixed cells (copied with the cells themselves).
   logical function mixed_entry(e)
     type(registry_entry_t), intent(in) :: e
@@ -603,7 +698,7 @@ contains
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
     if (allocated(st%whole%pt%id)) then
-      call particles_take(st, err)
+      call particles_take(st, st%whole%pt, st%whole%g%grid_index_t, st%whole%pw%models, err)
       if (allocated(err)) return
     end if
     call block_from(st, .false., err)
@@ -619,7 +714,7 @@ contains
     type(state_t), pointer :: src
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
-    integer, allocatable :: pick(:)
+    integer, allocatable :: pick(:), map(:)
     integer :: e, i, j, l, c, n, m, q, k, o(3)
     logical :: nodes
 
@@ -639,8 +734,10 @@ contains
     o = st%g%off - src%g%off
     call state_register_restart(st, rb)
     call state_register_restart(src, rw)
+    map = entry_map(rb, rw)
     do e = 1, rb%n
-      associate (b => rb%e(e), v => rw%e(e), g => st%g, wg => src%g)
+      if (map(e) == 0) cycle
+      associate (b => rb%e(e), v => rw%e(map(e)), g => st%g, wg => src%g)
         select case (b%location)
         case (LOC_NODE, LOC_CELL)
           nodes = b%location == LOC_NODE

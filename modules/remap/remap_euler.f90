@@ -108,11 +108,12 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -157,6 +158,9 @@ module remap_euler
     real(wp) :: mass_in = 0.0_wp, mass_out = 0.0_wp
     real(wp) :: momentum_in(3) = 0.0_wp, momentum_out(3) = 0.0_wp
     real(wp) :: energy_in = 0.0_wp, energy_out = 0.0_wp
+    !> the same, exact (`base_xsum`; mass, momentum, energy in, then out):
+    !> a window's callers add them over the ranks (`remap_stats_flows`)
+    type(xsum_t) :: flow(10)
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
     !> with a zone: computed new cells the old cells within reach_max did
@@ -184,9 +188,18 @@ module remap_euler
   !> in own and the w layers around it are bit for bit those of the whole
   !> grid's remap (a node needs every cell around it computed, a cell its
   !> nodes; an owned old region every new cell within reach).
+  !>
+  !> With open faces (`remap_zone_open`) the zone also holds what the gap
+  !> search needs from the whole grid: each open face's innermost points
+  !> (old and new grids) and bins over the whole grid's moved old cells.
+  !> A computed gap cell whose old cells lie beyond reach_max, or whose
+  !> outflow face lies beyond the window, counts as cells_short.
   type :: remap_zone_t
     logical, allocatable :: compute(:), own(:), own_node(:)
     integer :: reach_max = 2
+    logical :: open = .false.               !< set by `remap_zone_open`
+    real(wp) :: bold(6) = 0.0_wp, bnew(6) = 0.0_wp
+    type(remap_bins_t) :: bins
   end type remap_zone_t
 
   !> The old grid's cells as the remap needs them.
@@ -271,10 +284,10 @@ contains
     integer(i8), allocatable :: before(:)
     real(wp), allocatable :: buf(:, :)
     logical :: sharing
-    real(wp) :: w0, vnew, defect, xn(3, 8), given
+    real(wp) :: w0, vnew, defect, xn(3, 8), given, bold(6), bnew(6)
     integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck
     logical :: any_open, windowed
-    logical, allocatable :: own(:)
+    logical, allocatable :: own(:), own_node(:)
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -295,17 +308,22 @@ contains
     end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
     if (windowed) then
-      if (any_open) then
-        call error_set(err, 'remap_euler_step', 'a window''s remap with open faces')
+      if (any_open .and. .not. zone%open) then
+        call error_set(err, 'remap_euler_step', 'a window''s remap with open faces needs remap_zone_open')
         return
       end if
       own = zone%own
+      own_node = zone%own_node
+      bold = zone%bold
+      bnew = zone%bnew
     else
       own = [(.true., c = 1, ncell)]
+      own_node = [(.true., c = 1, g%nnode)]
+      if (any_open) call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
     end if
     gap_face = 0
     beyond = .false.
-    if (any_open) call open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
+    if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
     call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, own, share)
     if (allocated(err)) return
     sharing = .false.
@@ -351,6 +369,8 @@ contains
           ngap = ngap + 1
           gaps(ngap) = c
           reach(c) = r
+          ! (an outflow face beyond the window: its state is not here)
+          if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
         else if (defect > 1.0e-9_wp .and. r < rmax) then
           nbad = nbad + 1
           todo(nbad) = c
@@ -375,6 +395,7 @@ contains
     end do
     if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
     if (allocated(err)) return
+    where (.not. own) reach = 0
     stats%reach = maxval(reach)
     ! (nothing more to do in a window that cannot hold the step)
     if (stats%cells_short > 0) return
@@ -441,8 +462,8 @@ contains
     ! (a window's cells not computed are copied: their results are not used)
     if (windowed) old%changed = old%changed .and. zone%compute
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
-    if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, avol, amom, amass, aie, &
-                                  cdef, cmom, cke, cland, pcell, stats)
+    if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, own, own_node, avol, amom, amass, &
+                                  aie, cdef, cmom, cke, cland, pcell, stats)
 
     w0 = wall_seconds()
     if (windowed) then
@@ -532,7 +553,8 @@ contains
       real(wp) :: xc(3, 8), vc
       character(len=200) :: emsg
 
-      call remap_bins_build(g%ni, g%nj, g%nk, g%x, old%changed, bins, err)
+      ! (a window's: the whole grid's, which its callers built)
+      if (.not. windowed) call remap_bins_build(g%ni, g%nj, g%nk, g%x, old%changed, bins, err)
       if (allocated(err)) return
       allocate(rw(size(cells)), wider(size(cells)), stat=st, errmsg=emsg)
       if (st /= 0) then
@@ -543,7 +565,16 @@ contains
         cc = cells(ii)
         call g%cell_ijk(cc, i0, j0, k0)
         call g%gather(cc, xnew, xc)
-        rw(ii) = max(remap_bins_reach(bins, i0, j0, k0, minval(xc, 2), maxval(xc, 2)), reach(cc))
+        if (windowed) then
+          rw(ii) = max(remap_bins_reach(zone%bins, i0 + g%off(1), j0 + g%off(2), k0 + g%off(3), minval(xc, 2), &
+                                        maxval(xc, 2)), reach(cc))
+          if (rw(ii) > zone%reach_max) then
+            stats%cells_short = stats%cells_short + 1
+            rw(ii) = zone%reach_max
+          end if
+        else
+          rw(ii) = max(remap_bins_reach(bins, i0, j0, k0, minval(xc, 2), maxval(xc, 2)), reach(cc))
+        end if
       end do
       wider = rw > reach(cells)
       if (any(wider)) then
@@ -555,7 +586,7 @@ contains
         reach(cc) = rw(ii)
         call g%gather(cc, xnew, xc)
         vc = hex_volume(xc)
-        stats%volume_defect = max(stats%volume_defect, (sum(avol(:, cc)) - vc)/abs(vc))
+        if (own(cc)) stats%volume_defect = max(stats%volume_defect, (sum(avol(:, cc)) - vc)/abs(vc))
       end do
     end subroutine widen_gaps
 
@@ -692,7 +723,7 @@ contains
           end do
         end do
       end do
-      if (gap_face(c) > 0) near(gap_cell(c)) = .true.
+      if (gap_face(c) > 0 .and. gap_cell(c) > 0) near(gap_cell(c)) = .true.
     end do
     old%uniform = .false.
     old%ucell = nan
@@ -1676,52 +1707,65 @@ contains
     end do
   end subroutine unchanged_corners
 
-  !> Where the open faces (inflow, outflow) of the new grid xnew and of the
-  !> old grid g%x part, at any depth. A new cell may hold part of the gap
-  !> between an open face f and the old grid if it reaches past the old
-  !> face's innermost point along the face's axis; gap_face(c) is then the
-  !> nearest such face (fewest cells away; the first in face order on a
-  !> tie), and gap_cell(c) the old cell at face f on the same index line
-  !> (the cell itself if it lies at the face), whose state an outflow face
-  !> extrapolates into the gap. An old cell that reaches past an open face
-  !> of the new grid's innermost point (beyond) may lose what lies outside:
-  !> it has left the domain. Both tests are necessary conditions only; the
-  !> fragments say how much is actually missing.
-  subroutine open_face_cells(g, bc, xnew, gap_face, gap_cell, beyond)
-    type(grid_t), intent(in) :: g
+  !> Each open face's innermost point along its axis (the largest or
+  !> smallest coordinate of its nodes), on the old grid xold (bold) and the
+  !> new grid xnew (bnew), over the face nodes of the grid ix; huge on
+  !> other faces.
+  pure subroutine open_face_bounds(ix, bc, xold, xnew, bold, bnew)
+    class(grid_index_t), intent(in) :: ix
     type(bc_t), intent(in) :: bc
-    real(wp), intent(in) :: xnew(:, :)
-    integer, intent(out) :: gap_face(:), gap_cell(:)
-    logical, intent(out) :: beyond(:)
-    logical :: isopen(6)
-    real(wp) :: bold(6), bnew(6), xn(3, 8), xo(3, 8)
-    integer :: f, a, c, ijk(3), q(3), depth, best, i, j, k, n
+    real(wp), intent(in) :: xold(:, :), xnew(:, :)
+    real(wp), intent(out) :: bold(6), bnew(6)
+    integer :: f, a, i, j, k, n
     logical :: high
-
-    isopen = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
-    ! each open face's innermost point along its axis, old and new grids
     do f = 1, 6
-      if (.not. isopen(f)) cycle
       a = (f + 1)/2
       high = mod(f, 2) == 0
       bold(f) = merge(huge(1.0_wp), -huge(1.0_wp), high)
       bnew(f) = bold(f)
-      do k = g%nlo(3), g%nhi(3)
-        do j = g%nlo(2), g%nhi(2)
-          do i = g%nlo(1), g%nhi(1)
-            if (.not. btest(g%node_faces(i, j, k), f - 1)) cycle
-            n = g%node(i, j, k)
+      if (bc%kind(f) /= BC_INFLOW .and. bc%kind(f) /= BC_OUTFLOW) cycle
+      do k = ix%nlo(3), ix%nhi(3)
+        do j = ix%nlo(2), ix%nhi(2)
+          do i = ix%nlo(1), ix%nhi(1)
+            if (.not. btest(ix%node_faces(i, j, k), f - 1)) cycle
+            n = ix%node(i, j, k)
             if (high) then
-              bold(f) = min(bold(f), g%x(a, n))
+              bold(f) = min(bold(f), xold(a, n))
               bnew(f) = min(bnew(f), xnew(a, n))
             else
-              bold(f) = max(bold(f), g%x(a, n))
+              bold(f) = max(bold(f), xold(a, n))
               bnew(f) = max(bnew(f), xnew(a, n))
             end if
           end do
         end do
       end do
     end do
+  end subroutine open_face_bounds
+
+  !> Where the open faces (inflow, outflow) of the new grid xnew and of the
+  !> old grid g%x part, at any depth, given each open face's innermost
+  !> points (`open_face_bounds`: bold on the old grid, bnew on the new). A
+  !> new cell may hold part of the gap between an open face f and the old
+  !> grid if it reaches past bold(f) along the face's axis; gap_face(c) is
+  !> then the nearest such face (fewest cells away, in the whole grid's
+  !> indices; the first in face order on a tie), and gap_cell(c) the old
+  !> cell at face f on the same index line (the cell itself if it lies at
+  !> the face), whose state an outflow face extrapolates into the gap (0 if
+  !> that cell is not in g, a window; an inflow face's gap_cell is c). An
+  !> old cell that reaches past bnew(f) (beyond) may lose what lies
+  !> outside: it has left the domain. Both tests are necessary conditions
+  !> only; the fragments say how much is actually missing.
+  subroutine open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xnew(:, :), bold(6), bnew(6)
+    integer, intent(out) :: gap_face(:), gap_cell(:)
+    logical, intent(out) :: beyond(:)
+    logical :: isopen(6)
+    real(wp) :: xn(3, 8), xo(3, 8)
+    integer :: f, a, c, ijk(3), q(3), depth, best
+
+    isopen = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
     do c = 1, g%ncell
       call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
       call g%gather(c, xnew, xn)
@@ -1733,25 +1777,78 @@ contains
       do f = 1, 6
         if (.not. isopen(f)) cycle
         a = (f + 1)/2
+        ! (q: the face's cell on the index line, in g's indices)
         q = ijk
         if (mod(f, 2) == 0) then
           beyond(c) = beyond(c) .or. maxval(xo(a, :)) > bnew(f)
           if (.not. maxval(xn(a, :)) > bold(f)) cycle
-          q(a) = g%chi(a)
+          q(a) = g%gn(a) - g%off(a)
         else
           beyond(c) = beyond(c) .or. minval(xo(a, :)) < bnew(f)
           if (.not. minval(xn(a, :)) < bold(f)) cycle
-          q(a) = g%clo(a)
+          q(a) = 1 - g%off(a)
         end if
         depth = abs(q(a) - ijk(a))
         if (depth < best) then
           best = depth
           gap_face(c) = f
-          gap_cell(c) = g%cell(q(1), q(2), q(3))
+          if (bc%kind(f) == BC_INFLOW) then
+            gap_cell(c) = c
+          else if (q(a) >= g%clo(a) .and. q(a) <= g%chi(a)) then
+            gap_cell(c) = g%cell(q(1), q(2), q(3))
+          else
+            gap_cell(c) = 0
+          end if
         end if
       end do
     end do
   end subroutine open_face_cells
+
+  !> Makes zone (`remap_zone_t`) ready for a window's remap with open
+  !> faces: the open faces' innermost points and the bins over the moved
+  !> cells, from the whole grid's old and new node positions xold, xnew on
+  !> its index ix (without ghosts, as the whole grid's remap sees them).
+  subroutine remap_zone_open(zone, ix, bc, xold, xnew, err)
+    type(remap_zone_t), intent(inout) :: zone
+    type(grid_index_t), intent(in) :: ix
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xold(:, :), xnew(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: moved(:)
+    integer :: c, a, stat
+    allocate(moved(ix%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_zone_open', 'out of memory for the moved cells')
+      return
+    end if
+    ! (as `prepare_old` marks them changed)
+    do c = 1, ix%ncell
+      moved(c) = .false.
+      do a = 1, 8
+        associate (n => ix%node0(c) + ix%corner_offset(a))
+          if (any(abs(xnew(:, n) - xold(:, n)) > 0.0_wp)) moved(c) = .true.
+        end associate
+      end do
+    end do
+    call remap_bins_build(ix%ni, ix%nj, ix%nk, xold, moved, zone%bins, err)
+    call open_face_bounds(ix, bc, xold, xnew, zone%bold, zone%bnew)
+    zone%open = .true.
+  end subroutine remap_zone_open
+
+  !> The flows through open faces (stats%mass_in ... energy_out) from
+  !> their exact sums stats%flow (after adding those of several windows).
+  pure subroutine remap_stats_flows(stats)
+    type(remap_stats_t), intent(inout) :: stats
+    real(wp) :: v(10)
+    integer :: q
+    v = [(xsum_value(stats%flow(q)), q = 1, 10)]
+    stats%mass_in = v(1)
+    stats%momentum_in = v(2:4)
+    stats%energy_in = v(5)
+    stats%mass_out = v(6)
+    stats%momentum_out = v(7:9)
+    stats%energy_out = v(10)
+  end subroutine remap_stats_flows
 
   !> Open faces. What the old grid had beyond them has left: the outflow is
   !> the old totals less what the new cells received. The gap between an
@@ -1760,9 +1857,10 @@ contains
   !> state, or at an outflow face with the state of the old cell at the face
   !> on the same index line (gap_cell: its largest material, its velocity):
   !> zero-gradient extrapolation. The gap's centroid is taken as the new
-  !> cell's centre (it only steers MoF in mixed boundary cells).
-  subroutine open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, avol, amom, amass, aie, cdef, cmom, cke, &
-                        cland, pcell, stats)
+  !> cell's centre (it only steers MoF in mixed boundary cells). The flows
+  !> are exact sums over the cells own and nodes own_node (stats%flow).
+  subroutine open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, own, own_node, avol, amom, amass, aie, cdef, &
+                        cmom, cke, cland, pcell, stats)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
@@ -1770,49 +1868,60 @@ contains
     type(old_t), intent(in) :: old
     real(wp), intent(in) :: xnew(:, :), cdef(:, :)
     integer, intent(in) :: gap_face(:), gap_cell(:)
+    logical, intent(in) :: own(:), own_node(:)
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmom(:, :, :), cke(:, :), &
                                cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
-    real(wp) :: m_old, p_old(3), e_old, m_new, p_new(3), e_new, xn(3, 8), vcell, rho, e, u(3), dm
-    integer :: c, n, a, f, k, ks, gc
+    real(wp) :: xn(3, 8), vcell, rho, e, u(3), dm
+    integer :: c, n, a, f, k, ks, gc, d
+    ! (flow: mass, momentum, energy in (1:5), then out (6:10))
+    integer, parameter :: m_out = 6, p_out = 7, e_out = 10
 
     ! outflow: old totals less what was received
-    m_old = sum(h%mass)
-    e_old = dot_product(h%mass, h%e)
-    p_old = 0.0_wp
-    do n = 1, g%nnode
-      p_old = p_old + h%mnode(n)*h%u(:, n)
-      e_old = e_old + 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2)
-    end do
-    m_new = 0.0_wp
-    e_new = 0.0_wp
-    p_new = 0.0_wp
-    do c = 1, g%ncell
-      if (old%changed(c)) then
-        m_new = m_new + sum(amass(:, c))
-        e_new = e_new + sum(aie(:, c))
-      else
-        m_new = m_new + h%mass(c)
-        e_new = e_new + h%mass(c)*h%e(c)
-      end if
-      ! a changed cell's momentum and kinetic energy are its totals (its
-      ! corners hold what landed in them, part of those), an unchanged
-      ! cell's its corners'
-      if (old%changed(c)) then
-        ! (pcell(4) is about uref: `old_t`)
-        e_new = e_new + pcell(4, c) + dot_product(old%uref(:, c), pcell(1:3, c)) - &
-                0.5_wp*sum(amass(:, c))*dot_product(old%uref(:, c), old%uref(:, c))
-        p_new = p_new + pcell(1:3, c)
-      else
-        e_new = e_new + sum(cke(:, c))
-        do a = 1, 8
-          p_new = p_new + cmom(:, a, c)
+    associate (fl => stats%flow)
+      do c = 1, g%ncell
+        if (.not. own(c)) cycle
+        call xsum_add(fl(m_out), h%mass(c))
+        call xsum_add(fl(e_out), h%mass(c)*h%e(c))
+      end do
+      do n = 1, g%nnode
+        if (.not. own_node(n)) cycle
+        do d = 1, 3
+          call xsum_add(fl(p_out + d - 1), h%mnode(n)*h%u(d, n))
         end do
-      end if
-    end do
-    stats%mass_out = m_old - m_new
-    stats%momentum_out = p_old - p_new
-    stats%energy_out = e_old - e_new
+        call xsum_add(fl(e_out), 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2))
+      end do
+      do c = 1, g%ncell
+        if (.not. own(c)) cycle
+        if (old%changed(c)) then
+          do k = 1, size(amass, 1)
+            call xsum_add(fl(m_out), -amass(k, c))
+            call xsum_add(fl(e_out), -aie(k, c))
+          end do
+        else
+          call xsum_add(fl(m_out), -h%mass(c))
+          call xsum_add(fl(e_out), -h%mass(c)*h%e(c))
+        end if
+        ! a changed cell's momentum and kinetic energy are its totals (its
+        ! corners hold what landed in them, part of those), an unchanged
+        ! cell's its corners'
+        if (old%changed(c)) then
+          ! (pcell(4) is about uref: `old_t`)
+          call xsum_add(fl(e_out), -(pcell(4, c) + dot_product(old%uref(:, c), pcell(1:3, c)) - &
+                                     0.5_wp*sum(amass(:, c))*dot_product(old%uref(:, c), old%uref(:, c))))
+          do d = 1, 3
+            call xsum_add(fl(p_out + d - 1), -pcell(d, c))
+          end do
+        else
+          do a = 1, 8
+            call xsum_add(fl(e_out), -cke(a, c))
+            do d = 1, 3
+              call xsum_add(fl(p_out + d - 1), -cmom(d, a, c))
+            end do
+          end do
+        end if
+      end do
+    end associate
 
     ! inflow: fill the gaps
     do c = 1, g%ncell
@@ -1850,11 +1959,15 @@ contains
         pcell(4, c) = pcell(4, c) + 0.5_wp*dm*sum((u - old%uref(:, c))**2)
         cmom(:, a, c) = cmom(:, a, c) + dm*u
         cland(a, c) = cland(a, c) + dm
-        stats%mass_in = stats%mass_in + dm
-        stats%momentum_in = stats%momentum_in + dm*u
-        stats%energy_in = stats%energy_in + dm*(e + 0.5_wp*dot_product(u, u))
+        if (.not. own(c)) cycle
+        call xsum_add(stats%flow(1), dm)
+        do d = 1, 3
+          call xsum_add(stats%flow(1 + d), dm*u(d))
+        end do
+        call xsum_add(stats%flow(5), dm*(e + 0.5_wp*dot_product(u, u)))
       end do
     end do
+    call remap_stats_flows(stats)
   end subroutine open_faces
 
   !> The new state from the fragments: cells and mixed cells, nodal masses
