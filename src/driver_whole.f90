@@ -148,8 +148,8 @@ contains
     end if
   end subroutine whole_state_build
 
-  !> The Euler phase of a decomposed run without particles
-  !> works on windows (`window_euler`): st%win (`window_resize`) and st%gw,
+  !> The Euler phase of a decomposed run works on windows (`window_euler`,
+  !> &run euler_ranks = 'windows'): st%win (`window_resize`) and st%gw,
   !> the whole grid's node positions (the rezone's; its quality measures
   !> shared by the ranks, st%share).
   subroutine window_build(cfg, pc, st, err)
