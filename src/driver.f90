@@ -88,10 +88,12 @@ contains
       end if
     end if
     if (.not. allocated(err)) then
-      if (allocated(st%whole)) then
-        call euler_init(cfg%rezone, st%whole%g, es, err)
-      else if (allocated(st%gw)) then
+      ! (on windows the blocks smooth their own nodes; the global rezone
+      ! works on the whole grid's node positions)
+      if (allocated(st%win) .and. trim(cfg%rezone%mode) == 'global') then
         call euler_init(cfg%rezone, st%gw, es, err)
+      else if (allocated(st%whole) .and. .not. allocated(st%win)) then
+        call euler_init(cfg%rezone, st%whole%g, es, err)
       else
         call euler_init(cfg%rezone, st%g, es, err)
       end if

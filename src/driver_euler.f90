@@ -5,19 +5,23 @@
 !> (`remap_euler`), the material state after it, the conservation check and
 !> the log.
 module driver_euler
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use base_kinds, only: wp
-  use mesh_grid, only: grid_t
+  use base_sort, only: sort_order
+  use mesh_grid, only: grid_t, grid_index_t, grid_index
+  use mesh_halo, only: halo_t
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
-  use rezone_quality, only: grid_quality, grid_worst_cells, grid_trigger_cells, hex_shape
-  use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_merge, &
+  use rezone_quality, only: grid_quality, grid_trigger_cells, hex_shape
+  use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_seed, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_target, global_face_rule
-  use rezone_smooth, only: smooth_mobility_t, smooth_mobility_box, smooth_region_t, smooth_region_init, smooth_combined, &
-                           smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
+  use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
+                           smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
+                           smooth_any_tangled, node_fixed
   use material_table, only: material_index_cells, material_eval_eos
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
@@ -47,7 +51,6 @@ module driver_euler
     real(wp) :: ke = 0.0_wp                  !< kinetic energy returned to internal energy, this segment
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
-    type(smooth_mobility_t) :: mobility      !< how nodes may move in a smoothing rezone
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
     !> this segment's fits of the mixed cells' interface planes after the
     !> remaps, and refreshes of their centroids before them (and dumps)
@@ -64,10 +67,11 @@ module driver_euler
 
 contains
 
-  !> Keeps the initial grid (the global rezone's target), the node mobility
-  !> of the smoothers and the first interval time, on the grid g the rezone
-  !> works on (one process's, or the whole grid's on every rank of a
-  !> decomposed run). Call after the scene is built, before a restart is read.
+  !> Keeps the initial grid (the global rezone's target, the smoothers'
+  !> standard grid) and the first interval time, on the grid g the rezone
+  !> works on (one process's; a decomposed run's block, or with &rezone mode
+  !> 'global' the whole grid's node positions on every rank). Call after
+  !> the scene is built, before a restart is read.
   subroutine euler_init(rz, g, es, err)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
@@ -82,11 +86,6 @@ contains
     if (stat /= 0) then
       call error_set(err, 'euler_init', 'cannot allocate the Euler phase''s arrays: '//trim(msg))
       return
-    end if
-    if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
-      ! face nodes slide in their face, edge nodes along their edge, corners stay
-      call smooth_mobility_box(g%ni, g%nj, g%nk, es%mobility, err)
-      if (allocated(err)) return
     end if
     es%t_next = huge(1.0_wp)
     if (rz%interval_time > 0.0_wp) es%t_next = rz%interval_time
@@ -131,22 +130,42 @@ contains
           (rz%cos_angle > 0.0_wp .and. cos_min <= rz%cos_angle)
     if (.not. due) return
     es%trigger_note = 'shape'
-    if (.not. present(shape)) call euler_due_where(rz, st%g, es, [ratio_max, cos_min])
+    if (.not. present(shape)) call euler_due_where(rz, st%g, st%halo, es, [ratio_max, cos_min])
   end subroutine euler_due
 
   !> The log's note of a step due by the grid's shape (largest side ratio
-  !> and smallest cosine, shape): the worst cell of each measure in the grid
-  !> g (a decomposed run's caller: the whole grid, once gathered).
-  subroutine euler_due_where(rz, g, es, shape)
+  !> and smallest cosine, shape, the whole grid's): the worst cell of each
+  !> measure, the first in the whole grid's cell order (each block finds
+  !> its first owned cell with the whole grid's worst value; the least
+  !> cell number of all blocks is the one of one process).
+  subroutine euler_due_where(rz, g, halo, es, shape)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
+    class(halo_t), intent(in) :: halo
     type(euler_state_t), intent(inout) :: es
     real(wp), intent(in) :: shape(2)
-    integer :: ijk_ratio(3), ijk_cos(3)
+    real(wp) :: xn(3, 8), r, cs, first(2), none(0)
+    integer :: i, j, k, ijk(3, 2), m, gc
     if (es%trigger_note /= 'shape') return
-    call grid_worst_cells(g%ni, g%nj, g%nk, g%x, ijk_ratio, ijk_cos, euler_axis(rz))
+    first = huge(1.0_wp)
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          call g%gather(g%cell(i, j, k), g%x, xn)
+          call hex_shape(xn, r, cs, euler_axis(rz))
+          gc = g%global_cell(g%cell(i, j, k))
+          if (r >= shape(1)) first(1) = min(first(1), real(gc, wp))
+          if (cs <= shape(2)) first(2) = min(first(2), real(gc, wp))
+        end do
+      end do
+    end do
+    do m = 1, 2
+      call halo%choose(first(m), none)
+      gc = nint(min(first(m), 1.0e9_wp)) - 1
+      ijk(:, m) = [mod(gc, g%gn(1)), mod(gc/g%gn(1), g%gn(2)), gc/(g%gn(1)*g%gn(2))] + 1
+    end do
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
-      &i0,",",i0,",",i0,")")') shape(1), ijk_ratio, shape(2), ijk_cos
+      &i0,",",i0,",",i0,")")') shape(1), ijk(:, 1), shape(2), ijk(:, 2)
   end subroutine euler_due_where
 
   !> Whether the triggers measure the inclined angle against the axes (LSSM's
@@ -216,7 +235,8 @@ contains
       call euler_preposition(rz, st, es, pe, err)
       if (allocated(err)) return
       ! (pe%occupied unallocated without particles: absent)
-      call euler_rezone(rz, st%g, st%bc, st%share, st%step, st%t, es, log, start, xnew, done, err, pe%occupied)
+      call euler_rezone(rz, st%g, st%bc, st%share, st%halo, st%step, st%t, es, log, start, xnew, done, err, &
+                        pe%occupied)
       if (allocated(err) .or. .not. done) return
     end if
     par = remap_params(rz)
@@ -248,19 +268,23 @@ contains
   end subroutine euler_step
 
   !> Remark 2 (Sect. 5.2), before a smoothing rezone (lssm, smooth): the
-  !> particles of st (the whole grid's) placed in the standard grid; the
-  !> cells they occupy there (pe%occupied) are the smoothing's fixed inner
-  !> boundary (es%mobility). On an error the Euler step's timer stops.
-  subroutine euler_preposition(rz, st, es, pe, err)
+  !> particles of st (the whole grid's) placed in the standard grid (es%x0,
+  !> or x0 given: a decomposed run's whole grid); the cells they occupy
+  !> there (pe%occupied) are the smoothing's fixed inner boundary. On an
+  !> error the Euler step's timer stops.
+  subroutine euler_preposition(rz, st, es, pe, err, x0)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
     type(euler_state_t), intent(inout) :: es
     type(particles_euler_t), intent(inout) :: pe
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: x0(:, :)
     if (st%pt%np == 0 .or. .not. (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth')) return
-    call particles_euler_preposition(st, es%x0, pe, err)
-    if (.not. allocated(err)) call smooth_mobility_box(st%g%ni, st%g%nj, st%g%nk, es%mobility, err, &
-                                                       frozen=pe%occupied)
+    if (present(x0)) then
+      call particles_euler_preposition(st, x0, pe, err)
+    else
+      call particles_euler_preposition(st, es%x0, pe, err)
+    end if
     if (allocated(err)) call es%timer%stop()
   end subroutine euler_preposition
 
@@ -299,16 +323,19 @@ contains
 
   !> The rezone of an Euler step: back to the initial grid, with moving
   !> faces followed (&rezone mode 'global'), or smoothing ('lssm',
-  !> 'smooth'), of the grid g (one process's, or the whole grid's node
-  !> positions on every rank of a decomposed run, share: the ranks that
-  !> share its quality measures). xnew: the rezoned grid; done false (the
-  !> step skipped, its interval used up, its timer stopped) if no cell needs
-  !> it, or on an error.
-  subroutine euler_rezone(rz, g, bc, share, step, t, es, log, e0, xnew, done, err, occupied)
+  !> 'smooth'), of the grid g: one process's, a decomposed run's block
+  !> (halo: its ghosts and global reductions; the smoothing only), or the
+  !> whole grid's node positions on every rank (share: the ranks that share
+  !> its quality measures). occupied: g's cells that particles occupy in
+  !> the standard grid. xnew: the rezoned grid; done false (the step
+  !> skipped, its interval used up, its timer stopped) if no cell needs it,
+  !> or on an error.
+  subroutine euler_rezone(rz, g, bc, share, halo, step, t, es, log, e0, xnew, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
     class(share_t), intent(in), optional :: share
+    class(halo_t), intent(inout) :: halo
     integer, intent(in) :: step
     real(wp), intent(in) :: t
     type(euler_state_t), intent(inout) :: es
@@ -325,7 +352,7 @@ contains
     done = .true.
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       xnew = g%x
-      call smooth_rezone(rz, g, bc, share, step, es, log, xnew, done, err, occupied)
+      call smooth_rezone(rz, g, bc, share, halo, step, es, log, xnew, done, err, occupied)
     else
       ! back to the initial grid, except where a face moves with the
       ! material (a piston, a free surface): there the grid follows it
@@ -472,11 +499,12 @@ contains
   !> through-flow and the domain goes with it), and with drift_max > 0 every
   !> other node that drifted more than drift_max of it. The other cells
   !> around the nodes so moved join the distorted cells.
-  subroutine smooth_rezone(rz, g, bc, share, step, es, log, x, done, err, occupied)
+  subroutine smooth_rezone(rz, g, bc, share, halo, step, es, log, x, done, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
     class(share_t), intent(in), optional :: share
+    class(halo_t), intent(inout) :: halo
     integer, intent(in) :: step
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
@@ -484,167 +512,210 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
-    logical, allocatable :: moved(:), touched(:)
+    logical, allocatable :: moved(:), touched(:), counts(:)
     type(rezone_subdomains_t) :: sub
+    type(smooth_mobility_t) :: mob
     type(smooth_region_t) :: reg
-    integer, allocatable :: mlo(:, :), mhi(:, :)
-    real(wp) :: q_min, q_min0, d_max, aspect_max
-    integer :: iterations, b, nreset, nrevert, nsnap
+    integer, allocatable :: blo(:, :), bhi(:, :), mlo(:, :), mhi(:, :)
+    real(wp) :: q_min, q_min0, d_max, aspect_max, q_cut, none(0)
+    integer :: iterations, b, n(3), c, i, j, k, stat, nd, flag, nrevert, sums(3)
     logical :: tfi, box
     character(len=400) :: line
     character(len=60) :: kept
 
     done = .false.
     box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
-      allocate(moved(g%nnode), touched(g%ncell), stat=nreset)
-      if (nreset /= 0) then
-        call error_set(err, 'smooth_rezone', 'cannot allocate the snapping work arrays')
-        return
-      end if
-      call snap_nodes(rz, g, bc, es%x0, x, moved, nsnap, occupied)
-      call cells_touched(g, moved, touched, occupied)
-      if (box) then
-        ! Eq. (46) against each cell's own box, aspect ratio up to the
-        ! geometric middle of the paper's cube (1) and the trigger's bound
-        aspect_max = huge(1.0_wp)
-        if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, aspect_max=aspect_max, share=share)
-        call grid_trigger_cells(g%ni, g%nj, g%nk, x, rz%side_ratio, rz%cos_angle, es%fail, share)
-      else
-        call grid_quality(g%ni, g%nj, g%nk, x, es%quality, q_min0, share=share)
-      end if
-      if (trim(rz%mode) == 'smooth') then
-        ! the whole block as one subdomain
-        call rezone_subdomains_from_boxes(g%ni, g%nj, g%nk, reshape([1, 1, 1], [3, 1]), &
-                                          reshape([g%ni, g%nj, g%nk], [3, 1]), sub, err)
-      else
-        d_max = rz%d_max
-        if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%ni, g%nj, g%nk)
-        ! (occupied and touched absent or unallocated without particles)
-        if (box) then
-          ! distorted: the cells failing the triggers' tests (q plays no part)
-          es%fail = es%fail .or. touched
-          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, -huge(1.0_wp), d_max, sub, err, &
-                                      distorted=es%fail, frozen=occupied)
-        else
-          call rezone_subdomains_find(g%ni, g%nj, g%nk, es%quality, rz%quality, d_max, sub, err, &
-                                      distorted=touched, frozen=occupied)
-        end if
-      end if
-      if (allocated(err)) return
-      done = sub%nbox > 0
-      if (.not. done) then
-        ! only the snapped nodes move (every cell around them is occupied)
-        done = any(moved)
-        if (done) then
-          call log_line(log, trim(rz%mode)//' at step '//itoa(step)//': no cell to smooth; '//itoa(nsnap)// &
-                        ' nodes put back on the standard grid')
-          return
-        end if
-      end if
-      if (.not. done) then
-        if (box) then
-          call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell fails the triggers'' tests')
-        else
-          call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell has Q < '//rtoa(rz%quality))
-        end if
-        return
-      end if
-      if (box) then
-        call smooth_region_init(es%mobility, sub%cell_smooth, reg, err, aspect_max=aspect_max)
-      else
-        call smooth_region_init(es%mobility, sub%cell_smooth, reg, err)
-      end if
-      if (allocated(err)) return
-      call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min)
-      ! the fallback: transfinite interpolation of each merged cuboid
-      ! subdomain from its boundary (node index box = cell box widened by
-      ! one); with 'box' only of those the smoothing left a tangled cell in
-      ! (the Lagrangian phase can hand over cells whose corners are inverted,
-      ! which the guarded smoothing cannot undo: left so, they only get
-      ! worse until the old grid cannot be remapped)
-      tfi = q_min < rz%quality_target .and. .not. box
-      if (tfi .or. box) then
-        call rezone_subdomains_merge(sub%lo(:, 1:sub%nbox), sub%hi(:, 1:sub%nbox), mlo, mhi, err)
-        if (allocated(err)) return
-        do b = 1, size(mlo, 2)
-          if (box) then
-            if (.not. smooth_any_tangled(g%ni, g%nj, g%nk, mlo(:, b), mhi(:, b), x)) cycle
-            tfi = .true.
-          end if
-          call smooth_tfi(g%ni, g%nj, g%nk, mlo(:, b) - 1, mhi(:, b), x, err, es%mobility)
-          if (allocated(err)) return
+    ! the smoothers' block: the stored cells (owned and ghost)
+    n = g%shi - g%slo + 1
+    allocate(moved(g%nnode), touched(g%ncell), counts(g%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', 'cannot allocate the rezone''s work arrays')
+      return
+    end if
+    do k = g%slo(3) - 1, g%shi(3)
+      do j = g%slo(2) - 1, g%shi(2)
+        do i = g%slo(1) - 1, g%shi(1)
+          counts(g%node(i, j, k)) = g%counts_node(i, j, k)
         end do
+      end do
+    end do
+    call snap_nodes(rz, g, bc, es%x0, x, moved, occupied)
+    call halo%nodes(x)
+    call cells_touched(g, moved, touched, occupied)
+    aspect_max = huge(1.0_wp)
+    if (box) then
+      ! Eq. (46) against each cell's own box, aspect ratio up to the
+      ! geometric middle of the paper's cube (1) and the trigger's bound
+      if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
+      call grid_quality(n(1), n(2), n(3), x, es%quality, q_min0, aspect_max=aspect_max, share=share)
+      call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, es%fail, share)
+    else
+      call grid_quality(n(1), n(2), n(3), x, es%quality, q_min0, share=share)
+    end if
+    call halo%choose(q_min0, none)
+    if (trim(rz%mode) == 'smooth') then
+      ! the whole grid as one subdomain
+      blo = reshape([1, 1, 1], [3, 1])
+      bhi = reshape(g%gn, [3, 1])
+      nd = 0
+    else
+      d_max = rz%d_max
+      if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%gn(1), g%gn(2), g%gn(3))
+      ! distorted: with 'box' the cells failing the triggers' tests (q plays
+      ! no part), else Q < quality (Eq. 46); an undefined Q, and the cells
+      ! around the snapped nodes, too
+      q_cut = rz%quality
+      if (box) q_cut = -huge(1.0_wp)
+      do c = 1, g%ncell
+        es%fail(c) = (box .and. es%fail(c)) .or. touched(c) .or. ieee_is_nan(es%quality(c)) .or. es%quality(c) < q_cut
+      end do
+      call subdomain_boxes(g, halo, es%fail, d_max, blo, bhi, nd, err, occupied)
+    end if
+    if (.not. allocated(err)) call block_subdomains(g, blo, bhi, sub, err, occupied)
+    if (allocated(err)) return
+    ! (counts of this block's owned cells and nodes, then the whole grid's:
+    ! snapped, smoothed, kept)
+    sums = 0
+    sums(1) = count(moved .and. counts)
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          if (sub%cell_smooth(g%cell(i, j, k))) sums(2) = sums(2) + 1
+        end do
+      end do
+    end do
+    done = size(blo, 2) > 0
+    if (.not. done) then
+      call halo%sum_ints(sums)
+      ! only the snapped nodes move (every cell around them is occupied)
+      done = sums(1) > 0
+      if (done) then
+        call log_line(log, trim(rz%mode)//' at step '//itoa(step)//': no cell to smooth; '//itoa(sums(1))// &
+                      ' nodes put back on the standard grid')
+      else if (box) then
+        call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell fails the triggers'' tests')
+      else
+        call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell has Q < '//rtoa(rz%quality))
       end if
-      kept = ''
-      if (rz%move_min > 0.0_wp) then
-        ! negligible moves kept out of the remap
-        call smooth_keep_small_moves(g%ni, g%nj, g%nk, g%x, x, rz%move_min, nreset)
-        write(kept, '("; ",i0," nodes moved < move_min kept")') nreset
-      end if
-      ! a changed cell left tangled (by TFI, say) goes back as it was
-      call smooth_revert_tangled(g%ni, g%nj, g%nk, g%x, x, nrevert)
-      q_min = smooth_q_min(reg, x)
-      write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
-        &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
-        &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), step, sub%n_distorted, &
-        sub%nbox, count(sub%cell_smooth), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
-        trim(kept), reg%n_guarded, nrevert, nsnap
-      call log_line(log, trim(line))
-  end subroutine smooth_rezone
+      return
+    end if
+    call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied)
+    if (allocated(err)) return
+    if (box) then
+      call smooth_region_init(mob, sub%cell_smooth, reg, err, aspect_max=aspect_max, counts=counts)
+    else
+      call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts)
+    end if
+    if (allocated(err)) return
+    call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo)
+    ! the fallback: transfinite interpolation of each merged cuboid
+    ! subdomain from its boundary (node index box = cell box widened by
+    ! one); with 'box' only of those the smoothing left a tangled cell in
+    ! (the Lagrangian phase can hand over cells whose corners are inverted,
+    ! which the guarded smoothing cannot undo: left so, they only get
+    ! worse until the old grid cannot be remapped)
+    tfi = q_min < rz%quality_target .and. .not. box
+    if (tfi .or. box) then
+      call rezone_subdomains_merge(blo, bhi, mlo, mhi, err)
+      if (allocated(err)) return
+      do b = 1, size(mlo, 2)
+        if (box) then
+          flag = merge(1, 0, owned_tangled(mlo(:, b), mhi(:, b)))
+          call halo%max_int(flag)
+          if (flag == 0) cycle
+          tfi = .true.
+        end if
+        call block_tfi(g, halo, mob, mlo(:, b), mhi(:, b), x, err)
+        if (allocated(err)) return
+      end do
+      call halo%nodes(x)
+    end if
+    kept = ''
+    if (rz%move_min > 0.0_wp) then
+      ! negligible moves kept out of the remap
+      call smooth_keep_small_moves(n(1), n(2), n(3), g%x, x, rz%move_min, sums(3), counts)
+      call halo%nodes(x)
+    end if
+    ! a changed cell left tangled (by TFI, say) goes back as it was
+    call smooth_revert_tangled(n(1), n(2), n(3), g%x, x, nrevert, err, halo, counts)
+    if (allocated(err)) return
+    q_min = smooth_q_min(reg, x)
+    call halo%choose(q_min, none)
+    call halo%sum_ints(sums)
+    if (rz%move_min > 0.0_wp) write(kept, '("; ",i0," nodes moved < move_min kept")') sums(3)
+    write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
+      &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
+      &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), step, nd, &
+      size(blo, 2), sums(2), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
+      trim(kept), reg%n_guarded, nrevert, sums(1)
+    call log_line(log, trim(line))
 
+  contains
+
+    !> Whether a cell this block owns in the cell box lo..hi (the whole
+    !> grid's indices) is tangled (`smooth_any_tangled`).
+    logical function owned_tangled(lo, hi)
+      integer, intent(in) :: lo(3), hi(3)
+      integer :: l(3), u(3)
+      ! (in the smoothers' block: stored cell slo is 1)
+      l = max(lo - g%off, g%clo) - g%slo + 1
+      u = min(hi - g%off, g%chi) - g%slo + 1
+      owned_tangled = .false.
+      if (any(l > u)) return
+      owned_tangled = smooth_any_tangled(n(1), n(2), n(3), l, u, x)
+    end function owned_tangled
+  end subroutine smooth_rezone
   !> The nodes `smooth_rezone` puts back on the standard grid x0 before
-  !> smoothing (its notes): x(:, n) = x0(:, n) for each; moved(n) tells
-  !> whether node n's place changed so, nsnap counts them.
-  subroutine snap_nodes(rz, g, bc, x0, x, moved, nsnap, occupied)
+  !> smoothing (its notes), of the stored nodes of g: x(:, n) = x0(:, n) for
+  !> each; moved(n) tells whether node n's place changed so (right on the
+  !> nodes of the owned cells; a ghost on the stored box's face may lack a
+  !> neighbour's spacing, and takes its owner's place from the halo).
+  subroutine snap_nodes(rz, g, bc, x0, x, moved, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: x0(:, :)
     real(wp), intent(inout) :: x(:, :)
     logical, intent(out) :: moved(:)
-    integer, intent(out) :: nsnap
     logical, intent(in), optional :: occupied(:)
-    integer :: n, c, a, i, j, k, d, f, nb(3), ijk(3), stride(3)
+    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3)
     real(wp) :: h0, limit
     logical :: snap, open(6)
     open = [(bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
-      stride = [1, g%sx, g%sxy]
-      nb = [g%ni, g%nj, g%nk]
-      do n = 1, g%nnode
-        call g%node_ijk(n, i, j, k)
-        ijk = [i, j, k]
-        ! the drift allowed: drift_open on open faces, drift_max inside
-        ! (0: none on open faces, any inside)
-        limit = rz%drift_max
-        if (.not. limit > 0.0_wp) limit = huge(1.0_wp)
-        do f = 1, 6
-          if (open(f) .and. btest(g%node_faces(i, j, k), f - 1)) limit = rz%drift_open
-        end do
-        snap = .false.
-        if (limit < huge(1.0_wp)) then
-          ! the standard spacing: the shortest edge of x0 at the node
-          h0 = huge(1.0_wp)
-          do d = 1, 3
-            if (ijk(d) > 0) h0 = min(h0, norm2(x0(:, n) - x0(:, n - stride(d))))
-            if (ijk(d) < nb(d)) h0 = min(h0, norm2(x0(:, n) - x0(:, n + stride(d))))
-          end do
-          snap = norm2(x(:, n) - x0(:, n)) > limit*h0
-        end if
-        moved(n) = snap .and. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
-        if (snap) x(:, n) = x0(:, n)
+    stride = [1, g%sx, g%sxy]
+    do n = 1, g%nnode
+      call g%node_ijk(n, i, j, k)
+      ijk = [i, j, k]
+      ! the drift allowed: drift_open on open faces, drift_max inside
+      ! (0: none on open faces, any inside)
+      limit = rz%drift_max
+      if (.not. limit > 0.0_wp) limit = huge(1.0_wp)
+      do f = 1, 6
+        if (open(f) .and. btest(g%node_faces(i, j, k), f - 1)) limit = rz%drift_open
       end do
-      if (present(occupied)) then
-        do c = 1, g%ncell
-          if (.not. occupied(c)) cycle
-          do a = 1, 8
-            n = g%node0(c) + g%corner_offset(a)
-            moved(n) = moved(n) .or. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
-            x(:, n) = x0(:, n)
-          end do
+      snap = .false.
+      if (limit < huge(1.0_wp)) then
+        ! the standard spacing: the shortest edge of x0 at the node
+        h0 = huge(1.0_wp)
+        do d = 1, 3
+          if (ijk(d) > g%slo(d) - 1) h0 = min(h0, norm2(x0(:, n) - x0(:, n - stride(d))))
+          if (ijk(d) < g%shi(d)) h0 = min(h0, norm2(x0(:, n) - x0(:, n + stride(d))))
         end do
+        snap = norm2(x(:, n) - x0(:, n)) > limit*h0
       end if
-      nsnap = count(moved)
+      moved(n) = snap .and. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+      if (snap) x(:, n) = x0(:, n)
+    end do
+    if (present(occupied)) then
+      do c = 1, g%ncell
+        if (.not. occupied(c)) cycle
+        do a = 1, 8
+          n = g%node0(c) + g%corner_offset(a)
+          moved(n) = moved(n) .or. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+          x(:, n) = x0(:, n)
+        end do
+      end do
+    end if
   end subroutine snap_nodes
 
   !> The cells (not occupied by particles) with a node that moved.
@@ -664,6 +735,169 @@ contains
       end do
     end do
   end subroutine cells_touched
+
+  !> The subdomain boxes (Sect. 5.2) of the whole grid, lo, hi (3, nbox,
+  !> the whole grid's cell indices), from the cells of g with distorted(c)
+  !> true that no particle occupies: each block lists those it owns, and
+  !> every block seeds the boxes from all of them in the whole grid's cell
+  !> order (`rezone_subdomains_seed`), as one process does. nd: their
+  !> number.
+  subroutine subdomain_boxes(g, halo, distorted, d_max, lo, hi, nd, err, occupied)
+    type(grid_t), intent(in) :: g
+    class(halo_t), intent(inout) :: halo
+    logical, intent(in) :: distorted(:)
+    real(wp), intent(in) :: d_max
+    integer, allocatable, intent(out) :: lo(:, :), hi(:, :)
+    integer, intent(out) :: nd
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: occupied(:)
+    real(wp), allocatable :: mine(:), every(:)
+    integer, allocatable :: key(:), order(:), ijk(:, :), centre(:, :)
+    integer :: i, j, k, c, m, gc, stat
+    allocate(mine(count(distorted)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', 'cannot allocate the distorted cells')
+      return
+    end if
+    m = 0
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          c = g%cell(i, j, k)
+          if (.not. distorted(c)) cycle
+          if (present(occupied)) then
+            if (occupied(c)) cycle
+          end if
+          m = m + 1
+          ! (whole-grid cell numbers, exact as reals)
+          mine(m) = real(g%global_cell(c), wp)
+        end do
+      end do
+    end do
+    call halo%concat(mine(1:m), every)
+    nd = size(every)
+    key = nint(every)
+    allocate(order(nd), ijk(3, nd), stat=stat)
+    if (stat == 0) call sort_order(key, order, stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', 'cannot allocate the distorted cells')
+      return
+    end if
+    do m = 1, nd
+      gc = key(order(m)) - 1
+      ijk(:, m) = [mod(gc, g%gn(1)), mod(gc/g%gn(1), g%gn(2)), gc/(g%gn(1)*g%gn(2))] + 1
+    end do
+    call rezone_subdomains_seed(g%gn, ijk, d_max, lo, hi, centre, err)
+  end subroutine subdomain_boxes
+
+  !> The smoothing set of g's stored cells (the smoothers' block, stored
+  !> cell slo its cell 1) from the whole grid's subdomain boxes lo, hi:
+  !> each box clipped to the stored cells (`rezone_subdomains_from_boxes`).
+  subroutine block_subdomains(g, lo, hi, sub, err, occupied)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: lo(:, :), hi(:, :)
+    type(rezone_subdomains_t), intent(out) :: sub
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: occupied(:)
+    integer :: l(3, size(lo, 2)), u(3, size(lo, 2)), b, m, n(3)
+    n = g%shi - g%slo + 1
+    m = 0
+    do b = 1, size(lo, 2)
+      if (any(max(lo(:, b) - g%off, g%slo) > min(hi(:, b) - g%off, g%shi))) cycle
+      m = m + 1
+      l(:, m) = max(lo(:, b) - g%off, g%slo) - g%slo + 1
+      u(:, m) = min(hi(:, b) - g%off, g%shi) - g%slo + 1
+    end do
+    call rezone_subdomains_from_boxes(n(1), n(2), n(3), l(:, 1:m), u(:, 1:m), sub, err, occupied)
+  end subroutine block_subdomains
+
+  !> TFI (`smooth_tfi`) of the merged cuboid of cells lo..hi (the whole
+  !> grid's indices) on g's nodes x, the nodes of mob's kind node_fixed
+  !> kept: in place on one block that holds the whole grid; on a
+  !> decomposed grid every block gathers the nodes on the cuboid's faces
+  !> (each from the block that counts it) and interpolates its owned nodes
+  !> inside, in a copy of the cuboid's nodes (the ghosts are the caller's).
+  subroutine block_tfi(g, halo, mob, lo, hi, x, err)
+    type(grid_t), intent(in) :: g
+    class(halo_t), intent(inout) :: halo
+    type(smooth_mobility_t), intent(in) :: mob
+    integer, intent(in) :: lo(3), hi(3)
+    real(wp), intent(inout) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    type(grid_index_t) :: cb
+    type(smooth_mobility_t) :: cmob
+    real(wp), allocatable :: mine(:), every(:), xc(:, :)
+    integer :: i, j, k, m, p, q, n(3), b(3), stat, ijk(3), il(3), iu(3)
+    logical :: inside
+    n = g%shi - g%slo + 1
+    if (halo%nblocks == 1) then
+      call smooth_tfi(n(1), n(2), n(3), lo - 1 - g%off - g%slo + 1, hi - g%off - g%slo + 1, x, err, mob)
+      return
+    end if
+    ! the cuboid's nodes as a block: node (i, j, k) of the whole grid is
+    ! its node (i, j, k) - b
+    cb = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
+    b = lo - 1
+    allocate(mine(4*product(g%nhi - g%nlo + 1)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', 'cannot allocate the TFI''s faces')
+      return
+    end if
+    m = 0
+    inside = .false.
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
+          ijk = [i, j, k] + g%off - b
+          if (any(ijk < 0) .or. any(ijk > [cb%ni, cb%nj, cb%nk])) cycle
+          if (all(ijk > 0) .and. all(ijk < [cb%ni, cb%nj, cb%nk])) then
+            inside = .true.
+            cycle
+          end if
+          if (.not. g%counts_node(i, j, k)) cycle
+          mine(m + 1:m + 4) = [real(cb%node(ijk(1), ijk(2), ijk(3)), wp), x(:, g%node(i, j, k))]
+          m = m + 4
+        end do
+      end do
+    end do
+    call halo%concat(mine(1:m), every)
+    if (.not. inside) return
+    cmob%ni = cb%ni
+    cmob%nj = cb%nj
+    cmob%nk = cb%nk
+    allocate(xc(3, cb%nnode), cmob%kind(cb%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', 'cannot allocate the TFI''s cuboid')
+      return
+    end if
+    xc = 0.0_wp
+    cmob%kind = node_fixed
+    do p = 1, size(every), 4
+      xc(:, nint(every(p))) = every(p + 1:p + 3)
+    end do
+    ! this block's owned nodes inside (the others are not computed)
+    il = max(g%nlo, lo - g%off)
+    iu = min(g%nhi, hi - 1 - g%off)
+    do k = il(3), iu(3)
+      do j = il(2), iu(2)
+        do i = il(1), iu(1)
+          q = cb%node(i + g%off(1) - b(1), j + g%off(2) - b(2), k + g%off(3) - b(3))
+          xc(:, q) = x(:, g%node(i, j, k))
+          cmob%kind(q) = mob%kind(g%node(i, j, k))
+        end do
+      end do
+    end do
+    call smooth_tfi(cb%ni, cb%nj, cb%nk, [0, 0, 0], [cb%ni, cb%nj, cb%nk], xc, err, cmob)
+    if (allocated(err)) return
+    do k = il(3), iu(3)
+      do j = il(2), iu(2)
+        do i = il(1), iu(1)
+          x(:, g%node(i, j, k)) = xc(:, cb%node(i + g%off(1) - b(1), j + g%off(2) - b(2), k + g%off(3) - b(3)))
+        end do
+      end do
+    end do
+  end subroutine block_tfi
+
 
   !> Summary line of the run's Euler steps.
   subroutine euler_report(es, log)

@@ -71,6 +71,7 @@ module driver_whole
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_concat
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
+  use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_euler_step, remap_zone_open, remap_stats_flows
   use material_mixed, only: mixed_forget_planes
@@ -150,8 +151,8 @@ contains
 
   !> The Euler phase of a decomposed run works on windows (`window_euler`,
   !> &run euler_ranks = 'windows'): st%win (`window_resize`) and st%gw,
-  !> the whole grid's node positions (the rezone's; its quality measures
-  !> shared by the ranks, st%share).
+  !> the whole grid's index (and its node positions when needed: the
+  !> global rezone's, its quality measures shared by the ranks, st%share).
   subroutine window_build(cfg, pc, st, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -168,9 +169,12 @@ contains
     call window_resize(cfg, st, window_reach_first, err)
     call agree_error(pc, err)
     if (allocated(err)) return
-    call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
     st%gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
-    call move_alloc(x, st%gw%x)
+    ! (the global rezone's target: `euler_init`)
+    if (trim(cfg%rezone%mode) == 'global') then
+      call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+      call move_alloc(x, st%gw%x)
+    end if
     call mpi_share_init(share, pc)
     allocate(st%share, source=share, stat=stat)
     if (stat /= 0) call error_set(err, 'window_build', 'out of memory')
@@ -244,22 +248,26 @@ contains
       return
     end if
     call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole%g, es, shape)
+    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole%g, st%whole%halo, es, shape)
     if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler
 
-  !> An Euler step on windows (module header). Every rank rezones the whole
-  !> grid's node positions (gathered) and remaps its window: the new cells
-  !> of its block and window_compute layers around it, whose results are
-  !> right when the old cells within st%win_reach of them are in the window.
-  !> When a remap needs more than the windows hold, on any rank, the step is
-  !> done on the whole grid instead (`whole_gather`, the whole state built
-  !> for it and let go after), and if the search fell short the windows are
-  !> widened (its reach doubled). Particles: every rank gathers them all
-  !> (in the whole run's order), pre-positions them in the standard grid and
-  !> relocates them in the rezoned one, the same on every rank; each block
-  !> then takes its own and couples them to its nodes.
+  !> An Euler step on windows (module header). Each block smooths its nodes
+  !> (&rezone mode 'lssm' or 'smooth': `smooth_rezone` on the block, its
+  !> ghosts refreshed after every pass), or every rank rezones the whole
+  !> grid's node positions (gathered; mode 'global'); then each rank remaps
+  !> its window: the new cells of its block and window_compute layers
+  !> around it, whose results are right when the old cells within
+  !> st%win_reach of them are in the window. When a remap needs more than
+  !> the windows hold, on any rank, the step is done on the whole grid
+  !> instead (`whole_gather`, the whole state built for it and let go
+  !> after), and if the search fell short the windows are widened (its reach
+  !> doubled). Particles: every rank gathers them all (in the whole run's
+  !> order), pre-positions them in the standard grid and relocates them in
+  !> the rezoned one, the same on every rank; each block then takes its own
+  !> and couples them to its nodes. The whole grid's node positions are
+  !> gathered only for the global rezone, particles and open faces.
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -271,33 +279,53 @@ contains
     type(euler_start_t) :: e0
     type(particles_euler_t) :: pe
     type(state_t) :: sw
-    real(wp), allocatable :: xnew(:, :), x(:, :)
-    logical :: done, redo, wider, parts
+    type(halo_t) :: single
+    real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
+    logical, allocatable :: occupied(:)
+    logical :: done, redo, wider, parts, global, whole_x
+    integer :: c
 
-    call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
-    call move_alloc(x, st%gw%x)
-    call euler_due_where(cfg%rezone, st%gw, es, shape)
-    call euler_begin(st, es, log, e0)
+    global = trim(cfg%rezone%mode) == 'global'
     parts = allocated(st%pwhole)
+    whole_x = global .or. parts .or. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)
+    if (whole_x) then
+      call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+      call move_alloc(x, st%gw%x)
+    end if
+    call euler_due_where(cfg%rezone, st%g, st%halo, es, shape)
+    call euler_begin(st, es, log, e0)
     if (parts) then
       ! (sw: the whole grid's nodes and particles, on every rank)
       sw%g = st%gw
       sw%bc = st%bc
       call particles_gathered(pc, st, sw%pt, err)
       if (.not. allocated(err)) call particles_index(sw%pt, sw%g%ncell, err)
-      if (.not. allocated(err)) call euler_preposition(cfg%rezone, sw, es, pe, err)
+      if (.not. allocated(err) .and. .not. global) then
+        ! (the standard grid, whole)
+        call gather_nodes(pc, st%g%grid_index_t, es%x0, x, all=.true.)
+        call euler_preposition(cfg%rezone, sw, es, pe, err, x)
+      end if
       call agree_error(pc, err)
       if (allocated(err)) return
     end if
-    call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, st%step, st%t, es, log, e0, xnew, done, err, pe%occupied)
+    if (global) then
+      call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, single, st%step, st%t, es, log, e0, xnew, done, err)
+    else
+      if (allocated(pe%occupied)) occupied = [(pe%occupied(st%g%global_cell(c)), c = 1, st%g%ncell)]
+      call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
+                        xnew=xb, done=done, err=err, occupied=occupied)
+      if (done .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
+    end if
+    call agree_error(pc, err)
     if (allocated(err) .or. .not. done) return
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-    call window_remap(cfg, pc, st, es, log, xnew, e0, redo, wider, err)
+    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, err)
     if (allocated(err)) return
     if (.not. redo) then
       if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
       return
     end if
+    if (.not. allocated(xnew)) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call whole_gather(pc, st, err)
@@ -344,16 +372,17 @@ contains
   end subroutine window_particles
 
   !> The remap of an Euler step on this rank's window (`window_euler`),
-  !> from the blocks' state to the rezoned grid xnew (the whole grid's
-  !> nodes), and each block taken from its window; redo if it needs more
-  !> than a window holds, on some rank (nothing changed then but st%win).
-  subroutine window_remap(cfg, pc, st, es, log, xnew, e0, redo, wider, err)
+  !> from the blocks' state to the rezoned grid: xnew (the whole grid's
+  !> nodes) if allocated, else the blocks' xb (each block's stored nodes),
+  !> and each block taken from its window; redo if it needs more than a
+  !> window holds, on some rank (nothing changed then but st%win).
+  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
-    real(wp), intent(in) :: xnew(:, :)
+    real(wp), allocatable, intent(in) :: xnew(:, :), xb(:, :)
     type(euler_start_t), intent(in) :: e0
     logical, intent(out) :: redo, wider
     type(error_t), allocatable, intent(inout) :: err
@@ -372,18 +401,25 @@ contains
       if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
       if (.not. allocated(err) .and. any(w%bc%kind == BC_INFLOW .or. w%bc%kind == BC_OUTFLOW)) &
         call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xnew, err)
-      if (.not. allocated(err)) then
-        allocate(xw(3, wg%nnode), stat=stat)
-        if (stat /= 0) call error_set(err, 'window_remap', 'out of memory')
-      end if
-      if (.not. allocated(err)) then
-        do k = 0, wg%nk
-          do j = 0, wg%nj
-            do i = 0, wg%ni
-              xw(:, wg%node(i, j, k)) = xnew(:, st%gw%node(i + wg%off(1), j + wg%off(2), k + wg%off(3)))
+      if (allocated(xnew)) then
+        if (.not. allocated(err)) then
+          allocate(xw(3, wg%nnode), stat=stat)
+          if (stat /= 0) call error_set(err, 'window_remap', 'out of memory')
+        end if
+        if (.not. allocated(err)) then
+          do k = 0, wg%nk
+            do j = 0, wg%nj
+              do i = 0, wg%ni
+                xw(:, wg%node(i, j, k)) = xnew(:, st%gw%node(i + wg%off(1), j + wg%off(2), k + wg%off(3)))
+              end do
             end do
           end do
-        end do
+        end if
+      else
+        ! (collective: every rank's window from the blocks)
+        call gather_box(pc, st%g%grid_index_t, xb, wg%off + 1, wg%off + [wg%ni, wg%nj, wg%nk], xw, .true.)
+      end if
+      if (.not. allocated(err)) then
         call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, remap_params(cfg%rezone), rs, err, zone=zone)
       end if
       call agree_error(pc, err)

@@ -79,6 +79,11 @@ for n in 1 2 4; do
     dues() { grep -E '^euler [0-9]+ due at step' "$1"; }
     [ "$(dues "r$n.out")" = "$(dues r1.out)" ] || { diff <(dues "r$n.out") <(dues r1.out) | head -4; \
       fail "$n ranks: the Euler steps' triggers are logged otherwise than one process's"; }
+    # what each smoothing rezone did (distorted cells, subdomains, cells
+    # smoothed, Q_min, iterations, guard, nodes put back: whole-grid counts)
+    smooths() { grep -E '^(lssm|smooth) at step' "$1"; }
+    [ "$(smooths "r$n.out")" = "$(smooths r1.out)" ] || { diff <(smooths "r$n.out") <(smooths r1.out) | head -4; \
+      fail "$n ranks: the smoothing rezones are logged otherwise than one process's"; }
     if [ -f r1/run_gauges.txt ]; then
       cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
         fail "$n ranks: the gauge histories differ from one process's"; }

@@ -270,6 +270,7 @@ contains
     type(smooth_region_t) :: reg
     real(wp) :: x0(3, (n + 1)**3), x(3, (n + 1)**3), q, vol, tet, jac
     integer :: it, trial, nrev, nd
+    type(error_t), allocatable :: err
 
     call whole_region(n, mob, reg)
     do trial = 1, 3
@@ -289,7 +290,7 @@ contains
     nd = 1 + 4 + (n + 1)*(4 + (n + 1)*4)
     x(1, nd) = 5.5_wp
     x(:, 1 + 1 + (n + 1)*(1 + (n + 1)*1)) = [1.1_wp, 0.95_wp, 1.05_wp]
-    call smooth_revert_tangled(n, n, n, x0, x, nrev)
+    call smooth_revert_tangled(n, n, n, x0, x, nrev, err)
     call check(nrev >= 1 .and. .not. any(abs(x(:, nd) - x0(:, nd)) > 0.0_wp), 'revert: the tangling node goes back')
     call check(all(abs(x(:, 1 + 1 + (n + 1)*(1 + (n + 1)*1)) - [1.1_wp, 0.95_wp, 1.05_wp]) < 1e-15_wp), &
                'revert: a harmless move stays')

@@ -25,6 +25,8 @@ module mesh_halo
     procedure :: max_int => halo_max_int
     procedure :: sums => halo_sums
     procedure :: choose => halo_choose
+    procedure :: sum_ints => halo_sum_ints
+    procedure :: concat => halo_concat
   end type halo_t
 
 contains
@@ -80,4 +82,21 @@ contains
     real(wp), intent(inout) :: key, vals(:)
     if (this%nblocks < 1) vals = key
   end subroutine halo_choose
+
+  !> Adds the integers a(:) of all blocks (exact): on exit every block
+  !> holds the totals.
+  subroutine halo_sum_ints(this, a)
+    class(halo_t), intent(in) :: this
+    integer, intent(inout) :: a(:)
+    if (this%nblocks < 1) a = 0
+  end subroutine halo_sum_ints
+
+  !> w: the a(:) of all blocks concatenated in block order, on every block.
+  subroutine halo_concat(this, a, w)
+    class(halo_t), intent(in) :: this
+    real(wp), intent(in) :: a(:)
+    real(wp), allocatable, intent(out) :: w(:)
+    if (this%nblocks < 1) return
+    w = a
+  end subroutine halo_concat
 end module mesh_halo

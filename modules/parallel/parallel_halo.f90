@@ -27,6 +27,8 @@ module parallel_halo
     procedure :: max_int => mpi_max_int
     procedure :: sums => mpi_sums
     procedure :: choose => mpi_choose
+    procedure :: sum_ints => mpi_sum_ints
+    procedure :: concat => mpi_concat
   end type mpi_halo_t
 
 contains
@@ -243,4 +245,32 @@ contains
     key = best(1)
     call MPI_Bcast(vals, size(vals), MPI_DOUBLE_PRECISION, nint(best(2)), this%comm)
   end subroutine mpi_choose
+
+  !> Global sums of integers (exact).
+  subroutine mpi_sum_ints(this, a)
+    class(mpi_halo_t), intent(in) :: this
+    integer, intent(inout) :: a(:)
+    if (this%nblocks == 1) return
+    call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_INTEGER, MPI_SUM, this%comm)
+  end subroutine mpi_sum_ints
+
+  !> Concatenation over the blocks, in rank order, on every block.
+  subroutine mpi_concat(this, a, w)
+    class(mpi_halo_t), intent(in) :: this
+    real(wp), intent(in) :: a(:)
+    real(wp), allocatable, intent(out) :: w(:)
+    integer :: counts(0:this%nblocks - 1), displs(0:this%nblocks - 1), r, stat
+    if (this%nblocks == 1) then
+      w = a
+      return
+    end if
+    call MPI_Allgather(size(a), 1, MPI_INTEGER, counts, 1, MPI_INTEGER, this%comm)
+    displs(0) = 0
+    do r = 1, this%nblocks - 1
+      displs(r) = displs(r - 1) + counts(r - 1)
+    end do
+    allocate(w(sum(counts)), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    call MPI_Allgatherv(a, size(a), MPI_DOUBLE_PRECISION, w, counts, displs, MPI_DOUBLE_PRECISION, this%comm)
+  end subroutine mpi_concat
 end module parallel_halo

@@ -48,11 +48,12 @@ module rezone_smooth
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
   use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides
   use mesh_grid, only: grid_index_t, grid_index
+  use mesh_halo, only: halo_t
   implicit none
   private
   public :: node_fixed, node_free, node_plane, node_line
   public :: smooth_mobility_t, smooth_region_t
-  public :: smooth_mobility_box, smooth_region_init
+  public :: smooth_mobility_box, smooth_mobility_block, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
   public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
@@ -101,8 +102,11 @@ module rezone_smooth
     integer :: n_guarded = 0               !< node moves the untangling guard halved or undid (last smoothing)
     real(wp), allocatable :: xsave(:, :)   !< (3, nmove) work: positions before a pass
     integer, allocatable :: nhalve(:)      !< (nmove) work: times a node's move was halved
-    logical, allocatable :: hit(:)         !< (nmove) work: near a cell the pass tangled
     integer, allocatable :: node_slot(:)   !< (nnode of the block) work: slot in node(:), 0 if the node does not move
+    !> (nmove) whether the node counts in the counts of a decomposed grid
+    !> (each node on one block: `smooth_region_init`'s counts)
+    logical, allocatable :: own(:)
+    real(wp), allocatable :: mark(:, :)    !< (1, nnode of the block) work: corners of the cells a pass tangled
     !> (2, ncell) work: smallest corner Jacobian and smallest tetrahedron of
     !> each active cell before a pass
     real(wp), allocatable :: valid0(:, :)
@@ -203,17 +207,49 @@ contains
     end if
   end subroutine smooth_mobility_box
 
+  !> Mobility of the stored nodes (owned and ghost) of block ix of a
+  !> decomposed grid, numbered as ix numbers them: the rules of
+  !> `smooth_mobility_box` ('slide') on the whole grid's faces. A node on a
+  !> face of the stored box that is not the whole grid's is fixed here: it
+  !> is a ghost, whose place comes from its owner. Without ghosts, the
+  !> mobility of smooth_mobility_box. frozen(ncell): as there, stored cells.
+  subroutine smooth_mobility_block(ix, mob, err, frozen)
+    type(grid_index_t), intent(in) :: ix
+    type(smooth_mobility_t), intent(out) :: mob
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: frozen(:)
+    integer :: i, j, k, d, ijk(3), m
+    call smooth_mobility_box(ix%shi(1) - ix%slo(1) + 1, ix%shi(2) - ix%slo(2) + 1, ix%shi(3) - ix%slo(3) + 1, &
+                             mob, err, frozen=frozen)
+    if (allocated(err)) return
+    do k = ix%slo(3) - 1, ix%shi(3)
+      do j = ix%slo(2) - 1, ix%shi(2)
+        do i = ix%slo(1) - 1, ix%shi(1)
+          ijk = [i, j, k]
+          m = ix%node_faces(i, j, k)
+          do d = 1, 3
+            ! on the stored box's low (high) face in d, not the grid's
+            if ((ijk(d) == ix%slo(d) - 1 .and. .not. btest(m, 2*(d - 1))) .or. &
+                (ijk(d) == ix%shi(d) .and. .not. btest(m, 2*d - 1))) mob%kind(ix%node(i, j, k)) = node_fixed
+          end do
+        end do
+      end do
+    end do
+  end subroutine smooth_mobility_block
+
   !> Builds the region of the cells with active(c) true on the block of
   !> `mob`: the active cells, the nodes that may move (mobility not fixed
   !> and every cell of the block around the node active) and the work
   !> arrays of the passes. With aspect_max (>= 1), the box reading (see
   !> `smooth_region_t`).
-  subroutine smooth_region_init(mob, active, reg, err, aspect_max)
+  subroutine smooth_region_init(mob, active, reg, err, aspect_max, counts)
     type(smooth_mobility_t), intent(in) :: mob
     logical, intent(in) :: active(:)
     type(smooth_region_t), intent(out) :: reg
     type(error_t), allocatable, intent(inout) :: err
     real(wp), intent(in), optional :: aspect_max
+    !> (nnode) the nodes this block counts (a decomposed grid's; default all)
+    logical, intent(in), optional :: counts(:)
     integer, allocatable :: slot(:)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     character(len=200) :: msg
@@ -255,8 +291,8 @@ contains
     allocate(slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
              reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
              reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
-             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), reg%hit(reg%nmove), &
-             reg%node_slot(ix%nnode), reg%valid0(2, reg%ncell), &
+             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), &
+             reg%node_slot(ix%nnode), reg%valid0(2, reg%ncell), reg%own(reg%nmove), reg%mark(1, ix%nnode), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', 'cannot allocate the region: '//trim(msg))
@@ -286,6 +322,8 @@ contains
           m = m + 1
           n = ix%node(i, j, k)
           reg%node(m) = n
+          reg%own(m) = .true.
+          if (present(counts)) reg%own(m) = counts(n)
           reg%kind(m) = mob%kind(n)
           reg%dir(:, m) = mob%dir(:, n)
           ! the node is corner a of the cell whose lowest corner is node - corner a
@@ -678,15 +716,20 @@ contains
   !> that tangled a cell. Returns the iterations done (0 if the grid already
   !> met the target) and the final Q_min. The TFI fallback (step 2) is the
   !> caller's: it needs the merged cuboid subdomains (`smooth_tfi`).
-  !> x(3, nnode) in length units.
-  subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min)
+  !> x(3, nnode) in length units. With halo (a block of a decomposed grid,
+  !> its ghost nodes current on entry): the ghost nodes are refreshed after
+  !> every pass and every round of the guard, and Q_min, the guard's tests
+  !> and reg%n_guarded are the whole grid's, so every block ends with the
+  !> nodes of one process.
+  subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min, halo)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
     real(wp), intent(in) :: q_target
     integer, intent(in) :: n_max
     integer, intent(out) :: iterations
     real(wp), intent(out) :: q_min
-    integer :: m
+    class(halo_t), intent(inout), optional :: halo
+    integer :: m, guarded(1)
 
     reg%node_slot = 0
     do m = 1, reg%nmove
@@ -694,15 +737,30 @@ contains
     end do
     iterations = 0
     reg%n_guarded = 0
-    q_min = smooth_q_min(reg, x)
+    q_min = global_q_min()
     do while (q_min < q_target .and. iterations < n_max)
       call guard_start(reg, x)
       call smooth_modified_getme(reg, x)
+      if (present(halo)) call halo%nodes(x)
       call smooth_weighted_average(reg, x)
-      call guard_undo(reg, x)
+      if (present(halo)) call halo%nodes(x)
+      call guard_undo(reg, x, halo)
       iterations = iterations + 1
-      q_min = smooth_q_min(reg, x)
+      q_min = global_q_min()
     end do
+    if (present(halo)) then
+      guarded = reg%n_guarded
+      call halo%sum_ints(guarded)
+      reg%n_guarded = guarded(1)
+    end if
+
+  contains
+
+    real(wp) function global_q_min()
+      real(wp) :: none(0)
+      global_q_min = smooth_q_min(reg, x)
+      if (present(halo)) call halo%choose(global_q_min, none)
+    end function global_q_min
   end subroutine smooth_combined
 
   !> Before a smoothing pass: keeps the movable nodes' positions and, for
@@ -728,61 +786,75 @@ contains
   !> After a smoothing pass: around every cell the pass tangled (a cell
   !> untangled before it with a corner Jacobian or a tetrahedron of the
   !> 24-tet split now non-positive) the moves of the movable nodes within
-  !> guard_reach nodes of the cell (in index space) are halved, round after
-  !> round; a node halved guard_rounds times goes back where it was. Halving
-  !> a neighbourhood, not just the cell's own nodes, keeps the motion
-  !> smooth (undoing single nodes leaves their neighbours half moved and
-  !> tangles the next cells). Every round halves or undoes at least one node
-  !> and an undone node stays put, so this ends; no cell untangled before
-  !> the pass is tangled after it. Cells tangled before the pass are the
-  !> smoother's to mend and are not held to it.
-  subroutine guard_undo(reg, x)
+  !> guard_reach nodes of the cell (in index space: of one of its corners)
+  !> are halved, round after round; a node halved guard_rounds times goes
+  !> back where it was. Halving a neighbourhood, not just the cell's own
+  !> nodes, keeps the motion smooth (undoing single nodes leaves their
+  !> neighbours half moved and tangles the next cells). Every round halves
+  !> or undoes at least one node and an undone node stays put, so this ends;
+  !> no cell untangled before the pass is tangled after it. Cells tangled
+  !> before the pass are the smoother's to mend and are not held to it.
+  !> With halo (`smooth_combined`): the tangled cells' corners and the nodes
+  !> are refreshed on the ghosts (guard_reach is within the ghost width),
+  !> and a round is the whole grid's.
+  subroutine guard_undo(reg, x, halo)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
+    class(halo_t), intent(inout), optional :: halo
     integer, parameter :: guard_reach = 2, guard_rounds = 5
-    integer :: s, m, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, n, mm
+    integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag
     real(wp) :: xn(3, 8)
-    logical :: changed
+    logical :: changed, hit
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
     do
       nbad = 0
-      reg%hit = .false.
+      reg%mark = 0.0_wp
       do s = 1, reg%ncell
         if (.not. (reg%valid0(1, s) > 0.0_wp .and. reg%valid0(2, s) > 0.0_wp)) cycle
         call region_gather(reg, s, x, xn)
         if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
         nbad = nbad + 1
-        ! the cell's lowest node (i0, j0, k0), 0-based
-        n0 = reg%node0(s) - 1
+        do a = 1, 8
+          reg%mark(1, reg%node0(s) + reg%corner_offset(a)) = 1.0_wp
+        end do
+      end do
+      if (present(halo)) call halo%max_int(nbad)
+      if (nbad == 0) exit
+      if (present(halo)) call halo%nodes(reg%mark)
+      changed = .false.
+      do m = 1, reg%nmove
+        ! the node's (i0, j0, k0), 0-based; hit within guard_reach of a corner
+        n0 = reg%node(m) - 1
         i0 = mod(n0, sx)
         j0 = mod(n0/sx, reg%nj + 1)
         k0 = n0/sxy
-        do k = max(k0 - guard_reach, 0), min(k0 + 1 + guard_reach, reg%nk)
-          do j = max(j0 - guard_reach, 0), min(j0 + 1 + guard_reach, reg%nj)
-            do i = max(i0 - guard_reach, 0), min(i0 + 1 + guard_reach, reg%ni)
-              n = 1 + i + sx*j + sxy*k
-              mm = reg%node_slot(n)
-              if (mm > 0) reg%hit(mm) = .true.
+        hit = .false.
+        do k = max(k0 - guard_reach, 0), min(k0 + guard_reach, reg%nk)
+          do j = max(j0 - guard_reach, 0), min(j0 + guard_reach, reg%nj)
+            do i = max(i0 - guard_reach, 0), min(i0 + guard_reach, reg%ni)
+              hit = hit .or. reg%mark(1, 1 + i + sx*j + sxy*k) > 0.0_wp
             end do
           end do
         end do
-      end do
-      if (nbad == 0) exit
-      changed = .false.
-      do m = 1, reg%nmove
-        if (.not. reg%hit(m)) cycle
+        if (.not. hit) cycle
         if (.not. any(abs(x(:, reg%node(m)) - reg%xsave(:, m)) > 0.0_wp)) cycle
         changed = .true.
         reg%nhalve(m) = reg%nhalve(m) + 1
-        reg%n_guarded = reg%n_guarded + 1
+        if (reg%own(m)) reg%n_guarded = reg%n_guarded + 1
         if (reg%nhalve(m) >= guard_rounds) then
           x(:, reg%node(m)) = reg%xsave(:, m)
         else
           x(:, reg%node(m)) = 0.5_wp*(x(:, reg%node(m)) + reg%xsave(:, m))
         end if
       end do
+      if (present(halo)) then
+        flag = merge(1, 0, changed)
+        call halo%max_int(flag)
+        changed = flag > 0
+        call halo%nodes(x)
+      end if
       ! (a tangled cell with none of its neighbourhood left to undo cannot be
       ! the pass's doing: all its nodes are where they were)
       if (.not. changed) exit
@@ -976,23 +1048,40 @@ contains
   !> has its nodes put back where they were, round after round (putting
   !> nodes back can tangle a neighbour, whose nodes then go back too; every
   !> round puts back at least one node and no node moves twice, so this
-  !> ends). The new grid's cells are then untangled or unchanged, which is
-  !> what the remap needs (a changed tangled cell has no exact intersection
-  !> with the old grid). nrevert is the number of nodes put back.
-  subroutine smooth_revert_tangled(ni, nj, nk, xold, x, nrevert)
+  !> ends). A round finds all such cells first, then puts their nodes back
+  !> (so the result does not depend on the order of the cells, nor on a
+  !> decomposition). The new grid's cells are then untangled or unchanged,
+  !> which is what the remap needs (a changed tangled cell has no exact
+  !> intersection with the old grid). nrevert is the number of nodes put
+  !> back. With halo (a block of a decomposed grid, stored nodes numbered as
+  !> a block of ni x nj x nk cells, ghosts current on entry): the ghosts are
+  !> refreshed after every round, the rounds are the whole grid's and
+  !> nrevert counts the nodes of counts(nnode) summed over the blocks.
+  subroutine smooth_revert_tangled(ni, nj, nk, xold, x, nrevert, err, halo, counts)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: xold(:, :)
     real(wp), intent(inout) :: x(:, :)
     integer, intent(out) :: nrevert
-    integer :: ci, cj, ck, a, n0, n, nround
+    type(error_t), allocatable, intent(inout) :: err
+    class(halo_t), intent(inout), optional :: halo
+    logical, intent(in), optional :: counts(:)
+    integer :: ci, cj, ck, a, n0, n, nround(1)
     real(wp) :: xn(3, 8)
+    logical, allocatable :: back(:)
     logical :: changed
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
     nrevert = 0
+    allocate(back(ix%nnode), stat=n)
+    if (n /= 0) then
+      call error_set(err, 'smooth_revert_tangled', 'cannot allocate the work array')
+      return
+    end if
     do
-      nround = 0
+      back = .false.
+      !$omp parallel do default(none) shared(ix, x, xold, back) private(ci, cj, ck, a, n0, n, xn, changed) &
+      !$omp collapse(2) schedule(static)
       do ck = ix%clo(3), ix%chi(3)
         do cj = ix%clo(2), ix%chi(2)
           do ci = ix%clo(1), ix%chi(1)
@@ -1007,16 +1096,25 @@ contains
             if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
             do a = 1, 8
               n = n0 + ix%corner_offset(a)
-              if (any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) then
-                x(:, n) = xold(:, n)
-                nround = nround + 1
-              end if
+              ! (the same value from any thread)
+              if (any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) back(n) = .true.
             end do
           end do
         end do
       end do
-      nrevert = nrevert + nround
-      if (nround == 0) exit
+      !$omp end parallel do
+      if (present(counts)) then
+        nround = count(back .and. counts)
+      else
+        nround = count(back)
+      end if
+      where (spread(back, 1, 3)) x = xold
+      if (present(halo)) then
+        call halo%sum_ints(nround)
+        call halo%nodes(x)
+      end if
+      nrevert = nrevert + nround(1)
+      if (nround(1) == 0) exit
     end do
   end subroutine smooth_revert_tangled
 
@@ -1028,11 +1126,13 @@ contains
   !> whose nodes all stay are copied instead. nreset is the number of nodes
   !> put back. A reset moves a node by less than move_min of its shortest
   !> edge, so with move_min well below 1 it cannot tangle a valid grid.
-  subroutine smooth_keep_small_moves(ni, nj, nk, xold, x, move_min, nreset)
+  subroutine smooth_keep_small_moves(ni, nj, nk, xold, x, move_min, nreset, counts)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: xold(:, :), move_min
     real(wp), intent(inout) :: x(:, :)
     integer, intent(out) :: nreset
+    !> (nnode) the nodes nreset counts (a block's of a decomposed grid; default all)
+    logical, intent(in), optional :: counts(:)
     integer :: i, j, k, n, d, stride(3), idx(3)
     real(wp) :: lmin
     type(grid_index_t) :: ix
@@ -1040,7 +1140,7 @@ contains
     ix = grid_index(ni, nj, nk)
     stride = [1, ix%sx, ix%sxy]
     nreset = 0
-    !$omp parallel do default(none) shared(ix, xold, x, move_min, stride) &
+    !$omp parallel do default(none) shared(ix, xold, x, move_min, stride, counts) &
     !$omp private(i, j, k, n, d, idx, lmin) reduction(+: nreset) collapse(2) schedule(static)
     do k = ix%nlo(3), ix%nhi(3)
       do j = ix%nlo(2), ix%nhi(2)
@@ -1055,6 +1155,9 @@ contains
           end do
           if (norm2(x(:, n) - xold(:, n)) < move_min*lmin) then
             x(:, n) = xold(:, n)
+            if (present(counts)) then
+              if (.not. counts(n)) cycle
+            end if
             nreset = nreset + 1
           end if
         end do

@@ -53,7 +53,7 @@ module rezone_subdomains
   implicit none
   private
   public :: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_from_boxes, &
-            rezone_subdomains_merge, rezone_subdomains_default_dmax
+            rezone_subdomains_merge, rezone_subdomains_default_dmax, rezone_subdomains_seed
 
   !> The subdomains of one block and the sets derived from them.
   !> Boxes are inclusive cell-index ranges: box b covers cells
@@ -121,10 +121,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: frozen(:), distorted(:)
     character(len=*), parameter :: where = 'rezone_subdomains_find'
-    integer, allocatable :: lo(:, :), hi(:, :), centre(:, :)
-    integer :: n(3), l(3), nlo(3), nhi(3), c, ci, cj, ck, b, d, nbox
-    real(wp) :: half
-    logical :: found, is_distorted
+    integer, allocatable :: lo(:, :), hi(:, :), centre(:, :), ijk(:, :)
+    integer :: c, ci, cj, ck, nd, stat
+    character(len=200) :: msg
 
     call check_block(ni, nj, nk, where, err, frozen)
     if (allocated(err)) return
@@ -149,57 +148,102 @@ contains
       return
     end if
 
-    n = [ni, nj, nk]
-    half = 0.5_wp*d_max
-    nbox = 0
-
-    call grow_boxes(lo, hi, centre, 16, where, err)
-    if (allocated(err)) return
+    ! Step 1: distorted when Q < q (Eq. 46); an undefined Q is distorted too
+    ! (counted, then listed in cell order)
+    nd = 0
+    do c = 1, ni*nj*nk
+      if (seeds(c)) nd = nd + 1
+      if (is_distorted(c) .and. .not. seeds(c)) sub%n_frozen_distorted = sub%n_frozen_distorted + 1
+    end do
+    allocate(ijk(3, nd), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, where, 'cannot allocate the distorted cells: '//trim(msg))
+      return
+    end if
+    nd = 0
     c = 0
     do ck = 1, nk
       do cj = 1, nj
         do ci = 1, ni
           c = c + 1
-          ! Step 1: distorted when Q < q (Eq. 46); an undefined Q is distorted too
-          if (.not. ieee_is_nan(quality(c))) then
-            is_distorted = quality(c) < q
-          else
-            is_distorted = .true.
-          end if
-          if (present(distorted)) is_distorted = is_distorted .or. distorted(c)
-          if (.not. is_distorted) cycle
-          if (present(frozen)) then
-            if (frozen(c)) then
-              sub%n_frozen_distorted = sub%n_frozen_distorted + 1
-              cycle
-            end if
-          end if
-          sub%n_distorted = sub%n_distorted + 1
-          l = [ci, cj, ck]
-          nlo = max(l - 1, 1)
-          nhi = min(l + 1, n)
-          ! Step 2(b)i: enlarge every subdomain whose range holds the cell
-          found = .false.
-          do b = 1, nbox
-            if (all(real(abs(l - centre(:, b)), wp) <= half)) then
-              lo(:, b) = min(lo(:, b), nlo)
-              hi(:, b) = max(hi(:, b), nhi)
-              found = .true.
-            end if
-          end do
-          ! Steps 2(a) and 2(b)ii: a new subdomain of the 27 surrounding cells
-          if (.not. found) then
-            if (nbox == size(lo, 2)) then
-              call grow_boxes(lo, hi, centre, 2*nbox, where, err)
-              if (allocated(err)) return
-            end if
-            nbox = nbox + 1
-            lo(:, nbox) = nlo
-            hi(:, nbox) = nhi
-            centre(:, nbox) = l
-          end if
+          if (.not. seeds(c)) cycle
+          nd = nd + 1
+          ijk(:, nd) = [ci, cj, ck]
         end do
       end do
+    end do
+    sub%n_distorted = nd
+    call rezone_subdomains_seed([ni, nj, nk], ijk(:, 1:nd), d_max, lo, hi, centre, err)
+    if (allocated(err)) return
+    call set_boxes(sub, ni, nj, nk, lo, hi, centre, where, err)
+    if (allocated(err)) return
+    call build_sets(sub, where, err, frozen)
+
+  contains
+
+    !> Whether cell c is distorted (Q < q, an undefined Q, or marked).
+    logical function is_distorted(c)
+      integer, intent(in) :: c
+      if (.not. ieee_is_nan(quality(c))) then
+        is_distorted = quality(c) < q
+      else
+        is_distorted = .true.
+      end if
+      if (present(distorted)) is_distorted = is_distorted .or. distorted(c)
+    end function is_distorted
+
+    !> Whether cell c seeds or enlarges a subdomain (distorted, not frozen).
+    logical function seeds(c)
+      integer, intent(in) :: c
+      seeds = is_distorted(c)
+      if (present(frozen)) seeds = seeds .and. .not. frozen(c)
+    end function seeds
+  end subroutine rezone_subdomains_find
+
+  !> Steps 2 and 3 of Sect. 5.2 (module notes) for the distorted cells
+  !> ijk(3, nd) of a grid of n(3) cells, taken in the order given (the
+  !> cell order, i fastest): the subdomain boxes lo, hi (3, nbox; after the
+  !> final one-layer expansion, within 1..n) and their centres. A
+  !> decomposed grid's blocks give it all distorted cells in the whole
+  !> grid's order, and so find the boxes of one process.
+  subroutine rezone_subdomains_seed(n, ijk, d_max, lo, hi, centre, err)
+    integer, intent(in) :: n(3), ijk(:, :)
+    real(wp), intent(in) :: d_max
+    integer, allocatable, intent(out) :: lo(:, :), hi(:, :), centre(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: where = 'rezone_subdomains_seed'
+    integer :: l(3), nlo(3), nhi(3), b, d, nbox, m
+    real(wp) :: half
+    logical :: found
+
+    half = 0.5_wp*d_max
+    nbox = 0
+    call grow_boxes(lo, hi, centre, 16, where, err)
+    if (allocated(err)) return
+    do m = 1, size(ijk, 2)
+      l = ijk(:, m)
+      nlo = max(l - 1, 1)
+      nhi = min(l + 1, n)
+      ! Step 2(b)i: enlarge every subdomain whose range holds the cell
+      found = .false.
+      do b = 1, nbox
+        if (all(real(abs(l - centre(:, b)), wp) <= half)) then
+          lo(:, b) = min(lo(:, b), nlo)
+          hi(:, b) = max(hi(:, b), nhi)
+          found = .true.
+        end if
+      end do
+      ! Steps 2(a) and 2(b)ii: a new subdomain of the 27 surrounding cells
+      if (.not. found) then
+        if (nbox == size(lo, 2)) then
+          call grow_boxes(lo, hi, centre, 2*nbox, where, err)
+          if (allocated(err)) return
+        end if
+        nbox = nbox + 1
+        lo(:, nbox) = nlo
+        hi(:, nbox) = nhi
+        centre(:, nbox) = l
+      end if
     end do
 
     ! Step 3: expand all subdomains once, one layer in each direction
@@ -209,11 +253,10 @@ contains
         hi(d, b) = min(hi(d, b) + 1, n(d))
       end do
     end do
-
-    call set_boxes(sub, ni, nj, nk, lo(:, 1:nbox), hi(:, 1:nbox), centre(:, 1:nbox), where, err)
-    if (allocated(err)) return
-    call build_sets(sub, where, err, frozen)
-  end subroutine rezone_subdomains_find
+    lo = lo(:, 1:nbox)
+    hi = hi(:, 1:nbox)
+    centre = centre(:, 1:nbox)
+  end subroutine rezone_subdomains_seed
 
   !> Builds the smoothing, movable-node and remap sets of given boxes
   !> lo(3,nbox), hi(3,nbox) (inclusive cell indices) on an ni x nj x nk block,
