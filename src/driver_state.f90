@@ -43,14 +43,15 @@ module driver_state
     !> (`driver_whole`)
     type(state_t), allocatable :: whole
     !> on a decomposed run with Euler steps (`driver_whole`): the whole
-    !> grid's node positions (rezoned on every rank) and this rank's window,
+    !> grid's index, with its node positions when an Euler step needs them
+    !> (the global rezone, particles, open faces), and this rank's window,
     !> its block widened by the cells its Euler step reads
     type(grid_t), allocatable :: gw
     type(state_t), allocatable :: win
     integer :: win_reach = 0              !< how far from a new cell the window's remap looks
     !> the ranks that share the work of an Euler step on st (allocated on
-    !> st%whole of a decomposed run, and on the blocks for the rezone of the
-    !> whole grid's node positions: `base_share`; else absent, one process)
+    !> st%whole of a decomposed run, and on the blocks for the global rezone
+    !> of the whole grid's node positions: `base_share`; else absent)
     class(share_t), allocatable :: share
     !> (np) each particle's index in st%whole%pt (a decomposed run: the
     !> block's particles are a subsequence of the whole run's arrays)

@@ -3,11 +3,12 @@
 !>
 !> Euler steps on windows (the default, &run euler_ranks): each rank
 !> holds a window, its block widened by the cells its remap reads (a box of
-!> the whole grid, built from the deck once), and the whole grid's node
-!> positions. At an Euler step every rank rezones the whole grid's node
-!> positions (the rezone reads the whole grid: LSSM's subdomains and its
-!> smoothing's quality target; its quality measures are shared by the
-!> ranks), gathers its window's old state from the blocks that own it
+!> the whole grid, built from the deck once). At an Euler step each block
+!> smooths its own nodes (`smooth_rezone` with the block's halo: LSSM's
+!> subdomains seeded from all blocks' distorted cells, the ghosts refreshed
+!> after every pass; the global rezone works on the whole grid's node
+!> positions, gathered, on every rank), then every rank gathers its
+!> window's new nodes and old state from the blocks that own them
 !> (`gather_box`), remaps it (`remap_zone_t`) and takes its block back from
 !> it. A step that needs more than the windows hold (a new cell whose old
 !> cells lie further than the windows' search, an old region the new grid
@@ -18,8 +19,8 @@
 !>
 !> Open faces: the gap search of a window's remap takes each open face's
 !> innermost points and bins over the moved cells from the whole grid's node
-!> positions (`remap_zone_open`), and the flows through the faces are exact
-!> sums added over the ranks.
+!> positions (gathered for it, `remap_zone_open`), and the flows through
+!> the faces are exact sums added over the ranks.
 !>
 !> Particles at an Euler step on windows: every rank gathers all of them in
 !> the whole run's order, pre-positions them in the standard grid (Remark

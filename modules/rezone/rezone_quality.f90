@@ -37,7 +37,7 @@ module rezone_quality
   use base_share, only: share_t
   implicit none
   private
-  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_worst_cells, grid_trigger_cells, &
+  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, &
             hex_box_sides, hex_quality_box
 
   !> The three neighbours of each corner along the three logical directions.
@@ -356,37 +356,4 @@ contains
               .or. .not. jmin > 0.0_wp
     end function fails
   end subroutine grid_trigger_cells
-
-  !> Cell indices (i, j, k) of the cell with the largest side ratio and of
-  !> the cell with the smallest inclined-angle cosine (the first such cell
-  !> in storage order): where a trigger fired.
-  subroutine grid_worst_cells(ni, nj, nk, x, ijk_ratio, ijk_cos, axis)
-    integer, intent(in) :: ni, nj, nk
-    real(wp), intent(in) :: x(:, :)
-    integer, intent(out) :: ijk_ratio(3), ijk_cos(3)
-    logical, intent(in), optional :: axis
-    integer :: ci, cj, ck
-    real(wp) :: xn(3, 8), r, cs, r_max, cs_min
-
-    r_max = -1.0_wp
-    cs_min = huge(1.0_wp)
-    ijk_ratio = 1
-    ijk_cos = 1
-    do ck = 1, nk
-      do cj = 1, nj
-        do ci = 1, ni
-          call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_shape(xn, r, cs, axis)
-          if (r > r_max) then
-            r_max = r
-            ijk_ratio = [ci, cj, ck]
-          end if
-          if (cs < cs_min) then
-            cs_min = cs
-            ijk_cos = [ci, cj, ck]
-          end if
-        end do
-      end do
-    end do
-  end subroutine grid_worst_cells
 end module rezone_quality
