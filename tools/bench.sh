@@ -176,7 +176,9 @@ mpi_dump_bench() {
 # A deck's Euler steps on 2 ranks with the whole grid on each (&run
 # euler_ranks = 'whole': the intersections shared round robin) against the
 # windows (the default: each rank its block and the cells around it, its
-# r2t1 run of mpi_runs): the Euler time of rank 0 and the peak memory per rank.
+# r2t1 run of mpi_runs): the Euler time of rank 0, the peak memory per rank
+# and the rezone's share of the Euler time (rank 0's; on windows each block
+# smooths its own nodes, on the whole grid every rank smooths all of them).
 mpi_whole() {
   local name=$1
   sed -e "s|^&run |\&run euler_ranks = 'whole', |" $name.nml > ${name}_whole.nml
@@ -185,7 +187,7 @@ mpi_whole() {
   cp ${name}_whole_r2t1.log "$outdir/bench_mpi_${name}_whole_r2t1.log"
   echo "## MPI: $name.nml on 2 ranks, Euler steps on windows (default) against the whole grid on each rank"
   for f in ${name}_r2t1 ${name}_whole_r2t1; do
-    echo "$f: $(grep '^timers' $f.log) | $(grep '^memory:' $f.log)"
+    echo "$f: $(grep '^timers' $f.log) | $(grep '^memory:' $f.log) | $(grep -o 'rezone *[0-9.]* s$' $f.log | tail -1)"
   done
   awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eu[f] = $(i + 1)}
        END {printf "Euler time, windows against whole: x%.2f\n", eu[1] / eu[2]}' ${name}_r2t1.log ${name}_whole_r2t1.log
