@@ -26,7 +26,7 @@ module driver_euler
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
   use lagrange_state, only: hydro_totals
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use base_share, only: share_t
@@ -223,8 +223,9 @@ contains
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
-    real(wp), allocatable :: xnew(:, :)
     logical :: done
+    real(wp), allocatable :: xnew(:, :)
+    integer :: nblock
 
     if (present(xrezoned)) then
       start = e0
@@ -240,12 +241,16 @@ contains
       if (allocated(err) .or. .not. done) return
     end if
     par = remap_params(rz)
+    ! (every rank holds this grid whole: the count is the whole grid's)
+    nblock = remap_swept_blockers(st%g, st%h, xnew, par%swept_max)
+    par%swept = nblock == 0
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left
     call centroids_refresh(st%g, st%mx, es%centroids)
     ! coupled particles: their share of the nodal momentum goes with them
     if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err, st%share)
+    rs%swept_blockers = nblock
     if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
     ! the new mixed cells' centroids are the remapped material's: their
     ! interface planes, fitted to them, carry them to the next remap
@@ -288,12 +293,26 @@ contains
     if (allocated(err)) call es%timer%stop()
   end subroutine euler_preposition
 
+  !> How the log's Euler line says which path the remap took.
+  function swept_text(rs) result(text)
+    type(remap_stats_t), intent(in) :: rs
+    character(len=:), allocatable :: text
+    if (rs%cells_swept > 0) then
+      text = ' by swept faces'
+    else if (rs%swept_blockers > 0 .and. rs%cells_remapped > 0) then
+      text = ' by intersection ('//itoa(rs%swept_blockers)//' could not sweep)'
+    else
+      text = ' by intersection'
+    end if
+  end function swept_text
+
   !> The remap's settings from the deck.
   function remap_params(rz) result(par)
     type(rezone_config_t), intent(in) :: rz
     type(remap_params_t) :: par
     par%linear = trim(rz%reconstruction) == 'linear'
     par%mof_max_iter = rz%mof_max_iter
+    par%swept_max = rz%swept_max
   end function remap_params
 
   !> An Euler step begins: its log line, its timer, and the totals it must
@@ -411,12 +430,13 @@ contains
     m1 = m1 - rs%mass_in + rs%mass_out
     ie1 = ie1 - rs%energy_in + rs%energy_out
     dp = p1 - e0%momentum + rs%momentum_constrained - rs%momentum_in + rs%momentum_out
-    write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped, ",i0," copied, reach ",i0, &
+    write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped",a,", ",i0," copied, reach ",i0, &
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
       &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
       &a,", assemble ",f7.3,")")') &
-      es%n, st%step, st%t, rs%cells_remapped, rs%cells_copied, rs%reach, rs%volume_defect, &
+      es%n, st%step, st%t, rs%cells_remapped, swept_text(rs), &
+      rs%cells_copied, rs%reach, rs%volume_defect, &
       rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, &
       real(rs%mof_iterations, wp)/real(max(rs%mof_cells, 1), wp), rs%mof_not_converged, rs%mof_err_max, &
       rs%ke_to_internal, e0%t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &

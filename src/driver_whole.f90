@@ -74,7 +74,8 @@ module driver_whole
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
-  use remap_euler, only: remap_zone_t, remap_stats_t, remap_euler_step, remap_zone_open, remap_stats_flows
+  use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
+                         remap_stats_flows, remap_swept_blockers
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos
   use material_mixed, only: mixed_cell_state
@@ -390,10 +391,11 @@ contains
     type(centroid_stats_t) :: cs, others
     type(remap_zone_t) :: zone
     type(remap_stats_t) :: rs
+    type(remap_params_t) :: par
     real(wp), allocatable :: xw(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer :: n(3), i, j, k, stat
+    integer :: n(3), i, j, k, stat, nblock
 
     redo = .false.
     wider = .false.
@@ -420,9 +422,15 @@ contains
         ! (collective: every rank's window from the blocks)
         call gather_box(pc, st%g%grid_index_t, xb, wg%off + 1, wg%off + [wg%ni, wg%nj, wg%nk], xw, .true.)
       end if
-      if (.not. allocated(err)) then
-        call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, remap_params(cfg%rezone), rs, err, zone=zone)
-      end if
+      ! the swept-face path where no changed cell of any block blocks it
+      ! (collective: a rank with an error counts one)
+      par = remap_params(cfg%rezone)
+      nblock = 1
+      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, xw, par%swept_max, zone%own)
+      call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
+      par%swept = nblock == 0
+      if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)
+      rs%swept_blockers = nblock
       call agree_error(pc, err)
       if (allocated(err)) then
         call es%timer%stop()
@@ -508,19 +516,19 @@ contains
   subroutine remap_stats_reduce(pc, rs)
     type(comm_t), intent(in) :: pc
     type(remap_stats_t), intent(inout) :: rs
-    integer :: ni(6), nx(1)
+    integer :: ni(7), nx(1)
     real(wp) :: r(4), x(6)
     ni = [rs%cells_remapped, rs%cells_copied, rs%mof_cells, rs%mof_iterations, rs%mof_not_converged, &
-          rs%slivers_merged]
+          rs%slivers_merged, rs%cells_swept]
     nx = [rs%reach]
     r = [rs%ke_to_internal, rs%momentum_constrained]
     x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
-    call MPI_Allreduce(MPI_IN_PLACE, ni, 6, MPI_INTEGER, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, ni, 7, MPI_INTEGER, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, nx, 1, MPI_INTEGER, MPI_MAX, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, r, 4, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, x, 6, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
     rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
-    rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6)
+    rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7)
     rs%reach = nx(1)
     rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4)
     rs%volume_defect = x(1); rs%given_defect = x(2); rs%mof_err_max = x(3)

@@ -114,7 +114,8 @@ module remap_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows, &
+            remap_swept_blockers
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -133,17 +134,23 @@ module remap_euler
     logical :: linear = .true.        !< limited linear reconstruction (else piecewise constant)
     integer :: mof_max_iter = 50      !< cap on MoF Gauss-Newton iterations per material
     real(wp) :: vf_min = 1.0e-9_wp    !< a material below this volume fraction is merged into the cell's largest
-    !> the swept-face path (`remap_new_cell`) takes a changed cell whose
-    !> nodes moved at most this times its shortest old edge (and whose
-    !> 3 x 3 x 3 neighbourhood is of one material, pure); 0: every changed
-    !> cell is intersected exactly
+    !> the swept-face path (`remap_new_cell`) can take a changed cell whose
+    !> nodes moved at most this times its shortest old edge
+    !> (`remap_swept_blockers`); 0: every changed cell is intersected
     real(wp) :: swept_max = 0.25_wp
+    !> this step takes the swept-face path: every changed cell can
+    !> (`remap_swept_blockers` is zero over the whole grid; the caller's to
+    !> decide, as the count runs over every rank's cells)
+    logical :: swept = .false.
   end type remap_params_t
 
   !> What one remap did.
   type :: remap_stats_t
     integer :: cells_remapped = 0     !< changed new cells, intersected with the old grid
     integer :: cells_swept = 0        !< of them, those remapped by their faces' swept regions
+    !> changed cells that kept the step off the swept-face path (set by the
+    !> caller: `remap_swept_blockers` over the whole grid)
+    integer :: swept_blockers = 0
     integer :: cells_copied = 0       !< unchanged cells, copied
     integer :: reach = 0              !< widest index window that was needed
     integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
@@ -214,9 +221,9 @@ module remap_euler
   !> The old grid's cells as the remap needs them.
   type :: old_t
     logical, allocatable :: changed(:)          !< cell moved (ncell)
-    !> changed cells remapped through the regions their subcells' faces
-    !> sweep (`swept_choice`), not by intersection (ncell)
-    logical, allocatable :: swept(:)
+    !> the changed cells are remapped through the regions their subcells'
+    !> faces sweep, not by intersection (`remap_params_t`)
+    logical :: swept = .false.
     !> the cell's mean velocity v_c (3, ncell), carried with the mass
     real(wp), allocatable :: ucell(:, :)
     !> per moved cell: the velocity ushift(3, ncell) added to its corners'
@@ -356,8 +363,8 @@ contains
     w0 = wall_seconds()
     todo = pack([(c, c = 1, ncell)], old%changed)
     stats%cells_remapped = count(old%changed .and. own)
-    call swept_choice(g, h, old, xnew, gap_face, par%swept_max)
-    stats%cells_swept = count(old%swept .and. own)
+    old%swept = par%swept .and. .not. any_open
+    if (old%swept) stats%cells_swept = stats%cells_remapped
     stats%cells_copied = count(own) - stats%cells_remapped
     ! the whole block: no overlap can lie further
     rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
@@ -1288,35 +1295,44 @@ contains
 
   ! ------------------------------------------------------------ new side
 
-  !> Which changed cells take the swept-face path (`remap_new_cell`): a pure
-  !> cell, not tangled, whose 3 x 3 x 3 neighbourhood holds its material
-  !> only (what a face sweeps is then of that material, whichever cell it
-  !> comes from), whose nodes moved at most smax times its shortest old
-  !> edge (the swept regions stay next to the face that sweeps them, and
-  !> the cell keeps most of its own content), not at an open face's gap,
-  !> and whose faces on the block's boundary sweep no volume (nodes that
-  !> slide along a plane wall: there is no cell beyond to take it from).
-  !> Every other changed cell is intersected exactly.
-  subroutine swept_choice(g, h, old, xnew, gap_face, smax)
+  !> How many of the cells `own` would move from the grid x to xnew and
+  !> cannot take the swept-face path (`remap_new_cell`): a changed cell can
+  !> if it is pure, not tangled, its 3 x 3 x 3 neighbourhood holds its
+  !> material only (what a face sweeps is then of that material, whichever
+  !> cell it comes from), its nodes moved at most smax times its shortest
+  !> old edge (the swept regions stay next to the face that sweeps them, and
+  !> the cell keeps most of its own content), and its faces on the block's
+  !> boundary sweep no volume (nodes that slide along a plane wall: there
+  !> is no cell beyond to take it from). The path is all or nothing: what
+  !> an old cell gives away adds up to its volume only if every new cell
+  !> around it takes its share the same way, so the caller adds the count
+  !> over the whole grid and sets `remap_params_t`'s swept where it is 0.
+  !> Open faces are the caller's to exclude (their gaps need intersection).
+  integer function remap_swept_blockers(g, h, xnew, smax, own) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
-    type(old_t), intent(inout) :: old
     real(wp), intent(in) :: xnew(:, :), smax
-    integer, intent(in) :: gap_face(:)
-    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), hmin2, dmax2, v, m(3), vb
+    logical, intent(in), optional :: own(:)   !< (absent: every cell)
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3)
     logical :: ok
 
-    if (.not. allocated(old%swept)) allocate(old%swept(g%ncell))
-    !$omp parallel do default(none) shared(g, h, old, xnew, gap_face, smax) &
-    !$omp private(c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, hmin2, dmax2, &
-    !$omp v, m, vb) schedule(static)
+    nblock = 1
+    if (.not. smax > 0.0_wp) return
+    nblock = 0
+    !$omp parallel do default(none) shared(g, h, xnew, smax, own) reduction(+:nblock) &
+    !$omp private(c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
+    !$omp dmax2, v, m, vb) schedule(static)
     do c = 1, g%ncell
-      old%swept(c) = .false.
-      if (.not. smax > 0.0_wp) cycle
-      if (.not. old%changed(c) .or. gap_face(c) > 0 .or. old%uniform(c) .or. h%mat(c) <= 0) cycle
+      if (present(own)) then
+        if (.not. own(c)) cycle
+      end if
       call g%cell_ijk(c, ci, cj, ck)
-      ok = .true.
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      ! (unchanged: copied)
+      if (all(abs(xn - xo) <= 0.0_wp)) cycle
+      ok = h%mat(c) > 0
       do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
         do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
           do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
@@ -1324,9 +1340,6 @@ contains
           end do
         end do
       end do
-      if (.not. ok) cycle
-      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       hmin2 = huge(1.0_wp)
       do d = 1, 3
         do e = 1, 4
@@ -1337,32 +1350,36 @@ contains
       do a = 1, 8
         dmax2 = max(dmax2, sum((xn(:, a) - xo(:, a))**2))
       end do
-      if (dmax2 > smax**2*hmin2) cycle
-      ! faces on the block's boundary
-      if (any([ci, cj, ck] == g%clo) .or. any([ci, cj, ck] == g%chi)) then
+      ok = ok .and. dmax2 <= smax**2*hmin2
+      if (ok) then
         o = sum(xo, 2)/8.0_wp
         do a = 1, 8
           xo(:, a) = xo(:, a) - o
           xn(:, a) = xn(:, a) - o
         end do
-        vb = abs(hex_volume(xo))
-        call half_tets(xo, opts, hv, hc)
         call half_tets(xn, pts, hv, hc)
+        call half_tets(xo, opts, hv, hc)
+        ! not tangled (as `subcell_shifts` finds it)
+        do t = 1, 48
+          do a = 1, 4
+            tq(:, a) = opts(:, hv(a, t))
+          end do
+          ok = ok .and. tet_det(tq) > 0.0_wp
+        end do
+        vb = abs(hex_volume(xo))
         do f = 1, 6
           nb = [ci, cj, ck] + face_step(:, f)
           if (all(nb >= g%clo .and. nb <= g%chi)) cycle
-          v = 0.0_wp
           do t = 8*f - 7, 8*f
             call swept_triangle(opts(:, hv(2:4, t)), pts(:, hv(2:4, t)), v, m)
             ok = ok .and. abs(v) <= 1.0e-12_wp*vb
           end do
         end do
-        if (.not. ok) cycle
       end if
-      old%swept(c) = .true.
+      if (.not. ok) nblock = nblock + 1
     end do
     !$omp end parallel do
-  end subroutine swept_choice
+  end function remap_swept_blockers
 
   !> Intersects the changed new cell c with the old cells within `reach`
   !> index steps: per material the volume, first moment, mass and internal
@@ -1413,6 +1430,24 @@ contains
       hvol(t) = abs(v)/6.0_wp
       hmom(:, t) = 0.25_wp*hvol(t)*(ht(:, 1, t) + ht(:, 2, t) + ht(:, 3, t) + ht(:, 4, t))
     end do
+    if (old%swept) then
+      avol = 0.0_wp
+      amom = 0.0_wp
+      amass = 0.0_wp
+      aie = 0.0_wp
+      pcell = 0.0_wp
+      cmom = 0.0_wp
+      cland = 0.0_wp
+      cdef = 0.0_wp
+      do t = 1, 48
+        cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
+      end do
+      call swept_fluxes()
+      do kmat = 1, size(avol)
+        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
+      end do
+      return
+    end if
     ! the 24 tetrahedra (two halves each), their masks and the mid-plane
     ! (centre, face centre, edge midpoint) that splits them, oriented with
     ! the first half's corner on the inner side
@@ -1467,13 +1502,6 @@ contains
       do t = 1, 48
         cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
       end do
-    end if
-    if (old%swept(c)) then
-      call swept_fluxes()
-      do kmat = 1, size(avol)
-        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
-      end do
-      return
     end if
     do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
       do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
@@ -1551,7 +1579,7 @@ contains
 
   contains
 
-    !> The swept-face path (`swept_choice` chose the cell): the new cell
+    !> The swept-face path (`remap_params_t`'s swept): the new cell
     !> is its old cell plus what the faces of its subcells swept,
     !>   new subcell a = old subcell a + sum of the signed regions swept by
     !>   the 12 triangles that bound it (`remap_swept`),

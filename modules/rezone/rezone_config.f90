@@ -49,6 +49,11 @@ module rezone_config
     !> 'lssm', 'smooth': the same for the nodes of inflow and outflow faces
     !> (0: put back whenever they moved)
     real(wp) :: drift_open = 0.5_wp
+    !> the remap's swept-face path (flux form, no intersection) is taken at
+    !> an Euler step whose every changed cell is pure, amid cells of its own
+    !> material, and moved its nodes by at most this times its shortest
+    !> edge; other steps intersect (0: always intersect)
+    real(wp) :: swept_max = 0.25_wp
     !> 'lssm': 'box' (distorted cells are those failing the triggers' tests;
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
@@ -66,13 +71,13 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
-                drift_max, drift_open
+                drift_max, drift_open, swept_max
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
-                      move_min, smooth_target, drift_max, drift_open
+                      move_min, smooth_target, drift_max, drift_open, swept_max
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -81,6 +86,7 @@ contains
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
+    swept_max = defaults%swept_max
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
@@ -128,6 +134,8 @@ contains
     if (.not. (drift_max >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_max', drift_max, 'must be >= 0 (0: off)')
     if (.not. (drift_open >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_open', drift_open, &
       'must be >= 0 (0: open faces put back whenever they moved)')
+    if (.not. (swept_max >= 0.0_wp .and. swept_max <= 0.5_wp)) call problem_bad(problems, 'rezone', 'swept_max', &
+      swept_max, 'must be in [0, 0.5] (0: always intersect)')
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
                                             interval_steps > 0 .or. interval_time > 0.0_wp)) &
       call problem_add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
@@ -136,7 +144,8 @@ contains
       interval_steps=interval_steps, interval_time=interval_time, reconstruction=reconstruction, &
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
-      smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open)
+      smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
+      swept_max=swept_max)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
