@@ -1417,6 +1417,22 @@ contains
       xn(:, j) = xn(:, j) - o
     end do
     call half_tets(xn, pts, hv, hcorner)
+    if (old%swept) then
+      avol = 0.0_wp
+      amom = 0.0_wp
+      amass = 0.0_wp
+      aie = 0.0_wp
+      pcell = 0.0_wp
+      cmom = 0.0_wp
+      cland = 0.0_wp
+      ! (no open faces on this path: cdef, the gaps' measure, is not used)
+      cdef = 0.0_wp
+      call swept_fluxes()
+      do kmat = 1, size(avol)
+        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
+      end do
+      return
+    end if
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
@@ -1430,24 +1446,6 @@ contains
       hvol(t) = abs(v)/6.0_wp
       hmom(:, t) = 0.25_wp*hvol(t)*(ht(:, 1, t) + ht(:, 2, t) + ht(:, 3, t) + ht(:, 4, t))
     end do
-    if (old%swept) then
-      avol = 0.0_wp
-      amom = 0.0_wp
-      amass = 0.0_wp
-      aie = 0.0_wp
-      pcell = 0.0_wp
-      cmom = 0.0_wp
-      cland = 0.0_wp
-      cdef = 0.0_wp
-      do t = 1, 48
-        cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
-      end do
-      call swept_fluxes()
-      do kmat = 1, size(avol)
-        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
-      end do
-      return
-    end if
     ! the 24 tetrahedra (two halves each), their masks and the mid-plane
     ! (centre, face centre, edge midpoint) that splits them, oriented with
     ! the first half's corner on the inner side

@@ -20,22 +20,17 @@
 !> so the signed volume is exactly
 !>   V = (A + B/2 + C/3) . (d_1 + d_2 + d_3)/6,
 !> positive when the triangle moves along its normal A (vertices counter-
-!> clockwise seen from the side it moves to). The first moment integrates
-!> x J, of degree 2 in xi and 3 in t: the three-point rule on the triangle
-!> (exact to degree 2) times two Gauss points in t (exact to degree 3) give
-!> it exactly.
+!> clockwise seen from the side it moves to). The first moment, the
+!> integral of x J with x = p_1 + xi.E + t D, is as exact: with
+!> n0 = A + B/2 + C/3 and n1 = A/2 + B/3 + C/4 (the integrals of N and tN
+!> over t) it is the triangle's polynomial integrals of
+!> (p_1 + xi.E)(n0 . D) and D (n1 . D).
 module remap_swept
   use base_kinds, only: wp
   use mesh_geometry, only: cross
   implicit none
   private
   public :: swept_triangle
-
-  !> Gauss points of [0, 1] (two: exact to degree 3).
-  real(wp), parameter :: tg(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
-  !> The triangle's interior three-point rule (barycentric xi_1, xi_2).
-  real(wp), parameter :: xq(2, 3) = reshape([1.0_wp/6.0_wp, 1.0_wp/6.0_wp, 2.0_wp/3.0_wp, 1.0_wp/6.0_wp, &
-                                             1.0_wp/6.0_wp, 2.0_wp/3.0_wp], [2, 3])
 
 contains
 
@@ -46,8 +41,7 @@ contains
   pure subroutine swept_triangle(p, q, v, m)
     real(wp), intent(in) :: p(3, 3), q(3, 3)
     real(wp), intent(out) :: v, m(3)
-    real(wp) :: e1(3), e2(3), d1(3), g1(3), g2(3), a(3), b(3), c(3), nt(3), dd(3), jw
-    integer :: it, iq
+    real(wp) :: e1(3), e2(3), d1(3), g1(3), g2(3), a(3), b(3), c(3), n0(3), n1(3), s0, s1, s2, r0, r1, r2
     e1 = p(:, 2) - p(:, 1)
     e2 = p(:, 3) - p(:, 1)
     d1 = q(:, 1) - p(:, 1)
@@ -56,16 +50,20 @@ contains
     a = cross(e1, e2)
     b = cross(e1, g2) + cross(g1, e2)
     c = cross(g1, g2)
-    v = dot_product(a + 0.5_wp*b + c/3.0_wp, 3.0_wp*d1 + g1 + g2)/6.0_wp
-    m = 0.0_wp
-    do it = 1, 2
-      nt = a + tg(it)*(b + tg(it)*c)
-      do iq = 1, 3
-        dd = d1 + xq(1, iq)*g1 + xq(2, iq)*g2
-        ! weight: 1/2 (Gauss) x 1/6 (a third of the triangle's area 1/2)
-        jw = dot_product(nt, dd)/12.0_wp
-        m = m + jw*(p(:, 1) + xq(1, iq)*e1 + xq(2, iq)*e2 + tg(it)*dd)
-      end do
-    end do
+    ! the normal's integrals over t: n0 = int N dt, n1 = int t N dt
+    n0 = a + 0.5_wp*b + c/3.0_wp
+    n1 = 0.5_wp*a + b/3.0_wp + 0.25_wp*c
+    s0 = dot_product(n0, d1)
+    s1 = dot_product(n0, g1)
+    s2 = dot_product(n0, g2)
+    r0 = dot_product(n1, d1)
+    r1 = dot_product(n1, g1)
+    r2 = dot_product(n1, g2)
+    ! over the triangle: int 1 = 1/2, int xi_i = 1/6, int xi_i^2 = 1/12,
+    ! int xi_1 xi_2 = 1/24
+    v = 0.5_wp*s0 + (s1 + s2)/6.0_wp
+    m = v*p(:, 1) + (s0/6.0_wp + s1/12.0_wp + s2/24.0_wp)*e1 + (s0/6.0_wp + s1/24.0_wp + s2/12.0_wp)*e2 + &
+        (0.5_wp*r0 + (r1 + r2)/6.0_wp)*d1 + (r0/6.0_wp + r1/12.0_wp + r2/24.0_wp)*g1 + &
+        (r0/6.0_wp + r1/24.0_wp + r2/12.0_wp)*g2
   end subroutine swept_triangle
 end module remap_swept
