@@ -411,7 +411,7 @@ contains
     type(remap_stats_t), intent(in) :: rs
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: m0, ie0, ke0, m1, p1(3), ie1, ke1, pscale, dp(3)
-    character(len=400) :: line
+    character(len=600) :: line
     character(len=40) :: shared
 
     es%n = es%n + 1

@@ -283,6 +283,30 @@ awk '/^timers \[s\]:/ {for (i = 1; i < NF; i++) {if ($i == "lagrange") lag = $(i
      }' "$outdir/sedov3d_ale.log"
 
 echo
+echo "## A remapped cell in Lagrangian cell-cycles (1 thread): Sedov octant 20^3, an Euler step every step"
+echo "## (global rezone back to the box), 40 steps, swept-face path (default) and intersection (swept_max = 0)"
+for sm in default 0; do
+  deck=sedov20_every_$sm.nml
+  sed -e "s|^&output.*|\&output dir = 'out/sedov20_every_$sm' /|" -e "s|^&run .*|\&run title = 'Sedov 20^3, Euler every step', t_end = 1.0, max_steps = 40 /|" \
+      -e "s|^&grid .*|\&grid ni = 20, nj = 20, nk = 20, xmin = 0, 0, 0, xmax = 1.2, 1.2, 1.2 /|" "$root/input/sedov3d.nml" > "$deck"
+  if [[ $sm == default ]]; then
+    echo "&rezone mode = 'global', interval_steps = 1 /" >> "$deck"
+  else
+    echo "&rezone mode = 'global', interval_steps = 1, swept_max = $sm /" >> "$deck"
+  fi
+  OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" "$deck" > "$outdir/sedov20_every_$sm.log"
+  awk -v lab="$sm" '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eul = $(i + 1)}
+       /^throughput:/ {rate = $2}
+       /^euler steps:/ {cells = $6 + 0}
+       / cells remapped by swept faces/ {nsw++}
+       END {
+         cyc = 1e6 / rate; per = 1e6 * eul / cells
+         printf "swept_max %-7s: Lagrangian %.3f us per cell-cycle; Euler %.3f s for %d remapped cells = %.2f us " \
+                "per cell = %.1f cell-cycles (%d Euler steps by swept faces)\n", lab, cyc, eul, cells, per, per / cyc, nsw
+       }' "$outdir/sedov20_every_$sm.log"
+done
+
+echo
 echo "## Speed against error (1 thread): tables, CSV and PNG in $outdir"
 py=/usr/bin/python3
 "$py" "$root/tools/speed_error.py" --exe "$exe" --case sod --n 100 200 400 800 --threads 1 --out "$outdir"
