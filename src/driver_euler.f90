@@ -242,7 +242,7 @@ contains
     end if
     par = remap_params(rz)
     ! (every rank holds this grid whole: the count is the whole grid's)
-    nblock = remap_swept_blockers(st%g, st%h, xnew, par%swept_max)
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max)
     par%swept = nblock == 0
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left

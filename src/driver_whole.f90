@@ -426,7 +426,7 @@ contains
       ! (collective: a rank with an error counts one)
       par = remap_params(cfg%rezone)
       nblock = 1
-      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, xw, par%swept_max, zone%own)
+      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, zone%own)
       call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = nblock == 0
       if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)

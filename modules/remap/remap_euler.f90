@@ -224,6 +224,7 @@ module remap_euler
     !> the changed cells are remapped through the regions their subcells'
     !> faces sweep, not by intersection (`remap_params_t`)
     logical :: swept = .false.
+    logical :: open(6) = .false.   !< the grid's faces that are inflow or outflow faces
     !> the cell's mean velocity v_c (3, ncell), carried with the mass
     real(wp), allocatable :: ucell(:, :)
     !> per moved cell: the velocity ushift(3, ncell) added to its corners'
@@ -363,7 +364,8 @@ contains
     w0 = wall_seconds()
     todo = pack([(c, c = 1, ncell)], old%changed)
     stats%cells_remapped = count(old%changed .and. own)
-    old%swept = par%swept .and. .not. any_open
+    old%swept = par%swept
+    old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
     if (old%swept) stats%cells_swept = stats%cells_remapped
     stats%cells_copied = count(own) - stats%cells_remapped
     ! the whole block: no overlap can lie further
@@ -383,7 +385,11 @@ contains
         call g%gather(c, xnew, xn)
         vnew = hex_volume(xn)
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
-        if (gap_face(c) > 0 .and. defect > 1.0e-9_wp) then
+        if (gap_face(c) > 0 .and. defect > 1.0e-9_wp .and. old%swept) then
+          ! (the swept faces leave the gap itself to `open_faces`)
+          reach(c) = r
+          if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
+        else if (gap_face(c) > 0 .and. defect > 1.0e-9_wp) then
           ! maybe in the gap between an open face and the old grid: no
           ! window makes the fragments add up there; widened below to
           ! every old cell that can meet it
@@ -1295,22 +1301,21 @@ contains
 
   ! ------------------------------------------------------------ new side
 
-  !> How many of the cells `own` would move from the grid x to xnew and
+  !> How many of the cells `own` would move from the grid g%x to xnew and
   !> cannot take the swept-face path (`remap_new_cell`): a changed cell can
-  !> if it is pure, not tangled, its 3 x 3 x 3 neighbourhood holds its
-  !> material only (what a face sweeps is then of that material, whichever
-  !> cell it comes from), its nodes moved at most smax times its shortest
-  !> old edge (the swept regions stay next to the face that sweeps them, and
-  !> the cell keeps most of its own content), and its faces on the block's
-  !> boundary sweep no volume (nodes that slide along a plane wall: there
-  !> is no cell beyond to take it from). The path is all or nothing: what
-  !> an old cell gives away adds up to its volume only if every new cell
-  !> around it takes its share the same way, so the caller adds the count
-  !> over the whole grid and sets `remap_params_t`'s swept where it is 0.
-  !> Open faces are the caller's to exclude (their gaps need intersection).
-  integer function remap_swept_blockers(g, h, xnew, smax, own) result(nblock)
+  !> if it is not tangled, its nodes moved at most smax times its shortest
+  !> old edge (the swept regions stay next to the face that sweeps them,
+  !> and the cell keeps most of its own content), and its faces on the
+  !> grid's boundary sweep no volume unless they are inflow or outflow faces
+  !> (nodes that slide along a plane wall: there is no cell beyond to take
+  !> it from). The path is all or nothing: what an old cell gives away adds
+  !> up to its volume only if every new cell around it takes its share the
+  !> same way, so the caller adds the count over the whole grid and sets
+  !> `remap_params_t`'s swept where it is 0.
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, own) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
+    type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: xnew(:, :), smax
     logical, intent(in), optional :: own(:)   !< (absent: every cell)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb
@@ -1320,7 +1325,7 @@ contains
     nblock = 1
     if (.not. smax > 0.0_wp) return
     nblock = 0
-    !$omp parallel do default(none) shared(g, h, xnew, smax, own) reduction(+:nblock) &
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, own) reduction(+:nblock) &
     !$omp private(c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
     do c = 1, g%ncell
@@ -1332,14 +1337,7 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ! (unchanged: copied)
       if (all(abs(xn - xo) <= 0.0_wp)) cycle
-      ok = h%mat(c) > 0
-      do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
-        do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
-          do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
-            ok = ok .and. h%mat(g%cell(oi, oj, ok_)) == h%mat(c)
-          end do
-        end do
-      end do
+      ok = .true.
       hmin2 = huge(1.0_wp)
       do d = 1, 3
         do e = 1, 4
@@ -1369,7 +1367,7 @@ contains
         vb = abs(hex_volume(xo))
         do f = 1, 6
           nb = [ci, cj, ck] + face_step(:, f)
-          if (all(nb >= g%clo .and. nb <= g%chi)) cycle
+          if (all(nb >= g%clo .and. nb <= g%chi) .or. bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW) cycle
           do t = 8*f - 7, 8*f
             call swept_triangle(opts(:, hv(2:4, t)), pts(:, hv(2:4, t)), v, m)
             ok = ok .and. abs(v) <= 1.0e-12_wp*vb
@@ -1425,8 +1423,16 @@ contains
       pcell = 0.0_wp
       cmom = 0.0_wp
       cland = 0.0_wp
-      ! (no open faces on this path: cdef, the gaps' measure, is not used)
+      ! cdef, the gaps' measure, only where there are open faces
       cdef = 0.0_wp
+      if (any(old%open)) then
+        do t = 1, 48
+          do j = 1, 4
+            ht(:, j, t) = pts(:, hv(j, t))
+          end do
+          cdef(hcorner(t)) = cdef(hcorner(t)) + tet_det(ht(:, :, t))/6.0_wp
+        end do
+      end if
       call swept_fluxes()
       do kmat = 1, size(avol)
         amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
@@ -1583,45 +1589,78 @@ contains
     !>   the 12 triangles that bound it (`remap_swept`),
     !> each region taken from the upwind subcell: a triangle on the cell's
     !> face takes what it sweeps into the cell from the subcell across the
-    !> face at the same node (the same material: its region's
-    !> reconstruction, its node's velocity) and gives what it sweeps out of
-    !> the cell from the cell's own; a triangle between two corners of the
-    !> cell moves what it sweeps from one to the other. Old and new
-    !> triangles bound the same 48 halves as the intersection's pieces, so
-    !> the fragments add up to the new cell and each old region gives away
-    !> exactly its volume (what one cell takes through a face, the cell
-    !> across it gives); `deposit` books them as the intersection's
-    !> fragments. Some 80 small kernels instead of hundreds of clips.
+    !> face at the same node (its regions' reconstructions, its node's
+    !> velocity) and gives what it sweeps out of the cell from the cell's
+    !> own; a triangle between two corners of the cell moves what it sweeps
+    !> from one to the other. Old and new triangles bound the same 48
+    !> halves as the intersection's pieces, so the fragments add up to the
+    !> new cell and each old region gives away exactly its volume (what one
+    !> cell takes through a face, the cell across it gives); `deposit`
+    !> books them as the intersection's fragments. In a mixed old cell the
+    !> subcells are cut by its MoF regions (as `subcell_shifts` cuts them),
+    !> and a region swept from it is shared among its materials by the same
+    !> planes (`swept_from`).
     subroutine swept_fluxes()
-      real(wp) :: sv(8), sm(3, 8), tq(3, 4), v, m(3)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3)
+      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, kk
+      type(poly_t) :: p
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
         xo(:, j) = xo(:, j) - o
       end do
       call half_tets(xo, opts, ohv, ocorner)
-      ! the old subcells stay where they were
+      ! the old subcells stay where they were (region by region)
+      call region_slots(h, mx, c, s0c, s1c)
       sv = 0.0_wp
       sm = 0.0_wp
       do i = 1, 48
         do j = 1, 4
           tq(:, j) = opts(:, hv(j, i))
         end do
-        v = tet_det(tq)/6.0_wp
-        sv(hcorner(i)) = sv(hcorner(i)) + v
-        sm(:, hcorner(i)) = sm(:, hcorner(i)) + 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
+        if (s0c == 0) then
+          v = tet_det(tq)/6.0_wp
+          sv(1, hcorner(i)) = sv(1, hcorner(i)) + v
+          sm(:, 1, hcorner(i)) = sm(:, 1, hcorner(i)) + 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
+          cycle
+        end if
+        do s = s0c, s1c
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+          call region_planes(old, s0c, s, o, pn, pd, nm)
+          call poly_set_tet(p, tq)
+          do kk = 1, nm
+            call poly_clip(p, pn(:, kk), pd(kk))
+            if (p%nv == 0) exit
+          end do
+          if (p%nv == 0) cycle
+          call poly_first_moments(p, v, m)
+          sv(s - s0c + 1, hcorner(i)) = sv(s - s0c + 1, hcorner(i)) + v
+          sm(:, s - s0c + 1, hcorner(i)) = sm(:, s - s0c + 1, hcorner(i)) + m
+        end do
       end do
       do j = 1, 8
-        call source(c, j)
-        call deposit(sv(j), sm(:, j), j)
+        if (s0c == 0) then
+          call source(c, c, h%mat(c), j)
+          call deposit(sv(1, j), sm(:, 1, j), j)
+          cycle
+        end if
+        do s = s0c, s1c
+          if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
+          call source(c, g%ncell + s, mx%mat(s), j)
+          call deposit(sv(s - s0c + 1, j), sm(:, s - s0c + 1, j), j)
+        end do
       end do
-      ! the cells across the faces (the cell itself on the block's boundary,
-      ! where nothing is swept)
+      ! the cells across the faces; on the grid's boundary the cell itself
+      ! (a wall or symmetry face sweeps nothing; an open face's outflow
+      ! leaves the grid, and the gap it opens is `open_faces`' to fill: 0)
       do f = 1, 6
         nx = [ci, cj, ck] + face_step(:, f)
         nbr(f) = c
-        if (all(nx >= g%clo .and. nx <= g%chi)) nbr(f) = g%cell(nx(1), nx(2), nx(3))
+        if (all(nx >= g%clo .and. nx <= g%chi)) then
+          nbr(f) = g%cell(nx(1), nx(2), nx(3))
+        else if (old%open(f)) then
+          nbr(f) = 0
+        end if
       end do
       do t = 1, 24
         f = (t - 1)/4 + 1
@@ -1630,29 +1669,77 @@ contains
         ! on the face: (face centre, a, edge midpoint) and (face centre,
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
-          call swept_triangle(opts(:, hv(2:4, i)), pts(:, hv(2:4, i)), v, m)
-          if (.not. abs(v) > 0.0_wp) cycle
-          call source(merge(nbr(f), c, v > 0.0_wp), hcorner(i))
-          call deposit(v, m, hcorner(i))
+          tp = opts(:, hv(2:4, i))
+          tn = pts(:, hv(2:4, i))
+          call swept_triangle(tp, tn, v, m)
+          if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
+          call swept_from(merge(nbr(f), c, v > 0.0_wp), hcorner(i), tp, tn, v, m, hcorner(i), 0)
         end do
         ! between corners a and b: (edge midpoint, centre, face centre),
         ! its normal pointing from a to b
-        call swept_triangle(opts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)]), pts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)]), &
-                            v, m)
+        tp = opts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
+        tn = pts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
+        call swept_triangle(tp, tn, v, m)
         if (.not. abs(v) > 0.0_wp) cycle
-        call source(c, merge(ib, ia, v > 0.0_wp))
-        call deposit(v, m, ia)
-        call deposit(-v, -m, ib)
+        call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
       end do
     end subroutine swept_fluxes
 
-    !> The pure region of cell co, and its subcell at the node of this
-    !> cell's corner a, as the source of the next fragments (`deposit`):
-    !> the velocity they carry as the intersection's fragments do.
-    subroutine source(co, a)
-      integer, intent(in) :: co, a
-      kreg = co
-      kmat = h%mat(co)
+    !> Deposits the region (volume v, first moment m) the triangle tp swept
+    !> to tn, taken from cell co's subcell at corner a of this cell, in
+    !> corner into (and, if give > 0, taken out of corner give). From a
+    !> mixed cell it is shared among the cell's regions: each but the last
+    !> gets the part of the swept prism (its sides split into triangles) on
+    !> its side of its planes, the last what remains, so the parts add up
+    !> to the exact v and m (the ruled sides and the prism's flat ones
+    !> differ only in how the region is shared).
+    subroutine swept_from(co, a, tp, tn, v, m, into, give)
+      integer, intent(in) :: co, a, into, give
+      real(wp), intent(in) :: tp(3, 3), tn(3, 3), v, m(3)
+      real(wp) :: vr, mr(3), vs, ms(3)
+      integer :: s0, s1, s, last
+      if (h%mat(co) > 0) then
+        call source(co, co, h%mat(co), a)
+        call put(v, m, into, give)
+        return
+      end if
+      call region_slots(h, mx, co, s0, s1)
+      last = s0
+      do s = s0, s1
+        if (mx%mass(s) > 0.0_wp) last = s
+      end do
+      vr = v
+      mr = m
+      do s = s0, last - 1
+        if (.not. mx%mass(s) > 0.0_wp) cycle
+        call region_planes(old, s0, s, o, pn, pd, nm)
+        call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs, ms)
+        if (.not. abs(vs) > 0.0_wp) cycle
+        call source(co, g%ncell + s, mx%mat(s), a)
+        call put(vs, ms, into, give)
+        vr = vr - vs
+        mr = mr - ms
+      end do
+      call source(co, g%ncell + last, mx%mat(last), a)
+      call put(vr, mr, into, give)
+    end subroutine swept_from
+
+    !> A fragment into corner into (and out of corner give, if > 0).
+    subroutine put(vf, mf, into, give)
+      real(wp), intent(in) :: vf, mf(3)
+      integer, intent(in) :: into, give
+      call deposit(vf, mf, into)
+      if (give > 0) call deposit(-vf, -mf, give)
+    end subroutine put
+
+    !> Region co (kr: material km) of an old cell, and its subcell at the
+    !> node of this cell's corner a, as the source of the next fragments
+    !> (`deposit`): the velocity they carry as the intersection's
+    !> fragments do.
+    subroutine source(co, kr, km, a)
+      integer, intent(in) :: co, kr, km, a
+      kreg = kr
+      kmat = km
       nb = g%node0(c) + g%corner_offset(a)
       if (old%uniform(co)) then
         ub = old%ucell(:, co)
@@ -1875,6 +1962,58 @@ contains
       end do
     end do
   end subroutine half_tets
+
+  !> Signed volume v and first moment m of the part on the inner side of
+  !> the planes pn(:, i).x <= pd(i) of the prism a triangle sweeps from tp
+  !> to tn, its sides split into four triangles about their centres: the
+  !> cone from the prism's centre over its 14 boundary triangles, each tet
+  !> clipped and counted with its orientation's sign. The split depends on
+  !> no vertex order, so the two cells that share the triangle (each
+  !> seeing it from its side) share the region among the materials alike.
+  pure subroutine prism_part(tp, tn, pn, pd, v, m)
+    real(wp), intent(in) :: tp(3, 3), tn(3, 3), pn(:, :), pd(:)
+    real(wp), intent(out) :: v, m(3)
+    real(wp) :: t(3, 4), d, vv, mm(3), xs(3)
+    integer :: k, i, e, e2
+    type(poly_t) :: p
+    v = 0.0_wp
+    m = 0.0_wp
+    t(:, 1) = (sum(tp, 2) + sum(tn, 2))/6.0_wp
+    do k = 1, 14
+      if (k == 1) then
+        t(:, 2:4) = tp(:, [1, 3, 2])
+      else if (k == 2) then
+        t(:, 2:4) = tn
+      else
+        ! side e (edge e -> e2 of the triangle), its k-th quarter
+        e = (k - 3)/4 + 1
+        e2 = mod(e, 3) + 1
+        xs = 0.25_wp*((tp(:, e) + tn(:, e2)) + (tp(:, e2) + tn(:, e)))
+        t(:, 2) = xs
+        select case (mod(k - 3, 4))
+        case (0)
+          t(:, 3:4) = reshape([tp(:, e), tp(:, e2)], [3, 2])
+        case (1)
+          t(:, 3:4) = reshape([tp(:, e2), tn(:, e2)], [3, 2])
+        case (2)
+          t(:, 3:4) = reshape([tn(:, e2), tn(:, e)], [3, 2])
+        case default
+          t(:, 3:4) = reshape([tn(:, e), tp(:, e)], [3, 2])
+        end select
+      end if
+      d = tet_det(t)
+      if (.not. abs(d) > 0.0_wp) cycle
+      call poly_set_tet(p, t)
+      do i = 1, size(pd)
+        call poly_clip(p, pn(:, i), pd(i))
+        if (p%nv == 0) exit
+      end do
+      if (p%nv == 0) cycle
+      call poly_first_moments(p, vv, mm)
+      v = v + sign(1.0_wp, d)*vv
+      m = m + sign(1.0_wp, d)*mm
+    end do
+  end subroutine prism_part
 
   !> True if the hex xn is an axis-aligned box (its nodes take just two
   !> values in each coordinate, in the corner order of `hex_corner`).
