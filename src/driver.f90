@@ -371,7 +371,7 @@ contains
     type(schedule_t), intent(in) :: sch
     type(euler_state_t), intent(in) :: es
     character(len=256) :: line
-    real(wp) :: rate
+    real(wp) :: rate, rate_lag, cycles, per
     integer :: peak, most
 
     call report_conservation(st, sch%log, 'final')
@@ -385,13 +385,28 @@ contains
     else
       call log_line(sch%log, 'memory: peak resident '//itoa(peak)//' MiB')
     end if
+    ! cell-cycles per second of the whole step (Lagrangian and Euler
+    ! phases), then of each phase: what a run costs, and what an Euler step
+    ! costs in Lagrangian steps
+    cycles = real(product(st%g%gn), wp)*real(st%step - sch%step_start, wp)
     rate = 0.0_wp
-    if (sch%t_lagrange%total > 0.0_wp) &
-      rate = real(product(st%g%gn), wp)*real(st%step - sch%step_start, wp)/sch%t_lagrange%total
+    if (sch%t_lagrange%total + es%timer%total > 0.0_wp) rate = cycles/(sch%t_lagrange%total + es%timer%total)
+    rate_lag = 0.0_wp
+    if (sch%t_lagrange%total > 0.0_wp) rate_lag = cycles/sch%t_lagrange%total
     write(line, '("timers [s]: setup ",f9.3,"  lagrange ",f9.3,"  euler ",f9.3,"  output ",f9.3,"  total ",f9.3)') &
       sch%t_setup%total, sch%t_lagrange%total, es%timer%total, sch%t_output%total, sch%t_total%total
     call log_line(sch%log, trim(line))
-    write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps")') rate, st%step - sch%step_start
+    write(line, '("throughput: ",es10.3," cell-cycles/s over ",i0," steps (Lagrangian and Euler phases)")') rate, &
+      st%step - sch%step_start
+    call log_line(sch%log, trim(line))
+    if (es%cells > 0) then
+      per = es%timer%total/real(es%cells, wp)
+      write(line, '("throughput by phase: Lagrangian ",es10.3," cell-cycles/s; Euler ",f10.3," s for ",i0, &
+        &" remapped cells in ",i0," Euler steps: ",f10.2," us per remapped cell = ",f8.1," Lagrangian cell-cycles")') &
+        rate_lag, es%timer%total, es%cells, es%n, 1.0e6_wp*per, per*rate_lag
+    else
+      write(line, '("throughput by phase: Lagrangian ",es10.3," cell-cycles/s; no Euler step")') rate_lag
+    end if
     call log_line(sch%log, trim(line))
     if (sch%pc%nranks > 1 .and. st%step > sch%step_start) then
       ! rank 0's block (the one that writes the log)

@@ -58,7 +58,8 @@ DECK
     awk -v th=$th '
       FNR == 1 {f++}
       /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "lagrange") lag[f] = $(i + 1)}
-      /^throughput:/ {rate[f] = $2; steps[f] = $5}
+      /^throughput:/ {steps[f] = $5}
+      /^throughput by phase:/ {rate[f] = $5}
       /^particles: [0-9]+ in all/ {np = $2}
       END {
         per0 = lag[1] / steps[1]; per1 = lag[2] / steps[2]
@@ -208,7 +209,7 @@ mpi_runs() {
     grep '^memory:' ${name}_$c.log || true
   done
   awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot[f] = $(i + 1)}
-       /^throughput:/ {rate[f] = $2}
+       /^throughput by phase:/ {rate[f] = $5}
        END {printf "2 ranks x 1 thread against 1 rank x 2 threads: Lagrangian throughput x%.2f, total wall time x%.2f\n", \
             rate[2] / rate[1], tot[1] / tot[2]}' ${name}_r1t2.log ${name}_r2t1.log
   echo
@@ -238,7 +239,7 @@ echo "## Lagrangian throughput, Sedov 40^3 to t = 1 (Release)"
 declare -A rate
 for th in 1 2; do
   OMP_NUM_THREADS=$th OMP_PROC_BIND=true "$exe" sedov40.nml > sedov40_$th.log
-  rate[$th]=$(awk '/^throughput:/ {print $2}' sedov40_$th.log)
+  rate[$th]=$(awk '/^throughput by phase:/ {print $5}' sedov40_$th.log)
   steps=$(awk '/^throughput:/ {print $5}' sedov40_$th.log)
   echo "threads $th: ${rate[$th]} cell-cycles/s ($steps steps)"
 done
@@ -271,7 +272,7 @@ fi
 echo "deck: $ale_deck"
 OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" "$ale_deck" > "$outdir/sedov3d_ale.log"
 awk '/^timers \[s\]:/ {for (i = 1; i < NF; i++) {if ($i == "lagrange") lag = $(i + 1); if ($i == "euler") eul = $(i + 1)}}
-     /^throughput:/ {nlag = $(NF - 1)}
+     /^throughput:/ {nlag = $5}
      /^euler steps:/ {neul = $3 + 0; line = $0}
      END {
        if (neul == 0) {print "no Euler step in the run"; exit}
@@ -296,7 +297,7 @@ for sm in default 0; do
   fi
   OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" "$deck" > "$outdir/sedov20_every_$sm.log"
   awk -v lab="$sm" '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eul = $(i + 1)}
-       /^throughput:/ {rate = $2}
+       /^throughput by phase:/ {rate = $5}
        /^euler steps:/ {cells = $6 + 0}
        / cells remapped by swept faces/ {nsw++}
        END {

@@ -1627,13 +1627,21 @@ contains
         do s = s0c, s1c
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0c, s, o, pn, pd, nm)
-          call poly_set_tet(p, tq)
-          do kk = 1, nm
-            call poly_clip(p, pn(:, kk), pd(kk))
-            if (p%nv == 0) exit
-          end do
-          if (p%nv == 0) cycle
-          call poly_first_moments(p, v, m)
+          select case (hull_side(tq, pn(:, 1:nm), pd(1:nm)))
+          case (1)
+            v = tet_det(tq)/6.0_wp
+            m = 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
+          case (-1)
+            cycle
+          case default
+            call poly_set_tet(p, tq)
+            do kk = 1, nm
+              call poly_clip(p, pn(:, kk), pd(kk))
+              if (p%nv == 0) exit
+            end do
+            if (p%nv == 0) cycle
+            call poly_first_moments(p, v, m)
+          end select
           sv(s - s0c + 1, hcorner(i)) = sv(s - s0c + 1, hcorner(i)) + v
           sm(:, s - s0c + 1, hcorner(i)) = sm(:, s - s0c + 1, hcorner(i)) + m
         end do
@@ -1713,7 +1721,17 @@ contains
       do s = s0, last - 1
         if (.not. mx%mass(s) > 0.0_wp) cycle
         call region_planes(old, s0, s, o, pn, pd, nm)
-        call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs, ms)
+        ! (the prism lies in the hull of its six points: wholly in the
+        ! region, or wholly out of it, for most triangles)
+        select case (hull_side(reshape([tp, tn], [3, 6]), pn(:, 1:nm), pd(1:nm)))
+        case (1)
+          vs = v
+          ms = m
+        case (-1)
+          cycle
+        case default
+          call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs, ms)
+        end select
         if (.not. abs(vs) > 0.0_wp) cycle
         call source(co, g%ncell + s, mx%mat(s), a)
         call put(vs, ms, into, give)
@@ -1962,6 +1980,26 @@ contains
       end do
     end do
   end subroutine half_tets
+
+  !> Where the convex hull of the points x(3, :) lies against the region
+  !> pn(:, i).x <= pd(i): 1 wholly inside, -1 wholly outside one of the
+  !> planes, 0 across.
+  pure integer function hull_side(x, pn, pd) result(side)
+    real(wp), intent(in) :: x(:, :), pn(:, :), pd(:)
+    integer :: i, j, nout
+    side = 1
+    do i = 1, size(pd)
+      nout = 0
+      do j = 1, size(x, 2)
+        if (dot_product(pn(:, i), x(:, j)) > pd(i)) nout = nout + 1
+      end do
+      if (nout == size(x, 2)) then
+        side = -1
+        return
+      end if
+      if (nout > 0) side = 0
+    end do
+  end function hull_side
 
   !> Signed volume v and first moment m of the part on the inner side of
   !> the planes pn(:, i).x <= pd(i) of the prism a triangle sweeps from tp
