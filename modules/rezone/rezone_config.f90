@@ -54,6 +54,11 @@ module rezone_config
     !> material, and moved its nodes by at most this times its shortest
     !> edge; other steps intersect (0: always intersect)
     real(wp) :: swept_max = 0.25_wp
+    !> a trigger measure an Euler step leaves beyond its bound (side ratio
+    !> above side_ratio, cosine below cos_angle) becomes the bound, moved on
+    !> by this relative margin, until the grid is back within the deck's
+    !> (0: the deck's bounds always)
+    real(wp) :: hysteresis = 0.05_wp
     !> 'lssm': 'box' (distorted cells are those failing the triggers' tests;
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
@@ -71,13 +76,13 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
-                drift_max, drift_open, swept_max
+                drift_max, drift_open, swept_max, hysteresis
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
-                      move_min, smooth_target, drift_max, drift_open, swept_max
+                      move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -86,7 +91,7 @@ contains
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
-    swept_max = defaults%swept_max
+    swept_max = defaults%swept_max; hysteresis = defaults%hysteresis
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
@@ -134,6 +139,8 @@ contains
     if (.not. (drift_max >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_max', drift_max, 'must be >= 0 (0: off)')
     if (.not. (drift_open >= 0.0_wp)) call problem_bad(problems, 'rezone', 'drift_open', drift_open, &
       'must be >= 0 (0: open faces put back whenever they moved)')
+    if (.not. (hysteresis >= 0.0_wp .and. hysteresis < 1.0_wp)) call problem_bad(problems, 'rezone', 'hysteresis', &
+      hysteresis, 'must be in [0, 1) (0: off)')
     if (.not. (swept_max >= 0.0_wp .and. swept_max <= 0.5_wp)) call problem_bad(problems, 'rezone', 'swept_max', &
       swept_max, 'must be in [0, 0.5] (0: always intersect)')
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
@@ -145,7 +152,7 @@ contains
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
-      swept_max=swept_max)
+      swept_max=swept_max, hysteresis=hysteresis)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
