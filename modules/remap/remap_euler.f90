@@ -1601,8 +1601,13 @@ contains
     !> and a region swept from it is shared among its materials by the same
     !> planes (`swept_from`).
     subroutine swept_fluxes()
-      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, kk
+      ! acc: per corner, what pure sources give it, summed before it is
+      ! booked (`deposit` is linear for one source): slot 1 the cell's own
+      ! subcell at the corner, 1 + d its subcell across direction d, 4 + d
+      ! the subcell at the corner of the cell across the face in direction d
+      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, kk, d, slot
+      logical :: pure
       type(poly_t) :: p
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
@@ -1612,16 +1617,18 @@ contains
       call half_tets(xo, opts, ohv, ocorner)
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
+      pure = s0c == 0
       sv = 0.0_wp
       sm = 0.0_wp
+      acc = 0.0_wp
       do i = 1, 48
         do j = 1, 4
           tq(:, j) = opts(:, hv(j, i))
         end do
-        if (s0c == 0) then
+        if (pure) then
           v = tet_det(tq)/6.0_wp
-          sv(1, hcorner(i)) = sv(1, hcorner(i)) + v
-          sm(:, 1, hcorner(i)) = sm(:, 1, hcorner(i)) + 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
+          acc(1, 1, hcorner(i)) = acc(1, 1, hcorner(i)) + v
+          acc(2:4, 1, hcorner(i)) = acc(2:4, 1, hcorner(i)) + 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
           cycle
         end if
         do s = s0c, s1c
@@ -1646,18 +1653,15 @@ contains
           sm(:, s - s0c + 1, hcorner(i)) = sm(:, s - s0c + 1, hcorner(i)) + m
         end do
       end do
-      do j = 1, 8
-        if (s0c == 0) then
-          call source(c, c, h%mat(c), j)
-          call deposit(sv(1, j), sm(:, 1, j), j)
-          cycle
-        end if
-        do s = s0c, s1c
-          if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
-          call source(c, g%ncell + s, mx%mat(s), j)
-          call deposit(sv(s - s0c + 1, j), sm(:, s - s0c + 1, j), j)
+      if (.not. pure) then
+        do j = 1, 8
+          do s = s0c, s1c
+            if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
+            call source(c, g%ncell + s, mx%mat(s), j)
+            call deposit(sv(s - s0c + 1, j), sm(:, s - s0c + 1, j), j)
+          end do
         end do
-      end do
+      end if
       ! the cells across the faces; on the grid's boundary the cell itself
       ! (a wall or symmetry face sweeps nothing; an open face's outflow
       ! leaves the grid, and the gap it opens is `open_faces`' to fill: 0)
@@ -1672,6 +1676,7 @@ contains
       end do
       do t = 1, 24
         f = (t - 1)/4 + 1
+        d = (f + 1)/2
         ia = hcorner(2*t - 1)
         ib = hcorner(2*t)
         ! on the face: (face centre, a, edge midpoint) and (face centre,
@@ -1681,15 +1686,53 @@ contains
           tn = pts(:, hv(2:4, i))
           call swept_triangle(tp, tn, v, m)
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
-          call swept_from(merge(nbr(f), c, v > 0.0_wp), hcorner(i), tp, tn, v, m, hcorner(i), 0)
+          if (v > 0.0_wp .and. nbr(f) /= c) then
+            if (h%mat(nbr(f)) > 0) then
+              acc(:, 4 + d, hcorner(i)) = acc(:, 4 + d, hcorner(i)) + [v, m]
+            else
+              call swept_from(nbr(f), hcorner(i), tp, tn, v, m, hcorner(i), 0)
+            end if
+          else if (pure) then
+            acc(:, 1, hcorner(i)) = acc(:, 1, hcorner(i)) + [v, m]
+          else
+            call swept_from(c, hcorner(i), tp, tn, v, m, hcorner(i), 0)
+          end if
         end do
         ! between corners a and b: (edge midpoint, centre, face centre),
-        ! its normal pointing from a to b
+        ! its normal pointing from a to b (b is a's neighbour across the
+        ! direction of the edge)
         tp = opts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
         tn = pts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
         call swept_triangle(tp, tn, v, m)
         if (.not. abs(v) > 0.0_wp) cycle
-        call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
+        if (pure) then
+          slot = 1 + edge_dir(ia, ib)
+          if (v > 0.0_wp) then
+            acc(:, slot, ia) = acc(:, slot, ia) + [v, m]
+            acc(:, 1, ib) = acc(:, 1, ib) - [v, m]
+          else
+            acc(:, 1, ia) = acc(:, 1, ia) + [v, m]
+            acc(:, slot, ib) = acc(:, slot, ib) - [v, m]
+          end if
+        else
+          call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
+        end if
+      end do
+      ! what the pure sources gave, one fragment per source and corner
+      do j = 1, 8
+        do slot = 1, 7
+          if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
+          if (slot == 1) then
+            call source(c, c, h%mat(c), j)
+          else if (slot <= 4) then
+            call source(c, c, h%mat(c), ieor(j - 1, 2**(slot - 2)) + 1)
+          else
+            d = slot - 4
+            f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
+            call source(nbr(f), nbr(f), h%mat(nbr(f)), j)
+          end if
+          call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
+        end do
       end do
     end subroutine swept_fluxes
 
@@ -2052,6 +2095,13 @@ contains
       m = m + sign(1.0_wp, d)*mm
     end do
   end subroutine prism_part
+
+  !> The direction (1, 2, 3) of the edge between corners a and b of a cell
+  !> (local numbering a = 1 + i + 2j + 4k: they differ in one bit).
+  pure integer function edge_dir(a, b) result(d)
+    integer, intent(in) :: a, b
+    d = 1 + trailz(ieor(a - 1, b - 1))
+  end function edge_dir
 
   !> True if the hex xn is an axis-aligned box (its nodes take just two
   !> values in each coordinate, in the corner order of `hex_corner`).
