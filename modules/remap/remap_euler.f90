@@ -1552,17 +1552,8 @@ contains
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
               ! the velocity and kinetic energy per unit mass its fragments carry
-              ! (and, about the subcell's node nb, the velocity's linear part)
-              nb = g%node0(co) + g%corner_offset(ocorner(i))
-              if (old%uniform(co)) then
-                ub = old%ucell(:, co)
-                kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kcell(co)
-                wb = 0.0_wp
-              else
-                ub = h%u(:, nb) + old%ushift(:, co)
-                kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kshift(co)
-                wb = old%wreg(kreg)
-              end if
+              ! (and, about the subcell's node, the velocity's linear part)
+              call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
               if (box) then
                 do j = 1, 4
                   ot(:, j) = opts(:, ohv(j, i))
@@ -1657,7 +1648,7 @@ contains
         do j = 1, 8
           do s = s0c, s1c
             if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
-            call source(c, g%ncell + s, mx%mat(s), j)
+            call source(c, g%ncell + s, mx%mat(s), g%node0(c) + g%corner_offset(j))
             call deposit(sv(s - s0c + 1, j), sm(:, s - s0c + 1, j), j)
           end do
         end do
@@ -1723,13 +1714,13 @@ contains
         do slot = 1, 7
           if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
           if (slot == 1) then
-            call source(c, c, h%mat(c), j)
+            call source(c, c, h%mat(c), g%node0(c) + g%corner_offset(j))
           else if (slot <= 4) then
-            call source(c, c, h%mat(c), ieor(j - 1, 2**(slot - 2)) + 1)
+            call source(c, c, h%mat(c), g%node0(c) + g%corner_offset(ieor(j - 1, ishft(1, slot - 2)) + 1))
           else
             d = slot - 4
             f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
-            call source(nbr(f), nbr(f), h%mat(nbr(f)), j)
+            call source(nbr(f), nbr(f), h%mat(nbr(f)), g%node0(c) + g%corner_offset(j))
           end if
           call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
         end do
@@ -1750,7 +1741,7 @@ contains
       real(wp) :: vr, mr(3), vs, ms(3)
       integer :: s0, s1, s, last
       if (h%mat(co) > 0) then
-        call source(co, co, h%mat(co), a)
+        call source(co, co, h%mat(co), g%node0(c) + g%corner_offset(a))
         call put(v, m, into, give)
         return
       end if
@@ -1776,12 +1767,12 @@ contains
           call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs, ms)
         end select
         if (.not. abs(vs) > 0.0_wp) cycle
-        call source(co, g%ncell + s, mx%mat(s), a)
+        call source(co, g%ncell + s, mx%mat(s), g%node0(c) + g%corner_offset(a))
         call put(vs, ms, into, give)
         vr = vr - vs
         mr = mr - ms
       end do
-      call source(co, g%ncell + last, mx%mat(last), a)
+      call source(co, g%ncell + last, mx%mat(last), g%node0(c) + g%corner_offset(a))
       call put(vr, mr, into, give)
     end subroutine swept_from
 
@@ -1793,15 +1784,14 @@ contains
       if (give > 0) call deposit(-vf, -mf, give)
     end subroutine put
 
-    !> Region co (kr: material km) of an old cell, and its subcell at the
-    !> node of this cell's corner a, as the source of the next fragments
-    !> (`deposit`): the velocity they carry as the intersection's
-    !> fragments do.
-    subroutine source(co, kr, km, a)
-      integer, intent(in) :: co, kr, km, a
+    !> Region kr (material km) of old cell co, and its subcell at node
+    !> node, as the source of the next fragments (`deposit`): the velocity
+    !> and kinetic energy per unit mass they carry.
+    subroutine source(co, kr, km, node)
+      integer, intent(in) :: co, kr, km, node
       kreg = kr
       kmat = km
-      nb = g%node0(c) + g%corner_offset(a)
+      nb = node
       if (old%uniform(co)) then
         ub = old%ucell(:, co)
         kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kcell(co)
