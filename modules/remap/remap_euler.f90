@@ -221,6 +221,9 @@ module remap_euler
   !> The old grid's cells as the remap needs them.
   type :: old_t
     logical, allocatable :: changed(:)          !< cell moved (ncell)
+    !> cells the remap reads: the moved ones, their neighbours, the cells
+    !> open-face gaps take their state from (ncell)
+    logical, allocatable :: near(:)
     !> the changed cells are remapped through the regions their subcells'
     !> faces sweep, not by intersection (`remap_params_t`)
     logical :: swept = .false.
@@ -752,6 +755,7 @@ contains
       end do
       if (gap_face(c) > 0 .and. gap_cell(c) > 0) near(gap_cell(c)) = .true.
     end do
+    old%near = near
     old%uniform = .false.
     old%ucell = nan
     old%kcell = nan
@@ -1041,7 +1045,9 @@ contains
     end if
     do kmat = 1, nmat
       has = h%mat == kmat
+      ! (the gradients read the cells around the moved ones only)
       do c = 1, ncell
+        if (.not. old%near(c)) cycle
         q(:, c) = [old%rho(c), old%e(c)]
         pos(:, c) = old%xr(:, c)
       end do
@@ -1111,11 +1117,12 @@ contains
     !$omp private(c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, &
     !$omp kk, p) schedule(dynamic, 16)
     do c = 1, g%ncell
+      ! (only moved cells hand out fragments: the others' entries are not read)
+      if (.not. old%changed(c)) cycle
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
       old%wv(:, c) = 0.0_wp
       old%ws(:, :, c) = 0.0_wp
-      if (.not. old%changed(c)) cycle
       call g%gather(c, g%x, xn)
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
@@ -1226,6 +1233,7 @@ contains
     wsum = 0.0_wp
     old%xdual = 0.0_wp
     do c = 1, g%ncell
+      if (.not. old%changed(c)) cycle
       n = g%node0(c)
       do a = 1, 8
         wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
@@ -1239,27 +1247,45 @@ contains
     if (.not. any(has)) return
     ! the dual block's nodes: the mean of the grid nodes (i, j, k) with
     ! i in {I-1, I} within 0..ni (and so on): cell centres inside, face
-    ! centres, edge midpoints and the nodes themselves on the boundary
+    ! centres, edge midpoints and the nodes themselves on the boundary;
+    ! only the corners of the dual cells of nodes with a gradient (the
+    ! gradients read no other)
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
-    do k = 0, g%nk + 1
-      do j = 0, g%nj + 1
-        do i = 0, g%ni + 1
-          m = dual%node(i, j, k)
-          xd(:, m) = 0.0_wp
-          a = 0
-          do dk_ = max(k - 1, 0), min(k, g%nk)
-            do dj = max(j - 1, 0), min(j, g%nj)
-              do di = max(i - 1, 0), min(i, g%ni)
-                xd(:, m) = xd(:, m) + g%x(:, g%node(di, dj, dk_))
-                a = a + 1
+    do k = 0, g%nk
+      do j = 0, g%nj
+        do i = 0, g%ni
+          if (.not. has(g%node(i, j, k))) cycle
+          do dk_ = k, k + 1
+            do dj = j, j + 1
+              do di = i, i + 1
+                call dual_node(di, dj, dk_)
               end do
             end do
           end do
-          xd(:, m) = xd(:, m)/real(a, wp)
         end do
       end do
     end do
     call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err)
+
+  contains
+
+    !> The position of dual node (id, jd, kd).
+    subroutine dual_node(id, jd, kd)
+      integer, intent(in) :: id, jd, kd
+      integer :: ii, jj, kk, nsum
+      m = dual%node(id, jd, kd)
+      xd(:, m) = 0.0_wp
+      nsum = 0
+      do kk = max(kd - 1, 0), min(kd, g%nk)
+        do jj = max(jd - 1, 0), min(jd, g%nj)
+          do ii = max(id - 1, 0), min(id, g%ni)
+            xd(:, m) = xd(:, m) + g%x(:, g%node(ii, jj, kk))
+            nsum = nsum + 1
+          end do
+        end do
+      end do
+      xd(:, m) = xd(:, m)/real(nsum, wp)
+    end subroutine dual_node
   end subroutine velocity_gradients
 
   !> The regions of cell c as a slot range: s0 = s1 = 0 for a pure cell (its

@@ -76,7 +76,7 @@ contains
   !> it), any units. pos(3, ncell): the point q refers to (cell or material
   !> centroid), units of x. has(ncell): the cell holds the quantity; cells
   !> without it are never read (q and pos there may be anything) and get a
-  !> zero gradient. need(ncell): gradient wanted here; other cells get zero.
+  !> zero gradient. need(ncell): gradient wanted here; other cells are left as they were.
   !> grad(3, nf, ncell): the limited gradients, units of q per unit of x.
   !> err (optional): set when the array sizes disagree (nothing is computed
   !> and grad is left undefined), the work arrays cannot be allocated (grad
@@ -143,8 +143,9 @@ contains
       do cj = ix%clo(2), ix%chi(2)
         do ci = ix%clo(1), ix%chi(1)
           c = ix%cell(ci, cj, ck)
+          if (.not. need(c)) cycle
           grad(:, :, c) = 0.0_wp
-          if (.not. (need(c) .and. has(c))) cycle
+          if (.not. has(c)) cycle
 
           ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
           m = 0
