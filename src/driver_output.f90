@@ -42,6 +42,10 @@ module driver_output
     real(wp) :: t_next_frame = 0.0_wp, t_next_gauge = 0.0_wp, t_next_dump = 0.0_wp
     integer :: steps_since_frame = 0
     integer :: step_start = 0                      !< first step of this segment (after a restart)
+    !> simulated time and wall time (since the run started) of the last
+    !> progress line, or of this segment's start: the time left is estimated
+    !> from the rate since then (`progress`)
+    real(wp) :: eta_t = -1.0_wp, eta_wall = 0.0_wp
     logical :: restarting = .false.
     character(len=256), allocatable :: dumps(:)    !< this segment's dumps, oldest first
     real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp   !< wall time of the last step, last dump
@@ -557,7 +561,7 @@ contains
   subroutine progress(cfg, st, sch, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
-    type(schedule_t), intent(in) :: sch
+    type(schedule_t), intent(inout) :: sch
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: wall, left, drift
     character(len=256) :: line
@@ -569,8 +573,14 @@ contains
       return
     end if
     wall = wall_seconds() - sch%t_total%t0
+    ! the time left at the rate since the last progress line (the cost per
+    ! unit of simulated time drifts: a blast's steps grow, Euler steps come
+    ! and go), or since this segment started
+    if (sch%eta_t < 0.0_wp) sch%eta_t = 0.0_wp
     left = 0.0_wp
-    if (st%t > 0.0_wp) left = wall*(cfg%control%t_end - st%t)/st%t
+    if (st%t > sch%eta_t) left = (wall - sch%eta_wall)*(cfg%control%t_end - st%t)/(st%t - sch%eta_t)
+    sch%eta_t = st%t
+    sch%eta_wall = wall
     write(line, '("step ",i8,"  t ",es12.5,"  dt ",es10.3,"  wall ",f9.2," s  left ",f9.2, &
       &" s  energy drift ",es10.2)') st%step, st%t, st%dt, wall, left, drift
     call log_line(sch%log, trim(line)//'  dt by '//step_limit_text(st, sch))

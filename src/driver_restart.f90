@@ -361,6 +361,7 @@ contains
     sch%t_next_frame = next_time(sch%t_next_frame, cfg%output%frame_dt, st%t)
     sch%t_next_dump = next_time(sch%t_next_dump, cfg%control%dump_dt, st%t)
     sch%step_start = st%step
+    sch%eta_t = st%t
     call log_line(sch%log, 'restarted from '//path//' at step '//itoa(st%step)//', t = '//rtoa(st%t))
     ! (its sums are the ranks' together: a block's caller reports once the
     ! ranks agree that every block was read)
