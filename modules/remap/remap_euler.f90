@@ -1756,50 +1756,62 @@ contains
     !> Deposits the region (volume v, first moment m) the triangle tp swept
     !> to tn, taken from cell co's subcell at corner a of this cell, in
     !> corner into (and, if give > 0, taken out of corner give). From a
-    !> mixed cell it is shared among the cell's regions: each but the last
-    !> gets the part of the swept prism (its sides split into triangles) on
-    !> its side of its planes, the last what remains, so the parts add up
-    !> to the exact v and m (the ruled sides and the prism's flat ones
-    !> differ only in how the region is shared).
+    !> mixed cell it is shared among the cell's regions: a region that
+    !> holds the whole prism (the hull of its six points) takes all of it,
+    !> one that misses it none; else each region's part of the prism with
+    !> its sides split into triangles (`prism_part`), the parts scaled to
+    !> add up to the exact v and m (the ruled sides and the flat ones differ
+    !> only in how the region is shared, and a material the flat prism does
+    !> not reach gets nothing: no sliver from the difference).
     subroutine swept_from(co, a, tp, tn, v, m, into, give)
       integer, intent(in) :: co, a, into, give
       real(wp), intent(in) :: tp(3, 3), tn(3, 3), v, m(3)
-      real(wp) :: vr, mr(3), vs, ms(3)
-      integer :: s0, s1, s, last
+      real(wp) :: pv(max_mat), pm(3, max_mat), vsum, msum(3), vall, mall(3)
+      integer :: s0, s1, s, side, nb_, last
+      logical :: whole_done
+      nb_ = g%node0(c) + g%corner_offset(a)
       if (h%mat(co) > 0) then
-        call source(co, co, h%mat(co), g%node0(c) + g%corner_offset(a))
+        call source(co, co, h%mat(co), nb_)
         call put(v, m, into, give)
         return
       end if
       call region_slots(h, mx, co, s0, s1)
-      last = s0
+      pv = 0.0_wp
+      pm = 0.0_wp
+      whole_done = .false.
+      last = 0
       do s = s0, s1
-        if (mx%mass(s) > 0.0_wp) last = s
-      end do
-      vr = v
-      mr = m
-      do s = s0, last - 1
         if (.not. mx%mass(s) > 0.0_wp) cycle
+        last = s
         call region_planes(old, s0, s, o, pn, pd, nm)
-        ! (the prism lies in the hull of its six points: wholly in the
-        ! region, or wholly out of it, for most triangles)
-        select case (hull_side(reshape([tp, tn], [3, 6]), pn(:, 1:nm), pd(1:nm)))
-        case (1)
-          vs = v
-          ms = m
-        case (-1)
-          cycle
-        case default
-          call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs, ms)
-        end select
-        if (.not. abs(vs) > 0.0_wp) cycle
-        call source(co, g%ncell + s, mx%mat(s), g%node0(c) + g%corner_offset(a))
-        call put(vs, ms, into, give)
-        vr = vr - vs
-        mr = mr - ms
+        side = hull_side(reshape([tp, tn], [3, 6]), pn(:, 1:nm), pd(1:nm))
+        if (side == 1) then
+          ! (the regions do not overlap: this one holds the whole prism)
+          call source(co, g%ncell + s, mx%mat(s), nb_)
+          call put(v, m, into, give)
+          return
+        end if
+        if (side == 0) call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), pv(s - s0 + 1), pm(:, s - s0 + 1))
       end do
-      call source(co, g%ncell + last, mx%mat(last), g%node0(c) + g%corner_offset(a))
-      call put(vr, mr, into, give)
+      vsum = sum(pv(1:s1 - s0 + 1))
+      if (.not. abs(vsum) > 0.0_wp) then
+        ! (no region's part has volume: a degenerate prism) the last one's
+        if (last > 0) then
+          call source(co, g%ncell + last, mx%mat(last), nb_)
+          call put(v, m, into, give)
+        end if
+        return
+      end if
+      do s = 1, 3
+        msum(s) = sum(pm(s, 1:s1 - s0 + 1))
+      end do
+      do s = s0, s1
+        if (.not. abs(pv(s - s0 + 1)) > 0.0_wp) cycle
+        vall = pv(s - s0 + 1)*(v/vsum)
+        mall = pm(:, s - s0 + 1) + (m - msum)*(pv(s - s0 + 1)/vsum)
+        call source(co, g%ncell + s, mx%mat(s), nb_)
+        call put(vall, mall, into, give)
+      end do
     end subroutine swept_from
 
     !> A fragment into corner into (and out of corner give, if > 0).
