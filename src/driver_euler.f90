@@ -285,7 +285,7 @@ contains
     end if
     par = remap_params(rz)
     ! (every rank holds this grid whole: the count is the whole grid's)
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max)
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed)
     par%swept = nblock == 0
     ! the reference centroids the remap's MoF gets: those of the planes that
     ! cut the fractions the Lagrangian steps left
@@ -342,6 +342,8 @@ contains
     character(len=:), allocatable :: text
     if (rs%cells_swept > 0) then
       text = ' by swept faces'
+    else if (rs%swept_unbounded > 0) then
+      text = ' by intersection (by swept faces '//itoa(rs%swept_unbounded)//' broke a material''s bounds)'
     else if (rs%swept_blockers > 0 .and. rs%cells_remapped > 0) then
       text = ' by intersection ('//itoa(rs%swept_blockers)//' could not sweep)'
     else
@@ -356,6 +358,7 @@ contains
     par%linear = trim(rz%reconstruction) == 'linear'
     par%mof_max_iter = rz%mof_max_iter
     par%swept_max = rz%swept_max
+    par%swept_mixed = rz%swept_mixed
   end function remap_params
 
   !> An Euler step begins: its log line, its timer, and the totals it must

@@ -395,7 +395,7 @@ contains
     real(wp), allocatable :: xw(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer :: n(3), i, j, k, stat, nblock
+    integer :: n(4), i, j, k, stat, nblock
 
     redo = .false.
     wider = .false.
@@ -426,7 +426,7 @@ contains
       ! (collective: a rank with an error counts one)
       par = remap_params(cfg%rezone)
       nblock = 1
-      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, zone%own)
+      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own)
       call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = nblock == 0
       if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)
@@ -436,8 +436,8 @@ contains
         call es%timer%stop()
         return
       end if
-      n = [rs%cells_short, rs%regions_uncovered, rs%cells_deficit]
-      call MPI_Allreduce(MPI_IN_PLACE, n, 3, MPI_INTEGER, MPI_SUM, pc%world)
+      n = [rs%cells_short, rs%regions_uncovered, rs%cells_deficit, rs%swept_unbounded]
+      call MPI_Allreduce(MPI_IN_PLACE, n, 4, MPI_INTEGER, MPI_SUM, pc%world)
       if (any(n > 0)) then
         redo = .true.
         wider = n(1) > 0
@@ -445,6 +445,7 @@ contains
         if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
         if (n(2) > 0) why = why//', old regions the new grid does not cover'
         if (n(3) > 0) why = why//', kinetic energy deficits to move'
+        if (n(4) > 0) why = why//', swept faces that broke a material''s bounds'
         call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)// &
                       '): remapped on the whole grid')
         return

@@ -398,7 +398,7 @@ contains
     end do
     call cpu_time(c0)
     w0 = wall_seconds()
-    if (sweep) par%swept = remap_swept_blockers(g, h, bc, xnew, par%swept_max) == 0
+    if (sweep) par%swept = remap_swept_blockers(g, h, bc, xnew, par%swept_max, par%swept_mixed) == 0
     call remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, e)
     tw = wall_seconds() - w0
     call cpu_time(tcpu)

@@ -214,7 +214,7 @@ contains
     call cell_moments(ni, nj, nk, xt, vol, cen)
     par%swept = .true.
     call setup(xs, 'linear')
-    call check(remap_swept_blockers(g, h, bc, xt, par%swept_max) == 0, 'swept: no cell blocks a 0.05-cell move')
+    call check(remap_swept_blockers(g, h, bc, xt, par%swept_max, .false.) == 0, 'swept: no cell blocks a 0.05-cell move')
     call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call remap_euler_step(g, h, mx, 1, bc, xt, par, st, err)
     call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
@@ -280,14 +280,16 @@ contains
     ! what blocks the path
     xt(:, node(3, 3, 2)) = xs(:, node(3, 3, 2)) + [0.08_wp, 0.0_wp, 0.0_wp]
     call setup(xs, 'constant')
-    nb = remap_swept_blockers(g, h, bc, xt, par%swept_max)
+    nb = remap_swept_blockers(g, h, bc, xt, par%swept_max, .false.)
     call check(nb == 8, 'swept: a node moved 0.4 of a cell blocks its eight cells')
 
     ! two materials split by a plane: the regions swept from mixed cells are
     ! shared by their MoF planes (the plane itself, exactly reconstructed)
     call make_grid(xt, 37, 0.05_wp)
     call setup(xs, 'plane')
-    call check(remap_swept_blockers(g, h, bc, xt, par%swept_max) == 0, 'swept: mixed cells do not block it')
+    call check(remap_swept_blockers(g, h, bc, xt, par%swept_max, .false.) > 0, &
+               'swept: mixed cells and their neighbours block it (swept_mixed off)')
+    call check(remap_swept_blockers(g, h, bc, xt, par%swept_max, .true.) == 0, 'swept: not with swept_mixed')
     call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call material_masses(ma0, mb0)
     call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)

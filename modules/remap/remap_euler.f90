@@ -138,6 +138,9 @@ module remap_euler
     !> nodes moved at most this times its shortest old edge
     !> (`remap_swept_blockers`); 0: every changed cell is intersected
     real(wp) :: swept_max = 0.25_wp
+    !> the swept-face path also through mixed cells (their MoF planes share
+    !> what is swept from them; `remap_swept_blockers`)
+    logical :: swept_mixed = .false.
     !> this step takes the swept-face path: every changed cell can
     !> (`remap_swept_blockers` is zero over the whole grid; the caller's to
     !> decide, as the count runs over every rank's cells)
@@ -148,6 +151,11 @@ module remap_euler
   type :: remap_stats_t
     integer :: cells_remapped = 0     !< changed new cells, intersected with the old grid
     integer :: cells_swept = 0        !< of them, those remapped by their faces' swept regions
+    !> cells whose swept-face results broke a material's bounds (positive
+    !> mass and volume, density and specific energy within those of its old
+    !> neighbours): the step was remapped by intersection instead (a
+    !> window's remap leaves that to its caller)
+    integer :: swept_unbounded = 0
     !> changed cells that kept the step off the swept-face path (set by the
     !> caller: `remap_swept_blockers` over the whole grid)
     integer :: swept_blockers = 0
@@ -302,7 +310,7 @@ contains
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :)
-    integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:)
+    integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
     logical, allocatable :: redo(:), beyond(:)
     integer(i8), allocatable :: before(:)
     real(wp), allocatable :: buf(:, :)
@@ -377,9 +385,14 @@ contains
       todo = pack([(c, c = 1, ncell)], old%changed .and. zone%compute)
       rmax = min(rmax, zone%reach_max)
     end if
+    done = todo
+    ! (a second pass, by intersection, where the swept faces broke a bound)
+    passes: do
+    todo = done
     reach = 0
     r = 1
     ngap = 0
+    stats%volume_defect = 0.0_wp
     do while (size(todo) > 0)
       call intersect_cells(todo, r, 1.0_wp)
       nbad = 0
@@ -425,6 +438,16 @@ contains
     end do
     if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
     if (allocated(err)) return
+    if (.not. old%swept) exit passes
+    stats%swept_unbounded = swept_unbounded(g, h, mx, old, done, avol, amass, aie, par%vf_min)
+    if (stats%swept_unbounded == 0) exit passes
+    ! (a window's: the caller remaps the whole grid instead, where this
+    ! pass decides for every cell alike)
+    if (windowed) return
+    old%swept = .false.
+    stats%cells_swept = 0
+    old%given = 0_i8
+    end do passes
     where (.not. own) reach = 0
     stats%reach = maxval(reach)
     ! (nothing more to do in a window that cannot hold the step)
@@ -1327,9 +1350,99 @@ contains
 
   ! ------------------------------------------------------------ new side
 
+  !> How many of the new cells `cells` hold a material outside the bounds
+  !> the intersection keeps: a material with volume (more than vf_min of
+  !> the cell) whose mass is not positive, or whose density or specific
+  !> energy lies outside the range of its regions in the old cells within
+  !> two index steps (the stencils of the regions the swept faces take
+  !> from; 1e-9 relative slack: round-off), and a sliver (merged into
+  !> another material) whose mass is negative beyond 1e-9 of the cell's. The
+  !> swept faces keep these bounds by construction where the regions they
+  !> take from lie next to their faces; a mixed cell's planes extended past
+  !> it, or a region swept out of a thin material layer, can break them.
+  integer function swept_unbounded(g, h, mx, old, cells, avol, amass, aie, vf_min) result(nbad)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(in) :: old
+    integer, intent(in) :: cells(:)
+    real(wp), intent(in) :: avol(:, :), amass(:, :), aie(:, :), vf_min
+    real(wp), parameter :: slack = 1.0e-9_wp
+    real(wp) :: rlo, rhi, elo, ehi, vtot, mtot, rho, e
+    integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s
+    logical :: bad, found
+
+    nbad = 0
+    !$omp parallel do default(none) shared(g, h, mx, old, cells, avol, amass, aie, vf_min) &
+    !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
+    !$omp reduction(+:nbad) schedule(static)
+    do i = 1, size(cells)
+      c = cells(i)
+      call g%cell_ijk(c, ci, cj, ck)
+      vtot = sum(avol(:, c))
+      mtot = sum(amass(:, c))
+      bad = .not. mtot > 0.0_wp
+      do k = 1, size(avol, 1)
+        if (bad) exit
+        if (.not. avol(k, c) > vf_min*vtot) then
+          bad = amass(k, c) < -slack*mtot
+          cycle
+        end if
+        if (.not. amass(k, c) > 0.0_wp) then
+          bad = .true.
+          exit
+        end if
+        rlo = huge(1.0_wp)
+        rhi = -huge(1.0_wp)
+        elo = huge(1.0_wp)
+        ehi = -huge(1.0_wp)
+        found = .false.
+        do ok_ = max(g%clo(3), ck - 2), min(g%chi(3), ck + 2)
+          do oj = max(g%clo(2), cj - 2), min(g%chi(2), cj + 2)
+            do oi = max(g%clo(1), ci - 2), min(g%chi(1), ci + 2)
+              co = g%cell(oi, oj, ok_)
+              if (.not. old%near(co)) cycle
+              if (h%mat(co) == k) then
+                call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
+              else if (h%mat(co) <= 0) then
+                do s = mx%start(-h%mat(co)), mx%start(-h%mat(co) + 1) - 1
+                  if (mx%mat(s) == k .and. mx%mass(s) > 0.0_wp) &
+                    call widen(old%rho(g%ncell + s), old%e(g%ncell + s), found, rlo, rhi, elo, ehi)
+                end do
+              end if
+            end do
+          end do
+        end do
+        rho = amass(k, c)/avol(k, c)
+        e = aie(k, c)/amass(k, c)
+        bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
+              e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi))
+      end do
+      if (bad) nbad = nbad + 1
+    end do
+    !$omp end parallel do
+
+  contains
+
+    !> Widens the bounds by a region's density rr and energy er (the
+    !> bounds passed: the loop's private copies, which host association
+    !> would not see).
+    pure subroutine widen(rr, er, found_, rlo_, rhi_, elo_, ehi_)
+      real(wp), intent(in) :: rr, er
+      logical, intent(inout) :: found_
+      real(wp), intent(inout) :: rlo_, rhi_, elo_, ehi_
+      found_ = .true.
+      rlo_ = min(rlo_, rr)
+      rhi_ = max(rhi_, rr)
+      elo_ = min(elo_, er)
+      ehi_ = max(ehi_, er)
+    end subroutine widen
+  end function swept_unbounded
+
   !> How many of the cells `own` would move from the grid g%x to xnew and
   !> cannot take the swept-face path (`remap_new_cell`): a changed cell can
-  !> if it is not tangled, its nodes moved at most smax times its shortest
+  !> if it is pure amid cells of its own material (or mixed is set), not
+  !> tangled, its nodes moved at most smax times its shortest
   !> old edge (the swept regions stay next to the face that sweeps them,
   !> and the cell keeps most of its own content), and its faces on the
   !> grid's boundary sweep no volume unless they are inflow or outflow faces
@@ -1338,11 +1451,14 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, own) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: xnew(:, :), smax
+    !> mixed cells allowed (else a changed cell must be pure, amid cells of
+    !> its own material only)
+    logical, intent(in) :: mixed
     logical, intent(in), optional :: own(:)   !< (absent: every cell)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3)
@@ -1351,7 +1467,7 @@ contains
     nblock = 1
     if (.not. smax > 0.0_wp) return
     nblock = 0
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, own) reduction(+:nblock) &
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, own) reduction(+:nblock) &
     !$omp private(c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
     do c = 1, g%ncell
@@ -1363,7 +1479,16 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ! (unchanged: copied)
       if (all(abs(xn - xo) <= 0.0_wp)) cycle
-      ok = .true.
+      ok = mixed .or. h%mat(c) > 0
+      if (.not. mixed) then
+        do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
+          do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
+            do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
+              ok = ok .and. h%mat(g%cell(oi, oj, ok_)) == h%mat(c)
+            end do
+          end do
+        end do
+      end if
       hmin2 = huge(1.0_wp)
       do d = 1, 3
         do e = 1, 4

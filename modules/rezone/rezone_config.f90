@@ -54,6 +54,10 @@ module rezone_config
     !> material, and moved its nodes by at most this times its shortest
     !> edge; other steps intersect (0: always intersect)
     real(wp) :: swept_max = 0.25_wp
+    !> the swept-face path also through mixed cells, what is swept from them
+    !> shared by their MoF planes (a step that breaks a material's bounds is
+    !> remapped by intersection)
+    logical :: swept_mixed = .false.
     !> a trigger measure an Euler step leaves beyond its bound (side ratio
     !> above side_ratio, cosine below cos_angle) becomes the bound, moved on
     !> by this relative margin, until the grid is back within the deck's
@@ -78,11 +82,13 @@ contains
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
                 drift_max, drift_open, swept_max, hysteresis
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios
+    logical :: swept_mixed
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
-                      move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis
+                      move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
+                      swept_mixed
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -91,7 +97,7 @@ contains
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
-    swept_max = defaults%swept_max; hysteresis = defaults%hysteresis
+    swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
@@ -152,7 +158,7 @@ contains
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
-      swept_max=swept_max, hysteresis=hysteresis)
+      swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
