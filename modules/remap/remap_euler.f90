@@ -1566,16 +1566,16 @@ contains
       xn(:, j) = xn(:, j) - o
     end do
     call half_tets(xn, pts, hv, hcorner)
+    avol = 0.0_wp
+    amom = 0.0_wp
+    amass = 0.0_wp
+    aie = 0.0_wp
+    pcell = 0.0_wp
+    cmom = 0.0_wp
+    cland = 0.0_wp
+    cdef = 0.0_wp
     if (old%swept) then
-      avol = 0.0_wp
-      amom = 0.0_wp
-      amass = 0.0_wp
-      aie = 0.0_wp
-      pcell = 0.0_wp
-      cmom = 0.0_wp
-      cland = 0.0_wp
       ! cdef, the gaps' measure, only where there are open faces
-      cdef = 0.0_wp
       if (any(old%open)) then
         do t = 1, 48
           do j = 1, 4
@@ -1641,14 +1641,6 @@ contains
         end do
       end do
     end if
-    avol = 0.0_wp
-    amom = 0.0_wp
-    amass = 0.0_wp
-    aie = 0.0_wp
-    pcell = 0.0_wp
-    cmom = 0.0_wp
-    cland = 0.0_wp
-    cdef = 0.0_wp
     if (box) then
       do t = 1, 8
         cdef(t) = product(qbhi(:, t) - qblo(:, t))
