@@ -1133,12 +1133,11 @@ contains
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum
-    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, kk
-    type(poly_t) :: p
+    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r
 
     !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, &
-    !$omp kk, p) schedule(dynamic, 16)
+    !$omp private(c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r) &
+    !$omp schedule(dynamic, 16)
     do c = 1, g%ncell
       ! (only moved cells hand out fragments: the others' entries are not read)
       if (.not. old%changed(c)) cycle
@@ -1173,13 +1172,8 @@ contains
         do s = s0, s1
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0, s, o, pn, pd, nm)
-          call poly_set_tet(p, t)
-          do kk = 1, nm
-            call poly_clip(p, pn(:, kk), pd(kk))
-            if (p%nv == 0) exit
-          end do
-          if (p%nv == 0) cycle
-          call poly_first_moments(p, v, m)
+          call region_piece(t, pn(:, 1:nm), pd(1:nm), v, m)
+          if (.not. v > 0.0_wp) cycle
           msub(corner(i)) = msub(corner(i)) + region_mass(g%ncell + s, v, m, o)
           old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(g%ncell + s)*v
           old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
@@ -1740,9 +1734,8 @@ contains
       ! subcell at the corner, 1 + d its subcell across direction d, 4 + d
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, kk, d, slot
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, d, slot
       logical :: pure
-      type(poly_t) :: p
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
@@ -1768,21 +1761,8 @@ contains
         do s = s0c, s1c
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0c, s, o, pn, pd, nm)
-          select case (hull_side(tq, pn(:, 1:nm), pd(1:nm)))
-          case (1)
-            v = tet_det(tq)/6.0_wp
-            m = 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
-          case (-1)
-            cycle
-          case default
-            call poly_set_tet(p, tq)
-            do kk = 1, nm
-              call poly_clip(p, pn(:, kk), pd(kk))
-              if (p%nv == 0) exit
-            end do
-            if (p%nv == 0) cycle
-            call poly_first_moments(p, v, m)
-          end select
+          call region_piece(tq, pn(:, 1:nm), pd(1:nm), v, m)
+          if (.not. v > 0.0_wp) cycle
           sv(s - s0c + 1, hcorner(i)) = sv(s - s0c + 1, hcorner(i)) + v
           sm(:, s - s0c + 1, hcorner(i)) = sm(:, s - s0c + 1, hcorner(i)) + m
         end do
@@ -2168,6 +2148,28 @@ contains
       end do
     end do
   end subroutine half_tets
+
+  !> Volume v and first moment m of the part of the tetrahedron t inside
+  !> the region pn(:, i).x <= pd(i) (0 if none; a tetrahedron wholly
+  !> outside one plane is not clipped, one wholly inside by no plane).
+  pure subroutine region_piece(t, pn, pd, v, m)
+    real(wp), intent(in) :: t(3, 4), pn(:, :), pd(:)
+    real(wp), intent(out) :: v, m(3)
+    type(poly_t) :: p
+    integer :: side, k
+    v = 0.0_wp
+    m = 0.0_wp
+    side = hull_side(t, pn, pd)
+    if (side == -1) return
+    call poly_set_tet(p, t)
+    if (side == 0) then
+      do k = 1, size(pd)
+        call poly_clip(p, pn(:, k), pd(k))
+        if (p%nv == 0) return
+      end do
+    end if
+    call poly_first_moments(p, v, m)
+  end subroutine region_piece
 
   !> Where the convex hull of the points x(3, :) lies against the region
   !> pn(:, i).x <= pd(i): 1 wholly inside, -1 wholly outside one of the
