@@ -480,14 +480,14 @@ contains
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
       &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
       &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
-      &a,", assemble ",f7.3,")")') &
+      &a,", assemble ",f7.3,"), ",f0.2," us per remapped cell")') &
       es%n, st%step, st%t, rs%cells_remapped, swept_text(rs), &
       rs%cells_copied, rs%reach, rs%volume_defect, &
       rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, &
       real(rs%mof_iterations, wp)/real(max(rs%mof_cells, 1), wp), rs%mof_not_converged, rs%mof_err_max, &
       rs%ke_to_internal, e0%t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &
       trim(shared), &
-      rs%t_assemble
+      rs%t_assemble, 1.0e6_wp*(rs%t_prepare + rs%t_intersect + rs%t_assemble)/real(max(rs%cells_remapped, 1), wp)
     call log_line(log, trim(line))
     write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2, &
       &"; momentum taken by velocity conditions ",3es10.2)') abs(m1 - m0)/m0, &
