@@ -30,7 +30,8 @@
 !> (the OS closes the file at exit), and closes it otherwise. The driver calls
 !> it at the end of a run and on its failure path.
 module io_hdf5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_null_char, c_int, c_int64_t, c_intptr_t, &
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_associated, c_f_pointer, c_null_char, &
+                                         c_int, c_int64_t, c_intptr_t, &
                                          c_long, c_char
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
@@ -116,6 +117,38 @@ module io_hdf5
       type(c_statvfs_t), intent(out) :: buf
       integer(c_int) :: rc
     end function c_statvfs
+    !> fopen(3), fileno(3), fclose(3), fallocate(2), unlink(2) and errno: the
+    !> space reservation of a file of several ranks (`reserve_space`).
+    function c_fopen(path, mode) bind(c, name='fopen') result(fp)
+      import :: c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*), mode(*)
+      type(c_ptr) :: fp
+    end function c_fopen
+    function c_fileno(fp) bind(c, name='fileno') result(fd)
+      import :: c_ptr, c_int
+      type(c_ptr), value, intent(in) :: fp
+      integer(c_int) :: fd
+    end function c_fileno
+    function c_fclose(fp) bind(c, name='fclose') result(rc)
+      import :: c_ptr, c_int
+      type(c_ptr), value, intent(in) :: fp
+      integer(c_int) :: rc
+    end function c_fclose
+    function c_fallocate(fd, mode, offset, length) bind(c, name='fallocate') result(rc)
+      import :: c_int, c_long
+      integer(c_int), value, intent(in) :: fd, mode
+      integer(c_long), value, intent(in) :: offset, length   ! off_t
+      integer(c_int) :: rc
+    end function c_fallocate
+    function c_unlink(path) bind(c, name='unlink') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_unlink
+    function c_errno_location() bind(c, name='__errno_location') result(p)
+      import :: c_ptr
+      type(c_ptr) :: p
+    end function c_errno_location
   end interface
 
   !> Largest chunk of a checksummed dataset (bytes; module notes).
@@ -190,11 +223,13 @@ contains
   !>
   !> `need` (bytes, with comm): the file's size, about. HDF5's collective
   !> calls do not survive a failure on one rank (a dataset's space that one
-  !> rank cannot allocate leaves the others waiting in HDF5 for ever), so a
-  !> file of several ranks is refused, on every rank, when its folder's
-  !> file system has less space free for it (statvfs; no check where that
-  !> fails). A disk filled by others while the file is written can still
-  !> hang the ranks.
+  !> rank cannot allocate leaves the others waiting in HDF5 for ever), so the
+  !> space of a file of several ranks is reserved before anything is written
+  !> to it: rank 0 allocates `need` bytes (with a margin) to the new file at
+  !> once (`reserve_space`), and a disk that others fill later cannot take
+  !> them away. A file the disk has no room for is refused on every rank,
+  !> and left behind by none: nothing collective is called on it again (it
+  !> is not closed, `hdf5_stop`), and rank 0 removes it.
   subroutine h5_create(file, path, err, checksums, comm, need)
     type(h5_file_t), intent(inout) :: file
     character(len=*), intent(in) :: path
@@ -224,17 +259,26 @@ contains
       ! the checksums', only so)
       file%parallel = .true.
       file%comm = comm
-      if (present(need)) then
-        if (file%rank == 0) call check_space(path, need, err)
-        call agree_outcome(file, 'h5_create', 'not enough space on the disk for '//q(path), err)
-        if (allocated(err)) return
-      end if
       call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
       if (hdferr == 0) call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, hdferr)
       if (hdferr == 0 .and. file%checksums) &
         call h5pset_libver_bounds_f(fapl, H5F_LIBVER_LATEST_F, H5F_LIBVER_LATEST_F, hdferr)
       if (hdferr == 0) call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%id, hdferr, access_prp=fapl)
       call h5pclose_f(fapl, ierr)
+      if (present(need)) then
+        if (hdferr /= 0) then
+          call error_set(err, 'h5_create', 'cannot create HDF5 file '//q(path))
+        else if (file%rank == 0) then
+          call reserve_space(path, need, err)
+        end if
+        call agree_outcome(file, 'h5_create', 'cannot create HDF5 file '//q(path), err)
+        if (allocated(err)) then
+          ! abandoned (module notes): the identifier stays open
+          file%id = -1_hid_t
+          if (file%rank == 0) ierr = c_unlink(path//c_null_char)
+          return
+        end if
+      end if
     else if (file%checksums) then
       ! the newest format: checksummed superblock, object headers and indexes
       call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
@@ -256,25 +300,47 @@ contains
     file%path = path
   end subroutine h5_create
 
-  !> An error if the file system holding `path` has fewer than `need` bytes
-  !> free for it (nothing if its free space cannot be found).
-  subroutine check_space(path, need, err)
+  !> Allocates `need` bytes and a margin (a tenth, and 64 KiB) to the file
+  !> `path` without changing its size (fallocate, FALLOC_FL_KEEP_SIZE): its
+  !> writes up to that size then cannot fail for want of space. An error if
+  !> the file system has not that much room; where it cannot reserve space
+  !> (no fallocate), an error if it has less free than that (statvfs; no
+  !> check where that fails either).
+  subroutine reserve_space(path, need, err)
     character(len=*), intent(in) :: path
     integer(int64), intent(in) :: need
     type(error_t), allocatable, intent(inout) :: err
+    integer(c_int), parameter :: KEEP_SIZE = 1, ENOSPC = 28, EFBIG = 27
     type(c_statvfs_t) :: st
-    integer(int64) :: free
+    type(c_ptr) :: fp
+    integer(c_int), pointer :: errno
+    integer(int64) :: free, bytes
+    integer(c_int) :: rc, code
     integer :: k
     character(len=:), allocatable :: dir
+    bytes = need + need/10 + 65536_int64
+    fp = c_fopen(path//c_null_char, 'r+'//c_null_char)
+    if (c_associated(fp)) then
+      rc = c_fallocate(c_fileno(fp), KEEP_SIZE, 0_c_long, int(bytes, c_long))
+      call c_f_pointer(c_errno_location(), errno)
+      code = errno
+      if (c_fclose(fp) /= 0 .and. rc == 0) code = 0
+      if (rc == 0) return
+      if (code == ENOSPC .or. code == EFBIG) then
+        call error_set(err, 'h5_create', 'not enough space on the disk for '//q(path)//': '// &
+                       itoa(bytes)//' bytes could not be reserved')
+        return
+      end if
+    end if
     k = index(path, '/', back=.true.)
     dir = '.'
     if (k > 1) dir = path(1:k - 1)
     if (k == 1) dir = '/'
     if (c_statvfs(dir//c_null_char, st) /= 0) return
     free = int(st%f_bavail, int64)*int(st%f_frsize, int64)
-    if (free < need) call error_set(err, 'h5_create', 'not enough space on the disk for '//q(path)//': '// &
-                                    itoa(free)//' bytes free, about '//itoa(need)//' needed')
-  end subroutine check_space
+    if (free < bytes) call error_set(err, 'h5_create', 'not enough space on the disk for '//q(path)//': '// &
+                                     itoa(free)//' bytes free, about '//itoa(bytes)//' needed')
+  end subroutine reserve_space
 
   !> Opens the existing HDF5 file `path` read-only.
   subroutine h5_open_read(file, path, err)
