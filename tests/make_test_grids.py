@@ -11,7 +11,9 @@ Saltzman piston's 100 x 10 grid), sphere_perturb.h5 (20^3 cells, moved by up
 to 0.3 of a cell, seed 5). Bad ones made from perturb.h5 with h5py: no_x.h5
 (the dataset named y), nan_x.h5 (a NaN coordinate at node (2, 1, 3)),
 tangled.h5 (node (3, 2, 2) pushed through its neighbours: cells around it
-turned inside out), int_x.h5 (integer coordinates); not_hdf5.h5 is text.
+turned inside out), pushed.h5 (node (3, 2, 2) pushed 1.2 cells along i, past
+node (4, 2, 2): every cell keeps a positive volume, but the cells around it
+overlap their neighbours), int_x.h5 (integer coordinates); not_hdf5.h5 is text.
 """
 import os
 import subprocess
@@ -49,6 +51,10 @@ with h5py.File(os.path.join(out, "nan_x.h5"), "w") as f:
 bad = x.copy()
 bad[2, 2, 3] = x[2, 2, 3] + 2.5 * (x[2, 2, 4] - x[2, 2, 3])   # node (3, 2, 2) past node (4, 2, 2)
 with h5py.File(os.path.join(out, "tangled.h5"), "w") as f:
+    f["x"] = bad
+bad = x.copy()
+bad[2, 2, 3] = x[2, 2, 3] + 1.2 * (x[2, 2, 4] - x[2, 2, 3])   # node (3, 2, 2) just past node (4, 2, 2)
+with h5py.File(os.path.join(out, "pushed.h5"), "w") as f:
     f["x"] = bad
 with h5py.File(os.path.join(out, "int_x.h5"), "w") as f:
     f["x"] = np.rint(x).astype(np.int32)

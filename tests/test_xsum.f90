@@ -9,9 +9,15 @@
 !>   bits, and scaling every term by 2^k scales the total by exactly 2^k
 !>   (the dimension tests rely on this).
 !> - The result agrees with a compensated (Neumaier) sum to 1 ulp.
+!> - A NaN or an infinity among the terms, or a total beyond the largest
+!>   real (two terms of huge), marks the sum as not finite and its value a
+!>   NaN, without touching memory outside the accumulator (the debug build's
+!>   bounds checks); a total of huge and -huge/2 terms that comes back in
+!>   range, and the largest real itself, stay finite and exact.
 program test_xsum
   use base_kinds, only: wp, i8
-  use base_xsum, only: xsum_t, xsum_add, xsum_value, xsum_normalize
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_negative_inf, ieee_is_nan
+  use base_xsum, only: xsum_t, xsum_add, xsum_value, xsum_normalize, xsum_finite
   use test_assert, only: check, check_summary
   implicit none
   integer, parameter :: n = 20000
@@ -80,6 +86,32 @@ program test_xsum
     end do
     call check(same(xsum_value(e), scale(y, k)), 'terms scaled by 2^k: total scaled by exactly 2^k')
   end do
+
+  ! not finite: a NaN, an infinity of either sign, an overflowing total
+  do k = 1, 4
+    a = xsum_t()
+    call xsum_add(a, 1.0_wp)
+    select case (k)
+    case (1); call xsum_add(a, ieee_value(t, ieee_quiet_nan))
+    case (2); call xsum_add(a, ieee_value(t, ieee_positive_inf))
+    case (3); call xsum_add(a, ieee_value(t, ieee_negative_inf))
+    case (4); call xsum_add(a, huge(t)); call xsum_add(a, huge(t))
+    end select
+    call xsum_add(a, 2.0_wp)
+    call check(.not. xsum_finite(a) .and. ieee_is_nan(xsum_value(a)), 'not finite: case '//achar(48 + k))
+  end do
+  a = xsum_t()
+  call xsum_add(a, huge(t))
+  call check(xsum_finite(a) .and. same(xsum_value(a), huge(t)), 'the largest real is finite and exact')
+  call xsum_add(a, huge(t))
+  call xsum_add(a, -huge(t)/2)
+  call xsum_add(a, -huge(t)/2)
+  call xsum_add(a, -huge(t)/2)
+  call check(xsum_finite(a) .and. same(xsum_value(a), huge(t)/2), 'huge + huge - 3 huge/2 comes back in range')
+  a = xsum_t()
+  call xsum_add(a, -huge(t))
+  call xsum_add(a, -huge(t))
+  call check(.not. xsum_finite(a), '-2 huge is not finite')
   call check_summary('test_xsum')
 contains
   !> The same bits.

@@ -5,11 +5,17 @@
 !> and add their accumulators limb by limb (an integer sum, exact in any
 !> order); `xsum_value` then rounds the one exact total to a real. This
 !> makes global totals identical on any number of ranks and threads.
+!>
+!> A NaN or an infinity has no place in the accumulator: such a term is not
+!> added but marks the sum as not finite (`finite`), and so does a total too
+!> large for a real; the value of such a sum is a NaN (`xsum_value`), and
+!> the caller that must not go on with it asks `xsum_finite`.
 module base_xsum
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use base_kinds, only: wp, i8
   implicit none
   private
-  public :: xsum_t, xsum_add, xsum_value, xsum_normalize, XSUM_LIMBS
+  public :: xsum_t, xsum_add, xsum_value, xsum_finite, xsum_normalize, XSUM_LIMBS
 
   integer, parameter :: XSUM_LIMBS = 72       !< 32-bit limbs: 2304 bits
   integer, parameter :: BIAS = 1200           !< bit 0 of limb 0 is 2^-BIAS
@@ -20,16 +26,21 @@ module base_xsum
   type :: xsum_t
     integer(i8) :: limb(0:XSUM_LIMBS - 1) = 0_i8
     integer :: terms = 0   !< terms since the last carry pass
+    logical :: finite = .true.   !< no NaN or infinity among the terms
   end type xsum_t
 
 contains
 
-  !> Adds x exactly (finite x; a NaN or infinity is not representable).
+  !> Adds x exactly (a NaN or an infinity marks the sum as not finite).
   pure subroutine xsum_add(s, x)
     type(xsum_t), intent(inout) :: s
     real(wp), intent(in) :: x
     integer(i8) :: m, a, r
     integer :: b, l, sh
+    if (.not. ieee_is_finite(x)) then
+      s%finite = .false.
+      return
+    end if
     if (abs(x) <= 0.0_wp) return
     ! x = m 2^(e - 53), m < 2^53 an integer
     m = int(scale(fraction(abs(x)), digits(x)), i8)
@@ -65,11 +76,33 @@ contains
     s%terms = 0
   end subroutine xsum_normalize
 
+  !> False if a term was a NaN or an infinity, or the total is too large
+  !> for a real.
+  pure logical function xsum_finite(s)
+    type(xsum_t), intent(in) :: s
+    real(wp) :: v
+    logical :: big
+    call total(s, v, big)
+    xsum_finite = s%finite .and. .not. big
+  end function xsum_finite
+
   !> The sum correctly rounded to the nearest real (ties to even): a
   !> function of the exact total only, so it commutes with scaling by a
-  !> power of two and does not depend on how the terms were grouped.
-  pure real(wp) function xsum_value(s0) result(v)
+  !> power of two and does not depend on how the terms were grouped. A NaN
+  !> if the sum is not finite (`xsum_finite`).
+  pure real(wp) function xsum_value(s) result(v)
+    type(xsum_t), intent(in) :: s
+    logical :: big
+    call total(s, v, big)
+    if (.not. s%finite .or. big) v = ieee_value(v, ieee_quiet_nan)
+  end function xsum_value
+
+  !> v: the rounded total of the finite terms; big: it is too large for a
+  !> real (v is then 0).
+  pure subroutine total(s0, v, big)
     type(xsum_t), intent(in) :: s0
+    real(wp), intent(out) :: v
+    logical, intent(out) :: big
     type(xsum_t) :: s
     integer, parameter :: W = 55            ! 53 digits, a guard and a round bit
     integer(i8) :: q
@@ -90,6 +123,7 @@ contains
       end if
     end do
     v = 0.0_wp
+    big = .false.
     if (h < 0) return
     top = 32*h + 63 - leadz(s%limb(h))      ! the leading bit of the total
     ! the W bits from `top` down, and whether any bit below them is set
@@ -109,7 +143,13 @@ contains
     end if
     ! round the 53 leading bits to nearest, ties to even
     if (btest(q, 1) .and. (btest(q, 0) .or. sticky .or. btest(q, 2))) q = q + 4_i8
-    v = scale(real(ishft(q, -2), wp), low + 2 - BIAS)
+    q = ishft(q, -2)
+    ! (2^53 after rounding up is 2^52 one place higher)
+    if (top - BIAS + merge(1, 0, q == ishft(1_i8, 53)) > maxexponent(v) - 1) then
+      big = .true.
+      return
+    end if
+    v = scale(real(q, wp), low + 2 - BIAS)
     if (negative) v = -v
-  end function xsum_value
+  end subroutine total
 end module base_xsum

@@ -8,8 +8,10 @@
 !> What is read is checked before the grid is used: the dataset's shape
 !> against the deck's ni, nj, nk (before anything is allocated from it),
 !> every coordinate finite and of magnitude below 1e30 (as the deck reader
-!> refuses such numbers: they would overflow the volumes), and every cell's
-!> volume (the exact 24-tetrahedron volume of `mesh_geometry`) positive.
+!> refuses such numbers: they would overflow the volumes), and every cell
+!> valid: each of its 24 tetrahedra (`mesh_geometry` `hex_tets`) positive,
+!> so that no node has been pushed through a face of its cells, and its
+!> volume at least min_edge**3 (`mesh_grid_config`).
 !> Each failure is an input error (ERR_INPUT) whose message names the file
 !> and the node or cell.
 module io_grid_file
@@ -19,7 +21,8 @@ module io_grid_file
   use base_strings, only: itoa, rtoa
   use io_hdf5, only: h5_file_t, h5_open_read, h5_close, h5_exists, h5_read_dims, h5_read_real
   use mesh_grid, only: grid_index_t, grid_index
-  use mesh_geometry, only: hex_volume
+  use mesh_geometry, only: hex_volume, hex_tets, tet_det
+  use mesh_grid_config, only: min_edge
   implicit none
   private
   public :: grid_file_read
@@ -43,9 +46,9 @@ contains
     type(grid_index_t) :: ix
     integer, allocatable :: dims(:)
     real(wp), allocatable :: data(:)
-    real(wp) :: xn(3, 8), vol
-    integer :: want(4), n, c, i, j, k, nbad, stat, first(3)
-    logical :: same
+    real(wp) :: xn(3, 8), vol, tets(3, 4, 24)
+    integer :: want(4), n, c, i, j, k, nbad, stat, first(3), t
+    logical :: same, inverted
     character(len=200) :: msg
     character(len=:), allocatable :: more
 
@@ -104,16 +107,27 @@ contains
     do c = 1, ix%ncell
       call ix%gather(c, x, xn)
       vol = hex_volume(xn)
-      if (vol > 0.0_wp) cycle
+      call hex_tets(xn, tets)
+      inverted = .false.
+      do t = 1, 24
+        inverted = inverted .or. .not. (tet_det(tets(:, :, t)) > 0.0_wp)
+      end do
+      if (vol >= min_edge**3 .and. .not. inverted) cycle
       nbad = nbad + 1
-      if (nbad == 1) call ix%cell_ijk(c, first(1), first(2), first(3))
-      if (nbad == 1) msg = rtoa(vol)
+      if (nbad > 1) cycle
+      call ix%cell_ijk(c, first(1), first(2), first(3))
+      if (inverted) then
+        msg = 'is inverted or self-intersecting (a tetrahedron of its 24 has no positive volume; volume '// &
+              rtoa(vol)//')'
+      else
+        msg = 'has a volume of '//rtoa(vol)//', below 1e-90 (cells must be at least 1e-30 across)'
+      end if
     end do
     if (nbad == 0) return
     more = ''
     if (nbad > 1) more = ' (and '//itoa(nbad - 1)//' more cells)'
     call error_set(err, here, 'grid file '''//path//''': cell ('//itoa(first(1))//', '//itoa(first(2))//', '// &
-      itoa(first(3))//') has a non-positive volume ('//trim(msg)//')'//more, ERR_INPUT)
+      itoa(first(3))//') '//trim(msg)//more, ERR_INPUT)
   end subroutine grid_file_read
 
   !> A shape given in Fortran order as h5py shows it: "(d_n, ..., d_1)".

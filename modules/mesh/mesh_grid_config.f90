@@ -13,6 +13,11 @@ module mesh_grid_config
   !> the cell (`remap_shapes`): 64 is a split 6 levels deep.
   integer, parameter :: max_subsamples = 64
 
+  !> The narrowest cell (length): its volume, min_edge**3, stays a normal
+  !> number with room for the products of the Lagrangian step (the
+  !> reciprocal of the deck's magnitude rule, 1e30).
+  real(wp), parameter, public :: min_edge = 1.0e-30_wp
+
   !> The resolved &grid group; the initial values are the defaults.
   type :: grid_config_t
     integer :: ni = 0, nj = 0, nk = 0              !< cells along x, y, z (required, >= 1)
@@ -35,7 +40,7 @@ contains
     character(len=*), intent(in) :: text(:), path
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer :: ni, nj, nk, subsamples, ios, d
+    integer :: ni, nj, nk, subsamples, ios, d, cells(3)
     real(wp) :: xmin(3), xmax(3)
     character(len=256) :: file
     character(len=max_line) :: msg
@@ -64,9 +69,17 @@ contains
       call problem_add(problems, &
       '&grid: ni*nj*nk = '//trim(i8toa(int(ni, i8)*nj*nk))//' cells is more than one run can index ('// &
       itoa(huge(1))//' cells and nodes)')
+    ! cells of at least min_edge: their volumes stay normal numbers (the
+    ! reciprocal of the deck's magnitude rule, 1e30)
+    cells = [ni, nj, nk]
     do d = 1, 3
-      if (.not. (xmax(d) > xmin(d))) call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
-                                                      'must be > xmin('//achar(48 + d)//')')
+      if (.not. (xmax(d) > xmin(d))) then
+        call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
+                         'must be > xmin('//achar(48 + d)//')')
+      else if ((xmax(d) - xmin(d)) < min_edge*max(cells(d), 1)) then
+        call problem_bad(problems, 'grid', 'xmax('//achar(48 + d)//')', xmax(d), &
+                         'gives cells narrower than 1e-30 in direction '//achar(48 + d))
+      end if
     end do
     call problem_long(problems, 'grid', 'file', file)
     ! the file gives the nodes, the box with them: a box given too is a

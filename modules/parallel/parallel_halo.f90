@@ -211,23 +211,26 @@ contains
   end subroutine mpi_max_int
 
   !> Exact global sums: normalised accumulators added limb by limb (an
-  !> integer sum, exact in any order).
+  !> integer sum, exact in any order), and whether any block's is not
+  !> finite (a count in one more limb).
   subroutine mpi_sums(this, acc)
     class(mpi_halo_t), intent(in) :: this
     type(xsum_t), intent(inout) :: acc(:)
     integer(i8), allocatable :: mine(:, :), all(:, :)
     integer :: q, stat
     if (this%nblocks == 1) return
-    allocate(mine(0:XSUM_LIMBS - 1, size(acc)), all(0:XSUM_LIMBS - 1, size(acc)), stat=stat)
+    allocate(mine(0:XSUM_LIMBS, size(acc)), all(0:XSUM_LIMBS, size(acc)), stat=stat)
     call parallel_nomem(stat, 'a global sum')
     do q = 1, size(acc)
       call xsum_normalize(acc(q))
-      mine(:, q) = acc(q)%limb
+      mine(0:XSUM_LIMBS - 1, q) = acc(q)%limb
+      mine(XSUM_LIMBS, q) = merge(0_i8, 1_i8, acc(q)%finite)
     end do
     call MPI_Allreduce(mine, all, size(mine), MPI_INTEGER8, MPI_SUM, this%comm)
     do q = 1, size(acc)
-      acc(q)%limb = all(:, q)
+      acc(q)%limb = all(0:XSUM_LIMBS - 1, q)
       acc(q)%terms = 0
+      acc(q)%finite = all(XSUM_LIMBS, q) == 0_i8
     end do
   end subroutine mpi_sums
 
