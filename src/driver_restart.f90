@@ -32,7 +32,9 @@ module driver_restart
   use material_table, only: material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
   use mesh_grid, only: grid_t, grid_index_t, grid_index
-  use particles_state, only: particles_check, particles_index, particles_allocate
+  use particles_state, only: particles_t, particles_check, particles_index, particles_allocate
+  use particles_shape, only: particles_shape_values
+  use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use particles_lagrange, only: particles_work_resize
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
@@ -232,7 +234,7 @@ contains
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
-    integer, allocatable :: dims(:), nparts(:)
+    integer, allocatable :: dims(:), nparts(:), seed_body(:), seed_mat(:)
     integer :: n, nslot, nseed, nsolid, nhist, stat, k
 
     blocks = .false.
@@ -274,6 +276,11 @@ contains
     ! the grid through an open face
     nseed = st%pt%np
     if (nseed > 0) then
+      ! what each seeded particle is (a particle keeps its body and solid)
+      seed_body = st%pt%body
+      seed_mat = st%pt%mat
+      seed_body(st%pt%id) = st%pt%body
+      seed_mat(st%pt%id) = st%pt%mat
       call restart_read_dims(path, 'particle_id', dims, err)
       if (.not. allocated(err)) then
         if (size(dims) /= 1) call error_set(err, 'restart_read', path//': state/particle_id has the wrong rank')
@@ -281,6 +288,11 @@ contains
       if (.not. allocated(err)) then
         if (dims(1) > nseed) call error_set(err, 'restart_read', path//' holds '//itoa(dims(1))// &
                                             ' particles; the deck seeds '//itoa(nseed))
+      end if
+      if (.not. allocated(err)) then
+        if (dims(1) < nseed .and. .not. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)) &
+          call error_set(err, 'restart_read', path//' holds '//itoa(dims(1))//' particles; the deck seeds '// &
+                         itoa(nseed)//' and none can leave (the deck has no open face)')
       end if
       if (.not. allocated(err)) call restart_check_counts(path, reg, LOC_PARTICLE, nseed, dims(1), &
                                                           'the count of state/particle_id', err)
@@ -332,6 +344,8 @@ contains
     ! (derived, not stored)
     if (.not. allocated(err)) then
       call particles_check(st%pt, st%g%ncell, nseed, err)
+      if (.not. allocated(err) .and. st%pt%np > 0) call particles_as_seeded(st%pt, seed_body, seed_mat, err)
+      if (.not. allocated(err)) call particles_hosted(st%g, st%pt, err)
       if (.not. allocated(err)) call particles_index(st%pt, st%g%ncell, err)
       if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
     end if
@@ -341,6 +355,12 @@ contains
     end if
     if (.not. mixed_consistent(st)) then
       call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
+      return
+    end if
+    if (st%t >= cfg%control%t_end) then
+      call error_set(err, 'cannot restart', '&run restart_from: '//path//' is at t = '//rtoa(st%t)// &
+                     ', at or past &run t_end = '//rtoa(cfg%control%t_end)//': nothing to run (raise t_end to go on)', &
+                     ERR_INPUT)
       return
     end if
     call state_after_read(st)
@@ -368,15 +388,18 @@ contains
     if (.not. blocks) call report_conservation(st, sch%log, 'restart')
   end subroutine read_restart
 
-  !> Every registered quantity in the range its owner registered (`lower`),
-  !> the generator state not zero (a xorshift generator stays at zero) and the
-  !> frame counter equal to the stored frame list's length. Values are finite
-  !> here (io_restart), so the comparisons cannot trap.
+  !> Every registered quantity in the range its owner registered (`lower`)
+  !> and held to the deck's magnitude rule (below 1e30, or the largest real,
+  !> which marks "never"), the generator state not zero (a xorshift
+  !> generator stays at zero; its bits are not a number to compare) and the
+  !> frame counter equal to the stored frame list's length. Values are
+  !> finite here (io_restart), so the comparisons cannot trap.
   subroutine check_ranges(reg, nframes, path, err)
     type(registry_t), intent(in) :: reg
     integer, intent(in) :: nframes
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), parameter :: too_big = 1.0e30_wp
     character(len=96) :: name
     integer :: k, bad
     logical :: pos, nonneg
@@ -388,19 +411,28 @@ contains
         select case (e%kind)
         case (K_REAL)
           name = 'state/'//trim(e%name)
-          bad = 0
-          if (pos) bad = findloc(e%r > 0.0_wp, .false., 1)
-          if (nonneg) bad = findloc(e%r >= 0.0_wp, .false., 1)
-          if (bad > 0) call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%r(bad))// &
-            ' at entry '//itoa(bad)//trim(merge(' (must be > 0) ', ' (must be >= 0)', pos)))
+          if (e%units == 'bits') cycle
+          bad = findloc(abs(e%r) < too_big .or. abs(e%r) >= huge(1.0_wp), .false., 1)
+          if (bad > 0) then
+            call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%r(bad))// &
+                           ' at entry '//itoa(bad)//' (magnitudes of 1e30 or more are refused)')
+          else
+            if (pos) bad = findloc(e%r > 0.0_wp, .false., 1)
+            if (nonneg) bad = findloc(e%r >= 0.0_wp, .false., 1)
+            if (bad > 0) call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '// &
+              rtoa(e%r(bad))//' at entry '//itoa(bad)//trim(merge(' (must be > 0) ', ' (must be >= 0)', pos)))
+          end if
         case (K_REAL_SCALAR)
           name = 'scalars/'//trim(e%name)
-          if ((pos .and. .not. e%rs > 0.0_wp) .or. (nonneg .and. .not. e%rs >= 0.0_wp)) &
+          if (e%units == 'bits') then
+            if (e%name == 'rng_state' .and. transfer(e%rs, 0_int64) == 0_int64) call error_set(err, 'restart_read', path// &
+              ' is damaged: '//trim(name)//' is zero (a random generator state never is)')
+          else if (.not. (abs(e%rs) < too_big .or. abs(e%rs) >= huge(1.0_wp))) then
+            call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%rs)// &
+                           ' (magnitudes of 1e30 or more are refused)')
+          else if ((pos .and. .not. e%rs > 0.0_wp) .or. (nonneg .and. .not. e%rs >= 0.0_wp)) then
             call error_set(err, 'restart_read', path//' is damaged: '//trim(name)//' = '//rtoa(e%rs)// &
                            trim(merge(' (must be > 0) ', ' (must be >= 0)', pos)))
-          if (e%name == 'rng_state') then
-            if (transfer(e%rs, 0_int64) == 0_int64) call error_set(err, 'restart_read', path// &
-              ' is damaged: '//trim(name)//' is zero (a random generator state never is)')
           end if
         case (K_INT_SCALAR)
           name = 'scalars/'//trim(e%name)
@@ -415,6 +447,54 @@ contains
       if (allocated(err)) return
     end do
   end subroutine check_ranges
+
+  !> Each particle's body and solid those of the particle the deck seeds
+  !> with its id (seed_body, seed_mat: by id); the message names the first
+  !> that is not. (The ids were checked: 1..the number seeded.)
+  subroutine particles_as_seeded(pt, seed_body, seed_mat, err)
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: seed_body(:), seed_mat(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    do k = 1, pt%np
+      if (pt%body(k) /= seed_body(pt%id(k))) then
+        call error_set(err, 'particles_check', 'state/particle_body = '//itoa(pt%body(k))//' at particle '// &
+                       itoa(k)//' (the deck seeds particle '//itoa(pt%id(k))//' in body '// &
+                       itoa(seed_body(pt%id(k)))//')')
+      else if (pt%mat(k) /= seed_mat(pt%id(k))) then
+        call error_set(err, 'particles_check', 'state/particle_material = '//itoa(pt%mat(k))//' at particle '// &
+                       itoa(k)//' (the deck seeds particle '//itoa(pt%id(k))//' of solid '// &
+                       itoa(seed_mat(pt%id(k)))//')')
+      end if
+      if (allocated(err)) return
+    end do
+  end subroutine particles_as_seeded
+
+  !> Each particle at the point of its host cell that its natural
+  !> coordinates name (a particle's position is that point, `particles_g2p`:
+  !> to round-off; 1e-6 of the cell's size allowed); the message names the
+  !> first that is not.
+  subroutine particles_hosted(g, pt, err)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: pt
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: xn(3, 8), sh(8), xp(3), h
+    integer :: k, a
+    do k = 1, pt%np
+      call g%gather(pt%cell(k), g%x, xn)
+      sh = particles_shape_values(pt%xi(:, k))
+      xp = 0.0_wp
+      do a = 1, 8
+        xp = xp + sh(a)*xn(:, a)
+      end do
+      h = maxval(maxval(xn, dim=2) - minval(xn, dim=2))
+      if (maxval(abs(xp - pt%x(:, k))) <= 1.0e-6_wp*h) cycle
+      call error_set(err, 'particles_check', 'state/particle_x of particle '//itoa(k)//' is not in its host cell '// &
+                     itoa(pt%cell(k))//' at state/particle_xi (off by '//rtoa(maxval(abs(xp - pt%x(:, k))))// &
+                     ', the cell is '//rtoa(h)//' across)')
+      return
+    end do
+  end subroutine particles_hosted
 
   !> Each cell's material is one of this deck's (1..nmat) or a mixed cell
   !> (-1..-mixed_n), and each mixed slot's material one of this deck's; the

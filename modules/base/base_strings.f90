@@ -31,7 +31,9 @@ contains
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
     character(len=32) :: buf
-    write(buf, '(es14.7)') x
+    write(buf, '(es15.7e3)') x
+    ! (two exponent digits where they suffice, as before: 1.0E+05)
+    if (buf(len_trim(buf) - 2:len_trim(buf) - 2) == '0') buf = buf(1:len_trim(buf) - 3)//buf(len_trim(buf) - 1:)
     s = trim(adjustl(buf))
   end function rtoa
 end module base_strings

@@ -37,7 +37,7 @@ module particles_state
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
   use base_strings, only: itoa
-  use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE
+  use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
   public :: particles_t, particles_allocate, particles_order, particles_select, particles_index, particles_bin, &
@@ -255,7 +255,8 @@ contains
     call reg%add('particle_stress', 'mass/(length*time^2)', LOC_PARTICLE, p%stress)
     call reg%add('particle_energy', 'energy/mass', LOC_PARTICLE, p%e)
     if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
-    if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf)
+    if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf, &
+                                       lower=LOWER_NONNEGATIVE)
   end subroutine particles_register_restart
 
   !> The particles' indices after a restart read: host cells in 1..ncell,
