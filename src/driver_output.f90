@@ -24,7 +24,7 @@ module driver_output
   use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN
   use parallel_comm, only: comm_t, parallel_bcast_text
   use driver_parallel, only: agree_error
-  use driver_state, only: state_t, state_totals, energy_drift
+  use driver_state, only: state_t, state_totals, energy_drift, totals_not_finite
   use driver_particles, only: particles_gathered
   use particles_state, only: particles_t
   implicit none
@@ -567,6 +567,11 @@ contains
     character(len=256) :: line
 
     call state_totals(st)
+    if (len(totals_not_finite(st%tot)) > 0) then
+      call error_set(err, 'time_loop', 'the state is not finite: its total '//totals_not_finite(st%tot)// &
+                     ' is a NaN or an infinity, or too large for a real', ERR_RUNTIME)
+      return
+    end if
     drift = energy_drift(st%tot)
     if (ieee_is_nan(drift)) then
       call error_set(err, 'time_loop', 'the state has a NaN (energy balance is NaN)', ERR_RUNTIME)

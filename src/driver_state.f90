@@ -2,6 +2,7 @@
 !> mixed cells, particles, time and step, the conservation totals and
 !> the random-number state, with what it registers for restarts.
 module driver_state
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp, i8
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_random, only: rng_t
@@ -19,7 +20,8 @@ module driver_state
   use io_output, only: totals_t
   implicit none
   private
-  public :: state_t, state_totals, particles_internal, energy_drift, state_register_restart, state_after_read, centroid_text
+  public :: state_t, state_totals, particles_internal, energy_drift, totals_not_finite, state_register_restart, &
+            state_after_read, centroid_text
 
   !> The physical state.
   type :: state_t
@@ -131,6 +133,20 @@ contains
     ep = xsum_value(acc(1))
     if (present(total)) total = xsum_value(acc(2))
   end function particles_internal
+
+  !> The names of the totals that are not finite ('' if all are): a NaN or
+  !> an infinity in the state, or a sum too large for a real (`base_xsum`).
+  pure function totals_not_finite(tot) result(names)
+    type(totals_t), intent(in) :: tot
+    character(len=:), allocatable :: names
+    names = ''
+    if (.not. ieee_is_finite(tot%mass)) names = names//', mass'
+    if (.not. all(ieee_is_finite(tot%momentum))) names = names//', momentum'
+    if (.not. ieee_is_finite(tot%internal)) names = names//', internal energy'
+    if (.not. ieee_is_finite(tot%kinetic)) names = names//', kinetic energy'
+    if (.not. ieee_is_finite(tot%particle_internal)) names = names//', particles'' internal energy'
+    if (len(names) > 0) names = names(3:)
+  end function totals_not_finite
 
   pure real(wp) function energy_drift(tot)
     type(totals_t), intent(in) :: tot

@@ -37,4 +37,29 @@ for np in 2 4; do
   [ "$(grep -c "$want" ranks$np.log)" -eq 1 ] || { cat ranks$np.log; fail "$np ranks: the refusal is not printed once"; }
   echo "ok: $np ranks refuse the damaged dump with exit 2, printed once"
 done
+# a node coordinate of 1e300 (the deck's magnitude rule; issue 40: it
+# crashed a global sum), dumped by 2 ranks, read on 1 and 3
+derive part2 "$deck" "max_steps = 10, dump_steps = 10" part2
+derive huge "$deck" "max_steps = 20, restart_from = 'huge.h5'" huge
+timeout 120 "$mpiexec" "${root[@]}" --oversubscribe -np 2 "$exe" part2.nml > part2.log 2>&1 || fail "the 2-rank run to step 10 failed"
+"$py" - out/part2_restart_00000010.h5 huge.h5 <<'PY' || fail "could not damage the dump"
+import shutil, sys
+import h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], 'r+') as h:
+    x = h['state/x'][...]
+    x[x.shape[0] // 2, 1] = 1e300      # node nnode/2 + 1, its y
+    h['state/x'][...] = x
+    node = x.shape[0] // 2 + 1
+print("node", node)
+PY
+node=$("$py" -c "import h5py; print(h5py.File('huge.h5')['state/x'].shape[0] // 2 + 1)")
+want="huge.h5 is damaged: state/x = 1.0000000E+300 at entry $((3*node - 1)) (node $node)"
+for np in 1 3; do
+  timeout 120 "$mpiexec" "${root[@]}" --oversubscribe -np $np "$exe" huge.nml > huge$np.log 2>&1; rc=$?
+  [ $rc -eq 124 ] && fail "$np ranks: hung (killed after 120 s)"
+  [ $rc -eq 2 ] || { tail -5 huge$np.log; fail "$np rank(s), node at 1e300: exit status $rc, not 2"; }
+  [ "$(grep -c -F "$want" huge$np.log)" -eq 1 ] || { grep -E "ERROR|FATAL" huge$np.log; fail "$np rank(s): not one line saying '$want'"; }
+  echo "ok: $np rank(s) refuse the dump with a node at 1e300: $want"
+done
 echo "PASS mpi_restart_damaged"

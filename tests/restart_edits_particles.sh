@@ -35,7 +35,7 @@ PY
   if [ "$want" -ne 0 ]; then grep -E -q '^step ' "$name.out" && fail "$name: a step was taken"; fi
   echo "ok: $name (exit $rc): $(grep -E -- "$regex" "$name.out" | head -1 | cut -c1-220)"
 }
-run negative_vf_mass 2 "state/particle_virtual_fluid_mass = -.* \(must be >= 0\)" \
+run negative_vf_mass 2 "state/particle_virtual_fluid_mass = -.* at entry 4 \(particle 4\) \(must be >= 0\)" \
   'd = f["state/particle_virtual_fluid_mass"]; d[3] = -abs(d[3]) - 1.0'
 run history_1e300 2 "state/particle_history = 1.0+E\+300 at entry .* \(magnitudes of 1e30 or more are refused\)" \
   'd = f["state/particle_history"]; v = d[()]; v[5, 0] = 1e300; d[...] = v'
@@ -53,7 +53,7 @@ for k in list(f["state"].keys()):
         f.create_dataset("state/" + k, data=v[:-1], fletcher32=True, chunks=True)
 '
 run time_1e9 2 "is at t = 1.0+E\+09, at or past &run t_end" 'f["scalars/time"][...] = 1e9'
-run x_1e300 2 "state/x = 1.0+E\+300 at entry 4 \(magnitudes of 1e30" \
+run x_1e300 2 "state/x = 1.0+E\+300 at entry 4 \(node 2\) \(magnitudes of 1e30" \
   'd = f["state/x"]; v = d[()]; v[1, 0] = 1e300; d[...] = v'
 run nan_rng 0 "^done: " 'f["scalars/rng_state"][...] = np.frombuffer(np.uint64(0x7ff8000000000001).tobytes(), dtype=np.float64)[0]'
 run unedited 0 "^done: " 'pass'

@@ -64,7 +64,7 @@ refuse material_beyond "state/particle_material = 9 at particle 1 \(this deck ha
   'f["state/particle_material"][0] = 9'
 refuse id_repeated "state/particle_id = 1 at particle 2 \(the id is repeated\)" \
   'ids = f["state/particle_id"][()]; ids[ids == 1] = ids[1]; ids[1] = 1; ids[0] = 1; f["state/particle_id"][:] = ids'
-refuse mass_negative "state/particle_mass = -1\.0+E\+00 at entry 4 \(must be > 0\)" \
+refuse mass_negative "state/particle_mass = -1\.0+E\+00 at entry 4 \(particle 4\) \(must be > 0\)" \
   'f["state/particle_mass"][3] = -1.0'
 refuse count_changed "particle_x" \
   'x = f["state/particle_x"][()]; del f["state/particle_x"]; f.create_dataset("state/particle_x", data=x[:-1], fletcher32=True)'

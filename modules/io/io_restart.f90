@@ -37,9 +37,9 @@ module io_restart
                      h5_read_real, h5_read_int, h5_read_scalar_real, h5_read_scalar_int, &
                      h5_read_string, h5_exists
   use io_xdmf, only: io_rename
-  use base_strings, only: itoa
-  use base_registry, only: registry_t, registry_entry_t, location_name, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, &
-                           K_INT, K_REAL_SCALAR, K_INT_SCALAR
+  use base_strings, only: itoa, rtoa
+  use base_registry, only: registry_t, registry_entry_t, location_name, LOWER_POSITIVE, LOWER_NONNEGATIVE, &
+                           LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
   public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
@@ -53,6 +53,10 @@ module io_restart
   !> 4: the subcell (corner) masses, corner_mass (8, ncell).
   !> 5: the mixed cells' interface planes, mixed_plane (4, nslot).
   integer, parameter :: restart_version = 5
+
+  !> Values of this magnitude or more are refused (the deck's rule), but for
+  !> the largest real, which marks "never".
+  real(wp), parameter :: too_big = 1.0e30_wp
 
 contains
 
@@ -187,7 +191,7 @@ contains
     !> every node once) or cells, in the whole grid's dataset.
     subroutine write_owned(e)
       type(registry_entry_t), intent(in) :: e
-      integer, allocatable :: lead(:)
+      integer :: lead(size(e%dims) - 1)
       integer :: lo(3), hi(3), grid(3), m, p, i, j, l, q
       logical :: nodes
       nodes = e%location == LOC_NODE
@@ -401,11 +405,7 @@ contains
             call h5_read_int(f, trim(name), ibuf, err)
           end if
           if (e%kind == K_REAL) then
-            if (.not. allocated(err) .and. e%units /= 'bits') then
-              bad = findloc(finite_bits(rbuf), .false., 1)
-              if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)// &
-                ' has '//nonfinite_name(rbuf(bad))//' at '//entry_str(bad, e%dims, e%location))
-            end if
+            if (.not. allocated(err) .and. e%units /= 'bits') call check_values(e, rbuf)
             if (.not. allocated(err)) e%r = rbuf
           else if (.not. allocated(err)) then
             e%i = ibuf
@@ -466,6 +466,53 @@ contains
       frames(k) = list(1:p - 1)
       list = list(p + 1:)
     end do
+  contains
+
+    !> Values finite, held to the deck's magnitude rule (below 1e30, or the
+    !> largest real, which marks "never"), and in the range the quantity's
+    !> owner registered (`lower`); the message names the first entry that is
+    !> not by its place in the whole grid's dataset.
+    subroutine check_values(e, v)
+      type(registry_entry_t), intent(in) :: e
+      real(wp), intent(in) :: v(:)
+      character(len=*), parameter :: rule(2) = [character(len=15) :: ' (must be > 0)', ' (must be >= 0)']
+      integer :: bad
+      bad = findloc(finite_bits(v), .false., 1)
+      if (bad > 0) then
+        call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' has '// &
+                       nonfinite_name(v(bad))//' at '//where(bad, e))
+        return
+      end if
+      bad = findloc(abs(v) < too_big .or. abs(v) >= huge(1.0_wp), .false., 1)
+      if (bad > 0) then
+        call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' = '//rtoa(v(bad))// &
+                       ' at '//where(bad, e)//' (magnitudes of 1e30 or more are refused)')
+        return
+      end if
+      if (e%lower == LOWER_POSITIVE) bad = findloc(v > 0.0_wp, .false., 1)
+      if (e%lower == LOWER_NONNEGATIVE) bad = findloc(v >= 0.0_wp, .false., 1)
+      if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' = '// &
+                                  rtoa(v(bad))//' at '//where(bad, e)//trim(rule(e%lower)))
+    end subroutine check_values
+
+    !> "entry k (node n)" of the value at v(j): in a block's box, its place
+    !> in the whole grid's dataset.
+    function where(j, e) result(text)
+      integer, intent(in) :: j
+      type(registry_entry_t), intent(in) :: e
+      character(len=:), allocatable :: text
+      integer :: inner, m, q, ijk(3)
+      if (.not. box) then
+        text = entry_str(j, e%dims, e%location)
+        return
+      end if
+      inner = max(1, product(want(1:size(want) - 1)))
+      m = mod(j - 1, inner)
+      q = (j - 1)/inner
+      ijk = lo + [mod(q, cnt(1)), mod(q/cnt(1), cnt(2)), q/(cnt(1)*cnt(2))]
+      text = entry_str(m + 1 + inner*(ijk(1) + grid(1)*(ijk(2) + grid(2)*ijk(3))), want, e%location)
+    end function where
+
   end subroutine restart_read
 
   !> Opens a restart file and checks that it is one, of this version.
