@@ -91,11 +91,14 @@ contains
     character(len=*), intent(in), optional :: text
     type(deck_t) :: deck
     integer :: echo
+    character(len=max_line), allocatable :: lines(:)
+    integer, allocatable :: origin(:)
 
     problems = [character(len=max_line) ::]
     cfg%deck_path = path
     if (present(text)) then
-      call deck_from_lines(text_lines(text), path, known_groups, repeatable_groups, deck, problems)
+      lines = text_lines(text, origin)
+      call deck_from_lines(lines, path, known_groups, repeatable_groups, deck, problems, origin)
     else
       call deck_read(path, known_groups, repeatable_groups, deck, problems)
     end if

@@ -46,7 +46,8 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line), allocatable :: lines(:)
     character(len=max_line) :: msg
-    integer :: unit, ios
+    integer, allocatable :: origin(:), broken(:)
+    integer :: unit, ios, k
     logical :: exists
 
     deck%path = path
@@ -65,34 +66,43 @@ contains
       call problem_add(problems, 'cannot open deck '''//trim(path)//''': '//trim(msg))
       return
     end if
-    call read_lines(unit, lines, ios, msg)
+    call read_lines(unit, lines, origin, broken, ios, msg)
     close(unit)
     if (ios /= 0) then
       call problem_add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
       return
     end if
-    call cut_deck(lines, path, known, repeatable, deck, problems)
+    do k = 1, size(broken)
+      call problem_add(problems, trim(path)//':'//itoa(broken(k))//': a quoted string or a word longer than '// &
+                       itoa(max_line - 2)//' characters (lines of any length are read, but each string or '// &
+                       'number in them must fit in '//itoa(max_line - 2)//')')
+    end do
+    call cut_deck(lines, path, known, repeatable, deck, problems, origin)
   end subroutine deck_read
 
   !> The groups of a deck given as its lines (`path` names it in messages).
   !> Only the groups in `repeatable` may appear more than once. Tabs count
   !> as blanks and a UTF-8 byte-order mark is skipped.
-  subroutine deck_from_lines(lines, path, known, repeatable, deck, problems)
+  !> `origin` (optional): the line of the deck each of `lines` comes from
+  !> (a long line is cut into several, `text_lines`), for messages.
+  subroutine deck_from_lines(lines, path, known, repeatable, deck, problems, origin)
     character(len=*), intent(in) :: lines(:), path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer, intent(in), optional :: origin(:)
     character(len=max_line), allocatable :: clean(:)
     clean = lines
-    call cut_deck(clean, path, known, repeatable, deck, problems)
+    call cut_deck(clean, path, known, repeatable, deck, problems, origin)
   end subroutine deck_from_lines
 
   !> `deck_from_lines` on lines it may change (tabs to blanks, the BOM
   !> dropped) in place.
-  subroutine cut_deck(clean, path, known, repeatable, deck, problems)
+  subroutine cut_deck(clean, path, known, repeatable, deck, problems, origin)
     character(len=*), intent(inout) :: clean(:)
     character(len=*), intent(in) :: path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer, intent(in), optional :: origin(:)
     character(len=:), allocatable :: valid
     character(len=*), parameter :: bom = char(239)//char(187)//char(191)
     integer :: i, k
@@ -107,7 +117,7 @@ contains
     if (size(clean) > 0) then
       if (clean(1)(1:3) == bom) clean(1) = clean(1)(4:)
     end if
-    call split_groups(clean, path, deck%groups, problems)
+    call split_groups(clean, path, deck%groups, problems, origin)
     call index_groups(deck)
     valid = ''
     do k = 1, size(known)
@@ -136,32 +146,128 @@ contains
     end do
   end subroutine cut_deck
 
-  !> A text cut at its newlines into lines (counted first: one allocation).
-  function text_lines(text) result(lines)
+  !> A text cut at its newlines into lines, a line longer than max_line cut
+  !> further (`cut_line`); `origin`: the line of the text each comes from.
+  function text_lines(text, origin) result(lines)
     character(len=*), intent(in) :: text
+    integer, allocatable, intent(out), optional :: origin(:)
     character(len=max_line), allocatable :: lines(:)
-    character(len=max_line) :: blank
-    integer :: i, j, n
+    integer, allocatable :: from(:)
+    integer :: i, j, n, nline
+    logical :: broken
     n = 0
+    nline = 0
+    allocate(lines(16), from(16))
     i = 1
     do while (i <= len(text))
       j = index(text(i:), new_line('a'))
       if (j == 0) j = len(text) - i + 2
-      n = n + 1
+      nline = nline + 1
+      call append_line(text(i:i + j - 2), nline, lines, from, n, broken)
       i = i + j
     end do
-    blank = ''
-    lines = spread(blank, 1, n)
-    n = 0
-    i = 1
-    do while (i <= len(text))
-      j = index(text(i:), new_line('a'))
-      if (j == 0) j = len(text) - i + 2
-      n = n + 1
-      lines(n) = text(i:i + j - 2)
-      i = i + j
-    end do
+    lines = lines(1:n)
+    if (present(origin)) origin = from(1:n)
   end function text_lines
+
+  !> Appends `line` (line `number` of a deck) to lines(1:n) and its number
+  !> to origin(1:n), cut into pieces of at most max_line characters
+  !> (`cut_line`; `broken`: a cut had to split a string or a word); both
+  !> arrays double when full.
+  subroutine append_line(line, number, lines, origin, n, broken)
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: number
+    character(len=max_line), allocatable, intent(inout) :: lines(:)
+    integer, allocatable, intent(inout) :: origin(:)
+    integer, intent(inout) :: n
+    logical, intent(out) :: broken
+    character(len=max_line), allocatable :: tmp(:)
+    integer, allocatable :: itmp(:)
+    integer :: from, to
+    logical :: forced
+    from = 1
+    broken = .false.
+    do
+      call cut_line(line, from, to, forced)
+      broken = broken .or. forced
+      if (n == size(lines)) then
+        allocate(tmp(2*n), itmp(2*n))
+        tmp(1:n) = lines(1:n)
+        itmp(1:n) = origin(1:n)
+        call move_alloc(tmp, lines)
+        call move_alloc(itmp, origin)
+      end if
+      n = n + 1
+      origin(n) = number
+      if (from > 1 .and. in_comment(line(1:from - 1))) then
+        lines(n) = '!'//line(from:to)
+      else
+        lines(n) = line(from:to)
+      end if
+      if (to >= len_trim(line)) exit
+      from = to + 1
+    end do
+  end subroutine append_line
+
+  !> The piece line(from:to) of a line that fits a deck line of max_line
+  !> characters (with room for a '!' that continues a comment): cut after
+  !> the last blank or comma outside quotes before the limit, where a
+  !> namelist read takes the line break as the same separator (or anywhere
+  !> in a comment); at the limit if there is none (`forced`: a quoted
+  !> string or a word longer than a line, which cannot be read back whole).
+  subroutine cut_line(line, from, to, forced)
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: from
+    integer, intent(out) :: to
+    logical, intent(out) :: forced
+    character :: q
+    logical :: comment
+    integer :: j, last
+    last = len_trim(line)
+    forced = .false.
+    if (last - from + 1 <= max_line - 1) then
+      to = max(last, from - 1)
+      return
+    end if
+    comment = in_comment(line(1:from - 1))
+    q = ' '
+    to = 0
+    do j = from, from + max_line - 2
+      if (comment) then
+        to = j
+      else if (q /= ' ') then
+        if (line(j:j) == q) q = ' '
+      else if (line(j:j) == "'" .or. line(j:j) == '"') then
+        q = line(j:j)
+      else if (line(j:j) == '!') then
+        comment = .true.
+        to = j - 1
+      else if (line(j:j) == ' ' .or. line(j:j) == ',') then
+        to = j
+      end if
+    end do
+    forced = to < from
+    if (forced) to = from + max_line - 2
+  end subroutine cut_line
+
+  !> Whether the end of `text` (the start of a line) lies in a `!` comment.
+  pure logical function in_comment(text)
+    character(len=*), intent(in) :: text
+    character :: q
+    integer :: j
+    q = ' '
+    in_comment = .false.
+    do j = 1, len(text)
+      if (q /= ' ') then
+        if (text(j:j) == q) q = ' '
+      else if (text(j:j) == "'" .or. text(j:j) == '"') then
+        q = text(j:j)
+      else if (text(j:j) == '!') then
+        in_comment = .true.
+        return
+      end if
+    end do
+  end function in_comment
 
   !> Number of groups called `name` in the deck.
   integer function deck_count(deck, name)
@@ -282,10 +388,11 @@ contains
   !> on one line) and ends at its `/`. Text outside groups that is not blank
   !> or a `!` comment is a problem (a group that lost its `&`, a stray
   !> assignment): gfortran would skip it silently.
-  subroutine split_groups(lines, path, groups, problems)
+  subroutine split_groups(lines, path, groups, problems, origin)
     character(len=*), intent(in) :: lines(:), path
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer, intent(in), optional :: origin(:)
     type(deck_group_t) :: grp
     type(deck_group_t), allocatable :: found(:)
     character(len=max_line), allocatable :: pieces(:)
@@ -332,6 +439,7 @@ contains
           in_group = .true.
           grp%name = name_at(line, j + 1)
           grp%line = i
+          if (present(origin)) grp%line = origin(i)
           from = j
           j = j + len_trim(grp%name)
         else if (in_group .and. line(j:j) == '/') then
@@ -340,7 +448,8 @@ contains
         else if (.not. in_group .and. line(j:j) /= ' ') then
           k = index(line(j:), '!')
           if (k == 0) k = len_trim(line(j:)) + 1
-          call problem_add(problems, trim(path)//':'//itoa(i)//': text outside any group: '''// &
+          call problem_add(problems, trim(path)//':'//itoa(merge(origin(min(i, size(origin))), i, present(origin)))// &
+                           ': text outside any group: '''// &
                            trim(line(j:j + k - 2))//''' (a group starts with &name and ends with /)')
           exit scan
         end if
@@ -552,29 +661,43 @@ contains
     ok = e + ndig - 1 == 308 .and. digits(lead:min(len(digits), lead + 16)) == '17976931348623157'
   end function number_ok
 
-  !> Reads all records of an open unit (counted first: one allocation).
-  subroutine read_lines(unit, lines, ios, msg)
+  !> Reads all records of an open unit, each of any length (`append_line`
+  !> cuts the long ones; origin: the record each line comes from; broken:
+  !> the records whose cut split a string or a word).
+  subroutine read_lines(unit, lines, origin, broken, ios, msg)
     integer, intent(in) :: unit
     character(len=max_line), allocatable, intent(out) :: lines(:)
+    integer, allocatable, intent(out) :: origin(:), broken(:)
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
-    integer :: n, k
+    character(len=:), allocatable :: line
+    character(len=4096) :: buf
+    integer :: n, nline, got
+    logical :: forced
 
     n = 0
-    rewind(unit)
-    do
-      read(unit, '(a)', iostat=ios, iomsg=msg)
-      if (ios /= 0) exit
-      n = n + 1
-    end do
-    if (ios > 0) return
-    allocate(lines(n), stat=ios, errmsg=msg)
+    nline = 0
+    broken = [integer ::]
+    allocate(lines(64), origin(64), stat=ios, errmsg=msg)
     if (ios /= 0) return
     rewind(unit)
-    do k = 1, n
-      read(unit, '(a)', iostat=ios, iomsg=msg) lines(k)
-      if (ios /= 0) return
+    do
+      ! a whole line, however long, in pieces of the buffer
+      line = ''
+      do
+        read(unit, '(a)', advance='no', size=got, iostat=ios, iomsg=msg) buf
+        line = line//buf(1:got)
+        if (ios /= 0) exit
+      end do
+      if (is_iostat_end(ios)) exit
+      if (.not. is_iostat_eor(ios)) return
+      nline = nline + 1
+      call append_line(line, nline, lines, origin, n, forced)
+      if (forced) broken = [broken, nline]
     end do
+    ios = 0
+    lines = lines(1:n)
+    origin = origin(1:n)
   end subroutine read_lines
 
   !> Opens the scratch unit the packages write their resolved groups to.
