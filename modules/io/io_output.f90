@@ -184,7 +184,7 @@ contains
     ! file together.
     direct = g%ng == 0 .and. product(nc) == 3*g%nnode .and. product(cc) == g%ncell
     stat = 0
-    if (.not. direct) allocate(buf(max(product(nc), product(cc))), ibuf(product(cc)), stat=stat)
+    if (.not. direct) allocate(buf(max(product(nc), product(cc))), ibuf(product(cc)), stat=stat, errmsg=msg)
     mine = stat /= 0
     failed = mine
     if (present(comm)) call MPI_Allreduce(mine, failed, 1, MPI_LOGICAL, MPI_LOR, comm)
