@@ -7,7 +7,7 @@ module driver_config
   use base_kinds, only: wp
   use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
-  use base_errors, only: error_t
+  use base_errors, only: error_no_memory, error_t
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
   use io_grid_file, only: grid_file_read
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
@@ -193,7 +193,7 @@ contains
     if (allocated(cfg%particles)) deallocate(cfg%particles)
     allocate(cfg%particles(n), stat=stat)
     if (stat /= 0) then
-      call problem_add(problems, 'cannot allocate the configuration of '//itoa(n)//' &particles groups')
+      call problem_add(problems, error_no_memory('the configuration of '//itoa(n)//' &particles groups'))
       return
     end if
     do k = 1, n

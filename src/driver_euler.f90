@@ -11,7 +11,7 @@ module driver_euler
   use mesh_grid, only: grid_t, grid_index_t, grid_index
   use mesh_halo, only: halo_t
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_RUNTIME
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use rezone_quality, only: grid_quality, grid_trigger_cells, hex_shape
@@ -90,7 +90,7 @@ contains
     allocate(es%x0, source=g%x, stat=stat, errmsg=msg)
     if (stat == 0) allocate(es%quality(g%ncell), es%fail(g%ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'euler_init', 'cannot allocate the Euler phase''s arrays: '//trim(msg))
+      call error_set(err, 'euler_init', error_no_memory('the Euler phase''s arrays'))
       return
     end if
     es%t_next = huge(1.0_wp)
@@ -423,7 +423,7 @@ contains
       ! material (a piston, a free surface): there the grid follows it
       allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'euler_step', 'cannot allocate the rezoned grid: '//trim(msg))
+        call error_set(err, 'euler_step', error_no_memory('the rezoned grid'))
       else
         call global_target(g%ni, g%nj, g%nk, [(global_face_rule(bc%kind(f)), f = 1, 6)], es%x0, g%x, xnew, &
                            nmove, err)
@@ -595,7 +595,7 @@ contains
     n = g%shi - g%slo + 1
     allocate(moved(g%nnode), touched(g%ncell), counts(g%nnode), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'smooth_rezone', 'cannot allocate the rezone''s work arrays')
+      call error_set(err, 'smooth_rezone', error_no_memory('the rezone''s work arrays'))
       return
     end if
     do k = g%slo(3) - 1, g%shi(3)
@@ -822,7 +822,7 @@ contains
     integer :: i, j, k, c, m, gc, stat
     allocate(mine(count(distorted)), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'smooth_rezone', 'cannot allocate the distorted cells')
+      call error_set(err, 'smooth_rezone', error_no_memory('the distorted cells'))
       return
     end if
     m = 0
@@ -846,7 +846,7 @@ contains
     allocate(order(nd), ijk(3, nd), stat=stat)
     if (stat == 0) call sort_order(key, order, stat)
     if (stat /= 0) then
-      call error_set(err, 'smooth_rezone', 'cannot allocate the distorted cells')
+      call error_set(err, 'smooth_rezone', error_no_memory('the distorted cells'))
       return
     end if
     do m = 1, nd
@@ -906,7 +906,7 @@ contains
     b = lo - 1
     allocate(mine(4*product(g%nhi - g%nlo + 1)), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'smooth_rezone', 'cannot allocate the TFI''s faces')
+      call error_set(err, 'smooth_rezone', error_no_memory('the TFI''s faces'))
       return
     end if
     m = 0
@@ -933,7 +933,7 @@ contains
     cmob%nk = cb%nk
     allocate(xc(3, cb%nnode), cmob%kind(cb%nnode), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'smooth_rezone', 'cannot allocate the TFI''s cuboid')
+      call error_set(err, 'smooth_rezone', error_no_memory('the TFI''s cuboid'))
       return
     end if
     xc = 0.0_wp

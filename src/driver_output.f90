@@ -6,7 +6,7 @@ module driver_output
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_value, ieee_quiet_nan
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_IO, ERR_RUNTIME, ERR_INPUT
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_IO, ERR_RUNTIME, ERR_INPUT
   use base_timers, only: timer_t, wall_seconds
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
@@ -200,7 +200,7 @@ contains
     end if
     allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(st%pt%np), sch%track_mat(n), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'tracks_init', 'cannot allocate the tracked particles: '//trim(msg))
+      call error_set(err, 'tracks_init', error_no_memory('the tracked particles'))
       return
     end if
     call particles_nearest_ids(st%pt, cfg%output%tracks(:, 1:n), sch%track_id)
@@ -401,7 +401,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, parameter :: nper = 4          ! fields per material: vf, density, energy, pressure
     integer :: nmat, nf, c, k, s, m, stat
-    integer, allocatable :: cellmat(:)
+    integer, allocatable, target :: cellmat(:)
+    integer, pointer :: frame_mat(:)
     real(wp), allocatable :: fld(:, :), pfld(:, :)
     character(len=80), allocatable :: names(:), owner(:)
     character(len=32), allocatable :: units(:)
@@ -412,19 +413,22 @@ contains
 
     nmat = size(st%mats)
     nf = merge(nper*nmat, 0, nmat > 1)
-    allocate(cellmat(st%g%ncell), fld(st%g%ncell, nf), names(nf), owner(nf), units(nf), &
+    ! (one material: each cell's material is h%mat, written as it is)
+    allocate(cellmat(merge(st%g%ncell, 0, nmat > 1)), fld(st%g%ncell, nf), names(nf), owner(nf), units(nf), &
              meta%materials(nmat), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'frame_out', 'cannot allocate the frame''s cell fields: '//trim(msg))
+      call error_set(err, 'frame_out', error_no_memory('the frame''s cell fields'))
       return
     end if
-    cellmat = st%h%mat
+    frame_mat => st%h%mat
     do m = 1, nmat
       meta%materials(m) = st%mats(m)%name
     end do
     meta%title = trim(cfg%control%title)
     meta%unit_system = trim(cfg%control%units)
     if (nmat > 1) then
+      cellmat = st%h%mat
+      frame_mat => cellmat
       ! columns of material m: vf, density, energy, pressure at nper*(m-1) + 1..4
       do m = 1, nmat
         k = nper*(m - 1)
@@ -462,7 +466,7 @@ contains
       ! the strength models' history fields and failure flags (1 failed)
       allocate(pfld(size(strength_fields) + 1, pt%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'frame_out', 'cannot allocate the frame''s particle fields: '//trim(msg))
+        call error_set(err, 'frame_out', error_no_memory('the frame''s particle fields'))
         return
       end if
       do k = 1, pt%np
@@ -477,15 +481,15 @@ contains
     else
       allocate(pfld(0, pt%np), pnames(0), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'frame_out', 'cannot allocate: '//trim(msg))
+        call error_set(err, 'frame_out', error_no_memory('the particles'' names'))
         return
       end if
     end if
     if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
-      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+      call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
                         meta, path, err, pt=pt, pnames=pnames, pfields=pfld, comm=sch%pc%world)
     else
-      call output_frame(sch%out, st%g, st%h, cellmat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
+      call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
                         meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
     end if
     if (allocated(err)) err%category = ERR_IO

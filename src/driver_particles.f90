@@ -29,7 +29,7 @@
 module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_INPUT, ERR_RUNTIME
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_geometry, only: hex_volume
   use mesh_grid, only: grid_index_t
   use particles_config, only: particles_config_t
@@ -99,7 +99,7 @@ contains
     if (size(cfg%particles) == 0) return
     allocate(groups(size(cfg%particles)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'build_particles', 'cannot allocate the groups: '//trim(msg))
+      call error_set(err, 'build_particles', error_no_memory('the groups'))
       return
     end if
     np = 0
@@ -195,7 +195,7 @@ contains
         if (n == 0) cycle
         allocate(order(n), at(p%np), xs(3, n), g(n), f0(n), stat=stat, errmsg=msg)
         if (stat /= 0) then
-          call error_set(err, 'gurson_voids', 'cannot allocate: '//trim(msg))
+          call error_set(err, 'gurson_voids', error_no_memory('the void field''s work arrays'))
           return
         end if
         ! the solid's particles in seeding-id order
@@ -252,7 +252,7 @@ contains
     type(strength_params_t) :: par
     allocate(st%pt%mvf(st%pt%np), st%pw%models(size(cfg%solids)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'couple_particles', 'cannot allocate: '//trim(msg))
+      call error_set(err, 'couple_particles', error_no_memory('the coupling arrays'))
       return
     end if
     do k = 1, st%pt%np
@@ -421,7 +421,7 @@ contains
       call g%cells_around(1, lo, hi)
       allocate(pick(w%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
+        call error_set(err, 'particles_take', error_no_memory('work arrays'))
         return
       end if
       n = 0
@@ -444,7 +444,7 @@ contains
       if (allocated(err)) return
       allocate(owned(n), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'particles_take', 'cannot allocate: '//trim(msg))
+        call error_set(err, 'particles_take', error_no_memory('work arrays'))
         return
       end if
       do q = 1, n
@@ -483,7 +483,7 @@ contains
     if (allocated(st%pt%mvf)) then
       allocate(ptw%mvf(size(at)), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'particles_gathered', 'cannot allocate: '//trim(msg))
+        call error_set(err, 'particles_gathered', error_no_memory('the gathered particles'))
         return
       end if
     end if
@@ -529,7 +529,7 @@ contains
     character(len=200) :: msg
     allocate(xi(3, st%pt%np), pe%guess(st%pt%np), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_euler_preposition', 'cannot allocate: '//trim(msg))
+      call error_set(err, 'particles_euler_preposition', error_no_memory('work arrays'))
       return
     end if
     call particles_relocate(st%g, x0, st%pt, st%pt%cell, pe%guess, xi, bad)
@@ -595,7 +595,7 @@ contains
     associate (g => st%g, pt => st%pt)
       allocate(cell(pt%np), xi(3, pt%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'particles_euler_finish', 'cannot allocate: '//trim(msg))
+        call error_set(err, 'particles_euler_finish', error_no_memory('work arrays'))
         return
       end if
       if (.not. allocated(pe%guess)) pe%guess = pt%cell
@@ -802,7 +802,7 @@ contains
     n = size(gr%x, 2)
     allocate(gr%cell(n), gr%xi(3, n), gr%vol(n), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'seed_file', 'cannot allocate '//itoa(n)//' particles: '//trim(msg))
+      call error_set(err, 'seed_file', error_no_memory(itoa(n)//' particles'))
       return
     end if
     guess = 1

@@ -5,7 +5,7 @@
 module driver_scene
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_INPUT
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT
   use base_random, only: rng_seed, rng_uniform
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes
@@ -80,7 +80,7 @@ contains
 
       allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'build_scene', 'cannot allocate the materials: '//trim(msg))
+        call error_set(err, 'build_scene', error_no_memory('the materials'))
         return
       end if
       do m = 1, size(cfg%materials)
@@ -237,7 +237,7 @@ contains
       allocate(vfm(nmat), massm(nmat), enm(nmat), xim(3, nmat), e_reg(nreg), used(nreg), shapes(nreg), &
                keep(6*nmat, 64), stat=k, errmsg=msg)
       if (k /= 0) then
-        call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
+        call error_set(err, 'fill_regions', error_no_memory('work arrays'))
         return
       end if
       used = .false.
@@ -289,7 +289,7 @@ contains
           if (nmix > size(keep, 2)) then
             allocate(grown(size(keep, 1), 2*size(keep, 2)), stat=k, errmsg=msg)
             if (k /= 0) then
-              call error_set(err, 'fill_regions', 'cannot allocate work arrays: '//trim(msg))
+              call error_set(err, 'fill_regions', error_no_memory('work arrays'))
               return
             end if
             grown(:, 1:size(keep, 2)) = keep

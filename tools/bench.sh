@@ -15,7 +15,10 @@
 # rank x 2 threads against 2 ranks x 1 thread, the halo's share of the
 # Lagrangian time and its messages and bytes per step, and 4 ranks
 # oversubscribed for the halo counts; restart dumps and peak memory of Sedov
-# 80^3 on 1 process and 2 ranks (BENCH_ONLY=mpi runs only that).
+# 80^3 on 1 process and 2 ranks (BENCH_ONLY=mpi runs only that); memory
+# per cell (issue 40): the marginal peak resident bytes per cell between
+# Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
+# (BENCH_ONLY=memory runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -214,6 +217,37 @@ mpi_runs() {
             rate[2] / rate[1], tot[1] / tot[2]}' ${name}_r1t2.log ${name}_r2t1.log
   echo
 }
+# ---- Memory per cell (issue 40): Sedov Lagrangian, 40^3 and 60^3, 20 steps ----
+# The marginal bytes per cell, (peak60 - peak40) / (60^3 - 40^3), of the
+# peak resident memory (/usr/bin/time's, in KiB; the log's `memory:` line
+# is in MiB), beside the Lagrangian throughput of the same two runs
+# (1 thread). The fixed part (libraries, MPI, HDF5) cancels; what is left
+# is the state and the work arrays per cell (LULESH's is 715 bytes).
+memory_bench() {
+  local n kib=() rate=() steps
+  echo "## Memory per cell: Sedov 3D octant, Lagrangian, 20 steps, 1 thread, 40^3 and 60^3 (Release)"
+  for n in 40 60; do
+    sed -e "s/ni = 20, nj = 20, nk = 20/ni = $n, nj = $n, nk = $n/" \
+        -e "s|^&run .*|\&run title = 'Sedov $n^3, memory', t_end = 1.0, max_steps = 20 /|" \
+        -e "s|^&output.*|\&output dir = 'out/mem$n' /|" "$root/input/sedov3d.nml" > mem$n.nml
+    OMP_NUM_THREADS=1 /usr/bin/time -f '%M' -o mem$n.kib "$exe" mem$n.nml > mem$n.log
+    cp mem$n.log "$outdir/bench_memory_$n.log"
+    kib+=("$(tail -1 mem$n.kib)")
+    rate+=("$(awk '/^throughput by phase:/ {print $5}' mem$n.log)")
+    steps=$(awk '/^throughput:/ {print $5}' mem$n.log)
+    echo "$n^3: peak resident $(awk -v k="${kib[-1]}" 'BEGIN {printf "%.1f", k / 1024}') MiB" \
+         "($(grep '^memory:' mem$n.log)), Lagrangian ${rate[-1]} cell-cycles/s ($steps steps)"
+  done
+  awk -v k40="${kib[0]}" -v k60="${kib[1]}" -v r40="${rate[0]}" -v r60="${rate[1]}" 'BEGIN {
+    printf "memory per cell (marginal, 40^3 to 60^3): %.0f bytes; throughput 60^3/40^3: %.3f\n", \
+           1024 * (k60 - k40) / (60^3 - 40^3), r60 / r40 }'
+}
+
+if [[ "${BENCH_ONLY:-}" == memory ]]; then
+  memory_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == mpi ]]; then
   mpi_bench
   echo "bench wall time: ${SECONDS} s"
@@ -244,6 +278,9 @@ for th in 1 2; do
   echo "threads $th: ${rate[$th]} cell-cycles/s ($steps steps)"
 done
 echo "2-thread speed-up: $(awk -v a="${rate[1]}" -v b="${rate[2]}" 'BEGIN {printf "%.2f", b/a}')"
+
+echo
+memory_bench
 
 echo
 echo "## Remap: global remap of a 40^3 box, pure and mixed cells; MoF (tests/bench_remap.f90, Release)"

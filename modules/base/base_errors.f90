@@ -7,7 +7,7 @@
 module base_errors
   implicit none
   private
-  public :: error_t, error_set, ERR_RUNTIME, ERR_INPUT, ERR_IO, error_exit_status
+  public :: error_t, error_set, error_no_memory, ERR_RUNTIME, ERR_INPUT, ERR_IO, error_exit_status
 
   !> Categories: a failure of the computation (tangled cell, NaN, dt
   !> collapse, allocation), a mistake in the user's input (deck, restart file
@@ -34,6 +34,20 @@ contains
     err = error_t(where=where, msg=msg)
     if (present(category)) err%category = category
   end subroutine error_set
+
+  !> The message of a failed ALLOCATE of `what` (e.g. 'the hydro state
+  !> (3375000 cells, 2.1 GiB)'): 'out of memory: cannot allocate '//what.
+  !> The ALLOCATE's own errmsg is not shown: gfortran (12 at least) gives
+  !> every failed allocation the text "Attempt to allocate an allocated
+  !> object", which would call an out-of-memory failure a bug (the stat,
+  !> 5014, is the same for both). This code allocates only unallocated
+  !> arrays, so a failed allocation is memory (or address space, `ulimit
+  !> -v`) running out.
+  pure function error_no_memory(what) result(msg)
+    character(len=*), intent(in) :: what
+    character(len=:), allocatable :: msg
+    msg = 'out of memory: cannot allocate '//what
+  end function error_no_memory
 
   !> The documented exit status of a category: 1 runtime failure, 2 bad
   !> input, 4 I/O failure (3 is the wall-time stop, not an error).

@@ -31,7 +31,7 @@
 !> Interpolation uses lerps a + w (b - a), so a uniform field reads exactly.
 module io_gauges
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_trilinear, hex_natural_unclamped
   use lagrange_state, only: hydro_t
@@ -82,7 +82,7 @@ contains
     gs%point = points
     allocate(gs%cell(gs%n), source=0, stat=ios, errmsg=msg)
     if (ios /= 0) then
-      call error_set(err, 'gauges_open', 'cannot allocate the gauges: '//trim(msg))
+      call error_set(err, 'gauges_open', error_no_memory('the gauges'))
       return
     end if
     if (present(file)) then

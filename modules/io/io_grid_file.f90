@@ -17,7 +17,7 @@
 module io_grid_file
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set, ERR_INPUT
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT
   use base_strings, only: itoa, rtoa
   use io_hdf5, only: h5_file_t, h5_open_read, h5_close, h5_exists, h5_read_dims, h5_read_real
   use mesh_grid, only: grid_index_t, grid_index
@@ -89,7 +89,7 @@ contains
     ix = grid_index(ni, nj, nk)
     allocate(x(3, ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, here, 'cannot allocate the node positions: '//trim(msg))
+      call error_set(err, here, error_no_memory('the node positions'))
       return
     end if
     x = reshape(data, [3, ix%nnode])

@@ -35,7 +35,7 @@ module io_hdf5
                                          c_long, c_char
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa
   use hdf5, only: hid_t, hsize_t, size_t, &
        h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, h5get_libversion_f, h5dont_atexit_f, &
@@ -601,7 +601,7 @@ contains
       end if
       allocate(dims(rank), stat=stat)
       if (stat /= 0) then
-        call error_set(err, here, 'cannot allocate dims for '//where_in(file, name))
+        call error_set(err, here, error_no_memory('dims for '//where_in(file, name)))
         exit body
       end if
       if (rank == 0) exit body
@@ -636,7 +636,7 @@ contains
       if (present(grid)) n = product(int(count, hsize_t))
       allocate(data(n), stat=stat)
       if (stat /= 0) then
-        call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
+        call error_set(err, here, error_no_memory('memory for '//where_in(file, name)))
         exit body
       end if
       if (n == 0) exit body
@@ -667,7 +667,7 @@ contains
       if (present(grid)) n = product(int(count, hsize_t))
       allocate(data(n), stat=stat)
       if (stat /= 0) then
-        call error_set(err, here, 'cannot allocate memory for '//where_in(file, name))
+        call error_set(err, here, error_no_memory('memory for '//where_in(file, name)))
         exit body
       end if
       if (n == 0) exit body
@@ -1413,7 +1413,7 @@ contains
     end if
     allocate(buf(size(values)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, here, 'cannot allocate attribute '//attr_where(file, object, name)//': '//trim(msg))
+      call error_set(err, here, error_no_memory('attribute '//attr_where(file, object, name)))
       return
     end if
     buf = values

@@ -26,12 +26,12 @@
 module io_output
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_build, only: code_version, build_type
   use mesh_grid, only: grid_t
   use lagrange_state, only: hydro_t
   use particles_state, only: particles_t
-  use mpi_f08, only: MPI_Comm
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_LOGICAL, MPI_LOR
   use io_hdf5, only: h5_write_part_real, h5_write_part_int
   use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_int, h5_write_scalar_real, &
                      h5_write_scalar_int, h5_write_string, h5_write_attribute
@@ -149,6 +149,7 @@ contains
     real(wp), allocatable :: legend_values(:), buf(:)
     integer, allocatable :: ibuf(:)
     integer :: nd(4), cd(3), ns(4), nc(4), cs(3), cc(3), k, stat, nmat, i, j, l
+    logical :: mine, failed, direct
     character(len=200) :: msg
 
     if (size(units) /= size(names) .or. size(owner) /= size(names) .or. size(extra, 2) /= size(names)) then
@@ -174,6 +175,28 @@ contains
     if (present(pt)) np = pt%np
     k = 0
     if (present(pnames)) k = size(pnames)
+    ! A block without ghosts (one process) stores its nodes and cells in
+    ! the file's order: its arrays are written as they are. A block with
+    ! ghosts copies its part into one buffer, filled in place (an array
+    ! constructor would build a temporary of its own beside the state: on
+    ! one process that copy was some 100 bytes per cell at the run's peak).
+    ! The ranks agree on the buffer's allocation before they create the
+    ! file together.
+    direct = g%ng == 0 .and. product(nc) == 3*g%nnode .and. product(cc) == g%ncell
+    stat = 0
+    if (.not. direct) allocate(buf(max(product(nc), product(cc))), ibuf(product(cc)), stat=stat, errmsg=msg)
+    mine = stat /= 0
+    failed = mine
+    if (present(comm)) call MPI_Allreduce(mine, failed, 1, MPI_LOGICAL, MPI_LOR, comm)
+    if (failed) then
+      if (stat /= 0) then
+        call error_set(err, 'output_frame', error_no_memory('the frame''s buffer ('// &
+                       itoa(product(nc))//' numbers)'))
+      else
+        call error_set(err, 'output_frame', 'out of memory on another rank: cannot allocate the frame''s buffer')
+      end if
+      return
+    end if
     call h5_create(f, path//'.tmp', err, comm=comm, need=65536_i8 + len(deck) + &
                    48_i8*product(int(g%gn + 1, i8)) + (8_i8*(6 + size(names)) + 4)*product(int(g%gn, i8)) + &
                    8_i8*np*(16 + k) + 4096_i8*(32 + size(names) + k))
@@ -185,8 +208,18 @@ contains
     call put_cells('energy', h%e)
     call put_cells('sound_speed', h%cs)
     call put_cells('viscosity', h%q)
-    if (.not. allocated(err)) then
-      ibuf = [(((material(g%cell(i, j, l)), i = g%clo(1), g%chi(1)), j = g%clo(2), g%chi(2)), l = g%clo(3), g%chi(3))]
+    if (.not. allocated(err) .and. direct) then
+      call h5_write_part_int(f, 'material', material, cd, cs, cc, err)
+    else if (.not. allocated(err)) then
+      k = 0
+      do l = g%clo(3), g%chi(3)
+        do j = g%clo(2), g%chi(2)
+          do i = g%clo(1), g%chi(1)
+            k = k + 1
+            ibuf(k) = material(g%cell(i, j, l))
+          end do
+        end do
+      end do
       call h5_write_part_int(f, 'material', ibuf, cd, cs, cc, err)
     end if
     do k = 1, size(names)
@@ -237,7 +270,7 @@ contains
     allocate(fields(size(real_cell_fields) + size(names) + 1), legend_names(nmat), legend_values(nmat), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'output_frame', 'cannot allocate the field list: '//trim(msg))
+      call error_set(err, 'output_frame', error_no_memory('the field list'))
       return
     end if
     fields(1:size(real_cell_fields)) = real_cell_fields
@@ -268,8 +301,21 @@ contains
     subroutine put_nodes(name, a)
       character(len=*), intent(in) :: name
       real(wp), intent(in) :: a(:, :)
+      integer :: m
       if (allocated(err)) return
-      buf = [((((a(:, g%node(i, j, l))), i = g%ulo(1), g%nhi(1)), j = g%ulo(2), g%nhi(2)), l = g%ulo(3), g%nhi(3))]
+      if (direct) then
+        call h5_write_part_real(f, name, a, nd, ns, nc, err)
+        return
+      end if
+      m = 0
+      do l = g%ulo(3), g%nhi(3)
+        do j = g%ulo(2), g%nhi(2)
+          do i = g%ulo(1), g%nhi(1)
+            buf(m + 1:m + 3) = a(:, g%node(i, j, l))
+            m = m + 3
+          end do
+        end do
+      end do
       call h5_write_part_real(f, name, buf, nd, ns, nc, err)
     end subroutine put_nodes
 
@@ -277,8 +323,21 @@ contains
     subroutine put_cells(name, a)
       character(len=*), intent(in) :: name
       real(wp), intent(in) :: a(:)
+      integer :: m
       if (allocated(err)) return
-      buf = [(((a(g%cell(i, j, l)), i = g%clo(1), g%chi(1)), j = g%clo(2), g%chi(2)), l = g%clo(3), g%chi(3))]
+      if (direct) then
+        call h5_write_part_real(f, name, a, cd, cs, cc, err)
+        return
+      end if
+      m = 0
+      do l = g%clo(3), g%chi(3)
+        do j = g%clo(2), g%chi(2)
+          do i = g%clo(1), g%chi(1)
+            m = m + 1
+            buf(m) = a(g%cell(i, j, l))
+          end do
+        end do
+      end do
       call h5_write_part_real(f, name, buf, cd, cs, cc, err)
     end subroutine put_cells
   end subroutine output_frame

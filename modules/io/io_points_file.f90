@@ -8,7 +8,7 @@ module io_points_file
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp
   use base_strings, only: itoa
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   implicit none
   private
   public :: points_file_read
@@ -97,7 +97,7 @@ contains
         allocate(x(3, n), vol(merge(n, 0, ncol == 4)), stat=ios, errmsg=msg)
         if (ios /= 0) then
           close(u)
-          call error_set(err, 'points_file_read', 'cannot allocate '//itoa(n)//' points: '//trim(msg))
+          call error_set(err, 'points_file_read', error_no_memory(itoa(n)//' points'))
           return
         end if
       end if

@@ -28,7 +28,7 @@
 module io_restart
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_LOGICAL, MPI_LOR
   use mesh_grid, only: grid_index_t
   use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
@@ -454,7 +454,7 @@ contains
     n = size(times)
     allocate(frames(n), stat=p, errmsg=name)
     if (p /= 0) then
-      call error_set(err, 'restart_read', 'cannot allocate the frame list: '//trim(name))
+      call error_set(err, 'restart_read', error_no_memory('the frame list'))
       return
     end if
     do k = 1, n

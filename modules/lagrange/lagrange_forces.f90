@@ -42,7 +42,7 @@ module lagrange_forces
   use lagrange_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
+  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -238,6 +238,19 @@ contains
     end do
   end subroutine lagrange_cell_rates
 
+  !> The largest and the sum of a cell's three median-surface areas
+  !> area(3) (length^2; `lagrange_cell_rates`), as h%amed keeps them.
+  pure function lagrange_area_sizes(area) result(sizes)
+    real(wp), intent(in) :: area(3)
+    real(wp) :: sizes(2)
+    integer :: d
+    sizes(1) = 0.0_wp
+    do d = 1, 3
+      sizes(1) = max(sizes(1), area(d))
+    end do
+    sizes(2) = area(1) + area(2) + area(3)
+  end function lagrange_area_sizes
+
   !> Directional strain rates g(d,c) = S_d.dv_d / V of every cell for the
   !> velocity v, and the largest stable step for that state (CFL on sound
   !> speed plus viscous signal speed, and a bound on the relative volume change).
@@ -248,8 +261,9 @@ contains
   !> material takes more than its fraction, and could otherwise collapse in
   !> one step; an expanding cell shrinks none of its materials).
   !> x must be the positions whose cell volumes are h%vol. Also keeps the
-  !> geometry of x that `lagrange_corner_forces` needs (h%dvdx, h%sarea,
-  !> h%area), so that the forces of the same x, v do not compute it again.
+  !> volume gradient and median-area sizes of x that `lagrange_corner_forces`
+  !> needs (h%dvdx, h%amed), so that the forces of the same x, v do not
+  !> compute them again.
   !> `dt_cell` (optional) returns the cell that limits the step: the lowest
   !> cell index among those whose own step equals dt_stable (0 if no cell
   !> limits it), the same for any thread count. Each thread keeps its own
@@ -264,12 +278,12 @@ contains
     real(wp), intent(out) :: dt_stable
     integer, intent(out), optional :: dt_cell
     integer :: c, d, e, n0, ci, cj, ck, c_min, c_loc
-    real(wp) :: xn(3, 8), vn(3, 8), vol, amax, dumax, div, cq, ceff, dtc, dt_loc
+    real(wp) :: xn(3, 8), vn(3, 8), s(3, 3), area(3), vol, amax, dumax, div, cq, ceff, dtc, dt_loc
 
     dt_stable = huge(1.0_wp)
     c_min = 0
     !$omp parallel default(none) shared(g, x, v, h, par, dt_stable, c_min) &
-    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, vol, amax, dumax, div, cq, ceff, dtc, dt_loc, c_loc)
+    !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, area, vol, amax, dumax, div, cq, ceff, dtc, dt_loc, c_loc)
     dt_loc = huge(1.0_wp)
     c_loc = 0
     !$omp do collapse(2) schedule(static)
@@ -287,12 +301,12 @@ contains
       end do
       ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
       call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
-      call hex_median_areas(xn, h%sarea(:, :, c))
-      call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
-      amax = 0.0_wp
+      call hex_median_areas(xn, s)
+      call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
+      h%amed(:, c) = lagrange_area_sizes(area)
+      amax = h%amed(1, c)
       div = 0.0_wp
       do d = 1, 3
-        amax = max(amax, h%area(d, c))
         div = div + h%grad(d, c)
       end do
       ! signal speed with viscosity: cq + sqrt(cq^2 + cs^2) (Wilkins)
@@ -333,7 +347,7 @@ contains
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
-  !> h%sarea, h%area) of the same x, v, as left by `lagrange_strain_rates`
+  !> h%amed) of the same x, v, as left by `lagrange_strain_rates`
   !> or by `lagrange_update_cells` with `geometry`. vscale (ncell, optional):
   !> a factor on each cell's artificial viscosity (1 - theta_c of the
   !> particles, PARTICLES.md §1.7; h%q is the scaled one); without it the
@@ -347,7 +361,7 @@ contains
     real(wp), intent(in), optional, target :: vscale(:)
     integer :: c, d, e, a, k, m, n0, ci, cj, ck, ilog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
-    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3), area3(3)
+    real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3)
     real(wp) :: vol, rvol, sdv, area, du, qd, qsum, coef, hx(3), gam(8), gv(3), phi, div, sc
     real(wp), target :: one(1)
     real(wp), pointer :: scale(:)
@@ -366,7 +380,7 @@ contains
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
     !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride, lo, hi) collapse(2) &
-    !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik, area3) &
+    !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div, sc) &
     !$omp schedule(static, 1)
     do ck = lo(3), hi(3)
@@ -387,16 +401,18 @@ contains
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
 
-      ! artificial viscosity with limiter
-      s = h%sarea(:, :, c)
-      area3 = h%area(:, c)
+      ! artificial viscosity with limiter (the median-surface area vectors,
+      ! a few dozen flops, are computed where a viscosity needs them: kept
+      ! per cell they would cost 72 bytes; their norms' largest and sum are
+      ! kept, h%amed)
       ilog = [ci, cj, ck]
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then
         ! skip cells whose compression is round-off: a velocity jump below
         ! 1e-10 of the sound speed gives q below 1e-10 of the pressure
-        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*maxval(area3)/vol, div, lam, ev)
+        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*h%amed(1, c)/vol, div, lam, ev)
         if (div < 0.0_wp) then
+          call hex_median_areas(xn, s)
           ! limiter along each compressive principal direction: compare the
           ! volumetric strain rate with the two neighbours (among the 26)
           ! that lie closest to that direction
@@ -411,6 +427,7 @@ contains
           call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, sc, f, qsum)
         end if
       else
+        call hex_median_areas(xn, s)
         do d = 1, 3
           dv = edge_jump(vn, d)
           sdv = dot_product(s(:, d), dv)
@@ -434,7 +451,7 @@ contains
       ! Flanagan-Belytschko viscous hourglass control
       if (par%hourglass > 0.0_wp) then
         ! length^2 scale: the mean median area (V^(2/3) for a cube, without a pow)
-        coef = par%hourglass*h%rho(c)*h%cs(c)*(area3(1) + area3(2) + area3(3))/3.0_wp
+        coef = par%hourglass*h%rho(c)*h%cs(c)*h%amed(2, c)/3.0_wp
         rvol = 1.0_wp/vol
         do m = 1, 4
           hx = 0.0_wp

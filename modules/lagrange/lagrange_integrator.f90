@@ -19,7 +19,7 @@ module lagrange_integrator
   use material_table, only: material_t, material_eval_eos
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use lagrange_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
   use particles_state, only: particles_t
   use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays, &
@@ -453,7 +453,7 @@ contains
   !> geometry in every stored cell; the outer ghost layer's energy comes
   !> from the halo. With `geometry` (default false), also
   !> leaves the geometry of the new positions and the strain rates of the
-  !> half-step velocity h%uh in h (h%dvdx, h%sarea, h%area, h%grad), as
+  !> half-step velocity h%uh in h (h%dvdx, h%amed, h%grad), as
   !> `lagrange_strain_rates` would for (g%x, h%uh), so that the forces of the
   !> next stage need not compute them again. The volume is then taken from
   !> `hex_volume_gradient`, which evaluates the same sum as `hex_volume` in
@@ -465,7 +465,7 @@ contains
     integer, intent(out) :: bad_cell
     logical, intent(in), optional :: geometry
     integer :: c, a, n0, ci, cj, ck, lo(3), hi(3)
-    real(wp) :: de, xn(3, 8), vn(3, 8), dumax
+    real(wp) :: de, xn(3, 8), vn(3, 8), s(3, 3), area(3), dumax
     logical :: geom, forced
 
     geom = .false.
@@ -474,7 +474,7 @@ contains
     call g%cells_around(1, lo, hi)
     bad_cell = huge(1)
     !$omp parallel do default(none) shared(g, h, dte, geom, lo, hi) &
-    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, dumax, forced) &
+    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, s, area, dumax, forced) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
     do ck = g%slo(3), g%shi(3)
     do cj = g%slo(2), g%shi(2)
@@ -496,13 +496,16 @@ contains
           vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
         end do
         call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
-        call hex_median_areas(xn, h%sarea(:, :, c))
+        call hex_median_areas(xn, s)
       else
         h%vol(c) = hex_volume(xn)
       end if
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
-        if (geom) call lagrange_cell_rates(vn, h%sarea(:, :, c), h%vol(c), h%area(:, c), h%grad(:, c), dumax)
+        if (geom) then
+          call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
+          h%amed(:, c) = lagrange_area_sizes(area)
+        end if
       else if (g%owns_cell(ci, cj, ck)) then
         bad_cell = min(bad_cell, c)
       end if

@@ -11,8 +11,9 @@
 !> sound speed and artificial viscosity. Work arrays used inside a step are
 !> allocated once here.
 module lagrange_state
-  use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_kinds, only: wp, i8
+  use base_strings, only: itoa
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: grid_t
   use mesh_halo, only: halo_t
   use base_xsum, only: xsum_t, xsum_add, xsum_value
@@ -76,34 +77,41 @@ module lagrange_state
     ! geometry of the cells at the positions of the current force evaluation,
     ! computed once per stage (by `lagrange_strain_rates`, or by
     ! `lagrange_update_cells` for the positions it has just made) and read by
-    ! `lagrange_corner_forces`
+    ! `lagrange_corner_forces` (the median-surface area vectors, cheap, are
+    ! recomputed where the viscosity needs them)
     real(wp), allocatable :: dvdx(:, :, :)  !< volume gradient dV/dx_a (3, 8, ncell), length^2
-    real(wp), allocatable :: sarea(:, :, :) !< median-surface area vectors (3, 3, ncell), length^2
-    real(wp), allocatable :: area(:, :)     !< their norms (3, ncell), length^2
+    !> the largest and the sum of the three median-surface areas (2, ncell), length^2
+    real(wp), allocatable :: amed(:, :)
   end type hydro_t
 
 contains
 
-  !> Allocates the state for ncell cells and nnode nodes.
+  !> Allocates the state for ncell cells and nnode nodes (whatever h held
+  !> before is freed first). Memory: 70 reals and an integer per cell, 13
+  !> reals per node (about 680 bytes per cell of a large grid, most of it
+  !> the corner forces and volume gradients, 192 bytes each).
   subroutine hydro_allocate(h, ncell, nnode, err)
-    type(hydro_t), intent(inout) :: h
+    type(hydro_t), intent(out) :: h
     integer, intent(in) :: ncell, nnode
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
+    integer(i8) :: bytes
     character(len=200) :: msg
 
     allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), h%gain(ncell), &
              h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
-             h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%sarea(3, 3, ncell), &
-             h%area(3, ncell), stat=stat, errmsg=msg)
+             h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%amed(2, ncell), &
+             stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'hydro_allocate', 'cannot allocate the hydro state: '//trim(msg))
+      bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + int(ncell, i8)*storage_size(1)/8
+      call error_set(err, 'hydro_allocate', error_no_memory('the hydro state ('//itoa(ncell)//' cells, '// &
+                     itoa(nnode)//' nodes: '//itoa(bytes/1048576_i8)//' MiB)'))
       return
     end if
     h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0; h%gain = 1.0_wp
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
-    h%dvdx = 0.0_wp; h%sarea = 0.0_wp; h%area = 0.0_wp
+    h%dvdx = 0.0_wp; h%amed = 0.0_wp
   end subroutine hydro_allocate
 
   !> Eq. (16), first term: the nodal masses mnode (mass) of the grid with

@@ -38,7 +38,7 @@
 !> theta d_m, does not scale with dt and is left to the cap.)
 module material_mixed
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
@@ -89,7 +89,7 @@ contains
              mx%vfn(nslot), mx%en(nslot), mx%pn(nslot), mx%bn(nslot), mx%voln(n), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'mixed_allocate', 'cannot allocate mixed cells: '//trim(msg))
+      call error_set(err, 'mixed_allocate', error_no_memory('mixed cells'))
       return
     end if
     mx%start(1) = 1
@@ -149,7 +149,7 @@ contains
     if (.not. allocated(mx%plane)) then
       allocate(mx%plane(4, mx%nslot), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'mixed_forget_planes', 'cannot allocate the interface planes: '//trim(msg))
+        call error_set(err, 'mixed_forget_planes', error_no_memory('the interface planes'))
         return
       end if
     end if

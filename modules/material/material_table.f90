@@ -2,7 +2,7 @@
 !> mixed cells, and the EOS evaluation that dispatches once per material.
 module material_table
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use eos_base, only: eos_t
   use material_mixed, only: mixed_t
   implicit none
@@ -48,7 +48,7 @@ contains
       allocate(mats(m)%cells(n), mats(m)%slots(ns), mats(m)%wrho(n + ns), mats(m)%we(n + ns), &
                mats(m)%wp_(n + ns), mats(m)%wcs(n + ns), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'material_index_cells', 'cannot allocate cell list: '//trim(msg))
+        call error_set(err, 'material_index_cells', error_no_memory('cell list'))
         return
       end if
       n = 0

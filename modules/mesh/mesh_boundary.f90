@@ -9,7 +9,7 @@
 !> conservation report can balance total energy for open problems too.
 module mesh_boundary
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_grid, only: grid_t, FACE_XLO, FACE_YLO, FACE_ZLO
   use mesh_geometry, only: cross
@@ -83,7 +83,7 @@ contains
     end do
     allocate(bc%node(nb), bc%mask(nb), bc%counted(nb), bc%fext(3, nb), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'bc_init', 'cannot allocate boundary lists: '//trim(msg))
+      call error_set(err, 'bc_init', error_no_memory('boundary lists'))
       return
     end if
     bc%nb = 0
@@ -104,7 +104,7 @@ contains
     if (bc%any_pressure) then
       allocate(bc%bindex(g%nnode), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'bc_init', 'cannot allocate boundary index: '//trim(msg))
+        call error_set(err, 'bc_init', error_no_memory('boundary index'))
         return
       end if
       bc%bindex = 0

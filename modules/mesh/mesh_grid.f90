@@ -18,7 +18,7 @@
 !> `grid_t` is a grid_index_t with node positions.
 module mesh_grid
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_corner
   use base_registry, only: registry_t, LOC_NODE
   implicit none
@@ -92,7 +92,7 @@ contains
     g%xmin = xmin; g%xmax = xmax
     allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'grid_init_box', 'cannot allocate node positions: '//trim(msg))
+      call error_set(err, 'grid_init_box', error_no_memory('node positions'))
       return
     end if
     h = (xmax - xmin)/real([ni, nj, nk], wp)
@@ -133,7 +133,7 @@ contains
     end if
     allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'grid_init_nodes', 'cannot allocate node positions: '//trim(msg))
+      call error_set(err, 'grid_init_nodes', error_no_memory('node positions'))
       return
     end if
     do k = g%slo(3) - 1, g%shi(3)

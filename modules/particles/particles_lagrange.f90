@@ -31,7 +31,7 @@
 !> for the strain increments).
 module particles_lagrange
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_xsum, only: xsum_t, xsum_add
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume, hex_median_areas
@@ -99,7 +99,7 @@ contains
     allocate(w%mp(nnode), w%f(3, nnode), w%fvf(3, nnode), w%ms(nnode), w%vs(3, nnode), w%xh(3, nnode), w%xc(3, nnode), &
              w%vscale(ncell), w%wcell(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_work_init', 'cannot allocate the coupling arrays: '//trim(msg))
+      call error_set(err, 'particles_work_init', error_no_memory('the coupling arrays'))
       return
     end if
     w%mp = 0.0_wp; w%f = 0.0_wp; w%fvf = 0.0_wp; w%ms = 0.0_wp; w%vs = 0.0_wp; w%xh = 0.0_wp; w%xc = 0.0_wp
@@ -121,7 +121,7 @@ contains
     allocate(w%vh(3, np), w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
              w%e_h(np), w%eroded(np), w%owned(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_work_resize', 'cannot allocate the coupling arrays: '//trim(msg))
+      call error_set(err, 'particles_work_resize', error_no_memory('the coupling arrays'))
       return
     end if
     w%vh = 0.0_wp; w%lgrad = 0.0_wp

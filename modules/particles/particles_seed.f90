@@ -23,7 +23,7 @@
 !> average; the test measures it).
 module particles_seed
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_volume, cross
   use mesh_grid, only: grid_t
   use mesh_shapes, only: shape_t, shape_inside, shape_level
@@ -82,7 +82,7 @@ contains
     np = seed_count(g, sh, n)
     allocate(cell(np), xi(3, np), x(3, np), vol(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'seed_shape', 'cannot allocate the seeded particles: '//trim(msg))
+      call error_set(err, 'seed_shape', error_no_memory('the seeded particles'))
       return
     end if
     call visit(g, sh, n, .true., np, cell, xi, x, vol)

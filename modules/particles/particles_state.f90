@@ -35,7 +35,7 @@
 !> restart read they are binned again (`particles_index`).
 module particles_state
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa
   use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
@@ -93,8 +93,7 @@ contains
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       p = particles_t()
-      call error_set(err, 'particles_allocate', 'cannot allocate '//itoa(np)// &
-                     ' particles: '//trim(msg))
+      call error_set(err, 'particles_allocate', error_no_memory(itoa(np)//' particles'))
       return
     end if
     p%np = np
@@ -125,7 +124,7 @@ contains
     end if
     allocate(order(p%np), by_cell(p%np), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_order', 'cannot allocate work arrays: '//trim(msg))
+      call error_set(err, 'particles_order', error_no_memory('work arrays'))
       return
     end if
     ! stable sort by cell, then stably by material: (mat, cell) order
@@ -190,13 +189,13 @@ contains
     if (allocated(p%cell_start)) deallocate(p%cell_start)
     allocate(p%cell_start(ncell + 1), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
+      call error_set(err, 'particles_bin', error_no_memory('the cell index'))
       return
     end if
     if (.not. allocated(p%perm)) then
       allocate(p%perm(p%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'particles_bin', 'cannot allocate the cell index: '//trim(msg))
+        call error_set(err, 'particles_bin', error_no_memory('the cell index'))
         return
       end if
     end if
@@ -273,7 +272,7 @@ contains
     if (p%np == 0) return
     allocate(seen(idmax), source=.false., stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'particles_check', 'cannot allocate work arrays: '//trim(msg))
+      call error_set(err, 'particles_check', error_no_memory('work arrays'))
       return
     end if
     do k = 1, p%np

@@ -13,7 +13,7 @@
 !> registered in the bins its box meets.
 module remap_bins
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: grid_index_t, grid_index, block_gather
   implicit none
   private
@@ -52,7 +52,7 @@ contains
     allocate(bins%blo(3, bins%ix%ncell), bins%bhi(3, bins%ix%ncell), bins%start(nbin + 1), fill(nbin), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_bins_build', 'cannot allocate the bins: '//trim(msg))
+      call error_set(err, 'remap_bins_build', error_no_memory('the bins'))
       return
     end if
     glo = huge(1.0_wp)
@@ -103,7 +103,7 @@ contains
     end do
     allocate(bins%item(bins%start(nbin + 1) - 1), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_bins_build', 'cannot allocate the bins'' lists: '//trim(msg))
+      call error_set(err, 'remap_bins_build', error_no_memory('the bins'' lists'))
       return
     end if
     fill = 0

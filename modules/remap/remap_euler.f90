@@ -95,7 +95,7 @@
 !> wholly outside the new grid, is still an error.
 module remap_euler
   use base_kinds, only: wp, i8
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
@@ -334,7 +334,7 @@ contains
              redo(ncell), gap_face(ncell), gap_cell(ncell), beyond(ncell), gaps(ncell), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler_step', 'cannot allocate work arrays: '//trim(msg))
+      call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
       return
     end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
@@ -364,7 +364,7 @@ contains
       ! a changed cell's results, gathered from the rank that computed them
       allocate(before(size(old%given)), buf(6*nmat + 44, count(old%changed)), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'remap_euler_step', 'cannot allocate the shared work''s buffers: '//trim(msg))
+        call error_set(err, 'remap_euler_step', error_no_memory('the shared work''s buffers'))
         return
       end if
     end if
@@ -611,7 +611,7 @@ contains
       if (allocated(err)) return
       allocate(rw(size(cells)), wider(size(cells)), stat=st, errmsg=emsg)
       if (st /= 0) then
-        call error_set(err, 'remap_euler_step', 'cannot allocate the gap windows: '//trim(emsg))
+        call error_set(err, 'remap_euler_step', error_no_memory('the gap windows'))
         return
       end if
       do ii = 1, size(cells)
@@ -737,7 +737,7 @@ contains
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
              near(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the old grid''s regions: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the old grid''s regions'))
       return
     end if
     old%given = 0_i8
@@ -845,7 +845,7 @@ contains
     end do
     allocate(res(3 + 12*nm, nmof), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the MoF results: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the MoF results'))
       return
     end if
     mine = [(.true., j = 1, nmof)]
@@ -1063,7 +1063,7 @@ contains
     ncell = g%ncell
     allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the gradient work arrays: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the gradient work arrays'))
       return
     end if
     do kmat = 1, nmat
@@ -1244,7 +1244,7 @@ contains
 
     allocate(wsum(g%nnode), has(g%nnode), xd(3, (g%ni + 2)*(g%nj + 2)*(g%nk + 2)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the velocity gradient work arrays: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the velocity gradient work arrays'))
       return
     end if
     wsum = 0.0_wp
@@ -2588,7 +2588,7 @@ contains
     ! materials of the changed cells: merge slivers into the largest
     allocate(nmix(ncell), ie(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the assembly work arrays: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the assembly work arrays'))
       return
     end if
     nmix = 0
@@ -2633,7 +2633,7 @@ contains
              stat=stat, &
              errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'remap_euler', 'cannot allocate the nodal work arrays: '//trim(msg))
+      call error_set(err, 'remap_euler', error_no_memory('the nodal work arrays'))
       return
     end if
     node_changed = .false.

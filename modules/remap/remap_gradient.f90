@@ -32,7 +32,7 @@
 !> lie within the hull of its neighbours' centroids (interior cells).
 module remap_gradient
   use base_kinds, only: wp, tiny_wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: block_gather, grid_index_t, grid_index
   implicit none
   private
@@ -116,7 +116,7 @@ contains
     allocate(bmat(max_nbr, nf), stat=stat, errmsg=msg)
     if (stat /= 0) then
       grad = 0.0_wp
-      call report('cannot allocate work arrays: '//trim(msg))
+      call report(error_no_memory('work arrays'))
       return
     end if
     amat = 0.0_wp
@@ -129,7 +129,7 @@ contains
     allocate(work(lwork), stat=stat, errmsg=msg)
     if (stat /= 0) then
       grad = 0.0_wp
-      call report('cannot allocate work arrays: '//trim(msg))
+      call report(error_no_memory('work arrays'))
       return
     end if
 

@@ -37,7 +37,7 @@
 !> their conditions to it).
 module rezone_global
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa, rtoa
   use mesh_grid, only: grid_index_t, grid_index, block_gather
   use mesh_geometry, only: hex_volume
@@ -105,7 +105,7 @@ contains
     end if
     allocate(d(3, ix%nnode), s(3, ix%nnode), mv(ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'global_target', 'cannot allocate the work arrays: '//trim(msg))
+      call error_set(err, 'global_target', error_no_memory('the work arrays'))
       return
     end if
     nmax = [ni, nj, nk]

@@ -44,7 +44,7 @@
 !> then smooth_tfi on the merged cuboids if Q_min is still below target.
 module rezone_smooth
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
   use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides
   use mesh_grid, only: grid_index_t, grid_index
@@ -158,7 +158,7 @@ contains
     ix = grid_index(ni, nj, nk)
     allocate(mob%kind(ix%nnode), mob%dir(3, ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'smooth_mobility_box', 'cannot allocate the mobility: '//trim(msg))
+      call error_set(err, 'smooth_mobility_box', error_no_memory('the mobility'))
       return
     end if
 
@@ -295,7 +295,7 @@ contains
              reg%node_slot(ix%nnode), reg%valid0(2, reg%ncell), reg%own(reg%nmove), reg%mark(1, ix%nnode), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'smooth_region_init', 'cannot allocate the region: '//trim(msg))
+      call error_set(err, 'smooth_region_init', error_no_memory('the region'))
       return
     end if
 
@@ -897,7 +897,7 @@ contains
     if (any(hi - lo < 2)) return   ! no interior node
     allocate(ua(lo(1):hi(1), 4), va(lo(2):hi(2), 4), wa(lo(3):hi(3), 4), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, 'smooth_tfi', 'cannot allocate the edge parameters: '//trim(msg))
+      call error_set(err, 'smooth_tfi', error_no_memory('the edge parameters'))
       return
     end if
     if (present(mob)) then
@@ -1075,7 +1075,7 @@ contains
     nrevert = 0
     allocate(back(ix%nnode), stat=n)
     if (n /= 0) then
-      call error_set(err, 'smooth_revert_tangled', 'cannot allocate the work array')
+      call error_set(err, 'smooth_revert_tangled', error_no_memory('the work array'))
       return
     end if
     do

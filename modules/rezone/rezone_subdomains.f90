@@ -47,7 +47,7 @@
 module rezone_subdomains
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa
   use mesh_grid, only: grid_index_t, grid_index
   implicit none
@@ -157,7 +157,7 @@ contains
     end do
     allocate(ijk(3, nd), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate the distorted cells: '//trim(msg))
+      call error_set(err, where, error_no_memory('the distorted cells'))
       return
     end if
     nd = 0
@@ -286,7 +286,7 @@ contains
     end do
     allocate(centre(3, size(lo, 2)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate box centres: '//trim(msg))
+      call error_set(err, where, error_no_memory('box centres'))
       return
     end if
     centre = 0
@@ -320,7 +320,7 @@ contains
     m = size(lo, 2)
     allocate(tlo(3, m), thi(3, m), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate boxes: '//trim(msg))
+      call error_set(err, where, error_no_memory('boxes'))
       return
     end if
     tlo = lo
@@ -352,7 +352,7 @@ contains
     end do
     allocate(mlo(3, m), mhi(3, m), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate merged boxes: '//trim(msg))
+      call error_set(err, where, error_no_memory('merged boxes'))
       return
     end if
     mlo = tlo(:, 1:m)
@@ -415,7 +415,7 @@ contains
     if (allocated(lo)) nold = size(lo, 2)
     allocate(tlo(3, cap), thi(3, cap), tce(3, cap), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate subdomain boxes: '//trim(msg))
+      call error_set(err, where, error_no_memory('subdomain boxes'))
       return
     end if
     tlo = 0
@@ -447,7 +447,7 @@ contains
     sub%nbox = size(lo, 2)
     allocate(sub%lo(3, sub%nbox), sub%hi(3, sub%nbox), sub%centre(3, sub%nbox), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate subdomain boxes: '//trim(msg))
+      call error_set(err, where, error_no_memory('subdomain boxes'))
       return
     end if
     sub%lo = lo
@@ -476,7 +476,7 @@ contains
     nnode = (ni + 1)*(nj + 1)*(nk + 1)
     allocate(sub%cell_smooth(ncell), sub%cell_remap(ncell), sub%node_move(nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate subdomain masks: '//trim(msg))
+      call error_set(err, where, error_no_memory('subdomain masks'))
       return
     end if
     sub%cell_smooth = .false.
@@ -549,7 +549,7 @@ contains
     if (allocated(list)) deallocate(list)
     allocate(list(count(mask)), stat=stat, errmsg=msg)
     if (stat /= 0) then
-      call error_set(err, where, 'cannot allocate an index list: '//trim(msg))
+      call error_set(err, where, error_no_memory('an index list'))
       return
     end if
     m = 0

@@ -96,7 +96,7 @@ module strength_random_field
                                          c_int, c_intptr_t, c_ptr, c_size_t, c_f_pointer, c_associated
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp, i8
-  use base_errors, only: error_t, error_set, ERR_INPUT
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT
   !$ use omp_lib, only: omp_in_parallel
   implicit none
   private
@@ -427,7 +427,7 @@ contains
     nh = n1/2 + 1
     allocate(field%values(n1, n2, n3), sqlam(nh, n2, n3), negk(n3), stat=stat, errmsg=emsg)
     if (stat /= 0) then
-      call error_set(err, where, 'allocation failed: '//trim(emsg))
+      call error_set(err, where, error_no_memory('the field grid''s arrays ('//trim(grid_text(field%n))//')'))
       return
     end if
     ! FFTW's own allocation: SIMD-aligned on every run, so the plan (and
@@ -437,7 +437,7 @@ contains
     if (.not. (c_associated(preal) .and. c_associated(pcplx))) then
       call fftw_free(preal)
       call fftw_free(pcplx)
-      call error_set(err, where, 'allocation of the FFT buffers failed')
+      call error_set(err, where, error_no_memory('the FFT buffers ('//trim(grid_text(field%n))//')'))
       return
     end if
     call c_f_pointer(preal, rbuf, [n1, n2, n3])
@@ -714,4 +714,11 @@ contains
     end do
     !$omp end parallel do
   end subroutine void_fraction_from_field
+
+  !> 'n1 x n2 x n3 nodes' of a field grid, for a message.
+  pure function grid_text(n) result(text)
+    integer, intent(in) :: n(3)
+    character(len=64) :: text
+    write(text, '(i0," x ",i0," x ",i0," nodes")') n
+  end function grid_text
 end module strength_random_field
