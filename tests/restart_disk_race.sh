@@ -25,12 +25,17 @@ sed -i -e "s|^&run title = '[^']*', t_end = [^,]*,|\&run title = 'disk race', t_
 RANDOM=40
 for t in $(seq 1 "$trials"); do
   rm -rf mnt/* out
-  # the filler: after 0.2-1.5 s, chunks of 4-256 KiB every 0-2 ms until the disk is full
-  delay=$(printf '0.%03d' $((200 + RANDOM % 800))); [ $((RANDOM % 3)) -eq 0 ] && delay=1.$((RANDOM % 5))
+  # the filler: 0-1.5 s after the first dump is complete (on a loaded
+  # machine the run may take long to start), chunks of 4-256 KiB every
+  # 0-2 ms until the disk is full
+  delay=$(printf '0.%03d' $((RANDOM % 1000))); [ $((RANDOM % 3)) -eq 0 ] && delay=1.$((RANDOM % 5))
   chunk=$((4096 << (RANDOM % 7))) pause=$((RANDOM % 3))
   "$py" - "$delay" "$chunk" "$pause" <<'PY' &
-import sys, time
+import glob, sys, time
 delay, chunk, pause = float(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]) * 1e-3
+start = time.time()
+while not glob.glob("mnt/race/race_restart_*.h5") and time.time() - start < 60:
+    time.sleep(0.01)
 time.sleep(delay)
 try:
     with open("mnt/filler", "wb", buffering=0) as f:
