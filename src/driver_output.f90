@@ -24,7 +24,7 @@ module driver_output
   use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN
   use parallel_comm, only: comm_t, parallel_bcast_text
   use driver_parallel, only: agree_error
-  use driver_state, only: state_t, state_totals, energy_drift, totals_not_finite
+  use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_gathered
   use particles_state, only: particles_t
   implicit none
@@ -403,7 +403,7 @@ contains
     integer :: nmat, nf, c, k, s, m, stat
     integer, allocatable, target :: cellmat(:)
     integer, pointer :: frame_mat(:)
-    real(wp), allocatable :: fld(:, :), pfld(:, :)
+    real(wp), allocatable :: fld(:, :), pfld(:, :), nmass(:)
     character(len=80), allocatable :: names(:), owner(:)
     character(len=32), allocatable :: units(:)
     character(len=16), allocatable :: pnames(:)
@@ -485,12 +485,16 @@ contains
         return
       end if
     end if
+    ! the nodal mass of the kinetic energy: with coupled particles the
+    ! particles' share too (`state_totals`; without, nmass is not allocated,
+    ! so not present: the frame takes the hydro's own)
+    if (allocated(st%pw%mp)) nmass = st%h%mnode + st%pw%mp
     if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
       call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, comm=sch%pc%world)
+                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, comm=sch%pc%world, node_mass=nmass)
     else
       call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld)
+                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, node_mass=nmass)
     end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out
@@ -692,7 +696,7 @@ contains
     type(log_t), intent(in) :: log
     character(len=*), intent(in) :: label
     character(len=256) :: line
-    real(wp) :: mass(size(st%mats)), internal(size(st%mats))
+    real(wp) :: mass(size(st%mats)), internal(size(st%mats)), e0
     integer :: m
     call state_totals(st)
     write(line, '("conservation (",a,"): mass ",es22.15,"  momentum ",3es12.4)') &
@@ -708,6 +712,15 @@ contains
       write(line, '("  particles: internal energy ",es22.15,"  virtual-fluid work ",es22.15, &
         &"  decoupling work ",es22.15,"  Euler-step transfer ",es22.15,"  erosion (in internal) ",es22.15)') &
         st%tot%particle_internal, st%tot%vf_work, st%tot%decoupling_work, st%tot%transfer_energy, st%tot%erosion_energy
+      call log_line(log, trim(line))
+      ! the change of the total, term by term: boundary work (physics), the
+      ! coupling's errors (decoupling work, Euler-step transfer), and what
+      ! is left unexplained (round-off when every term is booked)
+      e0 = max(abs(st%tot%energy_initial), tiny(1.0_wp))
+      write(line, '("  energy budget over |E0|: total change ",es11.3," = boundary work ",es11.3, &
+        &" - decoupling work ",es11.3," + Euler-step transfer ",es11.3," + residual ",es10.2)') &
+        energy_drift(st%tot) + st%tot%boundary_work/e0, st%tot%boundary_work/e0, st%tot%decoupling_work/e0, &
+        st%tot%transfer_energy/e0, budget_residual(st%tot)
       call log_line(log, trim(line))
     end if
     call material_totals(st, mass, internal)

@@ -34,6 +34,7 @@ PRES = (-1, -2, 1)
 DIMENSIONS = {
     "x": (1, 0, 0),
     "velocity": (1, -1, 0),
+    "node_mass": (0, 0, 1),            # the nodal mass of the kinetic energy
     "density": (-3, 0, 1),
     "pressure": PRES,
     "energy": (2, -2, 0),              # specific internal energy

@@ -121,7 +121,7 @@ contains
   !> process; rank 0 writes everything else (pt: the whole run's particles
   !> on every rank) and the XDMF series; `path` is the same on every rank.
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err, pt, pnames, pfields, comm)
+                          path, err, pt, pnames, pfields, comm, node_mass)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -141,6 +141,7 @@ contains
     character(len=*), intent(in), optional :: pnames(:)
     real(wp), intent(in), optional :: pfields(:, :)
     type(MPI_Comm), intent(in), optional :: comm
+    real(wp), intent(in), optional :: node_mass(:)
     type(h5_file_t) :: f
     character(len=256) :: fname
     integer :: np
@@ -198,11 +199,16 @@ contains
       return
     end if
     call h5_create(f, path//'.tmp', err, comm=comm, need=65536_i8 + len(deck) + &
-                   48_i8*product(int(g%gn + 1, i8)) + (8_i8*(6 + size(names)) + 4)*product(int(g%gn, i8)) + &
+                   56_i8*product(int(g%gn + 1, i8)) + (8_i8*(6 + size(names)) + 4)*product(int(g%gn, i8)) + &
                    8_i8*np*(16 + k) + 4096_i8*(32 + size(names) + k))
     if (allocated(err)) return
     call put_nodes('x', g%x)
     call put_nodes('velocity', h%u)
+    if (present(node_mass)) then
+      call put_node_scalar('node_mass', node_mass)
+    else
+      call put_node_scalar('node_mass', h%mnode)
+    end if
     call put_cells('density', h%rho)
     call put_cells('pressure', h%p)
     call put_cells('energy', h%e)
@@ -319,6 +325,28 @@ contains
       call h5_write_part_real(f, name, buf, nd, ns, nc, err)
     end subroutine put_nodes
 
+    !> Node array a(nnode): this block's part.
+    subroutine put_node_scalar(name, a)
+      character(len=*), intent(in) :: name
+      real(wp), intent(in) :: a(:)
+      integer :: m
+      if (allocated(err)) return
+      if (direct) then
+        call h5_write_part_real(f, name, a, nd(2:4), ns(2:4), nc(2:4), err)
+        return
+      end if
+      m = 0
+      do l = g%ulo(3), g%nhi(3)
+        do j = g%ulo(2), g%nhi(2)
+          do i = g%ulo(1), g%nhi(1)
+            m = m + 1
+            buf(m) = a(g%node(i, j, l))
+          end do
+        end do
+      end do
+      call h5_write_part_real(f, name, buf, nd(2:4), ns(2:4), nc(2:4), err)
+    end subroutine put_node_scalar
+
     !> Cell array a(ncell): this block's part.
     subroutine put_cells(name, a)
       character(len=*), intent(in) :: name
@@ -400,6 +428,7 @@ contains
                                                       material_legend(legend_source(meta)), err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'x', 'units', units_length, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'velocity', 'units', units_velocity, err)
+    if (.not. allocated(err)) call h5_write_attribute(f, 'node_mass', 'units', 'mass', err)
     do k = 1, size(real_cell_fields)
       if (.not. allocated(err)) call h5_write_attribute(f, trim(real_cell_fields(k)), 'units', &
                                                         trim(real_cell_units(k)), err)
