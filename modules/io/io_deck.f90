@@ -7,7 +7,7 @@
 !> starts, so a missing `/` is reported for the group that lacks it).
 module io_deck
   use base_config, only: max_line, no_echo, problem_add
-  use base_strings, only: itoa
+  use base_strings, only: itoa, lower, number_ok
   use io_files, only: io_is_dir
   implicit none
   private
@@ -616,51 +616,6 @@ contains
     end do
   end function values_ok
 
-  !> False for NaN, Inf, Infinity (any sign and case) and for a real literal
-  !> of magnitude >= 1e30 other than the largest double (+-1.7976931348623157e308);
-  !> true for anything else (other numbers, logicals, names).
-  pure logical function number_ok(tok) result(ok)
-    character(len=*), intent(in) :: tok
-    character(len=:), allocatable :: t, mant, digits
-    integer :: e, p, ios, ndig, lead
-    ok = .true.
-    if (len(tok) == 0) return
-    if (tok(1:1) == '+' .or. tok(1:1) == '-') then
-      t = tok(2:)
-    else
-      t = tok
-    end if
-    if (t == 'nan' .or. t == 'inf' .or. t == 'infinity' .or. t(1:min(4, len(t))) == 'nan(') then
-      ok = .false.
-      return
-    end if
-    if (len(t) == 0) return
-    if (verify(t(1:1), '0123456789.') /= 0) return
-    if (verify(t, '0123456789.ed+-') /= 0) return
-    p = scan(t, 'ed')
-    e = 0
-    mant = t
-    if (p > 0) then
-      mant = t(1:p - 1)
-      read(t(p + 1:), *, iostat=ios) e
-      if (ios /= 0) return
-    end if
-    ! decimal exponent of the leading digit: digits before the point (less
-    ! leading zeros) - 1, or minus the zeros after the point
-    digits = mant
-    p = index(mant, '.')
-    if (p > 0) digits = mant(1:p - 1)//mant(p + 1:)
-    lead = verify(digits, '0')
-    if (lead == 0) return                        ! zero
-    if (p > 0) then
-      ndig = p - 1 - (lead - 1)
-    else
-      ndig = len(digits) - (lead - 1)
-    end if
-    if (e + ndig - 1 < 30) return
-    ok = e + ndig - 1 == 308 .and. digits(lead:min(len(digits), lead + 16)) == '17976931348623157'
-  end function number_ok
-
   !> Reads all records of an open unit, each of any length (`append_line`
   !> cuts the long ones; origin: the record each line comes from; broken:
   !> the records whose cut split a string or a word).
@@ -767,16 +722,6 @@ contains
     end do
     t = buf(1:n)
   end function squeeze_quoted
-
-  pure function lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
-    end do
-  end function lower
 
   !> File name of the deck without directory and extension.
   pure function deck_stem(path) result(stem)

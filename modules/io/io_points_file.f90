@@ -2,19 +2,23 @@
 !> one point per line, "x y z" or "x y z volume" (lengths and length^3 in the
 !> deck's units, any Fortran list-directed real format), every line with the
 !> same number of values; blank lines and lines starting with '#' are
-!> skipped. Without a volume column each particle gets the volume of its
+!> skipped, and a UTF-8 byte-order mark at the start. A value must be a
+!> finite number of magnitude below 1e30 (the deck's rule, checked on the
+!> text: a number too large for a real must not be read), a line at most
+!> 1024 characters. Without a volume column each particle gets the volume of its
 !> host cell divided by per_cell^3 (the scene decides).
 module io_points_file
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp
-  use base_strings, only: itoa
+  use base_strings, only: itoa, lower, number_ok
   use base_errors, only: error_no_memory, error_t, error_set
   implicit none
   private
   public :: points_file_read
 
-  !> Longest line read.
-  integer, parameter :: max_len = 1024
+  !> Longest line read, and one more (a line that fills it is too long).
+  integer, parameter :: max_len = 1025
+  character(len=*), parameter :: bom = char(239)//char(187)//char(191)
 
 contains
 
@@ -55,6 +59,11 @@ contains
           call fail(trim(msg))
           return
         end if
+        if (nline == 1 .and. line(1:3) == bom) line = line(4:)
+        if (len_trim(line) == max_len) then
+          call fail('longer than '//itoa(max_len - 1)//' characters')
+          return
+        end if
         line = adjustl(line)
         if (len_trim(line) == 0 .or. line(1:1) == '#') cycle
         nc = columns(line)
@@ -65,6 +74,10 @@ contains
         if (ncol == 0) ncol = nc
         if (nc /= ncol) then
           call fail('this line has '//itoa(nc)//' values, the first point''s has '//itoa(ncol))
+          return
+        end if
+        if (.not. numbers_ok(line)) then
+          call fail('a value is not finite or of magnitude 1e30 or more')
           return
         end if
         read(line, *, iostat=ios) v(1:nc)
@@ -112,6 +125,28 @@ contains
       call error_set(err, 'points_file_read', 'file of points '''//path//''', line '//itoa(nline)//': '//what)
     end subroutine fail
   end subroutine points_file_read
+
+  !> Every blank- or comma-separated field of the line passes the deck's
+  !> number rule (`number_ok`).
+  pure logical function numbers_ok(line)
+    character(len=*), intent(in) :: line
+    integer :: i, j
+    numbers_ok = .true.
+    i = 1
+    do while (i <= len_trim(line))
+      if (index(' ,'//achar(9), line(i:i)) > 0) then
+        i = i + 1
+        cycle
+      end if
+      j = i
+      do while (j < len_trim(line))
+        if (index(' ,'//achar(9), line(j + 1:j + 1)) > 0) exit
+        j = j + 1
+      end do
+      numbers_ok = numbers_ok .and. number_ok(lower(line(i:j)))
+      i = j + 1
+    end do
+  end function numbers_ok
 
   !> The number of blank- or comma-separated fields of a line.
   pure integer function columns(line) result(n)
