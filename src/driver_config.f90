@@ -187,6 +187,7 @@ contains
       n0 = size(problems)
       call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), echo, problems)
       call at_line(problems, n0, deck, 'solid', k)
+      cfg%solids(k)%where = trim(deck%path)//':'//itoa(deck_line(deck, 'solid', k))//': '
       names(k) = cfg%solids(k)%name
     end do
     n = deck_count(deck, 'particles')

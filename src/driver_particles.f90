@@ -188,6 +188,7 @@ contains
     real(wp) :: lo(3), hi(3), spacing, clipped, fm, fs
     integer :: s, k, n, i, ntrunc, stat
     character(len=200) :: msg
+    character(len=:), allocatable :: why
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s), p => st%pt)
         if (trim(sc%strength) /= 'gurson' .or. .not. sc%void_std > 0.0_wp) cycle
@@ -220,7 +221,16 @@ contains
         end if
         spacing = minval(p%vol(order))**(1.0_wp/3.0_wp)
         call random_field_build(lo, hi, spacing, sc%void_length, sc%void_covariance, sc%void_seed, field, clipped, err)
-        if (allocated(err)) return
+        if (allocated(err)) then
+          ! (found only now: the field's box and spacing are the seeded particles')
+          if (err%category == ERR_INPUT) then
+            why = err%msg   ! (a copy: error_set deallocates err first)
+            call error_set(err, 'the deck has 1 problem(s); nothing was run', trim(sc%where)//' &solid '''// &
+                           trim(sc%name)//''': void_length = '//rtoa(sc%void_length)//' with these particles: '// &
+                           why, ERR_INPUT)
+          end if
+          return
+        end if
         call random_field_sample(field, xs, g, err)
         if (allocated(err)) return
         call void_fraction_from_field(g, sc%void_mean, sc%void_std, sc%void_distribution, f0, ntrunc, err, &

@@ -52,6 +52,7 @@ module particles_config
   !> One resolved &solid group; the initial values are the defaults.
   type :: solid_config_t
     character(len=64) :: name = ''                 !< '' becomes 'solid<N>'
+    character(len=300) :: where = ''               !< 'deck:line: ' of the group, for later refusals
     real(wp) :: density = 0.0_wp                   !< reference density (required, > 0)
     character(len=64) :: eos = 'none'              !< 'none' (pressure K (rho/rho0 - 1)) or an eos_factory name
     type(eos_params_t) :: par                      !< EOS parameters

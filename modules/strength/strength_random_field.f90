@@ -325,7 +325,7 @@ contains
     real(c_double), pointer, contiguous :: rbuf(:, :, :)
     complex(c_double_complex), pointer, contiguous :: cbuf(:, :, :)
     type(random_normal_t) :: rng
-    character(len=200) :: msg, emsg
+    character(len=320) :: msg, emsg
 
     clipped = 0.0_wp
     if (.not. (all(ieee_is_finite(lo)) .and. all(ieee_is_finite(hi)) .and. ieee_is_finite(spacing) .and. &
@@ -412,7 +412,9 @@ contains
     if (ntot > max_nodes) then
       field%n = 1
       write(msg, '(a,es10.3,a,es10.3,a,es10.3,a)') 'the field grid for ell = ', ell, ' and spacing ', spacing, &
-        ' would have more than ', big, ' nodes; raise ell or the spacing, or use ell = 0'
+        ' would have more than ', big, &
+        ' nodes (resolved to ell/N or finer and padded by 3 ell on each side): choose an ell nearer the size of'// &
+        ' the particles'' box, or ell = 0'
       call error_set(err, where, trim(msg), ERR_INPUT)
       return
     end if
