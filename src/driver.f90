@@ -36,6 +36,10 @@ module driver
   private
   public :: driver_run, driver_check, driver_print_defaults, driver_print_version
 
+  !> The environment variables in which MPI launchers give a process its
+  !> rank (Open MPI, PMIx, MPICH and Slurm's PMI).
+  character(len=*), parameter :: rank_variables(3) = [character(len=20) :: 'OMPI_COMM_WORLD_RANK', 'PMIX_RANK', 'PMI_RANK']
+
 contains
 
   !> Runs the deck at `deck_path` to completion, or stops with a message.
@@ -135,14 +139,22 @@ contains
 
   !> Reads and validates the deck at `deck_path` and prints it resolved
   !> (`lsalepm --check`): exit status 0 if it can run, else 2 with the
-  !> problems. Nothing is written.
+  !> problems. Nothing is written. Started by mpirun, every process checks
+  !> (MPI is not started) and the first alone prints (its rank from the
+  !> launcher's environment).
   subroutine driver_check(deck_path)
     character(len=*), intent(in) :: deck_path
     type(config_t) :: cfg
     type(log_t) :: log
     character(len=max_line), allocatable :: problems(:)
+    character(len=16) :: rank
+    integer :: k, stat
     call exit_guard_install()
     call config_read(deck_path, cfg, problems)
+    do k = 1, 3
+      call get_environment_variable(trim(rank_variables(k)), rank, status=stat)
+      if (stat == 0 .and. trim(rank) /= '0') call halt(log, merge(0, 2, size(problems) == 0))
+    end do
     if (size(problems) > 0) call refuse(log, problems, 'the deck has '//itoa(size(problems))//' problem(s)')
     write(*, '(a)', advance='no') cfg%echo
     write(*, '(a)') 'deck '//deck_path//' is valid'
