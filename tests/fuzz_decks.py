@@ -6,7 +6,13 @@
 Every shipped deck (the *.nml files in the DECK_DIRs, except bad_* ones) is
 mutated in ways that each make it wrong for certain, plus fixed cases from
 the hardening issue; every broken deck is run by every EXE (the Debug and
-the Release build). Each run must end with exit status 2, before step 0
+the Release build). Issue 40 adds classes whose mistake is in a file the
+deck names or in how it is written: particle point files and grid files
+damaged at random (bad numbers, shapes, byte-order marks, long lines,
+tangled cells), a wrong value at the end of a line thousands of characters
+long (the refusal must name that variable), and restart dumps of a
+particle run edited with h5py (checksums valid) into values no run can
+produce (the refusal must say the restart cannot be used). Each run must end with exit status 2, before step 0
 (no progress line), with an ERROR line that names the group, the variable
 or the line, and without a crash (no Fortran runtime error, no signal) or
 a hang (20 s). A run that exits 0 accepted a mistake silently. Prints the
@@ -15,11 +21,19 @@ counts per mutation class and exits 1 on any failure.
 import os
 import random
 import re
+import shutil
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'tools'))
+import debian_python  # noqa: E402  Debian's python3 if this one lacks the packages
+debian_python.require("h5py", "numpy")
+import h5py  # noqa: E402
+import numpy as np  # noqa: E402
+
 TIMEOUT = 20
 SEED = 20261123
+WORK = '.'   # the work folder (main)
 
 
 def scan_groups(text):
@@ -178,7 +192,112 @@ FIXED = [
 ]
 
 
-def run(exe, deck, work):
+SMALL = ("&run t_end = 0.01 /\n&grid ni = 4, nj = 4, nk = 4 /\n&material name = 'gas' /\n"
+         "&region density = 1, pressure = 1 /\n&output dir = 'out/f' /\n")
+SOLID = "&solid name = 'steel', density = 7.8, youngs_modulus = 200, poisson_ratio = 0.3 /\n"
+
+
+def file_cases(rng, n):
+    """(class, deck, {file: bytes}, expected) cases whose mistake is in a
+    particle point file or a grid file the deck names."""
+    out = []
+    good = [b'0.3 0.3 0.3', b'0.6 0.4 0.5', b'0.2 0.7 0.6']
+    tokens = [b'nan', b'Inf', b'-1e300', b'1' * 5000, b'12345678901234567890123456789012345', b'0.5.5',
+              b'abc', b'0x10', b'1e']
+    bad_lines = [b'0.5 0.5 ' + t for t in tokens] + [b'0.5 0.5', b'0.5 0.5 0.5 0.5 0.5', b'0.5 0.5 0.5 -1',
+                                                     b'0.5 0.5 0.5 0', b'0.5 0.5 5.0']
+    for k in range(n):
+        lines = list(good)
+        lines.insert(rng.randrange(len(lines) + 1), rng.choice(bad_lines))
+        data = b'\n'.join(lines) + b'\n'
+        if rng.random() < 0.3:
+            data = b'\xef\xbb\xbf' + data
+        out.append(('bad point file', SMALL + SOLID + "&particles shape = 'file', file = 'p%d.txt' /\n" % k,
+                    {'p%d.txt' % k: data}, r"file of points|of file 'p[0-9]*.txt'"))
+    x = np.stack(np.meshgrid(*(np.linspace(0, 1, 5),) * 3, indexing='ij')[::-1], axis=-1)   # (k, j, i, 3)
+    for k in range(n):
+        bad = x.copy()
+        node = tuple(rng.randrange(1, 4) for _ in range(3))
+        kind = rng.randrange(4)
+        if kind == 0:
+            bad[node + (rng.randrange(3),)] = rng.choice([np.nan, np.inf, 1e300, -1e31])
+            why = 'not finite or of magnitude 1e30'
+        elif kind == 1:
+            d = rng.randrange(3)
+            bad[node + (2 - d,)] += rng.choice([-1, 1]) * rng.uniform(0.27, 0.6)   # past a neighbour
+            why = 'inverted or self-intersecting'
+        elif kind == 2:
+            bad = bad * 1e-32
+            why = 'volume of'
+        else:
+            bad = bad[:, :, :-1, :]
+            why = 'has shape'
+        files = {}
+        with h5py.File(os.path.join(WORK, 'g%d.h5' % k), 'w') as f:
+            f['x'] = bad
+        out.append(('bad grid file', SMALL.replace('ni = 4, nj = 4, nk = 4', "ni = 4, nj = 4, nk = 4, file = 'g%d.h5'" % k),
+                    files, why))
+    return out
+
+
+def long_line_cases(rng, n):
+    """A wrong value at the end of a line of thousands of characters: the
+    refusal must name it (a reader that cut the line would not see it)."""
+    out = []
+    for k in range(n):
+        pad = ' ' * rng.randrange(1100, 6000)
+        var, val = rng.choice([('cfl', '2.0'), ('dt_growth', '0.5'), ('max_steps', '-3'), ('t_end', '-1')])
+        text = SMALL.replace('&run t_end = 0.01 /', "&run title = 'long'," + pad + ('t_end = 0.01, ' if var != 't_end' else '')
+                             + '%s = %s /' % (var, val))
+        out.append(('long line', text, {}, r'&run: %s = ' % var))
+    return out
+
+
+def restart_cases(exe, rng, n):
+    """A particle run's dump edited into values no run can produce."""
+    deck = (SMALL.replace('t_end = 0.01', 't_end = 1, max_steps = 3, dump_steps = 3')
+            .replace("dir = 'out/f'", "dir = 'out/r', name = 'r'") + SOLID
+            + "&particles shape = 'box', lo = 0.3, 0.3, 0.3, hi = 0.7, 0.7, 0.7, solid = 'steel', per_cell = 2 /\n")
+    with open(os.path.join(WORK, 'restart_base.nml'), 'w') as fh:
+        fh.write(deck)
+    subprocess.run([exe, 'restart_base.nml'], cwd=WORK, capture_output=True, timeout=120)
+    dump = os.path.join(WORK, 'out/r/r_restart_00000003.h5')
+    if not os.path.exists(dump):
+        print('note: no particle dump to edit (the run failed): restart class skipped')
+        return []
+    cont = deck.replace('max_steps = 3, dump_steps = 3', "max_steps = 6, restart_from = 'e%d.h5'")
+    edits = [('particle_mass', -1.0), ('particle_volume', 0.0), ('particle_density', np.nan),
+             ('particle_velocity', 1e300), ('particle_stress', -1e40), ('particle_x', np.inf),
+             ('particle_xi', 1.5), ('particle_xi', -0.5), ('particle_cell', 0), ('particle_cell', 10 ** 6),
+             ('particle_id', 0), ('particle_id', -7), ('particle_material', 2), ('particle_body', -1),
+             ('particle_body', 99), ('particle_energy', np.nan), ('particle_cell', None), ('fewer', None)]
+    out = []
+    for k in range(n):
+        name, value = rng.choice(edits)
+        path = os.path.join(WORK, 'e%d.h5' % k)
+        shutil.copy(dump, path)
+        with h5py.File(path, 'r+') as f:
+            if name == 'fewer':      # one particle fewer in every dataset of a closed box
+                for key in [q for q in f['state'].keys() if q.startswith('particle_')]:
+                    v = f['state/' + key][()]
+                    del f['state/' + key]
+                    f.create_dataset('state/' + key, data=v[:-1], fletcher32=True, chunks=True)
+            else:
+                d = f['state/' + name]
+                v = d[()]
+                p = rng.randrange(v.shape[0])
+                if value is None:    # another host cell for the same natural coordinates
+                    v[p] = v[p] + 1 if v[p] < 64 else v[p] - 1
+                elif v.ndim == 1:
+                    v[p] = value
+                else:
+                    v[p, rng.randrange(v.shape[1])] = value
+                d[...] = v
+        out.append(('edited particle restart', cont % k, {}, r'cannot restart|restart_from'))
+    return out
+
+
+def run(exe, deck, work, expect=None):
     try:
         p = subprocess.run([exe, deck], cwd=work, capture_output=True, text=True, timeout=TIMEOUT,
                            errors='replace')
@@ -196,6 +315,8 @@ def run(exe, deck, work):
     errors = [l for l in out.splitlines() if l.startswith('ERROR: ')]
     if not errors or not any(re.search(r"&\w|:\d+:|'\S", l) for l in errors[:-1] or errors):
         return 'no ERROR line naming the group, variable or line', out
+    if expect and not any(re.search(expect, l) for l in errors):
+        return 'no ERROR line matching /%s/' % expect, out
     return 'ok', out
 
 
@@ -208,21 +329,29 @@ def main():
     for e in missing:
         print('note: %s does not exist (not built): not fuzzed' % e)
     exes = [e for e in exes if os.path.exists(e)]
+    global WORK
+    WORK = work
     os.makedirs(work, exist_ok=True)
     rng = random.Random(SEED)
-    cases = list(FIXED)
+    cases = [(cls, t, {}, None) for cls, t in FIXED]
     for d in dirs:
         for f in sorted(os.listdir(d)):
             if f.endswith('.nml') and not f.startswith('bad_'):
                 text = open(os.path.join(d, f), encoding='utf-8', errors='replace').read()
-                cases += [(cls, t) for cls, t in mutations(text, rng)]
+                cases += [(cls, t, {}, None) for cls, t in mutations(text, rng)]
+    cases += file_cases(rng, 30) + long_line_cases(rng, 10)
+    if exes:
+        cases += restart_cases(exes[0], rng, 40)
     counts, failures = {}, 0
-    for k, (cls, text) in enumerate(cases):
+    for k, (cls, text, files, expect) in enumerate(cases):
         path = os.path.join(work, 'fuzz_%04d.nml' % k)
         with open(path, 'w', encoding='utf-8', errors='replace') as fh:
             fh.write(text)
+        for name, data in files.items():
+            with open(os.path.join(work, name), 'wb') as fh:
+                fh.write(data)
         for exe in exes:
-            verdict, out = run(exe, path, work)
+            verdict, out = run(exe, path, work, expect)
             c = counts.setdefault(cls, [0, 0])
             c[0] += 1
             if verdict != 'ok':
