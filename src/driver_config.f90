@@ -93,11 +93,13 @@ contains
     integer :: echo
     character(len=max_line), allocatable :: lines(:)
     integer, allocatable :: origin(:)
+    integer :: stat
 
     problems = [character(len=max_line) ::]
     cfg%deck_path = path
     if (present(text)) then
-      lines = text_lines(text, origin)
+      lines = text_lines(text, origin, stat)
+      if (stat /= 0) call problem_add(problems, error_no_memory('the stored deck''s lines'))
       call deck_from_lines(lines, path, known_groups, repeatable_groups, deck, problems, origin)
     else
       call deck_read(path, known_groups, repeatable_groups, deck, problems)

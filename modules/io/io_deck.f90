@@ -148,24 +148,27 @@ contains
 
   !> A text cut at its newlines into lines, a line longer than max_line cut
   !> further (`cut_line`); `origin`: the line of the text each comes from.
-  function text_lines(text, origin) result(lines)
+  !> (stat: nonzero if memory ran out; the lines are then those read.)
+  function text_lines(text, origin, stat) result(lines)
     character(len=*), intent(in) :: text
     integer, allocatable, intent(out), optional :: origin(:)
+    integer, intent(out), optional :: stat
     character(len=max_line), allocatable :: lines(:)
     integer, allocatable :: from(:)
-    integer :: i, j, n, nline
+    integer :: i, j, n, nline, st
     logical :: broken
     n = 0
     nline = 0
-    allocate(lines(16), from(16))
+    allocate(lines(16), from(16), stat=st)
     i = 1
-    do while (i <= len(text))
+    do while (i <= len(text) .and. st == 0)
       j = index(text(i:), new_line('a'))
       if (j == 0) j = len(text) - i + 2
       nline = nline + 1
-      call append_line(text(i:i + j - 2), nline, lines, from, n, broken)
+      call append_line(text(i:i + j - 2), nline, lines, from, n, broken, st)
       i = i + j
     end do
+    if (present(stat)) stat = st
     lines = lines(1:n)
     if (present(origin)) origin = from(1:n)
   end function text_lines
@@ -173,25 +176,28 @@ contains
   !> Appends `line` (line `number` of a deck) to lines(1:n) and its number
   !> to origin(1:n), cut into pieces of at most max_line characters
   !> (`cut_line`; `broken`: a cut had to split a string or a word); both
-  !> arrays double when full.
-  subroutine append_line(line, number, lines, origin, n, broken)
+  !> arrays double when full (stat: nonzero if memory ran out).
+  subroutine append_line(line, number, lines, origin, n, broken, stat)
     character(len=*), intent(in) :: line
     integer, intent(in) :: number
     character(len=max_line), allocatable, intent(inout) :: lines(:)
     integer, allocatable, intent(inout) :: origin(:)
     integer, intent(inout) :: n
     logical, intent(out) :: broken
+    integer, intent(out) :: stat
     character(len=max_line), allocatable :: tmp(:)
     integer, allocatable :: itmp(:)
     integer :: from, to
     logical :: forced
     from = 1
     broken = .false.
+    stat = 0
     do
       call cut_line(line, from, to, forced)
       broken = broken .or. forced
       if (n == size(lines)) then
-        allocate(tmp(2*n), itmp(2*n))
+        allocate(tmp(2*n), itmp(2*n), stat=stat)
+        if (stat /= 0) return
         tmp(1:n) = lines(1:n)
         itmp(1:n) = origin(1:n)
         call move_alloc(tmp, lines)
@@ -647,7 +653,11 @@ contains
       if (is_iostat_end(ios)) exit
       if (.not. is_iostat_eor(ios)) return
       nline = nline + 1
-      call append_line(line, nline, lines, origin, n, forced)
+      call append_line(line, nline, lines, origin, n, forced, ios)
+      if (ios /= 0) then
+        msg = 'out of memory for its lines'
+        return
+      end if
       if (forced) broken = [broken, nline]
     end do
     ios = 0

@@ -205,15 +205,15 @@ contains
     call put_nodes('x', g%x)
     call put_nodes('velocity', h%u)
     if (present(node_mass)) then
-      call put_node_scalar('node_mass', node_mass)
+      call put_scalar('node_mass', node_mass, .true.)
     else
-      call put_node_scalar('node_mass', h%mnode)
+      call put_scalar('node_mass', h%mnode, .true.)
     end if
-    call put_cells('density', h%rho)
-    call put_cells('pressure', h%p)
-    call put_cells('energy', h%e)
-    call put_cells('sound_speed', h%cs)
-    call put_cells('viscosity', h%q)
+    call put_scalar('density', h%rho, .false.)
+    call put_scalar('pressure', h%p, .false.)
+    call put_scalar('energy', h%e, .false.)
+    call put_scalar('sound_speed', h%cs, .false.)
+    call put_scalar('viscosity', h%q, .false.)
     if (.not. allocated(err) .and. direct) then
       call h5_write_part_int(f, 'material', material, cd, cs, cc, err)
     else if (.not. allocated(err)) then
@@ -229,9 +229,9 @@ contains
       call h5_write_part_int(f, 'material', ibuf, cd, cs, cc, err)
     end if
     do k = 1, size(names)
-      call put_cells(trim(names(k)), extra(:, k))
+      call put_scalar(trim(names(k)), extra(:, k), .false.)
     end do
-    call put_cells('volume', h%vol)
+    call put_scalar('volume', h%vol, .false.)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'time', time, err)
     if (.not. allocated(err)) call h5_write_scalar_int(f, 'step', step, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/mass', tot%mass, err)
@@ -325,49 +325,42 @@ contains
       call h5_write_part_real(f, name, buf, nd, ns, nc, err)
     end subroutine put_nodes
 
-    !> Node array a(nnode): this block's part.
-    subroutine put_node_scalar(name, a)
+    !> Node array a(nnode) (nodes) or cell array a(ncell): this block's
+    !> part.
+    subroutine put_scalar(name, a, nodes)
       character(len=*), intent(in) :: name
       real(wp), intent(in) :: a(:)
-      integer :: m
+      logical, intent(in) :: nodes
+      integer :: m, lo(3), hi(3)
       if (allocated(err)) return
-      if (direct) then
+      if (nodes .and. direct) then
         call h5_write_part_real(f, name, a, nd(2:4), ns(2:4), nc(2:4), err)
         return
-      end if
-      m = 0
-      do l = g%ulo(3), g%nhi(3)
-        do j = g%ulo(2), g%nhi(2)
-          do i = g%ulo(1), g%nhi(1)
-            m = m + 1
-            buf(m) = a(g%node(i, j, l))
-          end do
-        end do
-      end do
-      call h5_write_part_real(f, name, buf, nd(2:4), ns(2:4), nc(2:4), err)
-    end subroutine put_node_scalar
-
-    !> Cell array a(ncell): this block's part.
-    subroutine put_cells(name, a)
-      character(len=*), intent(in) :: name
-      real(wp), intent(in) :: a(:)
-      integer :: m
-      if (allocated(err)) return
-      if (direct) then
+      else if (direct) then
         call h5_write_part_real(f, name, a, cd, cs, cc, err)
         return
       end if
+      lo = merge(g%ulo, g%clo, nodes)
+      hi = merge(g%nhi, g%chi, nodes)
       m = 0
-      do l = g%clo(3), g%chi(3)
-        do j = g%clo(2), g%chi(2)
-          do i = g%clo(1), g%chi(1)
+      do l = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
             m = m + 1
-            buf(m) = a(g%cell(i, j, l))
+            if (nodes) then
+              buf(m) = a(g%node(i, j, l))
+            else
+              buf(m) = a(g%cell(i, j, l))
+            end if
           end do
         end do
       end do
-      call h5_write_part_real(f, name, buf, cd, cs, cc, err)
-    end subroutine put_cells
+      if (nodes) then
+        call h5_write_part_real(f, name, buf, nd(2:4), ns(2:4), nc(2:4), err)
+      else
+        call h5_write_part_real(f, name, buf, cd, cs, cc, err)
+      end if
+    end subroutine put_scalar
   end subroutine output_frame
 
   !> The particles' datasets and their attributes (module notes).
