@@ -26,6 +26,7 @@ module driver_output
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_gathered
+  use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
   use particles_state, only: particles_t
   implicit none
   private
@@ -51,6 +52,7 @@ module driver_output
     real(wp) :: step_wall = 0.0_wp, dump_wall = 0.0_wp   !< wall time of the last step, last dump
     type(timer_t) :: t_setup, t_lagrange, t_output, t_total
     integer :: history_unit = -1                   !< the energy history file (-1: none)
+    integer :: matsum_unit = -1                    !< the material and body sums file (-1: none)
     !> rows still to come (on every rank: a row's totals are summed by all)
     logical :: history_on = .false.
     real(wp) :: t_next_history = huge(1.0_wp)      !< time of the next history row
@@ -141,30 +143,44 @@ contains
     type(schedule_t), intent(inout) :: sch
     logical, intent(in) :: append
     type(error_t), allocatable, intent(inout) :: err
-    character(len=512) :: msg
-    integer :: ios
+    character(len=200) :: head(3)
+    integer :: i
 
     call gauges_open(sch%gauges, gauges_path(sch), cfg%output%gauges(:, 1:cfg%output%ngauge), append, err)
     if (allocated(err) .or. .not. cfg%output%history_dt > 0.0_wp) return
-    if (append) then
-      open(newunit=sch%history_unit, file=history_path(sch), status='unknown', position='append', &
-           action='write', iostat=ios, iomsg=msg)
-    else
-      open(newunit=sch%history_unit, file=history_path(sch), status='replace', action='write', &
-           iostat=ios, iomsg=msg)
-    end if
-    if (ios /= 0) then
-      sch%history_unit = -1
-      call error_set(err, 'open_outputs', 'cannot open '''//history_path(sch)//''': '//trim(msg), ERR_IO)
-      return
-    end if
-    if (append) return
+    call open_text(sch%history_unit, history_path(sch), append, err)
+    if (allocated(err)) return
+    call open_text(sch%matsum_unit, matsum_path(sch), append, err)
+    if (allocated(err) .or. append) return
     write(sch%history_unit, '(a)') '# energy history (lsalepm): a row every &output history_dt = '// &
       rtoa(cfg%output%history_dt)//' and at the end; total = kinetic + internal; drift = (total - '// &
       'initial total - boundary work)/|initial total|; energies in the deck''s units'
     write(sch%history_unit, '(a)') '# time kinetic internal boundary_work total drift'
     flush(sch%history_unit)
+    head = matsum_header(rtoa(cfg%output%history_dt))
+    write(sch%matsum_unit, '(a)') (trim(head(i)), i = 1, size(head))
+    flush(sch%matsum_unit)
   end subroutine open_histories
+
+  !> Opens the text file `path` for writing: a new file, or (append) the
+  !> existing one to add rows; unit -1 and an I/O error if it cannot.
+  subroutine open_text(unit, path, append, err)
+    integer, intent(out) :: unit
+    character(len=*), intent(in) :: path
+    logical, intent(in) :: append
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=512) :: msg
+    integer :: ios
+    if (append) then
+      open(newunit=unit, file=path, status='unknown', position='append', action='write', iostat=ios, iomsg=msg)
+    else
+      open(newunit=unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    end if
+    if (ios /= 0) then
+      unit = -1
+      call error_set(err, 'open_outputs', 'cannot open '''//path//''': '//trim(msg), ERR_IO)
+    end if
+  end subroutine open_text
 
   function gauges_path(sch) result(path)
     type(schedule_t), intent(in) :: sch
@@ -318,6 +334,12 @@ contains
     path = sch%out%dir//'/'//sch%out%name//'_history.txt'
   end function history_path
 
+  function matsum_path(sch) result(path)
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: path
+    path = sch%out%dir//'/'//sch%out%name//'_matsum.txt'
+  end function matsum_path
+
   !> After a restart has been read (st%t is the restart time): drops from the
   !> gauge, tracked-particle and history files the rows the earlier run wrote after this time
   !> (it may have run on past the dump), then opens both to append, so that a
@@ -340,6 +362,7 @@ contains
       if (.not. allocated(err)) call tracks_open(cfg, st%pt%nhist, sch, .true., err)
     end if
     if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(history_path(sch), st%t, err)
+    if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(matsum_path(sch), st%t, err)
     if (.not. allocated(err)) call open_histories(cfg, sch, .true., err)
     if (allocated(err)) err%category = ERR_IO
   end subroutine outputs_after_restart
@@ -365,6 +388,7 @@ contains
     real(wp) :: eps_t
     logical :: last
     character(len=160) :: row
+    type(matsum_t) :: ms
 
     if (.not. sch%history_on) return
     eps_t = 1.0e-12_wp*cfg%control%t_end
@@ -374,18 +398,42 @@ contains
     call state_totals(st)
     write(row, '(6es25.16e3)') st%t, st%tot%kinetic, st%tot%internal, st%tot%boundary_work, &
       st%tot%kinetic + st%tot%internal, energy_drift(st%tot)
+    call matsum_compute(st, ms)
     if (sch%history_unit /= -1) then   ! (rank 0)
       write(sch%history_unit, '(a)') trim(row)
       flush(sch%history_unit)
+      call write_rows(sch%matsum_unit, matsum_rows(st%t, ms, material_names(st)))
     end if
     sch%t_next_history = next_multiple(st%t + eps_t, cfg%output%history_dt)
     if (last) then
       if (sch%history_unit /= -1) close(sch%history_unit)
+      if (sch%matsum_unit /= -1) close(sch%matsum_unit)
       sch%history_unit = -1
+      sch%matsum_unit = -1
       sch%history_on = .false.
     end if
     call sch%t_output%stop()
   end subroutine history_output
+
+  !> Writes `rows` (trimmed) to `unit` and flushes it.
+  subroutine write_rows(unit, rows)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: rows(:)
+    integer :: i
+    if (unit == -1) return
+    write(unit, '(a)') (trim(rows(i)), i = 1, size(rows))
+    flush(unit)
+  end subroutine write_rows
+
+  !> The materials' names, as an array.
+  function material_names(st) result(names)
+    type(state_t), intent(in) :: st
+    character(len=64) :: names(size(st%mats))
+    integer :: m
+    do m = 1, size(st%mats)
+      names(m) = st%mats(m)%name
+    end do
+  end function material_names
 
   !> Writes a frame with each cell's material (the largest by volume in a
   !> mixed cell) and, with several materials, each material's fields: its
@@ -656,50 +704,19 @@ contains
     end if
   end function cell_text
 
-  !> Mass and internal energy (mass x specific internal energy) of each
-  !> material: its pure cells plus its slots in the mixed cells (mass, energy).
-  !> They add up to the cell totals of `hydro_totals` to round-off, since a
-  !> mixed cell's slots share its mass and energy.
-  !> Sums over the owned cells of every block, exact (`base_xsum`).
-  subroutine material_totals(st, mass, internal)
-    type(state_t), intent(in) :: st
-    real(wp), intent(out) :: mass(:), internal(:)
-    type(xsum_t) :: acc(2*size(mass))
-    integer :: c, m, s, i, j, k, nm
-    nm = size(mass)
-    do k = st%g%clo(3), st%g%chi(3)
-      do j = st%g%clo(2), st%g%chi(2)
-        do i = st%g%clo(1), st%g%chi(1)
-          c = st%g%cell(i, j, k)
-          m = st%h%mat(c)
-          if (m > 0) then
-            call xsum_add(acc(m), st%h%mass(c))
-            call xsum_add(acc(nm + m), st%h%mass(c)*st%h%e(c))
-          else if (m < 0) then
-            do s = st%mx%start(-m), st%mx%start(-m + 1) - 1
-              call xsum_add(acc(st%mx%mat(s)), st%mx%mass(s))
-              call xsum_add(acc(nm + st%mx%mat(s)), st%mx%mass(s)*st%mx%e(s))
-            end do
-          end if
-        end do
-      end do
-    end do
-    call st%halo%sums(acc)
-    mass = [(xsum_value(acc(m)), m = 1, nm)]
-    internal = [(xsum_value(acc(nm + m)), m = 1, nm)]
-  end subroutine material_totals
-
   !> The conservation report: mass, momentum, energies, boundary work,
-  !> drift, then mass and internal energy of each material.
+  !> drift, then mass, internal and kinetic energy and momentum of each
+  !> material and particle body (`driver_matsum`).
   subroutine report_conservation(st, log, label)
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     character(len=*), intent(in) :: label
     character(len=256) :: line
-    real(wp) :: mass(size(st%mats)), internal(size(st%mats)), e0
+    real(wp) :: e0
+    type(matsum_t) :: ms
     integer :: m
     call state_totals(st)
-    write(line, '("conservation (",a,"): mass ",es22.15,"  momentum ",3es12.4)') &
+    write(line, '("conservation (",a,"): mass ",es22.15,"  momentum ",3es23.15)') &
       label, st%tot%mass, st%tot%momentum
     call log_line(log, trim(line))
     write(line, '("  energy: internal ",es22.15,"  kinetic ",es22.15,"  total ",es22.15)') &
@@ -723,10 +740,17 @@ contains
         st%tot%transfer_energy/e0, budget_residual(st%tot)
       call log_line(log, trim(line))
     end if
-    call material_totals(st, mass, internal)
+    call matsum_compute(st, ms)
     do m = 1, size(st%mats)
-      write(line, '("  material ",i0," ",a,": mass ",es22.15,"  internal energy ",es22.15)') &
-        m, st%mats(m)%name, mass(m), internal(m)
+      write(line, '("  material ",i0," ",a,": mass ",es22.15,"  internal energy ",es22.15, &
+        &"  kinetic energy ",es22.15,"  momentum ",3es23.15)') &
+        m, st%mats(m)%name, ms%mat(1, m), ms%mat(6, m), ms%mat(5, m), ms%mat(2:4, m)
+      call log_line(log, trim(line))
+    end do
+    do m = 1, size(ms%body, 2)
+      write(line, '("  particle body ",i0,": mass ",es22.15,"  internal energy ",es22.15, &
+        &"  kinetic energy ",es22.15,"  momentum ",3es23.15)') m, ms%body(1, m), ms%body(6, m), ms%body(5, m), &
+        ms%body(2:4, m)
       call log_line(log, trim(line))
     end do
   end subroutine report_conservation

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The energy history and gauge files of a run split by a restart equal the
+# The energy history, material sums and gauge files of a run split by a restart equal the
 # straight run's byte for byte, even when the first part ran on past the
 # dump it is continued from (its later rows are dropped on restart).
 # Usage: history_restart.sh EXE DECK N HISTORY_DT WORKDIR
@@ -28,4 +28,5 @@ grep -q '^# time kinetic internal boundary_work total drift$' out/straight_histo
 echo "history: $rows rows; gauges: $(grep -vc '^#' out/straight_gauges.txt) rows"
 cmp out/straight_history.txt out/split_history.txt || fail "the split run's history differs"
 cmp out/straight_gauges.txt out/split_gauges.txt || fail "the split run's gauge file differs"
-echo "PASS: split history and gauge files equal the straight run's"
+cmp out/straight_matsum.txt out/split_matsum.txt || fail "the split run's material sums differ"
+echo "PASS: split history, material sums and gauge files equal the straight run's"

@@ -68,6 +68,8 @@ for n in 1 2 4; do
     cmp -s "r$n/run.xdmf" r1/run.xdmf || fail "$n ranks: the XDMF series differs from one process's"
     cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
       fail "$n ranks: the energy history differs from one process's"; }
+    cmp -s "r$n/run_matsum.txt" r1/run_matsum.txt || { diff "r$n/run_matsum.txt" r1/run_matsum.txt | head; \
+      fail "$n ranks: the material and body sums differ from one process's"; }
     echo "ok: $n ranks: energy history ($(grep -vc '^#' r1/run_history.txt) rows) the same as one process's"
     if grep -q 'progress_steps = 5' r1.nml; then
       limits() { grep -E '^step +[0-9]+ .* dt by ' "$1" | sed -E 's/^step +([0-9]+) .* dt by (.*)$/\1 \2/'; }
