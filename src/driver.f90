@@ -173,7 +173,7 @@ contains
     write(*, '(a)', advance='no') config_defaults_text()
   end subroutine driver_print_defaults
 
-  !> The cycle of DESIGN §1: stable step, Lagrangian phase, inspection and
+  !> The cycle of ARCHITECTURE.md §1: stable step, Lagrangian phase, inspection and
   !> Euler phase, outputs.
   subroutine time_loop(cfg, st, sch, es)
     type(config_t), intent(in) :: cfg

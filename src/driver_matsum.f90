@@ -38,12 +38,12 @@ contains
   subroutine matsum_compute(st, ms)
     type(state_t), intent(in) :: st
     type(matsum_t), intent(out) :: ms
-    type(xsum_t), allocatable :: acc(:), bacc(:)   ! (nsum*nmat), (nsum*nbody): row k at nsum*(k-1)
-    integer :: nm, nb, c, m, s, i, j, k, a, n, n0, q
-    real(wp) :: frac, mc, u(3)
+    ! the sums of material k (body k) at nsum*(k-1)+1 .. nsum*k
+    type(xsum_t) :: acc(nsum*size(st%mats))
+    integer :: nm, nb, c, m, s, i, j, k, n, n0, q
+    real(wp) :: frac, mc
 
     nm = size(st%mats)
-    allocate(acc(nsum*nm))
     do k = st%g%clo(3), st%g%chi(3)
       do j = st%g%clo(2), st%g%chi(2)
         do i = st%g%clo(1), st%g%chi(1)
@@ -64,7 +64,6 @@ contains
       end do
     end do
     call st%halo%sums(acc)
-    allocate(ms%mat(nsum, nm))
     ms%mat = reshape([(xsum_value(acc(q)), q = 1, nsum*nm)], [nsum, nm])
 
     nb = 0
@@ -74,24 +73,28 @@ contains
       end do
     end if
     call st%halo%max_int(nb)
-    allocate(bacc(nsum*nb), ms%body(nsum, nb))
-    if (nb > 0) then
-      do k = 1, st%pt%np
-        if (.not. st%pw%owned(k)) cycle
-        q = nsum*(st%pt%body(k) - 1)
-        u = st%pt%v(:, k)
-        call xsum_add(bacc(q + 1), st%pt%m(k))
-        do a = 1, 3
-          call xsum_add(bacc(q + 1 + a), st%pt%m(k)*u(a))
-        end do
-        call xsum_add(bacc(q + 5), 0.5_wp*st%pt%m(k)*dot_product(u, u))
-        call xsum_add(bacc(q + 6), st%pt%m(k)*st%pt%e(k))
-      end do
-      call st%halo%sums(bacc)
-      ms%body = reshape([(xsum_value(bacc(q)), q = 1, nsum*nb)], [nsum, nb])
-    end if
+    call body_sums(nb)
 
   contains
+
+    !> The sums of bodies 1..nb over the particles the block owns.
+    subroutine body_sums(nb)
+      integer, intent(in) :: nb
+      type(xsum_t) :: bacc(nsum*nb)
+      integer :: p, r, d
+      do p = 1, merge(st%pt%np, 0, allocated(st%pw%owned) .and. allocated(st%pt%body))
+        if (.not. st%pw%owned(p)) cycle
+        r = nsum*(st%pt%body(p) - 1)
+        call xsum_add(bacc(r + 1), st%pt%m(p))
+        do d = 1, 3
+          call xsum_add(bacc(r + 1 + d), st%pt%m(p)*st%pt%v(d, p))
+        end do
+        call xsum_add(bacc(r + 5), 0.5_wp*st%pt%m(p)*dot_product(st%pt%v(:, p), st%pt%v(:, p)))
+        call xsum_add(bacc(r + 6), st%pt%m(p)*st%pt%e(p))
+      end do
+      if (nb > 0) call st%halo%sums(bacc)
+      ms%body = reshape([(xsum_value(bacc(r)), r = 1, nsum*nb)], [nsum, nb])
+    end subroutine body_sums
 
     !> Books material mm's mass and internal energy in the cell, and its
     !> fraction `f` of the cell's corner momenta and kinetic energies.
@@ -131,12 +134,11 @@ contains
     real(wp), intent(in) :: t
     type(matsum_t), intent(in) :: ms
     character(len=*), intent(in) :: names(:)
-    character(len=300), allocatable :: rows(:)
+    character(len=300) :: rows(size(ms%mat, 2) + size(ms%body, 2))
     character(len=32) :: label
     integer :: m, nm, nb
     nm = size(ms%mat, 2)
     nb = size(ms%body, 2)
-    allocate(rows(nm + nb))
     do m = 1, nm
       write(rows(m), '(es25.16e3,1x,a,1x,i0,1x,a,6es25.16e3)') t, 'material', m, trim(names(m)), ms%mat(:, m)
     end do

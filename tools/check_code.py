@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Code conventions that a reviewer would otherwise have to catch by eye
-(DESIGN.md section 4), checked over the Fortran sources:
+(ARCHITECTURE.md §4), checked over the Fortran sources:
 
   1. every `allocate` statement has `stat=` (and `errmsg=`);
   2. no module keeps mutable state: a module's specification part declares

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Check that a frame of a rescaled run equals the original frame rescaled,
-bit for bit (the dimensional-rescaling invariance test; DESIGN.md section 6).
+bit for bit (the dimensional-rescaling invariance test; ARCHITECTURE.md §6).
 
     check_scaling.py ORIG.h5 SCALED.h5 --L 3 --T -2 --M 5
 

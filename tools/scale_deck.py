@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Write a copy of a deck with every dimensional input rescaled: lengths by
 2^L, times by 2^T, masses by 2^M (the dimensional-rescaling invariance test,
-tests/dimension_invariance.sh; DESIGN.md section 6).
+tests/dimension_invariance.sh; ARCHITECTURE.md §6).
 
     scale_deck.py DECK OUT --L 3 --T -2 --M 5
 

@@ -3,7 +3,7 @@
 !>
 !> A material holds one `eos_t`; the driver dispatches once per material and
 !> hands the EOS contiguous arrays of that material's cells, so no type
-!> selection happens inside a per-cell loop (DESIGN.md section 3).
+!> selection happens inside a per-cell loop (ARCHITECTURE.md §3).
 module eos_base
   use base_kinds, only: wp
   implicit none

@@ -6,7 +6,7 @@
 !> a shape, `shape_level` gives a 1-Lipschitz level function (<= 0 inside).
 !> The volumes of shapes in cells (`remap_shapes`) and particle seeding
 !> (`particles_seed`) both build on these; they live in mesh so that both
-!> packages can use them (DESIGN §2: particles come before remap).
+!> packages can use them (ARCHITECTURE.md §2: particles come before remap).
 module mesh_shapes
   use base_kinds, only: wp
   implicit none

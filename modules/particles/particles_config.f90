@@ -1,6 +1,6 @@
 !> The &solid and &particles groups: the solid materials of a scene and how
 !> its MPM particles are seeded (read / validate / echo / compare for a
-!> restart; DESIGN §4). Both may be given several times; a deck without
+!> restart; ARCHITECTURE.md §4). Both may be given several times; a deck without
 !> &particles has no particles and allocates nothing for them.
 !>
 !> &solid: a name, a reference density, the pressure law (an `eos_factory`

@@ -1,5 +1,5 @@
 !> The MPM particles of a scene (PARTICLES.md §1.2): structure of arrays,
-!> allocated only when the deck seeds particles (DESIGN §3: a scene without
+!> allocated only when the deck seeds particles (ARCHITECTURE.md §3: a scene without
 !> solids pays nothing). A failed particle is flagged, never deleted; np
 !> shrinks only when particles leave the grid through an open face at an
 !> Euler step (`particles_select`). Ids are the seeding numbers and stay
