@@ -18,6 +18,7 @@ module driver
   use io_hdf5, only: hdf5_start, hdf5_stop, hdf5_version
   use base_build, only: code_version, build_type
   use, intrinsic :: iso_fortran_env, only: compiler_version
+  use material_table, only: material_burn_start
   use driver_halt, only: halt, refuse, EXIT_WALL_TIME
   use driver_config, only: config_t, config_read, config_defaults_text
   use driver_state, only: state_t, state_totals, centroid_text
@@ -202,6 +203,7 @@ contains
       call sch%t_lagrange%start()
       bad_particle = 0
       sch%dt_particle = 0
+      call material_burn_start(st%mats, st%t)
       if (allocated(st%pw%mp)) then   ! (coupled particles; a block may hold none)
         call particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell=sch%dt_cell, &
                             dt_particle=sch%dt_particle)

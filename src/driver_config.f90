@@ -25,17 +25,18 @@ module driver_config
   use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
                               particles_config_changes
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
-                                 scene_config_changes
+                                 scene_config_changes, detonation_config_t, detonation_config_read
   implicit none
   private
   public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text, group_shape
 
   !> The deck's groups, in the order they are read and echoed.
-  character(len=*), parameter :: known_groups(11) = [character(len=9) :: &
-    'run', 'grid', 'hydro', 'material', 'region', 'source', 'solid', 'particles', 'boundary', 'rezone', 'output']
+  character(len=*), parameter :: known_groups(12) = [character(len=10) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'detonation', 'solid', 'particles', 'boundary', 'rezone', &
+    'output']
   !> The groups a deck may give more than once.
-  character(len=*), parameter :: repeatable_groups(5) = [character(len=9) :: 'material', 'region', 'source', &
-                                                         'solid', 'particles']
+  character(len=*), parameter :: repeatable_groups(6) = [character(len=10) :: 'material', 'region', 'source', &
+                                                         'detonation', 'solid', 'particles']
 
   !> The resolved &run group; the initial values are the defaults (cfl,
   !> dt_growth and dt_max are stored in `config_t%hydro`, where the
@@ -72,6 +73,7 @@ module driver_config
     type(material_config_t), allocatable :: materials(:)
     type(region_config_t), allocatable :: regions(:)
     type(source_config_t), allocatable :: sources(:)
+    type(detonation_config_t), allocatable :: detonations(:)     !< &detonation: initiators of explosives
     type(solid_config_t), allocatable :: solids(:)              !< &solid: solid materials of the particles
     type(particles_config_t), allocatable :: particles(:)       !< &particles: seeding (none: no particles)
     type(boundary_config_t) :: boundary
@@ -120,7 +122,7 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=64), allocatable :: names(:)
-    integer :: k, n, n0
+    integer :: k, n, n0, j
 
     associate (path => deck%path)
       n0 = size(problems)
@@ -157,6 +159,14 @@ contains
         call source_config_read(cfg%sources(k), k, deck_text(deck, 'source', k), path, cfg%grid%xmin, &
                                 cfg%grid%xmax, echo, problems)
         call at_line(problems, n0, deck, 'source', k)
+      end do
+      n = deck_count(deck, 'detonation')
+      cfg%detonations = [(detonation_config_t(), k = 1, n)]
+      do k = 1, n
+        n0 = size(problems)
+        call detonation_config_read(cfg%detonations(k), k, deck_text(deck, 'detonation', k), path, names, &
+                                    [(cfg%materials(j)%eos, j = 1, size(cfg%materials))], echo, problems)
+        call at_line(problems, n0, deck, 'detonation', k)
       end do
       call read_particle_groups(deck, cfg, echo, problems)
       n0 = size(problems)
@@ -435,7 +445,8 @@ contains
     do k = 1, min(size(old%materials), size(new%materials))
       call material_config_changes(k, old%materials(k), new%materials(k), changes)
     end do
-    call scene_config_changes(old%regions, new%regions, old%sources, new%sources, changes)
+    call scene_config_changes(old%regions, new%regions, old%sources, new%sources, old%detonations, new%detonations, &
+                              changes)
     call particles_config_changes(old%solids, new%solids, old%particles, new%particles, changes)
     call boundary_config_changes(old%boundary, new%boundary, changes)
   end subroutine config_state_changes
@@ -463,6 +474,8 @@ contains
     call region_config_read(cfg%regions(1), 1, empty('region'), 'deck.nml', names, echo, problems)
     call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &
                             problems)
+    cfg%detonations = [detonation_config_t()]
+    call detonation_config_read(cfg%detonations(1), 1, empty('detonation'), 'deck.nml', names, ['jwl'], echo, problems)
     cfg%solids = [solid_config_t()]
     ! (default-initialized; a constructor would copy an unset file_path)
     allocate(cfg%particles(1), stat=stat)

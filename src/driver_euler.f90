@@ -22,7 +22,7 @@ module driver_euler
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
                            smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
                            smooth_any_tangled, node_fixed
-  use material_table, only: material_index_cells, material_eval_eos
+  use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
   use lagrange_state, only: hydro_totals
@@ -303,6 +303,7 @@ contains
       call es%timer%stop()
       return
     end if
+    call material_burn_start(st%mats, st%t)
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)
     call mixed_cell_state(st%mx, st%h%p, st%h%cs)
     call euler_finish(rz, st, es, log, start, rs, err)

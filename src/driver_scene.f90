@@ -14,7 +14,9 @@ module driver_scene
   use io_grid_file, only: grid_file_read
   use io_gauges, only: gauge_locate
   use mesh_boundary, only: bc_init, bc_constrain
-  use material_table, only: material_index_cells, material_eval_eos
+  use material_table, only: material_index_cells, material_eval_eos, material_burn_start
+  use material_burn, only: burn_cj, burn_initiator, burn_around, burn_width_across, INIT_POINT, INIT_LINE, INIT_PLANE
+  use eos_jwl, only: jwl_t
   use material_mixed, only: mixed_allocate, mixed_cell_state
   use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments
   use mesh_shapes, only: shape_kind
@@ -168,6 +170,9 @@ contains
 
       call material_index_cells(st%mats, hy%mat, mx, err)
       if (allocated(err)) return
+      call setup_burn(cfg, st, log, err)
+      if (allocated(err)) return
+      call material_burn_start(st%mats, st%t)
       ! the mixed cells' interface planes, fitted to the exact fractions and
       ! centroids: how far the first remap's reference is from a plane
       call centroids_fit_planes(g, mx, planes, cfg%rezone%mof_max_iter)
@@ -207,6 +212,192 @@ contains
     call log_line(log, 'grid: '//itoa(st%g%ni)//' x '//itoa(st%g%nj)//' x '//itoa(st%g%nk)// &
                   ' cells, '//itoa(st%g%nnode)//' nodes, '//itoa(size(st%mats))//' material(s)')
   end subroutine build_scene
+
+  !> The programmed burn of each explosive that a &detonation lights
+  !> (`material_burn`): its CJ state from the JWL and the unreacted state of
+  !> its first region, checked against a given detonation velocity; each
+  !> stored cell's lighting time and burn time (the least over its
+  !> initiators). Explosives no &detonation names start as before: all
+  !> products at once (constant-volume detonation).
+  subroutine setup_burn(cfg, st, log, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: m, k, r, c, stat, ni, nj, nk, i, j, kk, q, unlit
+    real(wp) :: rho0, e0, d_cj, p_cj, v_cj, dv, xn(3, 8), xc(3), d, dir(3), t, w, tmin, tmax
+    real(wp), allocatable :: ax(:), ay(:), az(:), dist(:), dirs(:, :)
+    logical, allocatable :: mask(:, :, :)
+    logical :: ok
+    character(len=200) :: msg
+    character(len=100) :: who
+
+    do m = 1, size(st%mats)
+      if (.not. any(cfg%detonations%imat == m)) cycle
+      who = '&material '''//st%mats(m)%name//''''
+      r = findloc(cfg%regions%imat, m, dim=1)
+      if (r == 0) then
+        call log_line(log, 'detonation: '//trim(who)//' fills no region; nothing to light')
+        cycle
+      end if
+      rho0 = cfg%regions(r)%density
+      if (cfg%regions(r)%energy >= 0.0_wp) then
+        e0 = cfg%regions(r)%energy
+      else
+        e0 = st%mats(m)%eos%energy(rho0, cfg%regions(r)%pressure)
+      end if
+      d_cj = 0.0_wp
+      select type (eos => st%mats(m)%eos)
+      type is (jwl_t)
+        call burn_cj(eos, rho0, e0, d_cj, p_cj, v_cj)
+      end select
+      if (.not. d_cj > 0.0_wp) then
+        call error_set(err, deck_problem, trim(who)//': its JWL has no Chapman-Jouguet state from density '//rtoa(rho0)// &
+                       ' and energy '//rtoa(e0)//' (no positive Hugoniot pressure)', ERR_INPUT)
+        return
+      end if
+      dv = cfg%materials(m)%detonation_velocity
+      if (dv > 0.0_wp .and. abs(dv/d_cj - 1.0_wp) > 0.05_wp) then
+        call error_set(err, deck_problem, trim(who)//': detonation_velocity = '//rtoa(dv)//' is not within 5 % of '// &
+                       'the CJ velocity '//rtoa(d_cj)//' of its JWL from density '//rtoa(rho0)//' and energy '// &
+                       rtoa(e0)//' (the products would not sustain that front); give 0 for the CJ velocity', ERR_INPUT)
+        return
+      end if
+      if (.not. dv > 0.0_wp) dv = d_cj
+      call log_line(log, 'detonation: '//trim(who)//' from density '//rtoa(rho0)//', energy '//rtoa(e0)// &
+                    ': CJ velocity '//rtoa(d_cj)//', pressure '//rtoa(p_cj)//', relative volume '//rtoa(v_cj)// &
+                    '; programmed burn at D = '//rtoa(dv)//' over '//rtoa(cfg%materials(m)%burn_width)//' cells')
+      allocate(st%mats(m)%burn, stat=stat, errmsg=msg)
+      if (stat == 0) allocate(st%mats(m)%burn%light(st%g%ncell), st%mats(m)%burn%tau(st%g%ncell), &
+                              st%mats(m)%burn%f(st%g%ncell), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'setup_burn', error_no_memory('the lighting times'))
+        return
+      end if
+      associate (b => st%mats(m)%burn, g => st%g)
+        b%rho0 = rho0
+        b%v_cj = v_cj
+        b%light = huge(1.0_wp)
+        b%tau = 1.0_wp
+        do k = 1, size(cfg%detonations)
+          associate (dk => cfg%detonations(k))
+            if (dk%imat /= m) cycle
+            if (dk%path == 'around') then
+              if (st%halo%nblocks > 1 .or. len_trim(cfg%grid%file) > 0) then
+                call error_set(err, deck_problem, '&detonation('//itoa(k)//'): path = ''around'' needs one '// &
+                               'process and a box grid (&grid without file) for now; use path = ''straight''', &
+                               ERR_INPUT)
+                return
+              end if
+              ni = g%ni; nj = g%nj; nk = g%nk
+              allocate(ax(0:ni), ay(0:nj), az(0:nk), mask(ni, nj, nk), dist(ni*nj*nk), dirs(3, ni*nj*nk), &
+                       stat=stat, errmsg=msg)
+              if (stat /= 0) then
+                call error_set(err, 'setup_burn', error_no_memory('the shortest paths'))
+                return
+              end if
+              ax = cfg%grid%xmin(1) + (cfg%grid%xmax(1) - cfg%grid%xmin(1))*[(real(i, wp), i = 0, ni)]/real(ni, wp)
+              ay = cfg%grid%xmin(2) + (cfg%grid%xmax(2) - cfg%grid%xmin(2))*[(real(i, wp), i = 0, nj)]/real(nj, wp)
+              az = cfg%grid%xmin(3) + (cfg%grid%xmax(3) - cfg%grid%xmin(3))*[(real(i, wp), i = 0, nk)]/real(nk, wp)
+              do kk = 1, nk
+                do j = 1, nj
+                  do i = 1, ni
+                    mask(i, j, kk) = holds(g%cell(i, j, kk))
+                  end do
+                end do
+              end do
+              call burn_around(ni, nj, nk, ax, ay, az, mask, reshape(dk%point, [3, 1]), [dk%time*dv], dist, dirs, ok)
+              if (.not. ok) then
+                call error_set(err, 'setup_burn', error_no_memory('the shortest paths'))
+                return
+              end if
+              do kk = 1, nk
+                do j = 1, nj
+                  do i = 1, ni
+                    q = i + ni*((j - 1) + nj*(kk - 1))
+                    c = g%cell(i, j, kk)
+                    if (.not. dist(q) < huge(1.0_wp)) cycle
+                    t = dist(q)/dv
+                    if (t < b%light(c)) then
+                      call g%gather(c, g%x, xn)
+                      b%light(c) = t
+                      b%tau(c) = cfg%materials(m)%burn_width*burn_width_across(xn, dirs(:, q))/dv
+                    end if
+                  end do
+                end do
+              end do
+              deallocate(ax, ay, az, mask, dist, dirs)
+            else
+              do c = 1, g%ncell
+                call g%gather(c, g%x, xn)
+                xc = sum(xn, dim=2)/8.0_wp
+                call burn_initiator(initiator_kind(dk%shape), dk%point, dk%point2, dk%normal, xc, d, dir)
+                t = dk%time + d/dv
+                if (t < b%light(c)) then
+                  w = burn_width_across(xn, dir)
+                  b%light(c) = t
+                  b%tau(c) = cfg%materials(m)%burn_width*w/dv
+                end if
+              end do
+            end if
+          end associate
+        end do
+        ! the earliest and latest lighting of its owned cells over all blocks
+        unlit = 0
+        tmin = huge(1.0_wp)
+        tmax = -huge(1.0_wp)
+        do kk = g%clo(3), g%chi(3)
+          do j = g%clo(2), g%chi(2)
+            do i = g%clo(1), g%chi(1)
+              c = g%cell(i, j, kk)
+              if (.not. holds(c)) cycle
+              if (b%light(c) < huge(1.0_wp)) then
+                tmin = min(tmin, b%light(c))
+                tmax = max(tmax, b%light(c))
+              else
+                unlit = unlit + 1
+              end if
+            end do
+          end do
+        end do
+        q = 0
+        call st%halo%min_step(tmin, q)
+        tmax = -tmax
+        call st%halo%min_step(tmax, q)
+        call st%halo%max_int(unlit)   ! (a flag: some block has unlit cells)
+        call log_line(log, 'detonation: '//trim(who)//' lit from t = '//rtoa(tmin)//' to '//rtoa(-tmax)// &
+                      ' (cell centres)')
+        if (unlit > 0) call log_line(log, 'detonation: '//trim(who)//': some of its cells no path reaches '// &
+                                     '(they burn only if compressed)')
+      end associate
+    end do
+
+  contains
+
+    !> Cell c holds material m (pure or in a mixed cell).
+    logical function holds(cc)
+      integer, intent(in) :: cc
+      integer :: s
+      holds = st%h%mat(cc) == m
+      if (st%h%mat(cc) < 0) then
+        do s = st%mx%start(-st%h%mat(cc)), st%mx%start(-st%h%mat(cc) + 1) - 1
+          if (st%mx%mat(s) == m) holds = .true.
+        end do
+      end if
+    end function holds
+  end subroutine setup_burn
+
+  pure integer function initiator_kind(shape) result(kind)
+    character(len=*), intent(in) :: shape
+    select case (shape)
+    case ('line')
+      kind = INIT_LINE
+    case ('plane')
+      kind = INIT_PLANE
+    case default
+      kind = INIT_POINT
+    end select
+  end function initiator_kind
 
   !> Fills the cells from the regions (applied in deck order, a later one
   !> overriding an earlier one). Each cell's volume and first moment held by

@@ -1,5 +1,6 @@
-!> The &region and &source groups: the initial state of a scene (shapes
-!> filled with a material state, and energy deposited at points), read by
+!> The &region, &source and &detonation groups: the initial state of a scene
+!> (shapes filled with a material state, energy deposited at points, and
+!> the initiators of explosives), read by
 !> `driver_scene`.
 module driver_scene_config
   use base_kinds, only: wp
@@ -8,7 +9,8 @@ module driver_scene_config
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
   implicit none
   private
-  public :: region_config_t, source_config_t, region_config_read, source_config_read, scene_config_changes
+  public :: region_config_t, source_config_t, region_config_read, source_config_read, scene_config_changes, &
+            detonation_config_t, detonation_config_read
 
   !> One &region group: a shape filled with a material state; the initial
   !> values are the defaults (negative energies: not given).
@@ -36,6 +38,19 @@ module driver_scene_config
     real(wp) :: position(3) = 0.0_wp    !< the point (length)
     real(wp) :: energy = 0.0_wp         !< total energy deposited (required, > 0)
   end type source_config_t
+
+  !> One &detonation group: an initiator lighting an explosive (programmed
+  !> burn, `material_burn`) at `time`.
+  type :: detonation_config_t
+    character(len=64) :: material = ''                !< the explosive's &material name (eos jwl)
+    integer :: imat = 0                               !< its index (resolved)
+    character(len=16) :: shape = 'point'              !< point, line (point..point2), plane (point, normal)
+    real(wp) :: point(3) = 0.0_wp                     !< the point, a line's start, a point of the plane (length)
+    real(wp) :: point2(3) = 0.0_wp                    !< a line's end (length)
+    real(wp) :: normal(3) = [1.0_wp, 0.0_wp, 0.0_wp]  !< a plane's normal
+    real(wp) :: time = 0.0_wp                         !< lighting time of the initiator (time)
+    character(len=16) :: path = 'straight'            !< straight, or around (shortest path through the explosive)
+  end type detonation_config_t
 
 contains
 
@@ -163,11 +178,69 @@ contains
     if (echo /= no_echo) write(echo, nml=source)
   end subroutine source_config_read
 
+  !> Reads, validates and echoes the d-th &detonation group (`text`);
+  !> `materials` and `eos` are the &material names and their EOS names.
+  subroutine detonation_config_read(this, d, text, deck_file, materials, eos, echo, problems)
+    type(detonation_config_t), intent(out) :: this
+    integer, intent(in) :: d, echo
+    character(len=*), intent(in) :: text(:), deck_file, materials(:), eos(:)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=16) :: shape, path
+    character(len=64) :: material
+    real(wp) :: point(3), point2(3), normal(3), time
+    integer :: ios
+    character(len=max_line) :: msg
+    character(len=24) :: tag
+    namelist /detonation/ material, shape, point, point2, normal, time, path
+
+    material = this%material; shape = this%shape; point = this%point; point2 = this%point2
+    normal = this%normal; time = this%time; path = this%path
+    read(text, nml=detonation, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, deck_file, 'detonation', ios, msg)
+      return
+    end if
+    write(tag, '(a,i0,a)') 'detonation(', d, ')'
+    call problem_long(problems, trim(tag), 'material', material)
+    call problem_long(problems, trim(tag), 'shape', shape)
+    call problem_long(problems, trim(tag), 'path', path)
+    this%imat = name_index(materials, material)
+    if (this%imat == 0) then
+      call problem_add(problems, '&'//trim(tag)//': material = '''//trim(material)//''' is not a &material name')
+    else if (eos(this%imat) /= 'jwl') then
+      call problem_add(problems, '&'//trim(tag)//': material '''//trim(material)//''' has eos = '''// &
+                       trim(eos(this%imat))//'''; a detonation lights an explosive (eos = ''jwl'')')
+    end if
+    select case (shape)
+    case ('point')
+    case ('line')
+      if (.not. norm2(point2 - point) > 0.0_wp) call problem_add(problems, '&'//trim(tag)//': a line needs point2 /= point')
+    case ('plane')
+      if (.not. norm2(normal) > 0.0_wp) call problem_add(problems, '&'//trim(tag)//': a plane needs a normal /= 0')
+    case default
+      call problem_add(problems, '&'//trim(tag)//': shape = '''//trim(shape)//''' is not one of point, line, plane')
+    end select
+    select case (path)
+    case ('straight')
+    case ('around')
+      if (shape /= 'point') call problem_add(problems, '&'//trim(tag)//': path = ''around'' is for '// &
+                                             'shape = ''point'' (lines and planes light in straight lines)')
+    case default
+      call problem_add(problems, '&'//trim(tag)//': path = '''//trim(path)// &
+                       ''' is not one of straight, around')
+    end select
+    if (.not. abs(time) < 0.5_wp*huge(1.0_wp)) call problem_bad(problems, trim(tag), 'time', time, 'must be finite')
+    this%material = material; this%shape = shape; this%point = point; this%point2 = point2
+    this%normal = normal; this%time = time; this%path = path
+    if (echo /= no_echo) write(echo, nml=detonation)
+  end subroutine detonation_config_read
+
   !> What a restart may not change in the regions and sources: one line per
   !> changed variable.
-  subroutine scene_config_changes(old_regions, new_regions, old_sources, new_sources, changes)
+  subroutine scene_config_changes(old_regions, new_regions, old_sources, new_sources, old_det, new_det, changes)
     type(region_config_t), intent(in) :: old_regions(:), new_regions(:)
     type(source_config_t), intent(in) :: old_sources(:), new_sources(:)
+    type(detonation_config_t), intent(in) :: old_det(:), new_det(:)
     character(len=max_line), allocatable, intent(inout) :: changes(:)
     integer :: k
     call diff_i(changes, 'number of &region groups', size(old_regions), size(new_regions))
@@ -195,6 +268,16 @@ contains
     do k = 1, min(size(old_sources), size(new_sources))
       call diff_r(changes, '&source('//itoa(k)//') position', old_sources(k)%position, new_sources(k)%position)
       call diff_r(changes, '&source('//itoa(k)//') energy', [old_sources(k)%energy], [new_sources(k)%energy])
+    end do
+    call diff_i(changes, 'number of &detonation groups', size(old_det), size(new_det))
+    do k = 1, min(size(old_det), size(new_det))
+      associate (a => old_det(k), b => new_det(k))
+        call diff_s(changes, '&detonation('//itoa(k)//') material, shape, path', &
+                    trim(a%material)//' '//trim(a%shape)//' '//trim(a%path), trim(b%material)//' '//trim(b%shape)//' '// &
+                    trim(b%path))
+        call diff_r(changes, '&detonation('//itoa(k)//') point, point2, normal, time', &
+                    [a%point, a%point2, a%normal, a%time], [b%point, b%point2, b%normal, b%time])
+      end associate
     end do
   end subroutine scene_config_changes
 end module driver_scene_config

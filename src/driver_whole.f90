@@ -77,7 +77,7 @@ module driver_whole
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
                          remap_stats_flows, remap_swept_blockers
   use material_mixed, only: mixed_forget_planes
-  use material_table, only: material_eval_eos
+  use material_table, only: material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state
   use lagrange_centroids, only: centroids_fit_planes
   use driver_config, only: config_t
@@ -458,6 +458,7 @@ contains
         owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
         call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned)
         call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter)
+        call material_burn_start(w%mats, st%t)
         call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
         call mixed_cell_state(w%mx, w%h%p, w%h%cs)
       end if

@@ -16,7 +16,7 @@ module lagrange_integrator
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
-  use material_table, only: material_t, material_eval_eos
+  use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use lagrange_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
@@ -151,7 +151,7 @@ contains
     call agree_bad()
     if (bad_cell /= 0) return
     if (present(halo)) call halo%cells(h%e)
-    call update_materials(h, mats, mx, par)
+    call update_materials(h, mats, mx, par, 0.5_wp*dt)
 
     ! corrector
     call bc_pressure_forces(bc, g, g%x, h%p)
@@ -172,7 +172,7 @@ contains
     call agree_bad()
     if (bad_cell /= 0) return
     if (present(halo)) call halo%cells(h%e)
-    call update_materials(h, mats, mx, par)
+    call update_materials(h, mats, mx, par, dt)
   contains
     !> Ghost nodes from the neighbouring blocks: positions, new and
     !> half-step velocities of the stage just taken.
@@ -224,7 +224,7 @@ contains
       if (bad_cell /= 0) return
       call particles_vf_energy(g, h%xn, pt, pt%vol, h%p, h%uh, 0.5_wp*dt, h%mass, h%e, pw%wcell, acc(2))
       if (present(halo)) call halo%cells(h%e)
-      call update_materials(h, mats, mx, par)
+      call update_materials(h, mats, mx, par, 0.5_wp*dt)
       call particle_trial_state(pt, pw)
       call bc_pressure_forces(bc, g, g%x, h%p)
       call corner_forces(h%uh)
@@ -249,7 +249,7 @@ contains
       work = xsum_value(wacc(1))
       if (present(work_ext)) work_ext = dt*xsum_value(acc(1))
       if (present(work_vf)) work_vf = xsum_value(acc(2))
-      call update_materials(h, mats, mx, par)
+      call update_materials(h, mats, mx, par, dt)
     end subroutine particle_step
 
     !> The corner forces for the velocities v, the viscosity scaled if asked.
@@ -318,13 +318,17 @@ contains
 
   !> Material states after a stage: mixed cells share their volume and
   !> energy change among their materials (Tipton), every material's EOS is
-  !> evaluated, and mixed cells get their cell pressure and sound speed.
-  subroutine update_materials(h, mats, mx, par)
+  !> evaluated (explosives' burn fractions at the stage's time, dt_stage
+  !> after the step's start), and mixed cells get their cell pressure and
+  !> sound speed.
+  subroutine update_materials(h, mats, mx, par, dt_stage)
     type(hydro_t), intent(inout) :: h
     type(material_t), intent(inout) :: mats(:)
     type(mixed_t), intent(inout) :: mx
     type(hydro_params_t), intent(in) :: par
+    real(wp), intent(in) :: dt_stage
     call mixed_split(mx, h%mass, h%vol, h%en, h%e, par%relax)
+    call material_burn_at(mats, dt_stage)
     call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
     call mixed_cell_state(mx, h%p, h%cs)
   end subroutine update_materials

@@ -19,6 +19,10 @@ module material_config
     type(eos_params_t) :: par                      !< EOS parameters
     real(wp) :: p_min = -huge(1.0_wp)              !< pressure floor (pressure)
     real(wp) :: rho_min = 0.0_wp                   !< void density (density)
+    !> jwl lit by &detonation: the detonation velocity (velocity; 0: the CJ
+    !> velocity of its JWL from the unreacted state, `material_burn`)
+    real(wp) :: detonation_velocity = 0.0_wp
+    real(wp) :: burn_width = 1.5_wp                !< burn time in cell widths across the front
   end type material_config_t
 
 contains
@@ -31,14 +35,16 @@ contains
     character(len=*), intent(in) :: text(:), path, earlier(:)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=64) :: name, eos
-    real(wp) :: gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
+    real(wp) :: gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min, detonation_velocity, burn_width
     integer :: ios
     character(len=max_line) :: msg
     class(eos_t), allocatable :: trial
     type(error_t), allocatable :: err
-    namelist /material/ name, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min
+    namelist /material/ name, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min, &
+                        detonation_velocity, burn_width
 
     name = this%name; eos = this%eos; p_min = this%p_min; rho_min = this%rho_min
+    detonation_velocity = this%detonation_velocity; burn_width = this%burn_width
     associate (d => this%par)
       gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2
       omega = d%omega; rho0 = d%rho0; c0 = d%c0; s1 = d%s1; gamma0 = d%gamma0
@@ -61,6 +67,14 @@ contains
     this%rho_min = rho_min
     if (rho_min < 0.0_wp) call problem_bad(problems, 'material '''//trim(name)//'''', 'rho_min', rho_min, &
                                            'must be >= 0')
+    this%detonation_velocity = detonation_velocity
+    this%burn_width = burn_width
+    if (.not. detonation_velocity >= 0.0_wp) call problem_bad(problems, 'material '''//trim(name)//'''', &
+      'detonation_velocity', detonation_velocity, 'must be >= 0 (0: the CJ velocity of the JWL)')
+    if (.not. (burn_width > 0.0_wp .and. burn_width <= 100.0_wp)) call problem_bad(problems, &
+      'material '''//trim(name)//'''', 'burn_width', burn_width, 'must be > 0 and <= 100 (cell widths)')
+    if (detonation_velocity > 0.0_wp .and. eos /= 'jwl') call problem_add(problems, '&material '''//trim(name)// &
+      ''': detonation_velocity is for eos = ''jwl'' (an explosive''s products)')
     ! the factory validates the model name and its parameters
     call eos_create(eos, this%par, trial, err)
     if (allocated(err)) call problem_add(problems, '&material '''//trim(name)//''': '//err%msg)
@@ -82,5 +96,7 @@ contains
     call diff_r(changes, what//' rho0, c0, s1, gamma0', [a%par%rho0, a%par%c0, a%par%s1, a%par%gamma0], &
                 [b%par%rho0, b%par%c0, b%par%s1, b%par%gamma0])
     call diff_r(changes, what//' p_min, rho_min', [a%p_min, a%rho_min], [b%p_min, b%rho_min])
+    call diff_r(changes, what//' detonation_velocity, burn_width', [a%detonation_velocity, a%burn_width], &
+                [b%detonation_velocity, b%burn_width])
   end subroutine material_config_changes
 end module material_config

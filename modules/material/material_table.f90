@@ -7,7 +7,21 @@ module material_table
   use material_mixed, only: mixed_t
   implicit none
   private
-  public :: material_t, material_index_cells, material_eval_eos
+  public :: material_t, burn_t, material_index_cells, material_eval_eos, material_burn_start, material_burn_at
+
+  !> The programmed burn of an explosive (`material_burn`): per stored cell
+  !> its lighting time and burn time, and the burn fraction F1 of the last
+  !> `material_burn_at`; the compression burn's reference density and CJ
+  !> relative volume. The pressure is max(F1, F2) times the EOS's.
+  type :: burn_t
+    real(wp), allocatable :: light(:)   !< lighting time t_L (time; huge: never lit)
+    real(wp), allocatable :: tau(:)     !< burn time (time, > 0)
+    real(wp), allocatable :: f(:)       !< F1 at time t
+    real(wp) :: t = 0.0_wp              !< the time F1 is for
+    real(wp) :: t0 = 0.0_wp             !< start of the current Lagrangian step (`material_burn_start`)
+    real(wp) :: rho0 = 0.0_wp           !< unreacted density (density)
+    real(wp) :: v_cj = 0.0_wp           !< CJ relative volume rho0/rho_CJ
+  end type burn_t
 
   !> One material: its name, its EOS, the pure cells it fills and its slots
   !> in mixed cells, and cut-offs applied after every EOS call.
@@ -21,6 +35,7 @@ module material_table
     integer, allocatable :: cells(:)      !< its pure cells, ascending (unused if fills_all)
     integer, allocatable :: slots(:)      !< its slots in mixed cells
     real(wp), allocatable :: wrho(:), we(:), wp_(:), wcs(:)   !< packed work arrays
+    type(burn_t), allocatable :: burn     !< programmed burn (explosives a &detonation lights)
   end type material_t
 
 contains
@@ -76,12 +91,13 @@ contains
     real(wp), intent(in) :: rho(:), e(:)
     real(wp), intent(inout) :: p(:), cs(:)
     type(mixed_t), intent(inout) :: mx
-    integer :: m, n, ns
+    integer :: m, n, ns, c
 
     do m = 1, size(mats)
       if (mats(m)%fills_all) then
         call mats(m)%eos%eval(rho, e, p, cs)
         call cutoffs(mats(m), rho, p)
+        if (allocated(mats(m)%burn)) call burn_scale(mats(m)%burn, [(c, c = 1, size(rho))], rho, p)
         cycle
       end if
       n = mats(m)%ncell
@@ -94,6 +110,10 @@ contains
         mats(m)%we(n + 1:n + ns) = mx%e(sl)
         call mats(m)%eos%eval(mats(m)%wrho, mats(m)%we, mats(m)%wp_, mats(m)%wcs)
         call cutoffs(mats(m), mats(m)%wrho, mats(m)%wp_)
+        if (allocated(mats(m)%burn)) then
+          call burn_scale(mats(m)%burn, idx, mats(m)%wrho(1:n), mats(m)%wp_(1:n))
+          call burn_scale(mats(m)%burn, slot_cells(mx, sl), mats(m)%wrho(n + 1:n + ns), mats(m)%wp_(n + 1:n + ns))
+        end if
         p(idx) = mats(m)%wp_(1:n)
         cs(idx) = mats(m)%wcs(1:n)
         mx%p(sl) = mats(m)%wp_(n + 1:n + ns)
@@ -101,6 +121,71 @@ contains
       end associate
     end do
   end subroutine material_eval_eos
+
+  !> The burn fractions of the explosives at time t0 + dt (t0 of
+  !> `material_burn_start`): the stages of a Lagrangian step.
+  subroutine material_burn_at(mats, dt)
+    type(material_t), intent(inout) :: mats(:)
+    real(wp), intent(in) :: dt
+    integer :: m
+    do m = 1, size(mats)
+      if (.not. allocated(mats(m)%burn)) cycle
+      associate (b => mats(m)%burn)
+        b%t = b%t0 + dt
+        b%f = min(1.0_wp, max(0.0_wp, (b%t - b%light)/b%tau))
+      end associate
+    end do
+  end subroutine material_burn_at
+
+  !> Sets the time t of the explosives' burn fractions: the start of a
+  !> Lagrangian step (its stages then `material_burn_at` t + stage), or the
+  !> time of an EOS evaluation outside one (scene, Euler step).
+  subroutine material_burn_start(mats, t)
+    type(material_t), intent(inout) :: mats(:)
+    real(wp), intent(in) :: t
+    integer :: m
+    do m = 1, size(mats)
+      if (allocated(mats(m)%burn)) mats(m)%burn%t0 = t
+    end do
+    call material_burn_at(mats, 0.0_wp)
+  end subroutine material_burn_start
+
+  !> Pressures p(i) of an explosive at densities rho(i) in cells cell(i)
+  !> times the burn fraction max(F1, F2) (`material_burn`).
+  pure subroutine burn_scale(b, cell, rho, p)
+    type(burn_t), intent(in) :: b
+    integer, intent(in) :: cell(:)
+    real(wp), intent(in) :: rho(:)
+    real(wp), intent(inout) :: p(:)
+    integer :: i
+    real(wp) :: f2
+    do i = 1, size(p)
+      f2 = min(1.0_wp, max(0.0_wp, (1.0_wp - b%rho0/rho(i))/(1.0_wp - b%v_cj)))
+      p(i) = max(b%f(cell(i)), f2)*p(i)
+    end do
+  end subroutine burn_scale
+
+  !> The grid cell of each of the mixed-cell slots `sl`.
+  pure function slot_cells(mx, sl) result(cells)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: sl(:)
+    integer :: cells(size(sl))
+    integer :: i, k, lo, hi, mid
+    do i = 1, size(sl)
+      ! (the mixed cell whose slot range holds sl(i): start is ascending)
+      lo = 1; hi = mx%n
+      do while (lo < hi)
+        mid = (lo + hi + 1)/2
+        if (mx%start(mid) <= sl(i)) then
+          lo = mid
+        else
+          hi = mid - 1
+        end if
+      end do
+      k = lo
+      cells(i) = mx%cell(k)
+    end do
+  end function slot_cells
 
   !> Pressure floor, and zero pressure below the void density.
   subroutine cutoffs(mt, rho, p)
