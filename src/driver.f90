@@ -436,6 +436,10 @@ contains
       call log_line(sch%log, 'mixed-cell planes after the remaps: '//centroid_text(es%centroids))
     call log_line(sch%log, 'outputs: '//sch%out%dir//'/'//sch%out%name//'.xdmf (ParaView), '// &
                   sch%out%dir//'/'//sch%out%name//'.log')
+    if (allocated(sch%out%nparts)) then
+      if (any(sch%out%nparts > 0)) call log_line(sch%log, 'particles: '//sch%out%dir//'/'//sch%out%name// &
+                                                 '_particles.xdmf (ParaView: open it beside the grid''s)')
+    end if
     call log_line(sch%log, 'done: t = '//rtoa(st%t)//' after '//itoa(st%step)//' steps')
   end subroutine report_end
 end module driver

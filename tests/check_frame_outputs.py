@@ -201,7 +201,15 @@ def check_xdmf(path, frames, materials, title, units_label):
             check(f"{base} {os.path.basename(frame)}: DataItems match the HDF5 datasets", not bad,
                   bad or f"{len(attrs)} attributes")
             t = float(f["time"][()])
-        field = {n: float(a.find("DataItem").text) for n, a in attrs.items() if a.get("Center") == "Grid"}
+        # the field data: in the grid's <Information Name="field_data">, which
+        # an XInclude brings into the grid (readers without XInclude skip it)
+        fd = g.find("Information[@Name='field_data']")
+        inc = g.find("{http://www.w3.org/2001/XInclude}include")
+        check(f"{base} {os.path.basename(frame)}: field data included",
+              fd is not None and inc is not None and "field_data" in inc.get("xpointer", "")
+              and not any(a.get("Center") == "Grid" for a in attrs.values()), "Information + xi:include")
+        field = {a.get("Name"): float(a.find("DataItem").text) for a in (fd if fd is not None else [])
+                 if a.get("Center") == "Grid"}
         want = {"time": t}
         if len(materials) > 0:
             want.update({f"material {i + 1}: {m}": float(i + 1) for i, m in enumerate(materials)})

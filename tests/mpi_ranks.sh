@@ -66,6 +66,9 @@ for n in 1 2 4; do
     h5diff --exclude-path /deck "$last" "$ref" > "h5diff$n.txt" || { head -5 "h5diff$n.txt"; \
       fail "$n ranks: final frame file differs from the single process's (h5diff)"; }
     cmp -s "r$n/run.xdmf" r1/run.xdmf || fail "$n ranks: the XDMF series differs from one process's"
+    if [ -e r1/run_particles.xdmf ]; then
+      cmp -s "r$n/run_particles.xdmf" r1/run_particles.xdmf || fail "$n ranks: the particles' XDMF series differs"
+    fi
     cmp -s "r$n/run_history.txt" r1/run_history.txt || { diff "r$n/run_history.txt" r1/run_history.txt | head; \
       fail "$n ranks: the energy history differs from one process's"; }
     cmp -s "r$n/run_matsum.txt" r1/run_matsum.txt || { diff "r$n/run_matsum.txt" r1/run_matsum.txt | head; \

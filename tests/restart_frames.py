@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The frame series of a run: one line per frame the XDMF file lists,
 `NNNNN  time  step` (time as the exact double, step from the frame file),
-with particles also the frame's particle count, `particles N`.
+with particles also the frame's particle count, `particles N` (from the
+particles' own series NAME_particles.xdmf, whose frames must have the grid
+series' times and files).
 
     restart_frames.py OUTDIR NAME
 
@@ -23,13 +25,31 @@ def main():
     outdir, name = sys.argv[1], sys.argv[2]
     xdmf = open(os.path.join(outdir, name + ".xdmf")).read()
     grids = re.split(r"<Grid Name=\"frame_", xdmf)[1:]
+    # the particles' own series (runs with particles): frame by frame the same
+    # times, each frame's count (a frame without particles lists no points)
+    ppath = os.path.join(outdir, name + "_particles.xdmf")
+    pgrids = re.split(r"<Grid Name=\"frame_", open(ppath).read())[1:] if os.path.exists(ppath) else None
+    bad = 0
+    if pgrids is not None and len(pgrids) != len(grids):
+        print(f"FAIL: {len(grids)} frames in {name}.xdmf, {len(pgrids)} in {name}_particles.xdmf")
+        bad += 1
     listed = []
-    for g in grids:
+    for k, g in enumerate(grids):
         t = re.search(r"<Time Value=\"([^\"]+)\"", g).group(1)
         f = re.search(r"([^\s>]+_(\d{5})\.h5):/", g)
-        m = re.search(r'TopologyType="Polyvertex" NumberOfElements="(\d+)"', g)
+        m = None
+        if pgrids is not None and k < len(pgrids):
+            p = pgrids[k]
+            tp = re.search(r"<Time Value=\"([^\"]+)\"", p).group(1)
+            if tp != t:
+                print(f"FAIL: frame {k}: time {tp} in the particles' series, {t} in the grid's")
+                bad += 1
+            m = re.search(r'TopologyType="Polyvertex" NumberOfElements="(\d+)"', p)
+            fp = re.search(r"([^\s>]+_(\d{5})\.h5):/", p)
+            if m and fp.group(1) != f.group(1):
+                print(f"FAIL: frame {k}: {fp.group(1)} in the particles' series, {f.group(1)} in the grid's")
+                bad += 1
         listed.append((f.group(1), f.group(2), float(t), int(m.group(1)) if m else 0))
-    bad = 0
     for fname, num, t, npart in listed:
         path = os.path.join(outdir, fname)
         if not os.path.exists(path):

@@ -6,12 +6,13 @@ program test_io_attributes
   use base_errors, only: error_t
   use io_hdf5, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_real, h5_write_int, &
        h5_write_scalar_real, h5_write_attribute, h5_write_attribute_string, h5_read_attribute_string
-  use io_xdmf, only: xdmf_write_series
+  use io_xdmf, only: xdmf_write_series, xdmf_write_particles
   use test_assert, only: check, check_summary
   implicit none
 
   character(len=*), parameter :: h5name = 'test_io_attributes.h5'
   character(len=*), parameter :: xdmfname = 'test_io_attributes.xdmf'
+  character(len=*), parameter :: pxdmfname = 'test_io_attributes_particles.xdmf'
   type(error_t), allocatable :: err
   type(h5_file_t) :: file
   real(wp) :: rho(2, 3, 1), x(3, 3, 4, 2)
@@ -90,6 +91,28 @@ program test_io_attributes
   call contains_line(xdmfname, '<Attribute Name="time" AttributeType="Scalar" Center="Grid">')
   call contains_line(xdmfname, 'Format="XML">5.0000000000000000E-001</DataItem>')
   call contains_line(xdmfname, '<Information Name="title" Value="a &quot;quoted&quot; &amp; &lt;title&gt;"/>')
+  ! the field data reach the grid through an XInclude of its Information
+  call contains_line(xdmfname, '<Information Name="field_data" Value="field data, included below">')
+  call contains_line(xdmfname, '<xi:include xpointer="xpointer(/Xdmf/Domain/Grid/Grid[@Name=''frame_0'']/'// &
+                     'Information[@Name=''field_data'']/*)"/>')
+  ! ---- the particles' series: a frame with 5 particles, one without
+  call xdmf_write_particles(pxdmfname, [character(len=24) :: h5name, h5name], [0.5_wp, 1.0_wp], [5, 0], err, &
+       vectors=[character(len=8) :: 'velocity'], scalars=[character(len=8) :: 'mass'], &
+       ints=[character(len=8) :: 'body'], tensors=[character(len=8) :: 'stress'], &
+       info_names=[character(len=8) :: 'title'], info_values=[character(len=8) :: 'parts'])
+  call ok_now('xdmf_write_particles')
+  call contains_line(pxdmfname, '<Grid Name="particles" GridType="Collection" CollectionType="Temporal">')
+  call contains_line(pxdmfname, '<Topology TopologyType="Polyvertex" NumberOfElements="5" NodesPerElement="1">')
+  call contains_line(pxdmfname, '<DataItem Dimensions="5 6" NumberType="Float" Precision="8" Format="HDF">'// &
+                     h5name//':/particles/stress<')
+  call contains_line(pxdmfname, '<Attribute Name="stress" AttributeType="Tensor6" Center="Node">')
+  call contains_line(pxdmfname, 'Format="HDF">'//h5name//':/particles/body<')
+  call contains_line(pxdmfname, 'Format="XML">1.0000000000000000E+000</DataItem>')
+  call contains_line(pxdmfname, '<Information Name="title" Value="parts"/>')
+  call xdmf_write_particles(pxdmfname, [character(len=24) :: h5name], [0.5_wp], [5, 0], err)
+  call refused('particle counts for another number of frames', 'differ in size')
+  call xdmf_write_particles(pxdmfname, [character(len=24) :: h5name], [0.5_wp], [-1], err)
+  call refused('a negative particle count', 'negative')
   call xdmf_write_series(xdmfname, [character(len=24) :: h5name], [0.5_wp], 2, 3, 1, &
        [character(len=8) :: 'velocity'], [character(len=8) :: 'density'], err, &
        field_names=[character(len=20) :: 'a', 'b'], field_values=[1.0_wp])
@@ -103,6 +126,8 @@ program test_io_attributes
     open(newunit=unit, file=h5name, status='old', iostat=ios)
     if (ios == 0) close(unit, status='delete', iostat=ios)
     open(newunit=unit, file=xdmfname, status='old', iostat=ios)
+    if (ios == 0) close(unit, status='delete', iostat=ios)
+    open(newunit=unit, file=pxdmfname, status='old', iostat=ios)
     if (ios == 0) close(unit, status='delete', iostat=ios)
   end if
   call check_summary('test_io_attributes')

@@ -3,7 +3,9 @@
 paraview.simple import is stubbed): a grid one cell thick in some direction
 is drawn as a 2D slice across that direction, a quasi-1D strip lies
 horizontal and is stretched across when thinner than 1/20 of its length,
-a 3D grid keeps the oblique view. Usage: test_render_plan.py TOOLS_DIR
+a 3D grid keeps the oblique view; the particles' series is found beside the
+grid's, frames are counted from 1 in the label, and particle points are
+about their spacing wide. Usage: test_render_plan.py TOOLS_DIR
 """
 import os
 import sys
@@ -25,7 +27,7 @@ def main():
     tools = sys.argv[1]
     stub = types.ModuleType("paraview.simple")
     for name in ("ColorBy", "CreateView", "GetColorTransferFunction", "GetScalarBar", "Outline",
-                 "Render", "SaveScreenshot", "Show", "Slice", "Text", "Xdmf3ReaderS"):
+                 "PythonCalculator", "Render", "SaveScreenshot", "Show", "Slice", "Text", "Xdmf3ReaderS"):
         setattr(stub, name, None)
     sys.modules["paraview"] = types.ModuleType("paraview")
     sys.modules["paraview.simple"] = stub
@@ -39,6 +41,15 @@ def main():
                     '<Topology TopologyType="3DSMesh" Dimensions="2 2 101"/></Grid></Grid>'
                     '</Domain></Xdmf>')
         check("cells of a 100 x 1 x 1 series", rf.grid_cells(path), (100, 1, 1))
+        check("no particles' series beside it", rf.particle_series(path), None)
+        ppath = os.path.join(tmp, "s_particles.xdmf")
+        open(ppath, "w").close()
+        check("the particles' series beside it", rf.particle_series(path), ppath)
+    check("the label counts frames from 1: the last of 4", rf.frame_label(3, 4), "frame 4 of 4")
+    check("the first of 4", rf.frame_label(0, 4), "frame 1 of 4")
+    check("particle points 0.9 of their spacing", rf.point_diameter(0.05, 420.0), 0.9 * 0.05 * 420.0)
+    check("particle points at least 3 pixels", rf.point_diameter(1e-6, 420.0), 3.0)
+    check("particle points at most 40 pixels", rf.point_diameter(1.0, 420.0), 40.0)
     # (ni, nj, nk), bounds -> (normal, up, stretched, stretch)
     sod = (0.0, 1.0, 0.0, 0.01, 0.0, 0.01)
     check("Sod 100 x 1 x 1: slice across z, y up, y stretched to 1/8 of the length",

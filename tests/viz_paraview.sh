@@ -4,7 +4,7 @@
 # integer material and the field data (tests/check_paraview.py), and
 # tools/render_frame.sh draws the quasi-1D run as a coloured 2D strip.
 # Skipped (exit 77, ctest SKIP_RETURN_CODE) when pvbatch or xvfb-run is
-# missing: ParaView is optional (tools/install-deps.sh --viz).
+# missing: tools/install-deps.sh installs them.
 # Usage: viz_paraview.sh EXE DECK MATERIALS WORKDIR
 #   MATERIALS: the deck's material names, comma-separated, in deck order.
 set -u
@@ -12,7 +12,7 @@ exe=$1 deck=$2 materials=$3 dir=$4
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 for tool in pvbatch xvfb-run; do
   if ! command -v "$tool" >/dev/null 2>&1; then
-    echo "SKIP: $tool not found (tools/install-deps.sh --viz installs ParaView and xvfb)"
+    echo "SKIP: $tool not found (tools/install-deps.sh installs ParaView and xvfb)"
     exit 77
   fi
 done

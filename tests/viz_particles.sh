@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The particles in ParaView, headless: the XDMF series of a run with
-# particles opened with pvbatch shows the hex grid and the particles as
-# vertices with their fields (tests/check_paraview_particles.py). Skipped
+# The particles in ParaView, headless: the two XDMF series of a run with
+# particles (the grid's SERIES.xdmf, the particles' SERIES_particles.xdmf)
+# opened with pvbatch show the hex grid and, as a dataset of its own, the
+# particles as vertices with their fields (tests/check_paraview_particles.py). Skipped
 # (exit 77) when pvbatch or xvfb-run is missing.
 # Usage: viz_particles.sh SERIES.xdmf FRAME.h5 [STEP]   (absolute or relative to the test's folder;
 # FRAME.h5 the series' time step STEP, default the last)

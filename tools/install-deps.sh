@@ -1,27 +1,28 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the build and the tests need, only those missing.
-# Usage: tools/install-deps.sh            build + test dependencies
+# Usage: tools/install-deps.sh            build + test dependencies (ParaView, a
+#                                         virtual X server and meshio included)
 #        tools/install-deps.sh --check    list what is missing, install nothing
-#        tools/install-deps.sh --viz      also ParaView and a virtual X server
-#                                         (tools/render_frame.sh); --viz --check works too
+#        tools/install-deps.sh --viz      the same (kept for old scripts)
 set -euo pipefail
 
 check=0
-viz=0
+
 for a in "$@"; do
   case "$a" in
     --check) check=1 ;;
-    --viz) viz=1 ;;
+    --viz) ;;  # (the default list has the viz packages)
     *) echo "install-deps: unknown option $a (use --check, --viz)" >&2; exit 2 ;;
   esac
 done
 
 pkgs=(gfortran libc6-dev cmake make pkg-config libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
       liblapack-dev libfftw3-dev
-      python3 python3-numpy python3-h5py python3-matplotlib python3-scipy)
-if [ "$viz" -eq 1 ]; then
-  pkgs+=(paraview python3-paraview xvfb xauth)
-fi
+      python3 python3-numpy python3-h5py python3-matplotlib python3-scipy
+      paraview python3-paraview xvfb xauth python3-meshio)
+# (ParaView, a virtual X server and meshio are test dependencies: the viz
+# tests draw frames and read the XDMF series with them. python3-vtk9
+# conflicts with python3-paraview: not listed.)
 
 missing=()
 for p in "${pkgs[@]}"; do

@@ -9,7 +9,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 for tool in pvbatch xvfb-run; do
   if ! command -v "$tool" >/dev/null 2>&1; then
-    echo "render_frame: $tool not found; run tools/install-deps.sh --viz (as root)" >&2
+    echo "render_frame: $tool not found; run tools/install-deps.sh (as root)" >&2
     exit 1
   fi
 done

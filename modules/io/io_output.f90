@@ -20,9 +20,11 @@
 !> xy, xz, yy, yz, zz (attribute `components`), and the integers `material`
 !> (solid index, legend in its attribute `names`), `body`, `id` (seeding
 !> number), `cell` (host cell, i fastest) and `vertex` (0..np-1, the
-!> vertex cells' connectivity); the XDMF lists them as a Polyvertex grid
-!> next to the hex grid, with each frame's own count (particles leave
-!> through open faces; `out%nparts`). Without particles nothing changes.
+!> vertex cells' connectivity); a second XDMF series,
+!> `<dir>/<name>_particles.xdmf`, lists them as a Polyvertex grid per frame
+!> with each frame's own count (particles leave through open faces;
+!> `out%nparts`), so that ParaView opens the grid and the particles as two
+!> datasets. Without particles that file is not written.
 module io_output
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
@@ -35,7 +37,7 @@ module io_output
   use io_hdf5, only: h5_write_part_real, h5_write_part_int
   use io_hdf5, only: h5_file_t, h5_create, h5_close, h5_write_real, h5_write_int, h5_write_scalar_real, &
                      h5_write_scalar_int, h5_write_string, h5_write_attribute
-  use io_xdmf, only: xdmf_write_series, io_rename
+  use io_xdmf, only: xdmf_write_series, xdmf_write_particles, io_rename
   implicit none
   private
   public :: output_t, output_frame, totals_t, frame_meta_t, material_legend
@@ -297,11 +299,18 @@ contains
                                        'unit_system', 'material_names'], &
                            info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
                                         meta_text(meta%title), meta_text(meta%unit_system), &
-                                        material_legend(legend_source(meta))], &
-                           nparts=out%nparts, part_vectors=[character(len=8) :: 'velocity'], &
-                           part_scalars=pscalars, &
-                           part_ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
-                           part_tensors=[character(len=8) :: 'stress'])
+                                        material_legend(legend_source(meta))])
+    ! the particles: a series of their own, so that readers open two datasets
+    if (.not. allocated(err) .and. any(out%nparts > 0)) &
+      call xdmf_write_particles(out%dir//'/'//out%name//'_particles.xdmf', out%frames, out%times, out%nparts, &
+                                err, vectors=[character(len=8) :: 'velocity'], scalars=pscalars, &
+                                ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
+                                tensors=[character(len=8) :: 'stress'], &
+                                info_names=[character(len=16) :: 'code', 'code_version', 'build_type', 'title', &
+                                            'unit_system', 'solid_names'], &
+                                info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
+                                             meta_text(meta%title), meta_text(meta%unit_system), &
+                                             material_legend(solid_source(meta))])
   contains
     !> Node array a(3, nnode): this block's part.
     subroutine put_nodes(name, a)
@@ -457,6 +466,17 @@ contains
       s = ''
     end if
   end function meta_text
+
+  !> The solid names of `meta` (none if unset).
+  pure function solid_source(meta) result(names)
+    type(frame_meta_t), intent(in) :: meta
+    character(len=64), allocatable :: names(:)
+    if (allocated(meta%solids)) then
+      names = meta%solids
+    else
+      names = [character(len=64) ::]
+    end if
+  end function solid_source
 
   !> The material names of `meta` (none if unset).
   pure function legend_source(meta) result(names)

@@ -1,4 +1,5 @@
-!> XDMF 3 index files describing a time series of structured-grid HDF5 frames,
+!> XDMF 3 index files describing a time series of structured-grid HDF5 frames
+!> and, a second series, the frames' particles,
 !> and an atomic rename helper shared by the output writers.
 module io_xdmf
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
@@ -7,7 +8,7 @@ module io_xdmf
   use base_errors, only: error_t, error_set
   implicit none
   private
-  public :: xdmf_write_series, io_rename
+  public :: xdmf_write_series, xdmf_write_particles, io_rename
 
   interface
     !> libc rename(2): 0 on success.
@@ -45,19 +46,15 @@ contains
   !> `info_values` become <Information> elements of the domain (title, code
   !> version, unit system). Written to path//'.tmp', then renamed.
   !>
-  !> Particles (`nparts`, the count of each frame, some of them > 0): each
-  !> frame is then a spatial collection of the grid above and, when
-  !> the frame has particles, a Polyvertex grid "particles" of its npart
-  !> points at /particles/x (3, npart) (the count falls as particles leave
-  !> the grid), with node-centred attributes /particles/<name>:
-  !> `part_vectors` (3, npart), `part_scalars` (npart, doubles),
-  !> `part_ints` (npart, default integers) and `part_tensors` (6, npart,
-  !> XDMF Tensor6 order xx, xy, xz, yy, yz, zz), so ParaView shows the
-  !> particles with the grid; one vertex cell per particle, its connectivity
-  !> /particles/vertex (0..npart-1). Without particles the file is as before.
+  !> The field data of a frame sit in its <Information Name="field_data">
+  !> and reach the grid through an XInclude (`field_block`): the XDMF
+  !> library (ParaView, VisIt) resolves it and sees Grid-centred attributes,
+  !> while readers that know only Node and Cell attributes and skip
+  !> Information and XInclude elements (meshio's TimeSeriesReader) still
+  !> read the series. Particles are a series of their own
+  !> (`xdmf_write_particles`).
   subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
-                               int_cell_fields, field_names, field_values, info_names, info_values, &
-                               nparts, part_vectors, part_scalars, part_ints, part_tensors)
+                               int_cell_fields, field_names, field_values, info_names, info_values)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -70,11 +67,8 @@ contains
     real(wp), intent(in), optional :: field_values(:)
     character(len=*), intent(in), optional :: info_names(:)
     character(len=*), intent(in), optional :: info_values(:)
-    integer, intent(in), optional :: nparts(:)
-    character(len=*), intent(in), optional :: part_vectors(:), part_scalars(:), part_ints(:), part_tensors(:)
     character(len=*), parameter :: here = 'xdmf_write_series'
-    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item, ind
-    logical :: with_particles
+    character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item
     character(len=32) :: tbuf
     character(len=256) :: msg
     integer :: unit, ios, f, k
@@ -83,19 +77,10 @@ contains
       call error_set(err, here, 'frames and times differ in size for '//q(path))
       return
     end if
-    with_particles = .false.
-    if (present(nparts)) then
-      if (size(nparts) /= size(frames)) then
-        call error_set(err, here, 'frames and particle counts differ in size for '//q(path))
-        return
-      end if
-      with_particles = any(nparts > 0)
-    end if
     if (ni < 1 .or. nj < 1 .or. nk < 1) then
       call error_set(err, here, 'grid size must be positive for '//q(path))
       return
     end if
-
     if (present(field_names) .neqv. present(field_values)) then
       call error_set(err, here, 'field_names and field_values go together for '//q(path))
       return
@@ -106,16 +91,8 @@ contains
         return
       end if
     end if
-    if (present(info_names) .neqv. present(info_values)) then
-      call error_set(err, here, 'info_names and info_values go together for '//q(path))
-      return
-    end if
-    if (present(info_names) .and. present(info_values)) then
-      if (size(info_names) /= size(info_values)) then
-        call error_set(err, here, 'info_names and info_values differ in size for '//q(path))
-        return
-      end if
-    end if
+    call check_info(here, path, err, info_names, info_values)
+    if (allocated(err)) return
 
     node_dims = itoa(nk + 1)//' '//itoa(nj + 1)//' '//itoa(ni + 1)
     vec_dims = node_dims//' 3'
@@ -123,16 +100,147 @@ contains
     item = ' NumberType="Float" Precision="8" Format="HDF">'
     int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
-    ! with particles the frame's grid sits one level deeper, in a spatial collection
-    ind = repeat(' ', merge(2, 0, with_particles))
-
-    open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
-         iostat=ios, iomsg=msg)
+    call open_series(tmp, 'series', unit, ios, msg, info_names, info_values)
     if (ios /= 0) then
       call error_set(err, here, 'cannot open '//q(tmp)//': '//trim(msg))
       return
     end if
+    do f = 1, size(frames)
+      if (ios /= 0) exit
+      write(tbuf, '(es24.16e3)') times(f)
+      write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Geometry GeometryType="XYZ">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/x</DataItem>'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Geometry>'
+      do k = 1, size(node_fields)
+        if (ios /= 0) exit
+        call write_attribute(unit, trim(node_fields(k)), 'Vector', 'Node', vec_dims, &
+                             item//xml(trim(frames(f)))//':/', ios, msg)
+      end do
+      do k = 1, size(cell_fields)
+        if (ios /= 0) exit
+        call write_attribute(unit, trim(cell_fields(k)), 'Scalar', 'Cell', cell_dims, &
+                             item//xml(trim(frames(f)))//':/', ios, msg)
+      end do
+      if (present(int_cell_fields)) then
+        do k = 1, size(int_cell_fields)
+          if (ios /= 0) exit
+          call write_attribute(unit, trim(int_cell_fields(k)), 'Scalar', 'Cell', cell_dims, &
+                               int_item//xml(trim(frames(f)))//':/', ios, msg)
+        end do
+      end if
+      if (ios == 0) then
+        if (present(field_names) .and. present(field_values)) then
+          call field_block(unit, f - 1, tbuf, ios, msg, field_names, field_values)
+        else
+          call field_block(unit, f - 1, tbuf, ios, msg)
+        end if
+      end if
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
+    end do
+    call close_series(here, tmp, path, unit, ios, msg, err)
+  end subroutine xdmf_write_series
 
+  !> Writes the XDMF 3 temporal collection `path` of the particles of the
+  !> HDF5 frames `frames` (paths relative to the XDMF file) at `times`, a
+  !> series of its own beside the grid's (`xdmf_write_series`), so that a
+  !> reader opens the two as two datasets. Frame f is a Polyvertex grid of
+  !> its `nparts`(f) points at /particles/x (3, npart) (the count falls as
+  !> particles leave the grid), one vertex cell per particle (without cells
+  !> ParaView draws nothing; connectivity /particles/vertex, 0..npart-1),
+  !> with node-centred attributes /particles/<name>: `vectors` (3, npart),
+  !> `scalars` (npart, doubles), `ints` (npart, default integers) and
+  !> `tensors` (6, npart, XDMF Tensor6 order xx, xy, xz, yy, yz, zz). A frame
+  !> without particles is a grid with its time and no points. The frame's
+  !> time is field data `time` as in the grid's series; `info_names` and
+  !> `info_values` become <Information> elements of the domain. Written to
+  !> path//'.tmp', then renamed.
+  subroutine xdmf_write_particles(path, frames, times, nparts, err, vectors, scalars, ints, tensors, &
+                                  info_names, info_values)
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: frames(:)
+    real(wp), intent(in) :: times(:)
+    integer, intent(in) :: nparts(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
+    character(len=*), intent(in), optional :: info_names(:)
+    character(len=*), intent(in), optional :: info_values(:)
+    character(len=*), parameter :: here = 'xdmf_write_particles'
+    character(len=:), allocatable :: tmp
+    character(len=32) :: tbuf
+    character(len=256) :: msg
+    integer :: unit, ios, f
+
+    if (size(frames) /= size(times)) then
+      call error_set(err, here, 'frames and times differ in size for '//q(path))
+      return
+    end if
+    if (size(nparts) /= size(frames)) then
+      call error_set(err, here, 'frames and particle counts differ in size for '//q(path))
+      return
+    end if
+    if (any(nparts < 0)) then
+      call error_set(err, here, 'a negative particle count for '//q(path))
+      return
+    end if
+    call check_info(here, path, err, info_names, info_values)
+    if (allocated(err)) return
+    tmp = path//'.tmp'
+    call open_series(tmp, 'particles', unit, ios, msg, info_names, info_values)
+    if (ios /= 0) then
+      call error_set(err, here, 'cannot open '//q(tmp)//': '//trim(msg))
+      return
+    end if
+    do f = 1, size(frames)
+      if (ios /= 0) exit
+      write(tbuf, '(es24.16e3)') times(f)
+      write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      ! a frame without particles has no topology at all: an empty DataItem
+      ! stops ParaView's reader
+      if (ios == 0 .and. nparts(f) > 0) call write_points(unit, trim(frames(f)), nparts(f), vectors, &
+                                                        scalars, ints, tensors, ios, msg)
+      if (ios == 0) call field_block(unit, f - 1, tbuf, ios, msg)
+      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
+    end do
+    call close_series(here, tmp, path, unit, ios, msg, err)
+  end subroutine xdmf_write_particles
+
+  !> info_names and info_values go together and agree in size.
+  subroutine check_info(here, path, err, info_names, info_values)
+    character(len=*), intent(in) :: here, path
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: info_names(:), info_values(:)
+    if (present(info_names) .neqv. present(info_values)) then
+      call error_set(err, here, 'info_names and info_values go together for '//q(path))
+      return
+    end if
+    if (present(info_names) .and. present(info_values)) then
+      if (size(info_names) /= size(info_values)) then
+        call error_set(err, here, 'info_names and info_values differ in size for '//q(path))
+      end if
+    end if
+  end subroutine check_info
+
+  !> Opens `tmp` and writes the head of a series: the domain, its
+  !> Information elements and the temporal collection `name`.
+  subroutine open_series(tmp, name, unit, ios, msg, info_names, info_values)
+    character(len=*), intent(in) :: tmp, name
+    integer, intent(out) :: unit, ios
+    character(len=*), intent(inout) :: msg
+    character(len=*), intent(in), optional :: info_names(:), info_values(:)
+    integer :: k
+    open(newunit=unit, file=tmp, status='replace', action='write', form='formatted', &
+         iostat=ios, iomsg=msg)
+    if (ios /= 0) return
     write(unit, '(a)', iostat=ios, iomsg=msg) '<?xml version="1.0" encoding="utf-8"?>'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
          '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">'
@@ -145,78 +253,23 @@ contains
       end do
     end if
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-         '    <Grid Name="series" GridType="Collection" CollectionType="Temporal">'
-    do f = 1, size(frames)
-      if (ios /= 0) exit
-      write(tbuf, '(es24.16e3)') times(f)
-      if (with_particles) then
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Collection" CollectionType="Spatial">'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '        <Grid Name="grid" GridType="Uniform">'
-      else
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
-      end if
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           ind//'        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Geometry GeometryType="XYZ">'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           ind//'          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/x</DataItem>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Geometry>'
-      do k = 1, size(node_fields)
-        if (ios /= 0) exit
-        write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(node_fields(k)))// &
-             '" AttributeType="Vector" Center="Node">'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             ind//'          <DataItem Dimensions="'//vec_dims//'"'//item//xml(trim(frames(f)))//':/'// &
-             xml(trim(node_fields(k)))//'</DataItem>'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
-      end do
-      do k = 1, size(cell_fields)
-        if (ios /= 0) exit
-        write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(cell_fields(k)))// &
-             '" AttributeType="Scalar" Center="Cell">'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-             ind//'          <DataItem Dimensions="'//cell_dims//'"'//item//xml(trim(frames(f)))//':/'// &
-             xml(trim(cell_fields(k)))//'</DataItem>'
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
-      end do
-      if (present(int_cell_fields)) then
-        do k = 1, size(int_cell_fields)
-          if (ios /= 0) exit
-          write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(trim(int_cell_fields(k)))// &
-               '" AttributeType="Scalar" Center="Cell">'
-          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-               ind//'          <DataItem Dimensions="'//cell_dims//'"'//int_item//xml(trim(frames(f)))//':/'// &
-               xml(trim(int_cell_fields(k)))//'</DataItem>'
-          if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
-        end do
-      end if
-      ! field data, inline: a scalar HDF5 dataset is no hyperslab for the XDMF reader
-      if (ios == 0) call write_field(unit, ind, 'time', tbuf, ios, msg)
-      if (present(field_names) .and. present(field_values)) then
-        do k = 1, size(field_names)
-          if (ios /= 0) exit
-          write(tbuf, '(es24.16e3)') field_values(k)
-          call write_field(unit, ind, trim(field_names(k)), tbuf, ios, msg)
-        end do
-      end if
-      if (with_particles) then
-        if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
-        if (ios == 0 .and. nparts(f) > 0) call write_particles(unit, trim(frames(f)), nparts(f), part_vectors, &
-                                                              part_scalars, part_ints, part_tensors, ios, msg)
-      end if
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
-    end do
+         '    <Grid Name="'//name//'" GridType="Collection" CollectionType="Temporal">'
+    if (ios /= 0) close(unit, status='delete', iostat=k)
+  end subroutine open_series
+
+  !> Ends the series open on `unit` (`ios` /= 0: a write failed, `msg`
+  !> says why), checks that it reached the disk whole and renames `tmp` to
+  !> `path`.
+  subroutine close_series(here, tmp, path, unit, ios, msg, err)
+    character(len=*), intent(in) :: here, tmp, path
+    integer, intent(in) :: unit
+    integer, intent(inout) :: ios
+    character(len=*), intent(inout) :: msg
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, u
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '    </Grid>'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '  </Domain>'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '</Xdmf>'
-
     if (ios /= 0) then
       close(unit, status='delete', iostat=k)
       call error_set(err, here, 'cannot write '//q(tmp)//': '//trim(msg))
@@ -230,13 +283,13 @@ contains
     ! gfortran reports no error when a formatted write or close runs out of
     ! space: read the last line back before the file takes its final name
     if (.not. last_line_is(tmp, '</Xdmf>')) then
-      open(newunit=unit, file=tmp, status='old', iostat=ios)
-      if (ios == 0) close(unit, status='delete', iostat=ios)
+      open(newunit=u, file=tmp, status='old', iostat=ios)
+      if (ios == 0) close(u, status='delete', iostat=ios)
       call error_set(err, here, 'cannot write '//q(tmp)//': it was cut short (disk full?)')
       return
     end if
     call io_rename(tmp, path, err)
-  end subroutine xdmf_write_series
+  end subroutine close_series
 
   !> True if the last line of the text file `path` is `text`.
   logical function last_line_is(path, text)
@@ -256,10 +309,9 @@ contains
     last_line_is = trim(last) == text
   end function last_line_is
 
-
-  !> The Polyvertex grid of the particles of frame file `frame` (see
-  !> `xdmf_write_series`).
-  subroutine write_particles(unit, frame, np, vectors, scalars, ints, tensors, ios, msg)
+  !> The Polyvertex topology, geometry and attributes of the `np` particles
+  !> of frame file `frame` (see `xdmf_write_particles`).
+  subroutine write_points(unit, frame, np, vectors, scalars, ints, tensors, ios, msg)
     integer, intent(in) :: unit, np
     character(len=*), intent(in) :: frame
     character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
@@ -269,63 +321,97 @@ contains
     integer :: k
     fitem = ' NumberType="Float" Precision="8" Format="HDF">'//xml(frame)//':/particles/'
     iitem = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'//xml(frame)//':/particles/'
-    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Grid Name="particles" GridType="Uniform">'
-    ! one vertex cell per particle (without cells ParaView draws nothing):
-    ! the connectivity 0..np-1 (the frame's particles/vertex)
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Topology TopologyType="Polyvertex" '// &
+    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Topology TopologyType="Polyvertex" '// &
          'NumberOfElements="'//itoa(np)//'" NodesPerElement="1">'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//itoa(np)//'"'// &
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <DataItem Dimensions="'//itoa(np)//'"'// &
          iitem//'vertex</DataItem>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Topology>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <Geometry GeometryType="XYZ">'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//itoa(np)//' 3"'// &
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Topology>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Geometry GeometryType="XYZ">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <DataItem Dimensions="'//itoa(np)//' 3"'// &
          fitem//'x</DataItem>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Geometry>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Geometry>'
     if (present(vectors)) then
       do k = 1, size(vectors)
-        if (ios == 0) call one(trim(vectors(k)), 'Vector', itoa(np)//' 3', fitem)
+        if (ios == 0) call write_attribute(unit, trim(vectors(k)), 'Vector', 'Node', itoa(np)//' 3', fitem, ios, msg)
       end do
     end if
     if (present(scalars)) then
       do k = 1, size(scalars)
-        if (ios == 0) call one(trim(scalars(k)), 'Scalar', itoa(np), fitem)
+        if (ios == 0) call write_attribute(unit, trim(scalars(k)), 'Scalar', 'Node', itoa(np), fitem, ios, msg)
       end do
     end if
     if (present(ints)) then
       do k = 1, size(ints)
-        if (ios == 0) call one(trim(ints(k)), 'Scalar', itoa(np), iitem)
+        if (ios == 0) call write_attribute(unit, trim(ints(k)), 'Scalar', 'Node', itoa(np), iitem, ios, msg)
       end do
     end if
     if (present(tensors)) then
       do k = 1, size(tensors)
-        if (ios == 0) call one(trim(tensors(k)), 'Tensor6', itoa(np)//' 6', fitem)
+        if (ios == 0) call write_attribute(unit, trim(tensors(k)), 'Tensor6', 'Node', itoa(np)//' 6', fitem, ios, msg)
       end do
     end if
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
-  contains
-    subroutine one(name, kind, dims, item)
-      character(len=*), intent(in) :: name, kind, dims, item
-      write(unit, '(a)', iostat=ios, iomsg=msg) '          <Attribute Name="'//xml(name)//'" AttributeType="'// &
-           kind//'" Center="Node">'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '            <DataItem Dimensions="'//dims//'"'// &
-           item//xml(name)//'</DataItem>'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Attribute>'
-    end subroutine one
-  end subroutine write_particles
+  end subroutine write_points
+
+  !> One attribute `name` of a frame's grid whose data is the HDF5 dataset
+  !> of that name: `item` holds the DataItem's type attributes and the
+  !> dataset's path up to the name.
+  subroutine write_attribute(unit, name, kind, centre, dims, item, ios, msg)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: name, kind, centre, dims, item
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    write(unit, '(a)', iostat=ios, iomsg=msg) '        <Attribute Name="'//xml(name)//'" AttributeType="'// &
+         kind//'" Center="'//centre//'">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          <DataItem Dimensions="'//dims//'"'// &
+         item//xml(name)//'</DataItem>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Attribute>'
+  end subroutine write_attribute
+
+  !> The field data of frame `f` (0-based): Grid-centred scalar attributes
+  !> with their values inline (a scalar HDF5 dataset is no hyperslab for the
+  !> XDMF reader), `time` = `tbuf` and the (`names`, `values`) pairs. They
+  !> sit in an <Information Name="field_data"> (whose children no reader
+  !> takes for the grid's) and an XInclude of its children brings them into
+  !> the grid: the XDMF library (libxml2) resolves it, readers that know only
+  !> Node and Cell attributes skip it.
+  subroutine field_block(unit, f, tbuf, ios, msg, names, values)
+    integer, intent(in) :: unit, f
+    character(len=*), intent(in) :: tbuf
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    character(len=*), intent(in), optional :: names(:)
+    real(wp), intent(in), optional :: values(:)
+    character(len=32) :: vbuf
+    integer :: k
+    write(unit, '(a)', iostat=ios, iomsg=msg) &
+         '        <Information Name="field_data" Value="field data, included below">'
+    if (ios == 0) call write_field(unit, 'time', tbuf, ios, msg)
+    if (present(names) .and. present(values)) then
+      do k = 1, size(names)
+        if (ios /= 0) exit
+        write(vbuf, '(es24.16e3)') values(k)
+        call write_field(unit, trim(names(k)), vbuf, ios, msg)
+      end do
+    end if
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Information>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
+         '        <xi:include xpointer="xpointer(/Xdmf/Domain/Grid/Grid[@Name=''frame_'//itoa(f)// &
+         ''']/Information[@Name=''field_data'']/*)"/>'
+  end subroutine field_block
 
   !> One Grid-centred (field data) scalar attribute with its value inline.
-  subroutine write_field(unit, ind, name, value, ios, msg)
+  subroutine write_field(unit, name, value, ios, msg)
     integer, intent(in) :: unit
-    character(len=*), intent(in) :: ind, name
+    character(len=*), intent(in) :: name
     character(len=*), intent(in) :: value
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
-    write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        <Attribute Name="'//xml(name)// &
+    write(unit, '(a)', iostat=ios, iomsg=msg) '          <Attribute Name="'//xml(name)// &
          '" AttributeType="Scalar" Center="Grid">'
     if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-         ind//'          <DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">'// &
+         '            <DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">'// &
          trim(adjustl(value))//'</DataItem>'
-    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) ind//'        </Attribute>'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '          </Attribute>'
   end subroutine write_field
 
   !> Escapes the XML special characters of `s`.
