@@ -55,9 +55,11 @@ contains
   !> XDMF Tensor6 order xx, xy, xz, yy, yz, zz), so ParaView shows the
   !> particles with the grid; one vertex cell per particle, its connectivity
   !> /particles/vertex (0..npart-1). Without particles the file is as before.
+  !> `real_bytes`: the size of the frames' reals, 8 (default, doubles) or 4
+  !> (float32), the DataItems' Precision.
   subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
                                int_cell_fields, field_names, field_values, info_names, info_values, &
-                               nparts, part_vectors, part_scalars, part_ints, part_tensors)
+                               nparts, part_vectors, part_scalars, part_ints, part_tensors, real_bytes)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -72,12 +74,13 @@ contains
     character(len=*), intent(in), optional :: info_values(:)
     integer, intent(in), optional :: nparts(:)
     character(len=*), intent(in), optional :: part_vectors(:), part_scalars(:), part_ints(:), part_tensors(:)
+    integer, intent(in), optional :: real_bytes
     character(len=*), parameter :: here = 'xdmf_write_series'
     character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item, ind
     logical :: with_particles
     character(len=32) :: tbuf
     character(len=256) :: msg
-    integer :: unit, ios, f, k
+    integer :: unit, ios, f, k, rbytes
 
     if (size(frames) /= size(times)) then
       call error_set(err, here, 'frames and times differ in size for '//q(path))
@@ -120,7 +123,9 @@ contains
     node_dims = itoa(nk + 1)//' '//itoa(nj + 1)//' '//itoa(ni + 1)
     vec_dims = node_dims//' 3'
     cell_dims = itoa(nk)//' '//itoa(nj)//' '//itoa(ni)
-    item = ' NumberType="Float" Precision="8" Format="HDF">'
+    rbytes = 8
+    if (present(real_bytes)) rbytes = real_bytes
+    item = ' NumberType="Float" Precision="'//itoa(rbytes)//'" Format="HDF">'
     int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
     ! with particles the frame's grid sits one level deeper, in a spatial collection
@@ -209,7 +214,7 @@ contains
       if (with_particles) then
         if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        </Grid>'
         if (ios == 0 .and. nparts(f) > 0) call write_particles(unit, trim(frames(f)), nparts(f), part_vectors, &
-                                                              part_scalars, part_ints, part_tensors, ios, msg)
+                                                              part_scalars, part_ints, part_tensors, ios, msg, rbytes)
       end if
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
     end do
@@ -259,15 +264,15 @@ contains
 
   !> The Polyvertex grid of the particles of frame file `frame` (see
   !> `xdmf_write_series`).
-  subroutine write_particles(unit, frame, np, vectors, scalars, ints, tensors, ios, msg)
-    integer, intent(in) :: unit, np
+  subroutine write_particles(unit, frame, np, vectors, scalars, ints, tensors, ios, msg, rbytes)
+    integer, intent(in) :: unit, np, rbytes
     character(len=*), intent(in) :: frame
     character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
     character(len=:), allocatable :: fitem, iitem
     integer :: k
-    fitem = ' NumberType="Float" Precision="8" Format="HDF">'//xml(frame)//':/particles/'
+    fitem = ' NumberType="Float" Precision="'//itoa(rbytes)//'" Format="HDF">'//xml(frame)//':/particles/'
     iitem = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'//xml(frame)//':/particles/'
     write(unit, '(a)', iostat=ios, iomsg=msg) '        <Grid Name="particles" GridType="Uniform">'
     ! one vertex cell per particle (without cells ParaView draws nothing):
