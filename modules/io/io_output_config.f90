@@ -120,7 +120,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=*), intent(in) :: var, given(:), valid(:)
     character(len=32), allocatable, intent(out) :: chosen(:)
-    character(len=:), allocatable :: list
+    character(len=max_line) :: list
     integer :: k, m, n
     n = count(len_trim(given) > 0)
     if (n == 0) return
@@ -139,10 +139,10 @@ contains
       end if
       list = ''
       do m = 1, size(valid)
-        list = list//trim(valid(m))//', '
+        list = trim(list)//' '//trim(valid(m))//','
       end do
-      call problem_add(problems, '&output: '//var//' = '''//trim(given(k))//''' is not known; valid: '// &
-                       list//'none')
+      call problem_add(problems, '&output: '//var//' = '''//trim(given(k))//''' is not known; valid:'// &
+                       trim(list)//' none')
     end do
   end subroutine field_choice
 
