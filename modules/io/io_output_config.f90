@@ -124,7 +124,7 @@ contains
     integer :: k, m, n
     n = count(len_trim(given) > 0)
     if (n == 0) return
-    allocate(chosen(0))
+    chosen = [character(len=32) ::]
     do k = 1, size(given)
       if (len_trim(given(k)) == 0) cycle
       call problem_long(problems, 'output', var, given(k))
