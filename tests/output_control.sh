@@ -9,7 +9,8 @@
 # frame and its dump at step 2N equal the straight run's bit for bit (a
 # restart of a compressed single-precision run continues exactly: dumps stay
 # double, checksummed, uncompressed), and every frame of run 1 is float32()
-# of run 3's, bit for bit.
+# of run 3's, bit for bit. A restart that changes the frames' precision or
+# fields is refused; one that changes compress runs.
 # Usage: output_control.sh EXE PYTHON COMPARE DECK N WORKDIR
 set -u
 exe=$1 py=$2 cmp=$3 deck=$4 n=$5 dir=$6
@@ -36,6 +37,26 @@ grep -q "restarted from out/split_restart" part2.log || fail "the log does not r
 "$py" "$cmp" "$(final_frame straight)" "$(final_frame split)" --exact || fail "the split run's last frame differs"
 "$py" "$here/check_output_control.py" dumps "$(printf 'out/straight_restart_%08d.h5' "$m")" \
   "$(printf 'out/split_restart_%08d.h5' "$m")" || fail "the dumps at step $m differ"
+# a restart that changes the frames' precision or fields is refused (the
+# XDMF series lists the earlier frames with the new layout); compress may change
+refused() { # name regex
+  local out rc
+  out=$("$exe" "$1.nml" 2>&1); rc=$?
+  [ "$rc" -eq 2 ] || { printf '%s\n' "$out" | tail -5; fail "$1: exit status $rc, expected 2"; }
+  printf '%s\n' "$out" | grep -E -q -- "$2" || { printf '%s\n' "$out" | tail -5; fail "$1: no line matches /$2/"; }
+  echo "ok: $1 refused: $(printf '%s\n' "$out" | grep -E -- "$2" | head -1)"
+}
+dump=$(printf 'out/split_restart_%08d.h5' "$n")
+make_deck to_double split "max_steps = $m, restart_from = '$dump'"
+sed -i -e "s|precision = 'single'|precision = 'double'|" to_double.nml
+refused to_double "&output precision changed from 'single' to 'double'"
+make_deck more_fields split "max_steps = $m, restart_from = '$dump'"
+sed -i -e "s|'damage',|'damage', 'porosity',|" more_fields.nml
+refused more_fields "&output particle_fields changed from 'velocity', 'stress', 'id', 'failed', 'temperature', 'damage' to .*'porosity'"
+make_deck recompress recompress "max_steps = $((n + 1)), restart_from = '$dump'"
+sed -i -e "s|compress = [0-9]|compress = 1|" recompress.nml
+run recompress
+echo "ok: a restart with another compress level runs"
 mkdir -p dbl && mv out/double_* dbl/ && for f in dbl/double_*.h5; do mv "$f" "dbl/straight_${f#dbl/double_}"; done
 "$py" "$here/check_output_control.py" versus out dbl straight || fail "single against double"
 echo "bytes: single + compress $(cat out/straight_[0-9]*.h5 | wc -c), double uncompressed $(cat dbl/straight_[0-9]*.h5 | wc -c)"

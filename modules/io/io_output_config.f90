@@ -12,7 +12,7 @@ module io_output_config
   use strength_models, only: strength_fields
   implicit none
   private
-  public :: output_config_t, output_config_read, max_gauges, max_tracks, max_fields
+  public :: output_config_t, output_config_read, output_config_changes, max_gauges, max_tracks, max_fields
 
   integer, parameter :: max_gauges = 64
   integer, parameter :: max_tracks = 64
@@ -111,6 +111,58 @@ contains
     this%frame_steps = frame_steps; this%gauge_dt = gauge_dt; this%history_dt = history_dt
     if (echo /= no_echo) write(echo, nml=output)
   end subroutine output_config_read
+
+  !> A restart continues the frame series of the run it continues (its
+  !> XDMF lists the earlier frames with the fields and precision of the new
+  !> ones), so a restart's deck keeps `fields`, `particle_fields` and
+  !> `precision`: one line in `changes` for each changed (`compress` may
+  !> change: a reader does not see it).
+  subroutine output_config_changes(old, new, changes)
+    type(output_config_t), intent(in) :: old, new
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    call list_change('fields', old%frame%fields, new%frame%fields)
+    call list_change('particle_fields', old%frame%particle_fields, new%frame%particle_fields)
+    if (old%frame%single .neqv. new%frame%single) &
+      call problem_add(changes, '&output precision changed from '''//trim(merge('single', 'double', old%frame%single))// &
+                       ''' to '''//trim(merge('single', 'double', new%frame%single))//''' (the frames of one series '// &
+                       'share their fields and precision)')
+  contains
+    !> A line if the chosen fields differ (as sets; unallocated: all).
+    subroutine list_change(var, a, b)
+      character(len=*), intent(in) :: var
+      character(len=32), allocatable, intent(in) :: a(:), b(:)
+      logical :: same
+      integer :: k
+      same = allocated(a) .eqv. allocated(b)
+      if (same .and. allocated(a)) then
+        same = size(a) == size(b)
+        do k = 1, size(a)
+          if (same) same = any(b == a(k))
+        end do
+      end if
+      if (.not. same) call problem_add(changes, '&output '//var//' changed from '//text(a)//' to '//text(b)// &
+                                       ' (the frames of one series share their fields and precision)')
+    end subroutine list_change
+
+    !> The list as the deck would give it ('' for all).
+    function text(a) result(t)
+      character(len=32), allocatable, intent(in) :: a(:)
+      character(len=:), allocatable :: t
+      integer :: k
+      if (.not. allocated(a)) then
+        t = "'' (all)"
+        return
+      end if
+      if (size(a) == 0) then
+        t = "'none'"
+        return
+      end if
+      t = "'"//trim(a(1))//"'"
+      do k = 2, size(a)
+        t = t//", '"//trim(a(k))//"'"
+      end do
+    end function text
+  end subroutine output_config_changes
 
   !> The fields chosen by the deck's list `given` (blank entries skipped;
   !> none given: `chosen` unallocated, all fields), each one of `valid`, or
