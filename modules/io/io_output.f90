@@ -10,7 +10,7 @@
 !> code_version, build_type, title, unit_system, material_names) and each
 !> dataset (`units`, a dimension such as 'mass/length^3' in the deck's unit
 !> system; `material` also carries its legend). The XDMF file
-!> `<dir>/<name>.xdmf` lists every cell and node field and is rewritten after
+!> `<dir>/<name>.xdmf` lists every cell and node field written and is rewritten after
 !> every frame. Both are written to a temporary name and renamed, so a reader
 !> never sees a partial file.
 !>

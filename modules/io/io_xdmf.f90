@@ -37,7 +37,7 @@ contains
   !> (paths relative to the XDMF file) at `times`, on an ni x nj x nk cell grid.
   !> Each frame holds /x (node coordinates, Fortran shape [3,ni+1,nj+1,nk+1]),
   !> node vectors /name for `node_fields` and cell scalars /name (shape
-  !> [ni,nj,nk]) for `cell_fields` (doubles) and `int_cell_fields` (default
+  !> [ni,nj,nk]) for `cell_fields` (reals, `real_bytes`) and `int_cell_fields` (default
   !> integers, e.g. the material index). Each frame's time is also field data
   !> `time` (ParaView shows Grid-centred attributes as field data), and so is
   !> each (`field_names`(k), `field_values`(k)) pair, the same in every frame
@@ -50,7 +50,7 @@ contains
   !> the frame has particles, a Polyvertex grid "particles" of its npart
   !> points at /particles/x (3, npart) (the count falls as particles leave
   !> the grid), with node-centred attributes /particles/<name>:
-  !> `part_vectors` (3, npart), `part_scalars` (npart, doubles),
+  !> `part_vectors` (3, npart), `part_scalars` (npart, reals),
   !> `part_ints` (npart, default integers) and `part_tensors` (6, npart,
   !> XDMF Tensor6 order xx, xy, xz, yy, yz, zz), so ParaView shows the
   !> particles with the grid; one vertex cell per particle, its connectivity
