@@ -13,7 +13,7 @@ module driver_output
   use base_build, only: code_version, build_type
   use io_log, only: log_t, log_open, log_line, log_identity
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
-                       units_pressure
+                       units_pressure, units_temperature, frame_wants
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
   use io_hdf5, only: hdf5_version
   use strength_models, only: strength_fields
@@ -448,7 +448,12 @@ contains
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(inout) :: err
     integer, parameter :: nper = 4          ! fields per material: vf, density, energy, pressure
+    ! their names in &output fields
+    character(len=*), parameter :: per_key(nper) = [character(len=17) :: 'vf', 'material_density', &
+                                                    'material_energy', 'material_pressure']
     integer :: nmat, nf, c, k, s, m, stat
+    integer, allocatable :: keep(:), pfailed(:)
+    character(len=32), allocatable :: punits(:)
     integer, allocatable, target :: cellmat(:)
     integer, pointer :: frame_mat(:)
     real(wp), allocatable :: fld(:, :), pfld(:, :), nmass(:)
@@ -511,8 +516,9 @@ contains
       pt = st%pt
     end if
     if (pt%nhist > 0) then
-      ! the strength models' history fields and failure flags (1 failed)
-      allocate(pfld(size(strength_fields) + 1, pt%np), stat=stat, errmsg=msg)
+      ! the strength models' history fields (temperature in the deck's
+      ! temperature unit, the others dimensionless) and failure flags (1 failed)
+      allocate(pfld(size(strength_fields), pt%np), pfailed(pt%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'frame_out', error_no_memory('the frame''s particle fields'))
         return
@@ -522,10 +528,10 @@ contains
           do m = 1, size(strength_fields)
             pfld(m, k) = model%field(trim(strength_fields(m)), pt%hist(:, k))
           end do
-          pfld(size(pfld, 1), k) = merge(1.0_wp, 0.0_wp, model%failed(pt%hist(:, k)))
+          pfailed(k) = merge(1, 0, model%failed(pt%hist(:, k)))
         end associate
       end do
-      pnames = [character(len=16) :: strength_fields, 'failed']
+      pnames = [character(len=16) :: strength_fields]
     else
       allocate(pfld(0, pt%np), pnames(0), stat=stat, errmsg=msg)
       if (stat /= 0) then
@@ -533,16 +539,25 @@ contains
         return
       end if
     end if
+    punits = [character(len=32) :: (units_none, k = 1, size(pnames))]
+    where (pnames == 'temperature') punits = units_temperature
+    ! the per-material columns the deck chose (&output fields)
+    keep = [integer ::]
+    do k = 1, nf
+      if (frame_wants(cfg%output%frame%fields, per_key(mod(k - 1, nper) + 1))) keep = [keep, k]
+    end do
     ! the nodal mass of the kinetic energy: with coupled particles the
     ! particles' share too (`state_totals`; without, nmass is not allocated,
     ! so not present: the frame takes the hydro's own)
     if (allocated(st%pw%mp)) nmass = st%h%mnode + st%pw%mp
     if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
-      call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, comm=sch%pc%world, node_mass=nmass)
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+                        st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
+                        comm=sch%pc%world, node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed)
     else
-      call output_frame(sch%out, st%g, st%h, frame_mat, names, units, owner, fld, st%t, st%step, st%tot, cfg%echo, &
-                        meta, path, err, pt=pt, pnames=pnames, pfields=pfld, node_mass=nmass)
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+                        st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
+                        node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed)
     end if
     if (allocated(err)) err%category = ERR_IO
   end subroutine frame_out

@@ -42,6 +42,7 @@ module driver_restart
   use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
                         restart_check_counts, restart_read_dims
   use driver_config, only: config_t, config_read, config_state_changes
+  use io_output_config, only: output_config_changes
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_output, only: schedule_t, schedule_register_restart, report_conservation, frame_due, advance_schedule
   use driver_euler, only: euler_state_t, euler_register_restart
@@ -52,7 +53,8 @@ module driver_restart
 contains
 
   !> A restart may change time, output, dump and numerical settings, but not
-  !> what the state depends on: compare the deck stored in the restart file
+  !> what the state depends on, nor the frames' fields and precision (the
+  !> series it continues lists its frames with one layout): compare the deck stored in the restart file
   !> with this one; `problems` names each changed variable (or why the file
   !> cannot be used) and `summary` says what follows.
   subroutine check_restart_deck(cfg, problems, summary)
@@ -79,7 +81,9 @@ contains
       return
     end if
     call config_state_changes(old, cfg, problems)
-    summary = 'a restart cannot change what the state depends on; undo these changes or start a new run'
+    call output_config_changes(old%output, cfg%output, problems)
+    summary = 'a restart cannot change what the state depends on (nor the frames'' fields and precision); '// &
+              'undo these changes or start a new run'
   end subroutine check_restart_deck
 
   !> Everything a restart must hold, each owner registering its own

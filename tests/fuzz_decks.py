@@ -96,19 +96,21 @@ RANGE = [
     ('output', 'frame_dt', '-0.1', 'negative interval'), ('output', 'frame_steps', '-1', 'negative steps'),
     ('output', 'frame_dt', '1e-300', 'interval that would loop for ever'),
     ('output', 'gauge_dt', '1e-300', 'interval that would loop for ever'),
+    ('output', 'compress', '10', 'deflate level > 9'),
     ('run', 'dump_dt', '1e-300', 'interval that would loop for ever'),
     ('source', 'energy', '-1', 'negative energy'), ('boundary', 'xlo_pressure', '-1', 'negative pressure'),
 ]
 ENUMS = [('material', 'eos', "'stiffened'"), ('run', 'euler_ranks', "'split'"), ('region', 'shape', "'cube'"), ('rezone', 'mode', "'euler'"),
          ('hydro', 'viscosity', "'artificial'"), ('boundary', 'xlo', "'open'"), ('region', 'material', "'nosuch'"),
          ('rezone', 'reconstruction', "'cubic'"), ('region', 'axis', "'w'"),
-         ('region', 'velocity_field', "'spiral'")]
+         ('region', 'velocity_field', "'spiral'"), ('output', 'precision', "'half'"),
+         ('output', 'fields', "'density', 'densty'"), ('output', 'particle_fields', "'plastic'")]
 NONFINITE = ['NaN', 'Inf', '-Infinity', '1e300', '-1.0e+45', 'nan']
 # values of the wrong type: for a real, for an integer variable
 TYPES_REAL = ["'abc'", '.true.', '1.2.3', 'abc']
 TYPES_INT = ['10.5', "'abc'", '1.5e3', '.false.']
 INT_VARS = {'ni', 'nj', 'nk', 'subsamples', 'max_steps', 'seed', 'dump_steps', 'dump_keep', 'progress_steps',
-            'frame_steps', 'interval_steps', 'mof_max_iter', 'smooth_iterations'}
+            'frame_steps', 'interval_steps', 'mof_max_iter', 'smooth_iterations', 'compress'}
 
 
 def mutations(text, rng):

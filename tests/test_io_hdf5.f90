@@ -2,7 +2,9 @@
 !> Usage: test_io_hdf5 [--keep]   (files are written in the working directory;
 !> --keep leaves them there for inspection, e.g. with h5dump).
 program test_io_hdf5
-  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: iso_fortran_env, only: int64, int32, real32
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_negative_inf, ieee_is_nan, &
+                                           ieee_quiet_nan
   use base_kinds, only: wp
   use base_errors, only: error_t
   use io_hdf5, only: h5_file_t, hdf5_start, hdf5_stop, h5_create, h5_open_read, h5_close, &
@@ -15,6 +17,7 @@ program test_io_hdf5
   character(len=*), parameter :: h5name = 'test_io_hdf5_data.h5'
   character(len=*), parameter :: txtname = 'test_io_hdf5_not_h5.txt'
   character(len=*), parameter :: xdmfname = 'test_io_hdf5_series.xdmf'
+  character(len=*), parameter :: smallname = 'test_io_hdf5_single.h5'
   character(len=*), parameter :: frame_names(2) = [character(len=24) :: &
        'test_io_hdf5_frame_0.h5', 'test_io_hdf5_frame_1.h5']
   integer, parameter :: ni = 2, nj = 3, nk = 4
@@ -30,6 +33,11 @@ program test_io_hdf5
   character(len=:), allocatable :: text, textback
   character(len=8) :: arg
   logical :: keep, exists
+  ! float32 storage: FLT_MAX, half its last place (2^103), the smallest
+  ! float32 subnormal 2^-149
+  real(wp), parameter :: flt_max = real(huge(1.0_real32), wp), half_ulp = 2.0_wp**103, sub = 2.0_wp**(-149)
+  real(wp) :: edge(9)
+  real(real32) :: want(9)
 
   call get_command_argument(1, arg)
   keep = arg == '--keep'
@@ -158,6 +166,52 @@ program test_io_hdf5
   if (.not. allocated(err)) call fail('opening a missing file gave no error')
   deallocate(err)
 
+  ! ---- float32 storage and compression (frames: &output precision, compress)
+  ! edge values: FLT_MAX; just below FLT_MAX + half its last place (rounds
+  ! down to it) and exactly that (a tie: to even, infinity); beyond the
+  ! float32 range both ways; a subnormal; underflow to 0; a plain value; NaN
+  edge = [flt_max, flt_max + 0.999_wp*half_ulp, flt_max + half_ulp, 1.0e300_wp, -1.0e39_wp, 3.0_wp*sub, &
+          0.25_wp*sub, 0.1_wp, 0.0_wp]
+  edge(9) = ieee_value(edge(9), ieee_quiet_nan)
+  want = [huge(1.0_real32), huge(1.0_real32), ieee_value(1.0_real32, ieee_positive_inf), &
+          ieee_value(1.0_real32, ieee_positive_inf), ieee_value(1.0_real32, ieee_negative_inf), &
+          3.0_real32*2.0_real32**(-149), 0.0_real32, 0.1_real32, 0.0_real32]
+  call h5_create(file, smallname, err)
+  call check('h5_create (single)')
+  call h5_write_real(file, 'a4', a4, shape(a4), err, single=.true., deflate=5)
+  call check('h5_write_real (single, deflate)')
+  call h5_write_real(file, 'edge', edge, shape(edge), err, single=.true.)
+  call check('h5_write_real (single, edge values)')
+  call h5_write_int(file, 'i3', i3, shape(i3), err, deflate=9)
+  call check('h5_write_int (deflate)')
+  call h5_write_real(file, 'zero', zr, shape(zr), err, single=.true., deflate=1)
+  call check('h5_write_real (single, deflate, zero size)')
+  call h5_close(file, err)
+  call check('h5_close (single)')
+  call h5_open_read(file, smallname, err)
+  call check('h5_open_read (single)')
+  call h5_read_real(file, 'a4', rflat, err)
+  call check('h5_read_real (single)')
+  ! (float32 to double on read is exact)
+  if (any(transfer(real(rflat, real32), 0_int32, size(rflat)) /= &
+          transfer(real(reshape(a4, [size(a4)]), real32), 0_int32, size(a4)))) &
+    call fail('a4 stored as float32 is not real(a4, real32)')
+  if (any(transfer(rflat, 0_int64, size(rflat)) == transfer(a4, 0_int64, size(a4)))) &
+    call fail('a4 stored as float32 kept double digits')
+  call h5_read_real(file, 'edge', rflat, err)
+  call check('h5_read_real (edge values)')
+  if (.not. ieee_is_nan(rflat(9))) call fail('NaN not stored as NaN in float32')
+  if (any(transfer(real(rflat(1:8), real32), 0_int32, 8) /= transfer(want(1:8), 0_int32, 8))) &
+    call fail('edge values not rounded to nearest float32 (infinity beyond its range)')
+  call h5_read_int(file, 'i3', iflat, err)
+  call check('h5_read_int (deflate)')
+  if (any(iflat /= reshape(i3, [size(i3)]))) call fail('compressed i3 values differ')
+  call h5_read_dims(file, 'zero', dims, err)
+  call check('h5_read_dims (single, zero size)')
+  if (any(dims /= [3, 0])) call fail('dims of the zero-size float32 array are not [3,0]')
+  call h5_close(file, err)
+  call check('h5_close (single, read)')
+
   ! ---- XDMF series of two frames
   do k = 1, nk + 1
     do j = 1, nj + 1
@@ -194,6 +248,7 @@ program test_io_hdf5
 
   if (.not. keep) then
     call remove(h5name)
+    call remove(smallname)
     call remove(txtname)
     call remove(xdmfname)
     call remove(trim(frame_names(1)))

@@ -2,8 +2,11 @@
 """Compare two hydrocode frames (HDF5) field by field.
 
     compare_frames.py RUN.h5 REF.h5 --exact
-        every compared dataset must be bit-for-bit identical (the default
-        fields, and every particles/ dataset when the frames have particles)
+        every compared dataset must be bit-for-bit identical, in the same
+        type (the default fields, and every particles/ dataset when the
+        frames have particles); a default field that neither frame holds
+        (&output fields chose others) is skipped and listed as absent, one
+        that only one holds is a difference
     compare_frames.py RUN.h5 REF.h5 --tolerances TOL.txt
         per field: max relative difference  max|a-b| / max|b|  and
         L1 relative difference  sum|a-b| / sum|b|  must not exceed the
@@ -60,6 +63,20 @@ def load(path, names):
         return {n: np.asarray(f[n][()], dtype=float) for n in names}
 
 
+def load_raw(path, names):
+    """The datasets `names` as stored (their own dtype), None where absent."""
+    with h5py.File(path, "r") as f:
+        return {n: (f[n][()] if n in f else None) for n in names}
+
+
+def identical(a, b):
+    """Same presence, shape, dtype and bytes."""
+    if a is None or b is None:
+        return a is None and b is None
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
 def differences(a, b):
     if a.shape != b.shape:
         return np.inf, np.inf
@@ -102,12 +119,17 @@ def main():
                 print("FAIL: frames differ")
                 return 1
             fields = DEFAULT_FIELDS + sorted(pr)
-            run, ref = load(a.run, fields), load(a.ref, fields)
-            bad = [n for n in fields if run[n].shape != ref[n].shape
-                   or not np.array_equal(run[n].view(np.uint64) if run[n].dtype == np.float64 else run[n],
-                                         ref[n].view(np.uint64) if ref[n].dtype == np.float64 else ref[n])]
+            run, ref = load_raw(a.run, fields), load_raw(a.ref, fields)
+            bad = [n for n in fields if not identical(run[n], ref[n])]
+            absent = [n for n in fields if run[n] is None and ref[n] is None]
+            if len(absent) == len(fields):
+                print("FAIL: the frames hold none of the compared fields")
+                return 1
             for n in fields:
-                print(f"{n:28s} {'identical' if n not in bad else 'DIFFERENT'}")
+                what = "absent in both" if n in absent else ("identical" if n not in bad else "DIFFERENT")
+                if n in bad and (run[n] is None) != (ref[n] is None):
+                    what = "DIFFERENT (only in " + (a.ref if run[n] is None else a.run) + ")"
+                print(f"{n:28s} {what}")
             print("PASS: bit-for-bit identical" if not bad else "FAIL: frames differ")
             return 0 if not bad else 1
         if not a.tolerances:

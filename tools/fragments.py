@@ -60,9 +60,14 @@ def load(path, ids0=None, extra=False):
     With extra, also a dict of the frames' mass, velocity and body on the
     same particles (None where the frame has none; NaN / -1 for the gone)."""
     with h5py.File(path, "r") as f:
+        if "particles/x" in f and "particles/id" not in f:
+            sys.exit(f"{path}: no particles/id (the deck's &output particle_fields must include 'id')")
         ids = f["particles/id"][()]
         order = np.argsort(ids)
         x = f["particles/x"][()][order]
+        if "particles/failed" not in f and ids0 is None:
+            print(f"{path}: no particles/failed (not in &output particle_fields?): no particle counts as failed",
+                  file=sys.stderr)
         failed = f["particles/failed"][()][order] > 0.5 if "particles/failed" in f else np.zeros(len(x), bool)
         t = float(f["time"][()])
         more = {k: (f["particles/" + k][()][order] if "particles/" + k in f else None)

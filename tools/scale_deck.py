@@ -94,7 +94,7 @@ DIMENSIONS = {
         "nodal_mass": STR,
     },
     "output": {"dir": STR, "name": STR, "frame_dt": TIME, "frame_steps": INT, "gauge_dt": TIME, "history_dt": TIME,
-               "gauge": LEN},
+               "gauge": LEN, "fields": STR, "particle_fields": STR, "precision": STR, "compress": INT},
 }
 
 # dimensional variables whose default is neither 0 nor a sentinel: written in

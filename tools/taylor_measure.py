@@ -47,6 +47,10 @@ REFS = {"DynELA": (26.52, 11.15, 1.78, 582.0), "Abaqus": (26.56, 11.16, 1.81, 59
 def read_frame(path):
     """Positions (n, 3), volumes, ids, time, plastic strain and temperature."""
     with h5py.File(path, "r") as f:
+        missing = [n for n in ("particles/x", "particles/volume", "particles/id") if n not in f]
+        if missing:
+            sys.exit(f"{path}: no {', '.join(missing)} (the deck's &output particle_fields must include "
+                     f"'volume' and 'id')")
         x = f["particles/x"][()]
         vol = f["particles/volume"][()]
         ids = f["particles/id"][()]

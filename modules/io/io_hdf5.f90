@@ -22,6 +22,19 @@
 !> read; a mismatch makes the read fail and the reader returns an error naming
 !> the dataset. Frames are written without checksums (h5py, ParaView).
 !>
+!> Storage options of the array writers (frames, `&output precision` and
+!> `compress`): `single` stores a double array as float32 (H5T_NATIVE_FLOAT
+!> in the file); the values are converted here, before HDF5 sees them (round
+!> to nearest, as numpy's float32(); beyond the float32 range +-infinity), so
+!> the memory and file types agree and a file of several ranks keeps its
+!> collective writes (HDF5 1.10 falls back to independent I/O for a write
+!> that converts types, and refuses independent writes to a filtered
+!> dataset). `deflate` = 1..9 compresses a dataset (byte shuffle, then
+!> deflate at that level) in chunks cut as the checksums' are (1 MiB along
+!> the last dimension); a zero-size array and a scalar stay contiguous. Both
+!> filters run in collective writes of several ranks (parallel HDF5 >= 1.10.2;
+!> Debian 12 has 1.10.8).
+!>
 !> The library's own exit handler is switched off (`hdf5_start`): after a
 !> failed H5Fclose (a full disk) HDF5 1.10 keeps an identifier to a file it
 !> has already freed, and its exit handler then crashes (exit 139). Every
@@ -33,7 +46,9 @@ module io_hdf5
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_associated, c_f_pointer, c_null_char, &
                                          c_int, c_int64_t, c_intptr_t, &
                                          c_long, c_char
-  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: iso_fortran_env, only: int64, real32
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_is_nan, ieee_positive_inf, ieee_negative_inf, &
+                                           ieee_quiet_nan
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa
@@ -50,6 +65,7 @@ module io_hdf5
        H5T_FORTRAN_S1, H5T_STR_NULLPAD_F, H5T_STRING_F, H5T_FLOAT_F, H5T_INTEGER_F, &
        h5pcreate_f, h5pclose_f, h5pset_create_inter_group_f, H5P_LINK_CREATE_F, &
        H5P_DATASET_CREATE_F, H5P_FILE_ACCESS_F, h5pset_chunk_f, h5pset_fletcher32_f, &
+       h5pset_shuffle_f, h5pset_deflate_f, &
        h5pset_libver_bounds_f, H5F_LIBVER_LATEST_F, &
        h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, &
        h5dget_space_f, h5dget_type_f, &
@@ -151,7 +167,7 @@ module io_hdf5
     end function c_errno_location
   end interface
 
-  !> Largest chunk of a checksummed dataset (bytes; module notes).
+  !> Largest chunk of a checksummed or compressed dataset (bytes; module notes).
   integer(int64), parameter :: max_chunk_bytes = 2_int64**20
 
 contains
@@ -446,35 +462,53 @@ contains
   ! ------------------------------------------------------------------ writers
 
   !> Writes a double dataset of shape `dims` (Fortran order, rank 1..7) from
-  !> the contiguous buffer `data`, which holds product(dims) values.
-  subroutine h5_write_real(file, name, data, dims, err)
+  !> the contiguous buffer `data`, which holds product(dims) values; with
+  !> `single` stored as float32, with `deflate` (1..9; 0: off) compressed
+  !> (module notes).
+  subroutine h5_write_real(file, name, data, dims, err, single, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), intent(in), target :: data(*)
     integer, intent(in) :: dims(:)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: single
+    integer, intent(in), optional :: deflate
+    real(real32), allocatable, target :: buf(:)
     type(c_ptr) :: ptr
+    integer(int64) :: n
+    n = 0
     ptr = c_null_ptr
     if (size(dims) > 0) then
-      if (all(dims > 0)) ptr = c_loc(data(1))
+      if (all(dims > 0)) then
+        ptr = c_loc(data(1))
+        n = product(int(dims, int64))
+      end if
     end if
-    call write_array(file, name, ptr, dims, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_real', err)
+    if (.not. opt_true(single)) then
+      call write_array(file, name, ptr, dims, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_real', err, deflate)
+      return
+    end if
+    call single_copy(file, data, n, buf, ptr, 'h5_write_real', name, err)
+    if (allocated(err)) return
+    call write_array(file, name, ptr, dims, h5kind_to_type(real32, H5_REAL_KIND), 'h5_write_real', err, deflate)
   end subroutine h5_write_real
 
   !> Writes a default-integer dataset of shape `dims` (Fortran order, rank
-  !> 1..7) from the contiguous buffer `data`, which holds product(dims) values.
-  subroutine h5_write_int(file, name, data, dims, err)
+  !> 1..7) from the contiguous buffer `data`, which holds product(dims) values;
+  !> with `deflate` (1..9; 0: off) compressed.
+  subroutine h5_write_int(file, name, data, dims, err, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, intent(in), target :: data(*)
     integer, intent(in) :: dims(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: deflate
     type(c_ptr) :: ptr
     ptr = c_null_ptr
     if (size(dims) > 0) then
       if (all(dims > 0)) ptr = c_loc(data(1))
     end if
-    call write_array(file, name, ptr, dims, h5kind_to_type(kind(0), H5_INTEGER_KIND), 'h5_write_int', err)
+    call write_array(file, name, ptr, dims, h5kind_to_type(kind(0), H5_INTEGER_KIND), 'h5_write_int', err, deflate)
   end subroutine h5_write_int
 
   !> This rank's part (a box of shape `count` at the 0-based `start`) of the
@@ -483,38 +517,104 @@ contains
   !> together (`h5_create` with `comm`; on one process the whole dataset).
   !> With `grid` the dataset's last dimension is a grid of that shape,
   !> flattened, and the box is given in the grid's dimensions (`write_part`).
-  subroutine h5_write_part_real(file, name, data, dims, start, count, err, grid)
+  !> `single` and `deflate` as for `h5_write_real` (the same on every rank).
+  subroutine h5_write_part_real(file, name, data, dims, start, count, err, grid, single, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), intent(in), target :: data(*)
     integer, intent(in) :: dims(:), start(:), count(:)
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: grid(3)
+    logical, intent(in), optional :: single
+    integer, intent(in), optional :: deflate
+    real(real32), allocatable, target :: buf(:)
     type(c_ptr) :: ptr
+    integer(int64) :: n
+    n = 0
     ptr = c_null_ptr
     if (size(count) > 0) then
-      if (all(count > 0)) ptr = c_loc(data(1))
+      if (all(count > 0)) then
+        ptr = c_loc(data(1))
+        n = product(int(count, int64))
+      end if
     end if
-    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', err, &
-                    grid)
+    if (.not. opt_true(single)) then
+      call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', &
+                      err, grid, deflate)
+      return
+    end if
+    call single_copy(file, data, n, buf, ptr, 'h5_write_part_real', name, err)
+    if (allocated(err)) return
+    call write_part(file, name, ptr, dims, start, count, h5kind_to_type(real32, H5_REAL_KIND), 'h5_write_part_real', &
+                    err, grid, deflate)
   end subroutine h5_write_part_real
 
   !> `h5_write_part_real` for a default-integer dataset.
-  subroutine h5_write_part_int(file, name, data, dims, start, count, err, grid)
+  subroutine h5_write_part_int(file, name, data, dims, start, count, err, grid, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, intent(in), target :: data(*)
     integer, intent(in) :: dims(:), start(:), count(:)
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: grid(3)
+    integer, intent(in), optional :: deflate
     type(c_ptr) :: ptr
     ptr = c_null_ptr
     if (size(count) > 0) then
       if (all(count > 0)) ptr = c_loc(data(1))
     end if
     call write_part(file, name, ptr, dims, start, count, h5kind_to_type(kind(0), H5_INTEGER_KIND), &
-                    'h5_write_part_int', err, grid)
+                    'h5_write_part_int', err, grid, deflate)
   end subroutine h5_write_part_int
+
+  !> The float32 copy `buf` of the n doubles of `data` (`to_single`), `ptr`
+  !> its address (null for none); out of memory on any rank of the file: an
+  !> error on all of them (before any collective call on the dataset).
+  subroutine single_copy(file, data, n, buf, ptr, here, name, err)
+    type(h5_file_t), intent(in) :: file
+    real(wp), intent(in) :: data(*)
+    integer(int64), intent(in) :: n
+    real(real32), allocatable, target, intent(out) :: buf(:)
+    type(c_ptr), intent(out) :: ptr
+    character(len=*), intent(in) :: here, name
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    ptr = c_null_ptr
+    allocate(buf(n), stat=stat)
+    if (stat /= 0) call error_set(err, here, error_no_memory('the float32 copy of '//q(name)//' ('// &
+                                  itoa(int(n))//' values)'))
+    call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
+    if (allocated(err) .or. n == 0) return
+    buf = to_single(data(1:n))
+    ptr = c_loc(buf(1))
+  end subroutine single_copy
+
+  !> x as float32, rounded to nearest (ties to even, the hardware's mode,
+  !> as numpy's float32()); beyond the float32 range (from FLT_MAX plus half
+  !> its last place on, where rounding reaches infinity) +-infinity and a
+  !> NaN a quiet NaN, set without the conversion that would trap under
+  !> -ffpe-trap=overflow,invalid.
+  elemental function to_single(x) result(s)
+    real(wp), intent(in) :: x
+    real(real32) :: s
+    real(wp), parameter :: beyond = real(huge(1.0_real32), wp) + 2.0_wp**103
+    if (ieee_is_nan(x)) then
+      s = ieee_value(s, ieee_quiet_nan)
+    else if (x >= beyond) then
+      s = ieee_value(s, ieee_positive_inf)
+    else if (x <= -beyond) then
+      s = ieee_value(s, ieee_negative_inf)
+    else
+      s = real(x, real32)
+    end if
+  end function to_single
+
+  !> An optional flag's value (absent: false).
+  pure logical function opt_true(flag)
+    logical, intent(in), optional :: flag
+    opt_true = .false.
+    if (present(flag)) opt_true = flag
+  end function opt_true
 
   !> Writes a scalar double dataset.
   subroutine h5_write_scalar_real(file, name, value, err)
@@ -855,7 +955,7 @@ contains
   !> grid(1:3) flattened (i fastest), and start and count give the box in
   !> the leading dimensions and then in the grid's three (size(dims) + 2
   !> values). In a file of one process the part must be the whole dataset.
-  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err, grid)
+  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err, grid, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     type(c_ptr), intent(inout) :: ptr
@@ -864,6 +964,7 @@ contains
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: grid(3)
+    integer, intent(in), optional :: deflate
     integer(hid_t) :: did, sid, msid, lcpl, xfer, dcpl
     integer, allocatable :: whole(:)
     integer :: hdferr, rank, nlead
@@ -894,7 +995,7 @@ contains
         call error_set(err, here, 'a part of '//where_in(file, name)//' in a file of one process')
         return
       end if
-      call write_array(file, name, ptr, dims, tid, here, err)
+      call write_array(file, name, ptr, dims, tid, here, err, deflate)
       return
     end if
     did = -1_hid_t
@@ -911,10 +1012,10 @@ contains
         call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
         exit body
       end if
-      if (file%checksums .and. product(dims) > 0) then
-        call checksum_plist(int(dims, hsize_t), tid, dcpl, hdferr)
+      if ((file%checksums .or. level(deflate) > 0) .and. product(dims) > 0) then
+        call chunked_plist(int(dims, hsize_t), tid, file%checksums, level(deflate), dcpl, hdferr)
         if (hdferr /= 0) then
-          call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
+          call error_set(err, here, 'cannot set up the checksum or compression of '//where_in(file, name))
           exit body
         end if
       end if
@@ -1009,7 +1110,7 @@ contains
   end subroutine read_selected
 
   !> Creates and writes a simple-dataspace dataset from a buffer address.
-  subroutine write_array(file, name, ptr, dims, tid, here, err)
+  subroutine write_array(file, name, ptr, dims, tid, here, err, deflate)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     type(c_ptr), intent(inout) :: ptr
@@ -1017,6 +1118,7 @@ contains
     integer(hid_t), intent(in) :: tid
     character(len=*), intent(in) :: here
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: deflate
     integer(hid_t) :: did, sid, lcpl, dcpl
     integer(hsize_t) :: hdims(max_rank)
     integer :: hdferr, rank
@@ -1041,11 +1143,11 @@ contains
         call error_set(err, here, 'cannot create dataspace for '//where_in(file, name))
         exit body
       end if
-      ! a zero-size array has no data to checksum: contiguous (module notes)
-      if (file%checksums .and. product(hdims(1:rank)) > 0) then
-        call checksum_plist(hdims(1:rank), tid, dcpl, hdferr)
+      ! a zero-size array has no data to checksum or compress: contiguous (module notes)
+      if ((file%checksums .or. level(deflate) > 0) .and. product(hdims(1:rank)) > 0) then
+        call chunked_plist(hdims(1:rank), tid, file%checksums, level(deflate), dcpl, hdferr)
         if (hdferr /= 0) then
-          call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
+          call error_set(err, here, 'cannot set up the checksum or compression of '//where_in(file, name))
           exit body
         end if
       end if
@@ -1089,7 +1191,7 @@ contains
         exit body
       end if
       if (file%checksums) then
-        call checksum_plist(one, tid, dcpl, hdferr)
+        call chunked_plist(one, tid, .true., 0, dcpl, hdferr)
         if (hdferr /= 0) then
           call error_set(err, here, 'cannot set up the checksum of '//where_in(file, name))
           exit body
@@ -1106,12 +1208,22 @@ contains
     call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
   end subroutine write_scalar
 
-  !> Dataset creation property list of a checksummed dataset of shape
-  !> `hdims` (Fortran order, no zero): Fletcher-32 over chunks of the whole
-  !> dataset, cut along the last dimension to at most max_chunk_bytes.
-  subroutine checksum_plist(hdims, tid, dcpl, hdferr)
+  !> A deflate level: `deflate` if present, else 0 (off).
+  pure integer function level(deflate)
+    integer, intent(in), optional :: deflate
+    level = 0
+    if (present(deflate)) level = deflate
+  end function level
+
+  !> Dataset creation property list of a chunked dataset of shape `hdims`
+  !> (Fortran order, no zero), its chunks cut along the last dimension to at
+  !> most max_chunk_bytes: with `checksum` Fletcher-32 over each chunk, with
+  !> `deflate` (1..9) byte shuffle and deflate at that level first.
+  subroutine chunked_plist(hdims, tid, checksum, deflate, dcpl, hdferr)
     integer(hsize_t), intent(in) :: hdims(:)
     integer(hid_t), intent(in) :: tid
+    logical, intent(in) :: checksum
+    integer, intent(in) :: deflate
     integer(hid_t), intent(out) :: dcpl
     integer, intent(out) :: hdferr
     integer(hsize_t) :: chunk(size(hdims))
@@ -1133,12 +1245,14 @@ contains
       return
     end if
     call h5pset_chunk_f(dcpl, rank, chunk, hdferr)
-    if (hdferr == 0) call h5pset_fletcher32_f(dcpl, hdferr)
+    if (hdferr == 0 .and. deflate > 0) call h5pset_shuffle_f(dcpl, hdferr)
+    if (hdferr == 0 .and. deflate > 0) call h5pset_deflate_f(dcpl, deflate, hdferr)
+    if (hdferr == 0 .and. checksum) call h5pset_fletcher32_f(dcpl, hdferr)
     if (hdferr /= 0) then
       call h5pclose_f(dcpl, ierr)
       dcpl = -1_hid_t
     end if
-  end subroutine checksum_plist
+  end subroutine chunked_plist
 
   !> Creates dataset `name`, creating missing intermediate groups, with the
   !> creation property list `dcpl` (none if negative).

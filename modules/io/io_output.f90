@@ -10,7 +10,7 @@
 !> code_version, build_type, title, unit_system, material_names) and each
 !> dataset (`units`, a dimension such as 'mass/length^3' in the deck's unit
 !> system; `material` also carries its legend). The XDMF file
-!> `<dir>/<name>.xdmf` lists every cell and node field and is rewritten after
+!> `<dir>/<name>.xdmf` lists every cell and node field written and is rewritten after
 !> every frame. Both are written to a temporary name and renamed, so a reader
 !> never sees a partial file.
 !>
@@ -20,11 +20,22 @@
 !> xy, xz, yy, yz, zz (attribute `components`), and the integers `material`
 !> (solid index, legend in its attribute `names`), `body`, `id` (seeding
 !> number), `cell` (host cell, i fastest) and `vertex` (0..np-1, the
-!> vertex cells' connectivity); a second XDMF series,
-!> `<dir>/<name>_particles.xdmf`, lists them as a Polyvertex grid per frame
-!> with each frame's own count (particles leave through open faces;
-!> `out%nparts`), so that ParaView opens the grid and the particles as two
-!> datasets. Without particles that file is not written.
+!> vertex cells' connectivity), and with strength models their history
+!> fields (`plastic_strain`, `damage`, `porosity`: units '1'; `temperature`:
+!> 'temperature', the deck's temperature unit) and the integer `failed`
+!> (1: failed); a second XDMF series, `<dir>/<name>_particles.xdmf`, lists
+!> them as a Polyvertex grid per frame with each frame's own count
+!> (particles leave through open faces; `out%nparts`), so that ParaView
+!> opens the grid and the particles as two datasets. Without particles
+!> that file is not written.
+!>
+!> What a frame holds and how (`frame_options_t`, the deck's &output
+!> `fields`, `particle_fields`, `precision` and `compress`): the node
+!> coordinates `x` (and `particles/x`, `particles/vertex`) always, the other
+!> fields only when chosen (the XDMF lists only those written); with
+!> `single` every real array of the grid and the particles, coordinates
+!> included, stored as float32 (the scalars time and totals stay double);
+!> with `deflate` > 0 every array compressed (shuffle + deflate, `io_hdf5`).
 module io_output
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
@@ -41,8 +52,9 @@ module io_output
   implicit none
   private
   public :: output_t, output_frame, totals_t, frame_meta_t, material_legend
+  public :: frame_options_t, frame_wants, frame_grid_fields, frame_particle_fields
   public :: units_length, units_velocity, units_density, units_pressure, units_specific_energy, &
-            units_volume, units_energy, units_none
+            units_volume, units_energy, units_none, units_temperature
 
   !> Dimensions written as each dataset's `units` attribute: the code is
   !> unit-agnostic, so a field's unit is its dimension in the deck's unit
@@ -50,7 +62,29 @@ module io_output
   character(len=*), parameter :: units_length = 'length', units_velocity = 'length/time', &
     units_density = 'mass/length^3', units_pressure = 'mass/(length*time^2)', &
     units_specific_energy = 'length^2/time^2', units_volume = 'length^3', &
-    units_energy = 'mass*length^2/time^2', units_none = '1'
+    units_energy = 'mass*length^2/time^2', units_none = '1', units_temperature = 'temperature'
+
+  !> The grid fields a frame may hold, by the names &output `fields` takes:
+  !> node velocity and mass, the cell fields, and the per-material cell
+  !> fields of a scene with several materials (`vf` is vf_<material> of
+  !> every material, `material_density` density_<material>, and so on).
+  character(len=*), parameter :: frame_grid_fields(13) = [character(len=17) :: 'velocity', 'node_mass', &
+    'density', 'pressure', 'energy', 'sound_speed', 'viscosity', 'volume', 'material', 'vf', 'material_density', &
+    'material_energy', 'material_pressure']
+  !> The particle fields a frame may hold besides the strength models'
+  !> (strength_fields) and `failed` (&output `particle_fields`).
+  character(len=*), parameter :: frame_particle_fields(10) = [character(len=8) :: 'velocity', 'density', &
+    'volume', 'mass', 'energy', 'stress', 'material', 'body', 'id', 'cell']
+
+  !> How a frame is written: the grid and particle fields chosen
+  !> (unallocated: all; empty: the coordinates only), float32 storage of the
+  !> real arrays, the deflate level (0: off, 1..9).
+  type :: frame_options_t
+    character(len=32), allocatable :: fields(:)
+    character(len=32), allocatable :: particle_fields(:)
+    logical :: single = .false.
+    integer :: deflate = 0
+  end type frame_options_t
 
   !> Integral quantities stored with each frame.
   type :: totals_t
@@ -91,9 +125,21 @@ module io_output
     'density', 'pressure', 'energy', 'sound_speed', 'viscosity']
   character(len=*), parameter :: real_cell_units(5) = [character(len=24) :: &
     units_density, units_pressure, units_specific_energy, units_velocity, units_pressure]
-  character(len=*), parameter :: node_fields(1) = [character(len=16) :: 'velocity']
 
 contains
+
+  !> True when `name` is among the fields chosen, `list` (unallocated: all).
+  pure logical function frame_wants(list, name)
+    character(len=*), allocatable, intent(in) :: list(:)
+    character(len=*), intent(in) :: name
+    integer :: k
+    frame_wants = .true.
+    if (.not. allocated(list)) return
+    frame_wants = .false.
+    do k = 1, size(list)
+      if (trim(list(k)) == trim(name)) frame_wants = .true.
+    end do
+  end function frame_wants
 
   !> The material legend "1: air, 2: tnt" of `names` (index order).
   pure function material_legend(names) result(legend)
@@ -116,14 +162,18 @@ contains
   !> name of the material the field belongs to as the attribute `material`.
   !> `pt` (optional): the particles, written when there are any, with
   !> their further fields `pfields` (size(pnames), np) named `pnames`
-  !> (dimensionless: the strength models' history, optional).
+  !> (the strength models' history, optional) in the dimensions `punits`
+  !> (optional; absent: '1'), and the integer failure flags `pfailed` (np,
+  !> 1 failed; optional) as `particles/failed`.
+  !> `opts`: which fields, float32 storage, compression (`frame_options_t`;
+  !> absent: all fields, doubles, uncompressed).
   !> With `comm` (a decomposed run: every rank calls this with its block g,
   !> h, material and extra) the ranks write the one file together, each its
   !> owned nodes and cells (parallel HDF5, collective), in the layout of one
   !> process; rank 0 writes everything else (pt: the whole run's particles
   !> on every rank) and the XDMF series; `path` is the same on every rank.
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err, pt, pnames, pfields, comm, node_mass)
+                          path, err, pt, pnames, pfields, comm, node_mass, opts, punits, pfailed)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -144,11 +194,15 @@ contains
     real(wp), intent(in), optional :: pfields(:, :)
     type(MPI_Comm), intent(in), optional :: comm
     real(wp), intent(in), optional :: node_mass(:)
+    type(frame_options_t), intent(in), optional :: opts
+    character(len=*), intent(in), optional :: punits(:)
+    integer, intent(in), optional :: pfailed(:)
+    type(frame_options_t) :: o
     type(h5_file_t) :: f
     character(len=256) :: fname
     integer :: np
     character(len=64), allocatable :: fields(:), legend_names(:)
-    character(len=16), allocatable :: pscalars(:)
+    character(len=16), allocatable :: pscalars(:), pints(:), pvectors(:), ptensors(:), nodef(:), cellint(:)
     real(wp), allocatable :: legend_values(:), buf(:)
     integer, allocatable :: ibuf(:)
     integer :: nd(4), cd(3), ns(4), nc(4), cs(3), cc(3), k, stat, nmat, i, j, l
@@ -158,6 +212,13 @@ contains
     if (size(units) /= size(names) .or. size(owner) /= size(names) .or. size(extra, 2) /= size(names)) then
       call error_set(err, 'output_frame', 'names, units, owner and extra fields differ in number')
       return
+    end if
+    if (present(opts)) o = opts
+    if (present(punits) .and. present(pnames)) then
+      if (size(punits) /= size(pnames)) then
+        call error_set(err, 'output_frame', 'pnames and punits differ in number')
+        return
+      end if
     end if
     nmat = 0
     if (allocated(meta%materials)) nmat = size(meta%materials)
@@ -205,20 +266,24 @@ contains
                    8_i8*np*(16 + k) + 4096_i8*(32 + size(names) + k))
     if (allocated(err)) return
     call put_nodes('x', g%x)
-    call put_nodes('velocity', h%u)
-    if (present(node_mass)) then
+    if (frame_wants(o%fields, 'velocity')) call put_nodes('velocity', h%u)
+    if (.not. frame_wants(o%fields, 'node_mass')) then
+      continue
+    else if (present(node_mass)) then
       call put_scalar('node_mass', node_mass, .true.)
     else
       call put_scalar('node_mass', h%mnode, .true.)
     end if
-    call put_scalar('density', h%rho, .false.)
-    call put_scalar('pressure', h%p, .false.)
-    call put_scalar('energy', h%e, .false.)
-    call put_scalar('sound_speed', h%cs, .false.)
-    call put_scalar('viscosity', h%q, .false.)
-    if (.not. allocated(err) .and. direct) then
-      call h5_write_part_int(f, 'material', material, cd, cs, cc, err)
-    else if (.not. allocated(err)) then
+    if (frame_wants(o%fields, 'density')) call put_scalar('density', h%rho, .false.)
+    if (frame_wants(o%fields, 'pressure')) call put_scalar('pressure', h%p, .false.)
+    if (frame_wants(o%fields, 'energy')) call put_scalar('energy', h%e, .false.)
+    if (frame_wants(o%fields, 'sound_speed')) call put_scalar('sound_speed', h%cs, .false.)
+    if (frame_wants(o%fields, 'viscosity')) call put_scalar('viscosity', h%q, .false.)
+    if (allocated(err) .or. .not. frame_wants(o%fields, 'material')) then
+      continue
+    else if (direct) then
+      call h5_write_part_int(f, 'material', material, cd, cs, cc, err, deflate=o%deflate)
+    else
       k = 0
       do l = g%clo(3), g%chi(3)
         do j = g%clo(2), g%chi(2)
@@ -228,12 +293,12 @@ contains
           end do
         end do
       end do
-      call h5_write_part_int(f, 'material', ibuf, cd, cs, cc, err)
+      call h5_write_part_int(f, 'material', ibuf, cd, cs, cc, err, deflate=o%deflate)
     end if
     do k = 1, size(names)
       call put_scalar(trim(names(k)), extra(:, k), .false.)
     end do
-    call put_scalar('volume', h%vol, .false.)
+    if (frame_wants(o%fields, 'volume')) call put_scalar('volume', h%vol, .false.)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'time', time, err)
     if (.not. allocated(err)) call h5_write_scalar_int(f, 'step', step, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/mass', tot%mass, err)
@@ -243,15 +308,31 @@ contains
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/initial_energy', tot%energy_initial, err)
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/boundary_work', tot%boundary_work, err)
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
-    if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, err)
-    if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, err)
-    pscalars = [character(len=16) :: 'density', 'volume', 'mass', 'energy']
+    if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, o, err)
+    if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, o, err)
+    ! the particle fields written, by kind, for the XDMF
+    pvectors = pick([character(len=16) :: 'velocity'])
+    pscalars = pick([character(len=16) :: 'density', 'volume', 'mass', 'energy'])
+    pints = pick([character(len=16) :: 'material', 'body', 'id', 'cell'])
+    ptensors = pick([character(len=16) :: 'stress'])
     if (present(pnames) .and. np > 0) then
       do k = 1, size(pnames)
-        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), pfields(k, :), [np], err)
-        if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//trim(pnames(k)), 'units', '1', err)
+        if (.not. frame_wants(o%particle_fields, pnames(k))) cycle
+        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), pfields(k, :), [np], err, &
+                                                     single=o%single, deflate=o%deflate)
+        if (allocated(err)) cycle
+        if (present(punits)) then
+          call h5_write_attribute(f, 'particles/'//trim(pnames(k)), 'units', trim(punits(k)), err)
+        else
+          call h5_write_attribute(f, 'particles/'//trim(pnames(k)), 'units', units_none, err)
+        end if
+        pscalars = [character(len=16) :: pscalars, pnames(k)]
       end do
-      pscalars = [pscalars, [character(len=16) :: pnames]]
+    end if
+    if (present(pfailed) .and. np > 0 .and. frame_wants(o%particle_fields, 'failed')) then
+      if (.not. allocated(err)) call h5_write_int(f, 'particles/failed', pfailed, [np], err, deflate=o%deflate)
+      if (.not. allocated(err)) call h5_write_attribute(f, 'particles/failed', 'units', units_none, err)
+      pints = [character(len=16) :: pints, 'failed']
     end if
     if (allocated(err)) then
       block
@@ -275,43 +356,56 @@ contains
     out%times = [out%times, time]
     out%nparts = [out%nparts, np]
     if (f%rank /= 0) return   ! (rank 0 writes the series)
-    allocate(fields(size(real_cell_fields) + size(names) + 1), legend_names(nmat), legend_values(nmat), &
-             stat=stat, errmsg=msg)
+    allocate(fields(0), legend_names(nmat), legend_values(nmat), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'output_frame', error_no_memory('the field list'))
       return
     end if
-    fields(1:size(real_cell_fields)) = real_cell_fields
-    do k = 1, size(names)
-      fields(size(real_cell_fields) + k) = names(k)
+    ! (the XDMF lists the fields written, in the order of the frames' datasets)
+    do k = 1, size(real_cell_fields)
+      if (frame_wants(o%fields, real_cell_fields(k))) fields = [character(len=64) :: fields, real_cell_fields(k)]
     end do
-    fields(size(fields)) = 'volume'
+    fields = [character(len=64) :: fields, names]
+    if (frame_wants(o%fields, 'volume')) fields = [character(len=64) :: fields, 'volume']
+    nodef = [character(len=16) ::]
+    if (frame_wants(o%fields, 'velocity')) nodef = [character(len=16) :: 'velocity']
+    cellint = [character(len=16) ::]
+    if (frame_wants(o%fields, 'material')) cellint = [character(len=16) :: 'material']
     ! the legend as field data: ParaView lists "material 1: air" = 1, ...
     do k = 1, nmat
       legend_names(k) = 'material '//itoa(k)//': '//trim(meta%materials(k))
       legend_values(k) = real(k, wp)
     end do
     call xdmf_write_series(out%dir//'/'//out%name//'.xdmf', out%frames, out%times, &
-                           g%gn(1), g%gn(2), g%gn(3), node_fields, fields, err, &
-                           int_cell_fields=[character(len=8) :: 'material'], &
+                           g%gn(1), g%gn(2), g%gn(3), nodef, fields, err, &
+                           int_cell_fields=cellint, &
                            field_names=legend_names, field_values=legend_values, &
                            info_names=[character(len=16) :: 'code', 'code_version', 'build_type', 'title', &
                                        'unit_system', 'material_names'], &
                            info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
                                         meta_text(meta%title), meta_text(meta%unit_system), &
-                                        material_legend(legend_source(meta))])
+                                        material_legend(legend_source(meta))], real_bytes=merge(4, 8, o%single))
     ! the particles: a series of their own, so that readers open two datasets
     if (.not. allocated(err) .and. any(out%nparts > 0)) &
       call xdmf_write_particles(out%dir//'/'//out%name//'_particles.xdmf', out%frames, out%times, out%nparts, &
-                                err, vectors=[character(len=8) :: 'velocity'], scalars=pscalars, &
-                                ints=[character(len=8) :: 'material', 'body', 'id', 'cell'], &
-                                tensors=[character(len=8) :: 'stress'], &
+                                err, vectors=pvectors, scalars=pscalars, ints=pints, tensors=ptensors, &
                                 info_names=[character(len=16) :: 'code', 'code_version', 'build_type', 'title', &
                                             'unit_system', 'solid_names'], &
                                 info_values=[character(len=1024) :: 'lsalepm', code_version, build_type, &
                                              meta_text(meta%title), meta_text(meta%unit_system), &
-                                             material_legend(solid_source(meta))])
+                                             material_legend(solid_source(meta))], real_bytes=merge(4, 8, o%single))
   contains
+    !> The particle fields of `list` that the frame holds.
+    function pick(list) result(chosen)
+      character(len=*), intent(in) :: list(:)
+      character(len=16), allocatable :: chosen(:)
+      integer :: m
+      chosen = [character(len=16) ::]
+      do m = 1, size(list)
+        if (frame_wants(o%particle_fields, list(m))) chosen = [character(len=16) :: chosen, list(m)]
+      end do
+    end function pick
+
     !> Node array a(3, nnode): this block's part.
     subroutine put_nodes(name, a)
       character(len=*), intent(in) :: name
@@ -319,7 +413,7 @@ contains
       integer :: m
       if (allocated(err)) return
       if (direct) then
-        call h5_write_part_real(f, name, a, nd, ns, nc, err)
+        call h5_write_part_real(f, name, a, nd, ns, nc, err, single=o%single, deflate=o%deflate)
         return
       end if
       m = 0
@@ -331,7 +425,7 @@ contains
           end do
         end do
       end do
-      call h5_write_part_real(f, name, buf, nd, ns, nc, err)
+      call h5_write_part_real(f, name, buf, nd, ns, nc, err, single=o%single, deflate=o%deflate)
     end subroutine put_nodes
 
     !> Node array a(nnode) (nodes) or cell array a(ncell): this block's
@@ -343,10 +437,10 @@ contains
       integer :: m, lo(3), hi(3)
       if (allocated(err)) return
       if (nodes .and. direct) then
-        call h5_write_part_real(f, name, a, nd(2:4), ns(2:4), nc(2:4), err)
+        call h5_write_part_real(f, name, a, nd(2:4), ns(2:4), nc(2:4), err, single=o%single, deflate=o%deflate)
         return
       else if (direct) then
-        call h5_write_part_real(f, name, a, cd, cs, cc, err)
+        call h5_write_part_real(f, name, a, cd, cs, cc, err, single=o%single, deflate=o%deflate)
         return
       end if
       lo = merge(g%ulo, g%clo, nodes)
@@ -365,58 +459,72 @@ contains
         end do
       end do
       if (nodes) then
-        call h5_write_part_real(f, name, buf, nd(2:4), ns(2:4), nc(2:4), err)
+        call h5_write_part_real(f, name, buf, nd(2:4), ns(2:4), nc(2:4), err, single=o%single, deflate=o%deflate)
       else
-        call h5_write_part_real(f, name, buf, cd, cs, cc, err)
+        call h5_write_part_real(f, name, buf, cd, cs, cc, err, single=o%single, deflate=o%deflate)
       end if
     end subroutine put_scalar
   end subroutine output_frame
 
-  !> The particles' datasets and their attributes (module notes).
-  subroutine write_particles(f, pt, meta, err)
+  !> The particles' datasets chosen by `o` and their attributes (module
+  !> notes); the positions and the vertex numbers always.
+  subroutine write_particles(f, pt, meta, o, err)
     type(h5_file_t), intent(in) :: f
     type(particles_t), intent(in) :: pt
     type(frame_meta_t), intent(in) :: meta
+    type(frame_options_t), intent(in) :: o
     type(error_t), allocatable, intent(inout) :: err
     ! Voigt (xx, yy, zz, yz, xz, xy) to XDMF Tensor6 (xx, xy, xz, yy, yz, zz)
     integer, parameter :: tensor6(6) = [1, 6, 5, 2, 4, 3]
     integer :: np, k
     np = pt%np
-    call h5_write_real(f, 'particles/x', pt%x, [3, np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/velocity', pt%v, [3, np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/density', pt%rho, [np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/volume', pt%vol, [np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/mass', pt%m, [np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/energy', pt%e, [np], err)
-    if (.not. allocated(err)) call h5_write_real(f, 'particles/stress', pt%stress(tensor6, :), [6, np], err)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/material', pt%mat, [np], err)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/body', pt%body, [np], err)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/id', pt%id, [np], err)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/cell', pt%cell, [np], err)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/vertex', [(k - 1, k = 1, np)], [np], err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/x', 'units', units_length, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/velocity', 'units', units_velocity, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/density', 'units', units_density, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/volume', 'units', units_volume, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/mass', 'units', 'mass', err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/energy', 'units', units_specific_energy, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'units', units_pressure, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/stress', 'components', 'xx, xy, xz, yy, yz, zz', &
-                                                      err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/material', 'units', units_none, err)
-    if (.not. allocated(err) .and. allocated(meta%solids)) &
-      call h5_write_attribute(f, 'particles/material', 'names', material_legend(meta%solids), err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/body', 'units', units_none, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/id', 'units', units_none, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/cell', 'units', units_none, err)
+    call put_real('x', pt%x, [3, np], units_length)
+    if (.not. allocated(err)) call h5_write_int(f, 'particles/vertex', [(k - 1, k = 1, np)], [np], err, &
+                                                deflate=o%deflate)
     if (.not. allocated(err)) call h5_write_attribute(f, 'particles/vertex', 'units', units_none, err)
+    call put_real('velocity', pt%v, [3, np], units_velocity)
+    call put_real('density', pt%rho, [np], units_density)
+    call put_real('volume', pt%vol, [np], units_volume)
+    call put_real('mass', pt%m, [np], 'mass')
+    call put_real('energy', pt%e, [np], units_specific_energy)
+    call put_real('stress', pt%stress(tensor6, :), [6, np], units_pressure)
+    if (.not. allocated(err) .and. frame_wants(o%particle_fields, 'stress')) &
+      call h5_write_attribute(f, 'particles/stress', 'components', 'xx, xy, xz, yy, yz, zz', err)
+    call put_int('material', pt%mat)
+    if (.not. allocated(err) .and. allocated(meta%solids) .and. frame_wants(o%particle_fields, 'material')) &
+      call h5_write_attribute(f, 'particles/material', 'names', material_legend(meta%solids), err)
+    call put_int('body', pt%body)
+    call put_int('id', pt%id)
+    call put_int('cell', pt%cell)
+  contains
+    !> The real field particles/<name> of shape dims, if chosen ('x' always).
+    subroutine put_real(name, a, dims, units)
+      character(len=*), intent(in) :: name, units
+      real(wp), intent(in) :: a(*)
+      integer, intent(in) :: dims(:)
+      if (allocated(err)) return
+      if (name /= 'x' .and. .not. frame_wants(o%particle_fields, name)) return
+      call h5_write_real(f, 'particles/'//name, a, dims, err, single=o%single, deflate=o%deflate)
+      if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//name, 'units', units, err)
+    end subroutine put_real
+
+    !> The integer field particles/<name> (np), if chosen.
+    subroutine put_int(name, a)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: a(:)
+      if (allocated(err) .or. .not. frame_wants(o%particle_fields, name)) return
+      call h5_write_int(f, 'particles/'//name, a, [np], err, deflate=o%deflate)
+      if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//name, 'units', units_none, err)
+    end subroutine put_int
   end subroutine write_particles
 
-  !> The attributes of a frame: the file's identity and each dataset's units.
-  subroutine write_attributes(f, names, units, owner, meta, err)
+  !> The attributes of a frame: the file's identity and each written
+  !> dataset's units.
+  subroutine write_attributes(f, names, units, owner, meta, o, err)
     type(h5_file_t), intent(in) :: f
     character(len=*), intent(in) :: names(:), units(:), owner(:)
     type(frame_meta_t), intent(in) :: meta
+    type(frame_options_t), intent(in) :: o
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, m, nmat
     nmat = 0
@@ -429,23 +537,22 @@ contains
     if (.not. allocated(err)) call h5_write_attribute(f, '', 'material_names', &
                                                       material_legend(legend_source(meta)), err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'x', 'units', units_length, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'velocity', 'units', units_velocity, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'node_mass', 'units', 'mass', err)
+    call put_units('velocity', units_velocity)
+    call put_units('node_mass', 'mass')
     do k = 1, size(real_cell_fields)
-      if (.not. allocated(err)) call h5_write_attribute(f, trim(real_cell_fields(k)), 'units', &
-                                                        trim(real_cell_units(k)), err)
+      call put_units(trim(real_cell_fields(k)), trim(real_cell_units(k)))
     end do
-    if (.not. allocated(err)) call h5_write_attribute(f, 'material', 'units', units_none, err)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'material', 'names', &
-                                                      material_legend(legend_source(meta)), err)
-    if (.not. allocated(err) .and. nmat > 0) &
+    call put_units('material', units_none)
+    if (.not. allocated(err) .and. frame_wants(o%fields, 'material')) &
+      call h5_write_attribute(f, 'material', 'names', material_legend(legend_source(meta)), err)
+    if (.not. allocated(err) .and. nmat > 0 .and. frame_wants(o%fields, 'material')) &
       call h5_write_attribute(f, 'material', 'values', [(m, m = 1, nmat)], err)
     do k = 1, size(names)
       if (.not. allocated(err)) call h5_write_attribute(f, trim(names(k)), 'units', trim(units(k)), err)
       if (len_trim(owner(k)) > 0 .and. .not. allocated(err)) &
         call h5_write_attribute(f, trim(names(k)), 'material', trim(owner(k)), err)
     end do
-    if (.not. allocated(err)) call h5_write_attribute(f, 'volume', 'units', units_volume, err)
+    call put_units('volume', units_volume)
     if (.not. allocated(err)) call h5_write_attribute(f, 'time', 'units', 'time', err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'step', 'units', units_none, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'totals/mass', 'units', 'mass', err)
@@ -454,6 +561,13 @@ contains
     if (.not. allocated(err)) call h5_write_attribute(f, 'totals/kinetic_energy', 'units', units_energy, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'totals/initial_energy', 'units', units_energy, err)
     if (.not. allocated(err)) call h5_write_attribute(f, 'totals/boundary_work', 'units', units_energy, err)
+  contains
+    !> The units of the grid field `name`, if it was written.
+    subroutine put_units(name, text)
+      character(len=*), intent(in) :: name, text
+      if (allocated(err) .or. .not. frame_wants(o%fields, name)) return
+      call h5_write_attribute(f, name, 'units', text, err)
+    end subroutine put_units
   end subroutine write_attributes
 
   !> `text` if allocated, else ''.

@@ -1,17 +1,22 @@
 !> The &output group: where outputs go, when frames and gauge rows are
 !> written, the gauge points and the track points (each names the particle
-!> nearest to it at t = 0, whose history is written on the gauge schedule).
+!> nearest to it at t = 0, whose history is written on the gauge schedule),
+!> and what a frame holds and how it is stored (`fields`, `particle_fields`,
+!> `precision`, `compress`: `frame_options_t`).
 module io_output_config
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
   use io_deck, only: deck_stem
   use io_files, only: io_is_dir
+  use io_output, only: frame_options_t, frame_grid_fields, frame_particle_fields
+  use strength_models, only: strength_fields
   implicit none
   private
-  public :: output_config_t, output_config_read, max_gauges, max_tracks
+  public :: output_config_t, output_config_read, output_config_changes, max_gauges, max_tracks, max_fields
 
   integer, parameter :: max_gauges = 64
   integer, parameter :: max_tracks = 64
+  integer, parameter :: max_fields = 32   !< entries of `fields` and of `particle_fields`
 
   !> The resolved &output group; the initial values are the defaults.
   type :: output_config_t
@@ -25,6 +30,8 @@ module io_output_config
     real(wp) :: gauges(3, max_gauges) = huge(1.0_wp)  !< gauge points (length); huge: unset
     integer :: ntrack = 0                             !< number of track points
     real(wp) :: tracks(3, max_tracks) = huge(1.0_wp)  !< track points (length); huge: unset
+    !> the frames' fields and storage (defaults: all fields, doubles, uncompressed)
+    type(frame_options_t) :: frame
   end type output_config_t
 
 contains
@@ -39,14 +46,18 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=256) :: dir, name
     real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauges), track(3, max_tracks)
-    integer :: frame_steps, ios, i
+    character(len=32) :: fields(max_fields), particle_fields(max_fields)
+    character(len=16) :: precision
+    integer :: frame_steps, ios, i, compress
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt, track
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt, track, fields, particle_fields, &
+                      precision, compress
 
     dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
     gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = this%gauges
     track = this%tracks
+    fields = ''; particle_fields = ''; precision = 'double'; compress = 0
     if (size(text) > 0) then
       read(text, nml=output, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'output', ios, msg)
@@ -79,10 +90,113 @@ contains
         call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
       end if
     end do
+    call field_choice(problems, 'fields', fields, frame_grid_fields, this%frame%fields)
+    call field_choice(problems, 'particle_fields', particle_fields, &
+                      [character(len=32) :: frame_particle_fields, strength_fields, 'failed'], this%frame%particle_fields)
+    call problem_long(problems, 'output', 'precision', precision)
+    select case (precision)
+    case ('double')
+      this%frame%single = .false.
+    case ('single')
+      this%frame%single = .true.
+    case default
+      call problem_add(problems, '&output: precision = '''//trim(precision)//''' is not known; valid: double, single')
+    end select
+    if (compress < 0 .or. compress > 9) then
+      call problem_badi(problems, 'output', 'compress', compress, 'must be 0..9 (0: off, 1..9: the deflate level)')
+    else
+      this%frame%deflate = compress
+    end if
     this%dir = dir; this%name = name; this%frame_dt = frame_dt
     this%frame_steps = frame_steps; this%gauge_dt = gauge_dt; this%history_dt = history_dt
     if (echo /= no_echo) write(echo, nml=output)
   end subroutine output_config_read
+
+  !> A restart continues the frame series of the run it continues (its
+  !> XDMF lists the earlier frames with the fields and precision of the new
+  !> ones), so a restart's deck keeps `fields`, `particle_fields` and
+  !> `precision`: one line in `changes` for each changed (`compress` may
+  !> change: a reader does not see it).
+  subroutine output_config_changes(old, new, changes)
+    type(output_config_t), intent(in) :: old, new
+    character(len=max_line), allocatable, intent(inout) :: changes(:)
+    call list_change('fields', old%frame%fields, new%frame%fields)
+    call list_change('particle_fields', old%frame%particle_fields, new%frame%particle_fields)
+    if (old%frame%single .neqv. new%frame%single) &
+      call problem_add(changes, '&output precision changed from '''//trim(merge('single', 'double', old%frame%single))// &
+                       ''' to '''//trim(merge('single', 'double', new%frame%single))//''' (the frames of one series '// &
+                       'share their fields and precision)')
+  contains
+    !> A line if the chosen fields differ (as sets; unallocated: all).
+    subroutine list_change(var, a, b)
+      character(len=*), intent(in) :: var
+      character(len=32), allocatable, intent(in) :: a(:), b(:)
+      logical :: same
+      integer :: k
+      same = allocated(a) .eqv. allocated(b)
+      if (same .and. allocated(a)) then
+        same = size(a) == size(b)
+        do k = 1, size(a)
+          if (same) same = any(b == a(k))
+        end do
+      end if
+      if (.not. same) call problem_add(changes, '&output '//var//' changed from '//text(a)//' to '//text(b)// &
+                                       ' (the frames of one series share their fields and precision)')
+    end subroutine list_change
+
+    !> The list as the deck would give it ('' for all).
+    function text(a) result(t)
+      character(len=32), allocatable, intent(in) :: a(:)
+      character(len=:), allocatable :: t
+      integer :: k
+      if (.not. allocated(a)) then
+        t = "'' (all)"
+        return
+      end if
+      if (size(a) == 0) then
+        t = "'none'"
+        return
+      end if
+      t = "'"//trim(a(1))//"'"
+      do k = 2, size(a)
+        t = t//", '"//trim(a(k))//"'"
+      end do
+    end function text
+  end subroutine output_config_changes
+
+  !> The fields chosen by the deck's list `given` (blank entries skipped;
+  !> none given: `chosen` unallocated, all fields), each one of `valid`, or
+  !> 'none' alone (`chosen` empty: the coordinates only); a name not known is
+  !> a problem naming the valid ones.
+  subroutine field_choice(problems, var, given, valid, chosen)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in) :: var, given(:), valid(:)
+    character(len=32), allocatable, intent(out) :: chosen(:)
+    character(len=max_line) :: list
+    integer :: k, m, n
+    n = count(len_trim(given) > 0)
+    if (n == 0) return
+    chosen = [character(len=32) ::]
+    do k = 1, size(given)
+      if (len_trim(given(k)) == 0) cycle
+      call problem_long(problems, 'output', var, given(k))
+      if (given(k) == 'none') then
+        if (n > 1) call problem_add(problems, '&output: '//var//' = ''none'' (the coordinates only) '// &
+                                    'cannot go with other names')
+        cycle
+      end if
+      if (any(valid == given(k))) then
+        if (.not. any(chosen == given(k))) chosen = [character(len=32) :: chosen, given(k)]
+        cycle
+      end if
+      list = ''
+      do m = 1, size(valid)
+        list = trim(list)//' '//trim(valid(m))//','
+      end do
+      call problem_add(problems, '&output: '//var//' = '''//trim(given(k))//''' is not known; valid:'// &
+                       trim(list)//' none')
+    end do
+  end subroutine field_choice
 
   !> A directory whose path runs through an existing file can never be made:
   !> a deck mistake, found before the run (other failures to create it are

@@ -53,8 +53,10 @@ contains
   !> Information and XInclude elements (meshio's TimeSeriesReader) still
   !> read the series. Particles are a series of their own
   !> (`xdmf_write_particles`).
+  !> `real_bytes`: the size of the frames' reals, 8 (default, doubles) or 4
+  !> (float32), the DataItems' Precision.
   subroutine xdmf_write_series(path, frames, times, ni, nj, nk, node_fields, cell_fields, err, &
-                               int_cell_fields, field_names, field_values, info_names, info_values)
+                               int_cell_fields, field_names, field_values, info_names, info_values, real_bytes)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -67,6 +69,7 @@ contains
     real(wp), intent(in), optional :: field_values(:)
     character(len=*), intent(in), optional :: info_names(:)
     character(len=*), intent(in), optional :: info_values(:)
+    integer, intent(in), optional :: real_bytes
     character(len=*), parameter :: here = 'xdmf_write_series'
     character(len=:), allocatable :: tmp, node_dims, vec_dims, cell_dims, item, int_item
     character(len=32) :: tbuf
@@ -97,7 +100,7 @@ contains
     node_dims = itoa(nk + 1)//' '//itoa(nj + 1)//' '//itoa(ni + 1)
     vec_dims = node_dims//' 3'
     cell_dims = itoa(nk)//' '//itoa(nj)//' '//itoa(ni)
-    item = ' NumberType="Float" Precision="8" Format="HDF">'
+    item = ' NumberType="Float" Precision="'//itoa(real_size(real_bytes))//'" Format="HDF">'
     int_item = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'
     tmp = path//'.tmp'
     call open_series(tmp, 'series', unit, ios, msg, info_names, info_values)
@@ -160,9 +163,9 @@ contains
   !> without particles is a grid with its time and no points. The frame's
   !> time is field data `time` as in the grid's series; `info_names` and
   !> `info_values` become <Information> elements of the domain. Written to
-  !> path//'.tmp', then renamed.
+  !> path//'.tmp', then renamed. `real_bytes` as for `xdmf_write_series`.
   subroutine xdmf_write_particles(path, frames, times, nparts, err, vectors, scalars, ints, tensors, &
-                                  info_names, info_values)
+                                  info_names, info_values, real_bytes)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: frames(:)
     real(wp), intent(in) :: times(:)
@@ -171,6 +174,7 @@ contains
     character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
     character(len=*), intent(in), optional :: info_names(:)
     character(len=*), intent(in), optional :: info_values(:)
+    integer, intent(in), optional :: real_bytes
     character(len=*), parameter :: here = 'xdmf_write_particles'
     character(len=:), allocatable :: tmp
     character(len=32) :: tbuf
@@ -206,8 +210,8 @@ contains
            '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
       ! a frame without particles has no topology at all: an empty DataItem
       ! stops ParaView's reader
-      if (ios == 0 .and. nparts(f) > 0) call write_points(unit, trim(frames(f)), nparts(f), vectors, &
-                                                        scalars, ints, tensors, ios, msg)
+      if (ios == 0 .and. nparts(f) > 0) call write_points(unit, trim(frames(f)), nparts(f), &
+                                                        real_size(real_bytes), vectors, scalars, ints, tensors, ios, msg)
       if (ios == 0) call field_block(unit, f - 1, tbuf, ios, msg)
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '      </Grid>'
     end do
@@ -309,17 +313,24 @@ contains
     last_line_is = trim(last) == text
   end function last_line_is
 
+  !> The frames' real size in bytes: `real_bytes` if given, else 8.
+  pure integer function real_size(real_bytes) result(n)
+    integer, intent(in), optional :: real_bytes
+    n = 8
+    if (present(real_bytes)) n = real_bytes
+  end function real_size
+
   !> The Polyvertex topology, geometry and attributes of the `np` particles
   !> of frame file `frame` (see `xdmf_write_particles`).
-  subroutine write_points(unit, frame, np, vectors, scalars, ints, tensors, ios, msg)
-    integer, intent(in) :: unit, np
+  subroutine write_points(unit, frame, np, rbytes, vectors, scalars, ints, tensors, ios, msg)
+    integer, intent(in) :: unit, np, rbytes
     character(len=*), intent(in) :: frame
     character(len=*), intent(in), optional :: vectors(:), scalars(:), ints(:), tensors(:)
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
     character(len=:), allocatable :: fitem, iitem
     integer :: k
-    fitem = ' NumberType="Float" Precision="8" Format="HDF">'//xml(frame)//':/particles/'
+    fitem = ' NumberType="Float" Precision="'//itoa(rbytes)//'" Format="HDF">'//xml(frame)//':/particles/'
     iitem = ' NumberType="Int" Precision="'//itoa(storage_size(0)/8)//'" Format="HDF">'//xml(frame)//':/particles/'
     write(unit, '(a)', iostat=ios, iomsg=msg) '        <Topology TopologyType="Polyvertex" '// &
          'NumberOfElements="'//itoa(np)//'" NodesPerElement="1">'
