@@ -8,7 +8,8 @@ compress); tests/output_control.sh runs them.
         coordinates, the particles' vertex numbers, time, step, totals and
         the deck), its real arrays float32, its integer arrays int32, every
         array compressed (gzip with shuffle), particles/failed an integer,
-        particles/temperature in 'temperature' units; the XDMF lists the
+        particles/temperature in 'temperature' units; the XDMF series (grid
+        and particles) list the
         fields written, with Precision="4" for the reals
     check_output_control.py versus SINGLE_DIR DOUBLE_DIR NAME
         each frame of the single-precision run equals float32() of the
@@ -87,7 +88,8 @@ def content(d, name):
               f"{nfailed} particles failed")
     if nfailed <= 0:
         bad(f"{paths[-1]}: no failed particle: the failure flags are not exercised")
-    xdmf = open(os.path.join(d, name + ".xdmf")).read()
+    # the grid's series and the particles' (<name>_particles.xdmf), together
+    xdmf = open(os.path.join(d, name + ".xdmf")).read() + open(os.path.join(d, name + "_particles.xdmf")).read()
     listed = set(re.findall(r'<Attribute Name="([^"]+)"', xdmf)) - {"time"}
     listed = {a for a in listed if not a.startswith("material ")}   # (the legend, field data)
     expect = (GRID - {"x"}) | (PARTICLES - {"x", "vertex"})
