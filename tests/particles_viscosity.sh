@@ -20,7 +20,7 @@ done
 # gas internal energy gained and final kinetic energy of a run's log
 gains() {
   awk '/^conservation \(initial\)/ {s = 1} /^conservation \(final\)/ {s = 2}
-       s && /material 1 / {e[s] = $NF}
+       s && /material 1 / {for (i = 1; i < NF - 1; i++) if ($i == "internal" && $(i + 1) == "energy") e[s] = $(i + 2)}
        s == 2 && /energy: internal/ {k = $5}
        END {if (e[1] == "" || e[2] == "" || k == "") exit 1; printf "%.17g %.17g\n", e[2] - e[1], k}' "$1"
 }
