@@ -15,7 +15,7 @@ module driver_config
   use lagrange_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
-  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, echo_open, &
+  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_where, echo_open, &
                      echo_text
   use io_output_config, only: output_config_t, output_config_read
   use io_points_file, only: points_file_read
@@ -109,7 +109,9 @@ contains
     call echo_open(echo, problems)
     if (echo == no_echo) return
     call read_groups(deck, cfg, echo, problems)
-    cfg%echo = echo_text(echo)
+    ! (the files included and the parameters, as comments, then every group
+    ! with every value as used)
+    cfg%echo = deck%notes//echo_text(echo)
   end subroutine config_read
 
   !> Every group of `deck`, in order, each by its package; each problem a
@@ -189,7 +191,7 @@ contains
       n0 = size(problems)
       call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), echo, problems)
       call at_line(problems, n0, deck, 'solid', k)
-      cfg%solids(k)%where = trim(deck%path)//':'//itoa(deck_line(deck, 'solid', k))//': '
+      cfg%solids(k)%where = deck_where(deck, 'solid', k)//': '
       names(k) = cfg%solids(k)%name
     end do
     n = deck_count(deck, 'particles')
@@ -328,25 +330,25 @@ contains
     end subroutine one
   end subroutine check_counts
 
-  !> Prefixes problems n0+1.. (those of one group) with "deck:line: ", the
-  !> line where the group starts (nothing for an absent group); n0 is then
-  !> moved past them.
+  !> Prefixes problems n0+1.. (those of one group) with "file:line: ", where
+  !> the group starts (the deck or the file it includes; nothing for an
+  !> absent group); n0 is then moved past them.
   subroutine at_line(problems, n0, deck, name, k)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     integer, intent(inout) :: n0
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: k
-    character(len=:), allocatable :: head
-    integer :: i, line
-    line = deck_line(deck, name, k)
-    if (line > 0) then
+    character(len=:), allocatable :: head, place
+    integer :: i
+    place = deck_where(deck, name, k)
+    if (len(place) > 0) then
       head = trim(deck%path)//': '
       do i = n0 + 1, size(problems)
         if (problems(i)(1:len(head)) == head) then
-          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)(len(head) + 1:)
+          problems(i) = place//': '//problems(i)(len(head) + 1:)
         else
-          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)
+          problems(i) = place//': '//problems(i)
         end if
       end do
     end if
