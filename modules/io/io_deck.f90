@@ -59,7 +59,8 @@ contains
 
     deck%path = path
     deck%groups = [deck_group_t ::]
-    allocate(deck%files(1))
+    allocate(deck%files(1), stat=n0)
+    if (n0 /= 0) return
     deck%files(1) = path
     deck%notes = ''
     inquire(file=path, exist=exists)
@@ -91,7 +92,8 @@ contains
     integer :: n0
     deck%path = path
     deck%groups = [deck_group_t ::]
-    allocate(deck%files(1))
+    allocate(deck%files(1), stat=n0)
+    if (n0 /= 0) return
     deck%files(1) = path
     deck%notes = ''
     n0 = size(problems)

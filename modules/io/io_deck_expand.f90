@@ -344,7 +344,7 @@ contains
       character(len=max_line) :: def
       integer :: p, q, n0, d, line_k
       logical :: ended
-      allocate(names(0), values(0), where(0))   ! (assigned below; else gfortran warns of unset bounds)
+      allocate(names(0), values(0), where(0), stat=p)   ! (assigned below; else gfortran warns of unset bounds)
       names = src%names
       values = src%values
       n0 = size(names)
