@@ -12,6 +12,7 @@
 #             taken a step: exit status 3 and a restart, at whatever step
 # With MPIEXEC and NP the stopped run and its continuation run on NP ranks
 # (the straight run on one process: ranks give bit-identical results).
+# SIG=USR1 sends SIGUSR1 instead of SIGTERM (to mpirun with MPIEXEC).
 # Usage: restart_stop.sh MODE EXE PYTHON COMPARE DECK M WORKDIR [MPIEXEC NP]
 set -u
 mode=$1 exe=$2 py=$3 cmp=$4 deck=$5 m=$6 dir=$7 mpiexec=${8:-} np=${9:-1}
@@ -59,8 +60,14 @@ stopfile|sigterm)
     touch out/split.stop
     run whole.nml > stopped.log 2>&1; rc=$?
   else
-    # (the program itself: `timeout` would take the signal)
-    "$exe" whole.nml > stopped.log 2>&1 &
+    # (the program itself, or mpirun, which passes SIGUSR1 on to its
+    # processes: `timeout` would take the signal)
+    if [ -n "$mpiexec" ]; then
+      root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
+      "$mpiexec" "${root[@]}" --oversubscribe -np "$np" "$exe" whole.nml > stopped.log 2>&1 &
+    else
+      "$exe" whole.nml > stopped.log 2>&1 &
+    fi
     pid=$!
     # a step taken (its progress line), then the signal
     for i in $(seq 1 600); do grep -q '^step ' stopped.log 2> /dev/null && break; sleep 0.05; done
@@ -93,4 +100,4 @@ for f in out/straight_*.txt; do
   cmp "$f" "$g" || fail "$g differs from $f"
   echo "ok: $g equals $f byte for byte"
 done
-echo "PASS restart_stop $mode (stopped at step $step of $m; final frame and histories bit for bit)"
+echo "PASS restart_stop $mode${SIG:+ (SIG$SIG)} (stopped at step $step of $m; final frame and histories bit for bit)"
