@@ -11,6 +11,7 @@ module driver
   use base_config, only: max_line
   use base_timers, only: wall_seconds
   use base_exit, only: exit_guard_install
+  use base_stop, only: stop_signals_install, stop_signal_caught, stop_signal_name, stop_file_present, stop_file_remove
   use lagrange_integrator, only: lagrange_step
   use driver_particles, only: particles_step
   use io_log, only: log_t, log_line, log_error
@@ -44,8 +45,11 @@ module driver
 contains
 
   !> Runs the deck at `deck_path` to completion, or stops with a message.
-  subroutine driver_run(deck_path)
+  !> `restart` (the command line's `--restart FILE`): continue from that
+  !> restart file (it replaces the deck's &run restart_from).
+  subroutine driver_run(deck_path, restart)
     character(len=*), intent(in) :: deck_path
+    character(len=*), intent(in), optional :: restart
     type(config_t) :: cfg
     type(state_t) :: st
     type(schedule_t) :: sch
@@ -63,11 +67,13 @@ contains
     ! failed (a full disk) instead of leaving it to the OS (`hdf5_stop`)
     call hdf5_start(err)
     call parallel_start(sch%pc)
+    ! (after MPI's start: SIGTERM and SIGUSR1 ask for a restart and a stop)
+    call stop_signals_install()
     ! one rank speaks for all (each reads the deck and finds the same problems)
     sch%log%quiet = sch%pc%rank /= 0
     call sch%t_total%start()
     call sch%t_setup%start()
-    call config_read(deck_path, cfg, problems)
+    call config_read(deck_path, cfg, problems, restart=restart)
     if (size(problems) > 0) call refuse(sch%log, problems, 'the deck has '//itoa(size(problems))// &
                                         ' problem(s); nothing was run')
     sch%restarting = len_trim(cfg%control%restart_from) > 0
@@ -76,6 +82,9 @@ contains
       if (size(problems) > 0) call refuse(sch%log, problems, summary)
     end if
     if (.not. allocated(err)) call open_outputs(cfg, sch, err)
+    if (len_trim(cfg%control%restart_overridden) > 0) call log_line(sch%log, 'restart: --restart '// &
+      trim(cfg%control%restart_from)//' replaces the deck''s restart_from = '''// &
+      trim(cfg%control%restart_overridden)//'''')
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call parallel_blocks(cfg, sch%pc, block, st%halo, err)
     if (.not. allocated(err) .and. sch%pc%nranks > 1) &
@@ -182,12 +191,13 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
-    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap
-    integer :: bad_cell, bad_particle, report, stop_now
+    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap, stop_checked
+    integer :: bad_cell, bad_particle, report, stop_now, asked
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
     wall_last = wall_seconds()
+    stop_checked = -huge(1.0_wp)
     do while (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
       if (cfg%control%wall_time_limit > 0.0_wp) then
         ! (the ranks agree: each measures its own wall time)
@@ -260,17 +270,47 @@ contains
         call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
       wall_now = wall_seconds()
-      ! (the ranks agree on a progress line: it sums over all of them)
+      ! (the ranks agree on a progress line: it sums over all of them; and
+      ! on a stop asked for, in the same reduction)
       report = merge(1, 0, wall_now - wall_last >= cfg%control%progress_seconds)
+      asked = 0
+      if (.not. last) asked = stop_asked(sch, wall_now, stop_checked)
+      report = report + 2*asked
       if (sch%pc%nranks > 1) call st%halo%max_int(report)
+      asked = report/2
+      report = mod(report, 2)
       if ((cfg%control%progress_steps > 0 .and. mod(st%step, max(cfg%control%progress_steps, 1)) == 0) .or. &
           report == 1 .or. last) then
         call progress(cfg, st, sch, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
         wall_last = wall_now
       end if
+      if (asked > 0) call stop_with_restart(cfg, st, sch, es, asked)
     end do
   end subroutine time_loop
+
+  !> Whether this process has been asked to stop: the signal caught
+  !> (SIGTERM, SIGUSR1: its number), or on rank 0 the stop file
+  !> `<dir>/<name>.stop` (1), looked for at most once a wall second (the
+  !> first time at step 1: a file made before the run stops it there);
+  !> 0 if not. The ranks agree on it in the time loop's reduction.
+  integer function stop_asked(sch, wall_now, checked) result(asked)
+    type(schedule_t), intent(in) :: sch
+    real(wp), intent(in) :: wall_now
+    real(wp), intent(inout) :: checked
+    asked = stop_signal_caught()
+    if (asked > 0 .or. sch%pc%rank /= 0) return
+    if (wall_now - checked < 1.0_wp) return
+    checked = wall_now
+    if (stop_file_present(stop_file(sch))) asked = 1
+  end function stop_asked
+
+  !> The stop file of the run: `<dir>/<name>.stop`.
+  function stop_file(sch) result(path)
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: path
+    path = sch%out%dir//'/'//sch%out%name//'.stop'
+  end function stop_file
 
   !> The largest step the controller allows: the first step's cap, else the
   !> growth limit; dt_max; the end time and the next frame time.
@@ -315,16 +355,28 @@ contains
     end if
   end subroutine dump
 
-  !> Writes a restart (unless the last dump is of this very step) and stops
-  !> with exit status 3, saying how to continue.
+  !> The wall-time limit is near: a restart and exit status 3.
   subroutine stop_for_wall_time(cfg, st, sch, es)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
+    call stop_with_restart(cfg, st, sch, es, 0)
+  end subroutine stop_for_wall_time
+
+  !> Writes a restart (unless the last dump is of this very step) and stops
+  !> with exit status 3, saying why and how to continue. why: 0 the
+  !> wall-time limit, 1 the stop file (then removed), else the number of
+  !> the signal caught.
+  subroutine stop_with_restart(cfg, st, sch, es, why)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(schedule_t), intent(inout) :: sch
+    type(euler_state_t), intent(inout) :: es
+    integer, intent(in) :: why
     type(error_t), allocatable :: err
-    character(len=:), allocatable :: path
-    logical :: have
+    character(len=:), allocatable :: path, at
+    logical :: have, gone
     integer :: k
     path = restart_path(sch, st%step)
     have = .false.
@@ -336,14 +388,30 @@ contains
     if (k == 0) call dump(cfg, st, sch, es, err)
     if (.not. allocated(err)) call progress(cfg, st, sch, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
-    call log_line(sch%log, 'wall-time limit of '//rtoa(cfg%control%wall_time_limit)//' s reached at step '// &
-                  itoa(st%step)//', t = '//rtoa(st%t))
-    call log_line(sch%log, 'to continue, run the same deck with  &run restart_from = '''//path//''' /')
+    at = ' at step '//itoa(st%step)//', t = '//rtoa(st%t)
+    select case (why)
+    case (0)
+      call log_line(sch%log, 'wall-time limit of '//rtoa(cfg%control%wall_time_limit)//' s reached'//at)
+    case (1)
+      gone = .true.
+      if (sch%pc%rank == 0) call stop_file_remove(stop_file(sch), gone)
+      if (gone) then
+        call log_line(sch%log, 'stop file '//stop_file(sch)//' found'//at//' (the file is removed)')
+      else
+        call log_line(sch%log, 'stop file '//stop_file(sch)//' found'//at//'; it could not be removed: '// &
+                      'remove it before continuing')
+      end if
+    case default
+      call log_line(sch%log, stop_signal_name(why)//' received'//at)
+    end select
+    call log_line(sch%log, 'restart written: '//path)
+    call log_line(sch%log, 'to continue: lsalepm --restart '//path//' '//cfg%deck_path// &
+                  '   (or run the same deck with  &run restart_from = '''//path//''' /)')
     call gauges_close(sch%gauges)
     call tracks_close(sch)
     call hdf5_stop(err)
     call halt(sch%log, EXIT_WALL_TIME)
-  end subroutine stop_for_wall_time
+  end subroutine stop_with_restart
 
   !> Ends the run on an error, with the exit status of its category. Bad
   !> input: one ERROR line with the problem and one with what follows

@@ -5,7 +5,7 @@
 !> the groups). Read-only once the deck has been read.
 module driver_config
   use base_kinds, only: wp
-  use base_strings, only: itoa
+  use base_strings, only: itoa, lower
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
   use base_errors, only: error_no_memory, error_t
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
@@ -15,7 +15,7 @@ module driver_config
   use lagrange_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
-  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, echo_open, &
+  use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_where, echo_open, &
                      echo_text
   use io_output_config, only: output_config_t, output_config_read
   use io_points_file, only: points_file_read
@@ -53,6 +53,8 @@ module driver_config
     real(wp) :: velocity_noise = 0.0_wp        !< amplitude of a random velocity added to the nodes
     integer :: seed = 1                        !< seed of the random numbers
     character(len=256) :: restart_from = ''    !< continue from this restart file
+    !> the deck's restart_from when the command line's `--restart` replaced it
+    character(len=256) :: restart_overridden = ''
     real(wp) :: wall_time_limit = 0.0_wp       !< wall seconds; a restart and exit 3 before it (0: none)
     integer :: dump_steps = 0                  !< a restart every this many steps (0: off)
     real(wp) :: dump_dt = 0.0_wp               !< a restart every this much time (0: off)
@@ -85,12 +87,14 @@ contains
 
   !> Reads and validates the deck at `path`, or (`text` present) the deck
   !> text `text` that `path` names. On return `problems` holds one line per
-  !> problem found (empty when the deck is usable).
-  subroutine config_read(path, cfg, problems, text)
+  !> problem found (empty when the deck is usable). `restart` (the command
+  !> line's `--restart FILE`) replaces &run restart_from, before it is
+  !> validated and echoed.
+  subroutine config_read(path, cfg, problems, text, restart)
     character(len=*), intent(in) :: path
     type(config_t), intent(out) :: cfg
     character(len=max_line), allocatable, intent(out) :: problems(:)
-    character(len=*), intent(in), optional :: text
+    character(len=*), intent(in), optional :: text, restart
     type(deck_t) :: deck
     integer :: echo
     character(len=max_line), allocatable :: lines(:)
@@ -110,23 +114,26 @@ contains
     if (deck%unsafe) return                                          ! values that would trap
     call echo_open(echo, problems)
     if (echo == no_echo) return
-    call read_groups(deck, cfg, echo, problems)
-    cfg%echo = echo_text(echo)
+    call read_groups(deck, cfg, echo, problems, restart)
+    ! (the files included and the parameters, as comments, then every group
+    ! with every value as used)
+    cfg%echo = deck%notes//echo_text(echo)
   end subroutine config_read
 
   !> Every group of `deck`, in order, each by its package; each problem a
   !> group has is prefixed with the deck's name and the group's line.
-  subroutine read_groups(deck, cfg, echo, problems)
+  subroutine read_groups(deck, cfg, echo, problems, restart)
     type(deck_t), intent(in) :: deck
     type(config_t), intent(inout) :: cfg
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in), optional :: restart
     character(len=64), allocatable :: names(:)
     integer :: k, n, n0, j
 
     associate (path => deck%path)
       n0 = size(problems)
-      call run_config_read(cfg%control, cfg%hydro, deck_text(deck, 'run'), path, echo, problems)
+      call run_config_read(cfg%control, cfg%hydro, deck_text(deck, 'run'), path, echo, problems, restart)
       call at_line(problems, n0, deck, 'run')
       call grid_config_read(cfg%grid, deck_text(deck, 'grid'), path, echo, problems)
       if (size(problems) == n0 .and. len_trim(cfg%grid%file) > 0) call grid_file_check(cfg%grid, problems)
@@ -199,7 +206,7 @@ contains
       n0 = size(problems)
       call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), echo, problems)
       call at_line(problems, n0, deck, 'solid', k)
-      cfg%solids(k)%where = trim(deck%path)//':'//itoa(deck_line(deck, 'solid', k))//': '
+      cfg%solids(k)%where = deck_where(deck, 'solid', k)//': '
       names(k) = cfg%solids(k)%name
     end do
     n = deck_count(deck, 'particles')
@@ -338,25 +345,25 @@ contains
     end subroutine one
   end subroutine check_counts
 
-  !> Prefixes problems n0+1.. (those of one group) with "deck:line: ", the
-  !> line where the group starts (nothing for an absent group); n0 is then
-  !> moved past them.
+  !> Prefixes problems n0+1.. (those of one group) with "file:line: ", where
+  !> the group starts (the deck or the file it includes; nothing for an
+  !> absent group); n0 is then moved past them.
   subroutine at_line(problems, n0, deck, name, k)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     integer, intent(inout) :: n0
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: k
-    character(len=:), allocatable :: head
-    integer :: i, line
-    line = deck_line(deck, name, k)
-    if (line > 0) then
+    character(len=:), allocatable :: head, place
+    integer :: i
+    place = deck_where(deck, name, k)
+    if (len(place) > 0) then
       head = trim(deck%path)//': '
       do i = n0 + 1, size(problems)
         if (problems(i)(1:len(head)) == head) then
-          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)(len(head) + 1:)
+          problems(i) = place//': '//problems(i)(len(head) + 1:)
         else
-          problems(i) = trim(deck%path)//':'//itoa(line)//': '//problems(i)
+          problems(i) = place//': '//problems(i)
         end if
       end do
     end if
@@ -364,13 +371,16 @@ contains
   end subroutine at_line
 
   !> Reads, validates and echoes the &run group; its time-step controls go
-  !> to the Lagrangian parameters `hydro`.
-  subroutine run_config_read(this, hydro, text, path, echo, problems)
+  !> to the Lagrangian parameters `hydro`. `restart` (the command line's
+  !> `--restart`) replaces restart_from.
+  subroutine run_config_read(this, hydro, text, path, echo, problems, restart)
     type(run_config_t), intent(out) :: this
     type(hydro_params_t), intent(inout) :: hydro
     character(len=*), intent(in) :: text(:), path
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    character(len=*), intent(in), optional :: restart
+    character(len=256) :: overridden
     type(hydro_params_t) :: hd
     character(len=200) :: title
     character(len=64) :: units
@@ -396,6 +406,13 @@ contains
       read(text, nml=run, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'run', ios, msg)
     end if
+    overridden = ''
+    if (present(restart)) then
+      if (len_trim(restart_from) > 0 .and. trim(restart_from) /= restart) overridden = restart_from
+      restart_from = restart
+      if (len(restart) >= len(restart_from)) call problem_add(problems, '--restart '''//restart//''': the name is '// &
+        'longer than '//itoa(len(restart_from) - 1)//' characters')
+    end if
     if (.not. (t_end > 0.0_wp)) call problem_bad(problems, 'run', 't_end', t_end, 'must be > 0')
     if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) call problem_bad(problems, 'run', 'cfl', cfl, 'must be in (0, 1]')
     if (.not. (dt_growth >= 1.0_wp)) call problem_bad(problems, 'run', 'dt_growth', dt_growth, 'must be >= 1')
@@ -420,7 +437,7 @@ contains
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
       wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks, &
-      euler_ranks=euler_ranks(1:8))
+      euler_ranks=euler_ranks(1:8), restart_overridden=overridden)
     hydro%cfl = cfl
     hydro%dt_growth = dt_growth
     hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)
@@ -489,7 +506,7 @@ contains
     call boundary_config_read(cfg%boundary, empty('boundary'), 'deck.nml', names, echo, problems)
     call rezone_config_read(cfg%rezone, empty('rezone'), 'deck.nml', echo, problems)
     call output_config_read(cfg%output, empty('output'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, problems)
-    text = echo_text(echo)
+    text = mark_required(echo_text(echo), problems)
 
   contains
 
@@ -500,4 +517,64 @@ contains
       lines(1) = '&'//group//' /'
     end function empty
   end function config_defaults_text
+
+  !> The defaults' text with `! required` after each variable that an empty
+  !> group is refused for ("&group...: var = ... must be ..." or "&group...:
+  !> var is required"): what a deck must give, found by the packages' own
+  !> validation, not by a list kept apart from it. A rule with a way out
+  !> ("(or give youngs_modulus and poisson_ratio)") keeps it.
+  function mark_required(text, problems) result(out)
+    character(len=*), intent(in) :: text
+    character(len=max_line), intent(in) :: problems(:)
+    character(len=:), allocatable :: out, line, group, var, mark
+    integer :: i, j, k, m
+    out = ''
+    group = ''
+    var = ''
+    i = 1
+    do while (i <= len(text))
+      j = index(text(i:), new_line('a'))
+      if (j == 0) j = len(text) - i + 2
+      line = text(i:i + j - 2)
+      i = i + j
+      if (len(line) > 1 .and. line(1:1) == '&') group = lower(trim(line(2:)))
+      k = index(line, '=')
+      mark = ''
+      if (line(1:1) == ' ' .and. k > 2) then
+        var = lower(trim(adjustl(line(1:k - 1))))
+        do m = 1, size(problems)
+          if (problem_group(problems(m)) /= group) cycle
+          if (.not. problem_names(problems(m), var)) cycle
+          mark = '  ! required'
+          if (index(problems(m), '(or ') > 0) mark = mark//' '//trim(problems(m)(index(problems(m), '(or '):))
+          exit
+        end do
+      end if
+      out = out//line//mark//new_line('a')
+    end do
+  end function mark_required
+
+  !> The group a problem line names ("&region(1): ..." is region).
+  pure function problem_group(problem) result(group)
+    character(len=*), intent(in) :: problem
+    character(len=:), allocatable :: group
+    integer :: k
+    group = ''
+    if (problem(1:1) /= '&') return
+    k = scan(problem(2:), ':( ''')
+    if (k > 1) group = lower(problem(2:k))
+  end function problem_group
+
+  !> True if a problem line is about variable `var`: "...: var = ..." or
+  !> "...: var is required".
+  pure logical function problem_names(problem, var) result(yes)
+    character(len=*), intent(in) :: problem, var
+    integer :: k
+    yes = .false.
+    k = index(problem, ': ')
+    if (k == 0) return
+    associate (rest => problem(k + 2:))
+      yes = index(rest, var//' = ') == 1 .or. index(rest, var//' is required') == 1
+    end associate
+  end function problem_names
 end module driver_config

@@ -26,11 +26,19 @@ FACES = ["xlo", "xhi", "ylo", "yhi", "zlo", "zhi"]
 HUGE = 1.7976931348623157e308
 
 
-def code_defaults(exe):
+def code_defaults(exe, required=None):
+    """The code's defaults by group and variable; `required` (a set) gets
+    the (group, variable) pairs that --defaults marks `! required`."""
     out = subprocess.run([exe, "--defaults"], check=True, capture_output=True, text=True).stdout
     groups, group, var = {}, None, None
     for line in out.splitlines():
         s = line.strip()
+        m = re.search(r"\s*!\s*required.*$", s)
+        if m:
+            s = s[:m.start()]
+            r = re.match(r"([A-Z_0-9]+)=", s)
+            if required is not None and r and group is not None:
+                required.add((group, r.group(1).lower()))
         if s.startswith("&"):
             group = s[1:].lower()
             groups[group] = {}
@@ -81,7 +89,7 @@ def readme_rows(path):
         if group is None or not line.startswith("| `"):
             continue
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        rows.append((n, group, cells[0], cells[1]))
+        rows.append((n, group, cells[0], cells[1], line))
     return rows
 
 
@@ -135,13 +143,23 @@ def same(doc, code):
 
 def main():
     exe, readme = sys.argv[1], sys.argv[2]
-    code = code_defaults(exe)
+    required = set()
+    code = code_defaults(exe, required)
     problems, documented, checked = [], set(), 0
-    for n, group, names_cell, default_cell in readme_rows(readme):
+    for n, group, names_cell, default_cell, row in readme_rows(readme):
         names = expand_names(names_cell)
         doc = readme_value(default_cell)
         for name in names:
             documented.add((group, name))
+            # `--defaults` marks `! required` what an empty group is refused
+            # for: the README must say so (**required**, or "required" in
+            # the row for a conditional one), and mark no other
+            marked = (group, name) in required
+            if marked and "required" not in row:
+                problems.append(f"README line {n}: &{group} {name}: --defaults marks it required, the README does not")
+            if default_cell.startswith("**required**") and not marked:
+                problems.append(f"README line {n}: &{group} {name}: **required** in the README, not marked "
+                                f"'! required' by --defaults")
             if group not in code or name not in code[group]:
                 problems.append(f"README line {n}: &{group} {name} is documented but the code reads no such variable")
                 continue

@@ -5,20 +5,25 @@
 !> A group starts at a line whose first non-blank character is `&` and ends
 !> at the first `/` outside quotes and `!` comments (or where the next group
 !> starts, so a missing `/` is reported for the group that lacks it).
+!> The deck's text is first expanded (`io_deck_expand`: `&include`,
+!> `&parameters`, `${...}`); every line keeps the file and line it came
+!> from, and each problem names them ("file:line: ...").
 module io_deck
   use base_config, only: max_line, no_echo, problem_add
   use base_strings, only: itoa, lower, number_ok
   use io_files, only: io_is_dir
+  use io_deck_expand, only: deck_source_t, deck_expand_file, deck_expand_lines, deck_source_notes
   implicit none
   private
   public :: deck_t, deck_group_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_line, deck_stem, &
-            echo_open, echo_text
+            deck_where, echo_open, echo_text
 
   !> One group of the deck: its name (lower case), first line and text (as
   !> long as its longest line: decks of many small groups stay small).
   type :: deck_group_t
     character(len=32) :: name = ''
     integer :: line = 0
+    integer :: file = 1     !< where it is written: deck_t%files(file), line `line`
     character(len=:), allocatable :: text(:)
   end type deck_group_t
 
@@ -27,6 +32,10 @@ module io_deck
   !> deck: a deck may hold tens of thousands of &region groups).
   type :: deck_t
     character(len=:), allocatable :: path
+    !> the deck (1) and the files it includes, in the order of inclusion
+    character(len=max_line), allocatable :: files(:)
+    !> comments for the echo: the files included and the parameters' values
+    character(len=:), allocatable :: notes
     type(deck_group_t), allocatable :: groups(:)
     character(len=32), allocatable :: names(:)   !< the distinct group names, in order of first appearance
     integer, allocatable :: first(:)             !< groups called names(u): members(first(u):first(u+1)-1)
@@ -44,14 +53,16 @@ contains
     character(len=*), intent(in) :: path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=max_line), allocatable :: lines(:)
-    character(len=max_line) :: msg
-    integer, allocatable :: origin(:), broken(:)
-    integer :: unit, ios, k
+    type(deck_source_t) :: src
+    integer :: n0
     logical :: exists
 
     deck%path = path
     deck%groups = [deck_group_t ::]
+    allocate(deck%files(1), stat=n0)
+    if (n0 /= 0) return
+    deck%files(1) = path
+    deck%notes = ''
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call problem_add(problems, 'deck file '''//trim(path)//''' does not exist')
@@ -61,23 +72,10 @@ contains
       call problem_add(problems, ''''//trim(path)//''' is a directory, not a deck file')
       return
     end if
-    open(newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call problem_add(problems, 'cannot open deck '''//trim(path)//''': '//trim(msg))
-      return
-    end if
-    call read_lines(unit, lines, origin, broken, ios, msg)
-    close(unit)
-    if (ios /= 0) then
-      call problem_add(problems, 'cannot read deck '''//trim(path)//''': '//trim(msg))
-      return
-    end if
-    do k = 1, size(broken)
-      call problem_add(problems, trim(path)//':'//itoa(broken(k))//': a quoted string or a word longer than '// &
-                       itoa(max_line - 2)//' characters (lines of any length are read, but each string or '// &
-                       'number in them must fit in '//itoa(max_line - 2)//')')
-    end do
-    call cut_deck(lines, path, known, repeatable, deck, problems, origin)
+    n0 = size(problems)
+    call deck_expand_file(path, src, problems)
+    if (size(problems) > n0) return   ! (the groups of a deck that did not expand would only add confusion)
+    call from_source(src, path, known, repeatable, deck, problems)
   end subroutine deck_read
 
   !> The groups of a deck given as its lines (`path` names it in messages).
@@ -90,24 +88,77 @@ contains
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     integer, intent(in), optional :: origin(:)
-    character(len=max_line), allocatable :: clean(:)
-    clean = lines
-    call cut_deck(clean, path, known, repeatable, deck, problems, origin)
+    type(deck_source_t) :: src
+    integer :: n0
+    deck%path = path
+    deck%groups = [deck_group_t ::]
+    allocate(deck%files(1), stat=n0)
+    if (n0 /= 0) return
+    deck%files(1) = path
+    deck%notes = ''
+    n0 = size(problems)
+    call deck_expand_lines(lines, path, src, problems, origin)
+    if (size(problems) > n0) return
+    call from_source(src, path, known, repeatable, deck, problems)
   end subroutine deck_from_lines
 
-  !> `deck_from_lines` on lines it may change (tabs to blanks, the BOM
-  !> dropped) in place.
-  subroutine cut_deck(clean, path, known, repeatable, deck, problems, origin)
-    character(len=*), intent(inout) :: clean(:)
+  !> The groups of an expanded deck: its lines cut to deck lines of at most
+  !> max_line characters (`append_line`), each with its file and line.
+  subroutine from_source(src, path, known, repeatable, deck, problems)
+    type(deck_source_t), intent(in) :: src
     character(len=*), intent(in) :: path, known(:), repeatable(:)
     type(deck_t), intent(out) :: deck
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer, intent(in), optional :: origin(:)
+    character(len=max_line), allocatable :: lines(:)
+    integer, allocatable :: origin(:), at_line(:), at_file(:)
+    integer :: g, n, stat
+    logical :: forced
+    character(len=200) :: msg
+
+    n = 0
+    allocate(lines(max(src%n, 16)), origin(max(src%n, 16)), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call problem_add(problems, trim(path)//': out of memory for the deck''s lines: '//trim(msg))
+      return
+    end if
+    do g = 1, src%n
+      call append_line(src%lines(g)%text, g, lines, origin, n, forced, stat)
+      if (stat /= 0) then
+        call problem_add(problems, trim(path)//': out of memory for the deck''s lines')
+        return
+      end if
+      if (forced) call problem_add(problems, trim(src%files(src%lines(g)%file))//':'//itoa(src%lines(g)%line)// &
+        ': a quoted string or a word longer than '//itoa(max_line - 2)//' characters (lines of any length are '// &
+        'read, but each string or number in them must fit in '//itoa(max_line - 2)//')')
+    end do
+    allocate(at_line(n), at_file(n), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call problem_add(problems, trim(path)//': out of memory for the deck''s lines: '//trim(msg))
+      return
+    end if
+    do g = 1, n
+      at_line(g) = src%lines(origin(g))%line
+      at_file(g) = src%lines(origin(g))%file
+    end do
+    call cut_deck(lines(1:n), path, known, repeatable, deck, problems, at_line, at_file, src%files)
+    deck%notes = deck_source_notes(src)
+  end subroutine from_source
+
+  !> The groups of deck lines (changed in place: tabs to blanks, the BOM
+  !> dropped); origin, ofile: the line and file (in `files`) of each.
+  subroutine cut_deck(clean, path, known, repeatable, deck, problems, origin, ofile, files)
+    character(len=*), intent(inout) :: clean(:)
+    character(len=*), intent(in) :: path, known(:), repeatable(:), files(:)
+    type(deck_t), intent(out) :: deck
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    integer, intent(in) :: origin(:), ofile(:)
     character(len=:), allocatable :: valid
     character(len=*), parameter :: bom = char(239)//char(187)//char(191)
     integer :: i, k
 
     deck%path = path
+    deck%files = files
+    deck%notes = ''
     deck%groups = [deck_group_t ::]
     do i = 1, size(clean)
       do k = 1, len_trim(clean(i))
@@ -117,7 +168,7 @@ contains
     if (size(clean) > 0) then
       if (clean(1)(1:3) == bom) clean(1) = clean(1)(4:)
     end if
-    call split_groups(clean, path, deck%groups, problems, origin)
+    call split_groups(clean, deck%files, deck%groups, problems, origin, ofile)
     call index_groups(deck)
     valid = ''
     do k = 1, size(known)
@@ -126,24 +177,37 @@ contains
     valid = valid(3:)
     do i = 1, size(deck%groups)
       if (any(known == deck%groups(i)%name)) cycle
-      call problem_add(problems, trim(path)//':'//itoa(deck%groups(i)%line)//': group &'// &
+      call problem_add(problems, group_place(deck, i)//': group &'// &
                        trim(deck%groups(i)%name)//' is not known; valid: '//valid)
     end do
     do i = 1, size(deck%groups)
-      if (.not. values_ok(deck%groups(i), path, problems)) deck%unsafe = .true.
+      if (.not. values_ok(deck%groups(i), group_place(deck, i), problems)) deck%unsafe = .true.
     end do
     do i = 1, size(deck%groups)
       associate (gi => deck%groups(i))
         if (any(repeatable == gi%name)) cycle
         do k = 1, i - 1
           if (deck%groups(k)%name /= gi%name) cycle
-          call problem_add(problems, trim(path)//':'//itoa(gi%line)//': a second &'//trim(gi%name)// &
-                           ' group (the first is at line '//itoa(deck%groups(k)%line)//'); only &material, '// &
+          call problem_add(problems, group_place(deck, i)//': a second &'//trim(gi%name)// &
+                           ' group (the first is at '//first_place(k)//'); only &material, '// &
                            '&region and &source may repeat')
           exit
         end do
       end associate
     end do
+
+  contains
+
+    !> Where group k is: "line N" in the same file as group i, else "file:N".
+    function first_place(k) result(t)
+      integer, intent(in) :: k
+      character(len=:), allocatable :: t
+      if (deck%groups(k)%file == deck%groups(i)%file) then
+        t = 'line '//itoa(deck%groups(k)%line)
+      else
+        t = group_place(deck, k)
+      end if
+    end function first_place
   end subroutine cut_deck
 
   !> A text cut at its newlines into lines, a line longer than max_line cut
@@ -313,6 +377,28 @@ contains
     if (i > 0) deck_line = deck%groups(i)%line
   end function deck_line
 
+  !> "file:line" where the k-th group called `name` (default the first)
+  !> starts: the deck or the included file it is written in; '' if there
+  !> is none.
+  function deck_where(deck, name, k) result(place)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    integer, intent(in), optional :: k
+    character(len=:), allocatable :: place
+    integer :: i
+    place = ''
+    i = group_index(deck, name, k)
+    if (i > 0) place = group_place(deck, i)
+  end function deck_where
+
+  !> "file:line" of deck%groups(i).
+  function group_place(deck, i) result(place)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: i
+    character(len=:), allocatable :: place
+    place = trim(deck%files(deck%groups(i)%file))//':'//itoa(deck%groups(i)%line)
+  end function group_place
+
   !> Index in deck%groups of the k-th group called `name` (default the
   !> first); 0 if there is none. (Through the index by name: the readers of
   !> repeated groups ask for each in turn, and a scan of the deck per
@@ -394,11 +480,12 @@ contains
   !> on one line) and ends at its `/`. Text outside groups that is not blank
   !> or a `!` comment is a problem (a group that lost its `&`, a stray
   !> assignment): gfortran would skip it silently.
-  subroutine split_groups(lines, path, groups, problems, origin)
-    character(len=*), intent(in) :: lines(:), path
+  subroutine split_groups(lines, files, groups, problems, origin, ofile)
+    character(len=*), intent(in) :: lines(:), files(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    integer, intent(in), optional :: origin(:)
+    integer, intent(in) :: origin(:), ofile(:)
+    character(len=:), allocatable :: path
     type(deck_group_t) :: grp
     type(deck_group_t), allocatable :: found(:)
     character(len=max_line), allocatable :: pieces(:)
@@ -415,6 +502,7 @@ contains
     ! that doubles when full: appending one at a time (`groups = [groups,
     ! grp]` copies every group, text and all) made the cut quadratic in the
     ! number of groups.
+    path = trim(files(1))
     ngroup = 0
     npiece = 0
     k = 0
@@ -444,8 +532,8 @@ contains
           if (in_group) call finish(line(from:j - 1))
           in_group = .true.
           grp%name = name_at(line, j + 1)
-          grp%line = i
-          if (present(origin)) grp%line = origin(i)
+          grp%line = origin(i)
+          grp%file = ofile(i)
           from = j
           j = j + len_trim(grp%name)
         else if (in_group .and. line(j:j) == '/') then
@@ -454,7 +542,7 @@ contains
         else if (.not. in_group .and. line(j:j) /= ' ') then
           k = index(line(j:), '!')
           if (k == 0) k = len_trim(line(j:)) + 1
-          call problem_add(problems, trim(path)//':'//itoa(merge(origin(min(i, size(origin))), i, present(origin)))// &
+          call problem_add(problems, trim(files(ofile(i)))//':'//itoa(origin(i))// &
                            ': text outside any group: '''// &
                            trim(line(j:j + k - 2))//''' (a group starts with &name and ends with /)')
           exit scan
@@ -538,6 +626,7 @@ contains
     type(deck_group_t), intent(inout) :: a, b
     b%name = a%name
     b%line = a%line
+    b%file = a%file
     if (allocated(b%text)) deallocate(b%text)
     if (allocated(a%text)) call move_alloc(a%text, b%text)
   end subroutine move_group
@@ -570,9 +659,9 @@ contains
   !> double, which stands for "none" in echoed decks), is a problem; such a
   !> value would reach comparisons and arithmetic that trap or overflow.
   !> Returns true if the group is clean.
-  logical function values_ok(grp, path, problems) result(ok)
+  logical function values_ok(grp, place, problems) result(ok)
     type(deck_group_t), intent(in) :: grp
-    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: place   !< "file:line" of the group
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=max_line) :: line
     character :: q
@@ -613,7 +702,7 @@ contains
           end if
         end if
         if (.not. number_ok(lower(line(j:k)))) then
-          call problem_add(problems, trim(path)//':'//itoa(grp%line)//': &'//trim(grp%name)//': the value '''// &
+          call problem_add(problems, place//': &'//trim(grp%name)//': the value '''// &
                            line(j:k)//''' is not allowed (NaN, infinity and magnitudes of 1e30 or more are refused)')
           ok = .false.
         end if
@@ -621,49 +710,6 @@ contains
       end do
     end do
   end function values_ok
-
-  !> Reads all records of an open unit, each of any length (`append_line`
-  !> cuts the long ones; origin: the record each line comes from; broken:
-  !> the records whose cut split a string or a word).
-  subroutine read_lines(unit, lines, origin, broken, ios, msg)
-    integer, intent(in) :: unit
-    character(len=max_line), allocatable, intent(out) :: lines(:)
-    integer, allocatable, intent(out) :: origin(:), broken(:)
-    integer, intent(out) :: ios
-    character(len=*), intent(inout) :: msg
-    character(len=:), allocatable :: line
-    character(len=4096) :: buf
-    integer :: n, nline, got
-    logical :: forced
-
-    n = 0
-    nline = 0
-    broken = [integer ::]
-    allocate(lines(64), origin(64), stat=ios, errmsg=msg)
-    if (ios /= 0) return
-    rewind(unit)
-    do
-      ! a whole line, however long, in pieces of the buffer
-      line = ''
-      do
-        read(unit, '(a)', advance='no', size=got, iostat=ios, iomsg=msg) buf
-        line = line//buf(1:got)
-        if (ios /= 0) exit
-      end do
-      if (is_iostat_end(ios)) exit
-      if (.not. is_iostat_eor(ios)) return
-      nline = nline + 1
-      call append_line(line, nline, lines, origin, n, forced, ios)
-      if (ios /= 0) then
-        msg = 'out of memory for its lines'
-        return
-      end if
-      if (forced) broken = [broken, nline]
-    end do
-    ios = 0
-    lines = lines(1:n)
-    origin = origin(1:n)
-  end subroutine read_lines
 
   !> Opens the scratch unit the packages write their resolved groups to.
   subroutine echo_open(unit, problems)
