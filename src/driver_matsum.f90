@@ -67,9 +67,9 @@ contains
     ms%mat = reshape([(xsum_value(acc(q)), q = 1, nsum*nm)], [nsum, nm])
 
     nb = 0
-    if (allocated(st%pt%body) .and. allocated(st%pw%owned)) then
+    if (allocated(st%pt%body)) then
       do k = 1, st%pt%np
-        if (st%pw%owned(k)) nb = max(nb, st%pt%body(k))
+        if (owns(k)) nb = max(nb, st%pt%body(k))
       end do
     end if
     call st%halo%max_int(nb)
@@ -77,13 +77,20 @@ contains
 
   contains
 
+    !> The block owns particle p (one block without ownership marks: all).
+    logical function owns(p)
+      integer, intent(in) :: p
+      owns = .true.
+      if (allocated(st%pw%owned)) owns = st%pw%owned(p)
+    end function owns
+
     !> The sums of bodies 1..nb over the particles the block owns.
     subroutine body_sums(nb)
       integer, intent(in) :: nb
       type(xsum_t) :: bacc(nsum*nb)
       integer :: p, r, d
-      do p = 1, merge(st%pt%np, 0, allocated(st%pw%owned) .and. allocated(st%pt%body))
-        if (.not. st%pw%owned(p)) cycle
+      do p = 1, merge(st%pt%np, 0, allocated(st%pt%body))
+        if (.not. owns(p)) cycle
         r = nsum*(st%pt%body(p) - 1)
         call xsum_add(bacc(r + 1), st%pt%m(p))
         do d = 1, 3
