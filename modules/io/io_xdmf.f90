@@ -110,11 +110,7 @@ contains
     end if
     do f = 1, size(frames)
       if (ios /= 0) exit
-      write(tbuf, '(es24.16e3)') times(f)
-      write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      call frame_start(unit, f - 1, times(f), tbuf, ios, msg)
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
            '        <Topology TopologyType="3DSMesh" Dimensions="'//node_dims//'"/>'
       if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Geometry GeometryType="XYZ">'
@@ -203,11 +199,7 @@ contains
     end if
     do f = 1, size(frames)
       if (ios /= 0) exit
-      write(tbuf, '(es24.16e3)') times(f)
-      write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '      <Grid Name="frame_'//itoa(f - 1)//'" GridType="Uniform">'
-      if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) &
-           '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+      call frame_start(unit, f - 1, times(f), tbuf, ios, msg)
       ! a frame without particles has no topology at all: an empty DataItem
       ! stops ParaView's reader
       if (ios == 0 .and. nparts(f) > 0) call write_points(unit, trim(frames(f)), nparts(f), &
@@ -312,6 +304,18 @@ contains
     close(unit)
     last_line_is = trim(last) == text
   end function last_line_is
+
+  !> Opens frame k's grid at `time` (`tbuf`: the time as written).
+  subroutine frame_start(unit, k, time, tbuf, ios, msg)
+    integer, intent(in) :: unit, k
+    real(wp), intent(in) :: time
+    character(len=*), intent(out) :: tbuf
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    write(tbuf, '(es24.16e3)') time
+    write(unit, '(a)', iostat=ios, iomsg=msg) '      <Grid Name="frame_'//itoa(k)//'" GridType="Uniform">'
+    if (ios == 0) write(unit, '(a)', iostat=ios, iomsg=msg) '        <Time Value="'//trim(adjustl(tbuf))//'"/>'
+  end subroutine frame_start
 
   !> The frames' real size in bytes: `real_bytes` if given, else 8.
   pure integer function real_size(real_bytes) result(n)
