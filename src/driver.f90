@@ -25,7 +25,7 @@ module driver
   use driver_state, only: state_t, state_totals, centroid_text
   use driver_output, only: schedule_t, schedule_init, open_outputs, write_frame, frame_out, gauge_output, progress, &
                            report_conservation, frame_due, dump_due, advance_schedule, history_output, &
-                           outputs_after_restart, step_limit_text, tracks_init, tracks_close
+                           outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report
   use driver_scene, only: build_scene
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
@@ -141,6 +141,7 @@ contains
     if (allocated(err)) call fail(cfg, st, sch, err)
     call gauges_close(sch%gauges)
     call tracks_close(sch)
+    call blast_report(cfg, sch)
     call sch%t_total%stop()
     call report_end(st, sch, es)
     call hdf5_stop(err)

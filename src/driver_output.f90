@@ -27,12 +27,13 @@ module driver_output
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_gathered
   use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
+  use io_blast, only: blast_t, blast_answers, blast_read_gauges
   use particles_state, only: particles_t
   implicit none
   private
   public :: schedule_t, schedule_init, schedule_register_restart, open_outputs, write_frame, frame_out, &
             gauge_output, progress, report_conservation, frame_due, dump_due, advance_schedule, &
-            history_output, outputs_after_restart, step_limit_text, tracks_init, tracks_close
+            history_output, outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report
 
   !> The output schedule and bookkeeping of this run segment.
   type :: schedule_t
@@ -339,6 +340,53 @@ contains
     character(len=:), allocatable :: path
     path = sch%out%dir//'/'//sch%out%name//'_matsum.txt'
   end function matsum_path
+
+  !> At the end of a run with gauges (rank 0): the blast answers of each
+  !> gauge from its whole history (`io_blast`; the gauge file, which a
+  !> restart continues), in `<dir>/<name>_blast.txt` and the log. A failure
+  !> to read or write them is logged, not fatal (the run is done).
+  subroutine blast_report(cfg, sch)
+    type(config_t), intent(in) :: cfg
+    type(schedule_t), intent(inout) :: sch
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: t(:), p(:, :)
+    type(blast_t) :: b
+    character(len=400) :: row
+    character(len=:), allocatable :: path
+    integer :: g, u, ios
+
+    if (sch%pc%rank /= 0 .or. cfg%output%ngauge == 0) return
+    call blast_read_gauges(gauges_path(sch), cfg%output%ngauge, t, p, err)
+    if (allocated(err)) then
+      call log_line(sch%log, 'blast answers not computed: '//err%msg)
+      return
+    end if
+    path = sch%out%dir//'/'//sch%out%name//'_blast.txt'
+    open(newunit=u, file=path, status='replace', action='write', iostat=ios)
+    if (ios == 0) then
+      write(u, '(a)', iostat=ios) '# blast answers at the gauges (lsalepm; io_blast): overpressure over the first '// &
+        'row''s pressure; arrival when it first reaches half its peak; positive phase to its first return to 0 '// &
+        'after the peak (ended 0: still positive at the end, duration and impulse up to it); deck units'
+      write(u, '(a)', iostat=ios) '# gauge x y z ambient_pressure arrival peak_overpressure peak_time '// &
+        'positive_duration positive_impulse ended'
+    end if
+    call log_line(sch%log, 'blast answers (also '//path//'): gauge, arrival, peak overpressure, '// &
+                  'positive duration, positive impulse')
+    do g = 1, cfg%output%ngauge
+      b = blast_answers(t, p(:, g))
+      write(row, '(i0,9es25.16e3,1x,i0)') g, cfg%output%gauges(:, g), b%ambient, b%arrival, b%peak, b%peak_time, &
+        b%duration, b%impulse, merge(1, 0, b%ended)
+      if (ios == 0) write(u, '(a)', iostat=ios) trim(row)
+      if (.not. b%arrived) then
+        call log_line(sch%log, '  gauge '//itoa(g)//': no overpressure')
+      else
+        call log_line(sch%log, '  gauge '//itoa(g)//': '//rtoa(b%arrival)//'  '//rtoa(b%peak)//'  '// &
+                      rtoa(b%duration)//'  '//rtoa(b%impulse)//trim(merge('             ', '  (not ended)', b%ended)))
+      end if
+    end do
+    if (ios == 0) close(u, iostat=ios)
+    if (ios /= 0) call log_line(sch%log, 'blast answers: cannot write '//path)
+  end subroutine blast_report
 
   !> After a restart has been read (st%t is the restart time): drops from the
   !> gauge, tracked-particle and history files the rows the earlier run wrote after this time

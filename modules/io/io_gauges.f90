@@ -40,7 +40,7 @@ module io_gauges
   use base_strings, only: itoa
   implicit none
   private
-  public :: gauges_t, gauges_open, gauges_write, gauges_close, gauge_locate, gauge_sample, text_rows_trim, &
+  public :: gauges_t, gauges_open, gauges_write, gauges_close, gauge_locate, gauge_sample, text_rows_trim, read_line, &
             gauge_nfield, gauge_field_names
 
   !> Number of values a gauge reports per row (after its cell index).
