@@ -67,7 +67,7 @@ DIMENSIONS = {
     "material": {
         "name": STR, "eos": STR, "gamma": NONE, "a": PRES, "b": PRES, "r1": NONE, "r2": NONE,
         "omega": NONE, "rho0": DENS, "c0": VEL, "s1": NONE, "gamma0": NONE, "p_min": PRES,
-        "rho_min": DENS,
+        "rho_min": DENS, "detonation_velocity": VEL, "burn_width": NONE,
     },
     "region": {
         "shape": STR, "material": STR, "density": DENS, "energy": SPEC_E, "pressure": PRES,
@@ -79,6 +79,8 @@ DIMENSIONS = {
         "normal": NONE,
     },
     "source": {"position": LEN, "energy": ENERGY},
+    "detonation": {"material": STR, "shape": STR, "point": LEN, "point2": LEN, "normal": NONE, "time": TIME,
+                   "path": STR},
     "boundary": dict(
         [(f, STR) for f in ("xlo", "xhi", "ylo", "yhi", "zlo", "zhi")]
         + [(f + "_velocity", VEL) for f in ("xlo", "xhi", "ylo", "yhi", "zlo", "zhi")]
@@ -94,7 +96,7 @@ DIMENSIONS = {
         "nodal_mass": STR,
     },
     "output": {"dir": STR, "name": STR, "frame_dt": TIME, "frame_steps": INT, "gauge_dt": TIME, "history_dt": TIME,
-               "gauge": LEN, "fields": STR, "particle_fields": STR, "precision": STR, "compress": INT},
+               "gauge": LEN, "gauge_line": LEN, "gauge_count": INT, "fields": STR, "particle_fields": STR, "precision": STR, "compress": INT},
 }
 
 # dimensional variables whose default is neither 0 nor a sentinel: written in

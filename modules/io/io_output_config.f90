@@ -7,6 +7,7 @@ module io_output_config
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_badi, problem_nml
   use io_deck, only: deck_stem
+  use base_strings, only: itoa
   use io_files, only: io_is_dir
   use io_output, only: frame_options_t, frame_grid_fields, frame_particle_fields
   use strength_models, only: strength_fields
@@ -14,7 +15,9 @@ module io_output_config
   private
   public :: output_config_t, output_config_read, output_config_changes, max_gauges, max_tracks, max_fields
 
-  integer, parameter :: max_gauges = 64
+  integer, parameter :: max_gauges = 256      !< gauge points in all (given one by one and along lines)
+  integer, parameter :: max_gauge_points = 64 !< given one by one (`gauge`)
+  integer, parameter :: max_gauge_lines = 8   !< lines of gauges (`gauge_line`, `gauge_count`)
   integer, parameter :: max_tracks = 64
   integer, parameter :: max_fields = 32   !< entries of `fields` and of `particle_fields`
 
@@ -45,17 +48,20 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=256) :: dir, name
-    real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauges), track(3, max_tracks)
+    real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauge_points), track(3, max_tracks), &
+                gauge_line(6, max_gauge_lines), a(3), b(3)
+    integer :: gauge_count(max_gauge_lines), l, k
     character(len=32) :: fields(max_fields), particle_fields(max_fields)
     character(len=16) :: precision
     integer :: frame_steps, ios, i, compress
     character(len=max_line) :: msg
     character(len=16) :: tag
-    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, history_dt, track, fields, particle_fields, &
-                      precision, compress
+    namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, gauge_line, gauge_count, history_dt, track, &
+                      fields, particle_fields, precision, compress
 
     dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
-    gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = this%gauges
+    gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = huge(1.0_wp)
+    gauge_line = huge(1.0_wp); gauge_count = 0
     track = this%tracks
     fields = ''; particle_fields = ''; precision = 'double'; compress = 0
     if (size(text) > 0) then
@@ -72,7 +78,7 @@ contains
     if (.not. (history_dt >= 0.0_wp)) call problem_bad(problems, 'output', 'history_dt', history_dt, &
                                                        'must be >= 0 (0: off)')
     if (frame_steps < 0) call problem_badi(problems, 'output', 'frame_steps', frame_steps, 'must be >= 0')
-    do i = 1, max_gauges
+    do i = 1, max_gauge_points
       if (any(gauge(:, i) > 0.5_wp*huge(1.0_wp))) exit
       this%ngauge = i
       this%gauges(:, i) = gauge(:, i)
@@ -80,6 +86,33 @@ contains
         write(tag, '(a,i0,a)') 'gauge(:,', i, ')'
         call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
       end if
+    end do
+    ! lines of gauges: gauge_count(l) points evenly from gauge_line(1:3, l)
+    ! to gauge_line(4:6, l), both ends included, after the single points
+    do l = 1, max_gauge_lines
+      write(tag, '(a,i0,a)') 'gauge_line(:,', l, ')'
+      if (any(gauge_line(:, l) > 0.5_wp*huge(1.0_wp))) then
+        if (gauge_count(l) /= 0) call problem_add(problems, '&output: gauge_count('//itoa(l)//') is given but '// &
+                                                  trim(tag)//' is not (x0, y0, z0, x1, y1, z1)')
+        cycle
+      end if
+      a = gauge_line(1:3, l)
+      b = gauge_line(4:6, l)
+      if (any(a < xmin) .or. any(a > xmax) .or. any(b < xmin) .or. any(b > xmax)) &
+        call problem_add(problems, '&output: '//trim(tag)//' runs outside the grid box xmin..xmax')
+      if (gauge_count(l) < 2) then
+        call problem_badi(problems, 'output', 'gauge_count('//itoa(l)//')', gauge_count(l), &
+                          'must be >= 2 for a line of gauges (its two ends and the points between)')
+        cycle
+      end if
+      if (this%ngauge + gauge_count(l) > max_gauges) then
+        call problem_add(problems, '&output: more than '//itoa(max_gauges)//' gauges in all (points and lines)')
+        exit
+      end if
+      do k = 0, gauge_count(l) - 1
+        this%ngauge = this%ngauge + 1
+        this%gauges(:, this%ngauge) = a + (b - a)*(real(k, wp)/real(gauge_count(l) - 1, wp))
+      end do
     end do
     do i = 1, max_tracks
       if (any(track(:, i) > 0.5_wp*huge(1.0_wp))) exit

@@ -35,6 +35,13 @@ module material_burn
 
 contains
 
+  !> |v|: the square root of a sum of squares, exact under scaling by powers
+  !> of two (gfortran's NORM2 is not: the dimensional-rescaling test).
+  pure real(wp) function length(v)
+    real(wp), intent(in) :: v(:)
+    length = sqrt(dot_product(v, v))
+  end function length
+
   !> The CJ state of `eos` detonating from density rho0 [density] and
   !> specific energy e0 [pressure/density]: detonation velocity d_cj
   !> [velocity], pressure p_cj [pressure] and relative volume v_cj = rho0/rho.
@@ -109,16 +116,16 @@ contains
       if (l2 > 0.0_wp) s = max(0.0_wp, min(1.0_wp, dot_product(x - p, p2 - p)/l2))
       q = p + s*(p2 - p)
     case (INIT_PLANE)
-      n = nrm/norm2(nrm)
+      n = nrm/length(nrm)
       q = x - dot_product(x - p, n)*n
     case default
       q = p
     end select
-    d = norm2(x - q)
+    d = length(x - q)
     if (d > 0.0_wp) then
       dir = (x - q)/d
     else if (kind == INIT_PLANE) then
-      dir = nrm/norm2(nrm)
+      dir = nrm/length(nrm)
     else
       dir = [1.0_wp, 0.0_wp, 0.0_wp]
     end if
@@ -186,7 +193,7 @@ contains
           xc = centre(i, j, k)
           do s = 1, size(d0)
             if (.not. visible(ps(:, s), xc)) cycle
-            cand = d0(s) + norm2(xc - ps(:, s))
+            cand = d0(s) + length(xc - ps(:, s))
             if (cand < d(c)) then
               d(c) = cand
               src(:, c) = ps(:, s)
@@ -214,7 +221,7 @@ contains
             if (done(n)) cycle
             xn = centre(ii, jj, kk)
             if (visible(src(:, c), xn)) then
-              cand = dsrc(c) + norm2(xn - src(:, c))
+              cand = dsrc(c) + length(xn - src(:, c))
               if (cand < d(n)) then
                 d(n) = cand
                 src(:, n) = src(:, c)
@@ -222,7 +229,7 @@ contains
                 call heap_push(n, cand)
               end if
             else
-              cand = d(c) + norm2(xn - xc)
+              cand = d(c) + length(xn - xc)
               if (cand < d(n)) then
                 d(n) = cand
                 src(:, n) = xc
@@ -240,7 +247,7 @@ contains
       j = mod((c - 1)/ni, nj) + 1
       i = mod(c - 1, ni) + 1
       xc = centre(i, j, k)
-      dd = norm2(xc - src(:, c))
+      dd = length(xc - src(:, c))
       dir(:, c) = [1.0_wp, 0.0_wp, 0.0_wp]
       if (dd > 0.0_wp) dir(:, c) = (xc - src(:, c))/dd
     end do
@@ -284,7 +291,7 @@ contains
     pure logical function visible(a, b)
       real(wp), intent(in) :: a(3), b(3)
       integer :: m, q, ijk(3)
-      m = max(1, ceiling(4.0_wp*norm2(b - a)/hmin))
+      m = max(1, ceiling(4.0_wp*length(b - a)/hmin))
       visible = .true.
       do q = 1, m - 1
         ijk = cell_of(a + (b - a)*(real(q, wp)/real(m, wp)))
