@@ -12,6 +12,7 @@ module driver_config
   use io_grid_file, only: grid_file_read
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
+  use material_library, only: units_known, units_list, library_value
   use lagrange_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
@@ -85,6 +86,25 @@ module driver_config
 
 contains
 
+  !> Per material: its library entry's density, energy_per_volume and
+  !> pressure in the deck's `units` (-1 where it has none, or no entry).
+  function library_states(materials, units) result(lib)
+    type(material_config_t), intent(in) :: materials(:)
+    character(len=*), intent(in) :: units
+    real(wp) :: lib(3, size(materials))
+    character(len=*), parameter :: keys(3) = [character(len=17) :: 'density', 'energy_per_volume', 'pressure']
+    integer :: m, k
+    logical :: found
+    lib = -1.0_wp
+    do m = 1, size(materials)
+      if (len_trim(materials(m)%library) == 0) cycle
+      do k = 1, 3
+        call library_value(trim(materials(m)%library), trim(keys(k)), trim(units), lib(k, m), found)
+        if (.not. found) lib(k, m) = -1.0_wp
+      end do
+    end do
+  end function library_states
+
   !> Reads and validates the deck at `path`, or (`text` present) the deck
   !> text `text` that `path` names. On return `problems` holds one line per
   !> problem found (empty when the deck is usable). `restart` (the command
@@ -146,8 +166,8 @@ contains
       if (n == 0) call problem_add(problems, trim(path)//': no &material group (at least one is required)')
       do k = 1, n
         n0 = size(problems)
-        call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names(1:k - 1), echo, &
-                                  problems)
+        call material_config_read(cfg%materials(k), k, deck_text(deck, 'material', k), path, names(1:k - 1), &
+                                  cfg%control%units, echo, problems)
         call at_line(problems, n0, deck, 'material', k)
         names(k) = cfg%materials(k)%name
       end do
@@ -156,7 +176,8 @@ contains
       if (n == 0) call problem_add(problems, trim(path)//': no &region group (at least one is required)')
       do k = 1, n
         n0 = size(problems)
-        call region_config_read(cfg%regions(k), k, deck_text(deck, 'region', k), path, names, echo, problems)
+        call region_config_read(cfg%regions(k), k, deck_text(deck, 'region', k), path, names, echo, problems, &
+                                lib=library_states(cfg%materials, cfg%control%units), units=cfg%control%units)
         call at_line(problems, n0, deck, 'region', k)
       end do
       n = deck_count(deck, 'source')
@@ -432,6 +453,8 @@ contains
                        ''' is not one of ''windows'', ''whole''')
     call problem_long(problems, 'run', 'title', title)
     call problem_long(problems, 'run', 'units', units)
+    if (len_trim(units) > 0 .and. .not. units_known(trim(units))) call problem_add(problems, '&run: units = '''// &
+      trim(units)//''' is not a unit system the code knows: '//units_list()//' (or leave it out)')
     call problem_long(problems, 'run', 'restart_from', restart_from)
     this = run_config_t(title=title, units=units, t_end=t_end, max_steps=max_steps, dt_init=dt_init, &
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
@@ -486,7 +509,7 @@ contains
     cfg%materials = [material_config_t()]
     cfg%regions = [region_config_t()]
     cfg%sources = [source_config_t()]
-    call material_config_read(cfg%materials(1), 1, empty('material'), 'deck.nml', [character(len=64) ::], echo, &
+    call material_config_read(cfg%materials(1), 1, empty('material'), 'deck.nml', [character(len=64) ::], '', echo, &
                               problems)
     call region_config_read(cfg%regions(1), 1, empty('region'), 'deck.nml', names, echo, problems)
     call source_config_read(cfg%sources(1), 1, empty('source'), 'deck.nml', cfg%grid%xmin, cfg%grid%xmax, echo, &

@@ -5,7 +5,7 @@
 module driver_scene_config
   use base_kinds, only: wp
   use mesh_shapes, only: shape_inner_radius_problem
-  use base_strings, only: itoa
+  use base_strings, only: itoa, rtoa
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, diff_s, name_index
   implicit none
   private
@@ -56,10 +56,14 @@ contains
 
   !> Reads, validates and echoes the r-th &region group (`text`);
   !> `materials` are the &material names.
-  subroutine region_config_read(this, r, text, path, materials, echo, problems)
+  subroutine region_config_read(this, r, text, path, materials, echo, problems, lib, units)
     type(region_config_t), intent(out) :: this
     integer, intent(in) :: r, echo
     character(len=*), intent(in) :: text(:), path, materials(:)
+    !> per material: its library entry's density, energy_per_volume and
+    !> pressure in the deck's units (< 0: none), and those units
+    real(wp), intent(in), optional :: lib(:, :)
+    character(len=*), intent(in), optional :: units
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: shape, velocity_field
     character(len=64) :: material
@@ -86,6 +90,29 @@ contains
     write(tag, '(a,i0,a)') 'region(', r, ')'
     call problem_long(problems, trim(tag), 'shape', shape)
     call problem_long(problems, trim(tag), 'material', material)
+    m = name_index(materials, material)
+    if (m == 0 .and. len_trim(material) == 0 .and. size(materials) == 1) m = 1
+    ! a library material: its entry's density and energy where the region
+    ! gives none, and a density far from the entry's refused (a deck in
+    ! another unit system than its &run units says)
+    if (present(lib) .and. m > 0) then
+      if (lib(1, m) > 0.0_wp) then
+        if (.not. density > 0.0_wp) then
+          density = lib(1, m)
+        else if (density > 10.0_wp*lib(1, m) .or. density < 0.1_wp*lib(1, m)) then
+          call problem_add(problems, '&'//trim(tag)//': density = '//rtoa(density)//' is '// &
+            rtoa(density/lib(1, m))//' times the library''s '//rtoa(lib(1, m))//' for '''//trim(material)// &
+            ''' in &run units '''//trim(units)//''': are the deck''s values in another unit system?')
+        end if
+      end if
+      if (count([energy >= 0.0_wp, pressure >= 0.0_wp, energy_per_volume >= 0.0_wp]) == 0) then
+        if (lib(2, m) >= 0.0_wp) then
+          energy_per_volume = lib(2, m)
+        else if (lib(3, m) >= 0.0_wp) then
+          pressure = lib(3, m)
+        end if
+      end if
+    end if
     if (.not. (density > 0.0_wp)) call problem_bad(problems, trim(tag), 'density', density, 'must be > 0')
     if (count([energy >= 0.0_wp, pressure >= 0.0_wp, energy_per_volume >= 0.0_wp]) /= 1) &
       call problem_add(problems, '&'//trim(tag)//': give exactly one of energy (specific internal energy), '// &
@@ -113,8 +140,6 @@ contains
     if (index('xyz', axis) == 0 .or. len_trim(axis) == 0) call problem_add(problems, &
       '&'//trim(tag)//': axis = '''//trim(axis)//''' is not known; valid: x, y, z')
     call velocity_field_problems(trim(tag), velocity_field, speed, angular_velocity, problems)
-    m = name_index(materials, material)
-    if (m == 0 .and. len_trim(material) == 0 .and. size(materials) == 1) m = 1
     if (m == 0) call problem_add(problems, '&'//trim(tag)//': material = '''//trim(material)// &
       ''' is not a &material name')
     this = region_config_t(shape=shape, material=material, imat=m, density=density, &

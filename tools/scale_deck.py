@@ -65,7 +65,7 @@ DIMENSIONS = {
     "hydro": {"viscosity": STR, "q_linear": NONE, "q_quad": NONE, "hourglass": NONE,
               "dv_max": NONE, "relax": NONE, "dv_vf_min": NONE},
     "material": {
-        "name": STR, "eos": STR, "gamma": NONE, "a": PRES, "b": PRES, "r1": NONE, "r2": NONE,
+        "name": STR, "eos": STR, "library": STR, "gamma": NONE, "a": PRES, "b": PRES, "r1": NONE, "r2": NONE,
         "omega": NONE, "rho0": DENS, "c0": VEL, "s1": NONE, "gamma0": NONE, "p_min": PRES,
         "rho_min": DENS, "detonation_velocity": VEL, "burn_width": NONE,
     },
@@ -266,6 +266,9 @@ def scale_groups(groups, path, le, te, me):
                                 f"dimension is not in DIMENSIONS); add it with its dimension")
             dim = table[base]
             values = expand(values)
+            if base == "library" and any(v is not None and v.strip("'\"") for v in values):
+                raise DeckError(f"{where}: a library material takes its values in the deck's &run units, which "
+                                f"a scaled deck no longer has: write the entry's values out first")
             if dim == FILE:
                 if any(v is not None and v.strip("'\"") for v in values):
                     raise DeckError(f"{where}: the grid's node coordinates are in the file, which this tool "

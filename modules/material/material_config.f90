@@ -7,6 +7,7 @@ module material_config
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_r, diff_s
   use eos_base, only: eos_t
   use eos_factory, only: eos_params_t, eos_create
+  use material_library, only: units_known, units_list, library_names, library_has, library_value, library_text
   implicit none
   private
   public :: material_config_t, material_config_read, material_config_changes
@@ -16,6 +17,7 @@ module material_config
   type :: material_config_t
     character(len=64) :: name = ''                 !< '' becomes 'material<N>'
     character(len=64) :: eos = 'ideal_gas'         !< an `eos_factory` name
+    character(len=64) :: library = ''              !< a `material_library` entry ('' none)
     type(eos_params_t) :: par                      !< EOS parameters
     real(wp) :: p_min = -huge(1.0_wp)              !< pressure floor (pressure)
     real(wp) :: rho_min = 0.0_wp                   !< void density (density)
@@ -28,27 +30,30 @@ module material_config
 contains
 
   !> Reads, validates and echoes the m-th &material group (`text`); `earlier`
-  !> are the names of the groups before it (names must be unique).
-  subroutine material_config_read(this, m, text, path, earlier, echo, problems)
+  !> are the names of the groups before it (names must be unique); `units`
+  !> the deck's &run units, to which a `library` entry's values convert.
+  !> Variables the group does not give come from its library entry, if it
+  !> names one, else from the defaults.
+  subroutine material_config_read(this, m, text, path, earlier, units, echo, problems)
     type(material_config_t), intent(out) :: this
     integer, intent(in) :: m, echo
-    character(len=*), intent(in) :: text(:), path, earlier(:)
+    character(len=*), intent(in) :: text(:), path, earlier(:), units
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=64) :: name, eos
+    character(len=64) :: name, eos, library
     real(wp) :: gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min, detonation_velocity, burn_width
     integer :: ios
     character(len=max_line) :: msg
     class(eos_t), allocatable :: trial
     type(error_t), allocatable :: err
-    namelist /material/ name, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min, &
+    real(wp), parameter :: unset = -huge(1.0_wp)
+    namelist /material/ name, eos, library, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, p_min, rho_min, &
                         detonation_velocity, burn_width
 
-    name = this%name; eos = this%eos; p_min = this%p_min; rho_min = this%rho_min
+    ! (the EOS and its parameters unset, so that a library entry can fill them)
+    name = this%name; eos = ''; library = this%library; p_min = this%p_min; rho_min = this%rho_min
     detonation_velocity = this%detonation_velocity; burn_width = this%burn_width
-    associate (d => this%par)
-      gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2
-      omega = d%omega; rho0 = d%rho0; c0 = d%c0; s1 = d%s1; gamma0 = d%gamma0
-    end associate
+    gamma = unset; a = unset; b = unset; r1 = unset; r2 = unset
+    omega = unset; rho0 = unset; c0 = unset; s1 = unset; gamma0 = unset
     read(text, nml=material, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'material', ios, msg)
@@ -56,11 +61,37 @@ contains
     end if
     call problem_long(problems, 'material', 'name', name)
     call problem_long(problems, 'material', 'eos', eos)
+    call problem_long(problems, 'material', 'library', library)
     if (len_trim(name) == 0) name = 'material'//itoa(m)
     if (any(earlier == name)) call problem_add(problems, &
       '&material: name = '''//trim(name)//''' is used twice; names must be unique')
+    if (len_trim(library) > 0) then
+      if (.not. library_has(trim(library))) then
+        call problem_add(problems, '&material '''//trim(name)//''': library = '''//trim(library)// &
+                         ''' is not in the material library (input/materials.txt): '//library_names())
+        library = ''
+      else if (.not. units_known(units)) then
+        call problem_add(problems, '&material '''//trim(name)//''': library = '''//trim(library)// &
+                         ''' needs the deck''s unit system, &run units, one of: '//units_list())
+        library = ''
+      else if (len_trim(eos) == 0) then
+        eos = library_text(trim(library), 'eos')
+      end if
+    end if
+    if (len_trim(eos) == 0) eos = this%eos
+    call fill(gamma, 'gamma', this%par%gamma)
+    call fill(a, 'a', this%par%a)
+    call fill(b, 'b', this%par%b)
+    call fill(r1, 'r1', this%par%r1)
+    call fill(r2, 'r2', this%par%r2)
+    call fill(omega, 'omega', this%par%omega)
+    call fill(rho0, 'rho0', this%par%rho0)
+    call fill(c0, 'c0', this%par%c0)
+    call fill(s1, 's1', this%par%s1)
+    call fill(gamma0, 'gamma0', this%par%gamma0)
     this%name = name
     this%eos = eos
+    this%library = library
     this%par = eos_params_t(gamma=gamma, a=a, b=b, r1=r1, r2=r2, omega=omega, &
                             rho0=rho0, c0=c0, s1=s1, gamma0=gamma0)
     this%p_min = p_min
@@ -79,6 +110,23 @@ contains
     call eos_create(eos, this%par, trial, err)
     if (allocated(err)) call problem_add(problems, '&material '''//trim(name)//''': '//err%msg)
     if (echo /= no_echo) write(echo, nml=material)
+
+  contains
+
+    !> A variable the group did not give: the library entry's (in the
+    !> deck's units), else the default `def`.
+    subroutine fill(v, key, def)
+      real(wp), intent(inout) :: v
+      character(len=*), intent(in) :: key
+      real(wp), intent(in) :: def
+      logical :: found
+      real(wp) :: lv
+      if (v > unset) return
+      v = def
+      if (len_trim(library) == 0) return
+      call library_value(trim(library), key, units, lv, found)
+      if (found) v = lv
+    end subroutine fill
   end subroutine material_config_read
 
   !> What a restart may not change in the k-th &material: one line per change.
@@ -90,6 +138,7 @@ contains
     call diff_s(changes, '&material('//itoa(k)//') name', a%name, b%name)
     what = '&material '''//trim(a%name)//''''
     call diff_s(changes, what//' eos', a%eos, b%eos)
+    call diff_s(changes, what//' library', a%library, b%library)
     call diff_r(changes, what//' gamma', [a%par%gamma], [b%par%gamma])
     call diff_r(changes, what//' jwl a, b, r1, r2, omega', [a%par%a, a%par%b, a%par%r1, a%par%r2, a%par%omega], &
                 [b%par%a, b%par%b, b%par%r1, b%par%r2, b%par%omega])
