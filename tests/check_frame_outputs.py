@@ -5,7 +5,7 @@ of a two-material and a one-material deck.
     check_frame_outputs.py EXE TOOLS WORKDIR VERSION BUILD_TYPE DECK2 DECK1
 
 DECK2 (two materials, a mixed cell) and DECK1 (one material) are run in
-WORKDIR with `&run units = 'cm-g-us'` added to DECK2 (DECK1 keeps no label).
+WORKDIR with `&run units = 'cm-us-g-Mbar'` added to DECK2 (DECK1 keeps no label).
 Checked, and printed with the value found:
 - per-material fields vf_<m>, density_<m>, energy_<m>, pressure_<m>: in a
   cell a material fills, the cell's own values; 0 where it is absent; in a
@@ -225,14 +225,14 @@ def main():
     from check_scaling import dimension
     os.makedirs(workdir, exist_ok=True)
 
-    frames, xdmf = run_deck(exe, deck2, workdir, "two", "units = 'cm-g-us'")
+    frames, xdmf = run_deck(exe, deck2, workdir, "two", "units = 'cm-us-g-Mbar'")
     title2 = re.search(r"title\s*=\s*'([^']*)'", open(deck2).read()).group(1)
     mats2 = re.findall(r"&material\s+name\s*=\s*'([^']*)'", open(deck2).read())
     nmixed = 0
     for fr in frames:
-        nmixed += check_frame(fr, mats2, version, build_type, title2, "cm-g-us", dimension) or 0
+        nmixed += check_frame(fr, mats2, version, build_type, title2, "cm-us-g-Mbar", dimension) or 0
     check("the two-material run has a mixed cell to check", nmixed > 0, nmixed)
-    check_xdmf(xdmf, frames, mats2, title2, "cm-g-us")
+    check_xdmf(xdmf, frames, mats2, title2, "cm-us-g-Mbar")
 
     frames, xdmf = run_deck(exe, deck1, workdir, "one")
     title1 = re.search(r"title\s*=\s*'([^']*)'", open(deck1).read()).group(1)
