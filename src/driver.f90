@@ -27,6 +27,7 @@ module driver
                            report_conservation, frame_due, dump_due, advance_schedule, history_output, &
                            outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report
   use driver_scene, only: build_scene
+  use driver_prerun, only: prerun_write
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
   use parallel_comm, only: parallel_start
@@ -91,6 +92,8 @@ contains
       call log_line(sch%log, 'run: '//itoa(sch%pc%nranks)//' MPI ranks, blocks '//itoa(sch%pc%dims(1))//' x '// &
                     itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
+    if (.not. allocated(err) .and. allocated(st%prerun) .and. sch%pc%rank == 0) &
+      call prerun_write(st%prerun, sch%out%dir//'/'//sch%out%name//'_prerun.txt', err)
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, err)
     if (.not. allocated(err)) then
@@ -124,7 +127,7 @@ contains
       call agree_error(sch%pc, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
     else
-      call schedule_init(cfg, sch)
+      call schedule_init(cfg, sch, st%t)
       call report_conservation(st, sch%log, 'initial')
       call write_frame(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)

@@ -26,15 +26,16 @@ module driver_config
   use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
                               particles_config_changes
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
-                                 scene_config_changes, detonation_config_t, detonation_config_read
+                                 scene_config_changes, detonation_config_t, detonation_config_read, &
+                                 prerun_config_t, prerun_config_read
   implicit none
   private
   public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text, group_shape
 
   !> The deck's groups, in the order they are read and echoed.
-  character(len=*), parameter :: known_groups(12) = [character(len=10) :: &
-    'run', 'grid', 'hydro', 'material', 'region', 'source', 'detonation', 'solid', 'particles', 'boundary', 'rezone', &
-    'output']
+  character(len=*), parameter :: known_groups(13) = [character(len=10) :: &
+    'run', 'grid', 'hydro', 'material', 'region', 'source', 'detonation', 'prerun', 'solid', 'particles', 'boundary', &
+    'rezone', 'output']
   !> The groups a deck may give more than once.
   character(len=*), parameter :: repeatable_groups(6) = [character(len=10) :: 'material', 'region', 'source', &
                                                          'detonation', 'solid', 'particles']
@@ -77,6 +78,7 @@ module driver_config
     type(region_config_t), allocatable :: regions(:)
     type(source_config_t), allocatable :: sources(:)
     type(detonation_config_t), allocatable :: detonations(:)     !< &detonation: initiators of explosives
+    type(prerun_config_t) :: prerun                              !< &prerun: a 1D run mapped in (time 0: none)
     type(solid_config_t), allocatable :: solids(:)              !< &solid: solid materials of the particles
     type(particles_config_t), allocatable :: particles(:)       !< &particles: seeding (none: no particles)
     type(boundary_config_t) :: boundary
@@ -196,6 +198,11 @@ contains
                                     [(cfg%materials(j)%eos, j = 1, size(cfg%materials))], echo, problems)
         call at_line(problems, n0, deck, 'detonation', k)
       end do
+      if (deck_count(deck, 'prerun') > 0) then
+        n0 = size(problems)
+        call prerun_config_read(cfg%prerun, deck_text(deck, 'prerun'), path, echo, problems)
+        call at_line(problems, n0, deck, 'prerun')
+      end if
       call read_particle_groups(deck, cfg, echo, problems)
       n0 = size(problems)
       call boundary_config_read(cfg%boundary, deck_text(deck, 'boundary'), path, names, echo, problems)
@@ -516,6 +523,7 @@ contains
                             problems)
     cfg%detonations = [detonation_config_t()]
     call detonation_config_read(cfg%detonations(1), 1, empty('detonation'), 'deck.nml', names, ['jwl'], echo, problems)
+    call prerun_config_read(cfg%prerun, empty('prerun'), 'deck.nml', echo, problems)
     cfg%solids = [solid_config_t()]
     ! (default-initialized; a constructor would copy an unset file_path)
     allocate(cfg%particles(1), stat=stat)

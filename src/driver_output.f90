@@ -70,15 +70,16 @@ module driver_output
 contains
 
   !> The first frame and dump times of a new run.
-  subroutine schedule_init(cfg, sch)
+  subroutine schedule_init(cfg, sch, t0)
     type(config_t), intent(in) :: cfg
     type(schedule_t), intent(inout) :: sch
+    real(wp), intent(in) :: t0   !< the start time (0, or a &prerun's mapping time)
     sch%t_next_frame = huge(1.0_wp)
-    if (cfg%output%frame_dt > 0.0_wp) sch%t_next_frame = cfg%output%frame_dt
+    if (cfg%output%frame_dt > 0.0_wp) sch%t_next_frame = next_multiple(t0, cfg%output%frame_dt)
     sch%t_next_dump = huge(1.0_wp)
-    if (cfg%control%dump_dt > 0.0_wp) sch%t_next_dump = cfg%control%dump_dt
+    if (cfg%control%dump_dt > 0.0_wp) sch%t_next_dump = next_multiple(t0, cfg%control%dump_dt)
     sch%t_next_history = huge(1.0_wp)
-    if (cfg%output%history_dt > 0.0_wp) sch%t_next_history = 0.0_wp
+    if (cfg%output%history_dt > 0.0_wp) sch%t_next_history = t0
   end subroutine schedule_init
 
   !> Registers the schedule's restart quantities.

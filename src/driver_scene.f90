@@ -15,8 +15,6 @@ module driver_scene
   use io_gauges, only: gauge_locate
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
-  use material_burn, only: burn_cj, burn_initiator, burn_around, burn_width_across, INIT_POINT, INIT_LINE, INIT_PLANE
-  use eos_jwl, only: jwl_t
   use material_mixed, only: mixed_allocate, mixed_cell_state
   use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments
   use mesh_shapes, only: shape_kind
@@ -27,13 +25,12 @@ module driver_scene
   use driver_config, only: config_t
   use driver_state, only: state_t, state_totals, centroid_text
   use driver_particles, only: build_particles
+  use driver_burn, only: burn_state, deck_problem
+  use driver_prerun, only: prerun_t, prerun_run, prerun_scale, prerun_cell, prerun_nodes
+  use material_burn, only: burn_initiator, burn_around, burn_width_across, INIT_POINT, INIT_LINE, INIT_PLANE
   implicit none
   private
   public :: build_scene
-
-  !> What follows a deck mistake found while building the scene (an input
-  !> error's `where` is the summary line of the refusal).
-  character(len=*), parameter :: deck_problem = 'the deck has 1 problem(s); nothing was run'
 
 contains
 
@@ -49,8 +46,8 @@ contains
     logical, intent(in), optional :: fluid_only
     integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
     type(centroid_stats_t) :: planes
-    real(wp) :: xn(3, 8), h(3), rv, xi(3), key
-    logical :: inside, fluid
+    real(wp) :: xn(3, 8), h(3), rv, xi(3), key, dropped
+    logical :: inside, fluid, mapping
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
@@ -100,6 +97,33 @@ contains
         call g%gather(c, g%x, xn)
         hy%vol(c) = hex_volume(xn)
       end do
+      ! a &prerun: the 1D run (once: a decomposed run's whole grid takes the
+      ! blocks'), its overlaps' factors over the grid, and the start time
+      fluid = .false.
+      if (present(fluid_only)) fluid = fluid_only
+      mapping = cfg%prerun%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid
+      if (mapping) then
+        if (.not. allocated(st%prerun)) then
+          allocate(st%prerun, stat=stat)
+          if (stat /= 0) then
+            call error_set(err, 'build_scene', error_no_memory('the 1D run'))
+            return
+          end if
+          call prerun_run(cfg, st%mats, log, st%prerun, err)
+          if (allocated(err)) return
+        end if
+        call prerun_scale(st%prerun, g, st%halo, err)
+        if (allocated(err)) return
+        if (allocated(st%prerun%prad)) deallocate(st%prerun%prad, st%prerun%hit)
+        allocate(st%prerun%prad(g%ncell), st%prerun%hit(g%ncell), stat=stat)
+        if (stat /= 0) then
+          call error_set(err, 'build_scene', error_no_memory('the mapping'))
+          return
+        end if
+        st%prerun%prad = 0.0_wp
+        st%prerun%hit = .false.
+        st%t = cfg%prerun%time
+      end if
       call fill_regions(cfg, st, log, err)
       if (allocated(err)) return
       ! a node takes the velocity field of the last region that contains it
@@ -167,10 +191,16 @@ contains
       end do
 
       call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)
+      if (mapping) then
+        call prerun_nodes(st%prerun, g, hy%mass, hy%mcorner, hy%mnode, hy%mat, mx, hy%u, hy%e, dropped)
+        call log_line(log, 'prerun: mapped into '//itoa(count(st%prerun%hit))//' cells at t = '//rtoa(st%t)// &
+                      ' (radial momentum left at the centre node: '//rtoa(dropped)//')')
+      end if
 
       call material_index_cells(st%mats, hy%mat, mx, err)
       if (allocated(err)) return
-      call setup_burn(cfg, st, log, err)
+      ! (a mapped 1D run has burnt its charge: checked by `prerun_run`)
+      if (.not. mapping) call setup_burn(cfg, st, log, err)
       if (allocated(err)) return
       call material_burn_start(st%mats, st%t)
       ! the mixed cells' interface planes, fitted to the exact fractions and
@@ -202,8 +232,6 @@ contains
     ! the MPM particles (none without &particles: nothing allocated)
     ! (a block of a decomposed run takes them from the whole grid's:
     ! `whole_build`)
-    fluid = .false.
-    if (present(fluid_only)) fluid = fluid_only
     if (st%halo%nblocks == 1 .and. .not. fluid) call build_particles(cfg, st, log, err)
     if (allocated(err)) return
     call state_totals(st)
@@ -224,8 +252,8 @@ contains
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    integer :: m, k, r, c, stat, ni, nj, nk, i, j, kk, q, unlit
-    real(wp) :: rho0, e0, d_cj, p_cj, v_cj, dv, xn(3, 8), xc(3), d, dir(3), t, w, tmin, tmax
+    integer :: m, k, c, stat, ni, nj, nk, i, j, kk, q, unlit
+    real(wp) :: rho0, v_cj, dv, xn(3, 8), xc(3), d, dir(3), t, w, tmin, tmax
     real(wp), allocatable :: ax(:), ay(:), az(:), dist(:), dirs(:, :)
     logical, allocatable :: mask(:, :, :)
     logical :: ok
@@ -235,38 +263,8 @@ contains
     do m = 1, size(st%mats)
       if (.not. any(cfg%detonations%imat == m)) cycle
       who = '&material '''//st%mats(m)%name//''''
-      r = findloc(cfg%regions%imat, m, dim=1)
-      if (r == 0) then
-        call log_line(log, 'detonation: '//trim(who)//' fills no region; nothing to light')
-        cycle
-      end if
-      rho0 = cfg%regions(r)%density
-      if (cfg%regions(r)%energy >= 0.0_wp) then
-        e0 = cfg%regions(r)%energy
-      else
-        e0 = st%mats(m)%eos%energy(rho0, cfg%regions(r)%pressure)
-      end if
-      d_cj = 0.0_wp
-      select type (eos => st%mats(m)%eos)
-      type is (jwl_t)
-        call burn_cj(eos, rho0, e0, d_cj, p_cj, v_cj)
-      end select
-      if (.not. d_cj > 0.0_wp) then
-        call error_set(err, deck_problem, trim(who)//': its JWL has no Chapman-Jouguet state from density '//rtoa(rho0)// &
-                       ' and energy '//rtoa(e0)//' (no positive Hugoniot pressure)', ERR_INPUT)
-        return
-      end if
-      dv = cfg%materials(m)%detonation_velocity
-      if (dv > 0.0_wp .and. abs(dv/d_cj - 1.0_wp) > 0.05_wp) then
-        call error_set(err, deck_problem, trim(who)//': detonation_velocity = '//rtoa(dv)//' is not within 5 % of '// &
-                       'the CJ velocity '//rtoa(d_cj)//' of its JWL from density '//rtoa(rho0)//' and energy '// &
-                       rtoa(e0)//' (the products would not sustain that front); give 0 for the CJ velocity', ERR_INPUT)
-        return
-      end if
-      if (.not. dv > 0.0_wp) dv = d_cj
-      call log_line(log, 'detonation: '//trim(who)//' from density '//rtoa(rho0)//', energy '//rtoa(e0)// &
-                    ': CJ velocity '//rtoa(d_cj)//', pressure '//rtoa(p_cj)//', relative volume '//rtoa(v_cj)// &
-                    '; programmed burn at D = '//rtoa(dv)//' over '//rtoa(cfg%materials(m)%burn_width)//' cells')
+      if (.not. burn_state(cfg, st%mats(m), m, log, rho0, dv, v_cj, err)) cycle
+      if (allocated(err)) return
       allocate(st%mats(m)%burn, stat=stat, errmsg=msg)
       if (stat == 0) allocate(st%mats(m)%burn%light(st%g%ncell), st%mats(m)%burn%tau(st%g%ncell), &
                               st%mats(m)%burn%f(st%g%ncell), stat=stat, errmsg=msg)
@@ -399,6 +397,7 @@ contains
     end select
   end function initiator_kind
 
+
   !> Fills the cells from the regions (applied in deck order, a later one
   !> overriding an earlier one). Each cell's volume and first moment held by
   !> every region come from `shapes_cell_moments` (exact for planar region
@@ -418,9 +417,10 @@ contains
     real(wp), allocatable :: vfm(:), massm(:), enm(:), xim(:, :), e_reg(:)
     real(wp), allocatable :: keep(:, :), grown(:, :)
     type(shape_t), allocatable :: shapes(:)
-    logical :: covered
+    logical :: covered, hit
     logical, allocatable :: used(:)
     character(len=200) :: msg
+    real(wp) :: prad
 
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
@@ -453,7 +453,20 @@ contains
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+        if (allocated(st%prerun)) then
+          call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used, &
+                              st%prerun, prad, hit)
+          st%prerun%prad(c) = prad
+          st%prerun%hit(c) = hit
+          if (.not. covered .and. hit) then
+            call error_set(err, deck_problem, '&prerun: cell '//itoa(c)//' lies inside the mapped sphere and '// &
+              'holds a region the 1D run did not take (only shape ''all'' and spheres about its centre); '// &
+              'map earlier or move the region', ERR_INPUT)
+            return
+          end if
+        else
+          call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+        end if
         if (.not. covered) then
           call error_set(err, deck_problem, 'cell '//itoa(c)// &
             ' is not covered by any &region; add a region with shape = ''all'' first', ERR_INPUT)
@@ -533,7 +546,8 @@ contains
   !> shapes (`shapes_cell_moments` at the given depth); r_only is the
   !> region that holds the whole cell, if one does (else 0); covered is false
   !> if more than round-off of the cell is in no region.
-  subroutine cell_materials(cfg, g, vol, c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used)
+  subroutine cell_materials(cfg, g, vol, c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used, &
+                            pr, prad, hit)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: vol
@@ -544,7 +558,11 @@ contains
     logical, intent(out) :: covered
     integer, intent(out) :: r_only
     logical, intent(inout) :: used(:)
+    type(prerun_t), intent(inout), optional :: pr
+    real(wp), intent(out), optional :: prad
+    logical, intent(out), optional :: hit
     real(wp) :: xn(3, 8), vreg(0:size(shapes)), mreg(3, 0:size(shapes)), vtot, f, xc(3), mm(3, size(vfm))
+    real(wp) :: vmp(size(vfm)), mmp(size(vfm)), emp(size(vfm)), xmp(3, size(vfm)), vin, fout
     integer :: r, m, nkept
 
     call g%gather(c, g%x, xn)
@@ -553,6 +571,8 @@ contains
     covered = vreg(0) <= 1.0e-12_wp*vtot
     vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp; mm = 0.0_wp
     r_only = 0
+    if (present(prad)) prad = 0.0_wp
+    if (present(hit)) hit = .false.
     if (.not. covered) return
     ! round-off slivers out, the others renormalised
     nkept = 0
@@ -576,6 +596,27 @@ contains
       enm(m) = enm(m) + f*cfg%regions(r)%density*e_reg(r)*vol
       mm(:, m) = mm(:, m) + mreg(:, r)
     end do
+    ! a &prerun's 1D run inside its mapped radius replaces what the regions
+    ! put there (only the regions it took may lie wholly inside)
+    if (present(pr)) then
+      call prerun_cell(pr, xn, vmp, mmp, emp, xmp, vin, prad)
+      hit = vin > 0.0_wp
+      if (hit) then
+        do r = 1, size(shapes)
+          if (vreg(r) > 0.0_wp .and. .not. pr%in1d(r) .and. vin >= (1.0_wp - 1.0e-9_wp)*vol) then
+            covered = .false.   ! (the caller's refusal names the cell)
+            return
+          end if
+        end do
+        fout = max(0.0_wp, 1.0_wp - vin/vol)
+        vfm = (fout*vfm*vol + vmp)/(fout*vol + sum(vmp))
+        massm = fout*massm + mmp
+        enm = fout*enm + emp
+        mm = fout*mm + xmp
+        vtot = vol
+        r_only = 0
+      end if
+    end if
     ! centroids: the first moments are about the mean of the nodes
     xc = 0.125_wp*sum(xn, 2)
     do m = 1, size(vfm)

@@ -1,6 +1,6 @@
-!> The &region, &source and &detonation groups: the initial state of a scene
-!> (shapes filled with a material state, energy deposited at points, and
-!> the initiators of explosives), read by
+!> The &region, &source, &detonation and &prerun groups: the initial state
+!> of a scene (shapes filled with a material state, energy deposited at
+!> points, the initiators of explosives, and a 1D pre-run mapped in), read by
 !> `driver_scene`.
 module driver_scene_config
   use base_kinds, only: wp
@@ -10,7 +10,7 @@ module driver_scene_config
   implicit none
   private
   public :: region_config_t, source_config_t, region_config_read, source_config_read, scene_config_changes, &
-            detonation_config_t, detonation_config_read
+            detonation_config_t, detonation_config_read, prerun_config_t, prerun_config_read
 
   !> One &region group: a shape filled with a material state; the initial
   !> values are the defaults (negative energies: not given).
@@ -51,6 +51,19 @@ module driver_scene_config
     real(wp) :: time = 0.0_wp                         !< lighting time of the initiator (time)
     character(len=16) :: path = 'straight'            !< straight, or around (shortest path through the explosive)
   end type detonation_config_t
+
+  !> The &prerun group: the charge's free expansion run first in one
+  !> dimension (spherical, `spherical_lagrange`) and mapped into the grid at
+  !> `time` (`driver_prerun`); absent (time = 0): no pre-run.
+  type :: prerun_config_t
+    real(wp) :: time = 0.0_wp                       !< when the 1D run is mapped (time, required, > 0)
+    real(wp) :: center(3) = huge(1.0_wp)            !< the centre (length; default: the sphere regions')
+    real(wp) :: radius = 0.0_wp                     !< the 1D domain's radius (0: the grid box's farthest corner)
+    real(wp) :: zone_width = 0.0_wp                 !< 1D zone width (0: the smallest sphere radius / 100)
+    real(wp) :: map_radius = 0.0_wp                 !< mapped within (0: the shock's radius + 2 cells)
+    integer :: subsamples = 8                       !< sub-boxes per cell edge for the overlaps
+    real(wp) :: cfl = 0.5_wp                        !< the 1D run's Courant number
+  end type prerun_config_t
 
 contains
 
@@ -259,6 +272,38 @@ contains
     this%normal = normal; this%time = time; this%path = path
     if (echo /= no_echo) write(echo, nml=detonation)
   end subroutine detonation_config_read
+
+  !> Reads, validates and echoes the &prerun group (`text`; none: this%time
+  !> stays 0).
+  subroutine prerun_config_read(this, text, deck_file, echo, problems)
+    type(prerun_config_t), intent(out) :: this
+    character(len=*), intent(in) :: text(:), deck_file
+    integer, intent(in) :: echo
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    real(wp) :: time, center(3), radius, zone_width, map_radius, cfl
+    integer :: subsamples, ios
+    character(len=max_line) :: msg
+    namelist /prerun/ time, center, radius, zone_width, map_radius, subsamples, cfl
+
+    time = this%time; center = this%center; radius = this%radius; zone_width = this%zone_width
+    map_radius = this%map_radius; subsamples = this%subsamples; cfl = this%cfl
+    read(text, nml=prerun, iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call problem_nml(problems, deck_file, 'prerun', ios, msg)
+      return
+    end if
+    if (.not. (time > 0.0_wp .and. time < 0.5_wp*huge(1.0_wp))) &
+      call problem_bad(problems, 'prerun', 'time', time, 'must be > 0 (when the 1D run is mapped into the grid)')
+    if (radius < 0.0_wp) call problem_bad(problems, 'prerun', 'radius', radius, 'must be >= 0')
+    if (zone_width < 0.0_wp) call problem_bad(problems, 'prerun', 'zone_width', zone_width, 'must be >= 0')
+    if (map_radius < 0.0_wp) call problem_bad(problems, 'prerun', 'map_radius', map_radius, 'must be >= 0')
+    if (subsamples < 1 .or. subsamples > 64) call problem_add(problems, '&prerun: subsamples = '//itoa(subsamples)// &
+                                                              ' must be 1..64')
+    if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) call problem_bad(problems, 'prerun', 'cfl', cfl, 'must be in (0, 1]')
+    this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, map_radius=map_radius, &
+                           subsamples=subsamples, cfl=cfl)
+    if (echo /= no_echo) write(echo, nml=prerun)
+  end subroutine prerun_config_read
 
   !> What a restart may not change in the regions and sources: one line per
   !> changed variable.

@@ -18,6 +18,7 @@ module driver_state
   use particles_state, only: particles_t, particles_register_restart
   use particles_lagrange, only: particles_work_t, particles_nodal_mass
   use io_output, only: totals_t
+  use driver_prerun, only: prerun_t
   implicit none
   private
   public :: state_t, state_totals, particles_internal, energy_drift, budget_residual, totals_not_finite, &
@@ -59,6 +60,8 @@ module driver_state
     !> (np) each particle's index in st%whole%pt (a decomposed run: the
     !> block's particles are a subsequence of the whole run's arrays)
     integer, allocatable :: pwhole(:)
+    !> a &prerun's 1D run, mapped in when the scene is built (`driver_prerun`)
+    type(prerun_t), allocatable :: prerun
   end type state_t
 
 contains

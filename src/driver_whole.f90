@@ -142,6 +142,14 @@ contains
       return
     end if
     silent%quiet = .true.   ! (the blocks' scene has been logged)
+    ! (a &prerun's 1D run is the blocks')
+    if (allocated(st%prerun)) then
+      allocate(st%whole%prerun, source=st%prerun, stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
+        return
+      end if
+    end if
     call build_scene(cfg, st%whole, silent, err)
     if (.not. allocated(err)) then
       ! the ranks share the Euler step's intersections on the whole grid

@@ -1,0 +1,551 @@
+!> The 1D spherical pre-run (&prerun): the deck's charge and what surrounds
+!> it (its `all` region and the sphere regions about one centre) run in one
+!> dimension (`spherical_lagrange`) to the mapping time, then mapped into
+!> the grid's cells and nodes within the mapped radius (in the manner of
+!> AUTODYN's 1D-to-3D remap and LS-DYNA's *INITIAL_ALE_MAPPING); the 3D run
+!> starts at that time.
+!>
+!> The mapping is conservative: each 1D zone's overlaps with the cells
+!> (`spherical_map`, approximate) are rescaled over the whole grid (exact
+!> sums over the blocks, `base_xsum`) to the zone's volume within the grid,
+!> f (r_k^3 - r_{k-1}^3) 4 pi/3 (f = 1/2 for each symmetry plane through the
+!> centre), so the cells receive exactly the zone's mass, radial momentum and
+!> total energy times f. A node's velocity is radial, its radial momentum the
+!> corner-mass shares of its cells' (`prerun_nodes`); each cell's internal
+!> energy is its mapped total energy less the kinetic energy of its corners,
+!> so the total energy is that of the 1D run. The radial momentum of a node
+!> at the centre (which has no radial direction) is the one thing dropped: it
+!> is logged.
+module driver_prerun
+  use base_kinds, only: wp
+  use base_strings, only: itoa, rtoa
+  use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
+  use mesh_grid, only: grid_t
+  use mesh_halo, only: halo_t
+  use mesh_boundary, only: BC_SYMMETRY, BC_WALL
+  use material_table, only: material_t, material_index_cells
+  use material_mixed, only: mixed_t, mixed_allocate
+  use spherical_lagrange, only: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy
+  use spherical_map, only: sphere_box_overlaps
+  use io_log, only: log_t, log_line
+  use driver_config, only: config_t
+  use driver_burn, only: burn_state, deck_problem
+  implicit none
+  private
+  public :: prerun_t, prerun_run, prerun_scale, prerun_cell, prerun_nodes, prerun_write
+
+  real(wp), parameter :: pi = 3.14159265358979323846_wp
+
+  !> The 1D run at the mapping time and how it maps.
+  type :: prerun_t
+    type(sphere_t) :: s
+    real(wp) :: centre(3) = 0.0_wp
+    real(wp) :: fdom = 1.0_wp              !< the part of a sphere about the centre inside the grid
+    integer :: kmap = 0                    !< zones 1..kmap are mapped (r(kmap): the mapped radius)
+    integer :: kshock = 0                  !< the outermost zone the run disturbed
+    integer :: nsub = 8
+    real(wp), allocatable :: scale(:)      !< (kmap) each zone's overlaps' factor (`prerun_scale`)
+    real(wp), allocatable :: ov(:), mom(:, :)   !< (kmap) overlaps of one cell (work)
+    real(wp), allocatable :: prad(:)       !< (ncell) radial momentum each cell got
+    logical, allocatable :: hit(:)         !< (ncell) the cell got some of the 1D run
+    logical, allocatable :: in1d(:)        !< (regions) the regions the 1D run took
+  end type prerun_t
+
+contains
+
+  !> Sets up the 1D run from the deck (mats: the scene's materials, with
+  !> their EOS) and runs it to &prerun time, logging its progress; refuses a
+  !> deck it cannot represent and a run that is not done by then.
+  subroutine prerun_run(cfg, mats, log, pr, err)
+    type(config_t), intent(in) :: cfg
+    type(material_t), intent(in) :: mats(:)
+    type(log_t), intent(in) :: log
+    type(prerun_t), intent(out) :: pr
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: bk(:), p0(:)
+    real(wp) :: c(3), r1d, dz, rc, x(3), e0, ei, ek, dt, tnext, t_map, rho0, dv, v_cj, h(3), rmap, rlast
+    integer :: k, j, n, z, nz, stat, m, tries, a, lastsph
+    logical :: ok, burns
+    character(len=200) :: msg
+
+    associate (pc => cfg%prerun, s => pr%s)
+      t_map = pc%time
+      if (len_trim(cfg%grid%file) > 0) then
+        call refuse('&prerun maps onto a box grid (&grid without file) for now')
+        return
+      end if
+      ! the centre: the deck's, else the last sphere region's
+      lastsph = 0
+      do k = 1, size(cfg%regions)
+        if (cfg%regions(k)%shape == 'sphere') lastsph = k
+      end do
+      if (pc%center(1) < 0.5_wp*huge(1.0_wp)) then
+        c = pc%center
+      else if (lastsph > 0) then
+        c = cfg%regions(lastsph)%center
+      else
+        call refuse('&prerun: no sphere region (the charge) and no center')
+        return
+      end if
+      pr%centre = c
+      ! the domain: to the grid box's farthest corner unless given
+      r1d = pc%radius
+      if (.not. r1d > 0.0_wp) then
+        do k = 0, 7
+          x = merge(cfg%grid%xmax, cfg%grid%xmin, [btest(k, 0), btest(k, 1), btest(k, 2)])
+          r1d = max(r1d, sqrt(dot_product(x - c, x - c)))
+        end do
+      end if
+      ! the regions the 1D run takes: shape all, and spheres about c at rest
+      bk = [r1d]
+      dz = huge(1.0_wp)
+      do k = 1, size(cfg%regions)
+        associate (rg => cfg%regions(k))
+          if (.not. one_d(k)) cycle
+          if (any(abs(rg%velocity) > 0.0_wp) .or. (rg%velocity_field == 'radial' .and. abs(rg%speed) > 0.0_wp) .or. &
+              (rg%velocity_field == 'rotation' .and. abs(rg%angular_velocity) > 0.0_wp)) then
+            call refuse('&prerun: &region('//itoa(k)//') moves; the 1D run starts at rest')
+            return
+          end if
+          if (rg%shape /= 'sphere') cycle
+          if (rg%radius < r1d) bk = [bk, rg%radius]
+          if (rg%inner_radius > 0.0_wp) bk = [bk, rg%inner_radius]
+          dz = min(dz, rg%radius/100.0_wp)
+        end associate
+      end do
+      if (pc%zone_width > 0.0_wp) dz = pc%zone_width
+      if (.not. dz < huge(1.0_wp)) dz = r1d/1000.0_wp
+      ! node radii: uniform between the interfaces, which fall on nodes
+      call sort_unique(bk)
+      nz = 0
+      do j = 1, size(bk)
+        nz = nz + max(1, ceiling((bk(j) - merge(0.0_wp, bk(max(j - 1, 1)), j == 1))/dz - 1.0e-9_wp))
+      end do
+      if (nz > 20000000) then
+        call refuse('&prerun: '//itoa(nz)//' zones (radius '//rtoa(r1d)//' / zone_width '//rtoa(dz)// &
+                    '); give a larger zone_width')
+        return
+      end if
+      s%nz = nz
+      allocate(s%r(0:nz), s%u(0:nz), s%mn(0:nz), s%m(nz), s%rho(nz), s%e(nz), s%p(nz), s%cs(nz), s%q(nz), &
+               s%mat(nz), p0(nz), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'prerun_run', error_no_memory('the 1D run'))
+        return
+      end if
+      s%r(0) = 0.0_wp
+      z = 0
+      do j = 1, size(bk)
+        rc = merge(0.0_wp, bk(max(j - 1, 1)), j == 1)
+        n = max(1, ceiling((bk(j) - rc)/dz - 1.0e-9_wp))
+        do k = 1, n
+          s%r(z + k) = rc + (bk(j) - rc)*real(k, wp)/real(n, wp)
+        end do
+        s%r(z + n) = bk(j)
+        z = z + n
+      end do
+      s%u = 0.0_wp
+      ! each zone: the last region (deck order) holding its centre
+      do z = 1, nz
+        rc = 0.5_wp*(s%r(z - 1) + s%r(z))
+        m = 0
+        do k = 1, size(cfg%regions)
+          associate (rg => cfg%regions(k))
+            if (.not. one_d(k)) cycle
+            if (rg%shape == 'sphere' .and. .not. (rc < rg%radius .and. rc > rg%inner_radius)) cycle
+            m = k
+          end associate
+        end do
+        if (m == 0) then
+          call refuse('&prerun: the zone at radius '//rtoa(rc)//' is in no region (give a region with shape = ''all'')')
+          return
+        end if
+        associate (rg => cfg%regions(m))
+          s%mat(z) = rg%imat
+          s%rho(z) = rg%density
+          if (rg%energy >= 0.0_wp) then
+            s%e(z) = rg%energy
+          else
+            s%e(z) = mats(rg%imat)%eos%energy(rg%density, rg%pressure)
+          end if
+        end associate
+      end do
+      allocate(s%mats(size(mats)), source=mats, stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'prerun_run', error_no_memory('the 1D run'))
+        return
+      end if
+      call mixed_allocate(s%mx, 0, 0, err)
+      if (.not. allocated(err)) call material_index_cells(s%mats, s%mat, s%mx, err)
+      if (allocated(err)) return
+      ! programmed burn: lit at the centre
+      burns = .false.
+      do m = 1, size(mats)
+        if (.not. any(cfg%detonations%imat == m)) cycle
+        if (.not. any(s%mat == m)) cycle
+        do k = 1, size(cfg%detonations)
+          associate (dk => cfg%detonations(k))
+            if (dk%imat /= m) cycle
+            if (dk%shape /= 'point' .or. sqrt(dot_product(dk%point - c, dk%point - c)) > 1.0e-6_wp*dz) then
+              call refuse('&prerun: &detonation('//itoa(k)//') is not a point at the centre '//vtext(c)// &
+                          '; a 1D run lights its charge there')
+              return
+            end if
+          end associate
+        end do
+        if (.not. burn_state(cfg, mats(m), m, log, rho0, dv, v_cj, err)) cycle
+        if (allocated(err)) return
+        k = findloc(cfg%detonations%imat, m, dim=1)
+        allocate(s%mats(m)%burn, stat=stat, errmsg=msg)
+        if (stat == 0) allocate(s%mats(m)%burn%light(nz), s%mats(m)%burn%tau(nz), s%mats(m)%burn%f(nz), &
+                                stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'prerun_run', error_no_memory('the 1D run''s lighting times'))
+          return
+        end if
+        associate (b => s%mats(m)%burn)
+          b%rho0 = rho0
+          b%v_cj = v_cj
+          b%light = huge(1.0_wp)
+          b%tau = 1.0_wp
+          do z = 1, nz
+            if (s%mat(z) /= m) cycle
+            b%light(z) = cfg%detonations(k)%time + 0.5_wp*(s%r(z - 1) + s%r(z))/dv
+            b%tau(z) = cfg%materials(m)%burn_width*(s%r(z) - s%r(z - 1))/dv
+            if (b%light(z) + b%tau(z) > t_map) then
+              call refuse('&prerun: time = '//rtoa(t_map)//' is before &material '''//mats(m)%name// &
+                          ''' has burnt (its zone at radius '//rtoa(s%r(z))//' burns until '// &
+                          rtoa(b%light(z) + b%tau(z))//'); map later')
+              return
+            end if
+          end do
+        end associate
+        burns = .true.
+      end do
+      s%q_lin = cfg%hydro%q_linear
+      s%q_quad = cfg%hydro%q_quad
+      s%cfl = pc%cfl
+      s%t = 0.0_wp
+      call sphere_setup(s)
+      p0 = s%p
+      call sphere_energy(s, ei, ek)
+      e0 = ei + ek
+      call log_line(log, 'prerun: 1D spherical run about '//vtext(c)//': '//itoa(nz)//' zones to radius '// &
+                    rtoa(r1d)//' (zone width '//rtoa(dz)//'), to t = '//rtoa(t_map)// &
+                    trim(merge(' (programmed burn)      ', ' (constant-volume start)', burns)))
+      ! the run, with its progress in tenths of the time
+      tnext = 0.1_wp*t_map
+      do while (s%t < t_map*(1.0_wp - 1.0e-12_wp))
+        dt = min(sphere_dt(s), t_map - s%t)
+        if (s%steps > 0) dt = min(dt, 1.5_wp*s%dt)
+        tries = 0
+        do
+          call sphere_step(s, dt, ok)
+          if (ok) exit
+          tries = tries + 1
+          dt = 0.5_wp*dt
+          if (tries > 20) then
+            call error_set(err, 'prerun_run', 'the 1D run''s zones turned inside out at t = '//rtoa(s%t), ERR_RUNTIME)
+            return
+          end if
+        end do
+        if (s%steps >= 50000000) then
+          call error_set(err, 'prerun_run', 'the 1D run took 5e7 steps and is at t = '//rtoa(s%t)//' of '// &
+                         rtoa(t_map), ERR_RUNTIME)
+          return
+        end if
+        if (s%t >= tnext .or. .not. s%t < t_map*(1.0_wp - 1.0e-12_wp)) then
+          call disturbed(pr, p0)
+          call log_line(log, 'prerun: t = '//rtoa(s%t)//', step '//itoa(s%steps)//', dt '//rtoa(s%dt)// &
+                        ', disturbed to r = '//rtoa(s%r(pr%kshock)))
+          tnext = tnext + 0.1_wp*t_map
+        end if
+      end do
+      call sphere_energy(s, ei, ek)
+      call log_line(log, 'prerun: total energy '//rtoa(4.0_wp*pi*e0)//' at t = 0, '//rtoa(4.0_wp*pi*(ei + ek))// &
+                    ' at t = '//rtoa(s%t)//' (relative change '//rtoa((ei + ek - e0)/e0)//')')
+      call disturbed(pr, p0)
+      if (pr%kshock >= nz - 1) then
+        call refuse('&prerun: the 1D run''s wave reached its outer radius '//rtoa(r1d)//' by t = '//rtoa(t_map)// &
+                    '; give a larger radius or map earlier')
+        return
+      end if
+      ! the mapped radius: beyond the disturbance by two cells, on a node
+      h = (cfg%grid%xmax - cfg%grid%xmin)/real([cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], wp)
+      rmap = s%r(pr%kshock) + 2.0_wp*maxval(h)
+      if (pc%map_radius > 0.0_wp) then
+        if (pc%map_radius < s%r(pr%kshock)) then
+          call refuse('&prerun: map_radius = '//rtoa(pc%map_radius)//' is inside the 1D run''s disturbance (to '// &
+                      'r = '//rtoa(s%r(pr%kshock))//'); what lies beyond it would be lost')
+          return
+        end if
+        rmap = pc%map_radius
+      end if
+      pr%kmap = min(nz, findloc(s%r(1:) >= rmap*(1.0_wp - 1.0e-12_wp), .true., dim=1))
+      if (pr%kmap == 0 .or. pr%kmap >= nz) then
+        call refuse('&prerun: the mapped radius '//rtoa(rmap)//' is beyond the 1D run''s radius '//rtoa(r1d))
+        return
+      end if
+      rmap = s%r(pr%kmap)
+      ! the mapped sphere inside the grid but for symmetry planes through c
+      pr%fdom = 1.0_wp
+      do a = 1, 3
+        do j = 0, 1
+          associate (face => merge(cfg%grid%xmax(a), cfg%grid%xmin(a), j == 1), f => 2*a - 1 + j)
+            if (abs(c(a) - face) <= 1.0e-9_wp*rmap) then
+              if (cfg%boundary%kind(f) /= BC_SYMMETRY .and. cfg%boundary%kind(f) /= BC_WALL) then
+                call refuse('&prerun: the centre lies on a grid face whose &boundary is not a symmetry plane')
+                return
+              end if
+              pr%fdom = 0.5_wp*pr%fdom
+            else if ((j == 0 .and. c(a) - rmap < face) .or. (j == 1 .and. c(a) + rmap > face)) then
+              call refuse('&prerun: the mapped sphere (radius '//rtoa(rmap)//' about '//vtext(c)// &
+                          ') crosses a face of the grid; map earlier or give a larger grid')
+              return
+            end if
+          end associate
+        end do
+      end do
+      rlast = s%r(pr%kshock)
+      call log_line(log, 'prerun: disturbed to r = '//rtoa(rlast)//'; mapped within r = '//rtoa(rmap)// &
+                    ' ('//itoa(pr%kmap)//' zones, '//rtoa(pr%fdom)//' of each sphere in the grid)')
+      pr%nsub = pc%subsamples
+      allocate(pr%scale(pr%kmap), pr%ov(pr%kmap), pr%mom(3, pr%kmap), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'prerun_run', error_no_memory('the mapping'))
+        return
+      end if
+      pr%ov = 0.0_wp
+      pr%mom = 0.0_wp
+      pr%in1d = [(one_d(k), k = 1, size(cfg%regions))]
+    end associate
+
+  contains
+
+    !> Region k is one the 1D run takes (shape all, or a sphere about c).
+    logical function one_d(k)
+      integer, intent(in) :: k
+      associate (rg => cfg%regions(k))
+        one_d = rg%shape == 'all' .or. (rg%shape == 'sphere' .and. &
+          sqrt(dot_product(rg%center - c, rg%center - c)) <= 1.0e-9_wp*max(rg%radius, tiny(1.0_wp)))
+      end associate
+    end function one_d
+
+    subroutine refuse(text)
+      character(len=*), intent(in) :: text
+      call error_set(err, deck_problem, text, ERR_INPUT)
+    end subroutine refuse
+  end subroutine prerun_run
+
+  !> kshock: the outermost zone whose pressure differs from its initial p0
+  !> by more than 1e-6 of it (a zone at rest gets round-off differences in
+  !> its density from its radii).
+  pure subroutine disturbed(pr, p0)
+    type(prerun_t), intent(inout) :: pr
+    real(wp), intent(in) :: p0(:)
+    integer :: z
+    associate (s => pr%s)
+      pr%kshock = 1
+      do z = s%nz, 1, -1
+        if (abs(s%p(z) - p0(z)) > 1.0e-6_wp*abs(p0(z))) then
+          pr%kshock = z
+          return
+        end if
+      end do
+    end associate
+  end subroutine disturbed
+
+  !> Each mapped zone's factor from its overlaps with the owned cells of all
+  !> blocks (exact sums) to its volume in the grid; refuses a zone no cell
+  !> overlaps (too few subsamples for the zone width).
+  subroutine prerun_scale(pr, g, halo, err)
+    type(prerun_t), intent(inout) :: pr
+    type(grid_t), intent(in) :: g
+    class(halo_t), intent(in) :: halo
+    type(error_t), allocatable, intent(inout) :: err
+    type(xsum_t), allocatable :: acc(:)
+    real(wp) :: xn(3, 8), vin, tot
+    integer :: i, j, k, z, k1, k2, stat
+    character(len=200) :: msg
+    allocate(acc(pr%kmap), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'prerun_scale', error_no_memory('the mapping''s sums'))
+      return
+    end if
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          call g%gather(g%cell(i, j, k), g%x, xn)
+          call sphere_box_overlaps(xn(:, 1), xn(:, 8), pr%centre, pr%s%r, pr%kmap, pr%nsub, k1, k2, pr%ov, pr%mom, vin)
+          do z = k1, k2
+            call xsum_add(acc(z), pr%ov(z))
+          end do
+          if (k2 >= k1) then
+            pr%ov(k1:k2) = 0.0_wp
+            pr%mom(:, k1:k2) = 0.0_wp
+          end if
+        end do
+      end do
+    end do
+    call halo%sums(acc)
+    do z = 1, pr%kmap
+      tot = xsum_value(acc(z))
+      if (.not. tot > 0.0_wp) then
+        call error_set(err, deck_problem, '&prerun: no cell overlaps the 1D zone at radius '//rtoa(pr%s%r(z))// &
+                       '; give more subsamples or a wider zone_width', ERR_INPUT)
+        return
+      end if
+      pr%scale(z) = pr%fdom*4.0_wp*pi*(pr%s%r(z)**3 - pr%s%r(z - 1)**3)/3.0_wp/tot
+    end do
+  end subroutine prerun_scale
+
+  !> What cell xn (an axis-aligned box, volume vol) gets of the 1D run: per
+  !> material the volume vm, mass mm, total energy em (internal plus the
+  !> zones' kinetic energy, `prerun_nodes` takes the nodes' out) and first
+  !> moment xm about the cell's centre; vin the part of the cell inside the
+  !> mapped radius (the scaled overlaps: over the grid, the cells' vol - vin
+  !> add up to the grid's volume outside the mapped sphere); prad its radial
+  !> momentum.
+  subroutine prerun_cell(pr, xn, vm, mm, em, xm, vin, prad)
+    type(prerun_t), intent(inout) :: pr
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: vm(:), mm(:), em(:), xm(:, :), vin, prad
+    integer :: k1, k2, z, m
+    real(wp) :: v, mass, vraw
+    vm = 0.0_wp; mm = 0.0_wp; em = 0.0_wp; xm = 0.0_wp; prad = 0.0_wp
+    associate (s => pr%s)
+      call sphere_box_overlaps(xn(:, 1), xn(:, 8), pr%centre, s%r, pr%kmap, pr%nsub, k1, k2, pr%ov, pr%mom, vraw)
+      vin = 0.0_wp
+      do z = k1, k2
+        m = s%mat(z)
+        v = pr%ov(z)*pr%scale(z)
+        mass = s%rho(z)*v
+        vm(m) = vm(m) + v
+        vin = vin + v
+        mm(m) = mm(m) + mass
+        em(m) = em(m) + mass*(s%e(z) + 0.25_wp*(s%u(z - 1)**2 + s%u(z)**2))
+        xm(:, m) = xm(:, m) + pr%mom(:, z)*pr%scale(z)
+        prad = prad + mass*0.5_wp*(s%u(z - 1) + s%u(z))
+      end do
+      if (k2 >= k1) then
+        pr%ov(k1:k2) = 0.0_wp
+        pr%mom(:, k1:k2) = 0.0_wp
+      end if
+    end associate
+  end subroutine prerun_cell
+
+  !> The nodes' velocities from the cells' radial momenta (pr%prad, shared
+  !> by corner masses: mcorner/mass), and the corners' kinetic energy taken
+  !> from the internal energy of the cells that got some of the 1D run (the
+  !> same specific amount from each of a mixed cell's materials). Returns
+  !> the radial momentum a node at the centre could not carry.
+  subroutine prerun_nodes(pr, g, mass, mcorner, mnode, mat, mx, u, e, dropped)
+    type(prerun_t), intent(in) :: pr
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: mass(:), mcorner(:, :), mnode(:)
+    integer, intent(in) :: mat(:)
+    type(mixed_t), intent(inout) :: mx
+    real(wp), intent(inout) :: u(:, :), e(:)
+    real(wp), intent(out) :: dropped
+    real(wp), allocatable :: pn(:)
+    logical, allocatable :: moved(:)
+    real(wp) :: d(3), r, ke
+    integer :: c, a, n, stat
+    dropped = 0.0_wp
+    allocate(pn(g%nnode), moved(g%nnode), stat=stat)
+    if (stat /= 0) error stop 'prerun_nodes: out of memory'
+    pn = 0.0_wp
+    moved = .false.
+    do c = 1, g%ncell
+      if (.not. pr%hit(c)) cycle
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        pn(n) = pn(n) + pr%prad(c)*mcorner(a, c)/mass(c)
+        moved(n) = .true.
+      end do
+    end do
+    do n = 1, g%nnode
+      if (.not. moved(n)) cycle
+      d = g%x(:, n) - pr%centre
+      r = sqrt(dot_product(d, d))
+      if (r > 0.0_wp) then
+        u(:, n) = (pn(n)/mnode(n))*(d/r)
+      else
+        u(:, n) = 0.0_wp
+        dropped = dropped + pn(n)
+      end if
+    end do
+    do c = 1, g%ncell
+      if (.not. pr%hit(c)) cycle
+      ke = 0.0_wp
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        ke = ke + 0.5_wp*mcorner(a, c)*dot_product(u(:, n), u(:, n))
+      end do
+      e(c) = e(c) - ke/mass(c)
+      if (mat(c) < 0) then
+        associate (k => -mat(c))
+          mx%e(mx%start(k):mx%start(k + 1) - 1) = mx%e(mx%start(k):mx%start(k + 1) - 1) - ke/mass(c)
+        end associate
+      end if
+    end do
+  end subroutine prerun_nodes
+
+  !> The 1D run's profile at the mapping time, a row per zone: radii, zone
+  !> centre, density, mean velocity, pressure, specific internal energy,
+  !> material.
+  subroutine prerun_write(pr, path, err)
+    type(prerun_t), intent(in) :: pr
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: u, ios, z
+    character(len=200) :: msg
+    open(newunit=u, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call error_set(err, 'prerun_write', 'cannot write '//path//': '//trim(msg))
+      return
+    end if
+    associate (s => pr%s)
+      write(u, '(a)') '# the 1D spherical pre-run at t = '//rtoa(s%t)//' ('//itoa(s%steps)//' steps), about '// &
+                      vtext(pr%centre)//'; zones 1..'//itoa(pr%kmap)//' mapped (within r = '//rtoa(s%r(pr%kmap))//')'
+      write(u, '(a)') '# r_in r_out r density velocity pressure energy material'
+      do z = 1, s%nz
+        write(u, '(7es24.15e3,1x,a)') s%r(z - 1), s%r(z), 0.5_wp*(s%r(z - 1) + s%r(z)), s%rho(z), &
+          0.5_wp*(s%u(z - 1) + s%u(z)), s%p(z), s%e(z), s%mats(s%mat(z))%name
+      end do
+    end associate
+    close(u)
+  end subroutine prerun_write
+
+  !> Sorts v ascending and drops repeats.
+  pure subroutine sort_unique(v)
+    real(wp), allocatable, intent(inout) :: v(:)
+    real(wp) :: t
+    integer :: i, j, n
+    do i = 2, size(v)
+      t = v(i)
+      j = i - 1
+      do while (j >= 1)
+        if (.not. v(j) > t) exit
+        v(j + 1) = v(j)
+        j = j - 1
+      end do
+      v(j + 1) = t
+    end do
+    n = min(1, size(v))
+    do i = 2, size(v)
+      if (v(i) > v(n)) then
+        n = n + 1
+        v(n) = v(i)
+      end if
+    end do
+    v = v(1:n)
+  end subroutine sort_unique
+
+  function vtext(v) result(text)
+    real(wp), intent(in) :: v(3)
+    character(len=:), allocatable :: text
+    text = '('//rtoa(v(1))//', '//rtoa(v(2))//', '//rtoa(v(3))//')'
+  end function vtext
+end module driver_prerun
