@@ -426,7 +426,7 @@ contains
   end subroutine blast_report
 
   !> After a restart has been read (st%t is the restart time): drops from the
-  !> gauge, tracked-particle and history files the rows the earlier run wrote after this time
+  !> gauge, tracked-particle, tracer and history files the rows the earlier run wrote after this time
   !> (it may have run on past the dump), then opens both to append, so that a
   !> run split by a restart leaves the same files as the straight run. A
   !> history_dt set only now starts at the next multiple of it.

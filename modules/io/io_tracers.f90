@@ -206,12 +206,10 @@ contains
     call halo%concat(packed, w)
     nb = size(w)/(m*n)
     do k = 1, n
-      best = 0
-      do b = 1, nb
+      best = m*(k - 1)
+      do b = 2, nb
         at = m*n*(b - 1) + m*(k - 1)
-        if (best == 0) then
-          best = at
-        else if (w(at + 1) < w(best + 1)) then
+        if (w(at + 1) < w(best + 1)) then
           best = at
         else if (.not. w(best + 1) < huge(1.0_wp) .and. .not. w(at + 1) < huge(1.0_wp) .and. &
                  w(at + 2) < w(best + 2)) then
