@@ -22,10 +22,12 @@ module driver
   use material_table, only: material_burn_start
   use driver_halt, only: halt, refuse, EXIT_WALL_TIME
   use driver_config, only: config_t, config_read, config_defaults_text
-  use driver_state, only: state_t, state_totals, centroid_text
+  use driver_state, only: state_t, state_totals, centroid_text, state_note_pressure
   use driver_output, only: schedule_t, schedule_init, open_outputs, write_frame, frame_out, gauge_output, progress, &
                            report_conservation, frame_due, dump_due, advance_schedule, history_output, &
-                           outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report
+                           outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report, &
+                           tracers_init, tracers_end
+  use io_tracers, only: tracers_place, tracers_relocate
   use driver_scene, only: build_scene
   use driver_prerun, only: prerun_write
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
@@ -104,6 +106,8 @@ contains
         call tracks_init(cfg, st, sch, err)
       end if
     end if
+    ! (on the blocks: a tracer's cell is the whole grid's index)
+    if (.not. allocated(err)) call tracers_init(cfg, st, sch, err)
     if (.not. allocated(err)) then
       ! (on windows the blocks smooth their own nodes; the global rezone
       ! works on the whole grid's node positions)
@@ -144,6 +148,7 @@ contains
     if (allocated(err)) call fail(cfg, st, sch, err)
     call gauges_close(sch%gauges)
     call tracks_close(sch)
+    call tracers_end(sch)
     call blast_report(cfg, sch)
     call sch%t_total%stop()
     call report_end(st, sch, es)
@@ -196,7 +201,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
     real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap, stop_checked
-    integer :: bad_cell, bad_particle, report, stop_now, asked
+    integer :: bad_cell, bad_particle, report, stop_now, asked, n_euler
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
@@ -242,6 +247,11 @@ contains
       st%t = st%t + dt
       st%step = st%step + 1
       st%tot%boundary_work = st%tot%boundary_work + work
+      call state_note_pressure(st)
+      ! (the tracers where the Lagrangian phase took them: on each block
+      ! those of its cells; shared and found on the new grid if it moves)
+      call tracers_place(sch%tracers, st%g)
+      n_euler = es%n
 
       ! INSPECT, EULER
       if (sch%pc%nranks > 1) then
@@ -255,6 +265,11 @@ contains
           call euler_step(cfg%rezone, st, es, sch%log, err)
           if (allocated(err)) call fail(cfg, st, sch, err)
         end if
+      end if
+      if (es%n /= n_euler) then
+        call tracers_relocate(sch%tracers, st%g, st%halo)
+        ! (the remapped pressures too: what a frame shows never exceeds it)
+        call state_note_pressure(st)
       end if
       last = .not. (st%t < cfg%control%t_end - eps_t .and. st%step < cfg%control%max_steps)
 
@@ -413,6 +428,7 @@ contains
                   '   (or run the same deck with  &run restart_from = '''//path//''' /)')
     call gauges_close(sch%gauges)
     call tracks_close(sch)
+    call tracers_end(sch)
     call hdf5_stop(err)
     call halt(sch%log, EXIT_WALL_TIME)
   end subroutine stop_with_restart

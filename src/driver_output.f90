@@ -1,5 +1,5 @@
 !> What a run writes and when: the log, frames (HDF5 + XDMF), gauge rows,
-!> the energy history, tracked-particle rows, progress lines and the conservation report, with the
+!> the energy history, tracked-particle rows, tracer rows, progress lines and the conservation report, with the
 !> schedule of frames, gauges, history rows and restart dumps and the phase
 !> timers.
 module driver_output
@@ -15,6 +15,7 @@ module driver_output
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
                        units_pressure, units_temperature, frame_wants
   use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
+  use io_tracers, only: tracers_t, tracers_start, tracers_open, tracers_write, tracers_close, tracers_register_restart
   use io_hdf5, only: hdf5_version
   use strength_models, only: strength_fields
   use io_files, only: io_make_dirs
@@ -33,7 +34,8 @@ module driver_output
   private
   public :: schedule_t, schedule_init, schedule_register_restart, open_outputs, write_frame, frame_out, &
             gauge_output, progress, report_conservation, frame_due, dump_due, advance_schedule, &
-            history_output, outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report
+            history_output, outputs_after_restart, step_limit_text, tracks_init, tracks_close, blast_report, &
+            tracers_init, tracers_end
 
   !> The output schedule and bookkeeping of this run segment.
   type :: schedule_t
@@ -41,6 +43,7 @@ module driver_output
     type(comm_t) :: pc                             !< the MPI ranks (one without mpirun)
     type(output_t) :: out                          !< frame names and times
     type(gauges_t) :: gauges
+    type(tracers_t) :: tracers                     !< the tracers (on every rank; rank 0 has the file)
     real(wp) :: t_next_frame = 0.0_wp, t_next_gauge = 0.0_wp, t_next_dump = 0.0_wp
     integer :: steps_since_frame = 0
     integer :: step_start = 0                      !< first step of this segment (after a restart)
@@ -94,6 +97,7 @@ contains
     ! not mandatory: a restart written before the history existed continues
     ! with the next multiple of history_dt (outputs_after_restart)
     call reg%add('t_next_history', 'time', sch%t_next_history, mandatory=.false.)
+    call tracers_register_restart(sch%tracers, reg)
   end subroutine schedule_register_restart
 
   !> Creates the output directory, opens the log (appending on a restart),
@@ -189,6 +193,39 @@ contains
     character(len=:), allocatable :: path
     path = sch%out%dir//'/'//sch%out%name//'_gauges.txt'
   end function gauges_path
+
+  function tracers_path(sch) result(path)
+    type(schedule_t), intent(in) :: sch
+    character(len=:), allocatable :: path
+    path = sch%out%dir//'/'//sch%out%name//'_tracers.txt'
+  end function tracers_path
+
+  !> The &output tracers at their starting points on the grid just built
+  !> (on every rank: each block places those in its cells), and for a new
+  !> run the file `<dir>/<name>_tracers.txt` opened by rank 0 with its
+  !> header (on a restart, which reads where they are from the dump,
+  !> `outputs_after_restart` opens it). Nothing without tracers.
+  subroutine tracers_init(cfg, st, sch, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(in) :: st
+    type(schedule_t), intent(inout) :: sch
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: n
+    n = cfg%output%ntracer
+    if (n == 0) return
+    call tracers_start(sch%tracers, st%g, st%halo, cfg%output%tracers(:, 1:n), err)
+    if (allocated(err)) return
+    call log_line(sch%log, 'tracers: '//itoa(n)//', written to '//tracers_path(sch)//' on the gauge schedule')
+    if (.not. sch%restarting .and. sch%pc%rank == 0) &
+      call tracers_open(sch%tracers, tracers_path(sch), cfg%output%tracers(:, 1:n), .false., err)
+    if (allocated(err)) err%category = ERR_IO
+  end subroutine tracers_init
+
+  !> Closes the tracers' file.
+  subroutine tracers_end(sch)
+    type(schedule_t), intent(inout) :: sch
+    call tracers_close(sch%tracers)
+  end subroutine tracers_end
 
   function tracks_path(sch) result(path)
     type(schedule_t), intent(in) :: sch
@@ -390,7 +427,7 @@ contains
   end subroutine blast_report
 
   !> After a restart has been read (st%t is the restart time): drops from the
-  !> gauge, tracked-particle and history files the rows the earlier run wrote after this time
+  !> gauge, tracked-particle, tracer and history files the rows the earlier run wrote after this time
   !> (it may have run on past the dump), then opens both to append, so that a
   !> run split by a restart leaves the same files as the straight run. A
   !> history_dt set only now starts at the next multiple of it.
@@ -409,6 +446,11 @@ contains
     if (.not. allocated(err) .and. cfg%output%ntrack > 0) then
       call text_rows_trim(tracks_path(sch), st%t, err)
       if (.not. allocated(err)) call tracks_open(cfg, st%pt%nhist, sch, .true., err)
+    end if
+    if (.not. allocated(err) .and. cfg%output%ntracer > 0) then
+      call text_rows_trim(tracers_path(sch), st%t, err)
+      if (.not. allocated(err)) call tracers_open(sch%tracers, tracers_path(sch), &
+                                                  cfg%output%tracers(:, 1:cfg%output%ntracer), .true., err)
     end if
     if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(history_path(sch), st%t, err)
     if (.not. allocated(err) .and. cfg%output%history_dt > 0.0_wp) call text_rows_trim(matsum_path(sch), st%t, err)
@@ -489,7 +531,8 @@ contains
   !> volume fraction vf_<name>, density density_<name>, specific internal
   !> energy energy_<name> and pressure pressure_<name>. In a cell the
   !> material fills these are the cell's values, in a mixed cell its slot's
-  !> values, elsewhere 0.
+  !> values, elsewhere 0. Then, when the deck keeps it (&output fields names
+  !> it), each cell's largest pressure so far, max_pressure (`state_note_pressure`).
   subroutine frame_out(cfg, st, sch, path, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout), target :: st
@@ -500,7 +543,7 @@ contains
     ! their names in &output fields
     character(len=*), parameter :: per_key(nper) = [character(len=17) :: 'vf', 'material_density', &
                                                     'material_energy', 'material_pressure']
-    integer :: nmat, nf, c, k, s, m, stat
+    integer :: nmat, nf, c, k, s, m, stat, nx
     integer, allocatable :: keep(:), pfailed(:)
     character(len=32), allocatable :: punits(:)
     integer, allocatable, target :: cellmat(:)
@@ -515,9 +558,11 @@ contains
 
     nmat = size(st%mats)
     nf = merge(nper*nmat, 0, nmat > 1)
+    ! (and after them, when kept, each cell's largest pressure so far)
+    nx = merge(1, 0, allocated(st%p_max))
     ! (one material: each cell's material is h%mat, written as it is)
-    allocate(cellmat(merge(st%g%ncell, 0, nmat > 1)), fld(st%g%ncell, nf), names(nf), owner(nf), units(nf), &
-             meta%materials(nmat), stat=stat, errmsg=msg)
+    allocate(cellmat(merge(st%g%ncell, 0, nmat > 1)), fld(st%g%ncell, nf + nx), names(nf + nx), owner(nf + nx), &
+             units(nf + nx), meta%materials(nmat), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'frame_out', error_no_memory('the frame''s cell fields'))
       return
@@ -555,6 +600,12 @@ contains
         end do
         cellmat(c) = maxloc(fld(c, 1:nf:nper), 1)
       end do
+    end if
+    if (nx > 0) then
+      names(nf + 1) = 'max_pressure'
+      units(nf + 1) = units_pressure
+      owner(nf + 1) = ''
+      fld(:, nf + 1) = st%p_max
     end if
     if (allocated(st%pt%id)) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
     ! the particles in the whole run's order (a decomposed run gathers them)
@@ -595,6 +646,7 @@ contains
     do k = 1, nf
       if (frame_wants(cfg%output%frame%fields, per_key(mod(k - 1, nper) + 1))) keep = [keep, k]
     end do
+    if (nx > 0) keep = [keep, nf + 1]
     ! the nodal mass of the kinetic energy: with coupled particles the
     ! particles' share too (`state_totals`; without, nmass is not allocated,
     ! so not present: the frame takes the hydro's own)
@@ -626,17 +678,18 @@ contains
     if (.not. allocated(err)) call log_line(sch%log, 'frame '//path//' at t = '//rtoa(st%t))
   end subroutine write_frame
 
-  !> A gauge row and a tracked-particle row, if due (both on the gauge
-  !> schedule, so that their time columns agree).
+  !> A gauge row, a tracked-particle row and a tracer row, if due (all on
+  !> the gauge schedule, so that their time columns agree).
   subroutine gauge_output(cfg, st, sch)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
-    if (sch%gauges%n == 0 .and. .not. allocated(sch%track_id)) return   ! (rank 0 alone has the units)
+    if (sch%gauges%n == 0 .and. .not. allocated(sch%track_id) .and. sch%tracers%n == 0) return
     if (st%t < sch%t_next_gauge .and. st%t < cfg%control%t_end) return
     call sch%t_output%start()
     call gauges_write(sch%gauges, st%g, st%h, st%t, st%halo)
     call tracks_write(st, sch)
+    call tracers_write(sch%tracers, st%g, st%h, st%t, st%halo)
     call sch%t_output%stop()
     if (cfg%output%gauge_dt > 0.0_wp) then
       do while (sch%t_next_gauge <= st%t)

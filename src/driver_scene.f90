@@ -209,6 +209,14 @@ contains
       if (mx%n > 0) call log_line(log, 'mixed-cell planes of the scene: '//centroid_text(planes))
       call material_eval_eos(st%mats, hy%rho, hy%e, hy%p, hy%cs, mx)
       call mixed_cell_state(mx, hy%p, hy%cs)
+      ! each cell's largest pressure so far (only when the frames write it)
+      if (cfg%output%max_pressure) then
+        allocate(st%p_max(g%ncell), source=hy%p, stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'build_scene', error_no_memory('the maximum pressure'))
+          return
+        end if
+      end if
 
       associate (bc => st%bc, bcc => cfg%boundary)
         bc%kind = bcc%kind

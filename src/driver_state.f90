@@ -1,12 +1,13 @@
 !> The physical state of a run: grid, hydro state, boundaries, materials,
 !> mixed cells, particles, time and step, the conservation totals and
-!> the random-number state, with what it registers for restarts.
+!> the random-number state, with what it registers for restarts; and, when
+!> the deck's frames ask for it, each cell's largest pressure so far.
 module driver_state
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use base_kinds, only: wp, i8
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_random, only: rng_t
-  use base_registry, only: registry_t, LOWER_NONNEGATIVE
+  use base_registry, only: registry_t, LOWER_NONNEGATIVE, LOC_CELL
   use mesh_grid, only: grid_t, grid_register_restart
   use mesh_boundary, only: bc_t
   use material_table, only: material_t
@@ -23,7 +24,7 @@ module driver_state
   private
   public :: state_t, state_totals, particles_internal, energy_drift, budget_residual, totals_not_finite, &
             state_register_restart, &
-            state_after_read, centroid_text
+            state_after_read, centroid_text, state_note_pressure
 
   !> The physical state.
   type :: state_t
@@ -34,6 +35,12 @@ module driver_state
     type(mixed_t) :: mx
     type(particles_t) :: pt               !< MPM particles (np = 0, nothing allocated, without &particles)
     type(particles_work_t) :: pw          !< their coupling work arrays and strength models (if coupled)
+    !> (ncell) each cell's largest pressure so far, over the states after
+    !> every Lagrangian step, after every Euler step and the initial one: a
+    !> field at a place, kept cell by cell through Euler steps (not
+    !> remapped), as LS-DYNA's maximum pressure. Allocated only when
+    !> &output fields names 'max_pressure'.
+    real(wp), allocatable :: p_max(:)
     real(wp) :: t = 0.0_wp                !< time
     real(wp) :: dt = 0.0_wp               !< last step
     integer :: step = 0
@@ -180,6 +187,7 @@ contains
     call hydro_register_restart(st%h, reg)
     call mixed_register_restart(st%mx, reg)
     call particles_register_restart(st%pt, reg)
+    if (allocated(st%p_max)) call reg%add('max_pressure', 'pressure', LOC_CELL, st%p_max)
     call reg%add('time', 'time', st%t, lower=LOWER_NONNEGATIVE)
     call reg%add('dt', 'time', st%dt, lower=LOWER_NONNEGATIVE)
     call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)
@@ -193,6 +201,18 @@ contains
     end if
     call reg%add('rng_state', 'bits', st%rng_bits)
   end subroutine state_register_restart
+
+  !> After a Lagrangian or an Euler step: each cell's largest pressure so
+  !> far (if kept).
+  subroutine state_note_pressure(st)
+    type(state_t), intent(inout) :: st
+    integer :: c
+    if (.not. allocated(st%p_max)) return
+    do c = 1, st%g%ncell
+      ! (a NaN pressure is not taken: the run stops on it at its next check)
+      if (st%h%p(c) > st%p_max(c)) st%p_max(c) = st%h%p(c)
+    end do
+  end subroutine state_note_pressure
 
   !> After a restart read: quantities stored in another form.
   subroutine state_after_read(st)

@@ -9,8 +9,9 @@
 # ends with exit status 1, the FATAL line names the rank that failed, which
 # on 2 and 4 ranks is not rank 0, and the failure frame is written and is
 # the single process's failure frame bit for bit. The energy history
-# (&output history_dt = t_end/8), the deck's gauge histories and its
-# tracked-particle histories must be the same text on every rank count.
+# (&output history_dt = t_end/8), the deck's gauge histories, its
+# tracked-particle histories and its tracer histories must be the same
+# text on every rank count.
 # Usage: mpi_ranks.sh MPIEXEC EXE PYTHON TOOLS DECK WORKDIR [--fail] [FILE...]
 # FILEs (a deck's grid file) are copied into WORKDIR, where the decks run.
 set -u
@@ -93,6 +94,11 @@ for n in 1 2 4; do
       cmp -s "r$n/run_gauges.txt" r1/run_gauges.txt || { diff "r$n/run_gauges.txt" r1/run_gauges.txt | head -4; \
         fail "$n ranks: the gauge histories differ from one process's"; }
       echo "ok: $n ranks: gauge histories ($(grep -vc '^#' r1/run_gauges.txt) rows) the same as one process's"
+    fi
+    if [ -f r1/run_tracers.txt ]; then
+      cmp -s "r$n/run_tracers.txt" r1/run_tracers.txt || { diff "r$n/run_tracers.txt" r1/run_tracers.txt | head -4; \
+        fail "$n ranks: the tracer histories differ from one process's"; }
+      echo "ok: $n ranks: tracers ($(grep -vc '^#' r1/run_tracers.txt) rows) the same as one process's"
     fi
     if [ -f r1/run_tracks.txt ]; then
       cmp -s "r$n/run_tracks.txt" r1/run_tracks.txt || { diff "r$n/run_tracks.txt" r1/run_tracks.txt | head -4; \

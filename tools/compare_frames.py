@@ -28,7 +28,7 @@ import sys
 import h5py
 import numpy as np
 
-DEFAULT_FIELDS = ["x", "velocity", "density", "pressure", "energy", "sound_speed",
+DEFAULT_FIELDS = ["x", "velocity", "density", "pressure", "energy", "sound_speed", "max_pressure",
                   "totals/mass", "totals/internal_energy", "totals/kinetic_energy",
                   "time", "step"]
 

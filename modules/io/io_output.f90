@@ -67,10 +67,13 @@ module io_output
   !> The grid fields a frame may hold, by the names &output `fields` takes:
   !> node velocity and mass, the cell fields, and the per-material cell
   !> fields of a scene with several materials (`vf` is vf_<material> of
-  !> every material, `material_density` density_<material>, and so on).
-  character(len=*), parameter :: frame_grid_fields(13) = [character(len=17) :: 'velocity', 'node_mass', &
+  !> every material, `material_density` density_<material>, and so on),
+  !> and `max_pressure` (each cell's largest pressure so far), which is
+  !> kept and written only when named (not among "all": it is a quantity
+  !> of the run that costs a cell array and a restart field).
+  character(len=*), parameter :: frame_grid_fields(14) = [character(len=17) :: 'velocity', 'node_mass', &
     'density', 'pressure', 'energy', 'sound_speed', 'viscosity', 'volume', 'material', 'vf', 'material_density', &
-    'material_energy', 'material_pressure']
+    'material_energy', 'material_pressure', 'max_pressure']
   !> The particle fields a frame may hold besides the strength models'
   !> (strength_fields) and `failed` (&output `particle_fields`).
   character(len=*), parameter :: frame_particle_fields(10) = [character(len=8) :: 'velocity', 'density', &

@@ -1,7 +1,8 @@
 !> The &output group: where outputs go, when frames and gauge rows are
 !> written, the gauge points and the track points (each names the particle
 !> nearest to it at t = 0, whose history is written on the gauge schedule),
-!> and what a frame holds and how it is stored (`fields`, `particle_fields`,
+!> the tracer points (massless material points, `io_tracers`), and what a
+!> frame holds and how it is stored (`fields`, `particle_fields`,
 !> `precision`, `compress`: `frame_options_t`).
 module io_output_config
   use base_kinds, only: wp
@@ -13,12 +14,13 @@ module io_output_config
   use strength_models, only: strength_fields
   implicit none
   private
-  public :: output_config_t, output_config_read, output_config_changes, max_gauges, max_tracks, max_fields
+  public :: output_config_t, output_config_read, output_config_changes, max_gauges, max_tracks, max_fields, max_tracers
 
   integer, parameter :: max_gauges = 256      !< gauge points in all (given one by one and along lines)
   integer, parameter :: max_gauge_points = 64 !< given one by one (`gauge`)
   integer, parameter :: max_gauge_lines = 8   !< lines of gauges (`gauge_line`, `gauge_count`)
   integer, parameter :: max_tracks = 64
+  integer, parameter :: max_tracers = 64  !< tracer points (`tracer`)
   integer, parameter :: max_fields = 32   !< entries of `fields` and of `particle_fields`
 
   !> The resolved &output group; the initial values are the defaults.
@@ -33,6 +35,11 @@ module io_output_config
     real(wp) :: gauges(3, max_gauges) = huge(1.0_wp)  !< gauge points (length); huge: unset
     integer :: ntrack = 0                             !< number of track points
     real(wp) :: tracks(3, max_tracks) = huge(1.0_wp)  !< track points (length); huge: unset
+    integer :: ntracer = 0                            !< number of tracers
+    real(wp) :: tracers(3, max_tracers) = huge(1.0_wp) !< tracer starting points (length); huge: unset
+    !> each cell's largest pressure so far is kept (state `p_max`) and
+    !> written: `fields` names 'max_pressure'
+    logical :: max_pressure = .false.
     !> the frames' fields and storage (defaults: all fields, doubles, uncompressed)
     type(frame_options_t) :: frame
   end type output_config_t
@@ -49,7 +56,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=256) :: dir, name
     real(wp) :: frame_dt, gauge_dt, history_dt, gauge(3, max_gauge_points), track(3, max_tracks), &
-                gauge_line(6, max_gauge_lines), a(3), b(3)
+                gauge_line(6, max_gauge_lines), a(3), b(3), tracer(3, max_tracers)
     integer :: gauge_count(max_gauge_lines), l, k
     character(len=32) :: fields(max_fields), particle_fields(max_fields)
     character(len=16) :: precision
@@ -57,12 +64,13 @@ contains
     character(len=max_line) :: msg
     character(len=16) :: tag
     namelist /output/ dir, name, frame_dt, frame_steps, gauge_dt, gauge, gauge_line, gauge_count, history_dt, track, &
-                      fields, particle_fields, precision, compress
+                      tracer, fields, particle_fields, precision, compress
 
     dir = this%dir; name = this%name; frame_dt = this%frame_dt; frame_steps = this%frame_steps
     gauge_dt = this%gauge_dt; history_dt = this%history_dt; gauge = huge(1.0_wp)
     gauge_line = huge(1.0_wp); gauge_count = 0
     track = this%tracks
+    tracer = this%tracers
     fields = ''; particle_fields = ''; precision = 'double'; compress = 0
     if (size(text) > 0) then
       read(text, nml=output, iostat=ios, iomsg=msg)
@@ -123,7 +131,18 @@ contains
         call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
       end if
     end do
+    do i = 1, max_tracers
+      if (any(tracer(:, i) > 0.5_wp*huge(1.0_wp))) exit
+      this%ntracer = i
+      this%tracers(:, i) = tracer(:, i)
+      if (any(tracer(:, i) < xmin) .or. any(tracer(:, i) > xmax)) then
+        write(tag, '(a,i0,a)') 'tracer(:,', i, ')'
+        call problem_add(problems, '&output: '//trim(tag)//' is outside the grid box xmin..xmax')
+      end if
+    end do
     call field_choice(problems, 'fields', fields, frame_grid_fields, this%frame%fields)
+    ! (named only: not among "all")
+    if (allocated(this%frame%fields)) this%max_pressure = any(this%frame%fields == 'max_pressure')
     call field_choice(problems, 'particle_fields', particle_fields, &
                       [character(len=32) :: frame_particle_fields, strength_fields, 'failed'], this%frame%particle_fields)
     call problem_long(problems, 'output', 'precision', precision)
@@ -149,7 +168,8 @@ contains
   !> XDMF lists the earlier frames with the fields and precision of the new
   !> ones), so a restart's deck keeps `fields`, `particle_fields` and
   !> `precision`: one line in `changes` for each changed (`compress` may
-  !> change: a reader does not see it).
+  !> change: a reader does not see it). The tracers are state the restart
+  !> holds (where each one is now): their starting points stay too.
   subroutine output_config_changes(old, new, changes)
     type(output_config_t), intent(in) :: old, new
     character(len=max_line), allocatable, intent(inout) :: changes(:)
@@ -159,6 +179,12 @@ contains
       call problem_add(changes, '&output precision changed from '''//trim(merge('single', 'double', old%frame%single))// &
                        ''' to '''//trim(merge('single', 'double', new%frame%single))//''' (the frames of one series '// &
                        'share their fields and precision)')
+    if (old%ntracer /= new%ntracer) then
+      call problem_add(changes, '&output tracer: '//itoa(old%ntracer)//' tracer point(s) before, '// &
+                       itoa(new%ntracer)//' now (a restart continues the tracers it holds)')
+    else if (any(abs(old%tracers(:, 1:old%ntracer) - new%tracers(:, 1:new%ntracer)) > 0.0_wp)) then
+      call problem_add(changes, '&output tracer changed (a restart continues the tracers it holds)')
+    end if
   contains
     !> A line if the chosen fields differ (as sets; unallocated: all).
     subroutine list_change(var, a, b)
