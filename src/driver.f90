@@ -29,7 +29,7 @@ module driver
                            tracers_init, tracers_end
   use io_tracers, only: tracers_place, tracers_relocate
   use driver_scene, only: build_scene
-  use driver_prerun, only: prerun_write
+  use driver_prerun, only: prerun_write, prerun_report, prerun_gauge_rows
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
   use parallel_comm, only: parallel_start
@@ -94,8 +94,20 @@ contains
       call log_line(sch%log, 'run: '//itoa(sch%pc%nranks)//' MPI ranks, blocks '//itoa(sch%pc%dims(1))//' x '// &
                     itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
-    if (.not. allocated(err) .and. allocated(st%prerun) .and. sch%pc%rank == 0) &
-      call prerun_write(st%prerun, sch%out%dir//'/'//sch%out%name//'_prerun.txt', err)
+    if (.not. allocated(err) .and. allocated(st%prerun)) then
+      call prerun_report(st%prerun, sch%log)
+      if (sch%pc%rank == 0) call prerun_write(st%prerun, sch%out%dir//'/'//sch%out%name, err)
+    end if
+    call agree_error(sch%pc, err)
+    if (allocated(err)) call fail(cfg, st, sch, err)
+    if (cfg%prerun%time > 0.0_wp .and. .not. cfg%control%t_end > cfg%prerun%time .and. .not. sch%restarting) then
+      ! (t_end <= &prerun time: the 1D run was the whole run)
+      call log_line(sch%log, 'prerun: t_end <= &prerun time: the 1D run alone; its profile and gauges are in '// &
+                    sch%out%dir//'/'//sch%out%name//'_prerun*.txt')
+      call sch%t_total%stop()
+      call hdf5_stop(err)
+      call halt(sch%log, 0)
+    end if
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, err)
     if (.not. allocated(err)) then
@@ -135,6 +147,9 @@ contains
       call report_conservation(st, sch%log, 'initial')
       call write_frame(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
+      ! (a mapped 1D run's gauge rows come first)
+      if (allocated(st%prerun)) call prerun_gauge_rows(st%prerun, cfg%output%gauges(:, 1:cfg%output%ngauge), &
+                                                       sch%gauges)
       call gauge_output(cfg, st, sch)
       call history_output(cfg, st, sch)
     end if

@@ -29,11 +29,14 @@ module driver_prerun
   use spherical_lagrange, only: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy
   use spherical_map, only: sphere_box_overlaps
   use io_log, only: log_t, log_line
+  use io_blast, only: blast_t, blast_answers
+  use io_gauges, only: gauges_t, gauges_write_given
   use driver_config, only: config_t
   use driver_burn, only: burn_state, deck_problem
   implicit none
   private
-  public :: prerun_t, prerun_run, prerun_scale, prerun_cell, prerun_nodes, prerun_write
+  public :: prerun_t, prerun_gauge_rows, prerun_run, prerun_plan, prerun_scale, prerun_cell, prerun_nodes, &
+            prerun_write, prerun_report
 
   real(wp), parameter :: pi = 3.14159265358979323846_wp
 
@@ -50,6 +53,10 @@ module driver_prerun
     real(wp), allocatable :: prad(:)       !< (ncell) radial momentum each cell got
     logical, allocatable :: hit(:)         !< (ncell) the cell got some of the 1D run
     logical, allocatable :: in1d(:)        !< (regions) the regions the 1D run took
+    real(wp), allocatable :: grad(:)       !< (gauges) the &output gauges' distances from the centre
+    real(wp), allocatable :: gt(:), gv(:, :, :)   !< 1D gauge rows: times; density, pressure, energy,
+                                               !< sound speed, radial velocity (5, gauge, row)
+    integer :: nrow = 0
   end type prerun_t
 
 contains
@@ -64,8 +71,8 @@ contains
     type(prerun_t), intent(out) :: pr
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: bk(:), p0(:)
-    real(wp) :: c(3), r1d, dz, rc, x(3), e0, ei, ek, dt, tnext, t_map, rho0, dv, v_cj, h(3), rmap, rlast
-    integer :: k, j, n, z, nz, stat, m, tries, a, lastsph
+    real(wp) :: c(3), r1d, dz, rc, x(3), e0, ei, ek, dt, tnext, t_map, rho0, dv, v_cj, dt_row, trow
+    integer :: k, j, n, z, nz, stat, m, tries, lastsph
     logical :: ok, burns
     character(len=200) :: msg
 
@@ -116,11 +123,14 @@ contains
       end do
       if (pc%zone_width > 0.0_wp) dz = pc%zone_width
       if (.not. dz < huge(1.0_wp)) dz = r1d/1000.0_wp
-      ! node radii: uniform between the interfaces, which fall on nodes
+      ! node radii: uniform between the interfaces (which fall on nodes), and
+      ! beyond the outermost sphere growing in proportion to the radius (the
+      ! ratio of the zone width to that sphere's radius: the blast wave
+      ! broadens as it runs out)
       call sort_unique(bk)
       nz = 0
       do j = 1, size(bk)
-        nz = nz + max(1, ceiling((bk(j) - merge(0.0_wp, bk(max(j - 1, 1)), j == 1))/dz - 1.0e-9_wp))
+        nz = nz + zones_in(j)
       end do
       if (nz > 20000000) then
         call refuse('&prerun: '//itoa(nz)//' zones (radius '//rtoa(r1d)//' / zone_width '//rtoa(dz)// &
@@ -138,9 +148,13 @@ contains
       z = 0
       do j = 1, size(bk)
         rc = merge(0.0_wp, bk(max(j - 1, 1)), j == 1)
-        n = max(1, ceiling((bk(j) - rc)/dz - 1.0e-9_wp))
+        n = zones_in(j)
         do k = 1, n
-          s%r(z + k) = rc + (bk(j) - rc)*real(k, wp)/real(n, wp)
+          if (j == size(bk) .and. j > 1) then
+            s%r(z + k) = rc*(bk(j)/rc)**(real(k, wp)/real(n, wp))
+          else
+            s%r(z + k) = rc + (bk(j) - rc)*real(k, wp)/real(n, wp)
+          end if
         end do
         s%r(z + n) = bk(j)
         z = z + n
@@ -234,6 +248,19 @@ contains
       call log_line(log, 'prerun: 1D spherical run about '//vtext(c)//': '//itoa(nz)//' zones to radius '// &
                     rtoa(r1d)//' (zone width '//rtoa(dz)//'), to t = '//rtoa(t_map)// &
                     trim(merge(' (programmed burn)      ', ' (constant-volume start)', burns)))
+      ! the 1D gauges: the deck's gauges at their distances from the centre,
+      ! a row each gauge_dt (or each 1/20000 of the time)
+      pr%grad = [(sqrt(dot_product(cfg%output%gauges(:, k) - c, cfg%output%gauges(:, k) - c)), &
+                  k = 1, cfg%output%ngauge)]
+      allocate(pr%gt(1024), pr%gv(5, size(pr%grad), 1024), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'prerun_run', error_no_memory('the 1D gauges'))
+        return
+      end if
+      dt_row = cfg%output%gauge_dt
+      if (.not. dt_row > 0.0_wp) dt_row = t_map/20000.0_wp
+      trow = 0.0_wp
+      if (size(pr%grad) > 0) call gauge_row(pr)
       ! the run, with its progress in tenths of the time
       tnext = 0.1_wp*t_map
       do while (s%t < t_map*(1.0_wp - 1.0e-12_wp))
@@ -255,6 +282,10 @@ contains
                          rtoa(t_map), ERR_RUNTIME)
           return
         end if
+        if (size(pr%grad) > 0 .and. (s%t >= trow + dt_row .or. .not. s%t < t_map*(1.0_wp - 1.0e-12_wp))) then
+          call gauge_row(pr)
+          trow = s%t
+        end if
         if (s%t >= tnext .or. .not. s%t < t_map*(1.0_wp - 1.0e-12_wp)) then
           call disturbed(pr, p0)
           call log_line(log, 'prerun: t = '//rtoa(s%t)//', step '//itoa(s%steps)//', dt '//rtoa(s%dt)// &
@@ -271,7 +302,51 @@ contains
                     '; give a larger radius or map earlier')
         return
       end if
-      ! the mapped radius: beyond the disturbance by two cells, on a node
+      pr%in1d = [(one_d(k), k = 1, size(cfg%regions))]
+    end associate
+
+  contains
+
+    !> The zones between interfaces bk(j-1) and bk(j) (`prerun_run`).
+    integer function zones_in(j) result(n)
+      integer, intent(in) :: j
+      if (j == 1) then
+        n = max(1, ceiling(bk(1)/dz - 1.0e-9_wp))
+      else if (j == size(bk)) then
+        n = max(1, ceiling(log10(bk(j)/bk(j - 1))/log10(1.0_wp + dz/bk(j - 1)) - 1.0e-9_wp))
+      else
+        n = max(1, ceiling((bk(j) - bk(j - 1))/dz - 1.0e-9_wp))
+      end if
+    end function zones_in
+
+    !> Region k is one the 1D run takes (shape all, or a sphere about c).
+    logical function one_d(k)
+      integer, intent(in) :: k
+      associate (rg => cfg%regions(k))
+        one_d = rg%shape == 'all' .or. (rg%shape == 'sphere' .and. &
+          sqrt(dot_product(rg%center - c, rg%center - c)) <= 1.0e-9_wp*max(rg%radius, tiny(1.0_wp)))
+      end associate
+    end function one_d
+
+    subroutine refuse(text)
+      character(len=*), intent(in) :: text
+      call error_set(err, deck_problem, text, ERR_INPUT)
+    end subroutine refuse
+  end subroutine prerun_run
+
+  !> How the 1D run maps into the grid: the mapped radius (beyond the
+  !> disturbance by two cells, or the deck's, on a node), the part of each
+  !> sphere in the grid (a half per symmetry plane through the centre; the
+  !> sphere must not cross another face).
+  subroutine prerun_plan(cfg, log, pr, err)
+    type(config_t), intent(in) :: cfg
+    type(log_t), intent(in) :: log
+    type(prerun_t), intent(inout) :: pr
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: h(3), rmap
+    integer :: a, j, stat
+    character(len=200) :: msg
+    associate (s => pr%s, pc => cfg%prerun, c => pr%centre)
       h = (cfg%grid%xmax - cfg%grid%xmin)/real([cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], wp)
       rmap = s%r(pr%kshock) + 2.0_wp*maxval(h)
       if (pc%map_radius > 0.0_wp) then
@@ -282,13 +357,12 @@ contains
         end if
         rmap = pc%map_radius
       end if
-      pr%kmap = min(nz, findloc(s%r(1:) >= rmap*(1.0_wp - 1.0e-12_wp), .true., dim=1))
-      if (pr%kmap == 0 .or. pr%kmap >= nz) then
-        call refuse('&prerun: the mapped radius '//rtoa(rmap)//' is beyond the 1D run''s radius '//rtoa(r1d))
+      pr%kmap = findloc(s%r(1:) >= rmap*(1.0_wp - 1.0e-12_wp), .true., dim=1)
+      if (pr%kmap == 0 .or. pr%kmap >= s%nz) then
+        call refuse('&prerun: the mapped radius '//rtoa(rmap)//' is beyond the 1D run''s radius '//rtoa(s%r(s%nz)))
         return
       end if
       rmap = s%r(pr%kmap)
-      ! the mapped sphere inside the grid but for symmetry planes through c
       pr%fdom = 1.0_wp
       do a = 1, 3
         do j = 0, 1
@@ -307,36 +381,94 @@ contains
           end associate
         end do
       end do
-      rlast = s%r(pr%kshock)
-      call log_line(log, 'prerun: disturbed to r = '//rtoa(rlast)//'; mapped within r = '//rtoa(rmap)// &
+      call log_line(log, 'prerun: disturbed to r = '//rtoa(s%r(pr%kshock))//'; mapped within r = '//rtoa(rmap)// &
                     ' ('//itoa(pr%kmap)//' zones, '//rtoa(pr%fdom)//' of each sphere in the grid)')
       pr%nsub = pc%subsamples
       allocate(pr%scale(pr%kmap), pr%ov(pr%kmap), pr%mom(3, pr%kmap), stat=stat, errmsg=msg)
       if (stat /= 0) then
-        call error_set(err, 'prerun_run', error_no_memory('the mapping'))
+        call error_set(err, 'prerun_plan', error_no_memory('the mapping'))
         return
       end if
       pr%ov = 0.0_wp
       pr%mom = 0.0_wp
-      pr%in1d = [(one_d(k), k = 1, size(cfg%regions))]
     end associate
 
   contains
-
-    !> Region k is one the 1D run takes (shape all, or a sphere about c).
-    logical function one_d(k)
-      integer, intent(in) :: k
-      associate (rg => cfg%regions(k))
-        one_d = rg%shape == 'all' .or. (rg%shape == 'sphere' .and. &
-          sqrt(dot_product(rg%center - c, rg%center - c)) <= 1.0e-9_wp*max(rg%radius, tiny(1.0_wp)))
-      end associate
-    end function one_d
 
     subroutine refuse(text)
       character(len=*), intent(in) :: text
       call error_set(err, deck_problem, text, ERR_INPUT)
     end subroutine refuse
-  end subroutine prerun_run
+  end subroutine prerun_plan
+
+  !> A row of the 1D gauges at the run's time: density, pressure, energy,
+  !> sound speed and radial velocity at each gauge's radius, linear between
+  !> the zone centres around it (the velocity between the nodes).
+  subroutine gauge_row(pr)
+    type(prerun_t), intent(inout) :: pr
+    real(wp), allocatable :: t(:), v(:, :, :)
+    real(wp) :: r, ra, rb, w
+    integer :: g, z, zn, lo, hi, mid, stat
+    associate (s => pr%s)
+      if (pr%nrow == size(pr%gt)) then
+        allocate(t(2*pr%nrow), v(5, size(pr%grad), 2*pr%nrow), stat=stat)
+        if (stat /= 0) return   ! (the rows stop growing: the answers come from those kept)
+        t(1:pr%nrow) = pr%gt
+        v(:, :, 1:pr%nrow) = pr%gv
+        call move_alloc(t, pr%gt)
+        call move_alloc(v, pr%gv)
+      end if
+      pr%nrow = pr%nrow + 1
+      pr%gt(pr%nrow) = s%t
+      do g = 1, size(pr%grad)
+        r = pr%grad(g)
+        ! the zone z whose centre is the last at or below r (bisection)
+        lo = 1
+        hi = s%nz
+        do while (lo < hi)
+          mid = (lo + hi + 1)/2
+          if (0.5_wp*(s%r(mid - 1) + s%r(mid)) <= r) then
+            lo = mid
+          else
+            hi = mid - 1
+          end if
+        end do
+        z = lo
+        zn = min(z + 1, s%nz)
+        ra = 0.5_wp*(s%r(z - 1) + s%r(z))
+        rb = 0.5_wp*(s%r(zn - 1) + s%r(zn))
+        w = 0.0_wp
+        if (rb > ra) w = min(1.0_wp, max(0.0_wp, (r - ra)/(rb - ra)))
+        pr%gv(1:4, g, pr%nrow) = (1.0_wp - w)*[s%rho(z), s%p(z), s%e(z), s%cs(z)] + &
+                                 w*[s%rho(zn), s%p(zn), s%e(zn), s%cs(zn)]
+        ! (the node velocities: the node at or below r and the next)
+        z = min(s%nz - 1, max(0, findloc(s%r >= r, .true., dim=1) - 2))
+        w = min(1.0_wp, max(0.0_wp, (r - s%r(z))/(s%r(z + 1) - s%r(z))))
+        pr%gv(5, g, pr%nrow) = (1.0_wp - w)*s%u(z) + w*s%u(z + 1)
+      end do
+    end associate
+  end subroutine gauge_row
+
+  !> The 1D gauge rows before the mapping time as rows of the run's gauge
+  !> file (its points are the gauges the 1D rows were taken at, in order):
+  !> a gauge's history then starts at t = 0, and the blast answers at the end
+  !> of the run take the part the shock passed in the 1D run from it.
+  subroutine prerun_gauge_rows(pr, points, gs)
+    type(prerun_t), intent(in) :: pr
+    real(wp), intent(in) :: points(:, :)
+    type(gauges_t), intent(in) :: gs
+    real(wp) :: vals(7, size(pr%grad)), d(3)
+    integer :: k, g
+    do k = 1, pr%nrow
+      if (.not. pr%gt(k) < pr%s%t*(1.0_wp - 1.0e-12_wp)) exit
+      do g = 1, size(pr%grad)
+        d = points(:, g) - pr%centre
+        if (pr%grad(g) > 0.0_wp) d = d/pr%grad(g)
+        vals(:, g) = [pr%gv(1:4, g, k), pr%gv(5, g, k)*d]
+      end do
+      call gauges_write_given(gs, pr%gt(k), vals)
+    end do
+  end subroutine prerun_gauge_rows
 
   !> kshock: the outermost zone whose pressure differs from its initial p0
   !> by more than 1e-6 of it (a zone at rest gets round-off differences in
@@ -403,26 +535,24 @@ contains
   !> What cell xn (an axis-aligned box, volume vol) gets of the 1D run: per
   !> material the volume vm, mass mm, total energy em (internal plus the
   !> zones' kinetic energy, `prerun_nodes` takes the nodes' out) and first
-  !> moment xm about the cell's centre; vin the part of the cell inside the
-  !> mapped radius (the scaled overlaps: over the grid, the cells' vol - vin
-  !> add up to the grid's volume outside the mapped sphere); prad its radial
-  !> momentum.
+  !> moment xm about the cell's centre (vm and xm from the scaled overlaps);
+  !> vin the part of the cell inside the mapped radius (the sum of its
+  !> overlaps before scaling: the cell's sub-boxes inside it); prad its
+  !> radial momentum.
   subroutine prerun_cell(pr, xn, vm, mm, em, xm, vin, prad)
     type(prerun_t), intent(inout) :: pr
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: vm(:), mm(:), em(:), xm(:, :), vin, prad
     integer :: k1, k2, z, m
-    real(wp) :: v, mass, vraw
+    real(wp) :: v, mass
     vm = 0.0_wp; mm = 0.0_wp; em = 0.0_wp; xm = 0.0_wp; prad = 0.0_wp
     associate (s => pr%s)
-      call sphere_box_overlaps(xn(:, 1), xn(:, 8), pr%centre, s%r, pr%kmap, pr%nsub, k1, k2, pr%ov, pr%mom, vraw)
-      vin = 0.0_wp
+      call sphere_box_overlaps(xn(:, 1), xn(:, 8), pr%centre, s%r, pr%kmap, pr%nsub, k1, k2, pr%ov, pr%mom, vin)
       do z = k1, k2
         m = s%mat(z)
         v = pr%ov(z)*pr%scale(z)
         mass = s%rho(z)*v
         vm(m) = vm(m) + v
-        vin = vin + v
         mm(m) = mm(m) + mass
         em(m) = em(m) + mass*(s%e(z) + 0.25_wp*(s%u(z - 1)**2 + s%u(z)**2))
         xm(:, m) = xm(:, m) + pr%mom(:, z)*pr%scale(z)
@@ -492,31 +622,81 @@ contains
     end do
   end subroutine prerun_nodes
 
-  !> The 1D run's profile at the mapping time, a row per zone: radii, zone
-  !> centre, density, mean velocity, pressure, specific internal energy,
-  !> material.
-  subroutine prerun_write(pr, path, err)
+  !> The 1D run's files: `<base>_prerun.txt`, its profile at the end, a row
+  !> per zone (radii, zone centre, density, mean velocity, pressure, specific
+  !> internal energy, sound speed, material), and with gauges
+  !> `<base>_prerun_gauges.txt` (time, then at each gauge's distance from the
+  !> centre density, pressure, energy, sound speed and radial velocity:
+  !> `tools/blast_gauges.py` reads it).
+  subroutine prerun_write(pr, base, err)
     type(prerun_t), intent(in) :: pr
-    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: base
     type(error_t), allocatable, intent(inout) :: err
-    integer :: u, ios, z
+    integer :: u, ios, z, g, k
     character(len=200) :: msg
-    open(newunit=u, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+    open(newunit=u, file=base//'_prerun.txt', status='replace', action='write', iostat=ios, iomsg=msg)
     if (ios /= 0) then
-      call error_set(err, 'prerun_write', 'cannot write '//path//': '//trim(msg))
+      call error_set(err, 'prerun_write', 'cannot write '//base//'_prerun.txt: '//trim(msg))
       return
     end if
     associate (s => pr%s)
       write(u, '(a)') '# the 1D spherical pre-run at t = '//rtoa(s%t)//' ('//itoa(s%steps)//' steps), about '// &
-                      vtext(pr%centre)//'; zones 1..'//itoa(pr%kmap)//' mapped (within r = '//rtoa(s%r(pr%kmap))//')'
-      write(u, '(a)') '# r_in r_out r density velocity pressure energy material'
+                      vtext(pr%centre)//'; zones 1..'//itoa(pr%kmap)//' mapped'
+      write(u, '(a)') '# r_in r_out r density velocity pressure energy sound_speed material'
       do z = 1, s%nz
-        write(u, '(7es24.15e3,1x,a)') s%r(z - 1), s%r(z), 0.5_wp*(s%r(z - 1) + s%r(z)), s%rho(z), &
-          0.5_wp*(s%u(z - 1) + s%u(z)), s%p(z), s%e(z), s%mats(s%mat(z))%name
+        write(u, '(8es24.15e3,1x,a)') s%r(z - 1), s%r(z), 0.5_wp*(s%r(z - 1) + s%r(z)), s%rho(z), &
+          0.5_wp*(s%u(z - 1) + s%u(z)), s%p(z), s%e(z), s%cs(z), s%mats(s%mat(z))%name
       end do
     end associate
     close(u)
+    if (size(pr%grad) == 0) return
+    open(newunit=u, file=base//'_prerun_gauges.txt', status='replace', action='write', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call error_set(err, 'prerun_write', 'cannot write '//base//'_prerun_gauges.txt: '//trim(msg))
+      return
+    end if
+    write(u, '(a)') '# the 1D spherical pre-run''s gauges: the pressure at each gauge''s distance from the centre'
+    do g = 1, size(pr%grad)
+      write(u, '(a)') '# gauge '//itoa(g)//' at radius '//rtoa(pr%grad(g))
+    end do
+    write(u, '(a)') '# time'//cat([(' density_'//itoa(g)//' pressure_'//itoa(g)//' energy_'//itoa(g)// &
+                                    ' sound_speed_'//itoa(g)//' velocity_'//itoa(g), g = 1, size(pr%grad))])
+    do k = 1, pr%nrow
+      write(u, '(*(es24.15e3))') pr%gt(k), pr%gv(:, :, k)
+    end do
+    close(u)
+
+  contains
+
+    pure function cat(parts) result(text)
+      character(len=*), intent(in) :: parts(:)
+      character(len=:), allocatable :: text
+      integer :: i
+      text = ''
+      do i = 1, size(parts)
+        text = text//trim(parts(i))
+      end do
+    end function cat
   end subroutine prerun_write
+
+  !> The 1D gauges' blast answers (`io_blast`), for the log.
+  subroutine prerun_report(pr, log)
+    type(prerun_t), intent(in) :: pr
+    type(log_t), intent(in) :: log
+    type(blast_t) :: b
+    integer :: g
+    do g = 1, size(pr%grad)
+      b = blast_answers(pr%gt(1:pr%nrow), pr%gv(2, g, 1:pr%nrow))
+      if (.not. b%arrived) then
+        call log_line(log, 'prerun gauge '//itoa(g)//' (radius '//rtoa(pr%grad(g))//'): no overpressure by t = '// &
+                      rtoa(pr%s%t))
+        cycle
+      end if
+      call log_line(log, 'prerun gauge '//itoa(g)//' (radius '//rtoa(pr%grad(g))//'): arrival '//rtoa(b%arrival)// &
+                    ', peak overpressure '//rtoa(b%peak)//', positive duration '//rtoa(b%duration)// &
+                    ', positive impulse '//rtoa(b%impulse)//trim(merge('            ', ' (not ended)', b%ended)))
+    end do
+  end subroutine prerun_report
 
   !> Sorts v ascending and drops repeats.
   pure subroutine sort_unique(v)

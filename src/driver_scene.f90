@@ -26,7 +26,7 @@ module driver_scene
   use driver_state, only: state_t, state_totals, centroid_text
   use driver_particles, only: build_particles
   use driver_burn, only: burn_state, deck_problem
-  use driver_prerun, only: prerun_t, prerun_run, prerun_scale, prerun_cell, prerun_nodes
+  use driver_prerun, only: prerun_t, prerun_run, prerun_plan, prerun_scale, prerun_cell, prerun_nodes
   use material_burn, only: burn_initiator, burn_around, burn_width_across, INIT_POINT, INIT_LINE, INIT_PLANE
   implicit none
   private
@@ -101,8 +101,9 @@ contains
       ! blocks'), its overlaps' factors over the grid, and the start time
       fluid = .false.
       if (present(fluid_only)) fluid = fluid_only
-      mapping = cfg%prerun%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid
-      if (mapping) then
+      ! (t_end <= &prerun time: the 1D run alone, no mapping)
+      mapping = .false.
+      if (cfg%prerun%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then
         if (.not. allocated(st%prerun)) then
           allocate(st%prerun, stat=stat)
           if (stat /= 0) then
@@ -111,7 +112,12 @@ contains
           end if
           call prerun_run(cfg, st%mats, log, st%prerun, err)
           if (allocated(err)) return
+          if (cfg%control%t_end > cfg%prerun%time) call prerun_plan(cfg, log, st%prerun, err)
+          if (allocated(err)) return
         end if
+        mapping = cfg%control%t_end > cfg%prerun%time
+      end if
+      if (mapping) then
         call prerun_scale(st%prerun, g, st%halo, err)
         if (allocated(err)) return
         if (allocated(st%prerun%prad)) deallocate(st%prerun%prad, st%prerun%hit)
@@ -429,7 +435,10 @@ contains
     logical, allocatable :: used(:)
     character(len=200) :: msg
     real(wp) :: prad
+    logical :: mapped
 
+    mapped = .false.
+    if (allocated(st%prerun)) mapped = allocated(st%prerun%prad)
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
       nreg = size(cfg%regions)
@@ -461,7 +470,7 @@ contains
       nmix = 0
       nslot = 0
       do c = 1, g%ncell
-        if (allocated(st%prerun)) then
+        if (mapped) then
           call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used, &
                               st%prerun, prad, hit)
           st%prerun%prad(c) = prad
@@ -570,7 +579,7 @@ contains
     real(wp), intent(out), optional :: prad
     logical, intent(out), optional :: hit
     real(wp) :: xn(3, 8), vreg(0:size(shapes)), mreg(3, 0:size(shapes)), vtot, f, xc(3), mm(3, size(vfm))
-    real(wp) :: vmp(size(vfm)), mmp(size(vfm)), emp(size(vfm)), xmp(3, size(vfm)), vin, fout
+    real(wp) :: vmp(size(vfm)), mmp(size(vfm)), emp(size(vfm)), xmp(3, size(vfm)), vin, fout, sfac
     integer :: r, m, nkept
 
     call g%gather(c, g%x, xn)
@@ -616,11 +625,15 @@ contains
             return
           end if
         end do
-        fout = max(0.0_wp, 1.0_wp - vin/vol)
-        vfm = (fout*vfm*vol + vmp)/(fout*vol + sum(vmp))
+        ! the regions keep the part outside the mapped radius; the 1D run's
+        ! materials share the rest by their (scaled) volumes
+        fout = 1.0_wp - vin/vol
+        if (fout < 1.0e-12_wp) fout = 0.0_wp   ! (round-off of a cell wholly inside)
+        sfac = (1.0_wp - fout)*vol/sum(vmp)
+        vfm = fout*vfm + vmp*sfac/vol
         massm = fout*massm + mmp
         enm = fout*enm + emp
-        mm = fout*mm + xmp
+        mm = fout*mm + xmp*sfac
         vtot = vol
         r_only = 0
       end if

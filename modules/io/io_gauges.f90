@@ -41,7 +41,7 @@ module io_gauges
   implicit none
   private
   public :: gauges_t, gauges_open, gauges_write, gauges_close, gauge_locate, gauge_sample, text_rows_trim, read_line, &
-            gauge_nfield, gauge_field_names
+            gauge_nfield, gauge_field_names, gauges_write_given
 
   !> Number of values a gauge reports per row (after its cell index).
   integer, parameter :: gauge_nfield = 7
@@ -155,6 +155,21 @@ contains
     write(gs%unit, '(a)') ''
     flush(gs%unit)
   end subroutine gauges_write
+
+  !> Appends a row at time t of values given for every gauge, vals(7, n) in
+  !> the order of gauge_field_names, with cell 0 (a row not sampled from the
+  !> grid: a &prerun's 1D run before it was mapped, `driver_prerun`).
+  subroutine gauges_write_given(gs, t, vals)
+    type(gauges_t), intent(in) :: gs
+    real(wp), intent(in) :: t, vals(:, :)
+    integer :: i
+    if (gs%n == 0 .or. gs%unit == -1) return
+    write(gs%unit, '(es25.16e3)', advance='no') t
+    do i = 1, gs%n
+      write(gs%unit, '(1x,i0,7es25.16e3)', advance='no') 0, vals(:, i)
+    end do
+    write(gs%unit, '(a)') ''
+  end subroutine gauges_write_given
 
   subroutine gauges_close(gs)
     type(gauges_t), intent(inout) :: gs
