@@ -232,7 +232,8 @@ contains
     names = [(cfg%solids(k)%name, k = 1, n)]
     do k = 1, n
       n0 = size(problems)
-      call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), echo, problems)
+      call solid_config_read(cfg%solids(k), k, deck_text(deck, 'solid', k), deck%path, names(1:k - 1), &
+                             cfg%control%units, echo, problems)
       call at_line(problems, n0, deck, 'solid', k)
       cfg%solids(k)%where = deck_where(deck, 'solid', k)//': '
       names(k) = cfg%solids(k)%name
@@ -531,7 +532,7 @@ contains
       text = ''   ! (what the documentation check would then report)
       return
     end if
-    call solid_config_read(cfg%solids(1), 1, empty('solid'), 'deck.nml', [character(len=64) ::], echo, problems)
+    call solid_config_read(cfg%solids(1), 1, empty('solid'), 'deck.nml', [character(len=64) ::], '', echo, problems)
     call particles_config_read(cfg%particles(1), 1, empty('particles'), 'deck.nml', [cfg%solids(1)%name], &
                                cfg%grid%xmin, cfg%grid%xmax, echo, problems)
     call boundary_config_read(cfg%boundary, empty('boundary'), 'deck.nml', names, echo, problems)

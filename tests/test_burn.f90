@@ -16,7 +16,7 @@ program test_burn
   real(wp), allocatable :: dist(:), dirs(:, :)
   logical :: mask(40, 40, 1), ok
   integer :: i, j, k, ib, e
-  character(len=8), parameter :: explosives(5) = [character(len=8) :: 'tnt', 'c4', 'compb', 'petn', 'rht901']
+  character(len=8), parameter :: explosives(6) = [character(len=8) :: 'tnt', 'c4', 'compb', 'petn', 'compa3', 'rht901']
   real(wp) :: lv(10), d_doc, p_doc
   logical :: found(10)
 

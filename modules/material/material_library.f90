@@ -28,15 +28,24 @@ module material_library
     1.0e-2_wp, 1.0_wp, 1.0e-3_wp], &   ! cm, s, g: dyn/cm^2
     [3, nsys])
 
-  !> The library keys with a dimension: (L, T, M) exponents.
-  integer, parameter :: nkey = 16
-  character(len=*), parameter :: key_names(nkey) = [character(len=20) :: 'a', 'b', 'rho0', 'c0', 'density', &
-    'energy_per_volume', 'pressure', 'energy', 'cj_velocity', 'cj_pressure', 'gamma', 'r1', 'r2', 'omega', 's1', &
-    'gamma0']
-  integer, parameter :: key_dims(3, nkey) = reshape([ &
-    -1, -2, 1, -1, -2, 1, -3, 0, 1, 1, -1, 0, -3, 0, 1, &
-    -1, -2, 1, -1, -2, 1, 2, -2, 0, 1, -1, 0, -1, -2, 1, &
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0], [3, nkey])
+  !> The library keys with a dimension, by dimension ((L, T, M) exponents in
+  !> `key_dimension`): the EOS keys of &material and the &solid keys (its
+  !> EOS, elastic moduli and strength models). Temperatures (t_room, t_melt)
+  !> are kelvin in every system (a degree is the same size in all six), so
+  !> they, like the dimensionless keys, convert to themselves; a specific
+  !> heat is energy per mass per kelvin, L^2 T^-2.
+  character(len=*), parameter :: pressure_keys(*) = [character(len=20) :: 'a', 'b', 'energy_per_volume', &
+    'pressure', 'cj_pressure', 'bulk_modulus', 'shear_modulus', 'youngs_modulus', 'yield_stress', &
+    'tangent_modulus', 'jc_a', 'jc_b', 'hjc_fc', 'hjc_t', 'hjc_pcrush', 'hjc_plock', 'hjc_k1', 'hjc_k2', 'hjc_k3']
+  character(len=*), parameter :: density_keys(*) = [character(len=20) :: 'rho0', 'density']
+  character(len=*), parameter :: velocity_keys(*) = [character(len=20) :: 'c0', 'cj_velocity']
+  character(len=*), parameter :: rate_keys(*) = [character(len=20) :: 'jc_eps0', 'hjc_eps0']
+  !> specific energy; a specific heat (per kelvin) converts the same way
+  character(len=*), parameter :: specific_keys(*) = [character(len=20) :: 'energy', 'specific_heat']
+  character(len=*), parameter :: plain_keys(*) = [character(len=20) :: 'gamma', 'r1', 'r2', 'omega', 's1', &
+    'gamma0', 'poisson_ratio', 'jc_n', 'jc_c', 'jc_m', 't_room', 't_melt', 'taylor_quinney', 'failure_strain', &
+    'gtn_q1', 'gtn_q2', 'gtn_fn', 'gtn_epsn', 'gtn_sn', 'gtn_fc', 'gtn_ff', 'hjc_a', 'hjc_b', 'hjc_n', 'hjc_c', &
+    'hjc_smax', 'hjc_d1', 'hjc_d2', 'hjc_efmin', 'hjc_mucrush', 'hjc_mulock']
 
 contains
 
@@ -102,7 +111,8 @@ contains
     real(wp), intent(out) :: value
     logical, intent(out) :: found
     character(len=:), allocatable :: text, from
-    integer :: ios, k, s0, s1
+    integer :: ios, dims(3), s0, s1
+    logical :: known
     value = 0.0_wp
     text = library_text(name, key)
     from = library_text(name, 'units')
@@ -112,15 +122,48 @@ contains
     if (ios /= 0) return
     found = .true.
     if (from == units) return
-    k = findloc(key_names, key, dim=1)
-    s0 = findloc(sys_names, from, dim=1)
-    s1 = findloc(sys_names, units, dim=1)
-    if (k == 0 .or. s0 == 0) then
+    call key_dimension(key, dims, known)
+    s0 = sys_index(from)
+    s1 = sys_index(units)
+    if (.not. known .or. s0 == 0) then
       found = .false.
       return
     end if
-    value = value*product((sys_units(:, s0)/sys_units(:, s1))**key_dims(:, k))
+    value = value*product((sys_units(:, s0)/sys_units(:, s1))**dims)
   end subroutine library_value
+
+  !> The index of unit system `name` in `sys_names` (0: none). (A loop:
+  !> gfortran 12's findloc on these character arrays missed names it holds.)
+  pure integer function sys_index(name) result(k)
+    character(len=*), intent(in) :: name
+    do k = 1, nsys
+      if (sys_names(k) == name) return
+    end do
+    k = 0
+  end function sys_index
+
+  !> The dimension of library key `key`: (L, T, M) exponents; known false
+  !> for a key that has none in the lists above (its value cannot convert).
+  pure subroutine key_dimension(key, dims, known)
+    character(len=*), intent(in) :: key
+    integer, intent(out) :: dims(3)
+    logical, intent(out) :: known
+    known = .true.
+    if (any(pressure_keys == key)) then
+      dims = [-1, -2, 1]
+    else if (any(density_keys == key)) then
+      dims = [-3, 0, 1]
+    else if (any(velocity_keys == key)) then
+      dims = [1, -1, 0]
+    else if (any(rate_keys == key)) then
+      dims = [0, -1, 0]
+    else if (any(specific_keys == key)) then
+      dims = [2, -2, 0]
+    else
+      dims = 0
+      known = any(plain_keys == key)
+    end if
+  end subroutine key_dimension
 
   !> The line of entry `name`'s header (0: none).
   pure integer function entry_start(name) result(i)

@@ -22,6 +22,19 @@
 !> EOS's rho0 c0^2, and serves only Young's modulus of the bilinear
 !> hardening modulus; rho0 = 0 (not given) means the solid's density.
 !>
+!> &solid library = 'name' takes the variables the group does not give from
+!> the entry `name` of the material library (`material_library`, converted
+!> to the deck's &run units): its density, eos and strength; its EOS
+!> parameters if the solid's eos is the entry's; its elastic moduli only if
+!> the group gives none of bulk_modulus, shear_modulus, youngs_modulus,
+!> poisson_ratio (a pair of the group's replaces the entry's pair); and each
+!> model's parameters only to a solid of that model (jc_a, jc_b, jc_n, jc_c,
+!> jc_eps0 to johnson_cook and gurson; jc_m, t_room, t_melt, specific_heat,
+!> taylor_quinney to johnson_cook; yield_stress, tangent_modulus to
+!> bilinear; failure_strain to bilinear and gurson; gtn_* to gurson; hjc_*
+!> to hjc), so that a deck may take an entry's Johnson-Cook steel as the
+!> matrix of a gurson solid.
+!>
 !> &particles: a shape (box, sphere, cylinder, all, or file: a text file of
 !> points), particles per cell per direction, the solid, density (default
 !> the solid's), initial velocity (uniform, or a rigid rotation about the x,
@@ -39,6 +52,7 @@ module particles_config
   use strength_factory, only: strength_names, strength_create
   use strength_models, only: strength_t, strength_params_t
   use strength_random_field, only: random_field_covariances, void_fraction_distributions
+  use material_library, only: units_known, units_list, library_names, library_has, library_value, library_text
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
@@ -55,6 +69,7 @@ module particles_config
     character(len=300) :: where = ''               !< 'deck:line: ' of the group, for later refusals
     real(wp) :: density = 0.0_wp                   !< reference density (required, > 0)
     character(len=64) :: eos = 'none'              !< 'none' (pressure K (rho/rho0 - 1)) or an eos_factory name
+    character(len=64) :: library = ''              !< a `material_library` entry ('' none)
     type(eos_params_t) :: par                      !< EOS parameters
     real(wp) :: bulk_modulus = 0.0_wp              !< K (pressure); resolved from E, nu or the EOS (module notes)
     real(wp) :: shear_modulus = 0.0_wp             !< G (pressure); resolved from E, nu if those are given
@@ -105,13 +120,15 @@ module particles_config
 contains
 
   !> Reads, validates and echoes the s-th &solid group (`text`); `earlier`
-  !> are the names of the groups before it (names must be unique).
-  subroutine solid_config_read(this, s, text, path, earlier, echo, problems)
+  !> are the names of the groups before it (names must be unique); `units`
+  !> the deck's &run units, to which a `library` entry's values convert
+  !> (module notes: which of the entry's variables a solid takes).
+  subroutine solid_config_read(this, s, text, path, earlier, units, echo, problems)
     type(solid_config_t), intent(out) :: this
     integer, intent(in) :: s, echo
-    character(len=*), intent(in) :: text(:), path, earlier(:)
+    character(len=*), intent(in) :: text(:), path, earlier(:), units
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    character(len=64) :: name, eos
+    character(len=64) :: name, eos, library
     character(len=16) :: strength
     real(wp) :: density, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, shear_modulus, &
                 youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
@@ -128,7 +145,9 @@ contains
     real(wp) :: hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
                 hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
     type(strength_params_t) :: hp
-    namelist /solid/ name, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
+    logical :: moduli_given
+    real(wp), parameter :: unset = -huge(1.0_wp)
+    namelist /solid/ name, library, density, eos, gamma, a, b, r1, r2, omega, rho0, c0, s1, gamma0, bulk_modulus, &
                      shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
                      jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney, &
                      gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
@@ -136,26 +155,26 @@ contains
                      hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
                      hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
 
-    name = this%name; density = this%density; eos = this%eos
+    ! (the variables a library entry can give unset, so that a variable the
+    ! group gives is known: they get the entry's value or the default after
+    ! the read)
+    name = this%name; library = this%library; density = unset; eos = ''
     associate (d => this%par)
-      gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2
-      omega = d%omega; rho0 = d%rho0; c0 = d%c0; s1 = d%s1; gamma0 = d%gamma0
+      gamma = d%gamma; a = d%a; b = d%b; r1 = d%r1; r2 = d%r2; omega = d%omega
     end associate
-    bulk_modulus = this%bulk_modulus; shear_modulus = this%shear_modulus
-    youngs_modulus = this%youngs_modulus; poisson_ratio = this%poisson_ratio
-    strength = this%strength; yield_stress = this%yield_stress; tangent_modulus = this%tangent_modulus
-    jc_a = this%jc_a; jc_b = this%jc_b; jc_n = this%jc_n; jc_c = this%jc_c; jc_eps0 = this%jc_eps0; jc_m = this%jc_m
-    t_room = this%t_room; t_melt = this%t_melt; specific_heat = this%specific_heat; taylor_quinney = this%taylor_quinney
-    gtn_q1 = this%gtn_q1; gtn_q2 = this%gtn_q2; gtn_fn = this%gtn_fn; gtn_epsn = this%gtn_epsn; gtn_sn = this%gtn_sn
-    gtn_fc = this%gtn_fc; gtn_ff = this%gtn_ff; failure_strain = this%failure_strain
+    rho0 = unset; c0 = unset; s1 = unset; gamma0 = unset
+    bulk_modulus = unset; shear_modulus = unset; youngs_modulus = unset; poisson_ratio = unset
+    strength = ''; yield_stress = unset; tangent_modulus = unset
+    jc_a = unset; jc_b = unset; jc_n = unset; jc_c = unset; jc_eps0 = unset; jc_m = unset
+    t_room = unset; t_melt = unset; specific_heat = unset; taylor_quinney = unset
+    gtn_q1 = unset; gtn_q2 = unset; gtn_fn = unset; gtn_epsn = unset; gtn_sn = unset
+    gtn_fc = unset; gtn_ff = unset; failure_strain = unset
     void_mean = this%void_mean; void_std = this%void_std; void_length = this%void_length; void_seed = this%void_seed
     void_covariance = this%void_covariance; void_distribution = this%void_distribution
-    associate (h => this%hjc)
-      hjc_a = h%hjc_a; hjc_b = h%hjc_b; hjc_n = h%hjc_n; hjc_c = h%hjc_c; hjc_fc = h%hjc_fc; hjc_smax = h%hjc_smax
-      hjc_t = h%hjc_t; hjc_d1 = h%hjc_d1; hjc_d2 = h%hjc_d2; hjc_efmin = h%hjc_efmin; hjc_pcrush = h%hjc_pcrush
-      hjc_mucrush = h%hjc_mucrush; hjc_plock = h%hjc_plock; hjc_mulock = h%hjc_mulock; hjc_k1 = h%hjc_k1
-      hjc_k2 = h%hjc_k2; hjc_k3 = h%hjc_k3; hjc_eps0 = h%hjc_eps0
-    end associate
+    hjc_a = unset; hjc_b = unset; hjc_n = unset; hjc_c = unset; hjc_fc = unset; hjc_smax = unset
+    hjc_t = unset; hjc_d1 = unset; hjc_d2 = unset; hjc_efmin = unset; hjc_pcrush = unset
+    hjc_mucrush = unset; hjc_plock = unset; hjc_mulock = unset; hjc_k1 = unset
+    hjc_k2 = unset; hjc_k3 = unset; hjc_eps0 = unset
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -164,10 +183,12 @@ contains
     call problem_long(problems, 'solid', 'name', name)
     call problem_long(problems, 'solid', 'eos', eos)
     call problem_long(problems, 'solid', 'strength', strength)
+    call problem_long(problems, 'solid', 'library', library)
     if (len_trim(name) == 0) name = 'solid'//itoa(s)
     if (any(earlier == name)) call problem_add(problems, &
       '&solid: name = '''//trim(name)//''' is used twice; names must be unique')
     tag = 'solid '''//trim(name)//''''
+    call library_fill()
     if (.not. (density > 0.0_wp)) call problem_bad(problems, tag, 'density', density, 'must be > 0')
     ! the moduli: (E, nu) or (K, G), not both
     ! (the resolved moduli in k_mod, g_mod: the echo keeps what the deck gave,
@@ -276,7 +297,7 @@ contains
           'strength = ''gurson'' (this solid''s is '''//trim(strength)//''')')
       end associate
     end if
-    this = solid_config_t(name=name, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
+    this = solid_config_t(name=name, library=library, density=density, eos=eos, par=this%par, bulk_modulus=k_mod, &
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
       yield_stress=yield_stress, tangent_modulus=tangent_modulus, jc_a=jc_a, jc_b=jc_b, jc_n=jc_n, jc_c=jc_c, &
       jc_eps0=jc_eps0, gtn_q1=gtn_q1, gtn_q2=gtn_q2, gtn_fn=gtn_fn, gtn_epsn=gtn_epsn, gtn_sn=gtn_sn, gtn_fc=gtn_fc, &
@@ -285,6 +306,107 @@ contains
       t_room=t_room, t_melt=t_melt, specific_heat=specific_heat, taylor_quinney=taylor_quinney, hjc=hp)
     if (echo /= no_echo) write(echo, nml=solid)
   contains
+    !> The library entry (if any), then every variable the group did not
+    !> give: the entry's where it applies (module notes), else the default.
+    subroutine library_fill()
+      logical :: eos_lib, jc, bilinear, gurson, hjc
+      if (len_trim(library) > 0) then
+        if (.not. library_has(trim(library))) then
+          call problem_add(problems, '&'//tag//': library = '''//trim(library)// &
+                           ''' is not in the material library (input/materials.txt): '//library_names())
+          library = ''
+        else if (.not. units_known(units)) then
+          call problem_add(problems, '&'//tag//': library = '''//trim(library)// &
+                           ''' needs the deck''s unit system, &run units, one of: '//units_list())
+          library = ''
+        end if
+      end if
+      if (len_trim(eos) == 0) eos = lib_text('eos', this%eos)
+      if (len_trim(strength) == 0) strength = lib_text('strength', this%strength)
+      eos_lib = trim(eos) == lib_text('eos', '')
+      jc = trim(strength) == 'johnson_cook'
+      bilinear = trim(strength) == 'bilinear'
+      gurson = trim(strength) == 'gurson'
+      hjc = trim(strength) == 'hjc'
+      call fill(density, 'density', this%density, .true.)
+      call fill(rho0, 'rho0', this%par%rho0, eos_lib)
+      call fill(c0, 'c0', this%par%c0, eos_lib)
+      call fill(s1, 's1', this%par%s1, eos_lib)
+      call fill(gamma0, 'gamma0', this%par%gamma0, eos_lib)
+      ! (the moduli as a set: the group's pair, else the entry's)
+      moduli_given = any([bulk_modulus, shear_modulus, youngs_modulus, poisson_ratio] > unset)
+      call fill(bulk_modulus, 'bulk_modulus', this%bulk_modulus, .not. moduli_given)
+      call fill(shear_modulus, 'shear_modulus', this%shear_modulus, .not. moduli_given)
+      call fill(youngs_modulus, 'youngs_modulus', this%youngs_modulus, .not. moduli_given)
+      call fill(poisson_ratio, 'poisson_ratio', this%poisson_ratio, .not. moduli_given)
+      call fill(yield_stress, 'yield_stress', this%yield_stress, bilinear)
+      call fill(tangent_modulus, 'tangent_modulus', this%tangent_modulus, bilinear)
+      call fill(jc_a, 'jc_a', this%jc_a, jc .or. gurson)
+      call fill(jc_b, 'jc_b', this%jc_b, jc .or. gurson)
+      call fill(jc_n, 'jc_n', this%jc_n, jc .or. gurson)
+      call fill(jc_c, 'jc_c', this%jc_c, jc .or. gurson)
+      call fill(jc_eps0, 'jc_eps0', this%jc_eps0, jc .or. gurson)
+      call fill(jc_m, 'jc_m', this%jc_m, jc)
+      call fill(t_room, 't_room', this%t_room, jc)
+      call fill(t_melt, 't_melt', this%t_melt, jc)
+      call fill(specific_heat, 'specific_heat', this%specific_heat, jc)
+      call fill(taylor_quinney, 'taylor_quinney', this%taylor_quinney, jc)
+      call fill(failure_strain, 'failure_strain', this%failure_strain, bilinear .or. gurson)
+      call fill(gtn_q1, 'gtn_q1', this%gtn_q1, gurson)
+      call fill(gtn_q2, 'gtn_q2', this%gtn_q2, gurson)
+      call fill(gtn_fn, 'gtn_fn', this%gtn_fn, gurson)
+      call fill(gtn_epsn, 'gtn_epsn', this%gtn_epsn, gurson)
+      call fill(gtn_sn, 'gtn_sn', this%gtn_sn, gurson)
+      call fill(gtn_fc, 'gtn_fc', this%gtn_fc, gurson)
+      call fill(gtn_ff, 'gtn_ff', this%gtn_ff, gurson)
+      associate (h => this%hjc)
+        call fill(hjc_a, 'hjc_a', h%hjc_a, hjc)
+        call fill(hjc_b, 'hjc_b', h%hjc_b, hjc)
+        call fill(hjc_n, 'hjc_n', h%hjc_n, hjc)
+        call fill(hjc_c, 'hjc_c', h%hjc_c, hjc)
+        call fill(hjc_fc, 'hjc_fc', h%hjc_fc, hjc)
+        call fill(hjc_smax, 'hjc_smax', h%hjc_smax, hjc)
+        call fill(hjc_t, 'hjc_t', h%hjc_t, hjc)
+        call fill(hjc_d1, 'hjc_d1', h%hjc_d1, hjc)
+        call fill(hjc_d2, 'hjc_d2', h%hjc_d2, hjc)
+        call fill(hjc_efmin, 'hjc_efmin', h%hjc_efmin, hjc)
+        call fill(hjc_pcrush, 'hjc_pcrush', h%hjc_pcrush, hjc)
+        call fill(hjc_mucrush, 'hjc_mucrush', h%hjc_mucrush, hjc)
+        call fill(hjc_plock, 'hjc_plock', h%hjc_plock, hjc)
+        call fill(hjc_mulock, 'hjc_mulock', h%hjc_mulock, hjc)
+        call fill(hjc_k1, 'hjc_k1', h%hjc_k1, hjc)
+        call fill(hjc_k2, 'hjc_k2', h%hjc_k2, hjc)
+        call fill(hjc_k3, 'hjc_k3', h%hjc_k3, hjc)
+        call fill(hjc_eps0, 'hjc_eps0', h%hjc_eps0, hjc)
+      end associate
+    end subroutine library_fill
+
+    !> The entry's text for `key`, else `def`.
+    function lib_text(key, def) result(text)
+      character(len=*), intent(in) :: key, def
+      character(len=:), allocatable :: text
+      text = ''
+      if (len_trim(library) > 0) text = library_text(trim(library), key)
+      if (len(text) == 0) text = def
+      text = trim(text)
+    end function lib_text
+
+    !> A variable the group did not give: the entry's (in the deck's units)
+    !> if `applies`, else the default `def`.
+    subroutine fill(v, key, def, applies)
+      real(wp), intent(inout) :: v
+      character(len=*), intent(in) :: key
+      real(wp), intent(in) :: def
+      logical, intent(in) :: applies
+      logical :: found
+      real(wp) :: lv
+      if (v > unset) return
+      v = def
+      if (.not. applies .or. len_trim(library) == 0) return
+      call library_value(trim(library), key, units, lv, found)
+      if (found) v = lv
+    end subroutine fill
+
     !> strength = 'johnson_cook': its parameters (PARTICLES.md §2.3).
     subroutine johnson_cook_check()
       character(len=*), parameter :: for = ' for strength = ''johnson_cook'''
@@ -555,6 +677,7 @@ contains
         call diff_s(changes, trim(w)//' name', a%name, b%name)
         call diff_r(changes, trim(w)//' density', [a%density], [b%density])
         call diff_s(changes, trim(w)//' eos', a%eos, b%eos)
+        call diff_s(changes, trim(w)//' library', a%library, b%library)
         call diff_r(changes, trim(w)//' eos parameters', [a%par%gamma, a%par%a, a%par%b, a%par%r1, a%par%r2, &
                     a%par%omega, a%par%rho0, a%par%c0, a%par%s1, a%par%gamma0], [b%par%gamma, b%par%a, b%par%b, &
                     b%par%r1, b%par%r2, b%par%omega, b%par%rho0, b%par%c0, b%par%s1, b%par%gamma0])
