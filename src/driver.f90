@@ -94,13 +94,13 @@ contains
       call log_line(sch%log, 'run: '//itoa(sch%pc%nranks)//' MPI ranks, blocks '//itoa(sch%pc%dims(1))//' x '// &
                     itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
-    if (.not. allocated(err) .and. allocated(st%prerun)) then
-      call prerun_report(st%prerun, sch%log)
-      if (sch%pc%rank == 0) call prerun_write(st%prerun, sch%out%dir//'/'//sch%out%name, err)
+    if (.not. allocated(err) .and. allocated(st%pre1d)) then
+      call prerun_report(st%pre1d, sch%log)
+      if (sch%pc%rank == 0) call prerun_write(st%pre1d, sch%out%dir//'/'//sch%out%name, err)
     end if
     call agree_error(sch%pc, err)
     if (allocated(err)) call fail(cfg, st, sch, err)
-    if (cfg%prerun%time > 0.0_wp .and. .not. cfg%control%t_end > cfg%prerun%time .and. .not. sch%restarting) then
+    if (cfg%pre1d%time > 0.0_wp .and. .not. cfg%control%t_end > cfg%pre1d%time .and. .not. sch%restarting) then
       ! (t_end <= &prerun time: the 1D run was the whole run)
       call log_line(sch%log, 'prerun: t_end <= &prerun time: the 1D run alone; its profile and gauges are in '// &
                     sch%out%dir//'/'//sch%out%name//'_prerun*.txt')
@@ -148,7 +148,7 @@ contains
       call write_frame(cfg, st, sch, err)
       if (allocated(err)) call fail(cfg, st, sch, err)
       ! (a mapped 1D run's gauge rows come first)
-      if (allocated(st%prerun)) call prerun_gauge_rows(st%prerun, cfg%output%gauges(:, 1:cfg%output%ngauge), &
+      if (allocated(st%pre1d)) call prerun_gauge_rows(st%pre1d, cfg%output%gauges(:, 1:cfg%output%ngauge), &
                                                        sch%gauges)
       call gauge_output(cfg, st, sch)
       call history_output(cfg, st, sch)

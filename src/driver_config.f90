@@ -78,7 +78,7 @@ module driver_config
     type(region_config_t), allocatable :: regions(:)
     type(source_config_t), allocatable :: sources(:)
     type(detonation_config_t), allocatable :: detonations(:)     !< &detonation: initiators of explosives
-    type(prerun_config_t) :: prerun                              !< &prerun: a 1D run mapped in (time 0: none)
+    type(prerun_config_t) :: pre1d                               !< &prerun: a 1D run mapped in (time 0: none)
     type(solid_config_t), allocatable :: solids(:)              !< &solid: solid materials of the particles
     type(particles_config_t), allocatable :: particles(:)       !< &particles: seeding (none: no particles)
     type(boundary_config_t) :: boundary
@@ -200,7 +200,7 @@ contains
       end do
       if (deck_count(deck, 'prerun') > 0) then
         n0 = size(problems)
-        call prerun_config_read(cfg%prerun, deck_text(deck, 'prerun'), path, echo, problems)
+        call prerun_config_read(cfg%pre1d, deck_text(deck, 'prerun'), path, echo, problems)
         call at_line(problems, n0, deck, 'prerun')
       end if
       call read_particle_groups(deck, cfg, echo, problems)
@@ -524,7 +524,7 @@ contains
                             problems)
     cfg%detonations = [detonation_config_t()]
     call detonation_config_read(cfg%detonations(1), 1, empty('detonation'), 'deck.nml', names, ['jwl'], echo, problems)
-    call prerun_config_read(cfg%prerun, empty('prerun'), 'deck.nml', echo, problems)
+    call prerun_config_read(cfg%pre1d, empty('prerun'), 'deck.nml', echo, problems)
     cfg%solids = [solid_config_t()]
     ! (default-initialized; a constructor would copy an unset file_path)
     allocate(cfg%particles(1), stat=stat)

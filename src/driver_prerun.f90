@@ -11,11 +11,9 @@
 !> f (r_k^3 - r_{k-1}^3) 4 pi/3 (f = 1/2 for each symmetry plane through the
 !> centre), so the cells receive exactly the zone's mass, radial momentum and
 !> total energy times f. A node's velocity is radial, its radial momentum the
-!> corner-mass shares of its cells' (`prerun_nodes`); each cell's internal
-!> energy is its mapped total energy less the kinetic energy of its corners,
-!> so the total energy is that of the 1D run. The radial momentum of a node
-!> at the centre (which has no radial direction) is the one thing dropped: it
-!> is logged.
+!> shares of its cells' (`prerun_nodes`); each cell's internal energy is its
+!> mapped total energy less the kinetic energy of its corners, so the total
+!> energy is that of the 1D run.
 module driver_prerun
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
@@ -36,7 +34,7 @@ module driver_prerun
   implicit none
   private
   public :: prerun_t, prerun_gauge_rows, prerun_run, prerun_plan, prerun_scale, prerun_cell, prerun_nodes, &
-            prerun_write, prerun_report
+            prerun_write, prerun_report, prerun_totals
 
   real(wp), parameter :: pi = 3.14159265358979323846_wp
 
@@ -76,7 +74,7 @@ contains
     logical :: ok, burns
     character(len=200) :: msg
 
-    associate (pc => cfg%prerun, s => pr%s)
+    associate (pc => cfg%pre1d, s => pr%s)
       t_map = pc%time
       if (len_trim(cfg%grid%file) > 0) then
         call refuse('&prerun maps onto a box grid (&grid without file) for now')
@@ -346,7 +344,7 @@ contains
     real(wp) :: h(3), rmap
     integer :: a, j, stat
     character(len=200) :: msg
-    associate (s => pr%s, pc => cfg%prerun, c => pr%centre)
+    associate (s => pr%s, pc => cfg%pre1d, c => pr%centre)
       h = (cfg%grid%xmax - cfg%grid%xmin)/real([cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], wp)
       rmap = s%r(pr%kshock) + 2.0_wp*maxval(h)
       if (pc%map_radius > 0.0_wp) then
@@ -532,6 +530,22 @@ contains
     end do
   end subroutine prerun_scale
 
+  !> The 1D run's mass, total energy and radial momentum within the mapped
+  !> radius, times the part of each sphere in the grid (what the mapping
+  !> gives the cells).
+  pure function prerun_totals(pr) result(tot)
+    type(prerun_t), intent(in) :: pr
+    real(wp) :: tot(3)
+    integer :: z
+    tot = 0.0_wp
+    associate (s => pr%s)
+      do z = 1, pr%kmap
+        tot = tot + s%m(z)*[1.0_wp, s%e(z) + 0.25_wp*(s%u(z - 1)**2 + s%u(z)**2), 0.5_wp*(s%u(z - 1) + s%u(z))]
+      end do
+    end associate
+    tot = 4.0_wp*pi*pr%fdom*tot
+  end function prerun_totals
+
   !> What cell xn (an axis-aligned box, volume vol) gets of the 1D run: per
   !> material the volume vm, mass mm, total energy em (internal plus the
   !> zones' kinetic energy, `prerun_nodes` takes the nodes' out) and first
@@ -565,53 +579,62 @@ contains
     end associate
   end subroutine prerun_cell
 
-  !> The nodes' velocities from the cells' radial momenta (pr%prad, shared
-  !> by corner masses: mcorner/mass), and the corners' kinetic energy taken
-  !> from the internal energy of the cells that got some of the 1D run (the
-  !> same specific amount from each of a mixed cell's materials). Returns
-  !> the radial momentum a node at the centre could not carry.
-  subroutine prerun_nodes(pr, g, mass, mcorner, mnode, mat, mx, u, e, dropped)
+  !> The nodes' velocities from the cells' radial momenta pr%prad: a cell
+  !> gives each corner node a share in proportion to the node's distance
+  !> from the centre (the 1D velocity grows from 0 at the
+  !> centre: a node there gets none, and the shares add up to the cell's
+  !> momentum); a node's velocity is radial, its radial momentum the sum of
+  !> its shares. Each node's kinetic energy is then taken from the internal
+  !> energy of the cells that gave it momentum, in proportion to their shares
+  !> (a cell ahead of the 1D run's shock, which gave none, keeps its energy;
+  !> a mixed cell's materials give the same specific amount), so the total
+  !> energy is what the cells were given.
+  subroutine prerun_nodes(pr, g, mass, mnode, mat, mx, u, e, err)
     type(prerun_t), intent(in) :: pr
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: mass(:), mcorner(:, :), mnode(:)
+    real(wp), intent(in) :: mass(:), mnode(:)
     integer, intent(in) :: mat(:)
     type(mixed_t), intent(inout) :: mx
     real(wp), intent(inout) :: u(:, :), e(:)
-    real(wp), intent(out) :: dropped
-    real(wp), allocatable :: pn(:)
-    logical, allocatable :: moved(:)
-    real(wp) :: d(3), r, ke
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: pn(:), qn(:), q(:, :)
+    real(wp) :: d(3), r(8), w(8), ke
     integer :: c, a, n, stat
-    dropped = 0.0_wp
-    allocate(pn(g%nnode), moved(g%nnode), stat=stat)
-    if (stat /= 0) error stop 'prerun_nodes: out of memory'
+    allocate(pn(g%nnode), qn(g%nnode), q(8, g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'prerun_nodes', error_no_memory('the mapped nodes'))
+      return
+    end if
     pn = 0.0_wp
-    moved = .false.
+    qn = 0.0_wp
+    q = 0.0_wp
     do c = 1, g%ncell
       if (.not. pr%hit(c)) cycle
       do a = 1, 8
         n = g%node0(c) + g%corner_offset(a)
-        pn(n) = pn(n) + pr%prad(c)*mcorner(a, c)/mass(c)
-        moved(n) = .true.
+        d = g%x(:, n) - pr%centre
+        r(a) = sqrt(dot_product(d, d))
+        w(a) = mass(c)*r(a)
+      end do
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        q(a, c) = pr%prad(c)*w(a)/sum(w)
+        pn(n) = pn(n) + q(a, c)
+        qn(n) = qn(n) + abs(q(a, c))
       end do
     end do
     do n = 1, g%nnode
-      if (.not. moved(n)) cycle
+      if (.not. qn(n) > 0.0_wp) cycle
       d = g%x(:, n) - pr%centre
-      r = sqrt(dot_product(d, d))
-      if (r > 0.0_wp) then
-        u(:, n) = (pn(n)/mnode(n))*(d/r)
-      else
-        u(:, n) = 0.0_wp
-        dropped = dropped + pn(n)
-      end if
+      r(1) = sqrt(dot_product(d, d))
+      u(:, n) = (pn(n)/mnode(n))*(d/r(1))
     end do
     do c = 1, g%ncell
       if (.not. pr%hit(c)) cycle
       ke = 0.0_wp
       do a = 1, 8
         n = g%node0(c) + g%corner_offset(a)
-        ke = ke + 0.5_wp*mcorner(a, c)*dot_product(u(:, n), u(:, n))
+        if (qn(n) > 0.0_wp) ke = ke + 0.5_wp*mnode(n)*dot_product(u(:, n), u(:, n))*abs(q(a, c))/qn(n)
       end do
       e(c) = e(c) - ke/mass(c)
       if (mat(c) < 0) then

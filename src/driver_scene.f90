@@ -26,7 +26,8 @@ module driver_scene
   use driver_state, only: state_t, state_totals, centroid_text
   use driver_particles, only: build_particles
   use driver_burn, only: burn_state, deck_problem
-  use driver_prerun, only: prerun_t, prerun_run, prerun_plan, prerun_scale, prerun_cell, prerun_nodes
+  use driver_prerun, only: prerun_t, prerun_run, prerun_plan, prerun_scale, prerun_cell, prerun_nodes, prerun_totals
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use material_burn, only: burn_initiator, burn_around, burn_width_across, INIT_POINT, INIT_LINE, INIT_PLANE
   implicit none
   private
@@ -46,7 +47,7 @@ contains
     logical, intent(in), optional :: fluid_only
     integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
     type(centroid_stats_t) :: planes
-    real(wp) :: xn(3, 8), h(3), rv, xi(3), key, dropped
+    real(wp) :: xn(3, 8), h(3), rv, xi(3), key
     logical :: inside, fluid, mapping
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
@@ -103,32 +104,32 @@ contains
       if (present(fluid_only)) fluid = fluid_only
       ! (t_end <= &prerun time: the 1D run alone, no mapping)
       mapping = .false.
-      if (cfg%prerun%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then
-        if (.not. allocated(st%prerun)) then
-          allocate(st%prerun, stat=stat)
+      if (cfg%pre1d%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then
+        if (.not. allocated(st%pre1d)) then
+          allocate(st%pre1d, stat=stat)
           if (stat /= 0) then
             call error_set(err, 'build_scene', error_no_memory('the 1D run'))
             return
           end if
-          call prerun_run(cfg, st%mats, log, st%prerun, err)
+          call prerun_run(cfg, st%mats, log, st%pre1d, err)
           if (allocated(err)) return
-          if (cfg%control%t_end > cfg%prerun%time) call prerun_plan(cfg, log, st%prerun, err)
+          if (cfg%control%t_end > cfg%pre1d%time) call prerun_plan(cfg, log, st%pre1d, err)
           if (allocated(err)) return
         end if
-        mapping = cfg%control%t_end > cfg%prerun%time
+        mapping = cfg%control%t_end > cfg%pre1d%time
       end if
       if (mapping) then
-        call prerun_scale(st%prerun, g, st%halo, err)
+        call prerun_scale(st%pre1d, g, st%halo, err)
         if (allocated(err)) return
-        if (allocated(st%prerun%prad)) deallocate(st%prerun%prad, st%prerun%hit)
-        allocate(st%prerun%prad(g%ncell), st%prerun%hit(g%ncell), stat=stat)
+        if (allocated(st%pre1d%prad)) deallocate(st%pre1d%prad, st%pre1d%hit)
+        allocate(st%pre1d%prad(g%ncell), st%pre1d%hit(g%ncell), stat=stat)
         if (stat /= 0) then
           call error_set(err, 'build_scene', error_no_memory('the mapping'))
           return
         end if
-        st%prerun%prad = 0.0_wp
-        st%prerun%hit = .false.
-        st%t = cfg%prerun%time
+        st%pre1d%prad = 0.0_wp
+        st%pre1d%hit = .false.
+        st%t = cfg%pre1d%time
       end if
       call fill_regions(cfg, st, log, err)
       if (allocated(err)) return
@@ -198,15 +199,16 @@ contains
 
       call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)
       if (mapping) then
-        call prerun_nodes(st%prerun, g, hy%mass, hy%mcorner, hy%mnode, hy%mat, mx, hy%u, hy%e, dropped)
-        call log_line(log, 'prerun: mapped into '//itoa(count(st%prerun%hit))//' cells at t = '//rtoa(st%t)// &
-                      ' (radial momentum left at the centre node: '//rtoa(dropped)//')')
+        call prerun_nodes(st%pre1d, g, hy%mass, hy%mnode, hy%mat, mx, hy%u, hy%e, err)
+        if (allocated(err)) return
+        call log_line(log, 'prerun: mapped into '//itoa(count(st%pre1d%hit))//' stored cells at t = '//rtoa(st%t))
       end if
 
       call material_index_cells(st%mats, hy%mat, mx, err)
       if (allocated(err)) return
-      ! (a mapped 1D run has burnt its charge: checked by `prerun_run`)
-      if (.not. mapping) call setup_burn(cfg, st, log, err)
+      ! (a mapped 1D run has burnt its charge, checked by `prerun_run`: no
+      ! burn on any copy of the state, nor after a restart)
+      if (.not. (cfg%pre1d%time > 0.0_wp .and. cfg%control%t_end > cfg%pre1d%time)) call setup_burn(cfg, st, log, err)
       if (allocated(err)) return
       call material_burn_start(st%mats, st%t)
       ! the mixed cells' interface planes, fitted to the exact fractions and
@@ -434,11 +436,13 @@ contains
     logical :: covered, hit
     logical, allocatable :: used(:)
     character(len=200) :: msg
-    real(wp) :: prad
+    real(wp) :: took(5), ref(3)
+    type(xsum_t) :: acc(5)
+    integer :: ijk(3)
     logical :: mapped
 
     mapped = .false.
-    if (allocated(st%prerun)) mapped = allocated(st%prerun%prad)
+    if (allocated(st%pre1d)) mapped = allocated(st%pre1d%prad)
     associate (g => st%g, hy => st%h, mx => st%mx)
       nmat = size(cfg%materials)
       nreg = size(cfg%regions)
@@ -472,9 +476,15 @@ contains
       do c = 1, g%ncell
         if (mapped) then
           call cell_materials(cfg, g, hy%vol(c), c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used, &
-                              st%prerun, prad, hit)
-          st%prerun%prad(c) = prad
-          st%prerun%hit(c) = hit
+                              st%pre1d, took, hit)
+          st%pre1d%prad(c) = took(3)
+          st%pre1d%hit(c) = hit
+          call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+          if (g%owns_cell(ijk(1), ijk(2), ijk(3))) then
+            do k = 1, 5
+              call xsum_add(acc(k), took(k))
+            end do
+          end if
           if (.not. covered .and. hit) then
             call error_set(err, deck_problem, '&prerun: cell '//itoa(c)//' lies inside the mapped sphere and '// &
               'holds a region the 1D run did not take (only shape ''all'' and spheres about its centre); '// &
@@ -519,6 +529,16 @@ contains
           keep(:, nmix) = [vfm, massm, enm, reshape(xim, [3*nmat])]
         end if
       end do
+      if (mapped) then
+        ! (exact sums over the blocks' owned cells)
+        call st%halo%sums(acc)
+        ref = prerun_totals(st%pre1d)
+        call log_line(log, 'prerun: mapped mass '//trim(full(xsum_value(acc(1))))//', total energy '// &
+                      trim(full(xsum_value(acc(2))))//', radial momentum '//trim(full(xsum_value(acc(3))))// &
+                      ' (the 1D run''s within the mapped radius: '//trim(full(ref(1)))//', '//trim(full(ref(2)))// &
+                      ', '//trim(full(ref(3)))//'); the regions'' part: mass '//trim(full(xsum_value(acc(4))))// &
+                      ', energy '//trim(full(xsum_value(acc(5)))))
+      end if
       ! a region that gives no cell any material is most likely a mistake
       ! (outside the box, or hidden by later regions): say so
       do k = 1, nreg
@@ -556,6 +576,16 @@ contains
       end do
       if (nmix > 0) call log_line(log, 'mixed cells: '//itoa(nmix)//' ('//itoa(nslot)//' material slots)')
     end associate
+
+  contains
+
+    !> x with all its digits (the log's record of a conservation check).
+    function full(x) result(text)
+      real(wp), intent(in) :: x
+      character(len=24) :: text
+      write(text, '(es24.16e3)') x
+      text = adjustl(text)
+    end function full
   end subroutine fill_regions
 
   !> Volume fraction, mass, internal energy and centroid (natural
@@ -564,7 +594,7 @@ contains
   !> region that holds the whole cell, if one does (else 0); covered is false
   !> if more than round-off of the cell is in no region.
   subroutine cell_materials(cfg, g, vol, c, shapes, depth, e_reg, vfm, massm, enm, xim, covered, r_only, used, &
-                            pr, prad, hit)
+                            pr, took, hit)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: vol
@@ -576,10 +606,12 @@ contains
     integer, intent(out) :: r_only
     logical, intent(inout) :: used(:)
     type(prerun_t), intent(inout), optional :: pr
-    real(wp), intent(out), optional :: prad
+    !> with pr: what the cell took of the 1D run (mass, total energy, radial
+    !> momentum) and of the regions (mass, internal energy)
+    real(wp), intent(out), optional :: took(5)
     logical, intent(out), optional :: hit
     real(wp) :: xn(3, 8), vreg(0:size(shapes)), mreg(3, 0:size(shapes)), vtot, f, xc(3), mm(3, size(vfm))
-    real(wp) :: vmp(size(vfm)), mmp(size(vfm)), emp(size(vfm)), xmp(3, size(vfm)), vin, fout, sfac
+    real(wp) :: vmp(size(vfm)), mmp(size(vfm)), emp(size(vfm)), xmp(3, size(vfm)), vin, fout, sfac, prad
     integer :: r, m, nkept
 
     call g%gather(c, g%x, xn)
@@ -588,7 +620,7 @@ contains
     covered = vreg(0) <= 1.0e-12_wp*vtot
     vfm = 0.0_wp; massm = 0.0_wp; enm = 0.0_wp; xim = 0.0_wp; mm = 0.0_wp
     r_only = 0
-    if (present(prad)) prad = 0.0_wp
+    if (present(took)) took = 0.0_wp
     if (present(hit)) hit = .false.
     if (.not. covered) return
     ! round-off slivers out, the others renormalised
@@ -618,6 +650,7 @@ contains
     if (present(pr)) then
       call prerun_cell(pr, xn, vmp, mmp, emp, xmp, vin, prad)
       hit = vin > 0.0_wp
+      took = [0.0_wp, 0.0_wp, 0.0_wp, sum(massm), sum(enm)]
       if (hit) then
         do r = 1, size(shapes)
           if (vreg(r) > 0.0_wp .and. .not. pr%in1d(r) .and. vin >= (1.0_wp - 1.0e-9_wp)*vol) then
@@ -631,6 +664,7 @@ contains
         if (fout < 1.0e-12_wp) fout = 0.0_wp   ! (round-off of a cell wholly inside)
         sfac = (1.0_wp - fout)*vol/sum(vmp)
         vfm = fout*vfm + vmp*sfac/vol
+        took = [sum(mmp), sum(emp), prad, fout*sum(massm), fout*sum(enm)]
         massm = fout*massm + mmp
         enm = fout*enm + emp
         mm = fout*mm + xmp*sfac

@@ -68,7 +68,7 @@ module driver_state
     !> block's particles are a subsequence of the whole run's arrays)
     integer, allocatable :: pwhole(:)
     !> a &prerun's 1D run, mapped in when the scene is built (`driver_prerun`)
-    type(prerun_t), allocatable :: prerun
+    type(prerun_t), allocatable :: pre1d
   end type state_t
 
 contains

@@ -143,8 +143,8 @@ contains
     end if
     silent%quiet = .true.   ! (the blocks' scene has been logged)
     ! (a &prerun's 1D run is the blocks')
-    if (allocated(st%prerun)) then
-      allocate(st%whole%prerun, source=st%prerun, stat=stat)
+    if (allocated(st%pre1d)) then
+      allocate(st%whole%pre1d, source=st%pre1d, stat=stat)
       if (stat /= 0) then
         call error_set(err, 'whole_build', 'out of memory for the whole grid''s state')
         return
