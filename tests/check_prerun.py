@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The 1D spherical pre-run (&prerun) mapped into the grid.
 
-    check_prerun.py conservation OUT/NAME
+    check_prerun.py conservation OUT/NAME [DENSITY_L1]
     check_prerun.py continued PROFILE_1D OUT_COARSE/NAME OUT_FINE/NAME
 
 conservation: from the run's log, the mapping gave the cells the 1D run's
@@ -15,7 +15,10 @@ momentum sum_n m_n u_n . (x_n - c)/|x_n - c| is the 1D run's to 1e-12. Frame
 (32^3 points a cell), L1 relative to the profile's departure from ambient
 below 5e-3: measured at 12^3 1.1e-2, 2.8e-3 and 9.4e-4 with 4, 8 (the
 default) and 16 subsamples, the overlaps' error (a sub-box's volume spread
-evenly over its span of radii) falling about as the sub-box's width squared.
+evenly over its span of radii) falling about as the sub-box's width squared
+(DENSITY_L1 gives another bound: the charge in water, whose density departs
+little from ambient so that the relative L1 is larger, measured 7.0e-3 at
+12^3, is checked against 1e-2).
 
 continued: the last frame of the mapped run (12^3 and 24^3), against the 1D
 run continued to the same time (PROFILE_1D): the pressure's L1 relative to
@@ -67,7 +70,7 @@ def l1(f, field, r1, v1, n=4, zones=None):
     return (np.abs(f[field][()] - avg) * vol).sum() / (np.abs(avg - v1[-1]) * vol).sum()
 
 
-def conservation(prefix):
+def conservation(prefix, density_tol=5e-3):
     log = open(prefix + ".log").read()
     num = r"([-+0-9.Ee]+)"
     m = re.search(r"prerun: mapped mass " + num + ", total energy " + num + ", radial momentum " + num +
@@ -99,8 +102,8 @@ def conservation(prefix):
     bad += rel > 1e-12
     r1, rho1, _, rout = profile(prefix + "_prerun.txt")
     e = l1(f, "density", r1, rho1, 32, rout)
-    print(f"frame 0 density against the 1D zones averaged over the cells: L1 {e:.2e} (<= 5e-3)")
-    bad += e > 5e-3
+    print(f"frame 0 density against the 1D zones averaged over the cells: L1 {e:.2e} (<= {density_tol:g})")
+    bad += e > density_tol
     return bad
 
 
@@ -118,7 +121,7 @@ def continued(path_1d, coarse, fine):
 
 if __name__ == "__main__":
     if sys.argv[1] == "conservation":
-        bad = conservation(sys.argv[2])
+        bad = conservation(sys.argv[2], *map(float, sys.argv[3:4]))
     else:
         bad = continued(*sys.argv[2:5])
     sys.exit(1 if bad else 0)
