@@ -235,8 +235,8 @@ contains
         end associate
         burns = .true.
       end do
-      s%q_lin = cfg%hydro%q_linear
-      s%q_quad = cfg%hydro%q_quad
+      s%q_lin = pc%q_linear
+      s%q_quad = pc%q_quad
       s%cfl = pc%cfl
       s%t = 0.0_wp
       call sphere_setup(s)

@@ -63,6 +63,8 @@ module driver_scene_config
     real(wp) :: map_radius = 0.0_wp                 !< mapped within (0: the shock's radius + 2 cells)
     integer :: subsamples = 8                       !< sub-boxes per cell edge for the overlaps
     real(wp) :: cfl = 0.5_wp                        !< the 1D run's Courant number
+    real(wp) :: q_linear = 0.1_wp                   !< the 1D run's linear viscosity coefficient
+    real(wp) :: q_quad = 1.5_wp                     !< the 1D run's quadratic viscosity coefficient
   end type prerun_config_t
 
 contains
@@ -280,13 +282,14 @@ contains
     character(len=*), intent(in) :: text(:), deck_file
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    real(wp) :: time, center(3), radius, zone_width, map_radius, cfl
+    real(wp) :: time, center(3), radius, zone_width, map_radius, cfl, q_linear, q_quad
     integer :: subsamples, ios
     character(len=max_line) :: msg
-    namelist /prerun/ time, center, radius, zone_width, map_radius, subsamples, cfl
+    namelist /prerun/ time, center, radius, zone_width, map_radius, subsamples, cfl, q_linear, q_quad
 
     time = this%time; center = this%center; radius = this%radius; zone_width = this%zone_width
     map_radius = this%map_radius; subsamples = this%subsamples; cfl = this%cfl
+    q_linear = this%q_linear; q_quad = this%q_quad
     read(text, nml=prerun, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, deck_file, 'prerun', ios, msg)
@@ -300,8 +303,12 @@ contains
     if (subsamples < 1 .or. subsamples > 64) call problem_add(problems, '&prerun: subsamples = '//itoa(subsamples)// &
                                                               ' must be 1..64')
     if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) call problem_bad(problems, 'prerun', 'cfl', cfl, 'must be in (0, 1]')
+    if (.not. (q_linear >= 0.0_wp .and. q_linear <= 10.0_wp)) &
+      call problem_bad(problems, 'prerun', 'q_linear', q_linear, 'must be in [0, 10]')
+    if (.not. (q_quad > 0.0_wp .and. q_quad <= 10.0_wp)) &
+      call problem_bad(problems, 'prerun', 'q_quad', q_quad, 'must be in (0, 10]')
     this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, map_radius=map_radius, &
-                           subsamples=subsamples, cfl=cfl)
+                           subsamples=subsamples, cfl=cfl, q_linear=q_linear, q_quad=q_quad)
     if (echo /= no_echo) write(echo, nml=prerun)
   end subroutine prerun_config_read
 

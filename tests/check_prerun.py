@@ -13,11 +13,11 @@ taken from the cells' internal energy); from frame 0, the nodes' radial
 momentum sum_n m_n u_n . (x_n - c)/|x_n - c| is the 1D run's to 1e-12. Frame
 0's density is the 1D zones' (piecewise constant) averaged over each cell
 (32^3 points a cell), L1 relative to the profile's departure from ambient
-below 5e-3: measured at 12^3 1.1e-2, 2.8e-3 and 9.4e-4 with 4, 8 (the
+below 5e-3: measured at 12^3 1.1e-2, 2.8e-3 and 8.1e-4 with 4, 8 (the
 default) and 16 subsamples, the overlaps' error (a sub-box's volume spread
 evenly over its span of radii) falling about as the sub-box's width squared
 (DENSITY_L1 gives another bound: the charge in water, whose density departs
-little from ambient so that the relative L1 is larger, measured 7.0e-3 at
+little from ambient so that the relative L1 is larger, measured 7.2e-3 at
 12^3, is checked against 1e-2).
 
 continued: the last frame of the mapped run (12^3 and 24^3), against the 1D
