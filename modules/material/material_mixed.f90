@@ -247,6 +247,20 @@ contains
       dv = vol(c) - v0
       de = mass(c)*(e(c) - en(c))
       bmax = maxval(mx%bn(s0:s1))
+      ! a cell turned inside out (the step's volume check reports it) or
+      ! whose materials have no stiffness left (rho c^2 below sqrt(tiny), a
+      ! broken or vanishing state, where the weights v/B would overflow):
+      ! each material keeps its fraction and takes its mass share of the work
+      if (.not. (v0 > 0.0_wp .and. vol(c) > 0.0_wp .and. bmax > sqrt(tiny(1.0_wp)) .and. &
+                 bmax <= huge(1.0_wp))) then
+        if (.not. (v0 > 0.0_wp .and. vol(c) > 0.0_wp)) cycle
+        do i = 1, nm
+          s = s0 + i - 1
+          mx%e(s) = mx%en(s) + de/mass(c)
+          mx%rho(s) = mx%mass(s)/(mx%vf(s)*vol(c))
+        end do
+        cycle
+      end if
       sw = 0.0_wp
       pbar = 0.0_wp
       do i = 1, nm
