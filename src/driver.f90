@@ -187,7 +187,9 @@ contains
     call config_read(deck_path, cfg, problems)
     do k = 1, 3
       call get_environment_variable(trim(rank_variables(k)), rank, status=stat)
-      if (stat == 0 .and. trim(rank) /= '0') call halt(log, merge(0, 2, size(problems) == 0))
+      ! rank 0 alone reports and carries the status: an other rank's
+      ! non-zero exit makes mpirun end the job before rank 0 has spoken
+      if (stat == 0 .and. trim(rank) /= '0') call halt(log, 0)
     end do
     if (size(problems) > 0) call refuse(log, problems, 'the deck has '//itoa(size(problems))//' problem(s)')
     write(*, '(a)', advance='no') cfg%echo

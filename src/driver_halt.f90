@@ -7,7 +7,7 @@ module driver_halt
   use base_errors, only: error_exit_status, ERR_INPUT
   use io_log, only: log_t, log_error, log_close
   use base_exit, only: exit_planned
-  use parallel_comm, only: parallel_stop
+  use parallel_comm, only: parallel_stop, parallel_rank
   implicit none
   private
   public :: halt, refuse, EXIT_WALL_TIME
@@ -20,11 +20,17 @@ contains
   subroutine halt(log, status)
     type(log_t), intent(inout) :: log
     integer, intent(in) :: status
+    logical :: root
     call log_close(log)
     call exit_planned()
     ! (every rank halts together: after a refusal every rank found the same
     ! problems, and failures are agreed first, `driver_parallel`)
+    root = parallel_rank() == 0
     call parallel_stop()
+    ! Rank 0 alone carries the status: mpirun ends the job on the first
+    ! non-zero exit, and an other rank's could cut off rank 0's messages
+    ! still on their way (seen: a refusal printed by no rank).
+    if (.not. root) stop
     ! F2008 wants a constant stop code
     select case (status)
     case (0); stop
