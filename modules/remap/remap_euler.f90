@@ -281,6 +281,12 @@ module remap_euler
     integer(i8), allocatable :: given(:)
     real(wp), allocatable :: gunit(:)
     real(wp), allocatable :: scale(:)           !< factor on what a region gives (1, or > 1 if not covered)
+    !> the swept path's budgets of the mixed cells (`swept_budgets`), per
+    !> slot (nslot): the factor on what the region gives through the cell's
+    !> faces (1, or < 1), the share it takes of the volume held back
+    !> and the shift of its parts' centroids (3, nslot) that makes a region
+    !> given away whole give its first moment too
+    real(wp), allocatable :: sfac(:), sroom(:), sshift(:, :)
   end type old_t
 
 contains
@@ -377,6 +383,7 @@ contains
     stats%cells_remapped = count(old%changed .and. own)
     old%swept = par%swept
     old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
+    if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
     if (old%swept) stats%cells_swept = stats%cells_remapped
     stats%cells_copied = count(own) - stats%cells_remapped
     ! the whole block: no overlap can lie further
@@ -734,7 +741,8 @@ contains
              old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
              old%wv(8, ncell), old%ws(3, 8, ncell), old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
-             old%pn(3, mx%nslot), old%pd(mx%nslot), old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
+             old%pn(3, mx%nslot), old%pd(mx%nslot), old%sfac(mx%nslot), old%sroom(mx%nslot), old%sshift(3, mx%nslot), &
+             old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
              near(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the old grid''s regions'))
@@ -748,6 +756,9 @@ contains
       old%gunit(ncell + mx%start(k):ncell + mx%start(k + 1) - 1) = abs(h%vol(mx%cell(k)))*2.0_wp**(-50)
     end do
     old%scale = 1.0_wp
+    old%sfac = 1.0_wp
+    old%sroom = 0.0_wp
+    old%sshift = 0.0_wp
     old%vreg = 0.0_wp
     old%grho = 0.0_wp
     old%ge = 0.0_wp
@@ -1853,19 +1864,13 @@ contains
     !> Deposits the region (volume v, first moment m) the triangle tp swept
     !> to tn, taken from cell co's subcell at corner a of this cell, in
     !> corner into (and, if give > 0, taken out of corner give). From a
-    !> mixed cell it is shared among the cell's regions: a region that
-    !> holds the whole prism (the hull of its six points) takes all of it,
-    !> one that misses it none; else each region's part of the prism with
-    !> its sides split into triangles (`prism_part`), the parts scaled to
-    !> add up to the exact v and m (the ruled sides and the flat ones differ
-    !> only in how the region is shared, and a material the flat prism does
-    !> not reach gets nothing: no sliver from the difference).
+    !> mixed cell it is shared among the cell's regions (`swept_split`),
+    !> through a face within the cell's budget (`swept_held`).
     subroutine swept_from(co, a, tp, tn, v, m, into, give)
       integer, intent(in) :: co, a, into, give
       real(wp), intent(in) :: tp(3, 3), tn(3, 3), v, m(3)
-      real(wp) :: pv(max_mat), pm(3, max_mat), vsum, msum(3), vall, mall(3)
-      integer :: s0, s1, s, side, nb_, last
-      logical :: whole_done
+      real(wp) :: vs(max_mat), ms(3, max_mat)
+      integer :: s0, s1, s, nb_
       nb_ = g%node0(c) + g%corner_offset(a)
       if (h%mat(co) > 0) then
         call source(co, co, h%mat(co), nb_)
@@ -1873,41 +1878,12 @@ contains
         return
       end if
       call region_slots(h, mx, co, s0, s1)
-      pv = 0.0_wp
-      pm = 0.0_wp
-      whole_done = .false.
-      last = 0
+      call swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
+      if (give == 0) call swept_held(old, s0, s1, vs, ms)
       do s = s0, s1
-        if (.not. mx%mass(s) > 0.0_wp) cycle
-        last = s
-        call region_planes(old, s0, s, o, pn, pd, nm)
-        side = hull_side(reshape([tp, tn], [3, 6]), pn(:, 1:nm), pd(1:nm))
-        if (side == 1) then
-          ! (the regions do not overlap: this one holds the whole prism)
-          call source(co, g%ncell + s, mx%mat(s), nb_)
-          call put(v, m, into, give)
-          return
-        end if
-        if (side == 0) call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), pv(s - s0 + 1), pm(:, s - s0 + 1))
-      end do
-      vsum = sum(pv(1:s1 - s0 + 1))
-      if (.not. abs(vsum) > 0.0_wp) then
-        ! (no region's part has volume: a degenerate prism) the last one's
-        if (last > 0) then
-          call source(co, g%ncell + last, mx%mat(last), nb_)
-          call put(v, m, into, give)
-        end if
-        return
-      end if
-      do s = 1, 3
-        msum(s) = sum(pm(s, 1:s1 - s0 + 1))
-      end do
-      do s = s0, s1
-        if (.not. abs(pv(s - s0 + 1)) > 0.0_wp) cycle
-        vall = pv(s - s0 + 1)*(v/vsum)
-        mall = pm(:, s - s0 + 1) + (m - msum)*(pv(s - s0 + 1)/vsum)
+        if (.not. abs(vs(s - s0 + 1)) > 0.0_wp) cycle
         call source(co, g%ncell + s, mx%mat(s), nb_)
-        call put(vall, mall, into, give)
+        call put(vs(s - s0 + 1), ms(:, s - s0 + 1), into, give)
       end do
     end subroutine swept_from
 
@@ -2076,9 +2052,17 @@ contains
       real(wp) :: dm(3), fm, fie, sc, plin(3)
       integer :: j_
       sc = old%scale(kreg)
-      dm = mf - (old%xr(:, kreg) - o)*vf
-      fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
-      fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
+      if (old%swept .and. kreg > g%ncell) then
+        ! a mixed cell's region on the swept path: its mean state (what it
+        ! keeps and what it gives are not parts of one region, and a
+        ! reconstruction taken on their difference leaves its bounds)
+        fm = sc*old%rho(kreg)*vf
+        fie = fm*old%e(kreg)
+      else
+        dm = mf - (old%xr(:, kreg) - o)*vf
+        fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
+        fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
+      end if
       avol(kmat) = avol(kmat) + vf
       cdef(a) = cdef(a) - vf
       amom(:, kmat) = amom(:, kmat) + mf
@@ -2148,6 +2132,187 @@ contains
       end do
     end do
   end subroutine half_tets
+
+  !> The region (signed volume v, first moment m about o) a triangle sweeps
+  !> from tp to tn, taken from the mixed old cell whose regions are the
+  !> slots s0..s1, shared among them: vs(k) and ms(:, k) for slot s0 + k - 1,
+  !> adding up to v and m. A region that holds the whole prism (the hull of
+  !> its six points) takes all of it, one that misses it none; else each
+  !> region's part of the prism with its sides split into triangles
+  !> (`prism_part`), the parts scaled to add up to the exact v and m (the
+  !> ruled sides and the flat ones differ only in how the region is shared,
+  !> and a material the flat prism does not reach gets nothing: no sliver
+  !> from the difference); no part with volume (a degenerate prism): all to
+  !> the last region with mass.
+  pure subroutine swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(in) :: old
+    integer, intent(in) :: s0, s1
+    real(wp), intent(in) :: o(3), tp(3, 3), tn(3, 3), v, m(3)
+    real(wp), intent(out) :: vs(:), ms(:, :)
+    real(wp) :: pn(3, max_mat), pd(max_mat), vsum, msum(3)
+    integer :: s, k, nm, side, last
+    vs = 0.0_wp
+    ms = 0.0_wp
+    last = 0
+    do s = s0, s1
+      if (.not. mx%mass(s) > 0.0_wp) cycle
+      k = s - s0 + 1
+      last = k
+      call region_planes(old, s0, s, o, pn, pd, nm)
+      side = hull_side(reshape([tp, tn], [3, 6]), pn(:, 1:nm), pd(1:nm))
+      if (side == 1) then
+        ! (the regions do not overlap: this one holds the whole prism)
+        vs = 0.0_wp
+        ms = 0.0_wp
+        last = k
+        exit
+      end if
+      if (side == 0) call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs(k), ms(:, k))
+    end do
+    vsum = sum(vs(1:s1 - s0 + 1))
+    if (.not. abs(vsum) > 0.0_wp) then
+      if (last > 0) then
+        vs(last) = v
+        ms(:, last) = m
+      end if
+      return
+    end if
+    msum = sum(ms(:, 1:s1 - s0 + 1), 2)
+    do k = 1, s1 - s0 + 1
+      if (.not. abs(vs(k)) > 0.0_wp) cycle
+      ms(:, k) = ms(:, k) + (m - msum)*(vs(k)/vsum)
+      vs(k) = vs(k)*(v/vsum)
+    end do
+  end subroutine swept_split
+
+  !> A region swept through a face out of a mixed old cell (its parts vs,
+  !> ms in the slots s0..s1, `swept_split`) with the cell's budget applied
+  !> (`swept_budgets`): each slot's part times its factor sfac (its
+  !> centroid moved by sshift), what that holds back shared among the slots
+  !> by sroom. The region's volume and first moment are kept.
+  pure subroutine swept_held(old, s0, s1, vs, ms)
+    type(old_t), intent(in) :: old
+    integer, intent(in) :: s0, s1
+    real(wp), intent(inout) :: vs(:), ms(:, :)
+    real(wp) :: hv, hm(3), f
+    integer :: s, k
+    if (all(old%sfac(s0:s1) >= 1.0_wp)) return
+    hv = 0.0_wp
+    hm = 0.0_wp
+    do s = s0, s1
+      k = s - s0 + 1
+      f = old%sfac(s)
+      if (f >= 1.0_wp) cycle
+      hv = hv + (1.0_wp - f)*vs(k)
+      hm = hm + (1.0_wp - f)*ms(:, k) - f*vs(k)*old%sshift(:, s)
+      ms(:, k) = f*(ms(:, k) + vs(k)*old%sshift(:, s))
+      vs(k) = f*vs(k)
+    end do
+    do s = s0, s1
+      k = s - s0 + 1
+      vs(k) = vs(k) + old%sroom(s)*hv
+      ms(:, k) = ms(:, k) + old%sroom(s)*hm
+    end do
+  end subroutine swept_held
+
+  !> The budgets of the mixed old cells on the swept path. A region swept
+  !> out of a mixed cell is shared among its materials by the cell's planes
+  !> extended past it (`swept_split`), so the parts of one material that
+  !> its faces sweep out can add up to more than the cell keeps of it (a
+  !> thin layer by an outgoing face): the new cell would hold a negative
+  !> volume of it. Per mixed cell that moved, what its faces sweep out of it
+  !> is added up by material, and so is what its subcells keep (their parts
+  !> in the material's region, as `swept_fluxes` books them); a material
+  !> whose parts exceed what is kept has them scaled to it (sfac < 1) and
+  !> their centroids moved so that they give the kept first moment too
+  !> (sshift: with linear reconstructions they then give exactly the mass
+  !> and energy kept, and the new cell holds none of it, not a difference of
+  !> round-off), and the volume held back goes to the materials with room,
+  !> in proportion to the room they keep (sroom). Both cells that book a
+  !> region (the one that gives it, the one that takes it) apply the same
+  !> factors, so the transfer stays conservative; each cell's budget
+  !> depends on that cell alone, whoever computes it.
+  subroutine swept_budgets(g, h, mx, old, xnew)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(inout) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tp(3, 3), tn(3, 3), v, m(3), &
+                vs(max_mat), ms(3, max_mat), out(max_mat), mout(3, max_mat), kept(max_mat), mkept(3, max_mat), &
+                room(max_mat), held, total, pn(3, max_mat), pd(max_mat), f
+    integer :: k, c, ci, cj, ck, s0, s1, s, n, i, j, nm, hv(4, 48), hc(48)
+
+    !$omp parallel do default(none) shared(g, h, mx, old, xnew) private(k, c, ci, cj, ck, s0, s1, s, n, i, j, nm, &
+    !$omp hv, hc, xo, xn, o, opts, pts, tp, tn, v, m, vs, ms, out, mout, kept, mkept, room, held, total, pn, pd, f) &
+    !$omp schedule(dynamic, 4)
+    do k = 1, mx%n
+      c = mx%cell(k)
+      if (.not. old%changed(c)) cycle
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      n = s1 - s0 + 1
+      old%sfac(s0:s1) = 1.0_wp
+      old%sroom(s0:s1) = 0.0_wp
+      old%sshift(:, s0:s1) = 0.0_wp
+      ! in the frame `remap_new_cell` takes (about the new cell's centre)
+      call g%cell_ijk(c, ci, cj, ck)
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xo(:, j) = xo(:, j) - o
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_tets(xn, pts, hv, hc)
+      call half_tets(xo, opts, hv, hc)
+      out(1:n) = 0.0_wp
+      mout(:, 1:n) = 0.0_wp
+      kept(1:n) = 0.0_wp
+      mkept(:, 1:n) = 0.0_wp
+      do i = 1, 48
+        ! what the old subcells keep
+        do s = s0, s1
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+          call region_planes(old, s0, s, o, pn, pd, nm)
+          call region_piece(opts(:, hv(:, i)), pn(:, 1:nm), pd(1:nm), v, m)
+          if (.not. v > 0.0_wp) cycle
+          kept(s - s0 + 1) = kept(s - s0 + 1) + v
+          mkept(:, s - s0 + 1) = mkept(:, s - s0 + 1) + m
+        end do
+        ! a region swept out through a face (`swept_fluxes`): the cell's
+        tp = opts(:, hv(2:4, i))
+        tn = pts(:, hv(2:4, i))
+        call swept_triangle(tp, tn, v, m)
+        if (.not. v < 0.0_wp) cycle
+        call swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
+        out(1:n) = out(1:n) - vs(1:n)
+        mout(:, 1:n) = mout(:, 1:n) - ms(:, 1:n)
+      end do
+      held = 0.0_wp
+      do i = 1, n
+        room(i) = max(kept(i) - out(i), 0.0_wp)
+        if (out(i) > kept(i)) then
+          f = max(kept(i), 0.0_wp)/out(i)
+          old%sfac(s0 + i - 1) = f
+          if (kept(i) > 0.0_wp) old%sshift(:, s0 + i - 1) = (mkept(:, i) - f*mout(:, i))/kept(i)
+          held = held + out(i) - max(kept(i), 0.0_wp)
+        end if
+      end do
+      if (.not. held > 0.0_wp) cycle
+      total = sum(room(1:n))
+      if (.not. total >= held) then
+        ! (no room for it: the regions give what they sweep, and the step
+        ! falls back to intersection if that breaks a bound)
+        old%sfac(s0:s1) = 1.0_wp
+        old%sshift(:, s0:s1) = 0.0_wp
+        cycle
+      end if
+      old%sroom(s0:s1) = room(1:n)/total
+    end do
+    !$omp end parallel do
+  end subroutine swept_budgets
 
   !> Volume v and first moment m of the part of the tetrahedron t inside
   !> the region pn(:, i).x <= pd(i) (0 if none; a tetrahedron wholly
