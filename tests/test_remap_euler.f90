@@ -193,7 +193,7 @@ contains
   !> blocks the path (a node moved 0.4 of a cell, two materials).
   subroutine test_swept()
     real(wp) :: p(3, 3), q(3, 3), dv(3), v, m(3), area(3), xs(3, nn), xt(3, nn), lo(nc), hi(nc), elo(nc), ehi(nc), &
-                emax, vol(nc), cen(3, nc), rho_b(nc), u_b(3, nn)
+                emax, vol(nc), cen(3, nc)
     type(rng_t) :: rng
     integer :: cc, i0, j0, k0, oi, oj, ok_, nb
     logical :: inb
@@ -284,7 +284,10 @@ contains
     call check(nb == 8, 'swept: a node moved 0.4 of a cell blocks its eight cells')
 
     ! two materials split by a plane: the regions swept from mixed cells are
-    ! shared by their MoF planes (the plane itself, exactly reconstructed)
+    ! shared by their MoF planes (the plane itself, exactly reconstructed).
+    ! Measured: 3.4e-14 until twisted prisms' parts against their region's
+    ! sign were dropped (`swept_split`: a material that is not there, given
+    ! away; on a TNT charge at 32^3 it left negative slivers), 4.9e-4 since
     call make_grid(xt, 37, 0.05_wp)
     call setup(xs, 'plane')
     call check(remap_swept_blockers(g, h, bc, xt, par%swept_max, .false.) > 0, &
@@ -307,23 +310,26 @@ contains
 
     ! mixed cells whose MoF planes disagree from cell to cell (the material
     ! centroids moved at random: a rough interface): regions swept out of a
-    ! mixed cell, shared by its planes past it, break a material's bounds;
-    ! the step is then remapped by intersection, with its results
+    ! mixed cell are shared by its planes past it. Before the mixed cells'
+    ! budgets (`swept_budgets`) this broke a material's bounds (a thin
+    ! layer gave more than it held) and the step fell back to intersection;
+    ! now the swept step must keep them, and conserve each material's mass
+    ! and the total energy
     call make_grid(xs, 31, 0.2_wp)
     call make_grid(xt, 37, 0.2_wp)
-    par%swept = .false.
-    call setup_rough(xs)
-    call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)
-    rho_b = h%rho
-    u_b = h%u
     par%swept = .true.
     call setup_rough(xs)
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
+    call material_masses(ma0, mb0)
     call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
+    call material_masses(ma1, mb1)
     write(*, '(a,i0,a)') 'swept, rough interface: ', st%swept_unbounded, ' cells broke a bound'
-    call check(.not. allocated(err) .and. st%swept_unbounded > 0 .and. st%cells_swept == 0, &
-               'swept, rough interface: bounds broken, the step remapped by intersection')
-    call check(all(abs(h%rho - rho_b) <= 0.0_wp) .and. all(abs(h%u - u_b) <= 0.0_wp), &
-               'swept, rough interface: the intersection''s results bit for bit')
+    call check(.not. allocated(err) .and. st%swept_unbounded == 0 .and. st%cells_swept == nc, &
+               'swept, rough interface: every cell by its swept faces, within the bounds')
+    call check(abs(ma1 - ma0) <= 1e-13_wp*ma0 .and. abs(mb1 - mb0) <= 1e-13_wp*mb0 .and. &
+               abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'swept, rough interface: each material''s '// &
+               'mass and the total energy conserved to 1e-13')
     par%swept = .false.
   end subroutine test_swept
 

@@ -2142,8 +2142,8 @@ contains
   !> (`prism_part`), the parts scaled to add up to the exact v and m (the
   !> ruled sides and the flat ones differ only in how the region is shared,
   !> and a material the flat prism does not reach gets nothing: no sliver
-  !> from the difference); no part with volume (a degenerate prism): all to
-  !> the last region with mass.
+  !> from the difference; nor a part of the opposite sign); no part with
+  !> volume (a degenerate prism): all to the last region with mass.
   pure subroutine swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(in) :: old
@@ -2169,6 +2169,12 @@ contains
         exit
       end if
       if (side == 0) call prism_part(tp, tn, pn(:, 1:nm), pd(1:nm), vs(k), ms(:, k))
+      ! (a part against the region's sign, of a twisted prism, would give
+      ! a material that is not there: none)
+      if (vs(k)*v < 0.0_wp) then
+        vs(k) = 0.0_wp
+        ms(:, k) = 0.0_wp
+      end if
     end do
     vsum = sum(vs(1:s1 - s0 + 1))
     if (.not. abs(vsum) > 0.0_wp) then
