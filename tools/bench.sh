@@ -24,7 +24,9 @@
 # radius, the 1D run mapped into a 64^3 octant at 1500 us, the same scene in
 # 3D from t = 0 (no &prerun) at BENCH_BLAST_N^3 (56 by default), arrival and
 # peak overpressure at 0.5, 1, 2 and 3 m (tools/blast_kb_plot.py:
-# blast_kb.png and blast_kb.txt in OUTDIR).
+# blast_kb.png and blast_kb.txt in OUTDIR); the TNT octant of the stability
+# matrix in each Euler-phase mode at 16^3 and 32^3 against its converged 1D
+# run (issue 33, about 15 minutes; BENCH_ONLY=tnt runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -329,6 +331,20 @@ blast_run() {
   echo "$name: $((SECONDS - t0)) s wall; $(grep -m1 '^prerun: 1D spherical run' $name.log || true)"
 }
 
+# The TNT octant in each Euler-phase mode at 16^3 and 32^3 against the
+# converged 1D run of the same deck (tools/tnt_modes.py): wall time, steps,
+# and the gauges' peak and arrival errors.
+tnt_modes_bench() {
+  echo "== TNT octant: speed against error in each mode (tools/tnt_modes.py, 2 threads) =="
+  /usr/bin/python3 "$root/tools/tnt_modes.py" --exe "$exe" --n 16 32 --threads 2 --out "$outdir" \
+    | tee "$outdir/tnt_modes.txt"
+}
+
+if [[ "${BENCH_ONLY:-}" == tnt ]]; then
+  tnt_modes_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == blast ]]; then
   blast_bench
   echo "bench wall time: ${SECONDS} s"
@@ -461,6 +477,8 @@ echo
 mpi_bench
 echo
 blast_bench
+echo
+tnt_modes_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"
