@@ -903,6 +903,15 @@ contains
     stats%mof_err_max = errmax
     if (par%linear) call material_gradients(g, h, mx, nmat, old, err)
     if (allocated(err)) return
+    if (par%swept .and. par%swept_mixed) then
+      ! the swept path through mixed cells: their regions give their mean
+      ! state (what such a region keeps and what its faces give are not
+      ! parts of one region, and a reconstruction taken on their difference
+      ! leaves its bounds); set here, so that the subcells' masses and
+      ! shifts (`subcell_shifts`) and the floors see the same state
+      old%grho(:, ncell + 1:) = 0.0_wp
+      old%ge(:, ncell + 1:) = 0.0_wp
+    end if
     call region_floors(g, h, mx, old)
     call subcell_shifts(g, h, mx, old)
     old%gu = 0.0_wp
@@ -2052,17 +2061,9 @@ contains
       real(wp) :: dm(3), fm, fie, sc, plin(3)
       integer :: j_
       sc = old%scale(kreg)
-      if (old%swept .and. kreg > g%ncell) then
-        ! a mixed cell's region on the swept path: its mean state (what it
-        ! keeps and what it gives are not parts of one region, and a
-        ! reconstruction taken on their difference leaves its bounds)
-        fm = sc*old%rho(kreg)*vf
-        fie = fm*old%e(kreg)
-      else
-        dm = mf - (old%xr(:, kreg) - o)*vf
-        fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
-        fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
-      end if
+      dm = mf - (old%xr(:, kreg) - o)*vf
+      fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
+      fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
       avol(kmat) = avol(kmat) + vf
       cdef(a) = cdef(a) - vf
       amom(:, kmat) = amom(:, kmat) + mf
