@@ -1515,13 +1515,7 @@ contains
       end do
       ok = ok .and. dmax2 <= smax**2*hmin2
       if (ok) then
-        o = sum(xo, 2)/8.0_wp
-        do a = 1, 8
-          xo(:, a) = xo(:, a) - o
-          xn(:, a) = xn(:, a) - o
-        end do
-        call half_tets(xn, pts, hv, hc)
-        call half_tets(xo, opts, hv, hc)
+        call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
         ! not tangled (as `subcell_shifts` finds it)
         do t = 1, 48
           do a = 1, 4
@@ -2223,6 +2217,23 @@ contains
     end do
   end subroutine swept_held
 
+  !> A cell's old and new nodes xo and xn moved to coordinates about o (in
+  !> place), and the points of their 48 halves (`half_tets`: opts old, pts
+  !> new, the vertices hv and corners hc alike for both).
+  pure subroutine halves_about(o, xo, xn, opts, pts, hv, hc)
+    real(wp), intent(in) :: o(3)
+    real(wp), intent(inout) :: xo(3, 8), xn(3, 8)
+    real(wp), intent(out) :: opts(3, 27), pts(3, 27)
+    integer, intent(out) :: hv(4, 48), hc(48)
+    integer :: a
+    do a = 1, 8
+      xo(:, a) = xo(:, a) - o
+      xn(:, a) = xn(:, a) - o
+    end do
+    call half_tets(xn, pts, hv, hc)
+    call half_tets(xo, opts, hv, hc)
+  end subroutine halves_about
+
   !> The budgets of the mixed old cells on the swept path. A region swept
   !> out of a mixed cell is shared among its materials by the cell's planes
   !> extended past it (`swept_split`), so the parts of one material that
@@ -2268,12 +2279,7 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       o = sum(xn, 2)/8.0_wp
-      do j = 1, 8
-        xo(:, j) = xo(:, j) - o
-        xn(:, j) = xn(:, j) - o
-      end do
-      call half_tets(xn, pts, hv, hc)
-      call half_tets(xo, opts, hv, hc)
+      call halves_about(o, xo, xn, opts, pts, hv, hc)
       out(1:n) = 0.0_wp
       mout(:, 1:n) = 0.0_wp
       kept(1:n) = 0.0_wp
