@@ -2244,9 +2244,11 @@ contains
   !> in the material's region, as `swept_fluxes` books them); a material
   !> whose parts exceed what is kept has them scaled to it (sfac < 1) and
   !> their centroids moved so that they give the kept first moment too
-  !> (sshift: with linear reconstructions they then give exactly the mass
-  !> and energy kept, and the new cell holds none of it, not a difference of
-  !> round-off), and the volume held back goes to the materials with room,
+  !> (sshift: the new cell then keeps neither its volume nor its first
+  !> moment, so no stray centroid of a vanished material reaches MoF; the
+  !> mass and energy go with the volume, the regions of mixed cells giving
+  !> their mean state on this path), and the volume held back goes to the
+  !> materials with room,
   !> in proportion to the room they keep (sroom). Both cells that book a
   !> region (the one that gives it, the one that takes it) apply the same
   !> factors, so the transfer stays conservative; each cell's budget
