@@ -112,9 +112,11 @@ contains
     ! another unit system than its &run units says)
     if (present(lib) .and. m > 0) then
       if (lib(1, m) > 0.0_wp) then
-        if (.not. density > 0.0_wp) then
+        ! (not given: the default 0 exactly; a negative or NaN density given
+        ! is refused below, not replaced)
+        if (density >= 0.0_wp .and. density <= 0.0_wp) then
           density = lib(1, m)
-        else if (density > 10.0_wp*lib(1, m) .or. density < 0.1_wp*lib(1, m)) then
+        else if (density > 0.0_wp .and. (density > 10.0_wp*lib(1, m) .or. density < 0.1_wp*lib(1, m))) then
           call problem_add(problems, '&'//trim(tag)//': density = '//rtoa(density)//' is '// &
             rtoa(density/lib(1, m))//' times the library''s '//rtoa(lib(1, m))//' for '''//trim(material)// &
             ''' in &run units '''//trim(units)//''': are the deck''s values in another unit system?')
