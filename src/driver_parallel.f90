@@ -11,13 +11,24 @@ module driver_parallel
   use driver_config, only: config_t
   implicit none
   private
-  public :: GHOST_WIDTH, parallel_blocks, agree_error
+  public :: ghost_layers, parallel_blocks, agree_error
 
   !> Ghost layers: the corner forces of the first ghost layer need the
   !> strain rates of its neighbours (the viscosity limiter).
   integer, parameter :: GHOST_WIDTH = 2
 
 contains
+
+  !> The ghost layers of the deck's blocks: GHOST_WIDTH, one more with
+  !> particles spread over their neighbour cells (&hydro particle_support =
+  !> 'gimp': a particle in the second ghost layer reaches the owned nodes
+  !> through the first, and its own update needs the third).
+  pure integer function ghost_layers(cfg)
+    type(config_t), intent(in) :: cfg
+    ghost_layers = GHOST_WIDTH
+    if (.not. cfg%hydro%particle_gimp .or. .not. allocated(cfg%particles)) return
+    if (size(cfg%particles) > 0) ghost_layers = GHOST_WIDTH + 1
+  end function ghost_layers
 
   !> This rank's block of the deck's grid and its halo (the whole grid and
   !> the halo of a single block on one rank).
@@ -33,7 +44,7 @@ contains
       ix = grid_index(cfg%grid%ni, cfg%grid%nj, cfg%grid%nk)
       allocate(halo_t :: halo, stat=stat)
     else
-      call parallel_decompose(pc, [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], cfg%control%blocks, GHOST_WIDTH, ix, err)
+      call parallel_decompose(pc, [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], cfg%control%blocks, ghost_layers(cfg), ix, err)
       if (allocated(err)) return
       call mpi_halo_init(mh, pc, ix)
       allocate(halo, source=mh, stat=stat)

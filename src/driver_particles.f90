@@ -35,6 +35,7 @@ module driver_particles
   use particles_config, only: particles_config_t
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
+  use particles_spread, only: particles_support_widths
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
                              particles_register_restart
@@ -42,7 +43,7 @@ module driver_particles
   use parallel_comm, only: comm_t
   use parallel_gather, only: gather_concat
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
-                                particles_nodal_mass, &
+                                particles_phase_mass, &
                                 particles_stable_dt, particles_g2p, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_update
   use strength_models, only: strength_params_t
@@ -128,6 +129,7 @@ contains
     end if
     call particles_allocate(st%pt, np, size(cfg%solids), nhist, err)
     if (allocated(err)) return
+    st%pt%spread = cfg%hydro%particle_gimp
     q = 0
     do k = 1, size(cfg%particles)
       associate (pc => cfg%particles(k), gr => groups(k), p => st%pt)
@@ -159,6 +161,7 @@ contains
     end do
     call particles_order(st%pt, st%g%ncell, err)
     if (allocated(err)) return
+    if (st%pt%spread) call particles_support_widths(st%g, st%pt)
     if (cfg%hydro%particles_coupled) call couple_particles(cfg, st, err)
     if (allocated(err)) return
     if (cfg%hydro%particles_coupled) call gurson_voids(cfg, st, log, err)
@@ -313,8 +316,8 @@ contains
     type(state_t), intent(inout) :: st
     integer :: n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
-      call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
-      pw%mass_ready = .true.
+      pw%mass_ready = .false.
+      call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
       do n = 1, g%nnode
         if (.not. pw%ms(n) > 0.0_wp) cycle
@@ -352,10 +355,7 @@ contains
     real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1)
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
-      if (.not. pw%mass_ready) then
-        call particles_nodal_mass(g, pt, pt%mvf, h%mnode, pw%mp, pw%ms)
-        pw%mass_ready = .true.
-      end if
+      call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp)
       ! the blocks' smallest (the particle's id with it)
       key(1) = 0.0_wp
@@ -410,7 +410,8 @@ contains
   !> A block's particles taken from the whole run's (w, on the whole grid's
   !> index wix: after the scene is built, an Euler step or a restart read;
   !> models the strength models, the whole run's): those whose host cell
-  !> is one of the block's owned cells or of the ghost layer around them
+  !> is one of the block's owned cells or of the ghost layer around them (two
+  !> layers for spread particles, `particles_spread`)
   !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
   !> order (so sorted as one process sorts them), with their whole index in
   !> st%pwhole and pw%owned marking the ones it owns. The coupling's work
@@ -428,7 +429,8 @@ contains
     character(len=200) :: msg
 
     associate (g => st%g, wg => wix)
-      call g%cells_around(1, lo, hi)
+      ! (spread particles reach the owned nodes from the second ghost layer)
+      call g%cells_around(merge(2, 1, w%spread), lo, hi)
       allocate(pick(w%np), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'particles_take', error_no_memory('work arrays'))
@@ -490,6 +492,7 @@ contains
     call gather_concat(pc, st%pwhole(own), at)
     call particles_allocate(ptw, size(at), st%pt%nsolid, st%pt%nhist, err)
     if (allocated(err)) return
+    ptw%spread = st%pt%spread
     if (allocated(st%pt%mvf)) then
       allocate(ptw%mvf(size(at)), stat=stat, errmsg=msg)
       if (stat /= 0) then
@@ -563,10 +566,7 @@ contains
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
     associate (g => st%g, h => st%h, pw => st%pw)
-      if (.not. pw%mass_ready) then
-        call particles_nodal_mass(g, st%pt, st%pt%mvf, h%mnode, pw%mp, pw%ms)
-        pw%mass_ready = .true.
-      end if
+      call particles_phase_mass(g, st%pt, pw, h%mnode)
       call nodal_sums(st, pw%mp, pe%ke_solid, pe%p_solid)
     end associate
   end subroutine particles_euler_save
@@ -627,6 +627,7 @@ contains
         end do
       end do
       call particles_order(pt, g%ncell, err)
+      if (pt%spread) call particles_support_widths(g, pt)
     end associate
   end subroutine particles_euler_relocate
 

@@ -309,6 +309,7 @@ contains
         nsolid = st%pt%nsolid
         nhist = st%pt%nhist
         call particles_allocate(st%pt, dims(1), nsolid, nhist, err)
+        st%pt%spread = cfg%hydro%particle_gimp
         if (.not. allocated(err) .and. coupled) then
           allocate(st%pt%mvf(dims(1)), stat=stat)
           if (stat /= 0) call error_set(err, 'read_restart', 'out of memory for the particles')

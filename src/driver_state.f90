@@ -17,7 +17,7 @@ module driver_state
   use base_share, only: share_t
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
-  use particles_lagrange, only: particles_work_t, particles_nodal_mass
+  use particles_lagrange, only: particles_work_t, particles_phase_mass
   use io_output, only: totals_t
   use driver_prerun, only: prerun_t
   implicit none
@@ -97,10 +97,7 @@ contains
     call hydro_totals(st%g, st%h, st%halo, st%tot%mass, st%tot%momentum, st%tot%internal, st%tot%kinetic)
     st%tot%particle_internal = 0.0_wp
     if (.not. allocated(st%pw%mp)) return
-    if (.not. st%pw%mass_ready) then
-      call particles_nodal_mass(st%g, st%pt, st%pt%mvf, st%h%mnode, st%pw%mp, st%pw%ms)
-      st%pw%mass_ready = .true.
-    end if
+    call particles_phase_mass(st%g, st%pt, st%pw, st%h%mnode)
     ! the particles' share of the nodal mass, at the nodes the block counts
     do k = st%g%ulo(3), st%g%nhi(3)
       do j = st%g%ulo(2), st%g%nhi(2)

@@ -86,7 +86,7 @@ module driver_whole
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
                           euler_rezone, euler_finish, remap_params, euler_preposition
   use driver_output, only: schedule_t, report_conservation
-  use driver_parallel, only: agree_error, GHOST_WIDTH
+  use driver_parallel, only: agree_error
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
   implicit none
   private
@@ -191,7 +191,7 @@ contains
   end subroutine window_build
 
   !> st%win, this rank's window for a search within `reach` index steps:
-  !> its block widened by window_margin(reach) cells (within the grid),
+  !> its block widened by window_margin(ng, reach) cells (within the grid),
   !> built from the deck as a single block at its place in the whole grid.
   subroutine window_resize(cfg, st, reach, err)
     type(config_t), intent(in) :: cfg
@@ -201,8 +201,8 @@ contains
     type(log_t) :: silent
     type(grid_index_t) :: ix
     integer :: stat, lo(3), hi(3)
-    lo = max(1, st%g%clo + st%g%off - window_margin(reach))
-    hi = min(st%g%gn, st%g%chi + st%g%off + window_margin(reach))
+    lo = max(1, st%g%clo + st%g%off - window_margin(st%g%ng, reach))
+    hi = min(st%g%gn, st%g%chi + st%g%off + window_margin(st%g%ng, reach))
     ix = grid_index_block(hi - lo + 1, [0, 0, 0], [0, 0, 0], lo - 1, st%g%gn)
     if (allocated(st%win)) deallocate(st%win)
     allocate(st%win, stat=stat)
@@ -218,16 +218,16 @@ contains
   !> The new cells of a window computed around the block: its ghost layers
   !> and the cells around their nodes (one more layer), and the reach of
   !> the search (every new cell an owned old cell may give to).
-  pure integer function window_compute(reach)
-    integer, intent(in) :: reach
-    window_compute = max(GHOST_WIDTH + 1, reach)
+  pure integer function window_compute(ng, reach)
+    integer, intent(in) :: ng, reach
+    window_compute = max(ng + 1, reach)
   end function window_compute
 
   !> A window's width around its block: the computed cells, the old cells
   !> within reach of them and the stencils of their gradients (two layers).
-  pure integer function window_margin(reach)
-    integer, intent(in) :: reach
-    window_margin = window_compute(reach) + reach + 2
+  pure integer function window_margin(ng, reach)
+    integer, intent(in) :: ng, reach
+    window_margin = window_compute(ng, reach) + reach + 2
   end function window_margin
 
   !> The Euler phase of a decomposed run after a Lagrangian step: whether it
@@ -347,7 +347,7 @@ contains
     call window_resize(cfg, st, 2*st%win_reach, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call log_line(log, 'euler windows widened: search within '//itoa(st%win_reach)// &
-                                            ' cells, '//itoa(window_margin(st%win_reach))//' cells around each block')
+                                            ' cells, '//itoa(window_margin(st%g%ng, st%win_reach))//' cells around each block')
   end subroutine window_euler
 
   !> The particles' part of an Euler step on windows, after the blocks took
@@ -505,8 +505,8 @@ contains
           ! (in the block's indices)
           ijk = [i, j, k] + wg%off - g%off
           zone%own(wg%cell(i, j, k)) = all(ijk >= g%clo .and. ijk <= g%chi)
-          zone%compute(wg%cell(i, j, k)) = all(ijk >= g%clo - window_compute(reach) .and. &
-                                                ijk <= g%chi + window_compute(reach))
+          zone%compute(wg%cell(i, j, k)) = all(ijk >= g%clo - window_compute(g%ng, reach) .and. &
+                                                ijk <= g%chi + window_compute(g%ng, reach))
         end do
       end do
     end do

@@ -24,11 +24,11 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
     real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min
-    character(len=16) :: viscosity, particles, stress_update, particle_viscosity
+    character(len=16) :: viscosity, particles, stress_update, particle_viscosity, particle_support
     integer :: ios
     character(len=max_line) :: msg
     namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update, &
-                     particle_viscosity
+                     particle_viscosity, particle_support
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
@@ -37,6 +37,7 @@ contains
     particles = merge('coupled', 'inert  ', defaults%particles_coupled)
     stress_update = merge('decoupled', 'original ', defaults%stress_decoupled)
     particle_viscosity = merge('scaled', 'full  ', defaults%particle_visc_scaled)
+    particle_support = merge('gimp  ', 'linear', defaults%particle_gimp)
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -51,6 +52,7 @@ contains
     call problem_long(problems, 'hydro', 'particles', particles)
     call problem_long(problems, 'hydro', 'stress_update', stress_update)
     call problem_long(problems, 'hydro', 'particle_viscosity', particle_viscosity)
+    call problem_long(problems, 'hydro', 'particle_support', particle_support)
     select case (trim(particles))
     case ('coupled'); par%particles_coupled = .true.
     case ('inert'); par%particles_coupled = .false.
@@ -70,6 +72,13 @@ contains
     case default
       call problem_add(problems, '&hydro: particle_viscosity = '''//trim(particle_viscosity)// &
                        ''' is not known; valid: scaled, full')
+    end select
+    select case (trim(particle_support))
+    case ('linear'); par%particle_gimp = .false.
+    case ('gimp'); par%particle_gimp = .true.
+    case default
+      call problem_add(problems, '&hydro: particle_support = '''//trim(particle_support)// &
+                       ''' is not known; valid: linear, gimp')
     end select
     if (q_linear < 0.0_wp) call problem_bad(problems, 'hydro', 'q_linear', q_linear, 'must be >= 0')
     if (q_quad < 0.0_wp) call problem_bad(problems, 'hydro', 'q_quad', q_quad, 'must be >= 0')

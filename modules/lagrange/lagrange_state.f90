@@ -51,6 +51,10 @@ module lagrange_state
     !> 1 - theta_c, theta_c their particles' volume fraction ('scaled', PARTICLES.md
     !> §1.7), or the cells' own ('full')
     logical :: particle_visc_scaled = .true.
+    !> each particle's weights the mean of the shape functions over its
+    !> domain, spread over the cells it overlaps ('gimp', `particles_spread`),
+    !> or the shape functions at its centre ('linear')
+    logical :: particle_gimp = .false.
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.

@@ -29,7 +29,8 @@ module particles_euler
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use particles_state, only: particles_t
-  use particles_shape, only: particles_shape_values, particles_locate
+  use particles_shape, only: particles_locate
+  use particles_lagrange, only: particles_interpolate
   implicit none
   private
   public :: particles_flip, particles_relocate, particles_occupied
@@ -43,17 +44,10 @@ contains
     type(grid_t), intent(in) :: g
     type(particles_t), intent(inout) :: p
     real(wp), intent(in) :: u(:, :), vbar(:, :)
-    integer :: k, a, n
-    real(wp) :: sh(8), dv(3)
-    !$omp parallel do default(none) shared(g, p, u, vbar) private(k, a, n, sh, dv) schedule(static)
+    integer :: k
+    !$omp parallel do default(none) shared(g, p, u, vbar) private(k) schedule(static)
     do k = 1, p%np
-      sh = particles_shape_values(p%xi(:, k))
-      dv = 0.0_wp
-      do a = 1, 8
-        n = g%node0(p%cell(k)) + g%corner_offset(a)
-        dv = dv + sh(a)*(u(:, n) - vbar(:, n))
-      end do
-      p%v(:, k) = p%v(:, k) + dv
+      p%v(:, k) = p%v(:, k) + particles_interpolate(g, p, k, u, vbar)
     end do
     !$omp end parallel do
   end subroutine particles_flip

@@ -37,6 +37,7 @@ module particles_lagrange
   use mesh_geometry, only: hex_volume, hex_median_areas
   use particles_state, only: particles_t
   use particles_shape, only: particles_shape_values, particles_shape_gradients
+  use particles_spread, only: particles_spread_pieces
   use strength_models, only: strength_t, strength_point_t
   use eos_mie_gruneisen, only: mie_gruneisen_t, mie_gruneisen_state, mie_gruneisen_reference
   implicit none
@@ -45,7 +46,7 @@ module particles_lagrange
             particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
-            particles_cell_fraction
+            particles_cell_fraction, particles_interpolate, particles_phase_mass
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
@@ -161,6 +162,20 @@ contains
     end do
   end subroutine particles_gradients
 
+  !> At the start of a Lagrangian phase (w%mass_ready false): the particles'
+  !> pieces spread for their hosts in g (`particles_spread`, if p%spread)
+  !> and the phase's nodal mass term (`particles_nodal_mass`, from p%mvf).
+  subroutine particles_phase_mass(g, p, w, mnode)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(inout) :: p
+    type(particles_work_t), intent(inout) :: w
+    real(wp), intent(in) :: mnode(:)
+    if (w%mass_ready) return
+    call particles_spread_pieces(g, p)
+    call particles_nodal_mass(g, p, p%mvf, mnode, w%mp, w%ms)
+    w%mass_ready = .true.
+  end subroutine particles_phase_mass
+
   !> The particles' share of the nodal mass (Eq. 16), mp = sum_p (m_p - mvf_p)
   !> N_Ip, raised where needed so that mnode + mp >= mass_guard (mnode +
   !> sum_p m_p N_Ip) (§1.7: the particle quadrature of the virtual fluid can
@@ -171,23 +186,24 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: mvf(:), mnode(:)
     real(wp), intent(out) :: mp(:), ms(:)
-    integer :: col, ci, cj, ck, c, q, k, a, n0, lo(3), hi(3), f0(3)
+    integer :: col, ci, cj, ck, c, q, j, k, a, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     mp = 0.0_wp
     ms = 0.0_wp
     call g%cells_around(1, lo, hi)
     do col = 0, 7
       f0 = g%colour_first(lo, col)
-      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, f0, hi) private(ci, cj, ck, c, q, k, a, n0, sh) &
+      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, f0, hi) private(ci, cj, ck, c, q, j, k, a, n0, sh) &
       !$omp collapse(2) schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
       do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
-        do q = p%cell_start(c), p%cell_start(c + 1) - 1
-          k = p%perm(q)
-          sh = particles_shape_values(p%xi(:, k))
+        do q = p%pc_start(c), p%pc_start(c + 1) - 1
+          j = p%pc_perm(q)
+          k = p%ppart(j)
+          sh = particles_shape_values(p%pxi(:, j))*p%pw(j)
           do a = 1, 8
             mp(n0 + g%corner_offset(a)) = mp(n0 + g%corner_offset(a)) + (p%m(k) - mvf(k))*sh(a)
             ms(n0 + g%corner_offset(a)) = ms(n0 + g%corner_offset(a)) + p%m(k)*sh(a)
@@ -231,8 +247,8 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
-    integer :: col, ci, cj, ck, c, q, k, a, n, n0, lo(3), hi(3), f0(3)
-    real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6)
+    integer :: col, ci, cj, ck, c, q, j, k, a, n, n0, lo(3), hi(3), f0(3)
+    real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6), vk
     f = 0.0_wp
     fvf = 0.0_wp
     bad = huge(1)
@@ -240,28 +256,31 @@ contains
     do col = 0, 7
       f0 = g%colour_first(lo, col)
       !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, f0, hi, stress, vol) &
-      !$omp private(ci, cj, ck, c, q, k, a, n, n0, xn, gradn, detj, s) reduction(min: bad) collapse(2) schedule(static)
+      !$omp private(ci, cj, ck, c, q, j, k, a, n, n0, xn, gradn, detj, s, vk) reduction(min: bad) collapse(2) &
+      !$omp schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
       do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
-        if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+        if (p%pc_start(c + 1) == p%pc_start(c)) cycle
         do a = 1, 8
           xn(:, a) = x(:, n0 + g%corner_offset(a))
         end do
-        do q = p%cell_start(c), p%cell_start(c + 1) - 1
-          k = p%perm(q)
-          call particles_gradients(xn, p%xi(:, k), gradn, detj)
+        do q = p%pc_start(c), p%pc_start(c + 1) - 1
+          j = p%pc_perm(q)
+          k = p%ppart(j)
+          call particles_gradients(xn, p%pxi(:, j), gradn, detj)
           if (.not. detj > 0.0_wp) bad = min(bad, k)
           s = stress(:, k)
           s(1:3) = s(1:3) + pcell(c)
+          vk = vol(k)*p%pw(j)
           do a = 1, 8
             n = n0 + g%corner_offset(a)
-            f(1, n) = f(1, n) - vol(k)*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
-            f(2, n) = f(2, n) - vol(k)*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
-            f(3, n) = f(3, n) - vol(k)*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
-            fvf(:, n) = fvf(:, n) - vol(k)*pcell(c)*gradn(:, a)
+            f(1, n) = f(1, n) - vk*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
+            f(2, n) = f(2, n) - vk*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
+            f(3, n) = f(3, n) - vk*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
+            fvf(:, n) = fvf(:, n) - vk*pcell(c)*gradn(:, a)
           end do
         end do
       end do
@@ -287,24 +306,25 @@ contains
     real(wp), intent(inout) :: e(:)
     real(wp), intent(out) :: wc(:)
     type(xsum_t), intent(out) :: wsum
-    integer :: c, q, k, a, n0, i, j, l
+    integer :: c, q, k, a, n0, i, j, l, jp
     real(wp) :: xn(3, 8), un(3, 8), gradn(3, 8), detj, w
     !$omp parallel do default(none) shared(g, p, x, vol, pcell, u, dt, mass, e, wc) &
-    !$omp private(c, q, k, a, n0, xn, un, gradn, detj, w) schedule(static)
+    !$omp private(c, q, jp, k, a, n0, xn, un, gradn, detj, w) schedule(static)
     do c = 1, g%ncell
       wc(c) = 0.0_wp
-      if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+      if (p%pc_start(c + 1) == p%pc_start(c)) cycle
       n0 = g%node0(c)
       do a = 1, 8
         xn(:, a) = x(:, n0 + g%corner_offset(a))
         un(:, a) = u(:, n0 + g%corner_offset(a))
       end do
       w = 0.0_wp
-      do q = p%cell_start(c), p%cell_start(c + 1) - 1
-        k = p%perm(q)
-        call particles_gradients(xn, p%xi(:, k), gradn, detj)
+      do q = p%pc_start(c), p%pc_start(c + 1) - 1
+        jp = p%pc_perm(q)
+        k = p%ppart(jp)
+        call particles_gradients(xn, p%pxi(:, jp), gradn, detj)
         do a = 1, 8
-          w = w - dt*vol(k)*pcell(c)*dot_product(gradn(:, a), un(:, a))
+          w = w - dt*(vol(k)*p%pw(jp))*pcell(c)*dot_product(gradn(:, a), un(:, a))
         end do
       end do
       e(c) = e(c) - w/mass(c)
@@ -315,7 +335,7 @@ contains
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
           c = g%cell(i, j, l)
-          if (p%cell_start(c + 1) > p%cell_start(c)) call xsum_add(wsum, wc(c))
+          if (p%pc_start(c + 1) > p%pc_start(c)) call xsum_add(wsum, wc(c))
         end do
       end do
     end do
@@ -330,18 +350,16 @@ contains
     type(particles_t), intent(inout) :: p
     real(wp), intent(in) :: un(:, :), u(:, :), x(:, :)
     real(wp), intent(out) :: vh(:, :)
-    integer :: k, a, n, n0
+    integer :: k, a, n0
     real(wp) :: sh(8), dv(3), xp(3)
-    !$omp parallel do default(none) shared(g, p, un, u, x, vh) private(k, a, n, n0, sh, dv, xp) schedule(static)
+    !$omp parallel do default(none) shared(g, p, un, u, x, vh) private(k, a, n0, sh, dv, xp) schedule(static)
     do k = 1, p%np
+      dv = particles_interpolate(g, p, k, u, un)
       sh = particles_shape_values(p%xi(:, k))
       n0 = g%node0(p%cell(k))
-      dv = 0.0_wp
       xp = 0.0_wp
       do a = 1, 8
-        n = n0 + g%corner_offset(a)
-        dv = dv + sh(a)*(u(:, n) - un(:, n))
-        xp = xp + sh(a)*x(:, n)
+        xp = xp + sh(a)*x(:, n0 + g%corner_offset(a))
       end do
       vh(:, k) = p%v(:, k) + 0.5_wp*dv
       p%v(:, k) = p%v(:, k) + dv
@@ -357,23 +375,24 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: vh(:, :)
     real(wp), intent(out) :: ms(:), vs(:, :)
-    integer :: col, ci, cj, ck, c, q, k, a, n, n0, lo(3), hi(3), f0(3)
+    integer :: col, ci, cj, ck, c, q, j, k, a, n, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     ms = 0.0_wp
     vs = 0.0_wp
     call g%cells_around(1, lo, hi)
     do col = 0, 7
       f0 = g%colour_first(lo, col)
-      !$omp parallel do default(none) shared(g, p, vh, ms, vs, f0, hi) private(ci, cj, ck, c, q, k, a, n, n0, sh) &
+      !$omp parallel do default(none) shared(g, p, vh, ms, vs, f0, hi) private(ci, cj, ck, c, q, j, k, a, n, n0, sh) &
       !$omp collapse(2) schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
       do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
-        do q = p%cell_start(c), p%cell_start(c + 1) - 1
-          k = p%perm(q)
-          sh = particles_shape_values(p%xi(:, k))
+        do q = p%pc_start(c), p%pc_start(c + 1) - 1
+          j = p%pc_perm(q)
+          k = p%ppart(j)
+          sh = particles_shape_values(p%pxi(:, j))*p%pw(j)
           do a = 1, 8
             n = n0 + g%corner_offset(a)
             ms(n) = ms(n) + p%m(k)*sh(a)
@@ -398,20 +417,23 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: x(:, :), v(:, :)
     real(wp), intent(out) :: lgrad(:, :, :)
-    integer :: k, a, n, n0, j
+    integer :: k, a, n, n0, j, q
     real(wp) :: xn(3, 8), gradn(3, 8), detj
-    !$omp parallel do default(none) shared(g, p, x, v, lgrad) private(k, a, n, n0, j, xn, gradn, detj) schedule(static)
+    !$omp parallel do default(none) shared(g, p, x, v, lgrad) private(k, a, n, n0, j, q, xn, gradn, detj) schedule(static)
     do k = 1, p%np
-      n0 = g%node0(p%cell(k))
-      do a = 1, 8
-        xn(:, a) = x(:, n0 + g%corner_offset(a))
-      end do
-      call particles_gradients(xn, p%xi(:, k), gradn, detj)
       lgrad(:, :, k) = 0.0_wp
-      do a = 1, 8
-        n = n0 + g%corner_offset(a)
-        do j = 1, 3
-          lgrad(:, j, k) = lgrad(:, j, k) + v(:, n)*gradn(j, a)
+      do q = p%pfirst(k), p%pfirst(k + 1) - 1
+        n0 = g%node0(p%pcell(q))
+        do a = 1, 8
+          xn(:, a) = x(:, n0 + g%corner_offset(a))
+        end do
+        call particles_gradients(xn, p%pxi(:, q), gradn, detj)
+        gradn = gradn*p%pw(q)
+        do a = 1, 8
+          n = n0 + g%corner_offset(a)
+          do j = 1, 3
+            lgrad(:, j, k) = lgrad(:, j, k) + v(:, n)*gradn(j, a)
+          end do
         end do
       end do
     end do
@@ -568,15 +590,16 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: vol(:), vcell(:)
     real(wp), intent(out) :: vscale(:)
-    integer :: c, q
+    integer :: c, q, j
     real(wp) :: vp
-    !$omp parallel do default(none) shared(g, p, vol, vcell, vscale) private(c, q, vp) schedule(static)
+    !$omp parallel do default(none) shared(g, p, vol, vcell, vscale) private(c, q, j, vp) schedule(static)
     do c = 1, g%ncell
       vscale(c) = 1.0_wp
-      if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+      if (p%pc_start(c + 1) == p%pc_start(c)) cycle
       vp = 0.0_wp
-      do q = p%cell_start(c), p%cell_start(c + 1) - 1
-        vp = vp + vol(p%perm(q))
+      do q = p%pc_start(c), p%pc_start(c + 1) - 1
+        j = p%pc_perm(q)
+        vp = vp + vol(p%ppart(j))*p%pw(j)
       end do
       vscale(c) = 1.0_wp - max(0.0_wp, min(1.0_wp, vp/vcell(c)))
     end do
@@ -592,21 +615,35 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: un(:, :), u(:, :)
     real(wp), intent(out) :: vh(:, :)
-    integer :: k, a, n, n0
-    real(wp) :: sh(8), dv(3)
-    !$omp parallel do default(none) shared(g, p, un, u, vh) private(k, a, n, n0, sh, dv) schedule(static)
+    integer :: k
+    !$omp parallel do default(none) shared(g, p, un, u, vh) private(k) schedule(static)
     do k = 1, p%np
-      sh = particles_shape_values(p%xi(:, k))
-      n0 = g%node0(p%cell(k))
-      dv = 0.0_wp
-      do a = 1, 8
-        n = n0 + g%corner_offset(a)
-        dv = dv + sh(a)*(u(:, n) - un(:, n))
-      end do
-      vh(:, k) = p%v(:, k) + 0.5_wp*dv
+      vh(:, k) = p%v(:, k) + 0.5_wp*particles_interpolate(g, p, k, u, un)
     end do
     !$omp end parallel do
   end subroutine particles_half_velocity
+
+  !> sum_I S_Ip (u_I - un_I) at particle k: its pieces' shares of the
+  !> shape functions at their centres (`particles_state`), the nodal
+  !> increments of Eqs. 23-24 (or, with un the particles' mean, the change
+  !> a rebuild made).
+  pure function particles_interpolate(g, p, k, u, un) result(dv)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: k
+    real(wp), intent(in) :: u(:, :), un(:, :)
+    real(wp) :: dv(3)
+    real(wp) :: sh(8)
+    integer :: q, a, n
+    dv = 0.0_wp
+    do q = p%pfirst(k), p%pfirst(k + 1) - 1
+      sh = particles_shape_values(p%pxi(:, q))*p%pw(q)
+      do a = 1, 8
+        n = g%node0(p%pcell(q)) + g%corner_offset(a)
+        dv = dv + sh(a)*(u(:, n) - un(:, n))
+      end do
+    end do
+  end function particles_interpolate
 
   !> I + sgn f/2.
   pure function half_step(f, sgn) result(a)
@@ -646,7 +683,7 @@ contains
     real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
-    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
     dt = huge(1.0_wp)
     kmin = 0
@@ -671,21 +708,25 @@ contains
     do col = 0, 7
       f0 = g%colour_first(lo, col)
       !$omp parallel do default(none) shared(g, p, x, models, kw, f0, hi) &
-      !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
+      !$omp private(ci, cj, ck, c, q, jp, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
       do ci = f0(1), hi(1), 2
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
-        if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+        if (p%pc_start(c + 1) == p%pc_start(c)) cycle
         do a = 1, 8
           xn(:, a) = x(:, n0 + g%corner_offset(a))
         end do
-        do q = p%cell_start(c), p%cell_start(c + 1) - 1
-          k = p%perm(q)
-          call particles_gradients(xn, p%xi(:, k), gradn, detj)
+        ! (a piece's share of the stiffness: sum_q w_q |grad N(q)|^2 bounds
+        ! |sum_q w_q grad N(q)|^2, the shares adding up to 1)
+        do q = p%pc_start(c), p%pc_start(c + 1) - 1
+          jp = p%pc_perm(q)
+          k = p%ppart(jp)
+          call particles_gradients(xn, p%pxi(:, jp), gradn, detj)
           mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
           if (allocated(models(p%mat(k))%eos)) mw = mw + p%vol(k)*p%rho(k)*eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
+          mw = mw*p%pw(jp)
           do a = 1, 8
             kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
           end do
@@ -721,15 +762,16 @@ contains
       c2 = ce*ce
     end function eos_c2
 
-    !> A particle whose host has node n as a corner (the first in array order).
+    !> A particle with a piece in a cell that has node n as a corner (the
+    !> first in piece order).
     integer function node_particle(n) result(kp)
       integer, intent(in) :: n
       integer :: j, b
       kp = 0
-      do j = 1, p%np
+      do j = 1, p%npc
         do b = 1, 8
-          if (g%node0(p%cell(j)) + g%corner_offset(b) == n) then
-            kp = j
+          if (g%node0(p%pcell(j)) + g%corner_offset(b) == n) then
+            kp = p%ppart(j)
             return
           end if
         end do

@@ -23,6 +23,19 @@
 !> Lagrangian phase cell and xi stay fixed and x = sum_a N_a(xi) x_a follows
 !> the grid exactly (Eq. 25 with constant parametric coordinates).
 !>
+!> Supports (pieces). The particle-to-grid kernels see each particle as
+!> pieces: a piece lies in one cell, at natural coordinates pxi there, and
+!> carries the share pw of its particle's mass and volume, so that its
+!> weights are the cell's shape functions at pxi times pw. With the
+!> default linear transfer a particle is one piece (its host, its xi,
+!> weight 1: the standard MPM shape functions, §1.3); with &hydro
+!> particle_support = 'gimp' (`particles_spread`) a particle is the
+!> overlaps of its domain with its host and neighbour cells (the
+!> generalized interpolation material point method), so that its weights
+!> change continuously as it crosses a face. pc_start/pc_perm bin the
+!> pieces by cell as cell_start/perm bin the particles: the scatter
+!> kernels loop over the cells' pieces in the cell colours.
+!>
 !> Stress is the full Cauchy stress in Voigt order xx, yy, zz, yz, xz, xy
 !> (sign: tension positive); `hist` holds nhist history variables per
 !> particle (plastic strain, damage, porosity...: nhist = 0 until a strength
@@ -71,6 +84,24 @@ module particles_state
     integer, allocatable :: mat_start(:)     !< (nsolid+1) material s: mat_start(s) .. mat_start(s+1)-1
     integer, allocatable :: cell_start(:)    !< (ncell+1) CSR of the particles by host cell
     integer, allocatable :: perm(:)          !< (np) particle indices, cell by cell
+    !> The particles' supports as pieces in cells (module notes): with
+    !> `spread` off one piece per particle (its host, its xi, weight 1);
+    !> with it on, `particles_spread` rebuilds them as the overlaps of each
+    !> particle's domain with its host and the neighbours (GIMP).
+    logical :: spread = .false.              !< spread the supports over neighbour cells (&hydro particle_support)
+    logical :: spread_ready = .false.        !< the pieces are spread for the current hosts
+    !> (np) half-width of each particle's domain in its host's natural
+    !> coordinates, set where the hosts are (`particles_support_widths`),
+    !> restart state with `spread` (0: not spread)
+    real(wp), allocatable :: lsup(:)
+    integer :: npc = 0                       !< number of pieces
+    integer, allocatable :: pfirst(:)        !< (np+1) pieces of particle k: pfirst(k) .. pfirst(k+1)-1
+    integer, allocatable :: pcell(:)         !< (npc) the piece's cell
+    integer, allocatable :: ppart(:)         !< (npc) the piece's particle
+    real(wp), allocatable :: pxi(:, :)       !< (3, npc) natural coordinates of the piece's centre in its cell
+    real(wp), allocatable :: pw(:)           !< (npc) the piece's share of its particle (sum 1 per particle)
+    integer, allocatable :: pc_start(:)      !< (ncell+1) CSR of the pieces by cell
+    integer, allocatable :: pc_perm(:)       !< (npc) piece indices, cell by cell
   end type particles_t
 
 contains
@@ -90,7 +121,7 @@ contains
     end if
     allocate(p%id(np), p%mat(np), p%body(np), p%cell(np), p%xi(3, np), p%x(3, np), p%v(3, np), p%m(np), &
              p%vol(np), p%rho(np), p%e(np), p%stress(6, np), p%hist(nhist, np), p%mat_start(nsolid + 1), p%perm(np), &
-             stat=stat, errmsg=msg)
+             p%lsup(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
       p = particles_t()
       call error_set(err, 'particles_allocate', error_no_memory(itoa(np)//' particles'))
@@ -102,6 +133,7 @@ contains
     p%id = [(k, k = 1, np)]
     p%mat = 1; p%body = 1; p%cell = 1
     p%xi = 0.0_wp; p%x = 0.0_wp; p%v = 0.0_wp; p%m = 0.0_wp; p%vol = 0.0_wp; p%rho = 0.0_wp; p%e = 0.0_wp
+    p%lsup = 0.0_wp
     p%stress = 0.0_wp; p%hist = 0.0_wp
     p%mat_start = 1
     p%perm = 0
@@ -153,6 +185,7 @@ contains
     p%e = p%e(pick)
     p%stress = p%stress(:, pick)
     p%hist = p%hist(:, pick)
+    p%lsup = p%lsup(pick)
     if (allocated(p%mvf)) p%mvf = p%mvf(pick)
     if (allocated(p%perm)) deallocate(p%perm)
   end subroutine particles_select
@@ -183,7 +216,7 @@ contains
     type(particles_t), intent(inout) :: p
     integer, intent(in) :: ncell
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, c, stat
+    integer :: k, c, stat, cap
     character(len=200) :: msg
     if (.not. allocated(p%id)) return   ! (a block may hold none of them)
     if (allocated(p%cell_start)) deallocate(p%cell_start)
@@ -210,6 +243,25 @@ contains
       p%cell_start(c + 1) = p%cell_start(c + 1) + p%cell_start(c)
     end do
     call counting_sort(p%cell, ncell, [(k, k = 1, p%np)], p%perm)
+    ! one piece per particle, its host (room for eight when they are to be
+    ! spread, `particles_spread`)
+    cap = merge(8, 1, p%spread)*p%np
+    if (allocated(p%pfirst)) deallocate(p%pfirst, p%pcell, p%ppart, p%pxi, p%pw, p%pc_start, p%pc_perm)
+    allocate(p%pfirst(p%np + 1), p%pcell(cap), p%ppart(cap), p%pxi(3, cap), p%pw(cap), p%pc_start(ncell + 1), &
+             p%pc_perm(cap), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_bin', error_no_memory('the particles'' pieces'))
+      return
+    end if
+    p%npc = p%np
+    p%pfirst = [(k, k = 1, p%np + 1)]
+    p%pcell(:p%np) = p%cell
+    p%ppart(:p%np) = [(k, k = 1, p%np)]
+    p%pxi(:, :p%np) = p%xi
+    p%pw(:p%np) = 1.0_wp
+    p%pc_start = p%cell_start
+    p%pc_perm(:p%np) = p%perm
+    p%spread_ready = .not. p%spread
   end subroutine particles_bin
 
   !> out = items stably sorted by key(items) in 1..nkey (key(i) the key of
@@ -256,6 +308,7 @@ contains
     if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
     if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf, &
                                        lower=LOWER_NONNEGATIVE)
+    if (p%spread) call reg%add('particle_support_width', '1', LOC_PARTICLE, p%lsup, lower=LOWER_NONNEGATIVE)
   end subroutine particles_register_restart
 
   !> The particles' indices after a restart read: host cells in 1..ncell,
