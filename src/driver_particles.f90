@@ -356,7 +356,7 @@ contains
     integer :: kp, n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
-      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp)
+      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, cfg%hydro%particle_q)
       ! the blocks' smallest (the particle's id with it)
       key(1) = 0.0_wp
       if (kp > 0) key(1) = real(pt%id(kp), wp)
@@ -383,6 +383,12 @@ contains
       e_old = particles_internal(st)
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
       call agree_bad(bad_particle)
+      ! the artificial viscosity's work (the corrector's q) heats the particles
+      if (cfg%hydro%particle_q > 0.0_wp) then
+        do n = 1, pt%np
+          pt%e(n) = pt%e(n) - dt*pw%q(n)*pt%vol(n)*(pw%lgrad(1, 1, n) + pw%lgrad(2, 2, n) + pw%lgrad(3, 3, n))/pt%m(n)
+        end do
+      end if
       e_new = particles_internal(st, pw%eroded, eroded)
       st%tot%erosion_energy = st%tot%erosion_energy + eroded
       ! the energy balance (PARTICLES.md §1.12): the particle forces' work

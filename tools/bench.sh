@@ -81,6 +81,33 @@ DECK
       }' pgas_$th.log pblock_$th.log
   done
 }
+# The particles' supports spread over the cells they overlap (&hydro
+# particle_support = 'gimp') against linear shape functions: the block of
+# particles_bench pushed through global Euler steps every 10 steps (its
+# particles straddle faces after the first), 120 steps, 1 thread, the
+# gas alone with the same Euler steps as the reference; the particle part
+# of the Lagrangian phase per particle-step, and the ratio gimp / linear.
+gimp_bench() {
+  echo "## Particle supports: linear against gimp, the block of the particle bench through global Euler steps, 1 thread"
+  local scene
+  for scene in pgas pblock pblock_gimp; do
+    sed -e "s|out/pblock|out/$scene|" -e "s|out/pgas|out/$scene|" "${scene%_gimp}.nml" > "e_$scene.nml"
+    echo "&rezone mode = 'global', interval_steps = 10 /" >> "e_$scene.nml"
+    [[ $scene == *_gimp ]] && echo "&hydro particle_support = 'gimp' /" >> "e_$scene.nml"
+    OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" "e_$scene.nml" > "e_$scene.log"
+    cp "e_$scene.log" "$outdir/bench_euler_$scene.log"
+  done
+  awk '
+    FNR == 1 {f++}
+    /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "lagrange") lag[f] = $(i + 1)}
+    /^throughput:/ {steps[f] = $5}
+    /^particles: [0-9]+ in all/ {np = $2}
+    END {
+      for (k = 2; k <= 3; k++) part[k] = lag[k] / steps[k] - lag[1] / steps[1]
+      printf "linear: particle part %.3e s per particle-step; gimp: %.3e s per particle-step; gimp / linear %.2f\n", \
+             part[2] / np, part[3] / np, part[3] / part[2]
+    }' e_pgas.log e_pblock.log e_pblock_gimp.log
+}
 # Paper Sect. 7.4 (Table 2): the Euler phase of LSSM against global
 # smoothing for the rotating projectile, same sitting, 1 thread.
 projectile_bench() {
@@ -368,6 +395,8 @@ fi
 if [[ "${BENCH_ONLY:-}" == particles ]]; then
   particles_bench
   echo
+  gimp_bench
+  echo
   projectile_bench
   echo "bench wall time: ${SECONDS} s"
   exit 0
@@ -469,6 +498,8 @@ OMP_NUM_THREADS=1 "$smooth_exe" 50 100 "$outdir/smoothing.csv" | tee "$outdir/be
 
 echo
 particles_bench
+echo
+gimp_bench
 echo
 projectile_bench
 echo

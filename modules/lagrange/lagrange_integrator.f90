@@ -23,7 +23,7 @@ module lagrange_integrator
   use particles_state, only: particles_t
   use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
                                 particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays, &
-                                particles_cell_fraction
+                                particles_cell_fraction, particles_viscosity
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -214,7 +214,13 @@ contains
       if (par%particle_visc_scaled) call particles_cell_fraction(g, pt, pt%vol, h%vol, pw%vscale)
       call bc_pressure_forces(bc, g, g%x, h%p)
       call corner_forces(h%u)
-      call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
+      if (par%particle_q > 0.0_wp) then
+        ! (the viscosity of the last step's velocity gradients)
+        call particles_viscosity(g, g%x, pt, pw%models, pw%lgrad, pt%vol, pt%rho, par%particle_q, pw%q)
+        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, q=pw%q)
+      else
+        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
+      end if
       if (present(bad_particle)) bad_particle = badp
       call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
       call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
@@ -229,7 +235,13 @@ contains
       call bc_pressure_forces(bc, g, g%x, h%p)
       call corner_forces(h%uh)
       pw%xc = g%x
-      call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h)
+      if (par%particle_q > 0.0_wp) then
+        ! (the trial's velocity gradients)
+        call particles_viscosity(g, g%x, pt, pw%models, pw%lgrad, pw%vol_h, pw%rho_h, par%particle_q, pw%q)
+        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h, pw%q)
+      else
+        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h)
+      end if
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = badp
       end if

@@ -55,6 +55,9 @@ module lagrange_state
     !> domain, spread over the cells it overlaps ('gimp', `particles_spread`),
     !> or the shape functions at its centre ('linear')
     logical :: particle_gimp = .false.
+    !> linear artificial viscosity of the particles, q_p = -particle_q rho_p c_p
+    !> l_p tr(D_p) (`particles_viscosity`); 0: none
+    real(wp) :: particle_q = 0.0_wp
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.

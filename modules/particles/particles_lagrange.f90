@@ -46,7 +46,7 @@ module particles_lagrange
             particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
-            particles_cell_fraction, particles_interpolate, particles_phase_mass
+            particles_cell_fraction, particles_interpolate, particles_phase_mass, particles_viscosity
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
@@ -80,6 +80,7 @@ module particles_lagrange
     real(wp), allocatable :: vscale(:)          !< (ncell) viscosity scale 1 - theta_c of the cells
     real(wp), allocatable :: wcell(:)           !< (ncell) virtual-fluid work of each cell (work)
     real(wp), allocatable :: eroded(:)          !< (np) energy each particle's failure removed this step
+    real(wp), allocatable :: q(:)               !< (np) artificial viscosity of the last force (`particles_viscosity`)
     !> (np) true for the particles whose host cell this block owns (all on
     !> one process): the ones it counts in the totals; the others are the
     !> copies of its neighbours' particles in its ghost cells
@@ -118,9 +119,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: stat
     character(len=200) :: msg
-    if (allocated(w%vh)) deallocate(w%vh, w%lgrad, w%stress_h, w%hist_h, w%vol_h, w%rho_h, w%e_h, w%eroded, w%owned)
+    if (allocated(w%vh)) deallocate(w%vh, w%lgrad, w%stress_h, w%hist_h, w%vol_h, w%rho_h, w%e_h, w%eroded, w%owned, w%q)
     allocate(w%vh(3, np), w%lgrad(3, 3, np), w%stress_h(6, np), w%hist_h(nhist, np), w%vol_h(np), w%rho_h(np), &
-             w%e_h(np), w%eroded(np), w%owned(np), stat=stat, errmsg=msg)
+             w%e_h(np), w%eroded(np), w%owned(np), w%q(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_work_resize', error_no_memory('the coupling arrays'))
       return
@@ -128,6 +129,7 @@ contains
     w%vh = 0.0_wp; w%lgrad = 0.0_wp
     w%stress_h = 0.0_wp; w%hist_h = 0.0_wp; w%vol_h = 0.0_wp; w%rho_h = 0.0_wp; w%e_h = 0.0_wp
     w%eroded = 0.0_wp
+    w%q = 0.0_wp
     w%owned = .true.
     w%mass_ready = .false.
   end subroutine particles_work_resize
@@ -225,15 +227,33 @@ contains
   !> `stress` (6, np) and `vol` (np) if given (the trial state at n+1/2);
   !> fvf: its virtual-fluid part -sum_p V_p P_c grad N_Ip (for the energy
   !> accounting of §1.12). bad: the first particle whose host has det J <= 0
-  !> at it (0 if none).
-  subroutine particles_nodal_force(g, x, p, pcell, f, fvf, bad, stress, vol)
+  !> at it (0 if none). q (np), if given: the particles' artificial
+  !> viscosity, -q I added to the stress (`particles_viscosity`).
+  subroutine particles_nodal_force(g, x, p, pcell, f, fvf, bad, stress, vol, q)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), pcell(:)
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
-    real(wp), intent(in), optional :: stress(:, :), vol(:)
-    if (present(stress) .and. present(vol)) then
+    real(wp), intent(in), optional :: stress(:, :), vol(:), q(:)
+    real(wp), allocatable :: sq(:, :)
+    integer :: d
+    if (present(q)) then
+      ! the artificial viscosity, -q I on top of the stress (not stored)
+      if (present(stress)) then
+        sq = stress
+      else
+        sq = p%stress
+      end if
+      do d = 1, 3
+        sq(d, :) = sq(d, :) - q
+      end do
+      if (present(vol)) then
+        call force_kernel(g, x, p, sq, vol, pcell, f, fvf, bad)
+      else
+        call force_kernel(g, x, p, sq, p%vol, pcell, f, fvf, bad)
+      end if
+    else if (present(stress) .and. present(vol)) then
       call force_kernel(g, x, p, stress, vol, pcell, f, fvf, bad)
     else
       call force_kernel(g, x, p, p%stress, p%vol, pcell, f, fvf, bad)
@@ -623,6 +643,53 @@ contains
     !$omp end parallel do
   end subroutine particles_half_velocity
 
+  !> The particles' artificial viscosity (a pressure, added to -sigma in the
+  !> force only): q_p = -coef rho_p c_p l_p tr(L_p), for compression and
+  !> expansion alike (it damps the ringing behind elastic fronts, which a
+  !> compression-only form would leave behind a release wave), c_p the
+  !> particle's sound speed (`particles_sound_speed`), l_p its spacing: the
+  !> host's length (volume over the largest median area, grid x) times
+  !> (V_p/V_c)^(1/3). A linear viscosity spreads a linear (elastic) front
+  !> over sqrt(coef c l t) (a diffusion): its overshoot falls with coef, its
+  !> width grows.
+  subroutine particles_viscosity(g, x, p, models, lgrad, vol, rho, coef, q)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), lgrad(:, :, :), vol(:), rho(:), coef
+    type(particles_t), intent(in) :: p
+    type(strength_slot_t), intent(in) :: models(:)
+    real(wp), intent(out) :: q(:)
+    real(wp) :: xn(3, 8), sarea(3, 3), vc, l
+    integer :: k, a
+    !$omp parallel do default(none) shared(g, x, p, models, lgrad, vol, rho, coef, q) private(k, a, xn, sarea, vc, l) &
+    !$omp schedule(static)
+    do k = 1, p%np
+      do a = 1, 8
+        xn(:, a) = x(:, g%node0(p%cell(k)) + g%corner_offset(a))
+      end do
+      call hex_median_areas(xn, sarea)
+      vc = hex_volume(xn)
+      l = vc/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))*(vol(k)/vc)**(1.0_wp/3.0_wp)
+      q(k) = -coef*rho(k)*particles_sound_speed(models(p%mat(k)), rho(k), p%e(k))*l* &
+             (lgrad(1, 1, k) + lgrad(2, 2, k) + lgrad(3, 3, k))
+    end do
+    !$omp end parallel do
+  end subroutine particles_viscosity
+
+  !> The sound speed of a particle of a solid with model slot m at density
+  !> rho and specific energy e: sqrt(wave modulus / rho), with the EOS's
+  !> c^2 added for a solid with an EOS (module notes).
+  pure real(wp) function particles_sound_speed(m, rho, e) result(c)
+    type(strength_slot_t), intent(in) :: m
+    real(wp), intent(in) :: rho, e
+    real(wp) :: pe, ce, c2
+    c2 = m%m%wave_modulus()/rho
+    if (allocated(m%eos)) then
+      call mie_gruneisen_state(m%eos, rho, e, pe, ce)
+      c2 = c2 + ce*ce
+    end if
+    c = sqrt(c2)
+  end function particles_sound_speed
+
   !> sum_I S_Ip (u_I - un_I) at particle k: its pieces' shares of the
   !> shape functions at their centres (`particles_state`), the nodal
   !> increments of Eqs. 23-24 (or, with un the particles' mean, the change
@@ -675,17 +742,23 @@ contains
   !> an EOS); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
-  subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin)
+  subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin, qcoef)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
+    !> the artificial viscosity's coefficient (`particles_viscosity`): the
+    !> sound speed is taken times sqrt(1 + qcoef^2) + qcoef (the stable step
+    !> of a damped oscillator under the central difference)
+    real(wp), intent(in), optional :: qcoef
     type(particles_t), intent(in) :: p
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
     integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp
-    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw
+    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw, damp
     dt = huge(1.0_wp)
+    damp = 1.0_wp
+    if (present(qcoef)) damp = sqrt(1.0_wp + qcoef*qcoef) + qcoef
     kmin = 0
     do k = 1, p%np
       n0 = g%node0(p%cell(k))
@@ -696,7 +769,7 @@ contains
       len_c = hex_volume(xn)/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))
       c2 = models(p%mat(k))%m%wave_modulus()/p%rho(k)
       if (allocated(models(p%mat(k))%eos)) c2 = c2 + eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
-      dtk = cfl*len_c/(sqrt(c2) + norm2(p%v(:, k)))
+      dtk = cfl*len_c/(sqrt(c2)*damp + norm2(p%v(:, k)))
       if (dtk < dt) then
         dt = dtk
         kmin = k
