@@ -79,6 +79,17 @@ contains
       end if
     end if
     if (len_trim(eos) == 0) eos = this%eos
+    ! a parameter the group gives must be one of its EOS's
+    call not_of(gamma, 'gamma', 'ideal_gas')
+    call not_of(a, 'a', 'jwl')
+    call not_of(b, 'b', 'jwl')
+    call not_of(r1, 'r1', 'jwl')
+    call not_of(r2, 'r2', 'jwl')
+    call not_of(omega, 'omega', 'jwl')
+    call not_of(rho0, 'rho0', 'jwl mie_gruneisen')
+    call not_of(c0, 'c0', 'mie_gruneisen')
+    call not_of(s1, 's1', 'mie_gruneisen')
+    call not_of(gamma0, 'gamma0', 'mie_gruneisen')
     call fill(gamma, 'gamma', this%par%gamma)
     call fill(a, 'a', this%par%a)
     call fill(b, 'b', this%par%b)
@@ -112,6 +123,32 @@ contains
     if (echo /= no_echo) write(echo, nml=material)
 
   contains
+
+    !> A problem if the group gives v (key) and eos is none of the
+    !> (space-separated) models that use it.
+    subroutine not_of(v, key, models)
+      real(wp), intent(in) :: v
+      character(len=*), intent(in) :: key, models
+      if (.not. v > unset) return
+      if (index(' '//models//' ', ' '//trim(eos)//' ') > 0) return
+      call problem_add(problems, '&material '''//trim(name)//''': '//key//' is a parameter of eos = '''// &
+                       replace_spaces(trim(models))//''', not of eos = '''//trim(eos)//'''')
+    end subroutine not_of
+
+    !> models with each space written as ''' or ''' (a list of names).
+    pure function replace_spaces(models) result(t)
+      character(len=*), intent(in) :: models
+      character(len=:), allocatable :: t
+      integer :: i
+      t = ''
+      do i = 1, len(models)
+        if (models(i:i) == ' ') then
+          t = t//''' or '''
+        else
+          t = t//models(i:i)
+        end if
+      end do
+    end function replace_spaces
 
     !> A variable the group did not give: the library entry's (in the
     !> deck's units), else the default `def`.

@@ -755,7 +755,7 @@ contains
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
     integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp
-    real(wp) :: xn(3, 8), sarea(3, 3), len_c, c2, dtk, gradn(3, 8), detj, mw, damp
+    real(wp) :: xn(3, 8), sarea(3, 3), len_c, dtk, gradn(3, 8), detj, mw, damp
     dt = huge(1.0_wp)
     damp = 1.0_wp
     if (present(qcoef)) damp = sqrt(1.0_wp + qcoef*qcoef) + qcoef
@@ -767,9 +767,7 @@ contains
       end do
       call hex_median_areas(xn, sarea)
       len_c = hex_volume(xn)/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))
-      c2 = models(p%mat(k))%m%wave_modulus()/p%rho(k)
-      if (allocated(models(p%mat(k))%eos)) c2 = c2 + eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
-      dtk = cfl*len_c/(sqrt(c2)*damp + norm2(p%v(:, k)))
+      dtk = cfl*len_c/(particles_sound_speed(models(p%mat(k)), p%rho(k), p%e(k))*damp + norm2(p%v(:, k)))
       if (dtk < dt) then
         dt = dtk
         kmin = k
