@@ -79,17 +79,18 @@ contains
       end if
     end if
     if (len_trim(eos) == 0) eos = this%eos
-    ! a parameter the group gives must be one of its EOS's
-    call not_of(gamma, 'gamma', 'ideal_gas')
-    call not_of(a, 'a', 'jwl')
-    call not_of(b, 'b', 'jwl')
-    call not_of(r1, 'r1', 'jwl')
-    call not_of(r2, 'r2', 'jwl')
-    call not_of(omega, 'omega', 'jwl')
-    call not_of(rho0, 'rho0', 'jwl mie_gruneisen')
-    call not_of(c0, 'c0', 'mie_gruneisen')
-    call not_of(s1, 's1', 'mie_gruneisen')
-    call not_of(gamma0, 'gamma0', 'mie_gruneisen')
+    ! a parameter the group gives must be one of its EOS's (or its default:
+    ! the resolved deck that --check prints and the dumps store gives them all)
+    call not_of(gamma, 'gamma', 'ideal_gas', this%par%gamma)
+    call not_of(a, 'a', 'jwl', this%par%a)
+    call not_of(b, 'b', 'jwl', this%par%b)
+    call not_of(r1, 'r1', 'jwl', this%par%r1)
+    call not_of(r2, 'r2', 'jwl', this%par%r2)
+    call not_of(omega, 'omega', 'jwl', this%par%omega)
+    call not_of(rho0, 'rho0', 'jwl mie_gruneisen', this%par%rho0)
+    call not_of(c0, 'c0', 'mie_gruneisen', this%par%c0)
+    call not_of(s1, 's1', 'mie_gruneisen', this%par%s1)
+    call not_of(gamma0, 'gamma0', 'mie_gruneisen', this%par%gamma0)
     call fill(gamma, 'gamma', this%par%gamma)
     call fill(a, 'a', this%par%a)
     call fill(b, 'b', this%par%b)
@@ -124,12 +125,12 @@ contains
 
   contains
 
-    !> A problem if the group gives v (key) and eos is none of the
-    !> (space-separated) models that use it.
-    subroutine not_of(v, key, models)
-      real(wp), intent(in) :: v
+    !> A problem if the group gives v (key) other than its default def and
+    !> eos is none of the (space-separated) models that use it.
+    subroutine not_of(v, key, models, def)
+      real(wp), intent(in) :: v, def
       character(len=*), intent(in) :: key, models
-      if (.not. v > unset) return
+      if (.not. v > unset .or. .not. abs(v - def) > 0.0_wp) return
       if (index(' '//models//' ', ' '//trim(eos)//' ') > 0) return
       call problem_add(problems, '&material '''//trim(name)//''': '//key//' is a parameter of eos = '''// &
                        replace_spaces(trim(models))//''', not of eos = '''//trim(eos)//'''')
