@@ -739,7 +739,8 @@ contains
   !> node, dt_I = 2 cfl sqrt(m_I/k_I) with m_I = mnode + mp (the coupled
   !> nodal mass) and k_I = sum_p V_p (K + 4G/3)_p |grad N_Ip|^2 (Gershgorin
   !> bound of the particles' stiffness at the node; rho_p c_EOS^2 for K with
-  !> an EOS); k_I is summed in the
+  !> an EOS; for spread particles |grad S_Ip|^2 bounded by n_p sum_q w_q^2
+  !> |grad N_I(q)|^2 over its n_p pieces q); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
   subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin, qcoef)
@@ -789,15 +790,17 @@ contains
         do a = 1, 8
           xn(:, a) = x(:, n0 + g%corner_offset(a))
         end do
-        ! (a piece's share of the stiffness: sum_q w_q |grad N(q)|^2 bounds
-        ! |sum_q w_q grad N(q)|^2, the shares adding up to 1)
+        ! (a piece's share of the stiffness: n sum_q w_q^2 |grad N(q)|^2,
+        ! n the particle's pieces, bounds |sum_q w_q grad N(q)|^2 (Cauchy-
+        ! Schwarz); a piece of small share w adds w N to a node's mass and
+        ! w^2 |grad N|^2 to its stiffness)
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
           jp = p%pc_perm(q)
           k = p%ppart(jp)
           call particles_gradients(xn, p%pxi(:, jp), gradn, detj)
           mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
           if (allocated(models(p%mat(k))%eos)) mw = mw + p%vol(k)*p%rho(k)*eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
-          mw = mw*p%pw(jp)
+          mw = mw*(p%pw(jp)*p%pw(jp)*(p%pfirst(k + 1) - p%pfirst(k)))
           do a = 1, 8
             kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
           end do
