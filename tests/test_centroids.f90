@@ -362,7 +362,7 @@ contains
       h%vol(1) = vol0*(1.0_wp + div*dt)
       ! the compatible heating of the cell, -p dV
       h%e(1) = h%en(1) - h%p(1)*(h%vol(1) - vol0)/h%mass(1)
-      call mixed_split(mx, h%mass, h%vol, h%en, h%e, par%relax)
+      call mixed_split(mx, h%mass, h%vol, h%vol, h%en, h%e, par%relax, 0.0_wp, 0.0_wp, 1.0_wp)
       da = (mx%vf(1)*h%vol(1) - fa*vol0)/(fa*vol0)
       if (k == 1) then
         call check_close('air''s relative volume change at the new step', da, -par%dv_max, 1.0e-3_wp*par%dv_max)

@@ -23,7 +23,7 @@ program test_material
   call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [2.0_wp, 0.1_wp])
   vol = v0
   e = en
-  call mixed_split(mx, mass, vol, en, e, 1.0_wp)
+  call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp)
   call check(abs(sum(mx%vf) - 1.0_wp) < 1e-14_wp, 'volume fractions sum to one')
   call check(abs(dot_product(mx%mass, mx%e) - mass(1)*e(1)) < 1e-14_wp*mass(1)*e(1), &
              'material energies sum to the cell energy')
@@ -35,7 +35,7 @@ program test_material
   call check(mx%vf(1) > 0.5_wp, 'the high-pressure gas expands')
   do s = 1, 20
     call mixed_save_step_start(mx, vol)
-    call mixed_split(mx, mass, vol, en, e, 1.0_wp)
+    call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp)
     call eos_ideal()
   end do
   call check(abs(mx%p(1) - mx%p(2)) < 1e-8_wp*mx%p(1), 'repeated steps equalise the pressures')
@@ -48,7 +48,7 @@ program test_material
   vol = 0.99_wp*v0
   etot = mass(1)*en(1) + 1.0_wp*0.01_wp*v0
   e = etot/mass(1)
-  call mixed_split(mx, mass, vol, en, e, 1.0_wp)
+  call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp)
   call check(abs(mx%vf(1)*vol(1) - 0.3_wp*v0 - (-0.01_wp*v0)*(0.3_wp/2.0_wp)/(0.3_wp/2.0_wp + 0.7_wp/1.4_wp)) &
              < 1e-14_wp, 'volume change shared by compressibility')
   call eos_ideal()

@@ -23,12 +23,12 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
-    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particle_q
+    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particle_q, relax_length
     character(len=16) :: viscosity, particles, stress_update, particle_viscosity, particle_support
     integer :: ios
     character(len=max_line) :: msg
     namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update, &
-                     particle_viscosity, particle_support, particle_q
+                     particle_viscosity, particle_support, particle_q, relax_length
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
@@ -39,6 +39,7 @@ contains
     particle_viscosity = merge('scaled', 'full  ', defaults%particle_visc_scaled)
     particle_support = merge('gimp  ', 'linear', defaults%particle_gimp)
     particle_q = defaults%particle_q
+    relax_length = defaults%relax_length
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -89,11 +90,14 @@ contains
     if (.not. (dv_max > 0.0_wp)) call problem_bad(problems, 'hydro', 'dv_max', dv_max, 'must be > 0')
     if (.not. (relax > 0.0_wp .and. relax <= 1.0_wp)) call problem_bad(problems, 'hydro', 'relax', relax, &
       'must be in (0, 1]')
+    if (.not. (relax_length >= 0.0_wp .and. relax_length <= 100.0_wp)) call problem_bad(problems, 'hydro', &
+      'relax_length', relax_length, 'must be in [0, 100]')
     if (.not. (dv_vf_min > 0.0_wp .and. dv_vf_min <= 1.0_wp)) call problem_bad(problems, 'hydro', 'dv_vf_min', &
       dv_vf_min, 'must be in (0, 1]')
     par%q_linear = q_linear; par%q_quad = q_quad
     par%hourglass = hourglass; par%dv_max = dv_max; par%relax = relax; par%dv_vf_min = dv_vf_min
     par%particle_q = particle_q
+    par%relax_length = relax_length
     if (echo /= no_echo) write(echo, nml=hydro)
   end subroutine hydro_config_read
 end module lagrange_config

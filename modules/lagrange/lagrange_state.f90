@@ -41,6 +41,10 @@ module lagrange_state
     real(wp) :: dt_growth = 1.1_wp    !< largest ratio of consecutive steps
     real(wp) :: dt_max = huge(1.0_wp) !< largest step
     real(wp) :: relax = 1.0_wp        !< mixed-cell pressure relaxation per step, (0, 1]
+    !> mixed cells: each material's acoustic resistance to the relaxation,
+    !> rho c L / dt with L = relax_length times the cell's size (Tipton's
+    !> closure); 0: none (equal pressures in one step when relax = 1)
+    real(wp) :: relax_length = 0.0_wp
     !> particles coupled to the grid (Eqs. 16-17, 23-25, 29-32), or inert
     !> (seeded and written only: they neither move nor act on the gas)
     logical :: particles_coupled = .true.

@@ -101,6 +101,7 @@ contains
     call fill(c0, 'c0', this%par%c0)
     call fill(s1, 's1', this%par%s1)
     call fill(gamma0, 'gamma0', this%par%gamma0)
+    call fill(p_min, 'p_min', this%p_min)
     this%name = name
     this%eos = eos
     this%library = library

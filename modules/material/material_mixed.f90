@@ -18,8 +18,29 @@
 !>   pbar = (sum_m (V_m/B_m) p_m - dV) / sum_m (V_m/B_m),
 !>   d_m  = (V_m/B_m) (p_m - B_m dV/V - pbar),
 !> and theta in (0, 1] (deck: &hydro relax) is how much of the way the step
-!> goes (1: equal pressures each step), reduced where needed so that no
-!> material loses more than 90 % of its volume in one step. Each material
+!> goes, reduced where needed so that no material loses more than 90 % of
+!> its volume in one step, nor more than dv_max (&hydro) of it to the
+!> exchange: the linearised pressure is only valid for small strains (water
+!> beside a JWL product at 8 GPa was otherwise crushed to a third of its
+!> volume in one step, its Mie-Gruneisen pressure then ran to hundreds of
+!> GPa and its energy to -4800 kJ/g; issue 36). The rest of the way is
+!> taken over the following steps.
+!>
+!> Acoustic resistance (Tipton's closure; &hydro relax_length). In the
+!> weights B_m above, not in the material's own linearised pressure, each
+!> material adds eta_m = Z_m L_m / dt, Z_m = rho_m c_m its impedance and
+!> L_m = relax_length f_m V/A its thickness (A the cell's largest
+!> median-surface area, V/A the cell's thickness). For two materials and a
+!> fixed cell the exchange is then the acoustic Riemann problem's: the
+!> common pressure is (Z_2 p_1 + Z_1 p_2)/(Z_1 + Z_2), the interface moves
+!> at (p_1 - p_2)/(Z_1 + Z_2), and a pressure difference relaxes over the
+!> time sound takes to cross the materials' layers rather than in one step;
+!> the cell's compression is shared by impedance over a short step, by
+!> compressibility over a long one. With it a gas beside a dense product
+!> has by far the larger weight, and an expanding cell would give it all
+!> of its growth at a negative pressure: an expanding material's linearised
+!> pressure is kept above min(p_m, 0) (`no_tension`), the rest of the
+!> growth going to the others. Each material
 !> does the work of its own (linearised, mid-step) pressure, -p~_m dV_m; the
 !> rest of the cell's energy change from the compatible update (viscous and
 !> hourglass heating, linearisation error) is shared by mass, so the cell's
@@ -225,18 +246,18 @@ contains
   !> step among its materials (Tipton closure, see the module header), given
   !> the new cell volumes `vol` and the cell mass and specific energy at the
   !> start (`en`) and now (`e`) from the compatible update.
-  subroutine mixed_split(mx, mass, vol, en, e, relax)
+  subroutine mixed_split(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap)
     type(mixed_t), intent(inout) :: mx
-    real(wp), intent(in) :: mass(:), vol(:), en(:), e(:)
-    real(wp), intent(in) :: relax
+    real(wp), intent(in) :: mass(:), vol(:), area(:), en(:), e(:)
+    real(wp), intent(in) :: relax, acoustic, dt, dv_cap
     integer, parameter :: maxmat = 16
     integer :: k, s, c, s0, s1, nm, i
     real(wp) :: v0, dv, de, sw, pbar, theta, vm(maxmat), bm(maxmat), d(maxmat), dvm(maxmat), &
-                dem(maxmat), rest, bmax, ptil
+                dem(maxmat), rest, bmax, ptil, eta, bt(maxmat)
 
     if (mx%n == 0) return
-    !$omp parallel do default(none) shared(mx, mass, vol, en, e, relax) &
-    !$omp private(k, s, c, s0, s1, nm, i, v0, dv, de, sw, pbar, theta, vm, bm, d, dvm, dem, rest, bmax, ptil) &
+    !$omp parallel do default(none) shared(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap) &
+    !$omp private(k, s, c, s0, s1, nm, i, v0, dv, de, sw, pbar, theta, vm, bm, d, dvm, dem, rest, bmax, ptil, eta, bt) &
     !$omp schedule(static)
     do k = 1, mx%n
       c = mx%cell(k)
@@ -263,27 +284,40 @@ contains
       end if
       sw = 0.0_wp
       pbar = 0.0_wp
+      ! the acoustic resistance rho c L / dt of each material, L = acoustic
+      ! times its share of the cell's thickness V/A (A: the cell's largest
+      ! median-surface area)
+      eta = 0.0_wp
+      if (acoustic > 0.0_wp .and. dt > 0.0_wp .and. area(c) > 0.0_wp) eta = acoustic*(v0/area(c))/dt
       do i = 1, nm
         s = s0 + i - 1
         vm(i) = mx%vfn(s)*v0
         ! an infinitely compressible material (B = 0) takes the change
         bm(i) = max(mx%bn(s), 1.0e-12_wp*bmax, tiny(1.0_wp))
-        sw = sw + vm(i)/bm(i)
-        pbar = pbar + (vm(i)/bm(i))*mx%pn(s)
+        bt(i) = bm(i)
+        if (eta > 0.0_wp .and. vm(i) > 0.0_wp) bt(i) = bm(i) + eta*mx%vfn(s)*sqrt(mx%bn(s)*mx%mass(s)/vm(i))
+        sw = sw + vm(i)/bt(i)
+        pbar = pbar + (vm(i)/bt(i))*mx%pn(s)
       end do
       pbar = (pbar - dv)/sw
       theta = relax
       do i = 1, nm
         s = s0 + i - 1
-        d(i) = (vm(i)/bm(i))*(mx%pn(s) - bm(i)*dv/v0 - pbar)
-        ! no material may lose more than 90 % of its volume in one step
+        d(i) = (vm(i)/bt(i))*(mx%pn(s) - bt(i)*dv/v0 - pbar)
+        ! no material may lose more than 90 % of its volume in one step, nor
+        ! more than dv_cap of it to the exchange (its pressure, linearised
+        ! about the step's start, is only valid for small strains)
         if (d(i) < 0.0_wp .and. 0.9_wp*vm(i) + (vm(i)/v0)*dv + theta*d(i) < 0.0_wp) &
           theta = max(0.0_wp, -(0.9_wp*vm(i) + (vm(i)/v0)*dv)/d(i))
+        if (d(i) < 0.0_wp .and. theta*d(i) < -dv_cap*vm(i)) theta = -dv_cap*vm(i)/d(i)
       end do
+      do i = 1, nm
+        dvm(i) = (vm(i)/v0)*dv + theta*d(i)
+      end do
+      if (eta > 0.0_wp) call no_tension(mx%pn(s0:s1), vm(1:nm), bm(1:nm), bt(1:nm), dvm(1:nm))
       rest = de
       do i = 1, nm
         s = s0 + i - 1
-        dvm(i) = (vm(i)/v0)*dv + theta*d(i)
         ! work of the material's linearised pressure at mid-step
         ptil = mx%pn(s) - 0.5_wp*bm(i)*dvm(i)/vm(i)
         dem(i) = -ptil*dvm(i)
@@ -299,6 +333,44 @@ contains
     end do
     !$omp end parallel do
   end subroutine mixed_split
+
+  !> An expanding material's linearised pressure p - B dV/V is kept above
+  !> min(p, 0): where a share dv(i) would take it below, the material takes
+  !> the expansion that brings it there and the rest goes to the others by
+  !> their weights v/bt (a lower common pressure), until no share passes its
+  !> floor; where every material is at its floor the rest is shared by
+  !> volume. With the acoustic resistance a gas beside a dense product has
+  !> by far the larger weight and would otherwise take all of an expanding
+  !> cell's growth at a negative pressure (the cell expands because the
+  !> product pushes its faces out).
+  pure subroutine no_tension(p, v, b, bt, dv)
+    real(wp), intent(in) :: p(:), v(:), b(:), bt(:)
+    real(wp), intent(inout) :: dv(:)
+    logical :: held(size(dv))
+    real(wp) :: excess, cap, w
+    integer :: i, pass
+    held = .false.
+    do pass = 1, size(dv)
+      excess = 0.0_wp
+      do i = 1, size(dv)
+        if (held(i)) cycle
+        cap = v(i)*(p(i) - min(p(i), 0.0_wp))/b(i)
+        if (dv(i) > cap) then
+          excess = excess + dv(i) - cap
+          dv(i) = cap
+          held(i) = .true.
+        end if
+      end do
+      if (.not. excess > 0.0_wp) return
+      w = sum(v/bt, mask=.not. held)
+      if (w > 0.0_wp) then
+        where (.not. held) dv = dv + excess*(v/bt)/w
+      else
+        dv = dv + excess*v/sum(v)
+        return
+      end if
+    end do
+  end subroutine no_tension
 
   !> Cell pressure (volume-fraction weighted) and sound speed (the largest
   !> of its materials', for the time step) of every mixed cell.
