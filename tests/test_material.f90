@@ -1,5 +1,7 @@
 !> Unit tests of the mixed-cell closure (Tipton): volume and energy are
-!> shared exactly, pressures equalise, and a cell in equilibrium stays so.
+!> shared exactly, pressures equalise, a cell in equilibrium stays so, the
+!> exchange is bounded, and the acoustic resistance gives the acoustic
+!> Riemann problem's exchange without tension in an expanding gas.
 program test_material
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -56,6 +58,39 @@ program test_material
   call mixed_cell_state(mx, p, cs)
   call check(abs(p(1) - dot_product(mx%vf, mx%p)) < 1e-15_wp, 'cell pressure is the volume-weighted mean')
   call check(abs(cs(1) - maxval(mx%cs)) < 1e-15_wp, 'cell sound speed is the largest')
+
+  ! 3. the exchange bounded: on the 20:1 pressure ratio of case 1 with
+  !    dv_cap = 0.1 the light gas gives at most 10 % of its volume
+  call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [2.0_wp, 0.1_wp])
+  e = en
+  call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 0.1_wp)
+  call check(abs(mx%vf(2)*vol(1) - 0.9_wp*0.5_wp*v0) < 1e-14_wp, 'the exchange takes dv_cap of the volume, no more')
+  call check(abs(dot_product(mx%mass, mx%e) - mass(1)*e(1)) < 1e-14_wp*mass(1)*e(1), &
+             'bounded exchange: material energies sum to the cell energy')
+
+  ! 4. the acoustic resistance over a short step (c dt much less than the
+  !    layers' thickness f V/A): the acoustic Riemann problem between the
+  !    layers, the high-pressure gas growing by A dt (p1 - p2)/(Z1 + Z2)
+  !    (to the order of c dt / (f V/A), 3e-3 here)
+  call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [2.0_wp, 0.1_wp])
+  e = en
+  call mixed_split(mx, mass, vol, [4.0_wp], en, e, 1.0_wp, 1.0_wp, 1.0e-4_wp, 0.1_wp)
+  associate (z1 => sqrt(gam(1)*2.0_wp*1.0_wp), z2 => sqrt(gam(2)*0.1_wp*0.125_wp))
+    call check(abs((mx%vf(1) - 0.5_wp)*v0/(4.0_wp*1.0e-4_wp*1.9_wp/(z1 + z2)) - 1.0_wp) < 3e-3_wp, &
+               'acoustic exchange: the interface moves at (p1 - p2)/(Z1 + Z2)')
+  end associate
+
+  ! 5. an expanding cell with the acoustic resistance: the light gas, of
+  !    far the larger weight, takes growth only until its linearised
+  !    pressure reaches zero (relative growth 1/gamma); the rest goes to
+  !    the dense gas
+  call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [2.0_wp, 1.0e-3_wp])
+  vol = 1.5_wp*v0
+  e = en
+  call mixed_split(mx, mass, vol, [4.0_wp], en, e, 1.0_wp, 1.0_wp, 1.0e-4_wp, 0.1_wp)
+  call check(abs(mx%vf(2)*vol(1) - 0.5_wp*v0*(1.0_wp + 1.0_wp/gam(2))) < 1e-13_wp, &
+             'no tension: the light gas grows by 1/gamma of its volume')
+  call check(abs(sum(mx%vf) - 1.0_wp) < 1e-14_wp, 'no tension: the dense gas takes the rest')
 
   call check_summary('test_material')
 

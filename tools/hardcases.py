@@ -65,6 +65,9 @@ missing):
     sod2      L1 = sum_i |rho_i - <rho>_i| dx_i against the exact two-gamma
               Riemann solution (cell-averaged; tools/profile_plot.py), and
               its ratio to the lagrange L1 of the same N
+    tnt_water peak overpressure and its e-fold decay time at the gauges at
+              5, 10 and 20 charge radii (axis, then diagonal) against the
+              similitude for TNT underwater shocks (hardcases/tnt_water.nml)
     water_air relative L1 of density against the 1600-cell run:
               sum |rho - <rho_f>| dx / sum <rho_f> dx, <rho_f> the fine
               density averaged over the coarse cell (cumulative mass)
@@ -308,6 +311,10 @@ def _cases():
              [Size("16", cube(16), quick=True), Size("32", cube(32)), Size("64", cube(64))],
              ["euler", "euler_swept", "ale", "lssm"], error_tnt,
              params=dict(radii=(20, 30, 40), p0=1.0e-4, reference="64")),
+        Case("tnt_water", "tnt_water.nml",
+             [Size("20", cube(20), quick=True), Size("40", cube(40))],
+             ["ale", "euler"], error_tnt_water,
+             params=dict(radii=(50, 100, 200), charge_kg=6.8277e-3)),
         Case("triple", "triple_point.nml",
              [Size("70x30", grid(70, 30, 1, "7, 3, 0.1"), quick=True),
               Size("140x60", grid(140, 60, 1, "7, 3, 0.05"))],
@@ -726,6 +733,37 @@ def error_tnt(res, results):
         else:
             text += f"; no {ref_label}^3 reference"
     return text, ""
+
+
+def error_tnt_water(res, results):
+    """Peak overpressure and its e-fold decay time at the gauges (axis, then
+    diagonal) against the similitude for TNT underwater shocks (module
+    header): P = 52.4 (W^(1/3)/R)^1.13 MPa, theta = 0.084 W^(1/3)
+    (W^(1/3)/R)^-0.23 ms, W kg, R m; the deck's units are GPa and us."""
+    import plot_gauges
+    e = res["run"].entry
+    path = os.path.join(res["run"].rundir, f"{e.name}_gauges.txt")
+    if not os.path.exists(path):
+        return "no gauge file", ""
+    names, data, _ = plot_gauges.read_table(path)
+    t = data[:, names.index("time")]
+    radii = e.case.params["radii"]
+    w3 = e.case.params["charge_kg"] ** (1.0 / 3.0)
+    parts = []
+    for g in range(1, 2 * len(radii) + 1):
+        if f"pressure_{g}" not in names:
+            return f"{g - 1} gauges, expected {2 * len(radii)}", ""
+        p = data[:, names.index(f"pressure_{g}")] - data[0, names.index(f"pressure_{g}")]
+        k = int(np.argmax(p))
+        after = np.nonzero(p[k:] <= p[k] / np.e)[0]
+        theta = t[k + after[0]] - t[k] if after.size else float("nan")
+        z = w3 / (radii[(g - 1) % len(radii)] * 1.0e-3)
+        p_sim = 52.4e-3 * z ** 1.13
+        theta_sim = 84.0 * w3 * z ** -0.23
+        parts.append(f"{p[k] / p_sim - 1:+.0%}/{theta / theta_sim - 1:+.0%}")
+    n = len(radii)
+    return ("peak/theta vs similitude, axis " + " ".join(parts[:n]) + "; diagonal " + " ".join(parts[n:]),
+            "")
 
 
 def gauge_peaks(path):

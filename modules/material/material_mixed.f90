@@ -19,8 +19,8 @@
 !>   d_m  = (V_m/B_m) (p_m - B_m dV/V - pbar),
 !> and theta in (0, 1] (deck: &hydro relax) is how much of the way the step
 !> goes, reduced where needed so that no material loses more than 90 % of
-!> its volume in one step, nor more than dv_max (&hydro) of it to the
-!> exchange: the linearised pressure is only valid for small strains (water
+!> its volume in one step, nor is compressed by the exchange by more than
+!> dv_max (&hydro) of it: the linearised pressure is only valid for small strains (water
 !> beside a JWL product at 8 GPa was otherwise crushed to a third of its
 !> volume in one step, its Mie-Gruneisen pressure then ran to hundreds of
 !> GPa and its energy to -4800 kJ/g; issue 36). The rest of the way is
@@ -305,11 +305,13 @@ contains
         s = s0 + i - 1
         d(i) = (vm(i)/bt(i))*(mx%pn(s) - bt(i)*dv/v0 - pbar)
         ! no material may lose more than 90 % of its volume in one step, nor
-        ! more than dv_cap of it to the exchange (its pressure, linearised
-        ! about the step's start, is only valid for small strains)
+        ! be compressed by the exchange by more than dv_cap of it (its
+        ! pressure, linearised about the step's start, is only valid for
+        ! small strains): its change stays above min(f dV, 0) - dv_cap V_m
         if (d(i) < 0.0_wp .and. 0.9_wp*vm(i) + (vm(i)/v0)*dv + theta*d(i) < 0.0_wp) &
           theta = max(0.0_wp, -(0.9_wp*vm(i) + (vm(i)/v0)*dv)/d(i))
-        if (d(i) < 0.0_wp .and. theta*d(i) < -dv_cap*vm(i)) theta = -dv_cap*vm(i)/d(i)
+        if (d(i) < 0.0_wp .and. (vm(i)/v0)*dv + theta*d(i) < min((vm(i)/v0)*dv, 0.0_wp) - dv_cap*vm(i)) &
+          theta = (min((vm(i)/v0)*dv, 0.0_wp) - dv_cap*vm(i) - (vm(i)/v0)*dv)/d(i)
       end do
       do i = 1, nm
         dvm(i) = (vm(i)/v0)*dv + theta*d(i)
