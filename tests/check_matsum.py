@@ -6,14 +6,16 @@ history of the same run.
 
 OUT/NAME_matsum.txt has, at every row time of OUT/NAME_history.txt, one row
 per grid material and one per particle body: time kind index name mass
-momentum_x momentum_y momentum_z kinetic internal. Checked at every time:
+momentum_x momentum_y momentum_z kinetic internal volume. Checked at every time:
   - the same materials and bodies;
   - the internal energies of the materials and bodies add up to the
     history's internal energy (which holds the particles' own);
   - without bodies, the materials' kinetic energies add up to the
     history's kinetic energy (through the cells' corner masses, exact);
   - the total mass of the materials and each body's mass stay at their
-    first values (a closed box: the decks this checks lose no mass).
+    first values (a closed box: the decks this checks lose no mass);
+  - the materials' volumes add up to the grid's volume (a closed box whose
+    walls stay: its first row's total).
 All within REL_TOL of the initial total energy (or of the mass).
 """
 import sys
@@ -25,7 +27,7 @@ rows = defaultdict(list)
 lines = open(prefix + "_matsum.txt").read().splitlines()
 header = [l for l in lines if l.startswith("#")]
 if not header or header[-1].split()[1:] != ["time", "kind", "index", "name", "mass", "momentum_x", "momentum_y",
-                                             "momentum_z", "kinetic", "internal"]:
+                                             "momentum_z", "kinetic", "internal", "volume"]:
     sys.exit("FAIL: the matsum file has no header naming its columns")
 for l in lines:
     if l.startswith("#"):
@@ -54,6 +56,7 @@ for t, h in zip(times, hist):
     if first is None:
         first = {x[0:3]: x for x in r}
         mass0 = sum(x[3] for x in r if x[0] == "material")
+        volume0 = sum(x[9] for x in r if x[0] == "material")
     check(key == list(first), f"t = {t}: materials and bodies {key} differ from the first row's")
     mats = [x for x in r if x[0] == "material"]
     bodies = [x for x in r if x[0] == "body"]
@@ -62,6 +65,8 @@ for t, h in zip(times, hist):
     if not bodies:
         kinetic = sum(x[7] for x in mats)
         check(abs(kinetic - h[1]) <= tol * e0, f"t = {t}: kinetic {kinetic:.16e} against the history's {h[1]:.16e}")
+    volume = sum(x[9] for x in mats)
+    check(abs(volume - volume0) <= tol * volume0, f"t = {t}: the materials' volume {volume:.16e} against {volume0:.16e}")
     mass = sum(x[3] for x in mats)
     check(abs(mass - mass0) <= tol * mass0, f"t = {t}: the materials' mass {mass:.16e} against {mass0:.16e}")
     for b in bodies:
