@@ -2,7 +2,7 @@
 """Tests of tools/hardcases.py's parts, on synthetic logs and frames (no
 solver run): the deck editor, the log parser, the run outcome, the frame
 scan (only cells where a material's vf > 0 count; NaN is caught), the bars,
-the entry selection and two error metrics.
+the entry selection, two error metrics and Taylor's plate.
 
     test_hardcases.py TOOLS_DIR
 """
@@ -236,6 +236,18 @@ with tempfile.TemporaryDirectory() as tmp:
     check("metric: 2x2 average of the fine plate", abs(l1) < 1e-13 and how == "2x2 average", (l1, how))
     l1, how = hc.triple_l1(os.path.join(tmp, "pc.h5"), os.path.join(tmp, "pf.h5"), False)
     check("metric: interpolation of a linear field is exact", abs(l1) < 1e-12 and how == "interpolated", (l1, how))
+
+# Taylor's free plate under an exponential wave: the closed form
+# u_max = (2 P0 theta / m) beta^(beta / (1 - beta)), beta = z theta / m, is
+# reached when the face pressure 2 p_i - z u falls to zero (cut-off 0)
+for beta in (0.3, 2.0):
+    theta, p0, z = 10.0, 0.05, 1.48
+    m = z * theta / beta
+    tt = np.linspace(0.0, 200.0, 40001)
+    u_num = hc.taylor_plate(tt, p0 * np.exp(-tt / theta), m, z, 0.0)
+    u_exact = 2 * p0 * theta / m * beta ** (beta / (1 - beta))
+    check(f"metric: Taylor plate, exponential wave, beta {beta}", abs(u_num / u_exact - 1) < 1e-4,
+          (u_num, u_exact))
 
 print(f"{len(failures)} failure(s)" if failures else "all hardcases tool checks pass")
 sys.exit(1 if failures else 0)

@@ -68,6 +68,24 @@ missing):
     tnt_water peak overpressure and its e-fold decay time at the gauges at
               5, 10 and 20 charge radii (axis, then diagonal) against the
               similitude for TNT underwater shocks (hardcases/tnt_water.nml)
+    tnt_plate the largest x velocity of the plate's particle on the axis
+              against Taylor's flat-plate theory, m du/dt = 2 p_i(t) -
+              rho0 c0 u until the face pressure reaches the cut-off, p_i the
+              incident overpressure at the plate's face from the tnt_water
+              entry of the same size and mode (bar: within 10 %); Taylor's
+              exponential-wave closed form beside it; the least pressure in
+              front of the plate after its peak velocity (the cavitation at
+              the plate; hardcases/tnt_plate.nml)
+    tnt_surface the surface cut-off at the gauge between charge and surface:
+              its least pressure after the free-field gauge's peak (against
+              the vapour pressure p_min; bar: within 1 % of it) and the time
+              it falls below half the free-field pressure at its distance
+              against acoustics (the free-field wave's half-rise at the
+              surface's distance + (depth - z_gauge)/c0; bar: within two
+              cells' crossing time); the spall dome: the surface tracers'
+              rise at t_end (bar: axis > 40 mm > 80 mm > 0) and the axis
+              tracer's largest velocity against twice the free-field
+              gauge's peak particle velocity (hardcases/tnt_surface.nml)
     water_air relative L1 of density against the 1600-cell run:
               sum |rho - <rho_f>| dx / sum <rho_f> dx, <rho_f> the fine
               density averaged over the coarse cell (cumulative mass)
@@ -315,6 +333,14 @@ def _cases():
              [Size("20", cube(20), quick=True), Size("40", cube(40))],
              ["ale", "euler"], error_tnt_water,
              params=dict(radii=(50, 100, 200), charge_kg=6.8277e-3)),
+        Case("tnt_plate", "tnt_plate.nml",
+             [Size("20", cube(20), quick=True), Size("40", cube(40))],
+             ["ale", "euler"], error_tnt_plate,
+             params=dict(incident="tnt_water", p_min=2.34e-6, rho_c=1.48, areal_mass=7.89 * 12.5)),
+        Case("tnt_surface", "tnt_surface.nml",
+             [Size("20x20x50", grid(20, 20, 50), quick=True), Size("30x30x75", grid(30, 30, 75))],
+             ["ale", "euler"], error_tnt_surface,
+             params=dict(p_min=2.34e-6, c0=1.48, depth=100.0, gauge_z=75.0)),
         Case("triple", "triple_point.nml",
              [Size("70x30", grid(70, 30, 1, "7, 3, 0.1"), quick=True),
               Size("140x60", grid(140, 60, 1, "7, 3, 0.05"))],
@@ -764,6 +790,107 @@ def error_tnt_water(res, results):
     n = len(radii)
     return ("peak/theta vs similitude, axis " + " ".join(parts[:n]) + "; diagonal " + " ".join(parts[n:]),
             "")
+
+
+def taylor_plate(t, p_i, m, z, p_cut):
+    """Taylor's free plate under the incident overpressure p_i(t) (times
+    t): m du/dt = 2 p_i - z u while the face's overpressure 2 p_i - z u
+    stays above p_cut (the cut-off's, < 0); returns the velocity then, the
+    largest (classical RK4, 20000 steps over the rows' span)."""
+    def f(tt, u):
+        return (2.0 * np.interp(tt, t, p_i) - z * u) / m
+    h = float(t[-1] - t[0]) / 20000
+    tt, u = float(t[0]), 0.0
+    while tt < t[-1]:
+        k1 = f(tt, u)
+        k2 = f(tt + h / 2, u + h / 2 * k1)
+        k3 = f(tt + h / 2, u + h / 2 * k2)
+        k4 = f(tt + h, u + h * k3)
+        un = u + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        tt += h
+        if un > 0.0 and 2.0 * np.interp(tt, t, p_i) - z * un <= p_cut:
+            return un
+        u = un
+    return u
+
+
+def error_tnt_plate(res, results):
+    """The plate's peak velocity against Taylor's theory (module header)."""
+    import plot_gauges
+    e = res["run"].entry
+    prm = e.case.params
+    inc_name = f"{prm['incident']}_{e.size.label}_{e.mode}"
+    inc = os.path.join(os.path.dirname(res["run"].rundir), inc_name, f"{inc_name}_gauges.txt")
+    tracks = os.path.join(res["run"].rundir, f"{e.name}_tracks.txt")
+    gpath = os.path.join(res["run"].rundir, f"{e.name}_gauges.txt")
+    if not os.path.exists(tracks):
+        return "no track file", "no track file"
+    names, data, _ = plot_gauges.read_table(tracks)
+    t, u = data[:, names.index("time")], data[:, names.index("velocity_x_1")]
+    k = int(np.argmax(u))
+    names, gdata, _ = plot_gauges.read_table(gpath)
+    tg, pg = gdata[:, names.index("time")], gdata[:, names.index("pressure_1")]
+    p_front = float(np.min(pg[tg >= t[k]]))
+    text = f"plate peak {u[k]:.4g} at {t[k]:.1f} us; front p after it {p_front:.3g} (p_min {prm['p_min']:.3g})"
+    if not os.path.exists(inc):
+        return text + f"; no {inc_name} incident wave", ""
+    names, idata, _ = plot_gauges.read_table(inc)
+    ti = idata[:, names.index("time")]
+    # the gauge at the plate's face: (100, 0, 0), the free-field case's second
+    p_i = idata[:, names.index("pressure_2")] - idata[0, names.index("pressure_2")]
+    m, z = prm["areal_mass"], prm["rho_c"]
+    u_t = taylor_plate(ti, p_i, m, z, prm["p_min"] - idata[0, names.index("pressure_2")])
+    kp = int(np.argmax(p_i))
+    after = np.nonzero(p_i[kp:] <= p_i[kp] / np.e)[0]
+    closed = ""
+    if after.size:
+        theta = ti[kp + after[0]] - ti[kp]
+        beta = z * theta / m
+        u_c = 2 * p_i[kp] * theta / m * beta ** (beta / (1 - beta)) if beta != 1 else 2 * p_i[kp] * theta / m / np.e
+        closed = f"; exponential P0 {p_i[kp]:.3g} theta {theta:.3g} beta {beta:.2f}: {u_c:.4g} ({u[k] / u_c - 1:+.1%})"
+    err = u[k] / u_t - 1
+    text += f"; Taylor with {inc_name}'s wave {u_t:.4g} ({err:+.1%})" + closed
+    return text, "" if abs(err) <= 0.10 else f"plate {err:+.1%} from Taylor"
+
+
+def error_tnt_surface(res, results):
+    """The free-surface cut-off and the spall dome (module header)."""
+    import plot_gauges
+    e = res["run"].entry
+    prm = e.case.params
+    gpath = os.path.join(res["run"].rundir, f"{e.name}_gauges.txt")
+    tpath = os.path.join(res["run"].rundir, f"{e.name}_tracers.txt")
+    if not (os.path.exists(gpath) and os.path.exists(tpath)):
+        return "no gauge or tracer file", "no gauge or tracer file"
+    names, data, _ = plot_gauges.read_table(gpath)
+    t = data[:, names.index("time")]
+    p1, p2, p3 = (data[:, names.index(f"pressure_{g}")] for g in (1, 2, 3))
+    uz3 = data[:, names.index("velocity_z_3")]
+    k2 = int(np.argmax(p2))
+    p_cut = float(np.min(p1[k2:]))
+    below = np.nonzero(p1[k2:] <= 0.5 * p2[k2:])[0]
+    t_cut = t[k2 + below[0]] if below.size else float("nan")
+    k3 = int(np.argmax(p3))
+    rise = np.nonzero(p3[:k3 + 1] - p3[0] >= 0.5 * (p3[k3] - p3[0]))[0]
+    t_pred = t[rise[0]] + (prm["depth"] - prm["gauge_z"]) / prm["c0"]
+    dx = 250.0 / int(e.size.edits[("grid", 0)]["nk"])
+    tr = np.loadtxt(tpath)
+    rises = tr[-1, 3:3 + 5 * 3:5] - tr[0, 3:3 + 5 * 3:5]
+    tt = np.arange(tr[0, 0], tr[-1, 0], 1.0)      # the axis tracer's speed over 1 us
+    zz = np.interp(tt, tr[:, 0], tr[:, 3])
+    v_surf = float(np.max(np.diff(zz) / np.diff(tt)))
+    v_ref = 2.0 * float(np.max(np.abs(uz3)))
+    text = (f"cut-off p {p_cut:.3g} (p_min {prm['p_min']:.3g}) at t {t_cut:.1f} vs {t_pred:.1f} us; "
+            f"dome rise {'/'.join(f'{r:.2f}' for r in rises)} mm, surface speed {v_surf:.3g} vs 2 u_inc "
+            f"{v_ref:.3g} ({v_surf / v_ref - 1:+.0%})")
+    bars = []
+    if not p_cut <= 1.01 * prm["p_min"]:
+        bars.append("no cut-off at the gauge")
+    if not abs(t_cut - t_pred) <= 2.0 * dx / prm["c0"]:
+        bars.append(f"cut-off at {t_cut:.1f} us, acoustics {t_pred:.1f} us")
+    if not (rises[0] > rises[1] > rises[2] > 0.0):
+        bars.append("no spall dome")
+    return text, "; ".join(bars)
 
 
 def gauge_peaks(path):
