@@ -28,7 +28,7 @@
 # matrix in each Euler-phase mode at 16^3 and 32^3 against its converged 1D
 # run (issue 33, about 15 minutes; BENCH_ONLY=tnt runs only that); the
 # first bubble period of a TNT charge deep in water against Rayleigh-Willis
-# (issue 36, input/tnt_bubble.nml at 32^3 and 64^3, about 30 minutes;
+# (issue 36, input/tnt_bubble.nml at 48^3 and 64^3, about 30 minutes;
 # BENCH_ONLY=bubble runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
@@ -370,14 +370,14 @@ tnt_modes_bench() {
     | tee "$outdir/tnt_modes.txt"
 }
 
-# The bubble of input/tnt_bubble.nml at 32^3 and 64^3 (tools/bubble_period.py):
+# The bubble of input/tnt_bubble.nml at 48^3 and 64^3 (tools/bubble_period.py):
 # the first period and R_max against the Rayleigh-Willis formula.
 bubble_bench() {
   echo "== TNT bubble at 10 MPa: first period against Rayleigh-Willis (input/tnt_bubble.nml, 2 threads) =="
   local n name
-  for n in 32 64; do
+  for n in 48 64; do
     name=bubble$n
-    sed -e "s/ni = 32, nj = 32, nk = 32/ni = $n, nj = $n, nk = $n/" -e "s|out/tnt_bubble|out/$name|" \
+    sed -e "s/ni = 48, nj = 48, nk = 48/ni = $n, nj = $n, nk = $n/" -e "s|out/tnt_bubble|out/$name|" \
       "$root/input/tnt_bubble.nml" > $name.nml
     blast_run $name
     /usr/bin/python3 "$root/tools/bubble_period.py" out/$name/${name}_matsum.txt --material tnt \
