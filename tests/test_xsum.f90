@@ -14,6 +14,7 @@
 !>   NaN, without touching memory outside the accumulator (the debug build's
 !>   bounds checks); a total of huge and -huge/2 terms that comes back in
 !>   range, and the largest real itself, stay finite and exact.
+!> - Subnormal terms are exact too (their bits have no hidden bit).
 program test_xsum
   use base_kinds, only: wp, i8
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_negative_inf, ieee_is_nan
@@ -112,6 +113,22 @@ program test_xsum
   call xsum_add(a, -huge(t))
   call xsum_add(a, -huge(t))
   call check(.not. xsum_finite(a), '-2 huge is not finite')
+  ! subnormal terms (read from their bits without the hidden bit): 2^10
+  ! halves of 2^-10 tiny add up to tiny exactly, the smallest subnormal
+  ! survives beside a normal term's cancellation, and -0 adds nothing
+  a = xsum_t()
+  do i = 1, 2048
+    call xsum_add(a, tiny(t)*2.0_wp**(-11))
+  end do
+  call check(same(xsum_value(a), tiny(t)), 'subnormal terms add up exactly to tiny')
+  a = xsum_t()
+  call xsum_add(a, 1.0_wp)
+  call xsum_add(a, -0.0_wp)
+  call xsum_add(a, 2.0_wp**(-1074))
+  call xsum_add(a, -1.0_wp)
+  call check(same(xsum_value(a), 2.0_wp**(-1074)), 'the smallest subnormal beside a cancelled 1')
+  call xsum_add(a, -2.0_wp**(-1074))
+  call check(same(xsum_value(a), 0.0_wp), 'a subnormal and its negative cancel')
   call check_summary('test_xsum')
 contains
   !> The same bits.

@@ -11,7 +11,7 @@
 !> large for a real; the value of such a sum is a NaN (`xsum_value`), and
 !> the caller that must not go on with it asks `xsum_finite`.
 module base_xsum
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use base_kinds, only: wp, i8
   implicit none
   private
@@ -21,6 +21,8 @@ module base_xsum
   integer, parameter :: BIAS = 1200           !< bit 0 of limb 0 is 2^-BIAS
   integer, parameter :: ROOM = 2**30          !< terms between carry passes
   integer(i8), parameter :: MASK32 = 4294967295_i8
+  integer(i8), parameter :: MANT52 = 4503599627370495_i8   !< 2^52 - 1: a binary64's fraction bits
+  integer(i8), parameter :: HIDDEN = 4503599627370496_i8   !< 2^52: its hidden bit
 
   !> An exact running sum.
   type :: xsum_t
@@ -35,22 +37,32 @@ contains
   pure subroutine xsum_add(s, x)
     type(xsum_t), intent(inout) :: s
     real(wp), intent(in) :: x
-    integer(i8) :: m, a, r
-    integer :: b, l, sh
-    if (.not. ieee_is_finite(x)) then
+    integer(i8) :: m, a, r, bits
+    integer :: b, l, sh, ebits
+    ! x = m 2^(b - BIAS), m < 2^53 an integer, read from the binary64 bits
+    ! (the exponent field, and the fraction with its hidden bit unless x is
+    ! subnormal); the same value as scale(fraction(x), 53) 2^(exponent(x) -
+    ! 53), without the library calls (exact totals are taken every Euler step)
+    bits = transfer(x, bits)
+    ebits = int(iand(ishft(bits, -52), 2047_i8))
+    if (ebits == 2047) then
       s%finite = .false.
       return
     end if
-    if (abs(x) <= 0.0_wp) return
-    ! x = m 2^(e - 53), m < 2^53 an integer
-    m = int(scale(fraction(abs(x)), digits(x)), i8)
-    b = exponent(x) - digits(x) + BIAS
+    m = iand(bits, MANT52)
+    if (ebits > 0) then
+      m = ior(m, HIDDEN)
+    else
+      if (m == 0_i8) return
+      ebits = 1
+    end if
+    b = ebits - 1075 + BIAS
     l = b/32
     sh = mod(b, 32)
     ! the bits of m that fall in limb l, and the rest for limbs l+1, l+2
     a = ishft(iand(m, ishft(1_i8, 32 - sh) - 1_i8), sh)
     r = ishft(m, -(32 - sh))
-    if (x > 0.0_wp) then
+    if (bits >= 0_i8) then
       s%limb(l) = s%limb(l) + a
       s%limb(l + 1) = s%limb(l + 1) + iand(r, MASK32)
       s%limb(l + 2) = s%limb(l + 2) + ishft(r, -32)

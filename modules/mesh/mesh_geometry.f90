@@ -262,7 +262,12 @@ contains
   pure function tet_det(t) result(det)
     real(wp), intent(in) :: t(3, 4)
     real(wp) :: det
-    det = dot_product(t(:, 2) - t(:, 1), cross(t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))
+    real(wp) :: a(3), b(3), c(3)
+    ! (written out: the remap calls it tens of times per cell)
+    a = t(:, 2) - t(:, 1)
+    b = t(:, 3) - t(:, 1)
+    c = t(:, 4) - t(:, 1)
+    det = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
   end function tet_det
 
   !> The 24-tetrahedron split of the hexahedron xn(3,8) (Fig. 7; length):
