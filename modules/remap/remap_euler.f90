@@ -111,6 +111,7 @@ module remap_euler
   use remap_swept, only: swept_triangle
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
+  use base_build, only: build_checks
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
@@ -232,6 +233,12 @@ module remap_euler
     !> cells the remap reads: the moved ones, their neighbours, the cells
     !> open-face gaps take their state from (ncell)
     logical, allocatable :: near(:)
+    !> the changed cells, the near cells and the changed cells' nodes as
+    !> lists in increasing order: the loops run over these, so that an Euler
+    !> step that moves few cells costs little whatever the grid (entries of
+    !> the per-cell and per-node arrays elsewhere are not set, and not read;
+    !> a debug build fills them with NaN)
+    integer, allocatable :: lchanged(:), lnear(:), lnode(:)
     !> the changed cells are remapped through the regions their subcells'
     !> faces sweep, not by intersection (`remap_params_t`)
     logical :: swept = .false.
@@ -322,7 +329,7 @@ contains
     real(wp), allocatable :: buf(:, :)
     logical :: sharing
     real(wp) :: w0, vnew, defect, xn(3, 8), given, bold(6), bnew(6)
-    integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck
+    integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck, ir
     logical :: any_open, windowed
     logical, allocatable :: own(:), own_node(:)
     character(len=200) :: msg
@@ -342,6 +349,13 @@ contains
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
       return
+    end if
+    if (build_checks) then
+      ! (set only where read: the changed cells and those around them)
+      cmass = ieee_value(1.0_wp, ieee_quiet_nan)
+      cmom = cmass(1, 1)
+      cke = cmass(1, 1)
+      pcell = cmass(1, 1)
     end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
     if (windowed) then
@@ -379,7 +393,7 @@ contains
     ! intersect every changed new cell, widening the window where the
     ! fragments do not add up to the cell (a node moved further than a cell)
     w0 = wall_seconds()
-    todo = pack([(c, c = 1, ncell)], old%changed)
+    todo = old%lchanged
     stats%cells_remapped = count(old%changed .and. own)
     old%swept = par%swept
     old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
@@ -470,7 +484,8 @@ contains
     ! poking out of the domain): remapped again, piecewise constant and
     ! scaled, so that all of their mass, energy and momentum still goes
     ! to the new cells they do overlap
-    do c = 1, size(old%vreg)
+    do i = 1, size(old%lnear) + mx%nslot
+      c = region_at(i)
       if (old%vreg(c) <= 0.0_wp) cycle
       ! what lies beyond an open face has left the domain
       co = c
@@ -502,7 +517,8 @@ contains
     end do
     if (stats%regions_rescaled > 0) then
       redo = .false.
-      do c = 1, size(old%vreg)
+      do ir = 1, size(old%lnear) + mx%nslot
+        c = region_at(ir)
         if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
           co = c
           if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
@@ -520,7 +536,13 @@ contains
     end if
     stats%t_intersect = wall_seconds() - w0
     ! (a window's cells not computed are copied: their results are not used)
-    if (windowed) old%changed = old%changed .and. zone%compute
+    if (windowed) then
+      old%changed = old%changed .and. zone%compute
+      call true_list(old%changed, old%lchanged, err)
+      if (allocated(err)) return
+      call node_list(g, old%lchanged, old%lnode, err)
+      if (allocated(err)) return
+    end if
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
     if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, own, own_node, avol, amom, amass, &
                                   aie, cdef, cmom, cke, cland, pcell, stats)
@@ -536,6 +558,16 @@ contains
     stats%t_assemble = wall_seconds() - w0
 
   contains
+
+    !> The i-th region the remap reads: the near cells', then every slot's.
+    integer function region_at(i) result(r)
+      integer, intent(in) :: i
+      if (i <= size(old%lnear)) then
+        r = old%lnear(i)
+      else
+        r = ncell + i - size(old%lnear)
+      end if
+    end function region_at
 
     !> Intersects the new cells `cells` with the old grid within `rr` index
     !> steps; given_sign (+1, -1 or 0) says how their fragments count in
@@ -680,6 +712,70 @@ contains
     end subroutine mark_window
   end subroutine remap_euler_step
 
+  !> The cells of g with a node that moves from g%x to xnew: each node is
+  !> compared once, and only the moved nodes' cells are visited.
+  subroutine moved_cells(g, xnew, changed)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xnew(:, :)
+    logical, intent(out) :: changed(:)
+    integer :: n, i, j, k, ci, cj, ck
+    changed = .false.
+    do n = 1, g%nnode
+      if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
+      ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
+      call g%node_ijk(n, i, j, k)
+      do ck = max(k, g%slo(3)), min(k + 1, g%shi(3))
+        do cj = max(j, g%slo(2)), min(j + 1, g%shi(2))
+          do ci = max(i, g%slo(1)), min(i + 1, g%shi(1))
+            changed(g%cell(ci, cj, ck)) = .true.
+          end do
+        end do
+      end do
+    end do
+  end subroutine moved_cells
+
+  !> The indices where mask is true, in increasing order.
+  subroutine true_list(mask, list, err)
+    logical, intent(in) :: mask(:)
+    integer, allocatable, intent(out) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, k, stat
+    allocate(list(count(mask)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('a cell list'))
+      return
+    end if
+    k = 0
+    do i = 1, size(mask)
+      if (.not. mask(i)) cycle
+      k = k + 1
+      list(k) = i
+    end do
+  end subroutine true_list
+
+  !> The nodes of the cells `cells`, in increasing order.
+  subroutine node_list(g, cells, list, err)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: cells(:)
+    integer, allocatable, intent(out) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: mark(:)
+    integer :: i, a, n, stat
+    allocate(mark(g%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('a node list'))
+      return
+    end if
+    mark = .false.
+    do i = 1, size(cells)
+      n = g%node0(cells(i))
+      do a = 1, 8
+        mark(n + g%corner_offset(a)) = .true.
+      end do
+    end do
+    call true_list(mark, list, err)
+  end subroutine node_list
+
   !> The mixed cell that owns slot s.
   pure integer function slot_cell(mx, s) result(k)
     type(mixed_t), intent(in) :: mx
@@ -749,36 +845,14 @@ contains
       return
     end if
     old%given = 0_i8
-    do c = 1, ncell
-      old%gunit(c) = abs(h%vol(c))*2.0_wp**(-50)
-    end do
-    do k = 1, mx%n
-      old%gunit(ncell + mx%start(k):ncell + mx%start(k + 1) - 1) = abs(h%vol(mx%cell(k)))*2.0_wp**(-50)
-    end do
-    old%scale = 1.0_wp
-    old%sfac = 1.0_wp
-    old%sroom = 0.0_wp
-    old%sshift = 0.0_wp
-    old%vreg = 0.0_wp
-    old%grho = 0.0_wp
-    old%ge = 0.0_wp
-    old%wreg = 0.0_wp
-
     ! changed cells
-    !$omp parallel do default(none) shared(g, xnew, old) private(c, n, a_) schedule(static)
-    do c = 1, g%ncell
-      n = g%node0(c)
-      old%changed(c) = .false.
-      do a_ = 1, 8
-        if (any(abs(xnew(:, n + g%corner_offset(a_)) - g%x(:, n + g%corner_offset(a_))) > 0.0_wp)) &
-          old%changed(c) = .true.
-      end do
-    end do
-    !$omp end parallel do
+    call moved_cells(g, xnew, old%changed)
+    call true_list(old%changed, old%lchanged, err)
+    if (allocated(err)) return
     ! the cells read
     near = .false.
-    do c = 1, ncell
-      if (.not. old%changed(c)) cycle
+    do j = 1, size(old%lchanged)
+      c = old%lchanged(j)
       call g%cell_ijk(c, ci, cj, ck)
       do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
         do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
@@ -790,19 +864,56 @@ contains
       if (gap_face(c) > 0 .and. gap_cell(c) > 0) near(gap_cell(c)) = .true.
     end do
     old%near = near
+    call true_list(near, old%lnear, err)
+    if (allocated(err)) return
     old%uniform = .false.
-    old%ucell = nan
-    old%kcell = nan
-    old%uref = nan
-    old%rho = nan
-    old%e = nan
-    old%xr = nan
+    if (build_checks) then
+      old%ucell = nan
+      old%kcell = nan
+      old%uref = nan
+      old%ushift = nan
+      old%kshift = nan
+      old%wv = nan
+      old%ws = nan
+      old%rho = nan
+      old%e = nan
+      old%xr = nan
+      old%vreg = nan
+      old%gunit = nan
+      old%scale = nan
+      old%grho = nan
+      old%ge = nan
+      old%wreg = nan
+    end if
+    do j = 1, size(old%lnear)
+      c = old%lnear(j)
+      old%gunit(c) = abs(h%vol(c))*2.0_wp**(-50)
+      old%scale(c) = 1.0_wp
+      old%vreg(c) = 0.0_wp
+      old%grho(:, c) = 0.0_wp
+      old%ge(:, c) = 0.0_wp
+      old%wreg(c) = 0.0_wp
+    end do
+    do k = 1, mx%n
+      old%gunit(ncell + mx%start(k):ncell + mx%start(k + 1) - 1) = abs(h%vol(mx%cell(k)))*2.0_wp**(-50)
+    end do
+    old%scale(ncell + 1:) = 1.0_wp
+    old%vreg(ncell + 1:) = 0.0_wp
+    old%grho(:, ncell + 1:) = 0.0_wp
+    old%ge(:, ncell + 1:) = 0.0_wp
+    old%wreg(ncell + 1:) = 0.0_wp
+    old%rho(ncell + 1:) = nan
+    old%e(ncell + 1:) = nan
+    old%xr(:, ncell + 1:) = nan
+    old%sfac = 1.0_wp
+    old%sroom = 0.0_wp
+    old%sshift = 0.0_wp
     old%pn = 0.0_wp
     old%pd = 1.0_wp
     ! mean velocities and kinetic energies per unit mass (subcell masses: Eq. 16)
-    !$omp parallel do default(none) shared(g, h, old, near) private(c, n, a_) schedule(static)
-    do c = 1, g%ncell
-      if (.not. near(c)) cycle
+    !$omp parallel do default(none) shared(g, h, old) private(j, c, n, a_) schedule(static)
+    do j = 1, size(old%lnear)
+      c = old%lnear(j)
       n = g%node0(c)
       old%ucell(:, c) = 0.0_wp
       old%kcell(c) = 0.0_wp
@@ -823,24 +934,18 @@ contains
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
     call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell), near)
-    !$omp parallel do default(none) shared(g, h, mx, old, ncell, near) private(c, ci, cj, ck, k, s, xn) &
-    !$omp collapse(2) schedule(static)
-    do ck = g%clo(3), g%chi(3)
-      do cj = g%clo(2), g%chi(2)
-        do ci = g%clo(1), g%chi(1)
-          c = g%cell(ci, cj, ck)
-          if (.not. near(c)) cycle
-          old%rho(c) = h%mass(c)/old%vreg(c)
-          old%e(c) = h%e(c)
-          if (h%mat(c) > 0) cycle
-          call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xn)
-          k = -h%mat(c)
-          do s = mx%start(k), mx%start(k + 1) - 1
-            old%rho(ncell + s) = mx%rho(s)
-            old%e(ncell + s) = mx%e(s)
-            old%xr(:, ncell + s) = hex_trilinear(xn, mx%xi(:, s))
-          end do
-        end do
+    !$omp parallel do default(none) shared(g, h, mx, old, ncell) private(j, c, k, s, xn) schedule(static)
+    do j = 1, size(old%lnear)
+      c = old%lnear(j)
+      old%rho(c) = h%mass(c)/old%vreg(c)
+      old%e(c) = h%e(c)
+      if (h%mat(c) > 0) cycle
+      call g%gather(c, g%x, xn)
+      k = -h%mat(c)
+      do s = mx%start(k), mx%start(k + 1) - 1
+        old%rho(ncell + s) = mx%rho(s)
+        old%e(ncell + s) = mx%e(s)
+        old%xr(:, ncell + s) = hex_trilinear(xn, mx%xi(:, s))
       end do
     end do
     !$omp end parallel do
@@ -889,7 +994,8 @@ contains
     if (nmof > 0) errmax = maxval(res(3, :), mask=mine)
     ! only what the intersection hands out counts as a region: pure cells
     ! and slots with mass, of cells that moved
-    do c = 1, ncell
+    do j = 1, size(old%lnear)
+      c = old%lnear(j)
       if (.not. old%changed(c) .or. h%mat(c) <= 0) old%vreg(c) = 0.0_wp
     end do
     do k = 1, mx%n
@@ -914,8 +1020,17 @@ contains
     end if
     call region_floors(g, h, mx, old)
     call subcell_shifts(g, h, mx, old)
-    old%gu = 0.0_wp
-    old%xdual = 0.0_wp
+    ! the changed cells' nodes
+    call node_list(g, old%lchanged, old%lnode, err)
+    if (allocated(err)) return
+    if (build_checks) then
+      old%gu = nan
+      old%xdual = nan
+    end if
+    do j = 1, size(old%lnode)
+      old%gu(:, :, old%lnode(j)) = 0.0_wp
+      old%xdual(:, old%lnode(j)) = 0.0_wp
+    end do
     if (par%linear) call velocity_gradients(g, old, h%u, err)
 
   contains
@@ -1027,11 +1142,11 @@ contains
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8)
-    integer :: c, s, s0, s1
+    integer :: i, c, s, s0, s1
 
-    !$omp parallel do default(none) shared(g, h, mx, old) private(c, s, s0, s1, xn) schedule(static)
-    do c = 1, g%ncell
-      if (.not. old%changed(c)) cycle
+    !$omp parallel do default(none) shared(g, h, mx, old) private(i, c, s, s0, s1, xn) schedule(static)
+    do i = 1, size(old%lchanged)
+      c = old%lchanged(i)
       call g%gather(c, g%x, xn)
       call region_slots(h, mx, c, s0, s1)
       if (s0 == 0) then
@@ -1153,14 +1268,14 @@ contains
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum
-    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r
+    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, ic
 
+    ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r) &
+    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r) &
     !$omp schedule(dynamic, 16)
-    do c = 1, g%ncell
-      ! (only moved cells hand out fragments: the others' entries are not read)
-      if (.not. old%changed(c)) cycle
+    do ic = 1, size(old%lchanged)
+      c = old%lchanged(ic)
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
       old%wv(:, c) = 0.0_wp
@@ -1259,7 +1374,7 @@ contains
     real(wp), allocatable :: wsum(:), xd(:, :)
     logical, allocatable :: has(:)
     type(grid_index_t) :: dual
-    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat
+    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic
     character(len=200) :: msg
 
     allocate(wsum(g%nnode), has(g%nnode), xd(3, (g%ni + 2)*(g%nj + 2)*(g%nk + 2)), stat=stat, errmsg=msg)
@@ -1267,18 +1382,22 @@ contains
       call error_set(err, 'remap_euler', error_no_memory('the velocity gradient work arrays'))
       return
     end if
-    wsum = 0.0_wp
-    old%xdual = 0.0_wp
-    do c = 1, g%ncell
-      if (.not. old%changed(c)) cycle
+    ! (the changed cells' nodes: xdual is zero there, `prepare_old`)
+    do i = 1, size(old%lnode)
+      wsum(old%lnode(i)) = 0.0_wp
+    end do
+    do ic = 1, size(old%lchanged)
+      c = old%lchanged(ic)
       n = g%node0(c)
       do a = 1, 8
         wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
         old%xdual(:, n + g%corner_offset(a)) = old%xdual(:, n + g%corner_offset(a)) + old%ws(:, a, c)
       end do
     end do
-    has = wsum > 0.0_wp
-    do n = 1, g%nnode
+    has = .false.
+    do i = 1, size(old%lnode)
+      n = old%lnode(i)
+      has(n) = wsum(n) > 0.0_wp
       if (has(n)) old%xdual(:, n) = old%xdual(:, n)/wsum(n)
     end do
     if (.not. any(has)) return
@@ -1288,16 +1407,13 @@ contains
     ! only the corners of the dual cells of nodes with a gradient (the
     ! gradients read no other)
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
-    do k = 0, g%nk
-      do j = 0, g%nj
-        do i = 0, g%ni
-          if (.not. has(g%node(i, j, k))) cycle
-          do dk_ = k, k + 1
-            do dj = j, j + 1
-              do di = i, i + 1
-                call dual_node(di, dj, dk_)
-              end do
-            end do
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      do dk_ = k, k + 1
+        do dj = j, j + 1
+          do di = i, i + 1
+            call dual_node(di, dj, dk_)
           end do
         end do
       end do
@@ -1475,24 +1591,30 @@ contains
     logical, intent(in) :: mixed
     logical, intent(in), optional :: own(:)   !< (absent: every cell)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb
-    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3)
+    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
     logical :: ok
+    logical, allocatable :: changed(:)
+    integer, allocatable :: list(:)
+    type(error_t), allocatable :: err
 
     nblock = 1
     if (.not. smax > 0.0_wp) return
+    ! (unchanged cells are copied: only the changed ones are looked at)
+    allocate(changed(g%ncell), stat=stat)
+    if (stat /= 0) return
+    call moved_cells(g, xnew, changed)
+    if (present(own)) changed = changed .and. own
+    call true_list(changed, list, err)
+    if (allocated(err)) return
     nblock = 0
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, own) reduction(+:nblock) &
-    !$omp private(c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
-    do c = 1, g%ncell
-      if (present(own)) then
-        if (.not. own(c)) cycle
-      end if
+    do i = 1, size(list)
+      c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
-      ! (unchanged: copied)
-      if (all(abs(xn - xo) <= 0.0_wp)) cycle
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
         do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
@@ -2459,8 +2581,12 @@ contains
     type(hydro_t), intent(in) :: h
     type(old_t), intent(in) :: old
     real(wp), intent(inout) :: cmass(:, :), cmom(:, :, :), cke(:, :), pcell(:, :)
-    integer :: c, n, a
-    do c = 1, g%ncell
+    integer :: c, n, a, i
+    ! (the unchanged cells the assembly reads: those around a changed node;
+    ! with open faces every cell, whose totals `open_faces` takes)
+    do i = 1, merge(g%ncell, size(old%lnear), any(old%open))
+      c = i
+      if (.not. any(old%open)) c = old%lnear(i)
       if (old%changed(c)) cycle
       n = g%node0(c)
       pcell(:, c) = 0.0_wp
@@ -2760,11 +2886,12 @@ contains
     logical, allocatable :: node_changed(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
-    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat
+    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
     character(len=200) :: msg
-    logical :: keep(max_mat), short
+    logical :: keep(max_mat), short, wide
 
     ncell = g%ncell
+    wide = .false.
     ! materials of the changed cells: merge slivers into the largest
     allocate(nmix(ncell), ie(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -2816,15 +2943,12 @@ contains
       call error_set(err, 'remap_euler', error_no_memory('the nodal work arrays'))
       return
     end if
+    ! (the loops below visit the changed cells, the cells around the changed
+    ! nodes (near) and the changed nodes, in increasing order: what the
+    ! others would add is zero)
     node_changed = .false.
+    node_changed(old%lnode) = .true.
     kdef = 0.0_wp
-    do c = 1, ncell
-      if (.not. old%changed(c)) cycle
-      n = g%node0(c)
-      do a = 1, 8
-        node_changed(n + g%corner_offset(a)) = .true.
-      end do
-    end do
     ! a changed cell's corners: its new mass M shared by subcell volume
     ! (Eq. 16 on the new grid), its momentum P shared the same way plus the
     ! landed momenta's deviations from its mean velocity V = P/M:
@@ -2843,10 +2967,10 @@ contains
     ! shifts' round-off: by convexity the corners hold at most the
     ! fragments' kinetic energy), so that a node gets at least its kinetic
     ! energy.
-    !$omp parallel do default(none) shared(g, old, xnew, amass, aie, pcell, cmass, cmom, cke, cland, kdef, ncell) &
-    !$omp private(c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean, kland, kscale) schedule(static)
-    do c = 1, ncell
-      if (.not. old%changed(c)) cycle
+    !$omp parallel do default(none) shared(g, old, xnew, amass, aie, pcell, cmass, cmom, cke, cland, kdef) &
+    !$omp private(i, c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean, kland, kscale) schedule(static)
+    do i = 1, size(old%lchanged)
+      c = old%lchanged(i)
       call g%gather(c, xnew, xn)
       call hex_subcell_volumes(xn, vs)
       vs = vs/sum(vs)
@@ -2888,13 +3012,10 @@ contains
       cke(:, c) = vs*max(surplus, 0.0_wp)
     end do
     !$omp end parallel do
-    h%mnode = merge(0.0_wp, h%mnode, node_changed)
-    where (node_changed)
-      h%u(1, :) = 0.0_wp
-      h%u(2, :) = 0.0_wp
-      h%u(3, :) = 0.0_wp
-    end where
-    do c = 1, ncell
+    h%mnode(old%lnode) = 0.0_wp
+    h%u(:, old%lnode) = 0.0_wp
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
         if (.not. node_changed(n + g%corner_offset(a))) cycle
@@ -2902,8 +3023,8 @@ contains
         h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
       end do
     end do
-    do n = 1, g%nnode
-      if (.not. node_changed(n)) cycle
+    do i = 1, size(old%lnode)
+      n = old%lnode(i)
       if (.not. h%mnode(n) > 0.0_wp) then
         call error_set(err, 'remap_euler_step', 'node '//itoa(n)//' received no mass')
         return
@@ -2914,7 +3035,8 @@ contains
     ! velocity (`old_t`): sum_a |p_a - m_a u_n|^2/(2 m_a) (never negative)
     ! plus what the changed cells' corners received beyond their own
     dk = 0.0_wp
-    do c = 1, ncell
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
         k = n + g%corner_offset(a)
@@ -2927,16 +3049,15 @@ contains
     uc = h%u
     call bc_constrain(bc, h%u)
     stats%momentum_constrained = 0.0_wp
-    do n = 1, g%nnode
-      if (.not. node_changed(n)) cycle
+    do i = 1, size(old%lnode)
+      n = old%lnode(i)
       if (node_counted(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, n) - h%u(:, n))
       dk(n) = dk(n) + 0.5_wp*h%mnode(n)*dot_product(uc(:, n) - h%u(:, n), uc(:, n) + h%u(:, n))
     end do
-    if (present(own_node)) then
-      stats%ke_to_internal = sum(dk, mask=own_node)
-    else
-      stats%ke_to_internal = sum(dk)
-    end if
+    stats%ke_to_internal = 0.0_wp
+    do i = 1, size(old%lnode)
+      if (node_counted(old%lnode(i))) stats%ke_to_internal = stats%ke_to_internal + dk(old%lnode(i))
+    end do
 
     ! The kinetic energy averaging returns (dk > 0) goes to the cells around
     ! the node by corner mass. Where the node's new kinetic energy exceeds
@@ -2948,29 +3069,25 @@ contains
     ! that (cold gas: nothing above zero around the node) is taken from the
     ! nearest cells that still have energy to give (`repair_deficits`), and
     ! only what none of those has is taken by mass.
-    do c = 1, ncell
-      if (old%changed(c)) then
-        avail(c) = sum(max(aie(:, c), 0.0_wp))
-      else if (h%mat(c) > 0) then
-        avail(c) = h%mass(c)*max(h%e(c), 0.0_wp)
-      else
-        k = -h%mat(c)
-        avail(c) = sum(mx%mass(mx%start(k):mx%start(k + 1) - 1)*max(mx%e(mx%start(k):mx%start(k + 1) - 1), 0.0_wp))
-      end if
+    do i = 1, size(old%lnear)
+      avail(old%lnear(i)) = cell_avail(old%lnear(i))
     end do
-    navail = 0.0_wp
-    do c = 1, ncell
+    navail(old%lnode) = 0.0_wp
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
+        if (.not. node_changed(n + g%corner_offset(a))) cycle
         navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*(avail(c) + kdef(c))
       end do
     end do
-    do c = 1, ncell
+    ! what the cell pays for its corners' kinetic energy, by positive energy
+    ie = 0.0_wp
+    iav = kdef
+    rdef = 0.0_wp
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
       n = g%node0(c)
-      ie(c) = 0.0_wp
-      ! what the cell pays for its corners' kinetic energy, by positive energy
-      iav(c) = kdef(c)
-      rdef(c) = 0.0_wp
       do a = 1, 8
         if (.not. node_changed(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
@@ -2989,6 +3106,11 @@ contains
       ! (the repair reaches cells further away, in the whole grid's order)
       stats%cells_deficit = count(rdef < 0.0_wp .and. own)
     else if (any(rdef < 0.0_wp)) then
+      ! (it reaches cells beyond the near ones: every cell's energy is offered)
+      wide = .true.
+      do c = 1, ncell
+        if (.not. old%near(c)) avail(c) = cell_avail(c)
+      end do
       call repair_deficits()
     end if
 
@@ -2996,7 +3118,6 @@ contains
     g%x = xnew
     kk = 0
     do c = 1, ncell
-      call g%gather(c, g%x, xn)
       if (.not. old%changed(c)) then
         ! copied: mass, volume, density as they were; energy plus its share of the KE returned
         if (nmix(c) > 0) then
@@ -3006,16 +3127,21 @@ contains
           nx%vf(nx%start(kk):nx%start(kk + 1) - 1) = mx%vf(mx%start(k):mx%start(k + 1) - 1)
           nx%mass(nx%start(kk):nx%start(kk + 1) - 1) = mx%mass(mx%start(k):mx%start(k + 1) - 1)
           do s = 0, nmix(c) - 1
-            nx%e(nx%start(kk) + s) = mx%e(mx%start(k) + s) + ie(c)/h%mass(c) + &
-              iav(c)*share(mx%mass(mx%start(k) + s)*mx%e(mx%start(k) + s), avail(c))/mx%mass(mx%start(k) + s)
+            if (old%near(c) .or. wide) then
+              nx%e(nx%start(kk) + s) = mx%e(mx%start(k) + s) + ie(c)/h%mass(c) + &
+                iav(c)*share(mx%mass(mx%start(k) + s)*mx%e(mx%start(k) + s), avail(c))/mx%mass(mx%start(k) + s)
+            else
+              nx%e(nx%start(kk) + s) = mx%e(mx%start(k) + s)
+            end if
           end do
           nx%rho(nx%start(kk):nx%start(kk + 1) - 1) = mx%rho(mx%start(k):mx%start(k + 1) - 1)
           nx%xi(:, nx%start(kk):nx%start(kk + 1) - 1) = mx%xi(:, mx%start(k):mx%start(k + 1) - 1)
           h%mat(c) = -kk
         end if
-        h%e(c) = h%e(c) + (ie(c) + iav(c))/h%mass(c)
+        if (old%near(c) .or. wide) h%e(c) = h%e(c) + (ie(c) + iav(c))/h%mass(c)
         cycle
       end if
+      call g%gather(c, g%x, xn)
       mnew = sum(amass(:, c))
       h%mass(c) = mnew
       h%mcorner(:, c) = cmass(:, c)
@@ -3121,6 +3247,21 @@ contains
         end if
       end do
     end subroutine repair_deficits
+
+    !> The internal energy above zero cell cc has to offer: its remapped
+    !> materials' if it changed, else its own.
+    real(wp) function cell_avail(cc) result(av)
+      integer, intent(in) :: cc
+      integer :: kc
+      if (old%changed(cc)) then
+        av = sum(max(aie(:, cc), 0.0_wp))
+      else if (h%mat(cc) > 0) then
+        av = h%mass(cc)*max(h%e(cc), 0.0_wp)
+      else
+        kc = -h%mat(cc)
+        av = sum(mx%mass(mx%start(kc):mx%start(kc + 1) - 1)*max(mx%e(mx%start(kc):mx%start(kc + 1) - 1), 0.0_wp))
+      end if
+    end function cell_avail
 
     !> What cell d can still give towards a deficit (see repair_deficits).
     pure real(wp) function capacity(d)
