@@ -15,41 +15,57 @@ contains
 
   !> Volume and centroid of every cell of a grid of ni x nj x nk cells with
   !> node positions x(3, nnode) (structured numbering of `mesh_grid`).
-  subroutine cell_moments(ni, nj, nk, x, vol, centroid, mask)
+  subroutine cell_moments(ni, nj, nk, x, vol, centroid, cells)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(inout) :: vol(:), centroid(:, :)
-    !> only the cells where mask(c) is true (the others are left as they are)
-    logical, intent(in), optional :: mask(:)
-    integer :: c, ci, cj, ck, t
-    real(wp) :: xn(3, 8), tets(3, 4, 24), v, m(3), vt
+    !> only these cells (the others are left as they are; absent: every cell)
+    integer, intent(in), optional :: cells(:)
+    integer :: c, ci, cj, ck, i
     type(grid_index_t) :: ix
 
     ix = grid_index(ni, nj, nk)
-
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, x, vol, centroid, mask) &
-    !$omp private(c, ci, cj, ck, t, xn, tets, v, m, vt) collapse(2) schedule(static)
+    if (present(cells)) then
+      !$omp parallel do default(none) shared(ni, nj, ix, x, vol, centroid, cells) private(i, c, ci, cj, ck) &
+      !$omp schedule(static)
+      do i = 1, size(cells)
+        c = cells(i)
+        call ix%cell_ijk(c, ci, cj, ck)
+        call one_cell(ni, nj, ci, cj, ck, x, vol(c), centroid(:, c))
+      end do
+      !$omp end parallel do
+      return
+    end if
+    !$omp parallel do default(none) shared(ni, nj, ix, x, vol, centroid) private(c, ci, cj, ck) &
+    !$omp collapse(2) schedule(static)
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
         do ci = ix%clo(1), ix%chi(1)
           c = ix%cell(ci, cj, ck)
-          if (present(mask)) then
-            if (.not. mask(c)) cycle
-          end if
-          call block_gather(ni, nj, ci, cj, ck, x, xn)
-          call hex_tets(xn, tets)
-          v = 0.0_wp
-          m = 0.0_wp
-          do t = 1, 24
-            vt = tet_det(tets(:, :, t))/6.0_wp
-            v = v + vt
-            m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
-          end do
-          vol(c) = v
-          centroid(:, c) = m/v
+          call one_cell(ni, nj, ci, cj, ck, x, vol(c), centroid(:, c))
         end do
       end do
     end do
     !$omp end parallel do
   end subroutine cell_moments
+
+  !> Volume v and centroid cen of cell (ci, cj, ck) of a block of ni x nj
+  !> x (any) cells with node positions x: the sums over its 24 tetrahedra.
+  subroutine one_cell(ni, nj, ci, cj, ck, x, v, cen)
+    integer, intent(in) :: ni, nj, ci, cj, ck
+    real(wp), intent(in) :: x(:, :)
+    real(wp), intent(out) :: v, cen(3)
+    real(wp) :: xn(3, 8), tets(3, 4, 24), m(3), vt
+    integer :: t
+    call block_gather(ni, nj, ci, cj, ck, x, xn)
+    call hex_tets(xn, tets)
+    v = 0.0_wp
+    m = 0.0_wp
+    do t = 1, 24
+      vt = tet_det(tets(:, :, t))/6.0_wp
+      v = v + vt
+      m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
+    end do
+    cen = m/v
+  end subroutine one_cell
 end module remap_cells

@@ -112,6 +112,7 @@ module remap_euler
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
   use base_build, only: build_checks
+  use base_sort, only: sort_order
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   private
@@ -367,15 +368,25 @@ contains
       own_node = zone%own_node
       bold = zone%bold
       bnew = zone%bnew
-    else
-      own = [(.true., c = 1, ncell)]
-      own_node = [(.true., c = 1, g%nnode)]
-      if (any_open) call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
+    else if (any_open) then
+      ! (a whole grid's remap owns every cell: the masks only for open_faces)
+      allocate(own(ncell), own_node(g%nnode), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler_step', error_no_memory('the cell masks'))
+        return
+      end if
+      own = .true.
+      own_node = .true.
+      call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
     end if
     gap_face = 0
     beyond = .false.
     if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
-    call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, own, share)
+    if (windowed) then
+      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
+    else
+      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
+    end if
     if (allocated(err)) return
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
@@ -394,12 +405,14 @@ contains
     ! fragments do not add up to the cell (a node moved further than a cell)
     w0 = wall_seconds()
     todo = old%lchanged
-    stats%cells_remapped = count(old%changed .and. own)
+    stats%cells_remapped = size(old%lchanged)
+    if (windowed) stats%cells_remapped = count(old%changed .and. own)
     old%swept = par%swept
     old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
     if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
     if (old%swept) stats%cells_swept = stats%cells_remapped
-    stats%cells_copied = count(own) - stats%cells_remapped
+    stats%cells_copied = ncell - stats%cells_remapped
+    if (windowed) stats%cells_copied = count(own) - stats%cells_remapped
     ! the whole block: no overlap can lie further
     rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
     if (windowed) then
@@ -410,7 +423,7 @@ contains
     ! (a second pass, by intersection, where the swept faces broke a bound)
     passes: do
     todo = done
-    reach = 0
+    reach(old%lchanged) = 0
     r = 1
     ngap = 0
     stats%volume_defect = 0.0_wp
@@ -469,8 +482,10 @@ contains
     stats%cells_swept = 0
     old%given = 0_i8
     end do passes
-    where (.not. own) reach = 0
-    stats%reach = maxval(reach)
+    stats%reach = 0
+    do i = 1, size(old%lchanged)
+      if (owns(old%lchanged(i))) stats%reach = max(stats%reach, reach(old%lchanged(i)))
+    end do
     ! (nothing more to do in a window that cannot hold the step)
     if (stats%cells_short > 0) return
     if (stats%volume_defect > 1.0e-9_wp) then
@@ -490,7 +505,7 @@ contains
       ! what lies beyond an open face has left the domain
       co = c
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-      if (beyond(co) .or. .not. own(co)) cycle
+      if (beyond(co) .or. .not. owns(co)) cycle
       ! relative to the cell: a sliver region's own round-off can be larger
       given = real(old%given(c), wp)*old%gunit(c)
       if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) then
@@ -558,6 +573,14 @@ contains
     stats%t_assemble = wall_seconds() - w0
 
   contains
+
+    !> Whether this remap counts cell cc (a window's own cells; every cell
+    !> of a whole grid's).
+    logical function owns(cc)
+      integer, intent(in) :: cc
+      owns = .true.
+      if (windowed) owns = own(cc)
+    end function owns
 
     !> The i-th region the remap reads: the near cells', then every slot's.
     integer function region_at(i) result(r)
@@ -678,7 +701,7 @@ contains
         reach(cc) = rw(ii)
         call g%gather(cc, xnew, xc)
         vc = hex_volume(xc)
-        if (own(cc)) stats%volume_defect = max(stats%volume_defect, (sum(avol(:, cc)) - vc)/abs(vc))
+        if (owns(cc)) stats%volume_defect = max(stats%volume_defect, (sum(avol(:, cc)) - vc)/abs(vc))
       end do
     end subroutine widen_gaps
 
@@ -712,27 +735,73 @@ contains
     end subroutine mark_window
   end subroutine remap_euler_step
 
-  !> The cells of g with a node that moves from g%x to xnew: each node is
-  !> compared once, and only the moved nodes' cells are visited.
-  subroutine moved_cells(g, xnew, changed)
+  !> The cells of g with a node that moves from g%x to xnew (changed, and
+  !> their list in increasing order): each node is compared once, and only
+  !> the moved nodes' cells are visited.
+  subroutine moved_cells(g, xnew, changed, list, err)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :)
     logical, intent(out) :: changed(:)
-    integer :: n, i, j, k, ci, cj, ck
+    integer, allocatable, intent(out) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, parameter :: block = 32
+    integer, allocatable :: fresh(:)
+    integer :: n, i, j, k, ci, cj, ck, nf, c, stat, n0, n1
+    allocate(fresh(size(changed)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('a cell list'))
+      return
+    end if
     changed = .false.
-    do n = 1, g%nnode
-      if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
-      ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
-      call g%node_ijk(n, i, j, k)
-      do ck = max(k, g%slo(3)), min(k + 1, g%shi(3))
-        do cj = max(j, g%slo(2)), min(j + 1, g%shi(2))
-          do ci = max(i, g%slo(1)), min(i + 1, g%shi(1))
-            changed(g%cell(ci, cj, ck)) = .true.
+    nf = 0
+    ! (blocks of nodes compared at once first: most nodes of a large grid
+    ! do not move)
+    do n0 = 1, g%nnode, block
+      n1 = min(n0 + block - 1, g%nnode)
+      if (.not. any(abs(xnew(:, n0:n1) - g%x(:, n0:n1)) > 0.0_wp)) cycle
+      do n = n0, n1
+        if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
+        ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
+        call g%node_ijk(n, i, j, k)
+        do ck = max(k, g%slo(3)), min(k + 1, g%shi(3))
+          do cj = max(j, g%slo(2)), min(j + 1, g%shi(2))
+            do ci = max(i, g%slo(1)), min(i + 1, g%shi(1))
+              c = g%cell(ci, cj, ck)
+              if (changed(c)) cycle
+              changed(c) = .true.
+              nf = nf + 1
+              fresh(nf) = c
+            end do
           end do
         end do
       end do
     end do
+    call marked_list(changed, fresh(1:nf), list, err)
   end subroutine moved_cells
+
+  !> The indices where mask is true, in increasing order: fresh, the same
+  !> indices in any order, sorted where they are few, else the mask read
+  !> through (either way the same list, at a cost that follows the count
+  !> where it is small against the mask's size).
+  subroutine marked_list(mask, fresh, list, err)
+    logical, intent(in) :: mask(:)
+    integer, intent(in) :: fresh(:)
+    integer, allocatable, intent(out) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: order(:)
+    integer :: stat
+    if (16*size(fresh) > size(mask)) then
+      call true_list(mask, list, err)
+      return
+    end if
+    allocate(order(size(fresh)), stat=stat)
+    if (stat == 0) call sort_order(fresh, order, stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('a cell list'))
+      return
+    end if
+    list = fresh(order)
+  end subroutine marked_list
 
   !> The indices where mask is true, in increasing order.
   subroutine true_list(mask, list, err)
@@ -753,6 +822,46 @@ contains
     end do
   end subroutine true_list
 
+  !> The union of the increasing lists a and b, in increasing order.
+  subroutine sorted_union(a, b, list, err)
+    integer, intent(in) :: a(:), b(:)
+    integer, allocatable, intent(out) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, n, stat
+    if (build_checks) then
+      if (any(a(2:) <= a(:size(a) - 1)) .or. any(b(2:) <= b(:size(b) - 1))) then
+        call error_set(err, 'remap_euler', 'sorted_union: a list is not increasing')
+        return
+      end if
+    end if
+    allocate(list(size(a) + size(b)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('a cell list'))
+      return
+    end if
+    i = 1
+    j = 1
+    n = 0
+    do while (i <= size(a) .or. j <= size(b))
+      n = n + 1
+      if (j > size(b)) then
+        list(n) = a(i)
+        i = i + 1
+      else if (i > size(a)) then
+        list(n) = b(j)
+        j = j + 1
+      else if (a(i) < b(j)) then
+        list(n) = a(i)
+        i = i + 1
+      else
+        if (a(i) == b(j)) i = i + 1
+        list(n) = b(j)
+        j = j + 1
+      end if
+    end do
+    list = list(1:n)
+  end subroutine sorted_union
+
   !> The nodes of the cells `cells`, in increasing order.
   subroutine node_list(g, cells, list, err)
     type(grid_t), intent(in) :: g
@@ -760,20 +869,25 @@ contains
     integer, allocatable, intent(out) :: list(:)
     type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: mark(:)
-    integer :: i, a, n, stat
-    allocate(mark(g%nnode), stat=stat)
+    integer, allocatable :: fresh(:)
+    integer :: i, a, n, stat, nf
+    allocate(mark(g%nnode), fresh(min(8*size(cells), g%nnode)), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('a node list'))
       return
     end if
     mark = .false.
+    nf = 0
     do i = 1, size(cells)
       n = g%node0(cells(i))
       do a = 1, 8
+        if (mark(n + g%corner_offset(a))) cycle
         mark(n + g%corner_offset(a)) = .true.
+        nf = nf + 1
+        fresh(nf) = n + g%corner_offset(a)
       end do
     end do
-    call true_list(mark, list, err)
+    call marked_list(mark, fresh(1:nf), list, err)
   end subroutine node_list
 
   !> The mixed cell that owns slot s.
@@ -806,7 +920,7 @@ contains
   !> (gap_face, gap_cell of `open_face_cells`); the other cells' state is NaN
   !> here, so that a read of it could not pass unnoticed. An Euler step that
   !> moves a few cells of a large grid then costs little more than them.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, own, share)
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -817,13 +931,13 @@ contains
     type(old_t), intent(inout) :: old
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
-    logical, intent(in) :: own(:)   !< the cells the stats count
     class(share_t), intent(in), optional :: share
+    logical, intent(in), optional :: own(:)   !< the cells the stats count (absent: every cell)
     real(wp) :: xn(3, 8), errmax
-    integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail
+    integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail, nf
     logical :: ok
     logical, allocatable :: near(:), mine(:)
-    integer, allocatable :: mof(:)
+    integer, allocatable :: mof(:), fresh(:)
     real(wp), allocatable :: res(:, :)
     real(wp) :: nan, err1
     integer :: stat, oi, oj, ok_, its1
@@ -839,33 +953,32 @@ contains
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%sfac(mx%nslot), old%sroom(mx%nslot), old%sshift(3, mx%nslot), &
              old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             near(ncell), stat=stat, errmsg=msg)
+             near(ncell), fresh(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the old grid''s regions'))
       return
     end if
-    old%given = 0_i8
     ! changed cells
-    call moved_cells(g, xnew, old%changed)
-    call true_list(old%changed, old%lchanged, err)
+    call moved_cells(g, xnew, old%changed, old%lchanged, err)
     if (allocated(err)) return
     ! the cells read
     near = .false.
+    nf = 0
     do j = 1, size(old%lchanged)
       c = old%lchanged(j)
       call g%cell_ijk(c, ci, cj, ck)
       do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
         do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
           do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
-            near(g%cell(oi, oj, ok_)) = .true.
+            call mark(g%cell(oi, oj, ok_))
           end do
         end do
       end do
-      if (gap_face(c) > 0 .and. gap_cell(c) > 0) near(gap_cell(c)) = .true.
+      if (gap_face(c) > 0 .and. gap_cell(c) > 0) call mark(gap_cell(c))
     end do
-    old%near = near
-    call true_list(near, old%lnear, err)
+    call marked_list(near, fresh(1:nf), old%lnear, err)
     if (allocated(err)) return
+    call move_alloc(near, old%near)
     old%uniform = .false.
     if (build_checks) then
       old%ucell = nan
@@ -893,7 +1006,9 @@ contains
       old%grho(:, c) = 0.0_wp
       old%ge(:, c) = 0.0_wp
       old%wreg(c) = 0.0_wp
+      old%given(c) = 0_i8
     end do
+    old%given(ncell + 1:) = 0_i8
     do k = 1, mx%n
       old%gunit(ncell + mx%start(k):ncell + mx%start(k + 1) - 1) = abs(h%vol(mx%cell(k)))*2.0_wp**(-50)
     end do
@@ -933,7 +1048,7 @@ contains
 
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
-    call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell), near)
+    call cell_moments(g%ni, g%nj, g%nk, g%x, old%vreg(1:ncell), old%xr(:, 1:ncell), old%lnear)
     !$omp parallel do default(none) shared(g, h, mx, old, ncell) private(j, c, k, s, xn) schedule(static)
     do j = 1, size(old%lnear)
       c = old%lnear(j)
@@ -987,7 +1102,8 @@ contains
         call slot_state(mof(j), res(4:, j), .false.)
       end do
     end if
-    mine = [(own(mx%cell(mof(j))), j = 1, nmof)]
+    mine = [(.true., j = 1, nmof)]
+    if (present(own)) mine = [(own(mx%cell(mof(j))), j = 1, nmof)]
     nits = nint(sum(res(1, :), mask=mine))
     nfail = nint(sum(res(2, :), mask=mine))
     errmax = 0.0_wp
@@ -1034,6 +1150,15 @@ contains
     if (par%linear) call velocity_gradients(g, old, h%u, err)
 
   contains
+
+    !> Cell cc is read (near), and listed once (fresh).
+    subroutine mark(cc)
+      integer, intent(in) :: cc
+      if (near(cc)) return
+      near(cc) = .true.
+      nf = nf + 1
+      fresh(nf) = cc
+    end subroutine mark
 
     !> The state MoF sets in the slots of mixed cell k, packed into b
     !> (to_buffer) or unpacked from it: 12 values per slot.
@@ -1192,7 +1317,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: q(:, :), pos(:, :), grad(:, :, :)
     logical, allocatable :: has(:), need(:)
-    integer :: ncell, kmat, c, k, s, stat
+    integer :: ncell, kmat, c, k, s, stat, j
     character(len=200) :: msg
 
     ncell = g%ncell
@@ -1201,16 +1326,19 @@ contains
       call error_set(err, 'remap_euler', error_no_memory('the gradient work arrays'))
       return
     end if
+    ! (the gradients of the changed cells read the cells around them only:
+    ! the near cells; has and need are set there, q and pos where has is)
     do kmat = 1, nmat
-      has = h%mat == kmat
-      ! (the gradients read the cells around the moved ones only)
-      do c = 1, ncell
-        if (.not. old%near(c)) cycle
+      do j = 1, size(old%lnear)
+        c = old%lnear(j)
+        has(c) = h%mat(c) == kmat
+        need(c) = .false.
         q(:, c) = [old%rho(c), old%e(c)]
         pos(:, c) = old%xr(:, c)
       end do
       do k = 1, mx%n
         c = mx%cell(k)
+        if (.not. old%near(c)) cycle
         do s = mx%start(k), mx%start(k + 1) - 1
           if (mx%mat(s) /= kmat .or. .not. mx%mass(s) > 0.0_wp) cycle
           has(c) = .true.
@@ -1218,16 +1346,21 @@ contains
           pos(:, c) = old%xr(:, ncell + s)
         end do
       end do
-      if (.not. any(has)) cycle
-      need = has .and. old%changed
-      call remap_limited_gradients(g%ni, g%nj, g%nk, g%x, q, pos, has, need, grad)
-      do c = 1, ncell
+      do j = 1, size(old%lchanged)
+        c = old%lchanged(j)
+        need(c) = has(c)
+      end do
+      if (.not. any(need(old%lchanged))) cycle
+      call remap_limited_gradients(g%ni, g%nj, g%nk, g%x, q, pos, has, need, grad, cells=old%lchanged)
+      do j = 1, size(old%lchanged)
+        c = old%lchanged(j)
         if (h%mat(c) /= kmat .or. .not. need(c)) cycle
         old%grho(:, c) = grad(:, 1, c)
         old%ge(:, c) = grad(:, 2, c)
       end do
       do k = 1, mx%n
         c = mx%cell(k)
+        if (.not. old%changed(c)) cycle
         if (.not. need(c)) cycle
         do s = mx%start(k), mx%start(k + 1) - 1
           if (mx%mat(s) /= kmat) cycle
@@ -1394,13 +1527,20 @@ contains
         old%xdual(:, n + g%corner_offset(a)) = old%xdual(:, n + g%corner_offset(a)) + old%ws(:, a, c)
       end do
     end do
-    has = .false.
+    ! (a changed node's gradient reads the nodes next to it: the near
+    ! cells' nodes, where has is set)
+    do ic = 1, size(old%lnear)
+      n = g%node0(old%lnear(ic))
+      do a = 1, 8
+        has(n + g%corner_offset(a)) = .false.
+      end do
+    end do
     do i = 1, size(old%lnode)
       n = old%lnode(i)
       has(n) = wsum(n) > 0.0_wp
       if (has(n)) old%xdual(:, n) = old%xdual(:, n)/wsum(n)
     end do
-    if (.not. any(has)) return
+    if (.not. any(has(old%lnode))) return
     ! the dual block's nodes: the mean of the grid nodes (i, j, k) with
     ! i in {I-1, I} within 0..ni (and so on): cell centres inside, face
     ! centres, edge midpoints and the nodes themselves on the boundary;
@@ -1418,7 +1558,8 @@ contains
         end do
       end do
     end do
-    call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err)
+    call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err, &
+                                 cells=old%lnode)
 
   contains
 
@@ -1602,10 +1743,9 @@ contains
     ! (unchanged cells are copied: only the changed ones are looked at)
     allocate(changed(g%ncell), stat=stat)
     if (stat /= 0) return
-    call moved_cells(g, xnew, changed)
-    if (present(own)) changed = changed .and. own
-    call true_list(changed, list, err)
+    call moved_cells(g, xnew, changed, list, err)
     if (allocated(err)) return
+    if (present(own)) list = pack(list, own(list))
     nblock = 0
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
@@ -2882,7 +3022,7 @@ contains
     !> kinetic energy deficits are counted there, not repaired
     logical, intent(in), optional :: own(:), own_node(:)
     type(mixed_t) :: nx
-    integer, allocatable :: nmix(:)
+    integer, allocatable :: nmix(:), visit(:)
     logical, allocatable :: node_changed(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
@@ -2898,12 +3038,14 @@ contains
       call error_set(err, 'remap_euler', error_no_memory('the assembly work arrays'))
       return
     end if
-    nmix = 0
-    do c = 1, ncell
-      if (.not. old%changed(c)) then
-        if (h%mat(c) <= 0) nmix(c) = mx%start(-h%mat(c) + 1) - mx%start(-h%mat(c))
-        cycle
-      end if
+    ! (read at the near and the mixed cells only: the cells `visit`)
+    nmix(old%lnear) = 0
+    do k = 1, mx%n
+      nmix(mx%cell(k)) = mx%start(k + 1) - mx%start(k)
+    end do
+    do i = 1, size(old%lchanged)
+      c = old%lchanged(i)
+      nmix(c) = 0
       vtot = sum(avol(:, c))
       big = maxloc(avol(:, c), 1)
       keep(1:nmat) = avol(:, c) > par%vf_min*vtot .and. amass(:, c) > 0.0_wp
@@ -2922,13 +3064,23 @@ contains
       if (count(keep(1:nmat)) > 1) nmix(c) = count(keep(1:nmat))
     end do
 
+    ! the cells the assembly sets: the near cells and the mixed ones, in
+    ! increasing order (every cell when a deficit repair reached further)
+    call sorted_union(old%lnear, mx%cell(1:mx%n), visit, err)
+    if (allocated(err)) return
     ! new mixed-cell storage: unchanged cells keep theirs, in the same order
-    nmixed = count(nmix > 0)
-    nslot = sum(nmix)
+    nmixed = 0
+    nslot = 0
+    do i = 1, size(visit)
+      if (nmix(visit(i)) == 0) cycle
+      nmixed = nmixed + 1
+      nslot = nslot + nmix(visit(i))
+    end do
     call mixed_allocate(nx, nmixed, nslot, err)
     if (allocated(err)) return
     kk = 0
-    do c = 1, ncell
+    do i = 1, size(visit)
+      c = visit(i)
       if (nmix(c) == 0) cycle
       kk = kk + 1
       nx%cell(kk) = c
@@ -2948,7 +3100,9 @@ contains
     ! others would add is zero)
     node_changed = .false.
     node_changed(old%lnode) = .true.
-    kdef = 0.0_wp
+    ! (kdef, ie, iav, rdef, avail are read at the near cells only, unless
+    ! the deficit repair reaches further: `wide`, below)
+    kdef(old%lnear) = 0.0_wp
     ! a changed cell's corners: its new mass M shared by subcell volume
     ! (Eq. 16 on the new grid), its momentum P shared the same way plus the
     ! landed momenta's deviations from its mean velocity V = P/M:
@@ -3034,7 +3188,7 @@ contains
     ! what the node's corners hold beyond its kinetic energy, about its
     ! velocity (`old_t`): sum_a |p_a - m_a u_n|^2/(2 m_a) (never negative)
     ! plus what the changed cells' corners received beyond their own
-    dk = 0.0_wp
+    dk(old%lnode) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
       n = g%node0(c)
@@ -3046,13 +3200,14 @@ contains
       end do
     end do
     ! the velocity conditions: the momentum and kinetic energy they take
-    uc = h%u
+    ! (the other nodes' velocities met them before: unchanged)
+    uc = h%u(:, old%lnode)
     call bc_constrain(bc, h%u)
     stats%momentum_constrained = 0.0_wp
     do i = 1, size(old%lnode)
       n = old%lnode(i)
-      if (node_counted(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, n) - h%u(:, n))
-      dk(n) = dk(n) + 0.5_wp*h%mnode(n)*dot_product(uc(:, n) - h%u(:, n), uc(:, n) + h%u(:, n))
+      if (node_counted(n)) stats%momentum_constrained = stats%momentum_constrained + h%mnode(n)*(uc(:, i) - h%u(:, n))
+      dk(n) = dk(n) + 0.5_wp*h%mnode(n)*dot_product(uc(:, i) - h%u(:, n), uc(:, i) + h%u(:, n))
     end do
     stats%ke_to_internal = 0.0_wp
     do i = 1, size(old%lnode)
@@ -3082,9 +3237,9 @@ contains
       end do
     end do
     ! what the cell pays for its corners' kinetic energy, by positive energy
-    ie = 0.0_wp
-    iav = kdef
-    rdef = 0.0_wp
+    ie(old%lnear) = 0.0_wp
+    iav(old%lnear) = kdef(old%lnear)
+    rdef(old%lnear) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
       n = g%node0(c)
@@ -3104,20 +3259,33 @@ contains
     end do
     if (present(own)) then
       ! (the repair reaches cells further away, in the whole grid's order)
-      stats%cells_deficit = count(rdef < 0.0_wp .and. own)
-    else if (any(rdef < 0.0_wp)) then
+      stats%cells_deficit = count(rdef(old%lnear) < 0.0_wp .and. own(old%lnear))
+    else if (any(rdef(old%lnear) < 0.0_wp)) then
       ! (it reaches cells beyond the near ones: every cell's energy is offered)
       wide = .true.
       do c = 1, ncell
-        if (.not. old%near(c)) avail(c) = cell_avail(c)
+        if (old%near(c)) cycle
+        if (h%mat(c) > 0) nmix(c) = 0
+        avail(c) = cell_avail(c)
+        kdef(c) = 0.0_wp
+        ie(c) = 0.0_wp
+        iav(c) = 0.0_wp
+        rdef(c) = 0.0_wp
       end do
+      visit = [(c, c = 1, ncell)]
       call repair_deficits()
     end if
 
-    ! cells
-    g%x = xnew
+    ! cells (what moved: the changed cells' nodes; a window's other nodes
+    ! may move too)
+    if (present(own)) then
+      g%x = xnew
+    else
+      g%x(:, old%lnode) = xnew(:, old%lnode)
+    end if
     kk = 0
-    do c = 1, ncell
+    do i = 1, size(visit)
+      c = visit(i)
       if (.not. old%changed(c)) then
         ! copied: mass, volume, density as they were; energy plus its share of the KE returned
         if (nmix(c) > 0) then

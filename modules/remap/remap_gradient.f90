@@ -77,6 +77,9 @@ contains
   !> centroid), units of x. has(ncell): the cell holds the quantity; cells
   !> without it are never read (q and pos there may be anything) and get a
   !> zero gradient. need(ncell): gradient wanted here; other cells are left as they were.
+  !> cells (optional): the cells to look at, in any order (only those with
+  !> need are computed; absent: every cell of the block). A caller that
+  !> knows the few cells it needs pays for those, not for the block.
   !> grad(3, nf, ncell): the limited gradients, units of q per unit of x.
   !> err (optional): set when the array sizes disagree (nothing is computed
   !> and grad is left undefined), the work arrays cannot be allocated (grad
@@ -84,13 +87,15 @@ contains
   !> zero gradient, i.e. a first-order remap; the others are valid). So a
   !> caller with consistent sizes that omits err still gets a usable, at
   !> worst locally first-order, result.
-  subroutine remap_limited_gradients(ni, nj, nk, x, q, pos, has, need, grad, err)
+  subroutine remap_limited_gradients(ni, nj, nk, x, q, pos, has, need, grad, err, cells)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :), q(:, :), pos(:, :)
     logical, intent(in) :: has(:), need(:)
-    real(wp), intent(out) :: grad(:, :, :)
+    real(wp), intent(inout) :: grad(:, :, :)
     type(error_t), allocatable, intent(inout), optional :: err
-    integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail
+    integer, intent(in), optional :: cells(:)
+    integer, allocatable :: list(:)
+    integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail, i
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
     type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
@@ -134,78 +139,80 @@ contains
     end if
 
     ix = grid_index(ni, nj, nk)
+    if (present(cells)) then
+      list = cells
+    else
+      list = [(c, c = 1, ncell)]
+    end if
     nfail = 0
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork) &
-    !$omp private(c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork, list) &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
     !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work) &
-    !$omp reduction(+:nfail) collapse(2) schedule(static)
-    do ck = ix%clo(3), ix%chi(3)
-      do cj = ix%clo(2), ix%chi(2)
-        do ci = ix%clo(1), ix%chi(1)
-          c = ix%cell(ci, cj, ck)
-          if (.not. need(c)) cycle
-          grad(:, :, c) = 0.0_wp
-          if (.not. has(c)) cycle
+    !$omp reduction(+:nfail) schedule(static)
+    do i = 1, size(list)
+      c = list(i)
+      if (.not. need(c)) cycle
+      call ix%cell_ijk(c, ci, cj, ck)
+      grad(:, :, c) = 0.0_wp
+      if (.not. has(c)) cycle
 
-          ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
-          m = 0
-          do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
-            do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
-              do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
-                co = ix%cell(oi, oj, ok_)
-                if (co == c .or. .not. has(co)) cycle
-                dx = pos(:, co) - pos(:, c)
-                d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
-                if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
-                rinv = 1.0_wp/sqrt(d2)
-                m = m + 1
-                nbr(m) = co
-                amat(m, :) = dx*rinv
-                do f = 1, nf
-                  bmat(m, f) = (q(f, co) - q(f, c))*rinv
-                end do
-              end do
+      ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
+      m = 0
+      do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
+        do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
+          do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
+            co = ix%cell(oi, oj, ok_)
+            if (co == c .or. .not. has(co)) cycle
+            dx = pos(:, co) - pos(:, c)
+            d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
+            if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
+            rinv = 1.0_wp/sqrt(d2)
+            m = m + 1
+            nbr(m) = co
+            amat(m, :) = dx*rinv
+            do f = 1, nf
+              bmat(m, f) = (q(f, co) - q(f, c))*rinv
             end do
-          end do
-          if (m == 0) cycle
-
-          if (.not. normal_solve(m, nf, amat, bmat)) then
-            call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
-            if (info /= 0) then
-              nfail = nfail + 1
-              cycle
-            end if
-          end if
-
-          ! Barth-Jespersen: keep the reconstruction at the 8 nodes in range
-          call block_gather(ni, nj, ci, cj, ck, x, xn)
-          do a = 1, 8
-            dxn(:, a) = xn(:, a) - pos(:, c)
-          end do
-          do f = 1, nf
-            g = bmat(1:3, f)
-            qc = q(f, c)
-            qmin = qc
-            qmax = qc
-            do n = 1, m
-              qmin = min(qmin, q(f, nbr(n)))
-              qmax = max(qmax, q(f, nbr(n)))
-            end do
-            ! qmax - qc and qc - qmin are at most 2*max(|qmin|,|qmax|), so with
-            ! |dq| > eps the ratios stay below 2/dq_floor: no overflow
-            eps = dq_floor*max(abs(qmin), abs(qmax))
-            phi = 1.0_wp
-            do a = 1, 8
-              dq = g(1)*dxn(1, a) + g(2)*dxn(2, a) + g(3)*dxn(3, a)
-              if (dq > eps) then
-                phi = min(phi, (qmax - qc)/dq)
-              else if (dq < -eps) then
-                phi = min(phi, (qmin - qc)/dq)
-              end if
-            end do
-            grad(:, f, c) = phi*g
           end do
         end do
+      end do
+      if (m == 0) cycle
+
+      if (.not. normal_solve(m, nf, amat, bmat)) then
+        call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
+        if (info /= 0) then
+          nfail = nfail + 1
+          cycle
+        end if
+      end if
+
+      ! Barth-Jespersen: keep the reconstruction at the 8 nodes in range
+      call block_gather(ni, nj, ci, cj, ck, x, xn)
+      do a = 1, 8
+        dxn(:, a) = xn(:, a) - pos(:, c)
+      end do
+      do f = 1, nf
+        g = bmat(1:3, f)
+        qc = q(f, c)
+        qmin = qc
+        qmax = qc
+        do n = 1, m
+          qmin = min(qmin, q(f, nbr(n)))
+          qmax = max(qmax, q(f, nbr(n)))
+        end do
+        ! qmax - qc and qc - qmin are at most 2*max(|qmin|,|qmax|), so with
+        ! |dq| > eps the ratios stay below 2/dq_floor: no overflow
+        eps = dq_floor*max(abs(qmin), abs(qmax))
+        phi = 1.0_wp
+        do a = 1, 8
+          dq = g(1)*dxn(1, a) + g(2)*dxn(2, a) + g(3)*dxn(3, a)
+          if (dq > eps) then
+            phi = min(phi, (qmax - qc)/dq)
+          else if (dq < -eps) then
+            phi = min(phi, (qmin - qc)/dq)
+          end if
+        end do
+        grad(:, f, c) = phi*g
       end do
     end do
     !$omp end parallel do
