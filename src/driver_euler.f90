@@ -26,7 +26,7 @@ module driver_euler
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
   use lagrange_state, only: hydro_totals
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use base_share, only: share_t
@@ -267,8 +267,9 @@ contains
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
     logical :: done
-    real(wp), allocatable :: xnew(:, :)
-    integer :: nblock
+    real(wp), allocatable :: xnew(:, :), x0(:, :), xk(:, :)
+    type(remap_stats_t) :: rk
+    integer :: nblock, nparts, ipart
 
     if (present(xrezoned)) then
       start = e0
@@ -285,24 +286,41 @@ contains
     end if
     par = remap_params(rz)
     ! (every rank holds this grid whole: the count is the whole grid's)
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed)
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts)
     par%swept = nblock == 0
-    ! the reference centroids the remap's MoF gets: those of the planes that
-    ! cut the fractions the Lagrangian steps left
-    call centroids_refresh(st%g, st%mx, es%centroids)
-    ! coupled particles: their share of the nodal momentum goes with them
-    if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-    call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err, st%share)
-    rs%swept_blockers = nblock
-    if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
-    ! the new mixed cells' centroids are the remapped material's: their
-    ! interface planes, fitted to them, carry them to the next remap
-    if (.not. allocated(err)) call mixed_forget_planes(st%mx, err)
-    if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter)
-    if (allocated(err)) then
-      call es%timer%stop()
-      return
-    end if
+    nparts = merge(nparts, 1, nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts .and. st%pt%np == 0)
+    x0 = st%g%x
+    do ipart = 1, nparts
+      ! the way from the Lagrangian grid to the rezoned one in equal parts,
+      ! each remapped in full (conservative): by swept faces where it can
+      if (nparts > 1) then
+        xk = xnew
+        if (ipart < nparts) xk = x0 + (real(ipart, wp)/real(nparts, wp))*(xnew - x0)
+        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed) == 0
+      end if
+      ! the reference centroids the remap's MoF gets: those of the planes that
+      ! cut the fractions the Lagrangian steps left
+      call centroids_refresh(st%g, st%mx, es%centroids)
+      ! coupled particles: their share of the nodal momentum goes with them
+      if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
+      if (nparts > 1) then
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share)
+        if (ipart == 1) rs = rk
+        if (ipart > 1) call remap_stats_add(rs, rk)
+      else
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err, st%share)
+      end if
+      rs%swept_blockers = nblock
+      if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
+      ! the new mixed cells' centroids are the remapped material's: their
+      ! interface planes, fitted to them, carry them to the next remap
+      if (.not. allocated(err)) call mixed_forget_planes(st%mx, err)
+      if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter)
+      if (allocated(err)) then
+        call es%timer%stop()
+        return
+      end if
+    end do
     call material_burn_start(st%mats, st%t)
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)
     call mixed_cell_state(st%mx, st%h%p, st%h%cs)
@@ -341,7 +359,10 @@ contains
   function swept_text(rs) result(text)
     type(remap_stats_t), intent(in) :: rs
     character(len=:), allocatable :: text
-    if (rs%cells_swept > 0) then
+    if (rs%swept_parts > 1) then
+      text = ' in '//itoa(rs%swept_parts)//' parts of the way ('//itoa(rs%cells_swept)//' by swept faces; '// &
+             itoa(rs%swept_blockers)//' could not sweep it at once)'
+    else if (rs%cells_swept > 0) then
       text = ' by swept faces'
     else if (rs%swept_unbounded > 0) then
       text = ' by intersection (by swept faces '//itoa(rs%swept_unbounded)//' broke a material''s bounds)'

@@ -403,7 +403,7 @@ contains
     real(wp), allocatable :: xw(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer :: n(4), i, j, k, stat, nblock
+    integer :: n(4), i, j, k, stat, nblock, nparts
 
     redo = .false.
     wider = .false.
@@ -434,9 +434,22 @@ contains
       ! (collective: a rank with an error counts one)
       par = remap_params(cfg%rezone)
       nblock = 1
-      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own)
+      nparts = 0
+      if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, &
+                                                              zone%own, nparts)
       call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = nblock == 0
+      ! a step the whole grid remaps in parts of the way (`euler_step`): there
+      ! (n(1): the most parts a window needs, n(2): a window that cannot)
+      n(1:2) = [nparts, merge(1, 0, nparts == 0)]
+      call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
+      if (nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
+          .not. allocated(st%pwhole)) then
+        redo = .true.
+        call log_line(log, 'euler '//itoa(es%n + 1)//' is remapped in '//itoa(n(1))//' parts of the way: '// &
+                      'on the whole grid')
+        return
+      end if
       if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)
       rs%swept_blockers = nblock
       call agree_error(pc, err)

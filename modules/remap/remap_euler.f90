@@ -117,7 +117,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows, &
-            remap_swept_blockers
+            remap_swept_blockers, remap_stats_add
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -162,6 +162,7 @@ module remap_euler
     !> caller: `remap_swept_blockers` over the whole grid)
     integer :: swept_blockers = 0
     integer :: cells_copied = 0       !< unchanged cells, copied
+    integer :: swept_parts = 1        !< the parts of the way the step was remapped in (`remap_stats_add`)
     integer :: reach = 0              !< widest index window that was needed
     integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
     integer :: mof_iterations = 0     !< their Gauss-Newton iterations, all materials
@@ -1710,6 +1711,44 @@ contains
     end subroutine widen
   end function swept_unbounded
 
+  !> The statistics of an Euler step remapped in parts (`remap_swept_blockers`'
+  !> parts): part's added to total (counts, times, energies and the open
+  !> faces' flows summed, defects and reaches the largest; the copied cells
+  !> are the last part's).
+  pure subroutine remap_stats_add(total, part)
+    type(remap_stats_t), intent(inout) :: total
+    type(remap_stats_t), intent(in) :: part
+    type(remap_stats_t) :: sum_
+    integer :: q
+    sum_ = part
+    do q = 1, size(sum_%flow)
+      call xsum_add(sum_%flow(q), xsum_value(total%flow(q)))
+    end do
+    call remap_stats_flows(sum_)
+    sum_%cells_remapped = total%cells_remapped + part%cells_remapped
+    sum_%cells_swept = total%cells_swept + part%cells_swept
+    sum_%swept_unbounded = total%swept_unbounded + part%swept_unbounded
+    sum_%reach = max(total%reach, part%reach)
+    sum_%mof_cells = total%mof_cells + part%mof_cells
+    sum_%mof_iterations = total%mof_iterations + part%mof_iterations
+    sum_%mof_not_converged = total%mof_not_converged + part%mof_not_converged
+    sum_%mof_err_max = max(total%mof_err_max, part%mof_err_max)
+    sum_%slivers_merged = total%slivers_merged + part%slivers_merged
+    sum_%volume_defect = max(total%volume_defect, part%volume_defect)
+    sum_%given_defect = max(total%given_defect, part%given_defect)
+    sum_%regions_rescaled = total%regions_rescaled + part%regions_rescaled
+    sum_%ke_to_internal = total%ke_to_internal + part%ke_to_internal
+    sum_%cells_deficit = total%cells_deficit + part%cells_deficit
+    sum_%deficit_moved = total%deficit_moved + part%deficit_moved
+    sum_%deficit_by_mass = total%deficit_by_mass + part%deficit_by_mass
+    sum_%momentum_constrained = total%momentum_constrained + part%momentum_constrained
+    sum_%t_prepare = total%t_prepare + part%t_prepare
+    sum_%t_intersect = total%t_intersect + part%t_intersect
+    sum_%t_assemble = total%t_assemble + part%t_assemble
+    sum_%swept_parts = total%swept_parts + part%swept_parts
+    total = sum_
+  end subroutine remap_stats_add
+
   !> How many of the cells `own` would move from the grid g%x to xnew and
   !> cannot take the swept-face path (`remap_new_cell`): a changed cell can
   !> if it is pure amid cells of its own material (or mixed is set), not
@@ -1722,7 +1761,7 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -1731,7 +1770,13 @@ contains
     !> its own material only)
     logical, intent(in) :: mixed
     logical, intent(in), optional :: own(:)   !< (absent: every cell)
-    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb
+    !> the equal parts of the straight way from g%x to xnew that would each
+    !> move every changed cell's nodes by at most smax of its shortest edge
+    !> (0: a cell of another material around a changed one blocks in any
+    !> part; each part's tangles and boundary faces are its own to test)
+    integer, intent(out), optional :: parts
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb, rmax
+    logical :: other
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
     logical :: ok
     logical, allocatable :: changed(:)
@@ -1739,6 +1784,7 @@ contains
     type(error_t), allocatable :: err
 
     nblock = 1
+    if (present(parts)) parts = 0
     if (.not. smax > 0.0_wp) return
     ! (unchanged cells are copied: only the changed ones are looked at)
     allocate(changed(g%ncell), stat=stat)
@@ -1747,7 +1793,10 @@ contains
     if (allocated(err)) return
     if (present(own)) list = pack(list, own(list))
     nblock = 0
+    rmax = 0.0_wp
+    other = .false.
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
+    !$omp reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
     do i = 1, size(list)
@@ -1765,6 +1814,7 @@ contains
           end do
         end do
       end if
+      if (.not. ok) other = .true.
       hmin2 = huge(1.0_wp)
       do d = 1, 3
         do e = 1, 4
@@ -1775,6 +1825,7 @@ contains
       do a = 1, 8
         dmax2 = max(dmax2, sum((xn(:, a) - xo(:, a))**2))
       end do
+      if (ok) rmax = max(rmax, sqrt(dmax2/hmin2))
       ok = ok .and. dmax2 <= smax**2*hmin2
       if (ok) then
         call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
@@ -1798,6 +1849,10 @@ contains
       if (.not. ok) nblock = nblock + 1
     end do
     !$omp end parallel do
+    if (present(parts)) then
+      parts = 0
+      if (.not. other .and. rmax < real(huge(1), wp)*smax) parts = max(ceiling(rmax/smax), 1)
+    end if
   end function remap_swept_blockers
 
   !> Intersects the changed new cell c with the old cells within `reach`

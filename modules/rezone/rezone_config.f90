@@ -58,6 +58,10 @@ module rezone_config
     !> shared by their MoF planes (a step that breaks a material's bounds is
     !> remapped by intersection)
     logical :: swept_mixed = .false.
+    !> an Euler step that could take the swept-face path but for nodes that
+    !> move further than swept_max is remapped in up to this many equal parts
+    !> of the way, each by swept faces where it can (1: by intersection)
+    integer :: swept_parts = 1
     !> a trigger measure an Euler step leaves beyond its bound (side ratio
     !> above side_ratio, cosine below cos_angle) becomes the bound, moved on
     !> by this relative margin, until the grid is back within the deck's
@@ -81,14 +85,14 @@ contains
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
                 drift_max, drift_open, swept_max, hysteresis
-    integer :: interval_steps, mof_max_iter, smooth_iterations, ios
+    integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts
     logical :: swept_mixed
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
-                      swept_mixed
+                      swept_mixed, swept_parts
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -98,6 +102,7 @@ contains
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
+    swept_parts = defaults%swept_parts
     if (size(text) > 0) then
       read(text, nml=rezone, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'rezone', ios, msg)
@@ -149,6 +154,8 @@ contains
       hysteresis, 'must be in [0, 1) (0: off)')
     if (.not. (swept_max >= 0.0_wp .and. swept_max <= 0.5_wp)) call problem_bad(problems, 'rezone', 'swept_max', &
       swept_max, 'must be in [0, 0.5] (0: always intersect)')
+    if (swept_parts < 1 .or. swept_parts > 64) call problem_badi(problems, 'rezone', 'swept_parts', swept_parts, &
+      'must be in [1, 64] (1: off)')
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
                                             interval_steps > 0 .or. interval_time > 0.0_wp)) &
       call problem_add(problems, '&rezone: mode = '''//trim(mode)//''' needs a trigger; set side_ratio > 1, '// &
@@ -158,7 +165,7 @@ contains
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
-      swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed)
+      swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 end module rezone_config
