@@ -267,7 +267,7 @@ contains
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
     logical :: done
-    real(wp), allocatable :: xnew(:, :), x0(:, :), xk(:, :)
+    real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
     integer :: nblock, nparts, ipart
 
@@ -289,13 +289,12 @@ contains
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts)
     par%swept = nblock == 0
     nparts = merge(nparts, 1, nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts .and. st%pt%np == 0)
-    x0 = st%g%x
     do ipart = 1, nparts
       ! the way from the Lagrangian grid to the rezoned one in equal parts,
       ! each remapped in full (conservative): by swept faces where it can
       if (nparts > 1) then
         xk = xnew
-        if (ipart < nparts) xk = x0 + (real(ipart, wp)/real(nparts, wp))*(xnew - x0)
+        if (ipart < nparts) xk = st%g%x + (xnew - st%g%x)/real(nparts - ipart + 1, wp)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed) == 0
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
@@ -303,13 +302,13 @@ contains
       call centroids_refresh(st%g, st%mx, es%centroids)
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-      if (nparts > 1) then
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share)
-        if (ipart == 1) rs = rk
-        if (ipart > 1) call remap_stats_add(rs, rk)
+      if (nparts == 1) then
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share)
       else
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rs, err, st%share)
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share)
       end if
+      if (ipart == 1) rs = rk
+      if (ipart > 1) call remap_stats_add(rs, rk)
       rs%swept_blockers = nblock
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
       ! the new mixed cells' centroids are the remapped material's: their
