@@ -269,6 +269,7 @@ contains
     logical :: done
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
+    integer, allocatable :: moved(:)
     integer :: nblock, nparts, ipart
 
     if (present(xrezoned)) then
@@ -286,7 +287,7 @@ contains
     end if
     par = remap_params(rz)
     ! (every rank holds this grid whole: the count is the whole grid's)
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts)
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
     par%swept = nblock == 0
     nparts = merge(nparts, 1, nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts .and. st%pt%np == 0)
     do ipart = 1, nparts
@@ -295,7 +296,7 @@ contains
       if (nparts > 1) then
         xk = xnew
         if (ipart < nparts) xk = st%g%x + (xnew - st%g%x)/real(nparts - ipart + 1, wp)
-        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed) == 0
+        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left
@@ -303,9 +304,9 @@ contains
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
       if (nparts == 1) then
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share)
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
       else
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share)
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved)
       end if
       if (ipart == 1) rs = rk
       if (ipart > 1) call remap_stats_add(rs, rk)

@@ -321,6 +321,7 @@ contains
     type(remap_params_t) :: par
     type(error_t), allocatable :: e
     real(wp), allocatable :: vol(:), cen(:, :)
+    integer, allocatable :: moved(:)
     real(wp) :: xn(3, 8), v1, c1(3), c2(3), vcell, m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, w0, c0, pscale
     integer :: c, s, nn, stat
     character(len=200) :: msg
@@ -398,8 +399,9 @@ contains
     end do
     call cpu_time(c0)
     w0 = wall_seconds()
-    if (sweep) par%swept = remap_swept_blockers(g, h, bc, xnew, par%swept_max, par%swept_mixed) == 0
-    call remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, e)
+    ! (as the driver: the blockers' moved cells handed to the remap)
+    if (sweep) par%swept = remap_swept_blockers(g, h, bc, xnew, par%swept_max, par%swept_mixed, moved=moved) == 0
+    call remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, e, moved=moved)
     tw = wall_seconds() - w0
     call cpu_time(tcpu)
     tcpu = tcpu - c0

@@ -306,7 +306,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -321,6 +321,9 @@ contains
     class(share_t), intent(in), optional :: share
     !> a window's remap (the module's `remap_zone_t`; absent: the whole grid)
     type(remap_zone_t), intent(in), optional :: zone
+    !> the cells that move from g%x to xnew, in increasing order, if the
+    !> caller has them (`remap_swept_blockers`' moved; absent: found here)
+    integer, intent(in), optional :: moved(:)
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
@@ -386,7 +389,7 @@ contains
     if (windowed) then
       call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
     else
-      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share)
+      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
     end if
     if (allocated(err)) return
     sharing = .false.
@@ -921,7 +924,7 @@ contains
   !> (gap_face, gap_cell of `open_face_cells`); the other cells' state is NaN
   !> here, so that a read of it could not pass unnoticed. An Euler step that
   !> moves a few cells of a large grid then costs little more than them.
-  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
+  subroutine prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own, moved)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(inout) :: mx
@@ -934,6 +937,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     class(share_t), intent(in), optional :: share
     logical, intent(in), optional :: own(:)   !< the cells the stats count (absent: every cell)
+    integer, intent(in), optional :: moved(:)  !< the changed cells (`remap_euler_step`)
     real(wp) :: xn(3, 8), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail, nf
     logical :: ok
@@ -960,8 +964,14 @@ contains
       return
     end if
     ! changed cells
-    call moved_cells(g, xnew, old%changed, old%lchanged, err)
-    if (allocated(err)) return
+    if (present(moved)) then
+      old%changed = .false.
+      old%changed(moved) = .true.
+      old%lchanged = moved
+    else
+      call moved_cells(g, xnew, old%changed, old%lchanged, err)
+      if (allocated(err)) return
+    end if
     ! the cells read
     near = .false.
     nf = 0
@@ -1687,8 +1697,11 @@ contains
         end do
         rho = amass(k, c)/avol(k, c)
         e = aie(k, c)/amass(k, c)
+        ! (no slack below zero: a cold material stays cold, not negative by
+        ! a round-off the intersection does not make)
         bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
-              e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi))
+              e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi)) .or. &
+              (elo >= 0.0_wp .and. e < 0.0_wp)
       end do
       if (bad) nbad = nbad + 1
     end do
@@ -1761,7 +1774,7 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -1775,6 +1788,9 @@ contains
     !> (0: a cell of another material around a changed one blocks in any
     !> part; each part's tangles and boundary faces are its own to test)
     integer, intent(out), optional :: parts
+    !> the cells that move (every one, whatever own), in increasing order:
+    !> `remap_euler_step`'s moved, for a remap to the same xnew
+    integer, allocatable, intent(out), optional :: moved(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb, rmax
     logical :: other
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
@@ -1785,12 +1801,13 @@ contains
 
     nblock = 1
     if (present(parts)) parts = 0
-    if (.not. smax > 0.0_wp) return
     ! (unchanged cells are copied: only the changed ones are looked at)
     allocate(changed(g%ncell), stat=stat)
     if (stat /= 0) return
     call moved_cells(g, xnew, changed, list, err)
     if (allocated(err)) return
+    if (present(moved)) moved = list
+    if (.not. smax > 0.0_wp) return
     if (present(own)) list = pack(list, own(list))
     nblock = 0
     rmax = 0.0_wp
@@ -3083,7 +3100,7 @@ contains
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
     character(len=200) :: msg
-    logical :: keep(max_mat), short, wide
+    logical :: keep(max_mat), short, wide, limited
 
     ncell = g%ncell
     wide = .false.
@@ -3177,7 +3194,7 @@ contains
     ! fragments' kinetic energy), so that a node gets at least its kinetic
     ! energy.
     !$omp parallel do default(none) shared(g, old, xnew, amass, aie, pcell, cmass, cmom, cke, cland, kdef) &
-    !$omp private(i, c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean, kland, kscale) schedule(static)
+    !$omp private(i, c, xn, vs, mnew, a, vmean, theta, surplus, kdev, kmean, kland, kscale, limited) schedule(static)
     do i = 1, size(old%lchanged)
       c = old%lchanged(i)
       call g%gather(c, xnew, xn)
@@ -3211,12 +3228,18 @@ contains
       if (kland < 0.0_wp .and. -kland < 1.0e-13_wp*(abs(pcell(4, c)) + kscale)) kland = 0.0_wp
       kmean = kland + 0.5_wp*sum(max(aie(:, c), 0.0_wp))
       ! (kmean < 0, round-off in a cold gas, with kdev = 0: theta stays)
-      if (theta**2*kdev > kmean .and. kdev > 0.0_wp) theta = sqrt(max(kmean, 0.0_wp)/kdev)
+      limited = theta**2*kdev > kmean .and. kdev > 0.0_wp
+      if (limited) theta = sqrt(max(kmean, 0.0_wp)/kdev)
       do a = 1, 8
         cmass(a, c) = mnew*vs(a)
         cmom(:, a, c) = vs(a)*pcell(1:3, c) + theta*(cmom(:, a, c) - cland(a, c)*vmean)
       end do
       surplus = kland - theta**2*kdev
+      ! (theta set so that the corners hold kmean: the cell then pays half
+      ! its positive internal energy at most, not that plus the round-off of
+      ! theta**2 kdev against kmean, which in a nearly cold gas is larger
+      ! than the energy and would leave it below zero)
+      if (limited .and. kmean > 0.0_wp) surplus = max(surplus, -0.5_wp*sum(max(aie(:, c), 0.0_wp)))
       kdef(c) = min(surplus, 0.0_wp)
       cke(:, c) = vs*max(surplus, 0.0_wp)
     end do
