@@ -270,7 +270,8 @@ contains
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
     integer, allocatable :: moved(:)
-    integer :: nblock, nparts, ipart
+    integer :: nblock, nparts, nleft, ntaken, nsplit
+    logical :: split
 
     if (present(xrezoned)) then
       start = e0
@@ -289,28 +290,47 @@ contains
     ! (every rank holds this grid whole: the count is the whole grid's)
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
     par%swept = nblock == 0
-    nparts = merge(nparts, 1, nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts .and. st%pt%np == 0)
-    do ipart = 1, nparts
-      ! the way from the Lagrangian grid to the rezoned one in equal parts,
-      ! each remapped in full (conservative): by swept faces where it can
-      if (nparts > 1) then
+    ! the way from the Lagrangian grid to the rezoned one in equal parts
+    ! (&rezone swept_parts), each remapped in full (conservative), by swept
+    ! faces where it can: where only the distance the nodes move keeps the
+    ! step off them, and a part whose swept faces would break a material's
+    ! bounds taken in two (while the parts stay within swept_parts)
+    split = rz%swept_parts > 1 .and. st%pt%np == 0
+    if (nblock == 0) nparts = 1
+    if (nblock > 0 .and. .not. (nparts >= 2 .and. nparts <= rz%swept_parts)) split = .false.
+    if (.not. split) nparts = 1
+    nleft = nparts
+    ntaken = 0
+    nsplit = 0
+    do while (nleft > 0)
+      if (split) then
         xk = xnew
-        if (ipart < nparts) xk = st%g%x + (xnew - st%g%x)/real(nparts - ipart + 1, wp)
+        if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
+        par%swept_only = par%swept .and. ntaken + 2*nleft <= rz%swept_parts
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left
       call centroids_refresh(st%g, st%mx, es%centroids)
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-      if (nparts == 1) then
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
-      else
+      if (split) then
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved)
+      else
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
       end if
-      if (ipart == 1) rs = rk
-      if (ipart > 1) call remap_stats_add(rs, rk)
+      if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
+        ! (nothing remapped: the rest of the way in twice the parts)
+        nleft = 2*nleft
+        nsplit = nsplit + 1
+        cycle
+      end if
+      if (ntaken == 0) rs = rk
+      if (ntaken > 0) call remap_stats_add(rs, rk)
+      ntaken = ntaken + 1
+      nleft = nleft - 1
       rs%swept_blockers = nblock
+      rs%swept_splits = nsplit
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
       ! the new mixed cells' centroids are the remapped material's: their
       ! interface planes, fitted to them, carry them to the next remap
@@ -361,7 +381,8 @@ contains
     character(len=:), allocatable :: text
     if (rs%swept_parts > 1) then
       text = ' in '//itoa(rs%swept_parts)//' parts of the way ('//itoa(rs%cells_swept)//' by swept faces; '// &
-             itoa(rs%swept_blockers)//' could not sweep it at once)'
+             itoa(rs%swept_blockers)//' could not sweep it at once; '//itoa(rs%swept_splits)// &
+             ' parts split for a broken bound)'
     else if (rs%cells_swept > 0) then
       text = ' by swept faces'
     else if (rs%swept_unbounded > 0) then

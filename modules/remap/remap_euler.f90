@@ -147,6 +147,11 @@ module remap_euler
     !> (`remap_swept_blockers` is zero over the whole grid; the caller's to
     !> decide, as the count runs over every rank's cells)
     logical :: swept = .false.
+    !> with swept: a step whose swept faces break a material's bounds is
+    !> not remapped by intersection instead; the remap returns with
+    !> stats%swept_unbounded > 0 and the state as it was (the caller may
+    !> take the way in smaller parts)
+    logical :: swept_only = .false.
   end type remap_params_t
 
   !> What one remap did.
@@ -163,6 +168,7 @@ module remap_euler
     integer :: swept_blockers = 0
     integer :: cells_copied = 0       !< unchanged cells, copied
     integer :: swept_parts = 1        !< the parts of the way the step was remapped in (`remap_stats_add`)
+    integer :: swept_splits = 0       !< of them, parts split in two because their swept faces broke a bound (the caller's)
     integer :: reach = 0              !< widest index window that was needed
     integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
     integer :: mof_iterations = 0     !< their Gauss-Newton iterations, all materials
@@ -481,7 +487,7 @@ contains
     if (stats%swept_unbounded == 0) exit passes
     ! (a window's: the caller remaps the whole grid instead, where this
     ! pass decides for every cell alike)
-    if (windowed) return
+    if (windowed .or. par%swept_only) return
     old%swept = .false.
     stats%cells_swept = 0
     old%given = 0_i8
