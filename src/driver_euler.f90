@@ -187,21 +187,28 @@ contains
     class(halo_t), intent(in) :: halo
     type(euler_state_t), intent(inout) :: es
     real(wp), intent(in) :: shape(2)
-    real(wp) :: xn(3, 8), r, cs, first(2), none(0)
+    real(wp) :: xn(3, 8), r, cs, first(2), none(0), f1, f2
     integer :: i, j, k, ijk(3, 2), m, gc
+    logical :: axis
     if (es%trigger_note /= 'shape') return
-    first = huge(1.0_wp)
+    axis = euler_axis(rz)
+    f1 = huge(1.0_wp)
+    f2 = huge(1.0_wp)
+    !$omp parallel do default(none) shared(g, axis, shape) private(i, j, k, xn, r, cs, gc) &
+    !$omp reduction(min: f1, f2) collapse(2) schedule(static)
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
           call g%gather(g%cell(i, j, k), g%x, xn)
-          call hex_shape(xn, r, cs, euler_axis(rz))
+          call hex_shape(xn, r, cs, axis)
           gc = g%global_cell(g%cell(i, j, k))
-          if (r >= shape(1)) first(1) = min(first(1), real(gc, wp))
-          if (cs <= shape(2)) first(2) = min(first(2), real(gc, wp))
+          if (r >= shape(1)) f1 = min(f1, real(gc, wp))
+          if (cs <= shape(2)) f2 = min(f2, real(gc, wp))
         end do
       end do
     end do
+    !$omp end parallel do
+    first = [f1, f2]
     do m = 1, 2
       call halo%choose(first(m), none)
       gc = nint(min(first(m), 1.0e9_wp)) - 1
