@@ -24,7 +24,8 @@ module driver_euler
                            smooth_any_tangled, node_fixed
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
-  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
+  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
+                                plane_memory_t
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add
   use io_log, only: log_t, log_line
@@ -276,6 +277,7 @@ contains
     logical :: done
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
+    type(plane_memory_t) :: memory
     integer, allocatable :: moved(:)
     integer :: nblock, nparts, nleft, ntaken, nsplit
     logical :: split
@@ -319,6 +321,8 @@ contains
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left
       call centroids_refresh(st%g, st%mx, es%centroids)
+      ! (the planes the fits after the remap start from)
+      call centroids_remember(st%mx, memory)
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
       if (split) then
@@ -342,7 +346,7 @@ contains
       ! the new mixed cells' centroids are the remapped material's: their
       ! interface planes, fitted to them, carry them to the next remap
       if (.not. allocated(err)) call mixed_forget_planes(st%mx, err)
-      if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter)
+      if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter, memory=memory)
       if (allocated(err)) then
         call es%timer%stop()
         return

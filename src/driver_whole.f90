@@ -79,7 +79,7 @@ module driver_whole
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state
-  use lagrange_centroids, only: centroids_fit_planes
+  use lagrange_centroids, only: centroids_fit_planes, centroids_remember, plane_memory_t
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
@@ -397,6 +397,7 @@ contains
     logical, intent(out) :: redo, wider
     type(error_t), allocatable, intent(inout) :: err
     type(centroid_stats_t) :: cs, others
+    type(plane_memory_t) :: memory
     type(remap_zone_t) :: zone
     type(remap_stats_t) :: rs
     type(remap_params_t) :: par
@@ -450,6 +451,8 @@ contains
                       'on the whole grid')
         return
       end if
+      ! (the planes the fits after the remap start from)
+      call centroids_remember(w%mx, memory)
       if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)
       rs%swept_blockers = nblock
       call agree_error(pc, err)
@@ -477,8 +480,8 @@ contains
       if (.not. allocated(err)) call mixed_forget_planes(w%mx, err)
       if (.not. allocated(err)) then
         owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
-        call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned)
-        call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter)
+        call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned, memory=memory)
+        call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter, memory=memory)
         call material_burn_start(w%mats, st%t)
         call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
         call mixed_cell_state(w%mx, w%h%p, w%h%cs)

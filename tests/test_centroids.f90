@@ -5,7 +5,9 @@
 !>    octant (the tangent-plane error model);
 !>  - centroids kept consistent through Lagrangian steps whose closure
 !>    changes the volume fractions (`lagrange_centroids`): the remap's MoF
-!>    reproduces the refreshed centroids, not the stale ones;
+!>    reproduces the refreshed centroids, not the stale ones, with no
+!>    iteration from the carried planes, and the fits after a remap start
+!>    from the planes remembered by cell and material;
 !>  - the time step of a mixed cell holding a soft material in a stiff one
 !>    (`mixed_volume_gain`, `lagrange_strain_rates`): the soft material
 !>    changes by dv_max per step, where the cell's own limit would crush it.
@@ -23,7 +25,8 @@ program test_centroids
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_subcell_masses
   use lagrange_forces, only: lagrange_strain_rates
   use lagrange_integrator, only: lagrange_step
-  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh
+  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, plane_normals, &
+                                centroids_remember, plane_memory_t
   use remap_mof, only: mof_reconstruct_nested, mof_plane_for_volume, mof_cut_volume
   use remap_shapes, only: shape_t, shapes_cell_moments, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE
   implicit none
@@ -185,9 +188,11 @@ contains
     type(eos_params_t) :: ep
     type(centroid_stats_t) :: cst
     real(wp) :: xn(3, 8), nrm(3), d, va, ca(3), ccell(3), v, vfb0, rho(2), pr(2), gam(2), dt, work
-    real(wp) :: xi0(3, 2), cref(3, 2), pn(3, 2), pd(2), errc(2), e_stale, e_fresh
+    real(wp) :: xi0(3, 2), cref(3, 2), pn(3, 2), pd(2), errc(2), e_stale, e_fresh, guess(3, 2), det, &
+                pn2(3, 2), pd2(2), plane0(4, 2)
     integer :: c, k, its(2), bad, step
     logical :: ok
+    type(plane_memory_t) :: mem
 
     call grid_init_box(g, 3, 3, 3, [0.0_wp, 0.0_wp, 0.0_wp], [3.0_wp, 3.0_wp, 3.0_wp], err)
     call check(.not. allocated(err), 'grid_init_box')
@@ -272,6 +277,36 @@ contains
     call check(ok, 'MoF converges on the refreshed centroids (not capped)')
     call check_close('refreshed centroids: MoF centroid error / size', e_fresh, 0.0_wp, 1.0e-9_wp)
     write(*, '(a,i0)') 'info  refreshed centroids: MoF iterations ', sum(its)
+    ! (c) the remap's MoF starts from the carried planes (`plane_normals`):
+    ! they cut the refreshed centroids, so no iteration, the same plane
+    call plane_normals(xn, mx%plane, guess, det)
+    call check(det > 0.0_wp, 'plane_normals: the cell''s axes')
+    call mof_reconstruct_nested(xn, mx%vf/sum(mx%vf), cref, pn2, pd2, errc, its, ok, guess=guess)
+    call check(ok .and. sum(its) == 0, 'MoF from the carried planes: no iteration')
+    call check_close('MoF from the carried planes: the cold fit''s normal', norm2(pn2(:, 1) - pn(:, 1)), 0.0_wp, &
+                     1.0e-8_wp)
+    call check_close('MoF from the carried planes: centroid error / size', &
+                     maxval(errc)/hex_volume(xn)**(1.0_wp/3.0_wp), 0.0_wp, 1.0e-12_wp)
+    ! (d) the fits after a remap start from the planes remembered by cell
+    ! and material: no iteration for a cell whose plane still fits, none
+    ! remembered for another cell
+    call centroids_remember(mx, mem)
+    call check(mem%n == 1 .and. mem%cell(1) == c, 'remembered: the mixed cell')
+    mx%plane = 0.0_wp
+    call centroids_fit_planes(g, mx, cst)
+    plane0 = mx%plane
+    mx%plane = 0.0_wp
+    cst = centroid_stats_t()
+    call centroids_fit_planes(g, mx, cst, memory=mem)
+    call check(cst%fitted == 1 .and. cst%iterations == 0, 'fit from the remembered plane: no iteration')
+    call check_close('fit from the remembered plane: the cold fit''s plane', maxval(abs(mx%plane - plane0)), 0.0_wp, &
+                     1.0e-10_wp)
+    mem%cell(1) = c + 1
+    mx%plane = 0.0_wp
+    cst = centroid_stats_t()
+    call centroids_fit_planes(g, mx, cst, memory=mem)
+    call check(cst%fitted == 1 .and. cst%iterations > 0, 'no plane remembered for the cell: a search')
+    call check_close('no plane remembered: the cold fit''s plane', maxval(abs(mx%plane - plane0)), 0.0_wp, 1.0e-8_wp)
   end subroutine lagrangian_consistency
 
   !> One cell, 10 % air (ideal gas, rho 1e-3, p 1e-4) in water (Mie-

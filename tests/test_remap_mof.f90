@@ -45,6 +45,7 @@ program test_remap_mof
   call test_planar_recovery()
   call test_degenerate()
   call test_nested()
+  call test_guess()
   call test_sphere()
   call timings()
 
@@ -315,6 +316,82 @@ contains
     call check(it == 0 .and. .not. ok .and. finite3(n), 'degenerate: max_iter = 0 returns the start')
     write(*, '(a,i0,a)') 'degenerate: the capped case needs ', it2, ' iterations uncapped'
   end subroutine test_degenerate
+
+  ! ------------------------------------------------------------ guesses
+
+  !> A start given (`mof_reconstruct_nested`'s guess, the plane a remap's
+  !> cell had): the plane itself needs no iteration, a nearby normal fewer
+  !> than the centroid direction, a wrong one (the opposite normal) still
+  !> finds the plane, and a zero column is no guess at all.
+  subroutine test_guess()
+    real(wp) :: xn(3, 8), nt(3), f, dt, vol, c(3), vcell, cc(3), vf(2), cr(3, 2), n(3, 2), d(2), err(2), &
+                n0(3, 2), d0(2), err0(2), g(3, 2), worst_a, worst_e, tilt(3)
+    integer :: its(2), its0(2), ih, trial, sum_near, sum_cold, max_exact, nbad
+    logical :: ok, ok0, same
+
+    worst_a = 0.0_wp
+    worst_e = 0.0_wp
+    sum_near = 0
+    sum_cold = 0
+    max_exact = 0
+    nbad = 0
+    same = .true.
+    do ih = 1, 3
+      select case (ih)
+      case (1); xn = cube
+      case (2); xn = distorted
+      case default; xn = skewed
+      end select
+      vcell = hex_volume(xn)
+      cc = cell_centroid(xn)
+      do trial = 1, 20
+        nt = random_unit()
+        f = uni(0.05_wp, 0.95_wp)
+        call planar_data(xn, nt, f, dt, vol, c)
+        vf = [vol, vcell - vol]/vcell
+        cr(:, 1) = c
+        cr(:, 2) = (vcell*cc - vol*c)/(vcell - vol)
+        call mof_reconstruct_nested(xn, vf, cr, n0, d0, err0, its0, ok0)
+        sum_cold = sum_cold + its0(1)
+        ! the plane itself (any length)
+        g = 0.0_wp
+        g(:, 1) = 3.0_wp*nt
+        call mof_reconstruct_nested(xn, vf, cr, n, d, err, its, ok, guess=g)
+        max_exact = max(max_exact, its(1))
+        worst_a = max(worst_a, angle(n(:, 1), nt))
+        worst_e = max(worst_e, err(1))
+        if (.not. ok) nbad = nbad + 1
+        ! a normal 0.05 rad off
+        tilt = random_unit()
+        g(:, 1) = nt + 0.05_wp*(tilt - dot_product(tilt, nt)*nt)/norm2(tilt - dot_product(tilt, nt)*nt)
+        call mof_reconstruct_nested(xn, vf, cr, n, d, err, its, ok, guess=g)
+        sum_near = sum_near + its(1)
+        worst_a = max(worst_a, angle(n(:, 1), nt))
+        worst_e = max(worst_e, err(1))
+        if (.not. ok) nbad = nbad + 1
+        ! the opposite normal
+        g(:, 1) = -nt
+        call mof_reconstruct_nested(xn, vf, cr, n, d, err, its, ok, guess=g)
+        worst_a = max(worst_a, angle(n(:, 1), nt))
+        worst_e = max(worst_e, err(1))
+        if (.not. ok) nbad = nbad + 1
+        ! no guess
+        g = 0.0_wp
+        call mof_reconstruct_nested(xn, vf, cr, n, d, err, its, ok, guess=g)
+        same = same .and. .not. any(abs(n - n0) > 0.0_wp) .and. .not. any(abs(d - d0) > 0.0_wp) .and. &
+               all(its == its0) .and. (ok .eqv. ok0)
+      end do
+    end do
+    write(*, '(a,es9.2,a,es9.2,a,i0,a,f5.2,a,f5.2)') 'guess: max angle ', worst_a, ', max centroid error ', &
+      worst_e, ', iterations from the plane at most ', max_exact, ', mean from 0.05 rad ', sum_near/60.0_wp, &
+      ', mean from the centroid direction ', sum_cold/60.0_wp
+    call check(nbad == 0, 'guess: ok')
+    call check(worst_a <= 1e-6_wp, 'guess: normal to 1e-6 rad from every start')
+    call check(worst_e <= 1e-10_wp, 'guess: centroid error <= 1e-10')
+    call check(max_exact <= 1, 'guess: the plane itself needs at most one iteration')
+    call check(sum_near < sum_cold, 'guess: a nearby normal needs fewer iterations than the centroid direction')
+    call check(same, 'guess: a zero column is no guess')
+  end subroutine test_guess
 
   ! ----------------------------------------------------- nested dissection
 

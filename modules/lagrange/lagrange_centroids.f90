@@ -50,9 +50,11 @@ module lagrange_centroids
   use mesh_geometry, only: hex_trilinear, hex_natural, hex_volume, cross
   use material_mixed, only: mixed_t, mixed_forget_planes
   use remap_mof, only: mof_reconstruct_nested, mof_nested_cut, mof_max_iter_default
+  use base_sort, only: sort_order
   implicit none
   private
-  public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes
+  public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes, plane_normals, &
+            plane_memory_t, centroids_remember
 
   !> Most materials of one mixed cell handled (as in the remap).
   integer, parameter :: max_mat = 16
@@ -67,7 +69,73 @@ module lagrange_centroids
     integer :: failed = 0             !< cells not fitted or not refreshed (centroids kept)
   end type centroid_stats_t
 
+  !> The interface planes of the mixed cells as they were before a remap
+  !> (`centroids_remember`), cell by cell in increasing cell order: where
+  !> the fits after it (`centroids_fit_planes`' memory) start their
+  !> searches, a material's plane of the same cell (in natural coordinates:
+  !> a global rezone gives back the cells the grid had, a localized one
+  !> keeps most): a search that starts on the interface it is asked for
+  !> needs one volume root instead of several Gauss-Newton iterations.
+  type :: plane_memory_t
+    integer :: n = 0
+    integer, allocatable :: cell(:)        !< (n) the mixed cells, increasing
+    integer, allocatable :: start(:)       !< (n + 1) their first entries
+    integer, allocatable :: mat(:)         !< each entry's material
+    real(wp), allocatable :: plane(:, :)   !< (4, entries) its plane (mixed_t%plane; n = 0: not known)
+  end type plane_memory_t
+
 contains
+
+  !> The physical normals pn(3, :) of the planes n_xi.xi <= d_xi given in
+  !> natural coordinates (planes(1:3, :), `mixed_t%plane`) in the cell xn
+  !> (nodes a = 1 + i + 2j + 4k), each det A^-T n_xi (A = `centre_axes`:
+  !> the columns of det A^-T are the cofactors a2 x a3, a3 x a1, a1 x a2),
+  !> and det; a plane not known (n_xi = 0) gives 0.
+  pure subroutine plane_normals(xn, planes, pn, det)
+    real(wp), intent(in) :: xn(3, 8), planes(:, :)
+    real(wp), intent(out) :: pn(:, :), det
+    real(wp) :: a(3, 3), c(3, 3)
+    integer :: j
+    a = centre_axes(xn)
+    c(:, 1) = cross(a(:, 2), a(:, 3))
+    c(:, 2) = cross(a(:, 3), a(:, 1))
+    c(:, 3) = cross(a(:, 1), a(:, 2))
+    det = dot_product(a(:, 1), c(:, 1))
+    do j = 1, size(planes, 2)
+      pn(:, j) = planes(1, j)*c(:, 1) + planes(2, j)*c(:, 2) + planes(3, j)*c(:, 3)
+    end do
+  end subroutine plane_normals
+
+  !> The planes of mx's mixed cells kept in mem (`plane_memory_t`); none
+  !> if mx has no planes stored.
+  subroutine centroids_remember(mx, mem)
+    type(mixed_t), intent(in) :: mx
+    type(plane_memory_t), intent(out) :: mem
+    integer, allocatable :: order(:)
+    integer :: i, k, s0, s1, m, stat
+    logical :: stale
+    stale = .not. allocated(mx%plane)
+    if (.not. stale) stale = size(mx%plane, 2) /= mx%nslot
+    if (mx%n == 0 .or. stale) return
+    allocate(order(mx%n), mem%cell(mx%n), mem%start(mx%n + 1), mem%mat(mx%nslot), mem%plane(4, mx%nslot), &
+             stat=stat)
+    if (stat /= 0) return
+    call sort_order(mx%cell(1:mx%n), order, stat)
+    if (stat /= 0) return
+    m = 0
+    mem%start(1) = 1
+    do i = 1, mx%n
+      k = order(i)
+      s0 = mx%start(k)
+      s1 = mx%start(k + 1) - 1
+      mem%cell(i) = mx%cell(k)
+      mem%mat(m + 1:m + s1 - s0 + 1) = mx%mat(s0:s1)
+      mem%plane(:, m + 1:m + s1 - s0 + 1) = mx%plane(:, s0:s1)
+      m = m + s1 - s0 + 1
+      mem%start(i + 1) = m + 1
+    end do
+    mem%n = mx%n
+  end subroutine centroids_remember
 
   !> The cell's axes at its centre, A(:,i) = dx/dxi_i at xi = 0 (length per
   !> unit natural coordinate): a plane n_xi.xi = const of the natural cube
@@ -90,17 +158,20 @@ contains
   !> centroids are left as they are. stats accumulates (fits, iterations,
   !> capped, largest centroid error / cell size); a cell that cannot be fitted
   !> (volume not positive) keeps no planes (counted failed).
-  subroutine centroids_fit_planes(g, mx, stats, max_iter, only)
+  subroutine centroids_fit_planes(g, mx, stats, max_iter, only, memory)
     type(grid_t), intent(in) :: g
     type(mixed_t), intent(inout) :: mx
     type(centroid_stats_t), intent(inout) :: stats
     integer, intent(in), optional :: max_iter
     !> (mx%n) the mixed cells fitted (absent: all)
     logical, intent(in), optional :: only(:)
+    !> the planes the cells had (`plane_memory_t`): a material's plane of
+    !> the same cell, where there was one, is where its search starts
+    type(plane_memory_t), intent(in), optional :: memory
     real(wp) :: xn(3, 8), a(3, 3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
-                errc(max_mat), vol, errmax, m(3), xc(3), sc
+                errc(max_mat), vol, errmax, m(3), xc(3), sc, guess(4, max_mat), start(3, max_mat), det
     integer :: k, c, s0, s1, nm, j, s, its(max_mat), mi, nfit, nits, ncap, nfail
-    logical :: ok
+    logical :: ok, remembered
 
     if (mx%n == 0) return
     call check_storage(mx, stats)
@@ -108,9 +179,9 @@ contains
     if (present(max_iter)) mi = max_iter
     nfit = 0; nits = 0; ncap = 0; nfail = 0
     errmax = 0.0_wp
-    !$omp parallel do default(none) shared(g, mx, mi, only) &
-    !$omp private(k, c, s0, s1, nm, j, s, its, ok, xn, a, vf, cref, pn, pd, errc, vol, m, xc, sc) &
-    !$omp reduction(+: nfit, nits, ncap, nfail) reduction(max: errmax) schedule(dynamic, 16)
+    !$omp parallel do default(none) shared(g, mx, mi, only, memory) &
+    !$omp private(k, c, s0, s1, nm, j, s, its, ok, xn, a, vf, cref, pn, pd, errc, vol, m, xc, sc, guess, start, &
+    !$omp det, remembered) reduction(+: nfit, nits, ncap, nfail) reduction(max: errmax) schedule(dynamic, 16)
     do k = 1, mx%n
       s0 = mx%start(k)
       s1 = mx%start(k + 1) - 1
@@ -131,8 +202,17 @@ contains
       do j = 1, nm
         cref(:, j) = hex_trilinear(xn, mx%xi(:, s0 + j - 1))
       end do
-      call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
-                                  its(1:nm), ok, mi)
+      remembered = .false.
+      if (present(memory)) call recall(memory, c, mx%mat(s0:s1), guess(:, 1:nm), remembered)
+      if (remembered) then
+        call plane_normals(xn, guess(:, 1:nm), start(:, 1:nm), det)
+        if (.not. det > 0.0_wp) start(:, 1:nm) = 0.0_wp
+        call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                    its(1:nm), ok, mi, guess=start(:, 1:nm))
+      else
+        call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                    its(1:nm), ok, mi)
+      end if
       nfit = nfit + 1
       nits = nits + sum(its(1:nm))
       if (.not. ok) ncap = ncap + 1
@@ -157,6 +237,37 @@ contains
     stats%failed = stats%failed + nfail
   end subroutine centroids_fit_planes
 
+  !> The planes mem kept of cell c for the materials mats (in that order),
+  !> planes(4, size(mats)); a material the cell did not hold, or held
+  !> without a plane, gets 0. found: mem kept a plane of cell c.
+  pure subroutine recall(mem, c, mats, planes, found)
+    type(plane_memory_t), intent(in) :: mem
+    integer, intent(in) :: c, mats(:)
+    real(wp), intent(out) :: planes(:, :)
+    logical, intent(out) :: found
+    integer :: lo, hi, mid, j, e
+    planes = 0.0_wp
+    found = .false.
+    lo = 1
+    hi = mem%n
+    do while (lo <= hi)
+      mid = (lo + hi)/2
+      if (mem%cell(mid) == c) then
+        do j = 1, size(mats)
+          do e = mem%start(mid), mem%start(mid + 1) - 1
+            if (mem%mat(e) == mats(j)) planes(:, j) = mem%plane(:, e)
+          end do
+        end do
+        found = any(abs(planes(1:3, :)) > 0.0_wp)
+        return
+      else if (mem%cell(mid) < c) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end subroutine recall
+
   !> Sets the centroids mx%xi of every mixed cell with known planes to those
   !> of its materials' regions when its planes, moved along their normals,
   !> cut the volume fractions mx%vf from the cell as it is (g%x) (module
@@ -168,8 +279,8 @@ contains
     type(grid_t), intent(in) :: g
     type(mixed_t), intent(inout) :: mx
     type(centroid_stats_t), intent(inout) :: stats
-    real(wp) :: xn(3, 8), a(3, 3), vf(max_mat), pn(3, max_mat), pd(max_mat), vreg(max_mat), cen(3, max_mat), &
-                dg(max_mat), m(3), xc(3), det
+    real(wp) :: xn(3, 8), vf(max_mat), pn(3, max_mat), pd(max_mat), vreg(max_mat), cen(3, max_mat), &
+                dg(max_mat), xc(3), det
     integer :: k, c, s0, s1, nm, j, nmove, nfail
     logical :: ok
 
@@ -177,7 +288,7 @@ contains
     call check_storage(mx, stats)
     nmove = 0; nfail = 0
     !$omp parallel do default(none) shared(g, mx) &
-    !$omp private(k, c, s0, s1, nm, j, ok, xn, a, vf, pn, pd, vreg, cen, dg, m, xc, det) &
+    !$omp private(k, c, s0, s1, nm, j, ok, xn, vf, pn, pd, vreg, cen, dg, xc, det) &
     !$omp reduction(+: nmove, nfail) schedule(dynamic, 16)
     do k = 1, mx%n
       s0 = mx%start(k)
@@ -193,16 +304,13 @@ contains
       ! the planes in the cell: n_xi.A^-1 (x - xc) <= d_xi, i.e.
       ! pn.x <= det d_xi + pn.xc with pn = det A^-T n_xi (the columns of
       ! det A^-T are the cofactors a2 x a3, a3 x a1, a1 x a2; det A > 0)
-      a = centre_axes(xn)
-      det = dot_product(a(:, 1), cross(a(:, 2), a(:, 3)))
+      call plane_normals(xn, mx%plane(:, s0:s1), pn(:, 1:nm), det)
       if (.not. det > 0.0_wp .or. .not. sum(mx%vf(s0:s1)) > 0.0_wp) then
         nfail = nfail + 1
         cycle
       end if
       xc = 0.125_wp*sum(xn, 2)
       do j = 1, nm
-        m = mx%plane(1:3, s0 + j - 1)
-        pn(:, j) = m(1)*cross(a(:, 2), a(:, 3)) + m(2)*cross(a(:, 3), a(:, 1)) + m(3)*cross(a(:, 1), a(:, 2))
         dg(j) = det*mx%plane(4, s0 + j - 1) + dot_product(pn(:, j), xc)
       end do
       vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))

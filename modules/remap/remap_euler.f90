@@ -103,7 +103,9 @@ module remap_euler
   use mesh_boundary, only: bc_t, bc_constrain, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
-  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments
+  use lagrange_centroids, only: plane_normals
+  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments, &
+                              poly_copy
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
@@ -1219,10 +1221,10 @@ contains
     logical, intent(out) :: ok
     real(wp), intent(out) :: err_rel
     real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
-                errc(max_mat), vreg(max_mat)
+                errc(max_mat), vreg(max_mat), guess(3, max_mat), det
     integer :: c, s, s0, s1, nm, its(max_mat), j, big, ncell
     type(mof_pieces_t) :: pcs
-    logical :: okp
+    logical :: okp, known
     ncell = g%ncell
     c = mx%cell(k)
     call g%gather(c, g%x, xn)
@@ -1232,8 +1234,22 @@ contains
     nm = s1 - s0 + 1
     vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
     cref(:, 1:nm) = old%xr(:, ncell + s0:ncell + s1)
-    call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
-                                its(1:nm), ok, par%mof_max_iter)
+    ! the planes the Lagrangian phase carried (`lagrange_centroids`), whose
+    ! regions' centroids cref are: the search starts on them
+    known = allocated(mx%plane)
+    if (known) known = size(mx%plane, 2) == mx%nslot
+    if (known) known = all(any(abs(mx%plane(1:3, s0:s1 - 1)) > 0.0_wp, 1))
+    if (known) then
+      call plane_normals(xn, mx%plane(:, s0:s1), guess(:, 1:nm), det)
+      known = det > 0.0_wp
+    end if
+    if (known) then
+      call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                  its(1:nm), ok, par%mof_max_iter, guess=guess(:, 1:nm))
+    else
+      call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                  its(1:nm), ok, par%mof_max_iter)
+    end if
     its_sum = sum(its(1:nm))
     err_rel = maxval(errc(1:nm))/v**(1.0_wp/3.0_wp)
     ! each material's region: its exact volume and centroid, the point
@@ -2321,7 +2337,7 @@ contains
           k = merge(2*t - 1, 2*t, sb <= 0.0_wp)
           if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, hcorner(k))
         else
-          q = p
+          call poly_copy(p, q)
           call poly_clip(p, midn(:, t), midd(t))
           call poly_first_moments(p, v, m)
           if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, hcorner(2*t - 1))
@@ -2379,7 +2395,7 @@ contains
       else if (xlo >= mid(d)) then
         call split_octants(p, d + 1, ibset(bits, d - 1), sgn)
       else
-        q = p
+        call poly_copy(p, q)
         call poly_clip(p, unit_axis(:, d), mid(d))
         if (p%nv > 0) call split_octants(p, d + 1, bits, sgn)
         call poly_clip(q, -unit_axis(:, d), -mid(d))
@@ -2722,7 +2738,7 @@ contains
     real(wp), intent(in) :: tp(3, 3), tn(3, 3), pn(:, :), pd(:)
     real(wp), intent(out) :: v, m(3)
     real(wp) :: t(3, 4), d, vv, mm(3), xs(3)
-    integer :: k, i, e, e2
+    integer :: k, i, e, e2, side
     type(poly_t) :: p
     v = 0.0_wp
     m = 0.0_wp
@@ -2751,13 +2767,22 @@ contains
       end if
       d = tet_det(t)
       if (.not. abs(d) > 0.0_wp) cycle
-      call poly_set_tet(p, t)
-      do i = 1, size(pd)
-        call poly_clip(p, pn(:, i), pd(i))
-        if (p%nv == 0) exit
-      end do
-      if (p%nv == 0) cycle
-      call poly_first_moments(p, vv, mm)
+      ! (a tetrahedron wholly outside a plane gives nothing, one inside
+      ! every plane itself; only the planes that cut it are clipped by)
+      side = hull_side(t, pn, pd)
+      if (side == -1) cycle
+      if (side == 1) then
+        vv = abs(d)/6.0_wp
+        mm = 0.25_wp*vv*((t(:, 1) + t(:, 2)) + (t(:, 3) + t(:, 4)))
+      else
+        call poly_set_tet(p, t)
+        do i = 1, size(pd)
+          call poly_clip(p, pn(:, i), pd(i))
+          if (p%nv == 0) exit
+        end do
+        if (p%nv == 0) cycle
+        call poly_first_moments(p, vv, mm)
+      end if
       v = v + sign(1.0_wp, d)*vv
       m = m + sign(1.0_wp, d)*mm
     end do

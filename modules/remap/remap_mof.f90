@@ -43,9 +43,12 @@
 !> halving line search converges quadratically when the interface is a plane
 !> (zero residual). The start is the direction from c_ref to the cell's
 !> centroid, measured in the cell's logical frame (so a long or sheared cell
-!> starts as well as a cube); if the search ends far from its target (a
-!> local minimum) it is repeated from the plain Euclidean direction with
-!> the iterations left, and the better plane kept. The smaller side is the
+!> starts as well as a cube), or a normal the caller gives (the plane the
+!> interface had: from it a search whose centroid that plane still matches
+!> needs no iteration); if the search ends far from its target (a local
+!> minimum) it is repeated from the plain Euclidean direction (after a
+!> given start: from the logical one) with the iterations left, and the
+!> better plane kept. The smaller side is the
 !> one fitted (an equivalent objective, free of cancellation for nearly
 !> full cells). Iterations are capped (default 50, both starts together);
 !> the routine always returns the best plane found, which cuts the exact
@@ -54,7 +57,7 @@ module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross, hex_tets, tet_det
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_clip, &
-                              poly_first_moments, slot_of
+                              poly_first_moments, slot_of, poly_copy
   implicit none
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol
@@ -75,6 +78,9 @@ module remap_mof
   !> times that side's size (cube root of its volume) is tried again from
   !> a second start.
   real(wp), parameter :: restart_tol = 1.0e-3_wp
+  !> The same after a search that started from a given plane (`mof_region`'s
+  !> guess).
+  real(wp), parameter :: restart_tol_guess = 3.0e-2_wp
   !> A centroid error below this times the cell size is round-off of the
   !> centroid itself (~64 units): no plane can do measurably better.
   real(wp), parameter :: err_roundoff = 64.0_wp*epsilon(1.0_wp)
@@ -233,6 +239,10 @@ contains
     end do
     used(:, 1:nv) = .false.
     do v = 1, nv
+      ! (a face with a vertex off the plane is not a cap: its walk stops
+      ! there; a cap's directed edges are its own, so it is still walked
+      ! once, from its first vertex)
+      if (s(v) > tolf) cycle
       do k = 1, 3
         if (used(k, v)) cycle
         ! the face to the left of the directed edge v -> nbr(k,v), walked
@@ -243,6 +253,7 @@ contains
         prev = v
         cur = p%nbr(k, v)
         do it = 1, nv
+          if (s(cur) > tolf) exit
           m = m + 1
           face(m) = cur
           j = mod(slot_of(p, cur, prev), 3) + 1
@@ -252,8 +263,7 @@ contains
           prev = cur
           cur = nxt
         end do
-        if (m < 3) cycle
-        if (any(s(face(1:m)) > tolf)) cycle
+        if (m < 3 .or. s(cur) > tolf) cycle
         ! fan from the first vertex; triangle areas signed along n
         a = p%x(:, face(1))
         tot = 0.0_wp
@@ -321,10 +331,7 @@ contains
         ! nothing strictly inside: no volume
         cycle
       else
-        ! copy only the used vertices (a poly_t holds poly_max_verts)
-        q%nv = pcs%p(k)%nv
-        q%x(:, 1:q%nv) = pcs%p(k)%x(:, 1:q%nv)
-        q%nbr(:, 1:q%nv) = pcs%p(k)%nbr(:, 1:q%nv)
+        call poly_copy(pcs%p(k), q)
         call poly_clip(q, n, dl, okc)
         if (.not. okc) ok = .false.
         call poly_first_moments(q, v, m)
@@ -827,15 +834,18 @@ contains
   !> from start if cref is creg. vt <= 0 and vc <= 0 need no search
   !> (iterations = 0).
   pure subroutine mof_region(pcs, vt, vc, creg, cref, start, minv, scale, max_iter, n, dl, err, &
-                             iterations, converged, okv)
+                             iterations, converged, okv, guess)
     type(mof_pieces_t), intent(in) :: pcs
     real(wp), intent(in) :: vt, vc, creg(3), cref(3), start(3), minv(3, 3), scale
     integer, intent(in) :: max_iter
     real(wp), intent(out) :: n(3), dl, err
     integer, intent(out) :: iterations
     logical, intent(out) :: converged, okv
+    !> a normal to start from (any length; 0: none): the plane the interface
+    !> had, which the search then leaves only as far as the centroid asks
+    real(wp), intent(in), optional :: guess(3)
     type(cut_t) :: c, c2
-    real(wp) :: g(3), n2(3), err2, es
+    real(wp) :: g(3), n2(3), err2, es, tol2
     integer :: it2
     logical :: conv2, ok2
 
@@ -851,6 +861,18 @@ contains
       g = matmul(minv, g)
       if (norm2(g) > 0.0_wp) n = g/norm2(g)
     end if
+    tol2 = restart_tol
+    if (present(guess)) then
+      ! the guess first, the logical centroid direction as the second start,
+      ! tried only if the first search ends far from its target (a search
+      ! from the plane the interface had ends in a local minimum rarely; one
+      ! that matches a curved interface to a few percent of a cell is not one)
+      if (norm2(guess) > 0.0_wp) then
+        n2 = n
+        n = guess/norm2(guess)
+        tol2 = restart_tol_guess
+      end if
+    end if
     if (vt <= 0.0_wp .or. vc <= 0.0_wp) then
       call solve_plane(pcs, n, vt, vc, .false., 0.0_wp, c, okv)
       dl = c%dl
@@ -865,7 +887,7 @@ contains
     ! the smaller side's size: a local minimum, which long or distorted cells
     ! can have; a planar interface is then usually found from here)
     es = moment_error(c%svol, c%smom, merge(cref, (creg*(vt + vc) - vt*cref)/vc, vt <= vc))
-    if (es > restart_tol*min(vt, vc)**(1.0_wp/3.0_wp) .and. iterations < max_iter .and. &
+    if (es > tol2*min(vt, vc)**(1.0_wp/3.0_wp) .and. iterations < max_iter .and. &
         dot_product(n2, n) < 1.0_wp - 1.0e-6_wp) then
       call minimise(pcs, vt, vc, cref, scale, max_iter - iterations, n2, c2, err2, it2, conv2, ok2)
       iterations = iterations + it2
@@ -943,7 +965,7 @@ contains
   !> their sum differs from 1 by more than 1e-10, the cell's volume is not
   !> positive, or a material's search hit the cap or failed.
   pure subroutine mof_reconstruct_nested(xn, vfrac, centroid_ref, n, d, err_centroid, iterations, ok, &
-                                         max_iter)
+                                         max_iter, guess)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(in) :: vfrac(:)
     real(wp), intent(in) :: centroid_ref(:, :)
@@ -953,6 +975,11 @@ contains
     integer, intent(out) :: iterations(:)
     logical, intent(out) :: ok
     integer, intent(in), optional :: max_iter
+    !> (3, nmat) each material's normal to start its search from (any
+    !> length; a zero column: the centroid direction, as without it): the
+    !> planes the interface had before, which a search then leaves only as
+    !> far as the centroids ask (one volume root when they match)
+    real(wp), intent(in), optional :: guess(:, :)
     type(mof_pieces_t) :: rest
     real(wp) :: vcell, vrest, mom(3), vt, dl, nk(3), start(3), scale, cr(3), minv(3, 3)
     integer :: nmat, k, mi
@@ -997,8 +1024,13 @@ contains
         cycle
       end if
       if (vt <= 0.0_wp) cycle
-      call mof_region(rest, vt, vrest - vt, mom/vrest, cr, start, minv, scale, mi, nk, dl, err_centroid(k), &
-                      iterations(k), converged, okv)
+      if (present(guess)) then
+        call mof_region(rest, vt, vrest - vt, mom/vrest, cr, start, minv, scale, mi, nk, dl, err_centroid(k), &
+                        iterations(k), converged, okv, guess(:, k))
+      else
+        call mof_region(rest, vt, vrest - vt, mom/vrest, cr, start, minv, scale, mi, nk, dl, err_centroid(k), &
+                        iterations(k), converged, okv)
+      end if
       ok = ok .and. converged .and. okv
       n(:, k) = nk
       d(k) = dl + dot_product(nk, rest%origin)

@@ -26,7 +26,7 @@ module remap_polyhedron
   implicit none
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
-  public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments
+  public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments, poly_copy
   public :: tet_planes, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
@@ -64,6 +64,16 @@ module remap_polyhedron
                                                  1, 7, 6,  2, 5, 8,  3, 8, 5,  4, 6, 7], [3, 8])
 
 contains
+
+  !> q = p, copying only p's vertices (a poly_t holds poly_max_verts: an
+  !> assignment copies them all, most of them unused).
+  pure subroutine poly_copy(p, q)
+    type(poly_t), intent(in) :: p
+    type(poly_t), intent(inout) :: q
+    q%nv = p%nv
+    q%x(:, 1:p%nv) = p%x(:, 1:p%nv)
+    q%nbr(:, 1:p%nv) = p%nbr(:, 1:p%nv)
+  end subroutine poly_copy
 
   !> The tetrahedron with vertices x(3,4) (length) as a polyhedron; either
   !> orientation of the input gives the same (convex hull) polyhedron.
