@@ -54,7 +54,7 @@ module lagrange_centroids
   implicit none
   private
   public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes, plane_normals, &
-            plane_memory_t, centroids_remember
+            plane_memory_t, centroids_remember, planes_known
 
   !> Most materials of one mixed cell handled (as in the remap).
   integer, parameter :: max_mat = 16

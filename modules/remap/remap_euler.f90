@@ -103,7 +103,7 @@ module remap_euler
   use mesh_boundary, only: bc_t, bc_constrain, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
-  use lagrange_centroids, only: plane_normals
+  use lagrange_centroids, only: plane_normals, planes_known
   use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments, &
                               poly_copy
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
@@ -1238,7 +1238,7 @@ contains
     ! regions' centroids cref are: the search starts on them
     known = allocated(mx%plane)
     if (known) known = size(mx%plane, 2) == mx%nslot
-    if (known) known = all(any(abs(mx%plane(1:3, s0:s1 - 1)) > 0.0_wp, 1))
+    if (known) known = planes_known(mx, s0, s1)
     if (known) then
       call plane_normals(xn, mx%plane(:, s0:s1), guess(:, 1:nm), det)
       known = det > 0.0_wp
