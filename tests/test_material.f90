@@ -1,7 +1,8 @@
 !> Unit tests of the mixed-cell closure (Tipton): volume and energy are
 !> shared exactly, pressures equalise, a cell in equilibrium stays so, the
-!> exchange is bounded, and the acoustic resistance gives the acoustic
-!> Riemann problem's exchange without tension in an expanding gas.
+!> exchange is bounded, the acoustic resistance gives the acoustic
+!> Riemann problem's exchange without tension in an expanding gas, and a
+!> cavitated material (at its pressure floor) takes the change at its floor.
 program test_material
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -10,7 +11,7 @@ program test_material
   implicit none
   type(mixed_t) :: mx
   type(error_t), allocatable :: err
-  real(wp) :: mass(1), vol(1), en(1), e(1), p(1), cs(1), gam(2), v0, etot
+  real(wp) :: mass(1), vol(1), en(1), e(1), p(1), cs(1), gam(2), v0, etot, pf(2)
   integer :: s
 
   gam = [2.0_wp, 1.4_wp]
@@ -92,6 +93,41 @@ program test_material
              'no tension: the light gas grows by 1/gamma of its volume')
   call check(abs(sum(mx%vf) - 1.0_wp) < 1e-14_wp, 'no tension: the dense gas takes the rest')
 
+  ! 6. a cavitated material (at its pressure floor): B = 0 where it grows.
+  !    (a) an expanding cell: the gas relaxes to the floor's pressure in one
+  !    step, linearised, and the cavitated material takes the rest, exactly
+  call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [0.05_wp, 0.1_wp])
+  pf = [mx%p(1), -huge(1.0_wp)]
+  vol = 1.2_wp*v0
+  e = en
+  call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, pf)
+  call check(abs(mx%vf(2)*vol(1) - 0.5_wp*v0*(1.0_wp + (0.1_wp - 0.05_wp)/(gam(2)*0.1_wp))) < 1e-14_wp, &
+             'floor, expanding: the gas relaxes to the cavitated pressure')
+  call check(abs(mx%vf(1)*vol(1) - (1.2_wp*v0 - mx%vf(2)*vol(1))) < 1e-14_wp, &
+             'floor, expanding: the cavitated material takes the rest of the growth')
+  call check(abs(dot_product(mx%mass, mx%e) - mass(1)*e(1)) < 1e-14_wp*mass(1)*e(1), &
+             'floor: material energies sum to the cell energy')
+  ! (b) a floor in tension (-0.05) and a cell growing by 80 %: the gas grows
+  !     only until its linearised pressure reaches zero (1/gamma), the
+  !     cavitated material takes the rest
+  call setup([0.5_wp, 0.5_wp], [1.0_wp, 0.125_wp], [0.05_wp, 0.1_wp])
+  mx%pn(1) = -0.05_wp
+  pf = [-0.05_wp, -huge(1.0_wp)]
+  vol = 1.8_wp*v0
+  e = en
+  call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, pf)
+  call check(abs(mx%vf(2)*vol(1) - 0.5_wp*v0*(1.0_wp + 1.0_wp/gam(2))) < 1e-14_wp, &
+             'floor in tension: the gas grows by 1/gamma, no more')
+  call check(abs(sum(mx%vf) - 1.0_wp) < 1e-14_wp, 'floor in tension: fractions sum to one')
+  ! (c) where the cavitated material would be compressed (the cell's growth
+  !     short of the gas's relaxation, or every material at its floor, or
+  !     the floors not reached) the closure is the stiff one, bit for bit
+  call stiff_same([0.5_wp, 0.5_wp], [0.05_wp, 0.1_wp], 1.1_wp, [0.05_wp, -huge(1.0_wp)], &
+                  'floor, the gas relaxing by more than the growth: stiff closure')
+  call stiff_same([0.3_wp, 0.7_wp], [0.05_wp, 0.1_wp], 1.1_wp, [0.05_wp, 0.1_wp], &
+                  'all at their floors: stiff closure')
+  call stiff_same([0.5_wp, 0.5_wp], [2.0_wp, 0.1_wp], 1.0_wp, [0.0_wp, 0.0_wp], 'floors not reached: unchanged')
+
   call check_summary('test_material')
 
 contains
@@ -110,6 +146,24 @@ contains
     vol = v0
     call mixed_save_step_start(mx, vol)
   end subroutine setup
+
+  !> The closure with floors pf gives the same bits as without them.
+  subroutine stiff_same(vf, pr, grow, pf, what)
+    real(wp), intent(in) :: vf(2), pr(2), grow, pf(2)
+    character(*), intent(in) :: what
+    real(wp) :: vf_ref(2), e_ref(2)
+    call setup(vf, [1.0_wp, 0.125_wp], pr)
+    vol = grow*v0
+    e = en
+    call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp)
+    vf_ref = mx%vf
+    e_ref = mx%e
+    call setup(vf, [1.0_wp, 0.125_wp], pr)
+    vol = grow*v0
+    e = en
+    call mixed_split(mx, mass, vol, vol, en, e, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, pf)
+    call check(all(.not. abs(mx%vf - vf_ref) > 0.0_wp) .and. all(.not. abs(mx%e - e_ref) > 0.0_wp), what)
+  end subroutine stiff_same
 
   subroutine eos_ideal()
     mx%p = (gam - 1.0_wp)*mx%rho*mx%e

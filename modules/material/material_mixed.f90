@@ -26,6 +26,19 @@
 !> GPa and its energy to -4800 kJ/g; issue 36). The rest of the way is
 !> taken over the following steps.
 !>
+!> Cavitated materials. A material whose pressure is at its floor (p_min,
+!> its cut-off: water that cannot hold tension) at the step's start gives
+!> no resistance to growth: where it grows its B is 0, not the rho c^2 of
+!> its EOS. The limit of the weights V/B is taken exactly (`cavitated`):
+!> the common pressure is the floor's, the other materials relax to it
+!> (their linearised pressures kept above min(p, 0) by `no_tension`) and
+!> the cavitated ones take the rest of the cell's change by volume. Under
+!> compression it is as stiff as its EOS says (the cut-off model's cavity is
+!> only its elastic stretch below the floor). Before, a trace of products
+!> beside cavitated water took all of an expanding cell's growth, and the
+!> time step of such a cell collapsed (issue 36: hardcases/tnt_surface.nml
+!> at 30 x 30 x 75, Eulerian, stalled at dt 3e-4 us).
+!>
 !> Acoustic resistance (Tipton's closure; &hydro relax_length). In the
 !> weights B_m above, not in the material's own linearised pressure, each
 !> material adds eta_m = Z_m L_m / dt, Z_m = rho_m c_m its impedance and
@@ -246,19 +259,30 @@ contains
   !> step among its materials (Tipton closure, see the module header), given
   !> the new cell volumes `vol` and the cell mass and specific energy at the
   !> start (`en`) and now (`e`) from the compatible update.
-  subroutine mixed_split(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap)
+  subroutine mixed_split(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap, pfloor)
     type(mixed_t), intent(inout) :: mx
     real(wp), intent(in) :: mass(:), vol(:), area(:), en(:), e(:)
     real(wp), intent(in) :: relax, acoustic, dt, dv_cap
+    !> pressure floor of each material (its p_min; none: absent, or below
+    !> -huge/2): a material whose pressure was at its floor at the step's
+    !> start (cavitated) has B = 0 in the closure
+    real(wp), intent(in), optional :: pfloor(:)
     integer, parameter :: maxmat = 16
     integer :: k, s, c, s0, s1, nm, i
     real(wp) :: v0, dv, de, sw, pbar, theta, vm(maxmat), bm(maxmat), d(maxmat), dvm(maxmat), &
-                dem(maxmat), rest, bmax, ptil, eta, bt(maxmat)
+                dem(maxmat), rest, bmax, ptil, eta, bt(maxmat), vfl
+    real(wp), allocatable :: floors(:)
+    logical :: atfloor(maxmat), free
 
     if (mx%n == 0) return
-    !$omp parallel do default(none) shared(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap) &
+    if (present(pfloor)) then
+      floors = pfloor
+    else
+      allocate(floors(0))
+    end if
+    !$omp parallel do default(none) shared(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap, floors) &
     !$omp private(k, s, c, s0, s1, nm, i, v0, dv, de, sw, pbar, theta, vm, bm, d, dvm, dem, rest, bmax, ptil, eta, bt) &
-    !$omp schedule(static)
+    !$omp private(vfl, atfloor, free) schedule(static)
     do k = 1, mx%n
       c = mx%cell(k)
       s0 = mx%start(k)
@@ -289,9 +313,14 @@ contains
       ! median-surface area)
       eta = 0.0_wp
       if (acoustic > 0.0_wp .and. dt > 0.0_wp .and. area(c) > 0.0_wp) eta = acoustic*(v0/area(c))/dt
+      vfl = 0.0_wp
       do i = 1, nm
         s = s0 + i - 1
         vm(i) = mx%vfn(s)*v0
+        atfloor(i) = .false.
+        if (mx%mat(s) <= size(floors)) atfloor(i) = floors(mx%mat(s)) > -0.5_wp*huge(1.0_wp) .and. &
+                                                  mx%pn(s) <= floors(mx%mat(s))
+        if (atfloor(i)) vfl = vfl + vm(i)
         ! an infinitely compressible material (B = 0) takes the change
         bm(i) = max(mx%bn(s), 1.0e-12_wp*bmax, tiny(1.0_wp))
         bt(i) = bm(i)
@@ -301,9 +330,14 @@ contains
       end do
       pbar = (pbar - dv)/sw
       theta = relax
+      free = .false.
       do i = 1, nm
         s = s0 + i - 1
         d(i) = (vm(i)/bt(i))*(mx%pn(s) - bt(i)*dv/v0 - pbar)
+      end do
+      if (vfl > 0.0_wp .and. any(.not. atfloor(1:nm))) &
+        call cavitated(vm(1:nm), bt(1:nm), mx%pn(s0:s1), atfloor(1:nm), v0, dv, free, d(1:nm), bm(1:nm))
+      do i = 1, nm
         ! no material may lose more than 90 % of its volume in one step, nor
         ! be compressed by the exchange by more than dv_cap of it (its
         ! pressure, linearised about the step's start, is only valid for
@@ -316,12 +350,14 @@ contains
       do i = 1, nm
         dvm(i) = (vm(i)/v0)*dv + theta*d(i)
       end do
-      if (eta > 0.0_wp) call no_tension(mx%pn(s0:s1), vm(1:nm), bm(1:nm), bt(1:nm), dvm(1:nm))
+      if (eta > 0.0_wp .or. free) &
+        call no_tension(mx%pn(s0:s1), vm(1:nm), bm(1:nm), bt(1:nm), free .and. atfloor(1:nm), dvm(1:nm))
       rest = de
       do i = 1, nm
         s = s0 + i - 1
         ! work of the material's linearised pressure at mid-step
-        ptil = mx%pn(s) - 0.5_wp*bm(i)*dvm(i)/vm(i)
+        ptil = mx%pn(s)
+        if (vm(i) > 0.0_wp) ptil = mx%pn(s) - 0.5_wp*bm(i)*dvm(i)/vm(i)
         dem(i) = -ptil*dvm(i)
         rest = rest - dem(i)
       end do
@@ -336,17 +372,52 @@ contains
     !$omp end parallel do
   end subroutine mixed_split
 
+  !> A cavitated material (at its floor) gives no resistance to growth:
+  !> taken with B = 0 (the limit of the weights V/B, exactly), the common
+  !> pressure is the floor's, the others relax to it and the cavitated ones
+  !> take the rest of the change by volume (`free` then true). That holds
+  !> only if they grow: under compression a cavitated material is as stiff
+  !> as its EOS says (the cut-off model's cavities are only its elastic
+  !> stretch below the floor), and the stiff exchange d stays. With one
+  !> floor pressure the two agree on the sign of the cavitated materials'
+  !> change, (V/B)/S (dV - sum_others (V/B)(p - p_floor)) in the stiff one,
+  !> so the choice is continuous. vm: the materials' volumes in a cell of
+  !> volume v0 changing by dv; bt their weights' stiffnesses, p their
+  !> pressures.
+  pure subroutine cavitated(vm, bt, p, floor, v0, dv, free, d, bm)
+    real(wp), intent(in) :: vm(:), bt(:), p(:), v0, dv
+    logical, intent(in) :: floor(:)
+    logical, intent(out) :: free
+    real(wp), intent(inout) :: d(:), bm(:)
+    real(wp) :: vfl, pf, df(size(vm))
+    vfl = sum(vm, mask=floor)
+    pf = sum(vm*p, mask=floor)/vfl
+    df = 0.0_wp
+    where (.not. floor) df = (vm/bt)*(p - bt*dv/v0 - pf)
+    free = vfl*dv/v0 - sum(df) >= 0.0_wp
+    if (.not. free) return
+    where (floor)
+      d = -sum(df)*vm/vfl
+      bm = 0.0_wp
+    elsewhere
+      d = df
+    end where
+  end subroutine cavitated
+
   !> An expanding material's linearised pressure p - B dV/V is kept above
   !> min(p, 0): where a share dv(i) would take it below, the material takes
-  !> the expansion that brings it there and the rest goes to the others by
-  !> their weights v/bt (a lower common pressure), until no share passes its
+  !> the expansion that brings it there and the rest goes to the others: to
+  !> the cavitated ones (`floor`, B = 0) by volume where there are any, else
+  !> by the weights v/bt (a lower common pressure), until no share passes its
   !> floor; where every material is at its floor the rest is shared by
   !> volume. With the acoustic resistance a gas beside a dense product has
   !> by far the larger weight and would otherwise take all of an expanding
   !> cell's growth at a negative pressure (the cell expands because the
-  !> product pushes its faces out).
-  pure subroutine no_tension(p, v, b, bt, dv)
+  !> product pushes its faces out); beside cavitated water a gas relaxes to
+  !> the water's floor, which may be a tension.
+  pure subroutine no_tension(p, v, b, bt, floor, dv)
     real(wp), intent(in) :: p(:), v(:), b(:), bt(:)
+    logical, intent(in) :: floor(:)
     real(wp), intent(inout) :: dv(:)
     logical :: held(size(dv))
     real(wp) :: excess, cap, w
@@ -355,7 +426,7 @@ contains
     do pass = 1, size(dv)
       excess = 0.0_wp
       do i = 1, size(dv)
-        if (held(i)) cycle
+        if (held(i) .or. floor(i)) cycle
         cap = v(i)*(p(i) - min(p(i), 0.0_wp))/b(i)
         if (dv(i) > cap) then
           excess = excess + dv(i) - cap
@@ -364,6 +435,11 @@ contains
         end if
       end do
       if (.not. excess > 0.0_wp) return
+      if (any(floor)) then
+        w = sum(v, mask=floor)
+        where (floor) dv = dv + excess*v/w
+        return
+      end if
       w = sum(v/bt, mask=.not. held)
       if (w > 0.0_wp) then
         where (.not. held) dv = dv + excess*(v/bt)/w
