@@ -339,8 +339,10 @@ contains
     type(mixed_t), intent(inout) :: mx
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(in) :: dt_stage
+    real(wp) :: pfloor(size(mats))
+    pfloor = mats%p_min
     call mixed_split(mx, h%mass, h%vol, h%amed(1, :), h%en, h%e, par%relax, par%relax_length, dt_stage, par%dv_max, &
-                     mats(:)%p_min)
+                     pfloor)
     call material_burn_at(mats, dt_stage)
     call material_eval_eos(mats, h%rho, h%e, h%p, h%cs, mx)
     call mixed_cell_state(mx, h%p, h%cs)

@@ -275,11 +275,8 @@ contains
     logical :: atfloor(maxmat), free
 
     if (mx%n == 0) return
-    if (present(pfloor)) then
-      floors = pfloor
-    else
-      allocate(floors(0))
-    end if
+    floors = [real(wp) ::]
+    if (present(pfloor)) floors = pfloor
     !$omp parallel do default(none) shared(mx, mass, vol, area, en, e, relax, acoustic, dt, dv_cap, floors) &
     !$omp private(k, s, c, s0, s1, nm, i, v0, dv, de, sw, pbar, theta, vm, bm, d, dvm, dem, rest, bmax, ptil, eta, bt) &
     !$omp private(vfl, atfloor, free) schedule(static)
