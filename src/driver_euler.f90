@@ -28,6 +28,7 @@ module driver_euler
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add
+  use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use base_share, only: share_t
@@ -296,7 +297,8 @@ contains
       if (allocated(err) .or. .not. done) return
     end if
     par = remap_params(rz)
-    ! (every rank holds this grid whole: the count is the whole grid's)
+    ! (every rank holds this grid whole: the count and the lattice test are the whole grid's)
+    par%lattice = lattice_nodes(st%g, xnew)
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in equal parts
@@ -315,6 +317,7 @@ contains
       if (split) then
         xk = xnew
         if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
+        par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
         par%swept_only = par%swept .and. ntaken + 2*nleft <= rz%swept_parts
       end if

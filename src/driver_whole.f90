@@ -74,6 +74,7 @@ module driver_whole
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
+  use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
                          remap_stats_flows, remap_swept_blockers
   use material_mixed, only: mixed_forget_planes
@@ -440,6 +441,15 @@ contains
                                                               zone%own, nparts)
       call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = nblock == 0
+      ! the lattice path where the whole new grid is a lattice (every
+      ! block's nodes are, and they share the nodes between them)
+      if (allocated(xnew)) then
+        par%lattice = lattice_nodes(st%gw, xnew)
+      else
+        n(1) = merge(1, 0, lattice_nodes(st%g, xb))
+        call MPI_Allreduce(MPI_IN_PLACE, n(1), 1, MPI_INTEGER, MPI_MIN, pc%world)
+        par%lattice = n(1) == 1
+      end if
       ! a step the whole grid remaps in parts of the way (`euler_step`): there
       ! (n(1): the most parts a window needs, n(2): a window that cannot)
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]

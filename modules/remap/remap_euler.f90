@@ -111,6 +111,7 @@ module remap_euler
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
   use remap_swept, only: swept_triangle
+  use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
   use base_build, only: build_checks
@@ -132,6 +133,8 @@ module remap_euler
   !> this times its cell's volume (round-off of the sums is ~1e-15) is not
   !> covered by the new grid.
   real(wp), parameter :: uncovered_tol = 1.0e-12_wp
+  !> new cells per chunk of the lattice path (`lattice_release`)
+  integer, parameter :: lattice_chunk = 2048
 
   !> Settings of the remap (deck group &rezone).
   type :: remap_params_t
@@ -154,6 +157,12 @@ module remap_euler
     !> stats%swept_unbounded > 0 and the state as it was (the caller may
     !> take the way in smaller parts)
     logical :: swept_only = .false.
+    !> the new grid is a rectilinear lattice over the whole grid
+    !> (`lattice_nodes`, the caller's to decide, as a decomposed run's
+    !> windows must agree): a box cell's intersection fragments come from the
+    !> old cells' parts on the lattice, each old half clipped once
+    !> (`remap_lattice`), not once per new cell that it reaches
+    logical :: lattice = .false.
   end type remap_params_t
 
   !> What one remap did.
@@ -306,6 +315,28 @@ module remap_euler
     real(wp), allocatable :: sfac(:), sroom(:), sshift(:, :)
   end type old_t
 
+  !> The parts of one old cell on the lattice (`remap_lattice`): entry e
+  !> is k(1, e) the new cell it lands in, k(2, e) - 1 = octant - 1 +
+  !> 8 (corner - 1) + 64 (s - s0) (the new cell's corner; the old cell's
+  !> corner whose subcell it comes from; its region, slot s of s0..s1 or
+  !> 0 for a pure cell: `region_slots`), r(:, e) its signed volume and
+  !> first moment about oo, the old cell's centre.
+  type :: lattice_cell_t
+    integer, allocatable :: k(:, :)
+    real(wp), allocatable :: r(:, :)
+    real(wp) :: oo(3) = 0.0_wp
+  end type lattice_cell_t
+
+  !> The lattice path of one remap: the lattice, and the changed old cells'
+  !> parts on it (cells(pos(c)) for old cell c), computed where first needed
+  !> (`lattice_prepare`).
+  type :: lattice_old_t
+    type(lattice_t) :: lt
+    integer, allocatable :: pos(:), state(:)
+    type(lattice_cell_t), allocatable :: cells(:)
+    integer :: released = 0   !< the parts of cells(1:released) are dropped (`lattice_release`)
+  end type lattice_old_t
+
 contains
 
   !> Remaps the state from the grid g%x to the grid xnew (same block) and
@@ -333,6 +364,7 @@ contains
     !> caller has them (`remap_swept_blockers`' moved; absent: found here)
     integer, intent(in), optional :: moved(:)
     type(old_t) :: old
+    type(lattice_old_t) :: lat
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :)
@@ -400,6 +432,7 @@ contains
       call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
     end if
     if (allocated(err)) return
+    if (par%lattice) call lattice_start(g, old, xnew, lat)
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
     if (sharing) stats%parts = share%nparts
@@ -653,16 +686,37 @@ contains
     subroutine intersect_list(cells, rr, given_sign)
       integer, intent(in) :: cells(:), rr
       real(wp), intent(in) :: given_sign
-      integer :: ii, nn
+      integer :: ii, nn, i0, i1, chunk
+      integer, allocatable :: low(:)
+      logical :: parts
       nn = size(cells)
-      !$omp parallel do default(none) shared(g, h, mx, old, xnew, nn, cells, rr, given_sign, avol, amom, &
-      !$omp amass, aie, cmom, cland, cdef, pcell) private(ii) schedule(dynamic, 4)
-      do ii = 1, nn
-        call remap_new_cell(g, h, mx, old, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
-                            amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), pcell(:, cells(ii)), &
-                            cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)))
+      ! the lattice path in chunks: the parts of the old cells a chunk
+      ! reaches, then dropped once no later cell reaches them (low: the
+      ! lowest cell index from each cell on), so that the parts held are
+      ! a chunk's and its reach's, not the grid's
+      parts = lat%lt%on .and. .not. old%swept
+      chunk = max(nn, 1)
+      if (parts) then
+        chunk = lattice_chunk
+        low = cells
+        do ii = nn - 1, 1, -1
+          low(ii) = min(low(ii), low(ii + 1))
+        end do
+      end if
+      do i0 = 1, nn, chunk
+        i1 = min(nn, i0 + chunk - 1)
+        if (parts) call lattice_prepare(g, h, mx, old, lat, cells(i0:i1), rr)
+        !$omp parallel do default(none) shared(g, h, mx, old, lat, xnew, i0, i1, cells, rr, given_sign, avol, amom, &
+        !$omp amass, aie, cmom, cland, cdef, pcell) private(ii) schedule(dynamic, 4)
+        do ii = i0, i1
+          call remap_new_cell(g, h, mx, old, lat, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
+                              amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), pcell(:, cells(ii)), &
+                              cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)))
+        end do
+        !$omp end parallel do
+        if (parts .and. i1 < nn) call lattice_release(old, lat, low(i1 + 1) - rr*(1 + g%cx + g%cxy))
       end do
-      !$omp end parallel do
+      if (parts) call lattice_release(old, lat, huge(1))
     end subroutine intersect_list
 
     !> The new cells `cells`, intersected with the window rr that found
@@ -1899,12 +1953,14 @@ contains
   !> energy that land in it, the momentum carried with the mass (pcell), per
   !> corner the momentum deviations and kinetic energy carried with the
   !> volume.
-  subroutine remap_new_cell(g, h, mx, old, given, given_sign, xnew, c, reach, avol, amom, amass, aie, pcell, &
+  subroutine remap_new_cell(g, h, mx, old, lat, given, given_sign, xnew, c, reach, avol, amom, amass, aie, pcell, &
                             cmom, cland, cdef)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(in) :: old
+    !> the lattice path (`lattice_old_t`; off: every old cell clipped here)
+    type(lattice_old_t), intent(in) :: lat
     integer(i8), intent(inout) :: given(:)
     real(wp), intent(in) :: given_sign
     real(wp), intent(in) :: xnew(:, :)
@@ -2020,6 +2076,10 @@ contains
           co = g%cell(oi, oj, ok_)
           ! an unchanged old cell is all in the identical new cell
           if (.not. old%changed(co)) cycle
+          if (box .and. lat%lt%on) then
+            call lattice_deposits(co)
+            cycle
+          end if
           call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
           do j = 1, 8
             xo(:, j) = xo(:, j) - o
@@ -2219,6 +2279,33 @@ contains
         end do
       end do
     end subroutine swept_fluxes
+
+    !> The fragments of old cell co in this new cell, from its parts on the
+    !> lattice (`lattice_prepare`), in the order they were made.
+    subroutine lattice_deposits(co)
+      integer, intent(in) :: co
+      integer :: e, key, prev, p, s0_, s_
+      p = lat%pos(co)
+      call region_slots(h, mx, co, s0_, s_)
+      prev = -1
+      associate (pc => lat%cells(p))
+        do e = 1, size(pc%k, 2)
+          if (pc%k(1, e) /= c) cycle
+          key = pc%k(2, e) - 1
+          if (key/8 /= prev) then
+            ! a new source: region s_ of the old cell, its subcell at the corner
+            prev = key/8
+            s_ = s0_ + key/64
+            if (s_ == 0) then
+              call source(co, co, h%mat(co), g%node0(co) + g%corner_offset(mod(key/8, 8) + 1))
+            else
+              call source(co, g%ncell + s_, mx%mat(s_), g%node0(co) + g%corner_offset(mod(key/8, 8) + 1))
+            end if
+          end if
+          call deposit(pc%r(1, e), pc%r(2:4, e) + pc%r(1, e)*(pc%oo - o), mod(key, 8) + 1)
+        end do
+      end associate
+    end subroutine lattice_deposits
 
     !> Deposits the region (volume v, first moment m) the triangle tp swept
     !> to tn, taken from cell co's subcell at corner a of this cell, in
@@ -2439,6 +2526,147 @@ contains
       end if
     end subroutine deposit
   end subroutine remap_new_cell
+
+  !> The lattice path's start (`remap_params_t`'s lattice): the new grid
+  !> xnew's half-cell planes, no old cell's parts yet.
+  subroutine lattice_start(g, old, xnew, lat)
+    type(grid_t), intent(in) :: g
+    type(old_t), intent(in) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    type(lattice_old_t), intent(out) :: lat
+    integer :: i
+    type(lattice_cell_t) :: none
+    call lattice_build(g%grid_index_t, xnew, lat%lt)
+    lat%pos = [(0, i = 1, g%ncell)]
+    lat%pos(old%lchanged) = [(i, i = 1, size(old%lchanged))]
+    lat%state = [(0, i = 1, size(old%lchanged))]
+    lat%cells = [(none, i = 1, size(old%lchanged))]
+  end subroutine lattice_start
+
+  !> The parts on the lattice of the changed old cells within rr index
+  !> steps of the new cells `cells` that do not have them yet.
+  subroutine lattice_prepare(g, h, mx, old, lat, cells, rr)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(in) :: old
+    type(lattice_old_t), intent(inout) :: lat
+    integer, intent(in) :: cells(:), rr
+    integer, allocatable :: need(:)
+    integer :: i, ci, cj, ck, oi, oj, ok_, co
+    ! (state: 0 not needed yet, 1 needed now, 2 done)
+    do i = 1, size(cells)
+      call g%cell_ijk(cells(i), ci, cj, ck)
+      do ok_ = max(g%clo(3), ck - rr), min(g%chi(3), ck + rr)
+        do oj = max(g%clo(2), cj - rr), min(g%chi(2), cj + rr)
+          do oi = max(g%clo(1), ci - rr), min(g%chi(1), ci + rr)
+            co = g%cell(oi, oj, ok_)
+            if (.not. old%changed(co)) cycle
+            if (lat%state(lat%pos(co)) == 0) lat%state(lat%pos(co)) = 1
+          end do
+        end do
+      end do
+    end do
+    need = pack(old%lchanged, lat%state == 1)
+    where (lat%state == 1) lat%state = 2
+    !$omp parallel do default(none) shared(g, h, mx, old, lat, need) private(i) schedule(dynamic, 4)
+    do i = 1, size(need)
+      call lattice_cell_parts(g, h, mx, old, lat%lt, need(i), lat%cells(lat%pos(need(i))))
+    end do
+    !$omp end parallel do
+  end subroutine lattice_prepare
+
+  !> Drops the parts of the old cells below index below (all: huge):
+  !> they are made again if a later pass needs them.
+  subroutine lattice_release(old, lat, below)
+    type(old_t), intent(in) :: old
+    type(lattice_old_t), intent(inout) :: lat
+    integer, intent(in) :: below
+    integer :: i
+    ! (all of them: from the first, and the next pass starts again there)
+    if (below == huge(1)) lat%released = 0
+    do i = lat%released + 1, size(old%lchanged)
+      if (old%lchanged(i) >= below) exit
+      if (below < huge(1)) lat%released = i
+      if (lat%state(i) /= 2) cycle
+      lat%state(i) = 0
+      if (allocated(lat%cells(i)%k)) deallocate(lat%cells(i)%k, lat%cells(i)%r)
+    end do
+  end subroutine lattice_release
+
+  !> The parts of the changed old cell co on the lattice lt
+  !> (`lattice_cell_t`): each region's subcells (the six halves at each
+  !> corner, cut by the region's MoF planes) in the lattice's half-cells.
+  subroutine lattice_cell_parts(g, h, mx, old, lt, co, pc)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    type(mixed_t), intent(in) :: mx
+    type(old_t), intent(in) :: old
+    type(lattice_t), intent(in) :: lt
+    integer, intent(in) :: co
+    type(lattice_cell_t), intent(inout) :: pc
+    real(wp) :: xo(3, 8), opts(3, 27), ot(3, 4), tn(3, 4), td(4), pn(3, max_mat), pd(max_mat)
+    integer :: ohv(4, 48), ocorner(48), isg(48), ci, cj, ck, i, j, s, s0, s1, nm, a, n, e, sub, first(0:8*max_mat)
+    integer, allocatable :: code(:)
+    real(wp), allocatable :: acc(:, :)
+
+    call g%cell_ijk(co, ci, cj, ck)
+    call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+    pc%oo = sum(xo, 2)/8.0_wp
+    do j = 1, 8
+      xo(:, j) = xo(:, j) - pc%oo
+    end do
+    call half_tets(xo, opts, ohv, ocorner)
+    do i = 1, 48
+      ! (a half flat to round-off has no volume to give: sign 0, skipped)
+      call tet_planes(opts(:, ohv(:, i)), tn, td, isg(i))
+    end do
+    call region_slots(h, mx, co, s0, s1)
+    code = [(0, i = 1, 64)]
+    acc = reshape([(0.0_wp, i = 1, 4*64)], [4, 64])
+    ! the subcells one after the other (sub = corner - 1 + 8 (s - s0)),
+    ! their entries from first(sub) + 1 to first(sub + 1)
+    n = 0
+    first(0) = 0
+    do s = s0, s1
+      do a = 1, 8
+        sub = a - 1 + 8*(s - s0)
+        first(sub + 1) = n
+        if (s > 0) then
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+        end if
+        nm = 0
+        if (s > 0) call region_planes(old, s0, s, pc%oo, pn, pd, nm)
+        do i = 1, 48
+          if (ocorner(i) /= a .or. isg(i) == 0) cycle
+          do j = 1, 4
+            ot(:, j) = opts(:, ohv(j, i))
+          end do
+          call lattice_tet(lt, pc%oo, 2*([ci, cj, ck] - g%slo), ot, pn(:, 1:nm), pd(1:nm), real(isg(i), wp), &
+                           first(sub), n, code, acc)
+        end do
+        first(sub + 1) = n
+      end do
+    end do
+    pc%r = acc(:, 1:n)
+    ! half-cell -> the new cell and its corner (octant); with the subcell
+    pc%k = reshape([((lattice_key(g, lt, code(e), sub), e = first(sub) + 1, first(sub + 1)), &
+                     sub = 0, 8*(s1 - s0) + 7)], [2, n])
+  end subroutine lattice_cell_parts
+
+  !> An entry of `lattice_cell_t`: the new cell of half-cell code q of the
+  !> lattice lt and the key of its corner there from subcell sub.
+  pure function lattice_key(g, lt, q, sub) result(k)
+    type(grid_t), intent(in) :: g
+    type(lattice_t), intent(in) :: lt
+    integer, intent(in) :: q, sub
+    integer :: k(2), qi(3)
+    qi(1) = mod(q, lt%nq(1))
+    qi(2) = mod(q/lt%nq(1), lt%nq(2))
+    qi(3) = q/(lt%nq(1)*lt%nq(2))
+    k(1) = g%cell(g%slo(1) + qi(1)/2, g%slo(2) + qi(2)/2, g%slo(3) + qi(3)/2)
+    k(2) = 1 + mod(qi(1), 2) + 2*mod(qi(2), 2) + 4*mod(qi(3), 2) + 8*sub
+  end function lattice_key
 
   !> The 48 half tetrahedra of a cell: each tetrahedron (centre, face centre,
   !> a, b) of the 24-split (`hex_tets`) cut at the midpoint of edge ab; the
