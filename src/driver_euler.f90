@@ -297,8 +297,10 @@ contains
       if (allocated(err) .or. .not. done) return
     end if
     par = remap_params(rz)
-    ! (every rank holds this grid whole: the count and the lattice test are the whole grid's)
-    par%lattice = lattice_nodes(st%g, xnew)
+    ! (every rank holds this grid whole: the count and the lattice test are
+    ! the whole grid's; only a global rezone returns to a box grid)
+    par%lattice = trim(rz%mode) == 'global'
+    if (par%lattice) par%lattice = lattice_nodes(st%g, xnew)
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in equal parts
@@ -317,7 +319,7 @@ contains
       if (split) then
         xk = xnew
         if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
-        par%lattice = lattice_nodes(st%g, xk)
+        if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
         par%swept_only = par%swept .and. ntaken + 2*nleft <= rz%swept_parts
       end if

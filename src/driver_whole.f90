@@ -442,8 +442,11 @@ contains
       call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = nblock == 0
       ! the lattice path where the whole new grid is a lattice (every
-      ! block's nodes are, and they share the nodes between them)
-      if (allocated(xnew)) then
+      ! block's nodes are, and they share the nodes between them; only a
+      ! global rezone returns to a box grid)
+      if (trim(cfg%rezone%mode) /= 'global') then
+        par%lattice = .false.
+      else if (allocated(xnew)) then
         par%lattice = lattice_nodes(st%gw, xnew)
       else
         n(1) = merge(1, 0, lattice_nodes(st%g, xb))
