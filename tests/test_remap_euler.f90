@@ -7,7 +7,7 @@
 !> the same properties, and every new density and energy within the old
 !> neighbourhood's bounds.
 program test_remap_euler
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_errors, only: error_t
   use base_random, only: rng_t, rng_seed, rng_uniform
   use base_timers, only: wall_seconds
@@ -239,7 +239,7 @@ contains
     type(grid_t) :: gl
     real(wp) :: t(3, 4), oo(3), v, m(3), cen(3), vt
     real(wp), allocatable :: acc(:, :)
-    integer, allocatable :: code(:)
+    integer(i8), allocatable :: code(:)
     integer :: n, e, q(3), i, j, k, d
     logical :: inside
     call grid_init_box(gl, 5, 4, 3, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
@@ -261,7 +261,7 @@ contains
       t(:, i) = t(:, i) - oo
     end do
     vt = abs(det3(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1), t(:, 4) - t(:, 1)))/6.0_wp
-    code = [(0, i = 1, 4)]
+    code = [(0_i8, i = 1, 4)]
     acc = reshape([(0.0_wp, i = 1, 16)], [4, 4])
     n = 0
     call lattice_tet(lt, oo, [2, 2, 2], t, reshape([real(wp) ::], [3, 0]), [real(wp) ::], 1.0_wp, 0, n, code, acc)
@@ -273,7 +273,7 @@ contains
                'lattice tet: the parts add up to the tetrahedron')
     inside = .true.
     do e = 1, n
-      q = [mod(code(e), lt%nq(1)), mod(code(e)/lt%nq(1), lt%nq(2)), code(e)/(lt%nq(1)*lt%nq(2))]
+      q = int([mod(code(e), int(lt%nq(1), i8)), mod(code(e)/lt%nq(1), int(lt%nq(2), i8)), code(e)/(lt%nq(1)*lt%nq(2))])
       cen = acc(2:4, e)/acc(1, e) + oo
       do d = 1, 3
         inside = inside .and. cen(d) >= lt%plane(q(d) + 1, d) .and. cen(d) <= lt%plane(q(d) + 2, d)

@@ -2607,7 +2607,7 @@ contains
     type(lattice_cell_t), intent(inout) :: pc
     real(wp) :: xo(3, 8), opts(3, 27), ot(3, 4), tn(3, 4), td(4), pn(3, max_mat), pd(max_mat)
     integer :: ohv(4, 48), ocorner(48), isg(48), ci, cj, ck, i, j, s, s0, s1, nm, a, n, e, sub, first(0:8*max_mat)
-    integer, allocatable :: code(:)
+    integer(i8), allocatable :: code(:)
     real(wp), allocatable :: acc(:, :)
 
     call g%cell_ijk(co, ci, cj, ck)
@@ -2622,7 +2622,7 @@ contains
       call tet_planes(opts(:, ohv(:, i)), tn, td, isg(i))
     end do
     call region_slots(h, mx, co, s0, s1)
-    code = [(0, i = 1, 64)]
+    code = [(0_i8, i = 1, 64)]
     acc = reshape([(0.0_wp, i = 1, 4*64)], [4, 64])
     ! the subcells one after the other (sub = corner - 1 + 8 (s - s0)),
     ! their entries from first(sub) + 1 to first(sub + 1)
@@ -2659,11 +2659,12 @@ contains
   pure function lattice_key(g, lt, q, sub) result(k)
     type(grid_t), intent(in) :: g
     type(lattice_t), intent(in) :: lt
-    integer, intent(in) :: q, sub
+    integer(i8), intent(in) :: q
+    integer, intent(in) :: sub
     integer :: k(2), qi(3)
-    qi(1) = mod(q, lt%nq(1))
-    qi(2) = mod(q/lt%nq(1), lt%nq(2))
-    qi(3) = q/(lt%nq(1)*lt%nq(2))
+    qi(1) = int(mod(q, int(lt%nq(1), i8)))
+    qi(2) = int(mod(q/lt%nq(1), int(lt%nq(2), i8)))
+    qi(3) = int(q/(int(lt%nq(1), i8)*lt%nq(2)))
     k(1) = g%cell(g%slo(1) + qi(1)/2, g%slo(2) + qi(2)/2, g%slo(3) + qi(3)/2)
     k(2) = 1 + mod(qi(1), 2) + 2*mod(qi(2), 2) + 4*mod(qi(3), 2) + 8*sub
   end function lattice_key

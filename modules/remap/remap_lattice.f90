@@ -18,7 +18,7 @@
 !> numbers on a window of the lattice as on the whole grid (rank
 !> invariance).
 module remap_lattice
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use mesh_grid, only: grid_index_t
   use remap_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_first_moments, poly_copy
   implicit none
@@ -104,7 +104,7 @@ contains
   !> by the planes mn(:, i).x <= md(i), in the lattice's half-cells: for
   !> each part with volume, sgn times its volume and first moment (about
   !> oo) added to acc(:, e), the entry after n0 whose code(e) is the
-  !> half-cell's qx + nq(1) (qy + nq(2) qz); entries are appended (n) in
+  !> half-cell's qx + nq(1) (qy + nq(2) qz) (64-bit: 8 per cell); entries are appended (n) in
   !> the order the half-cells are first reached, and the arrays grow as
   !> needed. What lies outside the lattice is dropped.
   pure subroutine lattice_tet(lt, oo, hint, t, mn, md, sgn, n0, n, code, acc)
@@ -115,7 +115,7 @@ contains
     integer, intent(in) :: hint(3)
     integer, intent(in) :: n0
     integer, intent(inout) :: n
-    integer, allocatable, intent(inout) :: code(:)
+    integer(i8), allocatable, intent(inout) :: code(:)
     real(wp), allocatable, intent(inout) :: acc(:, :)
     type(poly_t) :: p
     integer :: i
@@ -125,7 +125,7 @@ contains
       call poly_clip(p, mn(:, i), md(i))
       if (p%nv == 0) return
     end do
-    call lattice_split(lt, oo, hint, sgn, p, 1, 0, n0, n, code, acc)
+    call lattice_split(lt, oo, hint, sgn, p, 1, 0_i8, n0, n, code, acc)
   end subroutine lattice_tet
 
   !> The parts of p (`lattice_tet`) in the half-cells of directions d..3,
@@ -135,20 +135,22 @@ contains
     real(wp), intent(in) :: oo(3), sgn
     integer, intent(in) :: hint(3)
     type(poly_t), intent(in) :: p
-    integer, intent(in) :: d, cq, n0
+    integer, intent(in) :: d, n0
+    integer(i8), intent(in) :: cq
     integer, intent(inout) :: n
-    integer, allocatable, intent(inout) :: code(:)
+    integer(i8), allocatable, intent(inout) :: code(:)
     real(wp), allocatable, intent(inout) :: acc(:, :)
     type(poly_t) :: r
-    integer :: qd, q(2), stride
+    integer :: qd, q(2)
+    integer(i8) :: stride
     real(wp) :: ex(2), a, b, v, m(3)
     if (d > 3) then
       call poly_first_moments(p, v, m)
       if (v > 0.0_wp) call lattice_add(cq, sgn*v, sgn*m, n0, n, code, acc)
       return
     end if
-    stride = 1
-    if (d > 1) stride = lt%nq(1)
+    stride = 1_i8
+    if (d > 1) stride = int(lt%nq(1), i8)
     if (d > 2) stride = stride*lt%nq(2)
     call slab_range(lt, d, oo(d), p, hint(d), q, ex)
     do qd = q(1), q(2)
@@ -169,13 +171,14 @@ contains
   !> Adds the part (volume vq, first moment mq) to the entry after n0 of
   !> code cq, appended if new (`lattice_tet`).
   pure subroutine lattice_add(cq, vq, mq, n0, n, code, acc)
-    integer, intent(in) :: cq, n0
+    integer(i8), intent(in) :: cq
+    integer, intent(in) :: n0
     real(wp), intent(in) :: vq, mq(3)
     integer, intent(inout) :: n
-    integer, allocatable, intent(inout) :: code(:)
+    integer(i8), allocatable, intent(inout) :: code(:)
     real(wp), allocatable, intent(inout) :: acc(:, :)
     integer :: e
-    integer, allocatable :: c2(:)
+    integer(i8), allocatable :: c2(:)
     real(wp), allocatable :: a2(:, :)
     do e = n0 + 1, n
       if (code(e) == cq) then
