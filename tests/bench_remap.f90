@@ -38,7 +38,9 @@
 !> remap is timed reps_global (remap_*, general_pure) or reps_band (band_*)
 !> times (a fresh state each time,
 !> the five cases interleaved) and the fastest is kept. Usage:
-!>   bench_remap [n [mof_samples [reps_global [reps_band]]]]   (defaults 40 20000 2 3)
+!>   bench_remap [n [mof_samples [reps_global [reps_band [section]]]]]   (defaults 40 20000 2 3 all)
+!> section `flat` runs only the table of the same moved cells in larger
+!> grids (3.), fastest of reps_band, for profiling one part.
 program bench_remap
   use base_kinds, only: wp, pi
   use base_errors, only: error_t, error_set
@@ -78,10 +80,15 @@ program bench_remap
   type(remap_stats_t) :: stb(ncase), st
   type(grid_t) :: g0
   type(error_t), allocatable :: err
+  logical :: only_flat
 
-  call read_arguments(n, nmof, reps)
+  call read_arguments(n, nmof, reps, only_flat)
   ! freed work arrays kept for the next remap, as runs keep them (`driver`)
   call memory_keep_freed()
+  if (only_flat) then
+    call bench_flat()
+    stop
+  end if
   nthreads = omp_get_max_threads()
   call grid_init_box(g0, n, n, n, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
   call stop_on(err)
@@ -176,8 +183,9 @@ contains
 
   !> The optional command-line arguments: grid size, MoF samples per hex
   !> kind, timings of each global and of each band remap.
-  subroutine read_arguments(n_, nmof_, reps_)
+  subroutine read_arguments(n_, nmof_, reps_, flat_)
     integer, intent(out) :: n_, nmof_, reps_(2)
+    logical, intent(out) :: flat_
     character(len=64) :: arg
     integer :: i, v, ios, vals(4)
     vals = [40, 20000, 2, 3]
@@ -194,6 +202,16 @@ contains
     n_ = vals(1)
     nmof_ = vals(2)
     reps_ = vals(3:4)
+    flat_ = .false.
+    if (command_argument_count() >= 5) then
+      call get_command_argument(5, arg)
+      flat_ = arg == 'flat'
+      if (.not. (flat_ .or. arg == 'all')) then
+        write(*, '(a)') 'usage: bench_remap [n [mof_samples [reps_global [reps_band [all|flat]]]]] (got '// &
+          trim(arg)//')'
+        error stop 2
+      end if
+    end if
   end subroutine read_arguments
 
   !> The box grid g with its nodes moved by up to amp of the spacing in each

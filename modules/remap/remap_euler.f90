@@ -205,6 +205,13 @@ module remap_euler
     !> the same, exact (`base_xsum`; mass, momentum, energy in, then out):
     !> a window's callers add them over the ranks (`remap_stats_flows`)
     type(xsum_t) :: flow(10)
+    !> what the remap changed in the totals of mass, momentum, internal and
+    !> kinetic energy (`hydro_totals`' sums), exact (`base_xsum`): the cells
+    !> and nodes it wrote, summed before and after. Only a whole grid's
+    !> remap sets them (change_known); a window's caller sums its blocks.
+    !> So the conservation check costs what the remap touched, not the grid.
+    type(xsum_t) :: change(6)
+    logical :: change_known = .false.
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
     !> with a zone: computed new cells the old cells within reach_max did
@@ -432,6 +439,8 @@ contains
       call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
     end if
     if (allocated(err)) return
+    ! (less the totals of what the remap may write; added back after it)
+    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
     if (par%lattice) call lattice_start(g, old, xnew, lat)
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
@@ -614,6 +623,8 @@ contains
     else
       call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
                     stats, err)
+      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
+      stats%change_known = .not. allocated(err)
     end if
     stats%t_assemble = wall_seconds() - w0
 
@@ -1800,6 +1811,30 @@ contains
     end subroutine widen
   end function swept_unbounded
 
+  !> Adds sgn times the totals of the cells and nodes given (mass, momentum,
+  !> internal and kinetic energy, as `hydro_totals` sums them over the grid)
+  !> to acc, exactly: with -1 before the remap and +1 after it, over every
+  !> cell and node it may write, acc is what it changed in the whole grid.
+  pure subroutine totals_of(h, cells, nodes, sgn, acc)
+    type(hydro_t), intent(in) :: h
+    integer, intent(in) :: cells(:), nodes(:)
+    real(wp), intent(in) :: sgn
+    type(xsum_t), intent(inout) :: acc(6)
+    integer :: i, c, n, d
+    do i = 1, size(cells)
+      c = cells(i)
+      call xsum_add(acc(1), sgn*h%mass(c))
+      call xsum_add(acc(5), sgn*h%mass(c)*h%e(c))
+    end do
+    do i = 1, size(nodes)
+      n = nodes(i)
+      do d = 1, 3
+        call xsum_add(acc(1 + d), sgn*h%mnode(n)*h%u(d, n))
+      end do
+      call xsum_add(acc(6), sgn*0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n)))
+    end do
+  end subroutine totals_of
+
   !> The statistics of an Euler step remapped in parts (`remap_swept_blockers`'
   !> parts): part's added to total (counts, times, energies and the open
   !> faces' flows summed, defects and reaches the largest; the copied cells
@@ -1814,6 +1849,10 @@ contains
       call xsum_add(sum_%flow(q), xsum_value(total%flow(q)))
     end do
     call remap_stats_flows(sum_)
+    do q = 1, size(sum_%change)
+      call xsum_add(sum_%change(q), xsum_value(total%change(q)))
+    end do
+    sum_%change_known = total%change_known .and. part%change_known
     sum_%cells_remapped = total%cells_remapped + part%cells_remapped
     sum_%cells_swept = total%cells_swept + part%cells_swept
     sum_%swept_unbounded = total%swept_unbounded + part%swept_unbounded
@@ -3603,6 +3642,8 @@ contains
       wide = .true.
       do c = 1, ncell
         if (old%near(c)) cycle
+        ! (their energies change too: out of the totals' change, back below)
+        call xsum_add(stats%change(5), -h%mass(c)*h%e(c))
         if (h%mat(c) > 0) nmix(c) = 0
         avail(c) = cell_avail(c)
         kdef(c) = 0.0_wp
@@ -3673,6 +3714,11 @@ contains
         s = s + 1
       end do
     end do
+    if (wide) then
+      do c = 1, ncell
+        if (.not. old%near(c)) call xsum_add(stats%change(5), h%mass(c)*h%e(c))
+      end do
+    end if
     call move_mixed(nx, mx)
 
   contains

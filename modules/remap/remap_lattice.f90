@@ -48,23 +48,30 @@ contains
   logical function lattice_nodes(gi, x) result(ok)
     class(grid_index_t), intent(in) :: gi
     real(wp), intent(in) :: x(:, :)
-    integer :: i, j, k, i0, j0, k0, n
+    integer :: i, j, k, i0, j0, k0, n0, m0, nbad
+    real(wp) :: y, z
     i0 = gi%slo(1) - 1
     j0 = gi%slo(2) - 1
     k0 = gi%slo(3) - 1
-    ok = .true.
-    !$omp parallel do default(none) shared(gi, x, i0, j0, k0) private(i, j, n) reduction(.and.:ok) schedule(static)
+    m0 = gi%node(i0, j0, k0) - i0
+    nbad = 0
+    ! (a row's nodes are consecutive: node(i, j, k) = n0 + i; counted, not
+    ! and-ed, so that the inner loop vectorises)
+    !$omp parallel do default(none) shared(gi, x, i0, j0, k0, m0) private(i, j, n0, y, z) reduction(+:nbad) &
+    !$omp schedule(static)
     do k = k0, gi%shi(3)
+      z = x(3, gi%node(i0, j0, k))
       do j = j0, gi%shi(2)
+        y = x(2, gi%node(i0, j, k0))
+        n0 = gi%node(i0, j, k) - i0
         do i = i0, gi%shi(1)
-          n = gi%node(i, j, k)
-          ok = ok .and. .not. abs(x(1, n) - x(1, gi%node(i, j0, k0))) > 0.0_wp
-          ok = ok .and. .not. abs(x(2, n) - x(2, gi%node(i0, j, k0))) > 0.0_wp
-          ok = ok .and. .not. abs(x(3, n) - x(3, gi%node(i0, j0, k))) > 0.0_wp
+          if (abs(x(1, n0 + i) - x(1, m0 + i)) > 0.0_wp .or. abs(x(2, n0 + i) - y) > 0.0_wp &
+              .or. abs(x(3, n0 + i) - z) > 0.0_wp) nbad = nbad + 1
         end do
       end do
     end do
     !$omp end parallel do
+    ok = nbad == 0
     do i = i0 + 1, gi%shi(1)
       ok = ok .and. x(1, gi%node(i, j0, k0)) > x(1, gi%node(i - 1, j0, k0))
     end do
