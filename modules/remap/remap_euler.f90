@@ -116,7 +116,7 @@ module remap_euler
   use base_share, only: share_t
   use base_build, only: build_checks
   use base_sort, only: sort_order
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows, &
@@ -212,6 +212,10 @@ module remap_euler
     !> So the conservation check costs what the remap touched, not the grid.
     type(xsum_t) :: change(6)
     logical :: change_known = .false.
+    !> the magnitudes of what it wrote, the scales of that change's
+    !> round-off (plain sums over the same cells and nodes, before plus
+    !> after): mass, sum m |e| + 1/2 m |u|^2, and sum m |u|
+    real(wp) :: scale(3) = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
     !> with a zone: computed new cells the old cells within reach_max did
@@ -284,6 +288,10 @@ module remap_euler
     !> wv(8, ncell) and ws(3, 8, ncell), whose sums over a node's corners
     !> make xdual
     real(wp), allocatable :: gu(:, :, :), xdual(:, :), wv(:, :), ws(:, :, :)
+    !> per corner of a moved pure cell that is not tangled: its subcell's
+    !> volume and first moment about the cell's centre, sub(4, 8, ncell)
+    !> (`subcell_shifts`; what the swept-face path keeps of the old cell)
+    real(wp), allocatable :: sub(:, :, :)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
     !> covered by the new grid): their fragments carry only the mean velocity,
     !> and kinetic energy kcell per unit mass about it
@@ -343,6 +351,32 @@ module remap_euler
     type(lattice_cell_t), allocatable :: cells(:)
     integer :: released = 0   !< the parts of cells(1:released) are dropped (`lattice_release`)
   end type lattice_old_t
+
+  !> The 48 halves of `half_tets` among the 27 points of the split: half
+  !> 2t-1 of tetrahedron t = 4(f-1)+m (face f, its m-th edge from node
+  !> a = hex_faces(m, f) to b = hex_faces(m mod 4 + 1, f), edge number e of
+  !> `hex_edges`' order) is (centre 1, face centre 1+f, node 7+a, midpoint
+  !> 15+e) at corner a, half 2t is (1, 1+f, 15+e, 7+b) at corner b
+  !> (constants of the split, written out rather than rebuilt at each call;
+  !> every remap test of volumes, moments and subcell masses rests on them)
+  integer, parameter :: half_hv(4, 48) = reshape([ &
+       1,  2,  8, 24,  1,  2, 24, 12,  1,  2, 12, 23,  1,  2, 23, 14, &
+       1,  2, 14, 26,  1,  2, 26, 10,  1,  2, 10, 20,  1,  2, 20,  8, &
+       1,  3,  9, 22,  1,  3, 22, 11,  1,  3, 11, 25,  1,  3, 25, 15, &
+       1,  3, 15, 21,  1,  3, 21, 13,  1,  3, 13, 27,  1,  3, 27,  9, &
+       1,  4,  8, 16,  1,  4, 16,  9,  1,  4,  9, 27,  1,  4, 27, 13, &
+       1,  4, 13, 18,  1,  4, 18, 12,  1,  4, 12, 24,  1,  4, 24,  8, &
+       1,  5, 10, 26,  1,  5, 26, 14,  1,  5, 14, 17,  1,  5, 17, 15, &
+       1,  5, 15, 25,  1,  5, 25, 11,  1,  5, 11, 19,  1,  5, 19, 10, &
+       1,  6,  8, 20,  1,  6, 20, 10,  1,  6, 10, 19,  1,  6, 19, 11, &
+       1,  6, 11, 22,  1,  6, 22,  9,  1,  6,  9, 16,  1,  6, 16,  8, &
+       1,  7, 12, 18,  1,  7, 18, 13,  1,  7, 13, 21,  1,  7, 21, 15, &
+       1,  7, 15, 17,  1,  7, 17, 14,  1,  7, 14, 23,  1,  7, 23, 12], [4, 48])
+  !> The corner of each half (`half_hv`).
+  integer, parameter :: half_corner(48) = [ &
+       1,  5,  5,  7,  7,  3,  3,  1,  2,  4,  4,  8,  8,  6,  6,  2, &
+       1,  2,  2,  6,  6,  5,  5,  1,  3,  7,  7,  8,  8,  4,  4,  3, &
+       1,  3,  3,  4,  4,  2,  2,  1,  5,  6,  6,  8,  8,  7,  7,  5]
 
 contains
 
@@ -440,8 +474,9 @@ contains
     end if
     if (allocated(err)) return
     ! (less the totals of what the remap may write; added back after it)
-    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
-    if (par%lattice) call lattice_start(g, old, xnew, lat)
+    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change, stats%scale)
+    if (par%lattice) call lattice_start(g, old, xnew, lat, err)
+    if (allocated(err)) return
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
     if (sharing) stats%parts = share%nparts
@@ -623,7 +658,7 @@ contains
     else
       call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
                     stats, err)
-      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
+      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change, stats%scale)
       stats%change_known = .not. allocated(err)
     end if
     stats%t_assemble = wall_seconds() - w0
@@ -824,6 +859,7 @@ contains
     integer, parameter :: block = 32
     integer, allocatable :: fresh(:)
     integer :: n, i, j, k, ci, cj, ck, nf, c, stat, n0, n1
+    logical :: any_moved
     allocate(fresh(size(changed)), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('a cell list'))
@@ -835,7 +871,14 @@ contains
     ! do not move)
     do n0 = 1, g%nnode, block
       n1 = min(n0 + block - 1, g%nnode)
-      if (.not. any(abs(xnew(:, n0:n1) - g%x(:, n0:n1)) > 0.0_wp)) cycle
+      ! (a logical or over the block: no early exit, no floating-point
+      ! reduction, so the compiler can take it several nodes at a time)
+      any_moved = .false.
+      do n = n0, n1
+        any_moved = any_moved .or. abs(xnew(1, n) - g%x(1, n)) > 0.0_wp .or. abs(xnew(2, n) - g%x(2, n)) > 0.0_wp &
+                    .or. abs(xnew(3, n) - g%x(3, n)) > 0.0_wp
+      end do
+      if (.not. any_moved) cycle
       do n = n0, n1
         if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
         ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
@@ -1027,7 +1070,8 @@ contains
     nreg = ncell + mx%nslot
     allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
              old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
-             old%wv(8, ncell), old%ws(3, 8, ncell), old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
+             old%wv(8, ncell), old%ws(3, 8, ncell), old%sub(4, 8, ncell), &
+             old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%sfac(mx%nslot), old%sroom(mx%nslot), old%sshift(3, mx%nslot), &
              old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
@@ -1072,6 +1116,7 @@ contains
       old%kshift = nan
       old%wv = nan
       old%ws = nan
+      old%sub = nan
       old%rho = nan
       old%e = nan
       old%xr = nan
@@ -1511,6 +1556,7 @@ contains
       old%kshift(c) = 0.0_wp
       old%wv(:, c) = 0.0_wp
       old%ws(:, :, c) = 0.0_wp
+      old%sub(:, :, c) = 0.0_wp
       call g%gather(c, g%x, xn)
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
@@ -1528,11 +1574,9 @@ contains
         if (.not. v > 0.0_wp) old%uniform(c) = .true.
         if (old%uniform(c)) exit
         if (s0 == 0) then
+          ! (a pure cell: its subcells whole, their masses below)
           v = v/6.0_wp
-          m = 0.25_wp*v*sum(t, 2)
-          msub(corner(i)) = msub(corner(i)) + region_mass(c, v, m, o)
-          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(c)*v
-          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(c)*(m + o*v)
+          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + [v, 0.25_wp*v*sum(t, 2)]
           cycle
         end if
         do s = s0, s1
@@ -1549,6 +1593,17 @@ contains
         old%wv(:, c) = 0.0_wp
         old%ws(:, :, c) = 0.0_wp
         cycle
+      end if
+      if (s0 == 0) then
+        ! (the reconstruction is linear: a subcell's mass from its volume
+        ! and moment)
+        do j = 1, 8
+          v = old%sub(1, j, c)
+          m = old%sub(2:4, j, c)
+          msub(j) = region_mass(c, v, m, o)
+          old%wv(j, c) = old%wreg(c)*v
+          old%ws(:, j, c) = old%wreg(c)*(m + o*v)
+        end do
       end if
       n = g%node0(c)
       mc = sum(h%mcorner(:, c))
@@ -1606,6 +1661,7 @@ contains
     logical, allocatable :: has(:)
     type(grid_index_t) :: dual
     integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic
+    real(wp) :: nan
     character(len=200) :: msg
 
     allocate(wsum(g%nnode), has(g%nnode), xd(3, (g%ni + 2)*(g%nj + 2)*(g%nk + 2)), stat=stat, errmsg=msg)
@@ -1639,18 +1695,33 @@ contains
       if (has(n)) old%xdual(:, n) = old%xdual(:, n)/wsum(n)
     end do
     if (.not. any(has(old%lnode))) return
+    nan = ieee_value(1.0_wp, ieee_quiet_nan)
     ! the dual block's nodes: the mean of the grid nodes (i, j, k) with
     ! i in {I-1, I} within 0..ni (and so on): cell centres inside, face
     ! centres, edge midpoints and the nodes themselves on the boundary;
     ! only the corners of the dual cells of nodes with a gradient (the
     ! gradients read no other)
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
+    ! (a dual node is a corner of up to eight dual cells: each is placed
+    ! once, marked by a NaN put first in every one the gradients read)
     do ic = 1, size(old%lnode)
       if (.not. has(old%lnode(ic))) cycle
       call g%node_ijk(old%lnode(ic), i, j, k)
       do dk_ = k, k + 1
         do dj = j, j + 1
           do di = i, i + 1
+            xd(1, dual%node(di, dj, dk_)) = nan
+          end do
+        end do
+      end do
+    end do
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      do dk_ = k, k + 1
+        do dj = j, j + 1
+          do di = i, i + 1
+            if (.not. ieee_is_nan(xd(1, dual%node(di, dj, dk_)))) cycle
             call dual_node(di, dj, dk_)
           end do
         end do
@@ -1815,23 +1886,31 @@ contains
   !> internal and kinetic energy, as `hydro_totals` sums them over the grid)
   !> to acc, exactly: with -1 before the remap and +1 after it, over every
   !> cell and node it may write, acc is what it changed in the whole grid.
-  pure subroutine totals_of(h, cells, nodes, sgn, acc)
+  pure subroutine totals_of(h, cells, nodes, sgn, acc, scale)
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: cells(:), nodes(:)
     real(wp), intent(in) :: sgn
     type(xsum_t), intent(inout) :: acc(6)
+    !> their magnitudes added (`remap_stats_t` scale)
+    real(wp), intent(inout) :: scale(3)
     integer :: i, c, n, d
+    real(wp) :: uu
     do i = 1, size(cells)
       c = cells(i)
       call xsum_add(acc(1), sgn*h%mass(c))
       call xsum_add(acc(5), sgn*h%mass(c)*h%e(c))
+      scale(1) = scale(1) + abs(h%mass(c))
+      scale(2) = scale(2) + abs(h%mass(c)*h%e(c))
     end do
     do i = 1, size(nodes)
       n = nodes(i)
       do d = 1, 3
         call xsum_add(acc(1 + d), sgn*h%mnode(n)*h%u(d, n))
       end do
-      call xsum_add(acc(6), sgn*0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n)))
+      uu = dot_product(h%u(:, n), h%u(:, n))
+      call xsum_add(acc(6), sgn*0.5_wp*h%mnode(n)*uu)
+      scale(2) = scale(2) + 0.5_wp*abs(h%mnode(n))*uu
+      scale(3) = scale(3) + abs(h%mnode(n))*sqrt(uu)
     end do
   end subroutine totals_of
 
@@ -1853,6 +1932,7 @@ contains
       call xsum_add(sum_%change(q), xsum_value(total%change(q)))
     end do
     sum_%change_known = total%change_known .and. part%change_known
+    sum_%scale = total%scale + part%scale
     sum_%cells_remapped = total%cells_remapped + part%cells_remapped
     sum_%cells_swept = total%cells_swept + part%cells_swept
     sum_%swept_unbounded = total%swept_unbounded + part%swept_unbounded
@@ -2202,7 +2282,7 @@ contains
       ! booked (`deposit` is linear for one source): slot 1 the cell's own
       ! subcell at the corner, 1 + d its subcell across direction d, 4 + d
       ! the subcell at the corner of the cell across the face in direction d
-      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8)
+      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, d, slot
       logical :: pure
 
@@ -2217,16 +2297,19 @@ contains
       sv = 0.0_wp
       sm = 0.0_wp
       acc = 0.0_wp
+      if (pure) then
+        ! (their volumes and moments about the old centre oc, `subcell_shifts`)
+        oc = opts(:, 1)
+        do j = 1, 8
+          acc(1, 1, j) = old%sub(1, j, c)
+          acc(2:4, 1, j) = old%sub(2:4, j, c) + old%sub(1, j, c)*oc
+        end do
+      end if
       do i = 1, 48
+        if (pure) exit
         do j = 1, 4
           tq(:, j) = opts(:, hv(j, i))
         end do
-        if (pure) then
-          v = tet_det(tq)/6.0_wp
-          acc(1, 1, hcorner(i)) = acc(1, 1, hcorner(i)) + v
-          acc(2:4, 1, hcorner(i)) = acc(2:4, 1, hcorner(i)) + 0.25_wp*v*(tq(:, 1) + tq(:, 2) + tq(:, 3) + tq(:, 4))
-          cycle
-        end if
         do s = s0c, s1c
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0c, s, o, pn, pd, nm)
@@ -2568,18 +2651,26 @@ contains
 
   !> The lattice path's start (`remap_params_t`'s lattice): the new grid
   !> xnew's half-cell planes, no old cell's parts yet.
-  subroutine lattice_start(g, old, xnew, lat)
+  subroutine lattice_start(g, old, xnew, lat, err)
     type(grid_t), intent(in) :: g
     type(old_t), intent(in) :: old
     real(wp), intent(in) :: xnew(:, :)
     type(lattice_old_t), intent(out) :: lat
-    integer :: i
-    type(lattice_cell_t) :: none
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, stat
     call lattice_build(g%grid_index_t, xnew, lat%lt)
-    lat%pos = [(0, i = 1, g%ncell)]
-    lat%pos(old%lchanged) = [(i, i = 1, size(old%lchanged))]
-    lat%state = [(0, i = 1, size(old%lchanged))]
-    lat%cells = [(none, i = 1, size(old%lchanged))]
+    ! (allocated, then set: an array constructor of the whole grid's size
+    ! would be built and copied at every Euler step)
+    allocate(lat%pos(g%ncell), lat%state(size(old%lchanged)), lat%cells(size(old%lchanged)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('the lattice''s cell list'))
+      return
+    end if
+    lat%pos = 0
+    do i = 1, size(old%lchanged)
+      lat%pos(old%lchanged(i)) = i
+    end do
+    lat%state = 0
   end subroutine lattice_start
 
   !> The parts on the lattice of the changed old cells within rr index
@@ -2719,7 +2810,7 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: pts(3, 27)
     integer, intent(out) :: hv(4, 48), corner(48)
-    integer :: f, mm, t, a, b, e, d, eid(8, 8)
+    integer :: f, e, d
 
     do d = 1, 3
       pts(d, 1) = 0.125_wp*sum(xn(d, :))
@@ -2729,27 +2820,13 @@ contains
                                (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
     end do
     pts(:, 8:15) = xn
-    eid = 0
     do d = 1, 3
       do e = 1, 4
-        a = hex_edges(1, e, d)
-        b = hex_edges(2, e, d)
-        eid(a, b) = 15 + 4*(d - 1) + e
-        eid(b, a) = eid(a, b)
-        pts(:, eid(a, b)) = 0.5_wp*(xn(:, a) + xn(:, b))
+        pts(:, 15 + 4*(d - 1) + e) = 0.5_wp*(xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d)))
       end do
     end do
-    do f = 1, 6
-      do mm = 1, 4
-        t = 4*(f - 1) + mm
-        a = hex_faces(mm, f)
-        b = hex_faces(mod(mm, 4) + 1, f)
-        hv(:, 2*t - 1) = [1, 1 + f, 7 + a, eid(a, b)]
-        corner(2*t - 1) = a
-        hv(:, 2*t) = [1, 1 + f, eid(a, b), 7 + b]
-        corner(2*t) = b
-      end do
-    end do
+    hv = half_hv
+    corner = half_corner
   end subroutine half_tets
 
   !> The region (signed volume v, first moment m about o) a triangle sweeps
@@ -3644,6 +3721,7 @@ contains
         if (old%near(c)) cycle
         ! (their energies change too: out of the totals' change, back below)
         call xsum_add(stats%change(5), -h%mass(c)*h%e(c))
+        stats%scale(2) = stats%scale(2) + abs(h%mass(c)*h%e(c))
         if (h%mat(c) > 0) nmix(c) = 0
         avail(c) = cell_avail(c)
         kdef(c) = 0.0_wp
@@ -3716,7 +3794,9 @@ contains
     end do
     if (wide) then
       do c = 1, ncell
-        if (.not. old%near(c)) call xsum_add(stats%change(5), h%mass(c)*h%e(c))
+        if (old%near(c)) cycle
+        call xsum_add(stats%change(5), h%mass(c)*h%e(c))
+        stats%scale(2) = stats%scale(2) + abs(h%mass(c)*h%e(c))
       end do
     end if
     call move_mixed(nx, mx)

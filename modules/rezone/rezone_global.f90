@@ -81,8 +81,11 @@ contains
   !> nodes on moving faces (0: xt is x0).
   subroutine global_target(ni, nj, nk, rule, x0, x, xt, nmove, err)
     integer, intent(in) :: ni, nj, nk, rule(6)
-    real(wp), intent(in) :: x0(:, :), x(:, :)
-    real(wp), intent(out) :: xt(:, :)
+    real(wp), intent(in) :: x(:, :)
+    ! (contiguous: the copy of the initial grid, on every node at every
+    ! Euler step of a run without moving faces, is then a block copy)
+    real(wp), contiguous, intent(in) :: x0(:, :)
+    real(wp), contiguous, intent(out) :: xt(:, :)
     integer, intent(out) :: nmove
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t) :: ix
