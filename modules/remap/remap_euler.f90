@@ -1660,7 +1660,7 @@ contains
     real(wp), allocatable :: wsum(:), xd(:, :)
     logical, allocatable :: has(:)
     type(grid_index_t) :: dual
-    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic
+    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic, pass
     real(wp) :: nan
     character(len=200) :: msg
 
@@ -1703,26 +1703,20 @@ contains
     ! gradients read no other)
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
     ! (a dual node is a corner of up to eight dual cells: each is placed
-    ! once, marked by a NaN put first in every one the gradients read)
-    do ic = 1, size(old%lnode)
-      if (.not. has(old%lnode(ic))) cycle
-      call g%node_ijk(old%lnode(ic), i, j, k)
-      do dk_ = k, k + 1
-        do dj = j, j + 1
-          do di = i, i + 1
-            xd(1, dual%node(di, dj, dk_)) = nan
-          end do
-        end do
-      end do
-    end do
-    do ic = 1, size(old%lnode)
-      if (.not. has(old%lnode(ic))) cycle
-      call g%node_ijk(old%lnode(ic), i, j, k)
-      do dk_ = k, k + 1
-        do dj = j, j + 1
-          do di = i, i + 1
-            if (.not. ieee_is_nan(xd(1, dual%node(di, dj, dk_)))) cycle
-            call dual_node(di, dj, dk_)
+    ! once, marked first by a NaN in every one the gradients read)
+    do pass = 1, 2
+      do ic = 1, size(old%lnode)
+        if (.not. has(old%lnode(ic))) cycle
+        call g%node_ijk(old%lnode(ic), i, j, k)
+        do dk_ = k, k + 1
+          do dj = j, j + 1
+            do di = i, i + 1
+              if (pass == 1) then
+                xd(1, dual%node(di, dj, dk_)) = nan
+              else if (ieee_is_nan(xd(1, dual%node(di, dj, dk_)))) then
+                call dual_node(di, dj, dk_)
+              end if
+            end do
           end do
         end do
       end do
