@@ -1574,9 +1574,12 @@ contains
         if (.not. v > 0.0_wp) old%uniform(c) = .true.
         if (old%uniform(c)) exit
         if (s0 == 0) then
-          ! (a pure cell: its subcells whole, their masses below)
           v = v/6.0_wp
-          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + [v, 0.25_wp*v*sum(t, 2)]
+          m = 0.25_wp*v*sum(t, 2)
+          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + [v, m]
+          msub(corner(i)) = msub(corner(i)) + region_mass(c, v, m, o)
+          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(c)*v
+          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(c)*(m + o*v)
           cycle
         end if
         do s = s0, s1
@@ -1593,17 +1596,6 @@ contains
         old%wv(:, c) = 0.0_wp
         old%ws(:, :, c) = 0.0_wp
         cycle
-      end if
-      if (s0 == 0) then
-        ! (the reconstruction is linear: a subcell's mass from its volume
-        ! and moment)
-        do j = 1, 8
-          v = old%sub(1, j, c)
-          m = old%sub(2:4, j, c)
-          msub(j) = region_mass(c, v, m, o)
-          old%wv(j, c) = old%wreg(c)*v
-          old%ws(:, j, c) = old%wreg(c)*(m + o*v)
-        end do
       end if
       n = g%node0(c)
       mc = sum(h%mcorner(:, c))
