@@ -212,10 +212,6 @@ module remap_euler
     !> So the conservation check costs what the remap touched, not the grid.
     type(xsum_t) :: change(6)
     logical :: change_known = .false.
-    !> the magnitudes of what it wrote, the scales of that change's
-    !> round-off (plain sums over the same cells and nodes, before plus
-    !> after): mass, sum m |e| + 1/2 m |u|^2, and sum m |u|
-    real(wp) :: scale(3) = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
     !> with a zone: computed new cells the old cells within reach_max did
@@ -474,7 +470,7 @@ contains
     end if
     if (allocated(err)) return
     ! (less the totals of what the remap may write; added back after it)
-    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change, stats%scale)
+    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
     if (par%lattice) call lattice_start(g, old, xnew, lat, err)
     if (allocated(err)) return
     sharing = .false.
@@ -658,7 +654,7 @@ contains
     else
       call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
                     stats, err)
-      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change, stats%scale)
+      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
       stats%change_known = .not. allocated(err)
     end if
     stats%t_assemble = wall_seconds() - w0
@@ -1872,31 +1868,23 @@ contains
   !> internal and kinetic energy, as `hydro_totals` sums them over the grid)
   !> to acc, exactly: with -1 before the remap and +1 after it, over every
   !> cell and node it may write, acc is what it changed in the whole grid.
-  pure subroutine totals_of(h, cells, nodes, sgn, acc, scale)
+  pure subroutine totals_of(h, cells, nodes, sgn, acc)
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: cells(:), nodes(:)
     real(wp), intent(in) :: sgn
     type(xsum_t), intent(inout) :: acc(6)
-    !> their magnitudes added (`remap_stats_t` scale)
-    real(wp), intent(inout) :: scale(3)
     integer :: i, c, n, d
-    real(wp) :: uu
     do i = 1, size(cells)
       c = cells(i)
       call xsum_add(acc(1), sgn*h%mass(c))
       call xsum_add(acc(5), sgn*h%mass(c)*h%e(c))
-      scale(1) = scale(1) + abs(h%mass(c))
-      scale(2) = scale(2) + abs(h%mass(c)*h%e(c))
     end do
     do i = 1, size(nodes)
       n = nodes(i)
       do d = 1, 3
         call xsum_add(acc(1 + d), sgn*h%mnode(n)*h%u(d, n))
       end do
-      uu = dot_product(h%u(:, n), h%u(:, n))
-      call xsum_add(acc(6), sgn*0.5_wp*h%mnode(n)*uu)
-      scale(2) = scale(2) + 0.5_wp*abs(h%mnode(n))*uu
-      scale(3) = scale(3) + abs(h%mnode(n))*sqrt(uu)
+      call xsum_add(acc(6), sgn*0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n)))
     end do
   end subroutine totals_of
 
@@ -1918,7 +1906,6 @@ contains
       call xsum_add(sum_%change(q), xsum_value(total%change(q)))
     end do
     sum_%change_known = total%change_known .and. part%change_known
-    sum_%scale = total%scale + part%scale
     sum_%cells_remapped = total%cells_remapped + part%cells_remapped
     sum_%cells_swept = total%cells_swept + part%cells_swept
     sum_%swept_unbounded = total%swept_unbounded + part%swept_unbounded
@@ -3707,7 +3694,6 @@ contains
         if (old%near(c)) cycle
         ! (their energies change too: out of the totals' change, back below)
         call xsum_add(stats%change(5), -h%mass(c)*h%e(c))
-        stats%scale(2) = stats%scale(2) + abs(h%mass(c)*h%e(c))
         if (h%mat(c) > 0) nmix(c) = 0
         avail(c) = cell_avail(c)
         kdef(c) = 0.0_wp
@@ -3780,9 +3766,7 @@ contains
     end do
     if (wide) then
       do c = 1, ncell
-        if (old%near(c)) cycle
-        call xsum_add(stats%change(5), h%mass(c)*h%e(c))
-        stats%scale(2) = stats%scale(2) + abs(h%mass(c)*h%e(c))
+        if (.not. old%near(c)) call xsum_add(stats%change(5), h%mass(c)*h%e(c))
       end do
     end if
     call move_mixed(nx, mx)
