@@ -14,14 +14,14 @@ program test_lagrange
   use test_scene, only: ideal_gas_state
   use eos_factory, only: eos_params_t, eos_create
   use mesh_grid, only: grid_t, grid_init_box
-  use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_corner
+  use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_corner, hex_median_areas
   use mesh_boundary, only: bc_t, bc_init, bc_constrain, BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t
   use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, &
                             VISC_EDGE, VISC_TENSOR
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, limiter_step
   use lagrange_integrator, only: lagrange_step, lagrange_stable_dt
   implicit none
 
@@ -40,6 +40,7 @@ program test_lagrange
   call galilean_invariance()
   call boundary_conditions()
   call extra_force_and_mass()
+  call limiter_neighbours()
   call check_summary('test_lagrange')
 
 contains
@@ -328,4 +329,51 @@ contains
       k = k + 0.5_wp*m_ext(nd)*dot_product(h%u(:, nd), h%u(:, nd))
     end do
   end function ext_kinetic
+  !> The viscosity limiter's neighbour along a direction is found in the
+  !> cell's own logical axes (`limiter_step`): on an axis-aligned cube the
+  !> nearest of the 26 by the direction itself; on a cell 10 times longer in
+  !> y, a direction at 53 degrees from x still crosses cells in x first; on
+  !> a cube turned 45 degrees about z, its own i axis is the step (1,0,0),
+  !> which the coordinate axes would read as the diagonal (1,1,0); on a
+  !> sheared cell (i and j axes at 30 degrees), the direction of i + j is
+  !> the diagonal step.
+  subroutine limiter_neighbours()
+    real(wp) :: xn(3, 8), s(3, 3), c, r
+    integer :: a
+    c = cos(atan(1.0_wp))
+    call box_cell([1.0_wp, 1.0_wp, 1.0_wp], xn)
+    call hex_median_areas(xn, s)
+    call check(all(limiter_step(s, [c, c, 0.0_wp]) == [1, 1, 0]) .and. all(limiter_step(s, [0.0_wp, 0.0_wp, -1.0_wp]) &
+               == [0, 0, -1]), 'limiter step on a cube: the nearest neighbour to the direction')
+    call box_cell([1.0_wp, 10.0_wp, 1.0_wp], xn)
+    call hex_median_areas(xn, s)
+    call check(all(limiter_step(s, [0.6_wp, 0.8_wp, 0.0_wp]) == [1, 0, 0]), &
+               'limiter step on a long cell: along x, not the diagonal')
+    call box_cell([1.0_wp, 1.0_wp, 1.0_wp], xn)
+    do a = 1, 8
+      xn(1:2, a) = [c*(xn(1, a) - xn(2, a)), c*(xn(1, a) + xn(2, a))]
+    end do
+    call hex_median_areas(xn, s)
+    call check(all(limiter_step(s, [c, c, 0.0_wp]) == [1, 0, 0]) .and. all(limiter_step(s, [-c, c, 0.0_wp]) == [0, 1, 0]), &
+               'limiter step on a turned cube: its own axes')
+    call box_cell([1.0_wp, 1.0_wp, 1.0_wp], xn)
+    r = sqrt(3.0_wp)/2.0_wp
+    do a = 1, 8
+      xn(1:2, a) = [xn(1, a) + r*xn(2, a), 0.5_wp*xn(2, a)]
+    end do
+    call hex_median_areas(xn, s)
+    call check(all(limiter_step(s, [1.0_wp + r, 0.5_wp, 0.0_wp]/norm2([1.0_wp + r, 0.5_wp])) == [1, 1, 0]) .and. &
+               all(limiter_step(s, [0.0_wp, 1.0_wp, 0.0_wp]) == [-1, 1, 0]), 'limiter step on a sheared cell: its own axes')
+  end subroutine limiter_neighbours
+
+  !> The corners of the box [0, d(1)] x [0, d(2)] x [0, d(3)] in `hex_corner` order.
+  subroutine box_cell(d, xn)
+    real(wp), intent(in) :: d(3)
+    real(wp), intent(out) :: xn(3, 8)
+    integer :: a
+    do a = 1, 8
+      xn(:, a) = d*real(hex_corner(:, a), wp)
+    end do
+  end subroutine box_cell
+
 end program test_lagrange

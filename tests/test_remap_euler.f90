@@ -168,6 +168,39 @@ program test_remap_euler
     call cell_moments(ni, nj, nk, xb, vb, cb)
   end block
 
+  ! 4c. an overlap beyond the first window that is small but not round-off:
+  ! new cell i = 1 ends 2e-11 past old node plane i = 2 (old planes x = 0,
+  ! 0.1, 0.3, ...; new x = 0, 0.3 + 2e-11, ...), so it meets old cell 3 two
+  ! index steps away in a sliver of 7e-11 of its volume; its window is
+  ! widened (no volume missing, no old region rescaled) and the remap
+  ! conserves (a window kept while 1e-9 was missing rescaled old cell 3,
+  ! whose subcells then no longer gave their own momentum)
+  block
+    real(wp), parameter :: xold(0:ni) = [0.0_wp, 0.1_wp, 0.3_wp, 0.6_wp, 0.8_wp, 1.0_wp, 1.2_wp], &
+                           xnew(0:ni) = [0.0_wp, 0.3_wp + 2.0e-11_wp, 0.5_wp, 0.7_wp, 0.9_wp, 1.05_wp, 1.2_wp]
+    real(wp) :: xo(3, nn), xw(3, nn)
+    integer :: i, j, k
+    do k = 0, nk
+      do j = 0, nj
+        do i = 0, ni
+          xo(:, node(i, j, k)) = [xold(i), 0.2_wp*j, 0.2_wp*k]
+          xw(:, node(i, j, k)) = [xnew(i), 0.2_wp*j, 0.2_wp*k]
+        end do
+      end do
+    end do
+    call setup(xo, 'linear')
+    call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
+    call remap_euler_step(g, h, mx, 1, bc, xw, par, st, err)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
+    write(*, '(a,es10.2,a,i0,a,i0,a,3es10.2)') 'sliver two cells away: volume defect ', st%volume_defect, ', reach ', &
+      st%reach, ', regions rescaled ', st%regions_rescaled, ', relative change of mass, momentum, energy ', &
+      abs(m1 - m0)/m0, norm2(p1 - p0)/norm2(p0), abs(ie1 + ke1 - ie0 - ke0)/(ie0 + ke0)
+    call check(.not. allocated(err) .and. st%volume_defect < 1e-13_wp .and. st%regions_rescaled == 0 .and. &
+               st%reach == 2, 'sliver two cells away: found by a wider window')
+    call check(abs(m1 - m0) <= 1e-14_wp*m0 .and. norm2(p1 - p0) <= 1e-14_wp*norm2(p0) .and. &
+               abs(ie1 + ke1 - ie0 - ke0) <= 1e-14_wp*(ie0 + ke0), 'sliver two cells away: conservation to 1e-14')
+  end block
+
   ! 5. to the box grid (the global rezone's target: new cells split into
   ! octant boxes instead of half tetrahedra): the same properties
   call make_grid(xb, 23, 0.0_wp)
