@@ -91,7 +91,7 @@ contains
   !> axes, which name other neighbours on a rotated, sheared or stretched
   !> grid (read in the coordinate axes, the paper's Sedov with LSSM at 20^3,
   !> whose smoothing leaves sheared cells, peaked at density 9.8 against
-  !> the exact 6; 6.9 with this).
+  !> the exact 6; 7.4 with this).
   pure function limiter_step(s, n) result(off)
     real(wp), intent(in) :: s(3, 3), n(3)
     integer :: off(3)
