@@ -27,7 +27,7 @@ module driver_euler
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, remap_part_target
   use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
@@ -291,9 +291,10 @@ contains
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
-    integer, allocatable :: moved(:)
-    integer :: nblock, nparts, nleft, ntaken, nsplit, f
-    logical :: split
+    integer, allocatable :: moved(:), cells(:)
+    integer :: nblock, nparts, ntaken, nsplit, f
+    real(wp) :: fac
+    logical :: split, arrived
 
     if (present(xrezoned)) then
       start = e0
@@ -323,25 +324,35 @@ contains
     end if
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
     par%swept = nblock == 0
-    ! the way from the Lagrangian grid to the rezoned one in equal parts
+    ! the way from the Lagrangian grid to the rezoned one in parts
     ! (&rezone swept_parts), each remapped in full (conservative), by swept
     ! faces where it can: where only the distance the nodes move keeps the
-    ! step off them, and a part whose swept faces would break a material's
-    ! bounds taken in two (while the parts stay within swept_parts)
-    split = rz%swept_parts > 1 .and. st%pt%np == 0
-    if (nblock == 0) nparts = 1
-    if (nblock > 0 .and. .not. (nparts >= 2 .and. nparts <= rz%swept_parts)) split = .false.
-    if (.not. split) nparts = 1
-    nleft = nparts
+    ! step off them. Each part takes every node as far as the swept faces
+    ! allow in one go (`remap_part_target`), so most nodes arrive in the
+    ! first and the later parts remap only the cells around those that
+    ! still have far to go; a part whose swept faces would break a
+    ! material's bounds is taken again at half the distance (while the
+    ! parts stay within swept_parts), and the last part the deck allows
+    ! goes the rest of the way.
+    split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts
+    if (split) cells = moved
+    fac = 1.0_wp
     ntaken = 0
     nsplit = 0
-    do while (nleft > 0)
+    do
       if (split) then
-        xk = xnew
-        if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
+        call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, err)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+        if (ntaken + 1 >= rz%swept_parts .and. .not. arrived) then
+          xk = xnew
+          arrived = .true.
+        end if
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
-        par%swept_only = par%swept .and. ntaken + 2*nleft <= rz%swept_parts
+        par%swept_only = par%swept .and. ntaken + 2 <= rz%swept_parts
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left
@@ -356,15 +367,14 @@ contains
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
       end if
       if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
-        ! (nothing remapped: the rest of the way in twice the parts)
-        nleft = 2*nleft
+        ! (nothing remapped: the part again, half as far)
+        fac = 0.5_wp*fac
         nsplit = nsplit + 1
         cycle
       end if
       if (ntaken == 0) rs = rk
       if (ntaken > 0) call remap_stats_add(rs, rk)
       ntaken = ntaken + 1
-      nleft = nleft - 1
       rs%swept_blockers = nblock
       rs%swept_splits = nsplit
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
@@ -376,6 +386,7 @@ contains
         call es%timer%stop()
         return
       end if
+      if (.not. split .or. arrived) exit
     end do
     call material_burn_start(st%mats, st%t)
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)

@@ -20,7 +20,7 @@ program test_remap_euler
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_part_target
   use remap_swept, only: swept_triangle
   use remap_lattice, only: lattice_t, lattice_nodes, lattice_build, lattice_tet
   use base_xsum, only: xsum_value
@@ -265,6 +265,7 @@ program test_remap_euler
   call check(.not. allocated(err) .and. err_max < 1.0e-4_wp, 'velocity remap is consistent (tends to identity)')
 
   call test_swept()
+  call test_parts()
 
   call check_summary('test_remap_euler')
 
@@ -556,6 +557,60 @@ contains
                'mass and the total energy conserved to 1e-13')
     par%swept = .false.
   end subroutine test_swept
+
+  !> The parts of the way of an Euler step (`remap_part_target`, &rezone
+  !> swept_parts) on the box grid of spacing 0.2: every interior node moves
+  !> by 0.005, one node by 0.13 in x (towards its neighbour, which it comes
+  !> within 0.07 of). With swept_max = 0.25 a node may move 0.05 in the
+  !> first part: all but that node arrive in it, and the later parts move
+  !> only that node, each by a quarter of the shortest edge around it as it
+  !> is then (0.05, 0.0375, 0.028, then the last 0.014: four parts). Every
+  !> part passes the swept path's own distance test.
+  subroutine test_parts()
+    real(wp) :: x0(3, nn), xt(3, nn)
+    real(wp), allocatable :: xk(:, :)
+    integer, allocatable :: moved(:)
+    integer :: i, j, k, nparts, nblock, nmove(8)
+    logical :: arrived, first_ok
+    call make_grid(x0, 1, 0.0_wp)
+    call setup(x0, 'constant')
+    xt = x0
+    do k = 1, nk - 1
+      do j = 1, nj - 1
+        do i = 1, ni - 1
+          xt(:, node(i, j, k)) = x0(:, node(i, j, k)) + 0.005_wp*[1.0_wp, -1.0_wp, 0.5_wp]
+        end do
+      end do
+    end do
+    xt(1, node(3, 2, 2)) = x0(1, node(3, 2, 2)) + 0.13_wp
+    nparts = 0
+    first_ok = .true.
+    nblock = 0
+    nmove = 0
+    arrived = .false.
+    ! (the whole way: the eight cells around the far node block it)
+    nblock = remap_swept_blockers(g, h, bc, xt, 0.25_wp, .false., moved=moved)
+    call check(nblock == 8, 'parts of the way: the whole way blocks the swept path')
+    nblock = 0
+    do while (.not. arrived .and. nparts < 8)
+      ! (the cells still to move)
+      if (nparts > 0) i = remap_swept_blockers(g, h, bc, xt, 0.25_wp, .false., moved=moved)
+      call remap_part_target(g, xt, 0.25_wp, moved, xk, arrived, err)
+      if (allocated(err)) exit
+      nparts = nparts + 1
+      ! (the nodes that did not arrive)
+      nmove(nparts) = count(any(abs(xk - xt) > 0.0_wp, 1))
+      nblock = nblock + remap_swept_blockers(g, h, bc, xk, 0.25_wp, .false.)
+      if (nparts == 1) first_ok = nmove(1) == 1 .and. any(abs(xk(:, node(3, 2, 2)) - xt(:, node(3, 2, 2))) > 0.0_wp)
+      g%x = xk
+    end do
+    write(*, '(a,i0,a,8(1x,i0))') 'parts of the way: ', nparts, ' parts; nodes still to go after each:', &
+      nmove(1:nparts)
+    call check(.not. allocated(err) .and. arrived .and. nparts == 4, 'parts of the way: four parts')
+    call check(first_ok, 'parts of the way: every node but the far one arrives in the first part')
+    call check(nblock == 0, 'parts of the way: no part blocks the swept path')
+    call check(all(abs(g%x - xt) <= 0.0_wp), 'parts of the way: the last part ends on the rezoned grid')
+  end subroutine test_parts
 
   !> The 'plane' state on the grid x with each mixed cell's material
   !> centroids moved by up to a quarter of the cell at random (the same

@@ -120,7 +120,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows, &
-            remap_swept_blockers, remap_stats_add
+            remap_swept_blockers, remap_stats_add, remap_part_target
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -2043,6 +2043,90 @@ contains
       if (.not. other .and. rmax < real(huge(1), wp)*smax) parts = max(ceiling(rmax/smax), 1)
     end if
   end function remap_swept_blockers
+
+  !> The next part of the way from g%x to xnew that the swept-face path can
+  !> take at once (`remap_swept_blockers`' distance test): every node of
+  !> the cells `cells` (those that move from g%x to xnew, as
+  !> `remap_swept_blockers`' moved gives them) goes straight towards xnew,
+  !> by at most smax times the shortest edge of the cells around it (in
+  !> g%x), the others are at xnew already. xk: the part's grid; arrived:
+  !> every node reached xnew. A node whose cells are long enough goes all
+  !> the way at once, so the later parts of a step move (and remap) only
+  !> the cells around the nodes that still have far to go: a smoothing
+  !> that straightens a compressed shell, not the whole of the step.
+  subroutine remap_part_target(g, xnew, smax, cells, xk, arrived, err)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xnew(:, :), smax
+    integer, intent(in) :: cells(:)
+    real(wp), allocatable, intent(inout) :: xk(:, :)
+    logical, intent(out) :: arrived
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: lim(:)
+    real(wp) :: xo(3, 8), hmin2, d(3), d2, a2, r, vs(8)
+    integer :: i, c, ci, cj, ck, a, e, k, n, stat
+
+    arrived = .true.
+    xk = xnew
+    allocate(lim(g%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_part_target', error_no_memory('a node array'))
+      return
+    end if
+    do i = 1, size(cells)
+      do a = 1, 8
+        lim(g%node0(cells(i)) + g%corner_offset(a)) = huge(1.0_wp)
+      end do
+    end do
+    ! the square of the shortest edge of the moving cells around each node
+    do i = 1, size(cells)
+      c = cells(i)
+      call g%cell_ijk(c, ci, cj, ck)
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      hmin2 = huge(1.0_wp)
+      do k = 1, 3
+        do e = 1, 4
+          hmin2 = min(hmin2, sum((xo(:, hex_edges(2, e, k)) - xo(:, hex_edges(1, e, k)))**2))
+        end do
+      end do
+      do a = 1, 8
+        n = g%node0(c) + g%corner_offset(a)
+        lim(n) = min(lim(n), hmin2)
+      end do
+    end do
+    r = 1.0_wp
+    do i = 1, size(cells)
+      do a = 1, 8
+        n = g%node0(cells(i)) + g%corner_offset(a)
+        d = xnew(:, n) - g%x(:, n)
+        d2 = sum(d**2)
+        ! (a hair inside the bound, so that round-off does not fail its test)
+        a2 = (1.0_wp - 1.0e-9_wp)**2*smax**2*lim(n)
+        if (d2 <= a2) cycle
+        xk(:, n) = g%x(:, n) + sqrt(a2/d2)*d
+        r = min(r, sqrt(a2/d2))
+        arrived = .false.
+      end do
+    end do
+    if (arrived) return
+    ! nodes stopped at different fractions of their way can fold a cell
+    ! that neither grid folds: then the part is the same fraction r of the
+    ! way for every node (the largest that keeps every node within its
+    ! bound: a step between two untangled grids)
+    do i = 1, size(cells)
+      c = cells(i)
+      call g%cell_ijk(c, ci, cj, ck)
+      call block_gather(g%ni, g%nj, ci, cj, ck, xk, xo)
+      call hex_subcell_volumes(xo, vs)
+      if (all(vs > 0.0_wp)) cycle
+      do k = 1, size(cells)
+        do a = 1, 8
+          n = g%node0(cells(k)) + g%corner_offset(a)
+          xk(:, n) = g%x(:, n) + r*(xnew(:, n) - g%x(:, n))
+        end do
+      end do
+      return
+    end do
+  end subroutine remap_part_target
 
   !> Intersects the changed new cell c with the old cells within `reach`
   !> index steps: per material the volume, first moment, mass and internal
