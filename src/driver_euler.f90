@@ -292,7 +292,7 @@ contains
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
     integer, allocatable :: moved(:), cells(:)
-    integer :: nblock, nparts, ntaken, nsplit, f
+    integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
     real(wp) :: fac
     logical :: split, arrived
 
@@ -327,24 +327,37 @@ contains
     ! the way from the Lagrangian grid to the rezoned one in parts
     ! (&rezone swept_parts), each remapped in full (conservative), by swept
     ! faces where it can: where only the distance the nodes move keeps the
-    ! step off them. Each part takes every node as far as the swept faces
-    ! allow in one go (`remap_part_target`), so most nodes arrive in the
-    ! first and the later parts remap only the cells around those that
-    ! still have far to go; a part whose swept faces would break a
-    ! material's bounds is taken again at half the distance (while the
-    ! parts stay within swept_parts), and the last part the deck allows
-    ! goes the rest of the way.
+    ! step off them. The first part takes every node as far as the swept
+    ! faces allow it in one go (`remap_part_target`), so most nodes arrive
+    ! in it; the rest of the way goes in the equal parts that keep every
+    ! cell still moving within swept_max, and those remap only the cells
+    ! around the nodes that still have far to go. A part whose swept faces
+    ! would break a material's bounds is taken again at half the distance
+    ! (while the parts stay within swept_parts), and the last part the deck
+    ! allows goes the rest of the way.
     split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts
     if (split) cells = moved
+    ! (nleft: the equal parts left of the way, 0 before the first part)
+    nleft = 0
     fac = 1.0_wp
     ntaken = 0
     nsplit = 0
     do
       if (split) then
-        call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, err)
-        if (allocated(err)) then
-          call es%timer%stop()
-          return
+        if (ntaken == 0 .and. nleft == 0) then
+          call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, err)
+          if (allocated(err)) then
+            call es%timer%stop()
+            return
+          end if
+        else
+          if (nleft == 0) then
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nleft)
+            nleft = max(nleft, 1)
+          end if
+          xk = xnew
+          if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
+          arrived = nleft == 1
         end if
         if (ntaken + 1 >= rz%swept_parts .and. .not. arrived) then
           xk = xnew
@@ -352,7 +365,7 @@ contains
         end if
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
-        par%swept_only = par%swept .and. ntaken + 2 <= rz%swept_parts
+        par%swept_only = par%swept .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left
@@ -367,14 +380,17 @@ contains
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
       end if
       if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
-        ! (nothing remapped: the part again, half as far)
-        fac = 0.5_wp*fac
+        ! (nothing remapped: the first part again half as far, or the rest
+        ! of the way in twice the parts)
+        if (nleft == 0) fac = 0.5_wp*fac
+        nleft = 2*nleft
         nsplit = nsplit + 1
         cycle
       end if
       if (ntaken == 0) rs = rk
       if (ntaken > 0) call remap_stats_add(rs, rk)
       ntaken = ntaken + 1
+      if (nleft > 0) nleft = nleft - 1
       rs%swept_blockers = nblock
       rs%swept_splits = nsplit
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)

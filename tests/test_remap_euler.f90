@@ -558,14 +558,15 @@ contains
     par%swept = .false.
   end subroutine test_swept
 
-  !> The parts of the way of an Euler step (`remap_part_target`, &rezone
-  !> swept_parts) on the box grid of spacing 0.2: every interior node moves
-  !> by 0.005, one node by 0.13 in x (towards its neighbour, which it comes
-  !> within 0.07 of). With swept_max = 0.25 a node may move 0.05 in the
-  !> first part: all but that node arrive in it, and the later parts move
-  !> only that node, each by a quarter of the shortest edge around it as it
-  !> is then (0.05, 0.0375, 0.028, then the last 0.014: four parts). Every
-  !> part passes the swept path's own distance test.
+  !> The first part of the way of an Euler step (`remap_part_target`,
+  !> &rezone swept_parts) on the box grid of spacing 0.2: every interior node
+  !> moves by 0.005, one node by 0.13 in x (towards its neighbour, which it
+  !> comes within 0.07 of). With swept_max = 0.25 a node may move 0.05:
+  !> all but that node arrive in the first part. Called again from the grid
+  !> each part leaves, it moves only that node, each time by a quarter of
+  !> the shortest edge around it as it is then (0.05, 0.0375, 0.028, then
+  !> the last 0.014: four parts). Every part passes the swept path's own
+  !> distance test.
   subroutine test_parts()
     real(wp) :: x0(3, nn), xt(3, nn)
     real(wp), allocatable :: xk(:, :)

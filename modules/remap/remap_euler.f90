@@ -2044,16 +2044,16 @@ contains
     end if
   end function remap_swept_blockers
 
-  !> The next part of the way from g%x to xnew that the swept-face path can
-  !> take at once (`remap_swept_blockers`' distance test): every node of
-  !> the cells `cells` (those that move from g%x to xnew, as
+  !> The first part of the way from g%x to xnew, as far as the swept-face
+  !> path can take it at once (`remap_swept_blockers`' distance test): every
+  !> node of the cells `cells` (those that move from g%x to xnew, as
   !> `remap_swept_blockers`' moved gives them) goes straight towards xnew,
   !> by at most smax times the shortest edge of the cells around it (in
-  !> g%x), the others are at xnew already. xk: the part's grid; arrived:
-  !> every node reached xnew. A node whose cells are long enough goes all
-  !> the way at once, so the later parts of a step move (and remap) only
-  !> the cells around the nodes that still have far to go: a smoothing
-  !> that straightens a compressed shell, not the whole of the step.
+  !> g%x); the other nodes are at xnew already. xk: the part's grid;
+  !> arrived: every node reached xnew. A node whose cells are long enough
+  !> arrives at once, so the rest of the way moves (and remaps) only the
+  !> cells around the nodes that still have far to go: where a smoothing
+  !> straightens a compressed shell, not the whole of what it moved.
   subroutine remap_part_target(g, xnew, smax, cells, xk, arrived, err)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :), smax
@@ -2062,8 +2062,9 @@ contains
     logical, intent(out) :: arrived
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: lim(:)
-    real(wp) :: xo(3, 8), hmin2, d(3), d2, a2, r, vs(8)
-    integer :: i, c, ci, cj, ck, a, e, k, n, stat
+    real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, d(3), d2, a2, r
+    integer :: i, c, ci, cj, ck, a, e, k, n, stat, hv(4, 48), hc(48)
+    logical :: folded
 
     arrived = .true.
     xk = xnew
@@ -2108,16 +2109,24 @@ contains
       end do
     end do
     if (arrived) return
-    ! nodes stopped at different fractions of their way can fold a cell
-    ! that neither grid folds: then the part is the same fraction r of the
-    ! way for every node (the largest that keeps every node within its
-    ! bound: a step between two untangled grids)
+    ! nodes stopped at different fractions of their way can tangle a cell
+    ! that neither grid tangles (as `remap_swept_blockers` tests the next
+    ! part's old cells): then the part is the same fraction r of the way
+    ! for every node (the largest that keeps every node within its bound)
     do i = 1, size(cells)
       c = cells(i)
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, xk, xo)
-      call hex_subcell_volumes(xo, vs)
-      if (all(vs > 0.0_wp)) cycle
+      xc = xo
+      call halves_about(sum(xo, 2)/8.0_wp, xo, xc, opts, pts, hv, hc)
+      folded = .false.
+      do k = 1, 48
+        do a = 1, 4
+          tq(:, a) = opts(:, hv(a, k))
+        end do
+        folded = folded .or. .not. tet_det(tq) > 0.0_wp
+      end do
+      if (.not. folded) cycle
       do k = 1, size(cells)
         do a = 1, 8
           n = g%node0(cells(k)) + g%corner_offset(a)
