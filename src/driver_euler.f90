@@ -342,6 +342,7 @@ contains
     fac = 1.0_wp
     ntaken = 0
     nsplit = 0
+    arrived = .true.
     do
       if (split) then
         if (ntaken == 0 .and. nleft == 0) then
@@ -366,6 +367,18 @@ contains
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
         par%swept_only = par%swept .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts
+        if (.not. (par%swept .or. arrived) .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
+          ! a part the swept faces cannot take though its nodes stay within
+          ! swept_max (a cell it tangles on the way): shorter parts, the
+          ! first one's nodes the same fraction of their way
+          if (nleft == 0) then
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nleft)
+            nleft = max(nleft, 1)
+          end if
+          nleft = 2*nleft
+          nsplit = nsplit + 1
+          cycle
+        end if
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
       ! cut the fractions the Lagrangian steps left

@@ -93,6 +93,8 @@ DIMENSIONS = {
         "smooth_iterations": INT,
         "d_max": NONE,        # in cells
         "move_min": NONE,     # a fraction of the shortest edge
+        "swept_max": NONE,    # a fraction of the shortest edge
+        "swept_parts": INT, "swept_mixed": STR, "hysteresis": NONE,
         "nodal_mass": STR,
     },
     "output": {"dir": STR, "name": STR, "frame_dt": TIME, "frame_steps": INT, "gauge_dt": TIME, "history_dt": TIME,
