@@ -2004,12 +2004,7 @@ contains
         end do
       end if
       if (.not. ok) other = .true.
-      hmin2 = huge(1.0_wp)
-      do d = 1, 3
-        do e = 1, 4
-          hmin2 = min(hmin2, sum((xo(:, hex_edges(2, e, d)) - xo(:, hex_edges(1, e, d)))**2))
-        end do
-      end do
+      hmin2 = shortest_edge2(xo)
       dmax2 = 0.0_wp
       do a = 1, 8
         dmax2 = max(dmax2, sum((xn(:, a) - xo(:, a))**2))
@@ -2044,6 +2039,19 @@ contains
     end if
   end function remap_swept_blockers
 
+  !> The square of the shortest of the hexahedron xo's twelve edges.
+  pure function shortest_edge2(xo) result(h2)
+    real(wp), intent(in) :: xo(3, 8)
+    real(wp) :: h2
+    integer :: d, e
+    h2 = huge(1.0_wp)
+    do d = 1, 3
+      do e = 1, 4
+        h2 = min(h2, sum((xo(:, hex_edges(2, e, d)) - xo(:, hex_edges(1, e, d)))**2))
+      end do
+    end do
+  end function shortest_edge2
+
   !> The first part of the way from g%x to xnew, as far as the swept-face
   !> path can take it at once (`remap_swept_blockers`' distance test): every
   !> node of the cells `cells` (those that move from g%x to xnew, as
@@ -2063,7 +2071,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: lim(:)
     real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, d(3), d2, a2, r
-    integer :: i, c, ci, cj, ck, a, e, k, n, stat, hv(4, 48), hc(48)
+    integer :: i, c, ci, cj, ck, a, k, n, stat, hv(4, 48), hc(48)
     logical :: folded
 
     arrived = .true.
@@ -2083,12 +2091,7 @@ contains
       c = cells(i)
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-      hmin2 = huge(1.0_wp)
-      do k = 1, 3
-        do e = 1, 4
-          hmin2 = min(hmin2, sum((xo(:, hex_edges(2, e, k)) - xo(:, hex_edges(1, e, k)))**2))
-        end do
-      end do
+      hmin2 = shortest_edge2(xo)
       do a = 1, 8
         n = g%node0(c) + g%corner_offset(a)
         lim(n) = min(lim(n), hmin2)
