@@ -332,9 +332,10 @@ contains
     ! in it; the rest of the way goes in the equal parts that keep every
     ! cell still moving within swept_max, and those remap only the cells
     ! around the nodes that still have far to go. A part whose swept faces
-    ! would break a material's bounds is taken again at half the distance
-    ! (while the parts stay within swept_parts), and the last part the deck
-    ! allows goes the rest of the way.
+    ! would break a material's bounds, or that they cannot take (a cell it
+    ! tangles on the way), is taken again at half the distance (while the
+    ! parts stay within swept_parts), and the last part the deck allows
+    ! goes the rest of the way.
     split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts
     if (split) cells = moved
     ! (nleft: the equal parts left of the way, 0 before the first part)

@@ -176,9 +176,9 @@ contains
   !> the smoothing modes ('lssm', 'smooth'), whose smoothing moves the nodes
   !> of a compressed shell several times its short edges (in parts by swept
   !> faces the paper's Sedov at 20^3 spends 12 % of the Euler phase LSSM
-  !> spends by intersection, and 6 % for 'smooth', at the same L1 error:
-  !> input/README.md), 1 (off) for the others (the Noh problem in ALE mode
-  !> diffuses through the parts' repeated remaps).
+  !> spends by intersection, and 6 % for 'smooth', at the same L1 error, as
+  !> the deck documentation in input/ gives it); off for the others (the
+  !> Noh problem in ALE mode diffuses through the parts' repeated remaps).
   pure integer function swept_parts_default(mode) result(n)
     character(len=*), intent(in) :: mode
     n = 1
