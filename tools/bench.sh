@@ -111,6 +111,14 @@ gimp_bench() {
              part[2] / np, part[3] / np, part[3] / part[2]
     }' e_pgas.log e_pblock.log e_pblock_gimp.log
 }
+# Issue 34: the solid's state through global Euler steps, against the gas /
+# solid Riemann problem's and the ballistic slab's exact solutions, at three
+# resolutions, linear / gimp / gimp with particle_q (tools/particles_euler.py;
+# about 5 minutes, 1 thread).
+particles_euler_bench() {
+  echo "## Particles through Euler steps (issue 34): plateau and slab against exact solutions, 1 thread"
+  /usr/bin/python3 "$root/tools/particles_euler.py" --exe "$exe" --out "$outdir" | tee "$outdir/particles_euler.txt"
+}
 # Paper Sect. 7.4 (Table 2): the Euler phase of LSSM against global
 # smoothing for the rotating projectile, same sitting, 1 thread.
 projectile_bench() {
@@ -523,6 +531,8 @@ echo
 particles_bench
 echo
 gimp_bench
+echo
+particles_euler_bench
 echo
 projectile_bench
 echo
