@@ -27,7 +27,8 @@ module driver_euler
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, remap_part_target
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
+                         remap_part_target, remap_marks_t
   use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
@@ -68,6 +69,8 @@ module driver_euler
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
+    !> the remap's marks, kept from one Euler step to the next
+    type(remap_marks_t) :: marks
     !> this segment's fits of the mixed cells' interface planes after the
     !> remaps, and refreshes of their centroids before them (and dumps)
     type(centroid_stats_t) :: centroids
@@ -76,9 +79,9 @@ module driver_euler
   !> What an Euler step starts from: the totals it must conserve (mass,
   !> momentum, internal and kinetic energy), the scale of its momentum
   !> (sum of |m u| over the nodes) and its rezone's wall time. With exact
-  !> false, the totals are only the scales of the check (plain sums, no
-  !> momentum): the remap of a whole grid reports what it changed itself
-  !> (`remap_stats_t` change).
+  !> false there are no totals: the remap of a whole grid reports what it
+  !> changed itself and the scales of the check (`remap_stats_t` change and
+  !> scale).
   type :: euler_start_t
     real(wp) :: mass = 0.0_wp, momentum(3) = 0.0_wp, internal = 0.0_wp, kinetic = 0.0_wp, pscale = 0.0_wp
     real(wp) :: t_rezone = 0.0_wp
@@ -291,7 +294,7 @@ contains
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
-    integer, allocatable :: moved(:), cells(:)
+    integer, allocatable :: moved(:), cells(:), written(:), wrote(:)
     integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
     real(wp) :: fac
     logical :: split, arrived
@@ -322,7 +325,8 @@ contains
     else if (par%lattice) then
       par%lattice = lattice_nodes(st%g, xnew)
     end if
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nparts, moved=moved)
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+                                  parts=nparts, moved=moved)
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in parts
     ! (&rezone swept_parts), each remapped in full (conservative), by swept
@@ -354,7 +358,8 @@ contains
           end if
         else
           if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nleft)
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+                                        parts=nleft)
             nleft = max(nleft, 1)
           end if
           xk = xnew
@@ -366,14 +371,16 @@ contains
           arrived = .true.
         end if
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
-        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, moved=moved) == 0
+        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, marks=es%marks, &
+                                         moved=moved) == 0
         par%swept_only = par%swept .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts
         if (.not. (par%swept .or. arrived) .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
           ! a part the swept faces cannot take though its nodes stay within
           ! swept_max (a cell it tangles on the way): shorter parts, the
           ! first one's nodes the same fraction of their way
           if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, parts=nleft)
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+                                        parts=nleft)
             nleft = max(nleft, 1)
           end if
           nleft = 2*nleft
@@ -389,10 +396,15 @@ contains
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
       if (split) then
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved)
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
+                              written=wrote, marks=es%marks)
       else
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved)
+        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved, &
+                              written=wrote, marks=es%marks)
       end if
+      ! (the cells whose states the parts wrote, for their EOS below)
+      if (.not. allocated(written)) allocate(written(0))
+      if (allocated(wrote)) written = [written, wrote]
       if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
         ! (nothing remapped: the first part again half as far, or the rest
         ! of the way in twice the parts)
@@ -419,7 +431,9 @@ contains
       if (.not. split .or. arrived) exit
     end do
     call material_burn_start(st%mats, st%t)
-    call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx)
+    ! (the other cells' states, and so pressures, are those the Lagrangian
+    ! step left, evaluated there at this time)
+    call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx, written, st%h%mat)
     call mixed_cell_state(st%mx, st%h%p, st%h%cs)
     call euler_finish(rz, st, es, log, start, rs, err)
     ! the particles in the new grid and their share of the nodes rebuilt
@@ -491,26 +505,15 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
     type(euler_start_t), intent(out) :: e0
-    !> true: the totals as scales only (`euler_start_t`; st a whole grid,
-    !> whose remap reports its changes); absent: exact totals
+    !> true: no totals (`euler_start_t`; st a whole grid, whose remap
+    !> reports its changes and scales); absent: exact totals
     logical, intent(in), optional :: scales
     type(xsum_t) :: acc(1)
-    real(wp) :: uu
     integer :: i, j, k, n
     call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
     call es%timer%start()
     if (present(scales)) e0%exact = .not. scales
-    if (.not. e0%exact) then
-      ! (serial sums: the same on any thread count)
-      e0%mass = sum(st%h%mass(1:st%g%ncell))
-      e0%internal = dot_product(st%h%mass(1:st%g%ncell), st%h%e(1:st%g%ncell))
-      do n = 1, st%g%nnode
-        uu = st%h%u(1, n)**2 + st%h%u(2, n)**2 + st%h%u(3, n)**2
-        e0%kinetic = e0%kinetic + 0.5_wp*st%h%mnode(n)*uu
-        e0%pscale = e0%pscale + st%h%mnode(n)*sqrt(uu)
-      end do
-      return
-    end if
+    if (.not. e0%exact) return
     call hydro_totals(st%g, st%h, st%halo, e0%mass, e0%momentum, e0%internal, e0%kinetic)
     do k = st%g%ulo(3), st%g%nhi(3)
       do j = st%g%ulo(2), st%g%nhi(2)
@@ -606,14 +609,23 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: m0, e0tot, m1, p1(3), ie1, ke1, pscale, dm, de, dp(3)
     character(len=600) :: line
-    character(len=40) :: shared
+    character(len=40) :: shared, scales
 
     es%n = es%n + 1
     call rearm_interval(rz, st%t, es)
     call es%timer%stop()
+    ! the check's scales: the totals, or the magnitudes of what the remap
+    ! wrote (then the change relative to what was remapped)
     m0 = e0%mass
     e0tot = e0%internal + e0%kinetic
     pscale = e0%pscale
+    scales = ''
+    if (rs%change_known) then
+      m0 = rs%scale(1)
+      e0tot = rs%scale(2)
+      pscale = rs%scale(3)
+      scales = ' (of what was remapped)'
+    end if
     shared = ''
     if (rs%parts > 1) shared = ' shared by '//itoa(rs%parts)//' ranks'
     if (rs%parts < 0) shared = ' in '//itoa(-rs%parts)//' windows'
@@ -650,9 +662,9 @@ contains
       trim(shared), &
       rs%t_assemble, 1.0e6_wp*(rs%t_prepare + rs%t_intersect + rs%t_assemble)/real(max(rs%cells_remapped, 1), wp)
     call log_line(log, trim(line))
-    write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2, &
+    write(line, '("  conservation: relative change of mass ",es9.2,", momentum ",es9.2,", total energy ",es9.2,a, &
       &"; momentum taken by velocity conditions ",3es10.2)') abs(dm)/max(m0, tiny(1.0_wp)), &
-      norm2(dp)/max(pscale, tiny(1.0_wp)), abs(de)/max(abs(e0tot), tiny(1.0_wp)), &
+      norm2(dp)/max(pscale, tiny(1.0_wp)), abs(de)/max(abs(e0tot), tiny(1.0_wp)), trim(scales), &
       rs%momentum_constrained
     call log_line(log, trim(line))
     if (rs%cells_deficit > 0) then
@@ -672,15 +684,16 @@ contains
     es%ke = es%ke + rs%ke_to_internal
     ! (not .not. <=: a NaN total fails too)
     if (.not. abs(dm) <= rz%conservation_tol*m0) then
-      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve mass: '//rtoa(m0)//' -> '// &
-                     rtoa(m0 + dm)//' (&rezone conservation_tol '//rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
+      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve mass: change '//rtoa(dm)// &
+                     ' of '//rtoa(m0)//trim(scales)//' (&rezone conservation_tol '//rtoa(rz%conservation_tol)//')', &
+                     ERR_RUNTIME)
     else if (.not. abs(de) <= rz%conservation_tol*abs(e0tot)) then
-      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve total energy: '// &
-                     rtoa(e0tot)//' -> '//rtoa(e0tot + de)//' (&rezone conservation_tol '// &
+      call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve total energy: change '// &
+                     rtoa(de)//' of '//rtoa(e0tot)//trim(scales)//' (&rezone conservation_tol '// &
                      rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     else if (.not. norm2(dp) <= rz%conservation_tol*max(pscale, tiny(1.0_wp))) then
       call error_set(err, 'euler_step', 'Euler step '//itoa(es%n)//' did not conserve momentum: change '// &
-                     rtoa(norm2(dp))//' of '//rtoa(pscale)//' (&rezone conservation_tol '// &
+                     rtoa(norm2(dp))//' of '//rtoa(pscale)//trim(scales)//' (&rezone conservation_tol '// &
                      rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     end if
   end subroutine euler_finish

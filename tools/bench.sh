@@ -29,7 +29,9 @@
 # run (issue 33, about 15 minutes; BENCH_ONLY=tnt runs only that); the
 # first bubble period of a TNT charge deep in water against Rayleigh-Willis
 # (issue 36, input/tnt_bubble.nml at 48^3 and 64^3, about 30 minutes;
-# BENCH_ONLY=bubble runs only that).
+# BENCH_ONLY=bubble runs only that); an Euler step's cost against the grid
+# size, the same cells changed in 20^3, 40^3 and 60^3 (issue 33,
+# BENCH_ONLY=flat runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -393,6 +395,48 @@ bubble_bench() {
   done
 }
 
+# ---- An Euler step's cost against the grid size (issue 33) ----
+# The Sedov blast with a fixed cell of 0.06 (the energy of input/sedov3d.nml)
+# in octants of 20^3, 40^3 and 60^3 cells, a global rezone back to the box
+# every step, 20 steps: the blast reaches the same cells in each, so every
+# Euler step changes the same cells whatever the grid. Each size three times,
+# interleaved, the fastest kept (1 thread): the Euler phase's wall time per
+# Euler step and its ratio to 20^3's (flat: 1).
+flat_bench() {
+  echo "## An Euler step's cost against the grid size: Sedov, fixed cell 0.06, global rezone every step, 20 steps"
+  for n in 20 40 60; do
+    x=$(awk -v n=$n 'BEGIN {printf "%.2f", 0.06 * n}')
+    cat > flat$n.nml <<DECK
+&run title = 'Sedov, fixed cell 0.06, ${n}^3, an Euler step every step', t_end = 1.0, max_steps = 20 /
+&grid ni = $n, nj = $n, nk = $n, xmin = 0, 0, 0, xmax = $x, $x, $x /
+&material name = 'air', eos = 'ideal_gas', gamma = 1.4 /
+&region shape = 'all', material = 'air', density = 1.0, pressure = 1.0e-6 /
+&source position = 0, 0, 0, energy = 0.106384 /
+&boundary xlo = 'symmetry', ylo = 'symmetry', zlo = 'symmetry', xhi = 'wall', yhi = 'wall', zhi = 'wall' /
+&rezone mode = 'global', interval_steps = 1 /
+&output dir = 'out/flat$n', frame_dt = 100 /
+DECK
+  done
+  for rep in 1 2 3; do
+    for n in 20 40 60; do
+      OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" flat$n.nml > flat${n}_$rep.log
+    done
+  done
+  cp flat60_1.log "$outdir/bench_flat60.log"
+  for n in 20 40 60; do
+    awk -v n=$n '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") {e = $(i + 1); if (best == "" || e < best) best = e}}
+         /^euler steps:/ {steps = $3 + 0; cells = $6 + 0}
+         END {printf "%d %d %d %.6f\n", n, steps, cells, best}' flat${n}_1.log flat${n}_2.log flat${n}_3.log
+  done | awk '{if (NR == 1) base = $4 / $2
+               printf "%d^3: %d Euler steps, %d cells remapped, Euler phase %.4f s = %.3f ms per Euler step, " \
+                      "%.2f times 20^3'"'"'s\n", $1, $2, $3, $4, 1e3 * $4 / $2, ($4 / $2) / base}'
+}
+
+if [[ "${BENCH_ONLY:-}" == flat ]]; then
+  flat_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == bubble ]]; then
   bubble_bench
   echo "bench wall time: ${SECONDS} s"
@@ -510,6 +554,9 @@ for sm in default 0; do
                 "per cell = %.1f cell-cycles (%d Euler steps by swept faces)\n", lab, cyc, eul, cells, per, per / cyc, nsw
        }' "$outdir/sedov20_every_$sm.log"
 done
+
+echo
+flat_bench
 
 echo
 echo "## Speed against error (1 thread): tables, CSV and PNG in $outdir"

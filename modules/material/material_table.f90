@@ -85,42 +85,76 @@ contains
 
   !> Pressure and sound speed of every pure cell from its density and energy,
   !> and of every mixed-cell slot from the material's own, dispatching on the
-  !> EOS once per material; then the material's cut-offs.
-  subroutine material_eval_eos(mats, rho, e, p, cs, mx)
+  !> EOS once per material; then the material's cut-offs. With cells (and
+  !> mat, each cell's material, <= 0 for a mixed cell): only those pure
+  !> cells, and every slot (an Euler step's, which wrote only these cells:
+  !> the others' pressures are those of their unchanged states).
+  subroutine material_eval_eos(mats, rho, e, p, cs, mx, cells, mat)
     type(material_t), intent(inout) :: mats(:)
     real(wp), intent(in) :: rho(:), e(:)
     real(wp), intent(inout) :: p(:), cs(:)
     type(mixed_t), intent(inout) :: mx
-    integer :: m, n, ns, c
+    integer, intent(in), optional :: cells(:), mat(:)
+    real(wp), allocatable :: wr(:), we(:), wp_(:), wc(:)
+    integer, allocatable :: idx(:)
+    integer :: m, n, c, stat
 
     do m = 1, size(mats)
+      if (present(cells)) then
+        idx = pack(cells, mat(cells) == m)
+        if (.not. mats(m)%fills_all) then
+          call eval_list(mats(m), idx, mats(m)%slots, rho, e, p, cs, mx, mats(m)%wrho, mats(m)%we, mats(m)%wp_, &
+                         mats(m)%wcs)
+          cycle
+        end if
+        n = size(idx)
+        allocate(wr(n), we(n), wp_(n), wc(n), stat=stat)
+        if (stat == 0) then
+          call eval_list(mats(m), idx, [integer ::], rho, e, p, cs, mx, wr, we, wp_, wc)
+          cycle
+        end if
+        ! (no memory for the list's work arrays: every cell, as without one)
+      end if
       if (mats(m)%fills_all) then
         call mats(m)%eos%eval(rho, e, p, cs)
         call cutoffs(mats(m), rho, p)
         if (allocated(mats(m)%burn)) call burn_scale(mats(m)%burn, [(c, c = 1, size(rho))], rho, p)
         cycle
       end if
-      n = mats(m)%ncell
-      ns = size(mats(m)%slots)
-      if (n + ns == 0) cycle
-      associate (idx => mats(m)%cells, sl => mats(m)%slots)
-        mats(m)%wrho(1:n) = rho(idx)
-        mats(m)%we(1:n) = e(idx)
-        mats(m)%wrho(n + 1:n + ns) = mx%rho(sl)
-        mats(m)%we(n + 1:n + ns) = mx%e(sl)
-        call mats(m)%eos%eval(mats(m)%wrho, mats(m)%we, mats(m)%wp_, mats(m)%wcs)
-        call cutoffs(mats(m), mats(m)%wrho, mats(m)%wp_)
-        if (allocated(mats(m)%burn)) then
-          call burn_scale(mats(m)%burn, idx, mats(m)%wrho(1:n), mats(m)%wp_(1:n))
-          call burn_scale(mats(m)%burn, slot_cells(mx, sl), mats(m)%wrho(n + 1:n + ns), mats(m)%wp_(n + 1:n + ns))
-        end if
-        p(idx) = mats(m)%wp_(1:n)
-        cs(idx) = mats(m)%wcs(1:n)
-        mx%p(sl) = mats(m)%wp_(n + 1:n + ns)
-        mx%cs(sl) = mats(m)%wcs(n + 1:n + ns)
-      end associate
+      call eval_list(mats(m), mats(m)%cells, mats(m)%slots, rho, e, p, cs, mx, mats(m)%wrho, mats(m)%we, mats(m)%wp_, &
+                     mats(m)%wcs)
     end do
   end subroutine material_eval_eos
+
+  !> `material_eval_eos` of material mt in the pure cells idx and the
+  !> slots sl, through the work arrays wr, we, wp_, wc (at least as long
+  !> as both lists).
+  subroutine eval_list(mt, idx, sl, rho, e, p, cs, mx, wr, we, wp_, wc)
+    type(material_t), intent(inout) :: mt
+    integer, intent(in) :: idx(:), sl(:)
+    real(wp), intent(in) :: rho(:), e(:)
+    real(wp), intent(inout) :: p(:), cs(:)
+    type(mixed_t), intent(inout) :: mx
+    real(wp), intent(inout) :: wr(:), we(:), wp_(:), wc(:)
+    integer :: n, ns
+    n = size(idx)
+    ns = size(sl)
+    if (n + ns == 0) return
+    wr(1:n) = rho(idx)
+    we(1:n) = e(idx)
+    wr(n + 1:n + ns) = mx%rho(sl)
+    we(n + 1:n + ns) = mx%e(sl)
+    call mt%eos%eval(wr(1:n + ns), we(1:n + ns), wp_(1:n + ns), wc(1:n + ns))
+    call cutoffs(mt, wr(1:n + ns), wp_(1:n + ns))
+    if (allocated(mt%burn)) then
+      call burn_scale(mt%burn, idx, wr(1:n), wp_(1:n))
+      call burn_scale(mt%burn, slot_cells(mx, sl), wr(n + 1:n + ns), wp_(n + 1:n + ns))
+    end if
+    p(idx) = wp_(1:n)
+    cs(idx) = wc(1:n)
+    mx%p(sl) = wp_(n + 1:n + ns)
+    mx%cs(sl) = wc(n + 1:n + ns)
+  end subroutine eval_list
 
   !> The burn fractions of the explosives at time t0 + dt (t0 of
   !> `material_burn_start`): the stages of a Lagrangian step.

@@ -15,7 +15,7 @@ module mesh_boundary
   use mesh_geometry, only: cross
   implicit none
   private
-  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, &
+  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, bc_constrain_nodes, &
             BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, BC_INFLOW, BC_OUTFLOW, bc_kind_from_name, &
             bc_kind_names
 
@@ -216,6 +216,24 @@ contains
       call constrain_node(bc, bc%mask(b), u(:, bc%node(b)))
     end do
   end subroutine bc_constrain
+
+  !> `bc_constrain` (bc built on grid g by `bc_init`, or without boundary
+  !> nodes) on the nodes `nodes` only: those of them that g owns and that
+  !> lie on the boundary.
+  subroutine bc_constrain_nodes(bc, g, nodes, u)
+    type(bc_t), intent(in) :: bc
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: nodes(:)
+    real(wp), intent(inout) :: u(:, :)
+    integer :: q, i, j, k, m
+    if (bc%nb == 0) return
+    do q = 1, size(nodes)
+      call g%node_ijk(nodes(q), i, j, k)
+      if (any([i, j, k] < g%nlo .or. [i, j, k] > g%nhi)) cycle
+      m = g%node_faces(i, j, k)
+      if (m /= 0) call constrain_node(bc, m, u(:, nodes(q)))
+    end do
+  end subroutine bc_constrain_nodes
 
   !> Kinematic conditions of the faces in `mask` on one node velocity:
   !> prescribed velocities first, then symmetry and wall (so a piston sliding

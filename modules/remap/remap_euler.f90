@@ -100,7 +100,7 @@ module remap_euler
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
   use mesh_geometry, only: hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
-  use mesh_boundary, only: bc_t, bc_constrain, BC_INFLOW, BC_OUTFLOW
+  use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
   use lagrange_centroids, only: plane_normals, planes_known
@@ -119,8 +119,8 @@ module remap_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_euler_step, remap_zone_open, remap_stats_flows, &
-            remap_swept_blockers, remap_stats_add, remap_part_target
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_marks_t, remap_euler_step, remap_zone_open, &
+            remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target
 
   !> The unit vectors of the axes (columns).
   real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -216,6 +216,12 @@ module remap_euler
     !> So the conservation check costs what the remap touched, not the grid.
     type(xsum_t) :: change(6)
     logical :: change_known = .false.
+    !> with change_known: the scales of the conservation check, the
+    !> magnitudes of what the remap wrote, before it (sums over its cells
+    !> and nodes of the mass, of |m e| plus the kinetic energy, and of
+    !> |m u|): a check relative to what was remapped, at a cost that follows
+    !> it, not the grid
+    real(wp) :: scale(3) = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
     !> with a zone: computed new cells the old cells within reach_max did
@@ -257,12 +263,26 @@ module remap_euler
     type(remap_bins_t) :: bins
   end type remap_zone_t
 
+  !> Marks of cells and nodes that the remap keeps from one call to the
+  !> next (its caller's: an Euler phase's), all false between calls: the
+  !> sets a remap works on (the changed and near cells, the changed cells'
+  !> nodes) start empty without a pass over the grid, and are emptied
+  !> through their lists, so that an Euler step that changes few cells of
+  !> a large grid costs what they do (sized on first use; a grid of another
+  !> size sizes them again).
+  type :: remap_marks_t
+    logical, allocatable :: changed(:), near(:), uniform(:)   !< (ncell)
+    logical, allocatable :: node(:)                           !< (nnode)
+  end type remap_marks_t
+
   !> The old grid's cells as the remap needs them.
   type :: old_t
     logical, allocatable :: changed(:)          !< cell moved (ncell)
     !> cells the remap reads: the moved ones, their neighbours, the cells
     !> open-face gaps take their state from (ncell)
     logical, allocatable :: near(:)
+    !> work: all false but while a procedure marks nodes in it (nnode)
+    logical, allocatable :: node(:)
     !> the changed cells, the near cells and the changed cells' nodes as
     !> lists in increasing order: the loops run over these, so that an Euler
     !> step that moves few cells costs little whatever the grid (entries of
@@ -386,7 +406,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved, written, marks)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -404,7 +424,90 @@ contains
     !> the cells that move from g%x to xnew, in increasing order, if the
     !> caller has them (`remap_swept_blockers`' moved; absent: found here)
     integer, intent(in), optional :: moved(:)
+    !> a whole grid's remap: the cells whose state it may have written, in
+    !> increasing order (the rest are as they were)
+    integer, allocatable, intent(out), optional :: written(:)
+    !> the caller's marks (absent: marks of this call, set over the grid)
+    type(remap_marks_t), intent(inout), optional :: marks
     type(old_t) :: old
+    integer :: stat
+    if (present(marks)) then
+      call marks_ready(marks, g%ncell, g%nnode, stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler_step', error_no_memory('the cell marks'))
+        return
+      end if
+      call move_alloc(marks%changed, old%changed)
+      call move_alloc(marks%near, old%near)
+      call move_alloc(marks%uniform, old%uniform)
+      call move_alloc(marks%node, old%node)
+    end if
+    call remap_body(g, h, mx, nmat, bc, xnew, par, stats, err, old, share, zone, moved, written)
+    if (.not. present(marks)) return
+    ! (emptied through the lists; where a rescaled region or an error may
+    ! have left marks the lists do not hold, over the grid)
+    if (allocated(err) .or. stats%regions_rescaled > 0) then
+      if (allocated(old%changed)) old%changed = .false.
+      if (allocated(old%near)) old%near = .false.
+      if (allocated(old%uniform)) old%uniform = .false.
+      if (allocated(old%node)) old%node = .false.
+    else
+      if (allocated(old%lchanged)) old%changed(old%lchanged) = .false.
+      if (allocated(old%lnear)) old%near(old%lnear) = .false.
+      if (allocated(old%lnear)) old%uniform(old%lnear) = .false.
+    end if
+    call move_alloc(old%changed, marks%changed)
+    call move_alloc(old%near, marks%near)
+    call move_alloc(old%uniform, marks%uniform)
+    call move_alloc(old%node, marks%node)
+  end subroutine remap_euler_step
+
+  !> The marks sized for a grid of ncell cells and nnode nodes, all false
+  !> (stat: the allocation's).
+  subroutine marks_ready(marks, ncell, nnode, stat)
+    type(remap_marks_t), intent(inout) :: marks
+    integer, intent(in) :: ncell, nnode
+    integer, intent(out) :: stat
+    stat = 0
+    if (allocated(marks%changed) .and. allocated(marks%near) .and. allocated(marks%uniform) .and. &
+        allocated(marks%node)) then
+      if (size(marks%changed) == ncell .and. size(marks%node) == nnode) return
+    end if
+    if (allocated(marks%changed)) deallocate(marks%changed)
+    if (allocated(marks%near)) deallocate(marks%near)
+    if (allocated(marks%uniform)) deallocate(marks%uniform)
+    if (allocated(marks%node)) deallocate(marks%node)
+    allocate(marks%changed(ncell), marks%near(ncell), marks%uniform(ncell), marks%node(nnode), stat=stat)
+    if (stat /= 0) return
+    marks%changed = .false.
+    marks%near = .false.
+    marks%uniform = .false.
+    marks%node = .false.
+  end subroutine marks_ready
+
+  !> `remap_euler_step` on old, whose marks may be given (all false).
+  subroutine remap_body(g, h, mx, nmat, bc, xnew, par, stats, err, old, share, zone, moved, written)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    type(mixed_t), intent(inout) :: mx
+    integer, intent(in) :: nmat
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xnew(:, :)
+    type(remap_params_t), intent(in) :: par
+    type(remap_stats_t), intent(out) :: stats
+    type(error_t), allocatable, intent(inout) :: err
+    !> the ranks sharing the intersections and MoF of the changed cells, when every
+    !> rank holds the whole grid (`base_share`; absent: this process does all)
+    class(share_t), intent(in), optional :: share
+    !> a window's remap (the module's `remap_zone_t`; absent: the whole grid)
+    type(remap_zone_t), intent(in), optional :: zone
+    !> the cells that move from g%x to xnew, in increasing order, if the
+    !> caller has them (`remap_swept_blockers`' moved; absent: found here)
+    integer, intent(in), optional :: moved(:)
+    !> a whole grid's remap: the cells whose state it may have written, in
+    !> increasing order (the rest are as they were)
+    integer, allocatable, intent(out), optional :: written(:)
+    type(old_t), intent(inout) :: old
     type(lattice_old_t) :: lat
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
@@ -430,8 +533,7 @@ contains
     allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
              aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
              pcell(4, ncell), reach(ncell), &
-             redo(ncell), gap_face(ncell), gap_cell(ncell), beyond(ncell), gaps(ncell), &
-             stat=stat, errmsg=msg)
+             redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
       return
@@ -444,6 +546,13 @@ contains
       pcell = cmass(1, 1)
     end if
     any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
+    ! (the gaps at open faces: none without them, and nothing to mark)
+    allocate(gap_face(merge(ncell, 0, any_open)), gap_cell(merge(ncell, 0, any_open)), &
+             beyond(merge(ncell, 0, any_open)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler_step', error_no_memory('the open faces'' gaps'))
+      return
+    end if
     if (windowed) then
       if (any_open .and. .not. zone%open) then
         call error_set(err, 'remap_euler_step', 'a window''s remap with open faces needs remap_zone_open')
@@ -464,8 +573,6 @@ contains
       own_node = .true.
       call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
     end if
-    gap_face = 0
-    beyond = .false.
     if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
     if (windowed) then
       call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
@@ -474,9 +581,10 @@ contains
     end if
     if (allocated(err)) return
     ! (less the totals of what the remap may write; added back after it)
-    if (.not. windowed) call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
-    if (par%lattice) call lattice_start(g, old, xnew, lat, err)
-    if (allocated(err)) return
+    if (.not. windowed) then
+      call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
+      stats%scale = magnitudes(h, old%lnear, old%lnode)
+    end if
     sharing = .false.
     if (present(share)) sharing = share%nparts > 1
     if (sharing) stats%parts = share%nparts
@@ -511,6 +619,11 @@ contains
     done = todo
     ! (a second pass, by intersection, where the swept faces broke a bound)
     passes: do
+    ! (the lattice's parts serve the intersections only)
+    if (par%lattice .and. .not. old%swept .and. .not. lat%lt%on) then
+      call lattice_start(g, old, xnew, lat, err)
+      if (allocated(err)) return
+    end if
     todo = done
     reach(old%lchanged) = 0
     r = 1
@@ -524,11 +637,11 @@ contains
         call g%gather(c, xnew, xn)
         vnew = hex_volume(xn)
         defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
-        if (gap_face(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
+        if (gap_of(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
           ! (the swept faces leave the gap itself to `open_faces`)
           reach(c) = r
           if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
-        else if (gap_face(c) > 0 .and. defect > uncovered_tol) then
+        else if (gap_of(c) > 0 .and. defect > uncovered_tol) then
           ! maybe in the gap between an open face and the old grid: no
           ! window makes the fragments add up there; widened below to
           ! every old cell that can meet it
@@ -594,7 +707,10 @@ contains
       ! what lies beyond an open face has left the domain
       co = c
       if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-      if (beyond(co) .or. .not. owns(co)) cycle
+      if (.not. owns(co)) cycle
+      if (any_open) then
+        if (beyond(co)) cycle
+      end if
       ! relative to the cell: a sliver region's own round-off can be larger
       given = real(old%given(c), wp)*old%gunit(c)
       if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) then
@@ -644,7 +760,7 @@ contains
       old%changed = old%changed .and. zone%compute
       call true_list(old%changed, old%lchanged, err)
       if (allocated(err)) return
-      call node_list(g, old%lchanged, old%lnode, err)
+      call node_list(g, old%lchanged, old%node, old%lnode, err)
       if (allocated(err)) return
     end if
     call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
@@ -657,7 +773,7 @@ contains
                     stats, err, own, zone%own_node)
     else
       call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                    stats, err)
+                    stats, err, written=written)
       if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
       stats%change_known = .not. allocated(err)
     end if
@@ -672,6 +788,14 @@ contains
       owns = .true.
       if (windowed) owns = own(cc)
     end function owns
+
+    !> The open face whose gap new cell cc may lie in (`open_face_cells`; 0:
+    !> none).
+    integer function gap_of(cc)
+      integer, intent(in) :: cc
+      gap_of = 0
+      if (any_open) gap_of = gap_face(cc)
+    end function gap_of
 
     !> The i-th region the remap reads: the near cells', then every slot's.
     integer function region_at(i) result(r)
@@ -845,40 +969,33 @@ contains
         end do
       end do
     end subroutine mark_window
-  end subroutine remap_euler_step
+  end subroutine remap_body
 
-  !> The cells of g with a node that moves from g%x to xnew (changed, and
-  !> their list in increasing order): each node is compared once, and only
-  !> the moved nodes' cells are visited.
+  !> The cells of g with a node that moves from g%x to xnew (marked in
+  !> changed, all false on entry, and their list in increasing order): each
+  !> node is compared once, and only the moved nodes' cells are visited.
   subroutine moved_cells(g, xnew, changed, list, err)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :)
-    logical, intent(out) :: changed(:)
+    logical, intent(inout) :: changed(:)
     integer, allocatable, intent(out) :: list(:)
     type(error_t), allocatable, intent(inout) :: err
     integer, parameter :: block = 32
     integer, allocatable :: fresh(:)
     integer :: n, i, j, k, ci, cj, ck, nf, c, stat, n0, n1
-    logical :: any_moved
+    logical :: moved((g%nnode + block - 1)/block)
     allocate(fresh(size(changed)), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('a cell list'))
       return
     end if
-    changed = .false.
     nf = 0
     ! (blocks of nodes compared at once first: most nodes of a large grid
     ! do not move)
+    call blocks_moved(g%nnode, xnew, g%x, block, moved)
     do n0 = 1, g%nnode, block
       n1 = min(n0 + block - 1, g%nnode)
-      ! (a logical or over the block: no early exit, no floating-point
-      ! reduction, so the compiler can take it several nodes at a time)
-      any_moved = .false.
-      do n = n0, n1
-        any_moved = any_moved .or. abs(xnew(1, n) - g%x(1, n)) > 0.0_wp .or. abs(xnew(2, n) - g%x(2, n)) > 0.0_wp &
-                    .or. abs(xnew(3, n) - g%x(3, n)) > 0.0_wp
-      end do
-      if (.not. any_moved) cycle
+      if (.not. moved((n0 - 1)/block + 1)) cycle
       do n = n0, n1
         if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
         ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
@@ -898,6 +1015,26 @@ contains
     end do
     call marked_list(changed, fresh(1:nf), list, err)
   end subroutine moved_cells
+
+  !> moved(q): whether a node of the q-th block of `block` nodes differs
+  !> between the m nodes' coordinates a and b (the largest difference over
+  !> each block's coordinates in storage order: no early exit, and a
+  !> maximum is exact in any order, so that the compiler takes several at
+  !> a time).
+  pure subroutine blocks_moved(m, a, b, block, moved)
+    integer, intent(in) :: m, block
+    real(wp), intent(in) :: a(3*m), b(3*m)
+    logical, intent(out) :: moved(:)
+    integer :: q, i
+    real(wp) :: d
+    do q = 1, size(moved)
+      d = 0.0_wp
+      do i = 3*block*(q - 1) + 1, min(3*block*q, 3*m)
+        d = max(d, abs(a(i) - b(i)))
+      end do
+      moved(q) = d > 0.0_wp
+    end do
+  end subroutine blocks_moved
 
   !> The indices where mask is true, in increasing order: fresh, the same
   !> indices in any order, sorted where they are few, else the mask read
@@ -982,21 +1119,21 @@ contains
     list = list(1:n)
   end subroutine sorted_union
 
-  !> The nodes of the cells `cells`, in increasing order.
-  subroutine node_list(g, cells, list, err)
+  !> The nodes of the cells `cells`, in increasing order (mark: work, all
+  !> false on entry and on return).
+  subroutine node_list(g, cells, mark, list, err)
     type(grid_t), intent(in) :: g
     integer, intent(in) :: cells(:)
+    logical, intent(inout) :: mark(:)
     integer, allocatable, intent(out) :: list(:)
     type(error_t), allocatable, intent(inout) :: err
-    logical, allocatable :: mark(:)
     integer, allocatable :: fresh(:)
     integer :: i, a, n, stat, nf
-    allocate(mark(g%nnode), fresh(min(8*size(cells), g%nnode)), stat=stat)
+    allocate(fresh(min(8*size(cells), g%nnode)), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('a node list'))
       return
     end if
-    mark = .false.
     nf = 0
     do i = 1, size(cells)
       n = g%node0(cells(i))
@@ -1008,6 +1145,7 @@ contains
       end do
     end do
     call marked_list(mark, fresh(1:nf), list, err)
+    mark(fresh(1:nf)) = .false.
   end subroutine node_list
 
   !> The mixed cell that owns slot s.
@@ -1057,7 +1195,7 @@ contains
     real(wp) :: xn(3, 8), errmax
     integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail, nf
     logical :: ok
-    logical, allocatable :: near(:), mine(:)
+    logical, allocatable :: mine(:)
     integer, allocatable :: mof(:), fresh(:)
     real(wp), allocatable :: res(:, :)
     real(wp) :: nan, err1
@@ -1068,21 +1206,33 @@ contains
     ncell = g%ncell
     nan = ieee_value(1.0_wp, ieee_quiet_nan)
     nreg = ncell + mx%nslot
-    allocate(old%changed(ncell), old%uniform(ncell), old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
+    if (.not. (allocated(old%changed) .and. allocated(old%near) .and. allocated(old%uniform) .and. &
+               allocated(old%node))) then
+      ! (no marks given: this call's)
+      allocate(old%changed(ncell), old%near(ncell), old%uniform(ncell), old%node(g%nnode), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler', error_no_memory('the cell marks'))
+        return
+      end if
+      old%changed = .false.
+      old%near = .false.
+      old%uniform = .false.
+      old%node = .false.
+    end if
+    allocate(old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
              old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
              old%wv(8, ncell), old%ws(3, 8, ncell), old%sub(4, 8, ncell), &
              old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
              old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, mx%nslot), old%pd(mx%nslot), old%sfac(mx%nslot), old%sroom(mx%nslot), old%sshift(3, mx%nslot), &
              old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             near(ncell), fresh(ncell), stat=stat, errmsg=msg)
+             fresh(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the old grid''s regions'))
       return
     end if
     ! changed cells
     if (present(moved)) then
-      old%changed = .false.
       old%changed(moved) = .true.
       old%lchanged = moved
     else
@@ -1090,7 +1240,6 @@ contains
       if (allocated(err)) return
     end if
     ! the cells read
-    near = .false.
     nf = 0
     do j = 1, size(old%lchanged)
       c = old%lchanged(j)
@@ -1102,12 +1251,11 @@ contains
           end do
         end do
       end do
+      if (size(gap_face) == 0) cycle
       if (gap_face(c) > 0 .and. gap_cell(c) > 0) call mark(gap_cell(c))
     end do
-    call marked_list(near, fresh(1:nf), old%lnear, err)
+    call marked_list(old%near, fresh(1:nf), old%lnear, err)
     if (allocated(err)) return
-    call move_alloc(near, old%near)
-    old%uniform = .false.
     if (build_checks) then
       old%ucell = nan
       old%kcell = nan
@@ -1266,7 +1414,7 @@ contains
     call region_floors(g, h, mx, old)
     call subcell_shifts(g, h, mx, old)
     ! the changed cells' nodes
-    call node_list(g, old%lchanged, old%lnode, err)
+    call node_list(g, old%lchanged, old%node, old%lnode, err)
     if (allocated(err)) return
     if (build_checks) then
       old%gu = nan
@@ -1283,8 +1431,8 @@ contains
     !> Cell cc is read (near), and listed once (fresh).
     subroutine mark(cc)
       integer, intent(in) :: cc
-      if (near(cc)) return
-      near(cc) = .true.
+      if (old%near(cc)) return
+      old%near(cc) = .true.
       nf = nf + 1
       fresh(nf) = cc
     end subroutine mark
@@ -1892,6 +2040,25 @@ contains
     end do
   end subroutine totals_of
 
+  !> The scales of the conservation check (remap_stats_t scale) over the
+  !> cells and nodes given.
+  pure function magnitudes(h, cells, nodes) result(scale)
+    type(hydro_t), intent(in) :: h
+    integer, intent(in) :: cells(:), nodes(:)
+    real(wp) :: scale(3)
+    integer :: i, n
+    scale = 0.0_wp
+    do i = 1, size(cells)
+      scale(1) = scale(1) + h%mass(cells(i))
+      scale(2) = scale(2) + h%mass(cells(i))*abs(h%e(cells(i)))
+    end do
+    do i = 1, size(nodes)
+      n = nodes(i)
+      scale(2) = scale(2) + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
+      scale(3) = scale(3) + h%mnode(n)*norm2(h%u(:, n))
+    end do
+  end function magnitudes
+
   !> The statistics of an Euler step remapped in parts (`remap_swept_blockers`'
   !> parts): part's added to total (counts, times, energies and the open
   !> faces' flows summed, defects and reaches the largest; the copied cells
@@ -1910,6 +2077,7 @@ contains
       call xsum_add(sum_%change(q), xsum_value(total%change(q)))
     end do
     sum_%change_known = total%change_known .and. part%change_known
+    sum_%scale = max(total%scale, part%scale)
     sum_%cells_remapped = total%cells_remapped + part%cells_remapped
     sum_%cells_swept = total%cells_swept + part%cells_swept
     sum_%swept_unbounded = total%swept_unbounded + part%swept_unbounded
@@ -1946,7 +2114,7 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, marks) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -1963,6 +2131,8 @@ contains
     !> the cells that move (every one, whatever own), in increasing order:
     !> `remap_euler_step`'s moved, for a remap to the same xnew
     integer, allocatable, intent(out), optional :: moved(:)
+    !> the caller's marks (`remap_euler_step`; absent: this call's)
+    type(remap_marks_t), intent(inout), optional :: marks
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb, rmax
     logical :: other
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
@@ -1974,10 +2144,22 @@ contains
     nblock = 1
     if (present(parts)) parts = 0
     ! (unchanged cells are copied: only the changed ones are looked at)
-    allocate(changed(g%ncell), stat=stat)
-    if (stat /= 0) return
-    call moved_cells(g, xnew, changed, list, err)
-    if (allocated(err)) return
+    if (present(marks)) then
+      call marks_ready(marks, g%ncell, g%nnode, stat)
+      if (stat /= 0) return
+      call moved_cells(g, xnew, marks%changed, list, err)
+      if (allocated(err)) then
+        marks%changed = .false.
+        return
+      end if
+      marks%changed(list) = .false.
+    else
+      allocate(changed(g%ncell), stat=stat)
+      if (stat /= 0) return
+      changed = .false.
+      call moved_cells(g, xnew, changed, list, err)
+      if (allocated(err)) return
+    end if
     if (present(moved)) moved = list
     if (.not. smax > 0.0_wp) return
     if (present(own)) list = pack(list, own(list))
@@ -3525,13 +3707,13 @@ contains
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
   subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, own, own_node)
+                      stats, err, own, own_node, written)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
     integer, intent(in) :: nmat
     type(bc_t), intent(in) :: bc
-    type(old_t), intent(in) :: old
+    type(old_t), intent(inout) :: old
     real(wp), intent(in) :: xnew(:, :)
     type(remap_params_t), intent(in) :: par
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
@@ -3542,9 +3724,10 @@ contains
     !> a window's (`remap_zone_t`): the cells and nodes the stats count; the
     !> kinetic energy deficits are counted there, not repaired
     logical, intent(in), optional :: own(:), own_node(:)
+    !> the cells whose state may have been written (`remap_euler_step`)
+    integer, allocatable, intent(out), optional :: written(:)
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:), visit(:)
-    logical, allocatable :: node_changed(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
@@ -3609,9 +3792,7 @@ contains
     end do
 
     ! nodes: sums over the corners around them; KE difference to cells
-    allocate(node_changed(g%nnode), dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), kdef(ncell), rdef(ncell), &
-             stat=stat, &
-             errmsg=msg)
+    allocate(dk(g%nnode), navail(g%nnode), iav(ncell), avail(ncell), kdef(ncell), rdef(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the nodal work arrays'))
       return
@@ -3619,8 +3800,8 @@ contains
     ! (the loops below visit the changed cells, the cells around the changed
     ! nodes (near) and the changed nodes, in increasing order: what the
     ! others would add is zero)
-    node_changed = .false.
-    node_changed(old%lnode) = .true.
+    ! (old%node: emptied again at the end)
+    old%node(old%lnode) = .true.
     ! (kdef, ie, iav, rdef, avail are read at the near cells only, unless
     ! the deficit repair reaches further: `wide`, below)
     kdef(old%lnear) = 0.0_wp
@@ -3699,7 +3880,7 @@ contains
       c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
-        if (.not. node_changed(n + g%corner_offset(a))) cycle
+        if (.not. old%node(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
         h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
       end do
@@ -3721,7 +3902,7 @@ contains
       n = g%node0(c)
       do a = 1, 8
         k = n + g%corner_offset(a)
-        if (.not. node_changed(k)) cycle
+        if (.not. old%node(k)) cycle
         if (cmass(a, c) > 0.0_wp) dk(k) = dk(k) + 0.5_wp*sum((cmom(:, a, c) - cmass(a, c)*h%u(:, k))**2)/cmass(a, c)
         if (old%changed(c)) dk(k) = dk(k) + cke(a, c)
       end do
@@ -3729,7 +3910,7 @@ contains
     ! the velocity conditions: the momentum and kinetic energy they take
     ! (the other nodes' velocities met them before: unchanged)
     uc = h%u(:, old%lnode)
-    call bc_constrain(bc, h%u)
+    call bc_constrain_nodes(bc, g, old%lnode, h%u)
     stats%momentum_constrained = 0.0_wp
     do i = 1, size(old%lnode)
       n = old%lnode(i)
@@ -3759,7 +3940,7 @@ contains
       c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
-        if (.not. node_changed(n + g%corner_offset(a))) cycle
+        if (.not. old%node(n + g%corner_offset(a))) cycle
         navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*(avail(c) + kdef(c))
       end do
     end do
@@ -3771,7 +3952,7 @@ contains
       c = old%lnear(i)
       n = g%node0(c)
       do a = 1, 8
-        if (.not. node_changed(n + g%corner_offset(a))) cycle
+        if (.not. old%node(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
         ! (a deficit beyond what the cells around offer leaves a residual)
         short = take < 0.0_wp .and. .not. -take < navail(n + g%corner_offset(a))
@@ -3870,6 +4051,8 @@ contains
       end do
     end if
     call move_mixed(nx, mx)
+    old%node(old%lnode) = .false.
+    if (present(written)) call move_alloc(visit, written)
 
   contains
 
