@@ -430,7 +430,21 @@ contains
     !> the caller's marks (absent: marks of this call, set over the grid)
     type(remap_marks_t), intent(inout), optional :: marks
     type(old_t) :: old
-    integer :: stat
+    type(lattice_old_t) :: lat
+    real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
+                             cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
+                             pcell(:, :)
+    integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
+    logical, allocatable :: redo(:), beyond(:)
+    integer(i8), allocatable :: before(:)
+    real(wp), allocatable :: buf(:, :)
+    logical :: sharing
+    real(wp) :: w0, vnew, defect, xn(3, 8), given, bold(6), bnew(6)
+    integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck, ir
+    logical :: any_open, windowed
+    logical, allocatable :: own(:), own_node(:)
+    character(len=200) :: msg
+
     if (present(marks)) then
       call marks_ready(marks, g%ncell, g%nnode, stat)
       if (stat /= 0) then
@@ -442,7 +456,265 @@ contains
       call move_alloc(marks%uniform, old%uniform)
       call move_alloc(marks%node, old%node)
     end if
-    call remap_body(g, h, mx, nmat, bc, xnew, par, stats, err, old, share, zone, moved, written)
+    ! (every way out of the step goes through the end of this block, where
+    ! the marks go back to the caller emptied)
+    main: block
+      ncell = g%ncell
+      windowed = present(zone)
+      if (nmat > max_mat) then
+        call error_set(err, 'remap_euler_step', 'at most '//itoa(max_mat)//' materials')
+        exit main
+      end if
+      w0 = wall_seconds()
+      allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
+               aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
+               pcell(4, ncell), reach(ncell), &
+               redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
+        exit main
+      end if
+      if (build_checks) then
+        ! (set only where read: the changed cells and those around them)
+        cmass = ieee_value(1.0_wp, ieee_quiet_nan)
+        cmom = cmass(1, 1)
+        cke = cmass(1, 1)
+        pcell = cmass(1, 1)
+      end if
+      any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
+      ! (the gaps at open faces: none without them, and nothing to mark)
+      allocate(gap_face(merge(ncell, 0, any_open)), gap_cell(merge(ncell, 0, any_open)), &
+               beyond(merge(ncell, 0, any_open)), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler_step', error_no_memory('the open faces'' gaps'))
+        exit main
+      end if
+      if (windowed) then
+        if (any_open .and. .not. zone%open) then
+          call error_set(err, 'remap_euler_step', 'a window''s remap with open faces needs remap_zone_open')
+          exit main
+        end if
+        own = zone%own
+        own_node = zone%own_node
+        bold = zone%bold
+        bnew = zone%bnew
+      else if (any_open) then
+        ! (a whole grid's remap owns every cell: the masks only for open_faces)
+        allocate(own(ncell), own_node(g%nnode), stat=stat)
+        if (stat /= 0) then
+          call error_set(err, 'remap_euler_step', error_no_memory('the cell masks'))
+          exit main
+        end if
+        own = .true.
+        own_node = .true.
+        call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
+      end if
+      if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
+      if (windowed) then
+        call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
+      else
+        call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
+      end if
+      if (allocated(err)) exit main
+      ! (less the totals of what the remap may write; added back after it)
+      if (.not. windowed) then
+        call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
+        stats%scale = magnitudes(h, old%lnear, old%lnode)
+      end if
+      sharing = .false.
+      if (present(share)) sharing = share%nparts > 1
+      if (sharing) stats%parts = share%nparts
+      if (sharing) then
+        ! a changed cell's results, gathered from the rank that computed them
+        allocate(before(size(old%given)), buf(6*nmat + 44, count(old%changed)), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'remap_euler_step', error_no_memory('the shared work''s buffers'))
+          exit main
+        end if
+      end if
+      stats%t_prepare = wall_seconds() - w0
+
+      ! intersect every changed new cell, widening the window where the
+      ! fragments do not add up to the cell (a node moved further than a cell)
+      w0 = wall_seconds()
+      todo = old%lchanged
+      stats%cells_remapped = size(old%lchanged)
+      if (windowed) stats%cells_remapped = count(old%changed .and. own)
+      old%swept = par%swept
+      old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
+      if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
+      if (old%swept) stats%cells_swept = stats%cells_remapped
+      stats%cells_copied = ncell - stats%cells_remapped
+      if (windowed) stats%cells_copied = count(own) - stats%cells_remapped
+      ! the whole block: no overlap can lie further
+      rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
+      if (windowed) then
+        todo = pack([(c, c = 1, ncell)], old%changed .and. zone%compute)
+        rmax = min(rmax, zone%reach_max)
+      end if
+      done = todo
+      ! (a second pass, by intersection, where the swept faces broke a bound)
+      passes: do
+      ! (the lattice's parts serve the intersections only)
+      if (par%lattice .and. .not. old%swept .and. .not. lat%lt%on) then
+        call lattice_start(g, old, xnew, lat, err)
+        if (allocated(err)) exit main
+      end if
+      todo = done
+      reach(old%lchanged) = 0
+      r = 1
+      ngap = 0
+      stats%volume_defect = 0.0_wp
+      do while (size(todo) > 0)
+        call intersect_cells(todo, r, 1.0_wp)
+        nbad = 0
+        do i = 1, size(todo)
+          c = todo(i)
+          call g%gather(c, xnew, xn)
+          vnew = hex_volume(xn)
+          defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
+          if (gap_of(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
+            ! (the swept faces leave the gap itself to `open_faces`)
+            reach(c) = r
+            if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
+          else if (gap_of(c) > 0 .and. defect > uncovered_tol) then
+            ! maybe in the gap between an open face and the old grid: no
+            ! window makes the fragments add up there; widened below to
+            ! every old cell that can meet it
+            ngap = ngap + 1
+            gaps(ngap) = c
+            reach(c) = r
+            ! (an outflow face beyond the window: its state is not here)
+            if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
+          else if (defect > uncovered_tol .and. r < rmax) then
+            nbad = nbad + 1
+            todo(nbad) = c
+          else if (windowed) then
+            ! (beyond the window's reach: the caller's to redo; any computed
+            ! cell, whose results would be wrong, and whose owner finds it too)
+            if (defect > uncovered_tol) stats%cells_short = stats%cells_short + 1
+            if (own(c) .and. .not. defect > uncovered_tol) stats%volume_defect = max(stats%volume_defect, defect)
+            if (own(c)) reach(c) = r
+          else
+            stats%volume_defect = max(stats%volume_defect, defect)
+            reach(c) = r
+          end if
+        end do
+        todo = todo(1:nbad)
+        if (nbad > 0) then
+          ! take back what these cells gave, then widen their window (doubling
+          ! it: however far the nodes moved, a few passes find the overlaps)
+          call intersect_cells(todo, r, -1.0_wp)
+          r = min(2*r, rmax)
+        end if
+      end do
+      if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
+      if (allocated(err)) exit main
+      if (.not. old%swept) exit passes
+      stats%swept_unbounded = swept_unbounded(g, h, mx, old, done, avol, amass, aie, par%vf_min)
+      if (stats%swept_unbounded == 0) exit passes
+      ! (a window's: the caller remaps the whole grid instead, where this
+      ! pass decides for every cell alike)
+      if (windowed .or. par%swept_only) exit main
+      old%swept = .false.
+      stats%cells_swept = 0
+      old%given = 0_i8
+      end do passes
+      stats%reach = 0
+      do i = 1, size(old%lchanged)
+        if (owns(old%lchanged(i))) stats%reach = max(stats%reach, reach(old%lchanged(i)))
+      end do
+      ! (nothing more to do in a window that cannot hold the step)
+      if (stats%cells_short > 0) exit main
+      if (stats%volume_defect > 1.0e-9_wp) then
+        call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
+                       rtoa(stats%volume_defect)//') even searching the whole block: boundary nodes left the '// &
+                       'boundary, or the old grid is tangled')
+        exit main
+      end if
+
+      ! old regions the new grid does not cover entirely (a tangled old cell
+      ! poking out of the domain): remapped again, piecewise constant and
+      ! scaled, so that all of their mass, energy and momentum still goes
+      ! to the new cells they do overlap
+      do i = 1, size(old%lnear) + mx%nslot
+        c = region_at(i)
+        if (old%vreg(c) <= 0.0_wp) cycle
+        ! what lies beyond an open face has left the domain
+        co = c
+        if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
+        if (.not. owns(co)) cycle
+        if (any_open) then
+          if (beyond(co)) cycle
+        end if
+        ! relative to the cell: a sliver region's own round-off can be larger
+        given = real(old%given(c), wp)*old%gunit(c)
+        if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) then
+          stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
+          cycle
+        end if
+        if (windowed) then
+          stats%regions_uncovered = stats%regions_uncovered + 1
+          cycle
+        end if
+        stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
+        if (.not. given > 0.0_wp) then
+          call g%cell_ijk(co, ci, cj, ck)
+          call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' (cell ('//itoa(ci)//','//itoa(cj)// &
+                         ','//itoa(ck)//'), volume '//rtoa(old%vreg(c))//' of '//rtoa(h%vol(co))// &
+                         ') lies outside the new grid')
+          exit main
+        end if
+        stats%regions_rescaled = stats%regions_rescaled + 1
+        old%uniform(co) = .true.
+        old%scale(c) = old%vreg(c)/given
+        old%grho(:, c) = 0.0_wp
+        old%ge(:, c) = 0.0_wp
+      end do
+      if (stats%regions_rescaled > 0) then
+        redo = .false.
+        do ir = 1, size(old%lnear) + mx%nslot
+          c = region_at(ir)
+          if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
+            co = c
+            if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
+            ! its nodes lose the velocity's linear part (it would no longer
+            ! add up to zero over them), so every new cell that a fragment
+            ! of a cell next to it may have reached is done again
+            do i = 1, 8
+              old%gu(:, :, g%node0(co) + g%corner_offset(i)) = 0.0_wp
+            end do
+            call mark_window(co, stats%reach + 1)
+          end if
+        end do
+        todo = pack([(c, c = 1, ncell)], redo .and. old%changed)
+        call intersect_cells(todo, stats%reach, 0.0_wp)
+      end if
+      stats%t_intersect = wall_seconds() - w0
+      ! (a window's cells not computed are copied: their results are not used)
+      if (windowed) then
+        old%changed = old%changed .and. zone%compute
+        call true_list(old%changed, old%lchanged, err)
+        if (allocated(err)) exit main
+        call node_list(g, old%lchanged, old%node, old%lnode, err)
+        if (allocated(err)) exit main
+      end if
+      call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
+      if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, own, own_node, avol, amom, amass, &
+                                    aie, cdef, cmom, cke, cland, pcell, stats)
+
+      w0 = wall_seconds()
+      if (windowed) then
+        call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                      stats, err, own, zone%own_node)
+      else
+        call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
+                      stats, err, written=written)
+        if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
+        stats%change_known = .not. allocated(err)
+      end if
+      stats%t_assemble = wall_seconds() - w0
+    end block main
     if (.not. present(marks)) return
     ! (emptied through the lists; where a rescaled region or an error may
     ! have left marks the lists do not hold, over the grid)
@@ -460,324 +732,6 @@ contains
     call move_alloc(old%near, marks%near)
     call move_alloc(old%uniform, marks%uniform)
     call move_alloc(old%node, marks%node)
-  end subroutine remap_euler_step
-
-  !> The marks sized for a grid of ncell cells and nnode nodes, all false
-  !> (stat: the allocation's).
-  subroutine marks_ready(marks, ncell, nnode, stat)
-    type(remap_marks_t), intent(inout) :: marks
-    integer, intent(in) :: ncell, nnode
-    integer, intent(out) :: stat
-    stat = 0
-    if (allocated(marks%changed) .and. allocated(marks%near) .and. allocated(marks%uniform) .and. &
-        allocated(marks%node)) then
-      if (size(marks%changed) == ncell .and. size(marks%node) == nnode) return
-    end if
-    if (allocated(marks%changed)) deallocate(marks%changed)
-    if (allocated(marks%near)) deallocate(marks%near)
-    if (allocated(marks%uniform)) deallocate(marks%uniform)
-    if (allocated(marks%node)) deallocate(marks%node)
-    allocate(marks%changed(ncell), marks%near(ncell), marks%uniform(ncell), marks%node(nnode), stat=stat)
-    if (stat /= 0) return
-    marks%changed = .false.
-    marks%near = .false.
-    marks%uniform = .false.
-    marks%node = .false.
-  end subroutine marks_ready
-
-  !> `remap_euler_step` on old, whose marks may be given (all false).
-  subroutine remap_body(g, h, mx, nmat, bc, xnew, par, stats, err, old, share, zone, moved, written)
-    type(grid_t), intent(inout) :: g
-    type(hydro_t), intent(inout) :: h
-    type(mixed_t), intent(inout) :: mx
-    integer, intent(in) :: nmat
-    type(bc_t), intent(in) :: bc
-    real(wp), intent(in) :: xnew(:, :)
-    type(remap_params_t), intent(in) :: par
-    type(remap_stats_t), intent(out) :: stats
-    type(error_t), allocatable, intent(inout) :: err
-    !> the ranks sharing the intersections and MoF of the changed cells, when every
-    !> rank holds the whole grid (`base_share`; absent: this process does all)
-    class(share_t), intent(in), optional :: share
-    !> a window's remap (the module's `remap_zone_t`; absent: the whole grid)
-    type(remap_zone_t), intent(in), optional :: zone
-    !> the cells that move from g%x to xnew, in increasing order, if the
-    !> caller has them (`remap_swept_blockers`' moved; absent: found here)
-    integer, intent(in), optional :: moved(:)
-    !> a whole grid's remap: the cells whose state it may have written, in
-    !> increasing order (the rest are as they were)
-    integer, allocatable, intent(out), optional :: written(:)
-    type(old_t), intent(inout) :: old
-    type(lattice_old_t) :: lat
-    real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
-                             cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
-                             pcell(:, :)
-    integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
-    logical, allocatable :: redo(:), beyond(:)
-    integer(i8), allocatable :: before(:)
-    real(wp), allocatable :: buf(:, :)
-    logical :: sharing
-    real(wp) :: w0, vnew, defect, xn(3, 8), given, bold(6), bnew(6)
-    integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck, ir
-    logical :: any_open, windowed
-    logical, allocatable :: own(:), own_node(:)
-    character(len=200) :: msg
-
-    ncell = g%ncell
-    windowed = present(zone)
-    if (nmat > max_mat) then
-      call error_set(err, 'remap_euler_step', 'at most '//itoa(max_mat)//' materials')
-      return
-    end if
-    w0 = wall_seconds()
-    allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
-             aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
-             pcell(4, ncell), reach(ncell), &
-             redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
-      return
-    end if
-    if (build_checks) then
-      ! (set only where read: the changed cells and those around them)
-      cmass = ieee_value(1.0_wp, ieee_quiet_nan)
-      cmom = cmass(1, 1)
-      cke = cmass(1, 1)
-      pcell = cmass(1, 1)
-    end if
-    any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
-    ! (the gaps at open faces: none without them, and nothing to mark)
-    allocate(gap_face(merge(ncell, 0, any_open)), gap_cell(merge(ncell, 0, any_open)), &
-             beyond(merge(ncell, 0, any_open)), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'remap_euler_step', error_no_memory('the open faces'' gaps'))
-      return
-    end if
-    if (windowed) then
-      if (any_open .and. .not. zone%open) then
-        call error_set(err, 'remap_euler_step', 'a window''s remap with open faces needs remap_zone_open')
-        return
-      end if
-      own = zone%own
-      own_node = zone%own_node
-      bold = zone%bold
-      bnew = zone%bnew
-    else if (any_open) then
-      ! (a whole grid's remap owns every cell: the masks only for open_faces)
-      allocate(own(ncell), own_node(g%nnode), stat=stat)
-      if (stat /= 0) then
-        call error_set(err, 'remap_euler_step', error_no_memory('the cell masks'))
-        return
-      end if
-      own = .true.
-      own_node = .true.
-      call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
-    end if
-    if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
-    if (windowed) then
-      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
-    else
-      call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
-    end if
-    if (allocated(err)) return
-    ! (less the totals of what the remap may write; added back after it)
-    if (.not. windowed) then
-      call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
-      stats%scale = magnitudes(h, old%lnear, old%lnode)
-    end if
-    sharing = .false.
-    if (present(share)) sharing = share%nparts > 1
-    if (sharing) stats%parts = share%nparts
-    if (sharing) then
-      ! a changed cell's results, gathered from the rank that computed them
-      allocate(before(size(old%given)), buf(6*nmat + 44, count(old%changed)), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'remap_euler_step', error_no_memory('the shared work''s buffers'))
-        return
-      end if
-    end if
-    stats%t_prepare = wall_seconds() - w0
-
-    ! intersect every changed new cell, widening the window where the
-    ! fragments do not add up to the cell (a node moved further than a cell)
-    w0 = wall_seconds()
-    todo = old%lchanged
-    stats%cells_remapped = size(old%lchanged)
-    if (windowed) stats%cells_remapped = count(old%changed .and. own)
-    old%swept = par%swept
-    old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
-    if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
-    if (old%swept) stats%cells_swept = stats%cells_remapped
-    stats%cells_copied = ncell - stats%cells_remapped
-    if (windowed) stats%cells_copied = count(own) - stats%cells_remapped
-    ! the whole block: no overlap can lie further
-    rmax = max(g%chi(1) - g%clo(1), g%chi(2) - g%clo(2), g%chi(3) - g%clo(3), 1)
-    if (windowed) then
-      todo = pack([(c, c = 1, ncell)], old%changed .and. zone%compute)
-      rmax = min(rmax, zone%reach_max)
-    end if
-    done = todo
-    ! (a second pass, by intersection, where the swept faces broke a bound)
-    passes: do
-    ! (the lattice's parts serve the intersections only)
-    if (par%lattice .and. .not. old%swept .and. .not. lat%lt%on) then
-      call lattice_start(g, old, xnew, lat, err)
-      if (allocated(err)) return
-    end if
-    todo = done
-    reach(old%lchanged) = 0
-    r = 1
-    ngap = 0
-    stats%volume_defect = 0.0_wp
-    do while (size(todo) > 0)
-      call intersect_cells(todo, r, 1.0_wp)
-      nbad = 0
-      do i = 1, size(todo)
-        c = todo(i)
-        call g%gather(c, xnew, xn)
-        vnew = hex_volume(xn)
-        defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
-        if (gap_of(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
-          ! (the swept faces leave the gap itself to `open_faces`)
-          reach(c) = r
-          if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
-        else if (gap_of(c) > 0 .and. defect > uncovered_tol) then
-          ! maybe in the gap between an open face and the old grid: no
-          ! window makes the fragments add up there; widened below to
-          ! every old cell that can meet it
-          ngap = ngap + 1
-          gaps(ngap) = c
-          reach(c) = r
-          ! (an outflow face beyond the window: its state is not here)
-          if (gap_cell(c) == 0) stats%cells_short = stats%cells_short + 1
-        else if (defect > uncovered_tol .and. r < rmax) then
-          nbad = nbad + 1
-          todo(nbad) = c
-        else if (windowed) then
-          ! (beyond the window's reach: the caller's to redo; any computed
-          ! cell, whose results would be wrong, and whose owner finds it too)
-          if (defect > uncovered_tol) stats%cells_short = stats%cells_short + 1
-          if (own(c) .and. .not. defect > uncovered_tol) stats%volume_defect = max(stats%volume_defect, defect)
-          if (own(c)) reach(c) = r
-        else
-          stats%volume_defect = max(stats%volume_defect, defect)
-          reach(c) = r
-        end if
-      end do
-      todo = todo(1:nbad)
-      if (nbad > 0) then
-        ! take back what these cells gave, then widen their window (doubling
-        ! it: however far the nodes moved, a few passes find the overlaps)
-        call intersect_cells(todo, r, -1.0_wp)
-        r = min(2*r, rmax)
-      end if
-    end do
-    if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
-    if (allocated(err)) return
-    if (.not. old%swept) exit passes
-    stats%swept_unbounded = swept_unbounded(g, h, mx, old, done, avol, amass, aie, par%vf_min)
-    if (stats%swept_unbounded == 0) exit passes
-    ! (a window's: the caller remaps the whole grid instead, where this
-    ! pass decides for every cell alike)
-    if (windowed .or. par%swept_only) return
-    old%swept = .false.
-    stats%cells_swept = 0
-    old%given = 0_i8
-    end do passes
-    stats%reach = 0
-    do i = 1, size(old%lchanged)
-      if (owns(old%lchanged(i))) stats%reach = max(stats%reach, reach(old%lchanged(i)))
-    end do
-    ! (nothing more to do in a window that cannot hold the step)
-    if (stats%cells_short > 0) return
-    if (stats%volume_defect > 1.0e-9_wp) then
-      call error_set(err, 'remap_euler_step', 'the old grid does not cover the new one (volume defect '// &
-                     rtoa(stats%volume_defect)//') even searching the whole block: boundary nodes left the '// &
-                     'boundary, or the old grid is tangled')
-      return
-    end if
-
-    ! old regions the new grid does not cover entirely (a tangled old cell
-    ! poking out of the domain): remapped again, piecewise constant and
-    ! scaled, so that all of their mass, energy and momentum still goes
-    ! to the new cells they do overlap
-    do i = 1, size(old%lnear) + mx%nslot
-      c = region_at(i)
-      if (old%vreg(c) <= 0.0_wp) cycle
-      ! what lies beyond an open face has left the domain
-      co = c
-      if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-      if (.not. owns(co)) cycle
-      if (any_open) then
-        if (beyond(co)) cycle
-      end if
-      ! relative to the cell: a sliver region's own round-off can be larger
-      given = real(old%given(c), wp)*old%gunit(c)
-      if (abs(given - old%vreg(c)) <= uncovered_tol*h%vol(co)) then
-        stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
-        cycle
-      end if
-      if (windowed) then
-        stats%regions_uncovered = stats%regions_uncovered + 1
-        cycle
-      end if
-      stats%given_defect = max(stats%given_defect, abs(given - old%vreg(c))/h%vol(co))
-      if (.not. given > 0.0_wp) then
-        call g%cell_ijk(co, ci, cj, ck)
-        call error_set(err, 'remap_euler_step', 'old region '//itoa(c)//' (cell ('//itoa(ci)//','//itoa(cj)// &
-                       ','//itoa(ck)//'), volume '//rtoa(old%vreg(c))//' of '//rtoa(h%vol(co))// &
-                       ') lies outside the new grid')
-        return
-      end if
-      stats%regions_rescaled = stats%regions_rescaled + 1
-      old%uniform(co) = .true.
-      old%scale(c) = old%vreg(c)/given
-      old%grho(:, c) = 0.0_wp
-      old%ge(:, c) = 0.0_wp
-    end do
-    if (stats%regions_rescaled > 0) then
-      redo = .false.
-      do ir = 1, size(old%lnear) + mx%nslot
-        c = region_at(ir)
-        if (abs(old%scale(c) - 1.0_wp) > 0.0_wp) then
-          co = c
-          if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
-          ! its nodes lose the velocity's linear part (it would no longer
-          ! add up to zero over them), so every new cell that a fragment
-          ! of a cell next to it may have reached is done again
-          do i = 1, 8
-            old%gu(:, :, g%node0(co) + g%corner_offset(i)) = 0.0_wp
-          end do
-          call mark_window(co, stats%reach + 1)
-        end if
-      end do
-      todo = pack([(c, c = 1, ncell)], redo .and. old%changed)
-      call intersect_cells(todo, stats%reach, 0.0_wp)
-    end if
-    stats%t_intersect = wall_seconds() - w0
-    ! (a window's cells not computed are copied: their results are not used)
-    if (windowed) then
-      old%changed = old%changed .and. zone%compute
-      call true_list(old%changed, old%lchanged, err)
-      if (allocated(err)) return
-      call node_list(g, old%lchanged, old%node, old%lnode, err)
-      if (allocated(err)) return
-    end if
-    call unchanged_corners(g, h, old, cmass, cmom, cke, pcell)
-    if (any_open) call open_faces(g, h, mx, bc, old, xnew, gap_face, gap_cell, own, own_node, avol, amom, amass, &
-                                  aie, cdef, cmom, cke, cland, pcell, stats)
-
-    w0 = wall_seconds()
-    if (windowed) then
-      call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                    stats, err, own, zone%own_node)
-    else
-      call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                    stats, err, written=written)
-      if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
-      stats%change_known = .not. allocated(err)
-    end if
-    stats%t_assemble = wall_seconds() - w0
 
   contains
 
@@ -969,7 +923,30 @@ contains
         end do
       end do
     end subroutine mark_window
-  end subroutine remap_body
+  end subroutine remap_euler_step
+
+  !> The marks sized for a grid of ncell cells and nnode nodes, all false
+  !> (stat: the allocation's).
+  subroutine marks_ready(marks, ncell, nnode, stat)
+    type(remap_marks_t), intent(inout) :: marks
+    integer, intent(in) :: ncell, nnode
+    integer, intent(out) :: stat
+    stat = 0
+    if (allocated(marks%changed) .and. allocated(marks%near) .and. allocated(marks%uniform) .and. &
+        allocated(marks%node)) then
+      if (size(marks%changed) == ncell .and. size(marks%node) == nnode) return
+    end if
+    if (allocated(marks%changed)) deallocate(marks%changed)
+    if (allocated(marks%near)) deallocate(marks%near)
+    if (allocated(marks%uniform)) deallocate(marks%uniform)
+    if (allocated(marks%node)) deallocate(marks%node)
+    allocate(marks%changed(ncell), marks%near(ncell), marks%uniform(ncell), marks%node(nnode), stat=stat)
+    if (stat /= 0) return
+    marks%changed = .false.
+    marks%near = .false.
+    marks%uniform = .false.
+    marks%node = .false.
+  end subroutine marks_ready
 
   !> The cells of g with a node that moves from g%x to xnew (marked in
   !> changed, all false on entry, and their list in increasing order): each
