@@ -28,7 +28,7 @@ module driver_euler
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
-                         remap_part_target, remap_marks_t
+                         remap_part_target, remap_work_t
   use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
@@ -69,8 +69,8 @@ module driver_euler
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
-    !> the remap's marks, kept from one Euler step to the next
-    type(remap_marks_t) :: marks
+    !> the remap's work arrays, kept from one Euler step to the next
+    type(remap_work_t) :: work
     !> this segment's fits of the mixed cells' interface planes after the
     !> remaps, and refreshes of their centroids before them (and dumps)
     type(centroid_stats_t) :: centroids
@@ -325,7 +325,7 @@ contains
     else if (par%lattice) then
       par%lattice = lattice_nodes(st%g, xnew)
     end if
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
                                   parts=nparts, moved=moved)
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in parts
@@ -358,7 +358,7 @@ contains
           end if
         else
           if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
                                         parts=nleft)
             nleft = max(nleft, 1)
           end if
@@ -371,7 +371,7 @@ contains
           arrived = .true.
         end if
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
-        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, marks=es%marks, &
+        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
                                          moved=moved) == 0
         par%swept_only = par%swept .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts
         if (.not. (par%swept .or. arrived) .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
@@ -379,7 +379,7 @@ contains
           ! swept_max (a cell it tangles on the way): shorter parts, the
           ! first one's nodes the same fraction of their way
           if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, marks=es%marks, &
+            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
                                         parts=nleft)
             nleft = max(nleft, 1)
           end if
@@ -397,10 +397,10 @@ contains
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
       if (split) then
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
-                              written=wrote, marks=es%marks)
+                              written=wrote, work=es%work)
       else
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved, &
-                              written=wrote, marks=es%marks)
+                              written=wrote, work=es%work)
       end if
       ! (the cells whose states the parts wrote, for their EOS below)
       if (.not. allocated(written)) allocate(written(0))

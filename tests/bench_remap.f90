@@ -56,7 +56,7 @@ program bench_remap
   use mesh_halo, only: halo_t
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_max_iter_default
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_marks_t
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_work_t
   use omp_lib, only: omp_get_max_threads
   implicit none
   !> Largest node displacement of the old grid, in cell spacings.
@@ -251,7 +251,7 @@ contains
   !> The cost of a remap that changes the same cells in grids of 20^3, 40^3
   !> and 60^3: the nodes within 4 index steps of the centre node moved as in
   !> `perturbed`, one material, back to the box (the swept-face path, the
-  !> driver's choice timed with it, and its marks kept from one repetition
+  !> driver's choice timed with it, and its work arrays kept from one repetition
   !> to the next as the driver keeps them); fastest of reps(2).
   subroutine bench_flat()
     integer, parameter :: sizes(3) = [20, 40, 60]
@@ -260,7 +260,7 @@ contains
     real(wp), allocatable :: xo(:, :)
     type(grid_t) :: gb
     type(remap_stats_t) :: sb
-    type(remap_marks_t) :: marks
+    type(remap_work_t) :: work
     n_keep = n
     write(*, '(a)') '== the same moved cells in a larger grid (a ball of 4 index steps about the centre node, '// &
       'remapped back to the box; fastest of '//itoa(reps(2))//') =='
@@ -275,7 +275,7 @@ contains
       tb = huge(1.0_wp)
       cb = huge(1.0_wp)
       do rep = 1, reps(2)
-        call time_remap(1, xo, gb%x, .true., t, tc, sb, ch, nm_, marks=marks)
+        call time_remap(1, xo, gb%x, .true., t, tc, sb, ch, nm_, work=work)
         tb = min(tb, t)
         cb = min(cb, tc)
       end do
@@ -335,16 +335,16 @@ contains
   !> centroids), remaps it to xnew and returns the wall and CPU times of
   !> remap_euler_step alone (s), its statistics, the relative changes of
   !> mass, momentum and total energy, and the number of mixed cells.
-  subroutine time_remap(nmat, xold, xnew, sweep, tw, tcpu, stats, change, nmix, lattice, marks)
+  subroutine time_remap(nmat, xold, xnew, sweep, tw, tcpu, stats, change, nmix, lattice, work)
     integer, intent(in) :: nmat
     real(wp), intent(in) :: xold(:, :), xnew(:, :)
     !> the swept-face path where no cell blocks it, as the driver does (else intersection)
     logical, intent(in) :: sweep
     !> the lattice path (`remap_params_t`; absent: off)
     logical, intent(in), optional :: lattice
-    !> marks kept from one call to the next, as the driver keeps them
-    !> (`remap_marks_t`; absent: the remap's own)
-    type(remap_marks_t), intent(inout), optional :: marks
+    !> work arrays kept from one call to the next, as the driver keeps
+    !> them (`remap_work_t`; absent: the remap's own)
+    type(remap_work_t), intent(inout), optional :: work
     real(wp), intent(out) :: tw, tcpu
     type(remap_stats_t), intent(out) :: stats
     real(wp), intent(out) :: change(3)
@@ -436,9 +436,9 @@ contains
     w0 = wall_seconds()
     ! (as the driver: the blockers' moved cells handed to the remap)
     if (sweep) par%swept = remap_swept_blockers(g, h, bc, xnew, par%swept_max, par%swept_mixed, moved=moved, &
-                                                marks=marks) == 0
+                                                work=work) == 0
     if (present(lattice)) par%lattice = lattice
-    call remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, e, moved=moved, marks=marks)
+    call remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, e, moved=moved, work=work)
     tw = wall_seconds() - w0
     call cpu_time(tcpu)
     tcpu = tcpu - c0

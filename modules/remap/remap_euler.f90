@@ -119,7 +119,7 @@ module remap_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_marks_t, remap_euler_step, remap_zone_open, &
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target
 
   !> The unit vectors of the axes (columns).
@@ -263,18 +263,6 @@ module remap_euler
     type(remap_bins_t) :: bins
   end type remap_zone_t
 
-  !> Marks of cells and nodes that the remap keeps from one call to the
-  !> next (its caller's: an Euler phase's), all false between calls: the
-  !> sets a remap works on (the changed and near cells, the changed cells'
-  !> nodes) start empty without a pass over the grid, and are emptied
-  !> through their lists, so that an Euler step that changes few cells of
-  !> a large grid costs what they do (sized on first use; a grid of another
-  !> size sizes them again).
-  type :: remap_marks_t
-    logical, allocatable :: changed(:), near(:), uniform(:)   !< (ncell)
-    logical, allocatable :: node(:)                           !< (nnode)
-  end type remap_marks_t
-
   !> The old grid's cells as the remap needs them.
   type :: old_t
     logical, allocatable :: changed(:)          !< cell moved (ncell)
@@ -350,6 +338,18 @@ module remap_euler
     real(wp), allocatable :: sfac(:), sroom(:), sshift(:, :)
   end type old_t
 
+  !> The remap's work arrays, kept from one call to the next by its caller
+  !> (an Euler phase): the old grid's arrays (sized on first use, again for
+  !> a grid of another size, and the regions' when the mixed cells change)
+  !> and its marks of cells and nodes, all false between calls (the sets a
+  !> remap works on start empty without a pass over the grid, and are
+  !> emptied through their lists). So an Euler step that changes few cells
+  !> of a large grid costs what they do: no pass over the grid, and no
+  !> fresh pages of whole-grid arrays to fault in.
+  type :: remap_work_t
+    type(old_t) :: old
+  end type remap_work_t
+
   !> The parts of one old cell on the lattice (`remap_lattice`): entry e
   !> is k(1, e) the new cell it lands in, k(2, e) - 1 = octant - 1 +
   !> 8 (corner - 1) + 64 (s - s0) (the new cell's corner; the old cell's
@@ -406,7 +406,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved, written, marks)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved, written, work)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -427,9 +427,11 @@ contains
     !> a whole grid's remap: the cells whose state it may have written, in
     !> increasing order (the rest are as they were)
     integer, allocatable, intent(out), optional :: written(:)
-    !> the caller's marks (absent: marks of this call, set over the grid)
-    type(remap_marks_t), intent(inout), optional :: marks
-    type(old_t) :: old
+    !> the caller's work arrays (absent: this call's, its marks set over
+    !> the grid)
+    type(remap_work_t), intent(inout), optional, target :: work
+    type(old_t), target :: own_old
+    type(old_t), pointer :: old
     type(lattice_old_t) :: lat
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
@@ -445,19 +447,17 @@ contains
     logical, allocatable :: own(:), own_node(:)
     character(len=200) :: msg
 
-    if (present(marks)) then
-      call marks_ready(marks, g%ncell, g%nnode, stat)
+    old => own_old
+    if (present(work)) then
+      call marks_ready(work%old, g%ncell, g%nnode, stat)
       if (stat /= 0) then
         call error_set(err, 'remap_euler_step', error_no_memory('the cell marks'))
         return
       end if
-      call move_alloc(marks%changed, old%changed)
-      call move_alloc(marks%near, old%near)
-      call move_alloc(marks%uniform, old%uniform)
-      call move_alloc(marks%node, old%node)
+      old => work%old
     end if
     ! (every way out of the step goes through the end of this block, where
-    ! the marks go back to the caller emptied)
+    ! the marks are emptied)
     main: block
       ncell = g%ncell
       windowed = present(zone)
@@ -715,7 +715,7 @@ contains
       end if
       stats%t_assemble = wall_seconds() - w0
     end block main
-    if (.not. present(marks)) return
+    if (.not. present(work)) return
     ! (emptied through the lists; where a rescaled region or an error may
     ! have left marks the lists do not hold, over the grid)
     if (allocated(err) .or. stats%regions_rescaled > 0) then
@@ -728,10 +728,6 @@ contains
       if (allocated(old%lnear)) old%near(old%lnear) = .false.
       if (allocated(old%lnear)) old%uniform(old%lnear) = .false.
     end if
-    call move_alloc(old%changed, marks%changed)
-    call move_alloc(old%near, marks%near)
-    call move_alloc(old%uniform, marks%uniform)
-    call move_alloc(old%node, marks%node)
 
   contains
 
@@ -925,28 +921,54 @@ contains
     end subroutine mark_window
   end subroutine remap_euler_step
 
-  !> The marks sized for a grid of ncell cells and nnode nodes, all false
-  !> (stat: the allocation's).
-  subroutine marks_ready(marks, ncell, nnode, stat)
-    type(remap_marks_t), intent(inout) :: marks
+  !> The marks of old (changed, near, uniform, node) sized for a grid of
+  !> ncell cells and nnode nodes, all false: kept if they are (stat: the
+  !> allocation's).
+  subroutine marks_ready(old, ncell, nnode, stat)
+    type(old_t), intent(inout) :: old
     integer, intent(in) :: ncell, nnode
     integer, intent(out) :: stat
     stat = 0
-    if (allocated(marks%changed) .and. allocated(marks%near) .and. allocated(marks%uniform) .and. &
-        allocated(marks%node)) then
-      if (size(marks%changed) == ncell .and. size(marks%node) == nnode) return
+    if (allocated(old%changed) .and. allocated(old%node)) then
+      if (size(old%changed) == ncell .and. size(old%node) == nnode) return
+      deallocate(old%changed, old%near, old%uniform, old%node)
     end if
-    if (allocated(marks%changed)) deallocate(marks%changed)
-    if (allocated(marks%near)) deallocate(marks%near)
-    if (allocated(marks%uniform)) deallocate(marks%uniform)
-    if (allocated(marks%node)) deallocate(marks%node)
-    allocate(marks%changed(ncell), marks%near(ncell), marks%uniform(ncell), marks%node(nnode), stat=stat)
+    allocate(old%changed(ncell), old%near(ncell), old%uniform(ncell), old%node(nnode), stat=stat)
     if (stat /= 0) return
-    marks%changed = .false.
-    marks%near = .false.
-    marks%uniform = .false.
-    marks%node = .false.
+    old%changed = .false.
+    old%near = .false.
+    old%uniform = .false.
+    old%node = .false.
   end subroutine marks_ready
+
+  !> The old grid's arrays of old for ncell cells, nnode nodes, nreg
+  !> regions and nslot slots: kept where they have those sizes (a kept
+  !> workspace's), else allocated afresh (stat: the allocation's).
+  subroutine old_arrays(old, ncell, nnode, nreg, nslot, stat)
+    type(old_t), intent(inout) :: old
+    integer, intent(in) :: ncell, nnode, nreg, nslot
+    integer, intent(out) :: stat
+    logical :: keep
+    stat = 0
+    keep = allocated(old%ucell)
+    if (keep) keep = size(old%ucell, 2) == ncell .and. size(old%gu, 3) == nnode
+    if (.not. keep) then
+      if (allocated(old%ucell)) deallocate(old%ucell, old%kcell, old%uref, old%ushift, old%kshift, old%gu, old%xdual, &
+                                           old%wv, old%ws, old%sub)
+      allocate(old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), old%ushift(3, ncell), old%kshift(ncell), &
+               old%gu(3, 3, nnode), old%xdual(3, nnode), old%wv(8, ncell), old%ws(3, 8, ncell), old%sub(4, 8, ncell), &
+               stat=stat)
+      if (stat /= 0) return
+    end if
+    keep = allocated(old%wreg)
+    if (keep) keep = size(old%wreg) == nreg .and. size(old%pd) == nslot
+    if (keep) return
+    if (allocated(old%wreg)) deallocate(old%wreg, old%rho, old%e, old%xr, old%grho, old%ge, old%pn, old%pd, old%sfac, &
+                                        old%sroom, old%sshift, old%vreg, old%given, old%gunit, old%scale)
+    allocate(old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), old%grho(3, nreg), old%ge(3, nreg), &
+             old%pn(3, nslot), old%pd(nslot), old%sfac(nslot), old%sroom(nslot), old%sshift(3, nslot), &
+             old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), stat=stat)
+  end subroutine old_arrays
 
   !> The cells of g with a node that moves from g%x to xnew (marked in
   !> changed, all false on entry, and their list in increasing order): each
@@ -1183,27 +1205,10 @@ contains
     ncell = g%ncell
     nan = ieee_value(1.0_wp, ieee_quiet_nan)
     nreg = ncell + mx%nslot
-    if (.not. (allocated(old%changed) .and. allocated(old%near) .and. allocated(old%uniform) .and. &
-               allocated(old%node))) then
-      ! (no marks given: this call's)
-      allocate(old%changed(ncell), old%near(ncell), old%uniform(ncell), old%node(g%nnode), stat=stat)
-      if (stat /= 0) then
-        call error_set(err, 'remap_euler', error_no_memory('the cell marks'))
-        return
-      end if
-      old%changed = .false.
-      old%near = .false.
-      old%uniform = .false.
-      old%node = .false.
-    end if
-    allocate(old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), &
-             old%ushift(3, ncell), old%kshift(ncell), old%gu(3, 3, g%nnode), old%xdual(3, g%nnode), &
-             old%wv(8, ncell), old%ws(3, 8, ncell), old%sub(4, 8, ncell), &
-             old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), &
-             old%grho(3, nreg), old%ge(3, nreg), &
-             old%pn(3, mx%nslot), old%pd(mx%nslot), old%sfac(mx%nslot), old%sroom(mx%nslot), old%sshift(3, mx%nslot), &
-             old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), &
-             fresh(ncell), stat=stat, errmsg=msg)
+    ! (a kept workspace's arrays, and marks all false, or this call's)
+    call marks_ready(old, ncell, g%nnode, stat)
+    if (stat == 0) call old_arrays(old, ncell, g%nnode, nreg, mx%nslot, stat)
+    if (stat == 0) allocate(fresh(ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the old grid''s regions'))
       return
@@ -2091,7 +2096,7 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, marks) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, work) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -2108,8 +2113,8 @@ contains
     !> the cells that move (every one, whatever own), in increasing order:
     !> `remap_euler_step`'s moved, for a remap to the same xnew
     integer, allocatable, intent(out), optional :: moved(:)
-    !> the caller's marks (`remap_euler_step`; absent: this call's)
-    type(remap_marks_t), intent(inout), optional :: marks
+    !> the caller's work arrays (`remap_euler_step`; absent: this call's)
+    type(remap_work_t), intent(inout), optional :: work
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb, rmax
     logical :: other
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
@@ -2121,15 +2126,15 @@ contains
     nblock = 1
     if (present(parts)) parts = 0
     ! (unchanged cells are copied: only the changed ones are looked at)
-    if (present(marks)) then
-      call marks_ready(marks, g%ncell, g%nnode, stat)
+    if (present(work)) then
+      call marks_ready(work%old, g%ncell, g%nnode, stat)
       if (stat /= 0) return
-      call moved_cells(g, xnew, marks%changed, list, err)
+      call moved_cells(g, xnew, work%old%changed, list, err)
       if (allocated(err)) then
-        marks%changed = .false.
+        work%old%changed = .false.
         return
       end if
-      marks%changed(list) = .false.
+      work%old%changed(list) = .false.
     else
       allocate(changed(g%ncell), stat=stat)
       if (stat /= 0) return
