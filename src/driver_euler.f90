@@ -346,6 +346,7 @@ contains
     nleft = 0
     fac = 1.0_wp
     ntaken = 0
+    written = [integer ::]
     nsplit = 0
     arrived = .true.
     do
@@ -403,7 +404,6 @@ contains
                               written=wrote, work=es%work)
       end if
       ! (the cells whose states the parts wrote, for their EOS below)
-      if (.not. allocated(written)) allocate(written(0))
       if (allocated(wrote)) written = [written, wrote]
       if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
         ! (nothing remapped: the first part again half as far, or the rest
