@@ -216,11 +216,10 @@ module remap_euler
     !> So the conservation check costs what the remap touched, not the grid.
     type(xsum_t) :: change(6)
     logical :: change_known = .false.
-    !> with change_known: the scales of the conservation check, the
-    !> magnitudes of what the remap wrote, before it (sums over its cells
-    !> and nodes of the mass, of |m e| plus the kinetic energy, and of
-    !> |m u|): a check relative to what was remapped, at a cost that follows
-    !> it, not the grid
+    !> with change_known: the scales of the conservation check, what the
+    !> remap wrote, before it (over its cells and nodes: the mass, the total
+    !> energy (its magnitude), the sum of |m u|): a check relative to what
+    !> was remapped, at a cost that follows it, not the grid
     real(wp) :: scale(3) = 0.0_wp
     real(wp) :: t_prepare = 0.0_wp, t_intersect = 0.0_wp, t_assemble = 0.0_wp  !< wall seconds
     integer :: parts = 1   !< ranks that shared the intersections and MoF (`base_share`)
@@ -2032,13 +2031,14 @@ contains
     scale = 0.0_wp
     do i = 1, size(cells)
       scale(1) = scale(1) + h%mass(cells(i))
-      scale(2) = scale(2) + h%mass(cells(i))*abs(h%e(cells(i)))
+      scale(2) = scale(2) + h%mass(cells(i))*h%e(cells(i))
     end do
     do i = 1, size(nodes)
       n = nodes(i)
       scale(2) = scale(2) + 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n))
       scale(3) = scale(3) + h%mnode(n)*norm2(h%u(:, n))
     end do
+    scale(2) = abs(scale(2))
   end function magnitudes
 
   !> The statistics of an Euler step remapped in parts (`remap_swept_blockers`'
