@@ -1228,7 +1228,7 @@ contains
       do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
         do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
           do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
-            call mark(g%cell(oi, oj, ok_))
+            call mark(c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck))
           end do
         end do
       end do
@@ -1672,12 +1672,12 @@ contains
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
-                ua(3, 8), mc, kc, ksum
+                ua(3, 8), mc, kc, ksum, det6(48)
     integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, ic
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r) &
+    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1692,25 +1692,23 @@ contains
         xn(:, j) = xn(:, j) - o
       end do
       call half_tets(xn, pts, hv, corner)
+      call half_dets(pts, det6)
+      if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
       call region_slots(h, mx, c, s0, s1)
       do i = 1, 48
+        if (old%uniform(c)) exit
+        if (s0 == 0) then
+          ! (a pure cell's subcells whole: their mass and weights below)
+          v = det6(i)/6.0_wp
+          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + &
+            [v, 0.25_wp*v*(pts(:, 1) + pts(:, hv(2, i)) + pts(:, hv(3, i)) + pts(:, hv(4, i)))]
+          cycle
+        end if
         do j = 1, 4
           t(:, j) = pts(:, hv(j, i))
         end do
-        v = tet_det(t)
-        if (.not. v > 0.0_wp) old%uniform(c) = .true.
-        if (old%uniform(c)) exit
-        if (s0 == 0) then
-          v = v/6.0_wp
-          m = 0.25_wp*v*sum(t, 2)
-          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + [v, m]
-          msub(corner(i)) = msub(corner(i)) + region_mass(c, v, m, o)
-          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(c)*v
-          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(c)*(m + o*v)
-          cycle
-        end if
         do s = s0, s1
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0, s, o, pn, pd, nm)
@@ -1725,6 +1723,16 @@ contains
         old%wv(:, c) = 0.0_wp
         old%ws(:, :, c) = 0.0_wp
         cycle
+      end if
+      if (s0 == 0) then
+        ! (all linear in a piece's volume and moment: once per subcell)
+        do j = 1, 8
+          v = old%sub(1, j, c)
+          m = old%sub(2:4, j, c)
+          msub(j) = region_mass(c, v, m, o)
+          old%wv(j, c) = old%wreg(c)*v
+          old%ws(:, j, c) = old%wreg(c)*(m + o*v)
+        end do
       end if
       n = g%node0(c)
       mc = sum(h%mcorner(:, c))
@@ -1955,7 +1963,7 @@ contains
         do ok_ = max(g%clo(3), ck - 2), min(g%chi(3), ck + 2)
           do oj = max(g%clo(2), cj - 2), min(g%chi(2), cj + 2)
             do oi = max(g%clo(1), ci - 2), min(g%chi(1), ci + 2)
-              co = g%cell(oi, oj, ok_)
+              co = c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)
               if (.not. old%near(co)) cycle
               if (h%mat(co) == k) then
                 call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
@@ -2115,7 +2123,7 @@ contains
     integer, allocatable, intent(out), optional :: moved(:)
     !> the caller's work arrays (`remap_euler_step`; absent: this call's)
     type(remap_work_t), intent(inout), optional :: work
-    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, dmax2, v, m(3), vb, rmax
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, v, m(3), vb, rmax
     logical :: other
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
     logical :: ok
@@ -2150,7 +2158,7 @@ contains
     other = .false.
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, tq, hmin2, &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
     do i = 1, size(list)
       c = list(i)
@@ -2162,7 +2170,7 @@ contains
         do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
           do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
             do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
-              ok = ok .and. h%mat(g%cell(oi, oj, ok_)) == h%mat(c)
+              ok = ok .and. h%mat(c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)) == h%mat(c)
             end do
           end do
         end do
@@ -2178,18 +2186,15 @@ contains
       if (ok) then
         call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
         ! not tangled (as `subcell_shifts` finds it)
-        do t = 1, 48
-          do a = 1, 4
-            tq(:, a) = opts(:, hv(a, t))
-          end do
-          ok = ok .and. tet_det(tq) > 0.0_wp
-        end do
+        call half_dets(opts, det6)
+        ok = ok .and. all(det6 > 0.0_wp)
         vb = abs(hex_volume(xo))
         do f = 1, 6
           nb = [ci, cj, ck] + face_step(:, f)
           if (all(nb >= g%clo .and. nb <= g%chi) .or. bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW) cycle
           do t = 8*f - 7, 8*f
-            call swept_triangle(opts(:, hv(2:4, t)), pts(:, hv(2:4, t)), v, m)
+            call swept_triangle(opts(:, hv(2, t)), opts(:, hv(3, t)), opts(:, hv(4, t)), &
+                                pts(:, hv(2, t)), pts(:, hv(3, t)), pts(:, hv(4, t)), v, m)
             ok = ok .and. abs(v) <= 1.0e-12_wp*vb
           end do
         end do
@@ -2234,7 +2239,7 @@ contains
     logical, intent(out) :: arrived
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: lim(:)
-    real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), tq(3, 4), hmin2, d(3), d2, a2, r
+    real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), det6(48), hmin2, d(3), d2, a2, r
     integer :: i, c, ci, cj, ck, a, k, n, stat, hv(4, 48), hc(48)
     logical :: folded
 
@@ -2286,13 +2291,8 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, xk, xo)
       xc = xo
       call halves_about(sum(xo, 2)/8.0_wp, xo, xc, opts, pts, hv, hc)
-      folded = .false.
-      do k = 1, 48
-        do a = 1, 4
-          tq(:, a) = opts(:, hv(a, k))
-        end do
-        folded = folded .or. .not. tet_det(tq) > 0.0_wp
-      end do
+      call half_dets(opts, det6)
+      folded = .not. all(det6 > 0.0_wp)
       if (.not. folded) cycle
       do k = 1, size(cells)
         do a = 1, 8
@@ -2331,10 +2331,11 @@ contains
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb
+               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb, n0c
     logical :: box
 
     call g%cell_ijk(c, ci, cj, ck)
+    n0c = g%cell_node0(ci, cj, ck)
     call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
     ! local coordinates about the new cell's centre: round-off scales with the cell
     o = sum(xn, 2)/8.0_wp
@@ -2560,7 +2561,7 @@ contains
         do j = 1, 8
           do s = s0c, s1c
             if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
-            call source(c, g%ncell + s, mx%mat(s), g%node0(c) + g%corner_offset(j))
+            call source(c, g%ncell + s, mx%mat(s), n0c + g%corner_offset(j))
             call deposit(sv(s - s0c + 1, j), sm(:, s - s0c + 1, j), j)
           end do
         end do
@@ -2585,28 +2586,31 @@ contains
         ! on the face: (face centre, a, edge midpoint) and (face centre,
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
-          tp = opts(:, hv(2:4, i))
-          tn = pts(:, hv(2:4, i))
-          call swept_triangle(tp, tn, v, m)
+          call swept_triangle(opts(:, hv(2, i)), opts(:, hv(3, i)), opts(:, hv(4, i)), &
+                              pts(:, hv(2, i)), pts(:, hv(3, i)), pts(:, hv(4, i)), v, m)
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
           if (v > 0.0_wp .and. nbr(f) /= c) then
             if (h%mat(nbr(f)) > 0) then
               acc(:, 4 + d, hcorner(i)) = acc(:, 4 + d, hcorner(i)) + [v, m]
             else
+              tp = opts(:, hv(2:4, i))
+              tn = pts(:, hv(2:4, i))
               call swept_from(nbr(f), hcorner(i), tp, tn, v, m, hcorner(i), 0)
             end if
           else if (pure) then
             acc(:, 1, hcorner(i)) = acc(:, 1, hcorner(i)) + [v, m]
           else
+            tp = opts(:, hv(2:4, i))
+            tn = pts(:, hv(2:4, i))
             call swept_from(c, hcorner(i), tp, tn, v, m, hcorner(i), 0)
           end if
         end do
         ! between corners a and b: (edge midpoint, centre, face centre),
         ! its normal pointing from a to b (b is a's neighbour across the
         ! direction of the edge)
-        tp = opts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
-        tn = pts(:, [hv(4, 2*t - 1), 1, hv(2, 2*t - 1)])
-        call swept_triangle(tp, tn, v, m)
+        i = 2*t - 1
+        call swept_triangle(opts(:, hv(4, i)), opts(:, 1), opts(:, hv(2, i)), pts(:, hv(4, i)), pts(:, 1), &
+                            pts(:, hv(2, i)), v, m)
         if (.not. abs(v) > 0.0_wp) cycle
         if (pure) then
           slot = 1 + edge_dir(ia, ib)
@@ -2618,6 +2622,8 @@ contains
             acc(:, slot, ib) = acc(:, slot, ib) - [v, m]
           end if
         else
+          tp = opts(:, [hv(4, i), 1, hv(2, i)])
+          tn = pts(:, [hv(4, i), 1, hv(2, i)])
           call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
         end if
       end do
@@ -2626,13 +2632,13 @@ contains
         do slot = 1, 7
           if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
           if (slot == 1) then
-            call source(c, c, h%mat(c), g%node0(c) + g%corner_offset(j))
+            call source(c, c, h%mat(c), n0c + g%corner_offset(j))
           else if (slot <= 4) then
-            call source(c, c, h%mat(c), g%node0(c) + g%corner_offset(ieor(j - 1, ishft(1, slot - 2)) + 1))
+            call source(c, c, h%mat(c), n0c + g%corner_offset(ieor(j - 1, ishft(1, slot - 2)) + 1))
           else
             d = slot - 4
             f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
-            call source(nbr(f), nbr(f), h%mat(nbr(f)), g%node0(c) + g%corner_offset(j))
+            call source(nbr(f), nbr(f), h%mat(nbr(f)), n0c + g%corner_offset(j))
           end if
           call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
         end do
@@ -2676,7 +2682,7 @@ contains
       real(wp), intent(in) :: tp(3, 3), tn(3, 3), v, m(3)
       real(wp) :: vs(max_mat), ms(3, max_mat)
       integer :: s0, s1, s, nb_
-      nb_ = g%node0(c) + g%corner_offset(a)
+      nb_ = n0c + g%corner_offset(a)
       if (h%mat(co) > 0) then
         call source(co, co, h%mat(co), nb_)
         call put(v, m, into, give)
@@ -3066,6 +3072,24 @@ contains
     corner = half_corner
   end subroutine half_tets
 
+  !> Six times the signed volumes of the 48 halves of the split with the
+  !> points pts (`half_tets`), as `tet_det` gives them: every half has the
+  !> centre for its first point, so the offsets from it are taken once.
+  pure subroutine half_dets(pts, det6)
+    real(wp), intent(in) :: pts(3, 27)
+    real(wp), intent(out) :: det6(48)
+    real(wp) :: r(3, 27)
+    integer :: i, j
+    do j = 2, 27
+      r(:, j) = pts(:, j) - pts(:, 1)
+    end do
+    do i = 1, 48
+      associate (a => r(:, half_hv(2, i)), b => r(:, half_hv(3, i)), c => r(:, half_hv(4, i)))
+        det6(i) = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
+      end associate
+    end do
+  end subroutine half_dets
+
   !> The region (signed volume v, first moment m about o) a triangle sweeps
   !> from tp to tn, taken from the mixed old cell whose regions are the
   !> slots s0..s1, shared among them: vs(k) and ms(:, k) for slot s0 + k - 1,
@@ -3237,7 +3261,7 @@ contains
         ! a region swept out through a face (`swept_fluxes`): the cell's
         tp = opts(:, hv(2:4, i))
         tn = pts(:, hv(2:4, i))
-        call swept_triangle(tp, tn, v, m)
+        call swept_triangle(tp(:, 1), tp(:, 2), tp(:, 3), tn(:, 1), tn(:, 2), tn(:, 3), v, m)
         if (.not. v < 0.0_wp) cycle
         call swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
         out(1:n) = out(1:n) - vs(1:n)

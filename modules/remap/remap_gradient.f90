@@ -99,8 +99,8 @@ contains
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
     type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
-                qc, qmin, qmax, dq, eps, phi
-    real(wp), allocatable :: bmat(:, :), work(:)
+                qc, qmin, qmax, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
+    real(wp), allocatable :: bmat(:, :), atb(:, :), work(:)
     character(len=200) :: msg
 
     nf = size(q, 1)
@@ -118,7 +118,7 @@ contains
 
     ! Work arrays once per call; the parallel loop gives each thread its own
     ! copy. lwork: the largest optimal size over all neighbour counts.
-    allocate(bmat(max_nbr, nf), stat=stat, errmsg=msg)
+    allocate(bmat(max_nbr, nf), atb(3, nf), stat=stat, errmsg=msg)
     if (stat /= 0) then
       grad = 0.0_wp
       call report(error_no_memory('work arrays'))
@@ -147,7 +147,7 @@ contains
     nfail = 0
     !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork, list) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
-    !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work) &
+    !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work, w, wx, ata, atb) &
     !$omp reduction(+:nfail) schedule(static)
     do i = 1, size(list)
       c = list(i)
@@ -156,29 +156,50 @@ contains
       grad(:, :, c) = 0.0_wp
       if (.not. has(c)) cycle
 
-      ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
+      ! the rows (offsets and differences, unweighted) and the weighted
+      ! normal equations A^T W A, A^T W b summed with them (w_n = 1/d2: no
+      ! square root unless the SVD decides; the neighbour c + offset by the
+      ! block's strides, no index call in the innermost loop)
       m = 0
+      ata = 0.0_wp
       do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
         do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
           do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
-            co = ix%cell(oi, oj, ok_)
+            co = c + (oi - ci) + ix%cx*(oj - cj) + ix%cxy*(ok_ - ck)
             if (co == c .or. .not. has(co)) cycle
             dx = pos(:, co) - pos(:, c)
             d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
             if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
-            rinv = 1.0_wp/sqrt(d2)
             m = m + 1
             nbr(m) = co
-            amat(m, :) = dx*rinv
-            do f = 1, nf
-              bmat(m, f) = (q(f, co) - q(f, c))*rinv
-            end do
+            w(m) = 1.0_wp/d2
+            amat(m, :) = dx
+            wx = w(m)*dx
+            ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
+            ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
+            ata(3, 1) = ata(3, 1) + wx(3)*dx(1)
+            ata(2, 2) = ata(2, 2) + wx(2)*dx(2)
+            ata(3, 2) = ata(3, 2) + wx(3)*dx(2)
+            ata(3, 3) = ata(3, 3) + wx(3)*dx(3)
           end do
         end do
       end do
       if (m == 0) cycle
+      do f = 1, nf
+        atb(:, f) = 0.0_wp
+        do n = 1, m
+          bmat(n, f) = q(f, nbr(n)) - q(f, c)
+          atb(:, f) = atb(:, f) + (w(n)*bmat(n, f))*amat(n, :)
+        end do
+      end do
 
-      if (.not. normal_solve(m, nf, amat, bmat)) then
+      if (.not. normal_solve(nf, ata, atb, bmat)) then
+        ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
+        do n = 1, m
+          rinv = sqrt(w(n))
+          amat(n, :) = amat(n, :)*rinv
+          bmat(n, 1:nf) = bmat(n, 1:nf)*rinv
+        end do
         call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
         if (info /= 0) then
           nfail = nfail + 1
@@ -224,27 +245,26 @@ contains
 
   contains
 
-    !> The least-squares gradient of the m rows amat, bmat into bmat(1:3, :)
-    !> through the normal equations (3 x 3, by their adjugate), where they
-    !> are well conditioned: their smallest eigenvalue above cond_min times
-    !> the trace (the rows are unit vectors, so the trace is m), i.e. the
-    !> neighbours span all three directions well; then the solution is the
-    !> SVD's, to round-off times at most 1/cond_min, at a small part of its
-    !> cost. False (bmat untouched) otherwise: the SVD decides.
-    !> (amat and bmat passed: the loop's private copies, which host
+    !> The least-squares gradient from the weighted normal equations
+    !> ata (lower triangle) and atb(:, 1:nf) into bmat(1:3, :) (3 x 3, by
+    !> their adjugate), where they are well conditioned: their smallest
+    !> eigenvalue above cond_min times the trace (the weighted rows are unit
+    !> vectors, so the trace is the number of rows), i.e. the neighbours span
+    !> all three directions well; then the solution is the SVD's, to
+    !> round-off times at most 1/cond_min, at a small part of its cost.
+    !> False (bmat untouched) otherwise: the SVD decides.
+    !> (the arrays passed: the loop's private copies, which host
     !> association would not see)
-    logical function normal_solve(m, nf, amat, bmat) result(done)
-      integer, intent(in) :: m, nf
-      real(wp), intent(in) :: amat(:, :)
+    logical function normal_solve(nf, ata, atb, bmat) result(done)
+      integer, intent(in) :: nf
+      real(wp), intent(inout) :: ata(3, 3)
+      real(wp), intent(in) :: atb(:, :)
       real(wp), intent(inout) :: bmat(:, :)
-      real(wp) :: ata(3, 3), adj(3, 3), atb(3), det, tr
-      integer :: i, j, ff
-      do j = 1, 3
-        do i = j, 3
-          ata(i, j) = dot_product(amat(1:m, i), amat(1:m, j))
-          ata(j, i) = ata(i, j)
-        end do
-      end do
+      real(wp) :: adj(3, 3), det, tr
+      integer :: ff
+      ata(1, 2) = ata(2, 1)
+      ata(1, 3) = ata(3, 1)
+      ata(2, 3) = ata(3, 2)
       adj(1, 1) = ata(2, 2)*ata(3, 3) - ata(2, 3)*ata(3, 2)
       adj(1, 2) = ata(1, 3)*ata(3, 2) - ata(1, 2)*ata(3, 3)
       adj(1, 3) = ata(1, 2)*ata(2, 3) - ata(1, 3)*ata(2, 2)
@@ -260,10 +280,7 @@ contains
       done = det > cond_min*tr**3
       if (.not. done) return
       do ff = 1, nf
-        do i = 1, 3
-          atb(i) = dot_product(amat(1:m, i), bmat(1:m, ff))
-        end do
-        bmat(1:3, ff) = matmul(adj, atb)/det
+        bmat(1:3, ff) = matmul(adj, atb(:, ff))/det
       end do
     end function normal_solve
 

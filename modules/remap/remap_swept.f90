@@ -34,18 +34,21 @@ module remap_swept
 contains
 
   !> Signed volume v and first moment m of the region swept by the triangle
-  !> p(:, 1:3) moving to q(:, 1:3) (module header; positive along the
+  !> p1, p2, p3 moving to q1, q2, q3 (module header; positive along the
   !> normal (p2 - p1) x (p3 - p1)). Lengths in any unit; v in its cube, m
-  !> in its fourth power, about the coordinates' origin.
-  pure subroutine swept_triangle(p, q, v, m)
-    real(wp), intent(in) :: p(3, 3), q(3, 3)
+  !> in its fourth power, about the coordinates' origin. (The points one by
+  !> one: a caller passes its arrays' columns, no copies.)
+  pure subroutine swept_triangle(p1, p2, p3, q1, q2, q3, v, m)
+    real(wp), intent(in) :: p1(3), p2(3), p3(3), q1(3), q2(3), q3(3)
     real(wp), intent(out) :: v, m(3)
+    ! (the weights as products: a division is several times a product's cost)
+    real(wp), parameter :: r3 = 1.0_wp/3.0_wp, r6 = 1.0_wp/6.0_wp, r12 = 1.0_wp/12.0_wp, r24 = 1.0_wp/24.0_wp
     real(wp) :: e1(3), e2(3), d1(3), g1(3), g2(3), a(3), b(3), c(3), n0(3), n1(3), s0, s1, s2, r0, r1, r2
-    e1 = p(:, 2) - p(:, 1)
-    e2 = p(:, 3) - p(:, 1)
-    d1 = q(:, 1) - p(:, 1)
-    g1 = (q(:, 2) - p(:, 2)) - d1
-    g2 = (q(:, 3) - p(:, 3)) - d1
+    e1 = p2 - p1
+    e2 = p3 - p1
+    d1 = q1 - p1
+    g1 = (q2 - p2) - d1
+    g2 = (q3 - p3) - d1
     ! a = e1 x e2, b = e1 x g2 + g1 x e2, c = g1 x g2, written out: this is
     ! the remap's innermost kernel (72 calls per remapped cell)
     a(1) = e1(2)*e2(3) - e1(3)*e2(2)
@@ -58,8 +61,8 @@ contains
     c(2) = g1(3)*g2(1) - g1(1)*g2(3)
     c(3) = g1(1)*g2(2) - g1(2)*g2(1)
     ! the normal's integrals over t: n0 = int N dt, n1 = int t N dt
-    n0 = a + 0.5_wp*b + c/3.0_wp
-    n1 = 0.5_wp*a + b/3.0_wp + 0.25_wp*c
+    n0 = a + 0.5_wp*b + r3*c
+    n1 = 0.5_wp*a + r3*b + 0.25_wp*c
     s0 = n0(1)*d1(1) + n0(2)*d1(2) + n0(3)*d1(3)
     s1 = n0(1)*g1(1) + n0(2)*g1(2) + n0(3)*g1(3)
     s2 = n0(1)*g2(1) + n0(2)*g2(2) + n0(3)*g2(3)
@@ -68,9 +71,9 @@ contains
     r2 = n1(1)*g2(1) + n1(2)*g2(2) + n1(3)*g2(3)
     ! over the triangle: int 1 = 1/2, int xi_i = 1/6, int xi_i^2 = 1/12,
     ! int xi_1 xi_2 = 1/24
-    v = 0.5_wp*s0 + (s1 + s2)/6.0_wp
-    m = v*p(:, 1) + (s0/6.0_wp + s1/12.0_wp + s2/24.0_wp)*e1 + (s0/6.0_wp + s1/24.0_wp + s2/12.0_wp)*e2 + &
-        (0.5_wp*r0 + (r1 + r2)/6.0_wp)*d1 + (r0/6.0_wp + r1/12.0_wp + r2/24.0_wp)*g1 + &
-        (r0/6.0_wp + r1/24.0_wp + r2/12.0_wp)*g2
+    v = 0.5_wp*s0 + r6*(s1 + s2)
+    m = v*p1 + (r6*s0 + r12*s1 + r24*s2)*e1 + (r6*s0 + r24*s1 + r12*s2)*e2 + &
+        (0.5_wp*r0 + r6*(r1 + r2))*d1 + (r6*r0 + r12*r1 + r24*r2)*g1 + &
+        (r6*r0 + r24*r1 + r12*r2)*g2
   end subroutine swept_triangle
 end module remap_swept
