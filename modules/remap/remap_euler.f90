@@ -2124,7 +2124,7 @@ contains
     !> the caller's work arrays (`remap_euler_step`; absent: this call's)
     type(remap_work_t), intent(inout), optional :: work
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, v, m(3), vb, rmax
-    logical :: other
+    logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
     logical :: ok
     logical, allocatable :: changed(:)
@@ -2158,7 +2158,7 @@ contains
     other = .false.
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, hmin2, &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
     do i = 1, size(list)
       c = list(i)
@@ -2183,15 +2183,30 @@ contains
       end do
       if (ok) rmax = max(rmax, sqrt(dmax2/hmin2))
       ok = ok .and. dmax2 <= smax**2*hmin2
+      ! the faces on the grid's boundary that must sweep nothing
+      do f = 1, 6
+        nb = [ci, cj, ck] + face_step(:, f)
+        wall(f) = .not. (all(nb >= g%clo .and. nb <= g%chi) .or. bc%kind(f) == BC_INFLOW .or. &
+                         bc%kind(f) == BC_OUTFLOW)
+      end do
       if (ok) then
-        call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
+        ! (the new cell's points only for such faces)
+        if (any(wall)) then
+          call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
+        else
+          o = sum(xo, 2)/8.0_wp
+          do a = 1, 8
+            xo(:, a) = xo(:, a) - o
+          end do
+          call half_tets(xo, opts, hv, hc)
+        end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         ok = ok .and. all(det6 > 0.0_wp)
-        vb = abs(hex_volume(xo))
+        vb = 0.0_wp
+        if (any(wall)) vb = abs(hex_volume(xo))
         do f = 1, 6
-          nb = [ci, cj, ck] + face_step(:, f)
-          if (all(nb >= g%clo .and. nb <= g%chi) .or. bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW) cycle
+          if (.not. wall(f)) cycle
           do t = 8*f - 7, 8*f
             call swept_triangle(opts(:, hv(2, t)), opts(:, hv(3, t)), opts(:, hv(4, t)), &
                                 pts(:, hv(2, t)), pts(:, hv(3, t)), pts(:, hv(4, t)), v, m)

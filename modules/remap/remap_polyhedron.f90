@@ -265,6 +265,18 @@ contains
     mom = 0.0_wp
     nv = p%nv
     if (nv < 4) return
+    if (nv == 4) then
+      ! a tetrahedron (the most common piece: a half that lies in one new
+      ! subcell): its neighbours' order at any vertex is positive (the
+      ! walking rule), so 6 V = (x_a - x_1).((x_b - x_1) x (x_c - x_1))
+      ! with (a, b, c) = nbr(:, 1), and the centroid is the mean vertex
+      a = p%x(:, p%nbr(1, 1)) - p%x(:, 1)
+      b = p%x(:, p%nbr(2, 1)) - p%x(:, 1)
+      c = p%x(:, p%nbr(3, 1)) - p%x(:, 1)
+      vol = (a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1)))/6.0_wp
+      mom = 0.25_wp*vol*(p%x(:, 1) + p%x(:, 2) + p%x(:, 3) + p%x(:, 4))
+      return
+    end if
     do k = 1, 3
       r(k) = sum(p%x(k, 1:nv))/real(nv, wp)
     end do
