@@ -104,8 +104,8 @@ module remap_euler
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
   use lagrange_centroids, only: plane_normals, planes_known
-  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_first_moments, &
-                              poly_copy
+  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
+                              poly_first_moments, poly_copy
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
@@ -122,9 +122,6 @@ module remap_euler
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target
 
-  !> The unit vectors of the axes (columns).
-  real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
-                                                    0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
   !> The index step to the cell across each face of `hex_faces`.
@@ -2832,9 +2829,9 @@ contains
         if (p%nv == 0) return
       end do
       do d = 1, 3
-        if (maxval(p%x(d, 1:p%nv)) > hi(d)) call poly_clip(p, unit_axis(:, d), hi(d))
+        if (maxval(p%x(d, 1:p%nv)) > hi(d)) call poly_clip_axis(p, d, 1.0_wp, hi(d))
         if (p%nv == 0) return
-        if (minval(p%x(d, 1:p%nv)) < lo(d)) call poly_clip(p, -unit_axis(:, d), -lo(d))
+        if (minval(p%x(d, 1:p%nv)) < lo(d)) call poly_clip_axis(p, d, -1.0_wp, -lo(d))
         if (p%nv == 0) return
       end do
       call split_octants(p, 1, 0, sgn)
@@ -2863,9 +2860,9 @@ contains
         call split_octants(p, d + 1, ibset(bits, d - 1), sgn)
       else
         call poly_copy(p, q)
-        call poly_clip(p, unit_axis(:, d), mid(d))
+        call poly_clip_axis(p, d, 1.0_wp, mid(d))
         if (p%nv > 0) call split_octants(p, d + 1, bits, sgn)
-        call poly_clip(q, -unit_axis(:, d), -mid(d))
+        call poly_clip_axis(q, d, -1.0_wp, -mid(d))
         if (q%nv > 0) call split_octants(q, d + 1, ibset(bits, d - 1), sgn)
       end if
     end subroutine split_octants

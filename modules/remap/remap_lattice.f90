@@ -20,13 +20,10 @@
 module remap_lattice
   use base_kinds, only: wp, i8
   use mesh_grid, only: grid_index_t
-  use remap_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_first_moments, poly_copy
+  use remap_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_clip_axis, poly_first_moments, poly_copy
   implicit none
   private
   public :: lattice_t, lattice_nodes, lattice_build, lattice_tet
-
-  real(wp), parameter :: unit_axis(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
-                                                    0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
 
   !> The half-cell planes of a lattice: plane(2m, d) the m-th node plane in
   !> direction d (m = 0 at the first stored node), plane(2m+1, d) the
@@ -169,8 +166,8 @@ contains
         cycle
       end if
       call poly_copy(p, r)
-      if (ex(1) < a) call poly_clip(r, -unit_axis(:, d), -a)
-      if (r%nv > 0 .and. ex(2) > b) call poly_clip(r, unit_axis(:, d), b)
+      if (ex(1) < a) call poly_clip_axis(r, d, -1.0_wp, -a)
+      if (r%nv > 0 .and. ex(2) > b) call poly_clip_axis(r, d, 1.0_wp, b)
       if (r%nv > 0) call lattice_split(lt, oo, hint, sgn, r, d + 1, cq + stride*qd, n0, n, code, acc)
     end do
   end subroutine lattice_split

@@ -26,7 +26,8 @@ module remap_polyhedron
   implicit none
   private
   public :: poly_t, poly_max_verts, poly_rel_tol
-  public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_first_moments, poly_moments, poly_copy
+  public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_clip_axis, poly_first_moments, poly_moments, &
+            poly_copy
   public :: tet_planes, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
@@ -140,21 +141,55 @@ contains
     real(wp), intent(in) :: n(3)
     real(wp), intent(in) :: d
     logical, intent(out), optional :: ok
-    real(wp) :: s(poly_max_verts), tol, xmax, t
-    integer :: idx(poly_max_verts)
-    integer :: nv, ntot, nin, nout, ncut, v, k, u, w, prev, cur, nxt, it, m
+    real(wp) :: s(poly_max_verts), xmax
+    integer :: v
 
     if (present(ok)) ok = .true.
-    nv = p%nv
-    if (nv == 0) return
-
+    if (p%nv == 0) return
     ! signed distances (times |n|) and the scale of their round-off
     xmax = 0.0_wp
-    do v = 1, nv
+    do v = 1, p%nv
       s(v) = n(1)*p%x(1, v) + n(2)*p%x(2, v) + n(3)*p%x(3, v) - d
       xmax = max(xmax, abs(n(1)*p%x(1, v)) + abs(n(2)*p%x(2, v)) + abs(n(3)*p%x(3, v)))
     end do
-    tol = poly_rel_tol*(xmax + abs(d))
+    call clip_at(p, s, poly_rel_tol*(xmax + abs(d)), ok)
+  end subroutine poly_clip
+
+  !> `poly_clip` by the plane sgn x_k = d (sgn = 1 or -1: the half-space
+  !> sgn x_k <= d), the same numbers as poly_clip(p, sgn e_k, d) without
+  !> the products by the normal's zeros (the lattice's and the octants'
+  !> planes).
+  pure subroutine poly_clip_axis(p, k, sgn, d, ok)
+    type(poly_t), intent(inout) :: p
+    integer, intent(in) :: k
+    real(wp), intent(in) :: sgn, d
+    logical, intent(out), optional :: ok
+    real(wp) :: s(poly_max_verts), xmax
+    integer :: v
+
+    if (present(ok)) ok = .true.
+    if (p%nv == 0) return
+    xmax = 0.0_wp
+    do v = 1, p%nv
+      s(v) = sgn*p%x(k, v) - d
+      xmax = max(xmax, abs(p%x(k, v)))
+    end do
+    call clip_at(p, s, poly_rel_tol*(xmax + abs(d)), ok)
+  end subroutine poly_clip_axis
+
+  !> The clip of `poly_clip` from the vertices' signed distances s (outside
+  !> where positive) and the tolerance tol within which a vertex is on the
+  !> plane.
+  pure subroutine clip_at(p, s, tol, ok)
+    type(poly_t), intent(inout) :: p
+    real(wp), intent(inout) :: s(:)
+    real(wp), intent(in) :: tol
+    logical, intent(out), optional :: ok
+    real(wp) :: t
+    integer :: idx(poly_max_verts)
+    integer :: nv, ntot, nin, nout, ncut, v, k, u, w, prev, cur, nxt, it, m
+
+    nv = p%nv
     nin = 0
     nout = 0
     do v = 1, nv
@@ -245,7 +280,7 @@ contains
       p%nbr(3, idx(v)) = idx(p%nbr(3, v))
     end do
     p%nv = m
-  end subroutine poly_clip
+  end subroutine clip_at
 
   !> Volume vol (length^3) and first moment mom = integral of x dV
   !> (length^4) of p: every face is fanned from its first vertex and each
