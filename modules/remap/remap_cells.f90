@@ -6,7 +6,7 @@
 module remap_cells
   use base_kinds, only: wp
   use mesh_grid, only: block_gather, grid_index_t, grid_index
-  use mesh_geometry, only: hex_tets, tet_det
+  use mesh_geometry, only: hex_faces
   implicit none
   private
   public :: cell_moments
@@ -50,21 +50,34 @@ contains
   end subroutine cell_moments
 
   !> Volume v and centroid cen of cell (ci, cj, ck) of a block of ni x nj
-  !> x (any) cells with node positions x: the sums over its 24 tetrahedra.
+  !> x (any) cells with node positions x: the sums over its 24 tetrahedra
+  !> (centre, face centre, the face's edge), as `hex_tets` and `tet_det`
+  !> give them, without building them (the centre's offsets once per face).
   subroutine one_cell(ni, nj, ci, cj, ck, x, v, cen)
     integer, intent(in) :: ni, nj, ci, cj, ck
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: v, cen(3)
-    real(wp) :: xn(3, 8), tets(3, 4, 24), m(3), vt
-    integer :: t
+    real(wp) :: xn(3, 8), xc(3), xf(3), a(3), b(3), c(3), m(3), vt
+    integer :: f, k, i
     call block_gather(ni, nj, ci, cj, ck, x, xn)
-    call hex_tets(xn, tets)
+    do i = 1, 3
+      xc(i) = 0.125_wp*sum(xn(i, :))
+    end do
     v = 0.0_wp
     m = 0.0_wp
-    do t = 1, 24
-      vt = tet_det(tets(:, :, t))/6.0_wp
-      v = v + vt
-      m = m + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
+    do f = 1, 6
+      xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                    (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+      a = xf - xc
+      do k = 1, 4
+        associate (p => xn(:, hex_faces(k, f)), q => xn(:, hex_faces(mod(k, 4) + 1, f)))
+          b = p - xc
+          c = q - xc
+          vt = (a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1)))/6.0_wp
+          v = v + vt
+          m = m + vt*0.25_wp*(xc + xf + p + q)
+        end associate
+      end do
     end do
     cen = m/v
   end subroutine one_cell
