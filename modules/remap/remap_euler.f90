@@ -110,7 +110,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
-  use remap_swept, only: swept_triangle
+  use remap_swept, only: swept_triangle, swept_triangles
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
@@ -393,6 +393,17 @@ module remap_euler
        1,  5,  5,  7,  7,  3,  3,  1,  2,  4,  4,  8,  8,  6,  6,  2, &
        1,  2,  2,  6,  6,  5,  5,  1,  3,  7,  7,  8,  8,  4,  4,  3, &
        1,  3,  3,  4,  4,  2,  2,  1,  5,  6,  6,  8,  8,  7,  7,  5]
+  !> The 72 triangles the swept-face path sweeps per cell (`swept_fluxes`),
+  !> as columns of the 27 points of the split: the 48 on the cell's faces,
+  !> (face centre, node, midpoint) or (face centre, midpoint, node) of half
+  !> i, then for each tetrahedron t the one between its two corners,
+  !> (half_hv(4, 2t-1), 1, half_hv(2, 2t-1)) = (midpoint, centre, face
+  !> centre), its normal from corner a to b
+  integer, parameter :: swept_tri(3, 72) = reshape([half_hv(2:4, :), &
+    24,  1,  2, 23,  1,  2, 26,  1,  2, 20,  1,  2, 22,  1,  3, 25,  1,  3, &
+    21,  1,  3, 27,  1,  3, 16,  1,  4, 27,  1,  4, 18,  1,  4, 24,  1,  4, &
+    26,  1,  5, 17,  1,  5, 25,  1,  5, 19,  1,  5, 20,  1,  6, 19,  1,  6, &
+    22,  1,  6, 16,  1,  6, 18,  1,  7, 21,  1,  7, 17,  1,  7, 23,  1,  7], [3, 72])
 
 contains
 
@@ -2532,7 +2543,8 @@ contains
       ! booked (`deposit` is linear for one source): slot 1 the cell's own
       ! subcell at the corner, 1 + d its subcell across direction d, 4 + d
       ! the subcell at the corner of the cell across the face in direction d
-      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3)
+      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
+                  tv(72), tm(72, 3)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, d, slot
       logical :: pure
 
@@ -2544,9 +2556,11 @@ contains
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
-      sv = 0.0_wp
-      sm = 0.0_wp
       acc = 0.0_wp
+      if (.not. pure) then
+        sv = 0.0_wp
+        sm = 0.0_wp
+      end if
       if (pure) then
         ! (their volumes and moments about the old centre oc, `subcell_shifts`)
         oc = opts(:, 1)
@@ -2590,6 +2604,8 @@ contains
           nbr(f) = 0
         end if
       end do
+      ! the 72 triangles' swept regions at once (`swept_tri`)
+      call swept_triangles(opts, pts, swept_tri, tv, tm)
       do t = 1, 24
         f = (t - 1)/4 + 1
         d = (f + 1)/2
@@ -2598,8 +2614,8 @@ contains
         ! on the face: (face centre, a, edge midpoint) and (face centre,
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
-          call swept_triangle(opts(:, hv(2, i)), opts(:, hv(3, i)), opts(:, hv(4, i)), &
-                              pts(:, hv(2, i)), pts(:, hv(3, i)), pts(:, hv(4, i)), v, m)
+          v = tv(i)
+          m = tm(i, :)
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
           if (v > 0.0_wp .and. nbr(f) /= c) then
             if (h%mat(nbr(f)) > 0) then
@@ -2621,8 +2637,8 @@ contains
         ! its normal pointing from a to b (b is a's neighbour across the
         ! direction of the edge)
         i = 2*t - 1
-        call swept_triangle(opts(:, hv(4, i)), opts(:, 1), opts(:, hv(2, i)), pts(:, hv(4, i)), pts(:, 1), &
-                            pts(:, hv(2, i)), v, m)
+        v = tv(48 + t)
+        m = tm(48 + t, :)
         if (.not. abs(v) > 0.0_wp) cycle
         if (pure) then
           slot = 1 + edge_dir(ia, ib)
