@@ -303,8 +303,8 @@ memory_bench() {
 # the charge lit at its centre, at BENCH_BLAST_N^3 (default 56: a probe of
 # 48^3 suggested about 9 minutes for 56^3; it took 275 s here, 2 threads on
 # a shared machine. The cost goes as N^4; the section prints the N that
-# would take 10 and 30 minutes by that rule, about 68 and 89 from 275 s:
-# the "finest grid in 30 minutes" was not run). Its cells
+# would take 10 and 30 minutes by that rule, about 68 and 89 from 275 s;
+# the finest grid run in 30 minutes, 96^3 in 905 s, is in the README). Its cells
 # (59 mm at 56^3) are larger than the charge: the run shows what the pre-run
 # saves, not a converged 3D answer. tools/blast_kb_plot.py puts all of them
 # against Kingery-Bulmash free air (Swisdak's fits, reflection factors 1.8
