@@ -81,6 +81,17 @@ program test_rezone_quality
              'between the edges it is sin of their angle (0.47)')
   call check(abs(r - 1.0_wp/sqrt((1.0_wp - 0.5_wp*c)**2 + 0.25_wp*c**2)) < 1e-14_wp, &
              'side ratio of the diagonal compression')
+  ! a unit cube whose node 2 (x = 1, y = z = 0) is pushed back to x = -0.5:
+  ! the cell folds through itself along x, every edge's |cos| against its
+  ! axis still 0.55 or more (the folded x-edge exactly on it, turned back),
+  ! so the signed cosine is -1 and trips any trigger
+  xn = cube
+  xn(1, 2) = -0.5_wp
+  call hex_shape(xn, r, cs, axis=.true.)
+  call check(abs(cs + 1.0_wp) < 1e-15_wp, 'an edge turned back against its axis: cosine -1')
+  xn = cube
+  call hex_shape(xn, r, cs, axis=.true.)
+  call check(abs(cs - 1.0_wp) < 1e-15_wp, 'the cube against the axes: cosine 1')
 
   ! cells failing the triggers' tests: a 2 x 1 x 1 grid, the second cell
   ! 5 long (side ratio 5 >= 4); then its far corner folded back (tangled)

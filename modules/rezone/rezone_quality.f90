@@ -129,13 +129,16 @@ contains
 
   !> Largest ratio of edge lengths and cosine of the largest inclined angle:
   !> the smallest |sin| of the angle between two edges at a corner, or with
-  !> axis = .true. the smallest |cos| of the angle between an edge and the
-  !> axis of its logical direction (0 for an edge of zero length).
+  !> axis = .true. the smallest cosine of the angle between an edge and the
+  !> axis of its logical direction (0 for an edge of zero length; negative
+  !> for an edge turned back against its axis: a cell folded through itself
+  !> along an axis keeps every |cos| near 1, and must still trip the
+  !> trigger).
   pure subroutine hex_shape(xn, side_ratio, cos_incl, axis)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: side_ratio, cos_incl
     logical, intent(in), optional :: axis
-    real(wp) :: l2min, l2max, le2, e(3, 3), ne2(3), c2, cr(3), den
+    real(wp) :: l2min, l2max, le2, e(3, 3), ne2(3), c2, cr(3), den, cneg
     integer :: k, a, i, j, d
     logical :: by_axis
 
@@ -157,18 +160,25 @@ contains
     by_axis = .false.
     if (present(axis)) by_axis = axis
     if (by_axis) then
+      ! (signed: an edge turned back against its axis, as in a cell folded
+      ! through itself, has a negative cosine; cneg: the largest square of
+      ! those, -1 if none)
+      cneg = -1.0_wp
       do d = 1, 3
         do k = 1, 4
           e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
           le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
-          if (le2 > 0.0_wp) then
+          if (.not. le2 > 0.0_wp) then
+            c2 = 0.0_wp
+          else if (e(d, 1) > 0.0_wp) then
             c2 = min(c2, e(d, 1)**2/le2)
           else
-            c2 = 0.0_wp
+            cneg = max(cneg, e(d, 1)**2/le2)
           end if
         end do
       end do
       cos_incl = sqrt(c2)
+      if (cneg >= 0.0_wp) cos_incl = -sqrt(cneg)
       return
     end if
     do a = 1, 8
