@@ -21,7 +21,7 @@ module driver_euler
   use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
                            smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
-                           smooth_any_tangled, node_fixed
+                           smooth_any_tangled, node_fixed, hex_tangled
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
@@ -758,10 +758,10 @@ contains
     type(smooth_region_t) :: reg
     integer, allocatable :: blo(:, :), bhi(:, :), mlo(:, :), mhi(:, :)
     real(wp) :: q_min, q_min0, d_max, aspect_max, q_cut, none(0)
-    integer :: iterations, b, n(3), c, i, j, k, stat, nd, flag, nrevert, sums(3)
+    integer :: iterations, b, n(3), c, i, j, k, stat, nd, flag, nrevert, ngrown, sums(4)
     logical :: tfi, box
     character(len=400) :: line
-    character(len=60) :: kept
+    character(len=60) :: kept, grown
 
     done = .false.
     box = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
@@ -779,8 +779,8 @@ contains
         end do
       end do
     end do
-    call snap_nodes(rz, g, bc, es%x0, x, moved, occupied)
-    call halo%nodes(x)
+    call snap_nodes(rz, g, bc, halo, counts, es%x0, x, moved, ngrown, err, occupied)
+    if (allocated(err)) return
     call cells_touched(g, moved, touched, occupied)
     aspect_max = huge(1.0_wp)
     if (box) then
@@ -817,6 +817,7 @@ contains
     ! snapped, smoothed, kept)
     sums = 0
     sums(1) = count(moved .and. counts)
+    sums(4) = ngrown
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
@@ -883,11 +884,13 @@ contains
     call halo%choose(q_min, none)
     call halo%sum_ints(sums)
     if (rz%move_min > 0.0_wp) write(kept, '("; ",i0," nodes moved < move_min kept")') sums(3)
+    grown = ''
+    if (sums(4) > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') sums(4)
     write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
       &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
-      &" nodes put back; ",i0," nodes back on the standard grid first")') trim(rz%mode), step, nd, &
+      &" nodes put back; ",i0," nodes back on the standard grid first",a)') trim(rz%mode), step, nd, &
       size(blo, 2), sums(2), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
-      trim(kept), reg%n_guarded, nrevert, sums(1)
+      trim(kept), reg%n_guarded, nrevert, sums(1), trim(grown)
     call log_line(log, trim(line))
 
   contains
@@ -907,20 +910,42 @@ contains
   end subroutine smooth_rezone
   !> The nodes `smooth_rezone` puts back on the standard grid x0 before
   !> smoothing (its notes), of the stored nodes of g: x(:, n) = x0(:, n) for
-  !> each; moved(n) tells whether node n's place changed so (right on the
-  !> nodes of the owned cells; a ghost on the stored box's face may lack a
-  !> neighbour's spacing, and takes its owner's place from the halo).
-  subroutine snap_nodes(rz, g, bc, x0, x, moved, occupied)
+  !> each; moved(n) tells whether node n's place changed so. A snapped node
+  !> can invert a cell beside it (an open face's node put back behind an
+  !> inner node that drifted further out): such a cell's other nodes are put
+  !> back too, round after round, until every changed cell is untangled (the
+  !> cells of x0 are; no node moves twice, so this ends). The guarded
+  !> smoothing cannot undo an inverted cell and the last safeguard would put
+  !> the snap back, leaving the drift to grow at every step. A round finds
+  !> all such cells of the stored block first, then snaps their nodes; the
+  !> ghosts are refreshed from their owners (halo) after every round and the
+  !> rounds are the whole grid's, so the result does not depend on a
+  !> decomposition. ngrown: the nodes so added, of this block's owned nodes
+  !> (counts).
+  subroutine snap_nodes(rz, g, bc, halo, counts, x0, x, moved, ngrown, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
+    class(halo_t), intent(inout) :: halo
+    logical, intent(in) :: counts(:)
     real(wp), intent(in) :: x0(:, :)
     real(wp), intent(inout) :: x(:, :)
     logical, intent(out) :: moved(:)
+    integer, intent(out) :: ngrown
+    type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
-    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3)
-    real(wp) :: h0, limit
+    real(wp), allocatable :: xin(:, :)
+    logical, allocatable :: grow(:)
+    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3), stat, flag
+    real(wp) :: h0, limit, xn(3, 8)
     logical :: snap, open(6)
+    ngrown = 0
+    allocate(xin, source=x, stat=stat)
+    if (stat == 0) allocate(grow(g%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', error_no_memory('the snapped nodes'))
+      return
+    end if
     open = [(bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW, f = 1, 6)]
     stride = [1, g%sx, g%sxy]
     do n = 1, g%nnode
@@ -935,7 +960,9 @@ contains
       end do
       snap = .false.
       if (limit < huge(1.0_wp)) then
-        ! the standard spacing: the shortest edge of x0 at the node
+        ! the standard spacing: the shortest edge of x0 at the node (a ghost
+        ! on the stored box's face may lack a neighbour's, and takes its
+        ! owner's place from the halo)
         h0 = huge(1.0_wp)
         do d = 1, 3
           if (ijk(d) > g%slo(d) - 1) h0 = min(h0, norm2(x0(:, n) - x0(:, n - stride(d))))
@@ -943,7 +970,6 @@ contains
         end do
         snap = norm2(x(:, n) - x0(:, n)) > limit*h0
       end if
-      moved(n) = snap .and. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
       if (snap) x(:, n) = x0(:, n)
     end do
     if (present(occupied)) then
@@ -951,11 +977,37 @@ contains
         if (.not. occupied(c)) cycle
         do a = 1, 8
           n = g%node0(c) + g%corner_offset(a)
-          moved(n) = moved(n) .or. any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
           x(:, n) = x0(:, n)
         end do
       end do
     end if
+    call halo%nodes(x)
+    do
+      grow = .false.
+      do c = 1, g%ncell
+        snap = .false.
+        do a = 1, 8
+          n = g%node0(c) + g%corner_offset(a)
+          xn(:, a) = x(:, n)
+          snap = snap .or. any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
+        end do
+        if (.not. snap) cycle
+        if (.not. hex_tangled(xn)) cycle
+        do a = 1, 8
+          n = g%node0(c) + g%corner_offset(a)
+          grow(n) = any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
+        end do
+      end do
+      flag = merge(1, 0, any(grow))
+      call halo%max_int(flag)
+      if (flag == 0) exit
+      ngrown = ngrown + count(grow .and. counts)
+      where (spread(grow, 1, 3)) x = x0
+      call halo%nodes(x)
+    end do
+    do n = 1, g%nnode
+      moved(n) = any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
+    end do
   end subroutine snap_nodes
 
   !> The cells (not occupied by particles) with a node that moved.

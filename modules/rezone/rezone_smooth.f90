@@ -57,7 +57,7 @@ module rezone_smooth
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
   public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
-  public :: hex_min_tet_volume, hex_min_corner_jacobian
+  public :: hex_min_tet_volume, hex_min_corner_jacobian, hex_tangled
 
   !> Node kinds of a mobility: never moves, moves freely, slides in the
   !> plane through it with unit normal `dir`, slides along the line through
@@ -429,6 +429,13 @@ contains
       jmin = min(jmin, dot_product(e(:, 1), cross(e(:, 2), e(:, 3))))
     end do
   end function hex_min_corner_jacobian
+
+  !> Whether a hexahedron is tangled: a corner Jacobian or a tetrahedron of
+  !> the 24-tet split non-positive (the test of `smooth_revert_tangled`).
+  pure logical function hex_tangled(xn)
+    real(wp), intent(in) :: xn(3, 8)
+    hex_tangled = .not. (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp)
+  end function hex_tangled
 
   !> Mean of the 12 edge lengths of a hexahedron (length).
   pure function mean_edge(xn) result(abar)
@@ -814,7 +821,7 @@ contains
       do s = 1, reg%ncell
         if (.not. (reg%valid0(1, s) > 0.0_wp .and. reg%valid0(2, s) > 0.0_wp)) cycle
         call region_gather(reg, s, x, xn)
-        if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
+        if (.not. hex_tangled(xn)) cycle
         nbad = nbad + 1
         do a = 1, 8
           reg%mark(1, reg%node0(s) + reg%corner_offset(a)) = 1.0_wp
@@ -1035,7 +1042,7 @@ contains
           do a = 1, 8
             xn(:, a) = x(:, n0 + ix%corner_offset(a))
           end do
-          if (.not. (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp)) return
+          if (hex_tangled(xn)) return
         end do
       end do
     end do
@@ -1093,7 +1100,7 @@ contains
               changed = changed .or. any(abs(x(:, n) - xold(:, n)) > 0.0_wp)
             end do
             if (.not. changed) cycle
-            if (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp) cycle
+            if (.not. hex_tangled(xn)) cycle
             do a = 1, 8
               n = n0 + ix%corner_offset(a)
               ! (the same value from any thread)
