@@ -35,12 +35,13 @@ module driver_euler
   use base_share, only: share_t
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use driver_state, only: state_t
-  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, &
+  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, particles_euler_fill, &
                               particles_euler_finish
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, &
-            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, euler_preposition
+            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, euler_preposition, &
+            euler_start_totals
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -312,6 +313,15 @@ contains
       call euler_rezone(rz, st%g, st%bc, st%share, st%halo, st%step, st%t, es, log, start, xnew, done, err, &
                         pe%occupied)
       if (allocated(err) .or. .not. done) return
+      ! the fluid under the solid as the fluid around it (a decomposed run
+      ! fills its blocks before their remap)
+      if (rz%virtual_layers > 0 .and. st%pt%np > 0 .and. allocated(st%pt%mvf)) then
+        call particles_euler_fill(st, rz%virtual_layers, log, nfar, err)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+      end if
     end if
     par = remap_params(rz)
     ! (every rank holds this grid whole: the count and the lattice test are
@@ -508,12 +518,19 @@ contains
     !> true: no totals (`euler_start_t`; st a whole grid, whose remap
     !> reports its changes and scales); absent: exact totals
     logical, intent(in), optional :: scales
-    type(xsum_t) :: acc(1)
-    integer :: i, j, k, n
     call log_line(log, 'euler '//itoa(es%n + 1)//' due at step '//itoa(st%step)//': '//trim(es%trigger_note))
     call es%timer%start()
     if (present(scales)) e0%exact = .not. scales
-    if (.not. e0%exact) return
+    if (e0%exact) call euler_start_totals(st, e0)
+  end subroutine euler_begin
+
+  !> The exact totals an Euler step's conservation check compares with
+  !> (`euler_begin`), of st as it is now.
+  subroutine euler_start_totals(st, e0)
+    type(state_t), intent(in) :: st
+    type(euler_start_t), intent(inout) :: e0
+    type(xsum_t) :: acc(1)
+    integer :: i, j, k, n
     call hydro_totals(st%g, st%h, st%halo, e0%mass, e0%momentum, e0%internal, e0%kinetic)
     do k = st%g%ulo(3), st%g%nhi(3)
       do j = st%g%ulo(2), st%g%nhi(2)
@@ -525,7 +542,7 @@ contains
     end do
     call st%halo%sums(acc)
     e0%pscale = xsum_value(acc(1))
-  end subroutine euler_begin
+  end subroutine euler_start_totals
 
   !> The rezone of an Euler step: back to the initial grid, with moving
   !> faces followed (&rezone mode 'global'), or smoothing ('lssm',

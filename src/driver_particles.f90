@@ -36,6 +36,8 @@ module driver_particles
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_spread, only: particles_support_widths
+  use particles_virtual, only: particles_virtual_fill
+  use material_table, only: material_index_cells, material_eval_eos
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
                              particles_register_restart
@@ -63,7 +65,7 @@ module driver_particles
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
-            particles_gathered, count_hosts
+            particles_gathered, particles_gathered_mvf, count_hosts, particles_euler_fill
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -532,6 +534,22 @@ contains
     st%pt%cell = cells
   end subroutine particles_gathered
 
+  !> The virtual-fluid masses of ptw (`particles_gathered` from st) taken
+  !> again from the blocks' owned particles, after `particles_euler_fill`
+  !> changed them. On every rank (collective).
+  subroutine particles_gathered_mvf(pc, st, ptw)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    type(particles_t), intent(inout) :: ptw
+    integer, allocatable :: own(:), at(:)
+    real(wp), allocatable :: mvf(:)
+    integer :: k
+    own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
+    call gather_concat(pc, st%pwhole(own), at)
+    call gather_concat(pc, st%pt%mvf(own), mvf)
+    ptw%mvf(at) = mvf
+  end subroutine particles_gathered_mvf
+
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
   !> in the standard (initial) grid x0 by its position, and the cells of
   !> that grid the particles occupy (the smoothing's fixed inner boundary).
@@ -564,6 +582,61 @@ contains
     ! (the walk after the remap starts at the old host of one that left)
     if (bad /= 0) pe%guess = merge(pe%guess, st%pt%cell, pe%guess > 0)
   end subroutine particles_euler_preposition
+
+  !> Before the remap of an Euler step (coupled particles; every block of a
+  !> decomposed run): the fluid under the solid takes the state of the fluid
+  !> around it (`particles_virtual_fill`), the filled cells' EOS; the energy
+  !> this changes (their internal energy, and the nodes' kinetic energy with
+  !> the mass they move with, cells' and particles' share) is booked with
+  !> the Euler-step transfer. nfill: the cells filled, the whole grid's.
+  subroutine particles_euler_fill(st, layers, log, nfill, err)
+    type(state_t), intent(inout) :: st
+    integer, intent(in) :: layers
+    type(log_t), intent(in) :: log
+    integer, intent(out) :: nfill
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: filled(:)
+    integer, allocatable :: cells(:)
+    real(wp) :: e0, e1
+    integer :: nlayer, c
+    character(len=200) :: line
+    e0 = fill_energy()
+    call particles_virtual_fill(st%g, st%h, st%pt, st%halo, layers, filled, nfill, nlayer, err)
+    if (allocated(err) .or. nfill == 0) return
+    cells = pack([(c, c = 1, st%g%ncell)], filled)
+    call material_index_cells(st%mats, st%h%mat, st%mx, err)
+    if (allocated(err)) return
+    call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx, cells, st%h%mat)
+    st%pw%mass_ready = .false.
+    e1 = fill_energy()
+    st%tot%transfer_energy = st%tot%transfer_energy + (e1 - e0)
+    write(line, '("  particles: virtual fluid of ",i0," covered cells set from the fluid around the solid (",i0, &
+      &" layers), energy change ",es10.3)') nfill, nlayer, e1 - e0
+    call log_line(log, trim(line))
+
+  contains
+
+    !> The owned cells' internal energy and the nodes' kinetic energy with
+    !> the cells' and the particles' share of their mass, exact.
+    real(wp) function fill_energy() result(en)
+      type(xsum_t) :: acc(1)
+      real(wp) :: ke, p(3)
+      integer :: i, j, k
+      associate (g => st%g, h => st%h)
+        call particles_phase_mass(g, st%pt, st%pw, h%mnode)
+        call nodal_sums(st, h%mnode + st%pw%mp, ke, p)
+        do k = g%clo(3), g%chi(3)
+          do j = g%clo(2), g%chi(2)
+            do i = g%clo(1), g%chi(1)
+              call xsum_add(acc(1), h%mass(g%cell(i, j, k))*h%e(g%cell(i, j, k)))
+            end do
+          end do
+        end do
+        call st%halo%sums(acc)
+        en = xsum_value(acc(1)) + ke
+      end associate
+    end function fill_energy
+  end subroutine particles_euler_fill
 
   !> Before the remap: the particles' share of the nodal kinetic energy
   !> and momentum (the transfer's balance), summed exactly over the nodes

@@ -66,7 +66,8 @@ module driver_whole
   use base_strings, only: itoa
   use particles_state, only: particles_t, particles_index
   use driver_particles, only: particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
-                              particles_euler_relocate, particles_euler_couple, count_hosts
+                              particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
+                              particles_gathered_mvf
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
@@ -85,7 +86,7 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params, euler_preposition
+                          euler_rezone, euler_finish, remap_params, euler_preposition, euler_start_totals
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
@@ -294,7 +295,7 @@ contains
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
     logical, allocatable :: occupied(:)
     logical :: done, redo, wider, parts, global, whole_x
-    integer :: c
+    integer :: c, nfill
 
     global = trim(cfg%rezone%mode) == 'global'
     parts = allocated(st%pwhole)
@@ -329,6 +330,17 @@ contains
     end if
     call agree_error(pc, err)
     if (allocated(err) .or. .not. done) return
+    if (parts .and. cfg%rezone%virtual_layers > 0 .and. allocated(st%pt%mvf)) then
+      ! the fluid under the solid as the fluid around it, on the blocks; the
+      ! remap's check from the state so changed
+      call particles_euler_fill(st, cfg%rezone%virtual_layers, log, nfill, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
+      if (nfill > 0) then
+        call euler_start_totals(st, e0)
+        call particles_gathered_mvf(pc, st, sw%pt)
+      end if
+    end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, err)
     if (allocated(err)) return

@@ -5,7 +5,8 @@ three resolutions and for each particle-grid transfer.
 
     particles_euler.py --exe build/release/lsalepm --out DIR
                        [--cells 200 400 800] [--slab-cells 100 200 400]
-                       [--variants linear gimp gimp_q] [--check]
+                       [--variants linear gimp gimp_q] [--virtual-layers N]
+                       [--check]
 
 Two problems of the ctest ladder, run with `&rezone mode = 'global',
 interval_steps = 20` and no other trigger (the grid goes back to the box
@@ -102,15 +103,17 @@ def slab(prefix, exact):
     return last[0], last[1], emax
 
 
-def variant_deck(template, cells, name, outdir, variant):
+def variant_deck(template, cells, name, outdir, variant, layers=None):
     """The deck template at `cells` cells along x, written to outdir/name,
-    with the variant's &hydro and the Euler steps every 20 steps."""
+    with the variant's &hydro and the Euler steps every 20 steps (&rezone
+    virtual_layers = layers unless None: the deck's default)."""
     text = open(template).read()
     text = re.sub(r"\bni\s*=\s*\d+", f"ni = {cells}", text, count=1)
     text = re.sub(r"dir\s*=\s*'[^']*'", f"dir = '{outdir}', name = '{name}'", text, count=1)
     text = "\n".join(line for line in text.splitlines()
                      if not line.lstrip().lower().startswith(("&hydro", "&rezone")))
-    return text + "\n" + VARIANTS[variant] + "\n" + REZONE + "\n"
+    rezone = REZONE if layers is None else REZONE.replace(" /", f", virtual_layers = {layers} /")
+    return text + "\n" + VARIANTS[variant] + "\n" + rezone + "\n"
 
 
 def run(exe, text, rundir, name):
@@ -131,6 +134,8 @@ def main(argv=None):
     p.add_argument("--slab-cells", type=int, nargs="*", default=[100, 200, 400],
                    help="ballistic problem resolutions")
     p.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    p.add_argument("--virtual-layers", type=int, default=None,
+                   help="&rezone virtual_layers of every run (default: the code's)")
     p.add_argument("--check", action="store_true", help="exit 1 unless gimp_q meets the plateau bar")
     p.add_argument("--out", required=True)
     a = p.parse_args(argv)
@@ -147,7 +152,8 @@ def main(argv=None):
         for cells in cells_list:
             for v in a.variants:
                 name = f"{problem}{cells}_{v}"
-                rc, neuler = run(exe, variant_deck(template, cells, name, rundir, v), rundir, name)
+                rc, neuler = run(exe, variant_deck(template, cells, name, rundir, v, a.virtual_layers), rundir,
+                              name)
                 row = dict(problem=problem, cells=cells, variant=v, status="ok" if rc == 0 else f"exit {rc}",
                            euler_steps=neuler)
                 if rc == 0 and problem == "riemann":

@@ -72,6 +72,11 @@ module rezone_config
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
     character(len=16) :: smooth_target = 'box'
+    !> coupled particles: before the remap the fluid under the solid takes
+    !> the state of the fluid around it in this many layers of cells from
+    !> the solid's surface inwards (`particles_virtual`); 0: it keeps the
+    !> state it was carried with
+    integer :: virtual_layers = 1
   end type rezone_config_t
 
 contains
@@ -86,14 +91,14 @@ contains
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
                 drift_max, drift_open, swept_max, hysteresis
-    integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts
+    integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts, virtual_layers
     logical :: swept_mixed
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
-                      swept_mixed, swept_parts
+                      swept_mixed, swept_parts, virtual_layers
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -103,6 +108,7 @@ contains
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
+    virtual_layers = defaults%virtual_layers
     ! (0: the mode's, once the mode is read)
     swept_parts = 0
     if (size(text) > 0) then
@@ -157,6 +163,8 @@ contains
       hysteresis, 'must be in [0, 1) (0: off)')
     if (.not. (swept_max >= 0.0_wp .and. swept_max <= 0.5_wp)) call problem_bad(problems, 'rezone', 'swept_max', &
       swept_max, 'must be in [0, 0.5] (0: always intersect)')
+    if (virtual_layers < 0) call problem_badi(problems, 'rezone', 'virtual_layers', virtual_layers, &
+      'must be >= 0 (0: off)')
     if (swept_parts < 1 .or. swept_parts > 64) call problem_badi(problems, 'rezone', 'swept_parts', swept_parts, &
       'must be in [1, 64] (1: off; 0: the mode''s default)')
     if (trim(mode) /= 'none' .and. .not. (side_ratio > 0.0_wp .or. cos_angle > 0.0_wp .or. &
@@ -168,7 +176,8 @@ contains
       mof_max_iter=mof_max_iter, conservation_tol=conservation_tol, quality=quality, &
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
-      swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts)
+      swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts, &
+      virtual_layers=virtual_layers)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 
