@@ -37,7 +37,7 @@ module driver_particles
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_spread, only: particles_support_widths
   use particles_virtual, only: particles_virtual_fill
-  use material_table, only: material_index_cells, material_eval_eos
+  use material_table, only: material_eval_eos
   use particles_seed, only: seed_shape, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
                              particles_register_restart
@@ -597,29 +597,29 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: filled(:)
     integer, allocatable :: cells(:)
-    real(wp) :: e0, e1
+    real(wp) :: e0, e1, m0, m1
     integer :: nlayer, c
     character(len=200) :: line
-    e0 = fill_energy()
+    call fill_sums(e0, m0)
     call particles_virtual_fill(st%g, st%h, st%pt, st%halo, layers, filled, nfill, nlayer, err)
     if (allocated(err) .or. nfill == 0) return
     cells = pack([(c, c = 1, st%g%ncell)], filled)
-    call material_index_cells(st%mats, st%h%mat, st%mx, err)
-    if (allocated(err)) return
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx, cells, st%h%mat)
     st%pw%mass_ready = .false.
-    e1 = fill_energy()
+    call fill_sums(e1, m1)
     st%tot%transfer_energy = st%tot%transfer_energy + (e1 - e0)
     write(line, '("  particles: virtual fluid of ",i0," covered cells set from the fluid around the solid (",i0, &
-      &" layers), energy change ",es10.3)') nfill, nlayer, e1 - e0
+      &" layers), cells'' mass change ",es10.3,", energy change ",es10.3)') nfill, nlayer, m1 - m0, e1 - e0
     call log_line(log, trim(line))
 
   contains
 
-    !> The owned cells' internal energy and the nodes' kinetic energy with
-    !> the cells' and the particles' share of their mass, exact.
-    real(wp) function fill_energy() result(en)
-      type(xsum_t) :: acc(1)
+    !> The owned cells' internal energy plus the nodes' kinetic energy with
+    !> the cells' and the particles' share of their mass (en), and the owned
+    !> cells' mass (ms), exact.
+    subroutine fill_sums(en, ms)
+      real(wp), intent(out) :: en, ms
+      type(xsum_t) :: acc(2)
       real(wp) :: ke, p(3)
       integer :: i, j, k
       associate (g => st%g, h => st%h)
@@ -629,13 +629,15 @@ contains
           do j = g%clo(2), g%chi(2)
             do i = g%clo(1), g%chi(1)
               call xsum_add(acc(1), h%mass(g%cell(i, j, k))*h%e(g%cell(i, j, k)))
+              call xsum_add(acc(2), h%mass(g%cell(i, j, k)))
             end do
           end do
         end do
         call st%halo%sums(acc)
         en = xsum_value(acc(1)) + ke
+        ms = xsum_value(acc(2))
       end associate
-    end function fill_energy
+    end subroutine fill_sums
   end subroutine particles_euler_fill
 
   !> Before the remap: the particles' share of the nodal kinetic energy

@@ -20,10 +20,12 @@
 !> within `layers` cells of the solid's surface the state of the fluid
 !> around the solid, layer by layer inwards: a layer's cells take the mean
 !> density and specific internal energy of their face neighbours filled
-!> before it (the real cells and the cells the surface cuts first), where
-!> those hold one material and lie on one side in each direction (a solid
-!> one cell thick between water and air would otherwise pass one fluid's
-!> state to the other side). Their m'_p scale with their density, so the
+!> before it (the real cells and the cells the surface cuts first) that
+!> hold the cell's material, where those lie on one side in each direction
+!> (a solid one cell thick between two fluids would otherwise pass one
+!> side's state to the other). A virtual fluid never changes material (a
+!> structure's air does not turn into the products that reach it: the
+!> materials' masses would). Their m'_p scale with their density, so the
 !> mass the nodes move with changes only where the particles' volumes do not
 !> tile their cells; the driver books the energy this changes. A cell the
 !> surface cuts keeps its state: it holds real fluid. Deeper cells keep
@@ -70,15 +72,15 @@ contains
     ! vsolid: the particles' volume in each cell; level: 0 real or cut by the
     ! surface (a source), -1 covered and not yet filled, L > 0 filled in
     ! layer L
-    real(wp), allocatable :: vsolid(:), level(:), rho(:), e(:), mat(:), rho1(:), e1(:), mat1(:), mn(:, :)
+    real(wp), allocatable :: vsolid(:), level(:), rho(:), e(:), rho1(:), e1(:), mn(:, :)
     real(wp) :: srho, se, fac
     integer :: c, k, i, j, l, a, nb, stat, cand(6), pick(6), m, new(1)
     logical :: side(6)
 
     nfill = 0
     nlayer = 0
-    allocate(vsolid(g%ncell), level(g%ncell), rho(g%ncell), e(g%ncell), mat(g%ncell), rho1(g%ncell), e1(g%ncell), &
-             mat1(g%ncell), filled(g%ncell), mn(1, g%nnode), stat=stat)
+    allocate(vsolid(g%ncell), level(g%ncell), rho(g%ncell), e(g%ncell), rho1(g%ncell), e1(g%ncell), filled(g%ncell), &
+             mn(1, g%nnode), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'particles_virtual_fill', error_no_memory('the fill''s work arrays'))
       return
@@ -99,7 +101,6 @@ contains
     call halo%cells(level)
     rho = h%rho
     e = h%e
-    mat = real(h%mat, wp)
     do while (nlayer < layers)
       new = 0
       do k = g%clo(3), g%chi(3)
@@ -107,17 +108,17 @@ contains
           do i = g%clo(1), g%chi(1)
             c = g%cell(i, j, k)
             if (level(c) > -0.5_wp) cycle
-            ! the face neighbours filled before this layer that hold one
-            ! material; a cell with such neighbours on both sides in a
-            ! direction (a solid one cell thick between two fluids) or of two
-            ! materials (at a corner between them) keeps its state
+            ! the face neighbours filled before this layer that hold the
+            ! cell's material alone; a cell with such neighbours on both sides
+            ! in a direction (a solid one cell thick between two fluids) keeps
+            ! its state
             call neighbours(i, j, k, cand)
             m = 0
             side = .false.
             do a = 1, 6
               nb = cand(a)
               if (nb == 0) cycle
-              if (level(nb) > -0.5_wp .and. level(nb) < real(nlayer, wp) + 0.5_wp .and. mat(nb) > 0.5_wp) then
+              if (level(nb) > -0.5_wp .and. level(nb) < real(nlayer, wp) + 0.5_wp .and. h%mat(nb) == h%mat(c)) then
                 m = m + 1
                 pick(m) = nb
                 side(a) = .true.
@@ -125,7 +126,6 @@ contains
             end do
             if (m == 0) cycle
             if (any(side(1:5:2) .and. side(2:6:2))) cycle
-            if (any(nint(mat(pick(:m))) /= nint(mat(pick(1))))) cycle
             ! (the mean as the first plus the mean difference: the same
             ! value where they all agree, a uniform state exactly uniform)
             srho = 0.0_wp
@@ -138,7 +138,6 @@ contains
             level(c) = real(nlayer + 1, wp)
             rho1(c) = rho(pick(1)) + srho/real(m, wp)
             e1(c) = e(pick(1)) + se/real(m, wp)
-            mat1(c) = mat(pick(1))
             new(1) = new(1) + 1
           end do
         end do
@@ -151,19 +150,16 @@ contains
         if (abs(level(c) - real(nlayer, wp)) < 0.5_wp) then
           rho(c) = rho1(c)
           e(c) = e1(c)
-          mat(c) = mat1(c)
         end if
       end do
       call halo%cells(level)
       call halo%cells(rho)
       call halo%cells(e)
-      call halo%cells(mat)
     end do
     ! the cells whose state changed: their masses, corners and nodes with
     ! the new densities
     do c = 1, g%ncell
-      filled(c) = level(c) > 0.5_wp .and. (abs(rho(c) - h%rho(c)) > 0.0_wp .or. abs(e(c) - h%e(c)) > 0.0_wp .or. &
-                                           nint(mat(c)) /= h%mat(c))
+      filled(c) = level(c) > 0.5_wp .and. (abs(rho(c) - h%rho(c)) > 0.0_wp .or. abs(e(c) - h%e(c)) > 0.0_wp)
       rho1(c) = rho(c)/h%rho(c)
     end do
     mn = 0.0_wp
@@ -177,7 +173,6 @@ contains
       h%mcorner(:, c) = fac*h%mcorner(:, c)
       h%rho(c) = rho(c)
       h%e(c) = e(c)
-      h%mat(c) = nint(mat(c))
       h%mass(c) = rho(c)*h%vol(c)
     end do
     ! (a ghost node on the stored box's face lacks the cells beyond it: its
