@@ -21,7 +21,7 @@ module driver_euler
   use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
                            smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
-                           smooth_any_tangled, node_fixed, hex_tangled
+                           smooth_any_tangled, node_fixed
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
@@ -775,7 +775,7 @@ contains
     type(smooth_region_t) :: reg
     integer, allocatable :: blo(:, :), bhi(:, :), mlo(:, :), mhi(:, :)
     real(wp) :: q_min, q_min0, d_max, aspect_max, q_cut, none(0)
-    integer :: iterations, b, n(3), c, i, j, k, stat, nd, flag, nrevert, ngrown, sums(4)
+    integer :: iterations, b, n(3), c, i, j, k, stat, nd, flag, nrevert, ngrown, sums(3)
     logical :: tfi, box
     character(len=400) :: line
     character(len=60) :: kept, grown
@@ -834,7 +834,6 @@ contains
     ! snapped, smoothed, kept)
     sums = 0
     sums(1) = count(moved .and. counts)
-    sums(4) = ngrown
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
@@ -902,7 +901,8 @@ contains
     call halo%sum_ints(sums)
     if (rz%move_min > 0.0_wp) write(kept, '("; ",i0," nodes moved < move_min kept")') sums(3)
     grown = ''
-    if (sums(4) > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') sums(4)
+    ! (ngrown: the whole grid's already)
+    if (ngrown > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') ngrown
     write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
       &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
       &" nodes put back; ",i0," nodes back on the standard grid first",a)') trim(rz%mode), step, nd, &
@@ -931,14 +931,11 @@ contains
   !> can invert a cell beside it (an open face's node put back behind an
   !> inner node that drifted further out): such a cell's other nodes are put
   !> back too, round after round, until every changed cell is untangled (the
-  !> cells of x0 are; no node moves twice, so this ends). The guarded
-  !> smoothing cannot undo an inverted cell and the last safeguard would put
-  !> the snap back, leaving the drift to grow at every step. A round finds
-  !> all such cells of the stored block first, then snaps their nodes; the
-  !> ghosts are refreshed from their owners (halo) after every round and the
-  !> rounds are the whole grid's, so the result does not depend on a
-  !> decomposition. ngrown: the nodes so added, of this block's owned nodes
-  !> (counts).
+  !> rounds of `smooth_revert_tangled`, towards x0, whose cells are
+  !> untangled; the whole grid's, so a decomposition gives the same). The
+  !> guarded smoothing cannot undo an inverted cell and the last safeguard
+  !> would put the snap back, leaving the drift to grow at every step.
+  !> ngrown: the nodes so added, the whole grid's (counts: the block's own).
   subroutine snap_nodes(rz, g, bc, halo, counts, x0, x, moved, ngrown, err, occupied)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
@@ -952,13 +949,11 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
     real(wp), allocatable :: xin(:, :)
-    logical, allocatable :: grow(:)
-    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3), stat, flag
-    real(wp) :: h0, limit, xn(3, 8)
+    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3), stat
+    real(wp) :: h0, limit
     logical :: snap, open(6)
     ngrown = 0
     allocate(xin, source=x, stat=stat)
-    if (stat == 0) allocate(grow(g%nnode), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'smooth_rezone', error_no_memory('the snapped nodes'))
       return
@@ -999,29 +994,11 @@ contains
       end do
     end if
     call halo%nodes(x)
-    do
-      grow = .false.
-      do c = 1, g%ncell
-        snap = .false.
-        do a = 1, 8
-          n = g%node0(c) + g%corner_offset(a)
-          xn(:, a) = x(:, n)
-          snap = snap .or. any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
-        end do
-        if (.not. snap) cycle
-        if (.not. hex_tangled(xn)) cycle
-        do a = 1, 8
-          n = g%node0(c) + g%corner_offset(a)
-          grow(n) = any(abs(x(:, n) - x0(:, n)) > 0.0_wp)
-        end do
-      end do
-      flag = merge(1, 0, any(grow))
-      call halo%max_int(flag)
-      if (flag == 0) exit
-      ngrown = ngrown + count(grow .and. counts)
-      where (spread(grow, 1, 3)) x = x0
-      call halo%nodes(x)
-    end do
+    ! (the cells the snaps inverted, as the last safeguard finds them, go to
+    ! x0 whole)
+    call smooth_revert_tangled(g%shi(1) - g%slo(1) + 1, g%shi(2) - g%slo(2) + 1, g%shi(3) - g%slo(3) + 1, xin, x, &
+                               ngrown, err, halo, counts, x0)
+    if (allocated(err)) return
     do n = 1, g%nnode
       moved(n) = any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
     end do

@@ -1063,21 +1063,27 @@ contains
   !> back. With halo (a block of a decomposed grid, stored nodes numbered as
   !> a block of ni x nj x nk cells, ghosts current on entry): the ghosts are
   !> refreshed after every round, the rounds are the whole grid's and
-  !> nrevert counts the nodes of counts(nnode) summed over the blocks.
-  subroutine smooth_revert_tangled(ni, nj, nk, xold, x, nrevert, err, halo, counts)
+  !> nrevert counts the nodes of counts(nnode) summed over the blocks. With
+  !> xto the nodes of such cells go to xto instead (the same rounds: every
+  !> cell of xto untangled).
+  subroutine smooth_revert_tangled(ni, nj, nk, xold, x, nrevert, err, halo, counts, xto)
     integer, intent(in) :: ni, nj, nk
-    real(wp), intent(in) :: xold(:, :)
+    real(wp), intent(in), target :: xold(:, :)
     real(wp), intent(inout) :: x(:, :)
     integer, intent(out) :: nrevert
     type(error_t), allocatable, intent(inout) :: err
     class(halo_t), intent(inout), optional :: halo
     logical, intent(in), optional :: counts(:)
+    real(wp), intent(in), optional, target :: xto(:, :)
     integer :: ci, cj, ck, a, n0, n, nround(1)
     real(wp) :: xn(3, 8)
+    real(wp), pointer :: xt(:, :)
     logical, allocatable :: back(:)
     logical :: changed
     type(grid_index_t) :: ix
 
+    xt => xold
+    if (present(xto)) xt => xto
     ix = grid_index(ni, nj, nk)
     nrevert = 0
     allocate(back(ix%nnode), stat=n)
@@ -1087,7 +1093,7 @@ contains
     end if
     do
       back = .false.
-      !$omp parallel do default(none) shared(ix, x, xold, back) private(ci, cj, ck, a, n0, n, xn, changed) &
+      !$omp parallel do default(none) shared(ix, x, xold, xt, back) private(ci, cj, ck, a, n0, n, xn, changed) &
       !$omp collapse(2) schedule(static)
       do ck = ix%clo(3), ix%chi(3)
         do cj = ix%clo(2), ix%chi(2)
@@ -1104,7 +1110,7 @@ contains
             do a = 1, 8
               n = n0 + ix%corner_offset(a)
               ! (the same value from any thread)
-              if (any(abs(x(:, n) - xold(:, n)) > 0.0_wp)) back(n) = .true.
+              if (any(abs(x(:, n) - xt(:, n)) > 0.0_wp)) back(n) = .true.
             end do
           end do
         end do
@@ -1115,7 +1121,7 @@ contains
       else
         nround = count(back)
       end if
-      where (spread(back, 1, 3)) x = xold
+      where (spread(back, 1, 3)) x = xt
       if (present(halo)) then
         call halo%sum_ints(nround)
         call halo%nodes(x)
