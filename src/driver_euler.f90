@@ -28,7 +28,7 @@ module driver_euler
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
-                         remap_part_target, remap_work_t
+                         remap_hybrid_target, remap_part_target, remap_work_t
   use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
@@ -277,7 +277,7 @@ contains
   !> xrezoned the grid is rezoned already (a decomposed run's, on the whole
   !> grid's node positions: `driver_whole`) and e0 holds what the step
   !> started from (`euler_begin` done).
-  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0)
+  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0, single)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
     type(euler_state_t), intent(inout) :: es
@@ -287,6 +287,9 @@ contains
     type(euler_start_t), intent(in), optional :: e0
     !> with xrezoned: the particles' pre-positioning done with the rezone
     type(particles_euler_t), intent(in), optional :: pe0
+    !> one remap, neither in parts nor hybrid (a decomposed run's second
+    !> remap of a hybrid step, when it needs the whole grid)
+    logical, intent(in), optional :: single
     type(euler_start_t) :: start
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
@@ -295,10 +298,10 @@ contains
     real(wp), allocatable :: xnew(:, :), xk(:, :)
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
-    integer, allocatable :: moved(:), cells(:), written(:), wrote(:)
+    integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:)
     integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
     real(wp) :: fac
-    logical :: split, arrived
+    logical :: split, arrived, hybrid, lattice, one
 
     if (present(xrezoned)) then
       start = e0
@@ -336,7 +339,7 @@ contains
       par%lattice = lattice_nodes(st%g, xnew)
     end if
     nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                  parts=nparts, moved=moved)
+                                  parts=nparts, moved=moved, blockers=blockers)
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in parts
     ! (&rezone swept_parts), each remapped in full (conservative), by swept
@@ -350,8 +353,23 @@ contains
     ! tangles on the way), is taken again at half the distance (while the
     ! parts stay within swept_parts), and the last part the deck allows
     ! goes the rest of the way.
-    split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. nparts <= rz%swept_parts
+    one = .false.
+    if (present(single)) one = single
+    split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. &
+            nparts <= rz%swept_parts .and. .not. one
     if (split) cells = moved
+    ! a hybrid step (&rezone swept_hybrid): first the cells that can, by
+    ! swept faces (every node but the blockers'), then the blockers and the
+    ! cells around them by intersection (`remap_hybrid_target`); each remap
+    ! conserves, so the step does
+    hybrid = rz%swept_hybrid .and. .not. (split .or. one) .and. st%pt%np == 0 .and. nblock > 0 .and. &
+             nblock < size(moved)
+    lattice = par%lattice
+    if (hybrid) then
+      call remap_hybrid_target(st%g, xnew, blockers, xk)
+      nfar = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, moved=cells)
+      hybrid = nfar == 0 .and. size(cells) > 0
+    end if
     ! (nleft: the equal parts left of the way, 0 before the first part)
     nleft = 0
     fac = 1.0_wp
@@ -360,7 +378,20 @@ contains
     nsplit = 0
     arrived = .true.
     do
-      if (split) then
+      if (hybrid) then
+        if (ntaken == 0) then
+          par%swept = .true.
+          par%lattice = .false.
+          moved = cells
+          arrived = .false.
+        else
+          xk = xnew
+          par%lattice = lattice
+          par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
+                                           moved=moved) == 0
+          arrived = .true.
+        end if
+      else if (split) then
         if (ntaken == 0 .and. nleft == 0) then
           call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, err)
           if (allocated(err)) then
@@ -406,7 +437,7 @@ contains
       call centroids_remember(st%mx, memory)
       ! coupled particles: their share of the nodal momentum goes with them
       if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-      if (split) then
+      if (split .or. hybrid) then
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
                               written=wrote, work=es%work)
       else
@@ -429,6 +460,7 @@ contains
       if (nleft > 0) nleft = nleft - 1
       rs%swept_blockers = nblock
       rs%swept_splits = nsplit
+      rs%hybrid = hybrid
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
       ! the new mixed cells' centroids are the remapped material's: their
       ! interface planes, fitted to them, carry them to the next remap
@@ -438,9 +470,16 @@ contains
         call es%timer%stop()
         return
       end if
-      if (.not. split .or. arrived) exit
+      if (.not. (split .or. hybrid) .or. arrived) exit
     end do
     call material_burn_start(st%mats, st%t)
+    ! (a cell two parts wrote is evaluated once: a material's work arrays
+    ! hold its cells once)
+    if (ntaken > 1) call unique_cells(written, err)
+    if (allocated(err)) then
+      call es%timer%stop()
+      return
+    end if
     ! (the other cells' states, and so pressures, are those the Lagrangian
     ! step left, evaluated there at this time)
     call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx, written, st%h%mat)
@@ -456,6 +495,28 @@ contains
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
     if (.not. present(xrezoned)) call move_alloc(xnew, es%xkeep)
   end subroutine euler_step
+
+  !> list in increasing order, each entry once.
+  subroutine unique_cells(list, err)
+    integer, allocatable, intent(inout) :: list(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: order(:)
+    integer :: i, n, stat
+    allocate(order(size(list)), stat=stat)
+    if (stat == 0) call sort_order(list, order, stat)
+    if (stat /= 0) then
+      call error_set(err, 'euler_step', error_no_memory('a cell list'))
+      return
+    end if
+    list = list(order)
+    n = min(size(list), 1)
+    do i = 2, size(list)
+      if (list(i) == list(n)) cycle
+      n = n + 1
+      list(n) = list(i)
+    end do
+    list = list(1:n)
+  end subroutine unique_cells
 
   !> Remark 2 (Sect. 5.2), before a smoothing rezone (lssm, smooth): the
   !> particles of st (the whole grid's) placed in the standard grid (es%x0,
@@ -482,7 +543,11 @@ contains
   function swept_text(rs) result(text)
     type(remap_stats_t), intent(in) :: rs
     character(len=:), allocatable :: text
-    if (rs%swept_parts > 1) then
+    if (rs%hybrid) then
+      text = ' in two remaps ('//itoa(rs%cells_swept)//' by swept faces, then '// &
+             itoa(rs%cells_remapped - rs%cells_swept)//' by intersection: the '//itoa(rs%swept_blockers)// &
+             ' that could not sweep and the cells around them)'
+    else if (rs%swept_parts > 1) then
       text = ' in '//itoa(rs%swept_parts)//' parts of the way ('//itoa(rs%cells_swept)//' by swept faces; '// &
              itoa(rs%swept_blockers)//' could not sweep it at once; '//itoa(rs%swept_splits)// &
              ' parts split for a broken bound)'

@@ -77,7 +77,7 @@ module driver_whole
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
-                         remap_stats_flows, remap_swept_blockers
+                         remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state
@@ -295,7 +295,7 @@ contains
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
     logical, allocatable :: occupied(:)
     logical :: done, redo, wider, parts, global, whole_x
-    integer :: c, nfill
+    integer :: c, nfill, one
 
     global = trim(cfg%rezone%mode) == 'global'
     parts = allocated(st%pwhole)
@@ -342,7 +342,8 @@ contains
       end if
     end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
-    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, err)
+    one = 0
+    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, err)
     if (allocated(err)) return
     if (.not. redo) then
       if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
@@ -352,7 +353,7 @@ contains
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe)
+    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, one == 1)
     if (.not. allocated(err)) call whole_scatter(st, err)
     if (.not. allocated(err)) deallocate(st%whole)
     if (allocated(err) .or. .not. wider) return
@@ -399,7 +400,7 @@ contains
   !> nodes) if allocated, else the blocks' xb (each block's stored nodes),
   !> and each block taken from its window; redo if it needs more than a
   !> window holds, on some rank (nothing changed then but st%win).
-  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, err)
+  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, single, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -408,16 +409,22 @@ contains
     real(wp), allocatable, intent(in) :: xnew(:, :), xb(:, :)
     type(euler_start_t), intent(in) :: e0
     logical, intent(out) :: redo, wider
+    !> 1: one remap, neither in parts nor hybrid (the second remap of a
+    !> hybrid step); set to 1 when a hybrid step's second remap needs the
+    !> whole grid
+    integer, intent(inout) :: single
     type(error_t), allocatable, intent(inout) :: err
     type(centroid_stats_t) :: cs, others
     type(plane_memory_t) :: memory
     type(remap_zone_t) :: zone
-    type(remap_stats_t) :: rs
+    type(remap_stats_t) :: rs, rk
     type(remap_params_t) :: par
-    real(wp), allocatable :: xw(:, :)
+    real(wp), allocatable :: xw(:, :), xk(:, :), xkw(:, :), xfinal(:, :), x(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer :: n(4), i, j, k, stat, nblock, nparts
+    integer, allocatable :: moved(:), blockers(:), every(:)
+    integer :: n(4), i, j, k, stat, nblock, nparts, stage
+    logical :: hybrid, lattice
 
     redo = .false.
     wider = .false.
@@ -450,8 +457,14 @@ contains
       nblock = 1
       nparts = 0
       if (.not. allocated(err)) nblock = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, &
-                                                              zone%own, nparts)
-      call MPI_Allreduce(MPI_IN_PLACE, nblock, 1, MPI_INTEGER, MPI_SUM, pc%world)
+                                                              zone%own, nparts, moved=moved, blockers=blockers)
+      n(1:3) = [nblock, 0, merge(1, 0, allocated(err))]
+      if (allocated(moved)) n(2) = count(zone%own(moved))
+      call MPI_Allreduce(MPI_IN_PLACE, n, 3, MPI_INTEGER, MPI_SUM, pc%world)
+      nblock = n(1)
+      ! (not after an error on any rank: the caller stops)
+      hybrid = cfg%rezone%swept_hybrid .and. single == 0 .and. nblock > 0 .and. nblock < n(2) .and. &
+               .not. allocated(st%pwhole) .and. n(3) == 0
       par%swept = nblock == 0
       ! the lattice path where the whole new grid is a lattice (every
       ! block's nodes are, and they share the nodes between them; only a
@@ -465,65 +478,134 @@ contains
         call MPI_Allreduce(MPI_IN_PLACE, n(1), 1, MPI_INTEGER, MPI_MIN, pc%world)
         par%lattice = n(1) == 1
       end if
+      lattice = par%lattice
       ! a step the whole grid remaps in parts of the way (`euler_step`): there
       ! (n(1): the most parts a window needs, n(2): a window that cannot)
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
       call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
-      if (nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
+      if (single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
           .not. allocated(st%pwhole)) then
         redo = .true.
         call log_line(log, 'euler '//itoa(es%n + 1)//' is remapped in '//itoa(n(1))//' parts of the way: '// &
                       'on the whole grid')
         return
       end if
-      ! (the planes the fits after the remap start from)
-      call centroids_remember(w%mx, memory)
-      if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rs, err, zone=zone)
-      rs%swept_blockers = nblock
+      ! a hybrid step (`euler_step`): the first remap to the grid whose
+      ! blockers' nodes stay (those of every block: gathered)
+      if (hybrid) then
+        call gather_concat(pc, [(wg%global_cell(blockers(i)), i = 1, size(blockers))], every)
+        blockers = window_cells(wg, every)
+        call remap_hybrid_target(wg, xw, blockers, xk)
+        n(1:2) = [remap_swept_blockers(wg, w%h, w%bc, xk, par%swept_max, par%swept_mixed, zone%own, moved=moved), 0]
+        n(2) = count(zone%own(moved))
+        call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
+        hybrid = n(1) == 0 .and. n(2) > 0
+        if (hybrid .and. zone%open) then
+          call remap_hybrid_target(st%gw, xnew, every, xkw)
+          call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xkw, err)
+        end if
+      end if
+    end associate
+    do stage = 1, merge(2, 1, hybrid)
+      if (stage == 2) then
+        call copy_gather(pc, st, .true., err, cs)
+        if (.not. allocated(err) .and. zone%open) then
+          call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+          call move_alloc(x, st%gw%x)
+          call remap_zone_open(zone, st%gw%grid_index_t, st%win%bc, st%gw%x, xnew, err)
+        end if
+      end if
+      associate (w => st%win, wg => st%win%g)
+        if (hybrid .and. stage == 1) then
+          par%swept = .true.
+          par%lattice = .false.
+          call move_alloc(xw, xfinal)
+          call move_alloc(xk, xw)
+        else if (hybrid) then
+          call move_alloc(xfinal, xw)
+          n(1) = 1
+          if (.not. allocated(err)) n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, &
+                                                                zone%own)
+          call MPI_Allreduce(MPI_IN_PLACE, n(1), 1, MPI_INTEGER, MPI_SUM, pc%world)
+          par%swept = n(1) == 0
+          par%lattice = lattice
+        end if
+        ! (the planes the fits after the remap start from)
+        call centroids_remember(w%mx, memory)
+        if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rk, err, &
+                                                        zone=zone)
+        rk%swept_blockers = nblock
+        call agree_error(pc, err)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+        n = [rk%cells_short, rk%regions_uncovered, rk%cells_deficit, rk%swept_unbounded]
+        call MPI_Allreduce(MPI_IN_PLACE, n, 4, MPI_INTEGER, MPI_SUM, pc%world)
+        if (any(n > 0)) then
+          redo = .true.
+          wider = n(1) > 0
+          ! (the blocks hold the first remap's state: the whole grid does the
+          ! second alone)
+          if (stage == 2) single = 1
+          why = ''
+          if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
+          if (n(2) > 0) why = why//', old regions the new grid does not cover'
+          if (n(3) > 0) why = why//', kinetic energy deficits to move'
+          if (n(4) > 0) why = why//', swept faces that broke a material''s bounds'
+          call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)// &
+                        '): remapped on the whole grid')
+          return
+        end if
+        call material_index_cells(w%mats, w%h%mat, w%mx, err)
+        ! the new mixed cells' planes (`euler_step`), those of the block's
+        ! owned cells first: the log counts them
+        if (.not. allocated(err)) call mixed_forget_planes(w%mx, err)
+        if (.not. allocated(err)) then
+          owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
+          call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned, memory=memory)
+          call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter, memory=memory)
+          call material_burn_start(w%mats, st%t)
+          call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
+          call mixed_cell_state(w%mx, w%h%p, w%h%cs)
+        end if
+      end associate
+      if (.not. allocated(err)) call block_from(st, .true., err)
       call agree_error(pc, err)
       if (allocated(err)) then
         call es%timer%stop()
         return
       end if
-      n = [rs%cells_short, rs%regions_uncovered, rs%cells_deficit, rs%swept_unbounded]
-      call MPI_Allreduce(MPI_IN_PLACE, n, 4, MPI_INTEGER, MPI_SUM, pc%world)
-      if (any(n > 0)) then
-        redo = .true.
-        wider = n(1) > 0
-        why = ''
-        if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
-        if (n(2) > 0) why = why//', old regions the new grid does not cover'
-        if (n(3) > 0) why = why//', kinetic energy deficits to move'
-        if (n(4) > 0) why = why//', swept faces that broke a material''s bounds'
-        call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)// &
-                      '): remapped on the whole grid')
-        return
-      end if
-      call material_index_cells(w%mats, w%h%mat, w%mx, err)
-      ! the new mixed cells' planes (`euler_step`), those of the block's
-      ! owned cells first: the log counts them
-      if (.not. allocated(err)) call mixed_forget_planes(w%mx, err)
-      if (.not. allocated(err)) then
-        owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
-        call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned, memory=memory)
-        call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter, memory=memory)
-        call material_burn_start(w%mats, st%t)
-        call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
-        call mixed_cell_state(w%mx, w%h%p, w%h%cs)
-      end if
-    end associate
-    if (.not. allocated(err)) call block_from(st, .true., err)
-    call agree_error(pc, err)
-    if (allocated(err)) then
-      call es%timer%stop()
-      return
-    end if
+      call st%halo%sums(rk%flow)
+      call remap_stats_flows(rk)
+      call remap_stats_reduce(pc, rk)
+      if (stage == 1) rs = rk
+      if (stage == 2) call remap_stats_add(rs, rk)
+      rs%hybrid = hybrid
+    end do
     call centroids_count(pc, cs, es%centroids)
-    call st%halo%sums(rs%flow)
-    call remap_stats_flows(rs)
-    call remap_stats_reduce(pc, rs)
     call euler_finish(cfg%rezone, st, es, log, e0, rs, err)
   end subroutine window_remap
+
+  !> The cells of the window wg among the whole grid's cells cells (its
+  !> single-block order), as wg's cells.
+  pure function window_cells(wg, cells) result(list)
+    type(grid_t), intent(in) :: wg
+    integer, intent(in) :: cells(:)
+    integer, allocatable :: list(:)
+    integer :: q, ijk(3), at(size(cells))
+    logical :: inside(size(cells))
+    do q = 1, size(cells)
+      ijk(1) = mod(cells(q) - 1, wg%gn(1)) + 1
+      ijk(2) = mod((cells(q) - 1)/wg%gn(1), wg%gn(2)) + 1
+      ijk(3) = (cells(q) - 1)/(wg%gn(1)*wg%gn(2)) + 1
+      ijk = ijk - wg%off
+      inside(q) = all(ijk >= 1 .and. ijk <= [wg%ni, wg%nj, wg%nk])
+      at(q) = 0
+      if (inside(q)) at(q) = wg%cell(ijk(1), ijk(2), ijk(3))
+    end do
+    list = pack(at, inside)
+  end function window_cells
 
   !> The zone of this rank's window wg (`remap_zone_t`) around its block g:
   !> own its owned cells and the nodes it counts, compute those and

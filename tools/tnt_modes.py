@@ -40,6 +40,9 @@ from hardcases import REZONE  # noqa: E402
 
 MODES = dict(REZONE)
 MODES["euler_swept"] = dict(REZONE["euler"], swept_mixed=".true.", swept_max="0.5")
+# euler with every step that has a cell the swept faces cannot take
+# remapped whole by intersection (`swept_hybrid` off: the path before it)
+MODES["euler_intersect"] = dict(REZONE["euler"], swept_hybrid=".false.")
 
 
 def deck(template, name, outdir, n=None, rezone=None, prerun=None):

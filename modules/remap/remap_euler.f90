@@ -120,7 +120,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
-            remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target
+            remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_hybrid_target
 
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
@@ -181,6 +181,9 @@ module remap_euler
     integer :: cells_copied = 0       !< unchanged cells, copied
     integer :: swept_parts = 1        !< the parts of the way the step was remapped in (`remap_stats_add`)
     integer :: swept_splits = 0       !< of them, parts split in two because their swept faces broke a bound (the caller's)
+    !> the step was hybrid: by swept faces where the cells could, then by
+    !> intersection around those that could not (the caller's)
+    logical :: hybrid = .false.
     integer :: reach = 0              !< widest index window that was needed
     integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
     integer :: mof_iterations = 0     !< their Gauss-Newton iterations, all materials
@@ -2112,7 +2115,7 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, work) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, work, blockers) result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -2131,16 +2134,20 @@ contains
     integer, allocatable, intent(out), optional :: moved(:)
     !> the caller's work arrays (`remap_euler_step`; absent: this call's)
     type(remap_work_t), intent(inout), optional :: work
+    !> the cells counted (those of own that move and cannot), in
+    !> increasing order
+    integer, allocatable, intent(out), optional :: blockers(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, v, m(3), vb, rmax
     logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
     logical :: ok
-    logical, allocatable :: changed(:)
+    logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
     type(error_t), allocatable :: err
 
     nblock = 1
     if (present(parts)) parts = 0
+    if (present(blockers)) blockers = [integer ::]
     ! (unchanged cells are copied: only the changed ones are looked at)
     if (present(work)) then
       call marks_ready(work%old, g%ncell, g%nnode, stat)
@@ -2164,7 +2171,12 @@ contains
     nblock = 0
     rmax = 0.0_wp
     other = .false.
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list) reduction(+:nblock) &
+    allocate(blocks(size(list)), stat=stat)
+    if (stat /= 0) then
+      nblock = 1
+      return
+    end if
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, v, m, vb) schedule(static)
@@ -2222,9 +2234,11 @@ contains
           end do
         end do
       end if
+      blocks(i) = .not. ok
       if (.not. ok) nblock = nblock + 1
     end do
     !$omp end parallel do
+    if (present(blockers)) blockers = pack(list, blocks)
     if (present(parts)) then
       parts = 0
       if (.not. other .and. rmax < real(huge(1), wp)*smax) parts = max(ceiling(rmax/smax), 1)
@@ -2326,6 +2340,30 @@ contains
       return
     end do
   end subroutine remap_part_target
+
+  !> The first of the two remaps of a hybrid Euler step (`euler_step`):
+  !> every node at xnew but those of the cells `blockers` (the changed cells
+  !> `remap_swept_blockers` finds cannot take the swept-face path), which
+  !> stay at g%x. So the cells this first remap changes are those with a
+  !> node outside the blockers: none of them a blocker, each can take the
+  !> swept-face path, and no face of a blocker moves (its nodes stay), so
+  !> nothing is swept through it. The second remap, to xnew, moves only the
+  !> blockers' nodes: it changes the blockers and the cells that share a
+  !> node with them, by intersection.
+  pure subroutine remap_hybrid_target(g, xnew, blockers, xk)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xnew(:, :)
+    integer, intent(in) :: blockers(:)
+    real(wp), allocatable, intent(inout) :: xk(:, :)
+    integer :: i, a, n
+    xk = xnew
+    do i = 1, size(blockers)
+      do a = 1, 8
+        n = g%node0(blockers(i)) + g%corner_offset(a)
+        xk(:, n) = g%x(:, n)
+      end do
+    end do
+  end subroutine remap_hybrid_target
 
   !> Intersects the changed new cell c with the old cells within `reach`
   !> index steps: per material the volume, first moment, mass and internal

@@ -63,6 +63,11 @@ module rezone_config
     !> the way, each by swept faces where it can (1: by intersection; the
     !> deck's default: `swept_parts_default`)
     integer :: swept_parts = 1
+    !> an Euler step some of whose changed cells cannot take the swept-face
+    !> path is remapped twice: the cells that can by swept faces, then the
+    !> others and the cells that share a node with them by intersection
+    !> (`remap_hybrid_target`); off: the whole step by intersection
+    logical :: swept_hybrid = .true.
     !> a trigger measure an Euler step leaves beyond its bound (side ratio
     !> above side_ratio, cosine below cos_angle) becomes the bound, moved on
     !> by this relative margin, until the grid is back within the deck's
@@ -92,13 +97,13 @@ contains
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
                 drift_max, drift_open, swept_max, hysteresis
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts, virtual_layers
-    logical :: swept_mixed
+    logical :: swept_mixed, swept_hybrid
     character(len=max_line) :: msg
     type(rezone_config_t) :: defaults
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
-                      swept_mixed, swept_parts, virtual_layers
+                      swept_mixed, swept_parts, virtual_layers, swept_hybrid
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -108,7 +113,7 @@ contains
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
-    virtual_layers = defaults%virtual_layers
+    virtual_layers = defaults%virtual_layers; swept_hybrid = defaults%swept_hybrid
     ! (0: the mode's, once the mode is read)
     swept_parts = 0
     if (size(text) > 0) then
@@ -177,7 +182,7 @@ contains
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
       swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts, &
-      virtual_layers=virtual_layers)
+      virtual_layers=virtual_layers, swept_hybrid=swept_hybrid)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 
