@@ -15,7 +15,9 @@ Modes: the rezone groups of tools/hardcases.py (lagrange: no Euler steps;
 ale: global smoothing on the paper's triggers; euler: back to the fixed grid
 every step; lssm: the paper's LSSM) and euler_swept (euler with
 `swept_mixed = .true., swept_max = 0.5`: every remap by swept faces where it
-can, through mixed cells too). The reference is the 1D run with zones of
+can, through mixed cells too) and euler_intersect (euler with `swept_hybrid =
+.false.`: a step with a cell the swept faces cannot take wholly by
+intersection). The reference is the 1D run with zones of
 --zone mm (0.0125: 800 zones per charge radius; from 0.05 mm its peaks
 move by 0.15 and 0.3 % at 20 and 40 mm, 3.3 % at 30 mm).
 
