@@ -2343,24 +2343,36 @@ contains
 
   !> The first of the two remaps of a hybrid Euler step (`euler_step`):
   !> every node at xnew but those of the cells `blockers` (the changed cells
-  !> `remap_swept_blockers` finds cannot take the swept-face path), which
-  !> stay at g%x. So the cells this first remap changes are those with a
-  !> node outside the blockers: none of them a blocker, each can take the
-  !> swept-face path, and no face of a blocker moves (its nodes stay), so
-  !> nothing is swept through it. The second remap, to xnew, moves only the
-  !> blockers' nodes: it changes the blockers and the cells that share a
-  !> node with them, by intersection.
+  !> `remap_swept_blockers` finds cannot take the swept-face path) and of
+  !> the cells around them (3 x 3 x 3), which stay at g%x. So the cells this
+  !> first remap changes are those with a node outside that zone: none of
+  !> them a blocker, each can take the swept-face path, and no face of a
+  !> blocker moves (its nodes stay), so nothing is swept through it. The
+  !> second remap, to xnew, moves only the zone's nodes: it changes the zone
+  !> and the cells that share a node with it, by intersection. (Without the
+  !> layer around the blockers, the cells remapped twice lie next to them:
+  !> the TNT octant at 32^3 then turned 24 % more kinetic energy into heat
+  !> than by intersection alone and its gauge peaks moved by up to 33 %;
+  !> with it, 8 % and 3 %.)
   pure subroutine remap_hybrid_target(g, xnew, blockers, xk)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :)
     integer, intent(in) :: blockers(:)
     real(wp), allocatable, intent(inout) :: xk(:, :)
-    integer :: i, a, n
+    integer :: i, a, n, ci, cj, ck, oi, oj, ok_, c
     xk = xnew
     do i = 1, size(blockers)
-      do a = 1, 8
-        n = g%node0(blockers(i)) + g%corner_offset(a)
-        xk(:, n) = g%x(:, n)
+      call g%cell_ijk(blockers(i), ci, cj, ck)
+      do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
+        do oj = max(g%clo(2), cj - 1), min(g%chi(2), cj + 1)
+          do oi = max(g%clo(1), ci - 1), min(g%chi(1), ci + 1)
+            c = g%cell(oi, oj, ok_)
+            do a = 1, 8
+              n = g%node0(c) + g%corner_offset(a)
+              xk(:, n) = g%x(:, n)
+            end do
+          end do
+        end do
       end do
     end do
   end subroutine remap_hybrid_target
