@@ -289,7 +289,7 @@ contains
     if (allocated(err)) return     ! the grid's own problem is reported by &grid
     do k = 1, size(cfg%particles)
       associate (pc => cfg%particles(k))
-        if (pc%shape == 'file') cycle
+        if (pc%shape == 'file' .or. pc%shape == 'line') cycle
         n0 = size(problems)
         if (seed_count(g, group_shape(pc), pc%per_cell) == 0) call problem_add(problems, '&particles('// &
           itoa(k)//'): the '//trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)// &
@@ -299,7 +299,7 @@ contains
     end do
   end subroutine empty_shapes_check
 
-  !> The shape of a &particles group (not 'file'), for the seeding.
+  !> The shape of a &particles group (not 'file' or 'line'), for the seeding.
   pure function group_shape(pc) result(sh)
     type(particles_config_t), intent(in) :: pc
     type(shape_t) :: sh

@@ -38,7 +38,7 @@ module driver_particles
   use particles_spread, only: particles_support_widths
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
-  use particles_seed, only: seed_shape, rigid_velocity
+  use particles_seed, only: seed_shape, seed_line, seed_union, rigid_velocity
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
                              particles_register_restart
   use base_registry, only: registry_t, K_REAL
@@ -96,6 +96,9 @@ contains
     type(seeded_t), allocatable :: groups(:)
     real(wp) :: axis(3), rho
     integer :: k, i, np, q, stat, nhist
+    integer, allocatable :: shared(:)
+    logical :: found
+    character(len=120) :: note
     character(len=200) :: msg
 
     if (.not. allocated(cfg%particles)) return
@@ -110,6 +113,14 @@ contains
       associate (pc => cfg%particles(k), gr => groups(k))
         if (pc%shape == 'file') then
           call seed_file(st, pc, k, gr, err)
+        else if (pc%shape == 'line') then
+          call seed_line(st%g, pc%point, pc%point2, pc%area, pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, found, stat)
+          if (stat /= 0) then
+            call error_set(err, 'build_particles', error_no_memory('the particles of a line'))
+          else if (.not. found) then
+            call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): a '// &
+                           'point of the line lies in no cell of the grid', ERR_INPUT)
+          end if
         else
           call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
         end if
@@ -120,8 +131,13 @@ contains
             'lies in it): make it larger or raise per_cell', ERR_INPUT)
           return
         end if
-        np = np + size(gr%cell)
       end associate
+    end do
+    call union_of_bodies(cfg, groups, shared, err)
+    if (allocated(err)) return
+    np = 0
+    do k = 1, size(groups)
+      np = np + size(groups(k)%cell)
     end do
     nhist = 0
     if (cfg%hydro%particles_coupled) then
@@ -156,9 +172,11 @@ contains
           end if
           p%stress(:, q) = pc%stress
         end do
+        note = ''
+        if (shared(k) > 0) note = ' (not the '//itoa(shared(k))//' sub-cells an earlier group of the body seeded)'
         call log_line(log, 'particles('//itoa(k)//'): '//itoa(size(gr%cell))//' particles of solid '''// &
           trim(cfg%solids(pc%isolid)%name)//''', body '//itoa(pc%body)//', volume '//rtoa(sum(gr%vol))// &
-          ', mass '//rtoa(rho*sum(gr%vol)))
+          ', mass '//rtoa(rho*sum(gr%vol))//trim(note))
       end associate
     end do
     call particles_order(st%pt, st%g%ncell, err)
@@ -868,6 +886,62 @@ contains
       used(c) = p%cell_start(c + 1) > p%cell_start(c)
     end do
   end function cell_used
+
+  !> A body seeded by several groups is their union: a group's particles in
+  !> sub-cells an earlier group of the same body seeded (a column and a slab
+  !> meeting in a joint) are dropped (`seed_union`), shared(k) of them from
+  !> group k. Groups of points (file, line) are taken as they are. Groups of
+  !> one body that share a cell at different per_cell, and a group left
+  !> with no particle, are deck mistakes.
+  subroutine union_of_bodies(cfg, groups, shared, err)
+    type(config_t), intent(in) :: cfg
+    type(seeded_t), intent(inout) :: groups(:)
+    integer, allocatable, intent(out) :: shared(:)
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: keep(:)
+    logical :: clash
+    integer :: j, k, stat
+    allocate(shared(size(groups)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'build_particles', error_no_memory('the groups'' counts'))
+      return
+    end if
+    shared = 0
+    do k = 2, size(groups)
+      associate (pk => cfg%particles(k), gk => groups(k))
+        if (pk%shape == 'file' .or. pk%shape == 'line') cycle
+        do j = 1, k - 1
+          associate (pj => cfg%particles(j), gj => groups(j))
+            if (pj%body /= pk%body .or. pj%shape == 'file' .or. pj%shape == 'line') cycle
+            allocate(keep(size(gk%cell)), stat=stat)
+            if (stat /= 0) then
+              call error_set(err, 'build_particles', error_no_memory('the union of a body''s groups'))
+              return
+            end if
+            call seed_union(gj%cell, gj%xi, pj%per_cell, gk%cell, gk%xi, pk%per_cell, keep, clash)
+            if (clash) then
+              call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)// &
+                             ') and &particles('//itoa(j)//') of body '//itoa(pk%body)//' share cells at '// &
+                             'different per_cell: give the groups of a body that meet the same per_cell', ERR_INPUT)
+              return
+            end if
+            shared(k) = shared(k) + count(.not. keep)
+            gk%cell = pack(gk%cell, keep)
+            gk%vol = pack(gk%vol, keep)
+            gk%xi = reshape(pack(gk%xi, spread(keep, 1, 3)), [3, count(keep)])
+            gk%x = reshape(pack(gk%x, spread(keep, 1, 3)), [3, count(keep)])
+            deallocate(keep)
+          end associate
+        end do
+        if (size(gk%cell) == 0) then
+          call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
+                         'sub-cell of the '//trim(pk%shape)//' was seeded by an earlier group of body '// &
+                         itoa(pk%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)
+          return
+        end if
+      end associate
+    end do
+  end subroutine union_of_bodies
 
   !> The particles of a file of points: each point's host cell and natural
   !> coordinates (a walk from the previous point's cell), its volume from the

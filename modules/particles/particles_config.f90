@@ -99,12 +99,15 @@ module particles_config
 
   !> One resolved &particles group; the initial values are the defaults.
   type :: particles_config_t
-    character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file (required)
+    character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file, line (required)
     real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners; cylinder's extent along its axis
     real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere, cylinder; centre of a rotation
     real(wp) :: inner_radius = 0.0_wp                 !< sphere, cylinder: hollow inside it
     integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
     character(len=256) :: file = ''                   !< shape = 'file': the points (text)
+    !> shape = 'line': the segment's ends (a bar: reinforcement) and its
+    !> cross-section's area (length^2)
+    real(wp) :: point(3) = huge(1.0_wp), point2(3) = huge(1.0_wp), area = 0.0_wp
     character(len=:), allocatable :: file_path        !< `file` resolved against the deck's folder
     integer :: per_cell = 2                           !< particles per cell per direction
     character(len=64) :: solid = ''                   !< a &solid name
@@ -553,18 +556,18 @@ contains
     character(len=256) :: file
     character(len=1) :: axis
     real(wp) :: lo(3), hi(3), center(3), radius, density, velocity(3), angular_velocity, stress(6), blo(3), bhi(3), &
-                inner_radius
+                inner_radius, point(3), point2(3), area
     integer :: per_cell, body, ios, m, ax
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
     namelist /particles/ shape, lo, hi, center, radius, axis, file, per_cell, solid, density, velocity, &
-                         velocity_field, angular_velocity, stress, body, inner_radius
+                         velocity_field, angular_velocity, stress, body, inner_radius, point, point2, area
 
     shape = this%shape; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
     axis = 'xyz'(this%axis:this%axis); file = this%file; per_cell = this%per_cell; solid = this%solid
     density = this%density; velocity = this%velocity; velocity_field = this%velocity_field
     angular_velocity = this%angular_velocity; stress = this%stress; body = this%body
-    inner_radius = this%inner_radius
+    inner_radius = this%inner_radius; point = this%point; point2 = this%point2; area = this%area
     read(text, nml=particles, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'particles', ios, msg)
@@ -610,12 +613,29 @@ contains
       end if
     case ('file')
       if (len_trim(file) == 0) call problem_add(problems, '&'//tag//': shape = ''file'' needs a file of points')
+    case ('line')
+      if (.not. (all(abs(point) < huge(1.0_wp)) .and. all(abs(point2) < huge(1.0_wp)))) then
+        call problem_add(problems, '&'//tag//': shape = ''line'' needs point and point2 (its ends, all three '// &
+                         'components)')
+      else if (.not. norm2(point2 - point) > 0.0_wp) then
+        call problem_add(problems, '&'//tag//': shape = ''line'' needs point2 /= point (a segment of some length)')
+      else if (any(min(point, point2) < xmin) .or. any(max(point, point2) > xmax)) then
+        call problem_add(problems, '&'//tag//': the line''s ends must lie in the grid box xmin..xmax')
+      else
+        blo = min(point, point2)
+        bhi = max(point, point2)
+      end if
+      if (.not. area > 0.0_wp) call problem_bad(problems, tag, 'area', area, &
+        'must be > 0 for shape = ''line'' (the cross-section of the bar, length^2)')
     case ('')
-      call problem_add(problems, '&'//tag//': shape is required; valid: box, sphere, cylinder, all, file')
+      call problem_add(problems, '&'//tag//': shape is required; valid: box, sphere, cylinder, all, file, line')
     case default
       call problem_add(problems, '&'//tag//': shape = '''//trim(shape)// &
-                       ''' is not known; valid: box, sphere, cylinder, all, file')
+                       ''' is not known; valid: box, sphere, cylinder, all, file, line')
     end select
+    if (trim(shape) /= 'line' .and. (any(abs(point) < huge(1.0_wp)) .or. any(abs(point2) < huge(1.0_wp)) .or. &
+        abs(area) > 0.0_wp)) call problem_add(problems, '&'//tag//': point, point2 and area apply only to '// &
+        'shape = ''line'' (this group''s is '''//trim(shape)//''')')
     msg = shape_inner_radius_problem(shape, radius, inner_radius)
     if (len_trim(msg) > 0) call problem_bad(problems, tag, 'inner_radius', inner_radius, trim(msg))
     if (len_trim(file) > 0 .and. trim(shape) /= 'file') call problem_add(problems, '&'//tag// &
@@ -647,7 +667,7 @@ contains
                        name_list(solids))
     end if
     this = particles_config_t(shape=shape, lo=lo, hi=hi, center=center, radius=radius, inner_radius=inner_radius, &
-      axis=ax, file=file, &
+      axis=ax, file=file, point=point, point2=point2, area=area, &
       per_cell=per_cell, solid=solid, isolid=m, density=density, velocity=velocity, velocity_field=velocity_field, &
       angular_velocity=angular_velocity, stress=stress, body=merge(body, k, body > 0))
     this%file_path = resolve_path(file, path)
@@ -712,6 +732,7 @@ contains
         call diff_r(changes, trim(w)//' inner_radius', [a%inner_radius], [b%inner_radius])
         call diff_i(changes, trim(w)//' axis', a%axis, b%axis)
         call diff_s(changes, trim(w)//' file', a%file, b%file)
+        call diff_r(changes, trim(w)//' point, point2, area', [a%point, a%point2, a%area], [b%point, b%point2, b%area])
         call diff_i(changes, trim(w)//' per_cell', a%per_cell, b%per_cell)
         call diff_s(changes, trim(w)//' solid', a%solid, b%solid)
         call diff_r(changes, trim(w)//' density', [a%density], [b%density])

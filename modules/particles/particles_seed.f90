@@ -27,10 +27,10 @@ module particles_seed
   use mesh_geometry, only: hex_volume, cross
   use mesh_grid, only: grid_t
   use mesh_shapes, only: shape_t, shape_inside, shape_level
-  use particles_shape, only: particles_map
+  use particles_shape, only: particles_map, particles_locate
   implicit none
   private
-  public :: seed_cell, seed_shape, seed_count, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, seed_line, seed_union, rigid_velocity
 
 contains
 
@@ -137,6 +137,91 @@ contains
       end do
     end do
   end subroutine visit
+
+  !> The particles of a bar (a reinforcing bar, a rod) along the segment
+  !> p0..p1 with cross-section `area` (length^2), at n per cell along it:
+  !> the segment cut into nb = max(1, nint(n L/h)) equal pieces (L its
+  !> length, h the cube root of the volume of the cell holding its
+  !> midpoint), a particle at each piece's midpoint with the piece's volume
+  !> area L/nb, so the bar's volume is exact; host cells and natural
+  !> coordinates by `particles_locate`, each walk starting from the previous
+  !> particle's cell. found false if a point lies in no cell; stat nonzero
+  !> if the arrays could not be allocated.
+  pure subroutine seed_line(g, p0, p1, area, n, cell, xi, x, vol, found, stat)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: p0(3), p1(3), area
+    integer, intent(in) :: n
+    integer, allocatable, intent(out) :: cell(:)
+    real(wp), allocatable, intent(out) :: xi(:, :), x(:, :), vol(:)
+    logical, intent(out) :: found
+    integer, intent(out) :: stat
+    real(wp) :: xn(3, 8), xim(3), len, h
+    integer :: nb, i, c, guess
+
+    stat = 0
+    len = norm2(p1 - p0)
+    call particles_locate(g, 0.5_wp*(p0 + p1), 1, c, xim, found)
+    if (.not. found) return
+    call g%gather(c, g%x, xn)
+    h = abs(hex_volume(xn))**(1.0_wp/3.0_wp)
+    nb = max(1, nint(real(n, wp)*len/h))
+    allocate(cell(nb), xi(3, nb), x(3, nb), vol(nb), stat=stat)
+    if (stat /= 0) return
+    guess = c
+    do i = 1, nb
+      x(:, i) = p0 + ((real(i, wp) - 0.5_wp)/real(nb, wp))*(p1 - p0)
+      call particles_locate(g, x(:, i), guess, cell(i), xi(:, i), found)
+      if (.not. found) return
+      guess = cell(i)
+    end do
+    vol = area*len/real(nb, wp)
+  end subroutine seed_line
+
+  !> Where two groups of one body overlap (a frame composed of boxes): keep
+  !> false for the particles of group b whose sub-box group a seeded
+  !> already, so the body is the union of its shapes and no sub-box holds
+  !> two particles. Both groups as `seed_shape` gives them (in cell order,
+  !> then sub-box order), na and nb their particles per cell per direction;
+  !> clash if they share a host cell with na /= nb (their sub-boxes differ:
+  !> no union of the two is exact).
+  pure subroutine seed_union(cell_a, xi_a, na, cell_b, xi_b, nb, keep, clash)
+    integer, intent(in) :: cell_a(:), cell_b(:), na, nb
+    real(wp), intent(in) :: xi_a(:, :), xi_b(:, :)
+    logical, intent(out) :: keep(size(cell_b)), clash
+    integer :: i, q
+    keep = .true.
+    clash = .false.
+    i = 1
+    do q = 1, size(cell_b)
+      ! (the first particle of a at or after b's q-th in (cell, sub-box) order)
+      do while (i <= size(cell_a))
+        if (cell_a(i) > cell_b(q)) exit
+        if (cell_a(i) == cell_b(q)) then
+          if (na /= nb) then
+            clash = .true.
+            return
+          end if
+          if (sub_box(xi_a(:, i), na) >= sub_box(xi_b(:, q), nb)) exit
+        end if
+        i = i + 1
+      end do
+      if (i > size(cell_a)) exit
+      if (cell_a(i) == cell_b(q)) keep(q) = sub_box(xi_a(:, i), na) /= sub_box(xi_b(:, q), nb)
+    end do
+  end subroutine seed_union
+
+  !> The index (`seed_cell`'s order, i fastest) of the sub-box of a cell
+  !> split n times per direction whose centre has natural coordinates xi.
+  pure integer function sub_box(xi, n) result(s)
+    real(wp), intent(in) :: xi(3)
+    integer, intent(in) :: n
+    integer :: d
+    s = 0
+    do d = 3, 1, -1
+      s = n*s + min(n, max(1, int(xi(d)*real(n, wp)) + 1)) - 1
+    end do
+    s = s + 1
+  end function sub_box
 
   !> The velocity (length/time) at x (length) of a body moving with velocity
   !> v0 and rotating rigidly at angular velocity omega (radians per unit
