@@ -23,6 +23,7 @@ module driver_config
   use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
   use mesh_shapes, only: shape_t, shape_kind
   use particles_seed, only: seed_count
+  use io_stl, only: stl_read
   use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
                               particles_config_changes
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
@@ -251,6 +252,8 @@ contains
                                  cfg%grid%xmin, cfg%grid%xmax, echo, problems)
       if (size(problems) == n0 .and. cfg%particles(k)%shape == 'file') &
         call points_file_check(cfg%particles(k), k, cfg%grid%xmin, cfg%grid%xmax, problems)
+      if (size(problems) == n0 .and. cfg%particles(k)%shape == 'stl') &
+        call stl_file_check(cfg%particles(k), k, cfg%grid%xmin, cfg%grid%xmax, problems)
       call at_line(problems, n0, deck, 'particles', k)
     end do
     if (n > 0 .and. size(problems) == 0) call empty_shapes_check(deck, cfg, problems)
@@ -289,7 +292,7 @@ contains
     if (allocated(err)) return     ! the grid's own problem is reported by &grid
     do k = 1, size(cfg%particles)
       associate (pc => cfg%particles(k))
-        if (pc%shape == 'file' .or. pc%shape == 'line') cycle
+        if (pc%shape == 'file' .or. pc%shape == 'line' .or. pc%shape == 'stl') cycle
         n0 = size(problems)
         if (seed_count(g, group_shape(pc), pc%per_cell) == 0) call problem_add(problems, '&particles('// &
           itoa(k)//'): the '//trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)// &
@@ -299,7 +302,7 @@ contains
     end do
   end subroutine empty_shapes_check
 
-  !> The shape of a &particles group (not 'file' or 'line'), for the seeding.
+  !> The shape of a &particles group (not 'file', 'line' or 'stl'), for the seeding.
   pure function group_shape(pc) result(sh)
     type(particles_config_t), intent(in) :: pc
     type(shape_t) :: sh
@@ -332,6 +335,31 @@ contains
       end if
     end do
   end subroutine points_file_check
+
+  !> The surface of a &particles shape = 'stl' group: a readable STL file
+  !> (`io_stl`) whose box meets the grid's. The scene reads the file again
+  !> when it seeds the particles.
+  subroutine stl_file_check(pc, k, xmin, xmax, problems)
+    type(particles_config_t), intent(in) :: pc
+    integer, intent(in) :: k
+    real(wp), intent(in) :: xmin(3), xmax(3)
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: tri(:, :, :)
+    integer :: d
+    call stl_read(pc%file_path, tri, err)
+    if (allocated(err)) then
+      call problem_add(problems, '&particles('//itoa(k)//'): '//err%msg)
+      return
+    end if
+    do d = 1, 3
+      if (maxval(tri(d, :, :)) < xmin(d) .or. minval(tri(d, :, :)) > xmax(d)) then
+        call problem_add(problems, '&particles('//itoa(k)//'): the surface of '''//trim(pc%file)// &
+                         ''' lies outside the grid box xmin..xmax: it would seed no particle')
+        return
+      end if
+    end do
+  end subroutine stl_file_check
 
   !> A grid from a file (`&grid file`): the file is read and checked now, so
   !> that a missing or unusable file is a deck problem like any other (found

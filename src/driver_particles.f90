@@ -38,7 +38,9 @@ module driver_particles
   use particles_spread, only: particles_support_widths
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
-  use particles_seed, only: seed_shape, seed_line, seed_union, rigid_velocity
+  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, rigid_velocity
+  use io_stl, only: stl_read
+  use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
                              particles_register_restart
   use base_registry, only: registry_t, K_REAL
@@ -113,6 +115,8 @@ contains
       associate (pc => cfg%particles(k), gr => groups(k))
         if (pc%shape == 'file') then
           call seed_file(st, pc, k, gr, err)
+        else if (pc%shape == 'stl') then
+          call seed_stl(st, pc, k, gr, err)
         else if (pc%shape == 'line') then
           call seed_line(st%g, pc%point, pc%point2, pc%area, pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, found, stat)
           if (stat /= 0) then
@@ -942,6 +946,31 @@ contains
       end associate
     end do
   end subroutine union_of_bodies
+
+  !> The particles inside the closed surface of an STL file (`io_stl`,
+  !> `mesh_surface`), seeded at per_cell as a shape is.
+  subroutine seed_stl(st, pc, k, gr, err)
+    type(state_t), intent(in) :: st
+    type(particles_config_t), intent(in) :: pc
+    integer, intent(in) :: k
+    type(seeded_t), intent(inout) :: gr
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: tri(:, :, :)
+    type(surface_t) :: surf
+    integer :: stat
+    call stl_read(pc%file_path, tri, err)
+    if (allocated(err)) then
+      call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): '//err%msg, &
+                     ERR_INPUT)
+      return
+    end if
+    call surface_build(tri, surf, stat)
+    if (stat /= 0) then
+      call error_set(err, 'seed_stl', error_no_memory('the surface of '//itoa(size(tri, 3))//' triangles'))
+      return
+    end if
+    call seed_surface(st%g, surf, pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
+  end subroutine seed_stl
 
   !> The particles of a file of points: each point's host cell and natural
   !> coordinates (a walk from the previous point's cell), its volume from the

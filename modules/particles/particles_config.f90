@@ -99,12 +99,12 @@ module particles_config
 
   !> One resolved &particles group; the initial values are the defaults.
   type :: particles_config_t
-    character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file, line (required)
+    character(len=16) :: shape = ''                   !< box, sphere, cylinder, all, file, line, stl (required)
     real(wp) :: lo(3) = -huge(1.0_wp), hi(3) = huge(1.0_wp)   !< box corners; cylinder's extent along its axis
     real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp   !< sphere, cylinder; centre of a rotation
     real(wp) :: inner_radius = 0.0_wp                 !< sphere, cylinder: hollow inside it
     integer :: axis = 3                               !< cylinder and rotation axis: 1 x, 2 y, 3 z
-    character(len=256) :: file = ''                   !< shape = 'file': the points (text)
+    character(len=256) :: file = ''                   !< shape = 'file': the points (text); 'stl': the surface
     !> shape = 'line': the segment's ends (a bar: reinforcement) and its
     !> cross-section's area (length^2)
     real(wp) :: point(3) = huge(1.0_wp), point2(3) = huge(1.0_wp), area = 0.0_wp
@@ -613,6 +613,8 @@ contains
       end if
     case ('file')
       if (len_trim(file) == 0) call problem_add(problems, '&'//tag//': shape = ''file'' needs a file of points')
+    case ('stl')
+      if (len_trim(file) == 0) call problem_add(problems, '&'//tag//': shape = ''stl'' needs a surface file')
     case ('line')
       if (.not. (all(abs(point) < huge(1.0_wp)) .and. all(abs(point2) < huge(1.0_wp)))) then
         call problem_add(problems, '&'//tag//': shape = ''line'' needs point and point2 (its ends, all three '// &
@@ -628,18 +630,18 @@ contains
       if (.not. area > 0.0_wp) call problem_bad(problems, tag, 'area', area, &
         'must be > 0 for shape = ''line'' (the cross-section of the bar, length^2)')
     case ('')
-      call problem_add(problems, '&'//tag//': shape is required; valid: box, sphere, cylinder, all, file, line')
+      call problem_add(problems, '&'//tag//': shape is required; valid: box, sphere, cylinder, all, file, line, stl')
     case default
       call problem_add(problems, '&'//tag//': shape = '''//trim(shape)// &
-                       ''' is not known; valid: box, sphere, cylinder, all, file, line')
+                       ''' is not known; valid: box, sphere, cylinder, all, file, line, stl')
     end select
     if (trim(shape) /= 'line' .and. (any(abs(point) < huge(1.0_wp)) .or. any(abs(point2) < huge(1.0_wp)) .or. &
         abs(area) > 0.0_wp)) call problem_add(problems, '&'//tag//': point, point2 and area apply only to '// &
         'shape = ''line'' (this group''s is '''//trim(shape)//''')')
     msg = shape_inner_radius_problem(shape, radius, inner_radius)
     if (len_trim(msg) > 0) call problem_bad(problems, tag, 'inner_radius', inner_radius, trim(msg))
-    if (len_trim(file) > 0 .and. trim(shape) /= 'file') call problem_add(problems, '&'//tag// &
-      ': file applies only to shape = ''file'' (this group''s is '''//trim(shape)//''')')
+    if (len_trim(file) > 0 .and. trim(shape) /= 'file' .and. trim(shape) /= 'stl') call problem_add(problems, &
+      '&'//tag//': file applies only to shape = ''file'' or ''stl'' (this group''s is '''//trim(shape)//''')')
     if (any(bhi < xmin) .or. any(blo > xmax)) call problem_add(problems, '&'//tag//': the '//trim(shape)// &
       ' lies outside the grid box xmin..xmax: it would seed no particle')
     if (per_cell < 1 .or. per_cell > max_per_cell) call problem_badi(problems, tag, 'per_cell', per_cell, &

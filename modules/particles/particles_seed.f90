@@ -27,10 +27,11 @@ module particles_seed
   use mesh_geometry, only: hex_volume, cross
   use mesh_grid, only: grid_t
   use mesh_shapes, only: shape_t, shape_inside, shape_level
+  use mesh_surface, only: surface_t, surface_inside, surface_box_level
   use particles_shape, only: particles_map, particles_locate
   implicit none
   private
-  public :: seed_cell, seed_shape, seed_count, seed_line, seed_union, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_union, rigid_velocity
 
 contains
 
@@ -65,28 +66,44 @@ contains
   !> The particles of shape `sh` seeded at n per cell per direction in grid
   !> g (module notes): host cells, natural coordinates, positions (length)
   !> and volumes (length^3), in cell order then sub-box order.
-  subroutine seed_shape(g, sh, n, cell, xi, x, vol, err)
+  subroutine seed_shape(g, sh, n, cell, xi, x, vol, err, surf)
     type(grid_t), intent(in) :: g
     type(shape_t), intent(in) :: sh
     integer, intent(in) :: n
     integer, allocatable, intent(out) :: cell(:)
     real(wp), allocatable, intent(out) :: xi(:, :), x(:, :), vol(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> a closed surface to seed inside instead of sh (`seed_surface`)
+    type(surface_t), intent(in), optional :: surf
     integer :: np, stat
     character(len=200) :: msg
+    integer :: cell0(0)
+    real(wp) :: xi0(3, 0), x0(3, 0), vol0(0)
 
     if (n < 1) then
       call error_set(err, 'seed_shape', 'particles per cell per direction must be >= 1')
       return
     end if
-    np = seed_count(g, sh, n)
+    call visit(g, sh, n, .false., np, cell0, xi0, x0, vol0, surf)
     allocate(cell(np), xi(3, np), x(3, np), vol(np), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'seed_shape', error_no_memory('the seeded particles'))
       return
     end if
-    call visit(g, sh, n, .true., np, cell, xi, x, vol)
+    call visit(g, sh, n, .true., np, cell, xi, x, vol, surf)
   end subroutine seed_shape
+
+  !> The particles inside the closed surface s (`mesh_surface`), seeded at n
+  !> per cell per direction as `seed_shape` seeds a shape.
+  subroutine seed_surface(g, s, n, cell, xi, x, vol, err)
+    type(grid_t), intent(in) :: g
+    type(surface_t), intent(in) :: s
+    integer, intent(in) :: n
+    integer, allocatable, intent(out) :: cell(:)
+    real(wp), allocatable, intent(out) :: xi(:, :), x(:, :), vol(:)
+    type(error_t), allocatable, intent(inout) :: err
+    call seed_shape(g, shape_t(), n, cell, xi, x, vol, err, s)
+  end subroutine seed_surface
 
   !> How many particles `seed_shape` seeds (nothing stored: for checking a
   !> deck before the run).
@@ -101,7 +118,7 @@ contains
 
   !> Counts (np) the sub-box centres of g inside sh and, with `fill`, stores
   !> them in cell, xi, x, vol (sized by a counting visit).
-  subroutine visit(g, sh, n, fill, np, cell, xi, x, vol)
+  subroutine visit(g, sh, n, fill, np, cell, xi, x, vol, surf)
     type(grid_t), intent(in) :: g
     type(shape_t), intent(in) :: sh
     integer, intent(in) :: n
@@ -109,8 +126,10 @@ contains
     integer, intent(out) :: np
     integer, intent(inout) :: cell(:)
     real(wp), intent(inout) :: xi(:, :), x(:, :), vol(:)
+    type(surface_t), intent(in), optional :: surf
     real(wp) :: cxi(3, n**3), cx(3, n**3), cvol(n**3)
-    real(wp) :: xn(3, 8), xc(3), rad
+    real(wp) :: xn(3, 8), xc(3), rad, level
+    logical :: in
     integer :: c, s, a
 
     np = 0
@@ -123,10 +142,20 @@ contains
       do a = 1, 8
         rad = max(rad, norm2(xn(:, a) - xc))
       end do
-      if (shape_level(sh, xc) > rad) cycle
+      if (present(surf)) then
+        level = surface_box_level(surf, xc)
+      else
+        level = shape_level(sh, xc)
+      end if
+      if (level > rad) cycle
       call seed_cell(xn, n, cxi, cx, cvol)
       do s = 1, n**3
-        if (.not. shape_inside(sh, cx(:, s))) cycle
+        if (present(surf)) then
+          in = surface_inside(surf, cx(:, s))
+        else
+          in = shape_inside(sh, cx(:, s))
+        end if
+        if (.not. in) cycle
         np = np + 1
         if (fill) then
           cell(np) = c
