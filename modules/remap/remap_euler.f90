@@ -335,6 +335,11 @@ module remap_euler
     !> and the shift of its parts' centroids (3, nslot) that makes a region
     !> given away whole give its first moment too
     real(wp), allocatable :: sfac(:), sroom(:), sshift(:, :)
+    !> `material_gradients`' work: per cell a material's density and energy,
+    !> the point they are at, whether it holds the material, whether its
+    !> gradient is needed, and the gradients
+    real(wp), allocatable :: gq(:, :), gpos(:, :), ggrad(:, :, :)
+    logical, allocatable :: ghas(:), gneed(:)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -344,9 +349,15 @@ module remap_euler
   !> remap works on start empty without a pass over the grid, and are
   !> emptied through their lists). So an Euler step that changes few cells
   !> of a large grid costs what they do: no pass over the grid, and no
-  !> fresh pages of whole-grid arrays to fault in.
+  !> fresh pages of whole-grid arrays to fault in. The new cells' sums
+  !> (`remap_euler_step`'s avol ... gaps, written before they are read for
+  !> the cells a remap computes) are kept likewise.
   type :: remap_work_t
     type(old_t) :: old
+    real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
+                             cke(:, :), cland(:, :), cdef(:, :), pcell(:, :)
+    integer, allocatable :: reach(:), gaps(:)
+    logical, allocatable :: redo(:)
   end type remap_work_t
 
   !> The parts of one old cell on the lattice (`remap_lattice`): entry e
@@ -476,7 +487,9 @@ contains
         exit main
       end if
       w0 = wall_seconds()
-      allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
+      stat = 0
+      if (present(work)) call take_sums()
+      if (.not. allocated(avol)) allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
                aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
                pcell(4, ncell), reach(ncell), &
                redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
@@ -726,6 +739,7 @@ contains
       stats%t_assemble = wall_seconds() - w0
     end block main
     if (.not. present(work)) return
+    if (allocated(avol)) call keep_sums()
     ! (emptied through the lists; where a rescaled region or an error may
     ! have left marks the lists do not hold, over the grid)
     if (allocated(err) .or. stats%regions_rescaled > 0) then
@@ -740,6 +754,43 @@ contains
     end if
 
   contains
+
+    !> The new cells' sums from the caller's work arrays, where they have
+    !> this grid's and these materials' sizes (`remap_work_t`).
+    subroutine take_sums()
+      if (.not. allocated(work%avol)) return
+      if (size(work%avol, 1) /= nmat .or. size(work%avol, 2) /= ncell) return
+      call move_alloc(work%avol, avol)
+      call move_alloc(work%amom, amom)
+      call move_alloc(work%amass, amass)
+      call move_alloc(work%aie, aie)
+      call move_alloc(work%cmass, cmass)
+      call move_alloc(work%cmom, cmom)
+      call move_alloc(work%cke, cke)
+      call move_alloc(work%cland, cland)
+      call move_alloc(work%cdef, cdef)
+      call move_alloc(work%pcell, pcell)
+      call move_alloc(work%reach, reach)
+      call move_alloc(work%redo, redo)
+      call move_alloc(work%gaps, gaps)
+    end subroutine take_sums
+
+    !> The new cells' sums back to the caller's work arrays.
+    subroutine keep_sums()
+      call move_alloc(avol, work%avol)
+      call move_alloc(amom, work%amom)
+      call move_alloc(amass, work%amass)
+      call move_alloc(aie, work%aie)
+      call move_alloc(cmass, work%cmass)
+      call move_alloc(cmom, work%cmom)
+      call move_alloc(cke, work%cke)
+      call move_alloc(cland, work%cland)
+      call move_alloc(cdef, work%cdef)
+      call move_alloc(pcell, work%pcell)
+      call move_alloc(reach, work%reach)
+      call move_alloc(redo, work%redo)
+      call move_alloc(gaps, work%gaps)
+    end subroutine keep_sums
 
     !> Whether this remap counts cell cc (a window's own cells; every cell
     !> of a whole grid's).
@@ -1598,17 +1649,22 @@ contains
     integer, intent(in) :: nmat
     type(old_t), intent(inout) :: old
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: q(:, :), pos(:, :), grad(:, :, :)
-    logical, allocatable :: has(:), need(:)
     integer :: ncell, kmat, c, k, s, stat, j
     character(len=200) :: msg
 
     ncell = g%ncell
-    allocate(q(2, ncell), pos(3, ncell), has(ncell), need(ncell), grad(3, 2, ncell), stat=stat, errmsg=msg)
+    ! (kept with old: a fresh whole-grid array's pages cost their first touch)
+    stat = 0
+    if (allocated(old%gq)) then
+      if (size(old%gq, 2) /= ncell) deallocate(old%gq, old%gpos, old%ghas, old%gneed, old%ggrad)
+    end if
+    if (.not. allocated(old%gq)) allocate(old%gq(2, ncell), old%gpos(3, ncell), old%ghas(ncell), old%gneed(ncell), &
+                                          old%ggrad(3, 2, ncell), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the gradient work arrays'))
       return
     end if
+    associate (q => old%gq, pos => old%gpos, has => old%ghas, need => old%gneed, grad => old%ggrad)
     ! (the gradients of the changed cells read the cells around them only:
     ! the near cells; has and need are set there, q and pos where has is)
     do kmat = 1, nmat
@@ -1652,7 +1708,7 @@ contains
         end do
       end do
     end do
-
+    end associate
   end subroutine material_gradients
 
   !> The velocity a moved old cell's fragments carry. A fragment of subcell
