@@ -25,7 +25,7 @@ module driver_config
   use particles_seed, only: seed_count
   use io_stl, only: stl_read
   use particles_config, only: solid_config_t, particles_config_t, solid_config_read, particles_config_read, &
-                              particles_config_changes
+                              particles_config_changes, particles_file_place
   use driver_scene_config, only: region_config_t, source_config_t, region_config_read, source_config_read, &
                                  scene_config_changes, detonation_config_t, detonation_config_read, &
                                  prerun_config_t, prerun_config_read
@@ -327,6 +327,7 @@ contains
       call problem_add(problems, '&particles('//itoa(k)//'): '//err%msg)
       return
     end if
+    call particles_file_place(pc, x)
     do i = 1, size(x, 2)
       if (any(x(:, i) < xmin) .or. any(x(:, i) > xmax)) then
         call problem_add(problems, '&particles('//itoa(k)//'): point '//itoa(i)//' of file '''//trim(pc%file)// &
@@ -352,6 +353,9 @@ contains
       call problem_add(problems, '&particles('//itoa(k)//'): '//err%msg)
       return
     end if
+    do d = 1, 3
+      call particles_file_place(pc, tri(:, d, :))
+    end do
     do d = 1, 3
       if (maxval(tri(d, :, :)) < xmin(d) .or. minval(tri(d, :, :)) > xmax(d)) then
         call problem_add(problems, '&particles('//itoa(k)//'): the surface of '''//trim(pc%file)// &

@@ -32,7 +32,7 @@ module driver_particles
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_geometry, only: hex_volume
   use mesh_grid, only: grid_index_t
-  use particles_config, only: particles_config_t
+  use particles_config, only: particles_config_t, particles_file_place
   use particles_shape, only: particles_locate, particles_shape_values
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied
   use particles_spread, only: particles_support_widths
@@ -957,13 +957,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: tri(:, :, :)
     type(surface_t) :: surf
-    integer :: stat
+    integer :: stat, d
     call stl_read(pc%file_path, tri, err)
     if (allocated(err)) then
       call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): '//err%msg, &
                      ERR_INPUT)
       return
     end if
+    do d = 1, 3
+      call particles_file_place(pc, tri(:, d, :))
+    end do
     call surface_build(tri, surf, stat)
     if (stat /= 0) then
       call error_set(err, 'seed_stl', error_no_memory('the surface of '//itoa(size(tri, 3))//' triangles'))
@@ -994,6 +997,8 @@ contains
                      ERR_INPUT)
       return
     end if
+    call particles_file_place(pc, gr%x)
+    if (size(vfile) > 0) vfile = pc%scale**3*vfile
     n = size(gr%x, 2)
     allocate(gr%cell(n), gr%xi(3, n), gr%vol(n), stat=stat, errmsg=msg)
     if (stat /= 0) then

@@ -14,7 +14,12 @@ initial frame holds it:
 - the ASCII icosphere (body 5) exactly the sub-cell centres (x = 0.025 +
   0.05 k, this 12 x 8 x 8 grid of h = 0.1 at per_cell 2) on the inner
   side of all its 320 face planes (convex), none of them within 1e-9 of a
-  plane (so the set does not depend on round-off).
+  plane (so the set does not depend on round-off);
+- the cube with scale = 0.5 and offset = (0.5, 0.1, 0.1) (body 6) exactly
+  what the box [0.6,0.8] x [0.2,0.4]^2 seeds (body 7);
+- the file's two points with scale = 0.5 and offset = (0.1, 0.2, 0.3)
+  (body 8) at (0.6, 0.45, 0.5) and (0.2, 0.3, 0.4), their volumes 1e-3 and
+  2e-3 times 0.5^3 (to round-off).
 Exit status 0 pass, 1 fail.
 """
 import sys
@@ -40,7 +45,8 @@ def keyset(b):
                                                                                         vol[body == b])}
 
 
-for a, b, what in ((1, 2, "binary cube against the box"), (3, 4, "binary L-prism against the union of its boxes")):
+for a, b, what in ((1, 2, "binary cube against the box"), (3, 4, "binary L-prism against the union of its boxes"),
+                   (6, 7, "the cube scaled by 0.5 and moved by (0.5, 0.1, 0.1) against its box")):
     sa, sb = keyset(a), keyset(b)
     check(len(sa) == (body == a).sum() and sa == sb,
           f"{what}: {(body == a).sum()} and {(body == b).sum()} particles, {len(sa ^ sb)} differ")
@@ -63,5 +69,10 @@ want = {tuple(np.round(p, 9)) for p in g[inside]}
 got = {tuple(np.round(p, 9)) for p in x[body == 5]}
 check(want == got, f"icosphere ({len(tri)} triangles): {len(got)} particles, {len(want)} centres inside its "
       f"planes, {len(want ^ got)} differ")
+b8 = body == 8
+want = {(0.6, 0.45, 0.5): 1.0e-3 / 8, (0.2, 0.3, 0.4): 2.0e-3 / 8}
+ok = b8.sum() == 2 and all(any(np.allclose(q, w, rtol=0, atol=1e-15) and abs(v - vw) <= 1e-15 * vw
+                               for w, vw in want.items()) for q, v in zip(x[b8], vol[b8]))
+check(ok, f"file of points scaled and moved: {b8.sum()} particles at {x[b8].tolist()}, volumes {vol[b8].tolist()}")
 print("PASS" if not fails else f"FAIL ({len(fails)})")
 sys.exit(1 if fails else 0)

@@ -56,7 +56,7 @@ module particles_config
   implicit none
   private
   public :: solid_config_t, particles_config_t, solid_config_read, particles_config_read, particles_config_changes, &
-            strength_names, max_per_cell
+            particles_file_place, strength_names, max_per_cell
 
   !> Most particles per cell per direction (per_cell^3 per cell).
   integer, parameter :: max_per_cell = 16
@@ -108,6 +108,9 @@ module particles_config
     !> shape = 'line': the segment's ends (a bar: reinforcement) and its
     !> cross-section's area (length^2)
     real(wp) :: point(3) = huge(1.0_wp), point2(3) = huge(1.0_wp), area = 0.0_wp
+    !> shape = 'file' or 'stl': the file's coordinates x become scale x +
+    !> offset (a CAD surface in other units or another frame)
+    real(wp) :: scale = 1.0_wp, offset(3) = 0.0_wp
     character(len=:), allocatable :: file_path        !< `file` resolved against the deck's folder
     integer :: per_cell = 2                           !< particles per cell per direction
     character(len=64) :: solid = ''                   !< a &solid name
@@ -556,18 +559,20 @@ contains
     character(len=256) :: file
     character(len=1) :: axis
     real(wp) :: lo(3), hi(3), center(3), radius, density, velocity(3), angular_velocity, stress(6), blo(3), bhi(3), &
-                inner_radius, point(3), point2(3), area
+                inner_radius, point(3), point2(3), area, scale, offset(3)
     integer :: per_cell, body, ios, m, ax
     character(len=max_line) :: msg
     character(len=:), allocatable :: tag
     namelist /particles/ shape, lo, hi, center, radius, axis, file, per_cell, solid, density, velocity, &
-                         velocity_field, angular_velocity, stress, body, inner_radius, point, point2, area
+                         velocity_field, angular_velocity, stress, body, inner_radius, point, point2, area, &
+                         scale, offset
 
     shape = this%shape; lo = this%lo; hi = this%hi; center = this%center; radius = this%radius
     axis = 'xyz'(this%axis:this%axis); file = this%file; per_cell = this%per_cell; solid = this%solid
     density = this%density; velocity = this%velocity; velocity_field = this%velocity_field
     angular_velocity = this%angular_velocity; stress = this%stress; body = this%body
     inner_radius = this%inner_radius; point = this%point; point2 = this%point2; area = this%area
+    scale = this%scale; offset = this%offset
     read(text, nml=particles, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'particles', ios, msg)
@@ -638,6 +643,11 @@ contains
     if (trim(shape) /= 'line' .and. (any(abs(point) < huge(1.0_wp)) .or. any(abs(point2) < huge(1.0_wp)) .or. &
         abs(area) > 0.0_wp)) call problem_add(problems, '&'//tag//': point, point2 and area apply only to '// &
         'shape = ''line'' (this group''s is '''//trim(shape)//''')')
+    if (.not. (scale > 0.0_wp .and. scale < huge(1.0_wp))) call problem_bad(problems, tag, 'scale', scale, &
+      'must be > 0')
+    if ((abs(scale - 1.0_wp) > 0.0_wp .or. any(abs(offset) > 0.0_wp)) .and. trim(shape) /= 'file' .and. &
+        trim(shape) /= 'stl') call problem_add(problems, '&'//tag//': scale and offset apply only to shape = '// &
+        '''file'' or ''stl'' (this group''s is '''//trim(shape)//''')')
     msg = shape_inner_radius_problem(shape, radius, inner_radius)
     if (len_trim(msg) > 0) call problem_bad(problems, tag, 'inner_radius', inner_radius, trim(msg))
     if (len_trim(file) > 0 .and. trim(shape) /= 'file' .and. trim(shape) /= 'stl') call problem_add(problems, &
@@ -669,12 +679,23 @@ contains
                        name_list(solids))
     end if
     this = particles_config_t(shape=shape, lo=lo, hi=hi, center=center, radius=radius, inner_radius=inner_radius, &
-      axis=ax, file=file, point=point, point2=point2, area=area, &
+      axis=ax, file=file, point=point, point2=point2, area=area, scale=scale, offset=offset, &
       per_cell=per_cell, solid=solid, isolid=m, density=density, velocity=velocity, velocity_field=velocity_field, &
       angular_velocity=angular_velocity, stress=stress, body=merge(body, k, body > 0))
     this%file_path = resolve_path(file, path)
     if (echo /= no_echo) write(echo, nml=particles)
   end subroutine particles_config_read
+
+  !> Points x(3, n) read from a group's file (shape = 'file' or 'stl') in
+  !> the deck's frame: scale x + offset.
+  pure subroutine particles_file_place(pc, x)
+    type(particles_config_t), intent(in) :: pc
+    real(wp), intent(inout) :: x(:, :)
+    integer :: i
+    do i = 1, size(x, 2)
+      x(:, i) = pc%scale*x(:, i) + pc%offset
+    end do
+  end subroutine particles_file_place
 
   !> The hjc_* values of p, in the namelist's order.
   pure function hjc_values(p) result(v)
@@ -735,6 +756,7 @@ contains
         call diff_i(changes, trim(w)//' axis', a%axis, b%axis)
         call diff_s(changes, trim(w)//' file', a%file, b%file)
         call diff_r(changes, trim(w)//' point, point2, area', [a%point, a%point2, a%area], [b%point, b%point2, b%area])
+        call diff_r(changes, trim(w)//' scale, offset', [a%scale, a%offset], [b%scale, b%offset])
         call diff_i(changes, trim(w)//' per_cell', a%per_cell, b%per_cell)
         call diff_s(changes, trim(w)//' solid', a%solid, b%solid)
         call diff_r(changes, trim(w)//' density', [a%density], [b%density])
