@@ -28,7 +28,7 @@ module driver_euler
                                 plane_memory_t
   use lagrange_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
-                         remap_hybrid_target, remap_part_target, remap_work_t
+                         remap_hybrid_target, remap_part_target, remap_part_folded, remap_part_uniform, remap_work_t
   use remap_lattice, only: lattice_nodes
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
@@ -41,7 +41,7 @@ module driver_euler
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, &
             euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, euler_preposition, &
-            euler_start_totals
+            euler_start_totals, parts_state_t
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -88,6 +88,21 @@ module driver_euler
     real(wp) :: t_rezone = 0.0_wp
     logical :: exact = .true.
   end type euler_start_t
+
+  !> Where an Euler step remapped in parts of the way stands (`euler_step`):
+  !> on when it does; the parts taken, the equal parts left of the way (0
+  !> before the first part), the parts split, the first part's fraction
+  !> of the swept-face bound, the cells that kept the step off one remap
+  !> by swept faces, and what the parts taken did. A decomposed run that
+  !> remaps the parts on its windows hands the whole grid this when a part
+  !> needs more than the windows hold, and the whole grid goes on from
+  !> there as one process would.
+  type :: parts_state_t
+    logical :: on = .false.
+    integer :: ntaken = 0, nleft = 0, nsplit = 0, nblock = 0
+    real(wp) :: fac = 1.0_wp
+    type(remap_stats_t) :: rs
+  end type parts_state_t
 
 contains
 
@@ -277,7 +292,7 @@ contains
   !> xrezoned the grid is rezoned already (a decomposed run's, on the whole
   !> grid's node positions: `driver_whole`) and e0 holds what the step
   !> started from (`euler_begin` done).
-  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0, single)
+  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0, single, resume)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
     type(euler_state_t), intent(inout) :: es
@@ -290,6 +305,10 @@ contains
     !> one remap, neither in parts nor hybrid (a decomposed run's second
     !> remap of a hybrid step, when it needs the whole grid)
     logical, intent(in), optional :: single
+    !> with xrezoned: a step in parts of the way whose first parts the
+    !> windows of a decomposed run took (the blocks hold their state), to
+    !> go on from there
+    type(parts_state_t), intent(in), optional :: resume
     type(euler_start_t) :: start
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
@@ -300,7 +319,7 @@ contains
     type(plane_memory_t) :: memory
     integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:)
     integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
-    real(wp) :: fac
+    real(wp) :: fac, r
     logical :: split, arrived, hybrid, lattice, one
 
     if (present(xrezoned)) then
@@ -357,6 +376,10 @@ contains
     if (present(single)) one = single
     split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. &
             nparts <= rz%swept_parts .and. .not. one
+    if (present(resume)) then
+      split = resume%on
+      if (split) nblock = resume%nblock
+    end if
     if (split) cells = moved
     ! a hybrid step (&rezone swept_hybrid): first the cells that can, by
     ! swept faces (every node but the blockers'), then the blockers and the
@@ -377,6 +400,13 @@ contains
     written = [integer ::]
     nsplit = 0
     arrived = .true.
+    if (split .and. present(resume)) then
+      nleft = resume%nleft
+      fac = resume%fac
+      ntaken = resume%ntaken
+      nsplit = resume%nsplit
+      if (ntaken > 0) rs = resume%rs
+    end if
     do
       if (hybrid) then
         if (ntaken == 0) then
@@ -393,10 +423,13 @@ contains
         end if
       else if (split) then
         if (ntaken == 0 .and. nleft == 0) then
-          call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, err)
+          call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, r, err)
           if (allocated(err)) then
             call es%timer%stop()
             return
+          end if
+          if (.not. arrived) then
+            if (remap_part_folded(st%g, cells, xk)) call remap_part_uniform(st%g, xnew, cells, r, xk)
           end if
         else
           if (nleft == 0) then

@@ -77,7 +77,8 @@ module driver_whole
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
-                         remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers
+                         remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
+                         remap_part_target, remap_part_folded, remap_part_uniform
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state
@@ -86,7 +87,8 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params, euler_preposition, euler_start_totals
+                          euler_rezone, euler_finish, remap_params, euler_preposition, euler_start_totals, &
+                          parts_state_t
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
@@ -290,6 +292,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(euler_start_t) :: e0
     type(particles_euler_t) :: pe
+    type(parts_state_t) :: ps
     type(state_t) :: sw
     type(halo_t) :: single
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
@@ -343,7 +346,7 @@ contains
     end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     one = 0
-    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, err)
+    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, err)
     if (allocated(err)) return
     if (.not. redo) then
       if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
@@ -353,7 +356,13 @@ contains
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, one == 1)
+    if (.not. allocated(err)) then
+      if (ps%on) then
+        call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, resume=ps)
+      else
+        call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, one == 1)
+      end if
+    end if
     if (.not. allocated(err)) call whole_scatter(st, err)
     if (.not. allocated(err)) deallocate(st%whole)
     if (allocated(err) .or. .not. wider) return
@@ -400,7 +409,7 @@ contains
   !> nodes) if allocated, else the blocks' xb (each block's stored nodes),
   !> and each block taken from its window; redo if it needs more than a
   !> window holds, on some rank (nothing changed then but st%win).
-  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, single, err)
+  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, single, ps, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -413,6 +422,9 @@ contains
     !> hybrid step); set to 1 when a hybrid step's second remap needs the
     !> whole grid
     integer, intent(inout) :: single
+    !> a step in parts of the way: where it stands when redo (the whole grid
+    !> goes on from there)
+    type(parts_state_t), intent(out) :: ps
     type(error_t), allocatable, intent(inout) :: err
     type(centroid_stats_t) :: cs, others
     type(plane_memory_t) :: memory
@@ -422,9 +434,9 @@ contains
     real(wp), allocatable :: xw(:, :), xk(:, :), xkw(:, :), xfinal(:, :), x(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer, allocatable :: moved(:), blockers(:), every(:)
-    integer :: n(4), i, j, k, stat, nblock, nparts, stage
-    logical :: hybrid, lattice
+    integer, allocatable :: moved(:), blockers(:), every(:), cells(:)
+    integer :: n(4), i, j, k, stat, nblock, nparts, stage, taken
+    logical :: hybrid, lattice, again, arrived, next
 
     redo = .false.
     wider = .false.
@@ -479,16 +491,18 @@ contains
         par%lattice = n(1) == 1
       end if
       lattice = par%lattice
-      ! a step the whole grid remaps in parts of the way (`euler_step`): there
-      ! (n(1): the most parts a window needs, n(2): a window that cannot)
+      ! a step remapped in parts of the way (`euler_step`), each part on the
+      ! windows (n(1): the most parts a window needs, n(2): a window that
+      ! cannot)
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
       call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
-      if (single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
-          .not. allocated(st%pwhole)) then
-        redo = .true.
-        call log_line(log, 'euler '//itoa(es%n + 1)//' is remapped in '//itoa(n(1))//' parts of the way: '// &
-                      'on the whole grid')
-        return
+      ps%on = single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
+              .not. allocated(st%pwhole) .and. .not. allocated(err)
+      if (ps%on) then
+        hybrid = .false.
+        ps%nblock = nblock
+        call move_alloc(xw, xfinal)
+        call move_alloc(moved, cells)
       end if
       ! a hybrid step (`euler_step`): the first remap to the grid whose
       ! blockers' nodes stay (those of every block: gathered)
@@ -506,14 +520,33 @@ contains
         end if
       end if
     end associate
-    do stage = 1, merge(2, 1, hybrid)
-      if (stage == 2) then
+    if (.not. allocated(cells)) cells = [integer ::]
+    stage = 0
+    taken = 0
+    again = .false.
+    arrived = .true.
+    do
+      if (again) then
+        ! (the window's state from the blocks, as the last remap left them)
         call copy_gather(pc, st, .true., err, cs)
-        if (.not. allocated(err) .and. zone%open) then
+        if (.not. allocated(err) .and. zone%open .and. .not. ps%on) then
           call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
           call move_alloc(x, st%gw%x)
           call remap_zone_open(zone, st%gw%grid_index_t, st%win%bc, st%gw%x, xnew, err)
         end if
+        again = .false.
+      end if
+      if (ps%on) then
+        ! the next part's grid, as `euler_step` takes it (the decisions from
+        ! the blocks' owned cells, reduced)
+        call window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+        if (next) cycle
+      else
+        stage = stage + 1
       end if
       associate (w => st%win, wg => st%win%g)
         if (hybrid .and. stage == 1) then
@@ -542,12 +575,23 @@ contains
         end if
         n = [rk%cells_short, rk%regions_uncovered, rk%cells_deficit, rk%swept_unbounded]
         call MPI_Allreduce(MPI_IN_PLACE, n, 4, MPI_INTEGER, MPI_SUM, pc%world)
+        if (ps%on .and. par%swept_only .and. n(4) > 0 .and. all(n(1:3) == 0)) then
+          ! (nothing remapped: the first part again half as far, or the rest
+          ! of the way in twice the parts; the window gathered again, as the
+          ! remap may have left it part way)
+          if (ps%nleft == 0) ps%fac = 0.5_wp*ps%fac
+          ps%nleft = 2*ps%nleft
+          ps%nsplit = ps%nsplit + 1
+          again = .true.
+          cycle
+        end if
         if (any(n > 0)) then
           redo = .true.
           wider = n(1) > 0
           ! (the blocks hold the first remap's state: the whole grid does the
-          ! second alone)
+          ! second alone, or the rest of the parts)
           if (stage == 2) single = 1
+          if (ps%on) ps%rs = rs
           why = ''
           if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
           if (n(2) > 0) why = why//', old regions the new grid does not cover'
@@ -579,13 +623,143 @@ contains
       call st%halo%sums(rk%flow)
       call remap_stats_flows(rk)
       call remap_stats_reduce(pc, rk)
-      if (stage == 1) rs = rk
-      if (stage == 2) call remap_stats_add(rs, rk)
+      taken = taken + 1
+      if (taken == 1) then
+        rs = rk
+      else
+        call remap_stats_add(rs, rk)
+      end if
       rs%hybrid = hybrid
+      again = .true.
+      if (ps%on) then
+        ps%ntaken = ps%ntaken + 1
+        if (ps%nleft > 0) ps%nleft = ps%nleft - 1
+        rs%swept_splits = ps%nsplit
+        if (arrived) exit
+      else if (stage == merge(2, 1, hybrid)) then
+        exit
+      end if
     end do
     call centroids_count(pc, cs, es%centroids)
     call euler_finish(cfg%rezone, st, es, log, e0, rs, err)
   end subroutine window_remap
+
+  !> The grid of the next part of an Euler step remapped in parts on the
+  !> windows (`window_remap`), as `euler_step` takes it on the whole grid:
+  !> xw, the window's nodes (xfinal: its rezoned grid; cells: the window's
+  !> cells that move to it from the step's start), par's swept, swept_only
+  !> and lattice, and arrived (the last part); next: no remap, the parts
+  !> split (ps). Each decision from the blocks' owned cells, reduced over
+  !> the ranks (collective); open faces' gap search from the whole grid's
+  !> nodes, as the windows' remaps take it.
+  subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(remap_zone_t), intent(inout) :: zone
+    type(remap_params_t), intent(inout) :: par
+    real(wp), intent(in) :: xfinal(:, :)
+    integer, intent(in) :: cells(:)
+    real(wp), allocatable, intent(inout) :: xw(:, :)
+    type(parts_state_t), intent(inout) :: ps
+    logical, intent(out) :: arrived, next
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xb(:, :), xkw(:, :), x(:, :)
+    real(wp) :: r
+    integer :: n(1), nmax
+    logical :: global
+    nmax = cfg%rezone%swept_parts
+    global = trim(cfg%rezone%mode) == 'global'
+    next = .false.
+    arrived = .true.
+    associate (w => st%win, wg => st%win%g)
+      if (ps%ntaken == 0 .and. ps%nleft == 0) then
+        call remap_part_target(wg, xfinal, ps%fac*par%swept_max, cells, xw, arrived, r, err, zone%own)
+        call agree_error(pc, err)
+        if (allocated(err)) return
+        n(1) = merge(1, 0, arrived)
+        call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
+        call MPI_Allreduce(MPI_IN_PLACE, r, 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
+        arrived = n(1) == 1
+        if (.not. arrived) then
+          n(1) = merge(1, 0, remap_part_folded(wg, cells, xw, zone%own))
+          call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MAX, pc%world)
+          if (n(1) == 1) call remap_part_uniform(wg, xfinal, cells, r, xw)
+        end if
+      else
+        if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
+        xw = xfinal
+        if (ps%nleft > 1) xw = wg%x + (xfinal - wg%x)/real(ps%nleft, wp)
+        arrived = ps%nleft == 1
+      end if
+      if (ps%ntaken + 1 >= nmax .and. .not. arrived) then
+        xw = xfinal
+        arrived = .true.
+      end if
+      ! (the part's grid at the block's stored nodes: within the window's
+      ! computed cells, where it is the whole grid's)
+      if (global .or. zone%open) xb = block_nodes(st%g, wg, xw)
+      if (global) then
+        n(1) = merge(1, 0, lattice_nodes(st%g, xb))
+        call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
+        par%lattice = n(1) == 1
+      end if
+      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own)
+      call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_SUM, pc%world)
+      par%swept = n(1) == 0
+      par%swept_only = par%swept .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax
+      if (.not. (par%swept .or. arrived) .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax) then
+        ! (a part the swept faces cannot take: shorter parts)
+        if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
+        ps%nleft = 2*ps%nleft
+        ps%nsplit = ps%nsplit + 1
+        next = .true.
+        return
+      end if
+      if (zone%open) then
+        call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
+        call move_alloc(x, st%gw%x)
+        call gather_nodes(pc, st%g%grid_index_t, xb, xkw, all=.true.)
+        call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xkw, err)
+      end if
+    end associate
+  end subroutine window_part
+
+  !> The equal parts of the way from the window's grid to xfinal that keep
+  !> every changed cell within swept_max, as `euler_step` counts them on
+  !> the whole grid (`remap_swept_blockers`' parts over the blocks' owned
+  !> cells, reduced; 1 where a cell of another material is in the way).
+  integer function window_parts(pc, st, zone, par, xfinal) result(nleft)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in), target :: st
+    type(remap_zone_t), intent(in) :: zone
+    type(remap_params_t), intent(in) :: par
+    real(wp), intent(in) :: xfinal(:, :)
+    integer :: n(2), nfar
+    nfar = remap_swept_blockers(st%win%g, st%win%h, st%win%bc, xfinal, par%swept_max, par%swept_mixed, zone%own, &
+                                parts=n(1))
+    n(2) = merge(1, 0, n(1) == 0)
+    call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
+    nleft = merge(1, max(n(1), 1), n(2) == 1)
+  end function window_parts
+
+  !> The values at the block g's stored nodes of xw, a node array of the
+  !> window wg that holds them.
+  function block_nodes(g, wg, xw) result(xb)
+    type(grid_t), intent(in) :: g, wg
+    real(wp), intent(in) :: xw(:, :)
+    real(wp), allocatable :: xb(:, :)
+    integer :: i, j, k, o(3)
+    allocate(xb(size(xw, 1), g%nnode))
+    o = g%off - wg%off
+    do k = g%slo(3) - 1, g%shi(3)
+      do j = g%slo(2) - 1, g%shi(2)
+        do i = g%slo(1) - 1, g%shi(1)
+          xb(:, g%node(i, j, k)) = xw(:, wg%node(i + o(1), j + o(2), k + o(3)))
+        end do
+      end do
+    end do
+  end function block_nodes
 
   !> The cells of the window wg among the whole grid's cells cells (its
   !> single-block order), as wg's cells.

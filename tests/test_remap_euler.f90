@@ -20,7 +20,8 @@ program test_remap_euler
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_cells, only: cell_moments
   use remap_mof, only: mof_cut_volume
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_part_target
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_part_target, &
+                         remap_part_folded
   use remap_swept, only: swept_triangle
   use remap_lattice, only: lattice_t, lattice_nodes, lattice_build, lattice_tet
   use base_xsum, only: xsum_value
@@ -566,13 +567,15 @@ contains
   !> each part leaves, it moves only that node, each time by a quarter of
   !> the shortest edge around it as it is then (0.05, 0.0375, 0.028, then
   !> the last 0.014: four parts). Every part passes the swept path's own
-  !> distance test.
+  !> distance test, and no part folds a cell. A window's call (own: the
+  !> cells its block owns, here none) limits the same nodes but leaves
+  !> arrived and the fraction r to the blocks that own them.
   subroutine test_parts()
-    real(wp) :: x0(3, nn), xt(3, nn)
-    real(wp), allocatable :: xk(:, :)
+    real(wp) :: x0(3, nn), xt(3, nn), r, r1
+    real(wp), allocatable :: xk(:, :), xo(:, :)
     integer, allocatable :: moved(:)
     integer :: i, j, k, nparts, nblock, nmove(8)
-    logical :: arrived, first_ok
+    logical :: arrived, first_ok, folded, own_ok
     call make_grid(x0, 1, 0.0_wp)
     call setup(x0, 'constant')
     xt = x0
@@ -593,12 +596,20 @@ contains
     nblock = remap_swept_blockers(g, h, bc, xt, 0.25_wp, .false., moved=moved)
     call check(nblock == 8, 'parts of the way: the whole way blocks the swept path')
     nblock = 0
+    folded = .false.
+    own_ok = .true.
+    r1 = 0.0_wp
     do while (.not. arrived .and. nparts < 8)
       ! (the cells still to move)
       if (nparts > 0) i = remap_swept_blockers(g, h, bc, xt, 0.25_wp, .false., moved=moved)
-      call remap_part_target(g, xt, 0.25_wp, moved, xk, arrived, err)
+      call remap_part_target(g, xt, 0.25_wp, moved, xo, arrived, r, err, own=[(.false., i = 1, g%ncell)])
+      own_ok = own_ok .and. arrived .and. abs(r - 1.0_wp) <= 0.0_wp
+      call remap_part_target(g, xt, 0.25_wp, moved, xk, arrived, r, err)
       if (allocated(err)) exit
+      own_ok = own_ok .and. all(abs(xo - xk) <= 0.0_wp)
+      if (.not. arrived) folded = folded .or. remap_part_folded(g, moved, xk)
       nparts = nparts + 1
+      if (nparts == 1) r1 = r
       ! (the nodes that did not arrive)
       nmove(nparts) = count(any(abs(xk - xt) > 0.0_wp, 1))
       nblock = nblock + remap_swept_blockers(g, h, bc, xk, 0.25_wp, .false.)
@@ -609,6 +620,12 @@ contains
       nmove(1:nparts)
     call check(.not. allocated(err) .and. arrived .and. nparts == 4, 'parts of the way: four parts')
     call check(first_ok, 'parts of the way: every node but the far one arrives in the first part')
+    ! (the far node's first part: 0.05 of its way, 0.13 in x and the
+    ! others' -0.005 and 0.0025 in y and z)
+    call check(abs(r1 - 0.05_wp/norm2([0.13_wp, -0.005_wp, 0.0025_wp])) <= 1.0e-8_wp .and. .not. folded, &
+               'parts of the way: the first part''s fraction 0.05 over the far node''s way, no cell folded')
+    call check(own_ok, 'parts of the way: a window that owns none of the cells limits the same nodes, '// &
+               'and leaves arrived and r to their owners')
     call check(nblock == 0, 'parts of the way: no part blocks the swept path')
     call check(all(abs(g%x - xt) <= 0.0_wp), 'parts of the way: the last part ends on the rezoned grid')
   end subroutine test_parts

@@ -120,7 +120,8 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
-            remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_hybrid_target
+            remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
+            remap_part_uniform, remap_hybrid_target
 
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
@@ -2320,23 +2321,32 @@ contains
   !> `remap_swept_blockers`' moved gives them) goes straight towards xnew,
   !> by at most smax times the shortest edge of the cells around it (in
   !> g%x); the other nodes are at xnew already. xk: the part's grid;
-  !> arrived: every node reached xnew. A node whose cells are long enough
+  !> arrived: every node reached xnew; r: the largest fraction of the way
+  !> that keeps every node within its bound (both over the nodes of the
+  !> cells of `cells` that are `own`, if given: a window's, the caller
+  !> reducing them over the blocks). A node whose cells are long enough
   !> arrives at once, so the rest of the way moves (and remaps) only the
   !> cells around the nodes that still have far to go: where a smoothing
-  !> straightens a compressed shell, not the whole of what it moved.
-  subroutine remap_part_target(g, xnew, smax, cells, xk, arrived, err)
+  !> straightens a compressed shell, not the whole of what it moved. Nodes
+  !> stopped at different fractions of their way can tangle a cell that
+  !> neither grid tangles: the caller then takes the same fraction r of the
+  !> way for every node (`remap_part_folded`, `remap_part_uniform`).
+  subroutine remap_part_target(g, xnew, smax, cells, xk, arrived, r, err, own)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :), smax
     integer, intent(in) :: cells(:)
     real(wp), allocatable, intent(inout) :: xk(:, :)
     logical, intent(out) :: arrived
+    real(wp), intent(out) :: r
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: own(:)
     real(wp), allocatable :: lim(:)
-    real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), det6(48), hmin2, d(3), d2, a2, r
-    integer :: i, c, ci, cj, ck, a, k, n, stat, hv(4, 48), hc(48)
-    logical :: folded
+    real(wp) :: xo(3, 8), hmin2, d(3), d2, a2
+    integer :: i, c, ci, cj, ck, a, n, stat
+    logical :: counted
 
     arrived = .true.
+    r = 1.0_wp
     xk = xnew
     allocate(lim(g%nnode), stat=stat)
     if (stat /= 0) then
@@ -2359,8 +2369,9 @@ contains
         lim(n) = min(lim(n), hmin2)
       end do
     end do
-    r = 1.0_wp
     do i = 1, size(cells)
+      counted = .true.
+      if (present(own)) counted = own(cells(i))
       do a = 1, 8
         n = g%node0(cells(i)) + g%corner_offset(a)
         d = xnew(:, n) - g%x(:, n)
@@ -2369,33 +2380,53 @@ contains
         a2 = (1.0_wp - 1.0e-9_wp)**2*smax**2*lim(n)
         if (d2 <= a2) cycle
         xk(:, n) = g%x(:, n) + sqrt(a2/d2)*d
+        if (.not. counted) cycle
         r = min(r, sqrt(a2/d2))
         arrived = .false.
       end do
     end do
-    if (arrived) return
-    ! nodes stopped at different fractions of their way can tangle a cell
-    ! that neither grid tangles (as `remap_swept_blockers` tests the next
-    ! part's old cells): then the part is the same fraction r of the way
-    ! for every node (the largest that keeps every node within its bound)
+  end subroutine remap_part_target
+
+  !> Whether the part's grid xk tangles one of the cells `cells` (those
+  !> `own`, if given), as `remap_swept_blockers` tests the next part's old
+  !> cells (`remap_part_target`).
+  logical function remap_part_folded(g, cells, xk, own) result(folded)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: cells(:)
+    real(wp), intent(in) :: xk(:, :)
+    logical, intent(in), optional :: own(:)
+    real(wp) :: xo(3, 8), xc(3, 8), opts(3, 27), pts(3, 27), det6(48)
+    integer :: i, ci, cj, ck, hv(4, 48), hc(48)
+    folded = .false.
     do i = 1, size(cells)
-      c = cells(i)
-      call g%cell_ijk(c, ci, cj, ck)
+      if (present(own)) then
+        if (.not. own(cells(i))) cycle
+      end if
+      call g%cell_ijk(cells(i), ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, xk, xo)
       xc = xo
       call halves_about(sum(xo, 2)/8.0_wp, xo, xc, opts, pts, hv, hc)
       call half_dets(opts, det6)
       folded = .not. all(det6 > 0.0_wp)
-      if (.not. folded) cycle
-      do k = 1, size(cells)
-        do a = 1, 8
-          n = g%node0(cells(k)) + g%corner_offset(a)
-          xk(:, n) = g%x(:, n) + r*(xnew(:, n) - g%x(:, n))
-        end do
-      end do
-      return
+      if (folded) return
     end do
-  end subroutine remap_part_target
+  end function remap_part_folded
+
+  !> Every node of the cells `cells` the same fraction r of its way from g%x
+  !> to xnew, in xk (`remap_part_target`).
+  pure subroutine remap_part_uniform(g, xnew, cells, r, xk)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xnew(:, :), r
+    integer, intent(in) :: cells(:)
+    real(wp), intent(inout) :: xk(:, :)
+    integer :: i, a, n
+    do i = 1, size(cells)
+      do a = 1, 8
+        n = g%node0(cells(i)) + g%corner_offset(a)
+        xk(:, n) = g%x(:, n) + r*(xnew(:, n) - g%x(:, n))
+      end do
+    end do
+  end subroutine remap_part_uniform
 
   !> The first of the two remaps of a hybrid Euler step (`euler_step`):
   !> every node at xnew but those of the cells `blockers` (the changed cells
