@@ -10,12 +10,15 @@
 !> positions, gathered, on every rank), then every rank gathers its
 !> window's new nodes and old state from the blocks that own them
 !> (`gather_box`), remaps it (`remap_zone_t`) and takes its block back from
-!> it. A step that needs more than the windows hold (a new cell whose old
-!> cells lie further than the windows' search, an old region the new grid
-!> does not cover, kinetic energy deficits moved to cells further away) is
-!> done on the whole grid instead, and the windows are widened when the
-!> search fell short. Either way the result is the single process's, bit
-!> for bit.
+!> it; a step in parts of the way (&rezone swept_parts) does so part by
+!> part, each part's grid decided from the blocks' owned cells as one
+!> process decides it on the whole grid (`window_part`). A step that needs
+!> more than the windows hold (a new cell whose old cells lie further than
+!> the windows' search, an old region the new grid does not cover, kinetic
+!> energy deficits moved to cells further away) is done on the whole grid
+!> instead (a step in parts from the part that needed it), and the windows
+!> are widened when the search fell short. Either way the result is the
+!> single process's, bit for bit.
 !>
 !> Open faces: the gap search of a window's remap takes each open face's
 !> innermost points and bins over the moved cells from the whole grid's node
@@ -71,7 +74,7 @@ module driver_whole
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
-  use parallel_gather, only: gather_nodes, gather_box, gather_concat
+  use parallel_gather, only: gather_nodes, gather_box, gather_box_into, gather_concat
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
@@ -436,7 +439,7 @@ contains
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), every(:), cells(:)
     integer :: n(4), i, j, k, stat, nblock, nparts, stage, taken
-    logical :: hybrid, lattice, again, arrived, next
+    logical :: hybrid, lattice, again, arrived, next, kept
 
     redo = .false.
     wider = .false.
@@ -497,7 +500,7 @@ contains
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
       call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
       ps%on = single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
-              .not. allocated(st%pwhole) .and. .not. allocated(err)
+              .not. allocated(st%pwhole) .and. n(3) == 0
       if (ps%on) then
         hybrid = .false.
         ps%nblock = nblock
@@ -524,11 +527,18 @@ contains
     stage = 0
     taken = 0
     again = .false.
+    kept = .false.
     arrived = .true.
     do
       if (again) then
-        ! (the window's state from the blocks, as the last remap left them)
-        call copy_gather(pc, st, .true., err, cs)
+        ! (the window's state from the blocks, as the last remap left them:
+        ! the window computed its cells around the block as the blocks did, so
+        ! only the others are gathered, unless the remap stopped short)
+        if (kept) then
+          call copy_gather(pc, st, .true., err, cs, window_kept(st%g))
+        else
+          call copy_gather(pc, st, .true., err, cs)
+        end if
         if (.not. allocated(err) .and. zone%open .and. .not. ps%on) then
           call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
           call move_alloc(x, st%gw%x)
@@ -583,6 +593,7 @@ contains
           ps%nleft = 2*ps%nleft
           ps%nsplit = ps%nsplit + 1
           again = .true.
+          kept = .false.
           cycle
         end if
         if (any(n > 0)) then
@@ -631,6 +642,7 @@ contains
       end if
       rs%hybrid = hybrid
       again = .true.
+      kept = .true.
       if (ps%on) then
         ps%ntaken = ps%ntaken + 1
         if (ps%nleft > 0) ps%nleft = ps%nleft - 1
@@ -698,7 +710,9 @@ contains
       end if
       ! (the part's grid at the block's stored nodes: within the window's
       ! computed cells, where it is the whole grid's)
-      if (global .or. zone%open) xb = block_nodes(st%g, wg, xw)
+      if (global .or. zone%open) call block_nodes(st%g, wg, xw, xb, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
       if (global) then
         n(1) = merge(1, 0, lattice_nodes(st%g, xb))
         call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
@@ -745,12 +759,17 @@ contains
 
   !> The values at the block g's stored nodes of xw, a node array of the
   !> window wg that holds them.
-  function block_nodes(g, wg, xw) result(xb)
+  subroutine block_nodes(g, wg, xw, xb, err)
     type(grid_t), intent(in) :: g, wg
     real(wp), intent(in) :: xw(:, :)
-    real(wp), allocatable :: xb(:, :)
-    integer :: i, j, k, o(3)
-    allocate(xb(size(xw, 1), g%nnode))
+    real(wp), allocatable, intent(out) :: xb(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, k, o(3), stat
+    allocate(xb(size(xw, 1), g%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'block_nodes', 'out of memory')
+      return
+    end if
     o = g%off - wg%off
     do k = g%slo(3) - 1, g%shi(3)
       do j = g%slo(2) - 1, g%shi(2)
@@ -759,7 +778,7 @@ contains
         end do
       end do
     end do
-  end function block_nodes
+  end subroutine block_nodes
 
   !> The cells of the window wg among the whole grid's cells cells (its
   !> single-block order), as wg's cells.
@@ -780,6 +799,16 @@ contains
     end do
     list = pack(at, inside)
   end function window_cells
+
+  !> The block g's stored cells (owned and ghost), as whole-grid indices
+  !> lo (:, 1) to hi (:, 2): after a remap its window holds there what the
+  !> blocks hold (`block_from` took them from it).
+  pure function window_kept(g) result(keep)
+    type(grid_t), intent(in) :: g
+    integer :: keep(3, 2)
+    keep(:, 1) = g%slo + g%off
+    keep(:, 2) = g%shi + g%off
+  end function window_kept
 
   !> The zone of this rank's window wg (`remap_zone_t`) around its block g:
   !> own its owned cells and the nodes it counts, compute those and
@@ -964,19 +993,24 @@ contains
   !> them (`gather_box`), the mixed cells in the box (`mixed_gather`, with
   !> `refreshed` their centroids refreshed first), the quantities of the
   !> whole run copied, and what a restart read rebuilds.
-  subroutine copy_gather(pc, st, window, err, refreshed)
+  subroutine copy_gather(pc, st, window, err, refreshed, keep)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     logical, intent(in) :: window
     type(error_t), allocatable, intent(inout) :: err
     type(centroid_stats_t), intent(inout), optional :: refreshed
+    !> (window) the cells keep(:, 1)..keep(:, 2) (whole-grid indices) and
+    !> their nodes hold the blocks' values already: they are not gathered
+    !> (the mixed cells are, all of them)
+    integer, intent(in), optional :: keep(3, 2)
     type(state_t), pointer :: d
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
     real(wp), allocatable :: box(:, :)
-    real(wp), pointer, contiguous :: a(:, :)
+    real(wp), pointer, contiguous :: a(:, :), wv(:, :)
     integer, allocatable :: pick(:), map(:)
-    integer :: e, m, n, lo(3), hi(3)
+    integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2)
+    logical :: nodes
 
     if (window) then
       d => st%win
@@ -1001,10 +1035,25 @@ contains
         case (LOC_NODE, LOC_CELL)
           m = product(b%dims(1:size(b%dims) - 1))
           n = b%dims(size(b%dims))
-          if (b%kind == K_REAL) then
+          nodes = b%location == LOC_NODE
+          if (present(keep)) then
+            hole = keep
+            if (nodes) hole(:, 1) = keep(:, 1) - 1
+            nw = v%dims(size(v%dims))
+            if (b%kind == K_REAL) then
+              a(1:m, 1:n) => b%r
+              wv(1:m, 1:nw) => v%r
+              call gather_box_into(pc, st%g%grid_index_t, a, lo, hi, wv, nodes, hole(:, 1), hole(:, 2))
+            else
+              box = reshape(real(v%i, wp), [m, nw])
+              call gather_box_into(pc, st%g%grid_index_t, reshape(real(b%i, wp), [m, n]), lo, hi, box, nodes, &
+                                   hole(:, 1), hole(:, 2))
+              v%i = nint(reshape(box, [size(box)]))
+            end if
+          else if (b%kind == K_REAL) then
             a(1:m, 1:n) => b%r
-            call gather_box(pc, st%g%grid_index_t, a, lo, hi, box, b%location == LOC_NODE)
-            v%r = reshape(box, [size(box)])
+            call gather_box(pc, st%g%grid_index_t, a, lo, hi, box, nodes)
+            call flat_copy(size(box), box, v%r)
           else
             ! (integers: material indices, exact as reals)
             call gather_box(pc, st%g%grid_index_t, reshape(real(b%i, wp), [m, n]), lo, hi, box, &
@@ -1020,6 +1069,14 @@ contains
     call state_after_read(d)
     call material_index_cells(d%mats, d%h%mat, d%mx, err)
   end subroutine copy_gather
+
+  !> b = a, n values (an array of any shape as its elements in order).
+  subroutine flat_copy(n, a, b)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n)
+    real(wp), intent(out) :: b(n)
+    b = a
+  end subroutine flat_copy
 
   !> For each entry of registry a, the entry of b with its name (0: none; a
   !> window holds no particles).
@@ -1094,24 +1151,24 @@ contains
         case (LOC_NODE, LOC_CELL)
           nodes = b%location == LOC_NODE
           m = product(b%dims(1:size(b%dims) - 1))
+          i = g%slo(1) - merge(1, 0, nodes)
+          ! (q: a row's length; its entries are consecutive, in the block and
+          ! in the source)
+          q = m*(g%shi(1) - i + 1)
           do l = g%slo(3) - merge(1, 0, nodes), g%shi(3)
             do j = g%slo(2) - merge(1, 0, nodes), g%shi(2)
-              do i = g%slo(1) - merge(1, 0, nodes), g%shi(1)
-                if (nodes) then
-                  n = g%node(i, j, l)
-                  c = wg%node(i + o(1), j + o(2), l + o(3))
-                else
-                  n = g%cell(i, j, l)
-                  c = wg%cell(i + o(1), j + o(2), l + o(3))
-                end if
-                do q = 1, m
-                  if (b%kind == K_REAL) then
-                    b%r(m*(n - 1) + q) = v%r(m*(c - 1) + q)
-                  else
-                    b%i(m*(n - 1) + q) = v%i(m*(c - 1) + q)
-                  end if
-                end do
-              end do
+              if (nodes) then
+                n = m*(g%node(i, j, l) - 1)
+                c = m*(wg%node(i + o(1), j + o(2), l + o(3)) - 1)
+              else
+                n = m*(g%cell(i, j, l) - 1)
+                c = m*(wg%cell(i + o(1), j + o(2), l + o(3)) - 1)
+              end if
+              if (b%kind == K_REAL) then
+                b%r(n + 1:n + q) = v%r(c + 1:c + q)
+              else
+                b%i(n + 1:n + q) = v%i(c + 1:c + q)
+              end if
             end do
           end do
         case (LOC_GLOBAL)

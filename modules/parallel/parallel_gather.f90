@@ -10,7 +10,7 @@ module parallel_gather
   use parallel_comm, only: comm_t, parallel_nomem
   implicit none
   private
-  public :: gather_cells, gather_nodes, gather_box, gather_concat
+  public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_concat
 
   !> Concatenation over the ranks, in rank order, on every rank.
   interface gather_concat
@@ -126,24 +126,46 @@ contains
     integer, intent(in) :: lo(3), hi(3)
     real(wp), allocatable, intent(out) :: w(:, :)
     logical, intent(in) :: nodes
-    integer :: boxes(12, 0:pc%nranks - 1), mine(12), scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), &
+    type(grid_index_t) :: box
+    integer :: stat
+    box = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
+    allocate(w(size(a, 1), merge(box%nnode, box%ncell, nodes)), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    call gather_box_into(pc, ix, a, lo, hi, w, nodes, [1, 1, 1], [0, 0, 0])
+  end subroutine gather_box
+
+  !> `gather_box` into w as it is, but for the nodes or cells (whole-grid
+  !> indices) hlo..hhi of the box, which keep their values (a hole: what the
+  !> asking rank holds already; none if hlo > hhi in some direction).
+  subroutine gather_box_into(pc, ix, a, lo, hi, w, nodes, hlo, hhi)
+    type(comm_t), intent(in) :: pc
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: a(:, :)
+    integer, intent(in) :: lo(3), hi(3), hlo(3), hhi(3)
+    real(wp), intent(inout) :: w(:, :)
+    logical, intent(in) :: nodes
+    integer :: boxes(18, 0:pc%nranks - 1), mine(18), scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), &
                sdispls(0:pc%nranks - 1), rdispls(0:pc%nranks - 1)
-    integer :: m, r, i, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3)
+    integer :: m, r, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3), run(2, 2), e, nrun
     real(wp), allocatable :: sbuf(:), rbuf(:)
     type(grid_index_t) :: box
 
     m = size(a, 1)
-    ! (owned range, then asked box, in whole-grid node or cell indices)
+    ! (owned range, asked box, its hole, in whole-grid node or cell indices)
     if (nodes) then
-      mine = [ix%ulo + ix%off, ix%nhi + ix%off, lo - 1, hi]
+      mine = [ix%ulo + ix%off, ix%nhi + ix%off, lo - 1, hi, hlo, hhi]
     else
-      mine = [ix%clo + ix%off, ix%chi + ix%off, lo, hi]
+      mine = [ix%clo + ix%off, ix%chi + ix%off, lo, hi, hlo, hhi]
     end if
-    call MPI_Allgather(mine, 12, MPI_INTEGER, boxes, 12, MPI_INTEGER, pc%cart)
+    call MPI_Allgather(mine, 18, MPI_INTEGER, boxes, 18, MPI_INTEGER, pc%cart)
     do r = 0, pc%nranks - 1
-      ! what this rank sends to r, and receives from r
-      scounts(r) = m*product(max(min(mine(4:6), boxes(10:12, r)) - max(mine(1:3), boxes(7:9, r)) + 1, 0))
-      rcounts(r) = m*product(max(min(boxes(4:6, r), mine(10:12)) - max(boxes(1:3, r), mine(7:9)) + 1, 0))
+      ! what this rank sends to r, and receives from r (less the holes)
+      blo = max(mine(1:3), boxes(7:9, r))
+      bhi = min(mine(4:6), boxes(10:12, r))
+      scounts(r) = m*(count_box(blo, bhi) - count_box(max(blo, boxes(13:15, r)), min(bhi, boxes(16:18, r))))
+      olo = max(boxes(1:3, r), mine(7:9))
+      ohi = min(boxes(4:6, r), mine(10:12))
+      rcounts(r) = m*(count_box(olo, ohi) - count_box(max(olo, mine(13:15)), min(ohi, mine(16:18))))
     end do
     sdispls(0) = 0
     rdispls(0) = 0
@@ -153,16 +175,18 @@ contains
     end do
     allocate(sbuf(max(sum(scounts), 1)), rbuf(max(sum(rcounts), 1)), stat=stat)
     call parallel_nomem(stat, 'a gather')
+    ! (a row's entries are consecutive in i, in the block and in the box;
+    ! a row through the hole in two runs)
     do r = 0, pc%nranks - 1
-      blo = max(mine(1:3), boxes(7:9, r)) - ix%off
-      bhi = min(mine(4:6), boxes(10:12, r)) - ix%off
+      blo = max(mine(1:3), boxes(7:9, r))
+      bhi = min(mine(4:6), boxes(10:12, r))
       p = sdispls(r)
       do k = blo(3), bhi(3)
         do j = blo(2), bhi(2)
-          do i = blo(1), bhi(1)
-            q = merge(ix%node(i, j, k), ix%cell(i, j, k), nodes)
-            sbuf(p + 1:p + m) = a(:, q)
-            p = p + m
+          call row_runs(blo(1), bhi(1), j, k, boxes(13:18, r), run, nrun)
+          q = row_start(ix, 0, j - ix%off(2), k - ix%off(3), nodes) - ix%off(1)
+          do e = 1, nrun
+            call pack_run(a, q + run(1, e), q + run(2, e), sbuf, p)
           end do
         end do
       end do
@@ -170,8 +194,6 @@ contains
     call MPI_Alltoallv(sbuf, scounts, sdispls, MPI_DOUBLE_PRECISION, rbuf, rcounts, rdispls, MPI_DOUBLE_PRECISION, &
                        pc%cart)
     box = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
-    allocate(w(m, merge(box%nnode, box%ncell, nodes)), stat=stat)
-    call parallel_nomem(stat, 'a gather')
     ! (box index = whole-grid index - b)
     b = lo - 1
     do r = 0, pc%nranks - 1
@@ -180,15 +202,82 @@ contains
       p = rdispls(r)
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
-          do i = olo(1), ohi(1)
-            q = merge(box%node(i - b(1), j - b(2), k - b(3)), box%cell(i - b(1), j - b(2), k - b(3)), nodes)
-            w(:, q) = rbuf(p + 1:p + m)
-            p = p + m
+          call row_runs(olo(1), ohi(1), j, k, mine(13:18), run, nrun)
+          q = row_start(box, 0, j - b(2), k - b(3), nodes) - b(1)
+          do e = 1, nrun
+            call unpack_run(rbuf, p, w, q + run(1, e), q + run(2, e))
           end do
         end do
       end do
     end do
-  end subroutine gather_box
+  end subroutine gather_box_into
+
+  !> The number of entries of the index box lo..hi (0 if empty).
+  pure integer function count_box(lo, hi)
+    integer, intent(in) :: lo(3), hi(3)
+    count_box = product(max(hi - lo + 1, 0))
+  end function count_box
+
+  !> The runs of i in ilo..ihi of row (j, k) outside the box hole (lo(3),
+  !> hi(3)): at most two.
+  pure subroutine row_runs(ilo, ihi, j, k, hole, run, nrun)
+    integer, intent(in) :: ilo, ihi, j, k, hole(6)
+    integer, intent(out) :: run(2, 2), nrun
+    nrun = 0
+    if (ihi < ilo) return
+    if (j < hole(2) .or. j > hole(5) .or. k < hole(3) .or. k > hole(6) .or. hole(4) < hole(1)) then
+      nrun = 1
+      run(:, 1) = [ilo, ihi]
+      return
+    end if
+    if (ilo < hole(1)) then
+      nrun = 1
+      run(:, 1) = [ilo, min(ihi, hole(1) - 1)]
+    end if
+    if (ihi > hole(4)) then
+      nrun = nrun + 1
+      run(:, nrun) = [max(ilo, hole(4) + 1), ihi]
+    end if
+  end subroutine row_runs
+
+  !> a(:, q0..q1) appended to buf after p.
+  pure subroutine pack_run(a, q0, q1, buf, p)
+    real(wp), intent(in) :: a(:, :)
+    integer, intent(in) :: q0, q1
+    real(wp), intent(inout) :: buf(:)
+    integer, intent(inout) :: p
+    integer :: q
+    do q = q0, q1
+      buf(p + 1:p + size(a, 1)) = a(:, q)
+      p = p + size(a, 1)
+    end do
+  end subroutine pack_run
+
+  !> w(:, q0..q1) from buf after p.
+  pure subroutine unpack_run(buf, p, w, q0, q1)
+    real(wp), intent(in) :: buf(:)
+    integer, intent(inout) :: p
+    real(wp), intent(inout) :: w(:, :)
+    integer, intent(in) :: q0, q1
+    integer :: q
+    do q = q0, q1
+      w(:, q) = buf(p + 1:p + size(w, 1))
+      p = p + size(w, 1)
+    end do
+  end subroutine unpack_run
+
+  !> The index of node (or cell) (i, j, k) of ix, where its row starts (the
+  !> next in i follow it).
+  pure integer function row_start(ix, i, j, k, nodes)
+    type(grid_index_t), intent(in) :: ix
+    integer, intent(in) :: i, j, k
+    logical, intent(in) :: nodes
+    if (nodes) then
+      row_start = ix%node(i, j, k)
+    else
+      row_start = ix%cell(i, j, k)
+    end if
+  end function row_start
 
   !> The counts and offsets of a concatenation of n items per rank.
   subroutine concat_counts(pc, n, counts, displs)
