@@ -437,7 +437,7 @@ contains
     real(wp), allocatable :: xw(:, :), xk(:, :), xkw(:, :), xfinal(:, :), x(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer, allocatable :: moved(:), blockers(:), every(:), cells(:)
+    integer, allocatable :: moved(:), blockers(:), every(:), cells(:), wrote(:)
     integer :: n(4), i, j, k, stat, nblock, nparts, stage, taken
     logical :: hybrid, lattice, again, arrived, next, kept
 
@@ -576,7 +576,7 @@ contains
         ! (the planes the fits after the remap start from)
         call centroids_remember(w%mx, memory)
         if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rk, err, &
-                                                        zone=zone)
+                                                        zone=zone, written=wrote)
         rk%swept_blockers = nblock
         call agree_error(pc, err)
         if (allocated(err)) then
@@ -621,7 +621,9 @@ contains
           call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned, memory=memory)
           call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter, memory=memory)
           call material_burn_start(w%mats, st%t)
-          call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx)
+          ! (the other cells' states, and so pressures, are as the blocks
+          ! hold them: `euler_step`)
+          call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx, wrote, w%h%mat)
           call mixed_cell_state(w%mx, w%h%p, w%h%cs)
         end if
       end associate
