@@ -78,6 +78,7 @@ module driver_whole
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
+  use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
                          remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
@@ -97,7 +98,7 @@ module driver_whole
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
   implicit none
   private
-  public :: whole_build, whole_euler, whole_dump, whole_restart, whole_gather, whole_scatter
+  public :: whole_build, whole_euler, whole_dump, whole_restart, whole_gather, whole_scatter, global_whole
 
   !> The windows of an Euler step on several ranks (`window_euler`) first
   !> hold a search for a new cell's old cells within this many index steps
@@ -187,8 +188,8 @@ contains
     call agree_error(pc, err)
     if (allocated(err)) return
     st%gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
-    ! (the global rezone's target: `euler_init`)
-    if (trim(cfg%rezone%mode) == 'global') then
+    ! (the global rezone's target, where a face moves: `euler_init`)
+    if (global_whole(cfg, st)) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
     end if
@@ -300,12 +301,13 @@ contains
     type(halo_t) :: single
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
     logical, allocatable :: occupied(:)
-    logical :: done, redo, wider, parts, global, whole_x
+    logical :: done, redo, wider, parts, global, moving, whole_x
     integer :: c, nfill, one
 
     global = trim(cfg%rezone%mode) == 'global'
+    moving = global_whole(cfg, st)
     parts = allocated(st%pwhole)
-    whole_x = global .or. parts .or. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)
+    whole_x = moving .or. parts .or. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
@@ -326,8 +328,14 @@ contains
       call agree_error(pc, err)
       if (allocated(err)) return
     end if
-    if (global) then
+    if (moving) then
       call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, single, st%step, st%t, es, log, e0, xnew, done, err)
+    else if (global) then
+      ! (back to the initial grid: each block's own, es%x0)
+      xb = es%x0
+      done = .true.
+      e0%t_rezone = 0.0_wp
+      if (whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     else
       if (allocated(pe%occupied)) occupied = [(pe%occupied(st%g%global_cell(c)), c = 1, st%g%ncell)]
       call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
@@ -801,6 +809,18 @@ contains
     end do
     list = pack(at, inside)
   end function window_cells
+
+  !> Whether the global rezone of a decomposed run needs the whole grid's
+  !> node positions: a face that moves with the material (TFI of its
+  !> displacement over the whole grid, `global_target`); else each block's
+  !> target is its own initial nodes.
+  logical function global_whole(cfg, st)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(in) :: st
+    integer :: f
+    global_whole = trim(cfg%rezone%mode) == 'global' .and. &
+                   any([(global_face_rule(st%bc%kind(f)), f = 1, 6)] == GLOBAL_FACE_MOVE)
+  end function global_whole
 
   !> The block g's stored cells (owned and ghost), as whole-grid indices
   !> lo (:, 1) to hi (:, 2): after a remap its window holds there what the
