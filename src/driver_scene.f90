@@ -36,8 +36,9 @@ module driver_scene
 contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
-  !> masses (first term of Eq. 16) and boundary lists; the particles unless
-  !> fluid_only (a decomposed run's window: `driver_whole`).
+  !> masses (first term of Eq. 16) and boundary lists; the particles and the
+  !> Lagrangian step's work arrays unless fluid_only (a decomposed run's
+  !> window, only remapped: `driver_whole`).
   subroutine build_scene(cfg, st, log, err, block, fluid_only)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -75,7 +76,10 @@ contains
         call log_line(log, 'grid: node positions from '//gc%file_path)
       end if
       if (allocated(err)) return
-      call hydro_allocate(hy, g%ncell, g%nnode, err)
+      ! (a window is only remapped: no Lagrangian step's work arrays)
+      fluid = .false.
+      if (present(fluid_only)) fluid = fluid_only
+      call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. fluid)
       if (allocated(err)) return
 
       allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)
@@ -100,8 +104,6 @@ contains
       end do
       ! a &prerun: the 1D run (once: a decomposed run's whole grid takes the
       ! blocks'), its overlaps' factors over the grid, and the start time
-      fluid = .false.
-      if (present(fluid_only)) fluid = fluid_only
       ! (t_end <= &prerun time: the 1D run alone, no mapping)
       mapping = .false.
       if (cfg%pre1d%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then

@@ -100,19 +100,31 @@ contains
   !> Allocates the state for ncell cells and nnode nodes (whatever h held
   !> before is freed first). Memory: 70 reals and an integer per cell, 13
   !> reals per node (about 680 bytes per cell of a large grid, most of it
-  !> the corner forces and volume gradients, 192 bytes each).
-  subroutine hydro_allocate(h, ncell, nnode, err)
+  !> the corner forces and volume gradients, 192 bytes each). With
+  !> step_work false, the state without the work arrays of a Lagrangian
+  !> step (xn ... amed): 16 reals and an integer per cell, 4 per node, for a
+  !> state that is only remapped (a decomposed run's window).
+  subroutine hydro_allocate(h, ncell, nnode, err, step_work)
     type(hydro_t), intent(out) :: h
     integer, intent(in) :: ncell, nnode
     type(error_t), allocatable, intent(inout) :: err
-    integer :: stat
+    logical, intent(in), optional :: step_work
+    integer :: stat, nw, mw
     integer(i8) :: bytes
     character(len=200) :: msg
 
+    nw = nnode
+    mw = ncell
+    if (present(step_work)) then
+      if (.not. step_work) then
+        nw = 0
+        mw = 0
+      end if
+    end if
     allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), h%gain(ncell), &
-             h%xn(3, nnode), h%un(3, nnode), h%uh(3, nnode), h%en(ncell), &
-             h%fc(3, 8, ncell), h%grad(3, ncell), h%dvdx(3, 8, ncell), h%amed(2, ncell), &
+             h%xn(3, nw), h%un(3, nw), h%uh(3, nw), h%en(mw), &
+             h%fc(3, 8, mw), h%grad(3, mw), h%dvdx(3, 8, mw), h%amed(2, mw), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + int(ncell, i8)*storage_size(1)/8
