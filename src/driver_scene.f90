@@ -36,20 +36,21 @@ module driver_scene
 contains
 
   !> Grid, materials, initial state from the regions, energy sources, nodal
-  !> masses (first term of Eq. 16) and boundary lists; the particles and the
-  !> Lagrangian step's work arrays unless fluid_only (a decomposed run's
-  !> window, only remapped: `driver_whole`).
-  subroutine build_scene(cfg, st, log, err, block, fluid_only)
+  !> masses (first term of Eq. 16) and boundary lists; the particles unless
+  !> fluid_only (a decomposed run's window: `driver_whole`); the Lagrangian
+  !> step's work arrays unless fluid_only or remap_only (a state that is
+  !> only remapped: a window, a decomposed run's whole-grid copy).
+  subroutine build_scene(cfg, st, log, err, block, fluid_only, remap_only)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: block
-    logical, intent(in), optional :: fluid_only
+    logical, intent(in), optional :: fluid_only, remap_only
     integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
     type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), rv, xi(3), key
-    logical :: inside, fluid, mapping
+    logical :: inside, fluid, remap, mapping
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
 
@@ -76,10 +77,11 @@ contains
         call log_line(log, 'grid: node positions from '//gc%file_path)
       end if
       if (allocated(err)) return
-      ! (a window is only remapped: no Lagrangian step's work arrays)
       fluid = .false.
       if (present(fluid_only)) fluid = fluid_only
-      call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. fluid)
+      remap = fluid
+      if (present(remap_only)) remap = remap .or. remap_only
+      call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. remap)
       if (allocated(err)) return
 
       allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)

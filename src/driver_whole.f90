@@ -158,7 +158,7 @@ contains
         return
       end if
     end if
-    call build_scene(cfg, st%whole, silent, err)
+    call build_scene(cfg, st%whole, silent, err, remap_only=.true.)
     if (.not. allocated(err)) then
       ! the ranks share the Euler step's intersections on the whole grid
       call mpi_share_init(share, pc)
