@@ -15,7 +15,9 @@
 # rank x 2 threads against 2 ranks x 1 thread, the halo's share of the
 # Lagrangian time and its messages and bytes per step, and 4 ranks
 # oversubscribed for the halo counts; restart dumps and peak memory of Sedov
-# 80^3 on 1 process and 2 ranks (BENCH_ONLY=mpi runs only that); memory
+# 80^3 on 1 process and 2 ranks; peak memory per rank on 4 ranks against one
+# process for Sedov 64^3 LSSM, the TNT octant at 64^3 Eulerian and the Gurson
+# ring at 192 x 192 x 4 (issue 35) (BENCH_ONLY=mpi runs only that); memory
 # per cell (issue 40): the marginal peak resident bytes per cell between
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
 # (BENCH_ONLY=memory runs only that); 1 kg TNT in free air against
@@ -184,6 +186,42 @@ mpi_bench() {
   mpi_runs tnt32
   mpi_whole tnt32
   mpi_dump_bench
+  ranks_memory_bench
+}
+
+# Peak resident memory per rank on 4 ranks (oversubscribed) against one
+# process's (issue 35's bar: at most 0.35), each log's `memory:` line:
+# Sedov 64^3 with the paper's LSSM settings (hardcases/sedov_paper.nml), 60
+# steps; the TNT octant of hardcases/tnt_sphere.nml at 64^3, Eulerian (an
+# Euler step every step: open faces, two materials), 10 steps; the Gurson
+# ring of tests/decks/strength_shell_small.nml at 192 x 192 x 4 (particles,
+# global ALE), 10 steps.
+ranks_memory_bench() {
+  local name mpiexec root_flag=()
+  mpiexec=$(command -v mpirun)
+  [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
+  sed -e 's/ni = 20, nj = 20, nk = 20/ni = 64, nj = 64, nk = 64/' \
+      -e "s|^&run .*|\&run title = 'Sedov 64^3, LSSM, memory', t_end = 1.0, max_steps = 60 /|" \
+      -e "s|^&output .*|\&output dir = 'out/mem_sedov64', frame_dt = 100 /|" "$root/hardcases/sedov_paper.nml" > mem_sedov64.nml
+  echo "&rezone mode = 'lssm', side_ratio = 4, cos_angle = 0.7, quality = 0.999, quality_target = 0.999, smooth_iterations = 20 /" \
+    >> mem_sedov64.nml
+  sed -e 's/ni = 16, nj = 16, nk = 16/ni = 64, nj = 64, nk = 64/' \
+      -e "s|^&run \(.*\) /|\&run \1, max_steps = 10 /|" \
+      -e "s|^&output dir = 'out/tnt_sphere', frame_dt = 1.0,|\&output dir = 'out/mem_tnt64', frame_dt = 100.0,|" \
+      "$root/hardcases/tnt_sphere.nml" > mem_tnt64.nml
+  echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> mem_tnt64.nml
+  sed -e 's/ni = 24, nj = 24, nk = 1/ni = 192, nj = 192, nk = 4/' -e 's/max_steps = 120/max_steps = 10/' \
+      -e "s|^&output dir = '[^']*'|\&output dir = 'out/mem_ring192'|" "$root/tests/decks/strength_shell_small.nml" > mem_ring192.nml
+  echo "## MPI: peak resident memory per rank on 4 ranks against one process (issue 35)"
+  for name in mem_sedov64 mem_tnt64 mem_ring192; do
+    OMP_NUM_THREADS=1 "$exe" $name.nml > ${name}_r1.log
+    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" $name.nml > ${name}_r4.log
+    cp ${name}_r1.log ${name}_r4.log "$outdir/"
+    awk -v n=$name 'FNR == 1 {f++} /^memory: peak resident/ {m[f] = $4}
+         END {printf "%s: one process %s MiB, 4 ranks %s MiB per rank (the most loaded): x%.2f\n", n, m[1], m[2], m[2] / m[1]}' \
+        ${name}_r1.log ${name}_r4.log
+  done
+  echo
 }
 
 # Restart dumps and memory: Sedov 80^3 Lagrangian (512 000 cells), a dump
