@@ -376,15 +376,21 @@ contains
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1)
-    integer :: kp, n
+    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
+    integer :: kp, n, kid
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, cfg%hydro%particle_q)
-      ! the blocks' smallest (the particle's id with it)
+      ! the blocks' smallest (the particle's id with it; of blocks that tie
+      ! exactly, the smallest id, as one process takes the first particle)
       key(1) = 0.0_wp
       if (kp > 0) key(1) = real(pt%id(kp), wp)
+      dt_own = dtp
       call st%halo%choose(dtp, key)
+      kid = -huge(1)
+      if (kp > 0 .and. .not. dt_own > dtp) kid = -pt%id(kp)
+      call st%halo%max_int(kid)
+      if (kid > -huge(1)) key(1) = real(-kid, wp)
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
