@@ -603,6 +603,7 @@ contains
     par%mof_max_iter = rz%mof_max_iter
     par%swept_max = rz%swept_max
     par%swept_mixed = rz%swept_mixed
+    par%swept_vf_min = rz%swept_vf_min
   end function remap_params
 
   !> An Euler step begins: its log line, its timer, and the totals it must

@@ -35,6 +35,7 @@ program test_remap_euler
   type(mixed_t) :: mx
   type(bc_t) :: bc
   type(remap_params_t) :: par
+  type(remap_params_t), parameter :: dflt = remap_params_t()
   type(remap_stats_t) :: st
   type(error_t), allocatable :: err
   real(wp) :: m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, t0, ma0, mb0, ma1, mb1
@@ -541,21 +542,37 @@ contains
     ! layer gave more than it held) and the step fell back to intersection;
     ! now the swept step must keep them, and conserve each material's mass
     ! and the total energy
+    ! (slivers merged at vf_min only, so that no material's mass moves to
+    ! another: the default swept_vf_min's merges are checked below)
     call make_grid(xs, 31, 0.2_wp)
     call make_grid(xt, 37, 0.2_wp)
     par%swept = .true.
+    par%swept_vf_min = par%vf_min
     call setup_rough(xs)
     call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call material_masses(ma0, mb0)
     call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)
     call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     call material_masses(ma1, mb1)
-    write(*, '(a,i0,a)') 'swept, rough interface: ', st%swept_unbounded, ' cells broke a bound'
+    write(*, '(a,i0,a,i0,a)') 'swept, rough interface: ', st%swept_unbounded, ' cells broke a bound, ', &
+      st%slivers_merged, ' slivers merged'
     call check(.not. allocated(err) .and. st%swept_unbounded == 0 .and. st%cells_swept == nc, &
                'swept, rough interface: every cell by its swept faces, within the bounds')
     call check(abs(ma1 - ma0) <= 1e-13_wp*ma0 .and. abs(mb1 - mb0) <= 1e-13_wp*mb0 .and. &
                abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'swept, rough interface: each material''s '// &
                'mass and the total energy conserved to 1e-13')
+    ! the same with the default swept_vf_min: the slivers below it merged
+    ! into their cells' other material, the total mass and energy conserved
+    par%swept_vf_min = dflt%swept_vf_min
+    call setup_rough(xs)
+    call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)
+    call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
+    call material_masses(ma1, mb1)
+    write(*, '(a,i0,a,2es10.2)') 'swept, rough interface, slivers below 1e-5: ', st%slivers_merged, &
+      ' merged; material mass changes ', (ma1 - ma0)/ma0, (mb1 - mb0)/mb0
+    call check(.not. allocated(err) .and. st%swept_unbounded == 0 .and. abs(m1 - m0) <= 1e-13_wp*m0 .and. &
+               abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'swept, rough interface, slivers merged: '// &
+               'the total mass and energy conserved to 1e-13')
     par%swept = .false.
   end subroutine test_swept
 

@@ -58,6 +58,9 @@ module rezone_config
     !> shared by their MoF planes (a step that breaks a material's bounds is
     !> remapped by intersection)
     logical :: swept_mixed = .false.
+    !> a material below this volume fraction of a cell the swept-face path
+    !> remaps is merged into the cell's largest (`remap_params_t`)
+    real(wp) :: swept_vf_min = 1.0e-5_wp
     !> an Euler step that could take the swept-face path but for nodes that
     !> move further than swept_max is remapped in up to this many parts of
     !> the way, each by swept faces where it can (1: by intersection; the
@@ -95,7 +98,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
-                drift_max, drift_open, swept_max, hysteresis
+                drift_max, drift_open, swept_max, hysteresis, swept_vf_min
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts, virtual_layers
     logical :: swept_mixed, swept_hybrid
     character(len=max_line) :: msg
@@ -103,7 +106,7 @@ contains
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
-                      swept_mixed, swept_parts, virtual_layers, swept_hybrid
+                      swept_mixed, swept_parts, virtual_layers, swept_hybrid, swept_vf_min
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -114,6 +117,7 @@ contains
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
     virtual_layers = defaults%virtual_layers; swept_hybrid = defaults%swept_hybrid
+    swept_vf_min = defaults%swept_vf_min
     ! (0: the mode's, once the mode is read)
     swept_parts = 0
     if (size(text) > 0) then
@@ -168,6 +172,8 @@ contains
       hysteresis, 'must be in [0, 1) (0: off)')
     if (.not. (swept_max >= 0.0_wp .and. swept_max <= 0.5_wp)) call problem_bad(problems, 'rezone', 'swept_max', &
       swept_max, 'must be in [0, 0.5] (0: always intersect)')
+    if (.not. (swept_vf_min >= 0.0_wp .and. swept_vf_min <= 1.0e-2_wp)) call problem_bad(problems, 'rezone', &
+      'swept_vf_min', swept_vf_min, 'must be in [0, 0.01]')
     if (virtual_layers < 0) call problem_badi(problems, 'rezone', 'virtual_layers', virtual_layers, &
       'must be >= 0 (0: off)')
     if (swept_parts < 1 .or. swept_parts > 64) call problem_badi(problems, 'rezone', 'swept_parts', swept_parts, &
@@ -182,7 +188,7 @@ contains
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
       swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts, &
-      virtual_layers=virtual_layers, swept_hybrid=swept_hybrid)
+      virtual_layers=virtual_layers, swept_hybrid=swept_hybrid, swept_vf_min=swept_vf_min)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 
