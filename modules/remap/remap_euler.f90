@@ -99,7 +99,8 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
-  use mesh_geometry, only: hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, tet_det, cross
+  use mesh_geometry, only: hex_corner, hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, &
+                           tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
@@ -338,6 +339,19 @@ module remap_euler
     !> and the shift of its parts' centroids (3, nslot) that makes a region
     !> given away whole give its first moment too
     real(wp), allocatable :: sfac(:), sroom(:), sshift(:, :)
+    !> and what `swept_budgets` finds on the way, so that each mixed cell's
+    !> regions are clipped once per Euler step, not once by each cell that
+    !> books them: per slot the volume and first moment its region keeps in
+    !> each old subcell, skv(8, nslot) and skm(3, 8, nslot), and its parts
+    !> (`swept_split`) of the regions the cell's 48 face triangles sweep out
+    !> of it, sov(48, nslot) and som(3, 48, nslot) (negative: outgoing),
+    !> all about the new cell's centre so(3, nslot); sout(nslot): bit i - 1
+    !> set where triangle i sweeps out (the same for the cell's slots)
+    real(wp), allocatable :: skv(:, :), skm(:, :, :), sov(:, :), som(:, :, :), so(:, :)
+    integer(i8), allocatable :: sout(:)
+    !> face triangle i of a cell is triangle twin(i) of the cell across its
+    !> face (`twin_triangles`; 0: not yet set)
+    integer :: twin(48) = 0
     !> `material_gradients`' work: per cell a material's density and energy,
     !> the point they are at, whether it holds the material, whether its
     !> gradient is needed, and the gradients
@@ -1028,10 +1042,13 @@ contains
     if (keep) keep = size(old%wreg) == nreg .and. size(old%pd) == nslot
     if (keep) return
     if (allocated(old%wreg)) deallocate(old%wreg, old%rho, old%e, old%xr, old%grho, old%ge, old%pn, old%pd, old%sfac, &
-                                        old%sroom, old%sshift, old%vreg, old%given, old%gunit, old%scale)
+                                        old%sroom, old%sshift, old%vreg, old%given, old%gunit, old%scale, old%skv, &
+                                        old%skm, old%sov, old%som, old%so, old%sout)
     allocate(old%wreg(nreg), old%rho(nreg), old%e(nreg), old%xr(3, nreg), old%grho(3, nreg), old%ge(3, nreg), &
              old%pn(3, nslot), old%pd(nslot), old%sfac(nslot), old%sroom(nslot), old%sshift(3, nslot), &
-             old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), stat=stat)
+             old%vreg(nreg), old%given(nreg), old%gunit(nreg), old%scale(nreg), old%skv(8, nslot), &
+             old%skm(3, 8, nslot), old%sov(48, nslot), old%som(3, 48, nslot), old%so(3, nslot), old%sout(nslot), &
+             stat=stat)
   end subroutine old_arrays
 
   !> The cells of g with a node that moves from g%x to xnew (marked in
@@ -2700,9 +2717,9 @@ contains
       ! booked (`deposit` is linear for one source): slot 1 the cell's own
       ! subcell at the corner, 1 + d its subcell across direction d, 4 + d
       ! the subcell at the corner of the cell across the face in direction d
-      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), tq(3, 4), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
-                  tv(72), tm(72, 3)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s, d, slot
+      real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
+                  tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot
       logical :: pure
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
@@ -2726,21 +2743,12 @@ contains
           acc(2:4, 1, j) = old%sub(2:4, j, c) + old%sub(1, j, c)*oc
         end do
       end if
-      do i = 1, 48
-        if (pure) exit
-        do j = 1, 4
-          tq(:, j) = opts(:, hv(j, i))
-        end do
-        do s = s0c, s1c
-          if (.not. mx%mass(s) > 0.0_wp) cycle
-          call region_planes(old, s0c, s, o, pn, pd, nm)
-          call region_piece(tq, pn(:, 1:nm), pd(1:nm), v, m)
-          if (.not. v > 0.0_wp) cycle
-          sv(s - s0c + 1, hcorner(i)) = sv(s - s0c + 1, hcorner(i)) + v
-          sm(:, s - s0c + 1, hcorner(i)) = sm(:, s - s0c + 1, hcorner(i)) + m
-        end do
-      end do
       if (.not. pure) then
+        ! (a changed mixed cell's, as `swept_budgets` found them)
+        do s = s0c, s1c
+          sv(s - s0c + 1, :) = old%skv(:, s)
+          sm(:, s - s0c + 1, :) = old%skm(:, :, s)
+        end do
         do j = 1, 8
           do s = s0c, s1c
             if (.not. abs(sv(s - s0c + 1, j)) > 0.0_wp) cycle
@@ -2777,6 +2785,15 @@ contains
           if (v > 0.0_wp .and. nbr(f) /= c) then
             if (h%mat(nbr(f)) > 0) then
               acc(:, 4 + d, hcorner(i)) = acc(:, 4 + d, hcorner(i)) + [v, m]
+            else if (swept_out(nbr(f), old%twin(i))) then
+              ! (the region as the cell across the face split it, moved
+              ! to this cell's frame)
+              call region_slots(h, mx, nbr(f), s0, s1)
+              do s = s0, s1
+                vs(s - s0 + 1) = -old%sov(old%twin(i), s)
+                ms(:, s - s0 + 1) = -old%som(:, old%twin(i), s) + vs(s - s0 + 1)*(old%so(:, s) - o)
+              end do
+              call book_parts(nbr(f), hcorner(i), s0, s1, vs, ms, hcorner(i), 0)
             else
               tp = opts(:, hv(2:4, i))
               tn = pts(:, hv(2:4, i))
@@ -2784,6 +2801,11 @@ contains
             end if
           else if (pure) then
             acc(:, 1, hcorner(i)) = acc(:, 1, hcorner(i)) + [v, m]
+          else if (v < 0.0_wp .and. swept_out(c, i)) then
+            ! (its own region swept out, as `swept_budgets` split it)
+            vs(1:s1c - s0c + 1) = old%sov(i, s0c:s1c)
+            ms(:, 1:s1c - s0c + 1) = old%som(:, i, s0c:s1c)
+            call book_parts(c, hcorner(i), s0c, s1c, vs, ms, hcorner(i), 0)
           else
             tp = opts(:, hv(2:4, i))
             tn = pts(:, hv(2:4, i))
@@ -2866,7 +2888,7 @@ contains
       integer, intent(in) :: co, a, into, give
       real(wp), intent(in) :: tp(3, 3), tn(3, 3), v, m(3)
       real(wp) :: vs(max_mat), ms(3, max_mat)
-      integer :: s0, s1, s, nb_
+      integer :: s0, s1, nb_
       nb_ = n0c + g%corner_offset(a)
       if (h%mat(co) > 0) then
         call source(co, co, h%mat(co), nb_)
@@ -2875,13 +2897,34 @@ contains
       end if
       call region_slots(h, mx, co, s0, s1)
       call swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
+      call book_parts(co, a, s0, s1, vs, ms, into, give)
+    end subroutine swept_from
+
+    !> Books the parts vs, ms of a region swept from mixed cell co (slots
+    !> s0..s1, `swept_split`), its subcell at corner a of this cell, as
+    !> `swept_from` does.
+    subroutine book_parts(co, a, s0, s1, vs, ms, into, give)
+      integer, intent(in) :: co, a, s0, s1, into, give
+      real(wp), intent(inout) :: vs(:), ms(:, :)
+      integer :: s, nb_
+      nb_ = n0c + g%corner_offset(a)
       if (give == 0) call swept_held(old, s0, s1, vs, ms)
       do s = s0, s1
         if (.not. abs(vs(s - s0 + 1)) > 0.0_wp) cycle
         call source(co, g%ncell + s, mx%mat(s), nb_)
         call put(vs(s - s0 + 1), ms(:, s - s0 + 1), into, give)
       end do
-    end subroutine swept_from
+    end subroutine book_parts
+
+    !> True if `swept_budgets` split the region face triangle i of changed
+    !> mixed cell co sweeps out of it.
+    logical function swept_out(co, i)
+      integer, intent(in) :: co, i
+      swept_out = .false.
+      if (h%mat(co) > 0 .or. i < 1) return
+      if (.not. old%changed(co)) return
+      swept_out = btest(old%sout(mx%start(-h%mat(co))), i - 1)
+    end function swept_out
 
     !> A fragment into corner into (and out of corner give, if > 0).
     subroutine put(vf, mf, into, give)
@@ -3405,6 +3448,36 @@ contains
     call half_tets(xo, opts, hv, hc)
   end subroutine halves_about
 
+  !> For each of the 48 triangles on a cell's faces (`half_tets`: triangle
+  !> i = points half_hv(2:4, i), on face half_hv(2, i) - 1), the triangle
+  !> of the cell across that face that has the same three points: found on
+  !> a unit cube and its neighbour, whose points are exact binary fractions.
+  pure function twin_triangles() result(tw)
+    integer :: tw(48)
+    real(wp) :: xa(3, 8), xb(3, 8), pa(3, 27), pb(3, 27)
+    integer :: hv(4, 48), hc(48), i, j, a, q, r, nsame
+    do a = 1, 8
+      xa(:, a) = real(hex_corner(:, a), wp)
+    end do
+    call half_tets(xa, pa, hv, hc)
+    tw = 0
+    do i = 1, 48
+      do a = 1, 8
+        xb(:, a) = xa(:, a) + real(face_step(:, hv(2, i) - 1), wp)
+      end do
+      call half_tets(xb, pb, hv, hc)
+      do j = 1, 48
+        nsame = 0
+        do q = 2, 4
+          do r = 2, 4
+            if (all(abs(pa(:, hv(q, i)) - pb(:, hv(r, j))) < 1.0e-12_wp)) nsame = nsame + 1
+          end do
+        end do
+        if (nsame == 3) tw(i) = j
+      end do
+    end do
+  end function twin_triangles
+
   !> The budgets of the mixed old cells on the swept path. A region swept
   !> out of a mixed cell is shared among its materials by the cell's planes
   !> extended past it (`swept_split`), so the parts of one material that
@@ -3432,12 +3505,15 @@ contains
     real(wp), intent(in) :: xnew(:, :)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), tp(3, 3), tn(3, 3), v, m(3), &
                 vs(max_mat), ms(3, max_mat), out(max_mat), mout(3, max_mat), kept(max_mat), mkept(3, max_mat), &
-                room(max_mat), held, total, pn(3, max_mat), pd(max_mat), f
+                room(max_mat), held, total, pn(3, max_mat), pd(max_mat), f, tv(72), tm(72, 3), vraw, mraw(3)
     integer :: k, c, ci, cj, ck, s0, s1, s, n, i, j, nm, hv(4, 48), hc(48)
+    integer(i8) :: bits
+    logical :: rest
 
+    if (old%twin(1) == 0) old%twin = twin_triangles()
     !$omp parallel do default(none) shared(g, h, mx, old, xnew) private(k, c, ci, cj, ck, s0, s1, s, n, i, j, nm, &
-    !$omp hv, hc, xo, xn, o, opts, pts, tp, tn, v, m, vs, ms, out, mout, kept, mkept, room, held, total, pn, pd, f) &
-    !$omp schedule(dynamic, 4)
+    !$omp hv, hc, xo, xn, o, opts, pts, tp, tn, v, m, vs, ms, out, mout, kept, mkept, room, held, total, pn, pd, f, &
+    !$omp tv, tm, bits, vraw, mraw, rest) schedule(dynamic, 4)
     do k = 1, mx%n
       c = mx%cell(k)
       if (.not. old%changed(c)) cycle
@@ -3457,25 +3533,51 @@ contains
       mout(:, 1:n) = 0.0_wp
       kept(1:n) = 0.0_wp
       mkept(:, 1:n) = 0.0_wp
+      old%skv(:, s0:s1) = 0.0_wp
+      old%skm(:, :, s0:s1) = 0.0_wp
+      do s = s0, s1
+        old%so(:, s) = o
+      end do
+      bits = 0_i8
+      ! (the triangles' swept regions as `swept_fluxes` takes them)
+      call swept_triangles(opts, pts, swept_tri, tv, tm)
+      ! (every region with mass: the last one's part of a half that the
+      ! planes cut is the half's less the others', one clip fewer)
+      rest = all(mx%mass(s0:s1) > 0.0_wp) .and. n > 1
       do i = 1, 48
         ! what the old subcells keep
+        vraw = 0.0_wp
+        mraw = 0.0_wp
         do s = s0, s1
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0, s, o, pn, pd, nm)
-          call region_piece(opts(:, hv(:, i)), pn(:, 1:nm), pd(1:nm), v, m)
+          if (rest .and. s == s1) then
+            call region_rest(opts(:, hv(:, i)), pn(:, 1:nm), pd(1:nm), vraw, mraw, v, m)
+          else
+            call region_piece(opts(:, hv(:, i)), pn(:, 1:nm), pd(1:nm), v, m)
+          end if
+          vraw = vraw + v
+          mraw = mraw + m
           if (.not. v > 0.0_wp) cycle
           kept(s - s0 + 1) = kept(s - s0 + 1) + v
           mkept(:, s - s0 + 1) = mkept(:, s - s0 + 1) + m
+          old%skv(hc(i), s) = old%skv(hc(i), s) + v
+          old%skm(:, hc(i), s) = old%skm(:, hc(i), s) + m
         end do
         ! a region swept out through a face (`swept_fluxes`): the cell's
+        v = tv(i)
+        if (.not. v < 0.0_wp) cycle
+        m = tm(i, :)
         tp = opts(:, hv(2:4, i))
         tn = pts(:, hv(2:4, i))
-        call swept_triangle(tp(:, 1), tp(:, 2), tp(:, 3), tn(:, 1), tn(:, 2), tn(:, 3), v, m)
-        if (.not. v < 0.0_wp) cycle
         call swept_split(mx, old, s0, s1, o, tp, tn, v, m, vs, ms)
+        bits = ibset(bits, i - 1)
+        old%sov(i, s0:s1) = vs(1:n)
+        old%som(:, i, s0:s1) = ms(:, 1:n)
         out(1:n) = out(1:n) - vs(1:n)
         mout(:, 1:n) = mout(:, 1:n) - ms(:, 1:n)
       end do
+      old%sout(s0:s1) = bits
       held = 0.0_wp
       do i = 1, n
         room(i) = max(kept(i) - out(i), 0.0_wp)
@@ -3521,6 +3623,26 @@ contains
     end if
     call poly_first_moments(p, v, m)
   end subroutine region_piece
+
+  !> `region_piece` for the last region of a mixed cell, whose parts of t
+  !> in the regions before it are vb and mb: where its planes cut t, what
+  !> t holds beyond those (a difference at round-off is none).
+  pure subroutine region_rest(t, pn, pd, vb, mb, v, m)
+    real(wp), intent(in) :: t(3, 4), pn(:, :), pd(:), vb, mb(3)
+    real(wp), intent(out) :: v, m(3)
+    real(wp) :: vt
+    if (hull_side(t, pn, pd) /= 0) then
+      call region_piece(t, pn, pd, v, m)
+      return
+    end if
+    vt = abs(tet_det(t))/6.0_wp
+    v = vt - vb
+    m = 0.25_wp*vt*((t(:, 1) + t(:, 2)) + (t(:, 3) + t(:, 4))) - mb
+    if (.not. v > 1.0e-12_wp*vt) then
+      v = 0.0_wp
+      m = 0.0_wp
+    end if
+  end subroutine region_rest
 
   !> Where the convex hull of the points x(3, :) lies against the region
   !> pn(:, i).x <= pd(i): 1 wholly inside, -1 wholly outside one of the
