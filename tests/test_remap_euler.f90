@@ -515,6 +515,8 @@ contains
     ! Measured: 3.4e-14 until twisted prisms' parts against their region's
     ! sign were dropped (`swept_split`: a material that is not there, given
     ! away; on a TNT charge at 32^3 it left negative slivers), 4.9e-4 since
+    ! (slivers merged at vf_min only: no material's mass moves to another)
+    par%swept_vf_min = par%vf_min
     call make_grid(xt, 37, 0.05_wp)
     call setup(xs, 'plane')
     call check(remap_swept_blockers(g, h, bc, xt, par%swept_max, .false.) > 0, &
@@ -542,12 +544,11 @@ contains
     ! layer gave more than it held) and the step fell back to intersection;
     ! now the swept step must keep them, and conserve each material's mass
     ! and the total energy
-    ! (slivers merged at vf_min only, so that no material's mass moves to
-    ! another: the default swept_vf_min's merges are checked below)
+    ! (slivers merged at vf_min only, as above: the default swept_vf_min's
+    ! merges are checked below)
     call make_grid(xs, 31, 0.2_wp)
     call make_grid(xt, 37, 0.2_wp)
     par%swept = .true.
-    par%swept_vf_min = par%vf_min
     call setup_rough(xs)
     call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     call material_masses(ma0, mb0)
@@ -568,7 +569,7 @@ contains
     call remap_euler_step(g, h, mx, 2, bc, xt, par, st, err)
     call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     call material_masses(ma1, mb1)
-    write(*, '(a,i0,a,2es10.2)') 'swept, rough interface, slivers below 1e-5: ', st%slivers_merged, &
+    write(*, '(a,i0,a,2es10.2)') 'swept, rough interface, default swept_vf_min: ', st%slivers_merged, &
       ' merged; material mass changes ', (ma1 - ma0)/ma0, (mb1 - mb0)/mb0
     call check(.not. allocated(err) .and. st%swept_unbounded == 0 .and. abs(m1 - m0) <= 1e-13_wp*m0 .and. &
                abs(ie1 + ke1 - ie0 - ke0) <= 1e-13_wp*(ie0 + ke0), 'swept, rough interface, slivers merged: '// &

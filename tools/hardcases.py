@@ -297,7 +297,9 @@ REZONE = {
     "lagrange": None,
     "ale": {"mode": q("global"), "side_ratio": "4", "cos_angle": "0.7"},
     "euler": {"mode": q("global"), "interval_steps": "1", "side_ratio": "0", "cos_angle": "0"},
-    # euler on the swept-face path through mixed cells too (issue 33)
+    # euler with every step by swept faces, through mixed cells too (issue 33;
+    # `swept_mixed` is the default, `swept_max = 0.5` takes the cells that
+    # move up to half a cell per step)
     "euler_swept": {"mode": q("global"), "interval_steps": "1", "side_ratio": "0", "cos_angle": "0",
                     "swept_mixed": ".true.", "swept_max": "0.5"},
     "lssm": dict(mode=q("lssm"), **PAPER_SMOOTHING),

@@ -14,10 +14,12 @@ materials).
 Modes: the rezone groups of tools/hardcases.py (lagrange: no Euler steps;
 ale: global smoothing on the paper's triggers; euler: back to the fixed grid
 every step; lssm: the paper's LSSM) and euler_swept (euler with
-`swept_mixed = .true., swept_max = 0.5`: every remap by swept faces where it
-can, through mixed cells too) and euler_intersect (euler with `swept_hybrid =
-.false.`: a step with a cell the swept faces cannot take wholly by
-intersection). The reference is the 1D run with zones of
+`swept_max = 0.5`: every remap by swept faces where it can, through mixed
+cells too, as `swept_mixed` is on by default), euler_hybrid (euler with
+`swept_mixed = .false.`: mixed cells and the cells next to another material
+intersected in hybrid steps) and euler_intersect (euler_hybrid with
+`swept_hybrid = .false.`: a step with a cell the swept faces cannot take
+wholly by intersection). The reference is the 1D run with zones of
 --zone mm (0.0125: 800 zones per charge radius; from 0.05 mm its peaks
 move by 0.15 and 0.3 % at 20 and 40 mm, 3.3 % at 30 mm).
 
@@ -42,9 +44,14 @@ from hardcases import REZONE  # noqa: E402
 
 MODES = dict(REZONE)
 MODES["euler_swept"] = dict(REZONE["euler"], swept_mixed=".true.", swept_max="0.5")
-# euler with every step that has a cell the swept faces cannot take
-# remapped whole by intersection (`swept_hybrid` off: the path before it)
-MODES["euler_intersect"] = dict(REZONE["euler"], swept_hybrid=".false.")
+# euler with the swept faces only through pure cells amid their own
+# material (`swept_mixed` off) and every step that has a cell they cannot
+# take remapped whole by intersection (`swept_hybrid` off: the path before
+# both)
+MODES["euler_intersect"] = dict(REZONE["euler"], swept_hybrid=".false.", swept_mixed=".false.")
+# euler with mixed cells and the cells next to another material intersected
+# in hybrid steps (`swept_mixed` off: the default before it)
+MODES["euler_hybrid"] = dict(REZONE["euler"], swept_mixed=".false.")
 
 
 def deck(template, name, outdir, n=None, rezone=None, prerun=None):

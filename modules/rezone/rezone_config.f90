@@ -56,8 +56,9 @@ module rezone_config
     real(wp) :: swept_max = 0.25_wp
     !> the swept-face path also through mixed cells, what is swept from them
     !> shared by their MoF planes (a step that breaks a material's bounds is
-    !> remapped by intersection)
-    logical :: swept_mixed = .false.
+    !> remapped by intersection); off: mixed cells and the cells next to
+    !> another material are intersected (`swept_hybrid`)
+    logical :: swept_mixed = .true.
     !> a material below this volume fraction of a cell the swept-face path
     !> remaps is merged into the cell's largest (`remap_params_t`)
     real(wp) :: swept_vf_min = 1.0e-5_wp
