@@ -8,7 +8,7 @@ deck (&prerun with t_end <= its time: the 1D run alone, on the same
 materials).
 
     tnt_modes.py --exe build/release/lsalepm --n 16 32 --out DIR
-                 [--modes lagrange ale euler euler_swept lssm] [--threads 2]
+                 [--modes lagrange ale euler euler_hybrid euler_swept lssm] [--threads 2]
                  [--zone 0.0125] [--timeout 1800]
 
 Modes: the rezone groups of tools/hardcases.py (lagrange: no Euler steps;
@@ -120,7 +120,7 @@ def main(argv=None):
     p.add_argument("--exe", default=os.path.join(ROOT, "build", "release", "lsalepm"))
     p.add_argument("--deck", default=os.path.join(ROOT, "hardcases", "tnt_sphere.nml"))
     p.add_argument("--n", type=int, nargs="+", default=[16, 32])
-    p.add_argument("--modes", nargs="+", default=["lagrange", "ale", "euler", "euler_swept", "lssm"],
+    p.add_argument("--modes", nargs="+", default=["lagrange", "ale", "euler", "euler_hybrid", "euler_swept", "lssm"],
                    choices=sorted(MODES))
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--zone", type=float, default=0.0125, help="the 1D reference's zone width (deck units)")
