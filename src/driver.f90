@@ -218,7 +218,7 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
-    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap, stop_checked
+    real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap, dt_growth_cap, stop_checked
     integer :: bad_cell, bad_particle, report, stop_now, asked, n_euler
     logical :: last, due
 
@@ -234,7 +234,7 @@ contains
       end if
 
       ! LAGRANGE: the step the controller allows, cut to the stable step
-      dt = step_cap(cfg, st, sch)
+      dt = step_cap(cfg, st, sch, dt_growth_cap)
       dt_cap = dt
       w0 = wall_seconds()
       call sch%t_lagrange%start()
@@ -262,6 +262,9 @@ contains
         rtoa(st%t)//', set by '//step_limit_text(st, sch), ERR_RUNTIME)
       if (allocated(err)) call fail(cfg, st, sch, err)
       st%dt = dt
+      ! (a step shortened only to land on a frame or the end time does not
+      ! hold back the next: the growth limit grows from the last full step)
+      if (dt < dt_cap .or. .not. dt_cap < dt_growth_cap .or. .not. st%dt_grow > 0.0_wp) st%dt_grow = dt
       st%t = st%t + dt
       st%step = st%step + 1
       st%tot%boundary_work = st%tot%boundary_work + work
@@ -350,18 +353,21 @@ contains
   end function stop_file
 
   !> The largest step the controller allows: the first step's cap, else the
-  !> growth limit; dt_max; the end time and the next frame time.
-  real(wp) function step_cap(cfg, st, sch) result(dt)
+  !> growth limit (from the last step that was not shortened to land on a
+  !> frame or the end time: `state_t`'s dt_grow); dt_max (growth: that
+  !> much); then the end time and the next frame time.
+  real(wp) function step_cap(cfg, st, sch, growth) result(dt)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
+    real(wp), intent(out) :: growth
     if (st%step == 0) then
-      dt = cfg%hydro%dt_max
-      if (cfg%control%dt_init > 0.0_wp) dt = min(dt, cfg%control%dt_init)
+      growth = cfg%hydro%dt_max
+      if (cfg%control%dt_init > 0.0_wp) growth = min(growth, cfg%control%dt_init)
     else
-      dt = min(cfg%hydro%dt_growth*st%dt, cfg%hydro%dt_max)
+      growth = min(cfg%hydro%dt_growth*merge(st%dt_grow, st%dt, st%dt_grow > 0.0_wp), cfg%hydro%dt_max)
     end if
-    dt = min(dt, cfg%control%t_end - st%t, sch%t_next_frame - st%t)
+    dt = min(growth, cfg%control%t_end - st%t, sch%t_next_frame - st%t)
   end function step_cap
 
   !> True when the next step and a dump might not fit before the wall-time

@@ -43,6 +43,10 @@ module driver_state
     real(wp), allocatable :: p_max(:)
     real(wp) :: t = 0.0_wp                !< time
     real(wp) :: dt = 0.0_wp               !< last step
+    !> the step the growth limit (&run dt_growth) grows from: the last step
+    !> not shortened to land on a frame or the end time (0: not yet known,
+    !> then dt; a restart written before it was kept)
+    real(wp) :: dt_grow = 0.0_wp
     integer :: step = 0
     type(totals_t) :: tot                 !< integrals; boundary work and E0 are state
     type(rng_t) :: rng
@@ -187,6 +191,7 @@ contains
     if (allocated(st%p_max)) call reg%add('max_pressure', 'pressure', LOC_CELL, st%p_max)
     call reg%add('time', 'time', st%t, lower=LOWER_NONNEGATIVE)
     call reg%add('dt', 'time', st%dt, lower=LOWER_NONNEGATIVE)
+    call reg%add('dt_grow', 'time', st%dt_grow, lower=LOWER_NONNEGATIVE, mandatory=.false.)
     call reg%add('step', '1', st%step, lower=LOWER_NONNEGATIVE)
     call reg%add('boundary_work', 'energy', st%tot%boundary_work)
     call reg%add('initial_energy', 'energy', st%tot%energy_initial)

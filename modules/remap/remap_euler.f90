@@ -4071,7 +4071,7 @@ contains
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:), visit(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
-    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale
+    real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale, short_c
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
     character(len=200) :: msg
     logical :: keep(max_mat), short, wide, limited
@@ -4306,6 +4306,20 @@ contains
         ie(c) = ie(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
         if (short) rdef(c) = rdef(c) + take*cmass(a, c)/h%mnode(n + g%corner_offset(a))
       end do
+    end do
+    ! A cell that would end below zero (its corners' kinetic energy, kdef,
+    ! costs more than it has and its nodes return: where the velocity's
+    ! linear part handed out less than the mean velocity holds, in a cold
+    ! gas with a velocity precursor) pays all it has; the rest is a deficit
+    ! for the cells nearest to it (`repair_deficits`), not a negative
+    ! energy of its own
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
+      short_c = avail(c) + ie(c) + iav(c)
+      if (.not. short_c < 0.0_wp) cycle
+      iav(c) = -avail(c)
+      ie(c) = short_c
+      rdef(c) = short_c
     end do
     if (present(own)) then
       ! (the repair reaches cells further away, in the whole grid's order)
