@@ -74,7 +74,7 @@ with tempfile.TemporaryDirectory() as tmp:
 names = [e.name for e in hc.entries(hc._cases(), quick=True)]
 check("quick: first sizes", "sod2_100_ale" in names and "sod2_1000_ale" not in names and "tnt_64_euler" not in names)
 check("only: substring and wildcard", [e.name for e in hc.entries(hc._cases(), only=["sod2_100_l*", "tnt_16_e"])]
-      == ["tnt_16_euler", "tnt_16_euler_swept", "sod2_100_lagrange", "sod2_100_lssm"])
+      == ["tnt_16_euler", "tnt_16_euler_quarter", "sod2_100_lagrange", "sod2_100_lssm"])
 
 # ---------------------------------------------------------------- the log
 LOG = """resolved input:

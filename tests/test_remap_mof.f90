@@ -100,14 +100,20 @@ contains
 
   ! ------------------------------------------------------------ cut volume
 
-  !> The 24-tet cut equals the convex clipper on the cube; on a distorted
-  !> hex the two sides of a plane add up to the cell.
+  !> The cut equals the convex clipper on the cube (one piece: a box) and
+  !> on a parallelepiped (its 24 tets); on a distorted hex the two sides of
+  !> a plane add up to the cell.
   subroutine test_cut_volume()
     type(poly_t) :: p
-    real(wp) :: n(3), d, v1, c1(3), v2, c2(3), vref, cref(3), vcell, ccell(3)
-    integer :: trial
+    real(wp) :: n(3), d, v1, c1(3), v2, c2(3), vref, cref(3), vcell, ccell(3), xs(3, 8)
+    integer :: trial, a
     logical :: ok
 
+    ! (the cube sheared: planar faces, not a box)
+    xs = cube
+    do a = 1, 8
+      xs(1, a) = xs(1, a) + 0.3_wp*xs(2, a) - 0.2_wp*xs(3, a)
+    end do
     do trial = 1, 50
       n = random_unit()
       d = uni(-0.5_wp, 1.5_wp)
@@ -115,9 +121,16 @@ contains
       call poly_clip(p, n, d, ok)
       call poly_moments(p, vref, cref)
       call mof_cut_volume(cube, n, d, v1, c1)
-      call check(abs(v1 - vref) <= 1e-14_wp, 'cut volume: cube, 24 tets = convex clip (volume)')
+      call check(abs(v1 - vref) <= 1e-14_wp, 'cut volume: cube = convex clip (volume)')
       if (vref > 1e-6_wp) call check(maxval(abs(c1 - cref)) <= 1e-13_wp, &
-                                     'cut volume: cube, 24 tets = convex clip (centroid)')
+                                     'cut volume: cube = convex clip (centroid)')
+      p = poly_from_hex(xs)
+      call poly_clip(p, n, d, ok)
+      call poly_moments(p, vref, cref)
+      call mof_cut_volume(xs, n, d, v1, c1)
+      call check(abs(v1 - vref) <= 1e-14_wp, 'cut volume: parallelepiped, 24 tets = convex clip (volume)')
+      if (vref > 1e-6_wp) call check(maxval(abs(c1 - cref)) <= 1e-13_wp, &
+                                     'cut volume: parallelepiped, 24 tets = convex clip (centroid)')
     end do
     vcell = hex_volume(distorted)
     ccell = cell_centroid(distorted)

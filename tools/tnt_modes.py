@@ -8,14 +8,14 @@ deck (&prerun with t_end <= its time: the 1D run alone, on the same
 materials).
 
     tnt_modes.py --exe build/release/lsalepm --n 16 32 --out DIR
-                 [--modes lagrange ale euler euler_hybrid euler_swept lssm] [--threads 2]
+                 [--modes lagrange ale euler euler_quarter euler_hybrid lssm] [--threads 2]
                  [--zone 0.0125] [--timeout 1800]
 
 Modes: the rezone groups of tools/hardcases.py (lagrange: no Euler steps;
 ale: global smoothing on the paper's triggers; euler: back to the fixed grid
-every step; lssm: the paper's LSSM) and euler_swept (euler with
-`swept_max = 0.5`: every remap by swept faces where it can, through mixed
-cells too, as `swept_mixed` is on by default), euler_hybrid (euler with
+every step, by swept faces through mixed cells too; lssm: the paper's LSSM;
+euler_quarter: euler with `swept_max = 0.25`, the steps that move a node
+past a quarter cell hybrid, the default before 0.5), euler_hybrid (euler with
 `swept_mixed = .false.`: mixed cells and the cells next to another material
 intersected in hybrid steps) and euler_intersect (euler_hybrid with
 `swept_hybrid = .false.`: a step with a cell the swept faces cannot take
@@ -43,7 +43,6 @@ sys.path.insert(0, HERE)
 from hardcases import REZONE  # noqa: E402
 
 MODES = dict(REZONE)
-MODES["euler_swept"] = dict(REZONE["euler"], swept_mixed=".true.", swept_max="0.5")
 # euler with the swept faces only through pure cells amid their own
 # material (`swept_mixed` off) and every step that has a cell they cannot
 # take remapped whole by intersection (`swept_hybrid` off: the path before
@@ -120,7 +119,7 @@ def main(argv=None):
     p.add_argument("--exe", default=os.path.join(ROOT, "build", "release", "lsalepm"))
     p.add_argument("--deck", default=os.path.join(ROOT, "hardcases", "tnt_sphere.nml"))
     p.add_argument("--n", type=int, nargs="+", default=[16, 32])
-    p.add_argument("--modes", nargs="+", default=["lagrange", "ale", "euler", "euler_hybrid", "euler_swept", "lssm"],
+    p.add_argument("--modes", nargs="+", default=["lagrange", "ale", "euler", "euler_quarter", "euler_hybrid", "lssm"],
                    choices=sorted(MODES))
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--zone", type=float, default=0.0125, help="the 1D reference's zone width (deck units)")

@@ -18,9 +18,12 @@
 !> plane (`poly_clip`), and a piece of an inverted tetrahedron of a tangled
 !> cell counts with a minus sign, as in `tet_intersect_hex`. "What remains"
 !> after a cut is again at most 24 convex pieces (`mof_pieces_t`), so nested
-!> cuts reuse the same code. Pieces are stored relative to the mean of the
-!> cell's nodes (`origin`): round-off then scales with the cell, not with
-!> its distance from the coordinate origin.
+!> cuts reuse the same code. A box with edges along the axes (the cells of
+!> an Eulerian grid) is one convex piece instead, the same region: a cut of
+!> it is one clip, not one per tetrahedron the plane crosses. Pieces are
+!> stored relative to the mean of the cell's nodes (`origin`): round-off
+!> then scales with the cell, not with its distance from the coordinate
+!> origin.
 !>
 !> Volume root (i). On a unit n the cut volume V(d) is a piecewise cubic of
 !> d whose pieces join at the projections n.x of the pieces' vertices. The
@@ -56,7 +59,7 @@
 module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross, hex_tets, tet_det
-  use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_clip, &
+  use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_from_hex, poly_clip, &
                               poly_first_moments, slot_of, poly_copy
   implicit none
   private
@@ -133,6 +136,15 @@ contains
     do i = 1, 8
       x(:, i) = xn(:, i) - pcs%origin
     end do
+    if (is_box(xn)) then
+      ! (a box, the cells of an Eulerian grid: one convex piece, the same
+      ! region as its 24 tetrahedra; every cut of it costs one clip)
+      pcs%np = 1
+      pcs%p(1) = poly_from_hex(x)
+      pcs%sgn(1) = 1.0_wp
+      call poly_first_moments(pcs%p(1), pcs%vol(1), pcs%mom(:, 1))
+      return
+    end if
     scale = maxval(abs(x))
     call hex_tets(x, tets)
     do k = 1, 24
@@ -144,6 +156,21 @@ contains
       call poly_first_moments(pcs%p(pcs%np), pcs%vol(pcs%np), pcs%mom(:, pcs%np))
     end do
   end subroutine mof_cell_pieces
+
+  !> Whether the hexahedron xn(3,8) (node a = 1 + i + 2j + 4k) is a box
+  !> with edges along the axes and positive extent in each, to the last bit
+  !> (each node's x from its i, y from its j, z from its k).
+  pure logical function is_box(xn) result(box)
+    real(wp), intent(in) :: xn(3, 8)
+    integer, parameter :: lo(4, 3) = reshape([1, 3, 5, 7,  1, 2, 5, 6,  1, 2, 3, 4], [4, 3])
+    integer, parameter :: hi(4, 3) = reshape([2, 4, 6, 8,  3, 4, 7, 8,  5, 6, 7, 8], [4, 3])
+    integer :: d
+    box = .true.
+    do d = 1, 3
+      box = box .and. .not. (any(abs(xn(d, lo(:, d)) - xn(d, lo(1, d))) > 0.0_wp) .or. &
+                             any(abs(xn(d, hi(:, d)) - xn(d, hi(1, d))) > 0.0_wp)) .and. xn(d, hi(1, d)) > xn(d, lo(1, d))
+    end do
+  end function is_box
 
   !> Signed volume vol (length^3) and centroid (length, global coordinates)
   !> of the region pcs; a region of no volume has its origin as centroid.
