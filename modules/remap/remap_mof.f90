@@ -59,7 +59,7 @@
 module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross, hex_tets, tet_det
-  use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_from_tet, poly_from_hex, poly_clip, &
+  use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_set_tet, poly_from_hex, poly_clip, &
                               poly_first_moments, slot_of, poly_copy
   implicit none
   private
@@ -123,13 +123,16 @@ contains
 
   !> The cell with nodes xn(3,8) (length, order a = 1 + i + 2j + 4k) as the
   !> region of its 24 tetrahedra (Fig. 7); tetrahedra flat to round-off are
-  !> left out (they have no volume).
+  !> left out (they have no volume). pcs is overwritten (intent(inout): an
+  !> intent(out) argument would be default-initialised whole, 24 pieces of
+  !> poly_max_verts vertices, at every call).
   pure subroutine mof_cell_pieces(xn, pcs)
     real(wp), intent(in) :: xn(3, 8)
-    type(mof_pieces_t), intent(out) :: pcs
+    type(mof_pieces_t), intent(inout) :: pcs
     real(wp) :: x(3, 8), tets(3, 4, 24), det, scale
     integer :: i, k
 
+    pcs%np = 0
     do i = 1, 3
       pcs%origin(i) = 0.125_wp*sum(xn(i, :))
     end do
@@ -151,7 +154,7 @@ contains
       det = tet_det(tets(:, :, k))
       if (.not. abs(det) > epsilon(1.0_wp)*scale**3) cycle
       pcs%np = pcs%np + 1
-      pcs%p(pcs%np) = poly_from_tet(tets(:, :, k))
+      call poly_set_tet(pcs%p(pcs%np), tets(:, :, k))
       pcs%sgn(pcs%np) = sign(1.0_wp, det)
       call poly_first_moments(pcs%p(pcs%np), pcs%vol(pcs%np), pcs%mom(:, pcs%np))
     end do
@@ -232,11 +235,12 @@ contains
     real(wp), intent(in) :: n(:, :)
     real(wp), intent(in) :: d(:)
     integer, intent(in) :: k
-    type(mof_pieces_t), intent(out) :: pcs
+    type(mof_pieces_t), intent(inout) :: pcs   !< (overwritten: `mof_cell_pieces`)
     logical, intent(out) :: ok
     integer :: j
 
     ok = k >= 1 .and. k <= size(d) .and. size(n, 1) == 3 .and. size(n, 2) >= k
+    pcs%np = 0
     if (.not. ok) return
     call mof_cell_pieces(xn, pcs)
     do j = 1, k - 1
