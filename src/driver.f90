@@ -354,8 +354,9 @@ contains
 
   !> The largest step the controller allows: the first step's cap, else the
   !> growth limit (from the last step that was not shortened to land on a
-  !> frame or the end time: `state_t`'s dt_grow); dt_max (growth: that
-  !> much); then the end time and the next frame time.
+  !> frame or the end time: `state_t`'s dt_grow), and dt_max (growth: this
+  !> much); then the end time and the next frame time (a restart written
+  !> before dt_grow was kept grows from its last step).
   real(wp) function step_cap(cfg, st, sch, growth) result(dt)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(in) :: st
