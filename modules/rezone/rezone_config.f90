@@ -117,7 +117,7 @@ contains
     quality = defaults%quality; quality_target = defaults%quality_target
     smooth_iterations = defaults%smooth_iterations; d_max = defaults%d_max; move_min = defaults%move_min
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
-    swept_max = defaults%swept_max; hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
+    hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
     virtual_layers = defaults%virtual_layers; swept_hybrid = defaults%swept_hybrid
     swept_vf_min = defaults%swept_vf_min
     ! (0, and a negative swept_max: the mode's, once the mode is read)
