@@ -36,6 +36,7 @@ module driver_restart
   use particles_shape, only: particles_shape_values
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use particles_lagrange, only: particles_work_resize
+  use particles_spread, only: particles_support_widths
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
@@ -322,6 +323,8 @@ contains
       end if
     end if
     call register_all(st, sch, es, reg)
+    ! (what a dump without the particles' support widths leaves: `huge`)
+    if (st%pt%spread) st%pt%lsup = huge(1.0_wp)
     if (blocks) then
       call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t)
     else
@@ -353,6 +356,15 @@ contains
       if (.not. allocated(err)) call particles_hosted(st%g, st%pt, err)
       if (.not. allocated(err)) call particles_index(st%pt, st%g%ncell, err)
       if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
+    end if
+    if (.not. allocated(err) .and. st%pt%spread .and. st%pt%np > 0) then
+      if (any(st%pt%lsup(1:st%pt%np) >= huge(1.0_wp))) then
+        ! a dump of linear supports continued with spread ones: the
+        ! particles' domains from their hosts now, as at a re-location
+        call particles_support_widths(st%g, st%pt)
+        call log_line(sch%log, 'restart: '//path//' has no particle support widths (written with '// &
+                      'particle_support = ''linear''): the domains start from the particles'' hosts now')
+      end if
     end if
     if (allocated(err)) then
       call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)

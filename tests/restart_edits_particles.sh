@@ -4,7 +4,9 @@
 # must be refused before step 0 with exit status 2 and a message naming the
 # dataset. A dump's time at or past t_end is refused too (nothing to run);
 # a random-generator state whose bits read as a NaN is a valid state (it is
-# bits, not a number) and continues; the unedited dump continues.
+# bits, not a number) and continues; a dump without the particles' support
+# widths (written with linear supports) continues with the widths set from
+# the hosts; the unedited dump continues.
 # Usage: restart_edits_particles.sh EXE PYTHON DECK N WORKDIR
 #   (DECK: coupled particles with a history variable, no open face)
 set -u
@@ -56,5 +58,9 @@ run time_1e9 2 "is at t = 1.0+E\+09, at or past &run t_end" 'f["scalars/time"][.
 run x_1e300 2 "state/x = 1.0+E\+300 at entry 4 \(node 2\) \(magnitudes of 1e30" \
   'd = f["state/x"]; v = d[()]; v[1, 0] = 1e300; d[...] = v'
 run nan_rng 0 "^done: " 'f["scalars/rng_state"][...] = np.frombuffer(np.uint64(0x7ff8000000000001).tobytes(), dtype=np.float64)[0]'
+# a dump with linear supports (no widths) continued with GIMP (the default):
+# the domains from the particles' hosts, logged
+run no_support_widths 0 "has no particle support widths \(written with particle_support = 'linear'\)" \
+  'del f["state/particle_support_width"]'
 run unedited 0 "^done: " 'pass'
 echo "PASS restart_edits_particles"

@@ -100,6 +100,7 @@ gimp_bench() {
   for scene in pgas pblock pblock_gimp; do
     sed -e "s|out/pblock|out/$scene|" -e "s|out/pgas|out/$scene|" "${scene%_gimp}.nml" > "e_$scene.nml"
     echo "&rezone mode = 'global', interval_steps = 10 /" >> "e_$scene.nml"
+    [[ $scene == pblock ]] && echo "&hydro particle_support = 'linear' /" >> "e_$scene.nml"
     [[ $scene == *_gimp ]] && echo "&hydro particle_support = 'gimp' /" >> "e_$scene.nml"
     OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" "e_$scene.nml" > "e_$scene.log"
     cp "e_$scene.log" "$outdir/bench_euler_$scene.log"

@@ -308,7 +308,10 @@ contains
     if (p%nhist > 0) call reg%add('particle_history', '1', LOC_PARTICLE, p%hist)
     if (allocated(p%mvf)) call reg%add('particle_virtual_fluid_mass', 'mass', LOC_PARTICLE, p%mvf, &
                                        lower=LOWER_NONNEGATIVE)
-    if (p%spread) call reg%add('particle_support_width', '1', LOC_PARTICLE, p%lsup, lower=LOWER_NONNEGATIVE)
+    ! (optional: a dump written with particle_support = 'linear' has none,
+    ! and a restart may change &hydro; the caller sets the widths then)
+    if (p%spread) call reg%add('particle_support_width', '1', LOC_PARTICLE, p%lsup, mandatory=.false., &
+                               lower=LOWER_NONNEGATIVE)
   end subroutine particles_register_restart
 
   !> The particles' indices after a restart read: host cells in 1..ncell,
