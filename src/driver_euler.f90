@@ -385,8 +385,7 @@ contains
     ! swept faces (every node but the blockers'), then the blockers and the
     ! cells around them by intersection (`remap_hybrid_target`); each remap
     ! conserves, so the step does
-    hybrid = rz%swept_hybrid .and. .not. (split .or. one) .and. st%pt%np == 0 .and. nblock > 0 .and. &
-             nblock < size(moved)
+    hybrid = rz%swept_hybrid .and. .not. (split .or. one) .and. nblock > 0 .and. nblock < size(moved)
     lattice = par%lattice
     if (hybrid) then
       call remap_hybrid_target(st%g, xnew, blockers, xk)
@@ -468,8 +467,17 @@ contains
       call centroids_refresh(st%g, st%mx, es%centroids)
       ! (the planes the fits after the remap start from)
       call centroids_remember(st%mx, memory)
-      ! coupled particles: their share of the nodal momentum goes with them
-      if (allocated(st%pt%mvf)) call particles_euler_save(st, pe)
+      ! coupled particles: their share of the nodal momentum goes with them,
+      ! taken before the step's first remap (a hybrid step's second remap
+      ! starts from the first one's nodes; a decomposed run's whole grid
+      ! that goes on from the windows' first remap has the windows' share)
+      if (allocated(st%pt%mvf) .and. ntaken == 0) then
+        call particles_euler_save(st, pe)
+        if (present(pe0)) then
+          pe%ke_solid = pe0%ke_solid
+          pe%p_solid = pe0%p_solid
+        end if
+      end if
       if (split .or. hybrid) then
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
                               written=wrote, work=es%work)

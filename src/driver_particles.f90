@@ -599,7 +599,7 @@ contains
     end if
     call particles_relocate(st%g, x0, st%pt, st%pt%cell, pe%guess, xi, bad)
     do k = 1, st%pt%np
-      if (pe%guess(k) > 0 .or. at_open_face(st, st%pt%cell(k))) cycle
+      if (pe%guess(k) > 0 .or. out_open_face(st, x0, st%pt%cell(k), st%pt%x(:, k))) cycle
       call error_set(err, 'particles_euler_preposition', 'particle '//itoa(st%pt%id(k))//' at ('// &
                      rtoa(st%pt%x(1, k))//', '//rtoa(st%pt%x(2, k))//', '//rtoa(st%pt%x(3, k))// &
                      ') lies outside the initial grid, in which Remark 2 places the particles before smoothing', &
@@ -815,9 +815,10 @@ contains
   end function count_hosts
 
   !> The particles a rezone left in no cell (cell(k) = 0 from
-  !> `particles_relocate`): those whose host lay on an inflow or outflow face
-  !> went out through it (the rezone brought the face back behind them) and
-  !> leave the run, with cell and xi; the coupled ones' mass, momentum and
+  !> `particles_relocate`): those whose host lay on an inflow or outflow face,
+  !> or that lie beyond one (a fast fragment crosses more than a cell
+  !> between Euler steps), went out through it (the rezone brought the face
+  !> back behind them) and leave the run, with cell and xi; the coupled ones' mass, momentum and
   !> energy leave as through the face (their internal energy and their
   !> share (m_p - m'_p) of the nodal kinetic energy taken from the boundary
   !> work, so the balance stays closed). Any other particle in no cell is a
@@ -838,7 +839,7 @@ contains
     ke_out = 0.0_wp
     associate (pt => st%pt)
       do k = 1, pt%np
-        if (cell(k) > 0 .or. at_open_face(st, pt%cell(k))) cycle
+        if (cell(k) > 0 .or. out_open_face(st, st%g%x, pt%cell(k), pt%x(:, k))) cycle
         call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(k))//' at ('// &
                        rtoa(pt%x(1, k))//', '//rtoa(pt%x(2, k))//', '//rtoa(pt%x(3, k))// &
                        ') lies in no cell of the rezoned grid', ERR_RUNTIME)
@@ -868,23 +869,50 @@ contains
     end associate
   end subroutine particles_leave
 
-  !> Whether cell c of st's (whole) grid lies on an inflow or outflow face.
-  logical function at_open_face(st, c)
+  !> Whether a particle at xp, hosted by cell c of st's (whole) grid, went
+  !> out through an inflow or outflow face of the grid x (st%g's nodes):
+  !> its host lies on such a face, or xp lies beyond the face (past every
+  !> one of the face's nodes along its direction).
+  logical function out_open_face(st, x, c, xp) result(out)
     type(state_t), intent(in) :: st
+    real(wp), intent(in) :: x(:, :), xp(3)
     integer, intent(in) :: c
-    integer :: ijk(3), f, d
+    integer :: ijk(3), f, d, i, j, k, lo(3), hi(3)
+    real(wp) :: far
     call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-    at_open_face = .false.
+    out = .false.
     do f = 1, 6
       if (.not. (st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW)) cycle
       d = (f + 1)/2
+      ! (the face's nodes: the grid's node indices 0 or n along d)
+      lo = st%g%clo - 1
+      hi = st%g%chi
       if (mod(f, 2) == 1) then
-        at_open_face = at_open_face .or. ijk(d) == st%g%clo(d)
+        out = out .or. ijk(d) == st%g%clo(d)
+        hi(d) = lo(d)
       else
-        at_open_face = at_open_face .or. ijk(d) == st%g%chi(d)
+        out = out .or. ijk(d) == st%g%chi(d)
+        lo(d) = hi(d)
+      end if
+      far = merge(huge(1.0_wp), -huge(1.0_wp), mod(f, 2) == 1)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            if (mod(f, 2) == 1) then
+              far = min(far, x(d, st%g%node(i, j, k)))
+            else
+              far = max(far, x(d, st%g%node(i, j, k)))
+            end if
+          end do
+        end do
+      end do
+      if (mod(f, 2) == 1) then
+        out = out .or. xp(d) < far
+      else
+        out = out .or. xp(d) > far
       end if
     end do
-  end function at_open_face
+  end function out_open_face
 
   !> Which cells host particles.
   function cell_used(p, ncell) result(used)

@@ -486,8 +486,7 @@ contains
       call MPI_Allreduce(MPI_IN_PLACE, n, 3, MPI_INTEGER, MPI_SUM, pc%world)
       nblock = n(1)
       ! (not after an error on any rank: the caller stops)
-      hybrid = cfg%rezone%swept_hybrid .and. single == 0 .and. nblock > 0 .and. nblock < n(2) .and. &
-               .not. allocated(st%pwhole) .and. n(3) == 0
+      hybrid = cfg%rezone%swept_hybrid .and. single == 0 .and. nblock > 0 .and. nblock < n(2) .and. n(3) == 0
       par%swept = nblock == 0
       ! the lattice path where the whole new grid is a lattice (every
       ! block's nodes are, and they share the nodes between them; only a
