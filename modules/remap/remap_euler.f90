@@ -2530,6 +2530,20 @@ contains
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
                 od(4, 48), ub(3), kemb, wb
+    ! the sources' numbers (`source`, `deposit`), kept for the last few
+    ! regions (tags rk: with their cell's) and nodes (tags nk) this cell's
+    ! sources came from: entry ir of the region's, in of the node's
+    integer, parameter :: nkeep = 8
+    real(wp) :: rxo(3, nkeep), rrho(nkeep), rgrho(3, nkeep), rge(3, nkeep), re(nkeep), rsc(nkeep), rscrho(nkeep), &
+                rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
+                ndu(3, nkeep), urefc(3)
+    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in
+    logical :: runi(nkeep)
+    ! what `deposit` adds up, in arrays of this call (not through the
+    ! dummies' descriptors at every fragment): avol, amom, amass, aie,
+    ! pcell, cmom, cland, cdef while the fragments are booked
+    real(wp) :: svol(max_mat), smom(3, max_mat), smass(max_mat), sie(max_mat), spc(4), scmom(3, 8), scland(8), &
+                scdef(8)
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
@@ -2538,6 +2552,9 @@ contains
 
     call g%cell_ijk(c, ci, cj, ck)
     n0c = g%cell_node0(ci, cj, ck)
+    nrk = 0
+    nnk = 0
+    urefc = old%uref(:, c)
     call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
     ! local coordinates about the new cell's centre: round-off scales with the cell
     o = sum(xn, 2)/8.0_wp
@@ -2563,7 +2580,9 @@ contains
           cdef(hcorner(t)) = cdef(hcorner(t)) + tet_det(ht(:, :, t))/6.0_wp
         end do
       end if
+      call sums_in()
       call swept_fluxes()
+      call sums_out()
       do kmat = 1, size(avol)
         amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
       end do
@@ -2629,6 +2648,7 @@ contains
         cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
       end do
     end if
+    call sums_in()
     do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
       do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
         do oi = max(g%clo(1), ci - reach), min(g%chi(1), ci + reach)
@@ -2693,12 +2713,41 @@ contains
         end do
       end do
     end do
+    call sums_out()
     ! first moments back to global coordinates
     do kmat = 1, size(avol)
       amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
     end do
 
   contains
+
+    !> The sums so far to `deposit`'s arrays.
+    subroutine sums_in()
+      integer :: nm_
+      nm_ = size(avol)
+      svol(1:nm_) = avol
+      smom(:, 1:nm_) = amom
+      smass(1:nm_) = amass
+      sie(1:nm_) = aie
+      spc = pcell
+      scmom = cmom
+      scland = cland
+      scdef = cdef
+    end subroutine sums_in
+
+    !> `deposit`'s sums back to the dummies.
+    subroutine sums_out()
+      integer :: nm_
+      nm_ = size(avol)
+      avol = svol(1:nm_)
+      amom = smom(:, 1:nm_)
+      amass = smass(1:nm_)
+      aie = sie(1:nm_)
+      pcell = spc
+      cmom = scmom
+      cland = scland
+      cdef = scdef
+    end subroutine sums_out
 
     !> The swept-face path (`remap_params_t`'s swept): the new cell
     !> is its old cell plus what the faces of its subcells swept,
@@ -2947,15 +2996,49 @@ contains
       kreg = kr
       kmat = km
       nb = node
-      if (old%uniform(co)) then
-        ub = old%ucell(:, co)
-        kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kcell(co)
-        wb = 0.0_wp
-      else
-        ub = h%u(:, nb) + old%ushift(:, co)
-        kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kshift(co)
-        wb = old%wreg(kreg)
+      ! (old's numbers taken once per region and node of this cell's
+      ! sources, the last entry replaced when all are taken)
+      ir = findloc(rk(1:nrk), kr, 1)
+      if (ir == 0) then
+        nrk = min(nrk + 1, nkeep)
+        ir = nrk
+        rk(ir) = kr
+        rsc(ir) = old%scale(kr)
+        rxo(:, ir) = old%xr(:, kr) - o
+        rrho(ir) = old%rho(kr)
+        rgrho(:, ir) = old%grho(:, kr)
+        rge(:, ir) = old%ge(:, kr)
+        re(ir) = old%e(kr)
+        rscrho(ir) = rsc(ir)*rrho(ir)
+        rgunit(ir) = old%gunit(kr)
+        runi(ir) = old%uniform(co)
+        if (runi(ir)) then
+          rub(:, ir) = old%ucell(:, co)
+          rke(ir) = old%kcell(co)
+          rw(ir) = 0.0_wp
+        else
+          rub(:, ir) = old%ushift(:, co)
+          rke(ir) = old%kshift(co)
+          rw(ir) = old%wreg(kr)
+        end if
       end if
+      if (runi(ir)) then
+        ub = rub(:, ir)
+      else
+        in = findloc(nk(1:nnk), nb, 1)
+        if (in == 0) then
+          nnk = min(nnk + 1, nkeep)
+          in = nnk
+          nk(in) = nb
+          nu(:, in) = h%u(:, nb)
+          nxo(:, in) = old%xdual(:, nb) - o
+          ngu(:, :, in) = old%gu(:, :, nb)
+          ndu(:, in) = nu(:, in) - urefc
+        end if
+        ub = nu(:, in) + rub(:, ir)
+      end if
+      kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
+      wb = rw(ir)
     end subroutine source
 
     !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
@@ -3093,34 +3176,39 @@ contains
     subroutine deposit(vf, mf, a)
       real(wp), intent(in) :: vf, mf(3)
       integer, intent(in) :: a
-      real(wp) :: dm(3), fm, fie, sc, plin(3)
+      real(wp) :: dm(3), fm, fie, plin(3), fu(3)
       integer :: j_
-      sc = old%scale(kreg)
-      dm = mf - (old%xr(:, kreg) - o)*vf
-      fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
-      fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
-      avol(kmat) = avol(kmat) + vf
-      cdef(a) = cdef(a) - vf
-      amom(:, kmat) = amom(:, kmat) + mf
-      amass(kmat) = amass(kmat) + fm
-      aie(kmat) = aie(kmat) + fie
+      ! (the source's numbers: `source`)
+      dm = mf - rxo(:, ir)*vf
+      fm = rsc(ir)*(rrho(ir)*vf + dot_product(rgrho(:, ir), dm))
+      fie = fm*re(ir) + rscrho(ir)*dot_product(rge(:, ir), dm)
+      svol(kmat) = svol(kmat) + vf
+      scdef(a) = scdef(a) - vf
+      smom(:, kmat) = smom(:, kmat) + mf
+      smass(kmat) = smass(kmat) + fm
+      sie(kmat) = sie(kmat) + fie
       ! velocity and kinetic energy with the mass (plus the velocity's linear
       ! part about the old node: `velocity_gradients`): the cell's totals,
       ! and the mass and momentum that landed in each of its corners
-      plin = 0.0_wp
+      fu = fm*ub
       if (wb > 0.0_wp) then
-        dm = mf - (old%xdual(:, nb) - o)*vf
+        dm = mf - nxo(:, in)*vf
         do j_ = 1, 3
-          plin(j_) = wb*dot_product(old%gu(:, j_, nb), dm)
+          plin(j_) = wb*dot_product(ngu(:, j_, in), dm)
         end do
+        spc(1:3) = spc(1:3) + fu + plin
+        spc(4) = spc(4) + fm*kemb + dot_product(ndu(:, in), plin)
+        scmom(:, a) = scmom(:, a) + fu + plin
+      else
+        ! (plin = 0: what adding it and its product with the velocity did)
+        spc(1:3) = spc(1:3) + fu + 0.0_wp
+        spc(4) = spc(4) + fm*kemb + 0.0_wp
+        scmom(:, a) = scmom(:, a) + fu + 0.0_wp
       end if
-      pcell(1:3) = pcell(1:3) + fm*ub + plin
-      pcell(4) = pcell(4) + fm*kemb + dot_product(h%u(:, nb) - old%uref(:, c), plin)
-      cmom(:, a) = cmom(:, a) + fm*ub + plin
-      cland(a) = cland(a) + fm
+      scland(a) = scland(a) + fm
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
-        given(kreg) = given(kreg) + nint(given_sign*vf/old%gunit(kreg), i8)
+        given(kreg) = given(kreg) + nint_i8(given_sign*vf/rgunit(ir))
       end if
     end subroutine deposit
   end subroutine remap_new_cell
@@ -3274,6 +3362,26 @@ contains
     k(1) = g%cell(g%slo(1) + qi(1)/2, g%slo(2) + qi(2)/2, g%slo(3) + qi(3)/2)
     k(2) = 1 + mod(qi(1), 2) + 2*mod(qi(2), 2) + 4*mod(qi(3), 2) + 8*sub
   end function lattice_key
+
+  !> nint(x, i8), rounding half away from zero, without the library call
+  !> (lround) it costs at every fragment (`deposit`): below 2^52 the
+  !> truncation and the remainder x - trunc(x) are exact, so the result is
+  !> nint's bit for bit; beyond (never a fragment's count), nint itself.
+  elemental integer(i8) function nint_i8(x) result(k)
+    real(wp), intent(in) :: x
+    real(wp) :: r
+    if (.not. abs(x) < 2.0_wp**52) then
+      k = nint(x, i8)
+      return
+    end if
+    k = int(x, i8)
+    r = x - real(k, wp)
+    if (r >= 0.5_wp) then
+      k = k + 1
+    else if (r <= -0.5_wp) then
+      k = k - 1
+    end if
+  end function nint_i8
 
   !> The 48 half tetrahedra of a cell: each tetrahedron (centre, face centre,
   !> a, b) of the 24-split (`hex_tets`) cut at the midpoint of edge ab; the
