@@ -1365,10 +1365,13 @@ contains
     old%sshift = 0.0_wp
     old%pn = 0.0_wp
     old%pd = 1.0_wp
-    ! mean velocities and kinetic energies per unit mass (subcell masses: Eq. 16)
-    !$omp parallel do default(none) shared(g, h, old) private(j, c, n, a_) schedule(static)
+    ! mean velocities and kinetic energies per unit mass (subcell masses:
+    ! Eq. 16), read only where a cell hands out fragments (the changed
+    ! cells) or fills a gap at an open face (`open_faces`: any near cell)
+    !$omp parallel do default(none) shared(g, h, old, gap_face) private(j, c, n, a_) schedule(static)
     do j = 1, size(old%lnear)
       c = old%lnear(j)
+      if (size(gap_face) == 0 .and. .not. old%changed(c)) cycle
       n = g%node0(c)
       old%ucell(:, c) = 0.0_wp
       old%kcell(c) = 0.0_wp
@@ -1759,12 +1762,13 @@ contains
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
-                ua(3, 8), mc, kc, ksum, det6(48)
+                ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
     integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, ic
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6) &
+    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
+    !$omp sub) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1784,15 +1788,20 @@ contains
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
       call region_slots(h, mx, c, s0, s1)
-      do i = 1, 48
-        if (old%uniform(c)) exit
-        if (s0 == 0) then
-          ! (a pure cell's subcells whole: their mass and weights below)
+      if (s0 == 0 .and. .not. old%uniform(c)) then
+        ! (a pure cell's subcells whole: their mass and weights below;
+        ! summed here, then stored)
+        sub = 0.0_wp
+        do i = 1, 48
           v = det6(i)/6.0_wp
-          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + &
-            [v, 0.25_wp*v*(pts(:, 1) + pts(:, hv(2, i)) + pts(:, hv(3, i)) + pts(:, hv(4, i)))]
-          cycle
-        end if
+          sub(1, corner(i)) = sub(1, corner(i)) + v
+          sub(2:4, corner(i)) = sub(2:4, corner(i)) + 0.25_wp*v*(pts(:, 1) + pts(:, hv(2, i)) + pts(:, hv(3, i)) + &
+                                                                 pts(:, hv(4, i)))
+        end do
+        old%sub(:, :, c) = sub
+      end if
+      do i = 1, 48
+        if (old%uniform(c) .or. s0 == 0) exit
         do j = 1, 4
           t(:, j) = pts(:, hv(j, i))
         end do
