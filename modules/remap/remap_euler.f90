@@ -111,7 +111,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
-  use remap_swept, only: swept_triangle, swept_triangles
+  use remap_swept, only: swept_triangles
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
@@ -2245,9 +2245,9 @@ contains
     !> the cells counted (those of own that move and cannot), in
     !> increasing order
     integer, allocatable, intent(out), optional :: blockers(:)
-    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, v, m(3), vb, rmax
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
-    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
+    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat, tri(3, 48), nt
     logical :: ok
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
@@ -2287,7 +2287,7 @@ contains
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
-    !$omp dmax2, v, m, vb) schedule(static)
+    !$omp dmax2, vw, mw, vb, tri, nt) schedule(static)
     do i = 1, size(list)
       c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
@@ -2333,14 +2333,19 @@ contains
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
+        ! (the wall faces' triangles in one call: `swept_triangles`)
+        nt = 0
         do f = 1, 6
           if (.not. wall(f)) cycle
           do t = 8*f - 7, 8*f
-            call swept_triangle(opts(:, hv(2, t)), opts(:, hv(3, t)), opts(:, hv(4, t)), &
-                                pts(:, hv(2, t)), pts(:, hv(3, t)), pts(:, hv(4, t)), v, m)
-            ok = ok .and. abs(v) <= 1.0e-12_wp*vb
+            nt = nt + 1
+            tri(:, nt) = hv(2:4, t)
           end do
         end do
+        if (nt > 0) then
+          call swept_triangles(opts, pts, tri(:, 1:nt), vw, mw)
+          ok = ok .and. all(abs(vw(1:nt)) <= 1.0e-12_wp*vb)
+        end if
       end if
       blocks(i) = .not. ok
       if (.not. ok) nblock = nblock + 1
