@@ -2028,12 +2028,12 @@ contains
     real(wp), intent(in) :: avol(:, :), amass(:, :), aie(:, :), vf_min
     real(wp), parameter :: slack = 1.0e-9_wp
     real(wp) :: rlo, rhi, elo, ehi, vtot, mtot, rho, e
-    integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s
+    integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r
     logical :: bad, found
 
     nbad = 0
     !$omp parallel do default(none) shared(g, h, mx, old, cells, avol, amass, aie, vf_min) &
-    !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
+    !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
     !$omp reduction(+:nbad) schedule(static)
     do i = 1, size(cells)
       c = cells(i)
@@ -2051,34 +2051,41 @@ contains
           bad = .true.
           exit
         end if
-        rlo = huge(1.0_wp)
-        rhi = -huge(1.0_wp)
-        elo = huge(1.0_wp)
-        ehi = -huge(1.0_wp)
-        found = .false.
-        do ok_ = max(g%clo(3), ck - 2), min(g%chi(3), ck + 2)
-          do oj = max(g%clo(2), cj - 2), min(g%chi(2), cj + 2)
-            do oi = max(g%clo(1), ci - 2), min(g%chi(1), ci + 2)
-              co = c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)
-              if (.not. old%near(co)) cycle
-              if (h%mat(co) == k) then
-                call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
-              else if (h%mat(co) <= 0) then
-                do s = mx%start(-h%mat(co)), mx%start(-h%mat(co) + 1) - 1
-                  if (mx%mat(s) == k .and. mx%mass(s) > 0.0_wp) &
-                    call widen(old%rho(g%ncell + s), old%e(g%ncell + s), found, rlo, rhi, elo, ehi)
-                end do
-              end if
+        ! the cells within one index step first: their bounds lie within
+        ! those of the cells within two, and each test below only loosens
+        ! as the bounds widen, so a material within the first is within
+        ! the second (the 27 cells settle most, not the 125)
+        do r = 1, 2
+          rlo = huge(1.0_wp)
+          rhi = -huge(1.0_wp)
+          elo = huge(1.0_wp)
+          ehi = -huge(1.0_wp)
+          found = .false.
+          do ok_ = max(g%clo(3), ck - r), min(g%chi(3), ck + r)
+            do oj = max(g%clo(2), cj - r), min(g%chi(2), cj + r)
+              do oi = max(g%clo(1), ci - r), min(g%chi(1), ci + r)
+                co = c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)
+                if (.not. old%near(co)) cycle
+                if (h%mat(co) == k) then
+                  call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
+                else if (h%mat(co) <= 0) then
+                  do s = mx%start(-h%mat(co)), mx%start(-h%mat(co) + 1) - 1
+                    if (mx%mat(s) == k .and. mx%mass(s) > 0.0_wp) &
+                      call widen(old%rho(g%ncell + s), old%e(g%ncell + s), found, rlo, rhi, elo, ehi)
+                  end do
+                end if
+              end do
             end do
           end do
+          rho = amass(k, c)/avol(k, c)
+          e = aie(k, c)/amass(k, c)
+          ! (no slack below zero: a cold material stays cold, not negative by
+          ! a round-off the intersection does not make)
+          bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
+                e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi)) .or. &
+                (elo >= 0.0_wp .and. e < 0.0_wp)
+          if (.not. bad) exit
         end do
-        rho = amass(k, c)/avol(k, c)
-        e = aie(k, c)/amass(k, c)
-        ! (no slack below zero: a cold material stays cold, not negative by
-        ! a round-off the intersection does not make)
-        bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
-              e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi)) .or. &
-              (elo >= 0.0_wp .and. e < 0.0_wp)
       end do
       if (bad) nbad = nbad + 1
     end do
