@@ -1936,9 +1936,11 @@ contains
         do dk_ = k, k + 1
           do dj = j, j + 1
             do di = i, i + 1
+              ! (the index `grid_node` gives, written out: no call per node)
+              m = dual%nbase + di + dual%sx*dj + dual%sxy*dk_
               if (pass == 1) then
-                xd(1, dual%node(di, dj, dk_)) = nan
-              else if (ieee_is_nan(xd(1, dual%node(di, dj, dk_)))) then
+                xd(1, m) = nan
+              else if (ieee_is_nan(xd(1, m))) then
                 call dual_node(di, dj, dk_)
               end if
             end do
@@ -1961,7 +1963,7 @@ contains
       do kk = max(kd - 1, 0), min(kd, g%nk)
         do jj = max(jd - 1, 0), min(jd, g%nj)
           do ii = max(id - 1, 0), min(id, g%ni)
-            xd(:, m) = xd(:, m) + g%x(:, g%node(ii, jj, kk))
+            xd(:, m) = xd(:, m) + g%x(:, g%nbase + ii + g%sx*jj + g%sxy*kk)
             nsum = nsum + 1
           end do
         end do
