@@ -1763,11 +1763,11 @@ contains
     type(old_t), intent(inout) :: old
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
-    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, ic
+    integer :: c, j, i, n, s, s0, s1, nm, r, ic
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
+    !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
     !$omp sub) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
@@ -1782,7 +1782,7 @@ contains
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
-      call half_tets(xn, pts, hv, corner)
+      call half_points(xn, pts)
       call half_dets(pts, det6)
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
@@ -1794,25 +1794,25 @@ contains
         sub = 0.0_wp
         do i = 1, 48
           v = det6(i)/6.0_wp
-          sub(1, corner(i)) = sub(1, corner(i)) + v
-          sub(2:4, corner(i)) = sub(2:4, corner(i)) + 0.25_wp*v*(pts(:, 1) + pts(:, hv(2, i)) + pts(:, hv(3, i)) + &
-                                                                 pts(:, hv(4, i)))
+          sub(1, half_corner(i)) = sub(1, half_corner(i)) + v
+          sub(2:4, half_corner(i)) = sub(2:4, half_corner(i)) + &
+            0.25_wp*v*(pts(:, 1) + pts(:, half_hv(2, i)) + pts(:, half_hv(3, i)) + pts(:, half_hv(4, i)))
         end do
         old%sub(:, :, c) = sub
       end if
       do i = 1, 48
         if (old%uniform(c) .or. s0 == 0) exit
         do j = 1, 4
-          t(:, j) = pts(:, hv(j, i))
+          t(:, j) = pts(:, half_hv(j, i))
         end do
         do s = s0, s1
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0, s, o, pn, pd, nm)
           call region_piece(t, pn(:, 1:nm), pd(1:nm), v, m)
           if (.not. v > 0.0_wp) cycle
-          msub(corner(i)) = msub(corner(i)) + region_mass(g%ncell + s, v, m, o)
-          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(g%ncell + s)*v
-          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
+          msub(half_corner(i)) = msub(half_corner(i)) + region_mass(g%ncell + s, v, m, o)
+          old%wv(half_corner(i), c) = old%wv(half_corner(i), c) + old%wreg(g%ncell + s)*v
+          old%ws(:, half_corner(i), c) = old%ws(:, half_corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
         end do
       end do
       if (old%uniform(c)) then
@@ -2335,7 +2335,7 @@ contains
           do a = 1, 8
             xo(:, a) = xo(:, a) - o
           end do
-          call half_tets(xo, opts, hv, hc)
+          call half_points(xo, opts)
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
@@ -2348,7 +2348,7 @@ contains
           if (.not. wall(f)) cycle
           do t = 8*f - 7, 8*f
             nt = nt + 1
-            tri(:, nt) = hv(2:4, t)
+            tri(:, nt) = half_hv(2:4, t)
           end do
         end do
         if (nt > 0) then
@@ -2569,7 +2569,7 @@ contains
                 scdef(8)
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
-    integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
+    integer :: tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
                j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb, n0c
     logical :: box
 
@@ -2584,7 +2584,7 @@ contains
     do j = 1, 8
       xn(:, j) = xn(:, j) - o
     end do
-    call half_tets(xn, pts, hv, hcorner)
+    call half_points(xn, pts)
     avol = 0.0_wp
     amom = 0.0_wp
     amass = 0.0_wp
@@ -2598,9 +2598,9 @@ contains
       if (any(old%open)) then
         do t = 1, 48
           do j = 1, 4
-            ht(:, j, t) = pts(:, hv(j, t))
+            ht(:, j, t) = pts(:, half_hv(j, t))
           end do
-          cdef(hcorner(t)) = cdef(hcorner(t)) + tet_det(ht(:, :, t))/6.0_wp
+          cdef(half_corner(t)) = cdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
         end do
       end if
       call sums_in()
@@ -2614,8 +2614,8 @@ contains
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
-        ht(:, j, t) = pts(:, hv(j, t))
-        tmask(t) = ibset(tmask(t), hv(j, t) - 1)
+        ht(:, j, t) = pts(:, half_hv(j, t))
+        tmask(t) = ibset(tmask(t), half_hv(j, t) - 1)
       end do
       hlo(:, t) = minval(ht(:, :, t), 2)
       hhi(:, t) = maxval(ht(:, :, t), 2)
@@ -2631,7 +2631,7 @@ contains
       tv(:, 1:3, t) = ht(:, 1:3, 2*t - 1)
       tv(:, 4, t) = ht(:, 4, 2*t)
       tvmask(t) = ior(tmask(2*t - 1), tmask(2*t))
-      tvmask(t) = ibclr(tvmask(t), hv(4, 2*t - 1) - 1)
+      tvmask(t) = ibclr(tvmask(t), half_hv(4, 2*t - 1) - 1)
       tvlo(:, t) = min(hlo(:, 2*t - 1), hlo(:, 2*t))
       tvhi(:, t) = max(hhi(:, 2*t - 1), hhi(:, 2*t))
       midn(:, t) = cross(ht(:, 2, 2*t - 1) - ht(:, 1, 2*t - 1), ht(:, 4, 2*t - 1) - ht(:, 1, 2*t - 1))
@@ -2668,7 +2668,7 @@ contains
       end do
     else
       do t = 1, 48
-        cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
+        cdef(half_corner(t)) = cdef(half_corner(t)) + hsg(t)*hvol(t)
       end do
     end if
     call sums_in()
@@ -2803,7 +2803,7 @@ contains
       do j = 1, 8
         xo(:, j) = xo(:, j) - o
       end do
-      call half_tets(xo, opts, ohv, ocorner)
+      call half_points(xo, opts)
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
@@ -2851,8 +2851,8 @@ contains
       do t = 1, 24
         f = (t - 1)/4 + 1
         d = (f + 1)/2
-        ia = hcorner(2*t - 1)
-        ib = hcorner(2*t)
+        ia = half_corner(2*t - 1)
+        ib = half_corner(2*t)
         ! on the face: (face centre, a, edge midpoint) and (face centre,
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
@@ -2861,7 +2861,7 @@ contains
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
           if (v > 0.0_wp .and. nbr(f) /= c) then
             if (h%mat(nbr(f)) > 0) then
-              acc(:, 4 + d, hcorner(i)) = acc(:, 4 + d, hcorner(i)) + [v, m]
+              acc(:, 4 + d, half_corner(i)) = acc(:, 4 + d, half_corner(i)) + [v, m]
             else if (swept_out(nbr(f), old%twin(i))) then
               ! (the region as the cell across the face split it, moved
               ! to this cell's frame)
@@ -2870,23 +2870,23 @@ contains
                 vs(s - s0 + 1) = -old%sov(old%twin(i), s)
                 ms(:, s - s0 + 1) = -old%som(:, old%twin(i), s) + vs(s - s0 + 1)*(old%so(:, s) - o)
               end do
-              call book_parts(nbr(f), hcorner(i), s0, s1, vs, ms, hcorner(i), 0)
+              call book_parts(nbr(f), half_corner(i), s0, s1, vs, ms, half_corner(i), 0)
             else
-              tp = opts(:, hv(2:4, i))
-              tn = pts(:, hv(2:4, i))
-              call swept_from(nbr(f), hcorner(i), tp, tn, v, m, hcorner(i), 0)
+              tp = opts(:, half_hv(2:4, i))
+              tn = pts(:, half_hv(2:4, i))
+              call swept_from(nbr(f), half_corner(i), tp, tn, v, m, half_corner(i), 0)
             end if
           else if (pure) then
-            acc(:, 1, hcorner(i)) = acc(:, 1, hcorner(i)) + [v, m]
+            acc(:, 1, half_corner(i)) = acc(:, 1, half_corner(i)) + [v, m]
           else if (v < 0.0_wp .and. swept_out(c, i)) then
             ! (its own region swept out, as `swept_budgets` split it)
             vs(1:s1c - s0c + 1) = old%sov(i, s0c:s1c)
             ms(:, 1:s1c - s0c + 1) = old%som(:, i, s0c:s1c)
-            call book_parts(c, hcorner(i), s0c, s1c, vs, ms, hcorner(i), 0)
+            call book_parts(c, half_corner(i), s0c, s1c, vs, ms, half_corner(i), 0)
           else
-            tp = opts(:, hv(2:4, i))
-            tn = pts(:, hv(2:4, i))
-            call swept_from(c, hcorner(i), tp, tn, v, m, hcorner(i), 0)
+            tp = opts(:, half_hv(2:4, i))
+            tn = pts(:, half_hv(2:4, i))
+            call swept_from(c, half_corner(i), tp, tn, v, m, half_corner(i), 0)
           end if
         end do
         ! between corners a and b: (edge midpoint, centre, face centre),
@@ -2906,8 +2906,8 @@ contains
             acc(:, slot, ib) = acc(:, slot, ib) - [v, m]
           end if
         else
-          tp = opts(:, [hv(4, i), 1, hv(2, i)])
-          tn = pts(:, [hv(4, i), 1, hv(2, i)])
+          tp = opts(:, [half_hv(4, i), 1, half_hv(2, i)])
+          tn = pts(:, [half_hv(4, i), 1, half_hv(2, i)])
           call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
         end if
       end do
@@ -3106,8 +3106,8 @@ contains
           end if
         end do
         if (ncut == 0) then
-          call deposit(sgn*hsg(2*t - 1)*hvol(2*t - 1), sgn*hsg(2*t - 1)*hmom(:, 2*t - 1), hcorner(2*t - 1))
-          call deposit(sgn*hsg(2*t)*hvol(2*t), sgn*hsg(2*t)*hmom(:, 2*t), hcorner(2*t))
+          call deposit(sgn*hsg(2*t - 1)*hvol(2*t - 1), sgn*hsg(2*t - 1)*hmom(:, 2*t - 1), half_corner(2*t - 1))
+          call deposit(sgn*hsg(2*t)*hvol(2*t), sgn*hsg(2*t)*hmom(:, 2*t), half_corner(2*t))
           cycle
         end if
         call poly_set_tet(p, tv(:, :, t))
@@ -3126,15 +3126,15 @@ contains
           ! all on one side of the mid-plane
           call poly_first_moments(p, v, m)
           k = merge(2*t - 1, 2*t, sb <= 0.0_wp)
-          if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, hcorner(k))
+          if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, half_corner(k))
         else
           call poly_copy(p, q)
           call poly_clip(p, midn(:, t), midd(t))
           call poly_first_moments(p, v, m)
-          if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, hcorner(2*t - 1))
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, half_corner(2*t - 1))
           call poly_clip(q, -midn(:, t), -midd(t))
           call poly_first_moments(q, v, m)
-          if (v > 0.0_wp) call deposit(sgn*hsg(2*t)*v, sgn*hsg(2*t)*m, hcorner(2*t))
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t)*v, sgn*hsg(2*t)*m, half_corner(2*t))
         end if
       end do tets
     end subroutine clip_halves
@@ -3417,6 +3417,17 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: pts(3, 27)
     integer, intent(out) :: hv(4, 48), corner(48)
+    call half_points(xn, pts)
+    hv = half_hv
+    corner = half_corner
+  end subroutine half_tets
+
+  !> The 27 points of `half_tets`' split alone (its halves are the
+  !> constants half_hv, half_corner: callers on the hot paths read those
+  !> rather than a copy made at each call).
+  pure subroutine half_points(xn, pts)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: pts(3, 27)
     integer :: f, e, d
 
     do d = 1, 3
@@ -3432,9 +3443,7 @@ contains
         pts(:, 15 + 4*(d - 1) + e) = 0.5_wp*(xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d)))
       end do
     end do
-    hv = half_hv
-    corner = half_corner
-  end subroutine half_tets
+  end subroutine half_points
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
