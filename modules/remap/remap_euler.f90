@@ -1783,9 +1783,6 @@ contains
       c = old%lchanged(ic)
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
-      old%wv(:, c) = 0.0_wp
-      old%ws(:, :, c) = 0.0_wp
-      old%sub(:, :, c) = 0.0_wp
       call g%gather(c, g%x, xn)
       ! (`remap_swept_blockers`' numbers where it tested these very nodes)
       kept = .false.
@@ -1808,6 +1805,12 @@ contains
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
       call region_slots(h, mx, c, s0, s1)
+      ! (set whole below for a pure cell that is not tangled)
+      if (s0 /= 0 .or. old%uniform(c)) then
+        old%wv(:, c) = 0.0_wp
+        old%ws(:, :, c) = 0.0_wp
+        old%sub(:, :, c) = 0.0_wp
+      end if
       if (s0 == 0 .and. .not. old%uniform(c)) then
         ! (a pure cell's subcells whole: their mass and weights below;
         ! summed here, then stored)
@@ -1843,8 +1846,8 @@ contains
       if (s0 == 0) then
         ! (all linear in a piece's volume and moment: once per subcell)
         do j = 1, 8
-          v = old%sub(1, j, c)
-          m = old%sub(2:4, j, c)
+          v = sub(1, j)
+          m = sub(2:4, j)
           msub(j) = region_mass(c, v, m, o)
           old%wv(j, c) = old%wreg(c)*v
           old%ws(:, j, c) = old%wreg(c)*(m + o*v)
