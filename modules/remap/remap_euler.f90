@@ -380,7 +380,7 @@ module remap_euler
   type :: remap_work_t
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
-                             cke(:, :), cland(:, :), cdef(:, :), pcell(:, :)
+                             cke(:, :), cland(:, :), cdef(:, :), pcell(:, :), vcell(:)
     integer, allocatable :: reach(:), gaps(:)
     logical, allocatable :: redo(:)
   end type remap_work_t
@@ -481,7 +481,7 @@ contains
     type(lattice_old_t) :: lat
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
-                             pcell(:, :)
+                             pcell(:, :), vcell(:)
     integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
     logical, allocatable :: redo(:), beyond(:)
     integer(i8), allocatable :: before(:)
@@ -516,7 +516,7 @@ contains
       if (present(work)) call take_sums()
       if (.not. allocated(avol)) allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
                aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
-               pcell(4, ncell), reach(ncell), &
+               pcell(4, ncell), vcell(ncell), reach(ncell), &
                redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
@@ -620,6 +620,8 @@ contains
           c = todo(i)
           call g%gather(c, xnew, xn)
           vnew = hex_volume(xn)
+          ! (the new cell's volume, for `assemble`)
+          vcell(c) = vnew
           defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
           if (gap_of(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
             ! (the swept faces leave the gap itself to `open_faces`)
@@ -754,10 +756,10 @@ contains
       w0 = wall_seconds()
       if (windowed) then
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, own, zone%own_node)
+                      vcell, stats, err, own, zone%own_node)
       else
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, written=written)
+                      vcell, stats, err, written=written)
         if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
         stats%change_known = .not. allocated(err)
       end if
@@ -795,6 +797,7 @@ contains
       call move_alloc(work%cland, cland)
       call move_alloc(work%cdef, cdef)
       call move_alloc(work%pcell, pcell)
+      call move_alloc(work%vcell, vcell)
       call move_alloc(work%reach, reach)
       call move_alloc(work%redo, redo)
       call move_alloc(work%gaps, gaps)
@@ -812,6 +815,7 @@ contains
       call move_alloc(cland, work%cland)
       call move_alloc(cdef, work%cdef)
       call move_alloc(pcell, work%pcell)
+      call move_alloc(vcell, work%vcell)
       call move_alloc(reach, work%reach)
       call move_alloc(redo, work%redo)
       call move_alloc(gaps, work%gaps)
@@ -4272,7 +4276,7 @@ contains
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
   subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, own, own_node, written)
+                      vcell, stats, err, own, own_node, written)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -4284,6 +4288,9 @@ contains
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
     real(wp), intent(in) :: cland(:, :), pcell(:, :)
+    !> the changed new cells' volumes (`hex_volume` of their nodes in xnew,
+    !> taken for the volume check)
+    real(wp), intent(in) :: vcell(:)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
     !> a window's (`remap_zone_t`): the cells and nodes the stats count; the
@@ -4598,11 +4605,10 @@ contains
         if (old%near(c) .or. wide) h%e(c) = h%e(c) + (ie(c) + iav(c))/h%mass(c)
         cycle
       end if
-      call g%gather(c, g%x, xn)
       mnew = sum(amass(:, c))
       h%mass(c) = mnew
       h%mcorner(:, c) = cmass(:, c)
-      h%vol(c) = hex_volume(xn)
+      h%vol(c) = vcell(c)
       h%rho(c) = mnew/h%vol(c)
       h%e(c) = (sum(aie(:, c)) + ie(c) + iav(c))/mnew
       if (nmix(c) == 0) then
@@ -4611,6 +4617,7 @@ contains
       end if
       kk = kk + 1
       h%mat(c) = -kk
+      call g%gather(c, g%x, xn)
       vtot = sum(avol(:, c))
       s = nx%start(kk)
       do k = 1, nmat
