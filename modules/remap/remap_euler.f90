@@ -2884,7 +2884,7 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot
-      logical :: pure
+      logical :: pure, pure_nbr(6)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
@@ -2933,6 +2933,11 @@ contains
           nbr(f) = 0
         end if
       end do
+      ! (whether the cell across each face is pure: the face's sources)
+      do f = 1, 6
+        pure_nbr(f) = .false.
+        if (nbr(f) /= c .and. nbr(f) /= 0) pure_nbr(f) = h%mat(nbr(f)) > 0
+      end do
       ! the 72 triangles' swept regions at once (`swept_tri`)
       call swept_triangles(opts, pts, swept_tri, tv, tm)
       do t = 1, 24
@@ -2944,10 +2949,10 @@ contains
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
           v = tv(i)
-          m = tm(i, :)
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
+          m = tm(i, :)
           if (v > 0.0_wp .and. nbr(f) /= c) then
-            if (h%mat(nbr(f)) > 0) then
+            if (pure_nbr(f)) then
               acc(:, 4 + d, half_corner(i)) = acc(:, 4 + d, half_corner(i)) + [v, m]
             else if (swept_out(nbr(f), old%twin(i))) then
               ! (the region as the cell across the face split it, moved
@@ -2981,8 +2986,8 @@ contains
         ! direction of the edge)
         i = 2*t - 1
         v = tv(48 + t)
-        m = tm(48 + t, :)
         if (.not. abs(v) > 0.0_wp) cycle
+        m = tm(48 + t, :)
         if (pure) then
           slot = 1 + edge_dir(ia, ib)
           if (v > 0.0_wp) then
