@@ -1284,7 +1284,7 @@ contains
     class(share_t), intent(in), optional :: share
     logical, intent(in), optional :: own(:)   !< the cells the stats count (absent: every cell)
     integer, intent(in), optional :: moved(:)  !< the changed cells (`remap_euler_step`)
-    real(wp) :: xn(3, 8), errmax
+    real(wp) :: xn(3, 8), errmax, ua(3, 8)
     integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail, nf
     logical :: ok
     logical, allocatable :: mine(:)
@@ -1379,27 +1379,20 @@ contains
     old%pd = 1.0_wp
     ! mean velocities and kinetic energies per unit mass (subcell masses:
     ! Eq. 16), read only where a cell hands out fragments (the changed
-    ! cells) or fills a gap at an open face (`open_faces`: any near cell)
-    !$omp parallel do default(none) shared(g, h, old, gap_face) private(j, c, n, a_) schedule(static)
-    do j = 1, size(old%lnear)
-      c = old%lnear(j)
-      if (size(gap_face) == 0 .and. .not. old%changed(c)) cycle
-      n = g%node0(c)
-      old%ucell(:, c) = 0.0_wp
-      old%kcell(c) = 0.0_wp
-      old%uref(:, c) = 0.0_wp
-      do a_ = 1, 8
-        old%ucell(:, c) = old%ucell(:, c) + h%mcorner(a_, c)*h%u(:, n + g%corner_offset(a_))
-        old%uref(:, c) = old%uref(:, c) + h%u(:, n + g%corner_offset(a_))
+    ! cells: `subcell_shifts` takes them there) or fills a gap at an open
+    ! face (`open_faces`: any near cell, so all of them here)
+    if (size(gap_face) > 0) then
+      !$omp parallel do default(none) shared(g, h, old) private(j, c, n, a_, ua) schedule(static)
+      do j = 1, size(old%lnear)
+        c = old%lnear(j)
+        n = g%node0(c)
+        do a_ = 1, 8
+          ua(:, a_) = h%u(:, n + g%corner_offset(a_))
+        end do
+        call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       end do
-      old%ucell(:, c) = old%ucell(:, c)/sum(h%mcorner(:, c))
-      old%uref(:, c) = 0.125_wp*old%uref(:, c)
-      do a_ = 1, 8
-        old%kcell(c) = old%kcell(c) + 0.5_wp*h%mcorner(a_, c)*sum((h%u(:, n + g%corner_offset(a_)) - old%ucell(:, c))**2)
-      end do
-      old%kcell(c) = old%kcell(c)/sum(h%mcorner(:, c))
-    end do
-    !$omp end parallel do
+      !$omp end parallel do
+    end if
 
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
@@ -1490,7 +1483,7 @@ contains
       old%ge(:, ncell + 1:) = 0.0_wp
     end if
     call region_floors(g, h, mx, old)
-    call subcell_shifts(g, h, mx, old)
+    call subcell_shifts(g, h, mx, old, size(gap_face) == 0)
     ! the changed cells' nodes
     call node_list(g, old%lchanged, old%node, old%lnode, err)
     if (allocated(err)) return
@@ -1768,18 +1761,21 @@ contains
   !> negative. A uniform velocity has s_c = 0 and k_c = 0: it stays uniform
   !> exactly. A tangled cell (an inverted half) hands out its mean velocity
   !> and kinetic energy per unit mass only (uniform).
-  subroutine subcell_shifts(g, h, mx, old)
+  subroutine subcell_shifts(g, h, mx, old, means)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
+    !> the cells' mean velocities (`mean_velocity`) are taken here (else
+    !> the caller took them)
+    logical, intent(in) :: means
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
     integer :: c, j, i, n, s, s0, s1, nm, r, ic
     logical :: kept
 
     ! (only moved cells hand out fragments: the others' entries are not read)
-    !$omp parallel do default(none) shared(g, h, mx, old) &
+    !$omp parallel do default(none) shared(g, h, mx, old, means) &
     !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
     !$omp sub, kept) &
     !$omp schedule(dynamic, 16)
@@ -1787,6 +1783,11 @@ contains
       c = old%lchanged(ic)
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
+      n = g%node0(c)
+      do j = 1, 8
+        ua(:, j) = h%u(:, n + g%corner_offset(j))
+      end do
+      if (means) call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       call g%gather(c, g%x, xn)
       ! (`remap_swept_blockers`' numbers where it tested these very nodes)
       kept = .false.
@@ -1857,10 +1858,8 @@ contains
           old%ws(:, j, c) = old%wreg(c)*(m + o*v)
         end do
       end if
-      n = g%node0(c)
       mc = sum(h%mcorner(:, c))
       do j = 1, 8
-        ua(:, j) = h%u(:, n + g%corner_offset(j))
         old%ushift(:, c) = old%ushift(:, c) + (h%mcorner(j, c) - msub(j))*ua(:, j)
       end do
       old%ushift(:, c) = old%ushift(:, c)/mc
@@ -1886,6 +1885,28 @@ contains
       region_mass = old%rho(r)*v + dot_product(old%grho(:, r), m - (old%xr(:, r) - o)*v)
     end function region_mass
   end subroutine subcell_shifts
+
+  !> A cell's mean velocity ucell (its corner masses mc, Eq. 16, and corner
+  !> velocities ua), the mean of its corner velocities uref and its
+  !> kinetic energy per unit mass about ucell, kcell (`old_t`).
+  pure subroutine mean_velocity(mc, ua, ucell, uref, kcell)
+    real(wp), intent(in) :: mc(8), ua(3, 8)
+    real(wp), intent(out) :: ucell(3), uref(3), kcell
+    integer :: a
+    ucell = 0.0_wp
+    kcell = 0.0_wp
+    uref = 0.0_wp
+    do a = 1, 8
+      ucell = ucell + mc(a)*ua(:, a)
+      uref = uref + ua(:, a)
+    end do
+    ucell = ucell/sum(mc)
+    uref = 0.125_wp*uref
+    do a = 1, 8
+      kcell = kcell + 0.5_wp*mc(a)*sum((ua(:, a) - ucell)**2)
+    end do
+    kcell = kcell/sum(mc)
+  end subroutine mean_velocity
 
   !> The second-order part of the velocity remap: about each node n, the
   !> velocity u_n + G_n (x - X_n) over its control volume (the subcells
