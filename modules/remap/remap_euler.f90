@@ -332,7 +332,7 @@ module remap_euler
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
     real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
-    real(wp), allocatable :: wreg(:)            !< smallest density of the region's reconstruction (`region_floors`)
+    real(wp), allocatable :: wreg(:)            !< smallest density of the region's reconstruction (`region_floor`)
     real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
     !> volume given away (ncell + nslot), in units of 2^-50 of the region's
@@ -1482,7 +1482,7 @@ contains
       old%grho(:, ncell + 1:) = 0.0_wp
       old%ge(:, ncell + 1:) = 0.0_wp
     end if
-    call region_floors(g, h, mx, old)
+    ! (with the regions' floors: `region_floor`)
     call subcell_shifts(g, h, mx, old, size(gap_face) == 0)
     ! the changed cells' nodes
     call node_list(g, old%lchanged, old%node, old%lnode, err)
@@ -1610,9 +1610,10 @@ contains
     end do
   end subroutine mof_cell
 
-  !> Each region's smallest density wreg: its limited linear density's
-  !> smallest value at the cell's nodes (the density is linear, so it is
-  !> smallest at a node of the cell, and the region lies within the cell).
+  !> Region r's smallest density wreg (its cell's nodes xn): its limited
+  !> linear density's smallest value at the cell's nodes (the density is
+  !> linear, so it is smallest at a node of the cell, and the region lies
+  !> within the cell).
   !> A fragment of volume v whose centroid lies delta from the region's
   !> centroid gets the mass v rho(x_f) and the energy m_f e + rho_r v
   !> ge.delta, so its specific energy is e + (rho_r/rho(x_f)) ge.delta:
@@ -1623,50 +1624,24 @@ contains
   !> limited one: every fragment's energy stays within the old neighbours'
   !> bounds. The velocity's linear part is weighted the same way
   !> (`deposit`). Conservation is untouched (it holds for any gradient).
-  subroutine region_floors(g, h, mx, old)
-    type(grid_t), intent(in) :: g
-    type(hydro_t), intent(in) :: h
-    type(mixed_t), intent(in) :: mx
+  !> Taken for each changed cell's regions in `subcell_shifts`' loop.
+  pure subroutine region_floor(old, r, xn)
     type(old_t), intent(inout) :: old
-    real(wp) :: xn(3, 8)
-    integer :: i, c, s, s0, s1
-
-    !$omp parallel do default(none) shared(g, h, mx, old) private(i, c, s, s0, s1, xn) schedule(static)
-    do i = 1, size(old%lchanged)
-      c = old%lchanged(i)
-      call g%gather(c, g%x, xn)
-      call region_slots(h, mx, c, s0, s1)
-      if (s0 == 0) then
-        call floor_of(c, xn)
-      else
-        do s = s0, s1
-          call floor_of(g%ncell + s, xn)
-        end do
-      end if
+    integer, intent(in) :: r
+    real(wp), intent(in) :: xn(3, 8)
+    integer :: a_
+    real(wp) :: rmin
+    rmin = old%rho(r)
+    do a_ = 1, 8
+      rmin = min(rmin, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
     end do
-    !$omp end parallel do
-
-  contains
-
-    !> Region r of the cell with nodes xn (passed: the loop's private copy,
-    !> which host association would not see).
-    subroutine floor_of(r, xn)
-      integer, intent(in) :: r
-      real(wp), intent(in) :: xn(3, 8)
-      integer :: a_
-      real(wp) :: rmin
-      rmin = old%rho(r)
-      do a_ = 1, 8
-        rmin = min(rmin, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
-      end do
-      old%wreg(r) = max(rmin, 0.0_wp)
-      if (old%rho(r) > 0.0_wp) then
-        old%ge(:, r) = old%ge(:, r)*old%wreg(r)/old%rho(r)
-      else
-        old%ge(:, r) = 0.0_wp
-      end if
-    end subroutine floor_of
-  end subroutine region_floors
+    old%wreg(r) = max(rmin, 0.0_wp)
+    if (old%rho(r) > 0.0_wp) then
+      old%ge(:, r) = old%ge(:, r)*old%wreg(r)/old%rho(r)
+    else
+      old%ge(:, r) = 0.0_wp
+    end if
+  end subroutine region_floor
 
   !> Limited least-squares gradients of each material's density and energy
   !> about the region centroids, over the cells that hold the material.
@@ -1789,6 +1764,15 @@ contains
       end do
       if (means) call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       call g%gather(c, g%x, xn)
+      ! its regions' floors (`region_floor`), read below
+      call region_slots(h, mx, c, s0, s1)
+      if (s0 == 0) then
+        call region_floor(old, c, xn)
+      else
+        do s = s0, s1
+          call region_floor(old, g%ncell + s, xn)
+        end do
+      end if
       ! (`remap_swept_blockers`' numbers where it tested these very nodes)
       kept = .false.
       if (allocated(old%dpos) .and. allocated(old%dkeep)) then
@@ -1809,7 +1793,6 @@ contains
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
-      call region_slots(h, mx, c, s0, s1)
       ! (set whole below for a pure cell that is not tangled)
       if (s0 /= 0 .or. old%uniform(c)) then
         old%wv(:, c) = 0.0_wp
@@ -1918,7 +1901,7 @@ contains
   !> region r of that control volume (volume v, first moment m) adds
   !>   w_r G_n (m - X_n v)
   !> to the momentum it carries (`deposit`), w_r the region's smallest
-  !> density (`region_floors`): its velocity is then u + (w_r/rho(x_f))
+  !> density (`region_floor`): its velocity is then u + (w_r/rho(x_f))
   !> G_n (x_f - X_n), within the limited range whatever the densities, and
   !> X_n, the centroid of the moved subcells around n weighted by w_r, makes
   !> these terms add up to zero over the node: momentum is conserved exactly
