@@ -4308,7 +4308,7 @@ contains
     !> the cells whose state may have been written (`remap_euler_step`)
     integer, allocatable, intent(out), optional :: written(:)
     type(mixed_t) :: nx
-    integer, allocatable :: nmix(:), visit(:)
+    integer, allocatable :: nmix(:), visit(:), n0(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale, short_c
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
@@ -4457,9 +4457,11 @@ contains
     !$omp end parallel do
     h%mnode(old%lnode) = 0.0_wp
     h%u(:, old%lnode) = 0.0_wp
+    ! (the near cells' first nodes, for the loops over their corners below)
+    n0 = [(g%node0(old%lnear(i)), i = 1, size(old%lnear))]
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
@@ -4480,7 +4482,7 @@ contains
     dk(old%lnode) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         k = n + g%corner_offset(a)
         if (.not. old%node(k)) cycle
@@ -4519,7 +4521,7 @@ contains
     navail(old%lnode) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*(avail(c) + kdef(c))
@@ -4531,7 +4533,7 @@ contains
     rdef(old%lnear) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
