@@ -111,7 +111,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
-  use remap_swept, only: swept_triangle, swept_triangles
+  use remap_swept, only: swept_triangles
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
@@ -280,6 +280,14 @@ module remap_euler
     !> the per-cell and per-node arrays elsewhere are not set, and not read;
     !> a debug build fills them with NaN)
     integer, allocatable :: lchanged(:), lnear(:), lnode(:)
+    !> `remap_swept_blockers`' tangle tests, kept for `subcell_shifts`,
+    !> which needs the same numbers (`half_dets` of the same points): per
+    !> cell its entry of dkeep (dpos, 0: none; the cells with one, dcells),
+    !> an entry the cell's old nodes as gathered (1:24) and six times its
+    !> halves' volumes (25:72). An entry is read only where the nodes are
+    !> still those, bit for bit (the grid may have moved since).
+    integer, allocatable :: dpos(:), dcells(:)
+    real(wp), allocatable :: dkeep(:, :)
     !> the changed cells are remapped through the regions their subcells'
     !> faces sweep, not by intersection (`remap_params_t`)
     logical :: swept = .false.
@@ -324,7 +332,7 @@ module remap_euler
     real(wp), allocatable :: rho(:), e(:)       !< mean density (mass / region volume), energy
     real(wp), allocatable :: xr(:, :)           !< region centroid (3, ncell + nslot)
     real(wp), allocatable :: grho(:, :), ge(:, :)   !< gradients (3, ncell + nslot)
-    real(wp), allocatable :: wreg(:)            !< smallest density of the region's reconstruction (`region_floors`)
+    real(wp), allocatable :: wreg(:)            !< smallest density of the region's reconstruction (`region_floor`)
     real(wp), allocatable :: pn(:, :), pd(:)    !< MoF plane of each slot (n.x <= d)
     real(wp), allocatable :: vreg(:)            !< region volume (ncell + nslot)
     !> volume given away (ncell + nslot), in units of 2^-50 of the region's
@@ -372,7 +380,7 @@ module remap_euler
   type :: remap_work_t
     type(old_t) :: old
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
-                             cke(:, :), cland(:, :), cdef(:, :), pcell(:, :)
+                             cke(:, :), cland(:, :), cdef(:, :), pcell(:, :), vcell(:)
     integer, allocatable :: reach(:), gaps(:)
     logical, allocatable :: redo(:)
   end type remap_work_t
@@ -473,7 +481,7 @@ contains
     type(lattice_old_t) :: lat
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
-                             pcell(:, :)
+                             pcell(:, :), vcell(:)
     integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
     logical, allocatable :: redo(:), beyond(:)
     integer(i8), allocatable :: before(:)
@@ -508,7 +516,7 @@ contains
       if (present(work)) call take_sums()
       if (.not. allocated(avol)) allocate(avol(nmat, ncell), amom(3, nmat, ncell), amass(nmat, ncell), &
                aie(nmat, ncell), cmass(8, ncell), cmom(3, 8, ncell), cke(8, ncell), cland(8, ncell), cdef(8, ncell), &
-               pcell(4, ncell), reach(ncell), &
+               pcell(4, ncell), vcell(ncell), reach(ncell), &
                redo(ncell), gaps(ncell), stat=stat, errmsg=msg)
       if (stat /= 0) then
         call error_set(err, 'remap_euler_step', error_no_memory('work arrays'))
@@ -612,6 +620,8 @@ contains
           c = todo(i)
           call g%gather(c, xnew, xn)
           vnew = hex_volume(xn)
+          ! (the new cell's volume, for `assemble`)
+          vcell(c) = vnew
           defect = abs(sum(avol(:, c)) - vnew)/abs(vnew)
           if (gap_of(c) > 0 .and. defect > uncovered_tol .and. old%swept) then
             ! (the swept faces leave the gap itself to `open_faces`)
@@ -746,10 +756,10 @@ contains
       w0 = wall_seconds()
       if (windowed) then
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, own, zone%own_node)
+                      vcell, stats, err, own, zone%own_node)
       else
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, written=written)
+                      vcell, stats, err, written=written)
         if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
         stats%change_known = .not. allocated(err)
       end if
@@ -787,6 +797,7 @@ contains
       call move_alloc(work%cland, cland)
       call move_alloc(work%cdef, cdef)
       call move_alloc(work%pcell, pcell)
+      call move_alloc(work%vcell, vcell)
       call move_alloc(work%reach, reach)
       call move_alloc(work%redo, redo)
       call move_alloc(work%gaps, gaps)
@@ -804,6 +815,7 @@ contains
       call move_alloc(cland, work%cland)
       call move_alloc(cdef, work%cdef)
       call move_alloc(pcell, work%pcell)
+      call move_alloc(vcell, work%vcell)
       call move_alloc(reach, work%reach)
       call move_alloc(redo, work%redo)
       call move_alloc(gaps, work%gaps)
@@ -1272,7 +1284,7 @@ contains
     class(share_t), intent(in), optional :: share
     logical, intent(in), optional :: own(:)   !< the cells the stats count (absent: every cell)
     integer, intent(in), optional :: moved(:)  !< the changed cells (`remap_euler_step`)
-    real(wp) :: xn(3, 8), errmax
+    real(wp) :: xn(3, 8), errmax, ua(3, 8)
     integer :: c, ci, cj, ck, n, a_, k, s, nm, ncell, nreg, j, nmof, nits, nfail, nf
     logical :: ok
     logical, allocatable :: mine(:)
@@ -1365,26 +1377,22 @@ contains
     old%sshift = 0.0_wp
     old%pn = 0.0_wp
     old%pd = 1.0_wp
-    ! mean velocities and kinetic energies per unit mass (subcell masses: Eq. 16)
-    !$omp parallel do default(none) shared(g, h, old) private(j, c, n, a_) schedule(static)
-    do j = 1, size(old%lnear)
-      c = old%lnear(j)
-      n = g%node0(c)
-      old%ucell(:, c) = 0.0_wp
-      old%kcell(c) = 0.0_wp
-      old%uref(:, c) = 0.0_wp
-      do a_ = 1, 8
-        old%ucell(:, c) = old%ucell(:, c) + h%mcorner(a_, c)*h%u(:, n + g%corner_offset(a_))
-        old%uref(:, c) = old%uref(:, c) + h%u(:, n + g%corner_offset(a_))
+    ! mean velocities and kinetic energies per unit mass (subcell masses:
+    ! Eq. 16), read only where a cell hands out fragments (the changed
+    ! cells: `subcell_shifts` takes them there) or fills a gap at an open
+    ! face (`open_faces`: any near cell, so all of them here)
+    if (size(gap_face) > 0) then
+      !$omp parallel do default(none) shared(g, h, old) private(j, c, n, a_, ua) schedule(static)
+      do j = 1, size(old%lnear)
+        c = old%lnear(j)
+        n = g%node0(c)
+        do a_ = 1, 8
+          ua(:, a_) = h%u(:, n + g%corner_offset(a_))
+        end do
+        call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       end do
-      old%ucell(:, c) = old%ucell(:, c)/sum(h%mcorner(:, c))
-      old%uref(:, c) = 0.125_wp*old%uref(:, c)
-      do a_ = 1, 8
-        old%kcell(c) = old%kcell(c) + 0.5_wp*h%mcorner(a_, c)*sum((h%u(:, n + g%corner_offset(a_)) - old%ucell(:, c))**2)
-      end do
-      old%kcell(c) = old%kcell(c)/sum(h%mcorner(:, c))
-    end do
-    !$omp end parallel do
+      !$omp end parallel do
+    end if
 
     ! regions: pure cells whole (the split's volume and centroid); mixed
     ! cells that moved cut by MoF
@@ -1474,8 +1482,8 @@ contains
       old%grho(:, ncell + 1:) = 0.0_wp
       old%ge(:, ncell + 1:) = 0.0_wp
     end if
-    call region_floors(g, h, mx, old)
-    call subcell_shifts(g, h, mx, old)
+    ! (with the regions' floors: `region_floor`)
+    call subcell_shifts(g, h, mx, old, size(gap_face) == 0)
     ! the changed cells' nodes
     call node_list(g, old%lchanged, old%node, old%lnode, err)
     if (allocated(err)) return
@@ -1602,9 +1610,10 @@ contains
     end do
   end subroutine mof_cell
 
-  !> Each region's smallest density wreg: its limited linear density's
-  !> smallest value at the cell's nodes (the density is linear, so it is
-  !> smallest at a node of the cell, and the region lies within the cell).
+  !> Region r's smallest density wreg (its cell's nodes xn): its limited
+  !> linear density's smallest value at the cell's nodes (the density is
+  !> linear, so it is smallest at a node of the cell, and the region lies
+  !> within the cell).
   !> A fragment of volume v whose centroid lies delta from the region's
   !> centroid gets the mass v rho(x_f) and the energy m_f e + rho_r v
   !> ge.delta, so its specific energy is e + (rho_r/rho(x_f)) ge.delta:
@@ -1615,50 +1624,24 @@ contains
   !> limited one: every fragment's energy stays within the old neighbours'
   !> bounds. The velocity's linear part is weighted the same way
   !> (`deposit`). Conservation is untouched (it holds for any gradient).
-  subroutine region_floors(g, h, mx, old)
-    type(grid_t), intent(in) :: g
-    type(hydro_t), intent(in) :: h
-    type(mixed_t), intent(in) :: mx
+  !> Taken for each changed cell's regions in `subcell_shifts`' loop.
+  pure subroutine region_floor(old, r, xn)
     type(old_t), intent(inout) :: old
-    real(wp) :: xn(3, 8)
-    integer :: i, c, s, s0, s1
-
-    !$omp parallel do default(none) shared(g, h, mx, old) private(i, c, s, s0, s1, xn) schedule(static)
-    do i = 1, size(old%lchanged)
-      c = old%lchanged(i)
-      call g%gather(c, g%x, xn)
-      call region_slots(h, mx, c, s0, s1)
-      if (s0 == 0) then
-        call floor_of(c, xn)
-      else
-        do s = s0, s1
-          call floor_of(g%ncell + s, xn)
-        end do
-      end if
+    integer, intent(in) :: r
+    real(wp), intent(in) :: xn(3, 8)
+    integer :: a_
+    real(wp) :: rmin
+    rmin = old%rho(r)
+    do a_ = 1, 8
+      rmin = min(rmin, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
     end do
-    !$omp end parallel do
-
-  contains
-
-    !> Region r of the cell with nodes xn (passed: the loop's private copy,
-    !> which host association would not see).
-    subroutine floor_of(r, xn)
-      integer, intent(in) :: r
-      real(wp), intent(in) :: xn(3, 8)
-      integer :: a_
-      real(wp) :: rmin
-      rmin = old%rho(r)
-      do a_ = 1, 8
-        rmin = min(rmin, old%rho(r) + dot_product(old%grho(:, r), xn(:, a_) - old%xr(:, r)))
-      end do
-      old%wreg(r) = max(rmin, 0.0_wp)
-      if (old%rho(r) > 0.0_wp) then
-        old%ge(:, r) = old%ge(:, r)*old%wreg(r)/old%rho(r)
-      else
-        old%ge(:, r) = 0.0_wp
-      end if
-    end subroutine floor_of
-  end subroutine region_floors
+    old%wreg(r) = max(rmin, 0.0_wp)
+    if (old%rho(r) > 0.0_wp) then
+      old%ge(:, r) = old%ge(:, r)*old%wreg(r)/old%rho(r)
+    else
+      old%ge(:, r) = 0.0_wp
+    end if
+  end subroutine region_floor
 
   !> Limited least-squares gradients of each material's density and energy
   !> about the region centroids, over the cells that hold the material.
@@ -1753,57 +1736,94 @@ contains
   !> negative. A uniform velocity has s_c = 0 and k_c = 0: it stays uniform
   !> exactly. A tangled cell (an inverted half) hands out its mean velocity
   !> and kinetic energy per unit mass only (uniform).
-  subroutine subcell_shifts(g, h, mx, old)
+  subroutine subcell_shifts(g, h, mx, old, means)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(inout) :: old
+    !> the cells' mean velocities (`mean_velocity`) are taken here (else
+    !> the caller took them)
+    logical, intent(in) :: means
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
-                ua(3, 8), mc, kc, ksum, det6(48)
-    integer :: c, j, i, n, hv(4, 48), corner(48), s, s0, s1, nm, r, ic
+                ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
+    integer :: c, j, i, n, s, s0, s1, nm, r, ic
+    logical :: kept
 
     ! (only moved cells hand out fragments: the others' entries are not read)
-    !$omp parallel do default(none) shared(g, h, mx, old) &
-    !$omp private(ic, c, j, i, n, xn, pts, hv, corner, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6) &
+    !$omp parallel do default(none) shared(g, h, mx, old, means) &
+    !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
+    !$omp sub, kept) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
       old%ushift(:, c) = 0.0_wp
       old%kshift(c) = 0.0_wp
-      old%wv(:, c) = 0.0_wp
-      old%ws(:, :, c) = 0.0_wp
-      old%sub(:, :, c) = 0.0_wp
+      n = g%node0(c)
+      do j = 1, 8
+        ua(:, j) = h%u(:, n + g%corner_offset(j))
+      end do
+      if (means) call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       call g%gather(c, g%x, xn)
+      ! its regions' floors (`region_floor`), read below
+      call region_slots(h, mx, c, s0, s1)
+      if (s0 == 0) then
+        call region_floor(old, c, xn)
+      else
+        do s = s0, s1
+          call region_floor(old, g%ncell + s, xn)
+        end do
+      end if
+      ! (`remap_swept_blockers`' numbers where it tested these very nodes)
+      kept = .false.
+      if (allocated(old%dpos) .and. allocated(old%dkeep)) then
+        if (size(old%dpos) == g%ncell) then
+          if (old%dpos(c) > 0) kept = same_bits(xn, old%dkeep(1:24, old%dpos(c)))
+        end if
+      end if
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
-      call half_tets(xn, pts, hv, corner)
-      call half_dets(pts, det6)
+      call half_points(xn, pts)
+      if (kept) then
+        det6 = old%dkeep(25:72, old%dpos(c))
+      else
+        call half_dets(pts, det6)
+      end if
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
-      call region_slots(h, mx, c, s0, s1)
-      do i = 1, 48
-        if (old%uniform(c)) exit
-        if (s0 == 0) then
-          ! (a pure cell's subcells whole: their mass and weights below)
+      ! (set whole below for a pure cell that is not tangled)
+      if (s0 /= 0 .or. old%uniform(c)) then
+        old%wv(:, c) = 0.0_wp
+        old%ws(:, :, c) = 0.0_wp
+        old%sub(:, :, c) = 0.0_wp
+      end if
+      if (s0 == 0 .and. .not. old%uniform(c)) then
+        ! (a pure cell's subcells whole: their mass and weights below;
+        ! summed here, then stored)
+        sub = 0.0_wp
+        do i = 1, 48
           v = det6(i)/6.0_wp
-          old%sub(:, corner(i), c) = old%sub(:, corner(i), c) + &
-            [v, 0.25_wp*v*(pts(:, 1) + pts(:, hv(2, i)) + pts(:, hv(3, i)) + pts(:, hv(4, i)))]
-          cycle
-        end if
+          sub(1, half_corner(i)) = sub(1, half_corner(i)) + v
+          sub(2:4, half_corner(i)) = sub(2:4, half_corner(i)) + &
+            0.25_wp*v*(pts(:, 1) + pts(:, half_hv(2, i)) + pts(:, half_hv(3, i)) + pts(:, half_hv(4, i)))
+        end do
+        old%sub(:, :, c) = sub
+      end if
+      do i = 1, 48
+        if (old%uniform(c) .or. s0 == 0) exit
         do j = 1, 4
-          t(:, j) = pts(:, hv(j, i))
+          t(:, j) = pts(:, half_hv(j, i))
         end do
         do s = s0, s1
           if (.not. mx%mass(s) > 0.0_wp) cycle
           call region_planes(old, s0, s, o, pn, pd, nm)
           call region_piece(t, pn(:, 1:nm), pd(1:nm), v, m)
           if (.not. v > 0.0_wp) cycle
-          msub(corner(i)) = msub(corner(i)) + region_mass(g%ncell + s, v, m, o)
-          old%wv(corner(i), c) = old%wv(corner(i), c) + old%wreg(g%ncell + s)*v
-          old%ws(:, corner(i), c) = old%ws(:, corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
+          msub(half_corner(i)) = msub(half_corner(i)) + region_mass(g%ncell + s, v, m, o)
+          old%wv(half_corner(i), c) = old%wv(half_corner(i), c) + old%wreg(g%ncell + s)*v
+          old%ws(:, half_corner(i), c) = old%ws(:, half_corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
         end do
       end do
       if (old%uniform(c)) then
@@ -1814,17 +1834,15 @@ contains
       if (s0 == 0) then
         ! (all linear in a piece's volume and moment: once per subcell)
         do j = 1, 8
-          v = old%sub(1, j, c)
-          m = old%sub(2:4, j, c)
+          v = sub(1, j)
+          m = sub(2:4, j)
           msub(j) = region_mass(c, v, m, o)
           old%wv(j, c) = old%wreg(c)*v
           old%ws(:, j, c) = old%wreg(c)*(m + o*v)
         end do
       end if
-      n = g%node0(c)
       mc = sum(h%mcorner(:, c))
       do j = 1, 8
-        ua(:, j) = h%u(:, n + g%corner_offset(j))
         old%ushift(:, c) = old%ushift(:, c) + (h%mcorner(j, c) - msub(j))*ua(:, j)
       end do
       old%ushift(:, c) = old%ushift(:, c)/mc
@@ -1851,6 +1869,28 @@ contains
     end function region_mass
   end subroutine subcell_shifts
 
+  !> A cell's mean velocity ucell (its corner masses mc, Eq. 16, and corner
+  !> velocities ua), the mean of its corner velocities uref and its
+  !> kinetic energy per unit mass about ucell, kcell (`old_t`).
+  pure subroutine mean_velocity(mc, ua, ucell, uref, kcell)
+    real(wp), intent(in) :: mc(8), ua(3, 8)
+    real(wp), intent(out) :: ucell(3), uref(3), kcell
+    integer :: a
+    ucell = 0.0_wp
+    kcell = 0.0_wp
+    uref = 0.0_wp
+    do a = 1, 8
+      ucell = ucell + mc(a)*ua(:, a)
+      uref = uref + ua(:, a)
+    end do
+    ucell = ucell/sum(mc)
+    uref = 0.125_wp*uref
+    do a = 1, 8
+      kcell = kcell + 0.5_wp*mc(a)*sum((ua(:, a) - ucell)**2)
+    end do
+    kcell = kcell/sum(mc)
+  end subroutine mean_velocity
+
   !> The second-order part of the velocity remap: about each node n, the
   !> velocity u_n + G_n (x - X_n) over its control volume (the subcells
   !> around it, Fig. 11), G_n the limited least-squares gradient over the
@@ -1861,7 +1901,7 @@ contains
   !> region r of that control volume (volume v, first moment m) adds
   !>   w_r G_n (m - X_n v)
   !> to the momentum it carries (`deposit`), w_r the region's smallest
-  !> density (`region_floors`): its velocity is then u + (w_r/rho(x_f))
+  !> density (`region_floor`): its velocity is then u + (w_r/rho(x_f))
   !> G_n (x_f - X_n), within the limited range whatever the densities, and
   !> X_n, the centroid of the moved subcells around n weighted by w_r, makes
   !> these terms add up to zero over the node: momentum is conserved exactly
@@ -1927,9 +1967,11 @@ contains
         do dk_ = k, k + 1
           do dj = j, j + 1
             do di = i, i + 1
+              ! (the index `grid_node` gives, written out: no call per node)
+              m = dual%nbase + di + dual%sx*dj + dual%sxy*dk_
               if (pass == 1) then
-                xd(1, dual%node(di, dj, dk_)) = nan
-              else if (ieee_is_nan(xd(1, dual%node(di, dj, dk_)))) then
+                xd(1, m) = nan
+              else if (ieee_is_nan(xd(1, m))) then
                 call dual_node(di, dj, dk_)
               end if
             end do
@@ -1952,7 +1994,7 @@ contains
       do kk = max(kd - 1, 0), min(kd, g%nk)
         do jj = max(jd - 1, 0), min(jd, g%nj)
           do ii = max(id - 1, 0), min(id, g%ni)
-            xd(:, m) = xd(:, m) + g%x(:, g%node(ii, jj, kk))
+            xd(:, m) = xd(:, m) + g%x(:, g%nbase + ii + g%sx*jj + g%sxy*kk)
             nsum = nsum + 1
           end do
         end do
@@ -2019,12 +2061,12 @@ contains
     real(wp), intent(in) :: avol(:, :), amass(:, :), aie(:, :), vf_min
     real(wp), parameter :: slack = 1.0e-9_wp
     real(wp) :: rlo, rhi, elo, ehi, vtot, mtot, rho, e
-    integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s
+    integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r
     logical :: bad, found
 
     nbad = 0
     !$omp parallel do default(none) shared(g, h, mx, old, cells, avol, amass, aie, vf_min) &
-    !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
+    !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
     !$omp reduction(+:nbad) schedule(static)
     do i = 1, size(cells)
       c = cells(i)
@@ -2042,34 +2084,41 @@ contains
           bad = .true.
           exit
         end if
-        rlo = huge(1.0_wp)
-        rhi = -huge(1.0_wp)
-        elo = huge(1.0_wp)
-        ehi = -huge(1.0_wp)
-        found = .false.
-        do ok_ = max(g%clo(3), ck - 2), min(g%chi(3), ck + 2)
-          do oj = max(g%clo(2), cj - 2), min(g%chi(2), cj + 2)
-            do oi = max(g%clo(1), ci - 2), min(g%chi(1), ci + 2)
-              co = c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)
-              if (.not. old%near(co)) cycle
-              if (h%mat(co) == k) then
-                call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
-              else if (h%mat(co) <= 0) then
-                do s = mx%start(-h%mat(co)), mx%start(-h%mat(co) + 1) - 1
-                  if (mx%mat(s) == k .and. mx%mass(s) > 0.0_wp) &
-                    call widen(old%rho(g%ncell + s), old%e(g%ncell + s), found, rlo, rhi, elo, ehi)
-                end do
-              end if
+        ! the cells within one index step first: their bounds lie within
+        ! those of the cells within two, and each test below only loosens
+        ! as the bounds widen, so a material within the first is within
+        ! the second (the 27 cells settle most, not the 125)
+        do r = 1, 2
+          rlo = huge(1.0_wp)
+          rhi = -huge(1.0_wp)
+          elo = huge(1.0_wp)
+          ehi = -huge(1.0_wp)
+          found = .false.
+          do ok_ = max(g%clo(3), ck - r), min(g%chi(3), ck + r)
+            do oj = max(g%clo(2), cj - r), min(g%chi(2), cj + r)
+              do oi = max(g%clo(1), ci - r), min(g%chi(1), ci + r)
+                co = c + (oi - ci) + g%cx*(oj - cj) + g%cxy*(ok_ - ck)
+                if (.not. old%near(co)) cycle
+                if (h%mat(co) == k) then
+                  call widen(old%rho(co), old%e(co), found, rlo, rhi, elo, ehi)
+                else if (h%mat(co) <= 0) then
+                  do s = mx%start(-h%mat(co)), mx%start(-h%mat(co) + 1) - 1
+                    if (mx%mat(s) == k .and. mx%mass(s) > 0.0_wp) &
+                      call widen(old%rho(g%ncell + s), old%e(g%ncell + s), found, rlo, rhi, elo, ehi)
+                  end do
+                end if
+              end do
             end do
           end do
+          rho = amass(k, c)/avol(k, c)
+          e = aie(k, c)/amass(k, c)
+          ! (no slack below zero: a cold material stays cold, not negative by
+          ! a round-off the intersection does not make)
+          bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
+                e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi)) .or. &
+                (elo >= 0.0_wp .and. e < 0.0_wp)
+          if (.not. bad) exit
         end do
-        rho = amass(k, c)/avol(k, c)
-        e = aie(k, c)/amass(k, c)
-        ! (no slack below zero: a cold material stays cold, not negative by
-        ! a round-off the intersection does not make)
-        bad = .not. found .or. rho < rlo - slack*abs(rlo) .or. rho > rhi + slack*abs(rhi) .or. &
-              e < elo - slack*max(abs(elo), abs(ehi)) .or. e > ehi + slack*max(abs(elo), abs(ehi)) .or. &
-              (elo >= 0.0_wp .and. e < 0.0_wp)
       end do
       if (bad) nbad = nbad + 1
     end do
@@ -2236,12 +2285,13 @@ contains
     !> the cells counted (those of own that move and cannot), in
     !> increasing order
     integer, allocatable, intent(out), optional :: blockers(:)
-    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, v, m(3), vb, rmax
-    logical :: other, wall(6)
-    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
+    logical :: other, wall(6), keep
+    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat, tri(3, 48), nt
     logical :: ok
-    logical, allocatable :: changed(:), blocks(:)
+    logical, allocatable :: changed(:), blocks(:), dset(:)
     integer, allocatable :: list(:)
+    real(wp), allocatable :: kept(:, :)
     type(error_t), allocatable :: err
 
     nblock = 1
@@ -2275,14 +2325,25 @@ contains
       nblock = 1
       return
     end if
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
+    ! (the tangle tests kept for the remap: `old_t`'s dkeep)
+    keep = .false.
+    if (present(work)) keep = dets_ready(work%old, g%ncell)
+    if (keep) allocate(kept(72, size(list)), dset(size(list)), stat=stat)
+    if (keep) keep = stat == 0
+    if (keep) dset = .false.
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, kept, dset) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
-    !$omp dmax2, v, m, vb) schedule(static)
+    !$omp dmax2, vw, mw, vb, tri, nt) schedule(static)
     do i = 1, size(list)
       c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      if (keep) then
+        do a = 1, 8
+          kept(3*a - 2:3*a, i) = xo(:, a)
+        end do
+      end if
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
@@ -2317,32 +2378,85 @@ contains
           do a = 1, 8
             xo(:, a) = xo(:, a) - o
           end do
-          call half_tets(xo, opts, hv, hc)
+          call half_points(xo, opts)
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         ok = ok .and. all(det6 > 0.0_wp)
+        if (keep) then
+          kept(25:72, i) = det6
+          dset(i) = .true.
+        end if
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
+        ! (the wall faces' triangles in one call: `swept_triangles`)
+        nt = 0
         do f = 1, 6
           if (.not. wall(f)) cycle
           do t = 8*f - 7, 8*f
-            call swept_triangle(opts(:, hv(2, t)), opts(:, hv(3, t)), opts(:, hv(4, t)), &
-                                pts(:, hv(2, t)), pts(:, hv(3, t)), pts(:, hv(4, t)), v, m)
-            ok = ok .and. abs(v) <= 1.0e-12_wp*vb
+            nt = nt + 1
+            tri(:, nt) = half_hv(2:4, t)
           end do
         end do
+        if (nt > 0) then
+          call swept_triangles(opts, pts, tri(:, 1:nt), vw, mw)
+          ok = ok .and. all(abs(vw(1:nt)) <= 1.0e-12_wp*vb)
+        end if
       end if
       blocks(i) = .not. ok
       if (.not. ok) nblock = nblock + 1
     end do
     !$omp end parallel do
+    if (keep) then
+      do i = 1, size(list)
+        if (dset(i)) work%old%dpos(list(i)) = i
+      end do
+      call move_alloc(kept, work%old%dkeep)
+      work%old%dcells = list
+    end if
     if (present(blockers)) blockers = pack(list, blocks)
     if (present(parts)) then
       parts = 0
       if (.not. other .and. rmax < real(huge(1), wp)*smax) parts = max(ceiling(rmax/smax), 1)
     end if
   end function remap_swept_blockers
+
+  !> Whether the 24 numbers a and b are the same bit for bit (an exact
+  !> test, NaN and signed zeros included: not a comparison of values).
+  pure logical function same_bits(a, b) result(same)
+    real(wp), intent(in) :: a(24), b(24)
+    integer :: i
+    same = .true.
+    do i = 1, 24
+      if (transfer(a(i), 0_i8) /= transfer(b(i), 0_i8)) then
+        same = .false.
+        return
+      end if
+    end do
+  end function same_bits
+
+  !> old's kept tangle tests (`old_t`'s dkeep) emptied, its map dpos
+  !> sized for a grid of ncell cells (false: no memory for it).
+  logical function dets_ready(old, ncell) result(ok)
+    type(old_t), intent(inout) :: old
+    integer, intent(in) :: ncell
+    integer :: stat
+    ok = .false.
+    stat = 0
+    if (allocated(old%dpos)) then
+      if (size(old%dpos) /= ncell) deallocate(old%dpos)
+    end if
+    if (allocated(old%dpos)) then
+      if (allocated(old%dcells)) old%dpos(old%dcells) = 0
+    else
+      allocate(old%dpos(ncell), stat=stat)
+      if (stat /= 0) return
+      old%dpos = 0
+    end if
+    if (allocated(old%dcells)) deallocate(old%dcells)
+    if (allocated(old%dkeep)) deallocate(old%dkeep)
+    ok = .true.
+  end function dets_ready
 
   !> The square of the shortest of the hexahedron xo's twelve edges.
   pure function shortest_edge2(xo) result(h2)
@@ -2530,21 +2644,38 @@ contains
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
                 od(4, 48), ub(3), kemb, wb
+    ! the sources' numbers (`source`, `deposit`), kept for the last few
+    ! regions (tags rk: with their cell's) and nodes (tags nk) this cell's
+    ! sources came from: entry ir of the region's, in of the node's
+    integer, parameter :: nkeep = 8
+    real(wp) :: rxo(3, nkeep), rrho(nkeep), rgrho(3, nkeep), rge(3, nkeep), re(nkeep), rsc(nkeep), rscrho(nkeep), &
+                rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
+                ndu(3, nkeep), urefc(3)
+    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in
+    logical :: runi(nkeep)
+    ! what `deposit` adds up, in arrays of this call (not through the
+    ! dummies' descriptors at every fragment): avol, amom, amass, aie,
+    ! pcell, cmom, cland, cdef while the fragments are booked
+    real(wp) :: svol(max_mat), smom(3, max_mat), smass(max_mat), sie(max_mat), spc(4), scmom(3, 8), scland(8), &
+                scdef(8)
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
-    integer :: hcorner(48), hv(4, 48), tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
+    integer :: tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
                j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb, n0c
     logical :: box
 
     call g%cell_ijk(c, ci, cj, ck)
     n0c = g%cell_node0(ci, cj, ck)
+    nrk = 0
+    nnk = 0
+    urefc = old%uref(:, c)
     call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
     ! local coordinates about the new cell's centre: round-off scales with the cell
     o = sum(xn, 2)/8.0_wp
     do j = 1, 8
       xn(:, j) = xn(:, j) - o
     end do
-    call half_tets(xn, pts, hv, hcorner)
+    call half_points(xn, pts)
     avol = 0.0_wp
     amom = 0.0_wp
     amass = 0.0_wp
@@ -2558,12 +2689,14 @@ contains
       if (any(old%open)) then
         do t = 1, 48
           do j = 1, 4
-            ht(:, j, t) = pts(:, hv(j, t))
+            ht(:, j, t) = pts(:, half_hv(j, t))
           end do
-          cdef(hcorner(t)) = cdef(hcorner(t)) + tet_det(ht(:, :, t))/6.0_wp
+          cdef(half_corner(t)) = cdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
         end do
       end if
+      call sums_in()
       call swept_fluxes()
+      call sums_out()
       do kmat = 1, size(avol)
         amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
       end do
@@ -2572,8 +2705,8 @@ contains
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
-        ht(:, j, t) = pts(:, hv(j, t))
-        tmask(t) = ibset(tmask(t), hv(j, t) - 1)
+        ht(:, j, t) = pts(:, half_hv(j, t))
+        tmask(t) = ibset(tmask(t), half_hv(j, t) - 1)
       end do
       hlo(:, t) = minval(ht(:, :, t), 2)
       hhi(:, t) = maxval(ht(:, :, t), 2)
@@ -2589,7 +2722,7 @@ contains
       tv(:, 1:3, t) = ht(:, 1:3, 2*t - 1)
       tv(:, 4, t) = ht(:, 4, 2*t)
       tvmask(t) = ior(tmask(2*t - 1), tmask(2*t))
-      tvmask(t) = ibclr(tvmask(t), hv(4, 2*t - 1) - 1)
+      tvmask(t) = ibclr(tvmask(t), half_hv(4, 2*t - 1) - 1)
       tvlo(:, t) = min(hlo(:, 2*t - 1), hlo(:, 2*t))
       tvhi(:, t) = max(hhi(:, 2*t - 1), hhi(:, 2*t))
       midn(:, t) = cross(ht(:, 2, 2*t - 1) - ht(:, 1, 2*t - 1), ht(:, 4, 2*t - 1) - ht(:, 1, 2*t - 1))
@@ -2626,9 +2759,10 @@ contains
       end do
     else
       do t = 1, 48
-        cdef(hcorner(t)) = cdef(hcorner(t)) + hsg(t)*hvol(t)
+        cdef(half_corner(t)) = cdef(half_corner(t)) + hsg(t)*hvol(t)
       end do
     end if
+    call sums_in()
     do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
       do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
         do oi = max(g%clo(1), ci - reach), min(g%chi(1), ci + reach)
@@ -2693,12 +2827,41 @@ contains
         end do
       end do
     end do
+    call sums_out()
     ! first moments back to global coordinates
     do kmat = 1, size(avol)
       amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
     end do
 
   contains
+
+    !> The sums so far to `deposit`'s arrays.
+    subroutine sums_in()
+      integer :: nm_
+      nm_ = size(avol)
+      svol(1:nm_) = avol
+      smom(:, 1:nm_) = amom
+      smass(1:nm_) = amass
+      sie(1:nm_) = aie
+      spc = pcell
+      scmom = cmom
+      scland = cland
+      scdef = cdef
+    end subroutine sums_in
+
+    !> `deposit`'s sums back to the dummies.
+    subroutine sums_out()
+      integer :: nm_
+      nm_ = size(avol)
+      avol = svol(1:nm_)
+      amom = smom(:, 1:nm_)
+      amass = smass(1:nm_)
+      aie = sie(1:nm_)
+      pcell = spc
+      cmom = scmom
+      cland = scland
+      cdef = scdef
+    end subroutine sums_out
 
     !> The swept-face path (`remap_params_t`'s swept): the new cell
     !> is its old cell plus what the faces of its subcells swept,
@@ -2725,13 +2888,13 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot
-      logical :: pure
+      logical :: pure, pure_nbr(6)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
         xo(:, j) = xo(:, j) - o
       end do
-      call half_tets(xo, opts, ohv, ocorner)
+      call half_points(xo, opts)
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
@@ -2774,22 +2937,27 @@ contains
           nbr(f) = 0
         end if
       end do
+      ! (whether the cell across each face is pure: the face's sources)
+      do f = 1, 6
+        pure_nbr(f) = .false.
+        if (nbr(f) /= c .and. nbr(f) /= 0) pure_nbr(f) = h%mat(nbr(f)) > 0
+      end do
       ! the 72 triangles' swept regions at once (`swept_tri`)
       call swept_triangles(opts, pts, swept_tri, tv, tm)
       do t = 1, 24
         f = (t - 1)/4 + 1
         d = (f + 1)/2
-        ia = hcorner(2*t - 1)
-        ib = hcorner(2*t)
+        ia = half_corner(2*t - 1)
+        ib = half_corner(2*t)
         ! on the face: (face centre, a, edge midpoint) and (face centre,
         ! edge midpoint, b), counter-clockwise seen from outside
         do i = 2*t - 1, 2*t
           v = tv(i)
-          m = tm(i, :)
           if (.not. abs(v) > 0.0_wp .or. (v > 0.0_wp .and. nbr(f) == 0)) cycle
+          m = tm(i, :)
           if (v > 0.0_wp .and. nbr(f) /= c) then
-            if (h%mat(nbr(f)) > 0) then
-              acc(:, 4 + d, hcorner(i)) = acc(:, 4 + d, hcorner(i)) + [v, m]
+            if (pure_nbr(f)) then
+              acc(:, 4 + d, half_corner(i)) = acc(:, 4 + d, half_corner(i)) + [v, m]
             else if (swept_out(nbr(f), old%twin(i))) then
               ! (the region as the cell across the face split it, moved
               ! to this cell's frame)
@@ -2798,23 +2966,23 @@ contains
                 vs(s - s0 + 1) = -old%sov(old%twin(i), s)
                 ms(:, s - s0 + 1) = -old%som(:, old%twin(i), s) + vs(s - s0 + 1)*(old%so(:, s) - o)
               end do
-              call book_parts(nbr(f), hcorner(i), s0, s1, vs, ms, hcorner(i), 0)
+              call book_parts(nbr(f), half_corner(i), s0, s1, vs, ms, half_corner(i), 0)
             else
-              tp = opts(:, hv(2:4, i))
-              tn = pts(:, hv(2:4, i))
-              call swept_from(nbr(f), hcorner(i), tp, tn, v, m, hcorner(i), 0)
+              tp = opts(:, half_hv(2:4, i))
+              tn = pts(:, half_hv(2:4, i))
+              call swept_from(nbr(f), half_corner(i), tp, tn, v, m, half_corner(i), 0)
             end if
           else if (pure) then
-            acc(:, 1, hcorner(i)) = acc(:, 1, hcorner(i)) + [v, m]
+            acc(:, 1, half_corner(i)) = acc(:, 1, half_corner(i)) + [v, m]
           else if (v < 0.0_wp .and. swept_out(c, i)) then
             ! (its own region swept out, as `swept_budgets` split it)
             vs(1:s1c - s0c + 1) = old%sov(i, s0c:s1c)
             ms(:, 1:s1c - s0c + 1) = old%som(:, i, s0c:s1c)
-            call book_parts(c, hcorner(i), s0c, s1c, vs, ms, hcorner(i), 0)
+            call book_parts(c, half_corner(i), s0c, s1c, vs, ms, half_corner(i), 0)
           else
-            tp = opts(:, hv(2:4, i))
-            tn = pts(:, hv(2:4, i))
-            call swept_from(c, hcorner(i), tp, tn, v, m, hcorner(i), 0)
+            tp = opts(:, half_hv(2:4, i))
+            tn = pts(:, half_hv(2:4, i))
+            call swept_from(c, half_corner(i), tp, tn, v, m, half_corner(i), 0)
           end if
         end do
         ! between corners a and b: (edge midpoint, centre, face centre),
@@ -2822,8 +2990,8 @@ contains
         ! direction of the edge)
         i = 2*t - 1
         v = tv(48 + t)
-        m = tm(48 + t, :)
         if (.not. abs(v) > 0.0_wp) cycle
+        m = tm(48 + t, :)
         if (pure) then
           slot = 1 + edge_dir(ia, ib)
           if (v > 0.0_wp) then
@@ -2834,8 +3002,8 @@ contains
             acc(:, slot, ib) = acc(:, slot, ib) - [v, m]
           end if
         else
-          tp = opts(:, [hv(4, i), 1, hv(2, i)])
-          tn = pts(:, [hv(4, i), 1, hv(2, i)])
+          tp = opts(:, [half_hv(4, i), 1, half_hv(2, i)])
+          tn = pts(:, [half_hv(4, i), 1, half_hv(2, i)])
           call swept_from(c, merge(ib, ia, v > 0.0_wp), tp, tn, v, m, ia, ib)
         end if
       end do
@@ -2947,15 +3115,49 @@ contains
       kreg = kr
       kmat = km
       nb = node
-      if (old%uniform(co)) then
-        ub = old%ucell(:, co)
-        kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kcell(co)
-        wb = 0.0_wp
-      else
-        ub = h%u(:, nb) + old%ushift(:, co)
-        kemb = 0.5_wp*sum((ub - old%uref(:, c))**2) + old%kshift(co)
-        wb = old%wreg(kreg)
+      ! (old's numbers taken once per region and node of this cell's
+      ! sources, the last entry replaced when all are taken)
+      ir = findloc(rk(1:nrk), kr, 1)
+      if (ir == 0) then
+        nrk = min(nrk + 1, nkeep)
+        ir = nrk
+        rk(ir) = kr
+        rsc(ir) = old%scale(kr)
+        rxo(:, ir) = old%xr(:, kr) - o
+        rrho(ir) = old%rho(kr)
+        rgrho(:, ir) = old%grho(:, kr)
+        rge(:, ir) = old%ge(:, kr)
+        re(ir) = old%e(kr)
+        rscrho(ir) = rsc(ir)*rrho(ir)
+        rgunit(ir) = old%gunit(kr)
+        runi(ir) = old%uniform(co)
+        if (runi(ir)) then
+          rub(:, ir) = old%ucell(:, co)
+          rke(ir) = old%kcell(co)
+          rw(ir) = 0.0_wp
+        else
+          rub(:, ir) = old%ushift(:, co)
+          rke(ir) = old%kshift(co)
+          rw(ir) = old%wreg(kr)
+        end if
       end if
+      if (runi(ir)) then
+        ub = rub(:, ir)
+      else
+        in = findloc(nk(1:nnk), nb, 1)
+        if (in == 0) then
+          nnk = min(nnk + 1, nkeep)
+          in = nnk
+          nk(in) = nb
+          nu(:, in) = h%u(:, nb)
+          nxo(:, in) = old%xdual(:, nb) - o
+          ngu(:, :, in) = old%gu(:, :, nb)
+          ndu(:, in) = nu(:, in) - urefc
+        end if
+        ub = nu(:, in) + rub(:, ir)
+      end if
+      kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
+      wb = rw(ir)
     end subroutine source
 
     !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
@@ -3000,8 +3202,8 @@ contains
           end if
         end do
         if (ncut == 0) then
-          call deposit(sgn*hsg(2*t - 1)*hvol(2*t - 1), sgn*hsg(2*t - 1)*hmom(:, 2*t - 1), hcorner(2*t - 1))
-          call deposit(sgn*hsg(2*t)*hvol(2*t), sgn*hsg(2*t)*hmom(:, 2*t), hcorner(2*t))
+          call deposit(sgn*hsg(2*t - 1)*hvol(2*t - 1), sgn*hsg(2*t - 1)*hmom(:, 2*t - 1), half_corner(2*t - 1))
+          call deposit(sgn*hsg(2*t)*hvol(2*t), sgn*hsg(2*t)*hmom(:, 2*t), half_corner(2*t))
           cycle
         end if
         call poly_set_tet(p, tv(:, :, t))
@@ -3020,15 +3222,15 @@ contains
           ! all on one side of the mid-plane
           call poly_first_moments(p, v, m)
           k = merge(2*t - 1, 2*t, sb <= 0.0_wp)
-          if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, hcorner(k))
+          if (v > 0.0_wp) call deposit(sgn*hsg(k)*v, sgn*hsg(k)*m, half_corner(k))
         else
           call poly_copy(p, q)
           call poly_clip(p, midn(:, t), midd(t))
           call poly_first_moments(p, v, m)
-          if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, hcorner(2*t - 1))
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t - 1)*v, sgn*hsg(2*t - 1)*m, half_corner(2*t - 1))
           call poly_clip(q, -midn(:, t), -midd(t))
           call poly_first_moments(q, v, m)
-          if (v > 0.0_wp) call deposit(sgn*hsg(2*t)*v, sgn*hsg(2*t)*m, hcorner(2*t))
+          if (v > 0.0_wp) call deposit(sgn*hsg(2*t)*v, sgn*hsg(2*t)*m, half_corner(2*t))
         end if
       end do tets
     end subroutine clip_halves
@@ -3093,34 +3295,39 @@ contains
     subroutine deposit(vf, mf, a)
       real(wp), intent(in) :: vf, mf(3)
       integer, intent(in) :: a
-      real(wp) :: dm(3), fm, fie, sc, plin(3)
+      real(wp) :: dm(3), fm, fie, plin(3), fu(3)
       integer :: j_
-      sc = old%scale(kreg)
-      dm = mf - (old%xr(:, kreg) - o)*vf
-      fm = sc*(old%rho(kreg)*vf + dot_product(old%grho(:, kreg), dm))
-      fie = fm*old%e(kreg) + sc*old%rho(kreg)*dot_product(old%ge(:, kreg), dm)
-      avol(kmat) = avol(kmat) + vf
-      cdef(a) = cdef(a) - vf
-      amom(:, kmat) = amom(:, kmat) + mf
-      amass(kmat) = amass(kmat) + fm
-      aie(kmat) = aie(kmat) + fie
+      ! (the source's numbers: `source`)
+      dm = mf - rxo(:, ir)*vf
+      fm = rsc(ir)*(rrho(ir)*vf + dot_product(rgrho(:, ir), dm))
+      fie = fm*re(ir) + rscrho(ir)*dot_product(rge(:, ir), dm)
+      svol(kmat) = svol(kmat) + vf
+      scdef(a) = scdef(a) - vf
+      smom(:, kmat) = smom(:, kmat) + mf
+      smass(kmat) = smass(kmat) + fm
+      sie(kmat) = sie(kmat) + fie
       ! velocity and kinetic energy with the mass (plus the velocity's linear
       ! part about the old node: `velocity_gradients`): the cell's totals,
       ! and the mass and momentum that landed in each of its corners
-      plin = 0.0_wp
+      fu = fm*ub
       if (wb > 0.0_wp) then
-        dm = mf - (old%xdual(:, nb) - o)*vf
+        dm = mf - nxo(:, in)*vf
         do j_ = 1, 3
-          plin(j_) = wb*dot_product(old%gu(:, j_, nb), dm)
+          plin(j_) = wb*dot_product(ngu(:, j_, in), dm)
         end do
+        spc(1:3) = spc(1:3) + fu + plin
+        spc(4) = spc(4) + fm*kemb + dot_product(ndu(:, in), plin)
+        scmom(:, a) = scmom(:, a) + fu + plin
+      else
+        ! (plin = 0: what adding it and its product with the velocity did)
+        spc(1:3) = spc(1:3) + fu + 0.0_wp
+        spc(4) = spc(4) + fm*kemb + 0.0_wp
+        scmom(:, a) = scmom(:, a) + fu + 0.0_wp
       end if
-      pcell(1:3) = pcell(1:3) + fm*ub + plin
-      pcell(4) = pcell(4) + fm*kemb + dot_product(h%u(:, nb) - old%uref(:, c), plin)
-      cmom(:, a) = cmom(:, a) + fm*ub + plin
-      cland(a) = cland(a) + fm
+      scland(a) = scland(a) + fm
       if (abs(given_sign) > 0.0_wp) then
         !$omp atomic
-        given(kreg) = given(kreg) + nint(given_sign*vf/old%gunit(kreg), i8)
+        given(kreg) = given(kreg) + nint_i8(given_sign*vf/rgunit(ir))
       end if
     end subroutine deposit
   end subroutine remap_new_cell
@@ -3275,6 +3482,26 @@ contains
     k(2) = 1 + mod(qi(1), 2) + 2*mod(qi(2), 2) + 4*mod(qi(3), 2) + 8*sub
   end function lattice_key
 
+  !> nint(x, i8), rounding half away from zero, without the library call
+  !> (lround) it costs at every fragment (`deposit`): below 2^52 the
+  !> truncation and the remainder x - trunc(x) are exact, so the result is
+  !> nint's bit for bit; beyond (never a fragment's count), nint itself.
+  elemental integer(i8) function nint_i8(x) result(k)
+    real(wp), intent(in) :: x
+    real(wp) :: r
+    if (.not. abs(x) < 2.0_wp**52) then
+      k = nint(x, i8)
+      return
+    end if
+    k = int(x, i8)
+    r = x - real(k, wp)
+    if (r >= 0.5_wp) then
+      k = k + 1
+    else if (r <= -0.5_wp) then
+      k = k - 1
+    end if
+  end function nint_i8
+
   !> The 48 half tetrahedra of a cell: each tetrahedron (centre, face centre,
   !> a, b) of the 24-split (`hex_tets`) cut at the midpoint of edge ab; the
   !> half at a belongs to corner a (six halves make a subcell, Fig. 11).
@@ -3286,6 +3513,17 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: pts(3, 27)
     integer, intent(out) :: hv(4, 48), corner(48)
+    call half_points(xn, pts)
+    hv = half_hv
+    corner = half_corner
+  end subroutine half_tets
+
+  !> The 27 points of `half_tets`' split alone (its halves are the
+  !> constants half_hv, half_corner: callers on the hot paths read those
+  !> rather than a copy made at each call).
+  pure subroutine half_points(xn, pts)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp), intent(out) :: pts(3, 27)
     integer :: f, e, d
 
     do d = 1, 3
@@ -3301,9 +3539,7 @@ contains
         pts(:, 15 + 4*(d - 1) + e) = 0.5_wp*(xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d)))
       end do
     end do
-    hv = half_hv
-    corner = half_corner
-  end subroutine half_tets
+  end subroutine half_points
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
@@ -4049,7 +4285,7 @@ contains
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
   subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      stats, err, own, own_node, written)
+                      vcell, stats, err, own, own_node, written)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -4061,6 +4297,9 @@ contains
     real(wp), intent(inout) :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), cmass(:, :), cmom(:, :, :), &
                                cke(:, :)
     real(wp), intent(in) :: cland(:, :), pcell(:, :)
+    !> the changed new cells' volumes (`hex_volume` of their nodes in xnew,
+    !> taken for the volume check)
+    real(wp), intent(in) :: vcell(:)
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
     !> a window's (`remap_zone_t`): the cells and nodes the stats count; the
@@ -4069,7 +4308,7 @@ contains
     !> the cells whose state may have been written (`remap_euler_step`)
     integer, allocatable, intent(out), optional :: written(:)
     type(mixed_t) :: nx
-    integer, allocatable :: nmix(:), visit(:)
+    integer, allocatable :: nmix(:), visit(:), n0(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale, short_c
     integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
@@ -4218,9 +4457,11 @@ contains
     !$omp end parallel do
     h%mnode(old%lnode) = 0.0_wp
     h%u(:, old%lnode) = 0.0_wp
+    ! (the near cells' first nodes, for the loops over their corners below)
+    n0 = [(g%node0(old%lnear(i)), i = 1, size(old%lnear))]
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
@@ -4241,7 +4482,7 @@ contains
     dk(old%lnode) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         k = n + g%corner_offset(a)
         if (.not. old%node(k)) cycle
@@ -4280,7 +4521,7 @@ contains
     navail(old%lnode) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         navail(n + g%corner_offset(a)) = navail(n + g%corner_offset(a)) + 0.125_wp*(avail(c) + kdef(c))
@@ -4292,7 +4533,7 @@ contains
     rdef(old%lnear) = 0.0_wp
     do i = 1, size(old%lnear)
       c = old%lnear(i)
-      n = g%node0(c)
+      n = n0(i)
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         take = dk(n + g%corner_offset(a))
@@ -4375,11 +4616,10 @@ contains
         if (old%near(c) .or. wide) h%e(c) = h%e(c) + (ie(c) + iav(c))/h%mass(c)
         cycle
       end if
-      call g%gather(c, g%x, xn)
       mnew = sum(amass(:, c))
       h%mass(c) = mnew
       h%mcorner(:, c) = cmass(:, c)
-      h%vol(c) = hex_volume(xn)
+      h%vol(c) = vcell(c)
       h%rho(c) = mnew/h%vol(c)
       h%e(c) = (sum(aie(:, c)) + ie(c) + iav(c))/mnew
       if (nmix(c) == 0) then
@@ -4388,6 +4628,7 @@ contains
       end if
       kk = kk + 1
       h%mat(c) = -kk
+      call g%gather(c, g%x, xn)
       vtot = sum(avol(:, c))
       s = nx%start(kk)
       do k = 1, nmat

@@ -99,8 +99,8 @@ contains
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
     type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
-                qc, qmin, qmax, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
-    real(wp), allocatable :: bmat(:, :), atb(:, :), work(:)
+                qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
+    real(wp), allocatable :: bmat(:, :), atb(:, :), work(:), qlo(:), qhi(:)
     character(len=200) :: msg
 
     nf = size(q, 1)
@@ -118,7 +118,7 @@ contains
 
     ! Work arrays once per call; the parallel loop gives each thread its own
     ! copy. lwork: the largest optimal size over all neighbour counts.
-    allocate(bmat(max_nbr, nf), atb(3, nf), stat=stat, errmsg=msg)
+    allocate(bmat(max_nbr, nf), atb(3, nf), qlo(nf), qhi(nf), stat=stat, errmsg=msg)
     if (stat /= 0) then
       grad = 0.0_wp
       call report(error_no_memory('work arrays'))
@@ -147,14 +147,17 @@ contains
     nfail = 0
     !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork, list) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
-    !$omp         dxn, xn, g, qc, qmin, qmax, dq, eps, phi, bmat, work, w, wx, ata, atb) &
+    !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi) &
     !$omp reduction(+:nfail) schedule(static)
     do i = 1, size(list)
       c = list(i)
       if (.not. need(c)) cycle
       call ix%cell_ijk(c, ci, cj, ck)
-      grad(:, :, c) = 0.0_wp
-      if (.not. has(c)) cycle
+      ! (a zero gradient where none is found: every other way sets all of it)
+      if (.not. has(c)) then
+        grad(:, :, c) = 0.0_wp
+        cycle
+      end if
 
       ! the rows (offsets and differences, unweighted) and the weighted
       ! normal equations A^T W A, A^T W b summed with them (w_n = 1/d2: no
@@ -184,11 +187,21 @@ contains
           end do
         end do
       end do
-      if (m == 0) cycle
+      if (m == 0) then
+        grad(:, :, c) = 0.0_wp
+        cycle
+      end if
+      ! (with the neighbours' range of each field, for the limiter below)
       do f = 1, nf
         atb(:, f) = 0.0_wp
+        qc = q(f, c)
+        qlo(f) = qc
+        qhi(f) = qc
         do n = 1, m
-          bmat(n, f) = q(f, nbr(n)) - q(f, c)
+          qn = q(f, nbr(n))
+          qlo(f) = min(qlo(f), qn)
+          qhi(f) = max(qhi(f), qn)
+          bmat(n, f) = qn - qc
           atb(:, f) = atb(:, f) + (w(n)*bmat(n, f))*amat(n, :)
         end do
       end do
@@ -203,6 +216,7 @@ contains
         call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
         if (info /= 0) then
           nfail = nfail + 1
+          grad(:, :, c) = 0.0_wp
           cycle
         end if
       end if
@@ -215,12 +229,8 @@ contains
       do f = 1, nf
         g = bmat(1:3, f)
         qc = q(f, c)
-        qmin = qc
-        qmax = qc
-        do n = 1, m
-          qmin = min(qmin, q(f, nbr(n)))
-          qmax = max(qmax, q(f, nbr(n)))
-        end do
+        qmin = qlo(f)
+        qmax = qhi(f)
         ! qmax - qc and qc - qmin are at most 2*max(|qmin|,|qmax|), so with
         ! |dq| > eps the ratios stay below 2/dq_floor: no overflow
         eps = dq_floor*max(abs(qmin), abs(qmax))

@@ -60,7 +60,7 @@ contains
   !> triangles per remapped cell). At most 72 triangles among 27 points.
   pure subroutine swept_triangles(p, q, tri, v, m)
     real(wp), intent(in), contiguous :: p(:, :), q(:, :)
-    integer, intent(in) :: tri(:, :)
+    integer, intent(in), contiguous :: tri(:, :)
     real(wp), intent(out), contiguous :: v(:), m(:, :)
     ! (the weights as products: a division is several times a product's cost)
     real(wp), parameter :: r3 = 1.0_wp/3.0_wp, r6 = 1.0_wp/6.0_wp, r12 = 1.0_wp/12.0_wp, r24 = 1.0_wp/24.0_wp
