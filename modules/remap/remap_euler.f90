@@ -280,14 +280,6 @@ module remap_euler
     !> the per-cell and per-node arrays elsewhere are not set, and not read;
     !> a debug build fills them with NaN)
     integer, allocatable :: lchanged(:), lnear(:), lnode(:)
-    !> `remap_swept_blockers`' tangle tests, kept for `subcell_shifts`,
-    !> which needs the same numbers (`half_dets` of the same points): per
-    !> cell its entry of dkeep (dpos, 0: none; the cells with one, dcells),
-    !> an entry the cell's old nodes as gathered (1:24) and six times its
-    !> halves' volumes (25:72). An entry is read only where the nodes are
-    !> still those, bit for bit (the grid may have moved since).
-    integer, allocatable :: dpos(:), dcells(:)
-    real(wp), allocatable :: dkeep(:, :)
     !> the changed cells are remapped through the regions their subcells'
     !> faces sweep, not by intersection (`remap_params_t`)
     logical :: swept = .false.
@@ -1747,12 +1739,11 @@ contains
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
     integer :: c, j, i, n, s, s0, s1, nm, r, ic
-    logical :: kept
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old, means) &
     !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
-    !$omp sub, kept) &
+    !$omp sub) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1773,23 +1764,12 @@ contains
           call region_floor(old, g%ncell + s, xn)
         end do
       end if
-      ! (`remap_swept_blockers`' numbers where it tested these very nodes)
-      kept = .false.
-      if (allocated(old%dpos) .and. allocated(old%dkeep)) then
-        if (size(old%dpos) == g%ncell) then
-          if (old%dpos(c) > 0) kept = same_bits(xn, old%dkeep(1:24, old%dpos(c)))
-        end if
-      end if
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
       call half_points(xn, pts)
-      if (kept) then
-        det6 = old%dkeep(25:72, old%dpos(c))
-      else
-        call half_dets(pts, det6)
-      end if
+      call half_dets(pts, det6)
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
@@ -2286,12 +2266,11 @@ contains
     !> increasing order
     integer, allocatable, intent(out), optional :: blockers(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
-    logical :: other, wall(6), keep
+    logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat, tri(3, 48), nt
     logical :: ok
-    logical, allocatable :: changed(:), blocks(:), dset(:)
+    logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
-    real(wp), allocatable :: kept(:, :)
     type(error_t), allocatable :: err
 
     nblock = 1
@@ -2325,13 +2304,7 @@ contains
       nblock = 1
       return
     end if
-    ! (the tangle tests kept for the remap: `old_t`'s dkeep)
-    keep = .false.
-    if (present(work)) keep = dets_ready(work%old, g%ncell)
-    if (keep) allocate(kept(72, size(list)), dset(size(list)), stat=stat)
-    if (keep) keep = stat == 0
-    if (keep) dset = .false.
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, kept, dset) reduction(+:nblock) &
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, vw, mw, vb, tri, nt) schedule(static)
@@ -2339,11 +2312,6 @@ contains
       c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-      if (keep) then
-        do a = 1, 8
-          kept(3*a - 2:3*a, i) = xo(:, a)
-        end do
-      end if
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
@@ -2383,10 +2351,6 @@ contains
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         ok = ok .and. all(det6 > 0.0_wp)
-        if (keep) then
-          kept(25:72, i) = det6
-          dset(i) = .true.
-        end if
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
         ! (the wall faces' triangles in one call: `swept_triangles`)
@@ -2407,56 +2371,12 @@ contains
       if (.not. ok) nblock = nblock + 1
     end do
     !$omp end parallel do
-    if (keep) then
-      do i = 1, size(list)
-        if (dset(i)) work%old%dpos(list(i)) = i
-      end do
-      call move_alloc(kept, work%old%dkeep)
-      work%old%dcells = list
-    end if
     if (present(blockers)) blockers = pack(list, blocks)
     if (present(parts)) then
       parts = 0
       if (.not. other .and. rmax < real(huge(1), wp)*smax) parts = max(ceiling(rmax/smax), 1)
     end if
   end function remap_swept_blockers
-
-  !> Whether the 24 numbers a and b are the same bit for bit (an exact
-  !> test, NaN and signed zeros included: not a comparison of values).
-  pure logical function same_bits(a, b) result(same)
-    real(wp), intent(in) :: a(24), b(24)
-    integer :: i
-    same = .true.
-    do i = 1, 24
-      if (transfer(a(i), 0_i8) /= transfer(b(i), 0_i8)) then
-        same = .false.
-        return
-      end if
-    end do
-  end function same_bits
-
-  !> old's kept tangle tests (`old_t`'s dkeep) emptied, its map dpos
-  !> sized for a grid of ncell cells (false: no memory for it).
-  logical function dets_ready(old, ncell) result(ok)
-    type(old_t), intent(inout) :: old
-    integer, intent(in) :: ncell
-    integer :: stat
-    ok = .false.
-    stat = 0
-    if (allocated(old%dpos)) then
-      if (size(old%dpos) /= ncell) deallocate(old%dpos)
-    end if
-    if (allocated(old%dpos)) then
-      if (allocated(old%dcells)) old%dpos(old%dcells) = 0
-    else
-      allocate(old%dpos(ncell), stat=stat)
-      if (stat /= 0) return
-      old%dpos = 0
-    end if
-    if (allocated(old%dcells)) deallocate(old%dcells)
-    if (allocated(old%dkeep)) deallocate(old%dkeep)
-    ok = .true.
-  end function dets_ready
 
   !> The square of the shortest of the hexahedron xo's twelve edges.
   pure function shortest_edge2(xo) result(h2)
