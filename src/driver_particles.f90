@@ -878,39 +878,35 @@ contains
     real(wp), intent(in) :: x(:, :), xp(3)
     integer, intent(in) :: c
     integer :: ijk(3), f, d, i, j, k, lo(3), hi(3)
-    real(wp) :: far
+    real(wp) :: far, sgn
+    logical :: low
     call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
     out = .false.
     do f = 1, 6
       if (.not. (st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW)) cycle
       d = (f + 1)/2
-      ! (the face's nodes: the grid's node indices 0 or n along d)
+      low = mod(f, 2) == 1
+      ! (the face's nodes: the grid's node indices 0 or n along d; sgn
+      ! points out of the grid through the face)
       lo = st%g%clo - 1
       hi = st%g%chi
-      if (mod(f, 2) == 1) then
+      if (low) then
         out = out .or. ijk(d) == st%g%clo(d)
         hi(d) = lo(d)
       else
         out = out .or. ijk(d) == st%g%chi(d)
         lo(d) = hi(d)
       end if
-      far = merge(huge(1.0_wp), -huge(1.0_wp), mod(f, 2) == 1)
+      sgn = merge(-1.0_wp, 1.0_wp, low)
+      far = -huge(1.0_wp)
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)
-            if (mod(f, 2) == 1) then
-              far = min(far, x(d, st%g%node(i, j, k)))
-            else
-              far = max(far, x(d, st%g%node(i, j, k)))
-            end if
+            far = max(far, sgn*x(d, st%g%node(i, j, k)))
           end do
         end do
       end do
-      if (mod(f, 2) == 1) then
-        out = out .or. xp(d) < far
-      else
-        out = out .or. xp(d) > far
-      end if
+      out = out .or. sgn*xp(d) > far
     end do
   end function out_open_face
 
