@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Rank invariance: a deck run as one process (no mpirun), then on 2 MPI
-# ranks of 2 OpenMP threads and on 4 ranks of 1 (oversubscribed), must give final frames
+# ranks of 2 OpenMP threads and on 4 ranks of 1 (oversubscribed; the
+# environment's RANKS, e.g. "1 3 8", replaces the counts 1 2 4: its first
+# must be 1, other counts run one thread per rank), must give final frames
 # bit-identical to the single process's (`compare_frames.py --exact`: node
 # positions, velocities, cell fields, the conservation totals, time, step;
 # and h5diff: the whole file but the deck, which names the output
@@ -28,7 +30,9 @@ root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
 export OMP_NUM_THREADS=1
 t_end=$(grep -o 't_end = [^,/ ]*' "$deck" | head -1 | awk '{print $3}')
 hdt=$(awk -v t="$t_end" 'BEGIN {printf "%.6e", t/8}')
-for n in 1 2 4; do
+ranks=${RANKS:-1 2 4}
+[ "${ranks%% *}" = 1 ] || fail "RANKS must start with 1 (the single process), got '$ranks'"
+for n in $ranks; do
   out=r$n.out
   # (a progress line every 5 steps and none by wall time: the lines of
   # every rank count name the same step-limiting cell)
