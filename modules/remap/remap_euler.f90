@@ -3854,13 +3854,17 @@ contains
         t(:, 2) = xs
         select case (mod(k - 3, 4))
         case (0)
-          t(:, 3:4) = reshape([tp(:, e), tp(:, e2)], [3, 2])
+          t(:, 3) = tp(:, e)
+          t(:, 4) = tp(:, e2)
         case (1)
-          t(:, 3:4) = reshape([tp(:, e2), tn(:, e2)], [3, 2])
+          t(:, 3) = tp(:, e2)
+          t(:, 4) = tn(:, e2)
         case (2)
-          t(:, 3:4) = reshape([tn(:, e2), tn(:, e)], [3, 2])
+          t(:, 3) = tn(:, e2)
+          t(:, 4) = tn(:, e)
         case default
-          t(:, 3:4) = reshape([tn(:, e), tp(:, e)], [3, 2])
+          t(:, 3) = tn(:, e)
+          t(:, 4) = tp(:, e)
         end select
       end if
       d = tet_det(t)

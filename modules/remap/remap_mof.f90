@@ -92,10 +92,12 @@ module remap_mof
   !> `origin` (length), each counted with the orientation sign sgn (+1, or
   !> -1 for a piece of an inverted tetrahedron of a tangled cell); vol and
   !> mom are each piece's unsigned volume (length^3) and first moment about
-  !> origin (length^4). The region's volume is sum(sgn*vol).
+  !> origin (length^4). The region's volume is sum(sgn*vol). No default
+  !> values (as `poly_t`: a local would be copied whole, 24 pieces, at every
+  !> entry); `mof_cell_pieces` fills a region before it is read.
   type :: mof_pieces_t
-    integer :: np = 0
-    real(wp) :: origin(3) = 0.0_wp
+    integer :: np
+    real(wp) :: origin(3)
     type(poly_t) :: p(mof_max_pieces)
     real(wp) :: sgn(mof_max_pieces)
     real(wp) :: vol(mof_max_pieces)

@@ -46,9 +46,13 @@ module remap_polyhedron
 
   !> A convex polyhedron of nv vertices x(:,1:nv) (length), each joined to
   !> the three vertices nbr(:,v) (see the module header for their order).
-  !> nv = 0 is the empty polyhedron.
+  !> nv = 0 is the empty polyhedron. No component has a default value: a
+  !> local poly_t would otherwise be copied whole from the type's initial
+  !> value (poly_max_verts vertices) at every entry of the routine that
+  !> holds it; every poly is filled (`poly_set_tet`, `poly_from_hex`,
+  !> `poly_copy`) before it is read.
   type :: poly_t
-    integer :: nv = 0
+    integer :: nv
     real(wp) :: x(3, poly_max_verts)
     integer :: nbr(3, poly_max_verts)
   end type poly_t
