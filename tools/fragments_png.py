@@ -3,7 +3,7 @@
 the shell's fragments), one panel per run, side by side.
 
     fragments_png.py --run LABEL FRAME0 FRAME [--run LABEL FRAME0 FRAME ...]
-                     --out PNG [--main 0.02] [--bond 1.1] [--title TEXT]
+                     --out PNG [--columns C] [--main 0.02] [--bond 1.1] [--title TEXT]
 
 Each run is its first frame (t = 0: the bonds) and the frame to draw. The
 fragments are those of tools/fragments.py (the same bonds, failure flags and
@@ -11,7 +11,8 @@ main-fragment share): in the x-y plane, each main fragment in its own
 colour (the largest first) over the smaller fragments in grey and the
 failed particles (the cracks) as small black points; particles that left
 the grid are not drawn. Prints, per panel, its time and its counts of main
-fragments, fragments and failed particles. Read with h5py, drawn with
+fragments, fragments and failed particles. The panels fill rows of C (default: one
+row). Read with h5py, drawn with
 matplotlib (run with /usr/bin/python3).
 """
 import argparse
@@ -47,13 +48,18 @@ def main():
     ap.add_argument("--bond", type=float, default=1.1)
     ap.add_argument("--main", type=float, default=0.02)
     ap.add_argument("--title", default="")
+    ap.add_argument("--columns", type=int, default=0, help="panels per row (default: all in one row)")
     a = ap.parse_args()
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     colours = plt.get_cmap("tab10").colors
-    fig, axes = plt.subplots(1, len(a.run), figsize=(4.2 * len(a.run), 4.4), squeeze=False)
-    for ax, (label, frame0, frame) in zip(axes[0], a.run):
+    ncol = a.columns if a.columns > 0 else len(a.run)
+    nrow = -(-len(a.run) // ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 4.4 * nrow), squeeze=False)
+    for ax in axes.ravel()[len(a.run):]:
+        ax.set_visible(False)
+    for ax, (label, frame0, frame) in zip(axes.ravel(), a.run):
         t, x, rank, failed, nmain, nfrag = panel(frame0, frame, a.bond, a.main)
         small = rank >= nmain
         ax.scatter(x[failed, 0], x[failed, 1], s=0.2, c="k", linewidths=0)
