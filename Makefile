@@ -46,12 +46,14 @@ hardcases-quick: release
 	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases --quick $(HARDCASES_ARGS)
 
 # Rank invariance and restarts on other rank counts than `make test`'s (1, 2
-# and 4; restarts written on 2, continued on 1 and 4): every rank test of the
-# suite again on 1, 3 and 8 ranks (oversubscribed), restarts written on 3
-# and continued on 1 and 8 (the debug build; long: not part of `make test`).
+# and 4; restarts written on 2, continued on 1 and 4): the suite's rank tests
+# (ctest labels invariance and restart_ranks) again on 1, 3 and 8 ranks
+# (oversubscribed), restarts written on 3 and continued on 1 and 8, all but
+# sedov16_blocks, whose deck asks for 2 blocks in x (a rank count 3 cannot
+# take). The debug build; long: not part of `make test`.
 ranks-more: release debug
 	cd $(BUILD_DBG) && RANKS="1 3 8" RESTART_WRITE=3 RESTART_CONTINUE="1 8" OMP_NUM_THREADS=1 \
-	  ctest --output-on-failure -j $(JOBS) -R '^ranks_' -E '^ranks_(restart_disk_race|restart_damaged|check_once)$$'
+	  ctest --output-on-failure -j $(JOBS) -R '^ranks_' -L 'invariance|restart_ranks' -E '^ranks_sedov16_blocks$$'
 
 # Regenerate the regression references (then commit them, saying why);
 # CASES="sod water_air" limits it to those cases.
