@@ -435,6 +435,13 @@ module remap_euler
     21,  1,  3, 27,  1,  3, 16,  1,  4, 27,  1,  4, 18,  1,  4, 24,  1,  4, &
     26,  1,  5, 17,  1,  5, 25,  1,  5, 19,  1,  5, 20,  1,  6, 19,  1,  6, &
     22,  1,  6, 16,  1,  6, 18,  1,  7, 21,  1,  7, 17,  1,  7, 23,  1,  7], [3, 72])
+  !> For each tetrahedron t of the 24-split, the slot of `swept_fluxes`'
+  !> sums that the region its inner triangle sweeps from corner a =
+  !> half_corner(2t-1) to its neighbour b = half_corner(2t) comes from: 1 +
+  !> the direction of the edge ab (`edge_dir`; written out, as the halves'
+  !> constants are)
+  integer, parameter :: tet_slot(24) = [4, 3, 4, 3, 3, 4, 3, 4, 2, 4, 2, 4, &
+                                         4, 2, 4, 2, 3, 2, 3, 2, 2, 3, 2, 3]
 
 contains
 
@@ -2807,7 +2814,7 @@ contains
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6)
       logical :: pure, pure_nbr(6)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
@@ -2864,7 +2871,47 @@ contains
       end do
       ! the 72 triangles' swept regions at once (`swept_tri`)
       call swept_triangles(opts, pts, swept_tri, tv, tm)
+      ! a pure cell whose faces take only from pure cells (or from none):
+      ! every region goes to its slot of acc, as the general loop below
+      ! books it, in the same order (the same sums), without its tests;
+      ! slot_in(f), the slot a face's incoming region goes to (0: none)
+      do f = 1, 6
+        slot_in(f) = -1
+        if (nbr(f) == c) slot_in(f) = 1
+        if (nbr(f) == 0) slot_in(f) = 0
+        if (pure_nbr(f)) slot_in(f) = 4 + (f + 1)/2
+      end do
+      if (pure .and. all(slot_in >= 0)) then
+        do t = 1, 24
+          f = (t - 1)/4 + 1
+          do i = 2*t - 1, 2*t
+            v = tv(i)
+            slot = 1
+            if (v > 0.0_wp) slot = slot_in(f)
+            if (.not. abs(v) > 0.0_wp .or. slot == 0) cycle
+            acc(1, slot, half_corner(i)) = acc(1, slot, half_corner(i)) + v
+            acc(2:4, slot, half_corner(i)) = acc(2:4, slot, half_corner(i)) + tm(i, :)
+          end do
+          v = tv(48 + t)
+          if (.not. abs(v) > 0.0_wp) cycle
+          ia = half_corner(2*t - 1)
+          ib = half_corner(2*t)
+          slot = tet_slot(t)
+          if (v > 0.0_wp) then
+            acc(1, slot, ia) = acc(1, slot, ia) + v
+            acc(2:4, slot, ia) = acc(2:4, slot, ia) + tm(48 + t, :)
+            acc(1, 1, ib) = acc(1, 1, ib) - v
+            acc(2:4, 1, ib) = acc(2:4, 1, ib) - tm(48 + t, :)
+          else
+            acc(1, 1, ia) = acc(1, 1, ia) + v
+            acc(2:4, 1, ia) = acc(2:4, 1, ia) + tm(48 + t, :)
+            acc(1, slot, ib) = acc(1, slot, ib) - v
+            acc(2:4, slot, ib) = acc(2:4, slot, ib) - tm(48 + t, :)
+          end if
+        end do
+      end if
       do t = 1, 24
+        if (pure .and. all(slot_in >= 0)) exit
         f = (t - 1)/4 + 1
         d = (f + 1)/2
         ia = half_corner(2*t - 1)
