@@ -2814,8 +2814,9 @@ contains
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6)
-      logical :: pure, pure_nbr(6)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k
+      logical :: pure, pure_nbr(6), done_k(8)
+      real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
@@ -2975,6 +2976,46 @@ contains
         end if
       end do
       ! what the pure sources gave, one fragment per source and corner
+      if (pure) then
+        ! (the cell's own region: `source_region` once; its subcell at
+        ! corner k, `source_node`, once for the fragments of slots 1-4 it
+        ! gives: the numbers `source` would take at each)
+        call source_region(c, c, h%mat(c))
+        irc = ir
+        ink = 0
+        done_k = .false.
+        do j = 1, 8
+          do slot = 1, 7
+            if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
+            if (slot <= 4) then
+              k = j
+              if (slot > 1) k = ieor(j - 1, ishft(1, slot - 2)) + 1
+              kreg = c
+              kmat = h%mat(c)
+              ir = irc
+              if (.not. done_k(k)) then
+                call source_node(n0c + g%corner_offset(k))
+                done_k(k) = .true.
+                ink(k) = in
+                ubk(:, k) = ub
+                kembk(k) = kemb
+                wbk(k) = wb
+              end if
+              nb = n0c + g%corner_offset(k)
+              in = ink(k)
+              ub = ubk(:, k)
+              kemb = kembk(k)
+              wb = wbk(k)
+            else
+              d = slot - 4
+              f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
+              call source(nbr(f), nbr(f), h%mat(nbr(f)), n0c + g%corner_offset(j))
+            end if
+            call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
+          end do
+        end do
+        return
+      end if
       do j = 1, 8
         do slot = 1, 7
           if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
@@ -3079,9 +3120,15 @@ contains
     !> and kinetic energy per unit mass they carry.
     subroutine source(co, kr, km, node)
       integer, intent(in) :: co, kr, km, node
+      call source_region(co, kr, km)
+      call source_node(node)
+    end subroutine source
+
+    !> `source`'s part for the region: kr (material km) of old cell co.
+    subroutine source_region(co, kr, km)
+      integer, intent(in) :: co, kr, km
       kreg = kr
       kmat = km
-      nb = node
       ! (old's numbers taken once per region and node of this cell's
       ! sources, the last entry replaced when all are taken)
       ir = findloc(rk(1:nrk), kr, 1)
@@ -3108,6 +3155,13 @@ contains
           rw(ir) = old%wreg(kr)
         end if
       end if
+    end subroutine source_region
+
+    !> `source`'s part for the node (after `source_region`): the subcell
+    !> of the region at node node.
+    subroutine source_node(node)
+      integer, intent(in) :: node
+      nb = node
       if (runi(ir)) then
         ub = rub(:, ir)
       else
@@ -3125,7 +3179,7 @@ contains
       end if
       kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
       wb = rw(ir)
-    end subroutine source
+    end subroutine source_node
 
     !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
     !> i = 1..np (bounding box [blo, bhi]) and deposits the fragments with
