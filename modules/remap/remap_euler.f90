@@ -3545,21 +3545,34 @@ contains
   pure subroutine half_points(xn, pts)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: pts(3, 27)
-    integer :: f, e, d
+    integer :: d
 
     do d = 1, 3
       pts(d, 1) = 0.125_wp*sum(xn(d, :))
     end do
-    do f = 1, 6
-      pts(:, 1 + f) = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
-                               (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
-    end do
+    ! the face centres (their nodes: `hex_faces`, 1 + f for face f) and the
+    ! edge midpoints (`hex_edges`, 15 + e for edge e), their nodes written
+    ! out: constant indices, no table to read at every call (one of the
+    ! hot paths: three or four calls per remapped cell)
+    pts(:, 2) = 0.25_wp*((xn(:, 1) + xn(:, 7)) + (xn(:, 5) + xn(:, 3)))
+    pts(:, 3) = 0.25_wp*((xn(:, 2) + xn(:, 8)) + (xn(:, 4) + xn(:, 6)))
+    pts(:, 4) = 0.25_wp*((xn(:, 1) + xn(:, 6)) + (xn(:, 2) + xn(:, 5)))
+    pts(:, 5) = 0.25_wp*((xn(:, 3) + xn(:, 8)) + (xn(:, 7) + xn(:, 4)))
+    pts(:, 6) = 0.25_wp*((xn(:, 1) + xn(:, 4)) + (xn(:, 3) + xn(:, 2)))
+    pts(:, 7) = 0.25_wp*((xn(:, 5) + xn(:, 8)) + (xn(:, 6) + xn(:, 7)))
     pts(:, 8:15) = xn
-    do d = 1, 3
-      do e = 1, 4
-        pts(:, 15 + 4*(d - 1) + e) = 0.5_wp*(xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d)))
-      end do
-    end do
+    pts(:, 16) = 0.5_wp*(xn(:, 1) + xn(:, 2))
+    pts(:, 17) = 0.5_wp*(xn(:, 7) + xn(:, 8))
+    pts(:, 18) = 0.5_wp*(xn(:, 5) + xn(:, 6))
+    pts(:, 19) = 0.5_wp*(xn(:, 3) + xn(:, 4))
+    pts(:, 20) = 0.5_wp*(xn(:, 1) + xn(:, 3))
+    pts(:, 21) = 0.5_wp*(xn(:, 6) + xn(:, 8))
+    pts(:, 22) = 0.5_wp*(xn(:, 2) + xn(:, 4))
+    pts(:, 23) = 0.5_wp*(xn(:, 5) + xn(:, 7))
+    pts(:, 24) = 0.5_wp*(xn(:, 1) + xn(:, 5))
+    pts(:, 25) = 0.5_wp*(xn(:, 4) + xn(:, 8))
+    pts(:, 26) = 0.5_wp*(xn(:, 3) + xn(:, 7))
+    pts(:, 27) = 0.5_wp*(xn(:, 2) + xn(:, 6))
   end subroutine half_points
 
   !> Six times the signed volumes of the 48 halves of the split with the
