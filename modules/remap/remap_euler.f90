@@ -3609,38 +3609,21 @@ contains
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
   !> centre for its first point, so the offsets from it are taken once.
-  !> Face by face: its eight halves are (centre, face centre, node,
-  !> midpoint) and (centre, face centre, midpoint, next node), so the
-  !> offsets of its four nodes (in the face's order) and midpoints are
-  !> taken once each, by constant indices (the same products and sums as
-  !> one half at a time: the same numbers).
+  !> (The loop over the halves unrolled whole, as `swept_cell`'s: their
+  !> points by constant indices.)
   pure subroutine half_dets(pts, det6)
     real(wp), intent(in) :: pts(3, 27)
     real(wp), intent(out) :: det6(48)
-    real(wp) :: rf(3), rn(5, 3), re(4, 3), da(4), db(4)
-    integer :: f, i, j, t
-    do f = 1, 6
-      do j = 1, 3
-        rf(j) = pts(j, half_hv(2, 8*f - 7)) - pts(j, 1)
-        do i = 1, 4
-          t = 4*(f - 1) + i
-          rn(i, j) = pts(j, half_hv(3, 2*t - 1)) - pts(j, 1)
-          re(i, j) = pts(j, half_hv(4, 2*t - 1)) - pts(j, 1)
-        end do
-        ! (the last half's next node: the face's first)
-        rn(5, j) = rn(1, j)
-      end do
-      do i = 1, 4
-        da(i) = rf(1)*(rn(i, 2)*re(i, 3) - rn(i, 3)*re(i, 2)) + rf(2)*(rn(i, 3)*re(i, 1) - rn(i, 1)*re(i, 3)) + &
-                rf(3)*(rn(i, 1)*re(i, 2) - rn(i, 2)*re(i, 1))
-        db(i) = rf(1)*(re(i, 2)*rn(i + 1, 3) - re(i, 3)*rn(i + 1, 2)) + &
-                rf(2)*(re(i, 3)*rn(i + 1, 1) - re(i, 1)*rn(i + 1, 3)) + &
-                rf(3)*(re(i, 1)*rn(i + 1, 2) - re(i, 2)*rn(i + 1, 1))
-      end do
-      do i = 1, 4
-        det6(8*f - 9 + 2*i) = da(i)
-        det6(8*f - 8 + 2*i) = db(i)
-      end do
+    real(wp) :: r(3, 27)
+    integer :: i, j
+    do j = 2, 27
+      r(:, j) = pts(:, j) - pts(:, 1)
+    end do
+    !GCC$ unroll 48
+    do i = 1, 48
+      associate (a => r(:, half_hv(2, i)), b => r(:, half_hv(3, i)), c => r(:, half_hv(4, i)))
+        det6(i) = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
+      end associate
     end do
   end subroutine half_dets
 
