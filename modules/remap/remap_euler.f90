@@ -111,7 +111,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
-  use remap_swept, only: swept_triangles, swept_edges
+  use remap_swept, only: swept_edges
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
@@ -2276,7 +2276,7 @@ contains
     integer, allocatable, intent(out), optional :: blockers(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
-    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat, tri(3, 48), nt
+    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
     logical :: ok
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
@@ -2315,8 +2315,8 @@ contains
     end if
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
-    !$omp dmax2, vw, mw, vb, tri, nt) schedule(static)
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
+    !$omp dmax2, vw, mw, vb, nt) schedule(static)
     do i = 1, size(list)
       c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
@@ -2347,32 +2347,27 @@ contains
                          bc%kind(f) == BC_OUTFLOW)
       end do
       if (ok) then
-        ! (the new cell's points only for such faces)
+        ! (about the old cell's centre; the new cell's points only for
+        ! such faces)
+        o = sum(xo, 2)/8.0_wp
+        do a = 1, 8
+          xo(:, a) = xo(:, a) - o
+        end do
+        call half_points(xo, opts)
         if (any(wall)) then
-          call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
-        else
-          o = sum(xo, 2)/8.0_wp
           do a = 1, 8
-            xo(:, a) = xo(:, a) - o
+            xn(:, a) = xn(:, a) - o
           end do
-          call half_points(xo, opts)
+          call half_points(xn, pts)
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
-        ! (the wall faces' triangles in one call: `swept_triangles`)
-        nt = 0
-        do f = 1, 6
-          if (.not. wall(f)) cycle
-          do t = 8*f - 7, 8*f
-            nt = nt + 1
-            tri(:, nt) = half_hv(2:4, t)
-          end do
-        end do
-        if (nt > 0) then
-          call swept_triangles(opts, pts, tri(:, 1:nt), vw, mw)
+        ! (the wall faces' triangles in one call: `swept_walls`)
+        if (any(wall)) then
+          call swept_walls(opts, pts, wall, nt, vw, mw)
           ok = ok .and. all(abs(vw(1:nt)) <= 1.0e-12_wp*vb)
         end if
       end if
@@ -3609,6 +3604,39 @@ contains
     end do
     call swept_edges(72, 72, x1, e1, e2, d1, g1, g2, v, m)
   end subroutine swept_cell
+
+  !> `swept_triangles` on the triangles `swept_tri` of the faces f with
+  !> wall(f) (eight each, in order; nt of them), as `swept_cell` gathers
+  !> them (both loops unrolled whole: constant indices).
+  pure subroutine swept_walls(p, q, wall, nt, v, m)
+    real(wp), intent(in) :: p(3, 27), q(3, 27)
+    logical, intent(in) :: wall(6)
+    integer, intent(out) :: nt
+    real(wp), intent(out) :: v(48), m(48, 3)
+    real(wp) :: dq(3, 27), x1(48, 3), e1(48, 3), e2(48, 3), d1(48, 3), g1(48, 3), g2(48, 3)
+    integer :: k, j, f
+    do k = 1, 27
+      dq(:, k) = q(:, k) - p(:, k)
+    end do
+    nt = 0
+    !GCC$ unroll 6
+    do f = 1, 6
+      if (.not. wall(f)) cycle
+      !GCC$ unroll 8
+      do k = 8*f - 7, 8*f
+        nt = nt + 1
+        do j = 1, 3
+          x1(nt, j) = p(j, swept_tri(1, k))
+          e1(nt, j) = p(j, swept_tri(2, k)) - x1(nt, j)
+          e2(nt, j) = p(j, swept_tri(3, k)) - x1(nt, j)
+          d1(nt, j) = dq(j, swept_tri(1, k))
+          g1(nt, j) = dq(j, swept_tri(2, k)) - d1(nt, j)
+          g2(nt, j) = dq(j, swept_tri(3, k)) - d1(nt, j)
+        end do
+      end do
+    end do
+    if (nt > 0) call swept_edges(nt, 48, x1, e1, e2, d1, g1, g2, v, m)
+  end subroutine swept_walls
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
