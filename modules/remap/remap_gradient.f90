@@ -98,7 +98,7 @@ contains
     integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail, i
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
     type(grid_index_t) :: ix
-    real(wp) :: amat(max_nbr, 3), sv(3), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
+    real(wp) :: amat(max_nbr, 3), at(3, max_nbr), sv(3), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
                 qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
     real(wp), allocatable :: bmat(:, :), atb(:, :), work(:), qlo(:), qhi(:)
     character(len=200) :: msg
@@ -146,7 +146,7 @@ contains
     end if
     nfail = 0
     !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, list) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, at, sv, dx, d2, rinv, &
     !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi, stat) &
     !$omp firstprivate(lwork) reduction(+:nfail) schedule(static)
     do i = 1, size(list)
@@ -162,7 +162,9 @@ contains
       ! the rows (offsets and differences, unweighted) and the weighted
       ! normal equations A^T W A, A^T W b summed with them (w_n = 1/d2: no
       ! square root unless the SVD decides; the neighbour c + offset by the
-      ! block's strides, no index call in the innermost loop)
+      ! block's strides, no index call in the innermost loop); the offsets
+      ! as the columns of at, contiguous for the sums (the SVD's rows amat
+      ! made from them where it is needed)
       m = 0
       ata = 0.0_wp
       do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
@@ -176,7 +178,7 @@ contains
             m = m + 1
             nbr(m) = co
             w(m) = 1.0_wp/d2
-            amat(m, :) = dx
+            at(:, m) = dx
             wx = w(m)*dx
             ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
             ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
@@ -202,7 +204,7 @@ contains
           qmin = min(qmin, qn)
           qmax = max(qmax, qn)
           bmat(n, f) = qn - qc
-          wx = wx + (w(n)*bmat(n, f))*amat(n, :)
+          wx = wx + (w(n)*bmat(n, f))*at(:, n)
         end do
         atb(:, f) = wx
         qlo(f) = qmin
@@ -213,7 +215,7 @@ contains
         ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
         do n = 1, m
           rinv = sqrt(w(n))
-          amat(n, :) = amat(n, :)*rinv
+          amat(n, :) = at(:, n)*rinv
           bmat(n, 1:nf) = bmat(n, 1:nf)*rinv
         end do
         if (lwork == 0) then
