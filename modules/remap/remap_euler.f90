@@ -2811,7 +2811,7 @@ contains
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
       logical :: pure, pure_nbr(6), done_k(8)
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
@@ -2978,10 +2978,13 @@ contains
       if (pure) then
         ! (the cell's own region: `source_region` once; its subcell at
         ! corner k, `source_node`, once for the fragments of slots 1-4 it
-        ! gives: the numbers `source` would take at each)
+        ! gives; each neighbour's region once, and each node's entry
+        ! (ink, 0: not yet) once: the numbers `source` would take at each,
+        ! its entries never replaced here: at most 7 regions and 8 nodes)
         call source_region(c, c, h%mat(c))
         irc = ir
         ink = 0
+        irf = 0
         done_k = .false.
         do j = 1, 8
           do slot = 1, 7
@@ -2992,15 +2995,15 @@ contains
               kreg = c
               kmat = h%mat(c)
               ir = irc
+              nb = n0c + g%corner_offset(k)
               if (.not. done_k(k)) then
-                call source_node(n0c + g%corner_offset(k))
+                call source_node(nb)
                 done_k(k) = .true.
-                ink(k) = in
+                if (.not. runi(ir)) ink(k) = in
                 ubk(:, k) = ub
                 kembk(k) = kemb
                 wbk(k) = wb
               end if
-              nb = n0c + g%corner_offset(k)
               in = ink(k)
               ub = ubk(:, k)
               kemb = kembk(k)
@@ -3008,7 +3011,28 @@ contains
             else
               d = slot - 4
               f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
-              call source(nbr(f), nbr(f), h%mat(nbr(f)), n0c + g%corner_offset(j))
+              if (irf(f) == 0) then
+                call source_region(nbr(f), nbr(f), h%mat(nbr(f)))
+                irf(f) = ir
+              else
+                kreg = nbr(f)
+                kmat = h%mat(nbr(f))
+                ir = irf(f)
+              end if
+              ! (`source_node` at node j, its entry found once)
+              nb = n0c + g%corner_offset(j)
+              if (runi(ir)) then
+                ub = rub(:, ir)
+              else
+                if (ink(j) == 0) then
+                  call node_entry()
+                  ink(j) = in
+                end if
+                in = ink(j)
+                ub = nu(:, in) + rub(:, ir)
+              end if
+              kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
+              wb = rw(ir)
             end if
             call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
           end do
@@ -3164,21 +3188,27 @@ contains
       if (runi(ir)) then
         ub = rub(:, ir)
       else
-        in = findloc(nk(1:nnk), nb, 1)
-        if (in == 0) then
-          nnk = min(nnk + 1, nkeep)
-          in = nnk
-          nk(in) = nb
-          nu(:, in) = h%u(:, nb)
-          nxo(:, in) = old%xdual(:, nb) - o
-          ngu(:, :, in) = old%gu(:, :, nb)
-          ndu(:, in) = nu(:, in) - urefc
-        end if
+        call node_entry()
         ub = nu(:, in) + rub(:, ir)
       end if
       kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
       wb = rw(ir)
     end subroutine source_node
+
+    !> The entry in of node nb among the nodes' numbers (`source`), taken
+    !> if it is not there yet.
+    subroutine node_entry()
+      in = findloc(nk(1:nnk), nb, 1)
+      if (in == 0) then
+        nnk = min(nnk + 1, nkeep)
+        in = nnk
+        nk(in) = nb
+        nu(:, in) = h%u(:, nb)
+        nxo(:, in) = old%xdual(:, nb) - o
+        ngu(:, :, in) = old%gu(:, :, nb)
+        ndu(:, in) = nu(:, in) - urefc
+      end if
+    end subroutine node_entry
 
     !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
     !> i = 1..np (bounding box [blo, bhi]) and deposits the fragments with
