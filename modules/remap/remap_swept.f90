@@ -65,7 +65,7 @@ contains
     ! (the points' moves and the triangles' edges, on the stack)
     integer, parameter :: max_tri = 72, max_pts = 27
     real(wp) :: dq(3, max_pts), x1(max_tri, 3), e1(max_tri, 3), e2(max_tri, 3), d1(max_tri, 3), g1(max_tri, 3), &
-                g2(max_tri, 3)
+                g2(max_tri, 3), vk(max_tri), mk(max_tri, 3)
     integer :: k, j, i1, i2, i3, n
     do k = 1, size(p, 2)
       dq(:, k) = q(:, k) - p(:, k)
@@ -85,7 +85,9 @@ contains
         g2(k, j) = dq(j, i3) - d1(k, j)
       end do
     end do
-    call swept_edges(n, max_tri, x1, e1, e2, d1, g1, g2, v, m)
+    call swept_edges(n, max_tri, x1, e1, e2, d1, g1, g2, vk, mk)
+    v(1:n) = vk(1:n)
+    m(1:n, :) = mk(1:n, :)
   end subroutine swept_triangles
 
   !> The arithmetic of `swept_triangles` on triangles given by their
@@ -97,7 +99,7 @@ contains
   pure subroutine swept_edges(n, ld, x1, e1, e2, d1, g1, g2, v, m)
     integer, intent(in) :: n, ld
     real(wp), intent(in) :: x1(ld, 3), e1(ld, 3), e2(ld, 3), d1(ld, 3), g1(ld, 3), g2(ld, 3)
-    real(wp), intent(out), contiguous :: v(:), m(:, :)
+    real(wp), intent(out) :: v(ld), m(ld, 3)
     ! (the weights as products: a division is several times a product's cost)
     real(wp), parameter :: r3 = 1.0_wp/3.0_wp, r6 = 1.0_wp/6.0_wp, r12 = 1.0_wp/12.0_wp, r24 = 1.0_wp/24.0_wp
     real(wp) :: a1, a2, a3, b1, b2, b3, c1, c2, c3, n01, n02, n03, n11, n12, n13, s0, s1, s2, r0, r1, r2, &
