@@ -2987,6 +2987,8 @@ contains
         irf = 0
         done_k = .false.
         do j = 1, 8
+          ! (unrolled: each slot's source by constants)
+          !GCC$ unroll 7
           do slot = 1, 7
             if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
             if (slot <= 4) then
