@@ -2853,6 +2853,8 @@ contains
       ! the cells across the faces; on the grid's boundary the cell itself
       ! (a wall or symmetry face sweeps nothing; an open face's outflow
       ! leaves the grid, and the gap it opens is `open_faces`' to fill: 0)
+      ! (unrolled: the faces' steps by constants)
+      !GCC$ unroll 6
       do f = 1, 6
         nx = [ci, cj, ck] + face_step(:, f)
         nbr(f) = c
