@@ -2977,12 +2977,14 @@ contains
         end if
       end do
       ! what the pure sources gave, one fragment per source and corner
-      if (pure) then
+      if (pure .and. all(slot_in >= 0)) then
         ! (the cell's own region: `source_region` once; its subcell at
         ! corner k, `source_node`, once for the fragments of slots 1-4 it
         ! gives; each neighbour's region once, and each node's entry
-        ! (ink, 0: not yet) once: the numbers `source` would take at each,
-        ! its entries never replaced here: at most 7 regions and 8 nodes)
+        ! (ink, 0: not yet) once: the numbers `source` would take at each.
+        ! Only where no source was taken before (no mixed cell across a
+        ! face): then at most 7 regions and 8 nodes, and `source` replaces
+        ! none of the entries held here)
         call source_region(c, c, h%mat(c))
         irc = ir
         ink = 0
