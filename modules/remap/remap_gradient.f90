@@ -96,7 +96,7 @@ contains
     integer, intent(in), optional :: cells(:)
     integer, allocatable :: list(:)
     integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail, i
-    integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
+    integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr), off(max_nbr), cand(max_nbr), ncand, jc
     type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), at(3, max_nbr), sv(3), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
                 qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
@@ -144,9 +144,21 @@ contains
         list(c) = c
       end do
     end if
+    ! the 26 neighbours' offsets, in the order of the loops over k, j, i
+    n = 0
+    do ok_ = -1, 1
+      do oj = -1, 1
+        do oi = -1, 1
+          if (oi == 0 .and. oj == 0 .and. ok_ == 0) cycle
+          n = n + 1
+          off(n) = oi + ix%cx*oj + ix%cxy*ok_
+        end do
+      end do
+    end do
     nfail = 0
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, list) &
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, list, off) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, at, sv, dx, d2, rinv, &
+    !$omp         cand, ncand, jc, &
     !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi, stat) &
     !$omp firstprivate(lwork) reduction(+:nfail) schedule(static)
     do i = 1, size(list)
@@ -165,29 +177,44 @@ contains
       ! block's strides, no index call in the innermost loop); the offsets
       ! as the columns of at, contiguous for the sums (the SVD's rows amat
       ! made from them where it is needed)
-      m = 0
-      ata = 0.0_wp
-      do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
-        do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
-          do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
-            co = c + (oi - ci) + ix%cx*(oj - cj) + ix%cxy*(ok_ - ck)
-            if (co == c .or. .not. has(co)) cycle
-            dx = pos(:, co) - pos(:, c)
-            d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
-            if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
-            m = m + 1
-            nbr(m) = co
-            w(m) = 1.0_wp/d2
-            at(:, m) = dx
-            wx = w(m)*dx
-            ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
-            ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
-            ata(3, 1) = ata(3, 1) + wx(3)*dx(1)
-            ata(2, 2) = ata(2, 2) + wx(2)*dx(2)
-            ata(3, 2) = ata(3, 2) + wx(3)*dx(2)
-            ata(3, 3) = ata(3, 3) + wx(3)*dx(3)
+      ! (the candidates in the loops' order, k then j then i: away from
+      ! the block's faces all 26, by their offsets; else those within it)
+      if (ci > ix%clo(1) .and. ci < ix%chi(1) .and. cj > ix%clo(2) .and. cj < ix%chi(2) .and. &
+          ck > ix%clo(3) .and. ck < ix%chi(3)) then
+        ncand = max_nbr
+        cand = c + off
+      else
+        ncand = 0
+        do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
+          do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
+            do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
+              co = c + (oi - ci) + ix%cx*(oj - cj) + ix%cxy*(ok_ - ck)
+              if (co == c) cycle
+              ncand = ncand + 1
+              cand(ncand) = co
+            end do
           end do
         end do
+      end if
+      m = 0
+      ata = 0.0_wp
+      do jc = 1, ncand
+        co = cand(jc)
+        if (.not. has(co)) cycle
+        dx = pos(:, co) - pos(:, c)
+        d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
+        if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
+        m = m + 1
+        nbr(m) = co
+        w(m) = 1.0_wp/d2
+        at(:, m) = dx
+        wx = w(m)*dx
+        ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
+        ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
+        ata(3, 1) = ata(3, 1) + wx(3)*dx(1)
+        ata(2, 2) = ata(2, 2) + wx(2)*dx(2)
+        ata(3, 2) = ata(3, 2) + wx(3)*dx(2)
+        ata(3, 3) = ata(3, 3) + wx(3)*dx(3)
       end do
       if (m == 0) then
         grad(:, :, c) = 0.0_wp
