@@ -1976,8 +1976,25 @@ contains
     !> The position of dual node (id, jd, kd).
     subroutine dual_node(id, jd, kd)
       integer, intent(in) :: id, jd, kd
-      integer :: ii, jj, kk, nsum
+      integer :: ii, jj, kk, nsum, n0
+      real(wp) :: xs(3)
       m = dual%node(id, jd, kd)
+      if (id >= 1 .and. id <= g%ni .and. jd >= 1 .and. jd <= g%nj .and. kd >= 1 .and. kd <= g%nk) then
+        ! (a cell centre: its eight nodes in the loops' order below, the
+        ! same sum)
+        n0 = g%nbase + (id - 1) + g%sx*(jd - 1) + g%sxy*(kd - 1)
+        xs = 0.0_wp
+        xs = xs + g%x(:, n0)
+        xs = xs + g%x(:, n0 + 1)
+        xs = xs + g%x(:, n0 + g%sx)
+        xs = xs + g%x(:, n0 + g%sx + 1)
+        xs = xs + g%x(:, n0 + g%sxy)
+        xs = xs + g%x(:, n0 + g%sxy + 1)
+        xs = xs + g%x(:, n0 + g%sxy + g%sx)
+        xs = xs + g%x(:, n0 + g%sxy + g%sx + 1)
+        xd(:, m) = xs/8.0_wp
+        return
+      end if
       xd(:, m) = 0.0_wp
       nsum = 0
       do kk = max(kd - 1, 0), min(kd, g%nk)
