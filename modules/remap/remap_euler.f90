@@ -111,7 +111,7 @@ module remap_euler
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
-  use remap_swept, only: swept_triangles
+  use remap_swept, only: swept_edges
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
@@ -435,6 +435,13 @@ module remap_euler
     21,  1,  3, 27,  1,  3, 16,  1,  4, 27,  1,  4, 18,  1,  4, 24,  1,  4, &
     26,  1,  5, 17,  1,  5, 25,  1,  5, 19,  1,  5, 20,  1,  6, 19,  1,  6, &
     22,  1,  6, 16,  1,  6, 18,  1,  7, 21,  1,  7, 17,  1,  7, 23,  1,  7], [3, 72])
+  !> For each tetrahedron t of the 24-split, the slot of `swept_fluxes`'
+  !> sums that the region its inner triangle sweeps from corner a =
+  !> half_corner(2t-1) to its neighbour b = half_corner(2t) comes from: 1 +
+  !> the direction of the edge ab (`edge_dir`; written out, as the halves'
+  !> constants are)
+  integer, parameter :: tet_slot(24) = [4, 3, 4, 3, 3, 4, 3, 4, 2, 4, 2, 4, &
+                                         4, 2, 4, 2, 3, 2, 3, 2, 2, 3, 2, 3]
 
 contains
 
@@ -1783,6 +1790,8 @@ contains
         ! (a pure cell's subcells whole: their mass and weights below;
         ! summed here, then stored)
         sub = 0.0_wp
+        ! (unrolled whole: the halves' corners and points by constant indices)
+        !GCC$ unroll 48
         do i = 1, 48
           v = det6(i)/6.0_wp
           sub(1, half_corner(i)) = sub(1, half_corner(i)) + v
@@ -1967,8 +1976,25 @@ contains
     !> The position of dual node (id, jd, kd).
     subroutine dual_node(id, jd, kd)
       integer, intent(in) :: id, jd, kd
-      integer :: ii, jj, kk, nsum
+      integer :: ii, jj, kk, nsum, n0
+      real(wp) :: xs(3)
       m = dual%node(id, jd, kd)
+      if (id >= 1 .and. id <= g%ni .and. jd >= 1 .and. jd <= g%nj .and. kd >= 1 .and. kd <= g%nk) then
+        ! (a cell centre: its eight nodes in the loops' order below, the
+        ! same sum)
+        n0 = g%nbase + (id - 1) + g%sx*(jd - 1) + g%sxy*(kd - 1)
+        xs = 0.0_wp
+        xs = xs + g%x(:, n0)
+        xs = xs + g%x(:, n0 + 1)
+        xs = xs + g%x(:, n0 + g%sx)
+        xs = xs + g%x(:, n0 + g%sx + 1)
+        xs = xs + g%x(:, n0 + g%sxy)
+        xs = xs + g%x(:, n0 + g%sxy + 1)
+        xs = xs + g%x(:, n0 + g%sxy + g%sx)
+        xs = xs + g%x(:, n0 + g%sxy + g%sx + 1)
+        xd(:, m) = xs/8.0_wp
+        return
+      end if
       xd(:, m) = 0.0_wp
       nsum = 0
       do kk = max(kd - 1, 0), min(kd, g%nk)
@@ -2267,7 +2293,7 @@ contains
     integer, allocatable, intent(out), optional :: blockers(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
-    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv(4, 48), hc(48), nb(3), i, stat, tri(3, 48), nt
+    integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
     logical :: ok
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
@@ -2306,8 +2332,8 @@ contains
     end if
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
     !$omp reduction(max:rmax) reduction(.or.:other) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, t, hv, hc, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
-    !$omp dmax2, vw, mw, vb, tri, nt) schedule(static)
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
+    !$omp dmax2, vw, mw, vb, nt) schedule(static)
     do i = 1, size(list)
       c = list(i)
       call g%cell_ijk(c, ci, cj, ck)
@@ -2338,32 +2364,27 @@ contains
                          bc%kind(f) == BC_OUTFLOW)
       end do
       if (ok) then
-        ! (the new cell's points only for such faces)
+        ! (about the old cell's centre; the new cell's points only for
+        ! such faces)
+        o = sum(xo, 2)/8.0_wp
+        do a = 1, 8
+          xo(:, a) = xo(:, a) - o
+        end do
+        call half_points(xo, opts)
         if (any(wall)) then
-          call halves_about(sum(xo, 2)/8.0_wp, xo, xn, opts, pts, hv, hc)
-        else
-          o = sum(xo, 2)/8.0_wp
           do a = 1, 8
-            xo(:, a) = xo(:, a) - o
+            xn(:, a) = xn(:, a) - o
           end do
-          call half_points(xo, opts)
+          call half_points(xn, pts)
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
-        ! (the wall faces' triangles in one call: `swept_triangles`)
-        nt = 0
-        do f = 1, 6
-          if (.not. wall(f)) cycle
-          do t = 8*f - 7, 8*f
-            nt = nt + 1
-            tri(:, nt) = half_hv(2:4, t)
-          end do
-        end do
-        if (nt > 0) then
-          call swept_triangles(opts, pts, tri(:, 1:nt), vw, mw)
+        ! (the wall faces' triangles in one call: `swept_walls`)
+        if (any(wall)) then
+          call swept_walls(opts, pts, wall, nt, vw, mw)
           ok = ok .and. all(abs(vw(1:nt)) <= 1.0e-12_wp*vb)
         end if
       end if
@@ -2807,8 +2828,9 @@ contains
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot
-      logical :: pure, pure_nbr(6)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
+      logical :: pure, pure_nbr(6), done_k(8)
+      real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       do j = 1, 8
@@ -2848,6 +2870,8 @@ contains
       ! the cells across the faces; on the grid's boundary the cell itself
       ! (a wall or symmetry face sweeps nothing; an open face's outflow
       ! leaves the grid, and the gap it opens is `open_faces`' to fill: 0)
+      ! (unrolled: the faces' steps by constants)
+      !GCC$ unroll 6
       do f = 1, 6
         nx = [ci, cj, ck] + face_step(:, f)
         nbr(f) = c
@@ -2862,9 +2886,51 @@ contains
         pure_nbr(f) = .false.
         if (nbr(f) /= c .and. nbr(f) /= 0) pure_nbr(f) = h%mat(nbr(f)) > 0
       end do
-      ! the 72 triangles' swept regions at once (`swept_tri`)
-      call swept_triangles(opts, pts, swept_tri, tv, tm)
+      ! the 72 triangles' swept regions at once (`swept_tri`, `swept_cell`)
+      call swept_cell(opts, pts, tv, tm)
+      ! a pure cell whose faces take only from pure cells (or from none):
+      ! every region goes to its slot of acc, as the general loop below
+      ! books it, in the same order (the same sums), without its tests;
+      ! slot_in(f), the slot a face's incoming region goes to (0: none)
+      do f = 1, 6
+        slot_in(f) = -1
+        if (nbr(f) == c) slot_in(f) = 1
+        if (nbr(f) == 0) slot_in(f) = 0
+        if (pure_nbr(f)) slot_in(f) = 4 + (f + 1)/2
+      end do
+      if (pure .and. all(slot_in >= 0)) then
+        ! (unrolled whole: the halves' corners by constant indices)
+        !GCC$ unroll 24
+        do t = 1, 24
+          f = (t - 1)/4 + 1
+          do i = 2*t - 1, 2*t
+            v = tv(i)
+            slot = 1
+            if (v > 0.0_wp) slot = slot_in(f)
+            if (.not. abs(v) > 0.0_wp .or. slot == 0) cycle
+            acc(1, slot, half_corner(i)) = acc(1, slot, half_corner(i)) + v
+            acc(2:4, slot, half_corner(i)) = acc(2:4, slot, half_corner(i)) + tm(i, :)
+          end do
+          v = tv(48 + t)
+          if (.not. abs(v) > 0.0_wp) cycle
+          ia = half_corner(2*t - 1)
+          ib = half_corner(2*t)
+          slot = tet_slot(t)
+          if (v > 0.0_wp) then
+            acc(1, slot, ia) = acc(1, slot, ia) + v
+            acc(2:4, slot, ia) = acc(2:4, slot, ia) + tm(48 + t, :)
+            acc(1, 1, ib) = acc(1, 1, ib) - v
+            acc(2:4, 1, ib) = acc(2:4, 1, ib) - tm(48 + t, :)
+          else
+            acc(1, 1, ia) = acc(1, 1, ia) + v
+            acc(2:4, 1, ia) = acc(2:4, 1, ia) + tm(48 + t, :)
+            acc(1, slot, ib) = acc(1, slot, ib) - v
+            acc(2:4, slot, ib) = acc(2:4, slot, ib) - tm(48 + t, :)
+          end if
+        end do
+      end if
       do t = 1, 24
+        if (pure .and. all(slot_in >= 0)) exit
         f = (t - 1)/4 + 1
         d = (f + 1)/2
         ia = half_corner(2*t - 1)
@@ -2928,6 +2994,74 @@ contains
         end if
       end do
       ! what the pure sources gave, one fragment per source and corner
+      if (pure .and. all(slot_in >= 0)) then
+        ! (the cell's own region: `source_region` once; its subcell at
+        ! corner k, `source_node`, once for the fragments of slots 1-4 it
+        ! gives; each neighbour's region once, and each node's entry
+        ! (ink, 0: not yet) once: the numbers `source` would take at each.
+        ! Only where no source was taken before (no mixed cell across a
+        ! face): then at most 7 regions and 8 nodes, and `source` replaces
+        ! none of the entries held here)
+        call source_region(c, c, h%mat(c))
+        irc = ir
+        ink = 0
+        irf = 0
+        done_k = .false.
+        do j = 1, 8
+          ! (unrolled: each slot's source by constants)
+          !GCC$ unroll 7
+          do slot = 1, 7
+            if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
+            if (slot <= 4) then
+              k = j
+              if (slot > 1) k = ieor(j - 1, ishft(1, slot - 2)) + 1
+              kreg = c
+              kmat = h%mat(c)
+              ir = irc
+              nb = n0c + g%corner_offset(k)
+              if (.not. done_k(k)) then
+                call source_node(nb)
+                done_k(k) = .true.
+                if (.not. runi(ir)) ink(k) = in
+                ubk(:, k) = ub
+                kembk(k) = kemb
+                wbk(k) = wb
+              end if
+              in = ink(k)
+              ub = ubk(:, k)
+              kemb = kembk(k)
+              wb = wbk(k)
+            else
+              d = slot - 4
+              f = 2*d - 1 + merge(1, 0, btest(j - 1, d - 1))
+              if (irf(f) == 0) then
+                call source_region(nbr(f), nbr(f), h%mat(nbr(f)))
+                irf(f) = ir
+              else
+                kreg = nbr(f)
+                kmat = h%mat(nbr(f))
+                ir = irf(f)
+              end if
+              ! (`source_node` at node j, its entry found once)
+              nb = n0c + g%corner_offset(j)
+              if (runi(ir)) then
+                ub = rub(:, ir)
+              else
+                if (ink(j) == 0) then
+                  call node_entry()
+                  ink(j) = in
+                end if
+                in = ink(j)
+                ub = nu(:, in) + rub(:, ir)
+              end if
+              kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
+              wb = rw(ir)
+            end if
+            call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
+          end do
+        end do
+        return
+      end if
       do j = 1, 8
         do slot = 1, 7
           if (.not. abs(acc(1, slot, j)) > 0.0_wp) cycle
@@ -3032,9 +3166,15 @@ contains
     !> and kinetic energy per unit mass they carry.
     subroutine source(co, kr, km, node)
       integer, intent(in) :: co, kr, km, node
+      call source_region(co, kr, km)
+      call source_node(node)
+    end subroutine source
+
+    !> `source`'s part for the region: kr (material km) of old cell co.
+    subroutine source_region(co, kr, km)
+      integer, intent(in) :: co, kr, km
       kreg = kr
       kmat = km
-      nb = node
       ! (old's numbers taken once per region and node of this cell's
       ! sources, the last entry replaced when all are taken)
       ir = findloc(rk(1:nrk), kr, 1)
@@ -3061,24 +3201,37 @@ contains
           rw(ir) = old%wreg(kr)
         end if
       end if
+    end subroutine source_region
+
+    !> `source`'s part for the node (after `source_region`): the subcell
+    !> of the region at node node.
+    subroutine source_node(node)
+      integer, intent(in) :: node
+      nb = node
       if (runi(ir)) then
         ub = rub(:, ir)
       else
-        in = findloc(nk(1:nnk), nb, 1)
-        if (in == 0) then
-          nnk = min(nnk + 1, nkeep)
-          in = nnk
-          nk(in) = nb
-          nu(:, in) = h%u(:, nb)
-          nxo(:, in) = old%xdual(:, nb) - o
-          ngu(:, :, in) = old%gu(:, :, nb)
-          ndu(:, in) = nu(:, in) - urefc
-        end if
+        call node_entry()
         ub = nu(:, in) + rub(:, ir)
       end if
       kemb = 0.5_wp*sum((ub - urefc)**2) + rke(ir)
       wb = rw(ir)
-    end subroutine source
+    end subroutine source_node
+
+    !> The entry in of node nb among the nodes' numbers (`source`), taken
+    !> if it is not there yet.
+    subroutine node_entry()
+      in = findloc(nk(1:nnk), nb, 1)
+      if (in == 0) then
+        nnk = min(nnk + 1, nkeep)
+        in = nnk
+        nk(in) = nb
+        nu(:, in) = h%u(:, nb)
+        nxo(:, in) = old%xdual(:, nb) - o
+        ngu(:, :, in) = old%gu(:, :, nb)
+        ndu(:, in) = nu(:, in) - urefc
+      end if
+    end subroutine node_entry
 
     !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
     !> i = 1..np (bounding box [blo, bhi]) and deposits the fragments with
@@ -3444,26 +3597,105 @@ contains
   pure subroutine half_points(xn, pts)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: pts(3, 27)
-    integer :: f, e, d
+    integer :: d
 
     do d = 1, 3
       pts(d, 1) = 0.125_wp*sum(xn(d, :))
     end do
-    do f = 1, 6
-      pts(:, 1 + f) = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
-                               (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
-    end do
+    ! the face centres (their nodes: `hex_faces`, 1 + f for face f) and the
+    ! edge midpoints (`hex_edges`, 15 + e for edge e), their nodes written
+    ! out: constant indices, no table to read at every call (one of the
+    ! hot paths: three or four calls per remapped cell)
+    pts(:, 2) = 0.25_wp*((xn(:, 1) + xn(:, 7)) + (xn(:, 5) + xn(:, 3)))
+    pts(:, 3) = 0.25_wp*((xn(:, 2) + xn(:, 8)) + (xn(:, 4) + xn(:, 6)))
+    pts(:, 4) = 0.25_wp*((xn(:, 1) + xn(:, 6)) + (xn(:, 2) + xn(:, 5)))
+    pts(:, 5) = 0.25_wp*((xn(:, 3) + xn(:, 8)) + (xn(:, 7) + xn(:, 4)))
+    pts(:, 6) = 0.25_wp*((xn(:, 1) + xn(:, 4)) + (xn(:, 3) + xn(:, 2)))
+    pts(:, 7) = 0.25_wp*((xn(:, 5) + xn(:, 8)) + (xn(:, 6) + xn(:, 7)))
     pts(:, 8:15) = xn
-    do d = 1, 3
-      do e = 1, 4
-        pts(:, 15 + 4*(d - 1) + e) = 0.5_wp*(xn(:, hex_edges(1, e, d)) + xn(:, hex_edges(2, e, d)))
+    pts(:, 16) = 0.5_wp*(xn(:, 1) + xn(:, 2))
+    pts(:, 17) = 0.5_wp*(xn(:, 7) + xn(:, 8))
+    pts(:, 18) = 0.5_wp*(xn(:, 5) + xn(:, 6))
+    pts(:, 19) = 0.5_wp*(xn(:, 3) + xn(:, 4))
+    pts(:, 20) = 0.5_wp*(xn(:, 1) + xn(:, 3))
+    pts(:, 21) = 0.5_wp*(xn(:, 6) + xn(:, 8))
+    pts(:, 22) = 0.5_wp*(xn(:, 2) + xn(:, 4))
+    pts(:, 23) = 0.5_wp*(xn(:, 5) + xn(:, 7))
+    pts(:, 24) = 0.5_wp*(xn(:, 1) + xn(:, 5))
+    pts(:, 25) = 0.5_wp*(xn(:, 4) + xn(:, 8))
+    pts(:, 26) = 0.5_wp*(xn(:, 3) + xn(:, 7))
+    pts(:, 27) = 0.5_wp*(xn(:, 2) + xn(:, 6))
+  end subroutine half_points
+
+  !> `swept_triangles` on the 72 triangles `swept_tri` of the split whose
+  !> 27 points p move to q (`half_points`): the same gather of their
+  !> edges, by the constant indices of `swept_tri`, and the same arithmetic
+  !> (`swept_edges`): the same numbers, bit for bit. The gather's loop is
+  !> unrolled whole (the directive; other compilers read it as a comment),
+  !> so that every index is a constant: -funroll-loops alone leaves the
+  !> table's reads, and the gather then cost half as much as the
+  !> arithmetic (the swept-face remap's innermost kernel, once per
+  !> remapped cell).
+  pure subroutine swept_cell(p, q, v, m)
+    real(wp), intent(in) :: p(3, 27), q(3, 27)
+    real(wp), intent(out) :: v(72), m(72, 3)
+    real(wp) :: dq(3, 27), x1(72, 3), e1(72, 3), e2(72, 3), d1(72, 3), g1(72, 3), g2(72, 3)
+    integer :: k, j
+    do k = 1, 27
+      dq(:, k) = q(:, k) - p(:, k)
+    end do
+    !GCC$ unroll 72
+    do k = 1, 72
+      do j = 1, 3
+        x1(k, j) = p(j, swept_tri(1, k))
+        e1(k, j) = p(j, swept_tri(2, k)) - x1(k, j)
+        e2(k, j) = p(j, swept_tri(3, k)) - x1(k, j)
+        d1(k, j) = dq(j, swept_tri(1, k))
+        g1(k, j) = dq(j, swept_tri(2, k)) - d1(k, j)
+        g2(k, j) = dq(j, swept_tri(3, k)) - d1(k, j)
       end do
     end do
-  end subroutine half_points
+    call swept_edges(72, 72, x1, e1, e2, d1, g1, g2, v, m)
+  end subroutine swept_cell
+
+  !> `swept_triangles` on the triangles `swept_tri` of the faces f with
+  !> wall(f) (eight each, in order; nt of them), as `swept_cell` gathers
+  !> them (both loops unrolled whole: constant indices).
+  pure subroutine swept_walls(p, q, wall, nt, v, m)
+    real(wp), intent(in) :: p(3, 27), q(3, 27)
+    logical, intent(in) :: wall(6)
+    integer, intent(out) :: nt
+    real(wp), intent(out) :: v(48), m(48, 3)
+    real(wp) :: dq(3, 27), x1(48, 3), e1(48, 3), e2(48, 3), d1(48, 3), g1(48, 3), g2(48, 3)
+    integer :: k, j, f
+    do k = 1, 27
+      dq(:, k) = q(:, k) - p(:, k)
+    end do
+    nt = 0
+    !GCC$ unroll 6
+    do f = 1, 6
+      if (.not. wall(f)) cycle
+      !GCC$ unroll 8
+      do k = 8*f - 7, 8*f
+        nt = nt + 1
+        do j = 1, 3
+          x1(nt, j) = p(j, swept_tri(1, k))
+          e1(nt, j) = p(j, swept_tri(2, k)) - x1(nt, j)
+          e2(nt, j) = p(j, swept_tri(3, k)) - x1(nt, j)
+          d1(nt, j) = dq(j, swept_tri(1, k))
+          g1(nt, j) = dq(j, swept_tri(2, k)) - d1(nt, j)
+          g2(nt, j) = dq(j, swept_tri(3, k)) - d1(nt, j)
+        end do
+      end do
+    end do
+    if (nt > 0) call swept_edges(nt, 48, x1, e1, e2, d1, g1, g2, v, m)
+  end subroutine swept_walls
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
   !> centre for its first point, so the offsets from it are taken once.
+  !> (The loop over the halves unrolled whole, as `swept_cell`'s: their
+  !> points by constant indices.)
   pure subroutine half_dets(pts, det6)
     real(wp), intent(in) :: pts(3, 27)
     real(wp), intent(out) :: det6(48)
@@ -3472,6 +3704,7 @@ contains
     do j = 2, 27
       r(:, j) = pts(:, j) - pts(:, 1)
     end do
+    !GCC$ unroll 48
     do i = 1, 48
       associate (a => r(:, half_hv(2, i)), b => r(:, half_hv(3, i)), c => r(:, half_hv(4, i)))
         det6(i) = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
@@ -3701,7 +3934,7 @@ contains
       end do
       bits = 0_i8
       ! (the triangles' swept regions as `swept_fluxes` takes them)
-      call swept_triangles(opts, pts, swept_tri, tv, tm)
+      call swept_cell(opts, pts, tv, tm)
       ! (every region with mass: the last one's part of a half that the
       ! planes cut is the half's less the others', one clip fewer)
       rest = all(mx%mass(s0:s1) > 0.0_wp) .and. n > 1

@@ -96,9 +96,9 @@ contains
     integer, intent(in), optional :: cells(:)
     integer, allocatable :: list(:)
     integer :: nf, ncell, nnode, lwork, m, rank, info, stat, nfail, i
-    integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr)
+    integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr), off(max_nbr), cand(max_nbr), ncand, jc
     type(grid_index_t) :: ix
-    real(wp) :: amat(max_nbr, 3), sv(3), wq(1), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
+    real(wp) :: amat(max_nbr, 3), at(3, max_nbr), sv(3), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
                 qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
     real(wp), allocatable :: bmat(:, :), atb(:, :), work(:), qlo(:), qhi(:)
     character(len=200) :: msg
@@ -117,7 +117,9 @@ contains
     if (nf == 0) return
 
     ! Work arrays once per call; the parallel loop gives each thread its own
-    ! copy. lwork: the largest optimal size over all neighbour counts.
+    ! copy. The SVD's (work, lwork: the largest optimal size over all
+    ! neighbour counts) only in a thread that meets a cell the normal
+    ! equations do not solve (`svd_lwork`): most calls never do.
     allocate(bmat(max_nbr, nf), atb(3, nf), qlo(nf), qhi(nf), stat=stat, errmsg=msg)
     if (stat /= 0) then
       grad = 0.0_wp
@@ -126,29 +128,39 @@ contains
     end if
     amat = 0.0_wp
     bmat = 0.0_wp
-    lwork = 1
-    do m = 1, max_nbr
-      call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, wq, -1, info)
-      lwork = max(lwork, int(wq(1)), 3*min(m, 3) + max(2*min(m, 3), m, nf))
-    end do
-    allocate(work(lwork), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      grad = 0.0_wp
-      call report(error_no_memory('work arrays'))
-      return
-    end if
+    lwork = 0
 
     ix = grid_index(ni, nj, nk)
     if (present(cells)) then
       list = cells
     else
-      list = [(c, c = 1, ncell)]
+      allocate(list(ncell), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        grad = 0.0_wp
+        call report(error_no_memory('work arrays'))
+        return
+      end if
+      do c = 1, ncell
+        list(c) = c
+      end do
     end if
+    ! the 26 neighbours' offsets, in the order of the loops over k, j, i
+    n = 0
+    do ok_ = -1, 1
+      do oj = -1, 1
+        do oi = -1, 1
+          if (oi == 0 .and. oj == 0 .and. ok_ == 0) cycle
+          n = n + 1
+          off(n) = oi + ix%cx*oj + ix%cxy*ok_
+        end do
+      end do
+    end do
     nfail = 0
-    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, lwork, list) &
-    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, sv, dx, d2, rinv, &
-    !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi) &
-    !$omp reduction(+:nfail) schedule(static)
+    !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, list, off) &
+    !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, at, sv, dx, d2, rinv, &
+    !$omp         cand, ncand, jc, &
+    !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi, stat) &
+    !$omp firstprivate(lwork) reduction(+:nfail) schedule(static)
     do i = 1, size(list)
       c = list(i)
       if (.not. need(c)) cycle
@@ -162,30 +174,47 @@ contains
       ! the rows (offsets and differences, unweighted) and the weighted
       ! normal equations A^T W A, A^T W b summed with them (w_n = 1/d2: no
       ! square root unless the SVD decides; the neighbour c + offset by the
-      ! block's strides, no index call in the innermost loop)
-      m = 0
-      ata = 0.0_wp
-      do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
-        do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
-          do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
-            co = c + (oi - ci) + ix%cx*(oj - cj) + ix%cxy*(ok_ - ck)
-            if (co == c .or. .not. has(co)) cycle
-            dx = pos(:, co) - pos(:, c)
-            d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
-            if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
-            m = m + 1
-            nbr(m) = co
-            w(m) = 1.0_wp/d2
-            amat(m, :) = dx
-            wx = w(m)*dx
-            ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
-            ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
-            ata(3, 1) = ata(3, 1) + wx(3)*dx(1)
-            ata(2, 2) = ata(2, 2) + wx(2)*dx(2)
-            ata(3, 2) = ata(3, 2) + wx(3)*dx(2)
-            ata(3, 3) = ata(3, 3) + wx(3)*dx(3)
+      ! block's strides, no index call in the innermost loop); the offsets
+      ! as the columns of at, contiguous for the sums (the SVD's rows amat
+      ! made from them where it is needed)
+      ! (the candidates in the loops' order, k then j then i: away from
+      ! the block's faces all 26, by their offsets; else those within it)
+      if (ci > ix%clo(1) .and. ci < ix%chi(1) .and. cj > ix%clo(2) .and. cj < ix%chi(2) .and. &
+          ck > ix%clo(3) .and. ck < ix%chi(3)) then
+        ncand = max_nbr
+        cand = c + off
+      else
+        ncand = 0
+        do ok_ = max(ix%clo(3), ck - 1), min(ix%chi(3), ck + 1)
+          do oj = max(ix%clo(2), cj - 1), min(ix%chi(2), cj + 1)
+            do oi = max(ix%clo(1), ci - 1), min(ix%chi(1), ci + 1)
+              co = c + (oi - ci) + ix%cx*(oj - cj) + ix%cxy*(ok_ - ck)
+              if (co == c) cycle
+              ncand = ncand + 1
+              cand(ncand) = co
+            end do
           end do
         end do
+      end if
+      m = 0
+      ata = 0.0_wp
+      do jc = 1, ncand
+        co = cand(jc)
+        if (.not. has(co)) cycle
+        dx = pos(:, co) - pos(:, c)
+        d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
+        if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
+        m = m + 1
+        nbr(m) = co
+        w(m) = 1.0_wp/d2
+        at(:, m) = dx
+        wx = w(m)*dx
+        ata(1, 1) = ata(1, 1) + wx(1)*dx(1)
+        ata(2, 1) = ata(2, 1) + wx(2)*dx(1)
+        ata(3, 1) = ata(3, 1) + wx(3)*dx(1)
+        ata(2, 2) = ata(2, 2) + wx(2)*dx(2)
+        ata(3, 2) = ata(3, 2) + wx(3)*dx(2)
+        ata(3, 3) = ata(3, 3) + wx(3)*dx(3)
       end do
       if (m == 0) then
         grad(:, :, c) = 0.0_wp
@@ -193,27 +222,36 @@ contains
       end if
       ! (with the neighbours' range of each field, for the limiter below)
       do f = 1, nf
-        atb(:, f) = 0.0_wp
         qc = q(f, c)
-        qlo(f) = qc
-        qhi(f) = qc
+        qmin = qc
+        qmax = qc
+        wx = 0.0_wp
         do n = 1, m
           qn = q(f, nbr(n))
-          qlo(f) = min(qlo(f), qn)
-          qhi(f) = max(qhi(f), qn)
+          qmin = min(qmin, qn)
+          qmax = max(qmax, qn)
           bmat(n, f) = qn - qc
-          atb(:, f) = atb(:, f) + (w(n)*bmat(n, f))*amat(n, :)
+          wx = wx + (w(n)*bmat(n, f))*at(:, n)
         end do
+        atb(:, f) = wx
+        qlo(f) = qmin
+        qhi(f) = qmax
       end do
 
       if (.not. normal_solve(nf, ata, atb, bmat)) then
         ! weighted rows: sqrt(w_n) = 1/|pos_n - pos_c|
         do n = 1, m
           rinv = sqrt(w(n))
-          amat(n, :) = amat(n, :)*rinv
+          amat(n, :) = at(:, n)*rinv
           bmat(n, 1:nf) = bmat(n, 1:nf)*rinv
         end do
-        call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
+        if (lwork == 0) then
+          lwork = svd_lwork(nf)
+          allocate(work(lwork), stat=stat)
+          if (stat /= 0) lwork = 0
+        end if
+        info = 1
+        if (lwork > 0) call dgelss(m, 3, nf, amat, max_nbr, bmat, max_nbr, sv, rcond, rank, work, lwork, info)
         if (info /= 0) then
           nfail = nfail + 1
           grad(:, :, c) = 0.0_wp
@@ -254,6 +292,21 @@ contains
     end if
 
   contains
+
+    !> The SVD's work size for nf fields (`dgelss`' own query): the largest
+    !> optimal size over all neighbour counts.
+    integer function svd_lwork(nf) result(lw)
+      integer, intent(in) :: nf
+      real(wp) :: aq(max_nbr, 3), bq(max_nbr, nf), sq(3), wq1(1)
+      integer :: mq, rq, iq
+      aq = 0.0_wp
+      bq = 0.0_wp
+      lw = 1
+      do mq = 1, max_nbr
+        call dgelss(mq, 3, nf, aq, max_nbr, bq, max_nbr, sq, rcond, rq, wq1, -1, iq)
+        lw = max(lw, int(wq1(1)), 3*min(mq, 3) + max(2*min(mq, 3), mq, nf))
+      end do
+    end function svd_lwork
 
     !> The least-squares gradient from the weighted normal equations
     !> ata (lower triangle) and atb(:, 1:nf) into bmat(1:3, :) (3 x 3, by

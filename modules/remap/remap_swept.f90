@@ -29,7 +29,7 @@ module remap_swept
   use base_kinds, only: wp
   implicit none
   private
-  public :: swept_triangle, swept_triangles
+  public :: swept_triangle, swept_triangles, swept_edges
 
 contains
 
@@ -56,26 +56,23 @@ contains
   !> `swept_triangle` for the triangles tri(:, k) (three columns of p each,
   !> moving to the same columns of q): v(k) and m(k, :). The triangles'
   !> edges are gathered first, so that the arithmetic runs over them in
-  !> the vector unit's lanes (the swept-face remap's innermost kernel: 72
-  !> triangles per remapped cell). At most 72 triangles among 27 points.
+  !> the vector unit's lanes (`swept_edges`). At most 72 triangles among
+  !> 27 points.
   pure subroutine swept_triangles(p, q, tri, v, m)
     real(wp), intent(in), contiguous :: p(:, :), q(:, :)
     integer, intent(in), contiguous :: tri(:, :)
     real(wp), intent(out), contiguous :: v(:), m(:, :)
-    ! (the weights as products: a division is several times a product's cost)
-    real(wp), parameter :: r3 = 1.0_wp/3.0_wp, r6 = 1.0_wp/6.0_wp, r12 = 1.0_wp/12.0_wp, r24 = 1.0_wp/24.0_wp
     ! (the points' moves and the triangles' edges, on the stack)
     integer, parameter :: max_tri = 72, max_pts = 27
     real(wp) :: dq(3, max_pts), x1(max_tri, 3), e1(max_tri, 3), e2(max_tri, 3), d1(max_tri, 3), g1(max_tri, 3), &
-                g2(max_tri, 3)
-    real(wp) :: a1, a2, a3, b1, b2, b3, c1, c2, c3, n01, n02, n03, n11, n12, n13, s0, s1, s2, r0, r1, r2, &
-                w0, w1, w2, u1, u2
-    integer :: k, j, i1, i2, i3
+                g2(max_tri, 3), vk(max_tri), mk(max_tri, 3)
+    integer :: k, j, i1, i2, i3, n
     do k = 1, size(p, 2)
       dq(:, k) = q(:, k) - p(:, k)
     end do
     ! (d1 = q1 - p1, g_i = (q_(i+1) - p_(i+1)) - d1)
-    do k = 1, size(tri, 2)
+    n = size(tri, 2)
+    do k = 1, n
       i1 = tri(1, k)
       i2 = tri(2, k)
       i3 = tri(3, k)
@@ -88,7 +85,27 @@ contains
         g2(k, j) = dq(j, i3) - d1(k, j)
       end do
     end do
-    do k = 1, size(tri, 2)
+    call swept_edges(n, max_tri, x1, e1, e2, d1, g1, g2, vk, mk)
+    v(1:n) = vk(1:n)
+    m(1:n, :) = mk(1:n, :)
+  end subroutine swept_triangles
+
+  !> The arithmetic of `swept_triangles` on triangles given by their
+  !> edges, rows 1..n of arrays with ld rows: the first vertex x1 and its
+  !> move d1, the edges e_i = p_(i+1) - p_1 and their moves g_i =
+  !> d_(i+1) - d_1 (a caller that knows how its triangles share vertices
+  !> builds these itself, without `swept_triangles`' general gather). The
+  !> triangles run over the vector unit's lanes.
+  pure subroutine swept_edges(n, ld, x1, e1, e2, d1, g1, g2, v, m)
+    integer, intent(in) :: n, ld
+    real(wp), intent(in) :: x1(ld, 3), e1(ld, 3), e2(ld, 3), d1(ld, 3), g1(ld, 3), g2(ld, 3)
+    real(wp), intent(out) :: v(ld), m(ld, 3)
+    ! (the weights as products: a division is several times a product's cost)
+    real(wp), parameter :: r3 = 1.0_wp/3.0_wp, r6 = 1.0_wp/6.0_wp, r12 = 1.0_wp/12.0_wp, r24 = 1.0_wp/24.0_wp
+    real(wp) :: a1, a2, a3, b1, b2, b3, c1, c2, c3, n01, n02, n03, n11, n12, n13, s0, s1, s2, r0, r1, r2, &
+                w0, w1, w2, u1, u2
+    integer :: k, j
+    do k = 1, n
       ! a = e1 x e2, b = e1 x g2 + g1 x e2, c = g1 x g2
       a1 = e1(k, 2)*e2(k, 3) - e1(k, 3)*e2(k, 2)
       a2 = e1(k, 3)*e2(k, 1) - e1(k, 1)*e2(k, 3)
@@ -124,5 +141,5 @@ contains
         m(k, j) = v(k)*x1(k, j) + w1*e1(k, j) + w2*e2(k, j) + w0*d1(k, j) + u1*g1(k, j) + u2*g2(k, j)
       end do
     end do
-  end subroutine swept_triangles
+  end subroutine swept_edges
 end module remap_swept
