@@ -281,6 +281,10 @@ contains
         call agree_error(sch%pc, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
       else
+        ! (a global rezone's Euler step then compares only the rows of nodes
+        ! the Lagrangian steps moved: `euler_step`)
+        if (trim(cfg%rezone%mode) == 'global' .and. .not. allocated(st%g%moved_rows)) &
+          allocate(st%g%moved_rows(st%g%nnode/st%g%sx), source=.true.)
         call euler_due(cfg%rezone, st, es, due)
         if (due) then
           call euler_step(cfg%rezone, st, es, sch%log, err)

@@ -7,6 +7,7 @@
 module driver_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use base_kinds, only: wp
+  use base_build, only: build_checks
   use base_sort, only: sort_order
   use mesh_grid, only: grid_t, grid_index_t, grid_index
   use mesh_halo, only: halo_t
@@ -320,7 +321,7 @@ contains
     integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:)
     integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
     real(wp) :: fac, r
-    logical :: split, arrived, hybrid, lattice, one
+    logical :: split, arrived, hybrid, lattice, one, at_x0, rows
 
     if (present(xrezoned)) then
       start = e0
@@ -357,8 +358,25 @@ contains
     else if (par%lattice) then
       par%lattice = lattice_nodes(st%g, xnew)
     end if
-    nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                  parts=nparts, moved=moved, blockers=blockers)
+    ! (a global rezone without moving faces returns to x0, the grid the
+    ! last such Euler step left: where g%moved_rows is kept, only the rows
+    ! of nodes the Lagrangian steps moved since are compared; a Debug build
+    ! checks every other node)
+    at_x0 = .not. present(xrezoned) .and. trim(rz%mode) == 'global' .and. &
+            all([(global_face_rule(st%bc%kind(f)), f = 1, 6)] /= GLOBAL_FACE_MOVE) .and. size(es%x0, 2) == st%g%nnode
+    rows = at_x0 .and. allocated(st%g%moved_rows)
+    if (rows .and. build_checks) call rows_check(st%g, xnew, err)
+    if (allocated(err)) then
+      call es%timer%stop()
+      return
+    end if
+    if (rows) then
+      nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
+                                    parts=nparts, moved=moved, blockers=blockers, rows=st%g%moved_rows)
+    else
+      nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
+                                    parts=nparts, moved=moved, blockers=blockers)
+    end if
     par%swept = nblock == 0
     ! the way from the Lagrangian grid to the rezoned one in parts
     ! (&rezone swept_parts), each remapped in full (conservative), by swept
@@ -513,6 +531,8 @@ contains
       end if
       if (.not. (split .or. hybrid) .or. arrived) exit
     end do
+    ! (the grid is at xnew: at x0 in every row, or not known to be)
+    if (allocated(st%g%moved_rows)) st%g%moved_rows = .not. at_x0
     call material_burn_start(st%mats, st%t)
     ! (a cell two parts wrote is evaluated once: a material's work arrays
     ! hold its cells once)
@@ -536,6 +556,26 @@ contains
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
     if (.not. present(xrezoned)) call move_alloc(xnew, es%xkeep)
   end subroutine euler_step
+
+  !> (Debug) Every node of g in a row g%moved_rows does not flag is at
+  !> xnew: the Lagrangian steps noted every node they moved.
+  subroutine rows_check(g, xnew, err)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xnew(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: n
+    if (size(g%moved_rows)*g%sx /= g%nnode) then
+      call error_set(err, 'euler_step', 'the moved-row flags do not match the grid')
+      return
+    end if
+    do n = 1, g%nnode
+      if (g%moved_rows((n - 1)/g%sx + 1)) cycle
+      if (any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) then
+        call error_set(err, 'euler_step', 'node '//itoa(n)//' moved, but its row was not noted as moved')
+        return
+      end if
+    end do
+  end subroutine rows_check
 
   !> list in increasing order, each entry once.
   subroutine unique_cells(list, err)

@@ -11,7 +11,7 @@
 !> plus internal energy is conserved to round-off (less the boundary work).
 module lagrange_integrator
   use base_kinds, only: wp
-  use mesh_grid, only: grid_t
+  use mesh_grid, only: grid_t, nodes_moved
   use mesh_halo, only: halo_t
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
@@ -141,7 +141,7 @@ contains
     call mixed_save_step_start(mx, h%vol)
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%u, h, par)
-    call update_nodes(g, h, dt, 0.5_wp*dt, f_ext, m_ext)
+    call update_nodes(g, h, dt, 0.5_wp*dt, .false., f_ext, m_ext)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, m_ext)
     call halo_nodes()
     ! the geometry of x^{1/2} (volumes, their gradients, median areas, strain
@@ -156,8 +156,9 @@ contains
     ! corrector
     call bc_pressure_forces(bc, g, g%x, h%p)
     call lagrange_corner_forces(g, g%x, h%uh, h, par)
-    call update_nodes(g, h, dt, dt, f_ext, m_ext)
+    call update_nodes(g, h, dt, dt, .true., f_ext, m_ext)
     call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext, wacc(1))
+    call note_boundary_moves(g, h)
     if (present(halo)) then
       call halo%sums(wacc)
       work = xsum_value(wacc(1))
@@ -222,7 +223,7 @@ contains
         call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
       end if
       if (present(bad_particle)) bad_particle = badp
-      call update_nodes(g, h, dt, 0.5_wp*dt, pw%f, pw%mp)
+      call update_nodes(g, h, dt, 0.5_wp*dt, .false., pw%f, pw%mp)
       call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
       call halo_nodes()
       call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
@@ -245,8 +246,9 @@ contains
       if (present(bad_particle)) then
         if (bad_particle == 0) bad_particle = badp
       end if
-      call update_nodes(g, h, dt, dt, pw%f, pw%mp)
+      call update_nodes(g, h, dt, dt, .true., pw%f, pw%mp)
       call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, pw%mp, wacc(1))
+      call note_boundary_moves(g, h)
       call node_work(g, pw%f, h%uh, acc(1))
       call halo_nodes()
       call lagrange_update_cells(g, h, dt, bad_cell)
@@ -410,45 +412,55 @@ contains
   !> Gathers the corner forces at each node and advances it (Eqs. 20-22):
   !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh; with the extra
   !> force f_ext and mass m_ext of `lagrange_step` if present.
-  subroutine update_nodes(g, h, dt, dtx, f_ext, m_ext)
+  subroutine update_nodes(g, h, dt, dtx, last, f_ext, m_ext)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
+    !> the step's last stage (its positions are the step's: `move_nodes`)
+    logical, intent(in) :: last
     real(wp), intent(in), optional :: f_ext(:, :), m_ext(:)
     real(wp) :: no_f(3, 0), no_m(0)
 
     ! absent arguments as zero-size arrays: the node loop's OpenMP region
     ! cannot share an absent optional
     if (present(f_ext) .and. present(m_ext)) then
-      call move_nodes(g, h, dt, dtx, f_ext, m_ext, .true., .true.)
+      call move_nodes(g, h, dt, dtx, last, f_ext, m_ext, .true., .true.)
     else if (present(f_ext)) then
-      call move_nodes(g, h, dt, dtx, f_ext, no_m, .true., .false.)
+      call move_nodes(g, h, dt, dtx, last, f_ext, no_m, .true., .false.)
     else if (present(m_ext)) then
-      call move_nodes(g, h, dt, dtx, no_f, m_ext, .false., .true.)
+      call move_nodes(g, h, dt, dtx, last, no_f, m_ext, .false., .true.)
     else
-      call move_nodes(g, h, dt, dtx, no_f, no_m, .false., .false.)
+      call move_nodes(g, h, dt, dtx, last, no_f, no_m, .false., .false.)
     end if
   end subroutine update_nodes
 
   !> The node loop of `update_nodes`: an extra nodal force f_add (if has_f)
   !> and an extra nodal mass m_add (if has_m); the switches are the same for
   !> every node, so the branches cost nothing measurable.
-  subroutine move_nodes(g, h, dt, dtx, f_add, m_add, has_f, has_m)
+  subroutine move_nodes(g, h, dt, dtx, last, f_add, m_add, has_f, has_m)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
+    logical, intent(in) :: last
     real(wp), intent(in) :: f_add(:, :), m_add(:)
     logical, intent(in) :: has_f, has_m
-    integer :: n, i, j, k, c0
+    integer :: n, i, j, k, c0, n0
     real(wp) :: f(3), m
+    logical :: track
 
-    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_f, has_m) collapse(2) &
-    !$omp private(n, i, j, k, c0, f, m) schedule(static)
+    ! (in the last stage, a row of nodes whose inner nodes leave x^n is
+    ! noted in g%moved_rows: one thread takes each row, so each flag has
+    ! one writer; the nodes on the block's faces are `note_boundary_moves`',
+    ! after their conditions)
+    track = last .and. allocated(g%moved_rows)
+    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_f, has_m, track) collapse(2) &
+    !$omp private(n, i, j, k, c0, f, m, n0) schedule(static)
     do k = g%nlo(3), g%nhi(3)
     do j = g%nlo(2), g%nhi(2)
     ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
     n = g%node(g%nlo(1), j, k) - 1
     c0 = g%cell(g%nlo(1) + 1, j + 1, k + 1) - 1
+    n0 = n + 1
     do i = g%nlo(1), g%nhi(1)
       n = n + 1
       c0 = c0 + 1
@@ -460,10 +472,45 @@ contains
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
     end do
+    ! (the row's inner nodes n0+1 .. n-1, read again while they are in the
+    ! cache: a loop of its own runs in the vector lanes)
+    if (track .and. j > g%nlo(2) .and. j < g%nhi(2) .and. k > g%nlo(3) .and. k < g%nhi(3)) then
+      if (n - n0 > 1) then
+        if (nodes_moved(n - n0 - 1, g%x(:, n0 + 1:n - 1), h%xn(:, n0 + 1:n - 1))) &
+          g%moved_rows((n - 1)/g%sx + 1) = .true.
+      end if
+    end if
     end do
     end do
     !$omp end parallel do
   end subroutine move_nodes
+
+  !> Notes in g%moved_rows (if tracked) the rows of the nodes on the
+  !> block's faces that the step (`move_nodes`, then the face conditions of
+  !> `bc_apply`) left away from x^n: with `move_nodes`' notes of the inner
+  !> nodes, every row in which a node ends the step elsewhere than it began
+  !> it. (A face node's move before its condition, e.g. the round-off
+  !> normal velocity a symmetry plane removes, is not a move.)
+  subroutine note_boundary_moves(g, h)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(in) :: h
+    integer :: j, k, n0, n1
+    logical :: moved
+    if (.not. allocated(g%moved_rows)) return
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        n0 = g%node(g%nlo(1), j, k)
+        n1 = n0 + g%nhi(1) - g%nlo(1)
+        ! (a row on a face whole, else its two end nodes)
+        if (j == g%nlo(2) .or. j == g%nhi(2) .or. k == g%nlo(3) .or. k == g%nhi(3)) then
+          moved = nodes_moved(n1 - n0 + 1, g%x(:, n0:n1), h%xn(:, n0:n1))
+        else
+          moved = nodes_moved(1, g%x(:, n0), h%xn(:, n0)) .or. nodes_moved(1, g%x(:, n1), h%xn(:, n1))
+        end if
+        if (moved) g%moved_rows((n0 - 1)/g%sx + 1) = .true.
+      end do
+    end do
+  end subroutine note_boundary_moves
 
   !> Compatible energy update (Eq. 19) over dte with the half-step velocity,
   !> then new volume and density of every cell. bad_cell > 0 names the first

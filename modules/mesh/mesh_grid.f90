@@ -24,7 +24,7 @@ module mesh_grid
   implicit none
   private
   public :: grid_index_t, grid_index, grid_index_block, grid_t, grid_init_box, grid_init_nodes, block_gather, &
-            grid_register_restart, &
+            grid_register_restart, nodes_moved, &
             FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
   !> The six faces of the block; bit f-1 of a face mask is set for face f.
@@ -68,6 +68,13 @@ module mesh_grid
   type, extends(grid_index_t) :: grid_t
     real(wp) :: xmin(3) = 0.0_wp, xmax(3) = 1.0_wp   !< initial box (around the initial nodes)
     real(wp), allocatable :: x(:, :)      !< node positions (3, nnode)
+    !> Per row of stored nodes (fixed j and k: node n is in row (n - 1)/sx
+    !> + 1): false where every node of the row is known to be at the fixed
+    !> grid the last Euler step returned to (`driver_euler`), true where one
+    !> may have moved since (the Lagrangian step sets it); unallocated: not
+    !> tracked. It lets an Euler step find the moved nodes without reading
+    !> the whole grid's positions.
+    logical, allocatable :: moved_rows(:)
   end type grid_t
 
 contains
@@ -338,6 +345,21 @@ contains
       fn(:, a) = f(:, n0 + this%corner_offset(a))
     end do
   end subroutine grid_gather
+
+  !> Whether any of m nodes' coordinates differ between a and b (the
+  !> largest difference: no early exit, so that the compiler takes several
+  !> at a time).
+  pure logical function nodes_moved(m, a, b) result(moved)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: a(3*m), b(3*m)
+    real(wp) :: d
+    integer :: i
+    d = 0.0_wp
+    do i = 1, 3*m
+      d = max(d, abs(a(i) - b(i)))
+    end do
+    moved = d > 0.0_wp
+  end function nodes_moved
 
   !> Copies the node positions of cell (ci,cj,ck) of a block of ni x nj
   !> cells per layer from x(3, nnode) into xn(3,8) (for code that has the

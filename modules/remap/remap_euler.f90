@@ -98,7 +98,7 @@ module remap_euler
   use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
-  use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather
+  use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather, nodes_moved
   use mesh_geometry, only: hex_corner, hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, &
                            tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
@@ -1065,28 +1065,44 @@ contains
   !> The cells of g with a node that moves from g%x to xnew (marked in
   !> changed, all false on entry, and their list in increasing order): each
   !> node is compared once, and only the moved nodes' cells are visited.
-  subroutine moved_cells(g, xnew, changed, list, err)
+  !> rows (optional): g%moved_rows, where xnew is the grid those flags refer
+  !> to; then only the flagged rows of nodes are compared, so the cost
+  !> follows the moved region, not the grid (where most rows are flagged,
+  !> all nodes are compared in blocks, the faster way then).
+  subroutine moved_cells(g, xnew, changed, list, err, rows)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xnew(:, :)
     logical, intent(inout) :: changed(:)
     integer, allocatable, intent(out) :: list(:)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: rows(:)
     integer, parameter :: block = 32
     integer, allocatable :: fresh(:)
-    integer :: n, i, j, k, ci, cj, ck, nf, c, stat, n0, n1
-    logical :: moved((g%nnode + block - 1)/block)
+    integer :: n, i, j, k, ci, cj, ck, nf, c, stat, n0, n1, step
+    logical, allocatable :: moved(:)
+    logical :: by_rows
     allocate(fresh(size(changed)), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('a cell list'))
       return
     end if
     nf = 0
-    ! (blocks of nodes compared at once first: most nodes of a large grid
-    ! do not move)
-    call blocks_moved(g%nnode, xnew, g%x, block, moved)
-    do n0 = 1, g%nnode, block
-      n1 = min(n0 + block - 1, g%nnode)
-      if (.not. moved((n0 - 1)/block + 1)) cycle
+    by_rows = .false.
+    if (present(rows)) by_rows = 4*count(rows) < size(rows)
+    if (by_rows) then
+      ! (the rows the Lagrangian steps noted)
+      step = g%sx
+      moved = rows
+    else
+      ! (blocks of nodes compared at once first: most nodes of a large grid
+      ! do not move)
+      step = block
+      allocate(moved((g%nnode + block - 1)/block))
+      call blocks_moved(g%nnode, xnew, g%x, block, moved)
+    end if
+    do n0 = 1, g%nnode, step
+      n1 = min(n0 + step - 1, g%nnode)
+      if (.not. moved((n0 - 1)/step + 1)) cycle
       do n = n0, n1
         if (.not. any(abs(xnew(:, n) - g%x(:, n)) > 0.0_wp)) cycle
         ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
@@ -1114,16 +1130,13 @@ contains
   !> a time).
   pure subroutine blocks_moved(m, a, b, block, moved)
     integer, intent(in) :: m, block
-    real(wp), intent(in) :: a(3*m), b(3*m)
+    real(wp), intent(in) :: a(3, m), b(3, m)
     logical, intent(out) :: moved(:)
-    integer :: q, i
-    real(wp) :: d
+    integer :: q, n0, n1
     do q = 1, size(moved)
-      d = 0.0_wp
-      do i = 3*block*(q - 1) + 1, min(3*block*q, 3*m)
-        d = max(d, abs(a(i) - b(i)))
-      end do
-      moved(q) = d > 0.0_wp
+      n0 = block*(q - 1) + 1
+      n1 = min(block*q, m)
+      moved(q) = nodes_moved(n1 - n0 + 1, a(:, n0:n1), b(:, n0:n1))
     end do
   end subroutine blocks_moved
 
@@ -2269,7 +2282,8 @@ contains
   !> up to its volume only if every new cell around it takes its share the
   !> same way, so the caller adds the count over the whole grid and sets
   !> `remap_params_t`'s swept where it is 0.
-  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, work, blockers) result(nblock)
+  integer function remap_swept_blockers(g, h, bc, xnew, smax, mixed, own, parts, moved, work, blockers, rows) &
+    result(nblock)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(bc_t), intent(in) :: bc
@@ -2291,6 +2305,8 @@ contains
     !> the cells counted (those of own that move and cannot), in
     !> increasing order
     integer, allocatable, intent(out), optional :: blockers(:)
+    !> g%moved_rows, where xnew is the grid they refer to (`moved_cells`)
+    logical, intent(in), optional :: rows(:)
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
@@ -2306,7 +2322,7 @@ contains
     if (present(work)) then
       call marks_ready(work%old, g%ncell, g%nnode, stat)
       if (stat /= 0) return
-      call moved_cells(g, xnew, work%old%changed, list, err)
+      call moved_cells(g, xnew, work%old%changed, list, err, rows)
       if (allocated(err)) then
         work%old%changed = .false.
         return
@@ -2316,7 +2332,7 @@ contains
       allocate(changed(g%ncell), stat=stat)
       if (stat /= 0) return
       changed = .false.
-      call moved_cells(g, xnew, changed, list, err)
+      call moved_cells(g, xnew, changed, list, err, rows)
       if (allocated(err)) return
     end if
     if (present(moved)) moved = list
