@@ -357,6 +357,15 @@ module remap_euler
     !> gradient is needed, and the gradients
     real(wp), allocatable :: gq(:, :), gpos(:, :), ggrad(:, :, :)
     logical, allocatable :: ghas(:), gneed(:)
+    !> the old cells' `half_dets` that `remap_swept_blockers` takes (the
+    !> tangle test), kept for `subcell_shifts`, which needs the same
+    !> numbers of the same old cells later in the Euler step: hslot(c)
+    !> (ncell; 0: none) the entry of cell c, hdet(:, e) its 48 values and
+    !> hkey(:, :, e) its eight nodes when they were taken. An entry is
+    !> used only where the cell's nodes are still those (compared exactly),
+    !> so one left from another grid or an earlier step is never read.
+    integer, allocatable :: hslot(:)
+    real(wp), allocatable :: hdet(:, :), hkey(:, :, :)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -1745,12 +1754,12 @@ contains
     logical, intent(in) :: means
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
-    integer :: c, j, i, n, s, s0, s1, nm, r, ic
+    integer :: c, j, i, n, s, s0, s1, nm, r, ic, e
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old, means) &
     !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
-    !$omp sub) &
+    !$omp sub, e) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1771,12 +1780,27 @@ contains
           call region_floor(old, g%ncell + s, xn)
         end do
       end if
+      ! (the halves' volumes as `remap_swept_blockers` found them for
+      ! these nodes, where it did: the same numbers, `old_t`'s hdet)
+      e = 0
+      if (allocated(old%hslot)) then
+        if (size(old%hslot) == g%ncell) e = old%hslot(c)
+        if (e > 0) then
+          ! (equal: the differences' magnitudes add up to zero, which no
+          ! non-zero one does, nor a NaN; one sum, no test per node)
+          if (.not. sum(abs(old%hkey(:, :, e) - xn)) <= 0.0_wp) e = 0
+        end if
+      end if
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
       call half_points(xn, pts)
-      call half_dets(pts, det6)
+      if (e > 0) then
+        det6 = old%hdet(:, e)
+      else
+        call half_dets(pts, det6)
+      end if
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
@@ -2294,7 +2318,7 @@ contains
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
-    logical :: ok
+    logical :: ok, keep
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
     type(error_t), allocatable :: err
@@ -2330,8 +2354,29 @@ contains
       nblock = 1
       return
     end if
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
-    !$omp reduction(max:rmax) reduction(.or.:other) &
+    ! (the tangle tests' `half_dets` kept for `subcell_shifts`: entry i
+    ! for list(i); a grown store starts with no cell's entry)
+    keep = present(work)
+    if (keep) then
+      if (allocated(work%old%hslot)) then
+        if (size(work%old%hslot) /= g%ncell .or. size(work%old%hdet, 2) < size(list)) &
+          deallocate(work%old%hslot, work%old%hdet, work%old%hkey)
+      end if
+      if (.not. allocated(work%old%hslot)) then
+        allocate(work%old%hslot(g%ncell), work%old%hdet(48, max(size(list), 1)), &
+                 work%old%hkey(3, 8, max(size(list), 1)), stat=stat)
+        if (stat /= 0) then
+          if (allocated(work%old%hslot)) deallocate(work%old%hslot)
+          if (allocated(work%old%hdet)) deallocate(work%old%hdet)
+          if (allocated(work%old%hkey)) deallocate(work%old%hkey)
+          keep = .false.
+        else
+          work%old%hslot = 0
+        end if
+      end if
+    end if
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, work) &
+    !$omp reduction(+:nblock) reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, vw, mw, vb, nt) schedule(static)
     do i = 1, size(list)
@@ -2339,6 +2384,10 @@ contains
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      if (keep) then
+        work%old%hslot(c) = 0
+        work%old%hkey(:, :, i) = xo
+      end if
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
         do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
@@ -2379,6 +2428,10 @@ contains
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
+        if (keep) then
+          work%old%hdet(:, i) = det6
+          work%old%hslot(c) = i
+        end if
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
