@@ -2670,6 +2670,33 @@ contains
       xn(:, j) = xn(:, j) - o
     end do
     call half_points(xn, pts)
+    if (old%swept) then
+      ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
+      ! the dummies: no zeros written through their descriptors first)
+      svol = 0.0_wp
+      smom = 0.0_wp
+      smass = 0.0_wp
+      sie = 0.0_wp
+      spc = 0.0_wp
+      scmom = 0.0_wp
+      scland = 0.0_wp
+      scdef = 0.0_wp
+      ! cdef, the gaps' measure, only where there are open faces
+      if (any(old%open)) then
+        do t = 1, 48
+          do j = 1, 4
+            ht(:, j, t) = pts(:, half_hv(j, t))
+          end do
+          scdef(half_corner(t)) = scdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
+        end do
+      end if
+      call swept_fluxes()
+      call sums_out()
+      do kmat = 1, size(avol)
+        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
+      end do
+      return
+    end if
     avol = 0.0_wp
     amom = 0.0_wp
     amass = 0.0_wp
@@ -2678,24 +2705,6 @@ contains
     cmom = 0.0_wp
     cland = 0.0_wp
     cdef = 0.0_wp
-    if (old%swept) then
-      ! cdef, the gaps' measure, only where there are open faces
-      if (any(old%open)) then
-        do t = 1, 48
-          do j = 1, 4
-            ht(:, j, t) = pts(:, half_hv(j, t))
-          end do
-          cdef(half_corner(t)) = cdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
-        end do
-      end if
-      call sums_in()
-      call swept_fluxes()
-      call sums_out()
-      do kmat = 1, size(avol)
-        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
-      end do
-      return
-    end if
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
