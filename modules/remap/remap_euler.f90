@@ -1929,7 +1929,7 @@ contains
     real(wp), allocatable :: wsum(:), xd(:, :)
     logical, allocatable :: has(:)
     type(grid_index_t) :: dual
-    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic, pass
+    integer :: c, a, n, i, j, k, m, m0, stat, ic, doff(8)
     real(wp) :: nan
     character(len=200) :: msg
 
@@ -1973,23 +1973,28 @@ contains
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
     ! (a dual node is a corner of up to eight dual cells: each is placed
     ! once, marked first by a NaN in every one the gradients read)
-    do pass = 1, 2
-      do ic = 1, size(old%lnode)
-        if (.not. has(old%lnode(ic))) cycle
-        call g%node_ijk(old%lnode(ic), i, j, k)
-        do dk_ = k, k + 1
-          do dj = j, j + 1
-            do di = i, i + 1
-              ! (the index `grid_node` gives, written out: no call per node)
-              m = dual%nbase + di + dual%sx*dj + dual%sxy*dk_
-              if (pass == 1) then
-                xd(1, m) = nan
-              else if (ieee_is_nan(xd(1, m))) then
-                call dual_node(di, dj, dk_)
-              end if
-            end do
-          end do
-        end do
+    ! (the index `grid_node` gives, written out: no call per node; the
+    ! eight corners (i + di, j + dj, k + dk_) by their offsets from the
+    ! first, a = 1 + di + 2 dj + 4 dk_, without three loops' overhead per
+    ! node)
+    do a = 1, 8
+      doff(a) = mod(a - 1, 2) + dual%sx*mod((a - 1)/2, 2) + dual%sxy*((a - 1)/4)
+    end do
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      m0 = dual%nbase + i + dual%sx*j + dual%sxy*k
+      do a = 1, 8
+        xd(1, m0 + doff(a)) = nan
+      end do
+    end do
+    ! (m0, not m: `dual_node` sets m)
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      m0 = dual%nbase + i + dual%sx*j + dual%sxy*k
+      do a = 1, 8
+        if (ieee_is_nan(xd(1, m0 + doff(a)))) call dual_node(i + mod(a - 1, 2), j + mod((a - 1)/2, 2), k + (a - 1)/4)
       end do
     end do
     call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err, &
