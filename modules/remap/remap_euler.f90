@@ -366,6 +366,15 @@ module remap_euler
     !> so one left from another grid or an earlier step is never read.
     integer, allocatable :: hslot(:)
     real(wp), allocatable :: hdet(:, :), hkey(:, :, :)
+    !> the swept path's shared faces (`swept_low_faces`): per changed cell
+    !> c, entry fslot(c) (valid where fstamp(c) == fgen, this remap's), the
+    !> regions its 24 triangles on its three low faces (xi-, eta-, zeta-;
+    !> faces 1, 3, 5, eight triangles each in order) sweep, fv(24, e) and
+    !> fm(24, 3, e), about its new centre fo(:, e): each face's triangles
+    !> swept once, for the cell and for its neighbour across the face
+    integer, allocatable :: fslot(:), fstamp(:)
+    integer :: fgen = 0
+    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -599,6 +608,7 @@ contains
       old%swept = par%swept
       old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
       if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
+      if (old%swept) call swept_low_faces(g, old, xnew)
       if (old%swept) stats%cells_swept = stats%cells_remapped
       stats%cells_copied = ncell - stats%cells_remapped
       if (windowed) stats%cells_copied = count(own) - stats%cells_remapped
@@ -2901,7 +2911,7 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
-      logical :: pure, pure_nbr(6), done_k(8)
+      logical :: pure, pure_nbr(6), done_k(8), shared
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
@@ -2958,8 +2968,6 @@ contains
         pure_nbr(f) = .false.
         if (nbr(f) /= c .and. nbr(f) /= 0) pure_nbr(f) = h%mat(nbr(f)) > 0
       end do
-      ! the 72 triangles' swept regions at once (`swept_tri`, `swept_cell`)
-      call swept_cell(opts, pts, tv, tm)
       ! a pure cell whose faces take only from pure cells (or from none):
       ! every region goes to its slot of acc, as the general loop below
       ! books it, in the same order (the same sums), without its tests;
@@ -2970,6 +2978,13 @@ contains
         if (nbr(f) == 0) slot_in(f) = 0
         if (pure_nbr(f)) slot_in(f) = 4 + (f + 1)/2
       end do
+      ! the 72 triangles' swept regions (`swept_tri`): at once
+      ! (`swept_cell`), or on that path with its low faces' and those of
+      ! the cells across its high faces as `swept_low_faces` swept them
+      ! (`shared_faces`)
+      shared = .false.
+      if (pure .and. all(slot_in >= 0)) call shared_faces(nbr, tv, tm, shared)
+      if (.not. shared) call swept_cell(opts, pts, tv, tm)
       if (pure .and. all(slot_in >= 0)) then
         ! (unrolled whole: the halves' corners by constant indices)
         !GCC$ unroll 24
@@ -3167,6 +3182,72 @@ contains
         end do
       end do
     end subroutine swept_fluxes
+
+    !> tv, tm from `swept_low_faces`' regions where it swept them: this
+    !> cell's low faces as they are (the same numbers `swept_cell` gives);
+    !> a high face's from the cell across it, the same triangle of its
+    !> low face (`twin_triangles`), turned (the region's sign) and its
+    !> moment moved to this cell's centre, so that the two cells book the
+    !> same region through it (the other way round); the inner triangles
+    !> and any face on the grid's boundary swept here. A face shared with
+    !> an unchanged cell did not move: it sweeps nothing. False (tv, tm
+    !> not set) where this cell has no entry of this remap. (`swept_fluxes`'
+    !> cells across the faces, nbr, and its tv, tm passed.)
+    subroutine shared_faces(nbr, tv, tm, done)
+      integer, intent(in) :: nbr(6)
+      real(wp), intent(inout) :: tv(72), tm(72, 3)
+      logical, intent(out) :: done
+      real(wp) :: vw(48), mw(48, 3), dlo(3)
+      logical :: local(6)
+      integer :: e, en, ff, ii, pp, nt, tw
+      done = .false.
+      if (.not. allocated(old%fslot)) return
+      if (size(old%fslot) /= g%ncell) return
+      if (old%fstamp(c) /= old%fgen) return
+      e = old%fslot(c)
+      done = .true.
+      local = .false.
+      ! (unrolled: the faces' triangles by constant ranges)
+      !GCC$ unroll 3
+      do ff = 1, 5, 2
+        pp = 8*((ff - 1)/2)
+        tv(8*ff - 7:8*ff) = old%fv(pp + 1:pp + 8, e)
+        tm(8*ff - 7:8*ff, :) = old%fm(pp + 1:pp + 8, :, e)
+      end do
+      !GCC$ unroll 3
+      do ff = 2, 6, 2
+        en = nbr(ff)
+        if (en == c .or. en == 0) then
+          local(ff) = .true.
+        else if (.not. old%changed(en)) then
+          tv(8*ff - 7:8*ff) = 0.0_wp
+          tm(8*ff - 7:8*ff, :) = 0.0_wp
+        else if (old%fstamp(en) /= old%fgen) then
+          local(ff) = .true.
+        else
+          en = old%fslot(en)
+          dlo = old%fo(:, en) - o
+          do ii = 8*ff - 7, 8*ff
+            tw = old%twin(ii)
+            ! (its place among the neighbour's 24: face ff - 1's eight)
+            pp = tw - 8*(ff - 1) + 8 + 8*((ff - 2)/2)
+            tv(ii) = -old%fv(pp, en)
+            tm(ii, :) = -(old%fm(pp, :, en) + old%fv(pp, en)*dlo)
+          end do
+        end if
+      end do
+      call swept_inner(opts, pts, tv(49:72), tm(49:72, :))
+      if (any(local)) then
+        call swept_walls(opts, pts, local, nt, vw, mw)
+        nt = 0
+        do ff = 2, 6, 2
+          if (.not. local(ff)) cycle
+          tv(8*ff - 7:8*ff) = vw(nt + 1:nt + 8)
+          tm(8*ff - 7:8*ff, :) = mw(nt + 1:nt + 8, :)
+          nt = nt + 8
+        end do
+      end if
+    end subroutine shared_faces
 
     !> The fragments of old cell co in this new cell, from its parts on the
     !> lattice (`lattice_prepare`), in the order they were made.
@@ -3779,6 +3860,94 @@ contains
     end do
     if (nt > 0) call swept_edges(nt, 48, x1, e1, e2, d1, g1, g2, v, m)
   end subroutine swept_walls
+
+  !> `swept_cell`'s 24 inner triangles (49..72 of `swept_tri`) alone, as
+  !> it gathers them (unrolled whole: constant indices): the same numbers.
+  pure subroutine swept_inner(p, q, v, m)
+    real(wp), intent(in) :: p(3, 27), q(3, 27)
+    real(wp), intent(out) :: v(24), m(24, 3)
+    real(wp) :: dq(3, 27), x1(24, 3), e1(24, 3), e2(24, 3), d1(24, 3), g1(24, 3), g2(24, 3)
+    integer :: k, j
+    do k = 1, 27
+      dq(:, k) = q(:, k) - p(:, k)
+    end do
+    !GCC$ unroll 24
+    do k = 1, 24
+      do j = 1, 3
+        x1(k, j) = p(j, swept_tri(1, 48 + k))
+        e1(k, j) = p(j, swept_tri(2, 48 + k)) - x1(k, j)
+        e2(k, j) = p(j, swept_tri(3, 48 + k)) - x1(k, j)
+        d1(k, j) = dq(j, swept_tri(1, 48 + k))
+        g1(k, j) = dq(j, swept_tri(2, 48 + k)) - d1(k, j)
+        g2(k, j) = dq(j, swept_tri(3, 48 + k)) - d1(k, j)
+      end do
+    end do
+    call swept_edges(24, 24, x1, e1, e2, d1, g1, g2, v, m)
+  end subroutine swept_inner
+
+  !> The regions the 24 triangles on the three low faces of every changed
+  !> cell sweep from g%x to xnew, about the new cell's centre, as
+  !> `swept_fluxes` sweeps them (the same points, `swept_walls`: the same
+  !> numbers), kept in old (fslot ... fo, under a new fgen) for the cell
+  !> and for its neighbours across those faces: each face is swept once
+  !> per remap instead of by both its cells (`remap_new_cell`'s
+  !> `shared_faces`). Where the store cannot be had, no cell has an entry
+  !> and each sweeps its own.
+  subroutine swept_low_faces(g, old, xnew)
+    type(grid_t), intent(in) :: g
+    type(old_t), intent(inout) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    logical, parameter :: low(6) = [.true., .false., .true., .false., .true., .false.]
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), vw(48), mw(48, 3)
+    integer :: ic, c, ci, cj, ck, j, nt, n, stat
+
+    if (old%twin(1) == 0) old%twin = twin_triangles()
+    old%fgen = old%fgen + 1
+    n = size(old%lchanged)
+    stat = 0
+    if (allocated(old%fslot)) then
+      if (size(old%fslot) /= g%ncell .or. size(old%fv, 2) < n) deallocate(old%fslot, old%fstamp, old%fv, old%fm, &
+                                                                         old%fo)
+    end if
+    if (.not. allocated(old%fslot)) then
+      allocate(old%fslot(g%ncell), old%fstamp(g%ncell), old%fv(24, max(n, 1)), old%fm(24, 3, max(n, 1)), &
+               old%fo(3, max(n, 1)), stat=stat)
+      if (stat /= 0) then
+        if (allocated(old%fslot)) deallocate(old%fslot)
+        if (allocated(old%fstamp)) deallocate(old%fstamp)
+        if (allocated(old%fv)) deallocate(old%fv)
+        if (allocated(old%fm)) deallocate(old%fm)
+        if (allocated(old%fo)) deallocate(old%fo)
+        return
+      end if
+      old%fstamp = old%fgen - 1
+    end if
+    !$omp parallel do default(none) shared(g, old, xnew, n) private(ic, c, ci, cj, ck, j, nt, xo, xn, o, opts, pts, &
+    !$omp vw, mw) schedule(static)
+    do ic = 1, n
+      c = old%lchanged(ic)
+      call g%cell_ijk(c, ci, cj, ck)
+      ! (as `remap_new_cell` and `swept_fluxes` place the points)
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_points(xn, pts)
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      do j = 1, 8
+        xo(:, j) = xo(:, j) - o
+      end do
+      call half_points(xo, opts)
+      call swept_walls(opts, pts, low, nt, vw, mw)
+      old%fv(:, ic) = vw(1:24)
+      old%fm(:, :, ic) = mw(1:24, :)
+      old%fo(:, ic) = o
+      old%fslot(c) = ic
+      old%fstamp(c) = old%fgen
+    end do
+    !$omp end parallel do
+  end subroutine swept_low_faces
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
