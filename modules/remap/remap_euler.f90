@@ -372,9 +372,12 @@ module remap_euler
     !> faces 1, 3, 5, eight triangles each in order) sweep, fv(24, e) and
     !> fm(24, 3, e), about its new centre fo(:, e): each face's triangles
     !> swept once, for the cell and for its neighbour across the face
+    !> (and the split's points of the new and the old cell about it,
+    !> fpts(3, 27, e) and fopts(3, 27, e), that `remap_new_cell` and
+    !> `swept_fluxes` would place again)
     integer, allocatable :: fslot(:), fstamp(:)
     integer :: fgen = 0
-    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :)
+    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :), fpts(:, :, :), fopts(:, :, :)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -2660,7 +2663,7 @@ contains
     real(wp) :: rxo(3, nkeep), rrho(nkeep), rgrho(3, nkeep), rge(3, nkeep), re(nkeep), rsc(nkeep), rscrho(nkeep), &
                 rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
                 ndu(3, nkeep), urefc(3)
-    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in
+    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in, ef
     logical :: runi(nkeep)
     ! whether `deposit` counts each fragment in given (else its caller
     ! sums them by source region in gsum, `swept_fluxes`)
@@ -2683,13 +2686,26 @@ contains
     nrk = 0
     nnk = 0
     urefc = old%uref(:, c)
-    call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
-    ! local coordinates about the new cell's centre: round-off scales with the cell
-    o = sum(xn, 2)/8.0_wp
-    do j = 1, 8
-      xn(:, j) = xn(:, j) - o
-    end do
-    call half_points(xn, pts)
+    ! (the swept path's points as `swept_low_faces` placed them, where it
+    ! did: ef its entry)
+    ef = 0
+    if (old%swept .and. allocated(old%fslot)) then
+      if (size(old%fslot) == g%ncell) then
+        if (old%fstamp(c) == old%fgen) ef = old%fslot(c)
+      end if
+    end if
+    if (ef > 0) then
+      o = old%fo(:, ef)
+      pts = old%fpts(:, :, ef)
+    else
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      ! local coordinates about the new cell's centre: round-off scales with the cell
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_points(xn, pts)
+    end if
     if (old%swept) then
       ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
       ! the dummies: no zeros written through their descriptors first)
@@ -2914,11 +2930,15 @@ contains
       logical :: pure, pure_nbr(6), done_k(8), shared
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
-      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-      do j = 1, 8
-        xo(:, j) = xo(:, j) - o
-      end do
-      call half_points(xo, opts)
+      if (ef > 0) then
+        opts = old%fopts(:, :, ef)
+      else
+        call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+        do j = 1, 8
+          xo(:, j) = xo(:, j) - o
+        end do
+        call half_points(xo, opts)
+      end if
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
@@ -3907,17 +3927,19 @@ contains
     stat = 0
     if (allocated(old%fslot)) then
       if (size(old%fslot) /= g%ncell .or. size(old%fv, 2) < n) deallocate(old%fslot, old%fstamp, old%fv, old%fm, &
-                                                                         old%fo)
+                                                                         old%fo, old%fpts, old%fopts)
     end if
     if (.not. allocated(old%fslot)) then
       allocate(old%fslot(g%ncell), old%fstamp(g%ncell), old%fv(24, max(n, 1)), old%fm(24, 3, max(n, 1)), &
-               old%fo(3, max(n, 1)), stat=stat)
+               old%fo(3, max(n, 1)), old%fpts(3, 27, max(n, 1)), old%fopts(3, 27, max(n, 1)), stat=stat)
       if (stat /= 0) then
         if (allocated(old%fslot)) deallocate(old%fslot)
         if (allocated(old%fstamp)) deallocate(old%fstamp)
         if (allocated(old%fv)) deallocate(old%fv)
         if (allocated(old%fm)) deallocate(old%fm)
         if (allocated(old%fo)) deallocate(old%fo)
+        if (allocated(old%fpts)) deallocate(old%fpts)
+        if (allocated(old%fopts)) deallocate(old%fopts)
         return
       end if
       old%fstamp = old%fgen - 1
@@ -3943,6 +3965,8 @@ contains
       old%fv(:, ic) = vw(1:24)
       old%fm(:, :, ic) = mw(1:24, :)
       old%fo(:, ic) = o
+      old%fpts(:, :, ic) = pts
+      old%fopts(:, :, ic) = opts
       old%fslot(c) = ic
       old%fstamp(c) = old%fgen
     end do
