@@ -3217,7 +3217,7 @@ contains
       integer, intent(in) :: nbr(6)
       real(wp), intent(inout) :: tv(72), tm(72, 3)
       logical, intent(out) :: done
-      real(wp) :: vw(48), mw(48, 3), dlo(3)
+      real(wp) :: vw(48), mw(48, 3), dlo(3), vi(24), mi(24, 3)
       logical :: local(6)
       integer :: e, en, ff, ii, pp, nt, tw
       done = .false.
@@ -3256,7 +3256,10 @@ contains
           end do
         end if
       end do
-      call swept_inner(opts, pts, tv(49:72), tm(49:72, :))
+      ! (into whole arrays: tm's rows 49..72 are no contiguous argument)
+      call swept_inner(opts, pts, vi, mi)
+      tv(49:72) = vi
+      tm(49:72, :) = mi
       if (any(local)) then
         call swept_walls(opts, pts, local, nt, vw, mw)
         nt = 0
