@@ -69,6 +69,9 @@ contains
 
     r = centred(xn)
     vol = 0.0_wp
+    ! (unrolled whole: the faces' nodes by constant indices, not read from
+    ! the table at every call; the remap's hot paths call this per cell)
+    !GCC$ unroll 6
     do f = 1, 6
       n1 = hex_faces(1, f); n2 = hex_faces(2, f); n3 = hex_faces(3, f); n4 = hex_faces(4, f)
       vol = vol + dot_product(r(:, n1) + r(:, n2) + r(:, n3) + r(:, n4), &
@@ -119,6 +122,8 @@ contains
 
     r = centred(xn)
     vsub = 0.0_wp
+    ! (unrolled whole, as `hex_volume`'s: constant indices)
+    !GCC$ unroll 6
     do f = 1, 6
       xf = 0.25_wp*(r(:, hex_faces(1, f)) + r(:, hex_faces(2, f)) + &
                     r(:, hex_faces(3, f)) + r(:, hex_faces(4, f)))

@@ -368,15 +368,23 @@ contains
     integer, intent(in) :: ni, nj, ci, cj, ck
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(out) :: xn(3, 8)
-    integer :: a, n0, sx, sxy
+    integer :: n0, sx, sxy
     ! (the numbering of `grid_index(ni, nj, nk)`, without building it: this
     ! is called once per cell by every whole-grid loop)
     sx = ni + 1
     sxy = (ni + 1)*(nj + 1)
     n0 = 1 + (ci - 1) + sx*(cj - 1) + sxy*(ck - 1)
-    do a = 1, 8
-      xn(:, a) = x(:, n0 + hex_corner(1, a) + sx*hex_corner(2, a) + sxy*hex_corner(3, a))
-    end do
+    ! (the corners in `hex_corner`'s order, a = 1 + i + 2j + 4k, written
+    ! out: the table read and its products at every call cost twice the
+    ! copy, and this runs several times per remapped cell)
+    xn(:, 1) = x(:, n0)
+    xn(:, 2) = x(:, n0 + 1)
+    xn(:, 3) = x(:, n0 + sx)
+    xn(:, 4) = x(:, n0 + sx + 1)
+    xn(:, 5) = x(:, n0 + sxy)
+    xn(:, 6) = x(:, n0 + sxy + 1)
+    xn(:, 7) = x(:, n0 + sxy + sx)
+    xn(:, 8) = x(:, n0 + sxy + sx + 1)
   end subroutine block_gather
 
   !> Registers the grid's restart fields: the node positions.

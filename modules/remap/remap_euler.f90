@@ -357,6 +357,27 @@ module remap_euler
     !> gradient is needed, and the gradients
     real(wp), allocatable :: gq(:, :), gpos(:, :), ggrad(:, :, :)
     logical, allocatable :: ghas(:), gneed(:)
+    !> the old cells' `half_dets` that `remap_swept_blockers` takes (the
+    !> tangle test), kept for `subcell_shifts`, which needs the same
+    !> numbers of the same old cells later in the Euler step: hslot(c)
+    !> (ncell; 0: none) the entry of cell c, hdet(:, e) its 48 values and
+    !> hkey(:, :, e) its eight nodes when they were taken. An entry is
+    !> used only where the cell's nodes are still those (compared exactly),
+    !> so one left from another grid or an earlier step is never read.
+    integer, allocatable :: hslot(:)
+    real(wp), allocatable :: hdet(:, :), hkey(:, :, :)
+    !> the swept path's shared faces (`swept_low_faces`): per changed cell
+    !> c, entry fslot(c) (valid where fstamp(c) == fgen, this remap's), the
+    !> regions its 24 triangles on its three low faces (xi-, eta-, zeta-;
+    !> faces 1, 3, 5, eight triangles each in order) sweep, fv(24, e) and
+    !> fm(24, 3, e), about its new centre fo(:, e): each face's triangles
+    !> swept once, for the cell and for its neighbour across the face
+    !> (and the split's points of the new and the old cell about it,
+    !> fpts(3, 27, e) and fopts(3, 27, e), that `remap_new_cell` and
+    !> `swept_fluxes` would place again)
+    integer, allocatable :: fslot(:), fstamp(:)
+    integer :: fgen = 0
+    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :), fpts(:, :, :), fopts(:, :, :)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -590,6 +611,7 @@ contains
       old%swept = par%swept
       old%open = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
       if (old%swept .and. mx%n > 0) call swept_budgets(g, h, mx, old, xnew)
+      if (old%swept) call swept_low_faces(g, old, xnew)
       if (old%swept) stats%cells_swept = stats%cells_remapped
       stats%cells_copied = ncell - stats%cells_remapped
       if (windowed) stats%cells_copied = count(own) - stats%cells_remapped
@@ -1758,12 +1780,12 @@ contains
     logical, intent(in) :: means
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
-    integer :: c, j, i, n, s, s0, s1, nm, r, ic
+    integer :: c, j, i, n, s, s0, s1, nm, r, ic, e
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old, means) &
     !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
-    !$omp sub) &
+    !$omp sub, e) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1784,12 +1806,27 @@ contains
           call region_floor(old, g%ncell + s, xn)
         end do
       end if
+      ! (the halves' volumes as `remap_swept_blockers` found them for
+      ! these nodes, where it did: the same numbers, `old_t`'s hdet)
+      e = 0
+      if (allocated(old%hslot)) then
+        if (size(old%hslot) == g%ncell) e = old%hslot(c)
+        if (e > 0) then
+          ! (equal: the differences' magnitudes add up to zero, which no
+          ! non-zero one does, nor a NaN; one sum, no test per node)
+          if (.not. sum(abs(old%hkey(:, :, e) - xn)) <= 0.0_wp) e = 0
+        end if
+      end if
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
       call half_points(xn, pts)
-      call half_dets(pts, det6)
+      if (e > 0) then
+        det6 = old%hdet(:, e)
+      else
+        call half_dets(pts, det6)
+      end if
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
@@ -1918,7 +1955,7 @@ contains
     real(wp), allocatable :: wsum(:), xd(:, :)
     logical, allocatable :: has(:)
     type(grid_index_t) :: dual
-    integer :: c, a, n, i, j, k, di, dj, dk_, m, stat, ic, pass
+    integer :: c, a, n, i, j, k, m, m0, stat, ic, doff(8)
     real(wp) :: nan
     character(len=200) :: msg
 
@@ -1962,23 +1999,28 @@ contains
     dual = grid_index(g%ni + 1, g%nj + 1, g%nk + 1)
     ! (a dual node is a corner of up to eight dual cells: each is placed
     ! once, marked first by a NaN in every one the gradients read)
-    do pass = 1, 2
-      do ic = 1, size(old%lnode)
-        if (.not. has(old%lnode(ic))) cycle
-        call g%node_ijk(old%lnode(ic), i, j, k)
-        do dk_ = k, k + 1
-          do dj = j, j + 1
-            do di = i, i + 1
-              ! (the index `grid_node` gives, written out: no call per node)
-              m = dual%nbase + di + dual%sx*dj + dual%sxy*dk_
-              if (pass == 1) then
-                xd(1, m) = nan
-              else if (ieee_is_nan(xd(1, m))) then
-                call dual_node(di, dj, dk_)
-              end if
-            end do
-          end do
-        end do
+    ! (the index `grid_node` gives, written out: no call per node; the
+    ! eight corners (i + di, j + dj, k + dk_) by their offsets from the
+    ! first, a = 1 + di + 2 dj + 4 dk_, without three loops' overhead per
+    ! node)
+    do a = 1, 8
+      doff(a) = mod(a - 1, 2) + dual%sx*mod((a - 1)/2, 2) + dual%sxy*((a - 1)/4)
+    end do
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      m0 = dual%nbase + i + dual%sx*j + dual%sxy*k
+      do a = 1, 8
+        xd(1, m0 + doff(a)) = nan
+      end do
+    end do
+    ! (m0, not m: `dual_node` sets m)
+    do ic = 1, size(old%lnode)
+      if (.not. has(old%lnode(ic))) cycle
+      call g%node_ijk(old%lnode(ic), i, j, k)
+      m0 = dual%nbase + i + dual%sx*j + dual%sxy*k
+      do a = 1, 8
+        if (ieee_is_nan(xd(1, m0 + doff(a)))) call dual_node(i + mod(a - 1, 2), j + mod((a - 1)/2, 2), k + (a - 1)/4)
       end do
     end do
     call remap_limited_gradients(g%ni + 1, g%nj + 1, g%nk + 1, xd, u, old%xdual, has, has, old%gu, err, &
@@ -2310,7 +2352,7 @@ contains
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
-    logical :: ok
+    logical :: ok, keep
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
     type(error_t), allocatable :: err
@@ -2346,8 +2388,29 @@ contains
       nblock = 1
       return
     end if
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) reduction(+:nblock) &
-    !$omp reduction(max:rmax) reduction(.or.:other) &
+    ! (the tangle tests' `half_dets` kept for `subcell_shifts`: entry i
+    ! for list(i); a grown store starts with no cell's entry)
+    keep = present(work)
+    if (keep) then
+      if (allocated(work%old%hslot)) then
+        if (size(work%old%hslot) /= g%ncell .or. size(work%old%hdet, 2) < size(list)) &
+          deallocate(work%old%hslot, work%old%hdet, work%old%hkey)
+      end if
+      if (.not. allocated(work%old%hslot)) then
+        allocate(work%old%hslot(g%ncell), work%old%hdet(48, max(size(list), 1)), &
+                 work%old%hkey(3, 8, max(size(list), 1)), stat=stat)
+        if (stat /= 0) then
+          if (allocated(work%old%hslot)) deallocate(work%old%hslot)
+          if (allocated(work%old%hdet)) deallocate(work%old%hdet)
+          if (allocated(work%old%hkey)) deallocate(work%old%hkey)
+          keep = .false.
+        else
+          work%old%hslot = 0
+        end if
+      end if
+    end if
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, work) &
+    !$omp reduction(+:nblock) reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, vw, mw, vb, nt) schedule(static)
     do i = 1, size(list)
@@ -2355,6 +2418,10 @@ contains
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      if (keep) then
+        work%old%hslot(c) = 0
+        work%old%hkey(:, :, i) = xo
+      end if
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
         do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
@@ -2395,6 +2462,10 @@ contains
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
+        if (keep) then
+          work%old%hdet(:, i) = det6
+          work%old%hslot(c) = i
+        end if
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
@@ -2608,8 +2679,12 @@ contains
     real(wp) :: rxo(3, nkeep), rrho(nkeep), rgrho(3, nkeep), rge(3, nkeep), re(nkeep), rsc(nkeep), rscrho(nkeep), &
                 rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
                 ndu(3, nkeep), urefc(3)
-    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in
+    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in, ef
     logical :: runi(nkeep)
+    ! whether `deposit` counts each fragment in given (else its caller
+    ! sums them by source region in gsum, `swept_fluxes`)
+    logical :: tally
+    real(wp) :: gsum(nkeep)
     ! what `deposit` adds up, in arrays of this call (not through the
     ! dummies' descriptors at every fragment): avol, amom, amass, aie,
     ! pcell, cmom, cland, cdef while the fragments are booked
@@ -2623,16 +2698,57 @@ contains
 
     call g%cell_ijk(c, ci, cj, ck)
     n0c = g%cell_node0(ci, cj, ck)
+    tally = .true.
     nrk = 0
     nnk = 0
     urefc = old%uref(:, c)
-    call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
-    ! local coordinates about the new cell's centre: round-off scales with the cell
-    o = sum(xn, 2)/8.0_wp
-    do j = 1, 8
-      xn(:, j) = xn(:, j) - o
-    end do
-    call half_points(xn, pts)
+    ! (the swept path's points as `swept_low_faces` placed them, where it
+    ! did: ef its entry)
+    ef = 0
+    if (old%swept .and. allocated(old%fslot)) then
+      if (size(old%fslot) == g%ncell) then
+        if (old%fstamp(c) == old%fgen) ef = old%fslot(c)
+      end if
+    end if
+    if (ef > 0) then
+      o = old%fo(:, ef)
+      pts = old%fpts(:, :, ef)
+    else
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      ! local coordinates about the new cell's centre: round-off scales with the cell
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_points(xn, pts)
+    end if
+    if (old%swept) then
+      ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
+      ! the dummies: no zeros written through their descriptors first)
+      svol = 0.0_wp
+      smom = 0.0_wp
+      smass = 0.0_wp
+      sie = 0.0_wp
+      spc = 0.0_wp
+      scmom = 0.0_wp
+      scland = 0.0_wp
+      scdef = 0.0_wp
+      ! cdef, the gaps' measure, only where there are open faces
+      if (any(old%open)) then
+        do t = 1, 48
+          do j = 1, 4
+            ht(:, j, t) = pts(:, half_hv(j, t))
+          end do
+          scdef(half_corner(t)) = scdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
+        end do
+      end if
+      call swept_fluxes()
+      call sums_out()
+      do kmat = 1, size(avol)
+        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
+      end do
+      return
+    end if
     avol = 0.0_wp
     amom = 0.0_wp
     amass = 0.0_wp
@@ -2641,24 +2757,6 @@ contains
     cmom = 0.0_wp
     cland = 0.0_wp
     cdef = 0.0_wp
-    if (old%swept) then
-      ! cdef, the gaps' measure, only where there are open faces
-      if (any(old%open)) then
-        do t = 1, 48
-          do j = 1, 4
-            ht(:, j, t) = pts(:, half_hv(j, t))
-          end do
-          cdef(half_corner(t)) = cdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
-        end do
-      end if
-      call sums_in()
-      call swept_fluxes()
-      call sums_out()
-      do kmat = 1, size(avol)
-        amom(:, kmat) = amom(:, kmat) + avol(kmat)*o
-      end do
-      return
-    end if
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
@@ -2845,14 +2943,18 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
-      logical :: pure, pure_nbr(6), done_k(8)
+      logical :: pure, pure_nbr(6), done_k(8), shared
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
-      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-      do j = 1, 8
-        xo(:, j) = xo(:, j) - o
-      end do
-      call half_points(xo, opts)
+      if (ef > 0) then
+        opts = old%fopts(:, :, ef)
+      else
+        call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+        do j = 1, 8
+          xo(:, j) = xo(:, j) - o
+        end do
+        call half_points(xo, opts)
+      end if
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
@@ -2902,8 +3004,6 @@ contains
         pure_nbr(f) = .false.
         if (nbr(f) /= c .and. nbr(f) /= 0) pure_nbr(f) = h%mat(nbr(f)) > 0
       end do
-      ! the 72 triangles' swept regions at once (`swept_tri`, `swept_cell`)
-      call swept_cell(opts, pts, tv, tm)
       ! a pure cell whose faces take only from pure cells (or from none):
       ! every region goes to its slot of acc, as the general loop below
       ! books it, in the same order (the same sums), without its tests;
@@ -2914,6 +3014,13 @@ contains
         if (nbr(f) == 0) slot_in(f) = 0
         if (pure_nbr(f)) slot_in(f) = 4 + (f + 1)/2
       end do
+      ! the 72 triangles' swept regions (`swept_tri`): at once
+      ! (`swept_cell`), or on that path with its low faces' and those of
+      ! the cells across its high faces as `swept_low_faces` swept them
+      ! (`shared_faces`)
+      shared = .false.
+      if (pure .and. all(slot_in >= 0)) call shared_faces(nbr, tv, tm, shared)
+      if (.not. shared) call swept_cell(opts, pts, tv, tm)
       if (pure .and. all(slot_in >= 0)) then
         ! (unrolled whole: the halves' corners by constant indices)
         !GCC$ unroll 24
@@ -3022,6 +3129,14 @@ contains
         irc = ir
         ink = 0
         irf = 0
+        ! (the volume each region gives is counted once, its fragments'
+        ! sum (gsum) rounded to `old_t`'s given units at the end, rather
+        ! than each fragment rounded and counted on its own: the count
+        ! differs by a few units of 2^-50 of the cell's volume, far below
+        ! uncovered_tol, and the per-fragment division, rounding and
+        ! atomic update are saved)
+        tally = .false.
+        gsum = 0.0_wp
         done_k = .false.
         do j = 1, 8
           ! (unrolled: each slot's source by constants)
@@ -3074,8 +3189,17 @@ contains
               wb = rw(ir)
             end if
             call deposit(acc(1, slot, j), acc(2:4, slot, j), j)
+            gsum(ir) = gsum(ir) + acc(1, slot, j)
           end do
         end do
+        tally = .true.
+        if (abs(given_sign) > 0.0_wp) then
+          do k = 1, nrk
+            if (.not. abs(gsum(k)) > 0.0_wp) cycle
+            !$omp atomic
+            given(rk(k)) = given(rk(k)) + nint_i8(given_sign*gsum(k)/rgunit(k))
+          end do
+        end if
         return
       end if
       do j = 1, 8
@@ -3094,6 +3218,75 @@ contains
         end do
       end do
     end subroutine swept_fluxes
+
+    !> tv, tm from `swept_low_faces`' regions where it swept them: this
+    !> cell's low faces as they are (the same numbers `swept_cell` gives);
+    !> a high face's from the cell across it, the same triangle of its
+    !> low face (`twin_triangles`), turned (the region's sign) and its
+    !> moment moved to this cell's centre, so that the two cells book the
+    !> same region through it (the other way round); the inner triangles
+    !> and any face on the grid's boundary swept here. A face shared with
+    !> an unchanged cell did not move: it sweeps nothing. False (tv, tm
+    !> not set) where this cell has no entry of this remap. (`swept_fluxes`'
+    !> cells across the faces, nbr, and its tv, tm passed.)
+    subroutine shared_faces(nbr, tv, tm, done)
+      integer, intent(in) :: nbr(6)
+      real(wp), intent(inout) :: tv(72), tm(72, 3)
+      logical, intent(out) :: done
+      real(wp) :: vw(48), mw(48, 3), dlo(3), vi(24), mi(24, 3)
+      logical :: local(6)
+      integer :: e, en, ff, ii, pp, nt, tw
+      done = .false.
+      if (.not. allocated(old%fslot)) return
+      if (size(old%fslot) /= g%ncell) return
+      if (old%fstamp(c) /= old%fgen) return
+      e = old%fslot(c)
+      done = .true.
+      local = .false.
+      ! (unrolled: the faces' triangles by constant ranges)
+      !GCC$ unroll 3
+      do ff = 1, 5, 2
+        pp = 8*((ff - 1)/2)
+        tv(8*ff - 7:8*ff) = old%fv(pp + 1:pp + 8, e)
+        tm(8*ff - 7:8*ff, :) = old%fm(pp + 1:pp + 8, :, e)
+      end do
+      !GCC$ unroll 3
+      do ff = 2, 6, 2
+        en = nbr(ff)
+        if (en == c .or. en == 0) then
+          local(ff) = .true.
+        else if (.not. old%changed(en)) then
+          tv(8*ff - 7:8*ff) = 0.0_wp
+          tm(8*ff - 7:8*ff, :) = 0.0_wp
+        else if (old%fstamp(en) /= old%fgen) then
+          local(ff) = .true.
+        else
+          en = old%fslot(en)
+          dlo = old%fo(:, en) - o
+          do ii = 8*ff - 7, 8*ff
+            tw = old%twin(ii)
+            ! (its place among the neighbour's 24: face ff - 1's eight)
+            pp = tw - 8*(ff - 1) + 8 + 8*((ff - 2)/2)
+            tv(ii) = -old%fv(pp, en)
+            tm(ii, :) = -(old%fm(pp, :, en) + old%fv(pp, en)*dlo)
+          end do
+        end if
+      end do
+      ! (into whole arrays: tm's rows 49..72 are no contiguous argument)
+      call swept_inner(opts, pts, vi, mi)
+      tv(49:72) = vi
+      tm(49:72, :) = mi
+      if (any(local)) then
+        call swept_walls(opts, pts, local, nt, vw, mw)
+        nt = 0
+        do ff = 2, 6, 2
+          if (.not. local(ff)) cycle
+          tv(8*ff - 7:8*ff) = vw(nt + 1:nt + 8)
+          tm(8*ff - 7:8*ff, :) = mw(nt + 1:nt + 8, :)
+          nt = nt + 8
+        end do
+      end if
+    end subroutine shared_faces
 
     !> The fragments of old cell co in this new cell, from its parts on the
     !> lattice (`lattice_prepare`), in the order they were made.
@@ -3414,7 +3607,7 @@ contains
         scmom(:, a) = scmom(:, a) + fu + 0.0_wp
       end if
       scland(a) = scland(a) + fm
-      if (abs(given_sign) > 0.0_wp) then
+      if (tally .and. abs(given_sign) > 0.0_wp) then
         !$omp atomic
         given(kreg) = given(kreg) + nint_i8(given_sign*vf/rgunit(ir))
       end if
@@ -3706,6 +3899,98 @@ contains
     end do
     if (nt > 0) call swept_edges(nt, 48, x1, e1, e2, d1, g1, g2, v, m)
   end subroutine swept_walls
+
+  !> `swept_cell`'s 24 inner triangles (49..72 of `swept_tri`) alone, as
+  !> it gathers them (unrolled whole: constant indices): the same numbers.
+  pure subroutine swept_inner(p, q, v, m)
+    real(wp), intent(in) :: p(3, 27), q(3, 27)
+    real(wp), intent(out) :: v(24), m(24, 3)
+    real(wp) :: dq(3, 27), x1(24, 3), e1(24, 3), e2(24, 3), d1(24, 3), g1(24, 3), g2(24, 3)
+    integer :: k, j
+    do k = 1, 27
+      dq(:, k) = q(:, k) - p(:, k)
+    end do
+    !GCC$ unroll 24
+    do k = 1, 24
+      do j = 1, 3
+        x1(k, j) = p(j, swept_tri(1, 48 + k))
+        e1(k, j) = p(j, swept_tri(2, 48 + k)) - x1(k, j)
+        e2(k, j) = p(j, swept_tri(3, 48 + k)) - x1(k, j)
+        d1(k, j) = dq(j, swept_tri(1, 48 + k))
+        g1(k, j) = dq(j, swept_tri(2, 48 + k)) - d1(k, j)
+        g2(k, j) = dq(j, swept_tri(3, 48 + k)) - d1(k, j)
+      end do
+    end do
+    call swept_edges(24, 24, x1, e1, e2, d1, g1, g2, v, m)
+  end subroutine swept_inner
+
+  !> The regions the 24 triangles on the three low faces of every changed
+  !> cell sweep from g%x to xnew, about the new cell's centre, as
+  !> `swept_fluxes` sweeps them (the same points, `swept_walls`: the same
+  !> numbers), kept in old (fslot ... fo, under a new fgen) for the cell
+  !> and for its neighbours across those faces: each face is swept once
+  !> per remap instead of by both its cells (`remap_new_cell`'s
+  !> `shared_faces`). Where the store cannot be had, no cell has an entry
+  !> and each sweeps its own.
+  subroutine swept_low_faces(g, old, xnew)
+    type(grid_t), intent(in) :: g
+    type(old_t), intent(inout) :: old
+    real(wp), intent(in) :: xnew(:, :)
+    logical, parameter :: low(6) = [.true., .false., .true., .false., .true., .false.]
+    real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), vw(48), mw(48, 3)
+    integer :: ic, c, ci, cj, ck, j, nt, n, stat
+
+    if (old%twin(1) == 0) old%twin = twin_triangles()
+    old%fgen = old%fgen + 1
+    n = size(old%lchanged)
+    stat = 0
+    if (allocated(old%fslot)) then
+      if (size(old%fslot) /= g%ncell .or. size(old%fv, 2) < n) deallocate(old%fslot, old%fstamp, old%fv, old%fm, &
+                                                                         old%fo, old%fpts, old%fopts)
+    end if
+    if (.not. allocated(old%fslot)) then
+      allocate(old%fslot(g%ncell), old%fstamp(g%ncell), old%fv(24, max(n, 1)), old%fm(24, 3, max(n, 1)), &
+               old%fo(3, max(n, 1)), old%fpts(3, 27, max(n, 1)), old%fopts(3, 27, max(n, 1)), stat=stat)
+      if (stat /= 0) then
+        if (allocated(old%fslot)) deallocate(old%fslot)
+        if (allocated(old%fstamp)) deallocate(old%fstamp)
+        if (allocated(old%fv)) deallocate(old%fv)
+        if (allocated(old%fm)) deallocate(old%fm)
+        if (allocated(old%fo)) deallocate(old%fo)
+        if (allocated(old%fpts)) deallocate(old%fpts)
+        if (allocated(old%fopts)) deallocate(old%fopts)
+        return
+      end if
+      old%fstamp = old%fgen - 1
+    end if
+    !$omp parallel do default(none) shared(g, old, xnew, n) private(ic, c, ci, cj, ck, j, nt, xo, xn, o, opts, pts, &
+    !$omp vw, mw) schedule(static)
+    do ic = 1, n
+      c = old%lchanged(ic)
+      call g%cell_ijk(c, ci, cj, ck)
+      ! (as `remap_new_cell` and `swept_fluxes` place the points)
+      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+      o = sum(xn, 2)/8.0_wp
+      do j = 1, 8
+        xn(:, j) = xn(:, j) - o
+      end do
+      call half_points(xn, pts)
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      do j = 1, 8
+        xo(:, j) = xo(:, j) - o
+      end do
+      call half_points(xo, opts)
+      call swept_walls(opts, pts, low, nt, vw, mw)
+      old%fv(:, ic) = vw(1:24)
+      old%fm(:, :, ic) = mw(1:24, :)
+      old%fo(:, ic) = o
+      old%fpts(:, :, ic) = pts
+      old%fopts(:, :, ic) = opts
+      old%fslot(c) = ic
+      old%fstamp(c) = old%fgen
+    end do
+    !$omp end parallel do
+  end subroutine swept_low_faces
 
   !> Six times the signed volumes of the 48 halves of the split with the
   !> points pts (`half_tets`), as `tet_det` gives them: every half has the
