@@ -3,7 +3,8 @@
 !> cell by cell, one step conserves internal plus kinetic energy less the
 !> boundary work, one step is Galilean invariant, boundary conditions hold,
 !> and the particle hooks f_ext / m_ext of `lagrange_step` accelerate the
-!> nodes by f / (m + m_ext). Also checks what the step's reuse of geometry
+!> nodes by f / (m + m_ext), and the rows of nodes a step notes as moved
+!> (`grid_t`'s moved_rows) are those where a node moved. Also checks what the step's reuse of geometry
 !> relies on: `hex_volume` and the volume of `hex_volume_gradient` agree bit
 !> for bit.
 program test_lagrange
@@ -41,6 +42,7 @@ program test_lagrange
   call boundary_conditions()
   call extra_force_and_mass()
   call limiter_neighbours()
+  call moved_rows_noted()
   call check_summary('test_lagrange')
 
 contains
@@ -365,6 +367,40 @@ contains
     call check(all(limiter_step(s, [1.0_wp + r, 0.5_wp, 0.0_wp]/norm2([1.0_wp + r, 0.5_wp])) == [1, 1, 0]) .and. &
                all(limiter_step(s, [0.0_wp, 1.0_wp, 0.0_wp]) == [-1, 1, 0]), 'limiter step on a sheared cell: its own axes')
   end subroutine limiter_neighbours
+
+  !> (7) The rows of nodes a step notes in g%moved_rows (what lets an Euler
+  !> step compare only those rows' nodes with its target) hold every node
+  !> the step moved, and each holds one: a uniform gas at rest with one
+  !> inner node set moving, a prescribed-velocity face and a pressure face
+  !> (their nodes move after the face conditions), symmetry faces (the
+  !> round-off normal velocity they remove is no move), a wall.
+  subroutine moved_rows_noted()
+    type(hydro_params_t) :: par
+    real(wp), allocatable :: x0(:, :)
+    logical, allocatable :: moved(:)
+    real(wp) :: dt, work
+    integer :: bad, m, nrow
+
+    call build(43, 0.0_wp, 0.0_wp, [BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_SYMMETRY, BC_SYMMETRY, BC_PRESSURE], 0.3_wp, &
+               uniform=.true.)
+    bc%velocity(:, 3) = [0.0_wp, 0.05_wp, 0.0_wp]
+    h%u(:, g%node(2, 3, 2)) = [0.1_wp, 0.0_wp, 0.0_wp]
+    call bc_constrain(bc, h%u)
+    nrow = g%nnode/g%sx
+    allocate(g%moved_rows(nrow), moved(nrow))
+    g%moved_rows = .false.
+    x0 = g%x
+    dt = huge(1.0_wp)
+    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad)
+    call check(bad == 0, 'moved rows: step valid')
+    moved = .false.
+    do m = 1, g%nnode
+      if (any(abs(g%x(:, m) - x0(:, m)) > 0.0_wp)) moved((m - 1)/g%sx + 1) = .true.
+    end do
+    call check(all(moved .eqv. g%moved_rows), 'moved rows: noted exactly where a node moved')
+    call check(count(moved) > 0 .and. count(moved) < nrow, 'moved rows: some rows moved, some did not')
+    deallocate(g%moved_rows)
+  end subroutine moved_rows_noted
 
   !> The corners of the box [0, d(1)] x [0, d(2)] x [0, d(3)] in `hex_corner` order.
   subroutine box_cell(d, xn)
