@@ -219,7 +219,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable :: err
     real(wp) :: dt, work, wall_last, wall_now, eps_t, w0, dt_cap, dt_growth_cap, stop_checked
-    integer :: bad_cell, bad_particle, report, stop_now, asked, n_euler
+    integer :: bad_cell, bad_particle, report, stop_now, asked, n_euler, stat
     logical :: last, due
 
     eps_t = 1.0e-12_wp*cfg%control%t_end
@@ -282,9 +282,12 @@ contains
         if (allocated(err)) call fail(cfg, st, sch, err)
       else
         ! (a global rezone's Euler step then compares only the rows of nodes
-        ! the Lagrangian steps moved: `euler_step`)
-        if (trim(cfg%rezone%mode) == 'global' .and. .not. allocated(st%g%moved_rows)) &
-          allocate(st%g%moved_rows(st%g%nnode/st%g%sx), source=.true.)
+        ! the Lagrangian steps moved: `euler_step`; without the flags, every
+        ! node)
+        if (trim(cfg%rezone%mode) == 'global' .and. .not. allocated(st%g%moved_rows)) then
+          allocate(st%g%moved_rows(st%g%nnode/st%g%sx), stat=stat)
+          if (stat == 0) st%g%moved_rows = .true.
+        end if
         call euler_due(cfg%rezone, st, es, due)
         if (due) then
           call euler_step(cfg%rezone, st, es, sch%log, err)

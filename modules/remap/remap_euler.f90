@@ -1119,7 +1119,11 @@ contains
       ! (blocks of nodes compared at once first: most nodes of a large grid
       ! do not move)
       step = block
-      allocate(moved((g%nnode + block - 1)/block))
+      allocate(moved((g%nnode + block - 1)/block), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler', error_no_memory('a node list'))
+        return
+      end if
       call blocks_moved(g%nnode, xnew, g%x, block, moved)
     end if
     do n0 = 1, g%nnode, step
