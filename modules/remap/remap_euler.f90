@@ -1166,6 +1166,43 @@ contains
     end do
   end subroutine blocks_moved
 
+  !> `remap_swept_blockers`' store of `half_dets` (old_t's hslot, hdet,
+  !> hkey) ready for n cells of a grid of ncell cells (keep false, and no
+  !> store, where it cannot be had). A grown store keeps its entries (every
+  !> slot still names the numbers and the nodes it was set with) and takes
+  !> twice what is needed: the grid's slots are set to zero once, not at
+  !> each Euler step that changes more cells than the one before.
+  subroutine dets_store(old, ncell, n, keep)
+    type(old_t), intent(inout) :: old
+    integer, intent(in) :: ncell, n
+    logical, intent(out) :: keep
+    real(wp), allocatable :: det(:, :), key(:, :, :)
+    integer :: stat, m
+    stat = 0
+    if (allocated(old%hslot)) then
+      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey)
+    end if
+    if (.not. allocated(old%hslot)) then
+      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), stat=stat)
+      if (stat == 0) old%hslot = 0
+    else if (size(old%hdet, 2) < n) then
+      m = size(old%hdet, 2)
+      allocate(det(48, 2*n), key(3, 8, 2*n), stat=stat)
+      if (stat == 0) then
+        det(:, 1:m) = old%hdet
+        key(:, :, 1:m) = old%hkey
+        call move_alloc(det, old%hdet)
+        call move_alloc(key, old%hkey)
+      end if
+    end if
+    keep = stat == 0
+    if (.not. keep) then
+      if (allocated(old%hslot)) deallocate(old%hslot)
+      if (allocated(old%hdet)) deallocate(old%hdet)
+      if (allocated(old%hkey)) deallocate(old%hkey)
+    end if
+  end subroutine dets_store
+
   !> The indices where mask is true, in increasing order: fresh, the same
   !> indices in any order, sorted where they are few, else the mask read
   !> through (either way the same list, at a cost that follows the count
@@ -2395,24 +2432,7 @@ contains
     ! (the tangle tests' `half_dets` kept for `subcell_shifts`: entry i
     ! for list(i); a grown store starts with no cell's entry)
     keep = present(work)
-    if (keep) then
-      if (allocated(work%old%hslot)) then
-        if (size(work%old%hslot) /= g%ncell .or. size(work%old%hdet, 2) < size(list)) &
-          deallocate(work%old%hslot, work%old%hdet, work%old%hkey)
-      end if
-      if (.not. allocated(work%old%hslot)) then
-        allocate(work%old%hslot(g%ncell), work%old%hdet(48, max(size(list), 1)), &
-                 work%old%hkey(3, 8, max(size(list), 1)), stat=stat)
-        if (stat /= 0) then
-          if (allocated(work%old%hslot)) deallocate(work%old%hslot)
-          if (allocated(work%old%hdet)) deallocate(work%old%hdet)
-          if (allocated(work%old%hkey)) deallocate(work%old%hkey)
-          keep = .false.
-        else
-          work%old%hslot = 0
-        end if
-      end if
-    end if
+    if (keep) call dets_store(work%old, g%ncell, size(list), keep)
     !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, work) &
     !$omp reduction(+:nblock) reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
@@ -3942,30 +3962,38 @@ contains
     real(wp), intent(in) :: xnew(:, :)
     logical, parameter :: low(6) = [.true., .false., .true., .false., .true., .false.]
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), vw(48), mw(48, 3)
-    integer :: ic, c, ci, cj, ck, j, nt, n, stat
+    integer :: ic, c, ci, cj, ck, j, nt, n, m, stat
 
     if (old%twin(1) == 0) old%twin = twin_triangles()
     old%fgen = old%fgen + 1
     n = size(old%lchanged)
     stat = 0
+    ! (the grid's slots and stamps kept while the grid is the same; the
+    ! changed cells' entries grown to twice what is needed when too few:
+    ! the whole grid's arrays are not set again as the changed cells grow)
     if (allocated(old%fslot)) then
-      if (size(old%fslot) /= g%ncell .or. size(old%fv, 2) < n) deallocate(old%fslot, old%fstamp, old%fv, old%fm, &
-                                                                         old%fo, old%fpts, old%fopts)
+      if (size(old%fslot) /= g%ncell) deallocate(old%fslot, old%fstamp)
+    end if
+    if (allocated(old%fv)) then
+      if (size(old%fv, 2) < n) deallocate(old%fv, old%fm, old%fo, old%fpts, old%fopts)
     end if
     if (.not. allocated(old%fslot)) then
-      allocate(old%fslot(g%ncell), old%fstamp(g%ncell), old%fv(24, max(n, 1)), old%fm(24, 3, max(n, 1)), &
-               old%fo(3, max(n, 1)), old%fpts(3, 27, max(n, 1)), old%fopts(3, 27, max(n, 1)), stat=stat)
-      if (stat /= 0) then
-        if (allocated(old%fslot)) deallocate(old%fslot)
-        if (allocated(old%fstamp)) deallocate(old%fstamp)
-        if (allocated(old%fv)) deallocate(old%fv)
-        if (allocated(old%fm)) deallocate(old%fm)
-        if (allocated(old%fo)) deallocate(old%fo)
-        if (allocated(old%fpts)) deallocate(old%fpts)
-        if (allocated(old%fopts)) deallocate(old%fopts)
-        return
-      end if
-      old%fstamp = old%fgen - 1
+      allocate(old%fslot(g%ncell), old%fstamp(g%ncell), stat=stat)
+      if (stat == 0) old%fstamp = old%fgen - 1
+    end if
+    if (stat == 0 .and. .not. allocated(old%fv)) then
+      m = max(2*n, 1)
+      allocate(old%fv(24, m), old%fm(24, 3, m), old%fo(3, m), old%fpts(3, 27, m), old%fopts(3, 27, m), stat=stat)
+    end if
+    if (stat /= 0) then
+      if (allocated(old%fslot)) deallocate(old%fslot)
+      if (allocated(old%fstamp)) deallocate(old%fstamp)
+      if (allocated(old%fv)) deallocate(old%fv)
+      if (allocated(old%fm)) deallocate(old%fm)
+      if (allocated(old%fo)) deallocate(old%fo)
+      if (allocated(old%fpts)) deallocate(old%fpts)
+      if (allocated(old%fopts)) deallocate(old%fopts)
+      return
     end if
     !$omp parallel do default(none) shared(g, old, xnew, n) private(ic, c, ci, cj, ck, j, nt, xo, xn, o, opts, pts, &
     !$omp vw, mw) schedule(static)
