@@ -3861,34 +3861,21 @@ contains
   end subroutine half_points
 
   !> `swept_triangles` on the 72 triangles `swept_tri` of the split whose
-  !> 27 points p move to q (`half_points`): the same gather of their
-  !> edges, by the constant indices of `swept_tri`, and the same arithmetic
-  !> (`swept_edges`): the same numbers, bit for bit. The gather's loop is
-  !> unrolled whole (the directive; other compilers read it as a comment),
-  !> so that every index is a constant: -funroll-loops alone leaves the
-  !> table's reads, and the gather then cost half as much as the
-  !> arithmetic (the swept-face remap's innermost kernel, once per
-  !> remapped cell).
+  !> 27 points p move to q (`half_points`): the 48 on the faces as
+  !> `swept_walls` takes them, the 24 inner ones as `swept_inner` does
+  !> (each triangle's numbers are its own: the same, bit for bit).
   pure subroutine swept_cell(p, q, v, m)
     real(wp), intent(in) :: p(3, 27), q(3, 27)
     real(wp), intent(out) :: v(72), m(72, 3)
-    real(wp) :: dq(3, 27), x1(72, 3), e1(72, 3), e2(72, 3), d1(72, 3), g1(72, 3), g2(72, 3)
-    integer :: k, j
-    do k = 1, 27
-      dq(:, k) = q(:, k) - p(:, k)
-    end do
-    !GCC$ unroll 72
-    do k = 1, 72
-      do j = 1, 3
-        x1(k, j) = p(j, swept_tri(1, k))
-        e1(k, j) = p(j, swept_tri(2, k)) - x1(k, j)
-        e2(k, j) = p(j, swept_tri(3, k)) - x1(k, j)
-        d1(k, j) = dq(j, swept_tri(1, k))
-        g1(k, j) = dq(j, swept_tri(2, k)) - d1(k, j)
-        g2(k, j) = dq(j, swept_tri(3, k)) - d1(k, j)
-      end do
-    end do
-    call swept_edges(72, 72, x1, e1, e2, d1, g1, g2, v, m)
+    logical, parameter :: every(6) = .true.
+    real(wp) :: vw(48), mw(48, 3), vi(24), mi(24, 3)
+    integer :: nt
+    call swept_walls(p, q, every, nt, vw, mw)
+    call swept_inner(p, q, vi, mi)
+    v(1:48) = vw
+    m(1:48, :) = mw
+    v(49:72) = vi
+    m(49:72, :) = mi
   end subroutine swept_cell
 
   !> `swept_triangles` on the triangles `swept_tri` of the faces f with
