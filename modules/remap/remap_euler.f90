@@ -2704,6 +2704,9 @@ contains
                 rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
                 ndu(3, nkeep), urefc(3)
     integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in, ef
+    ! the entry of node nb where the caller of `node_entry` knows it (0:
+    ! known not held), so that no search is made; -1: not known
+    integer :: in_hint
     logical :: runi(nkeep)
     ! whether `deposit` counts each fragment in given (else its caller
     ! sums them by source region in gsum, `swept_fluxes`)
@@ -2725,6 +2728,7 @@ contains
     tally = .true.
     nrk = 0
     nnk = 0
+    in_hint = -1
     urefc = old%uref(:, c)
     ! (the swept path's points as `swept_low_faces` placed them, where it
     ! did: ef its entry)
@@ -2967,7 +2971,7 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
-      logical :: pure, pure_nbr(6), done_k(8), shared
+      logical :: pure, pure_nbr(6), done_k(8), shared, fresh
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       if (ef > 0) then
@@ -3153,6 +3157,9 @@ contains
         irc = ir
         ink = 0
         irf = 0
+        ! (no node's entry held yet: then each one taken below is in ink,
+        ! and `node_entry` need not search)
+        fresh = nnk == 0
         ! (the volume each region gives is counted once, its fragments'
         ! sum (gsum) rounded to `old_t`'s given units at the end, rather
         ! than each fragment rounded and counted on its own: the count
@@ -3175,7 +3182,11 @@ contains
               ir = irc
               nb = n0c + g%corner_offset(k)
               if (.not. done_k(k)) then
+                ! (node k's entry, if any, is ink(k): every entry taken
+                ! here is)
+                in_hint = merge(ink(k), -1, fresh)
                 call source_node(nb)
+                in_hint = -1
                 done_k(k) = .true.
                 if (.not. runi(ir)) ink(k) = in
                 ubk(:, k) = ub
@@ -3203,7 +3214,9 @@ contains
                 ub = rub(:, ir)
               else
                 if (ink(j) == 0) then
+                  in_hint = merge(0, -1, fresh)
                   call node_entry()
+                  in_hint = -1
                   ink(j) = in
                 end if
                 in = ink(j)
@@ -3454,7 +3467,11 @@ contains
     !> The entry in of node nb among the nodes' numbers (`source`), taken
     !> if it is not there yet.
     subroutine node_entry()
-      in = findloc(nk(1:nnk), nb, 1)
+      if (in_hint >= 0) then
+        in = in_hint
+      else
+        in = findloc(nk(1:nnk), nb, 1)
+      end if
       if (in == 0) then
         nnk = min(nnk + 1, nkeep)
         in = nnk
