@@ -3476,9 +3476,10 @@ contains
         nnk = min(nnk + 1, nkeep)
         in = nnk
         nk(in) = nb
-        nu(:, in) = h%u(:, nb)
+        ! (the node's velocity and its gradient by `copy_values`)
+        call copy_values(3, h%u(1, nb), nu(1, in))
         nxo(:, in) = old%xdual(:, nb) - o
-        ngu(:, :, in) = old%gu(:, :, nb)
+        call copy_values(9, old%gu(1, 1, nb), ngu(1, 1, in))
         ndu(:, in) = nu(:, in) - urefc
       end if
     end subroutine node_entry
@@ -3840,6 +3841,17 @@ contains
     hv = half_hv
     corner = half_corner
   end subroutine half_tets
+
+  !> dst = src, n values. Callers pass array elements (element sequence
+  !> association): the copy is made without an array assignment's
+  !> descriptor arithmetic and run-time tests for overlap, which cost
+  !> several times the copy itself where a few values are copied per call.
+  pure subroutine copy_values(n, src, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: src(n)
+    real(wp), intent(out) :: dst(n)
+    dst = src
+  end subroutine copy_values
 
   !> The 27 points of `half_tets`' split alone (its halves are the
   !> constants half_hv, half_corner: callers on the hot paths read those
