@@ -2740,7 +2740,7 @@ contains
     end if
     if (ef > 0) then
       o = old%fo(:, ef)
-      pts = old%fpts(:, :, ef)
+      call copy_values(81, old%fpts(1, 1, ef), pts)
     else
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ! local coordinates about the new cell's centre: round-off scales with the cell
@@ -2975,7 +2975,7 @@ contains
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       if (ef > 0) then
-        opts = old%fopts(:, :, ef)
+        call copy_values(81, old%fopts(1, 1, ef), opts)
       else
         call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
         do j = 1, 8
@@ -3431,18 +3431,19 @@ contains
         rsc(ir) = old%scale(kr)
         rxo(:, ir) = old%xr(:, kr) - o
         rrho(ir) = old%rho(kr)
-        rgrho(:, ir) = old%grho(:, kr)
-        rge(:, ir) = old%ge(:, kr)
+        ! (the vectors by `copy_values`)
+        call copy_values(3, old%grho(1, kr), rgrho(1, ir))
+        call copy_values(3, old%ge(1, kr), rge(1, ir))
         re(ir) = old%e(kr)
         rscrho(ir) = rsc(ir)*rrho(ir)
         rgunit(ir) = old%gunit(kr)
         runi(ir) = old%uniform(co)
         if (runi(ir)) then
-          rub(:, ir) = old%ucell(:, co)
+          call copy_values(3, old%ucell(1, co), rub(1, ir))
           rke(ir) = old%kcell(co)
           rw(ir) = 0.0_wp
         else
-          rub(:, ir) = old%ushift(:, co)
+          call copy_values(3, old%ushift(1, co), rub(1, ir))
           rke(ir) = old%kshift(co)
           rw(ir) = old%wreg(kr)
         end if
