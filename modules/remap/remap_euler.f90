@@ -361,11 +361,13 @@ module remap_euler
     !> tangle test), kept for `subcell_shifts`, which needs the same
     !> numbers of the same old cells later in the Euler step: hslot(c)
     !> (ncell; 0: none) the entry of cell c, hdet(:, e) its 48 values and
-    !> hkey(:, :, e) its eight nodes when they were taken. An entry is
+    !> hkey(:, :, e) its eight nodes when they were taken, hpts(:, :, e)
+    !> the 27 points (`half_points` about the nodes' mean) the values came
+    !> from, which `subcell_shifts` splits the cell by too. An entry is
     !> used only where the cell's nodes are still those (compared exactly),
     !> so one left from another grid or an earlier step is never read.
     integer, allocatable :: hslot(:)
-    real(wp), allocatable :: hdet(:, :), hkey(:, :, :)
+    real(wp), allocatable :: hdet(:, :), hkey(:, :, :), hpts(:, :, :)
     !> the swept path's shared faces (`swept_low_faces`): per changed cell
     !> c, entry fslot(c) (valid where fstamp(c) == fgen, this remap's), the
     !> regions its 24 triangles on its three low faces (xi-, eta-, zeta-;
@@ -1167,7 +1169,7 @@ contains
   end subroutine blocks_moved
 
   !> `remap_swept_blockers`' store of `half_dets` (old_t's hslot, hdet,
-  !> hkey) ready for n cells of a grid of ncell cells (keep false, and no
+  !> hkey, hpts) ready for n cells of a grid of ncell cells (keep false, and no
   !> store, where it cannot be had). A grown store keeps its entries (every
   !> slot still names the numbers and the nodes it was set with) and takes
   !> twice what is needed: the grid's slots are set to zero once, not at
@@ -1176,23 +1178,26 @@ contains
     type(old_t), intent(inout) :: old
     integer, intent(in) :: ncell, n
     logical, intent(out) :: keep
-    real(wp), allocatable :: det(:, :), key(:, :, :)
+    real(wp), allocatable :: det(:, :), key(:, :, :), pts(:, :, :)
     integer :: stat, m
     stat = 0
     if (allocated(old%hslot)) then
-      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey)
+      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey, old%hpts)
     end if
     if (.not. allocated(old%hslot)) then
-      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), stat=stat)
+      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), &
+               old%hpts(3, 27, max(2*n, 1)), stat=stat)
       if (stat == 0) old%hslot = 0
     else if (size(old%hdet, 2) < n) then
       m = size(old%hdet, 2)
-      allocate(det(48, 2*n), key(3, 8, 2*n), stat=stat)
+      allocate(det(48, 2*n), key(3, 8, 2*n), pts(3, 27, 2*n), stat=stat)
       if (stat == 0) then
         det(:, 1:m) = old%hdet
         key(:, :, 1:m) = old%hkey
+        pts(:, :, 1:m) = old%hpts
         call move_alloc(det, old%hdet)
         call move_alloc(key, old%hkey)
+        call move_alloc(pts, old%hpts)
       end if
     end if
     keep = stat == 0
@@ -1200,6 +1205,7 @@ contains
       if (allocated(old%hslot)) deallocate(old%hslot)
       if (allocated(old%hdet)) deallocate(old%hdet)
       if (allocated(old%hkey)) deallocate(old%hkey)
+      if (allocated(old%hpts)) deallocate(old%hpts)
     end if
   end subroutine dets_store
 
@@ -1862,10 +1868,13 @@ contains
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
-      call half_points(xn, pts)
+      ! (the same nodes, the same mean o: the same points, kept with the
+      ! values; by `copy_values`)
       if (e > 0) then
-        det6 = old%hdet(:, e)
+        call copy_values(81, old%hpts(1, 1, e), pts)
+        call copy_values(48, old%hdet(1, e), det6)
       else
+        call half_points(xn, pts)
         call half_dets(pts, det6)
       end if
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
@@ -2444,7 +2453,7 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       if (keep) then
         work%old%hslot(c) = 0
-        work%old%hkey(:, :, i) = xo
+        call copy_values(24, xo, work%old%hkey(1, 1, i))
       end if
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
@@ -2487,7 +2496,9 @@ contains
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         if (keep) then
-          work%old%hdet(:, i) = det6
+          ! (by `copy_values`)
+          call copy_values(48, det6, work%old%hdet(1, i))
+          call copy_values(81, opts, work%old%hpts(1, 1, i))
           work%old%hslot(c) = i
         end if
         ok = ok .and. all(det6 > 0.0_wp)
