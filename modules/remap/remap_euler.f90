@@ -1840,7 +1840,7 @@ contains
       old%kshift(c) = 0.0_wp
       n = g%node0(c)
       do j = 1, 8
-        ua(:, j) = h%u(:, n + g%corner_offset(j))
+        call copy_values(3, h%u(1, n + g%corner_offset(j)), ua(1, j))
       end do
       if (means) call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       call g%gather(c, g%x, xn)
@@ -1861,7 +1861,7 @@ contains
         if (e > 0) then
           ! (equal: the differences' magnitudes add up to zero, which no
           ! non-zero one does, nor a NaN; one sum, no test per node)
-          if (.not. sum(abs(old%hkey(:, :, e) - xn)) <= 0.0_wp) e = 0
+          if (.not. abs_diff(24, old%hkey(1, 1, e), xn) <= 0.0_wp) e = 0
         end if
       end if
       o = sum(xn, 2)/8.0_wp
@@ -1898,7 +1898,7 @@ contains
           sub(2:4, half_corner(i)) = sub(2:4, half_corner(i)) + &
             0.25_wp*v*(pts(:, 1) + pts(:, half_hv(2, i)) + pts(:, half_hv(3, i)) + pts(:, half_hv(4, i)))
         end do
-        old%sub(:, :, c) = sub
+        call copy_values(32, sub, old%sub(1, 1, c))
       end if
       do i = 1, 48
         if (old%uniform(c) .or. s0 == 0) exit
@@ -3864,6 +3864,14 @@ contains
     real(wp), intent(out) :: dst(n)
     dst = src
   end subroutine copy_values
+
+  !> sum(abs(a - b)) over n values, the arrays passed as elements like
+  !> `copy_values`' (without an array expression's descriptor arithmetic).
+  pure real(wp) function abs_diff(n, a, b) result(s)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n), b(n)
+    s = sum(abs(a - b))
+  end function abs_diff
 
   !> The 27 points of `half_tets`' split alone (its halves are the
   !> constants half_hv, half_corner: callers on the hot paths read those
