@@ -1573,8 +1573,9 @@ contains
       old%xdual = nan
     end if
     do j = 1, size(old%lnode)
-      old%gu(:, :, old%lnode(j)) = 0.0_wp
-      old%xdual(:, old%lnode(j)) = 0.0_wp
+      ! (by `zero_values`)
+      call zero_values(9, old%gu(1, 1, old%lnode(j)))
+      call zero_values(3, old%xdual(1, old%lnode(j)))
     end do
     if (par%linear) call velocity_gradients(g, old, h%u, err)
 
@@ -1778,8 +1779,9 @@ contains
       do j = 1, size(old%lchanged)
         c = old%lchanged(j)
         if (h%mat(c) /= kmat .or. .not. need(c)) cycle
-        old%grho(:, c) = grad(:, 1, c)
-        old%ge(:, c) = grad(:, 2, c)
+        ! (by `copy_values`, from the work array itself)
+        call copy_values(3, old%ggrad(1, 1, c), old%grho(1, c))
+        call copy_values(3, old%ggrad(1, 2, c), old%ge(1, c))
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -2023,7 +2025,8 @@ contains
       n = g%node0(c)
       do a = 1, 8
         wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
-        old%xdual(:, n + g%corner_offset(a)) = old%xdual(:, n + g%corner_offset(a)) + old%ws(:, a, c)
+        ! (dst = dst + src by `add_values`)
+        call add_values(3, old%ws(1, a, c), old%xdual(1, n + g%corner_offset(a)))
       end do
     end do
     ! (a changed node's gradient reads the nodes next to it: the near
@@ -3864,6 +3867,21 @@ contains
     real(wp), intent(out) :: dst(n)
     dst = src
   end subroutine copy_values
+
+  !> dst = dst + src, n values, passed like `copy_values`'.
+  pure subroutine add_values(n, src, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: src(n)
+    real(wp), intent(inout) :: dst(n)
+    dst = dst + src
+  end subroutine add_values
+
+  !> dst = 0, n values, passed like `copy_values`'.
+  pure subroutine zero_values(n, dst)
+    integer, intent(in) :: n
+    real(wp), intent(out) :: dst(n)
+    dst = 0.0_wp
+  end subroutine zero_values
 
   !> sum(abs(a - b)) over n values, the arrays passed as elements like
   !> `copy_values`' (without an array expression's descriptor arithmetic).
