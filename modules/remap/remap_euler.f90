@@ -1758,7 +1758,8 @@ contains
         has(c) = h%mat(c) == kmat
         need(c) = .false.
         q(:, c) = [old%rho(c), old%e(c)]
-        pos(:, c) = old%xr(:, c)
+        ! (pos, by `copy_values`: its array's element, not the name)
+        call copy_values(3, old%xr(1, c), old%gpos(1, c))
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -1767,7 +1768,7 @@ contains
           if (mx%mat(s) /= kmat .or. .not. mx%mass(s) > 0.0_wp) cycle
           has(c) = .true.
           q(:, c) = [old%rho(ncell + s), old%e(ncell + s)]
-          pos(:, c) = old%xr(:, ncell + s)
+          call copy_values(3, old%xr(1, ncell + s), old%gpos(1, c))
         end do
       end do
       do j = 1, size(old%lchanged)
@@ -5022,7 +5023,8 @@ contains
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
-        h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
+        ! (by `add_values`)
+        call add_values(3, cmom(:, a, c), h%u(1, n + g%corner_offset(a)))
       end do
     end do
     do i = 1, size(old%lnode)
