@@ -3444,7 +3444,7 @@ contains
         ir = nrk
         rk(ir) = kr
         rsc(ir) = old%scale(kr)
-        rxo(:, ir) = old%xr(:, kr) - o
+        call diff_values(3, old%xr(1, kr), o, rxo(1, ir))
         rrho(ir) = old%rho(kr)
         ! (the vectors by `copy_values`)
         call copy_values(3, old%grho(1, kr), rgrho(1, ir))
@@ -3494,7 +3494,7 @@ contains
         nk(in) = nb
         ! (the node's velocity and its gradient by `copy_values`)
         call copy_values(3, h%u(1, nb), nu(1, in))
-        nxo(:, in) = old%xdual(:, nb) - o
+        call diff_values(3, old%xdual(1, nb), o, nxo(1, in))
         call copy_values(9, old%gu(1, 1, nb), ngu(1, 1, in))
         ndu(:, in) = nu(:, in) - urefc
       end if
@@ -3883,6 +3883,14 @@ contains
     real(wp), intent(out) :: dst(n)
     dst = 0.0_wp
   end subroutine zero_values
+
+  !> dst = a - b, n values, passed like `copy_values`'.
+  pure subroutine diff_values(n, a, b, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n), b(n)
+    real(wp), intent(out) :: dst(n)
+    dst = a - b
+  end subroutine diff_values
 
   !> sum(abs(a - b)) over n values, the arrays passed as elements like
   !> `copy_values`' (without an array expression's descriptor arithmetic).
