@@ -361,11 +361,13 @@ module remap_euler
     !> tangle test), kept for `subcell_shifts`, which needs the same
     !> numbers of the same old cells later in the Euler step: hslot(c)
     !> (ncell; 0: none) the entry of cell c, hdet(:, e) its 48 values and
-    !> hkey(:, :, e) its eight nodes when they were taken. An entry is
+    !> hkey(:, :, e) its eight nodes when they were taken, hpts(:, :, e)
+    !> the 27 points (`half_points` about the nodes' mean) the values came
+    !> from, which `subcell_shifts` splits the cell by too. An entry is
     !> used only where the cell's nodes are still those (compared exactly),
     !> so one left from another grid or an earlier step is never read.
     integer, allocatable :: hslot(:)
-    real(wp), allocatable :: hdet(:, :), hkey(:, :, :)
+    real(wp), allocatable :: hdet(:, :), hkey(:, :, :), hpts(:, :, :)
     !> the swept path's shared faces (`swept_low_faces`): per changed cell
     !> c, entry fslot(c) (valid where fstamp(c) == fgen, this remap's), the
     !> regions its 24 triangles on its three low faces (xi-, eta-, zeta-;
@@ -1167,7 +1169,7 @@ contains
   end subroutine blocks_moved
 
   !> `remap_swept_blockers`' store of `half_dets` (old_t's hslot, hdet,
-  !> hkey) ready for n cells of a grid of ncell cells (keep false, and no
+  !> hkey, hpts) ready for n cells of a grid of ncell cells (keep false, and no
   !> store, where it cannot be had). A grown store keeps its entries (every
   !> slot still names the numbers and the nodes it was set with) and takes
   !> twice what is needed: the grid's slots are set to zero once, not at
@@ -1176,23 +1178,26 @@ contains
     type(old_t), intent(inout) :: old
     integer, intent(in) :: ncell, n
     logical, intent(out) :: keep
-    real(wp), allocatable :: det(:, :), key(:, :, :)
+    real(wp), allocatable :: det(:, :), key(:, :, :), pts(:, :, :)
     integer :: stat, m
     stat = 0
     if (allocated(old%hslot)) then
-      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey)
+      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey, old%hpts)
     end if
     if (.not. allocated(old%hslot)) then
-      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), stat=stat)
+      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), &
+               old%hpts(3, 27, max(2*n, 1)), stat=stat)
       if (stat == 0) old%hslot = 0
     else if (size(old%hdet, 2) < n) then
       m = size(old%hdet, 2)
-      allocate(det(48, 2*n), key(3, 8, 2*n), stat=stat)
+      allocate(det(48, 2*n), key(3, 8, 2*n), pts(3, 27, 2*n), stat=stat)
       if (stat == 0) then
         det(:, 1:m) = old%hdet
         key(:, :, 1:m) = old%hkey
+        pts(:, :, 1:m) = old%hpts
         call move_alloc(det, old%hdet)
         call move_alloc(key, old%hkey)
+        call move_alloc(pts, old%hpts)
       end if
     end if
     keep = stat == 0
@@ -1200,6 +1205,7 @@ contains
       if (allocated(old%hslot)) deallocate(old%hslot)
       if (allocated(old%hdet)) deallocate(old%hdet)
       if (allocated(old%hkey)) deallocate(old%hkey)
+      if (allocated(old%hpts)) deallocate(old%hpts)
     end if
   end subroutine dets_store
 
@@ -1567,8 +1573,9 @@ contains
       old%xdual = nan
     end if
     do j = 1, size(old%lnode)
-      old%gu(:, :, old%lnode(j)) = 0.0_wp
-      old%xdual(:, old%lnode(j)) = 0.0_wp
+      ! (by `zero_values`)
+      call zero_values(9, old%gu(1, 1, old%lnode(j)))
+      call zero_values(3, old%xdual(1, old%lnode(j)))
     end do
     if (par%linear) call velocity_gradients(g, old, h%u, err)
 
@@ -1751,7 +1758,8 @@ contains
         has(c) = h%mat(c) == kmat
         need(c) = .false.
         q(:, c) = [old%rho(c), old%e(c)]
-        pos(:, c) = old%xr(:, c)
+        ! (pos, by `copy_values`: its array's element, not the name)
+        call copy_values(3, old%xr(1, c), old%gpos(1, c))
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -1760,7 +1768,7 @@ contains
           if (mx%mat(s) /= kmat .or. .not. mx%mass(s) > 0.0_wp) cycle
           has(c) = .true.
           q(:, c) = [old%rho(ncell + s), old%e(ncell + s)]
-          pos(:, c) = old%xr(:, ncell + s)
+          call copy_values(3, old%xr(1, ncell + s), old%gpos(1, c))
         end do
       end do
       do j = 1, size(old%lchanged)
@@ -1772,8 +1780,9 @@ contains
       do j = 1, size(old%lchanged)
         c = old%lchanged(j)
         if (h%mat(c) /= kmat .or. .not. need(c)) cycle
-        old%grho(:, c) = grad(:, 1, c)
-        old%ge(:, c) = grad(:, 2, c)
+        ! (by `copy_values`, from the work array itself)
+        call copy_values(3, old%ggrad(1, 1, c), old%grho(1, c))
+        call copy_values(3, old%ggrad(1, 2, c), old%ge(1, c))
       end do
       do k = 1, mx%n
         c = mx%cell(k)
@@ -1834,7 +1843,7 @@ contains
       old%kshift(c) = 0.0_wp
       n = g%node0(c)
       do j = 1, 8
-        ua(:, j) = h%u(:, n + g%corner_offset(j))
+        call copy_values(3, h%u(1, n + g%corner_offset(j)), ua(1, j))
       end do
       if (means) call mean_velocity(h%mcorner(:, c), ua, old%ucell(:, c), old%uref(:, c), old%kcell(c))
       call g%gather(c, g%x, xn)
@@ -1855,17 +1864,20 @@ contains
         if (e > 0) then
           ! (equal: the differences' magnitudes add up to zero, which no
           ! non-zero one does, nor a NaN; one sum, no test per node)
-          if (.not. sum(abs(old%hkey(:, :, e) - xn)) <= 0.0_wp) e = 0
+          if (.not. abs_diff(24, old%hkey(1, 1, e), xn) <= 0.0_wp) e = 0
         end if
       end if
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
-      call half_points(xn, pts)
+      ! (the same nodes, the same mean o: the same points, kept with the
+      ! values; by `copy_values`)
       if (e > 0) then
-        det6 = old%hdet(:, e)
+        call copy_values(81, old%hpts(1, 1, e), pts)
+        call copy_values(48, old%hdet(1, e), det6)
       else
+        call half_points(xn, pts)
         call half_dets(pts, det6)
       end if
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
@@ -1889,7 +1901,7 @@ contains
           sub(2:4, half_corner(i)) = sub(2:4, half_corner(i)) + &
             0.25_wp*v*(pts(:, 1) + pts(:, half_hv(2, i)) + pts(:, half_hv(3, i)) + pts(:, half_hv(4, i)))
         end do
-        old%sub(:, :, c) = sub
+        call copy_values(32, sub, old%sub(1, 1, c))
       end if
       do i = 1, 48
         if (old%uniform(c) .or. s0 == 0) exit
@@ -2014,7 +2026,8 @@ contains
       n = g%node0(c)
       do a = 1, 8
         wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
-        old%xdual(:, n + g%corner_offset(a)) = old%xdual(:, n + g%corner_offset(a)) + old%ws(:, a, c)
+        ! (dst = dst + src by `add_values`)
+        call add_values(3, old%ws(1, a, c), old%xdual(1, n + g%corner_offset(a)))
       end do
     end do
     ! (a changed node's gradient reads the nodes next to it: the near
@@ -2444,7 +2457,7 @@ contains
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       if (keep) then
         work%old%hslot(c) = 0
-        work%old%hkey(:, :, i) = xo
+        call copy_values(24, xo, work%old%hkey(1, 1, i))
       end if
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
@@ -2487,7 +2500,9 @@ contains
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
         if (keep) then
-          work%old%hdet(:, i) = det6
+          ! (by `copy_values`)
+          call copy_values(48, det6, work%old%hdet(1, i))
+          call copy_values(81, opts, work%old%hpts(1, 1, i))
           work%old%hslot(c) = i
         end if
         ok = ok .and. all(det6 > 0.0_wp)
@@ -2704,6 +2719,9 @@ contains
                 rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
                 ndu(3, nkeep), urefc(3)
     integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in, ef
+    ! the entry of node nb where the caller of `node_entry` knows it (0:
+    ! known not held), so that no search is made; -1: not known
+    integer :: in_hint
     logical :: runi(nkeep)
     ! whether `deposit` counts each fragment in given (else its caller
     ! sums them by source region in gsum, `swept_fluxes`)
@@ -2725,6 +2743,7 @@ contains
     tally = .true.
     nrk = 0
     nnk = 0
+    in_hint = -1
     urefc = old%uref(:, c)
     ! (the swept path's points as `swept_low_faces` placed them, where it
     ! did: ef its entry)
@@ -2736,7 +2755,7 @@ contains
     end if
     if (ef > 0) then
       o = old%fo(:, ef)
-      pts = old%fpts(:, :, ef)
+      call copy_values(81, old%fpts(1, 1, ef), pts)
     else
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
       ! local coordinates about the new cell's centre: round-off scales with the cell
@@ -2967,11 +2986,11 @@ contains
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
       integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
-      logical :: pure, pure_nbr(6), done_k(8), shared
+      logical :: pure, pure_nbr(6), done_k(8), shared, fresh
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
       if (ef > 0) then
-        opts = old%fopts(:, :, ef)
+        call copy_values(81, old%fopts(1, 1, ef), opts)
       else
         call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
         do j = 1, 8
@@ -3153,6 +3172,9 @@ contains
         irc = ir
         ink = 0
         irf = 0
+        ! (no node's entry held yet: then each one taken below is in ink,
+        ! and `node_entry` need not search)
+        fresh = nnk == 0
         ! (the volume each region gives is counted once, its fragments'
         ! sum (gsum) rounded to `old_t`'s given units at the end, rather
         ! than each fragment rounded and counted on its own: the count
@@ -3175,7 +3197,11 @@ contains
               ir = irc
               nb = n0c + g%corner_offset(k)
               if (.not. done_k(k)) then
+                ! (node k's entry, if any, is ink(k): every entry taken
+                ! here is)
+                in_hint = merge(ink(k), -1, fresh)
                 call source_node(nb)
+                in_hint = -1
                 done_k(k) = .true.
                 if (.not. runi(ir)) ink(k) = in
                 ubk(:, k) = ub
@@ -3203,7 +3229,9 @@ contains
                 ub = rub(:, ir)
               else
                 if (ink(j) == 0) then
+                  in_hint = merge(0, -1, fresh)
                   call node_entry()
+                  in_hint = -1
                   ink(j) = in
                 end if
                 in = ink(j)
@@ -3416,20 +3444,21 @@ contains
         ir = nrk
         rk(ir) = kr
         rsc(ir) = old%scale(kr)
-        rxo(:, ir) = old%xr(:, kr) - o
+        call diff_values(3, old%xr(1, kr), o, rxo(1, ir))
         rrho(ir) = old%rho(kr)
-        rgrho(:, ir) = old%grho(:, kr)
-        rge(:, ir) = old%ge(:, kr)
+        ! (the vectors by `copy_values`)
+        call copy_values(3, old%grho(1, kr), rgrho(1, ir))
+        call copy_values(3, old%ge(1, kr), rge(1, ir))
         re(ir) = old%e(kr)
         rscrho(ir) = rsc(ir)*rrho(ir)
         rgunit(ir) = old%gunit(kr)
         runi(ir) = old%uniform(co)
         if (runi(ir)) then
-          rub(:, ir) = old%ucell(:, co)
+          call copy_values(3, old%ucell(1, co), rub(1, ir))
           rke(ir) = old%kcell(co)
           rw(ir) = 0.0_wp
         else
-          rub(:, ir) = old%ushift(:, co)
+          call copy_values(3, old%ushift(1, co), rub(1, ir))
           rke(ir) = old%kshift(co)
           rw(ir) = old%wreg(kr)
         end if
@@ -3454,14 +3483,19 @@ contains
     !> The entry in of node nb among the nodes' numbers (`source`), taken
     !> if it is not there yet.
     subroutine node_entry()
-      in = findloc(nk(1:nnk), nb, 1)
+      if (in_hint >= 0) then
+        in = in_hint
+      else
+        in = findloc(nk(1:nnk), nb, 1)
+      end if
       if (in == 0) then
         nnk = min(nnk + 1, nkeep)
         in = nnk
         nk(in) = nb
-        nu(:, in) = h%u(:, nb)
-        nxo(:, in) = old%xdual(:, nb) - o
-        ngu(:, :, in) = old%gu(:, :, nb)
+        ! (the node's velocity and its gradient by `copy_values`)
+        call copy_values(3, h%u(1, nb), nu(1, in))
+        call diff_values(3, old%xdual(1, nb), o, nxo(1, in))
+        call copy_values(9, old%gu(1, 1, nb), ngu(1, 1, in))
         ndu(:, in) = nu(:, in) - urefc
       end if
     end subroutine node_entry
@@ -3823,6 +3857,48 @@ contains
     hv = half_hv
     corner = half_corner
   end subroutine half_tets
+
+  !> dst = src, n values. Callers pass array elements (element sequence
+  !> association): the copy is made without an array assignment's
+  !> descriptor arithmetic and run-time tests for overlap, which cost
+  !> several times the copy itself where a few values are copied per call.
+  pure subroutine copy_values(n, src, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: src(n)
+    real(wp), intent(out) :: dst(n)
+    dst = src
+  end subroutine copy_values
+
+  !> dst = dst + src, n values, passed like `copy_values`'.
+  pure subroutine add_values(n, src, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: src(n)
+    real(wp), intent(inout) :: dst(n)
+    dst = dst + src
+  end subroutine add_values
+
+  !> dst = 0, n values, passed like `copy_values`'.
+  pure subroutine zero_values(n, dst)
+    integer, intent(in) :: n
+    real(wp), intent(out) :: dst(n)
+    dst = 0.0_wp
+  end subroutine zero_values
+
+  !> dst = a - b, n values, passed like `copy_values`'.
+  pure subroutine diff_values(n, a, b, dst)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n), b(n)
+    real(wp), intent(out) :: dst(n)
+    dst = a - b
+  end subroutine diff_values
+
+  !> sum(abs(a - b)) over n values, the arrays passed as elements like
+  !> `copy_values`' (without an array expression's descriptor arithmetic).
+  pure real(wp) function abs_diff(n, a, b) result(s)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: a(n), b(n)
+    s = sum(abs(a - b))
+  end function abs_diff
 
   !> The 27 points of `half_tets`' split alone (its halves are the
   !> constants half_hv, half_corner: callers on the hot paths read those
@@ -4942,7 +5018,8 @@ contains
       do a = 1, 8
         if (.not. old%node(n + g%corner_offset(a))) cycle
         h%mnode(n + g%corner_offset(a)) = h%mnode(n + g%corner_offset(a)) + cmass(a, c)
-        h%u(:, n + g%corner_offset(a)) = h%u(:, n + g%corner_offset(a)) + cmom(:, a, c)
+        ! (by `add_values`)
+        call add_values(3, cmom(:, a, c), h%u(1, n + g%corner_offset(a)))
       end do
     end do
     do i = 1, size(old%lnode)

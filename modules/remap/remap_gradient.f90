@@ -99,7 +99,7 @@ contains
     integer :: c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr(max_nbr), off(max_nbr), cand(max_nbr), ncand, jc
     type(grid_index_t) :: ix
     real(wp) :: amat(max_nbr, 3), at(3, max_nbr), sv(3), dx(3), d2, rinv, dxn(3, 8), xn(3, 8), g(3), &
-                qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3)
+                qc, qmin, qmax, qn, dq, eps, phi, w(max_nbr), wx(3), ata(3, 3), pc(3)
     real(wp), allocatable :: bmat(:, :), atb(:, :), work(:), qlo(:), qhi(:)
     character(len=200) :: msg
 
@@ -159,7 +159,7 @@ contains
     !$omp parallel do default(none) shared(ni, nj, nk, ix, nf, x, q, pos, has, need, grad, list, off) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, co, f, a, n, nbr, m, rank, info, amat, at, sv, dx, d2, rinv, &
     !$omp         cand, ncand, jc, &
-    !$omp         dxn, xn, g, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi, stat) &
+    !$omp         dxn, xn, g, pc, qc, qmin, qmax, qn, dq, eps, phi, bmat, work, w, wx, ata, atb, qlo, qhi, stat) &
     !$omp firstprivate(lwork) reduction(+:nfail) schedule(static)
     do i = 1, size(list)
       c = list(i)
@@ -198,10 +198,13 @@ contains
       end if
       m = 0
       ata = 0.0_wp
+      ! (the cell's point once, not reloaded through the descriptor per
+      ! candidate)
+      pc = pos(:, c)
       do jc = 1, ncand
         co = cand(jc)
         if (.not. has(co)) cycle
-        dx = pos(:, co) - pos(:, c)
+        dx = pos(:, co) - pc
         d2 = dx(1)**2 + dx(2)**2 + dx(3)**2
         if (.not. (d2 > tiny_wp)) cycle   ! coincident points carry no slope
         m = m + 1
@@ -262,7 +265,7 @@ contains
       ! Barth-Jespersen: keep the reconstruction at the 8 nodes in range
       call block_gather(ni, nj, ci, cj, ck, x, xn)
       do a = 1, 8
-        dxn(:, a) = xn(:, a) - pos(:, c)
+        dxn(:, a) = xn(:, a) - pc
       end do
       do f = 1, nf
         g = bmat(1:3, f)
