@@ -2765,17 +2765,17 @@ contains
       end do
       call half_points(xn, pts)
     end if
+    ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
+    ! the dummies: no zeros written through their descriptors first)
+    svol = 0.0_wp
+    smom = 0.0_wp
+    smass = 0.0_wp
+    sie = 0.0_wp
+    spc = 0.0_wp
+    scmom = 0.0_wp
+    scland = 0.0_wp
+    scdef = 0.0_wp
     if (old%swept) then
-      ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
-      ! the dummies: no zeros written through their descriptors first)
-      svol = 0.0_wp
-      smom = 0.0_wp
-      smass = 0.0_wp
-      sie = 0.0_wp
-      spc = 0.0_wp
-      scmom = 0.0_wp
-      scland = 0.0_wp
-      scdef = 0.0_wp
       ! cdef, the gaps' measure, only where there are open faces
       if (any(old%open)) then
         do t = 1, 48
@@ -2792,14 +2792,6 @@ contains
       end do
       return
     end if
-    avol = 0.0_wp
-    amom = 0.0_wp
-    amass = 0.0_wp
-    aie = 0.0_wp
-    pcell = 0.0_wp
-    cmom = 0.0_wp
-    cland = 0.0_wp
-    cdef = 0.0_wp
     do t = 1, 48
       tmask(t) = 0
       do j = 1, 4
@@ -2853,14 +2845,13 @@ contains
     end if
     if (box) then
       do t = 1, 8
-        cdef(t) = product(qbhi(:, t) - qblo(:, t))
+        scdef(t) = product(qbhi(:, t) - qblo(:, t))
       end do
     else
       do t = 1, 48
-        cdef(half_corner(t)) = cdef(half_corner(t)) + hsg(t)*hvol(t)
+        scdef(half_corner(t)) = scdef(half_corner(t)) + hsg(t)*hvol(t)
       end do
     end if
-    call sums_in()
     do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
       do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
         do oi = max(g%clo(1), ci - reach), min(g%chi(1), ci + reach)
@@ -2932,20 +2923,6 @@ contains
     end do
 
   contains
-
-    !> The sums so far to `deposit`'s arrays.
-    subroutine sums_in()
-      integer :: nm_
-      nm_ = size(avol)
-      svol(1:nm_) = avol
-      smom(:, 1:nm_) = amom
-      smass(1:nm_) = amass
-      sie(1:nm_) = aie
-      spc = pcell
-      scmom = cmom
-      scland = cland
-      scdef = cdef
-    end subroutine sums_in
 
     !> `deposit`'s sums back to the dummies.
     subroutine sums_out()
