@@ -1,6 +1,7 @@
 !> Unit tests of remap_polyhedron: clipping the unit cube against closed forms
 !> (and an exact piecewise quadrature for a general plane), degenerate planes,
-!> the two sides of a plane adding up, the 24-tet split of Fig. 7 against
+!> the two sides of a plane adding up, the closed-form clip of a tetrahedron
+!> by one plane against the general one, the 24-tet split of Fig. 7 against
 !> hex_volume, and tet-hex intersections: inside, outside, partial, the
 !> partition identities behind Eq. (54)-(57), and symmetry. Ends with timings
 !> (printed, not asserted).
@@ -10,7 +11,7 @@ program test_remap_geometry
   use mesh_geometry, only: hex_corner, hex_volume, hex_tets, cross
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_from_tet, poly_from_hex, poly_clip, &
                               poly_moments, poly_first_moments, tet_intersect_tet, &
-                              tet_intersect_hex
+                              tet_intersect_hex, poly_set_tet, tet_clip_moments
   use test_assert, only: check, check_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   implicit none
@@ -29,6 +30,7 @@ program test_remap_geometry
   call test_hex_tets()
   call test_tet_hex()
   call test_partitions()
+  call test_tet_clip()
   call timings()
 
   call check_summary('test_remap_geometry')
@@ -695,6 +697,62 @@ contains
                  'tet over a block of cells: moments add up to the tet''s')
     end do
   end subroutine test_partitions
+
+  !> `tet_clip_moments` against `poly_set_tet` + `poly_clip` +
+  !> `poly_first_moments` (the same numbers to round-off of the tetrahedron's
+  !> size): random tetrahedra cut by random planes, by planes through one,
+  !> two and three of their vertices (the tolerance's on-plane cases: the
+  !> kept part a tetrahedron, a prism with a degenerate end, the whole or
+  !> nothing), and by planes a round-off unit off a vertex; with the other
+  !> side, the whole tetrahedron (volume and moment).
+  subroutine test_tet_clip()
+    type(poly_t) :: p
+    real(wp) :: t(3, 4), n(3), d, v1, m1(3), v2, m2(3), vo, mo(3), vt, errv, errm, errs
+    integer :: ic, kind, a, b
+    errv = 0.0_wp
+    errm = 0.0_wp
+    errs = 0.0_wp
+    do ic = 1, 20000
+      call random_tet(-1.0_wp, 2.0_wp, t)
+      if (mod(ic, 2) == 0) t(:, [3, 4]) = t(:, [4, 3])   ! either orientation
+      n = [uni(-1.0_wp, 1.0_wp), uni(-1.0_wp, 1.0_wp), uni(-1.0_wp, 1.0_wp)]
+      kind = mod(ic, 5)
+      a = 1 + mod(ic/5, 4)
+      b = 1 + mod(a, 4)
+      select case (kind)
+      case (0)
+        d = uni(-3.0_wp, 3.0_wp)
+      case (1)
+        d = dot_product(n, t(:, a))
+      case (2)
+        ! through two vertices: n normal to their edge
+        n = cross(t(:, b) - t(:, a), n)
+        d = dot_product(n, t(:, a))
+      case (3)
+        ! through three: the face's plane, from either side
+        n = cross(t(:, 2) - t(:, 1), t(:, 3) - t(:, 1))
+        if (mod(ic/5, 2) == 1) n = -n
+        d = dot_product(n, t(:, 1))
+      case default
+        d = dot_product(n, t(:, a))*(1.0_wp + 3.0_wp*epsilon(1.0_wp)*merge(1.0_wp, -1.0_wp, mod(ic/5, 2) == 0))
+      end select
+      vt = abs(det6(t))/6.0_wp
+      call tet_clip_moments(t, n, d, v1, m1)
+      call poly_set_tet(p, t)
+      call poly_clip(p, n, d)
+      call poly_first_moments(p, v2, m2)
+      errv = max(errv, abs(v1 - v2)/vt)
+      errm = max(errm, maxval(abs(m1 - m2))/(vt*3.0_wp))
+      call tet_clip_moments(t, -n, -d, vo, mo)
+      errs = max(errs, abs(v1 + vo - vt)/vt, &
+                 maxval(abs(m1 + mo - 0.25_wp*vt*(t(:, 1) + t(:, 2) + t(:, 3) + t(:, 4))))/(vt*3.0_wp))
+    end do
+    write(*, '(a,3es10.2)') 'tet clip, closed form against the polyhedron: volume, moment, two sides ', &
+      errv, errm, errs
+    call check(errv <= 1e-13_wp, 'tet clip: volume as poly_clip + poly_first_moments')
+    call check(errm <= 1e-13_wp, 'tet clip: first moment as poly_clip + poly_first_moments')
+    call check(errs <= 1e-13_wp, 'tet clip: the two sides make the tetrahedron')
+  end subroutine test_tet_clip
 
   subroutine timings()
     integer, parameter :: ncase = 100000

@@ -106,7 +106,7 @@ module remap_euler
   use lagrange_state, only: hydro_t, hydro_subcell_masses
   use lagrange_centroids, only: plane_normals, planes_known
   use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
-                              poly_first_moments, poly_copy
+                              poly_first_moments, poly_copy, tet_clip_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
@@ -4381,6 +4381,10 @@ contains
     m = 0.0_wp
     side = hull_side(t, pn, pd)
     if (side == -1) return
+    if (side == 0 .and. size(pd) == 1) then
+      call tet_clip_moments(t, pn(:, 1), pd(1), v, m)
+      return
+    end if
     call poly_set_tet(p, t)
     if (side == 0) then
       do k = 1, size(pd)
@@ -4482,6 +4486,9 @@ contains
       if (side == 1) then
         vv = abs(d)/6.0_wp
         mm = 0.25_wp*vv*((t(:, 1) + t(:, 2)) + (t(:, 3) + t(:, 4)))
+      else if (size(pd) == 1) then
+        ! (one plane, the common case: in closed form)
+        call tet_clip_moments(t, pn(:, 1), pd(1), vv, mm)
       else
         call poly_set_tet(p, t)
         do i = 1, size(pd)

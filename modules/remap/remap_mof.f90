@@ -27,13 +27,16 @@
 !>
 !> Volume root (i). On a unit n the cut volume V(d) is a piecewise cubic of
 !> d whose pieces join at the projections n.x of the pieces' vertices. The
-!> root is found by Newton from a guess (the derivative is the cut's area,
-!> which every evaluation yields), falling back to bisection over the sorted
-!> projections until one cubic piece brackets the root, the exact cubic
-!> through four values on that piece, and Illinois regula falsi as a
-!> safeguard. The smaller side is the one solved for, to 1e-13 of its own
-!> volume (or until the bracket is round-off wide: a thin slab's volume is
-!> not known better than eps of the cell's); 1e-12 of the cell's volume is
+!> root is found by Newton's method on V^(1/k), k the exponent of the power
+!> law V ~ (d - d_min)^k through the current point (exact in one step at a
+!> corner, where V is cubic; the derivative is the cut's area, which every
+!> evaluation yields), from a guess or from the cone estimate (V/V_region)^(1/3)
+!> of the range of d, falling back to bisection over the sorted projections
+!> until one cubic piece brackets the root, the exact cubic through four
+!> values on that piece, and Illinois regula falsi as a safeguard. The
+!> smaller side is the one solved for, to 1e-13 of its own volume (or until
+!> a step or the bracket is round-off wide: a thin slab's volume is not
+!> known better than eps of the cell's); 1e-12 of the cell's volume is
 !> guaranteed (`ok`).
 !>
 !> Centroid fit (ii). Let F be the interface polygon, A its area, x_F its
@@ -60,7 +63,7 @@ module remap_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross, hex_tets, tet_det
   use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_set_tet, poly_from_hex, poly_clip, &
-                              poly_first_moments, slot_of, poly_copy
+                              poly_first_moments, slot_of, poly_copy, tet_clip_moments
   implicit none
   private
   public :: mof_pieces_t, mof_max_pieces, mof_max_iter_default, mof_angle_tol
@@ -262,8 +265,8 @@ contains
     real(wp), intent(in) :: n(3), dl, tolf, sgn
     real(wp), intent(inout) :: area, f1(3), f2(3, 3)
     logical :: used(3, poly_max_verts)
-    integer :: face(poly_max_verts + 1), nv, m, v, k, j, prev, cur, nxt, it, i, ii, jj
-    real(wp) :: s(poly_max_verts), a(3), b(3), c(3), sv(3), t, tot
+    integer :: face(poly_max_verts + 1), nv, m, v, k, j, prev, cur, nxt, it, i
+    real(wp) :: s(poly_max_verts), a(3), b(3), c(3), tot
 
     nv = p%nv
     if (nv < 4) return
@@ -307,20 +310,51 @@ contains
         do i = 2, m - 1
           b = p%x(:, face(i))
           c = p%x(:, face(i + 1))
-          t = 0.5_wp*sgn*dot_product(n, cross(b - a, c - a))
-          sv = a + b + c
-          area = area + t
-          f1 = f1 + (t/3.0_wp)*sv
-          ! int_T x x^T dA = A/12 (a a^T + b b^T + c c^T + s s^T)
-          do jj = 1, 3
-            do ii = 1, 3
-              f2(ii, jj) = f2(ii, jj) + (t/12.0_wp)*(a(ii)*a(jj) + b(ii)*b(jj) + c(ii)*c(jj) + sv(ii)*sv(jj))
-            end do
-          end do
+          call add_triangle(a, b, c, 0.5_wp*sgn*dot_product(n, cross(b - a, c - a)), area, f1, f2)
         end do
       end do
     end do
   end subroutine add_cap_faces
+
+  !> Adds to (area, f1, f2) the polygon x(:, 1:m) on the plane with unit
+  !> normal n (its points in order round it, either way), its area counted
+  !> along +n, times sgn: `add_cap_faces` for a cut whose polygon is known
+  !> (`tet_clip_moments`).
+  pure subroutine add_cap_polygon(x, m, n, sgn, area, f1, f2)
+    real(wp), intent(in) :: x(:, :), n(3), sgn
+    integer, intent(in) :: m
+    real(wp), intent(inout) :: area, f1(3), f2(3, 3)
+    real(wp) :: t(size(x, 2)), tot
+    integer :: i
+    if (m < 3) return
+    tot = 0.0_wp
+    do i = 2, m - 1
+      t(i) = 0.5_wp*dot_product(n, cross(x(:, i) - x(:, 1), x(:, i + 1) - x(:, 1)))
+      tot = tot + t(i)
+    end do
+    if (tot < 0.0_wp) t(2:m - 1) = -t(2:m - 1)
+    do i = 2, m - 1
+      call add_triangle(x(:, 1), x(:, i), x(:, i + 1), sgn*t(i), area, f1, f2)
+    end do
+  end subroutine add_cap_polygon
+
+  !> Adds the triangle (a, b, c) of signed area t to (area, f1, f2): its
+  !> area, first moment t (a + b + c)/3 and second moment
+  !> int_T x x^T dA = t/12 (a a^T + b b^T + c c^T + s s^T), s = a + b + c.
+  pure subroutine add_triangle(a, b, c, t, area, f1, f2)
+    real(wp), intent(in) :: a(3), b(3), c(3), t
+    real(wp), intent(inout) :: area, f1(3), f2(3, 3)
+    real(wp) :: sv(3)
+    integer :: ii, jj
+    sv = a + b + c
+    area = area + t
+    f1 = f1 + (t/3.0_wp)*sv
+    do jj = 1, 3
+      do ii = 1, 3
+        f2(ii, jj) = f2(ii, jj) + (t/12.0_wp)*(a(ii)*a(jj) + b(ii)*b(jj) + c(ii)*c(jj) + sv(ii)*sv(jj))
+      end do
+    end do
+  end subroutine add_triangle
 
 
   !> The region pcs cut by n.x <= dl (local coordinates, unit n): volume and
@@ -336,8 +370,8 @@ contains
     type(cut_t), intent(out) :: c
     logical, intent(inout) :: ok
     type(poly_t) :: q
-    real(wp) :: s, smn, smx, xmax, tol, v, m(3)
-    integer :: k, iv
+    real(wp) :: s, smn, smx, xmax, tol, v, m(3), cap(3, 4)
+    integer :: k, iv, ncap
     logical :: okc
 
     c%dl = dl
@@ -363,6 +397,13 @@ contains
       else if (smn >= -tol) then
         ! nothing strictly inside: no volume
         cycle
+      else if (pcs%p(k)%nv == 4) then
+        ! (a tetrahedron of the cell's split, cut: in closed form, the
+        ! same decision per vertex and the same cut points)
+        call tet_clip_moments(pcs%p(k)%x(:, 1:4), n, dl, v, m, cap, ncap)
+        c%vol = c%vol + pcs%sgn(k)*v
+        c%mom = c%mom + pcs%sgn(k)*m
+        if (want_face) call add_cap_polygon(cap, ncap, n, pcs%sgn(k), c%area, c%f1, c%f2)
       else
         call poly_copy(pcs%p(k), q)
         call poly_clip(q, n, dl, okc)
@@ -495,8 +536,9 @@ contains
 
   !> The plane n.x = dl (local coordinates, unit n) cutting the volume vt
   !> (length^3) from the region pcs of volume vtot (the sum over its
-  !> pieces), and the cut c there (with its interface moments): Newton from
-  !> dguess if use_guess, then bisection over the vertex projections, the
+  !> pieces), and the cut c there (with its interface moments): Newton (on
+  !> V^(1/k)) from dguess if use_guess, else from the cone estimate; where
+  !> it leaves the bracket, bisection over the vertex projections, the
   !> exact cubic of the last bracket and Illinois regula falsi (see the
   !> module header). ok is false if |vol - vt| > 1e-12 vtot at the end or a
   !> piece overflowed.
@@ -507,8 +549,9 @@ contains
     type(cut_t), intent(out) :: c
     logical, intent(out) :: ok
     real(wp) :: proj(mof_max_pieces*poly_max_verts)
-    real(wp) :: smin, smax, tolv, a, b, fa, fb, f, dl, dn, w, g1, g2, s
+    real(wp) :: smin, smax, tolv, a, b, fa, fb, f, dl, dn, w, g1, g2, s, dfloor, pk, dp
     integer :: it, k, iv, m, lo, hi, mid, side
+    logical :: last
 
     ok = .true.
     call region_range(pcs, n, smin, smax)
@@ -525,31 +568,51 @@ contains
       return
     end if
     tolv = 1.0e-13_wp*vt
+    dfloor = 4.0_wp*epsilon(1.0_wp)*max(abs(smin), abs(smax), smax - smin)
     a = smin
     fa = -vt
     b = smax
     fb = vtot - vt
 
-    ! Newton with the cut's area as dV/dd, kept inside the bracket
-    if (use_guess) then
-      dl = min(max(dguess, a), b)
-      do it = 1, 8
-        call cut_eval(pcs, n, dl, .true., c, ok)
-        f = c%vol - vt
-        if (abs(f) <= tolv) return
-        if (f < 0.0_wp) then
-          a = dl
-          fa = f
-        else
-          b = dl
-          fb = f
-        end if
-        if (.not. (c%area > 0.0_wp .and. abs(f) < c%area*(b - a))) exit
-        dn = dl - f/c%area
-        if (.not. (dn > a .and. dn < b)) exit
-        dl = dn
-      end do
-    end if
+    ! Newton with the cut's area as dV/dd, kept inside the bracket, from
+    ! the guess, or else from where a cone from the lowest point would
+    ! hold vt (the power law of the steps below with k = 3)
+    dl = smin + (smax - smin)*(vt/vtot)**(1.0_wp/3.0_wp)
+    if (use_guess) dl = min(max(dguess, a), b)
+    last = .false.
+    do it = 1, 8
+      call cut_eval(pcs, n, dl, .true., c, ok)
+      f = c%vol - vt
+      if (abs(f) <= tolv .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) return
+      if (f < 0.0_wp) then
+        a = dl
+        fa = f
+      else
+        b = dl
+        fb = f
+      end if
+      if (.not. (c%area > 0.0_wp .and. abs(f) < c%area*(b - a))) exit
+      ! (Newton on V^(1/k), not on V: with k = A (dl - smin)/V, the
+      ! exponent of the power law V ~ (d - smin)^k through this point (1
+      ! where the region starts with a face, 3 at a vertex), the step
+      ! smin + (dl - smin) (vt/V)^(1/k) is exact for any such law, and
+      ! it is Newton's to second order at the root. On V itself a cut
+      ! near a corner, where V is cubic, takes a third off the error per
+      ! step: 8 steps from a guess a cell away, then the bisection)
+      dn = dl - f/c%area
+      if (c%vol > 0.0_wp .and. dl > smin) then
+        pk = min(max(c%area*(dl - smin)/c%vol, 0.25_wp), 3.0_wp)
+        dp = smin + (dl - smin)*(vt/c%vol)**(1.0_wp/pk)
+        if (dp > a .and. dp < b) dn = dp
+      end if
+      if (.not. (dn > a .and. dn < b)) exit
+      ! (a step within round-off of the plane's offset is the last: V is
+      ! known no better than this here, as for a sliver, whose tolv lies
+      ! below the round-off of the cell's volume; the bisection would end
+      ! at the same plane after a dozen more cuts)
+      last = abs(dn - dl) <= dfloor
+      dl = dn
+    end do
 
     ! bisection over the vertex projections inside (a, b): V is one cubic
     ! between neighbouring projections
@@ -594,10 +657,11 @@ contains
     g2 = c%vol - vt
     dl = a + w*cubic_root(fa, g1, g2, fb)
     side = 0
+    last = .false.
     do it = 1, 100
       call cut_eval(pcs, n, dl, .true., c, ok)
       f = c%vol - vt
-      if (abs(f) <= tolv) exit
+      if (abs(f) <= tolv .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) exit
       if (f < 0.0_wp) then
         a = dl
         fa = f
@@ -610,8 +674,12 @@ contains
         side = 1
       end if
       if (b - a <= 4.0_wp*epsilon(1.0_wp)*max(abs(a), abs(b), smax - smin)) exit
-      dl = a - fa*((b - a)/(fb - fa))
-      if (.not. (dl > a .and. dl < b)) dl = 0.5_wp*(a + b)
+      dn = a - fa*((b - a)/(fb - fa))
+      if (.not. (dn > a .and. dn < b)) dn = 0.5_wp*(a + b)
+      ! (the same round-off floor as Newton's above: the false position
+      ! would only stall on the noise of V)
+      last = abs(dn - dl) <= dfloor
+      dl = dn
     end do
     if (abs(c%vol - vt) > 1.0e-12_wp*abs(vtot)) ok = .false.
   end subroutine solve_lower

@@ -29,6 +29,7 @@ module remap_polyhedron
   public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_clip_axis, poly_first_moments, poly_moments, &
             poly_copy
   public :: tet_planes, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
+  public :: tet_clip_moments
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
   !> of another has at most 8 faces, hence (three edges at each vertex,
@@ -350,6 +351,112 @@ contains
     vol = v6/6.0_wp
     mom = m24/24.0_wp + vol*r
   end subroutine poly_first_moments
+
+  !> Volume vol (length^3) and first moment mom (length^4) of the part
+  !> n.x <= d of the tetrahedron t(3,4) (either orientation; n need not be
+  !> unit): what `poly_set_tet`, `poly_clip` and `poly_first_moments` give,
+  !> from the same in/out decision per vertex (`poly_clip`'s distances and
+  !> tolerance) and the same cut points, in closed form rather than through
+  !> the general polyhedron. One kept vertex keeps a tetrahedron; two or
+  !> three keep a triangular prism (ends: the kept vertices' and the cut
+  !> points' triangles), summed as its three tetrahedra (ABCD, BCDE, CDEF
+  !> for ends ABC, DEF joined A-D, B-E, C-F: the diagonals of the three
+  !> quadrilateral sides agree), each part computed directly, so a sliver
+  !> is exact to round-off of its own size. The remap clips by one plane
+  !> millions of times (a mixed cell's swept prisms, its MoF volume roots).
+  pure subroutine tet_clip_moments(t, n, d, vol, mom, cap, ncap)
+    real(wp), intent(in) :: t(3, 4), n(3), d
+    real(wp), intent(out) :: vol, mom(3)
+    !> (optional) the cut's polygon on the plane, its ncap (3 or 4) points
+    !> in order round it (either way round); ncap = 0 where the plane
+    !> leaves the whole tetrahedron or nothing
+    real(wp), intent(out), optional :: cap(3, 4)
+    integer, intent(out), optional :: ncap
+    real(wp) :: s(4), xmax, tol, w(3, 6), d1, d2, d3, sd
+    integer :: v, nin, nk, nr, kept(4), gone(4)
+
+    xmax = 0.0_wp
+    do v = 1, 4
+      s(v) = n(1)*t(1, v) + n(2)*t(2, v) + n(3)*t(3, v) - d
+      xmax = max(xmax, abs(n(1)*t(1, v)) + abs(n(2)*t(2, v)) + abs(n(3)*t(3, v)))
+    end do
+    tol = poly_rel_tol*(xmax + abs(d))
+    nin = 0
+    nk = 0
+    nr = 0
+    do v = 1, 4
+      if (s(v) > tol) then
+        nr = nr + 1
+        gone(nr) = v
+      else
+        if (s(v) < -tol) then
+          nin = nin + 1
+        else
+          s(v) = 0.0_wp
+        end if
+        nk = nk + 1
+        kept(nk) = v
+      end if
+    end do
+    vol = 0.0_wp
+    mom = 0.0_wp
+    if (present(ncap)) ncap = 0
+    if (nin == 0) return
+    select case (nk)
+    case (4)
+      vol = abs(tet_det(t))/6.0_wp
+      mom = 0.25_wp*vol*((t(:, 1) + t(:, 2)) + (t(:, 3) + t(:, 4)))
+      return
+    case (1)
+      w(:, 1) = t(:, kept(1))
+      do v = 1, 3
+        w(:, 1 + v) = cut_point(kept(1), gone(v))
+      end do
+      vol = abs(tet_det(w(:, 1:4)))/6.0_wp
+      mom = 0.25_wp*vol*((w(:, 1) + w(:, 2)) + (w(:, 3) + w(:, 4)))
+      if (present(cap)) cap(:, 1:3) = w(:, 2:4)
+      if (present(ncap)) ncap = 3
+      return
+    case (2)
+      ! ends (a, cut a-c, cut a-d) and (b, cut b-c, cut b-d)
+      w(:, 1) = t(:, kept(1))
+      w(:, 2) = cut_point(kept(1), gone(1))
+      w(:, 3) = cut_point(kept(1), gone(2))
+      w(:, 4) = t(:, kept(2))
+      w(:, 5) = cut_point(kept(2), gone(1))
+      w(:, 6) = cut_point(kept(2), gone(2))
+      ! (round the cut: on faces acd, abc, bcd, abd in turn)
+      if (present(cap)) cap = w(:, [3, 2, 5, 6])
+      if (present(ncap)) ncap = 4
+    case default
+      ! ends (a, b, c) and (cut a-r, cut b-r, cut c-r)
+      w(:, 1:3) = t(:, kept(1:3))
+      do v = 1, 3
+        w(:, 3 + v) = cut_point(kept(v), gone(1))
+      end do
+      if (present(cap)) cap(:, 1:3) = w(:, 4:6)
+      if (present(ncap)) ncap = 3
+    end select
+    ! the prism's three tetrahedra, one orientation (their signed sum's)
+    d1 = tet_det(w(:, 1:4))
+    d2 = tet_det(w(:, 2:5))
+    d3 = tet_det(w(:, 3:6))
+    sd = sign(1.0_wp, d1 + d2 + d3)
+    vol = abs(d1 + d2 + d3)/6.0_wp
+    mom = (sd/24.0_wp)*(d1*((w(:, 1) + w(:, 2)) + (w(:, 3) + w(:, 4))) + &
+                        d2*((w(:, 2) + w(:, 3)) + (w(:, 4) + w(:, 5))) + &
+                        d3*((w(:, 3) + w(:, 4)) + (w(:, 5) + w(:, 6))))
+
+  contains
+
+    !> The point where the edge from kept vertex a to removed vertex b
+    !> crosses the plane (`clip_at`'s: from the kept end, s(b) > 0 >= s(a)).
+    pure function cut_point(a, b) result(x)
+      integer, intent(in) :: a, b
+      real(wp) :: x(3)
+      x = t(:, a) + (-s(a)/(s(b) - s(a)))*(t(:, b) - t(:, a))
+    end function cut_point
+  end subroutine tet_clip_moments
 
   !> Volume vol (length^3) and centroid (length) of p. For a polyhedron of
   !> no volume the centroid is the mean of its vertices (the origin if empty).
