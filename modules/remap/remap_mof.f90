@@ -583,7 +583,10 @@ contains
     do it = 1, 8
       call cut_eval(pcs, n, dl, .true., c, ok)
       f = c%vol - vt
-      if (abs(f) <= tolv .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) return
+      ! (or within what one rounding of the plane's offset moves: the
+      ! cut's area times eps of the offsets, which a thin slab's tolv can
+      ! lie below)
+      if (abs(f) <= max(tolv, 0.25_wp*dfloor*c%area) .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) return
       if (f < 0.0_wp) then
         a = dl
         fa = f
@@ -661,7 +664,7 @@ contains
     do it = 1, 100
       call cut_eval(pcs, n, dl, .true., c, ok)
       f = c%vol - vt
-      if (abs(f) <= tolv .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) exit
+      if (abs(f) <= max(tolv, 0.25_wp*dfloor*c%area) .or. (last .and. abs(f) <= 1.0e-12_wp*abs(vtot))) exit
       if (f < 0.0_wp) then
         a = dl
         fa = f
