@@ -90,6 +90,9 @@ module remap_mof
   !> A centroid error below this times the cell size is round-off of the
   !> centroid itself (~64 units): no plane can do measurably better.
   real(wp), parameter :: err_roundoff = 64.0_wp*epsilon(1.0_wp)
+  !> Most vertices of a cut polygon `add_cap_polygon` takes: a tetrahedron's
+  !> cut by one plane (`tet_clip_moments`) is a triangle or a quadrilateral.
+  integer, parameter :: max_cap = 4
 
   !> A region of a cell: the convex polyhedra p(1:np), vertices relative to
   !> `origin` (length), each counted with the orientation sign sgn (+1, or
@@ -321,15 +324,19 @@ contains
   !> along +n, times sgn: `add_cap_faces` for a cut whose polygon is known
   !> (`tet_clip_moments`).
   pure subroutine add_cap_polygon(x, m, n, sgn, area, f1, f2)
-    real(wp), intent(in) :: x(:, :), n(3), sgn
     integer, intent(in) :: m
+    ! (explicit shapes and a fixed-size t: an assumed-shape x made every
+    ! edge difference, and t, a heap temporary, three per call)
+    real(wp), intent(in) :: x(3, m), n(3), sgn
     real(wp), intent(inout) :: area, f1(3), f2(3, 3)
-    real(wp) :: t(size(x, 2)), tot
+    real(wp) :: t(max_cap), tot, e1(3), e2(3)
     integer :: i
     if (m < 3) return
     tot = 0.0_wp
     do i = 2, m - 1
-      t(i) = 0.5_wp*dot_product(n, cross(x(:, i) - x(:, 1), x(:, i + 1) - x(:, 1)))
+      e1 = x(:, i) - x(:, 1)
+      e2 = x(:, i + 1) - x(:, 1)
+      t(i) = 0.5_wp*dot_product(n, cross(e1, e2))
       tot = tot + t(i)
     end do
     if (tot < 0.0_wp) t(2:m - 1) = -t(2:m - 1)
