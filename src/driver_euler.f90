@@ -66,7 +66,7 @@ module driver_euler
     !> (`euler_due`); bound_n: the Euler step they were set after
     real(wp) :: ratio_bound = 0.0_wp, cos_bound = 0.0_wp
     integer :: bound_n = 0
-    integer :: cells = 0, mof = 0, mof_iterations = 0   !< this segment's totals
+    integer :: cells = 0, mof = 0, mof_carried = 0, mof_iterations = 0   !< this segment's totals
     real(wp) :: ke = 0.0_wp                  !< kinetic energy returned to internal energy, this segment
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
@@ -481,8 +481,10 @@ contains
         end if
       end if
       ! the reference centroids the remap's MoF gets: those of the planes that
-      ! cut the fractions the Lagrangian steps left
-      call centroids_refresh(st%g, st%mx, es%centroids)
+      ! cut the fractions the Lagrangian steps left (but for the cells the
+      ! remap changes: it cuts their planes itself and replaces their
+      ! centroids, `mof_cell`)
+      call centroids_refresh(st%g, st%mx, es%centroids, skip=moved)
       ! (the planes the fits after the remap start from)
       call centroids_remember(st%mx, memory)
       ! coupled particles: their share of the nodal momentum goes with them,
@@ -815,13 +817,15 @@ contains
     dp = dp + rs%momentum_constrained - rs%momentum_in + rs%momentum_out
     write(line, '("euler ",i0," at step ",i0,", t = ",es12.5,": ",i0," cells remapped",a,", ",i0," copied, reach ",i0, &
       &", volume defect ",es8.1,", old-cell defect ",es8.1," (",i0," rescaled), ",i0," slivers merged", &
-      &"; MoF ",i0," cells, ",f5.2," iterations, ",i0," capped, centroid error/size ",es8.1, &
+      &"; MoF ",i0," cells (",i0," by their carried planes), ",f5.2," iterations, ",i0, &
+      &" capped, centroid error/size ",es8.1, &
       &"; KE to internal ",es10.3,"; rezone ",f8.3," s, remap ",f8.3," s (prepare ",f7.3,", intersect ",f7.3, &
       &a,", assemble ",f7.3,"), ",f0.2," us per remapped cell")') &
       es%n, st%step, st%t, rs%cells_remapped, swept_text(rs), &
       rs%cells_copied, rs%reach, rs%volume_defect, &
-      rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, &
-      real(rs%mof_iterations, wp)/real(max(rs%mof_cells, 1), wp), rs%mof_not_converged, rs%mof_err_max, &
+      rs%given_defect, rs%regions_rescaled, rs%slivers_merged, rs%mof_cells, rs%mof_carried, &
+      real(rs%mof_iterations, wp)/real(max(rs%mof_cells - rs%mof_carried, 1), wp), rs%mof_not_converged, &
+      rs%mof_err_max, &
       rs%ke_to_internal, e0%t_rezone, rs%t_prepare + rs%t_intersect + rs%t_assemble, rs%t_prepare, rs%t_intersect, &
       trim(shared), &
       rs%t_assemble, 1.0e6_wp*(rs%t_prepare + rs%t_intersect + rs%t_assemble)/real(max(rs%cells_remapped, 1), wp)
@@ -844,6 +848,7 @@ contains
     end if
     es%cells = es%cells + rs%cells_remapped
     es%mof = es%mof + rs%mof_cells
+    es%mof_carried = es%mof_carried + rs%mof_carried
     es%mof_iterations = es%mof_iterations + rs%mof_iterations
     es%ke = es%ke + rs%ke_to_internal
     ! (not .not. <=: a NaN total fails too)
@@ -1339,9 +1344,10 @@ contains
     character(len=300) :: line
     if (.not. es%on) return
     write(line, '("euler steps: ",i0,", cells remapped ",i0," (",es10.3," per second of remap), MoF ",i0, &
-      &" cells (",f5.2," iterations), KE returned to internal energy ",es10.3,"; rezone ",f9.3," s")') &
+      &" cells (",i0," by their carried planes, the others ",f5.2," iterations), KE returned to internal energy ", &
+      &es10.3,"; rezone ",f9.3," s")') &
       es%n, es%cells, real(es%cells, wp)/max(es%timer%total - es%t_rezone_total, tiny(1.0_wp)), es%mof, &
-      real(es%mof_iterations, wp)/real(max(es%mof, 1), wp), es%ke, es%t_rezone_total
+      es%mof_carried, real(es%mof_iterations, wp)/real(max(es%mof - es%mof_carried, 1), wp), es%ke, es%t_rezone_total
     call log_line(log, trim(line))
   end subroutine euler_report
 end module driver_euler

@@ -873,19 +873,19 @@ contains
   subroutine remap_stats_reduce(pc, rs)
     type(comm_t), intent(in) :: pc
     type(remap_stats_t), intent(inout) :: rs
-    integer :: ni(7), nx(1)
+    integer :: ni(8), nx(1)
     real(wp) :: r(4), x(6)
     ni = [rs%cells_remapped, rs%cells_copied, rs%mof_cells, rs%mof_iterations, rs%mof_not_converged, &
-          rs%slivers_merged, rs%cells_swept]
+          rs%slivers_merged, rs%cells_swept, rs%mof_carried]
     nx = [rs%reach]
     r = [rs%ke_to_internal, rs%momentum_constrained]
     x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
-    call MPI_Allreduce(MPI_IN_PLACE, ni, 7, MPI_INTEGER, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, ni, 8, MPI_INTEGER, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, nx, 1, MPI_INTEGER, MPI_MAX, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, r, 4, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, x, 6, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
     rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
-    rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7)
+    rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7); rs%mof_carried = ni(8)
     rs%reach = nx(1)
     rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4)
     rs%volume_defect = x(1); rs%given_defect = x(2); rs%mof_err_max = x(3)

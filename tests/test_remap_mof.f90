@@ -12,7 +12,8 @@ program test_remap_mof
   use mesh_geometry, only: hex_corner, hex_volume
   use remap_polyhedron, only: poly_t, poly_from_hex, poly_clip, poly_moments
   use remap_mof, only: mof_pieces_t, mof_max_iter_default, mof_cut_volume, mof_plane_for_volume, &
-                       mof_reconstruct, mof_reconstruct_nested, mof_material_pieces, mof_pieces_moments
+                       mof_reconstruct, mof_reconstruct_nested, mof_material_pieces, mof_pieces_moments, &
+                       mof_nested_cut
   use test_assert, only: check, check_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   implicit none
@@ -45,6 +46,7 @@ program test_remap_mof
   call test_planar_recovery()
   call test_degenerate()
   call test_nested()
+  call test_nested_cut_planes()
   call test_guess()
   call test_sphere()
   call timings()
@@ -479,6 +481,70 @@ contains
     call mof_reconstruct_nested(cube, [0.5_wp, 0.4_wp, 0.3_wp], cr, n, d, err, its, ok)
     call check(.not. ok, 'nested: fractions summing to 1.2 flagged')
   end subroutine test_nested
+
+  !> `mof_nested_cut`'s planes (the remap's cut of a cell's carried planes,
+  !> `mof_cell`) in `mof_reconstruct_nested`'s convention: the materials'
+  !> regions that `mof_material_pieces` makes from them are the cut's own
+  !> volumes and centroids (to round-off), on planar data they are
+  !> `mof_reconstruct_nested`'s planes, and an empty material and one that
+  !> takes the rest get n = 0 with d = -1 and d = 1.
+  subroutine test_nested_cut_planes()
+    real(wp) :: xn(3, 8), nt(3), vcell, cc(3), vf(4), cr(3, 4), nn(3, 4), d(4), vol(4), cen(3, 4), pl(4, 4), &
+                n(3, 4), dr(4), err(4), d1, v1, c1(3), vk, ck(3), worst_v, worst_c, worst_p
+    integer :: its(4), ih, trial, kk
+    logical :: ok, okr, okp, conv
+    type(mof_pieces_t) :: pcs
+
+    worst_v = 0.0_wp
+    worst_c = 0.0_wp
+    worst_p = 0.0_wp
+    conv = .true.
+    do ih = 1, 3
+      select case (ih)
+      case (1); xn = cube
+      case (2); xn = distorted
+      case default; xn = skewed
+      end select
+      vcell = hex_volume(xn)
+      cc = cell_centroid(xn)
+      do trial = 1, 20
+        ! two materials, a planar interface: the fit's planes
+        nt = random_unit()
+        call planar_data(xn, nt, uni(0.05_wp, 0.95_wp), d1, v1, c1)
+        vf(1:2) = [v1, vcell - v1]/vcell
+        cr(:, 1) = c1
+        cr(:, 2) = (vcell*cc - v1*c1)/(vcell - v1)
+        nn(:, 1) = 2.5_wp*nt
+        nn(:, 2) = 0.0_wp
+        call mof_nested_cut(xn, vf(1:2), nn(:, 1:2), d(1:2), vol(1:2), cen(:, 1:2), ok, planes=pl(:, 1:2))
+        call mof_reconstruct_nested(xn, vf(1:2), cr(:, 1:2), n(:, 1:2), dr(1:2), err(1:2), its(1:2), okr)
+        conv = conv .and. ok .and. okr .and. all(abs(pl(1:3, 2)) <= 0.0_wp) .and. pl(4, 2) > 0.0_wp
+        worst_p = max(worst_p, maxval(abs(pl(1:3, 1) - n(:, 1))), abs(pl(4, 1) - dr(1))/vcell**(1.0_wp/3.0_wp))
+        ! four materials, random normals, the second empty
+        vf = [uni(0.1_wp, 0.4_wp), 0.0_wp, uni(0.1_wp, 0.4_wp), 0.0_wp]
+        vf(4) = 1.0_wp - sum(vf(1:3))
+        do kk = 1, 3
+          nn(:, kk) = random_unit()
+        end do
+        nn(:, 4) = 0.0_wp
+        call mof_nested_cut(xn, vf, nn, d, vol, cen, ok, planes=pl)
+        conv = conv .and. ok .and. all(abs(pl(1:3, 2)) <= 0.0_wp) .and. pl(4, 2) < 0.0_wp .and. &
+               all(abs(pl(1:3, 4)) <= 0.0_wp) .and. pl(4, 4) > 0.0_wp
+        do kk = 1, 4
+          call mof_material_pieces(xn, pl(1:3, :), pl(4, :), kk, pcs, okp)
+          call mof_pieces_moments(pcs, vk, ck)
+          conv = conv .and. okp
+          worst_v = max(worst_v, abs(vk - vol(kk))/vcell)
+          if (vol(kk) > 0.0_wp) worst_c = max(worst_c, norm2(ck - cen(:, kk))/vcell**(1.0_wp/3.0_wp))
+        end do
+      end do
+    end do
+    write(*, '(a,es9.2,a,es9.2,a,es9.2)') 'nested cut planes: volume difference ', worst_v, &
+      ', centroid ', worst_c, ', against the fit on planar data ', worst_p
+    call check(conv, 'nested cut planes: ok, rest and empty materials as mof_reconstruct_nested')
+    call check(worst_v <= 1e-13_wp .and. worst_c <= 1e-12_wp, 'nested cut planes: the pieces are the cut''s regions')
+    call check(worst_p <= 1e-8_wp, 'nested cut planes: the fit''s planes on planar data')
+  end subroutine test_nested_cut_planes
 
   ! ---------------------------------------------------------------- sphere
 

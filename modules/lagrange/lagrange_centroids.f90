@@ -54,7 +54,7 @@ module lagrange_centroids
   implicit none
   private
   public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes, plane_normals, &
-            plane_memory_t, centroids_remember, planes_known
+            plane_memory_t, centroids_remember, planes_known, carried_cut
 
   !> Most materials of one mixed cell handled (as in the remap).
   integer, parameter :: max_mat = 16
@@ -275,46 +275,61 @@ contains
   !> the volume roots), so a refresh changes nothing but mx%xi. stats
   !> accumulates (cells moved; failed: planes not known, cell volume not
   !> positive or a root that failed, centroids kept).
-  subroutine centroids_refresh(g, mx, stats)
+  subroutine centroids_refresh(g, mx, stats, skip)
     type(grid_t), intent(in) :: g
     type(mixed_t), intent(inout) :: mx
     type(centroid_stats_t), intent(inout) :: stats
-    real(wp) :: xn(3, 8), vf(max_mat), pn(3, max_mat), pd(max_mat), vreg(max_mat), cen(3, max_mat), &
-                dg(max_mat), xc(3), det
-    integer :: k, c, s0, s1, nm, j, nmove, nfail
+    !> cells (increasing) left as they are: those a remap is about to
+    !> change, whose centroids it does not read (it cuts their carried
+    !> planes itself, `carried_cut`) and replaces; ignored if not sorted
+    integer, intent(in), optional :: skip(:)
+    real(wp) :: xn(3, 8), vreg(max_mat), cen(3, max_mat)
+    integer :: k, c, s0, s1, nm, j, nmove, nfail, lo, hi, mid, nskip
+    integer, allocatable :: list(:)
     logical :: ok
 
     if (mx%n == 0) return
     call check_storage(mx, stats)
+    ! (the list, where it is sorted; else none)
+    nskip = 0
+    if (present(skip)) then
+      if (all(skip(2:) > skip(:size(skip) - 1))) nskip = size(skip)
+    end if
+    if (nskip > 0) then
+      list = skip
+    else
+      list = [integer ::]
+    end if
     nmove = 0; nfail = 0
-    !$omp parallel do default(none) shared(g, mx) &
-    !$omp private(k, c, s0, s1, nm, j, ok, xn, vf, pn, pd, vreg, cen, dg, xc, det) &
+    !$omp parallel do default(none) shared(g, mx, list, nskip) &
+    !$omp private(k, c, s0, s1, nm, j, ok, xn, vreg, cen, lo, hi, mid) &
     !$omp reduction(+: nmove, nfail) schedule(dynamic, 16)
     do k = 1, mx%n
       s0 = mx%start(k)
       s1 = mx%start(k + 1) - 1
       nm = s1 - s0 + 1
       if (nm < 2 .or. nm > max_mat) cycle
+      c = mx%cell(k)
+      if (nskip > 0) then
+        ! (bisection of the sorted list)
+        lo = 1
+        hi = nskip
+        do while (lo < hi)
+          mid = (lo + hi)/2
+          if (list(mid) < c) then
+            lo = mid + 1
+          else
+            hi = mid
+          end if
+        end do
+        if (list(hi) == c) cycle
+      end if
       if (.not. planes_known(mx, s0, s1)) then
         nfail = nfail + 1
         cycle
       end if
-      c = mx%cell(k)
       call g%gather(c, g%x, xn)
-      ! the planes in the cell: n_xi.A^-1 (x - xc) <= d_xi, i.e.
-      ! pn.x <= det d_xi + pn.xc with pn = det A^-T n_xi (the columns of
-      ! det A^-T are the cofactors a2 x a3, a3 x a1, a1 x a2; det A > 0)
-      call plane_normals(xn, mx%plane(:, s0:s1), pn(:, 1:nm), det)
-      if (.not. det > 0.0_wp .or. .not. sum(mx%vf(s0:s1)) > 0.0_wp) then
-        nfail = nfail + 1
-        cycle
-      end if
-      xc = 0.125_wp*sum(xn, 2)
-      do j = 1, nm
-        dg(j) = det*mx%plane(4, s0 + j - 1) + dot_product(pn(:, j), xc)
-      end do
-      vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
-      call mof_nested_cut(xn, vf(1:nm), pn(:, 1:nm), pd(1:nm), vreg(1:nm), cen(:, 1:nm), ok, dg(1:nm))
+      call carried_cut(xn, mx, s0, s1, vreg(1:nm), cen(:, 1:nm), ok)
       if (.not. ok) then
         nfail = nfail + 1
         cycle
@@ -328,6 +343,41 @@ contains
     stats%moved = stats%moved + nmove
     stats%failed = stats%failed + nfail
   end subroutine centroids_refresh
+
+  !> The carried planes of one mixed cell (slots s0..s1, planes known:
+  !> `planes_known`) in the cell as it is (nodes xn), each moved along its
+  !> normal until it cuts its material's current fraction (`mof_nested_cut`,
+  !> started from the plane's carried offset): each material's region
+  !> volume vreg and centroid cen (length), and, if asked, the planes in
+  !> `mof_reconstruct_nested`'s convention (unit normal, offset; (0, 1) for
+  !> the material that takes the rest, (0, -1) for an empty one). ok is
+  !> false where the cell is inverted, has no fraction or a root failed.
+  !> (`centroids_refresh`'s cut, and the remap's for the cells it changes:
+  !> the same numbers for the same cell)
+  pure subroutine carried_cut(xn, mx, s0, s1, vreg, cen, ok, planes)
+    real(wp), intent(in) :: xn(3, 8)
+    type(mixed_t), intent(in) :: mx
+    integer, intent(in) :: s0, s1
+    real(wp), intent(out) :: vreg(:), cen(:, :)
+    logical, intent(out) :: ok
+    real(wp), intent(out), optional :: planes(:, :)
+    real(wp) :: vf(max_mat), pn(3, max_mat), pd(max_mat), dg(max_mat), xc(3), det
+    integer :: nm, j
+
+    nm = s1 - s0 + 1
+    ! the planes in the cell: n_xi.A^-1 (x - xc) <= d_xi, i.e.
+    ! pn.x <= det d_xi + pn.xc with pn = det A^-T n_xi (the columns of
+    ! det A^-T are the cofactors a2 x a3, a3 x a1, a1 x a2; det A > 0)
+    call plane_normals(xn, mx%plane(:, s0:s1), pn(:, 1:nm), det)
+    ok = det > 0.0_wp .and. sum(mx%vf(s0:s1)) > 0.0_wp
+    if (.not. ok) return
+    xc = 0.125_wp*sum(xn, 2)
+    do j = 1, nm
+      dg(j) = det*mx%plane(4, s0 + j - 1) + dot_product(pn(:, j), xc)
+    end do
+    vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
+    call mof_nested_cut(xn, vf(1:nm), pn(:, 1:nm), pd(1:nm), vreg, cen, ok, dg(1:nm), planes)
+  end subroutine carried_cut
 
   !> True if the planes of the slots s0..s1 of one mixed cell are known:
   !> every slot but the last has a normal.

@@ -104,7 +104,7 @@ module remap_euler
   use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t, hydro_subcell_masses
-  use lagrange_centroids, only: plane_normals, planes_known
+  use lagrange_centroids, only: plane_normals, planes_known, carried_cut
   use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
                               poly_first_moments, poly_copy, tet_clip_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
@@ -190,6 +190,9 @@ module remap_euler
     logical :: hybrid = .false.
     integer :: reach = 0              !< widest index window that was needed
     integer :: mof_cells = 0          !< MoF reconstructions (old mixed cells that moved)
+    !> of them, cut by the planes the Lagrangian steps carried (`mof_cell`:
+    !> no search, no iterations, no centroid error counted)
+    integer :: mof_carried = 0
     integer :: mof_iterations = 0     !< their Gauss-Newton iterations, all materials
     integer :: mof_not_converged = 0  !< reconstructions that hit the cap or failed
     real(wp) :: mof_err_max = 0.0_wp  !< largest material centroid error / cell size
@@ -1515,6 +1518,7 @@ contains
     do j = 1, nmof
       if (.not. mine(j)) cycle
       call mof_cell(g, mx, old, par, mof(j), its1, ok, err1)
+      ! (its1 < 0: cut by the carried planes)
       res(1:3, j) = [real(its1, wp), merge(0.0_wp, 1.0_wp, ok), err1]
     end do
     !$omp end parallel do
@@ -1533,7 +1537,8 @@ contains
     end if
     mine = [(.true., j = 1, nmof)]
     if (present(own)) mine = [(own(mx%cell(mof(j))), j = 1, nmof)]
-    nits = nint(sum(res(1, :), mask=mine))
+    nits = nint(sum(res(1, :), mask=mine .and. res(1, :) > 0.0_wp))
+    stats%mof_carried = count(mine .and. res(1, :) < 0.0_wp)
     nfail = nint(sum(res(2, :), mask=mine))
     errmax = 0.0_wp
     if (nmof > 0) errmax = maxval(res(3, :), mask=mine)
@@ -1620,8 +1625,9 @@ contains
   !> MoF in mixed cell k (which moved): each material's plane (nested
   !> dissection), its region's exact volume and centroid, the point its
   !> linear reconstruction is about, and its mean density and energy; its
-  !> iterations (its), whether it converged (ok) and its largest centroid
-  !> error relative to the cell's size (err_rel).
+  !> iterations (its_sum; -1 where the carried planes were cut and no
+  !> search was made), whether it converged (ok) and its largest centroid
+  !> error relative to the cell's size (err_rel; 0 for carried planes).
   subroutine mof_cell(g, mx, old, par, k, its_sum, ok, err_rel)
     type(grid_t), intent(in) :: g
     type(mixed_t), intent(inout) :: mx
@@ -1632,10 +1638,10 @@ contains
     logical, intent(out) :: ok
     real(wp), intent(out) :: err_rel
     real(wp) :: xn(3, 8), v, m(3), vf(max_mat), cref(3, max_mat), pn(3, max_mat), pd(max_mat), &
-                errc(max_mat), vreg(max_mat), guess(3, max_mat), det
+                errc(max_mat), vreg(max_mat), guess(3, max_mat), det, planes(4, max_mat), cen(3, max_mat)
     integer :: c, s, s0, s1, nm, its(max_mat), j, big, ncell
     type(mof_pieces_t) :: pcs
-    logical :: okp, known
+    logical :: okp, known, carried
     ncell = g%ncell
     c = mx%cell(k)
     call g%gather(c, g%x, xn)
@@ -1645,23 +1651,41 @@ contains
     nm = s1 - s0 + 1
     vf(1:nm) = mx%vf(s0:s1)/sum(mx%vf(s0:s1))
     cref(:, 1:nm) = old%xr(:, ncell + s0:ncell + s1)
-    ! the planes the Lagrangian phase carried (`lagrange_centroids`), whose
-    ! regions' centroids cref are: the search starts on them
+    ! the planes the Lagrangian phase carried (`lagrange_centroids`): cut to
+    ! the fractions as `centroids_refresh` cuts them, they are the planes
+    ! whose regions' centroids the reference centroids are, and so MoF's
+    ! answer for them (to its convergence: the refresh leaves these cells'
+    ! centroids to this cut, the same numbers); where that cut fails, MoF
+    ! from them
+    carried = .false.
     known = allocated(mx%plane)
     if (known) known = size(mx%plane, 2) == mx%nslot
-    if (known) known = planes_known(mx, s0, s1)
+    if (known) known = planes_known(mx, s0, s1) .and. nm <= max_mat
     if (known) then
-      call plane_normals(xn, mx%plane(:, s0:s1), guess(:, 1:nm), det)
-      known = det > 0.0_wp
+      call carried_cut(xn, mx, s0, s1, vreg(1:nm), cen(:, 1:nm), ok, planes(:, 1:nm))
+      if (ok) then
+        pn(:, 1:nm) = planes(1:3, 1:nm)
+        pd(1:nm) = planes(4, 1:nm)
+        its(1:nm) = 0
+        errc(1:nm) = 0.0_wp
+        ! (an empty region's point too, whether or not the refresh saw it)
+        old%xr(:, ncell + s0:ncell + s1) = cen(:, 1:nm)
+      end if
+      known = ok
+      carried = ok
+      if (.not. known) then
+        call plane_normals(xn, mx%plane(:, s0:s1), guess(:, 1:nm), det)
+        known = det > 0.0_wp
+        if (known) call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
+                                               its(1:nm), ok, par%mof_max_iter, guess=guess(:, 1:nm))
+      end if
     end if
-    if (known) then
-      call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
-                                  its(1:nm), ok, par%mof_max_iter, guess=guess(:, 1:nm))
-    else
+    if (.not. known) then
       call mof_reconstruct_nested(xn, vf(1:nm), cref(:, 1:nm), pn(:, 1:nm), pd(1:nm), errc(1:nm), &
                                   its(1:nm), ok, par%mof_max_iter)
     end if
     its_sum = sum(its(1:nm))
+    if (carried) its_sum = -1
     err_rel = maxval(errc(1:nm))/v**(1.0_wp/3.0_wp)
     ! each material's region: its exact volume and centroid, the point
     ! its linear reconstruction is about
@@ -2325,6 +2349,7 @@ contains
     sum_%reach = max(total%reach, part%reach)
     sum_%mof_cells = total%mof_cells + part%mof_cells
     sum_%mof_iterations = total%mof_iterations + part%mof_iterations
+    sum_%mof_carried = total%mof_carried + part%mof_carried
     sum_%mof_not_converged = total%mof_not_converged + part%mof_not_converged
     sum_%mof_err_max = max(total%mof_err_max, part%mof_err_max)
     sum_%slivers_merged = total%slivers_merged + part%slivers_merged

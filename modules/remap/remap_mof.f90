@@ -1169,13 +1169,18 @@ contains
   !> root failed. dguess (optional, the units of d) starts each root's
   !> Newton iteration (a plane that moved little: a few cuts instead of the
   !> bisection's dozen); the result does not depend on it beyond round-off.
-  pure subroutine mof_nested_cut(xn, vfrac, n, d, vol, centroid, ok, dguess)
+  !> planes (optional, (4, nmat)): the same dissection in the convention of
+  !> `mof_reconstruct_nested`'s n and d (unit normal and offset in length;
+  !> n = 0 with d = 1 for the material that takes the rest, with d = -1 for
+  !> an empty one), for `mof_material_pieces`.
+  pure subroutine mof_nested_cut(xn, vfrac, n, d, vol, centroid, ok, dguess, planes)
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(in) :: vfrac(:)
     real(wp), intent(in) :: n(:, :)
     real(wp), intent(out) :: d(:), vol(:), centroid(:, :)
     logical, intent(out) :: ok
     real(wp), intent(in), optional :: dguess(:)
+    real(wp), intent(out), optional :: planes(:, :)
     type(mof_pieces_t) :: rest
     type(cut_t) :: c
     real(wp) :: vcell, vrest, mom(3), vt, nu(3), nn, dg, smin, smax
@@ -1187,7 +1192,12 @@ contains
          size(centroid, 1) == 3 .and. size(centroid, 2) >= nmat .and. nmat >= 1
     guess = present(dguess)
     if (guess) ok = ok .and. size(dguess) >= nmat
+    if (present(planes)) ok = ok .and. size(planes, 1) == 4 .and. size(planes, 2) >= nmat
     if (.not. ok) return
+    if (present(planes)) then
+      planes(1:3, 1:nmat) = 0.0_wp
+      planes(4, 1:nmat) = -1.0_wp
+    end if
     call mof_cell_pieces(xn, rest)
     call region_moments(rest, vcell, mom)
     d(1:nmat) = -1.0_wp
@@ -1217,6 +1227,7 @@ contains
       if (k == nmat .or. .not. nn > 0.0_wp .or. vt >= vrest - 1.0e-12_wp*vcell) then
         d(k) = 1.0_wp
         if (nn > 0.0_wp) d(k) = nn*(smax + dot_product(nu, rest%origin))
+        if (present(planes)) planes(4, k) = 1.0_wp
         vol(k) = vrest
         if (abs(vrest) > 0.0_wp) centroid(:, k) = rest%origin + mom/vrest
         all_taken = .true.
@@ -1231,6 +1242,7 @@ contains
       call solve_plane(rest, nu, vt, vrest - vt, guess, dg, c, okv)
       ok = ok .and. okv
       d(k) = nn*(c%dl + dot_product(nu, rest%origin))
+      if (present(planes)) planes(:, k) = [nu, c%dl + dot_product(nu, rest%origin)]
       vol(k) = c%vol
       if (abs(c%vol) > 0.0_wp) centroid(:, k) = rest%origin + c%mom/c%vol
       call region_clip(rest, -nu, -c%dl, ok)
