@@ -1668,7 +1668,8 @@ contains
         pd(1:nm) = planes(4, 1:nm)
         its(1:nm) = 0
         errc(1:nm) = 0.0_wp
-        ! (an empty region's point too, whether or not the refresh saw it)
+        ! (an empty region's point too, whether or not the refresh saw it:
+        ! the regions' below)
         old%xr(:, ncell + s0:ncell + s1) = cen(:, 1:nm)
       end if
       known = ok
@@ -1688,13 +1689,17 @@ contains
     if (carried) its_sum = -1
     err_rel = maxval(errc(1:nm))/v**(1.0_wp/3.0_wp)
     ! each material's region: its exact volume and centroid, the point
-    ! its linear reconstruction is about
+    ! its linear reconstruction is about (the carried planes' cut gave them)
     do j = 1, nm
       s = s0 + j - 1
       old%pn(:, s) = pn(:, j)
       old%pd(s) = pd(j)
-      call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, okp)
-      call mof_pieces_moments(pcs, vreg(j), m)
+      if (carried) then
+        m = cen(:, j)
+      else
+        call mof_material_pieces(xn, pn(:, 1:nm), pd(1:nm), j, pcs, okp)
+        call mof_pieces_moments(pcs, vreg(j), m)
+      end if
       old%vreg(ncell + s) = vreg(j)
       if (vreg(j) > 0.0_wp) old%xr(:, ncell + s) = m
     end do
