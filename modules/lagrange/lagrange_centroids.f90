@@ -29,7 +29,7 @@
 !> (`centroids_fit_planes`: the mixed cells of the initial scene, whose
 !> centroids are exact for the region shapes, and those a remap has just
 !> made, whose centroids are those of the remapped material): one fit per
-!> cell per remap, the same work the remap's own MoF does.
+!> cell per remap.
 !>
 !> When. The moved centroid depends only on the plane, the new fractions and
 !> the cell's nodes, not on the steps in between (the plane for the final
@@ -41,7 +41,10 @@
 !> five times as long). The planes, the state that carries the interface,
 !> are current at all times; mx%xi is current after a refresh.
 !> A refresh leaves the centroids that one plane per material reproduces
-!> exactly in the cell the remap is about to cut, whatever the fractions did.
+!> exactly in the cell the remap is about to cut, whatever the fractions did:
+!> MoF given them returns those planes, so the remap cuts the carried planes
+!> of the cells it changes itself (`carried_cut`, the refresh's cut: no
+!> search), and the refresh before it leaves those cells out.
 
 module lagrange_centroids
   use base_kinds, only: wp
