@@ -2737,7 +2737,7 @@ contains
     real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), pcell(:), cmom(:, :), cland(:)
     !> per corner: its volume less what the old grid gave it (a gap at an open face)
     real(wp), intent(out) :: cdef(:)
-    real(wp) :: xn(3, 8), o(3), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
+    real(wp) :: xn(3, 8), o(3), det6(48), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
                 od(4, 48), ub(3), kemb, wb
@@ -2808,11 +2808,10 @@ contains
     if (old%swept) then
       ! cdef, the gaps' measure, only where there are open faces
       if (any(old%open)) then
+        ! (the halves' determinants as `tet_det` gives them, `half_dets`)
+        call half_dets(pts, det6)
         do t = 1, 48
-          do j = 1, 4
-            ht(:, j, t) = pts(:, half_hv(j, t))
-          end do
-          scdef(half_corner(t)) = scdef(half_corner(t)) + tet_det(ht(:, :, t))/6.0_wp
+          scdef(half_corner(t)) = scdef(half_corner(t)) + det6(t)/6.0_wp
         end do
       end if
       call swept_fluxes()
