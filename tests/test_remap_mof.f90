@@ -82,6 +82,19 @@ contains
     finite3 = .not. any(ieee_is_nan(x)) .and. all(abs(x) <= huge(1.0_wp))
   end function finite3
 
+  !> The test hexahedra in turn: 1 cube, 2 distorted, 3 skewed, 4 (and
+  !> beyond) non-convex.
+  function test_hex(ih) result(xn)
+    integer, intent(in) :: ih
+    real(wp) :: xn(3, 8)
+    select case (ih)
+    case (1); xn = cube
+    case (2); xn = distorted
+    case (3); xn = skewed
+    case default; xn = nonconvex
+    end select
+  end function test_hex
+
   !> The cell's centroid (cut by a plane far above it).
   function cell_centroid(xn) result(c)
     real(wp), intent(in) :: xn(3, 8)
@@ -163,12 +176,7 @@ contains
     worst_small = 0.0_wp
     allok = .true.
     do ih = 1, 4
-      select case (ih)
-      case (1); xn = cube
-      case (2); xn = distorted
-      case (3); xn = skewed
-      case default; xn = nonconvex
-      end select
+      xn = test_hex(ih)
       vcell = hex_volume(xn)
       do in = 1, 10
         select case (in)
@@ -352,11 +360,7 @@ contains
     nbad = 0
     same = .true.
     do ih = 1, 3
-      select case (ih)
-      case (1); xn = cube
-      case (2); xn = distorted
-      case default; xn = skewed
-      end select
+      xn = test_hex(ih)
       vcell = hex_volume(xn)
       cc = cell_centroid(xn)
       do trial = 1, 20
@@ -500,11 +504,7 @@ contains
     worst_p = 0.0_wp
     conv = .true.
     do ih = 1, 3
-      select case (ih)
-      case (1); xn = cube
-      case (2); xn = distorted
-      case default; xn = skewed
-      end select
+      xn = test_hex(ih)
       vcell = hex_volume(xn)
       cc = cell_centroid(xn)
       do trial = 1, 20
