@@ -4977,6 +4977,11 @@ contains
       call g%gather(c, xnew, xn)
       call hex_subcell_volumes(xn, vs)
       vs = vs/sum(vs)
+      ! (a cell warped so far that a corner's share of its volume is not
+      ! positive, as the intersection may meet in a first part of the way:
+      ! equal shares, since a corner mass of zero or less has no velocity
+      ! and its kinetic energy would escape the sums below)
+      if (.not. all(vs > 0.0_wp)) vs = 0.125_wp
       mnew = sum(amass(:, c))
       vmean = pcell(1:3, c)/mnew
       theta = 1.0_wp
