@@ -211,7 +211,8 @@ contains
   end subroutine trigger_bounds
 
   !> The log's note of a step due by the grid's shape (largest side ratio
-  !> and smallest cosine, shape, the whole grid's): the worst cell of each
+  !> and smallest cosine, shape, the whole grid's, and the bounds in force,
+  !> which &rezone hysteresis may have moved on): the worst cell of each
   !> measure, the first in the whole grid's cell order (each block finds
   !> its first owned cell with the whole grid's worst value; the least
   !> cell number of all blocks is the one of one process).
@@ -249,7 +250,8 @@ contains
       ijk(:, m) = [mod(gc, g%gn(1)), mod(gc/g%gn(1), g%gn(2)), gc/(g%gn(1)*g%gn(2))] + 1
     end do
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
-      &i0,",",i0,",",i0,")")') shape(1), ijk(:, 1), shape(2), ijk(:, 2)
+      &i0,",",i0,",",i0,") (bounds ",f0.4,", ",f0.4,")")') shape(1), ijk(:, 1), shape(2), ijk(:, 2), &
+      es%ratio_bound, es%cos_bound
   end subroutine euler_due_where
 
   !> Whether the triggers measure the inclined angle against the axes (LSSM's
