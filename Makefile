@@ -4,7 +4,7 @@ JOBS      ?= 2
 BUILD_REL := build/release
 BUILD_DBG := build/debug
 
-.PHONY: all deps release debug run test bench hardcases hardcases-quick ranks-more regression-update clean
+.PHONY: all deps release debug run test bench hardcases hardcases-quick hardcases-sweep ranks-more regression-update clean
 
 all: release
 
@@ -44,6 +44,11 @@ hardcases: release
 
 hardcases-quick: release
 	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases --quick $(HARDCASES_ARGS)
+
+# The robustness sweep (tools/hardcases.py --sweep): the matrix's small sizes
+# in the modes and setting variants it leaves out, under the same bars.
+hardcases-sweep: release
+	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases-sweep --sweep $(HARDCASES_ARGS)
 
 # Rank invariance and restarts on other rank counts than `make test`'s (1, 2
 # and 4; restarts written on 2, continued on 1 and 4): the suite's rank tests

@@ -2,7 +2,7 @@
 """Tests of tools/hardcases.py's parts, on synthetic logs and frames (no
 solver run): the deck editor, the log parser, the run outcome, the frame
 scan (only cells where a material's vf > 0 count; NaN is caught), the bars,
-the entry selection, two error metrics and Taylor's plate.
+the entry selection (and --sweep's), two error metrics and Taylor's plate.
 
     test_hardcases.py TOOLS_DIR
 """
@@ -73,6 +73,15 @@ with tempfile.TemporaryDirectory() as tmp:
 # ---------------------------------------------------------------- selection
 names = [e.name for e in hc.entries(hc._cases(), quick=True)]
 check("quick: first sizes", "sod2_100_ale" in names and "sod2_1000_ale" not in names and "tnt_64_euler" not in names)
+sweep = [e.name for e in hc.entries(hc._cases(), sweep=True)]
+check("sweep: small sizes, modes the matrix leaves out, variants",
+      "saltzman_100x10_lssm_h2" in sweep and "triple_70x30_euler_mixed" in sweep and "sedov_20_lssm" not in sweep
+      and "sedov_20_euler" in sweep and "sedov_40_euler" not in sweep and "sedov_20_euler_mixed" not in sweep,
+      f"{len(sweep)} entries")
+with tempfile.TemporaryDirectory() as tmp:
+    d = hc.Deck(hc.make_deck([e for e in hc.entries(hc._cases(), sweep=True) if e.name == "sedov_20_lssm_h2"][0],
+                             tmp, tmp))
+    check("sweep: a variant's &rezone", d.get("rezone", "hysteresis") == "0.2" and d.get("rezone", "mode") == "'lssm'")
 check("only: substring and wildcard", [e.name for e in hc.entries(hc._cases(), only=["sod2_100_l*", "tnt_16_e"])]
       == ["tnt_16_euler", "tnt_16_euler_quarter", "sod2_100_lagrange", "sod2_100_lssm"])
 
