@@ -18,8 +18,10 @@ lssm_h2 and lssm_h0 (&rezone hysteresis 0.2 and 0), lssm_cube
 Euler step every 20 steps, no geometric trigger), euler_const
 (reconstruction 'constant'), and for the multi-material cases euler_mixed
 and ale_mixed (swept_mixed): a robustness sweep under the same bars. Its
-first run found a conservation failure of the remap (fixed) and a collapse
-that remains (saltzman_100x10_lssm_h2: a cell collapses at t = 0.394).
+first runs found a conservation failure of the remap (fixed) and two
+failures that remain (saltzman_100x10_lssm_h2: a cell collapses at
+t = 0.394; saltzman_100x10_lssm_h0: the old grid does not cover the new
+one at step 1109).
 
 Each entry's deck is made from its case's base deck (hardcases/<case>.nml,
 itself runnable at the first size): the size's edits (grid, thickness, a
