@@ -107,9 +107,16 @@ module rezone_smooth
     !> (each node on one block: `smooth_region_init`'s counts)
     logical, allocatable :: own(:)
     real(wp), allocatable :: mark(:, :)    !< (1, nnode of the block) work: corners of the cells a pass tangled
-    !> (2, ncell) work: smallest corner Jacobian and smallest tetrahedron of
-    !> each active cell before a pass
-    real(wp), allocatable :: valid0(:, :)
+    logical, allocatable :: near(:)        !< (nnode of the block) work: within guard_reach of a marked node
+    !> (ncell) work: each active cell untangled before a pass (`hex_tangled`)
+    logical, allocatable :: untangled(:)
+    !> (ncell) work: the cells the guard finds tangled (of those untangled
+    !> before the pass), and those whose nodes it changed in a round
+    logical, allocatable :: tangled(:), recheck(:)
+    !> whether `untangled` holds for the present positions (one process:
+    !> what the guard's last round found; a decomposed grid's ghosts change
+    !> behind it, so there every pass tests every cell again)
+    logical :: known = .false.
   end type smooth_region_t
 
 contains
@@ -292,7 +299,8 @@ contains
              reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
              reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
              reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), &
-             reg%node_slot(ix%nnode), reg%valid0(2, reg%ncell), reg%own(reg%nmove), reg%mark(1, ix%nnode), &
+             reg%node_slot(ix%nnode), reg%untangled(reg%ncell), reg%tangled(reg%ncell), reg%recheck(reg%ncell), &
+             reg%own(reg%nmove), reg%mark(1, ix%nnode), reg%near(ix%nnode), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', error_no_memory('the region'))
@@ -432,10 +440,46 @@ contains
 
   !> Whether a hexahedron is tangled: a corner Jacobian or a tetrahedron of
   !> the 24-tet split non-positive (the test of `smooth_revert_tangled`).
+  !> The same numbers as those two functions, written out and stopping at
+  !> the first non-positive one (the smoothing's guard tests every cell of
+  !> a region after every pass).
   pure logical function hex_tangled(xn)
     real(wp), intent(in) :: xn(3, 8)
-    hex_tangled = .not. (hex_min_corner_jacobian(xn) > 0.0_wp .and. hex_min_tet_volume(xn) > 0.0_wp)
+    real(wp) :: e1(3), e2(3), e3(3), xc(3), xf(3)
+    integer :: a, f, m
+    hex_tangled = .true.
+    do a = 1, 8
+      ! the edges along +i, +j, +k from corner a (`hex_min_corner_jacobian`)
+      e1 = xn(:, 1 + ieor(a - 1, 1)) - xn(:, a)
+      if (hex_corner(1, a) == 1) e1 = -e1
+      e2 = xn(:, 1 + ieor(a - 1, 2)) - xn(:, a)
+      if (hex_corner(2, a) == 1) e2 = -e2
+      e3 = xn(:, 1 + ieor(a - 1, 4)) - xn(:, a)
+      if (hex_corner(3, a) == 1) e3 = -e3
+      if (.not. triple(e1, e2, e3) > 0.0_wp) return
+    end do
+    ! the 24 tetrahedra (centre, face centre, a, b) of `hex_tets`
+    do m = 1, 3
+      xc(m) = 0.125_wp*sum(xn(m, :))
+    end do
+    do f = 1, 6
+      xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
+                    (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
+      e1 = xf - xc
+      do m = 1, 4
+        e2 = xn(:, hex_faces(m, f)) - xc
+        e3 = xn(:, hex_faces(mod(m, 4) + 1, f)) - xc
+        if (.not. triple(e1, e2, e3)/6.0_wp > 0.0_wp) return
+      end do
+    end do
+    hex_tangled = .false.
   end function hex_tangled
+
+  !> a.(b x c), in the order of `tet_det` (and of dot_product with `cross`).
+  pure real(wp) function triple(a, b, c)
+    real(wp), intent(in) :: a(3), b(3), c(3)
+    triple = a(1)*(b(2)*c(3) - b(3)*c(2)) + a(2)*(b(3)*c(1) - b(1)*c(3)) + a(3)*(b(1)*c(2) - b(2)*c(1))
+  end function triple
 
   !> Mean of the 12 edge lengths of a hexahedron (length).
   pure function mean_edge(xn) result(abar)
@@ -744,6 +788,7 @@ contains
     end do
     iterations = 0
     reg%n_guarded = 0
+    reg%known = .false.
     q_min = global_q_min()
     do while (q_min < q_target .and. iterations < n_max)
       call guard_start(reg, x)
@@ -770,9 +815,11 @@ contains
     end function global_q_min
   end subroutine smooth_combined
 
-  !> Before a smoothing pass: keeps the movable nodes' positions and, for
-  !> each active cell, its smallest corner Jacobian and smallest tetrahedron
-  !> of the 24-tet split (what the remap intersects).
+  !> Before a smoothing pass: keeps the movable nodes' positions and
+  !> whether each active cell is untangled (`hex_tangled`: a corner Jacobian
+  !> or a tetrahedron of the 24-tet split, what the remap intersects,
+  !> non-positive), unless the guard's last round left that known
+  !> (reg%known).
   subroutine guard_start(reg, x)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(in) :: x(:, :)
@@ -781,71 +828,83 @@ contains
     do m = 1, reg%nmove
       reg%xsave(:, m) = x(:, reg%node(m))
     end do
+    if (reg%known) return
     !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
-      reg%valid0(1, s) = hex_min_corner_jacobian(xn)
-      reg%valid0(2, s) = hex_min_tet_volume(xn)
+      reg%untangled(s) = .not. hex_tangled(xn)
     end do
     !$omp end parallel do
   end subroutine guard_start
 
   !> After a smoothing pass: around every cell the pass tangled (a cell
-  !> untangled before it with a corner Jacobian or a tetrahedron of the
-  !> 24-tet split now non-positive) the moves of the movable nodes within
-  !> guard_reach nodes of the cell (in index space: of one of its corners)
-  !> are halved, round after round; a node halved guard_rounds times goes
-  !> back where it was. Halving a neighbourhood, not just the cell's own
-  !> nodes, keeps the motion smooth (undoing single nodes leaves their
-  !> neighbours half moved and tangles the next cells). Every round halves
-  !> or undoes at least one node and an undone node stays put, so this ends;
-  !> no cell untangled before the pass is tangled after it. Cells tangled
-  !> before the pass are the smoother's to mend and are not held to it.
+  !> untangled before it and tangled after it, `hex_tangled`) the moves of
+  !> the movable nodes within guard_reach nodes of the cell (in index space:
+  !> of one of its corners) are halved, round after round; a node halved
+  !> guard_rounds times goes back where it was. Halving a neighbourhood, not
+  !> just the cell's own nodes, keeps the motion smooth (undoing single
+  !> nodes leaves their neighbours half moved and tangles the next cells).
+  !> Every round halves or undoes at least one node and an undone node stays
+  !> put, so this ends; no cell untangled before the pass is tangled after
+  !> it. Cells tangled before the pass are the smoother's to mend and are
+  !> not held to it. A round tests again only the cells whose nodes the
+  !> last round changed (the others are as they were), and the last round
+  !> leaves every cell's state known for the next pass's `guard_start`.
   !> With halo (`smooth_combined`): the tangled cells' corners and the nodes
-  !> are refreshed on the ghosts (guard_reach is within the ghost width),
-  !> and a round is the whole grid's.
+  !> are refreshed on the ghosts (guard_reach is within the ghost width), a
+  !> round is the whole grid's and tests every cell (a ghost node may have
+  !> been changed by its owner).
   subroutine guard_undo(reg, x, halo)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
     class(halo_t), intent(inout), optional :: halo
     integer, parameter :: guard_reach = 2, guard_rounds = 5
-    integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag
+    integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag, n
     real(wp) :: xn(3, 8)
-    logical :: changed, hit
+    logical :: changed
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
+    reg%tangled = .false.
+    reg%recheck = reg%untangled
     do
-      nbad = 0
+      !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+      do s = 1, reg%ncell
+        if (.not. reg%recheck(s)) cycle
+        call region_gather(reg, s, x, xn)
+        reg%tangled(s) = hex_tangled(xn)
+      end do
+      !$omp end parallel do
+      nbad = count(reg%tangled)
+      if (present(halo)) call halo%max_int(nbad)
+      if (nbad == 0) exit
       reg%mark = 0.0_wp
       do s = 1, reg%ncell
-        if (.not. (reg%valid0(1, s) > 0.0_wp .and. reg%valid0(2, s) > 0.0_wp)) cycle
-        call region_gather(reg, s, x, xn)
-        if (.not. hex_tangled(xn)) cycle
-        nbad = nbad + 1
+        if (.not. reg%tangled(s)) cycle
         do a = 1, 8
           reg%mark(1, reg%node0(s) + reg%corner_offset(a)) = 1.0_wp
         end do
       end do
-      if (present(halo)) call halo%max_int(nbad)
-      if (nbad == 0) exit
       if (present(halo)) call halo%nodes(reg%mark)
-      changed = .false.
-      do m = 1, reg%nmove
-        ! the node's (i0, j0, k0), 0-based; hit within guard_reach of a corner
-        n0 = reg%node(m) - 1
+      ! the nodes within guard_reach of a marked one (in index space)
+      reg%near = .false.
+      do n = 1, size(reg%near)
+        if (.not. reg%mark(1, n) > 0.0_wp) cycle
+        n0 = n - 1
         i0 = mod(n0, sx)
         j0 = mod(n0/sx, reg%nj + 1)
         k0 = n0/sxy
-        hit = .false.
         do k = max(k0 - guard_reach, 0), min(k0 + guard_reach, reg%nk)
           do j = max(j0 - guard_reach, 0), min(j0 + guard_reach, reg%nj)
-            do i = max(i0 - guard_reach, 0), min(i0 + guard_reach, reg%ni)
-              hit = hit .or. reg%mark(1, 1 + i + sx*j + sxy*k) > 0.0_wp
-            end do
+            i = 1 + sx*j + sxy*k
+            reg%near(i + max(i0 - guard_reach, 0):i + min(i0 + guard_reach, reg%ni)) = .true.
           end do
         end do
-        if (.not. hit) cycle
+      end do
+      changed = .false.
+      reg%recheck = .false.
+      do m = 1, reg%nmove
+        if (.not. reg%near(reg%node(m))) cycle
         if (.not. any(abs(x(:, reg%node(m)) - reg%xsave(:, m)) > 0.0_wp)) cycle
         changed = .true.
         reg%nhalve(m) = reg%nhalve(m) + 1
@@ -855,17 +914,36 @@ contains
         else
           x(:, reg%node(m)) = 0.5_wp*(x(:, reg%node(m)) + reg%xsave(:, m))
         end if
+        do a = 1, 8
+          s = reg%node_cell(a, m)
+          if (s > 0) reg%recheck(s) = reg%untangled(s)
+        end do
       end do
       if (present(halo)) then
         flag = merge(1, 0, changed)
         call halo%max_int(flag)
         changed = flag > 0
         call halo%nodes(x)
+        reg%recheck = reg%untangled
       end if
       ! (a tangled cell with none of its neighbourhood left to undo cannot be
       ! the pass's doing: all its nodes are where they were)
       if (.not. changed) exit
     end do
+    ! the state for the next pass: the cells untangled before it are as the
+    ! last round found them; those tangled before it are tested now
+    reg%known = .not. present(halo)
+    if (.not. reg%known) return
+    !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      if (reg%untangled(s)) then
+        reg%untangled(s) = .not. reg%tangled(s)
+      else
+        call region_gather(reg, s, x, xn)
+        reg%untangled(s) = .not. hex_tangled(xn)
+      end if
+    end do
+    !$omp end parallel do
   end subroutine guard_undo
 
   !> Transfinite interpolation (Eq. 53) of the nodes strictly inside the
