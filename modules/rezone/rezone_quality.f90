@@ -38,7 +38,7 @@ module rezone_quality
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, &
-            hex_box_sides, hex_quality_box
+            hex_box_sides, hex_edge_means, hex_quality_box
 
   !> The three neighbours of each corner along the three logical directions.
   integer, parameter :: corner_nbr(3, 8) = reshape([2, 3, 5,  1, 4, 6,  4, 1, 7,  3, 2, 8, &
@@ -47,6 +47,9 @@ module rezone_quality
   integer, parameter :: hex_edge_list(2, 12) = reshape([1, 2, 3, 4, 5, 6, 7, 8, &
                                                         1, 3, 2, 4, 5, 7, 6, 8, &
                                                         1, 5, 2, 6, 3, 7, 4, 8], [2, 12])
+  !> The slot in `hex_edge_list` of edge e along direction d of
+  !> `mesh_geometry`'s hex_edges (the same (low, high) node pairs).
+  integer, parameter :: edge_slot(4, 3) = reshape([1, 4, 3, 2,  5, 8, 6, 7,  9, 12, 11, 10], [4, 3])
 
 contains
 
@@ -54,14 +57,31 @@ contains
   pure function hex_quality(xn) result(q)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: q
+    q = quality_of(xn, edge_lengths(xn))
+  end function hex_quality
+
+  !> The 12 edge lengths of a hexahedron (length), in the order of
+  !> `hex_edge_list`.
+  pure function edge_lengths(xn) result(len)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: len(12)
+    integer :: e
+    do e = 1, 12
+      len(e) = norm2(xn(:, hex_edge_list(2, e)) - xn(:, hex_edge_list(1, e)))
+    end do
+  end function edge_lengths
+
+  !> Eq. (46) from the cell's edge lengths len (`edge_lengths`).
+  pure real(wp) function quality_of(xn, len) result(q)
+    real(wp), intent(in) :: xn(3, 8), len(12)
     real(wp) :: l
     integer :: e
     l = 0.0_wp
     do e = 1, 12
-      l = l + norm2(xn(:, hex_edge_list(2, e)) - xn(:, hex_edge_list(1, e)))
+      l = l + len(e)
     end do
     q = 1728.0_wp*hex_volume(xn)/l**3
-  end function hex_quality
+  end function quality_of
 
   !> Sides (length) of a hexahedron's own box: the mean lengths of its four
   !> edges along each logical direction, their spread shrunk (in log space,
@@ -71,15 +91,15 @@ contains
   pure function hex_box_sides(xn, aspect_max) result(b)
     real(wp), intent(in) :: xn(3, 8), aspect_max
     real(wp) :: b(3)
+    b = box_shrunk(hex_edge_means(xn), aspect_max)
+  end function hex_box_sides
+
+  !> The edge means b of `hex_box_sides`, shrunk to aspect_max.
+  pure function box_shrunk(b0, aspect_max) result(b)
+    real(wp), intent(in) :: b0(3), aspect_max
+    real(wp) :: b(3)
     real(wp) :: t(3), g, spread
-    integer :: d, e
-    do d = 1, 3
-      b(d) = 0.0_wp
-      do e = 1, 4
-        b(d) = b(d) + norm2(xn(:, hex_edges(2, e, d)) - xn(:, hex_edges(1, e, d)))
-      end do
-      b(d) = 0.25_wp*b(d)
-    end do
+    b = b0
     if (any(.not. b > 0.0_wp)) return
     ! logs of the ratios to b(1), so that scaling the cell by a power of two
     ! scales the result bit for bit (dimensional invariance)
@@ -91,7 +111,30 @@ contains
       t = t*(log(aspect_max)/spread)
       b = b(1)*exp(g + t)
     end if
-  end function hex_box_sides
+  end function box_shrunk
+
+  !> The mean lengths of a hexahedron's four edges along each logical
+  !> direction (length): `hex_box_sides` before any shrinking.
+  pure function hex_edge_means(xn) result(b)
+    real(wp), intent(in) :: xn(3, 8)
+    real(wp) :: b(3)
+    b = edge_means_of(edge_lengths(xn))
+  end function hex_edge_means
+
+  !> `hex_edge_means` from the edge lengths len (`edge_lengths`), summed in
+  !> the order of `hex_edges`.
+  pure function edge_means_of(len) result(b)
+    real(wp), intent(in) :: len(12)
+    real(wp) :: b(3)
+    integer :: d, e
+    do d = 1, 3
+      b(d) = 0.0_wp
+      do e = 1, 4
+        b(d) = b(d) + len(edge_slot(e, d))
+      end do
+      b(d) = 0.25_wp*b(d)
+    end do
+  end function edge_means_of
 
   !> Eq. (46) against the cell's own box (`hex_box_sides` with aspect_max):
   !> 1728 V / L^3 divided by 27 b1 b2 b3 / (b1 + b2 + b3)^3, the Eq. (46) of
@@ -102,10 +145,11 @@ contains
   pure function hex_quality_box(xn, aspect_max) result(q)
     real(wp), intent(in) :: xn(3, 8), aspect_max
     real(wp) :: q
-    real(wp) :: b(3)
-    q = hex_quality(xn)
+    real(wp) :: b(3), len(12)
+    len = edge_lengths(xn)
+    q = quality_of(xn, len)
     if (.not. aspect_max > 1.0_wp) return
-    b = hex_box_sides(xn, aspect_max)
+    b = box_shrunk(edge_means_of(len), aspect_max)
     if (any(.not. b > 0.0_wp)) return
     q = q*sum(b)**3/(27.0_wp*product(b))
   end function hex_quality_box

@@ -46,7 +46,7 @@ module rezone_smooth
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
-  use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides
+  use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides, hex_edge_means
   use mesh_grid, only: grid_index_t, grid_index
   use mesh_halo, only: halo_t
   implicit none
@@ -378,8 +378,8 @@ contains
   pure function hex_centroid(xn) result(xc)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: xc(3)
-    real(wp) :: r(3, 8), tets(3, 4, 24), vt, v, vabs, mom(3)
-    integer :: m, d, t
+    real(wp) :: r(3, 8), rc(3), rf(3), e1(3), vt, v, vabs, mom(3)
+    integer :: m, d, f, a, b
 
     do d = 1, 3
       xc(d) = 0.125_wp*sum(xn(d, :))
@@ -387,15 +387,26 @@ contains
     do m = 1, 8
       r(:, m) = xn(:, m) - xc
     end do
-    call hex_tets(r, tets)
+    ! the tetrahedra of hex_tets(r), written out (the numbers of `hex_tets`
+    ! and `tet_det`, without the array of 24 tetrahedra)
+    do d = 1, 3
+      rc(d) = 0.125_wp*sum(r(d, :))
+    end do
     v = 0.0_wp
     vabs = 0.0_wp
     mom = 0.0_wp
-    do t = 1, 24
-      vt = tet_det(tets(:, :, t))/6.0_wp
-      v = v + vt
-      vabs = vabs + abs(vt)
-      mom = mom + vt*0.25_wp*(tets(:, 1, t) + tets(:, 2, t) + tets(:, 3, t) + tets(:, 4, t))
+    do f = 1, 6
+      rf = 0.25_wp*((r(:, hex_faces(1, f)) + r(:, hex_faces(3, f))) + &
+                    (r(:, hex_faces(2, f)) + r(:, hex_faces(4, f))))
+      e1 = rf - rc
+      do m = 1, 4
+        a = hex_faces(m, f)
+        b = hex_faces(mod(m, 4) + 1, f)
+        vt = triple(e1, r(:, a) - rc, r(:, b) - rc)/6.0_wp
+        v = v + vt
+        vabs = vabs + abs(vt)
+        mom = mom + vt*0.25_wp*(rc + rf + r(:, a) + r(:, b))
+      end do
     end do
     if (abs(v) > 0.5_wp*vabs) xc = xc + mom/v
   end function hex_centroid
@@ -445,7 +456,7 @@ contains
   !> a region after every pass).
   pure logical function hex_tangled(xn)
     real(wp), intent(in) :: xn(3, 8)
-    real(wp) :: e1(3), e2(3), e3(3), xc(3), xf(3)
+    real(wp) :: e1(3), e2(3), e3(3), xc(3), xf(3), r(3, 8)
     integer :: a, f, m
     hex_tangled = .true.
     do a = 1, 8
@@ -458,18 +469,20 @@ contains
       if (hex_corner(3, a) == 1) e3 = -e3
       if (.not. triple(e1, e2, e3) > 0.0_wp) return
     end do
-    ! the 24 tetrahedra (centre, face centre, a, b) of `hex_tets`
+    ! the 24 tetrahedra (centre, face centre, a, b) of `hex_tets`, as
+    ! `tet_det` takes them: the edges from the centre
     do m = 1, 3
       xc(m) = 0.125_wp*sum(xn(m, :))
+    end do
+    do a = 1, 8
+      r(:, a) = xn(:, a) - xc
     end do
     do f = 1, 6
       xf = 0.25_wp*((xn(:, hex_faces(1, f)) + xn(:, hex_faces(3, f))) + &
                     (xn(:, hex_faces(2, f)) + xn(:, hex_faces(4, f))))
       e1 = xf - xc
       do m = 1, 4
-        e2 = xn(:, hex_faces(m, f)) - xc
-        e3 = xn(:, hex_faces(mod(m, 4) + 1, f)) - xc
-        if (.not. triple(e1, e2, e3)/6.0_wp > 0.0_wp) return
+        if (.not. triple(e1, r(:, hex_faces(m, f)), r(:, hex_faces(mod(m, 4) + 1, f)))/6.0_wp > 0.0_wp) return
       end do
     end do
     hex_tangled = .false.
@@ -706,7 +719,7 @@ contains
       end do
       if (reg%box) then
         ! 1/(a1 a2 a3): every tensor-product (graded) grid is a fixed point
-        reg%wcell(s) = 1.0_wp/max(product(hex_box_sides(xn, huge(1.0_wp))), tiny(1.0_wp))
+        reg%wcell(s) = 1.0_wp/max(product(hex_edge_means(xn)), tiny(1.0_wp))
       else
         reg%wcell(s) = max(hex_volume(xn), 0.0_wp)
       end if
