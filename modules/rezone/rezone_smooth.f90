@@ -113,8 +113,8 @@ module rezone_smooth
     !> (ncell) work: the cells the guard finds tangled (of those untangled
     !> before the pass), and those whose nodes it changed in a round
     logical, allocatable :: tangled(:), recheck(:)
-    !> whether `untangled` holds for the present positions (one process:
-    !> what the guard's last round found; a decomposed grid's ghosts change
+    !> whether `untangled` holds for the present positions (one block: what
+    !> the guard's last round found; a decomposed grid's ghosts change
     !> behind it, so there every pass tests every cell again)
     logical :: known = .false.
   end type smooth_region_t
@@ -864,9 +864,9 @@ contains
   !> last round changed (the others are as they were), and the last round
   !> leaves every cell's state known for the next pass's `guard_start`.
   !> With halo (`smooth_combined`): the tangled cells' corners and the nodes
-  !> are refreshed on the ghosts (guard_reach is within the ghost width), a
-  !> round is the whole grid's and tests every cell (a ghost node may have
-  !> been changed by its owner).
+  !> are refreshed on the ghosts (guard_reach is within the ghost width) and
+  !> a round is the whole grid's; with more than one block a round tests
+  !> every cell (a ghost node may have been changed by its owner).
   subroutine guard_undo(reg, x, halo)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
@@ -874,7 +874,9 @@ contains
     integer, parameter :: guard_reach = 2, guard_rounds = 5
     integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag, n
     real(wp) :: xn(3, 8)
-    logical :: changed
+    logical :: changed, ghosts
+    ghosts = .false.
+    if (present(halo)) ghosts = halo%nblocks > 1
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
@@ -937,15 +939,15 @@ contains
         call halo%max_int(flag)
         changed = flag > 0
         call halo%nodes(x)
-        reg%recheck = reg%untangled
       end if
+      if (ghosts) reg%recheck = reg%untangled
       ! (a tangled cell with none of its neighbourhood left to undo cannot be
       ! the pass's doing: all its nodes are where they were)
       if (.not. changed) exit
     end do
     ! the state for the next pass: the cells untangled before it are as the
     ! last round found them; those tangled before it are tested now
-    reg%known = .not. present(halo)
+    reg%known = .not. ghosts
     if (.not. reg%known) return
     !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
     do s = 1, reg%ncell
