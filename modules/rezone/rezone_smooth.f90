@@ -103,6 +103,8 @@ module rezone_smooth
     real(wp), allocatable :: xsave(:, :)   !< (3, nmove) work: positions before a pass
     integer, allocatable :: nhalve(:)      !< (nmove) work: times a node's move was halved
     integer, allocatable :: node_slot(:)   !< (nnode of the block) work: slot in node(:), 0 if the node does not move
+    integer, allocatable :: cell_slot(:)   !< (ncell of the block) slot in cell(:), 0 if the cell is not active
+    real(wp), allocatable :: xpre(:, :)    !< (3, nnode of the block) work: the nodes before a ghost refresh
     !> (nmove) whether the node counts in the counts of a decomposed grid
     !> (each node on one block: `smooth_region_init`'s counts)
     logical, allocatable :: own(:)
@@ -113,9 +115,8 @@ module rezone_smooth
     !> (ncell) work: the cells the guard finds tangled (of those untangled
     !> before the pass), and those whose nodes it changed in a round
     logical, allocatable :: tangled(:), recheck(:)
-    !> whether `untangled` holds for the present positions (one block: what
-    !> the guard's last round found; a decomposed grid's ghosts change
-    !> behind it, so there every pass tests every cell again)
+    !> whether `untangled` holds for the present positions (what the
+    !> guard's last round found)
     logical :: known = .false.
   end type smooth_region_t
 
@@ -257,7 +258,6 @@ contains
     real(wp), intent(in), optional :: aspect_max
     !> (nnode) the nodes this block counts (a decomposed grid's; default all)
     logical, intent(in), optional :: counts(:)
-    integer, allocatable :: slot(:)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     character(len=200) :: msg
     type(grid_index_t) :: ix
@@ -295,7 +295,7 @@ contains
       end do
     end do
 
-    allocate(slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
+    allocate(reg%cell_slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
              reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
              reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
              reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), &
@@ -307,7 +307,7 @@ contains
       return
     end if
 
-    slot = 0
+    reg%cell_slot = 0
     s = 0
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
@@ -315,7 +315,7 @@ contains
           c = ix%cell(ci, cj, ck)
           if (.not. active(c)) cycle
           s = s + 1
-          slot(c) = s
+          reg%cell_slot(c) = s
           reg%cell(s) = c
           reg%node0(s) = ix%cell_node0(ci, cj, ck)
         end do
@@ -341,7 +341,7 @@ contains
             ck = k - hex_corner(3, a) + 1
             reg%node_cell(a, m) = 0
             if (all([ci, cj, ck] >= ix%clo) .and. all([ci, cj, ck] <= ix%chi)) &
-              reg%node_cell(a, m) = slot(ix%cell(ci, cj, ck))
+              reg%node_cell(a, m) = reg%cell_slot(ix%cell(ci, cj, ck))
           end do
         end do
       end do
@@ -864,9 +864,9 @@ contains
   !> last round changed (the others are as they were), and the last round
   !> leaves every cell's state known for the next pass's `guard_start`.
   !> With halo (`smooth_combined`): the tangled cells' corners and the nodes
-  !> are refreshed on the ghosts (guard_reach is within the ghost width) and
-  !> a round is the whole grid's; with more than one block a round tests
-  !> every cell (a ghost node may have been changed by its owner).
+  !> are refreshed on the ghosts (guard_reach is within the ghost width), a
+  !> round is the whole grid's, and the cells of the ghost nodes the refresh
+  !> changed are tested again too.
   subroutine guard_undo(reg, x, halo)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
@@ -877,6 +877,7 @@ contains
     logical :: changed, ghosts
     ghosts = .false.
     if (present(halo)) ghosts = halo%nblocks > 1
+    if (ghosts .and. .not. allocated(reg%xpre)) allocate(reg%xpre, mold=x)
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
@@ -938,17 +939,18 @@ contains
         flag = merge(1, 0, changed)
         call halo%max_int(flag)
         changed = flag > 0
+        if (ghosts) reg%xpre = x
         call halo%nodes(x)
+        ! the ghost nodes their owners changed: their cells are tested again
+        if (ghosts) call recheck_refreshed(reg, x)
       end if
-      if (ghosts) reg%recheck = reg%untangled
       ! (a tangled cell with none of its neighbourhood left to undo cannot be
       ! the pass's doing: all its nodes are where they were)
       if (.not. changed) exit
     end do
     ! the state for the next pass: the cells untangled before it are as the
     ! last round found them; those tangled before it are tested now
-    reg%known = .not. ghosts
-    if (.not. reg%known) return
+    reg%known = .true.
     !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
     do s = 1, reg%ncell
       if (reg%untangled(s)) then
@@ -960,6 +962,32 @@ contains
     end do
     !$omp end parallel do
   end subroutine guard_undo
+
+  !> After a ghost refresh in `guard_undo`: the active cells around every
+  !> node that the refresh moved (x against reg%xpre) are tested again in
+  !> the next round (if they were untangled before the pass).
+  subroutine recheck_refreshed(reg, x)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(in) :: x(:, :)
+    integer :: n, n0, i0, j0, k0, ci, cj, ck, s, sx, sxy
+    sx = reg%ni + 1
+    sxy = sx*(reg%nj + 1)
+    do n = 1, size(x, 2)
+      if (.not. any(abs(x(:, n) - reg%xpre(:, n)) > 0.0_wp)) cycle
+      n0 = n - 1
+      i0 = mod(n0, sx)
+      j0 = mod(n0/sx, reg%nj + 1)
+      k0 = n0/sxy
+      do ck = max(k0, 1), min(k0 + 1, reg%nk)
+        do cj = max(j0, 1), min(j0 + 1, reg%nj)
+          do ci = max(i0, 1), min(i0 + 1, reg%ni)
+            s = reg%cell_slot(ci + reg%ni*(cj - 1 + reg%nj*(ck - 1)))
+            if (s > 0) reg%recheck(s) = reg%untangled(s)
+          end do
+        end do
+      end do
+    end do
+  end subroutine recheck_refreshed
 
   !> Transfinite interpolation (Eq. 53) of the nodes strictly inside the
   !> node index box lo(d) <= i_d <= hi(d) (0-based node indices of an
