@@ -55,7 +55,7 @@ module rezone_smooth
   public :: smooth_mobility_t, smooth_region_t
   public :: smooth_mobility_box, smooth_mobility_block, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
-  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, smooth_any_tangled
+  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
   public :: hex_min_tet_volume, hex_min_corner_jacobian, hex_tangled
 
@@ -300,7 +300,7 @@ contains
              reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
              reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), &
              reg%node_slot(ix%nnode), reg%untangled(reg%ncell), reg%tangled(reg%ncell), reg%recheck(reg%ncell), &
-             reg%own(reg%nmove), reg%mark(1, ix%nnode), reg%near(ix%nnode), &
+             reg%own(reg%nmove), reg%mark(1, ix%nnode), reg%near(ix%nnode), reg%xpre(3, ix%nnode), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', error_no_memory('the region'))
@@ -877,7 +877,6 @@ contains
     logical :: changed, ghosts
     ghosts = .false.
     if (present(halo)) ghosts = halo%nblocks > 1
-    if (ghosts .and. .not. allocated(reg%xpre)) allocate(reg%xpre, mold=x)
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
@@ -1143,32 +1142,6 @@ contains
       t(m1) = 1.0_wp
     end subroutine edge_parameter
   end subroutine tfi_box
-
-  !> True if a cell of the cell index box lo..hi of an ni x nj x nk block is
-  !> tangled in x (a corner Jacobian or a tetrahedron of the 24-tet split
-  !> non-positive), as `smooth_revert_tangled` tests it.
-  logical function smooth_any_tangled(ni, nj, nk, lo, hi, x) result(any_tangled)
-    integer, intent(in) :: ni, nj, nk, lo(3), hi(3)
-    real(wp), intent(in) :: x(:, :)
-    integer :: ci, cj, ck, a, n0
-    real(wp) :: xn(3, 8)
-    type(grid_index_t) :: ix
-
-    ix = grid_index(ni, nj, nk)
-    any_tangled = .true.
-    do ck = lo(3), hi(3)
-      do cj = lo(2), hi(2)
-        do ci = lo(1), hi(1)
-          n0 = ix%cell_node0(ci, cj, ck)
-          do a = 1, 8
-            xn(:, a) = x(:, n0 + ix%corner_offset(a))
-          end do
-          if (hex_tangled(xn)) return
-        end do
-      end do
-    end do
-    any_tangled = .false.
-  end function smooth_any_tangled
 
   !> The last safeguard of a rezone: every cell of an ni x nj x nk block that
   !> the rezone changed (a node of x differs from xold) and that is tangled in
