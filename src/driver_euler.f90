@@ -22,7 +22,7 @@ module driver_euler
   use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
                            smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
-                           hex_tangled, node_fixed
+                           smooth_region_tangled, hex_tangled, node_fixed
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
@@ -923,13 +923,13 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
-    logical, allocatable :: moved(:), touched(:), counts(:)
+    logical, allocatable :: moved(:), touched(:), counts(:), tangled(:)
     type(rezone_subdomains_t) :: sub
     type(smooth_mobility_t) :: mob
     type(smooth_region_t) :: reg
     integer, allocatable :: blo(:, :), bhi(:, :), mlo(:, :), mhi(:, :), tlo(:, :), thi(:, :)
-    real(wp) :: q_min, q_min0, d_max, aspect_max, q_cut, none(0)
-    integer :: iterations, b, n(3), c, i, j, k, stat, nd, nrevert, ngrown, sums(3)
+    real(wp) :: q_min, q_min0, d_max, aspect_max, none(0)
+    integer :: iterations, b, n(3), c, i, j, k, stat, nd, nrevert, ngrown, sums(3), ntangled
     logical :: tfi, box
     character(len=400) :: line
     character(len=60) :: kept, grown
@@ -957,13 +957,14 @@ contains
     if (box) then
       ! Eq. (46) against each cell's own box, aspect ratio up to the
       ! geometric middle of the paper's cube (1) and the trigger's bound
+      ! (the distorted cells are the triggers': no cell's Q is needed, and
+      ! the log's Q_min before is the smoothed cells', `smooth_combined`)
       if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-      call grid_quality(n(1), n(2), n(3), x, es%quality, q_min0, aspect_max=aspect_max, share=share)
       call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, es%fail, share)
     else
       call grid_quality(n(1), n(2), n(3), x, es%quality, q_min0, share=share)
+      call halo%choose(q_min0, none)
     end if
-    call halo%choose(q_min0, none)
     if (trim(rz%mode) == 'smooth') then
       ! the whole grid as one subdomain
       blo = reshape([1, 1, 1], [3, 1])
@@ -975,11 +976,13 @@ contains
       ! distorted: with 'box' the cells failing the triggers' tests (q plays
       ! no part), else Q < quality (Eq. 46); an undefined Q, and the cells
       ! around the snapped nodes, too
-      q_cut = rz%quality
-      if (box) q_cut = -huge(1.0_wp)
-      do c = 1, g%ncell
-        es%fail(c) = (box .and. es%fail(c)) .or. touched(c) .or. ieee_is_nan(es%quality(c)) .or. es%quality(c) < q_cut
-      end do
+      if (box) then
+        es%fail = es%fail .or. touched
+      else
+        do c = 1, g%ncell
+          es%fail(c) = touched(c) .or. ieee_is_nan(es%quality(c)) .or. es%quality(c) < rz%quality
+        end do
+      end if
       call subdomain_boxes(g, halo, es%fail, d_max, blo, bhi, nd, err, occupied)
     end if
     if (.not. allocated(err)) call block_subdomains(g, blo, bhi, sub, err, occupied)
@@ -1018,7 +1021,27 @@ contains
       call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts)
     end if
     if (allocated(err)) return
-    call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo)
+    if (box) then
+      call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo, q_min0)
+    else
+      call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo)
+    end if
+    ! the smoothed cells left tangled (ntangled: the whole grid's)
+    allocate(tangled(g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_rezone', error_no_memory('the tangled cells'))
+      return
+    end if
+    call smooth_region_tangled(reg, x, tangled)
+    ntangled = 0
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          if (tangled(g%cell(i, j, k))) ntangled = ntangled + 1
+        end do
+      end do
+    end do
+    call halo%max_int(ntangled)
     ! the fallback: transfinite interpolation of each merged cuboid
     ! subdomain from its boundary (node index box = cell box widened by
     ! one); with 'box' only of merged boxes around the cells the smoothing
@@ -1030,9 +1053,9 @@ contains
     ! of the run
     tfi = q_min < rz%quality_target .and. .not. box
     if (box) then
-      call tangled_boxes(tlo, thi)
+      tfi = ntangled > 0
+      if (tfi) call tangled_boxes(tlo, thi)
       if (allocated(err)) return
-      tfi = size(tlo, 2) > 0
     else if (tfi) then
       tlo = blo
       thi = bhi
@@ -1052,8 +1075,12 @@ contains
       call smooth_keep_small_moves(n(1), n(2), n(3), g%x, x, rz%move_min, sums(3), counts)
       call halo%nodes(x)
     end if
-    ! a changed cell left tangled (by TFI, say) goes back as it was
-    call smooth_revert_tangled(n(1), n(2), n(3), g%x, x, nrevert, err, halo, counts)
+    ! a changed cell left tangled (by TFI, say) goes back as it was (none
+    ! is where only the smoothing moved nodes, those of its cells alone, and
+    ! left none of them tangled: the snaps' cells are among them)
+    nrevert = 0
+    if (tfi .or. ntangled > 0 .or. rz%move_min > 0.0_wp .or. present(occupied)) &
+      call smooth_revert_tangled(n(1), n(2), n(3), g%x, x, nrevert, err, halo, counts)
     if (allocated(err)) return
     q_min = smooth_q_min(reg, x)
     call halo%choose(q_min, none)
@@ -1071,8 +1098,8 @@ contains
 
   contains
 
-    !> The boxes (the whole grid's cell indices) around the cells still
-    !> tangled after the smoothing: the subdomains they seed
+    !> The boxes (the whole grid's cell indices) around the smoothed cells
+    !> still tangled after the smoothing (tangled): the subdomains they seed
     !> (`subdomain_boxes` with d_max = 1: a tangled cell's box reaches two
     !> cells from it) widened by tfi_widen layers. Measured on the matrix's
     !> sedov_40_lssm (Euler phase, Euler steps, L1): 0 layers 68 s, 283,
@@ -1081,25 +1108,7 @@ contains
     subroutine tangled_boxes(lo, hi)
       integer, allocatable, intent(out) :: lo(:, :), hi(:, :)
       integer, parameter :: tfi_widen = 2
-      logical, allocatable :: tangled(:)
-      real(wp) :: xn(3, 8)
       integer :: nt
-      allocate(tangled(g%ncell), stat=stat)
-      if (stat /= 0) then
-        call error_set(err, 'smooth_rezone', error_no_memory('the tangled cells'))
-        return
-      end if
-      tangled = .false.
-      !$omp parallel do default(none) shared(g, x, tangled) private(i, j, k, xn) collapse(2) schedule(static)
-      do k = g%clo(3), g%chi(3)
-        do j = g%clo(2), g%chi(2)
-          do i = g%clo(1), g%chi(1)
-            call g%gather(g%cell(i, j, k), x, xn)
-            tangled(g%cell(i, j, k)) = hex_tangled(xn)
-          end do
-        end do
-      end do
-      !$omp end parallel do
       call subdomain_boxes(g, halo, tangled, 1.0_wp, lo, hi, nt, err, occupied)
       if (allocated(err)) return
       do nt = 1, size(lo, 2)
@@ -1132,7 +1141,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
     real(wp), allocatable :: xin(:, :)
-    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3), stat
+    integer :: n, c, a, i, j, k, d, f, ijk(3), stride(3), stat, nsnap
     real(wp) :: h0, limit
     logical :: snap, open(6)
     ngrown = 0
@@ -1177,6 +1186,12 @@ contains
       end do
     end if
     call halo%nodes(x)
+    do n = 1, g%nnode
+      moved(n) = any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
+    end do
+    nsnap = count(moved)
+    call halo%max_int(nsnap)
+    if (nsnap == 0) return
     ! (the cells the snaps inverted, as the last safeguard finds them, go to
     ! x0 whole)
     call smooth_revert_tangled(g%shi(1) - g%slo(1) + 1, g%shi(2) - g%slo(2) + 1, g%shi(3) - g%slo(3) + 1, xin, x, &

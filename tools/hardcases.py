@@ -418,10 +418,10 @@ def _cases():
     ]
 
 
-def entries(cases, quick=False, only=None, sweep=False):
+def entries(cases, quick=False, only=None, sweep=False, modes_given=None):
     out = []
     for c in cases:
-        modes = c.modes
+        modes = modes_given or c.modes
         if sweep:
             # the small sizes in the modes and variants the matrix leaves out
             quick = True
@@ -1278,6 +1278,8 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="the small sizes only")
     p.add_argument("--sweep", action="store_true",
                    help="instead of the matrix: its small sizes in the modes it leaves out and in setting variants")
+    p.add_argument("--modes", help="comma-separated modes (the matrix's or --sweep's, e.g. lssm_h2) to run "
+                   "instead of each case's own")
     p.add_argument("--list", action="store_true", help="list the entries and exit")
     p.add_argument("--timeout", type=float, default=1800.0, help="wall seconds per run (default 1800)")
     p.add_argument("--threads", type=int, default=1, help="OMP_NUM_THREADS of the runs (default 1)")
@@ -1286,7 +1288,10 @@ def main(argv=None):
     a = p.parse_args(argv)
 
     only = [s.strip() for s in a.only.split(",") if s.strip()] if a.only else None
-    todo = entries(_cases(), a.quick, only, a.sweep)
+    modes = [s.strip() for s in a.modes.split(",") if s.strip()] if a.modes else None
+    if modes and any(m not in REZONE for m in modes):
+        p.error(f"--modes: unknown mode among {modes}; known: {', '.join(REZONE)}")
+    todo = entries(_cases(), a.quick, only, a.sweep, modes)
     if a.list:
         for e in todo:
             print(f"{e.name:28s} {e.case.deck}")

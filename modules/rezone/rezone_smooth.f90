@@ -55,7 +55,8 @@ module rezone_smooth
   public :: smooth_mobility_t, smooth_region_t
   public :: smooth_mobility_box, smooth_mobility_block, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
-  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled
+  public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, &
+            smooth_region_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
   public :: hex_min_tet_volume, hex_min_corner_jacobian, hex_tangled
 
@@ -104,11 +105,19 @@ module rezone_smooth
     integer, allocatable :: nhalve(:)      !< (nmove) work: times a node's move was halved
     integer, allocatable :: node_slot(:)   !< (nnode of the block) work: slot in node(:), 0 if the node does not move
     integer, allocatable :: cell_slot(:)   !< (ncell of the block) slot in cell(:), 0 if the cell is not active
-    real(wp), allocatable :: xpre(:, :)    !< (3, nnode of the block) work: the nodes before a ghost refresh
+    !> the nodes a ghost refresh may change (those the block does not
+    !> count: its ghosts, and its faces' nodes a neighbour counts), and
+    !> (3, size(ghost)) work: where they were before a refresh
+    integer, allocatable :: ghost(:)
+    real(wp), allocatable :: xpre(:, :)
     !> (nmove) whether the node counts in the counts of a decomposed grid
     !> (each node on one block: `smooth_region_init`'s counts)
     logical, allocatable :: own(:)
-    real(wp), allocatable :: mark(:, :)    !< (1, nnode of the block) work: corners of the cells a pass tangled
+    !> (1, nnode of the block) work: corners of the cells a pass tangled
+    !> (0 between rounds), and the nodes so marked (nmarked of them)
+    real(wp), allocatable :: mark(:, :)
+    integer, allocatable :: marked(:)
+    integer :: nmarked = 0
     logical, allocatable :: near(:)        !< (nnode of the block) work: within guard_reach of a marked node
     !> (ncell) work: each active cell untangled before a pass (`hex_tangled`)
     logical, allocatable :: untangled(:)
@@ -259,6 +268,7 @@ contains
     !> (nnode) the nodes this block counts (a decomposed grid's; default all)
     logical, intent(in), optional :: counts(:)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
+    integer, allocatable :: nactive(:)
     character(len=200) :: msg
     type(grid_index_t) :: ix
 
@@ -285,29 +295,30 @@ contains
     reg%corner_offset = ix%corner_offset
     reg%ncell = count(active)
 
-    ! movable nodes: mobility allows it and all cells around are active
-    reg%nmove = 0
-    do k = ix%nlo(3), ix%nhi(3)
-      do j = ix%nlo(2), ix%nhi(2)
-        do i = ix%nlo(1), ix%nhi(1)
-          if (node_moves(i, j, k)) reg%nmove = reg%nmove + 1
-        end do
-      end do
-    end do
-
-    allocate(reg%cell_slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%node(reg%nmove), &
-             reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
-             reg%xt(3, 8, reg%ncell), reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), &
-             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), &
-             reg%node_slot(ix%nnode), reg%untangled(reg%ncell), reg%tangled(reg%ncell), reg%recheck(reg%ncell), &
-             reg%own(reg%nmove), reg%mark(1, ix%nnode), reg%near(ix%nnode), reg%xpre(3, ix%nnode), &
-             stat=stat, errmsg=msg)
+    allocate(reg%cell_slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%xt(3, 8, reg%ncell), &
+             reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), reg%node_slot(ix%nnode), reg%untangled(reg%ncell), &
+             reg%tangled(reg%ncell), reg%recheck(reg%ncell), reg%mark(1, ix%nnode), reg%near(ix%nnode), &
+             nactive(ix%nnode), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_region_init', error_no_memory('the region'))
+      return
+    end if
+    reg%mark = 0.0_wp
+    reg%near = .false.
+    if (present(counts)) then
+      reg%ghost = pack([(n, n = 1, ix%nnode)], .not. counts)
+    else
+      allocate(reg%ghost(0))
+    end if
+    allocate(reg%xpre(3, size(reg%ghost)), reg%marked(ix%nnode + size(reg%ghost)), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', error_no_memory('the region'))
       return
     end if
 
+    ! the active cells, and how many of them each node has
     reg%cell_slot = 0
+    nactive = 0
     s = 0
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
@@ -318,9 +329,29 @@ contains
           reg%cell_slot(c) = s
           reg%cell(s) = c
           reg%node0(s) = ix%cell_node0(ci, cj, ck)
+          do a = 1, 8
+            n = reg%node0(s) + ix%corner_offset(a)
+            nactive(n) = nactive(n) + 1
+          end do
         end do
       end do
     end do
+
+    ! movable nodes: mobility allows it and all cells around are active
+    reg%nmove = 0
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
+          if (node_moves(i, j, k)) reg%nmove = reg%nmove + 1
+        end do
+      end do
+    end do
+    allocate(reg%node(reg%nmove), reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
+             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), reg%own(reg%nmove), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'smooth_region_init', error_no_memory('the region'))
+      return
+    end if
 
     m = 0
     do k = ix%nlo(3), ix%nhi(3)
@@ -349,22 +380,18 @@ contains
 
   contains
 
-    !> Whether node (i,j,k) may move in this region.
+    !> Whether node (i,j,k) may move in this region: its mobility allows it
+    !> and every cell of the block around it is active.
     logical function node_moves(i, j, k)
       integer, intent(in) :: i, j, k
-      integer :: di, dj, dk
-      logical :: ok
-      node_moves = mob%kind(ix%node(i, j, k)) /= node_fixed
-      if (.not. node_moves) return
-      ok = .true.
-      do dk = max(k, ix%clo(3)), min(k + 1, ix%chi(3))
-        do dj = max(j, ix%clo(2)), min(j + 1, ix%chi(2))
-          do di = max(i, ix%clo(1)), min(i + 1, ix%chi(1))
-            ok = ok .and. active(ix%cell(di, dj, dk))
-          end do
-        end do
-      end do
-      node_moves = ok
+      integer :: n
+      n = ix%node(i, j, k)
+      node_moves = .false.
+      if (nactive(n) == 0) return
+      node_moves = mob%kind(n) /= node_fixed .and. &
+                   nactive(n) == (min(i + 1, ix%chi(1)) - max(i, ix%clo(1)) + 1)* &
+                                 (min(j + 1, ix%chi(2)) - max(j, ix%clo(2)) + 1)* &
+                                 (min(k + 1, ix%chi(3)) - max(k, ix%clo(3)) + 1)
     end function node_moves
   end subroutine smooth_region_init
 
@@ -784,8 +811,8 @@ contains
   !> its ghost nodes current on entry): the ghost nodes are refreshed after
   !> every pass and every round of the guard, and Q_min, the guard's tests
   !> and reg%n_guarded are the whole grid's, so every block ends with the
-  !> nodes of one process.
-  subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min, halo)
+  !> nodes of one process. q_start: Q_min before the first iteration.
+  subroutine smooth_combined(reg, x, q_target, n_max, iterations, q_min, halo, q_start)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
     real(wp), intent(in) :: q_target
@@ -793,6 +820,7 @@ contains
     integer, intent(out) :: iterations
     real(wp), intent(out) :: q_min
     class(halo_t), intent(inout), optional :: halo
+    real(wp), intent(out), optional :: q_start
     integer :: m, guarded(1)
 
     reg%node_slot = 0
@@ -803,6 +831,7 @@ contains
     reg%n_guarded = 0
     reg%known = .false.
     q_min = global_q_min()
+    if (present(q_start)) q_start = q_min
     do while (q_min < q_target .and. iterations < n_max)
       call guard_start(reg, x)
       call smooth_modified_getme(reg, x)
@@ -827,6 +856,31 @@ contains
       if (present(halo)) call halo%choose(global_q_min, none)
     end function global_q_min
   end subroutine smooth_combined
+
+  !> Whether each active cell of the region is tangled in x (`hex_tangled`),
+  !> as tangled(c) over the block's cells c (false outside the region): as
+  !> the untangling guard's last round left it known (`smooth_combined`
+  !> with iterations, x as it left it), else tested.
+  subroutine smooth_region_tangled(reg, x, tangled)
+    type(smooth_region_t), intent(in) :: reg
+    real(wp), intent(in) :: x(:, :)
+    logical, intent(out) :: tangled(:)
+    integer :: s
+    real(wp) :: xn(3, 8)
+    tangled = .false.
+    if (reg%known) then
+      do s = 1, reg%ncell
+        tangled(reg%cell(s)) = .not. reg%untangled(s)
+      end do
+      return
+    end if
+    !$omp parallel do default(none) shared(reg, x, tangled) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      tangled(reg%cell(s)) = hex_tangled(xn)
+    end do
+    !$omp end parallel do
+  end subroutine smooth_region_tangled
 
   !> Before a smoothing pass: keeps the movable nodes' positions and
   !> whether each active cell is untangled (`hex_tangled`: a corner Jacobian
@@ -872,7 +926,7 @@ contains
     real(wp), intent(inout) :: x(:, :)
     class(halo_t), intent(inout), optional :: halo
     integer, parameter :: guard_reach = 2, guard_rounds = 5
-    integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag, n
+    integer :: s, m, a, nbad, n0, i0, j0, k0, i, j, k, sx, sxy, flag, n, g
     real(wp) :: xn(3, 8)
     logical :: changed, ghosts
     ghosts = .false.
@@ -893,29 +947,29 @@ contains
       nbad = count(reg%tangled)
       if (present(halo)) call halo%max_int(nbad)
       if (nbad == 0) exit
-      reg%mark = 0.0_wp
+      ! (the marks and their neighbourhood, only where they are: a round
+      ! costs what the tangled cells and the ghosts do, not the block)
+      reg%nmarked = 0
       do s = 1, reg%ncell
         if (.not. reg%tangled(s)) cycle
         do a = 1, 8
-          reg%mark(1, reg%node0(s) + reg%corner_offset(a)) = 1.0_wp
+          n = reg%node0(s) + reg%corner_offset(a)
+          if (reg%mark(1, n) > 0.0_wp) cycle
+          reg%mark(1, n) = 1.0_wp
+          reg%nmarked = reg%nmarked + 1
+          reg%marked(reg%nmarked) = n
         end do
       end do
-      if (present(halo)) call halo%nodes(reg%mark)
+      if (present(halo)) then
+        call halo%nodes(reg%mark)
+        do g = 1, size(reg%ghost)
+          if (.not. reg%mark(1, reg%ghost(g)) > 0.0_wp) cycle
+          reg%nmarked = reg%nmarked + 1
+          reg%marked(reg%nmarked) = reg%ghost(g)
+        end do
+      end if
       ! the nodes within guard_reach of a marked one (in index space)
-      reg%near = .false.
-      do n = 1, size(reg%near)
-        if (.not. reg%mark(1, n) > 0.0_wp) cycle
-        n0 = n - 1
-        i0 = mod(n0, sx)
-        j0 = mod(n0/sx, reg%nj + 1)
-        k0 = n0/sxy
-        do k = max(k0 - guard_reach, 0), min(k0 + guard_reach, reg%nk)
-          do j = max(j0 - guard_reach, 0), min(j0 + guard_reach, reg%nj)
-            i = 1 + sx*j + sxy*k
-            reg%near(i + max(i0 - guard_reach, 0):i + min(i0 + guard_reach, reg%ni)) = .true.
-          end do
-        end do
-      end do
+      call mark_near(.true.)
       changed = .false.
       reg%recheck = .false.
       do m = 1, reg%nmove
@@ -934,11 +988,19 @@ contains
           if (s > 0) reg%recheck(s) = reg%untangled(s)
         end do
       end do
+      call mark_near(.false.)
+      do g = 1, reg%nmarked
+        reg%mark(1, reg%marked(g)) = 0.0_wp
+      end do
       if (present(halo)) then
         flag = merge(1, 0, changed)
         call halo%max_int(flag)
         changed = flag > 0
-        if (ghosts) reg%xpre = x
+        if (ghosts) then
+          do g = 1, size(reg%ghost)
+            reg%xpre(:, g) = x(:, reg%ghost(g))
+          end do
+        end if
         call halo%nodes(x)
         ! the ghost nodes their owners changed: their cells are tested again
         if (ghosts) call recheck_refreshed(reg, x)
@@ -960,19 +1022,44 @@ contains
       end if
     end do
     !$omp end parallel do
+
+  contains
+
+    !> near = value at the nodes within guard_reach (in index space) of the
+    !> marked nodes (those listed with a mark).
+    subroutine mark_near(value)
+      logical, intent(in) :: value
+      integer :: q
+      do q = 1, reg%nmarked
+        n = reg%marked(q)
+        if (.not. reg%mark(1, n) > 0.0_wp) cycle
+        n0 = n - 1
+        i0 = mod(n0, sx)
+        j0 = mod(n0/sx, reg%nj + 1)
+        k0 = n0/sxy
+        do k = max(k0 - guard_reach, 0), min(k0 + guard_reach, reg%nk)
+          do j = max(j0 - guard_reach, 0), min(j0 + guard_reach, reg%nj)
+            i = 1 + sx*j + sxy*k
+            reg%near(i + max(i0 - guard_reach, 0):i + min(i0 + guard_reach, reg%ni)) = value
+          end do
+        end do
+      end do
+    end subroutine mark_near
   end subroutine guard_undo
 
   !> After a ghost refresh in `guard_undo`: the active cells around every
-  !> node that the refresh moved (x against reg%xpre) are tested again in
-  !> the next round (if they were untangled before the pass).
+  !> node that the refresh moved (x against reg%xpre: of the nodes of
+  !> reg%ghost, the only ones it can move) are tested again in the next
+  !> round (if they were untangled before the pass).
   subroutine recheck_refreshed(reg, x)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(in) :: x(:, :)
-    integer :: n, n0, i0, j0, k0, ci, cj, ck, s, sx, sxy
+    integer :: g, n, n0, i0, j0, k0, ci, cj, ck, s, sx, sxy
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
-    do n = 1, size(x, 2)
-      if (.not. any(abs(x(:, n) - reg%xpre(:, n)) > 0.0_wp)) cycle
+    do g = 1, size(reg%ghost)
+      n = reg%ghost(g)
+      if (.not. any(abs(x(:, n) - reg%xpre(:, g)) > 0.0_wp)) cycle
       n0 = n - 1
       i0 = mod(n0, sx)
       j0 = mod(n0/sx, reg%nj + 1)
