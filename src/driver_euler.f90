@@ -961,7 +961,8 @@ contains
       ! the log's Q_min before is the smoothed cells', `smooth_combined`)
       if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
       call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, es%fail, share)
-    else
+    else if (trim(rz%mode) /= 'smooth') then
+      ! (mode 'smooth' smooths every cell: its Q_min before is the region's)
       call grid_quality(n(1), n(2), n(3), x, es%quality, q_min0, share=share)
       call halo%choose(q_min0, none)
     end if
@@ -1021,7 +1022,7 @@ contains
       call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts)
     end if
     if (allocated(err)) return
-    if (box) then
+    if (box .or. trim(rz%mode) == 'smooth') then
       call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo, q_min0)
     else
       call smooth_combined(reg, x, rz%quality_target, rz%smooth_iterations, iterations, q_min, halo)
