@@ -1209,14 +1209,16 @@ contains
     logical, intent(in) :: moved(:)
     logical, intent(out) :: touched(:)
     logical, intent(in), optional :: occupied(:)
-    integer :: c, a
+    integer :: c, a, n0
+    touched = .false.
+    if (.not. any(moved)) return
     do c = 1, g%ncell
-      touched(c) = .false.
       if (present(occupied)) then
         if (occupied(c)) cycle
       end if
+      n0 = g%node0(c)
       do a = 1, 8
-        touched(c) = touched(c) .or. moved(g%node0(c) + g%corner_offset(a))
+        touched(c) = touched(c) .or. moved(n0 + g%corner_offset(a))
       end do
     end do
   end subroutine cells_touched
