@@ -190,6 +190,35 @@ contains
     ! triggers evaluate this for every cell at every step)
     l2min = huge(1.0_wp)
     l2max = 0.0_wp
+    c2 = 1.0_wp
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
+    if (by_axis) then
+      ! (signed: an edge turned back against its axis, as in a cell folded
+      ! through itself, has a negative cosine; cneg: the largest square of
+      ! those, -1 if none; each edge once for both measures)
+      cneg = -1.0_wp
+      do d = 1, 3
+        do k = 1, 4
+          e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
+          le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
+          l2min = min(l2min, le2)
+          l2max = max(l2max, le2)
+          if (.not. le2 > 0.0_wp) then
+            c2 = 0.0_wp
+          else if (e(d, 1) > 0.0_wp) then
+            c2 = min(c2, e(d, 1)**2/le2)
+          else
+            cneg = max(cneg, e(d, 1)**2/le2)
+          end if
+        end do
+      end do
+      side_ratio = huge(1.0_wp)
+      if (l2min > 0.0_wp) side_ratio = sqrt(l2max/l2min)
+      cos_incl = sqrt(c2)
+      if (cneg >= 0.0_wp) cos_incl = -sqrt(cneg)
+      return
+    end if
     do d = 1, 3
       do k = 1, 4
         e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
@@ -200,31 +229,6 @@ contains
     end do
     side_ratio = huge(1.0_wp)
     if (l2min > 0.0_wp) side_ratio = sqrt(l2max/l2min)
-    c2 = 1.0_wp
-    by_axis = .false.
-    if (present(axis)) by_axis = axis
-    if (by_axis) then
-      ! (signed: an edge turned back against its axis, as in a cell folded
-      ! through itself, has a negative cosine; cneg: the largest square of
-      ! those, -1 if none)
-      cneg = -1.0_wp
-      do d = 1, 3
-        do k = 1, 4
-          e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
-          le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
-          if (.not. le2 > 0.0_wp) then
-            c2 = 0.0_wp
-          else if (e(d, 1) > 0.0_wp) then
-            c2 = min(c2, e(d, 1)**2/le2)
-          else
-            cneg = max(cneg, e(d, 1)**2/le2)
-          end if
-        end do
-      end do
-      cos_incl = sqrt(c2)
-      if (cneg >= 0.0_wp) cos_incl = -sqrt(cneg)
-      return
-    end if
     do a = 1, 8
       do i = 1, 3
         e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)
@@ -396,6 +400,8 @@ contains
       integer :: a, d, b
       call block_gather(ni, nj, i, j, kk, x, xn)
       call hex_shape(xn, r, cs, .true.)
+      fails = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle)
+      if (fails) return
       jmin = huge(1.0_wp)
       do a = 1, 8
         do d = 1, 3
@@ -406,8 +412,7 @@ contains
         jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
                    e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
       end do
-      fails = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle) &
-              .or. .not. jmin > 0.0_wp
+      fails = .not. jmin > 0.0_wp
     end function fails
   end subroutine grid_trigger_cells
 end module rezone_quality
