@@ -24,7 +24,7 @@ module mesh_grid
   implicit none
   private
   public :: grid_index_t, grid_index, grid_index_block, grid_t, grid_init_box, grid_init_nodes, block_gather, &
-            grid_register_restart, nodes_moved, &
+            grid_register_restart, nodes_moved, nodes_within, &
             FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
   !> The six faces of the block; bit f-1 of a face mask is set for face f.
@@ -386,6 +386,46 @@ contains
     xn(:, 7) = x(:, n0 + sxy + sx)
     xn(:, 8) = x(:, n0 + sxy + sx + 1)
   end subroutine block_gather
+
+  !> For each node of block ix: whether every cell of the block around it
+  !> (up to 8) has cell(c) true; false for a node none of whose cells has.
+  !> The cells with cell(c) true are counted per node, so the cost is one
+  !> pass over the cells and one over the nodes, with no neighbour search.
+  subroutine nodes_within(ix, cell, within, err)
+    type(grid_index_t), intent(in) :: ix
+    logical, intent(in) :: cell(:)
+    logical, intent(out) :: within(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: nin(:)
+    integer :: i, j, k, a, n, stat
+    allocate(nin(ix%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'nodes_within', error_no_memory('the cells per node'))
+      return
+    end if
+    nin = 0
+    do k = ix%clo(3), ix%chi(3)
+      do j = ix%clo(2), ix%chi(2)
+        do i = ix%clo(1), ix%chi(1)
+          if (.not. cell(ix%cell(i, j, k))) cycle
+          n = ix%cell_node0(i, j, k)
+          do a = 1, 8
+            nin(n + ix%corner_offset(a)) = nin(n + ix%corner_offset(a)) + 1
+          end do
+        end do
+      end do
+    end do
+    do k = ix%nlo(3), ix%nhi(3)
+      do j = ix%nlo(2), ix%nhi(2)
+        do i = ix%nlo(1), ix%nhi(1)
+          n = ix%node(i, j, k)
+          within(n) = nin(n) > 0 .and. nin(n) == (min(i + 1, ix%chi(1)) - max(i, ix%clo(1)) + 1)* &
+                                                 (min(j + 1, ix%chi(2)) - max(j, ix%clo(2)) + 1)* &
+                                                 (min(k + 1, ix%chi(3)) - max(k, ix%clo(3)) + 1)
+        end do
+      end do
+    end do
+  end subroutine nodes_within
 
   !> Registers the grid's restart fields: the node positions.
   subroutine grid_register_restart(g, reg)

@@ -187,48 +187,40 @@ contains
     logical :: by_axis
 
     ! squares throughout, one square root at the end of each measure (the
-    ! triggers evaluate this for every cell at every step)
+    ! triggers evaluate this for every cell at every step); each edge once
+    ! for the side ratio and, with axis, the cosines
+    by_axis = .false.
+    if (present(axis)) by_axis = axis
     l2min = huge(1.0_wp)
     l2max = 0.0_wp
     c2 = 1.0_wp
-    by_axis = .false.
-    if (present(axis)) by_axis = axis
-    if (by_axis) then
-      ! (signed: an edge turned back against its axis, as in a cell folded
-      ! through itself, has a negative cosine; cneg: the largest square of
-      ! those, -1 if none; each edge once for both measures)
-      cneg = -1.0_wp
-      do d = 1, 3
-        do k = 1, 4
-          e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
-          le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
-          l2min = min(l2min, le2)
-          l2max = max(l2max, le2)
-          if (.not. le2 > 0.0_wp) then
-            c2 = 0.0_wp
-          else if (e(d, 1) > 0.0_wp) then
-            c2 = min(c2, e(d, 1)**2/le2)
-          else
-            cneg = max(cneg, e(d, 1)**2/le2)
-          end if
-        end do
-      end do
-      side_ratio = huge(1.0_wp)
-      if (l2min > 0.0_wp) side_ratio = sqrt(l2max/l2min)
-      cos_incl = sqrt(c2)
-      if (cneg >= 0.0_wp) cos_incl = -sqrt(cneg)
-      return
-    end if
+    ! (signed: an edge turned back against its axis, as in a cell folded
+    ! through itself, has a negative cosine; cneg: the largest square of
+    ! those, -1 if none)
+    cneg = -1.0_wp
     do d = 1, 3
       do k = 1, 4
         e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
         le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
         l2min = min(l2min, le2)
         l2max = max(l2max, le2)
+        if (.not. by_axis) cycle
+        if (.not. le2 > 0.0_wp) then
+          c2 = 0.0_wp
+        else if (e(d, 1) > 0.0_wp) then
+          c2 = min(c2, e(d, 1)**2/le2)
+        else
+          cneg = max(cneg, e(d, 1)**2/le2)
+        end if
       end do
     end do
     side_ratio = huge(1.0_wp)
     if (l2min > 0.0_wp) side_ratio = sqrt(l2max/l2min)
+    if (by_axis) then
+      cos_incl = sqrt(c2)
+      if (cneg >= 0.0_wp) cos_incl = -sqrt(cneg)
+      return
+    end if
     do a = 1, 8
       do i = 1, 3
         e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)

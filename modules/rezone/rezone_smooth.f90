@@ -47,7 +47,7 @@ module rezone_smooth
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
   use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides, hex_edge_means
-  use mesh_grid, only: grid_index_t, grid_index
+  use mesh_grid, only: grid_index_t, grid_index, nodes_within
   use mesh_halo, only: halo_t
   implicit none
   private
@@ -268,7 +268,7 @@ contains
     !> (nnode) the nodes this block counts (a decomposed grid's; default all)
     logical, intent(in), optional :: counts(:)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
-    integer, allocatable :: nactive(:)
+    logical, allocatable :: within(:)
     character(len=200) :: msg
     type(grid_index_t) :: ix
 
@@ -298,7 +298,7 @@ contains
     allocate(reg%cell_slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%xt(3, 8, reg%ncell), &
              reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), reg%node_slot(ix%nnode), reg%untangled(reg%ncell), &
              reg%tangled(reg%ncell), reg%recheck(reg%ncell), reg%mark(1, ix%nnode), reg%near(ix%nnode), &
-             nactive(ix%nnode), stat=stat, errmsg=msg)
+             within(ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', error_no_memory('the region'))
       return
@@ -308,7 +308,7 @@ contains
     if (present(counts)) then
       reg%ghost = pack([(n, n = 1, ix%nnode)], .not. counts)
     else
-      allocate(reg%ghost(0))
+      allocate(reg%ghost(0), stat=stat)
     end if
     allocate(reg%xpre(3, size(reg%ghost)), reg%marked(ix%nnode + size(reg%ghost)), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -316,9 +316,8 @@ contains
       return
     end if
 
-    ! the active cells, and how many of them each node has
+    ! the active cells
     reg%cell_slot = 0
-    nactive = 0
     s = 0
     do ck = ix%clo(3), ix%chi(3)
       do cj = ix%clo(2), ix%chi(2)
@@ -329,13 +328,11 @@ contains
           reg%cell_slot(c) = s
           reg%cell(s) = c
           reg%node0(s) = ix%cell_node0(ci, cj, ck)
-          do a = 1, 8
-            n = reg%node0(s) + ix%corner_offset(a)
-            nactive(n) = nactive(n) + 1
-          end do
         end do
       end do
     end do
+    call nodes_within(ix, active, within, err)
+    if (allocated(err)) return
 
     ! movable nodes: mobility allows it and all cells around are active
     reg%nmove = 0
@@ -386,12 +383,7 @@ contains
       integer, intent(in) :: i, j, k
       integer :: n
       n = ix%node(i, j, k)
-      node_moves = .false.
-      if (nactive(n) == 0) return
-      node_moves = mob%kind(n) /= node_fixed .and. &
-                   nactive(n) == (min(i + 1, ix%chi(1)) - max(i, ix%clo(1)) + 1)* &
-                                 (min(j + 1, ix%chi(2)) - max(j, ix%clo(2)) + 1)* &
-                                 (min(k + 1, ix%chi(3)) - max(k, ix%clo(3)) + 1)
+      node_moves = within(n) .and. mob%kind(n) /= node_fixed
     end function node_moves
   end subroutine smooth_region_init
 

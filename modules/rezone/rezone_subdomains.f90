@@ -49,7 +49,7 @@ module rezone_subdomains
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa
-  use mesh_grid, only: grid_index_t, grid_index
+  use mesh_grid, only: grid_index_t, grid_index, nodes_within
   implicit none
   private
   public :: rezone_subdomains_t, rezone_subdomains_find, rezone_subdomains_from_boxes, &
@@ -463,8 +463,7 @@ contains
     character(len=*), intent(in) :: where
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: frozen(:)
-    integer :: ni, nj, nk, ncell, nnode, b, i, j, k, ci, cj, ck, n, stat
-    integer, allocatable :: nin(:)
+    integer :: ni, nj, nk, ncell, nnode, b, i, j, k, ci, cj, ck, stat
     character(len=200) :: msg
     type(grid_index_t) :: ix
 
@@ -513,35 +512,8 @@ contains
     end do
 
     ! a node moves when all of its (up to 8) cells are in the smoothing set
-    ! (nin: how many of them are, counted from the set's cells)
-    allocate(nin(nnode), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, where, error_no_memory('subdomain masks'))
-      return
-    end if
-    nin = 0
-    do ck = ix%clo(3), ix%chi(3)
-      do cj = ix%clo(2), ix%chi(2)
-        do ci = ix%clo(1), ix%chi(1)
-          if (.not. sub%cell_smooth(ix%cell(ci, cj, ck))) cycle
-          n = ix%cell_node0(ci, cj, ck)
-          do b = 1, 8
-            nin(n + ix%corner_offset(b)) = nin(n + ix%corner_offset(b)) + 1
-          end do
-        end do
-      end do
-    end do
-    do k = ix%nlo(3), ix%nhi(3)
-      do j = ix%nlo(2), ix%nhi(2)
-        do i = ix%nlo(1), ix%nhi(1)
-          n = ix%node(i, j, k)
-          if (nin(n) == 0) cycle
-          sub%node_move(n) = nin(n) == (min(i + 1, ix%chi(1)) - max(i, ix%clo(1)) + 1)* &
-                                       (min(j + 1, ix%chi(2)) - max(j, ix%clo(2)) + 1)* &
-                                       (min(k + 1, ix%chi(3)) - max(k, ix%clo(3)) + 1)
-        end do
-      end do
-    end do
+    call nodes_within(ix, sub%cell_smooth, sub%node_move, err)
+    if (allocated(err)) return
 
     call mask_list(sub%cell_smooth, sub%smooth_cells, where, err)
     if (allocated(err)) return
