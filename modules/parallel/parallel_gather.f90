@@ -167,6 +167,9 @@ contains
       ohi = min(boxes(4:6, r), mine(10:12))
       rcounts(r) = m*(count_box(olo, ohi) - count_box(max(olo, mine(13:15)), min(ohi, mine(16:18))))
     end do
+    ! (what this rank holds of its own box is copied, not sent to itself)
+    scounts(pc%rank) = 0
+    rcounts(pc%rank) = 0
     sdispls(0) = 0
     rdispls(0) = 0
     do r = 1, pc%nranks - 1
@@ -175,9 +178,25 @@ contains
     end do
     allocate(sbuf(max(sum(scounts), 1)), rbuf(max(sum(rcounts), 1)), stat=stat)
     call parallel_nomem(stat, 'a gather')
+    box = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
+    ! (box index = whole-grid index - b)
+    b = lo - 1
     ! (a row's entries are consecutive in i, in the block and in the box;
     ! a row through the hole in two runs)
+    blo = max(mine(1:3), mine(7:9))
+    bhi = min(mine(4:6), mine(10:12))
+    do k = blo(3), bhi(3)
+      do j = blo(2), bhi(2)
+        call row_runs(blo(1), bhi(1), j, k, mine(13:18), run, nrun)
+        q = row_start(ix, 0, j - ix%off(2), k - ix%off(3), nodes) - ix%off(1)
+        p = row_start(box, 0, j - b(2), k - b(3), nodes) - b(1)
+        do e = 1, nrun
+          w(:, p + run(1, e):p + run(2, e)) = a(:, q + run(1, e):q + run(2, e))
+        end do
+      end do
+    end do
     do r = 0, pc%nranks - 1
+      if (r == pc%rank) cycle
       blo = max(mine(1:3), boxes(7:9, r))
       bhi = min(mine(4:6), boxes(10:12, r))
       p = sdispls(r)
@@ -193,10 +212,8 @@ contains
     end do
     call MPI_Alltoallv(sbuf, scounts, sdispls, MPI_DOUBLE_PRECISION, rbuf, rcounts, rdispls, MPI_DOUBLE_PRECISION, &
                        pc%cart)
-    box = grid_index(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1)
-    ! (box index = whole-grid index - b)
-    b = lo - 1
     do r = 0, pc%nranks - 1
+      if (r == pc%rank) cycle
       olo = max(boxes(1:3, r), mine(7:9))
       ohi = min(boxes(4:6, r), mine(10:12))
       p = rdispls(r)
