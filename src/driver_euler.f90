@@ -323,13 +323,13 @@ contains
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
     logical :: done
-    real(wp), allocatable :: xnew(:, :), xk(:, :)
+    real(wp), allocatable :: xnew(:, :), xk(:, :), xpart(:, :), xh(:, :)
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
-    integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:)
-    integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f
+    integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:), broke(:)
+    integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f, rescue, nrescue, stat
     real(wp) :: fac, r
-    logical :: split, arrived, hybrid, lattice, one, at_x0, rows
+    logical :: split, arrived, hybrid, lattice, one, at_x0, rows, started
 
     if (present(xrezoned)) then
       start = e0
@@ -425,15 +425,49 @@ contains
     written = [integer ::]
     nsplit = 0
     arrived = .true.
+    ! (rescue: the stage of a part, with no split left, remapped around the
+    ! cells that cannot take it by swept faces (their nodes go too far) or
+    ! whose bounds its swept faces broke: 1, by swept faces to the part's
+    ! grid less the moves of the nodes around those cells; 2, by
+    ! intersection the rest of the way; 3, the whole part by intersection,
+    ! when stage 1 cannot sweep or breaks a bound too; 0, none)
+    rescue = 0
+    nrescue = 0
+    started = .false.
+    ! (set when a rescue begins; allocated empty here, which also keeps GCC
+    ! from taking their bounds for uninitialized)
+    allocate(xpart(3, 0), xh(3, 0), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'euler_step', error_no_memory('the parts'' grids'))
+      call es%timer%stop()
+      return
+    end if
     if (split .and. present(resume)) then
       nleft = resume%nleft
       fac = resume%fac
       ntaken = resume%ntaken
       nsplit = resume%nsplit
       if (ntaken > 0) rs = resume%rs
+      started = ntaken > 0
     end if
     do
-      if (hybrid) then
+      if (rescue > 0) then
+        ! a part the swept faces cannot take whole (its bounds) and no
+        ! split left: first every node but those around the cells that
+        ! broke a bound by swept faces, then those by intersection, as a
+        ! hybrid step does (a stage that cannot sweep, or breaks a bound
+        ! again: the whole part by intersection)
+        xk = xpart
+        if (rescue == 1) xk = xh
+        if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
+        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
+                                         moved=moved) == 0
+        if (rescue == 1 .and. .not. par%swept) then
+          rescue = 3
+          cycle
+        end if
+        par%swept_only = rescue == 1
+      else if (hybrid) then
         if (ntaken == 0) then
           par%swept = .true.
           par%lattice = .false.
@@ -472,8 +506,20 @@ contains
         end if
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
-                                         moved=moved) == 0
-        par%swept_only = par%swept .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts
+                                         moved=moved, blockers=broke) == 0
+        ! (with no split left a part that breaks a bound is remapped around
+        ! the cells that broke it, `rescue`)
+        par%swept_only = par%swept .and. (ntaken + 2*max(nleft, 1) <= rz%swept_parts .or. rz%swept_hybrid)
+        if (.not. par%swept .and. (arrived .or. ntaken + 2*max(nleft, 1) > rz%swept_parts) .and. &
+            rz%swept_hybrid .and. size(broke) > 0 .and. size(broke) < size(moved)) then
+          ! a part some cells cannot sweep (their nodes go further than
+          ! swept_max: the last part goes the rest of the way) and no split
+          ! left: by swept faces but around those cells (`rescue`)
+          xpart = xk
+          call remap_hybrid_target(st%g, xk, broke, xh)
+          rescue = 1
+          cycle
+        end if
         if (.not. (par%swept .or. arrived) .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
           ! a part the swept faces cannot take though its nodes stay within
           ! swept_max (a cell it tangles on the way): shorter parts, the
@@ -508,7 +554,7 @@ contains
       end if
       if (split .or. hybrid) then
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
-                              written=wrote, work=es%work)
+                              written=wrote, work=es%work, broke=broke)
       else
         call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved, &
                               written=wrote, work=es%work)
@@ -517,18 +563,32 @@ contains
       if (allocated(wrote)) written = [written, wrote]
       if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
         ! (nothing remapped: the first part again half as far, or the rest
-        ! of the way in twice the parts)
-        if (nleft == 0) fac = 0.5_wp*fac
-        nleft = 2*nleft
-        nsplit = nsplit + 1
+        ! of the way in twice the parts; with no split left, the part around
+        ! the cells that broke a bound, `rescue`)
+        if (rescue == 1) then
+          rescue = 3
+        else if (ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
+          if (nleft == 0) fac = 0.5_wp*fac
+          nleft = 2*nleft
+          nsplit = nsplit + 1
+        else
+          xpart = xk
+          call remap_hybrid_target(st%g, xk, broke, xh)
+          rescue = 1
+        end if
         cycle
       end if
-      if (ntaken == 0) rs = rk
-      if (ntaken > 0) call remap_stats_add(rs, rk)
-      ntaken = ntaken + 1
-      if (nleft > 0) nleft = nleft - 1
+      if (.not. started) rs = rk
+      if (started) call remap_stats_add(rs, rk)
+      started = .true.
+      if (rescue /= 1) then
+        ntaken = ntaken + 1
+        if (nleft > 0) nleft = nleft - 1
+      end if
+      if (rescue > 1) nrescue = nrescue + 1
       rs%swept_blockers = nblock
       rs%swept_splits = nsplit
+      rs%swept_rescued = nrescue
       rs%hybrid = hybrid
       if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
       ! the new mixed cells' centroids are the remapped material's: their
@@ -539,6 +599,11 @@ contains
         call es%timer%stop()
         return
       end if
+      if (rescue == 1) then
+        rescue = 2
+        cycle
+      end if
+      rescue = 0
       if (.not. (split .or. hybrid) .or. arrived) exit
     end do
     ! (the grid is at xnew: at x0 in every row, or not known to be)
@@ -641,7 +706,10 @@ contains
     else if (rs%swept_parts > 1) then
       text = ' in '//itoa(rs%swept_parts)//' parts of the way ('//itoa(rs%cells_swept)//' by swept faces; '// &
              itoa(rs%swept_blockers)//' could not sweep it at once; '//itoa(rs%swept_splits)// &
-             ' parts split for a broken bound)'
+             ' parts split for a broken bound'
+      if (rs%swept_rescued > 0) text = text//'; '//itoa(rs%swept_rescued)// &
+        ' parts intersected only around the cells that could not sweep them'
+      text = text//')'
     else if (rs%cells_swept > 0) then
       text = ' by swept faces'
     else if (rs%swept_unbounded > 0) then
@@ -782,7 +850,7 @@ contains
     type(remap_stats_t), intent(in) :: rs
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: m0, e0tot, m1, p1(3), ie1, ke1, pscale, dm, de, dp(3)
-    character(len=600) :: line
+    character(len=1000) :: line
     character(len=40) :: shared, scales
 
     es%n = es%n + 1

@@ -447,7 +447,7 @@ contains
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), every(:), cells(:), wrote(:)
     integer :: n(4), i, j, k, stat, nblock, nparts, stage, taken
-    logical :: hybrid, lattice, again, arrived, next, kept
+    logical :: hybrid, lattice, again, arrived, next, kept, whole
 
     redo = .false.
     wider = .false.
@@ -556,9 +556,18 @@ contains
       if (ps%on) then
         ! the next part's grid, as `euler_step` takes it (the decisions from
         ! the blocks' owned cells, reduced)
-        call window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err)
+        call window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, whole)
         if (allocated(err)) then
           call es%timer%stop()
+          return
+        end if
+        if (whole) then
+          ! (a part that `euler_step` takes around the cells that cannot
+          ! sweep it: the whole grid does, from where the parts stand)
+          redo = .true.
+          if (taken > 0) ps%rs = rs
+          call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold (a part some '// &
+                        'cells cannot sweep, with no split left): remapped on the whole grid')
           return
         end if
         if (next) cycle
@@ -670,10 +679,11 @@ contains
   !> xw, the window's nodes (xfinal: its rezoned grid; cells: the window's
   !> cells that move to it from the step's start), par's swept, swept_only
   !> and lattice, and arrived (the last part); next: no remap, the parts
-  !> split (ps). Each decision from the blocks' owned cells, reduced over
-  !> the ranks (collective); open faces' gap search from the whole grid's
-  !> nodes, as the windows' remaps take it.
-  subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err)
+  !> split (ps); whole: no remap, the part is `euler_step`'s to take around
+  !> the cells that cannot sweep it (no split left). Each decision from the
+  !> blocks' owned cells, reduced over the ranks (collective); open faces'
+  !> gap search from the whole grid's nodes, as the windows' remaps take it.
+  subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, whole)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -683,15 +693,17 @@ contains
     integer, intent(in) :: cells(:)
     real(wp), allocatable, intent(inout) :: xw(:, :)
     type(parts_state_t), intent(inout) :: ps
-    logical, intent(out) :: arrived, next
+    logical, intent(out) :: arrived, next, whole
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xb(:, :), xkw(:, :), x(:, :)
     real(wp) :: r
-    integer :: n(1), nmax
+    integer :: n(2), nmax
+    integer, allocatable :: moved(:)
     logical :: global
     nmax = cfg%rezone%swept_parts
     global = trim(cfg%rezone%mode) == 'global'
     next = .false.
+    whole = .false.
     arrived = .true.
     associate (w => st%win, wg => st%win%g)
       if (ps%ntaken == 0 .and. ps%nleft == 0) then
@@ -727,10 +739,15 @@ contains
         call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
         par%lattice = n(1) == 1
       end if
-      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own)
-      call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_SUM, pc%world)
+      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own, moved=moved)
+      n(2) = count(zone%own(moved))
+      call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
       par%swept = n(1) == 0
       par%swept_only = par%swept .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax
+      ! (as `euler_step` decides its rescue of such a part)
+      whole = .not. par%swept .and. (arrived .or. ps%ntaken + 2*max(ps%nleft, 1) > nmax) .and. &
+              cfg%rezone%swept_hybrid .and. n(1) > 0 .and. n(1) < n(2)
+      if (whole) return
       if (.not. (par%swept .or. arrived) .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax) then
         ! (a part the swept faces cannot take: shorter parts)
         if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)

@@ -270,6 +270,10 @@ contains
       n = sizes(k)
       call grid_init_box(gb, n, n, n, [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], err)
       call stop_on(err)
+      ! (allocated first: GCC takes the reallocating assignment's bounds of
+      ! an unallocated array for uninitialized)
+      if (allocated(xo)) deallocate(xo)
+      allocate(xo(3, gb%nnode))
       xo = gb%x
       call move_ball(gb, xo)
       tb = huge(1.0_wp)

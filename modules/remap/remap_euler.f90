@@ -185,6 +185,10 @@ module remap_euler
     integer :: cells_copied = 0       !< unchanged cells, copied
     integer :: swept_parts = 1        !< the parts of the way the step was remapped in (`remap_stats_add`)
     integer :: swept_splits = 0       !< of them, parts split in two because their swept faces broke a bound (the caller's)
+    !> of them, parts with no split left that some cells could not take by
+    !> swept faces (too far, or a broken bound): remapped by swept faces but
+    !> around those cells, then there by intersection (the caller's)
+    integer :: swept_rescued = 0
     !> the step was hybrid: by swept faces where the cells could, then by
     !> intersection around those that could not (the caller's)
     logical :: hybrid = .false.
@@ -477,7 +481,7 @@ contains
   !> cell, mixed cells, nodal mass and velocity); pressures and sound speeds
   !> are left for the caller to evaluate. bc's kinematic conditions are
   !> applied to the new velocities. nmat is the number of materials.
-  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved, written, work)
+  subroutine remap_euler_step(g, h, mx, nmat, bc, xnew, par, stats, err, share, zone, moved, written, work, broke)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -501,6 +505,10 @@ contains
     !> the caller's work arrays (absent: this call's, its marks set over
     !> the grid)
     type(remap_work_t), intent(inout), optional, target :: work
+    !> with par%swept_only, when the swept faces broke a material's bounds
+    !> (nothing remapped): the new cells that broke them, in increasing
+    !> order (else empty)
+    integer, allocatable, intent(out), optional :: broke(:)
     type(old_t), target :: own_old
     type(old_t), pointer :: old
     type(lattice_old_t) :: lat
@@ -519,6 +527,7 @@ contains
     character(len=200) :: msg
 
     old => own_old
+    if (present(broke)) broke = [integer ::]
     if (present(work)) then
       call marks_ready(work%old, g%ncell, g%nnode, stat)
       if (stat /= 0) then
@@ -687,8 +696,10 @@ contains
       if (ngap > 0) call widen_gaps(gaps(1:ngap), err)
       if (allocated(err)) exit main
       if (.not. old%swept) exit passes
-      stats%swept_unbounded = swept_unbounded(g, h, mx, old, done, avol, amass, aie, sliver_fraction(par, old%swept))
+      stats%swept_unbounded = swept_unbounded(g, h, mx, old, done, avol, amass, aie, sliver_fraction(par, old%swept), &
+                                              redo)
       if (stats%swept_unbounded == 0) exit passes
+      if (par%swept_only .and. present(broke)) broke = pack(done, redo(done))
       ! (a window's: the caller remaps the whole grid instead, where this
       ! pass decides for every cell alike)
       if (windowed .or. par%swept_only) exit main
@@ -2215,20 +2226,22 @@ contains
   !> swept faces keep these bounds by construction where the regions they
   !> take from lie next to their faces; a mixed cell's planes extended past
   !> it, or a region swept out of a thin material layer, can break them.
-  integer function swept_unbounded(g, h, mx, old, cells, avol, amass, aie, vf_min) result(nbad)
+  integer function swept_unbounded(g, h, mx, old, cells, avol, amass, aie, vf_min, bad_cell) result(nbad)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(old_t), intent(in) :: old
     integer, intent(in) :: cells(:)
     real(wp), intent(in) :: avol(:, :), amass(:, :), aie(:, :), vf_min
+    !> (ncell) set at each of cells: whether it broke a bound
+    logical, intent(inout) :: bad_cell(:)
     real(wp), parameter :: slack = 1.0e-9_wp
     real(wp) :: rlo, rhi, elo, ehi, vtot, mtot, rho, e
     integer :: i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r
     logical :: bad, found
 
     nbad = 0
-    !$omp parallel do default(none) shared(g, h, mx, old, cells, avol, amass, aie, vf_min) &
+    !$omp parallel do default(none) shared(g, h, mx, old, cells, avol, amass, aie, vf_min, bad_cell) &
     !$omp private(i, c, k, ci, cj, ck, oi, oj, ok_, co, s, r, bad, found, rlo, rhi, elo, ehi, vtot, mtot, rho, e) &
     !$omp reduction(+:nbad) schedule(static)
     do i = 1, size(cells)
@@ -2283,6 +2296,7 @@ contains
           if (.not. bad) exit
         end do
       end do
+      bad_cell(c) = bad
       if (bad) nbad = nbad + 1
     end do
     !$omp end parallel do
