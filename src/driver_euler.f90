@@ -452,11 +452,11 @@ contains
     end if
     do
       if (rescue > 0) then
-        ! a part the swept faces cannot take whole (its bounds) and no
-        ! split left: first every node but those around the cells that
-        ! broke a bound by swept faces, then those by intersection, as a
-        ! hybrid step does (a stage that cannot sweep, or breaks a bound
-        ! again: the whole part by intersection)
+        ! a part some of whose cells cannot take it by swept faces (too
+        ! far, or a broken bound) and no split left: first every node but
+        ! those around these cells by swept faces, then those by
+        ! intersection, as a hybrid step does (a first stage that cannot
+        ! sweep, or breaks a bound again: the whole part by intersection)
         xk = xpart
         if (rescue == 1) xk = xh
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
@@ -464,6 +464,12 @@ contains
                                          moved=moved) == 0
         if (rescue == 1 .and. .not. par%swept) then
           rescue = 3
+          cycle
+        end if
+        ! (every moving cell is around those that cannot sweep: the second
+        ! stage alone)
+        if (rescue == 1 .and. size(moved) == 0) then
+          rescue = 2
           cycle
         end if
         par%swept_only = rescue == 1
