@@ -1103,10 +1103,14 @@ contains
     end if
     call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied)
     if (allocated(err)) return
+    ! (the squeeze guard with the box reading only: the cube target does not
+    ! keep volumes, and with 'smooth' the whole grid moves)
     if (box) then
-      call smooth_region_init(mob, sub%cell_smooth, reg, err, aspect_max=aspect_max, counts=counts)
+      call smooth_region_init(mob, sub%cell_smooth, reg, err, aspect_max=aspect_max, counts=counts, &
+                              squeeze=rz%squeeze, health_min=rz%untangle, origin=g%off + g%slo - 1)
     else
-      call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts)
+      call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts, health_min=rz%untangle, &
+                              origin=g%off + g%slo - 1)
     end if
     if (allocated(err)) return
     if (box .or. trim(rz%mode) == 'smooth') then
@@ -1179,9 +1183,10 @@ contains
     if (ngrown > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') ngrown
     write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
       &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
-      &" nodes put back; ",i0," nodes back on the standard grid first",a)') trim(rz%mode), step, nd, &
-      size(blo, 2), sums(2), q_min0, q_min, iterations, trim(merge(', then TFI', '          ', tfi)), &
-      trim(kept), reg%n_guarded, nrevert, sums(1), trim(grown)
+      &" nodes put back, ",i0," node moves untangling first; ",i0," nodes back on the standard grid first",a)') &
+      trim(rz%mode), step, nd, size(blo, 2), sums(2), q_min0, q_min, iterations, &
+      trim(merge(', then TFI', '          ', tfi)), trim(kept), reg%n_guarded, nrevert, reg%n_untangled, sums(1), &
+      trim(grown)
     call log_line(log, trim(line))
 
   contains

@@ -15,7 +15,8 @@ program test_rezone_smooth
                            smooth_mobility_box, smooth_region_init, smooth_modified_getme, smooth_weighted_average, &
                            smooth_getme_original, smooth_combined, smooth_q_min, smooth_tfi, hex_centroid, &
                            hex_cube_target, hex_getme_target, hex_min_tet_volume, hex_min_corner_jacobian, &
-                           smooth_keep_small_moves, hex_box_target, smooth_revert_tangled
+                           smooth_keep_small_moves, hex_box_target, smooth_revert_tangled, smooth_untangle, &
+                           hex_health
   use test_assert, only: check, check_summary
   use omp_lib, only: omp_get_max_threads, omp_set_num_threads
   implicit none
@@ -29,6 +30,8 @@ program test_rezone_smooth
   call test_locality()
   call test_combined()
   call test_untangle()
+  call test_untangle_nodes()
+  call test_squeeze()
   call test_threads()
   call test_tfi()
   call test_keep_small_moves()
@@ -625,6 +628,129 @@ contains
       call check(q >= 0.99_wp, 'combined reaches Q_min 0.99 on the tangled grid')
     end do
   end subroutine test_untangle
+
+  !> smooth_untangle (health_min 0.01): a grid with no cell below it is left
+  !> bit for bit; a node pushed through its neighbour (tangled cells) and a
+  !> node pushed almost onto a face (a cell of health ~1e-3, the nearly
+  !> flat cell the guard cannot mend: every move around it tangles a
+  !> neighbour) are brought back to a healthy grid (every cell's health
+  !> above 0.3: the pattern search recovers most of a unit cube's 1); the
+  !> result is the same on 1 and 2 threads.
+  subroutine test_untangle_nodes()
+    integer, parameter :: n = 6
+    type(smooth_mobility_t) :: mob
+    type(smooth_region_t) :: reg
+    type(error_t), allocatable :: err
+    logical :: active(n**3)
+    real(wp) :: x0(3, (n + 1)**3), x(3, (n + 1)**3), x1(3, (n + 1)**3), h0, h
+    integer :: nd, trial, nthreads, pass
+
+    active = .true.
+    call smooth_mobility_box(n, n, n, mob, err)
+    call smooth_region_init(mob, active, reg, err, health_min=0.01_wp)
+    call check(.not. allocated(err), 'a region with untangling builds')
+    call perturbed_grid(n, 0.15_wp, x0)
+    x = x0
+    call smooth_untangle(reg, x)
+    call check(same(reshape(x, [size(x)]), reshape(x0, [size(x0)])) .and. reg%n_untangled == 0, &
+               'untangle: a healthy grid is left bit for bit')
+    nd = 1 + 3 + (n + 1)*(3 + (n + 1)*3)
+    do trial = 1, 2
+      call perturbed_grid(n, 0.0_wp, x0)
+      if (trial == 1) x0(1, nd) = 4.5_wp              ! through node (4,3,3)
+      if (trial == 2) x0(:, nd) = [3.0_wp, 3.0_wp, 3.999_wp]   ! onto the face k = 4
+      h0 = worst_health(n, x0)
+      nthreads = omp_get_max_threads()
+      do pass = 1, 2
+        call omp_set_num_threads(pass)
+        x = x0
+        call smooth_untangle(reg, x)
+        if (pass == 1) x1 = x
+      end do
+      call omp_set_num_threads(nthreads)
+      h = worst_health(n, x)
+      write(*, '(a,i0,a,es10.3,a,f7.4,a,i0,a)') 'untangle nodes, case ', trial, ': worst health ', h0, ' -> ', h, &
+        ' (', reg%n_untangled, ' node moves)'
+      call check(h > 0.3_wp .and. h0 < 0.01_wp, 'untangle: case '//itoa(trial)//' ends with every cell healthy')
+      call check(same(reshape(x, [size(x)]), reshape(x1, [size(x1)])), &
+                 'untangle: case '//itoa(trial)//' the same on 1 and 2 threads')
+    end do
+
+  end subroutine test_untangle_nodes
+
+  !> The squeeze guard (box reading, squeeze 0.85): a layer of cells
+  !> compressed 4:1 along x (beyond the target's aspect ratio 2) between
+  !> cubes, smoothed 20 iterations: without the guard the expansion of the
+  !> layer squeezes a neighbour below 0.85 of its volume; with it no cell
+  !> ends below 0.85 of its volume before the smoothing.
+  subroutine test_squeeze()
+    integer, parameter :: n = 6
+    type(smooth_mobility_t) :: mob
+    type(smooth_region_t) :: reg
+    type(error_t), allocatable :: err
+    logical :: active(n**3)
+    real(wp) :: x0(3, (n + 1)**3), x(3, (n + 1)**3), px(0:n), v0(n**3), v(n**3), q, ratio
+    integer :: i, j, k, it, pass
+
+    px = [0.0_wp, 1.0_wp, 2.0_wp, 2.25_wp, 2.5_wp, 3.5_wp, 4.5_wp]
+    do k = 0, n
+      do j = 0, n
+        do i = 0, n
+          x0(:, 1 + i + (n + 1)*(j + (n + 1)*k)) = [px(i), real(j, wp), real(k, wp)]
+        end do
+      end do
+    end do
+    ! (shear the layer a little so that the box target moves it)
+    x0(2, 1 + 3 + (n + 1)*(3 + (n + 1)*3)) = 3.2_wp
+    call cell_volumes(n, x0, v0)
+    active = .true.
+    call smooth_mobility_box(n, n, n, mob, err)
+    do pass = 1, 2
+      call smooth_region_init(mob, active, reg, err, aspect_max=2.0_wp, squeeze=merge(0.0_wp, 0.85_wp, pass == 1))
+      x = x0
+      call smooth_combined(reg, x, 1.0_wp, 20, it, q)
+      call cell_volumes(n, x, v)
+      ratio = minval(v/v0)
+      write(*, '(a,f4.2,a,f7.4)') 'squeeze ', reg%squeeze, ': smallest volume ratio ', ratio
+      if (pass == 1) call check(ratio < 0.85_wp, 'squeeze off: the layer''s expansion squeezes a neighbour')
+      if (pass == 2) call check(ratio >= 0.85_wp, 'squeeze 0.85: no cell below 0.85 of its volume')
+    end do
+
+  end subroutine test_squeeze
+
+  !> The smallest health (`hex_health`, scale 1) over the cells of an n^3 grid.
+  real(wp) function worst_health(n, xg)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: xg(:, :)
+    integer :: ci, cj, ck
+    real(wp) :: xn(3, 8)
+    worst_health = huge(1.0_wp)
+    do ck = 1, n
+      do cj = 1, n
+        do ci = 1, n
+          call block_gather(n, n, ci, cj, ck, xg, xn)
+          worst_health = min(worst_health, hex_health(xn, 1.0_wp))
+        end do
+      end do
+    end do
+  end function worst_health
+
+  !> The volumes v(c) of the cells of an n^3 grid.
+  subroutine cell_volumes(n, xg, v)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: xg(:, :)
+    real(wp), intent(out) :: v(:)
+    integer :: ci, cj, ck
+    real(wp) :: xn(3, 8)
+    do ck = 1, n
+      do cj = 1, n
+        do ci = 1, n
+          call block_gather(n, n, ci, cj, ck, xg, xn)
+          v(ci + n*(cj - 1 + n*(ck - 1))) = hex_volume(xn)
+        end do
+      end do
+    end do
+  end subroutine cell_volumes
 
   !> The passes are Jacobi-style: 1 and 2 threads give identical grids.
   subroutine test_threads()

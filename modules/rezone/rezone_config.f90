@@ -82,6 +82,15 @@ module rezone_config
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
     character(len=16) :: smooth_target = 'box'
+    !> smoothing: the cells whose health (`hex_health`: the smallest corner
+    !> Jacobian or 24 tetrahedra of the 24-tet split over the mean edge
+    !> cubed; 1 for a cube) is below this are untangled before the passes
+    !> (`smooth_untangle`); 0: off
+    real(wp) :: untangle = 0.01_wp
+    !> 'lssm' with smooth_target 'box': a smoothing pass may not leave a cell
+    !> below this share of its volume at the Euler step's start (the guard
+    !> takes such a pass back around it, `smooth_region_t`'s squeeze); 0: off
+    real(wp) :: squeeze = 0.85_wp
     !> coupled particles: before the remap the fluid under the solid takes
     !> the state of the fluid around it in this many layers of cells from
     !> the solid's surface inwards (`particles_virtual`); 0: it keeps the
@@ -100,7 +109,7 @@ contains
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     character(len=16) :: mode, reconstruction, smooth_target
     real(wp) :: side_ratio, cos_angle, conservation_tol, interval_time, quality, quality_target, d_max, move_min, &
-                drift_max, drift_open, swept_max, hysteresis, swept_vf_min
+                drift_max, drift_open, swept_max, hysteresis, swept_vf_min, untangle, squeeze
     integer :: interval_steps, mof_max_iter, smooth_iterations, ios, swept_parts, virtual_layers
     logical :: swept_mixed, swept_hybrid
     character(len=max_line) :: msg
@@ -108,7 +117,7 @@ contains
     namelist /rezone/ mode, side_ratio, cos_angle, interval_steps, interval_time, reconstruction, &
                       mof_max_iter, conservation_tol, quality, quality_target, smooth_iterations, d_max, &
                       move_min, smooth_target, drift_max, drift_open, swept_max, hysteresis, &
-                      swept_mixed, swept_parts, virtual_layers, swept_hybrid, swept_vf_min
+                      swept_mixed, swept_parts, virtual_layers, swept_hybrid, swept_vf_min, untangle, squeeze
 
     mode = defaults%mode; side_ratio = defaults%side_ratio; cos_angle = defaults%cos_angle
     interval_steps = defaults%interval_steps; interval_time = defaults%interval_time
@@ -119,7 +128,7 @@ contains
     smooth_target = defaults%smooth_target; drift_max = defaults%drift_max; drift_open = defaults%drift_open
     hysteresis = defaults%hysteresis; swept_mixed = defaults%swept_mixed
     virtual_layers = defaults%virtual_layers; swept_hybrid = defaults%swept_hybrid
-    swept_vf_min = defaults%swept_vf_min
+    swept_vf_min = defaults%swept_vf_min; untangle = defaults%untangle; squeeze = defaults%squeeze
     ! (0, and a negative swept_max: the mode's, once the mode is read)
     swept_parts = 0
     swept_max = -1.0_wp
@@ -178,6 +187,10 @@ contains
       swept_max, 'must be in [0, 0.5] (0: always intersect)')
     if (.not. (swept_vf_min >= 0.0_wp .and. swept_vf_min <= 1.0e-2_wp)) call problem_bad(problems, 'rezone', &
       'swept_vf_min', swept_vf_min, 'must be in [0, 0.01]')
+    if (.not. (untangle >= 0.0_wp .and. untangle < 1.0_wp)) call problem_bad(problems, 'rezone', 'untangle', &
+      untangle, 'must be in [0, 1) (0: off)')
+    if (.not. (squeeze >= 0.0_wp .and. squeeze < 1.0_wp)) call problem_bad(problems, 'rezone', 'squeeze', &
+      squeeze, 'must be in [0, 1) (0: off)')
     if (virtual_layers < 0) call problem_badi(problems, 'rezone', 'virtual_layers', virtual_layers, &
       'must be >= 0 (0: off)')
     if (swept_parts < 1 .or. swept_parts > 64) call problem_badi(problems, 'rezone', 'swept_parts', swept_parts, &
@@ -192,7 +205,8 @@ contains
       quality_target=quality_target, smooth_iterations=smooth_iterations, d_max=d_max, move_min=move_min, &
       smooth_target=smooth_target, drift_max=drift_max, drift_open=drift_open, &
       swept_max=swept_max, hysteresis=hysteresis, swept_mixed=swept_mixed, swept_parts=swept_parts, &
-      virtual_layers=virtual_layers, swept_hybrid=swept_hybrid, swept_vf_min=swept_vf_min)
+      virtual_layers=virtual_layers, swept_hybrid=swept_hybrid, swept_vf_min=swept_vf_min, untangle=untangle, &
+      squeeze=squeeze)
     if (echo /= no_echo) write(echo, nml=rezone)
   end subroutine rezone_config_read
 

@@ -58,7 +58,7 @@ module rezone_smooth
   public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, &
             smooth_region_tangled
   public :: hex_centroid, hex_cube_target, hex_box_target, hex_getme_target, getme_b_default
-  public :: hex_min_tet_volume, hex_min_corner_jacobian, hex_tangled
+  public :: hex_min_tet_volume, hex_min_corner_jacobian, hex_tangled, hex_health, smooth_untangle
 
   !> Node kinds of a mobility: never moves, moves freely, slides in the
   !> plane through it with unit normal `dir`, slides along the line through
@@ -100,6 +100,19 @@ module rezone_smooth
     !> cubes, volume weights and Eq. (46).
     logical :: box = .false.
     real(wp) :: aspect_max = 1.0_wp        !< largest aspect ratio of a target box (box reading)
+    !> the smallest share of its volume at the smoothing's start a pass may
+    !> leave an active cell (`guard_undo` takes it as tangled below); 0: off
+    real(wp) :: squeeze = 0.0_wp
+    !> cells whose health (`hex_health`) is below this are untangled
+    !> (`smooth_untangle`) before the smoothing passes; 0: off
+    real(wp) :: health_min = 0.0_wp
+    integer :: n_untangled = 0             !< node moves of the untangling (last smoothing)
+    integer :: origin(3) = 0               !< the whole grid's index of the block's first node (0-based)
+    !> (nmove) the node's colour class for `smooth_untangle` (0..7: the
+    !> parities of its whole-grid indices), and work: whether it moves there
+    integer, allocatable :: colour(:)
+    logical, allocatable :: pick(:)
+    real(wp), allocatable :: vstart(:)     !< (ncell) work: volumes at the smoothing's start
     integer :: n_guarded = 0               !< node moves the untangling guard halved or undid (last smoothing)
     real(wp), allocatable :: xsave(:, :)   !< (3, nmove) work: positions before a pass
     integer, allocatable :: nhalve(:)      !< (nmove) work: times a node's move was halved
@@ -119,10 +132,11 @@ module rezone_smooth
     integer, allocatable :: marked(:)
     integer :: nmarked = 0
     logical, allocatable :: near(:)        !< (nnode of the block) work: within guard_reach of a marked node
-    !> (ncell) work: each active cell untangled before a pass (`hex_tangled`)
+    !> (ncell) work: each active cell not spoiled before a pass (`spoiled`)
     logical, allocatable :: untangled(:)
-    !> (ncell) work: the cells the guard finds tangled (of those untangled
-    !> before the pass), and those whose nodes it changed in a round
+    !> (ncell) work: the cells the guard finds spoiled (of those not spoiled
+    !> before the pass; `smooth_untangle`: those below health_min), and
+    !> those whose nodes the guard changed in a round
     logical, allocatable :: tangled(:), recheck(:)
     !> whether `untangled` holds for the present positions (what the
     !> guard's last round found)
@@ -259,14 +273,20 @@ contains
   !> and every cell of the block around the node active) and the work
   !> arrays of the passes. With aspect_max (>= 1), the box reading (see
   !> `smooth_region_t`).
-  subroutine smooth_region_init(mob, active, reg, err, aspect_max, counts)
+  subroutine smooth_region_init(mob, active, reg, err, aspect_max, counts, squeeze, health_min, origin)
     type(smooth_mobility_t), intent(in) :: mob
     logical, intent(in) :: active(:)
     type(smooth_region_t), intent(out) :: reg
     type(error_t), allocatable, intent(inout) :: err
     real(wp), intent(in), optional :: aspect_max
+    !> (reg%squeeze) the smallest share of its starting volume a pass may leave a cell; default 0 (off)
+    real(wp), intent(in), optional :: squeeze
     !> (nnode) the nodes this block counts (a decomposed grid's; default all)
     logical, intent(in), optional :: counts(:)
+    !> (reg%health_min) cells below this health are untangled first; default 0 (off)
+    real(wp), intent(in), optional :: health_min
+    !> (reg%origin) the whole grid's index of the block's first node; default 0
+    integer, intent(in), optional :: origin(3)
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     logical, allocatable :: within(:)
     character(len=200) :: msg
@@ -290,6 +310,21 @@ contains
       reg%box = .true.
       reg%aspect_max = aspect_max
     end if
+    if (present(squeeze)) then
+      if (.not. (squeeze >= 0.0_wp .and. squeeze < 1.0_wp)) then
+        call error_set(err, 'smooth_region_init', 'squeeze must be in [0, 1)')
+        return
+      end if
+      reg%squeeze = squeeze
+    end if
+    if (present(health_min)) then
+      if (.not. (health_min >= 0.0_wp .and. health_min < 1.0_wp)) then
+        call error_set(err, 'smooth_region_init', 'health_min must be in [0, 1)')
+        return
+      end if
+      reg%health_min = health_min
+    end if
+    if (present(origin)) reg%origin = origin
     ix = grid_index(ni, nj, nk)
     reg%ni = ni; reg%nj = nj; reg%nk = nk
     reg%corner_offset = ix%corner_offset
@@ -297,6 +332,7 @@ contains
 
     allocate(reg%cell_slot(ncell_all), reg%cell(reg%ncell), reg%node0(reg%ncell), reg%xt(3, 8, reg%ncell), &
              reg%xcell(3, reg%ncell), reg%wcell(reg%ncell), reg%node_slot(ix%nnode), reg%untangled(reg%ncell), &
+             reg%vstart(reg%ncell), &
              reg%tangled(reg%ncell), reg%recheck(reg%ncell), reg%mark(1, ix%nnode), reg%near(ix%nnode), &
              within(ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -344,7 +380,8 @@ contains
       end do
     end do
     allocate(reg%node(reg%nmove), reg%kind(reg%nmove), reg%dir(3, reg%nmove), reg%node_cell(8, reg%nmove), &
-             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), reg%own(reg%nmove), stat=stat, errmsg=msg)
+             reg%xsave(3, reg%nmove), reg%nhalve(reg%nmove), reg%own(reg%nmove), reg%colour(reg%nmove), &
+             reg%pick(reg%nmove), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'smooth_region_init', error_no_memory('the region'))
       return
@@ -358,6 +395,8 @@ contains
           m = m + 1
           n = ix%node(i, j, k)
           reg%node(m) = n
+          ! (the parities of the whole grid's node indices)
+          reg%colour(m) = mod(i + reg%origin(1), 2) + 2*mod(j + reg%origin(2), 2) + 4*mod(k + reg%origin(3), 2)
           reg%own(m) = .true.
           if (present(counts)) reg%own(m) = counts(n)
           reg%kind(m) = mob%kind(n)
@@ -467,6 +506,15 @@ contains
       jmin = min(jmin, dot_product(e(:, 1), cross(e(:, 2), e(:, 3))))
     end do
   end function hex_min_corner_jacobian
+
+  !> A hexahedron's health: the smaller of its smallest corner Jacobian
+  !> (`hex_min_corner_jacobian`) and 24 times its smallest tetrahedron of the
+  !> 24-tet split (`hex_min_tet_volume`), over scale**3: 1 for a cube of edge
+  !> scale, about its aspect ratio's inverse for a box, <= 0 when tangled.
+  pure real(wp) function hex_health(xn, scale)
+    real(wp), intent(in) :: xn(3, 8), scale
+    hex_health = min(hex_min_corner_jacobian(xn), 24.0_wp*hex_min_tet_volume(xn))/scale**3
+  end function hex_health
 
   !> Whether a hexahedron is tangled: a corner Jacobian or a tetrahedron of
   !> the 24-tet split non-positive (the test of `smooth_revert_tangled`).
@@ -796,7 +844,10 @@ contains
   !> active cells is below q_target and fewer than n_max iterations were
   !> done, one modified GETMe pass then one weighted-average pass. After
   !> each pass the untangling guard (`guard_undo`) takes back the moves
-  !> that tangled a cell. Returns the iterations done (0 if the grid already
+  !> that tangled a cell (or, with reg%squeeze, squeezed it below that share
+  !> of its volume before the first pass). First, with reg%health_min, the
+  !> cells below that health are untangled (`smooth_untangle`: the guard
+  !> only keeps cells from getting worse). Returns the iterations done (0 if the grid already
   !> met the target) and the final Q_min. The TFI fallback (step 2) is the
   !> caller's: it needs the merged cuboid subdomains (`smooth_tfi`).
   !> x(3, nnode) in length units. With halo (a block of a decomposed grid,
@@ -822,6 +873,9 @@ contains
     iterations = 0
     reg%n_guarded = 0
     reg%known = .false.
+    reg%n_untangled = 0
+    if (reg%health_min > 0.0_wp) call smooth_untangle(reg, x, halo)
+    if (reg%squeeze > 0.0_wp) call keep_volumes()
     q_min = global_q_min()
     if (present(q_start)) q_start = q_min
     do while (q_min < q_target .and. iterations < n_max)
@@ -847,7 +901,174 @@ contains
       global_q_min = smooth_q_min(reg, x)
       if (present(halo)) call halo%choose(global_q_min, none)
     end function global_q_min
+
+    subroutine keep_volumes()
+      integer :: s
+      real(wp) :: xn(3, 8)
+      !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+      do s = 1, reg%ncell
+        call region_gather(reg, s, x, xn)
+        reg%vstart(s) = hex_volume(xn)
+      end do
+      !$omp end parallel do
+    end subroutine keep_volumes
   end subroutine smooth_combined
+
+  !> Whether the active cell in slot s (nodes xn) is spoiled for the
+  !> untangling guard: tangled (`hex_tangled`), or with reg%squeeze > 0
+  !> squeezed below that share of its volume at the smoothing's start.
+  pure logical function spoiled(reg, s, xn)
+    type(smooth_region_t), intent(in) :: reg
+    integer, intent(in) :: s
+    real(wp), intent(in) :: xn(3, 8)
+    spoiled = hex_tangled(xn)
+    if (.not. spoiled .and. reg%squeeze > 0.0_wp) spoiled = hex_volume(xn) < reg%squeeze*reg%vstart(s)
+  end function spoiled
+
+  !> Untangling, before the smoothing passes (whose guard keeps cells from
+  !> getting worse but cannot mend a cell the Lagrangian phase left nearly
+  !> flat or inverted: every move around it tangles a neighbour, so the guard
+  !> undoes them all and the cell stays as it is). The movable nodes of the
+  !> active cells whose health (`hex_health`, against the cell's mean edge)
+  !> is below reg%health_min are moved one at a time to raise the smallest
+  !> health of the cells around them: a pattern search along the directions
+  !> their mobility allows (free: the three axes; in a plane: two tangents;
+  !> on a line: the line), both ways, from a fifth of the shortest mean edge
+  !> of those cells, taking the best direction that gains and halving the
+  !> step when none does, down to a thousandth of it. A node moves only if
+  !> that smallest health rises, so no cell ends below the worst around
+  !> the node before. The nodes go in eight colour classes (the parities of
+  !> their indices), untangle_sweeps times over: two nodes of one class
+  !> share no cell, so a class moves at once, in parallel, and the result
+  !> depends on neither the thread count nor the blocks (halo: the ghosts
+  !> are refreshed after every class, and the moves counted in
+  !> reg%n_untangled are the whole grid's).
+  subroutine smooth_untangle(reg, x, halo)
+    type(smooth_region_t), intent(inout) :: reg
+    real(wp), intent(inout) :: x(:, :)
+    class(halo_t), intent(inout), optional :: halo
+    integer, parameter :: untangle_sweeps = 3, max_tries = 60
+    integer :: s, a, m, n, sweep, col, nbad(1), moves(1)
+    real(wp) :: xn(3, 8), xp(3)
+
+    ! the cells' scales (their mean edges, kept through the sweeps), those
+    ! below health_min (reg%tangled as work), and their movable nodes
+    !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+    do s = 1, reg%ncell
+      call region_gather(reg, s, x, xn)
+      reg%wcell(s) = mean_edge(xn)
+      reg%tangled(s) = hex_health(xn, reg%wcell(s)) < reg%health_min
+    end do
+    !$omp end parallel do
+    do m = 1, reg%nmove
+      reg%pick(m) = .false.
+      do a = 1, 8
+        s = reg%node_cell(a, m)
+        if (s > 0) reg%pick(m) = reg%pick(m) .or. reg%tangled(s)
+      end do
+    end do
+    nbad = count(reg%pick)
+    if (present(halo)) call halo%max_int(nbad(1))
+    if (nbad(1) == 0) return
+    moves = 0
+    do sweep = 1, untangle_sweeps
+      do col = 0, 7
+        !$omp parallel do default(none) shared(reg, x, col) private(m, n, xp) &
+        !$omp reduction(+: moves) schedule(dynamic)
+        do m = 1, reg%nmove
+          if (.not. reg%pick(m) .or. reg%colour(m) /= col) cycle
+          n = reg%node(m)
+          xp = x(:, n)
+          if (.not. improve(m, xp)) cycle
+          x(:, n) = xp
+          if (reg%own(m)) moves(1) = moves(1) + 1
+        end do
+        !$omp end parallel do
+        if (present(halo)) call halo%nodes(x)
+      end do
+    end do
+    if (present(halo)) call halo%sum_ints(moves)
+    reg%n_untangled = moves(1)
+
+  contains
+
+    !> Moves node slot m (position p) by the pattern search; true if it moved.
+    logical function improve(m, p)
+      integer, intent(in) :: m
+      real(wp), intent(inout) :: p(3)
+      real(wp) :: dirs(3, 6), q(3), y(3), best(3), h, hmin, f0, fbest, ft, t1(3), t2(3)
+      integer :: nd, d, try, s, b
+      logical :: gained
+      select case (reg%kind(m))
+      case (node_free)
+        nd = 6
+        dirs = 0.0_wp
+        do d = 1, 3
+          dirs(d, 2*d - 1) = 1.0_wp
+          dirs(d, 2*d) = -1.0_wp
+        end do
+      case (node_plane)
+        nd = 4
+        t1 = 0.0_wp
+        t1(minloc(abs(reg%dir(:, m)), 1)) = 1.0_wp
+        t1 = t1 - reg%dir(:, m)*dot_product(reg%dir(:, m), t1)
+        t1 = t1/norm2(t1)
+        t2 = cross(reg%dir(:, m), t1)
+        dirs(:, 1) = t1; dirs(:, 2) = -t1; dirs(:, 3) = t2; dirs(:, 4) = -t2
+      case default
+        nd = 2
+        dirs(:, 1) = reg%dir(:, m); dirs(:, 2) = -reg%dir(:, m)
+      end select
+      h = huge(1.0_wp)
+      do b = 1, 8
+        s = reg%node_cell(b, m)
+        if (s > 0) h = min(h, reg%wcell(s))
+      end do
+      h = 0.2_wp*h
+      hmin = 1.0e-3_wp*h
+      f0 = health_around(m, p)
+      fbest = f0
+      do try = 1, max_tries
+        best = p
+        gained = .false.
+        do d = 1, nd
+          y = p
+          q = p + h*dirs(:, d)
+          call constrain_move(reg%kind(m), reg%dir(:, m), y, q)
+          ft = health_around(m, y)
+          if (ft > fbest) then
+            fbest = ft
+            best = y
+            gained = .true.
+          end if
+        end do
+        if (.not. gained) then
+          h = 0.5_wp*h
+          if (h < hmin) exit
+        else
+          p = best
+        end if
+      end do
+      improve = fbest > f0
+    end function improve
+
+    !> The smallest health of the active cells around node slot m with the
+    !> node at y.
+    real(wp) function health_around(m, y)
+      integer, intent(in) :: m
+      real(wp), intent(in) :: y(3)
+      real(wp) :: xc(3, 8)
+      integer :: b, s
+      health_around = huge(1.0_wp)
+      do b = 1, 8
+        s = reg%node_cell(b, m)
+        if (s == 0) cycle
+        call region_gather(reg, s, x, xc)
+        xc(:, b) = y
+        health_around = min(health_around, hex_health(xc, reg%wcell(s)))
+      end do
+    end function health_around
+  end subroutine smooth_untangle
 
   !> Whether each active cell of the region is tangled in x (`hex_tangled`),
   !> as tangled(c) over the block's cells c (false outside the region): as
@@ -860,7 +1081,8 @@ contains
     integer :: s
     real(wp) :: xn(3, 8)
     tangled = .false.
-    if (reg%known) then
+    ! (with reg%squeeze the guard's state also holds squeezed cells)
+    if (reg%known .and. .not. reg%squeeze > 0.0_wp) then
       do s = 1, reg%ncell
         tangled(reg%cell(s)) = .not. reg%untangled(s)
       end do
@@ -891,13 +1113,14 @@ contains
     !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
-      reg%untangled(s) = .not. hex_tangled(xn)
+      reg%untangled(s) = .not. spoiled(reg, s, xn)
     end do
     !$omp end parallel do
   end subroutine guard_start
 
-  !> After a smoothing pass: around every cell the pass tangled (a cell
-  !> untangled before it and tangled after it, `hex_tangled`) the moves of
+  !> After a smoothing pass: around every cell the pass spoiled (a cell
+  !> not `spoiled` before it and spoiled after it: tangled, `hex_tangled`,
+  !> or with reg%squeeze squeezed below that share of its volume) the moves of
   !> the movable nodes within guard_reach nodes of the cell (in index space:
   !> of one of its corners) are halved, round after round; a node halved
   !> guard_rounds times goes back where it was. Halving a neighbourhood, not
@@ -933,7 +1156,7 @@ contains
       do s = 1, reg%ncell
         if (.not. reg%recheck(s)) cycle
         call region_gather(reg, s, x, xn)
-        reg%tangled(s) = hex_tangled(xn)
+        reg%tangled(s) = spoiled(reg, s, xn)
       end do
       !$omp end parallel do
       nbad = count(reg%tangled)
@@ -1010,7 +1233,7 @@ contains
         reg%untangled(s) = .not. reg%tangled(s)
       else
         call region_gather(reg, s, x, xn)
-        reg%untangled(s) = .not. hex_tangled(xn)
+        reg%untangled(s) = .not. spoiled(reg, s, xn)
       end if
     end do
     !$omp end parallel do
