@@ -13,15 +13,16 @@ substring); --timeout kills a run after that many wall seconds.
 
 --sweep runs, instead of the matrix, its small sizes in the modes a case's
 matrix leaves out and in variants of the modes' settings a user may choose:
-lssm_h2 and lssm_h0 (&rezone hysteresis 0.2 and 0), lssm_cube
+lssm_h2, lssm_h05 and lssm_h0 (&rezone hysteresis 0.2, the default, 0.05
+and 0), lssm_cube
 (smooth_target 'cube'), smooth_sw5 (swept_max 0.5), ale_i20 (global, an
 Euler step every 20 steps, no geometric trigger), euler_const
 (reconstruction 'constant'), and for the multi-material cases euler_mixed
 and ale_mixed (swept_mixed): a robustness sweep under the same bars. Its
 first runs found a conservation failure of the remap (fixed) and two
-failures that remain (saltzman_100x10_lssm_h2: a cell collapses at
-t = 0.394; saltzman_100x10_lssm_h0: the old grid does not cover the new
-one at step 1109).
+Saltzman failures with LSSM (saltzman_100x10_lssm_h2: a cell collapsed at
+t = 0.394; saltzman_100x10_lssm_h0: the old grid no longer covered the new
+one), fixed by untangling before the smoothing (&rezone untangle).
 
 Each entry's deck is made from its case's base deck (hardcases/<case>.nml,
 itself runnable at the first size): the size's edits (grid, thickness, a
@@ -321,6 +322,7 @@ REZONE = {
 # user may choose, beyond the matrix's own)
 REZONE.update({
     "lssm_h2": dict(REZONE["lssm"], hysteresis="0.2"),
+    "lssm_h05": dict(REZONE["lssm"], hysteresis="0.05"),
     "lssm_h0": dict(REZONE["lssm"], hysteresis="0"),
     "lssm_cube": dict(REZONE["lssm"], smooth_target=q("cube")),
     "smooth_sw5": dict(REZONE["smooth"], swept_max="0.5"),
@@ -329,8 +331,8 @@ REZONE.update({
     "euler_mixed": dict(REZONE["euler"], swept_mixed=".true."),
     "ale_mixed": dict(REZONE["ale"], swept_mixed=".true."),
 })
-SWEEP_MODES = ["euler", "ale", "lssm", "smooth", "lssm_h2", "lssm_h0", "lssm_cube", "smooth_sw5", "ale_i20",
-               "euler_const"]
+SWEEP_MODES = ["euler", "ale", "lssm", "smooth", "lssm_h2", "lssm_h05", "lssm_h0", "lssm_cube", "smooth_sw5",
+               "ale_i20", "euler_const"]
 # (only where a material interface can cross the swept faces)
 SWEEP_MIXED = ["euler_mixed", "ale_mixed"]
 MULTI_MATERIAL = {"tnt", "tnt_water", "tnt_plate", "tnt_surface", "triple", "water_air", "blob"}

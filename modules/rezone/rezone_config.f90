@@ -77,7 +77,7 @@ module rezone_config
     !> above side_ratio, cosine below cos_angle) becomes the bound, moved on
     !> by this relative margin, until the grid is back within the deck's
     !> (0: the deck's bounds always)
-    real(wp) :: hysteresis = 0.05_wp
+    real(wp) :: hysteresis = 0.2_wp
     !> 'lssm': 'box' (distorted cells are those failing the triggers' tests;
     !> only their nodes move, towards boxes of the cells' own proportions) or
     !> 'cube' (the paper as printed: Q of Eq. 46 < quality, cubes, TFI)
