@@ -987,7 +987,9 @@ contains
   !> merged cuboids from their faces, ignoring the spacing inside them) only
   !> for the merged cuboids in which a cell is still tangled after the
   !> smoothing. In both, a smoothing pass never tangles a cell, and a changed
-  !> cell left tangled goes back.
+  !> cell left tangled goes back; before the passes the cells below &rezone
+  !> untangle's health are untangled (`smooth_untangle`), and with 'box' a
+  !> pass may not squeeze a cell below &rezone squeeze of its volume.
   !>
   !> Nodes put back at their standard (initial) places first (`snap_nodes`):
   !> those of the cells coupled particles occupy (`occupied`, Remark 2),
@@ -1018,7 +1020,7 @@ contains
     real(wp) :: q_min, q_min0, d_max, aspect_max, none(0)
     integer :: iterations, b, n(3), c, i, j, k, stat, nd, nrevert, ngrown, sums(3), ntangled
     logical :: tfi, box
-    character(len=400) :: line
+    character(len=600) :: line
     character(len=60) :: kept, grown
 
     done = .false.
