@@ -1109,10 +1109,10 @@ contains
     ! keep volumes, and with 'smooth' the whole grid moves)
     if (box) then
       call smooth_region_init(mob, sub%cell_smooth, reg, err, aspect_max=aspect_max, counts=counts, &
-                              squeeze=rz%squeeze, health_min=rz%untangle, origin=g%off + g%slo - 1)
+                              squeeze=rz%squeeze, health_min=rz%untangle, origin=g%off + g%slo - 1, ghost_width=g%ng)
     else
       call smooth_region_init(mob, sub%cell_smooth, reg, err, counts=counts, health_min=rz%untangle, &
-                              origin=g%off + g%slo - 1)
+                              origin=g%off + g%slo - 1, ghost_width=g%ng)
     end if
     if (allocated(err)) return
     if (box .or. trim(rz%mode) == 'smooth') then

@@ -123,6 +123,13 @@ module rezone_smooth
     !> (3, size(ghost)) work: where they were before a refresh
     integer, allocatable :: ghost(:)
     real(wp), allocatable :: xpre(:, :)
+    !> ghost layers of the blocks (`smooth_region_init`'s ghost_width), and
+    !> whether an active cell of this block lies within reach of them: its
+    !> nodes may be a neighbour's ghosts, or its ghosts the neighbour's
+    !> moves (`region_shares_ghosts`); exchange: whether that holds on any
+    !> block, so the smoothing refreshes ghosts (`smooth_combined`)
+    integer :: ghost_width = 0
+    logical :: shares = .false., exchange = .false.
     !> (nmove) whether the node counts in the counts of a decomposed grid
     !> (each node on one block: `smooth_region_init`'s counts)
     logical, allocatable :: own(:)
@@ -273,7 +280,7 @@ contains
   !> and every cell of the block around the node active) and the work
   !> arrays of the passes. With aspect_max (>= 1), the box reading (see
   !> `smooth_region_t`).
-  subroutine smooth_region_init(mob, active, reg, err, aspect_max, counts, squeeze, health_min, origin)
+  subroutine smooth_region_init(mob, active, reg, err, aspect_max, counts, squeeze, health_min, origin, ghost_width)
     type(smooth_mobility_t), intent(in) :: mob
     logical, intent(in) :: active(:)
     type(smooth_region_t), intent(out) :: reg
@@ -287,6 +294,8 @@ contains
     real(wp), intent(in), optional :: health_min
     !> (reg%origin) the whole grid's index of the block's first node; default 0
     integer, intent(in), optional :: origin(3)
+    !> (reg%ghost_width) the ghost layers of a decomposed grid's blocks; default 0
+    integer, intent(in), optional :: ghost_width
     integer :: ni, nj, nk, ncell_all, c, s, i, j, k, n, m, a, ci, cj, ck, stat
     logical, allocatable :: within(:)
     character(len=200) :: msg
@@ -413,6 +422,8 @@ contains
         end do
       end do
     end do
+    if (present(ghost_width)) reg%ghost_width = ghost_width
+    reg%shares = region_shares_ghosts(reg, ix)
 
   contains
 
@@ -425,6 +436,37 @@ contains
       node_moves = within(n) .and. mob%kind(n) /= node_fixed
     end function node_moves
   end subroutine smooth_region_init
+
+  !> Whether the smoothing of region reg on block ix may write a node that
+  !> another block stores, or read one that another block writes: some
+  !> non-counted node (reg%ghost) lies within ghost_width + 1 index steps of
+  !> the box around the active cells' nodes. The smoothing writes the
+  !> corners of active cells only, and a neighbour stores this block's
+  !> nodes up to ghost_width layers from their shared face, within
+  !> ghost_width + 1 steps of this block's non-counted nodes; the guard's
+  !> marks are corners of active cells too. So where no block shares, no
+  !> ghost refresh changes anything, and `smooth_combined` skips them.
+  logical function region_shares_ghosts(reg, ix) result(shares)
+    type(smooth_region_t), intent(in) :: reg
+    type(grid_index_t), intent(in) :: ix
+    integer :: s, g, p(3), lo(3), hi(3)
+    shares = .false.
+    if (reg%ncell == 0 .or. size(reg%ghost) == 0) return
+    lo = huge(1)
+    hi = -huge(1)
+    do s = 1, reg%ncell
+      call ix%node_ijk(reg%node0(s), p(1), p(2), p(3))
+      lo = min(lo, p)
+      hi = max(hi, p + 1)
+    end do
+    do g = 1, size(reg%ghost)
+      call ix%node_ijk(reg%ghost(g), p(1), p(2), p(3))
+      if (maxval(max(lo - p, p - hi, 0)) <= reg%ghost_width + 1) then
+        shares = .true.
+        return
+      end if
+    end do
+  end function region_shares_ghosts
 
   !> Centroid of a hexahedron xn(3,8) by Eq. (49): the volume-weighted mean
   !> of the centroids of its 24 tetrahedra (Fig. 7: each face split into four
@@ -864,8 +906,18 @@ contains
     real(wp), intent(out) :: q_min
     class(halo_t), intent(inout), optional :: halo
     real(wp), intent(out), optional :: q_start
-    integer :: m, guarded(1)
+    integer :: m, guarded(1), flag
 
+    ! (ghost refreshes only where some block's region reaches its ghosts:
+    ! elsewhere they change nothing, `region_shares_ghosts`)
+    reg%exchange = .false.
+    if (present(halo)) then
+      if (halo%nblocks > 1) then
+        flag = merge(1, 0, reg%shares)
+        call halo%max_int(flag)
+        reg%exchange = flag > 0
+      end if
+    end if
     reg%node_slot = 0
     do m = 1, reg%nmove
       reg%node_slot(reg%node(m)) = m
@@ -881,9 +933,9 @@ contains
     do while (q_min < q_target .and. iterations < n_max)
       call guard_start(reg, x)
       call smooth_modified_getme(reg, x)
-      if (present(halo)) call halo%nodes(x)
+      if (reg%exchange) call halo%nodes(x)
       call smooth_weighted_average(reg, x)
-      if (present(halo)) call halo%nodes(x)
+      if (reg%exchange) call halo%nodes(x)
       call guard_undo(reg, x, halo)
       iterations = iterations + 1
       q_min = global_q_min()
@@ -984,7 +1036,7 @@ contains
           if (reg%own(m)) moves(1) = moves(1) + 1
         end do
         !$omp end parallel do
-        if (present(halo)) call halo%nodes(x)
+        if (reg%exchange) call halo%nodes(x)
       end do
     end do
     if (present(halo)) call halo%sum_ints(moves)
@@ -1145,7 +1197,7 @@ contains
     real(wp) :: xn(3, 8)
     logical :: changed, ghosts
     ghosts = .false.
-    if (present(halo)) ghosts = halo%nblocks > 1
+    if (present(halo)) ghosts = halo%nblocks > 1 .and. reg%exchange
     sx = reg%ni + 1
     sxy = sx*(reg%nj + 1)
     reg%nhalve = 0
@@ -1175,7 +1227,7 @@ contains
           reg%marked(reg%nmarked) = n
         end do
       end do
-      if (present(halo)) then
+      if (ghosts) then
         call halo%nodes(reg%mark)
         do g = 1, size(reg%ghost)
           if (.not. reg%mark(1, reg%ghost(g)) > 0.0_wp) cycle
@@ -1215,10 +1267,10 @@ contains
           do g = 1, size(reg%ghost)
             reg%xpre(:, g) = x(:, reg%ghost(g))
           end do
+          call halo%nodes(x)
+          ! the ghost nodes their owners changed: their cells are tested again
+          call recheck_refreshed(reg, x)
         end if
-        call halo%nodes(x)
-        ! the ghost nodes their owners changed: their cells are tested again
-        if (ghosts) call recheck_refreshed(reg, x)
       end if
       ! (a tangled cell with none of its neighbourhood left to undo cannot be
       ! the pass's doing: all its nodes are where they were)
