@@ -135,7 +135,11 @@ contains
         st%pre1d%hit = .false.
         st%t = cfg%pre1d%time
       end if
-      call fill_regions(cfg, st, log, err)
+      if (fluid) then
+        call fill_plain(cfg, st, err)
+      else
+        call fill_regions(cfg, st, log, err)
+      end if
       if (allocated(err)) return
       ! a node takes the velocity field of the last region that contains it
       do n = 1, g%nnode
@@ -417,6 +421,28 @@ contains
     end select
   end function initiator_kind
 
+
+  !> A window's fill (`build_scene` with fluid_only): the first region's
+  !> material and state in every cell, no mixed cell. A window takes its
+  !> state from the blocks at every Euler step (`driver_whole`'s
+  !> copy_gather) before it is read, so the regions' exact moments
+  !> (`fill_regions`, a cell-cycle per cell) are not paid for again; this
+  !> state only has to be one the EOS evaluates.
+  subroutine fill_plain(cfg, st, err)
+    type(config_t), intent(in) :: cfg
+    type(state_t), intent(inout) :: st
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: e1
+    associate (r1 => cfg%regions(1), hy => st%h)
+      e1 = r1%energy
+      if (e1 < 0.0_wp) e1 = st%mats(r1%imat)%eos%energy(r1%density, r1%pressure)
+      hy%mat = r1%imat
+      hy%rho = r1%density
+      hy%e = e1
+      hy%mass = hy%rho*hy%vol
+    end associate
+    call mixed_allocate(st%mx, 0, 0, err)
+  end subroutine fill_plain
 
   !> Fills the cells from the regions (applied in deck order, a later one
   !> overriding an earlier one). Each cell's volume and first moment held by
