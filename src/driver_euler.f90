@@ -301,7 +301,7 @@ contains
   !> xrezoned the grid is rezoned already (a decomposed run's, on the whole
   !> grid's node positions: `driver_whole`) and e0 holds what the step
   !> started from (`euler_begin` done).
-  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0, single, resume)
+  subroutine euler_step(rz, st, es, log, err, xrezoned, e0, pe0, single, resume, before)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(inout) :: st
     type(euler_state_t), intent(inout) :: es
@@ -318,6 +318,9 @@ contains
     !> windows of a decomposed run took (the blocks hold their state), to
     !> go on from there
     type(parts_state_t), intent(in), optional :: resume
+    !> with single: what a decomposed run's windows remapped first (the
+    !> blocks hold its state), added to this step's statistics
+    type(remap_stats_t), intent(in), optional :: before
     type(euler_start_t) :: start
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
@@ -434,6 +437,10 @@ contains
     rescue = 0
     nrescue = 0
     started = .false.
+    if (present(before)) then
+      rs = before
+      started = .true.
+    end if
     ! (set when a rescue begins; allocated empty here, which also keeps GCC
     ! from taking their bounds for uninitialized)
     allocate(xpart(3, 0), xh(3, 0), stat=stat)

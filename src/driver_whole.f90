@@ -91,7 +91,7 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params, euler_preposition, euler_start_totals, &
+                          euler_rezone, euler_finish, remap_params, euler_preposition, &
                           parts_state_t
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
@@ -313,7 +313,9 @@ contains
       call move_alloc(x, st%gw%x)
     end if
     call euler_due_where(cfg%rezone, st%g, st%halo, es, shape)
-    call euler_begin(st, es, log, e0)
+    ! (no totals: the windows' remaps report what they changed, summed over
+    ! the blocks, and so does the whole grid's where it takes over)
+    call euler_begin(st, es, log, e0, scales=.true.)
     if (parts) then
       ! (sw: the whole grid's nodes and particles, on every rank)
       sw%g = st%gw
@@ -350,10 +352,7 @@ contains
       call particles_euler_fill(st, cfg%rezone%virtual_layers, log, nfill, err)
       call agree_error(pc, err)
       if (allocated(err)) return
-      if (nfill > 0) then
-        call euler_start_totals(st, e0)
-        call particles_gathered_mvf(pc, st, sw%pt)
-      end if
+      if (nfill > 0) call particles_gathered_mvf(pc, st, sw%pt)
     end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     one = 0
@@ -370,8 +369,11 @@ contains
     if (.not. allocated(err)) then
       if (ps%on) then
         call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, resume=ps)
+      else if (one == 1) then
+        ! (the windows' first remap is the blocks': its changes count too)
+        call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, .true., before=ps%rs)
       else
-        call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, one == 1)
+        call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe)
       end if
     end if
     if (.not. allocated(err)) call whole_scatter(st, err)
@@ -618,7 +620,7 @@ contains
           ! (the blocks hold the first remap's state: the whole grid does the
           ! second alone, or the rest of the parts)
           if (stage == 2) single = 1
-          if (ps%on) ps%rs = rs
+          if (ps%on .or. stage == 2) ps%rs = rs
           why = ''
           if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
           if (n(2) > 0) why = why//', old regions the new grid does not cover'
@@ -650,6 +652,7 @@ contains
         return
       end if
       call st%halo%sums(rk%flow)
+      call st%halo%sums(rk%change)
       call remap_stats_flows(rk)
       call remap_stats_reduce(pc, rk)
       taken = taken + 1
@@ -891,20 +894,20 @@ contains
     type(comm_t), intent(in) :: pc
     type(remap_stats_t), intent(inout) :: rs
     integer :: ni(8), nx(1)
-    real(wp) :: r(4), x(6)
+    real(wp) :: r(7), x(6)
     ni = [rs%cells_remapped, rs%cells_copied, rs%mof_cells, rs%mof_iterations, rs%mof_not_converged, &
           rs%slivers_merged, rs%cells_swept, rs%mof_carried]
     nx = [rs%reach]
-    r = [rs%ke_to_internal, rs%momentum_constrained]
+    r = [rs%ke_to_internal, rs%momentum_constrained, rs%scale]
     x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
     call MPI_Allreduce(MPI_IN_PLACE, ni, 8, MPI_INTEGER, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, nx, 1, MPI_INTEGER, MPI_MAX, pc%world)
-    call MPI_Allreduce(MPI_IN_PLACE, r, 4, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
+    call MPI_Allreduce(MPI_IN_PLACE, r, 7, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
     call MPI_Allreduce(MPI_IN_PLACE, x, 6, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
     rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
     rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7); rs%mof_carried = ni(8)
     rs%reach = nx(1)
-    rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4)
+    rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4); rs%scale = r(5:7)
     rs%volume_defect = x(1); rs%given_defect = x(2); rs%mof_err_max = x(3)
     rs%t_prepare = x(4); rs%t_intersect = x(5); rs%t_assemble = x(6)
     rs%parts = -pc%nranks

@@ -222,9 +222,10 @@ module remap_euler
     type(xsum_t) :: flow(10)
     !> what the remap changed in the totals of mass, momentum, internal and
     !> kinetic energy (`hydro_totals`' sums), exact (`base_xsum`): the cells
-    !> and nodes it wrote, summed before and after. Only a whole grid's
-    !> remap sets them (change_known); a window's caller sums its blocks.
-    !> So the conservation check costs what the remap touched, not the grid.
+    !> and nodes it wrote, summed before and after (change_known; a window's
+    !> remap, over its block's owned cells and counted nodes: its caller adds
+    !> them over the blocks). So the conservation check costs what the
+    !> remap touched, not the grid.
     type(xsum_t) :: change(6)
     logical :: change_known = .false.
     !> with change_known: the scales of the conservation check, what the
@@ -524,6 +525,7 @@ contains
     integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck, ir
     logical :: any_open, windowed
     logical, allocatable :: own(:), own_node(:)
+    integer, allocatable :: wcells(:), wnodes(:)
     character(len=200) :: msg
 
     old => own_old
@@ -598,11 +600,18 @@ contains
         call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, moved=moved)
       end if
       if (allocated(err)) exit main
-      ! (less the totals of what the remap may write; added back after it)
-      if (.not. windowed) then
-        call totals_of(h, old%lnear, old%lnode, -1.0_wp, stats%change)
-        stats%scale = magnitudes(h, old%lnear, old%lnode)
+      ! (less the totals of what the remap may write; added back after it;
+      ! a window's, of its block's owned cells and counted nodes: its caller
+      ! adds them over the blocks)
+      if (windowed) then
+        wcells = pack(old%lnear, zone%own(old%lnear))
+        wnodes = pack(old%lnode, zone%own_node(old%lnode))
+      else
+        wcells = old%lnear
+        wnodes = old%lnode
       end if
+      call totals_of(h, wcells, wnodes, -1.0_wp, stats%change)
+      stats%scale = magnitudes(h, wcells, wnodes)
       sharing = .false.
       if (present(share)) sharing = share%nparts > 1
       if (sharing) stats%parts = share%nparts
@@ -807,9 +816,9 @@ contains
       else
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
                       vcell, stats, err, written=written)
-        if (.not. allocated(err)) call totals_of(h, old%lnear, old%lnode, 1.0_wp, stats%change)
-        stats%change_known = .not. allocated(err)
       end if
+      if (.not. allocated(err)) call totals_of(h, wcells, wnodes, 1.0_wp, stats%change)
+      stats%change_known = .not. allocated(err)
       stats%t_assemble = wall_seconds() - w0
     end block main
     if (.not. present(work)) return
