@@ -17,7 +17,9 @@
 # oversubscribed for the halo counts; restart dumps and peak memory of Sedov
 # 80^3 on 1 process and 2 ranks; peak memory per rank on 4 ranks against one
 # process for Sedov 64^3 LSSM, the TNT octant at 64^3 Eulerian and the Gurson
-# ring at 192 x 192 x 4 (issue 35) (BENCH_ONLY=mpi runs only that); memory
+# ring at 192 x 192 x 4, and the Euler phase's messages per rank at a fixed
+# block on 1 to 27 ranks with a weak-scaling estimate (issue 35)
+# (BENCH_ONLY=mpi runs only that); memory
 # per cell (issue 40): the marginal peak resident bytes per cell between
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
 # (BENCH_ONLY=memory runs only that); 1 kg TNT in free air against
@@ -188,6 +190,17 @@ mpi_bench() {
   mpi_whole tnt32
   mpi_dump_bench
   ranks_memory_bench
+  messages_bench
+}
+
+# The Euler phase's messages and bytes per rank per Euler step at a fixed
+# block (27^3 cells per rank) on 1, 2, 4, 8 and 27 ranks (oversubscribed),
+# counted by Open MPI's monitoring, and the weak-scaling estimate to 1e7
+# cells on 512 ranks (issue 35; tools/messages_table.py: its tables, and
+# the runs' logs in OUTDIR/messages).
+messages_bench() {
+  /usr/bin/python3 "$root/tools/messages_table.py" --exe "$exe" --out "$outdir/messages"
+  echo
 }
 
 # Peak resident memory per rank on 4 ranks (oversubscribed) against one
