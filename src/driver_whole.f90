@@ -74,7 +74,7 @@ module driver_whole
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t
   use parallel_share, only: mpi_share_t, mpi_share_init
-  use parallel_gather, only: gather_nodes, gather_box, gather_box_into, gather_concat
+  use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
@@ -1044,13 +1044,17 @@ contains
     !> their nodes hold the blocks' values already: they are not gathered
     !> (the mixed cells are, all of them)
     integer, intent(in), optional :: keep(3, 2)
+    !> (an integer quantity as reals, exact: material indices)
+    type :: as_reals_t
+      real(wp), allocatable :: a(:, :), w(:, :)
+    end type as_reals_t
     type(state_t), pointer :: d
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
-    real(wp), allocatable :: box(:, :)
-    real(wp), pointer, contiguous :: a(:, :), wv(:, :)
-    integer, allocatable :: pick(:), map(:)
-    integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2)
+    type(as_reals_t), allocatable, target :: ints(:)
+    type(gather_field_t), allocatable :: f(:)
+    integer, allocatable :: pick(:), map(:), at(:)
+    integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2), nf, ni, k, pass
     logical :: nodes
 
     if (window) then
@@ -1069,55 +1073,58 @@ contains
     call state_register_restart(st, rb)
     call state_register_restart(d, rw)
     map = entry_map(rb, rw)
-    do e = 1, rb%n
-      if (map(e) == 0) cycle
-      associate (b => rb%e(e), v => rw%e(map(e)))
-        select case (b%location)
-        case (LOC_NODE, LOC_CELL)
+    ! the node quantities, then the cell ones, each in one gather; an
+    ! integer one through reals (at(e): its slot in ints)
+    allocate(f(rb%n), ints(rb%n), at(rb%n))
+    do pass = 1, 2
+      nodes = pass == 1
+      hole(:, 1) = [1, 1, 1]
+      hole(:, 2) = [0, 0, 0]
+      if (present(keep)) then
+        hole = keep
+        if (nodes) hole(:, 1) = keep(:, 1) - 1
+      end if
+      nf = 0
+      ni = 0
+      do e = 1, rb%n
+        if (map(e) == 0) cycle
+        associate (b => rb%e(e), v => rw%e(map(e)))
+          if (b%location /= merge(LOC_NODE, LOC_CELL, nodes)) cycle
           m = product(b%dims(1:size(b%dims) - 1))
           n = b%dims(size(b%dims))
-          nodes = b%location == LOC_NODE
-          if (present(keep)) then
-            hole = keep
-            if (nodes) hole(:, 1) = keep(:, 1) - 1
-            nw = v%dims(size(v%dims))
-            if (b%kind == K_REAL) then
-              a(1:m, 1:n) => b%r
-              wv(1:m, 1:nw) => v%r
-              call gather_box_into(pc, st%g%grid_index_t, a, lo, hi, wv, nodes, hole(:, 1), hole(:, 2))
-            else
-              box = reshape(real(v%i, wp), [m, nw])
-              call gather_box_into(pc, st%g%grid_index_t, reshape(real(b%i, wp), [m, n]), lo, hi, box, nodes, &
-                                   hole(:, 1), hole(:, 2))
-              v%i = nint(reshape(box, [size(box)]))
-            end if
-          else if (b%kind == K_REAL) then
-            a(1:m, 1:n) => b%r
-            call gather_box(pc, st%g%grid_index_t, a, lo, hi, box, nodes)
-            call flat_copy(size(box), box, v%r)
+          nw = v%dims(size(v%dims))
+          nf = nf + 1
+          if (b%kind == K_REAL) then
+            f(nf)%a(1:m, 1:n) => b%r
+            f(nf)%w(1:m, 1:nw) => v%r
           else
-            ! (integers: material indices, exact as reals)
-            call gather_box(pc, st%g%grid_index_t, reshape(real(b%i, wp), [m, n]), lo, hi, box, &
-                            b%location == LOC_NODE)
-            v%i = nint(reshape(box, [size(box)]))
+            ni = ni + 1
+            at(e) = ni
+            ints(ni)%a = reshape(real(b%i, wp), [m, n])
+            ints(ni)%w = reshape(real(v%i, wp), [m, nw])
+            f(nf)%a => ints(ni)%a
+            f(nf)%w => ints(ni)%w
           end if
-        case (LOC_GLOBAL)
-          if (.not. mixed_entry(b)) call copy_global(b, v)
-        end select
-      end associate
+        end associate
+      end do
+      call gather_box_fields(pc, st%g%grid_index_t, f(1:nf), lo, hi, nodes, hole(:, 1), hole(:, 2))
+      do e = 1, rb%n
+        if (map(e) == 0) cycle
+        associate (b => rb%e(e), v => rw%e(map(e)))
+          if (b%location /= merge(LOC_NODE, LOC_CELL, nodes) .or. b%kind == K_REAL) cycle
+          k = at(e)
+          v%i = nint(reshape(ints(k)%w, [size(ints(k)%w)]))
+        end associate
+      end do
+    end do
+    do e = 1, rb%n
+      if (map(e) == 0) cycle
+      if (rb%e(e)%location == LOC_GLOBAL .and. .not. mixed_entry(rb%e(e))) call copy_global(rb%e(e), rw%e(map(e)))
     end do
     call mixed_numbers(d)
     call state_after_read(d)
     call material_index_cells(d%mats, d%h%mat, d%mx, err)
   end subroutine copy_gather
-
-  !> b = a, n values (an array of any shape as its elements in order).
-  subroutine flat_copy(n, a, b)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: a(n)
-    real(wp), intent(out) :: b(n)
-    b = a
-  end subroutine flat_copy
 
   !> For each entry of registry a, the entry of b with its name (0: none; a
   !> window holds no particles).

@@ -10,7 +10,13 @@ module parallel_gather
   use parallel_comm, only: comm_t, parallel_nomem
   implicit none
   private
-  public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_concat
+  public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_box_fields, gather_concat, gather_field_t
+
+  !> One field of `gather_box_fields`: the block's a(m, nnode or ncell)
+  !> and the box's w(m, nodes or cells of the box).
+  type :: gather_field_t
+    real(wp), pointer, contiguous :: a(:, :) => null(), w(:, :) => null()
+  end type gather_field_t
 
   !> Concatenation over the ranks, in rank order, on every rank.
   interface gather_concat
@@ -140,17 +146,37 @@ contains
   subroutine gather_box_into(pc, ix, a, lo, hi, w, nodes, hlo, hhi)
     type(comm_t), intent(in) :: pc
     type(grid_index_t), intent(in) :: ix
-    real(wp), intent(in) :: a(:, :)
+    real(wp), intent(in), target, contiguous :: a(:, :)
     integer, intent(in) :: lo(3), hi(3), hlo(3), hhi(3)
-    real(wp), intent(inout) :: w(:, :)
+    real(wp), intent(inout), target, contiguous :: w(:, :)
+    logical, intent(in) :: nodes
+    type(gather_field_t) :: f(1)
+    f(1)%a => a
+    f(1)%w => w
+    call gather_box_fields(pc, ix, f, lo, hi, nodes, hlo, hhi)
+  end subroutine gather_box_into
+
+  !> `gather_box_into` for several fields at once, all node fields or all
+  !> cell fields (f(:): each its block's a and its box's w): one exchange of
+  !> the boxes and one message per pair of ranks for all of them.
+  subroutine gather_box_fields(pc, ix, f, lo, hi, nodes, hlo, hhi)
+    type(comm_t), intent(in) :: pc
+    type(grid_index_t), intent(in) :: ix
+    type(gather_field_t), intent(in) :: f(:)
+    integer, intent(in) :: lo(3), hi(3), hlo(3), hhi(3)
     logical, intent(in) :: nodes
     integer :: boxes(18, 0:pc%nranks - 1), mine(18), scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), &
                sdispls(0:pc%nranks - 1), rdispls(0:pc%nranks - 1)
-    integer :: m, r, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3), run(2, 2), e, nrun
+    integer :: m, r, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3), run(2, 2), e, nrun, l
     real(wp), allocatable :: sbuf(:), rbuf(:)
     type(grid_index_t) :: box
 
-    m = size(a, 1)
+    if (size(f) == 0) return
+    ! (the values per entry, over the fields)
+    m = 0
+    do l = 1, size(f)
+      m = m + size(f(l)%a, 1)
+    end do
     ! (owned range, asked box, its hole, in whole-grid node or cell indices)
     if (nodes) then
       mine = [ix%ulo + ix%off, ix%nhi + ix%off, lo - 1, hi, hlo, hhi]
@@ -191,10 +217,13 @@ contains
         q = row_start(ix, 0, j - ix%off(2), k - ix%off(3), nodes) - ix%off(1)
         p = row_start(box, 0, j - b(2), k - b(3), nodes) - b(1)
         do e = 1, nrun
-          w(:, p + run(1, e):p + run(2, e)) = a(:, q + run(1, e):q + run(2, e))
+          do l = 1, size(f)
+            f(l)%w(:, p + run(1, e):p + run(2, e)) = f(l)%a(:, q + run(1, e):q + run(2, e))
+          end do
         end do
       end do
     end do
+    ! (a run's values field by field, in both buffers)
     do r = 0, pc%nranks - 1
       if (r == pc%rank) cycle
       blo = max(mine(1:3), boxes(7:9, r))
@@ -205,7 +234,9 @@ contains
           call row_runs(blo(1), bhi(1), j, k, boxes(13:18, r), run, nrun)
           q = row_start(ix, 0, j - ix%off(2), k - ix%off(3), nodes) - ix%off(1)
           do e = 1, nrun
-            call pack_run(a, q + run(1, e), q + run(2, e), sbuf, p)
+            do l = 1, size(f)
+              call pack_run(f(l)%a, q + run(1, e), q + run(2, e), sbuf, p)
+            end do
           end do
         end do
       end do
@@ -222,12 +253,14 @@ contains
           call row_runs(olo(1), ohi(1), j, k, mine(13:18), run, nrun)
           q = row_start(box, 0, j - b(2), k - b(3), nodes) - b(1)
           do e = 1, nrun
-            call unpack_run(rbuf, p, w, q + run(1, e), q + run(2, e))
+            do l = 1, size(f)
+              call unpack_run(rbuf, p, f(l)%w, q + run(1, e), q + run(2, e))
+            end do
           end do
         end do
       end do
     end do
-  end subroutine gather_box_into
+  end subroutine gather_box_fields
 
   !> The number of entries of the index box lo..hi (0 if empty).
   pure integer function count_box(lo, hi)
