@@ -77,6 +77,10 @@ module driver_euler
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
+    !> the last look at the grid's shape (`euler_shape`) on this block: its
+    !> largest side ratio and smallest cosine, and the whole grid's number
+    !> of its first owned cell with each (for the log's note, `euler_due_where`)
+    real(wp) :: shape_mine(2) = 0.0_wp, shape_first(2) = 0.0_wp
     !> the remap's work arrays, kept from one Euler step to the next
     type(remap_work_t) :: work
     !> this segment's fits of the mixed cells' interface planes after the
@@ -162,7 +166,7 @@ contains
     type(euler_state_t), intent(inout) :: es
     logical, intent(out) :: due
     real(wp), intent(in), optional :: shape(2)
-    real(wp) :: ratio_max, cos_min, mine(2)
+    real(wp) :: ratio_max, cos_min
     due = .false.
     if (.not. es%on) return
     if (rz%interval_steps > 0) due = mod(st%step, rz%interval_steps) == 0
@@ -173,16 +177,16 @@ contains
       ratio_max = shape(1)
       cos_min = shape(2)
     else
-      call euler_shape(rz, st%g, mine)
-      ratio_max = mine(1)
-      cos_min = mine(2)
+      call euler_shape(rz, st%g, es)
+      ratio_max = es%shape_mine(1)
+      cos_min = es%shape_mine(2)
     end if
     call trigger_bounds(rz, es, ratio_max, cos_min)
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= es%ratio_bound) .or. &
           (rz%cos_angle > 0.0_wp .and. cos_min <= es%cos_bound)
     if (.not. due) return
     es%trigger_note = 'shape'
-    if (.not. present(shape)) call euler_due_where(rz, st%g, st%halo, es, [ratio_max, cos_min])
+    if (.not. present(shape)) call euler_due_where(st%g, st%halo, es, [ratio_max, cos_min])
   end subroutine euler_due
 
   !> The triggers' bounds after the step just taken, whose grid's largest
@@ -222,34 +226,19 @@ contains
   !> measure, the first in the whole grid's cell order (each block finds
   !> its first owned cell with the whole grid's worst value; the least
   !> cell number of all blocks is the one of one process).
-  subroutine euler_due_where(rz, g, halo, es, shape)
-    type(rezone_config_t), intent(in) :: rz
+  subroutine euler_due_where(g, halo, es, shape)
     type(grid_t), intent(in) :: g
     class(halo_t), intent(in) :: halo
     type(euler_state_t), intent(inout) :: es
     real(wp), intent(in) :: shape(2)
-    real(wp) :: xn(3, 8), r, cs, first(2), none(0), f1, f2
-    integer :: i, j, k, ijk(3, 2), m, gc
-    logical :: axis
+    real(wp) :: first(2), none(0)
+    integer :: ijk(3, 2), m, gc
     if (es%trigger_note /= 'shape') return
-    axis = euler_axis(rz)
-    f1 = huge(1.0_wp)
-    f2 = huge(1.0_wp)
-    !$omp parallel do default(none) shared(g, axis, shape) private(i, j, k, xn, r, cs, gc) &
-    !$omp reduction(min: f1, f2) collapse(2) schedule(static)
-    do k = g%clo(3), g%chi(3)
-      do j = g%clo(2), g%chi(2)
-        do i = g%clo(1), g%chi(1)
-          call g%gather(g%cell(i, j, k), g%x, xn)
-          call hex_shape(xn, r, cs, axis)
-          gc = g%global_cell(g%cell(i, j, k))
-          if (r >= shape(1)) f1 = min(f1, real(gc, wp))
-          if (cs <= shape(2)) f2 = min(f2, real(gc, wp))
-        end do
-      end do
-    end do
-    !$omp end parallel do
-    first = [f1, f2]
+    ! (this block's first cell with the whole grid's worst value, from the
+    ! look that made the step due: `euler_shape`)
+    first = huge(1.0_wp)
+    if (es%shape_mine(1) >= shape(1)) first(1) = es%shape_first(1)
+    if (es%shape_mine(2) <= shape(2)) first(2) = es%shape_first(2)
     do m = 1, 2
       call halo%choose(first(m), none)
       gc = nint(min(first(m), 1.0e9_wp)) - 1
@@ -268,31 +257,64 @@ contains
   end function euler_axis
 
   !> The largest side ratio and smallest inclined-angle cosine over the
-  !> cells a block owns (`hex_shape`, as `grid_quality` measures them).
-  subroutine euler_shape(rz, g, shape)
+  !> cells a block owns (`hex_shape`, as `grid_quality` measures them), in
+  !> es%shape_mine, and the whole grid's number of the first owned cell
+  !> with each in es%shape_first (the log's note of where the grid is
+  !> worst: `euler_due_where`). Each thread keeps its cells' first worst
+  !> (its cells come in the whole grid's order); the threads' are combined
+  !> by value, then by the lower number, so the result does not depend on
+  !> the threads.
+  subroutine euler_shape(rz, g, es)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
-    real(wp), intent(out) :: shape(2)
-    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min
-    integer :: i, j, k
+    type(euler_state_t), intent(inout) :: es
+    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct
+    integer :: i, j, k, c
     logical :: axis
     axis = euler_axis(rz)
-    ratio_max = 0.0_wp
-    cos_min = 1.0_wp
-    !$omp parallel do default(none) shared(g, axis) private(i, j, k, xn, r, cs) &
-    !$omp reduction(max: ratio_max) reduction(min: cos_min) collapse(2) schedule(static)
+    ratio_max = -huge(1.0_wp)
+    cos_min = huge(1.0_wp)
+    fr = huge(1.0_wp)
+    fc = huge(1.0_wp)
+    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc) &
+    !$omp private(i, j, k, c, xn, r, cs, rt, ct, frt, fct)
+    rt = -huge(1.0_wp)
+    ct = huge(1.0_wp)
+    frt = huge(1.0_wp)
+    fct = huge(1.0_wp)
+    !$omp do collapse(2) schedule(static)
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
-          call g%gather(g%cell(i, j, k), g%x, xn)
+          c = g%cell(i, j, k)
+          call g%gather(c, g%x, xn)
           call hex_shape(xn, r, cs, axis)
-          ratio_max = max(ratio_max, r)
-          cos_min = min(cos_min, cs)
+          if (r > rt) then
+            rt = r
+            frt = real(g%global_cell(c), wp)
+          end if
+          if (cs < ct) then
+            ct = cs
+            fct = real(g%global_cell(c), wp)
+          end if
         end do
       end do
     end do
-    !$omp end parallel do
-    shape = [ratio_max, cos_min]
+    !$omp end do
+    !$omp critical (euler_shape_worst)
+    if (rt > ratio_max .or. (.not. rt < ratio_max .and. frt < fr)) then
+      ratio_max = rt
+      fr = frt
+    end if
+    if (ct < cos_min .or. (.not. ct > cos_min .and. fct < fc)) then
+      cos_min = ct
+      fc = fct
+    end if
+    !$omp end critical (euler_shape_worst)
+    !$omp end parallel
+    ! (as the bounds 0 and 1 of the measures started them before)
+    es%shape_mine = [max(ratio_max, 0.0_wp), min(cos_min, 1.0_wp)]
+    es%shape_first = [fr, fc]
   end subroutine euler_shape
 
   !> One Euler step: rezone, remap, new material states; checks

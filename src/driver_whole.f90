@@ -250,14 +250,14 @@ contains
     type(euler_state_t), intent(inout) :: es
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: mine(2), shape(2)
+    real(wp) :: shape(2)
     logical :: due
     if (.not. es%on) return
     shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
-      call euler_shape(cfg%rezone, st%g, mine)
-      call MPI_Allreduce(mine(1), shape(1), 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
-      call MPI_Allreduce(mine(2), shape(2), 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
+      call euler_shape(cfg%rezone, st%g, es)
+      call MPI_Allreduce(es%shape_mine(1), shape(1), 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+      call MPI_Allreduce(es%shape_mine(2), shape(2), 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
     end if
     call euler_due(cfg%rezone, st, es, due, shape)
     if (.not. due) return
@@ -265,8 +265,9 @@ contains
       call window_euler(cfg, pc, st, es, log, shape, err)
       return
     end if
+    ! (where the grid is worst: from the blocks' look, on every rank)
+    call euler_due_where(st%g, st%halo, es, shape)
     call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_due_where(cfg%rezone, st%whole%g, st%whole%halo, es, shape)
     if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
     if (.not. allocated(err)) call whole_scatter(st, err)
   end subroutine whole_euler
@@ -312,7 +313,7 @@ contains
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
     end if
-    call euler_due_where(cfg%rezone, st%g, st%halo, es, shape)
+    call euler_due_where(st%g, st%halo, es, shape)
     ! (no totals: the windows' remaps report what they changed, summed over
     ! the blocks, and so does the whole grid's where it takes over)
     call euler_begin(st, es, log, e0, scales=.true.)
