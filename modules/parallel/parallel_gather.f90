@@ -158,25 +158,18 @@ contains
 
   !> `gather_box_into` for several fields at once, all node fields or all
   !> cell fields (f(:): each its block's a and its box's w): one exchange of
-  !> the boxes and one message per pair of ranks for all of them.
+  !> the boxes, then one message per pair of ranks for each batch of fields
+  !> (consecutive fields of at most max(8, the largest field's) values per
+  !> entry together: the buffers stay as small as one field's).
   subroutine gather_box_fields(pc, ix, f, lo, hi, nodes, hlo, hhi)
     type(comm_t), intent(in) :: pc
     type(grid_index_t), intent(in) :: ix
     type(gather_field_t), intent(in) :: f(:)
     integer, intent(in) :: lo(3), hi(3), hlo(3), hhi(3)
     logical, intent(in) :: nodes
-    integer :: boxes(18, 0:pc%nranks - 1), mine(18), scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), &
-               sdispls(0:pc%nranks - 1), rdispls(0:pc%nranks - 1)
-    integer :: m, r, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3), run(2, 2), e, nrun, l
-    real(wp), allocatable :: sbuf(:), rbuf(:)
-    type(grid_index_t) :: box
-
+    integer :: boxes(18, 0:pc%nranks - 1), mine(18)
+    integer :: l0, l1, cap, msum
     if (size(f) == 0) return
-    ! (the values per entry, over the fields)
-    m = 0
-    do l = 1, size(f)
-      m = m + size(f(l)%a, 1)
-    end do
     ! (owned range, asked box, its hole, in whole-grid node or cell indices)
     if (nodes) then
       mine = [ix%ulo + ix%off, ix%nhi + ix%off, lo - 1, hi, hlo, hhi]
@@ -184,6 +177,43 @@ contains
       mine = [ix%clo + ix%off, ix%chi + ix%off, lo, hi, hlo, hhi]
     end if
     call MPI_Allgather(mine, 18, MPI_INTEGER, boxes, 18, MPI_INTEGER, pc%cart)
+    cap = 8
+    do l0 = 1, size(f)
+      cap = max(cap, size(f(l0)%a, 1))
+    end do
+    l0 = 1
+    do while (l0 <= size(f))
+      l1 = l0
+      msum = size(f(l0)%a, 1)
+      do while (l1 < size(f))
+        if (msum + size(f(l1 + 1)%a, 1) > cap) exit
+        l1 = l1 + 1
+        msum = msum + size(f(l1)%a, 1)
+      end do
+      call gather_batch(pc, ix, f(l0:l1), lo, hi, nodes, mine, boxes)
+      l0 = l1 + 1
+    end do
+  end subroutine gather_box_fields
+
+  !> One batch of `gather_box_fields`, the ranks' boxes known (mine: this
+  !> rank's owned range, box and hole; boxes: every rank's).
+  subroutine gather_batch(pc, ix, f, lo, hi, nodes, mine, boxes)
+    type(comm_t), intent(in) :: pc
+    type(grid_index_t), intent(in) :: ix
+    type(gather_field_t), intent(in) :: f(:)
+    integer, intent(in) :: lo(3), hi(3), mine(18), boxes(18, 0:pc%nranks - 1)
+    logical, intent(in) :: nodes
+    integer :: scounts(0:pc%nranks - 1), rcounts(0:pc%nranks - 1), sdispls(0:pc%nranks - 1), &
+               rdispls(0:pc%nranks - 1)
+    integer :: m, r, j, k, p, q, stat, blo(3), bhi(3), olo(3), ohi(3), b(3), run(2, 2), e, nrun, l
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    type(grid_index_t) :: box
+
+    ! (the values per entry, over the fields)
+    m = 0
+    do l = 1, size(f)
+      m = m + size(f(l)%a, 1)
+    end do
     do r = 0, pc%nranks - 1
       ! what this rank sends to r, and receives from r (less the holes)
       blo = max(mine(1:3), boxes(7:9, r))
@@ -260,7 +290,7 @@ contains
         end do
       end do
     end do
-  end subroutine gather_box_fields
+  end subroutine gather_batch
 
   !> The number of entries of the index box lo..hi (0 if empty).
   pure integer function count_box(lo, hi)
