@@ -1055,7 +1055,7 @@ contains
     type(as_reals_t), allocatable, target :: ints(:)
     type(gather_field_t), allocatable :: f(:)
     integer, allocatable :: pick(:), map(:), at(:)
-    integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2), nf, ni, k, pass
+    integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2), nf, ni, k, pass, stat
     logical :: nodes
 
     if (window) then
@@ -1076,7 +1076,11 @@ contains
     map = entry_map(rb, rw)
     ! the node quantities, then the cell ones, each in one gather; an
     ! integer one through reals (at(e): its slot in ints)
-    allocate(f(rb%n), ints(rb%n), at(rb%n))
+    allocate(f(rb%n), ints(rb%n), at(rb%n), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'copy_gather', 'out of memory')
+      return
+    end if
     do pass = 1, 2
       nodes = pass == 1
       hole(:, 1) = [1, 1, 1]
