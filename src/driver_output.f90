@@ -22,8 +22,7 @@ module driver_output
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
   use driver_config, only: config_t
-  use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN
-  use parallel_comm, only: comm_t, parallel_bcast_text
+  use parallel_comm, only: comm_t, parallel_bcast_text, parallel_min
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_gathered
@@ -772,7 +771,7 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(in) :: sch
     character(len=:), allocatable :: text
-    integer :: k, mine, best
+    integer :: k, best(1)
     logical :: here
     k = 0
     if (sch%dt_particle > 0 .and. st%pt%np > 0) k = findloc(st%pt%id, sch%dt_particle, 1)
@@ -792,9 +791,9 @@ contains
     if (sch%pc%nranks == 1) return
     ! (a decomposed run, every rank calling: the text of the block holding
     ! the limiting cell or particle, the lowest rank's if none does)
-    mine = merge(0, sch%pc%nranks, here) + sch%pc%rank
-    call MPI_Allreduce(mine, best, 1, MPI_INTEGER, MPI_MIN, sch%pc%world)
-    call parallel_bcast_text(sch%pc, text, mod(best, sch%pc%nranks))
+    best = merge(0, sch%pc%nranks, here) + sch%pc%rank
+    call parallel_min(sch%pc, best)
+    call parallel_bcast_text(sch%pc, text, mod(best(1), sch%pc%nranks))
   end function step_limit_text
 
   !> '(i,j,k) <material>' of cell c (its indices in the whole grid); a

@@ -2,11 +2,10 @@
 !> halo, and errors agreed by all ranks so that every rank ends together
 !> with the message of the rank that failed.
 module driver_parallel
-  use mpi_f08, only: MPI_Allreduce, MPI_INTEGER, MPI_MIN, MPI_MAX
   use base_errors, only: error_t, error_set
   use mesh_grid, only: grid_index_t, grid_index
   use mesh_halo, only: halo_t
-  use parallel_comm, only: comm_t, parallel_decompose, parallel_bcast_text
+  use parallel_comm, only: comm_t, parallel_decompose, parallel_bcast_text, parallel_min, parallel_max
   use parallel_halo, only: mpi_halo_t, mpi_halo_init
   use driver_config, only: config_t
   implicit none
@@ -58,32 +57,26 @@ contains
   subroutine agree_error(pc, err)
     type(comm_t), intent(in) :: pc
     type(error_t), allocatable, intent(inout) :: err
-    integer :: mine, first, category
+    integer :: first(1), category(1)
     character(len=:), allocatable :: where, msg
     if (pc%nranks == 1) return
-    mine = huge(1)
-    if (allocated(err)) mine = pc%rank
-    call MPI_Allreduce(mine, first, 1, MPI_INTEGER, MPI_MIN, pc%world)
-    if (first == huge(1)) return
+    first = huge(1)
+    if (allocated(err)) first = pc%rank
+    call parallel_min(pc, first)
+    if (first(1) == huge(1)) return
     where = ''
     msg = ''
-    category = 0
-    if (pc%rank == first) then
+    category = -huge(1)
+    if (pc%rank == first(1)) then
       where = err%where
       msg = err%msg
       category = err%category
     end if
-    call parallel_bcast_text(pc, where, first)
-    call parallel_bcast_text(pc, msg, first)
-    call bcast_int(category)
-    call error_set(err, where, msg, category)
-    err%rank = first
-  contains
-    subroutine bcast_int(k)
-      integer, intent(inout) :: k
-      integer :: kk
-      kk = merge(k, -huge(1), pc%rank == first)
-      call MPI_Allreduce(kk, k, 1, MPI_INTEGER, MPI_MAX, pc%world)
-    end subroutine bcast_int
+    call parallel_bcast_text(pc, where, first(1))
+    call parallel_bcast_text(pc, msg, first(1))
+    ! (the failed rank's category: the others hold the least integer)
+    call parallel_max(pc, category)
+    call error_set(err, where, msg, category(1))
+    err%rank = first(1)
   end subroutine agree_error
 end module driver_parallel

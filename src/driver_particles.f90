@@ -1,7 +1,7 @@
 !> Builds the MPM particles of a scene from its &particles groups (none:
 !> nothing is allocated): each group seeded from its shape
 !> (`particles_seed`, shapes of `mesh_shapes`) or its file of points
-!> (`io_points_file`, each point located in the grid by `particles_locate`),
+!> (`io_points_file`, each point located in the grid by `seed_points`),
 !> given its solid, density, initial velocity and stress and body id, then
 !> all sorted by solid and host cell and binned (`particles_order`).
 !>
@@ -30,39 +30,41 @@ module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
-  use mesh_geometry, only: hex_volume
   use mesh_grid, only: grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
-  use particles_shape, only: particles_locate, particles_shape_values
-  use particles_euler, only: particles_flip, particles_relocate, particles_occupied
+  use particles_euler, only: particles_flip, particles_relocate, particles_occupied, particles_place, &
+                             particles_leaving, particles_first_lost
   use particles_spread, only: particles_support_widths
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
-  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, rigid_velocity
+  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
+                             particles_solid_order, &
                              particles_register_restart
   use base_registry, only: registry_t, K_REAL
   use parallel_comm, only: comm_t
-  use parallel_gather, only: gather_concat
+  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_gather_mvf
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
                                 particles_phase_mass, &
                                 particles_stable_dt, particles_g2p, &
-                                particles_virtual_grid, particles_velocity_gradients, particles_stress_update
+                                particles_virtual_grid, particles_velocity_gradients, particles_stress_update, &
+                                particles_virtual_masses, particles_blend_velocities, particles_q_heating, &
+                                particles_slot_start
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
   use strength_jc_flow, only: jc_flow_t
   use strength_gurson, only: gtn_f, gtn_f0
   use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field
   use eos_mie_gruneisen, only: mie_gruneisen_t
-  use mesh_boundary, only: bc_constrain, BC_INFLOW, BC_OUTFLOW
+  use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
+  use lagrange_state, only: nodal_sums, cell_sums
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
   use driver_state, only: state_t, particles_internal
-  use base_xsum, only: xsum_t, xsum_add, xsum_value
   implicit none
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
@@ -190,7 +192,7 @@ contains
     if (allocated(err)) return
     if (cfg%hydro%particles_coupled) call gurson_voids(cfg, st, log, err)
     if (allocated(err)) return
-    call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count(cell_used(st%pt, st%g%ncell)))// &
+    call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count_hosts(st%pt, st%g%ncell))// &
                   ' host cells, '//itoa(size(cfg%solids))//' solid(s)')
   end subroutine build_particles
 
@@ -210,10 +212,10 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(random_field_t) :: field
-    integer, allocatable :: order(:), at(:)
+    integer, allocatable :: order(:)
     real(wp), allocatable :: xs(:, :), g(:), f0(:)
     real(wp) :: lo(3), hi(3), spacing, clipped, fm, fs
-    integer :: s, k, n, i, ntrunc, stat
+    integer :: s, n, ntrunc, stat
     character(len=200) :: msg
     character(len=:), allocatable :: why
     do s = 1, size(cfg%solids)
@@ -221,23 +223,14 @@ contains
         if (trim(sc%strength) /= 'gurson' .or. .not. sc%void_std > 0.0_wp) cycle
         n = p%mat_start(s + 1) - p%mat_start(s)
         if (n == 0) cycle
-        allocate(order(n), at(p%np), xs(3, n), g(n), f0(n), stat=stat, errmsg=msg)
+        ! the solid's particles in seeding-id order
+        call particles_solid_order(p, s, order, err)
+        if (allocated(err)) return
+        allocate(xs(3, n), g(n), f0(n), stat=stat, errmsg=msg)
         if (stat /= 0) then
           call error_set(err, 'gurson_voids', error_no_memory('the void field''s work arrays'))
           return
         end if
-        ! the solid's particles in seeding-id order
-        at = 0
-        do k = p%mat_start(s), p%mat_start(s + 1) - 1
-          at(p%id(k)) = k
-        end do
-        i = 0
-        do k = 1, p%np
-          if (at(k) > 0) then
-            i = i + 1
-            order(i) = at(k)
-          end if
-        end do
         xs = p%x(:, order)
         lo = minval(xs, dim=2)
         hi = maxval(xs, dim=2)
@@ -272,7 +265,7 @@ contains
           trim(sc%void_distribution)//', '//trim(sc%void_covariance)//' covariance, length '//rtoa(sc%void_length)// &
           ', seed '//itoa(sc%void_seed)//'); '//itoa(ntrunc)//' truncated to [1e-6, '// &
           rtoa(min(0.5_wp, sc%gtn_fc))//'], variance share clipped '//rtoa(clipped))
-        deallocate(order, at, xs, g, f0)
+        deallocate(order, xs, g, f0)
       end associate
     end do
   end subroutine gurson_voids
@@ -283,18 +276,15 @@ contains
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, s, stat
+    integer :: s, stat
     character(len=200) :: msg
-    real(wp) :: p0
     type(strength_params_t) :: par
     allocate(st%pt%mvf(st%pt%np), st%pw%models(size(cfg%solids)), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'couple_particles', error_no_memory('the coupling arrays'))
       return
     end if
-    do k = 1, st%pt%np
-      st%pt%mvf(k) = st%h%rho(st%pt%cell(k))*st%pt%vol(k)
-    end do
+    call particles_virtual_masses(st%pt, st%h%rho)
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s))
         ! (hjc: its hjc_* values and the solid's density as its rho0)
@@ -313,16 +303,9 @@ contains
         par%gurson_sn = sc%gtn_sn; par%gurson_fc = sc%gtn_fc; par%gurson_ff = sc%gtn_ff; par%gurson_f0 = sc%void_mean
         call strength_create(sc%strength, par, st%pw%models(s)%m, err, eos_pressure=trim(sc%eos) == 'mie_gruneisen')
         if (allocated(err)) return
-        do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
-          call st%pw%models(s)%m%hist_init(st%pt%hist(:, k))
-        end do
-        if (trim(sc%eos) == 'mie_gruneisen') then
+        if (trim(sc%eos) == 'mie_gruneisen') &
           st%pw%models(s)%eos = mie_gruneisen_t(rho0=sc%par%rho0, c0=sc%par%c0, s1=sc%par%s1, gamma0=sc%par%gamma0)
-          do k = st%pt%mat_start(s), st%pt%mat_start(s + 1) - 1
-            p0 = -(st%pt%stress(1, k) + st%pt%stress(2, k) + st%pt%stress(3, k))/3.0_wp
-            st%pt%e(k) = st%pw%models(s)%eos%energy(st%pt%rho(k), p0)
-          end do
-        end if
+        call particles_slot_start(st%pt, s, st%pw%models(s))
       end associate
       if (allocated(err)) return
     end do
@@ -338,15 +321,11 @@ contains
   !> to the particles (`particles_flip`), so that particles and nodes agree.
   subroutine share_velocities(st)
     type(state_t), intent(inout) :: st
-    integer :: n
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       pw%mass_ready = .false.
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
-      do n = 1, g%nnode
-        if (.not. pw%ms(n) > 0.0_wp) cycle
-        h%u(:, n) = (h%mnode(n)*h%u(:, n) + pw%mp(n)*pw%vs(:, n))/(h%mnode(n) + pw%mp(n))
-      end do
+      call particles_blend_velocities(pw%ms, h%mnode, pw%mp, pw%vs, h%u)
       call bc_constrain(st%bc, h%u)
       ! (a block's ghost nodes as their owners have them: its particles in
       ! ghost cells reach nodes whose sums the block does not complete)
@@ -377,7 +356,7 @@ contains
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
     real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
-    integer :: kp, n, kid
+    integer :: kp, kid
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, cfg%hydro%particle_q)
@@ -399,9 +378,7 @@ contains
       call agree_bad(bad_particle)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
-      do n = 1, g%nnode
-        pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
-      end do
+      pw%xh(:, :g%nnode) = 0.5_wp*(h%xn(:, :g%nnode) + g%x(:, :g%nnode))
       if (cfg%hydro%stress_decoupled) then
         call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
         call bc_constrain(st%bc, pw%vs)
@@ -414,11 +391,7 @@ contains
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
       call agree_bad(bad_particle)
       ! the artificial viscosity's work (the corrector's q) heats the particles
-      if (cfg%hydro%particle_q > 0.0_wp) then
-        do n = 1, pt%np
-          pt%e(n) = pt%e(n) - dt*pw%q(n)*pt%vol(n)*(pw%lgrad(1, 1, n) + pw%lgrad(2, 2, n) + pw%lgrad(3, 3, n))/pt%m(n)
-        end do
-      end if
+      if (cfg%hydro%particle_q > 0.0_wp) call particles_q_heating(pt, pw%q, pw%lgrad, dt)
       e_new = particles_internal(st, pw%eroded, eroded)
       st%tot%erosion_energy = st%tot%erosion_energy + eroded
       ! the energy balance (PARTICLES.md §1.12): the particle forces' work
@@ -449,9 +422,9 @@ contains
   !> is one of the block's owned cells or of the ghost layer around them (two
   !> layers for spread particles, `particles_spread`)
   !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
-  !> order (so sorted as one process sorts them), with their whole index in
-  !> st%pwhole and pw%owned marking the ones it owns. The coupling's work
-  !> arrays are sized anew.
+  !> order (`parallel_particles_take`), with their whole index in st%pwhole
+  !> and pw%owned marking the ones it owns. The coupling's work arrays are
+  !> sized anew.
   subroutine particles_take(st, w, wix, models_in, err)
     type(state_t), intent(inout), target :: st
     type(particles_t), intent(in) :: w
@@ -459,107 +432,29 @@ contains
     type(strength_slot_t), allocatable, intent(in) :: models_in(:)
     type(error_t), allocatable, intent(inout) :: err
     type(strength_slot_t), allocatable :: models(:)
-    integer, allocatable :: pick(:)
     logical, allocatable :: owned(:)
-    integer :: k, n, q, lo(3), hi(3), ijk(3), stat
-    character(len=200) :: msg
-
-    associate (g => st%g, wg => wix)
-      ! (spread particles reach the owned nodes from the second ghost layer)
-      call g%cells_around(merge(2, 1, w%spread), lo, hi)
-      allocate(pick(w%np), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'particles_take', error_no_memory('work arrays'))
-        return
-      end if
-      n = 0
-      do k = 1, w%np
-        call wg%cell_ijk(w%cell(k), ijk(1), ijk(2), ijk(3))
-        ijk = ijk - g%off
-        if (any(ijk < lo .or. ijk > hi)) cycle
-        n = n + 1
-        pick(n) = k
-      end do
-      st%pwhole = pick(:n)
-      st%pt = w
-      call particles_select(st%pt, st%pwhole)
-      do q = 1, n
-        call wg%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
-        ijk = ijk - g%off
-        st%pt%cell(q) = g%cell(ijk(1), ijk(2), ijk(3))
-      end do
-      call particles_index(st%pt, g%ncell, err)
+    ! (spread particles reach the owned nodes from the second ghost layer)
+    call parallel_particles_take(w, wix, st%g, merge(2, 1, w%spread), st%pt, st%pwhole, owned, err)
+    if (allocated(err)) return
+    st%pw = particles_work_t()
+    if (allocated(models_in)) then
+      models = models_in
+      call particles_work_init(st%pw, st%g%nnode, st%g%ncell, st%pt%np, st%pt%nhist, err)
       if (allocated(err)) return
-      allocate(owned(n), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'particles_take', error_no_memory('work arrays'))
-        return
-      end if
-      do q = 1, n
-        call g%cell_ijk(st%pt%cell(q), ijk(1), ijk(2), ijk(3))
-        owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
-      end do
-      st%pw = particles_work_t()
-      if (allocated(models_in)) then
-        models = models_in
-        call particles_work_init(st%pw, g%nnode, g%ncell, n, st%pt%nhist, err)
-        if (allocated(err)) return
-        call move_alloc(models, st%pw%models)
-      end if
-      call move_alloc(owned, st%pw%owned)
-    end associate
+      call move_alloc(models, st%pw%models)
+    end if
+    call move_alloc(owned, st%pw%owned)
   end subroutine particles_take
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
-  !> cells numbered in the whole grid): each block gives the ones it owns
-  !> with their whole index (st%pwhole). On every rank (collective).
+  !> cells numbered in the whole grid): `parallel_particles_gather` of the
+  !> blocks' owned particles. On every rank (collective).
   subroutine particles_gathered(pc, st, ptw, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(particles_t), intent(inout), target :: ptw
     type(error_t), allocatable, intent(inout) :: err
-    type(registry_t) :: rb, rw
-    integer, allocatable :: own(:), at(:), iw(:), cells(:)
-    real(wp), allocatable :: rw_(:)
-    integer :: k, e, m, q, j, stat
-    character(len=200) :: msg
-
-    own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
-    call gather_concat(pc, st%pwhole(own), at)
-    call particles_allocate(ptw, size(at), st%pt%nsolid, st%pt%nhist, err)
-    if (allocated(err)) return
-    ptw%spread = st%pt%spread
-    if (allocated(st%pt%mvf)) then
-      allocate(ptw%mvf(size(at)), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'particles_gathered', error_no_memory('the gathered particles'))
-        return
-      end if
-    end if
-    ! (host cells in the whole grid's numbering while they are sent)
-    cells = st%pt%cell
-    do k = 1, st%pt%np
-      st%pt%cell(k) = st%g%global_cell(cells(k))
-    end do
-    call particles_register_restart(st%pt, rb)
-    call particles_register_restart(ptw, rw)
-    do e = 1, rb%n
-      associate (b => rb%e(e), v => rw%e(e))
-        m = product(b%dims(1:size(b%dims) - 1))
-        if (b%kind == K_REAL) then
-          call gather_concat(pc, [((b%r(m*(own(q) - 1) + j), j = 1, m), q = 1, size(own))], rw_)
-          do q = 1, size(at)
-            v%r(m*(at(q) - 1) + 1:m*at(q)) = rw_(m*(q - 1) + 1:m*q)
-          end do
-        else
-          call gather_concat(pc, [((b%i(m*(own(q) - 1) + j), j = 1, m), q = 1, size(own))], iw)
-          do q = 1, size(at)
-            v%i(m*(at(q) - 1) + 1:m*at(q)) = iw(m*(q - 1) + 1:m*q)
-          end do
-        end if
-      end associate
-    end do
-    st%pt%cell = cells
+    call parallel_particles_gather(pc, st%g, st%pt, st%pw%owned, st%pwhole, ptw, err)
   end subroutine particles_gathered
 
   !> The virtual-fluid masses of ptw (`particles_gathered` from st) taken
@@ -569,13 +464,7 @@ contains
     type(comm_t), intent(in) :: pc
     type(state_t), intent(in) :: st
     type(particles_t), intent(inout) :: ptw
-    integer, allocatable :: own(:), at(:)
-    real(wp), allocatable :: mvf(:)
-    integer :: k
-    own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
-    call gather_concat(pc, st%pwhole(own), at)
-    call gather_concat(pc, st%pt%mvf(own), mvf)
-    ptw%mvf(at) = mvf
+    call parallel_particles_gather_mvf(pc, st%pt, st%pw%owned, st%pwhole, ptw)
   end subroutine particles_gathered_mvf
 
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
@@ -598,14 +487,14 @@ contains
       return
     end if
     call particles_relocate(st%g, x0, st%pt, st%pt%cell, pe%guess, xi, bad)
-    do k = 1, st%pt%np
-      if (pe%guess(k) > 0 .or. out_open_face(st, x0, st%pt%cell(k), st%pt%x(:, k))) cycle
+    k = particles_first_lost(st%g, st%bc, x0, st%pt, pe%guess)
+    if (k > 0) then
       call error_set(err, 'particles_euler_preposition', 'particle '//itoa(st%pt%id(k))//' at ('// &
                      rtoa(st%pt%x(1, k))//', '//rtoa(st%pt%x(2, k))//', '//rtoa(st%pt%x(3, k))// &
                      ') lies outside the initial grid, in which Remark 2 places the particles before smoothing', &
                      ERR_RUNTIME)
       return
-    end do
+    end if
     pe%occupied = particles_occupied(pack(pe%guess, pe%guess > 0), st%g%ncell)
     ! (the walk after the remap starts at the old host of one that left)
     if (bad /= 0) pe%guess = merge(pe%guess, st%pt%cell, pe%guess > 0)
@@ -647,23 +536,12 @@ contains
     !> cells' mass (ms), exact.
     subroutine fill_sums(en, ms)
       real(wp), intent(out) :: en, ms
-      type(xsum_t) :: acc(2)
-      real(wp) :: ke, p(3)
-      integer :: i, j, k
+      real(wp) :: ke, p(3), internal
       associate (g => st%g, h => st%h)
         call particles_phase_mass(g, st%pt, st%pw, h%mnode)
-        call nodal_sums(st, h%mnode + st%pw%mp, ke, p)
-        do k = g%clo(3), g%chi(3)
-          do j = g%clo(2), g%chi(2)
-            do i = g%clo(1), g%chi(1)
-              call xsum_add(acc(1), h%mass(g%cell(i, j, k))*h%e(g%cell(i, j, k)))
-              call xsum_add(acc(2), h%mass(g%cell(i, j, k)))
-            end do
-          end do
-        end do
-        call st%halo%sums(acc)
-        en = xsum_value(acc(1)) + ke
-        ms = xsum_value(acc(2))
+        call nodal_sums(g, st%halo, h%mnode + st%pw%mp, h%u, ke, p)
+        call cell_sums(g, h, st%halo, ms, internal)
+        en = internal + ke
       end associate
     end subroutine fill_sums
   end subroutine particles_euler_fill
@@ -676,7 +554,7 @@ contains
     type(particles_euler_t), intent(inout) :: pe
     associate (g => st%g, h => st%h, pw => st%pw)
       call particles_phase_mass(g, st%pt, pw, h%mnode)
-      call nodal_sums(st, pw%mp, pe%ke_solid, pe%p_solid)
+      call nodal_sums(st%g, st%halo, pw%mp, st%h%u, pe%ke_solid, pe%p_solid)
     end associate
   end subroutine particles_euler_save
 
@@ -707,8 +585,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cell(:)
     real(wp), allocatable :: xi(:, :)
-    real(wp) :: sh(8)
-    integer :: bad, k, a, n0, stat
+    integer :: bad, stat
     character(len=200) :: msg
 
     associate (g => st%g, pt => st%pt)
@@ -727,14 +604,7 @@ contains
       end if
       pt%cell = cell
       pt%xi = xi
-      do k = 1, pt%np
-        sh = particles_shape_values(pt%xi(:, k))
-        n0 = g%node0(pt%cell(k))
-        pt%x(:, k) = 0.0_wp
-        do a = 1, 8
-          pt%x(:, k) = pt%x(:, k) + sh(a)*g%x(:, n0 + g%corner_offset(a))
-        end do
-      end do
+      call particles_place(g, pt)
       call particles_order(pt, g%ncell, err)
       if (pt%spread) call particles_support_widths(g, pt)
     end associate
@@ -761,17 +631,14 @@ contains
     integer, intent(in) :: np, hosts
     type(log_t), intent(in) :: log
     real(wp) :: ke_f, p_f(3), ke1, p1(3)
-    integer :: k
     character(len=300) :: line
 
     associate (h => st%h, pt => st%pt, pw => st%pw)
       if (.not. allocated(pt%mvf)) return
-      do k = 1, pt%np
-        pt%mvf(k) = h%rho(pt%cell(k))*pt%vol(k)
-      end do
-      call nodal_sums(st, h%mnode, ke_f, p_f)
+      call particles_virtual_masses(pt, h%rho)
+      call nodal_sums(st%g, st%halo, h%mnode, st%h%u, ke_f, p_f)
       call share_velocities(st)
-      call nodal_sums(st, h%mnode + pw%mp, ke1, p1)
+      call nodal_sums(st%g, st%halo, h%mnode + pw%mp, st%h%u, ke1, p1)
       ! (the share of the particles that left went out with them)
       st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + pe%ke_out - ke_f - pe%ke_solid)
       write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &
@@ -780,32 +647,6 @@ contains
       call log_line(log, trim(line))
     end associate
   end subroutine particles_euler_couple
-
-  !> Kinetic energy ke and momentum p of the nodes' velocities st%h%u with
-  !> masses m, exact sums over the nodes st's block counts, over all blocks.
-  subroutine nodal_sums(st, m, ke, p)
-    type(state_t), intent(in) :: st
-    real(wp), intent(in) :: m(:)
-    real(wp), intent(out) :: ke, p(3)
-    type(xsum_t) :: acc(4)
-    integer :: i, j, k, n, d
-    associate (g => st%g, u => st%h%u)
-      do k = g%ulo(3), g%nhi(3)
-        do j = g%ulo(2), g%nhi(2)
-          do i = g%ulo(1), g%nhi(1)
-            n = g%node(i, j, k)
-            call xsum_add(acc(4), 0.5_wp*m(n)*dot_product(u(:, n), u(:, n)))
-            do d = 1, 3
-              call xsum_add(acc(d), m(n)*u(d, n))
-            end do
-          end do
-        end do
-      end do
-    end associate
-    call st%halo%sums(acc)
-    ke = xsum_value(acc(4))
-    p = [(xsum_value(acc(d)), d = 1, 3)]
-  end subroutine nodal_sums
 
   !> How many cells host particles (of p, binned on a grid of ncell cells).
   integer function count_hosts(p, ncell)
@@ -831,32 +672,19 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: pick(:)
-    real(wp) :: mx, m_out, e_out
+    real(wp) :: m_out, e_out
     integer :: k
     character(len=300) :: line
 
-    p_out = 0.0_wp
-    ke_out = 0.0_wp
     associate (pt => st%pt)
-      do k = 1, pt%np
-        if (cell(k) > 0 .or. out_open_face(st, st%g%x, pt%cell(k), pt%x(:, k))) cycle
+      k = particles_first_lost(st%g, st%bc, st%g%x, pt, cell)
+      if (k > 0) then
         call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(k))//' at ('// &
                        rtoa(pt%x(1, k))//', '//rtoa(pt%x(2, k))//', '//rtoa(pt%x(3, k))// &
                        ') lies in no cell of the rezoned grid', ERR_RUNTIME)
         return
-      end do
-      m_out = 0.0_wp
-      e_out = 0.0_wp
-      do k = 1, pt%np
-        if (cell(k) > 0) cycle
-        m_out = m_out + pt%m(k)
-        if (.not. allocated(pt%mvf)) cycle   ! (inert particles carry nothing of the balance)
-        mx = pt%m(k) - pt%mvf(k)
-        p_out = p_out + mx*pt%v(:, k)
-        ke_out = ke_out + 0.5_wp*mx*dot_product(pt%v(:, k), pt%v(:, k))
-        e_out = e_out + pt%m(k)*pt%e(k)
-      end do
-      e_out = e_out + ke_out
+      end if
+      call particles_leaving(pt, cell, m_out, p_out, ke_out, e_out)
       st%tot%boundary_work = st%tot%boundary_work - e_out
       pick = pack([(k, k = 1, pt%np)], cell > 0)
       write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
@@ -868,58 +696,6 @@ contains
       if (allocated(st%pw%vh)) call particles_work_resize(st%pw, pt%np, pt%nhist, err)
     end associate
   end subroutine particles_leave
-
-  !> Whether a particle at xp, hosted by cell c of st's (whole) grid, went
-  !> out through an inflow or outflow face of the grid x (st%g's nodes):
-  !> its host lies on such a face, or xp lies beyond the face (past every
-  !> one of the face's nodes along its direction).
-  logical function out_open_face(st, x, c, xp) result(out)
-    type(state_t), intent(in) :: st
-    real(wp), intent(in) :: x(:, :), xp(3)
-    integer, intent(in) :: c
-    integer :: ijk(3), f, d, i, j, k, lo(3), hi(3)
-    real(wp) :: far, sgn
-    logical :: low
-    call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-    out = .false.
-    do f = 1, 6
-      if (.not. (st%bc%kind(f) == BC_INFLOW .or. st%bc%kind(f) == BC_OUTFLOW)) cycle
-      d = (f + 1)/2
-      low = mod(f, 2) == 1
-      ! (the face's nodes: the grid's node indices 0 or n along d; sgn
-      ! points out of the grid through the face)
-      lo = st%g%clo - 1
-      hi = st%g%chi
-      if (low) then
-        out = out .or. ijk(d) == st%g%clo(d)
-        hi(d) = lo(d)
-      else
-        out = out .or. ijk(d) == st%g%chi(d)
-        lo(d) = hi(d)
-      end if
-      sgn = merge(-1.0_wp, 1.0_wp, low)
-      far = -huge(1.0_wp)
-      do k = lo(3), hi(3)
-        do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            far = max(far, sgn*x(d, st%g%node(i, j, k)))
-          end do
-        end do
-      end do
-      out = out .or. sgn*xp(d) > far
-    end do
-  end function out_open_face
-
-  !> Which cells host particles.
-  function cell_used(p, ncell) result(used)
-    type(particles_t), intent(in) :: p
-    integer, intent(in) :: ncell
-    logical :: used(ncell)
-    integer :: c
-    do c = 1, ncell
-      used(c) = p%cell_start(c + 1) > p%cell_start(c)
-    end do
-  end function cell_used
 
   !> A body seeded by several groups is their union: a group's particles in
   !> sub-cells an earlier group of the same body seeded (a column and a slab
@@ -1016,10 +792,7 @@ contains
     type(seeded_t), intent(inout) :: gr
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: vfile(:)
-    real(wp) :: xn(3, 8)
-    integer :: i, n, c, guess, stat
-    logical :: found
-    character(len=200) :: msg
+    integer :: lost
 
     call points_file_read(pc%file_path, gr%x, vfile, err)
     if (allocated(err)) then
@@ -1029,28 +802,9 @@ contains
     end if
     call particles_file_place(pc, gr%x)
     if (size(vfile) > 0) vfile = pc%scale**3*vfile
-    n = size(gr%x, 2)
-    allocate(gr%cell(n), gr%xi(3, n), gr%vol(n), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, 'seed_file', error_no_memory(itoa(n)//' particles'))
-      return
-    end if
-    guess = 1
-    do i = 1, n
-      call particles_locate(st%g, gr%x(:, i), guess, c, gr%xi(:, i), found)
-      if (.not. found) then
-        call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): point '// &
-                       itoa(i)//' of file '''//trim(pc%file)//''' lies in no cell of the grid', ERR_INPUT)
-        return
-      end if
-      gr%cell(i) = c
-      guess = c
-      if (size(vfile) > 0) then
-        gr%vol(i) = vfile(i)
-      else
-        call st%g%gather(c, st%g%x, xn)
-        gr%vol(i) = hex_volume(xn)/real(pc%per_cell, wp)**3
-      end if
-    end do
+    call seed_points(st%g, gr%x, vfile, pc%per_cell, gr%cell, gr%xi, gr%vol, lost, err)
+    if (lost > 0) call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)// &
+                                 '): point '//itoa(lost)//' of file '''//trim(pc%file)//''' lies in no cell of the grid', &
+                                 ERR_INPUT)
   end subroutine seed_file
 end module driver_particles

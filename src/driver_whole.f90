@@ -4,7 +4,7 @@
 !> Euler steps on windows (the default, &run euler_ranks): each rank
 !> holds a window, its block widened by the cells its remap reads (a box of
 !> the whole grid, built from the deck once). At an Euler step each block
-!> smooths its own nodes (`smooth_rezone` with the block's halo: LSSM's
+!> smooths its own nodes (`lssm_rezone` with the block's halo: LSSM's
 !> subdomains seeded from all blocks' distorted cells, the ghosts refreshed
 !> after every pass; the global rezone works on the whole grid's node
 !> positions, gathered, on every rank), then every rank gathers its
@@ -56,7 +56,6 @@
 !> owned cells, renumbered and put back in cell order (the order one
 !> process keeps them in).
 module driver_whole
-  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_IN_PLACE, MPI_MAX, MPI_MIN, MPI_SUM
   use base_sort, only: sort_order
   use lagrange_centroids, only: centroid_stats_t, centroids_refresh
   use base_kinds, only: wp
@@ -72,10 +71,11 @@ module driver_whole
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
                               particles_gathered_mvf
   use particles_lagrange, only: strength_slot_t
-  use parallel_comm, only: comm_t
+  use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat
-  use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block
+  use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
+                       grid_copy_rows_int
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
@@ -256,8 +256,9 @@ contains
     shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
       call euler_shape(cfg%rezone, st%g, es)
-      call MPI_Allreduce(es%shape_mine(1), shape(1), 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
-      call MPI_Allreduce(es%shape_mine(2), shape(2), 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
+      shape = es%shape_mine
+      call parallel_max(pc, shape(1:1))
+      call parallel_min(pc, shape(2:2))
     end if
     call euler_due(cfg%rezone, st, es, due, shape)
     if (.not. due) return
@@ -273,7 +274,7 @@ contains
   end subroutine whole_euler
 
   !> An Euler step on windows (module header). Each block smooths its nodes
-  !> (&rezone mode 'lssm' or 'smooth': `smooth_rezone` on the block, its
+  !> (&rezone mode 'lssm' or 'smooth': `lssm_rezone` on the block, its
   !> ghosts refreshed after every pass), or every rank rezones the whole
   !> grid's node positions (gathered; mode 'global'); then each rank remaps
   !> its window: the new cells of its block and window_compute layers
@@ -486,7 +487,7 @@ contains
                                                               zone%own, nparts, moved=moved, blockers=blockers)
       n(1:3) = [nblock, 0, merge(1, 0, allocated(err))]
       if (allocated(moved)) n(2) = count(zone%own(moved))
-      call MPI_Allreduce(MPI_IN_PLACE, n, 3, MPI_INTEGER, MPI_SUM, pc%world)
+      call parallel_sum(pc, n(1:3))
       nblock = n(1)
       ! (not after an error on any rank: the caller stops)
       hybrid = cfg%rezone%swept_hybrid .and. single == 0 .and. nblock > 0 .and. nblock < n(2) .and. n(3) == 0
@@ -500,7 +501,7 @@ contains
         par%lattice = lattice_nodes(st%gw, xnew)
       else
         n(1) = merge(1, 0, lattice_nodes(st%g, xb))
-        call MPI_Allreduce(MPI_IN_PLACE, n(1), 1, MPI_INTEGER, MPI_MIN, pc%world)
+        call parallel_min(pc, n(1:1))
         par%lattice = n(1) == 1
       end if
       lattice = par%lattice
@@ -508,7 +509,7 @@ contains
       ! windows (n(1): the most parts a window needs, n(2): a window that
       ! cannot)
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
-      call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
+      call parallel_max(pc, n(1:2))
       ps%on = single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
               .not. allocated(st%pwhole) .and. n(3) == 0
       if (ps%on) then
@@ -525,7 +526,7 @@ contains
         call remap_hybrid_target(wg, xw, blockers, xk)
         n(1:2) = [remap_swept_blockers(wg, w%h, w%bc, xk, par%swept_max, par%swept_mixed, zone%own, moved=moved), 0]
         n(2) = count(zone%own(moved))
-        call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
+        call parallel_sum(pc, n(1:2))
         hybrid = n(1) == 0 .and. n(2) > 0
         if (hybrid .and. zone%open) then
           call remap_hybrid_target(st%gw, xnew, every, xkw)
@@ -588,7 +589,7 @@ contains
           n(1) = 1
           if (.not. allocated(err)) n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, &
                                                                 zone%own)
-          call MPI_Allreduce(MPI_IN_PLACE, n(1), 1, MPI_INTEGER, MPI_SUM, pc%world)
+          call parallel_sum(pc, n(1:1))
           par%swept = n(1) == 0
           par%lattice = lattice
         end if
@@ -603,7 +604,7 @@ contains
           return
         end if
         n = [rk%cells_short, rk%regions_uncovered, rk%cells_deficit, rk%swept_unbounded]
-        call MPI_Allreduce(MPI_IN_PLACE, n, 4, MPI_INTEGER, MPI_SUM, pc%world)
+        call parallel_sum(pc, n(1:4))
         if (ps%on .and. par%swept_only .and. n(4) > 0 .and. all(n(1:3) == 0)) then
           ! (nothing remapped: the first part again half as far, or the rest
           ! of the way in twice the parts; the window gathered again, as the
@@ -700,7 +701,7 @@ contains
     logical, intent(out) :: arrived, next, whole
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xb(:, :), xkw(:, :), x(:, :)
-    real(wp) :: r
+    real(wp) :: r(1)
     integer :: n(2), nmax
     integer, allocatable :: moved(:)
     logical :: global
@@ -711,17 +712,17 @@ contains
     arrived = .true.
     associate (w => st%win, wg => st%win%g)
       if (ps%ntaken == 0 .and. ps%nleft == 0) then
-        call remap_part_target(wg, xfinal, ps%fac*par%swept_max, cells, xw, arrived, r, err, zone%own)
+        call remap_part_target(wg, xfinal, ps%fac*par%swept_max, cells, xw, arrived, r(1), err, zone%own)
         call agree_error(pc, err)
         if (allocated(err)) return
         n(1) = merge(1, 0, arrived)
-        call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
-        call MPI_Allreduce(MPI_IN_PLACE, r, 1, MPI_DOUBLE_PRECISION, MPI_MIN, pc%world)
+        call parallel_min(pc, n(1:1))
+        call parallel_min(pc, r(1:1))
         arrived = n(1) == 1
         if (.not. arrived) then
           n(1) = merge(1, 0, remap_part_folded(wg, cells, xw, zone%own))
-          call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MAX, pc%world)
-          if (n(1) == 1) call remap_part_uniform(wg, xfinal, cells, r, xw)
+          call parallel_max(pc, n(1:1))
+          if (n(1) == 1) call remap_part_uniform(wg, xfinal, cells, r(1), xw)
         end if
       else
         if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
@@ -740,12 +741,12 @@ contains
       if (allocated(err)) return
       if (global) then
         n(1) = merge(1, 0, lattice_nodes(st%g, xb))
-        call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER, MPI_MIN, pc%world)
+        call parallel_min(pc, n(1:1))
         par%lattice = n(1) == 1
       end if
       n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own, moved=moved)
       n(2) = count(zone%own(moved))
-      call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_SUM, pc%world)
+      call parallel_sum(pc, n(1:2))
       par%swept = n(1) == 0
       par%swept_only = par%swept .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax
       ! (as `euler_step` decides its rescue of such a part)
@@ -783,7 +784,7 @@ contains
     nfar = remap_swept_blockers(st%win%g, st%win%h, st%win%bc, xfinal, par%swept_max, par%swept_mixed, zone%own, &
                                 parts=n(1))
     n(2) = merge(1, 0, n(1) == 0)
-    call MPI_Allreduce(MPI_IN_PLACE, n, 2, MPI_INTEGER, MPI_MAX, pc%world)
+    call parallel_max(pc, n(1:2))
     nleft = merge(1, max(n(1), 1), n(2) == 1)
   end function window_parts
 
@@ -794,20 +795,15 @@ contains
     real(wp), intent(in) :: xw(:, :)
     real(wp), allocatable, intent(out) :: xb(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, j, k, o(3), stat
-    allocate(xb(size(xw, 1), g%nnode), stat=stat)
+    integer, allocatable :: to(:), from(:)
+    integer :: len, stat
+    call grid_rows(g, wg, .true., size(xw, 1), to, from, len, stat)
+    if (stat == 0) allocate(xb(size(xw, 1), g%nnode), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'block_nodes', 'out of memory')
       return
     end if
-    o = g%off - wg%off
-    do k = g%slo(3) - 1, g%shi(3)
-      do j = g%slo(2) - 1, g%shi(2)
-        do i = g%slo(1) - 1, g%shi(1)
-          xb(:, g%node(i, j, k)) = xw(:, wg%node(i + o(1), j + o(2), k + o(3)))
-        end do
-      end do
-    end do
+    call grid_copy_rows_real(to, from, len, xw, xb)
   end subroutine block_nodes
 
   !> The cells of the window wg among the whole grid's cells cells (its
@@ -901,10 +897,10 @@ contains
     nx = [rs%reach]
     r = [rs%ke_to_internal, rs%momentum_constrained, rs%scale]
     x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
-    call MPI_Allreduce(MPI_IN_PLACE, ni, 8, MPI_INTEGER, MPI_SUM, pc%world)
-    call MPI_Allreduce(MPI_IN_PLACE, nx, 1, MPI_INTEGER, MPI_MAX, pc%world)
-    call MPI_Allreduce(MPI_IN_PLACE, r, 7, MPI_DOUBLE_PRECISION, MPI_SUM, pc%world)
-    call MPI_Allreduce(MPI_IN_PLACE, x, 6, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+    call parallel_sum(pc, ni(1:8))
+    call parallel_max(pc, nx(1:1))
+    call parallel_sum(pc, r(1:7))
+    call parallel_max(pc, x(1:6))
     rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
     rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7); rs%mof_carried = ni(8)
     rs%reach = nx(1)
@@ -921,16 +917,17 @@ contains
     type(centroid_stats_t), intent(in) :: cs
     type(centroid_stats_t), intent(inout) :: total
     integer :: n(5)
-    real(wp) :: e
+    real(wp) :: e(1)
     n = [cs%fitted, cs%iterations, cs%capped, cs%moved, cs%failed]
-    call MPI_Allreduce(MPI_IN_PLACE, n, 5, MPI_INTEGER, MPI_SUM, pc%world)
-    call MPI_Allreduce(cs%err_max, e, 1, MPI_DOUBLE_PRECISION, MPI_MAX, pc%world)
+    call parallel_sum(pc, n(1:5))
+    e = cs%err_max
+    call parallel_max(pc, e)
     total%fitted = total%fitted + n(1)
     total%iterations = total%iterations + n(2)
     total%capped = total%capped + n(3)
     total%moved = total%moved + n(4)
     total%failed = total%failed + n(5)
-    total%err_max = max(total%err_max, e)
+    total%err_max = max(total%err_max, e(1))
   end subroutine centroids_count
 
   !> A restart dump of a decomposed run, written by the ranks together
@@ -1077,10 +1074,8 @@ contains
     ! the node quantities, then the cell ones, each in one gather; an
     ! integer one through reals (at(e): its slot in ints)
     allocate(f(rb%n), ints(rb%n), at(rb%n), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'copy_gather', 'out of memory')
-      return
-    end if
+    ! (the other ranks are about to gather with this one: all end)
+    call parallel_nomem(stat, 'copy_gather')
     do pass = 1, 2
       nodes = pass == 1
       hole(:, 1) = [1, 1, 1]
@@ -1176,9 +1171,8 @@ contains
     type(state_t), pointer :: src
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
-    integer, allocatable :: pick(:), map(:)
-    integer :: e, i, j, l, c, n, m, q, k, o(3)
-    logical :: nodes
+    integer, allocatable :: pick(:), map(:), to(:), from(:)
+    integer :: e, k, len, stat
 
     if (window) then
       src => st%win
@@ -1192,8 +1186,6 @@ contains
     end do
     call mixed_of_block(st%g, mw, st%mx, err, pick)
     if (allocated(err)) return
-    ! (a block index in the source's)
-    o = st%g%off - src%g%off
     call state_register_restart(st, rb)
     call state_register_restart(src, rw)
     map = entry_map(rb, rw)
@@ -1202,28 +1194,16 @@ contains
       associate (b => rb%e(e), v => rw%e(map(e)), g => st%g, wg => src%g)
         select case (b%location)
         case (LOC_NODE, LOC_CELL)
-          nodes = b%location == LOC_NODE
-          m = product(b%dims(1:size(b%dims) - 1))
-          i = g%slo(1) - merge(1, 0, nodes)
-          ! (q: a row's length; its entries are consecutive, in the block and
-          ! in the source)
-          q = m*(g%shi(1) - i + 1)
-          do l = g%slo(3) - merge(1, 0, nodes), g%shi(3)
-            do j = g%slo(2) - merge(1, 0, nodes), g%shi(2)
-              if (nodes) then
-                n = m*(g%node(i, j, l) - 1)
-                c = m*(wg%node(i + o(1), j + o(2), l + o(3)) - 1)
-              else
-                n = m*(g%cell(i, j, l) - 1)
-                c = m*(wg%cell(i + o(1), j + o(2), l + o(3)) - 1)
-              end if
-              if (b%kind == K_REAL) then
-                b%r(n + 1:n + q) = v%r(c + 1:c + q)
-              else
-                b%i(n + 1:n + q) = v%i(c + 1:c + q)
-              end if
-            end do
-          end do
+          call grid_rows(g, wg, b%location == LOC_NODE, product(b%dims(1:size(b%dims) - 1)), to, from, len, stat)
+          if (stat /= 0) then
+            call error_set(err, 'block_from', 'out of memory')
+            return
+          end if
+          if (b%kind == K_REAL) then
+            call grid_copy_rows_real(to, from, len, v%r, b%r)
+          else
+            call grid_copy_rows_int(to, from, len, v%i, b%i)
+          end if
         case (LOC_GLOBAL)
           if (.not. mixed_entry(b)) call copy_global(v, b)
         end select

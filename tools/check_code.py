@@ -8,9 +8,21 @@
      one exception: a `volatile` flag that a signal handler sets, which
      cannot be passed as an argument, `base_stop`);
   3. only `driver_halt` stops the program (`stop` / `error stop`);
-  4. the driver holds no `run%` object.
+  4. the driver holds no `run%` object;
+  5. MPI is called only in the parallel layer and the I/O package
+     (`modules/parallel`, `modules/io`): nowhere else `use mpi_f08`, `use
+     mpi` or `call MPI_...`;
+  6. `modules/` holds no whole state: no module there uses a `driver_`
+     module (where `state_t` lives) or names `state_t`;
+  7. `src/` holds no package kernels: outside its set-up, output, restart
+     and diagnostics files (SRC_SETUP_AND_OUTPUT) no loop runs over a
+     grid's cells or nodes (index ranges clo/chi, nlo/nhi, ulo, slo/shi, or
+     ncell, nnode) or over particles (np); such loops belong to the
+     packages' kernels in `modules/`.
 
     check_code.py ROOT        (checks ROOT/modules and ROOT/src)
+    check_code.py --self-test (each rule finds its breach in a made-up tree,
+                               and a clean tree passes)
 Exit status 0 when clean; each finding names file and line.
 """
 import pathlib
@@ -69,12 +81,31 @@ def split_semicolons(s):
     return parts
 
 
+# src/ files that may loop over the grid or the particles: set-up, output,
+# restart and diagnostics (rule 7)
+SRC_SETUP_AND_OUTPUT = {"driver_scene.f90", "driver_scene_config.f90", "driver_prerun.f90", "driver_config.f90",
+                        "driver_restart.f90", "driver_output.f90", "driver_matsum.f90", "driver_state.f90"}
+
+GRID_LOOP = re.compile(r"^(\w+:\s*)?do\s+\w+\s*=.*(%(clo|chi|nlo|nhi|ulo|slo|shi)\b|\bncell\b|\bnnode\b|%np\b)")
+
+
 def check_file(path, problems):
     in_module, in_spec, depth_type, depth_iface = False, False, 0, 0
     is_halt = path.name == "driver_halt.f90"
+    folder = path.parent.name
+    in_src = folder == "src"
+    mpi_allowed = folder in ("parallel", "io")
+    kernels_banned = in_src and path.name not in SRC_SETUP_AND_OUTPUT
     for n, st in statements(path):
         low = st.lower()
         where = f"{path}:{n}"
+        if not mpi_allowed and (re.match(r"^use\s*(,\s*intrinsic\s*)?(::\s*)?mpi(_f08)?\b", low)
+                                or re.match(r"^(if\s*\(.*\)\s*)?call\s+MPI_[A-Z]", st)):
+            problems.append(f"{where}: MPI outside modules/parallel and modules/io: {st[:80]}")
+        if not in_src and (re.match(r"^use\s+driver_", low) or re.search(r"\bstate_t\b", low)):
+            problems.append(f"{where}: the whole state (driver_*, state_t) in modules/: {st[:80]}")
+        if kernels_banned and GRID_LOOP.match(low):
+            problems.append(f"{where}: a loop over the grid or the particles in src/ (a kernel: modules/): {st[:80]}")
         if re.match(r"^(deallocate)\b", low) is None and re.match(r"^(if\s*\(.*\)\s*)?allocate\s*\(", low):
             if "stat=" not in low.replace(" ", ""):
                 problems.append(f"{where}: allocate without stat=: {st[:80]}")
@@ -110,13 +141,66 @@ def check_file(path, problems):
                 problems.append(f"{where}: module-level variable (mutable state): {st[:80]}")
 
 
-def main():
-    root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+def check_tree(root):
     problems, nfiles = [], 0
     for sub in ("modules", "src"):
         for path in sorted((root / sub).rglob("*.f90")):
             nfiles += 1
             check_file(path, problems)
+    return problems, nfiles
+
+
+# (file, body, the finding it must give or None): the self-test's tree
+SELF_TEST = [
+    ("modules/base/ok.f90", "module ok\n  integer, parameter :: n = 1\ncontains\n  subroutine f(a)\n"
+     "    real, allocatable :: a(:)\n    integer :: s\n    allocate(a(n), stat=s)\n  end subroutine f\nend module ok\n",
+     None),
+    ("modules/base/alloc.f90", "module alloc\ncontains\n  subroutine f(a)\n    real, allocatable :: a(:)\n"
+     "    allocate(a(3))\n  end subroutine f\nend module alloc\n", "allocate without stat="),
+    ("modules/base/state.f90", "module state\n  integer :: count = 0\nend module state\n", "mutable state"),
+    ("modules/base/halt.f90", "module halt\ncontains\n  subroutine f()\n    stop 1\n  end subroutine f\n"
+     "end module halt\n", "only driver_halt may stop"),
+    ("src/driver_run.f90", "module driver_run\ncontains\n  subroutine f(run)\n    integer :: run\n"
+     "    run%n = 1\n  end subroutine f\nend module driver_run\n", "run%"),
+    ("modules/rezone/mpi_use.f90", "module mpi_use\n  use mpi_f08, only: MPI_Barrier\nend module mpi_use\n",
+     "MPI outside"),
+    ("src/driver_mpi.f90", "module driver_mpi\ncontains\n  subroutine f(c)\n    integer :: c\n"
+     "    call MPI_Barrier(c)\n  end subroutine f\nend module driver_mpi\n", "MPI outside"),
+    ("modules/parallel/parallel_ok.f90", "module parallel_ok\n  use mpi_f08\nend module parallel_ok\n", None),
+    ("modules/remap/whole.f90", "module whole\n  use driver_state, only: state_t\nend module whole\n",
+     "the whole state"),
+    ("src/driver_kernel.f90", "module driver_kernel\ncontains\n  subroutine f(g, a)\n    integer :: g, a(:), c\n"
+     "    do c = 1, g%ncell\n      a(c) = 0\n    end do\n  end subroutine f\nend module driver_kernel\n",
+     "a loop over the grid or the particles in src/"),
+    ("src/driver_scene.f90", "module driver_scene\ncontains\n  subroutine f(g, a)\n    integer :: g, a(:), k\n"
+     "    do k = g%clo(3), g%chi(3)\n      a(k) = 0\n    end do\n  end subroutine f\nend module driver_scene\n",
+     None),
+]
+
+
+def self_test():
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        root = pathlib.Path(tmp)
+        for name, body, _ in SELF_TEST:
+            (root / name).parent.mkdir(parents=True, exist_ok=True)
+            (root / name).write_text(body, encoding="utf-8")
+        problems, _ = check_tree(root)
+        bad = 0
+        for name, _, finding in SELF_TEST:
+            mine = [p for p in problems if p.startswith(str(root / name) + ":")]
+            ok = (not mine) if finding is None else any(finding in p for p in mine)
+            print(("ok  " if ok else "BAD ") + name + ": " + (", ".join(p.split(": ", 1)[1] for p in mine) or "clean"))
+            bad += not ok
+    print(f"self-test: {len(SELF_TEST) - bad} of {len(SELF_TEST)} as expected")
+    return 1 if bad else 0
+
+
+def main():
+    if sys.argv[1:] == ["--self-test"]:
+        return self_test()
+    root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+    problems, nfiles = check_tree(root)
     for p in problems:
         print("FAIL:", p)
     print(f"{nfiles} files checked; {len(problems)} finding(s)")

@@ -21,7 +21,8 @@ module lagrange_state
   use base_registry, only: registry_t, LOC_NODE, LOC_CELL, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
-  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, hydro_register_restart, &
+  public :: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, nodal_sums, cell_sums, hydro_subcell_masses, &
+            hydro_register_restart, &
             VISC_EDGE, VISC_TENSOR
 
   !> Artificial viscosity forms (deck: &hydro viscosity = 'edge' | 'tensor').
@@ -167,41 +168,70 @@ contains
   !> Total mass, momentum, internal and kinetic energy of the whole grid:
   !> each term added exactly (`base_xsum`) over the owned cells and the
   !> nodes the block counts, and the blocks' sums added by `halo`, so the
-  !> totals are the same numbers on any number of ranks and threads.
-  subroutine hydro_totals(g, h, halo, mass, momentum, internal, kinetic)
+  !> totals are the same numbers on any number of ranks and threads;
+  !> pscale: the momentum's scale (`nodal_sums`).
+  subroutine hydro_totals(g, h, halo, mass, momentum, internal, kinetic, pscale)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     class(halo_t), intent(in) :: halo
     real(wp), intent(out) :: mass, momentum(3), internal, kinetic
-    type(xsum_t) :: acc(6)
-    integer :: i, j, k, c, n, d
+    real(wp), intent(out), optional :: pscale
+    call cell_sums(g, h, halo, mass, internal)
+    call nodal_sums(g, halo, h%mnode, h%u, kinetic, momentum, pscale)
+  end subroutine hydro_totals
 
+  !> The mass and internal energy of the cells g's block owns, exact sums
+  !> over all blocks.
+  subroutine cell_sums(g, h, halo, mass, internal)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    class(halo_t), intent(in) :: halo
+    real(wp), intent(out) :: mass, internal
+    type(xsum_t) :: acc(2)
+    integer :: i, j, k, c
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
           c = g%cell(i, j, k)
           call xsum_add(acc(1), h%mass(c))
-          call xsum_add(acc(5), h%mass(c)*h%e(c))
-        end do
-      end do
-    end do
-    do k = g%ulo(3), g%nhi(3)
-      do j = g%ulo(2), g%nhi(2)
-        do i = g%ulo(1), g%nhi(1)
-          n = g%node(i, j, k)
-          do d = 1, 3
-            call xsum_add(acc(1 + d), h%mnode(n)*h%u(d, n))
-          end do
-          call xsum_add(acc(6), 0.5_wp*h%mnode(n)*dot_product(h%u(:, n), h%u(:, n)))
+          call xsum_add(acc(2), h%mass(c)*h%e(c))
         end do
       end do
     end do
     call halo%sums(acc)
     mass = xsum_value(acc(1))
-    momentum = [xsum_value(acc(2)), xsum_value(acc(3)), xsum_value(acc(4))]
-    internal = xsum_value(acc(5))
-    kinetic = xsum_value(acc(6))
-  end subroutine hydro_totals
+    internal = xsum_value(acc(2))
+  end subroutine cell_sums
+
+  !> Kinetic energy ke and momentum p of the nodes' velocities u with masses
+  !> m, and with scale the sum of m |u| (the momentum's scale), exact sums
+  !> over the nodes g's block counts, over all blocks.
+  subroutine nodal_sums(g, halo, m, u, ke, p, scale)
+    type(grid_t), intent(in) :: g
+    class(halo_t), intent(in) :: halo
+    real(wp), intent(in) :: m(:), u(:, :)
+    real(wp), intent(out) :: ke, p(3)
+    real(wp), intent(out), optional :: scale
+    type(xsum_t) :: acc(5)
+    integer :: i, j, k, n, d, na
+    na = merge(5, 4, present(scale))
+    do k = g%ulo(3), g%nhi(3)
+      do j = g%ulo(2), g%nhi(2)
+        do i = g%ulo(1), g%nhi(1)
+          n = g%node(i, j, k)
+          do d = 1, 3
+            call xsum_add(acc(d), m(n)*u(d, n))
+          end do
+          call xsum_add(acc(4), 0.5_wp*m(n)*dot_product(u(:, n), u(:, n)))
+          if (na == 5) call xsum_add(acc(5), m(n)*norm2(u(:, n)))
+        end do
+      end do
+    end do
+    call halo%sums(acc(1:na))
+    p = [(xsum_value(acc(d)), d = 1, 3)]
+    ke = xsum_value(acc(4))
+    if (present(scale)) scale = xsum_value(acc(5))
+  end subroutine nodal_sums
 
   !> Registers the hydro state's restart fields (not the work arrays).
   subroutine hydro_register_restart(h, reg)

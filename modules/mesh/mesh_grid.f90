@@ -24,6 +24,7 @@ module mesh_grid
   implicit none
   private
   public :: grid_index_t, grid_index, grid_index_block, grid_t, grid_init_box, grid_init_nodes, block_gather, &
+            grid_unflagged_move, grid_rows, grid_copy_rows_real, grid_copy_rows_int, &
             grid_register_restart, nodes_moved, nodes_within, &
             FACE_XLO, FACE_XHI, FACE_YLO, FACE_YHI, FACE_ZLO, FACE_ZHI
 
@@ -345,6 +346,81 @@ contains
       fn(:, a) = f(:, n0 + this%corner_offset(a))
     end do
   end subroutine grid_gather
+  !> The rows of block g's stored nodes (nodes true; else its stored cells)
+  !> in a grid wg that stores them too (g's indices plus g%off - wg%off are
+  !> wg's), for values of m per entry: row r starts after to(r) values in
+  !> g's arrays and after from(r) in wg's, and holds len values (a row's
+  !> entries are consecutive in both). `grid_copy_rows_real` and `_int`
+  !> (to, from, len, a, b) copy wg's values a into g's b by them.
+  subroutine grid_rows(g, wg, nodes, m, to, from, len, stat)
+    class(grid_index_t), intent(in) :: g, wg
+    logical, intent(in) :: nodes
+    integer, intent(in) :: m
+    integer, allocatable, intent(out) :: to(:), from(:)
+    integer, intent(out) :: len, stat
+    integer :: i, j, k, o(3), e, r
+    e = merge(1, 0, nodes)
+    o = g%off - wg%off
+    i = g%slo(1) - e
+    len = m*(g%shi(1) - i + 1)
+    r = (g%shi(2) - g%slo(2) + 1 + e)*(g%shi(3) - g%slo(3) + 1 + e)
+    allocate(to(r), from(r), stat=stat)
+    if (stat /= 0) return
+    r = 0
+    do k = g%slo(3) - e, g%shi(3)
+      do j = g%slo(2) - e, g%shi(2)
+        r = r + 1
+        if (nodes) then
+          to(r) = m*(g%node(i, j, k) - 1)
+          from(r) = m*(wg%node(i + o(1), j + o(2), k + o(3)) - 1)
+        else
+          to(r) = m*(g%cell(i, j, k) - 1)
+          from(r) = m*(wg%cell(i + o(1), j + o(2), k + o(3)) - 1)
+        end if
+      end do
+    end do
+  end subroutine grid_rows
+
+  subroutine grid_copy_rows_real(to, from, len, a, b)
+    integer, intent(in) :: to(:), from(:), len
+    real(wp), intent(in) :: a(*)
+    real(wp), intent(inout) :: b(*)
+    integer :: r
+    do r = 1, size(to)
+      b(to(r) + 1:to(r) + len) = a(from(r) + 1:from(r) + len)
+    end do
+  end subroutine grid_copy_rows_real
+
+  subroutine grid_copy_rows_int(to, from, len, a, b)
+    integer, intent(in) :: to(:), from(:), len
+    integer, intent(in) :: a(*)
+    integer, intent(inout) :: b(*)
+    integer :: r
+    do r = 1, size(to)
+      b(to(r) + 1:to(r) + len) = a(from(r) + 1:from(r) + len)
+    end do
+  end subroutine grid_copy_rows_int
+
+  !> The first node of g whose row g%moved_rows does not flag but whose
+  !> place in x differs from g%x (0 if none; -1 if the flags do not match
+  !> the grid): the check that the Lagrangian steps noted every node they
+  !> moved.
+  integer function grid_unflagged_move(g, x) result(bad)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    integer :: n
+    bad = -1
+    if (size(g%moved_rows)*g%sx /= g%nnode) return
+    bad = 0
+    do n = 1, g%nnode
+      if (g%moved_rows((n - 1)/g%sx + 1)) cycle
+      if (any(abs(x(:, n) - g%x(:, n)) > 0.0_wp)) then
+        bad = n
+        return
+      end if
+    end do
+  end function grid_unflagged_move
+
 
   !> Whether any of m nodes' coordinates differ between a and b (the
   !> largest difference: no early exit, so that the compiler takes several

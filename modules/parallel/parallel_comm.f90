@@ -5,13 +5,27 @@
 module parallel_comm
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mpi_f08
+  use base_kinds, only: wp
   use base_errors, only: error_t, error_set, ERR_INPUT
   use base_strings, only: itoa
   use mesh_grid, only: grid_index_t, grid_index_block
   implicit none
   private
   public :: comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
-            parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem
+            parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, parallel_sum, parallel_max, &
+            parallel_min
+
+  !> Every rank's values combined in place, element by element (the
+  !> driver's reductions of counts and totals; a no-op on one rank).
+  interface parallel_sum
+    module procedure sum_ints, sum_reals
+  end interface parallel_sum
+  interface parallel_max
+    module procedure max_ints, max_reals
+  end interface parallel_max
+  interface parallel_min
+    module procedure min_ints, min_reals
+  end interface parallel_min
 
   !> The ranks and their Cartesian layout.
   type :: comm_t
@@ -183,4 +197,53 @@ contains
     end do
     ix = grid_index_block(n, glo, ghi, off, gn)
   end subroutine parallel_decompose
+  subroutine sum_ints(pc, a)
+    type(comm_t), intent(in) :: pc
+    integer, contiguous, intent(inout) :: a(:)
+    call reduce_ints(pc, a, MPI_SUM)
+  end subroutine sum_ints
+
+  subroutine max_ints(pc, a)
+    type(comm_t), intent(in) :: pc
+    integer, contiguous, intent(inout) :: a(:)
+    call reduce_ints(pc, a, MPI_MAX)
+  end subroutine max_ints
+
+  subroutine min_ints(pc, a)
+    type(comm_t), intent(in) :: pc
+    integer, contiguous, intent(inout) :: a(:)
+    call reduce_ints(pc, a, MPI_MIN)
+  end subroutine min_ints
+
+  subroutine sum_reals(pc, a)
+    type(comm_t), intent(in) :: pc
+    real(wp), contiguous, intent(inout) :: a(:)
+    call reduce_reals(pc, a, MPI_SUM)
+  end subroutine sum_reals
+
+  subroutine max_reals(pc, a)
+    type(comm_t), intent(in) :: pc
+    real(wp), contiguous, intent(inout) :: a(:)
+    call reduce_reals(pc, a, MPI_MAX)
+  end subroutine max_reals
+
+  subroutine min_reals(pc, a)
+    type(comm_t), intent(in) :: pc
+    real(wp), contiguous, intent(inout) :: a(:)
+    call reduce_reals(pc, a, MPI_MIN)
+  end subroutine min_reals
+
+  subroutine reduce_ints(pc, a, op)
+    type(comm_t), intent(in) :: pc
+    integer, contiguous, intent(inout) :: a(:)
+    type(MPI_Op), intent(in) :: op
+    if (pc%nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_INTEGER, op, pc%world)
+  end subroutine reduce_ints
+
+  subroutine reduce_reals(pc, a, op)
+    type(comm_t), intent(in) :: pc
+    real(wp), contiguous, intent(inout) :: a(:)
+    type(MPI_Op), intent(in) :: op
+    if (pc%nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, op, pc%world)
+  end subroutine reduce_reals
 end module parallel_comm

@@ -17,23 +17,28 @@
 !>    guess. The particles' positions do not change.
 !> 3. `particles_occupied`: the cells holding particles (the fixed inner
 !>    boundary of the smoothing, Fig. 4f).
-!> 4. (the driver, `driver_euler::snap_nodes`) the nodes of the occupied
-!>    cells put at their places in the standard grid.
-!> After the remap the driver re-sorts and re-bins the particles, gives them
-!> new virtual-fluid masses from their new hosts' densities and rebuilds the
-!> nodal velocity from the remapped fluid momentum and the particles'; then
+!> 4. (the rezone, `rezone_lssm`) the nodes of the occupied cells put at
+!>    their places in the standard grid.
+!> After the remap `particles_place` puts each particle on the new grid's
+!> map, `particles_leaving` books those a rezone left beyond an open face
+!> (`particles_out_open_face`), the driver re-sorts and re-bins the
+!> particles, gives them new virtual-fluid masses from their new hosts'
+!> densities and rebuilds the nodal velocity from the remapped fluid
+!> momentum and the particles'; then
 !> 5. `particles_flip`: the rebuild's change of the node velocities against
 !>    the particles' mean (the fluid's share, the kinematic conditions) goes
 !>    to the particles, so that they and the nodes agree again.
 module particles_euler
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
+  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use particles_state, only: particles_t
-  use particles_shape, only: particles_locate
+  use particles_shape, only: particles_locate, particles_shape_values
   use particles_lagrange, only: particles_interpolate
   implicit none
   private
-  public :: particles_flip, particles_relocate, particles_occupied
+  public :: particles_flip, particles_relocate, particles_occupied, particles_place, particles_leaving, &
+            particles_out_open_face, particles_first_lost
 
 contains
 
@@ -86,4 +91,110 @@ contains
       occ(cell(k)) = .true.
     end do
   end function particles_occupied
+
+  !> Each particle's position from its host cell and natural coordinates in
+  !> g's nodes (after `particles_relocate` on a rezoned grid: the trilinear
+  !> map of the new host).
+  subroutine particles_place(g, p)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(inout) :: p
+    real(wp) :: sh(8)
+    integer :: k, a, n0
+    do k = 1, p%np
+      sh = particles_shape_values(p%xi(:, k))
+      n0 = g%node0(p%cell(k))
+      p%x(:, k) = 0.0_wp
+      do a = 1, 8
+        p%x(:, k) = p%x(:, k) + sh(a)*g%x(:, n0 + g%corner_offset(a))
+      end do
+    end do
+  end subroutine particles_place
+
+  !> What the particles with no new host (cell(k) = 0) take out of the run
+  !> as they leave through an open face: their mass m_out, their share
+  !> (m_p - m'_p) of the nodal momentum p_out and kinetic energy ke_out, and
+  !> the energy e_out (their internal energy plus ke_out). Inert particles
+  !> (no m'_p) carry only their mass.
+  subroutine particles_leaving(p, cell, m_out, p_out, ke_out, e_out)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: cell(:)
+    real(wp), intent(out) :: m_out, p_out(3), ke_out, e_out
+    real(wp) :: mx
+    integer :: k
+    m_out = 0.0_wp
+    p_out = 0.0_wp
+    ke_out = 0.0_wp
+    e_out = 0.0_wp
+    do k = 1, p%np
+      if (cell(k) > 0) cycle
+      m_out = m_out + p%m(k)
+      if (.not. allocated(p%mvf)) cycle
+      mx = p%m(k) - p%mvf(k)
+      p_out = p_out + mx*p%v(:, k)
+      ke_out = ke_out + 0.5_wp*mx*dot_product(p%v(:, k), p%v(:, k))
+      e_out = e_out + p%m(k)*p%e(k)
+    end do
+    e_out = e_out + ke_out
+  end subroutine particles_leaving
+
+  !> The first particle with no cell in the grid x (cell(k) = 0) that did
+  !> not go out through an inflow or outflow face (`particles_out_open_face`,
+  !> from its host p%cell(k) and position): the grid lost it (0: none).
+  integer function particles_first_lost(g, bc, x, p, cell) result(lost)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: x(:, :)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: cell(:)
+    integer :: k
+    lost = 0
+    do k = 1, p%np
+      if (cell(k) > 0) cycle
+      if (particles_out_open_face(g, bc, x, p%cell(k), p%x(:, k))) cycle
+      lost = k
+      return
+    end do
+  end function particles_first_lost
+
+  !> Whether a particle at xp, hosted by cell c of the (whole) grid g, went
+  !> out through an inflow or outflow face of the grid x (g's nodes): its
+  !> host lies on such a face, or xp lies beyond the face (past every one of
+  !> the face's nodes along its direction).
+  logical function particles_out_open_face(g, bc, x, c, xp) result(out)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: x(:, :), xp(3)
+    integer, intent(in) :: c
+    integer :: ijk(3), f, d, i, j, k, lo(3), hi(3)
+    real(wp) :: far, sgn
+    logical :: low
+    call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+    out = .false.
+    do f = 1, 6
+      if (.not. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) cycle
+      d = (f + 1)/2
+      low = mod(f, 2) == 1
+      ! (the face's nodes: the grid's node indices 0 or n along d; sgn
+      ! points out of the grid through the face)
+      lo = g%clo - 1
+      hi = g%chi
+      if (low) then
+        out = out .or. ijk(d) == g%clo(d)
+        hi(d) = lo(d)
+      else
+        out = out .or. ijk(d) == g%chi(d)
+        lo(d) = hi(d)
+      end if
+      sgn = merge(-1.0_wp, 1.0_wp, low)
+      far = -huge(1.0_wp)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            far = max(far, sgn*x(d, g%node(i, j, k)))
+          end do
+        end do
+      end do
+      out = out .or. sgn*xp(d) > far
+    end do
+  end function particles_out_open_face
 end module particles_euler

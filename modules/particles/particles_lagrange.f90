@@ -46,7 +46,8 @@ module particles_lagrange
             particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
-            particles_cell_fraction, particles_interpolate, particles_phase_mass, particles_viscosity
+            particles_cell_fraction, particles_interpolate, particles_phase_mass, particles_viscosity, &
+            particles_virtual_masses, particles_blend_velocities, particles_q_heating, particles_slot_start
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
@@ -177,6 +178,63 @@ contains
     call particles_nodal_mass(g, p, p%mvf, mnode, w%mp, w%ms)
     w%mass_ready = .true.
   end subroutine particles_phase_mass
+
+  !> The virtual-fluid masses m'_p = host density x V_p (Eq. 16, §1.7),
+  !> from the cells' densities rho: at the coupling's start and after each
+  !> remap (new hosts, new densities).
+  subroutine particles_virtual_masses(p, rho)
+    type(particles_t), intent(inout) :: p
+    real(wp), intent(in) :: rho(:)
+    integer :: k
+    do k = 1, p%np
+      p%mvf(k) = rho(p%cell(k))*p%vol(k)
+    end do
+  end subroutine particles_virtual_masses
+
+  !> At each node the particles reach (ms > 0), the velocity u = (m_f u +
+  !> m_p,I vbar_I)/(m_f + m_p,I): m_f the fluid's nodal mass mnode, m_p,I
+  !> the particles' share mp, vbar_I their mass-weighted mean velocity vs
+  !> (Eq. 30 with v_p).
+  subroutine particles_blend_velocities(ms, mnode, mp, vs, u)
+    real(wp), intent(in) :: ms(:), mnode(:), mp(:), vs(:, :)
+    real(wp), intent(inout) :: u(:, :)
+    integer :: n
+    do n = 1, size(ms)
+      if (.not. ms(n) > 0.0_wp) cycle
+      u(:, n) = (mnode(n)*u(:, n) + mp(n)*vs(:, n))/(mnode(n) + mp(n))
+    end do
+  end subroutine particles_blend_velocities
+
+  !> The artificial viscosity's work over dt heats the particles: e_p -=
+  !> dt q_p V_p tr(L_p)/m_p (q the corrector's particle viscosity, lgrad
+  !> the velocity gradients).
+  subroutine particles_q_heating(p, q, lgrad, dt)
+    type(particles_t), intent(inout) :: p
+    real(wp), intent(in) :: q(:), lgrad(:, :, :), dt
+    integer :: n
+    do n = 1, p%np
+      p%e(n) = p%e(n) - dt*q(n)*p%vol(n)*(lgrad(1, 1, n) + lgrad(2, 2, n) + lgrad(3, 3, n))/p%m(n)
+    end do
+  end subroutine particles_q_heating
+
+  !> The particles of solid s start with their strength model's history
+  !> variables (slot%m), and with an EOS in the slot their specific energy
+  !> from it at their density and the pressure of their initial stress.
+  subroutine particles_slot_start(p, s, slot)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: s
+    type(strength_slot_t), intent(in) :: slot
+    real(wp) :: p0
+    integer :: k
+    do k = p%mat_start(s), p%mat_start(s + 1) - 1
+      call slot%m%hist_init(p%hist(:, k))
+    end do
+    if (.not. allocated(slot%eos)) return
+    do k = p%mat_start(s), p%mat_start(s + 1) - 1
+      p0 = -(p%stress(1, k) + p%stress(2, k) + p%stress(3, k))/3.0_wp
+      p%e(k) = slot%eos%energy(p%rho(k), p0)
+    end do
+  end subroutine particles_slot_start
 
   !> The particles' share of the nodal mass (Eq. 16), mp = sum_p (m_p - mvf_p)
   !> N_Ip, raised where needed so that mnode + mp >= mass_guard (mnode +

@@ -24,6 +24,7 @@
 module particles_seed
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
+  use base_strings, only: itoa
   use mesh_geometry, only: hex_volume, cross
   use mesh_grid, only: grid_t
   use mesh_shapes, only: shape_t, shape_inside, shape_level
@@ -31,7 +32,7 @@ module particles_seed
   use particles_shape, only: particles_map, particles_locate
   implicit none
   private
-  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_union, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
 
 contains
 
@@ -261,4 +262,45 @@ contains
     real(wp) :: v(3)
     v = v0 + omega*cross(axis, x - center)
   end function rigid_velocity
+
+  !> Particles at given points x(3, n): each point's host cell and natural
+  !> coordinates in g (a walk from the previous point's cell), its volume
+  !> vfile(i) or, when vfile is empty, the host cell's volume / per_cell^3.
+  !> lost: the first point in no cell of g (0: none; the arrays then hold
+  !> the points before it).
+  subroutine seed_points(g, x, vfile, per_cell, cell, xi, vol, lost, err)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), vfile(:)
+    integer, intent(in) :: per_cell
+    integer, allocatable, intent(out) :: cell(:)
+    real(wp), allocatable, intent(out) :: xi(:, :), vol(:)
+    integer, intent(out) :: lost
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: xn(3, 8)
+    integer :: i, n, c, guess, stat
+    logical :: found
+    lost = 0
+    n = size(x, 2)
+    allocate(cell(n), xi(3, n), vol(n), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'seed_points', error_no_memory(itoa(n)//' particles'))
+      return
+    end if
+    guess = 1
+    do i = 1, n
+      call particles_locate(g, x(:, i), guess, c, xi(:, i), found)
+      if (.not. found) then
+        lost = i
+        return
+      end if
+      cell(i) = c
+      guess = c
+      if (size(vfile) > 0) then
+        vol(i) = vfile(i)
+      else
+        call g%gather(c, g%x, xn)
+        vol(i) = hex_volume(xn)/real(per_cell, wp)**3
+      end if
+    end do
+  end subroutine seed_points
 end module particles_seed

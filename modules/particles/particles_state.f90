@@ -54,6 +54,7 @@ module particles_state
   implicit none
   private
   public :: particles_t, particles_allocate, particles_order, particles_select, particles_index, particles_bin, &
+            particles_solid_order, &
             particles_register_restart, particles_check
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
@@ -189,6 +190,33 @@ contains
     if (allocated(p%mvf)) p%mvf = p%mvf(pick)
     if (allocated(p%perm)) deallocate(p%perm)
   end subroutine particles_select
+
+  !> The particles of solid s in seeding-id order (p%id, 1..p%np): their
+  !> indices in p.
+  subroutine particles_solid_order(p, s, order, err)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: s
+    integer, allocatable, intent(out) :: order(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: at(:)
+    integer :: k, i, stat
+    allocate(order(p%mat_start(s + 1) - p%mat_start(s)), at(p%np), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'particles_solid_order', error_no_memory('work arrays'))
+      return
+    end if
+    at = 0
+    do k = p%mat_start(s), p%mat_start(s + 1) - 1
+      at(p%id(k)) = k
+    end do
+    i = 0
+    do k = 1, p%np
+      if (at(k) > 0) then
+        i = i + 1
+        order(i) = at(k)
+      end if
+    end do
+  end subroutine particles_solid_order
 
   !> The material ranges (mat_start) and the cell binning of particles
   !> already sorted by material (as after a restart read: the stored order

@@ -33,11 +33,11 @@
 module rezone_quality
   use base_kinds, only: wp
   use mesh_geometry, only: hex_volume, hex_edges, cross
-  use mesh_grid, only: block_gather, grid_index_t, grid_index
+  use mesh_grid, only: block_gather, grid_index_t, grid_index, grid_t
   use base_share, only: share_t
   implicit none
   private
-  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, &
+  public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, grid_shape_worst, &
             hex_box_sides, hex_edge_means, hex_quality_box
 
   !> The three neighbours of each corner along the three logical directions.
@@ -407,4 +407,62 @@ contains
       fails = .not. jmin > 0.0_wp
     end function fails
   end subroutine grid_trigger_cells
+
+  !> The largest side ratio and smallest inclined-angle cosine over the
+  !> cells g's block owns (`hex_shape`, axis as there) in worst(1:2), and
+  !> the whole grid's number of the first owned cell with each in first(1:2)
+  !> (0 and 1, and huge, when the block owns no cell). Each thread keeps
+  !> its cells' first worst (its cells come in the whole grid's order); the
+  !> threads' are combined by value, then by the lower number, so the result
+  !> does not depend on the threads.
+  subroutine grid_shape_worst(g, axis, worst, first)
+    type(grid_t), intent(in) :: g
+    logical, intent(in) :: axis
+    real(wp), intent(out) :: worst(2), first(2)
+    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct
+    integer :: i, j, k, c
+    ratio_max = -huge(1.0_wp)
+    cos_min = huge(1.0_wp)
+    fr = huge(1.0_wp)
+    fc = huge(1.0_wp)
+    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc) &
+    !$omp private(i, j, k, c, xn, r, cs, rt, ct, frt, fct)
+    rt = -huge(1.0_wp)
+    ct = huge(1.0_wp)
+    frt = huge(1.0_wp)
+    fct = huge(1.0_wp)
+    !$omp do collapse(2) schedule(static)
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          c = g%cell(i, j, k)
+          call g%gather(c, g%x, xn)
+          call hex_shape(xn, r, cs, axis)
+          if (r > rt) then
+            rt = r
+            frt = real(g%global_cell(c), wp)
+          end if
+          if (cs < ct) then
+            ct = cs
+            fct = real(g%global_cell(c), wp)
+          end if
+        end do
+      end do
+    end do
+    !$omp end do
+    !$omp critical (grid_shape_worst_combine)
+    if (rt > ratio_max .or. (.not. rt < ratio_max .and. frt < fr)) then
+      ratio_max = rt
+      fr = frt
+    end if
+    if (ct < cos_min .or. (.not. ct > cos_min .and. fct < fc)) then
+      cos_min = ct
+      fc = fct
+    end if
+    !$omp end critical (grid_shape_worst_combine)
+    !$omp end parallel
+    ! (as the bounds 0 and 1 of the measures started them before)
+    worst = [max(ratio_max, 0.0_wp), min(cos_min, 1.0_wp)]
+    first = [fr, fc]
+  end subroutine grid_shape_worst
 end module rezone_quality
