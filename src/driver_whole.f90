@@ -81,7 +81,7 @@ module driver_whole
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
-                         remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
+                         remap_zone_block, remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
                          remap_part_target, remap_part_folded, remap_part_uniform
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos, material_burn_start
@@ -450,7 +450,7 @@ contains
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), every(:), cells(:), wrote(:)
-    integer :: n(4), i, j, k, stat, nblock, nparts, stage, taken
+    integer :: n(4), i, k, nblock, nparts, stage, taken
     logical :: hybrid, lattice, again, arrived, next, kept, whole
 
     redo = .false.
@@ -461,19 +461,8 @@ contains
       if (.not. allocated(err) .and. any(w%bc%kind == BC_INFLOW .or. w%bc%kind == BC_OUTFLOW)) &
         call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xnew, err)
       if (allocated(xnew)) then
-        if (.not. allocated(err)) then
-          allocate(xw(3, wg%nnode), stat=stat)
-          if (stat /= 0) call error_set(err, 'window_remap', 'out of memory')
-        end if
-        if (.not. allocated(err)) then
-          do k = 0, wg%nk
-            do j = 0, wg%nj
-              do i = 0, wg%ni
-                xw(:, wg%node(i, j, k)) = xnew(:, st%gw%node(i + wg%off(1), j + wg%off(2), k + wg%off(3)))
-              end do
-            end do
-          end do
-        end if
+        ! (the window's nodes of the whole grid's)
+        if (.not. allocated(err)) call block_nodes(wg, st%gw, xnew, xw, err)
       else
         ! (collective: every rank's window from the blocks)
         call gather_box(pc, st%g%grid_index_t, xb, wg%off + 1, wg%off + [wg%ni, wg%nj, wg%nk], xw, .true.)
@@ -856,32 +845,7 @@ contains
     integer, intent(in) :: reach
     type(remap_zone_t), intent(out) :: zone
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, j, k, stat, ijk(3)
-    allocate(zone%compute(wg%ncell), zone%own(wg%ncell), zone%own_node(wg%nnode), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'window_zone', 'out of memory')
-      return
-    end if
-    zone%reach_max = reach
-    do k = 1, wg%nk
-      do j = 1, wg%nj
-        do i = 1, wg%ni
-          ! (in the block's indices)
-          ijk = [i, j, k] + wg%off - g%off
-          zone%own(wg%cell(i, j, k)) = all(ijk >= g%clo .and. ijk <= g%chi)
-          zone%compute(wg%cell(i, j, k)) = all(ijk >= g%clo - window_compute(g%ng, reach) .and. &
-                                                ijk <= g%chi + window_compute(g%ng, reach))
-        end do
-      end do
-    end do
-    do k = 0, wg%nk
-      do j = 0, wg%nj
-        do i = 0, wg%ni
-          ijk = [i, j, k] + wg%off - g%off
-          zone%own_node(wg%node(i, j, k)) = all(ijk >= g%ulo .and. ijk <= g%nhi)
-        end do
-      end do
-    end do
+    call remap_zone_block(zone, g, wg, window_compute(g%ng, reach), reach, err)
   end subroutine window_zone
 
   !> What the ranks' window remaps did, as one remap of the whole grid:

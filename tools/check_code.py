@@ -16,9 +16,9 @@
      module (where `state_t` lives) or names `state_t`;
   7. `src/` holds no package kernels: outside its set-up, output, restart
      and diagnostics files (SRC_SETUP_AND_OUTPUT) no loop runs over a
-     grid's cells or nodes (index ranges clo/chi, nlo/nhi, ulo, slo/shi, or
-     ncell, nnode) or over particles (np); such loops belong to the
-     packages' kernels in `modules/`.
+     grid's cells or nodes (index ranges clo/chi, nlo/nhi, ulo, slo/shi,
+     ni/nj/nk, gn, or ncell, nnode) or over particles (np); such loops
+     belong to the packages' kernels in `modules/`.
 
     check_code.py ROOT        (checks ROOT/modules and ROOT/src)
     check_code.py --self-test (each rule finds its breach in a made-up tree,
@@ -86,7 +86,7 @@ def split_semicolons(s):
 SRC_SETUP_AND_OUTPUT = {"driver_scene.f90", "driver_scene_config.f90", "driver_prerun.f90", "driver_config.f90",
                         "driver_restart.f90", "driver_output.f90", "driver_matsum.f90", "driver_state.f90"}
 
-GRID_LOOP = re.compile(r"^(\w+:\s*)?do\s+\w+\s*=.*(%(clo|chi|nlo|nhi|ulo|slo|shi)\b|\bncell\b|\bnnode\b|%np\b)")
+GRID_LOOP = re.compile(r"^(\w+:\s*)?do\s+\w+\s*=.*(%(clo|chi|nlo|nhi|ulo|slo|shi|ni|nj|nk|gn)\b|\bncell\b|\bnnode\b|%np\b)")
 
 
 def check_file(path, problems):

@@ -121,6 +121,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
+            remap_zone_block, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
             remap_part_uniform, remap_hybrid_target
 
@@ -4723,6 +4724,42 @@ contains
       end do
     end do
   end subroutine open_face_cells
+
+  !> Makes zone (`remap_zone_t`) the window wg's around the block g (both
+  !> on the whole grid's indices through their offsets): own, the block's
+  !> owned cells and the nodes it counts; compute, own widened by width
+  !> layers; a new cell searched within reach index steps at most.
+  subroutine remap_zone_block(zone, g, wg, width, reach, err)
+    type(remap_zone_t), intent(out) :: zone
+    class(grid_index_t), intent(in) :: g, wg
+    integer, intent(in) :: width, reach
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, k, stat, ijk(3)
+    allocate(zone%compute(wg%ncell), zone%own(wg%ncell), zone%own_node(wg%nnode), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_zone_block', 'out of memory')
+      return
+    end if
+    zone%reach_max = reach
+    do k = 1, wg%nk
+      do j = 1, wg%nj
+        do i = 1, wg%ni
+          ! (in the block's indices)
+          ijk = [i, j, k] + wg%off - g%off
+          zone%own(wg%cell(i, j, k)) = all(ijk >= g%clo .and. ijk <= g%chi)
+          zone%compute(wg%cell(i, j, k)) = all(ijk >= g%clo - width .and. ijk <= g%chi + width)
+        end do
+      end do
+    end do
+    do k = 0, wg%nk
+      do j = 0, wg%nj
+        do i = 0, wg%ni
+          ijk = [i, j, k] + wg%off - g%off
+          zone%own_node(wg%node(i, j, k)) = all(ijk >= g%ulo .and. ijk <= g%nhi)
+        end do
+      end do
+    end do
+  end subroutine remap_zone_block
 
   !> Makes zone (`remap_zone_t`) ready for a window's remap with open
   !> faces: the open faces' innermost points and the bins over the moved
