@@ -8,13 +8,12 @@ module driver_output
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_no_memory, error_t, error_set, ERR_IO, ERR_RUNTIME, ERR_INPUT
   use base_timers, only: timer_t, wall_seconds
-  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use base_build, only: code_version, build_type
   use io_log, only: log_t, log_open, log_line, log_identity
   use io_output, only: output_t, output_frame, frame_meta_t, units_none, units_density, units_specific_energy, &
                        units_pressure, units_temperature, frame_wants
-  use io_gauges, only: gauges_t, gauges_open, gauges_write, gauges_close, text_rows_trim
+  use io_gauges, only: gauges_t, gauges_open, gauges_write, text_rows_trim
   use io_tracers, only: tracers_t, tracers_start, tracers_open, tracers_write, tracers_close, tracers_register_restart
   use io_hdf5, only: hdf5_version
   use strength_models, only: strength_fields

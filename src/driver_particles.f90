@@ -40,10 +40,7 @@ module driver_particles
   use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
-  use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_index, &
-                             particles_solid_order, &
-                             particles_register_restart
-  use base_registry, only: registry_t, K_REAL
+  use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
   use parallel_comm, only: comm_t
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_gather_mvf
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
@@ -356,20 +353,29 @@ contains
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
     real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
-    integer :: kp, kid
+    integer :: kp, kid, first
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, cfg%hydro%particle_q)
       ! the blocks' smallest (the particle's id with it; of blocks that tie
-      ! exactly, the smallest id, as one process takes the first particle)
+      ! exactly, the one first in the whole run's order, as one process
+      ! takes the first particle in its order: each block's kp is its first
+      ! in that order, st%pwhole its place there)
       key(1) = 0.0_wp
       if (kp > 0) key(1) = real(pt%id(kp), wp)
       dt_own = dtp
       call st%halo%choose(dtp, key)
-      kid = -huge(1)
-      if (kp > 0 .and. .not. dt_own > dtp) kid = -pt%id(kp)
-      call st%halo%max_int(kid)
-      if (kid > -huge(1)) key(1) = real(-kid, wp)
+      if (allocated(st%pwhole)) then
+        first = -huge(1)
+        if (kp > 0 .and. .not. dt_own > dtp) first = -st%pwhole(kp)
+        call st%halo%max_int(first)
+        kid = -huge(1)
+        if (first > -huge(1) .and. kp > 0) then
+          if (st%pwhole(kp) == -first) kid = pt%id(kp)
+        end if
+        call st%halo%max_int(kid)
+        if (kid > -huge(1)) key(1) = real(kid, wp)
+      end if
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &

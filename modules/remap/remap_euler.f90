@@ -99,13 +99,13 @@ module remap_euler
   use base_strings, only: itoa, rtoa
   use base_timers, only: wall_seconds
   use mesh_grid, only: grid_t, grid_index_t, grid_index, block_gather, nodes_moved
-  use mesh_geometry, only: hex_corner, hex_subcell_volumes, hex_faces, hex_edges, hex_volume, hex_trilinear, hex_natural, &
+  use mesh_geometry, only: hex_corner, hex_subcell_volumes, hex_edges, hex_volume, hex_trilinear, hex_natural, &
                            tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t, hydro_subcell_masses
+  use lagrange_state, only: hydro_t
   use lagrange_centroids, only: plane_normals, planes_known, carried_cut
-  use remap_polyhedron, only: tet_planes, tet_clip_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
+  use remap_polyhedron, only: tet_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
                               poly_first_moments, poly_copy, tet_clip_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
