@@ -17,7 +17,7 @@ module driver_state
   use base_share, only: share_t
   use lagrange_centroids, only: centroid_stats_t
   use particles_state, only: particles_t, particles_register_restart
-  use particles_lagrange, only: particles_work_t, particles_phase_mass
+  use particles_lagrange, only: particles_work_t, particles_phase_mass, particles_internal_energy
   use io_output, only: totals_t
   use driver_prerun, only: prerun_t
   implicit none
@@ -146,21 +146,13 @@ contains
 
   !> The particles' internal energy sum_p m_p e_p over the particles the
   !> blocks own, exact (`base_xsum`: the same on any rank count); with
-  !> `each` (np), also the exact total of each(:) over them in `total`.
+  !> `each` (np), also the exact total of each(:) over them in `total`
+  !> (`particles_internal_energy`).
   real(wp) function particles_internal(st, each, total) result(ep)
     type(state_t), intent(in) :: st
     real(wp), intent(in), optional :: each(:)
     real(wp), intent(out), optional :: total
-    type(xsum_t) :: acc(2)
-    integer :: k
-    do k = 1, st%pt%np
-      if (.not. st%pw%owned(k)) cycle
-      call xsum_add(acc(1), st%pt%m(k)*st%pt%e(k))
-      if (present(each)) call xsum_add(acc(2), each(k))
-    end do
-    call st%halo%sums(acc)
-    ep = xsum_value(acc(1))
-    if (present(total)) total = xsum_value(acc(2))
+    ep = particles_internal_energy(st%pt, st%pw%owned, st%halo, each, total)
   end function particles_internal
 
   !> The names of the totals that are not finite ('' if all are): a NaN or

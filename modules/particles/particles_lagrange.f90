@@ -32,8 +32,9 @@
 module particles_lagrange
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
-  use base_xsum, only: xsum_t, xsum_add
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_grid, only: grid_t
+  use mesh_halo, only: halo_t
   use mesh_geometry, only: hex_volume, hex_median_areas
   use particles_state, only: particles_t
   use particles_shape, only: particles_shape_values, particles_shape_gradients
@@ -47,7 +48,8 @@ module particles_lagrange
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
             particles_cell_fraction, particles_interpolate, particles_phase_mass, particles_viscosity, &
-            particles_virtual_masses, particles_blend_velocities, particles_q_heating, particles_slot_start
+            particles_virtual_masses, particles_blend_velocities, particles_q_heating, particles_slot_start, &
+            particles_internal_energy
 
   !> Guard of §1.7: a node's mass is at least mass_guard times its cell
   !> (virtual-fluid included) plus solid mass.
@@ -235,6 +237,27 @@ contains
       p%e(k) = slot%eos%energy(p%rho(k), p0)
     end do
   end subroutine particles_slot_start
+
+  !> The internal energy sum_p m_p e_p of the particles the block owns
+  !> (owned), exact over all blocks (halo); with each, total its sum over
+  !> the same particles.
+  real(wp) function particles_internal_energy(p, owned, halo, each, total) result(ep)
+    type(particles_t), intent(in) :: p
+    logical, intent(in) :: owned(:)
+    class(halo_t), intent(in) :: halo
+    real(wp), intent(in), optional :: each(:)
+    real(wp), intent(out), optional :: total
+    type(xsum_t) :: acc(2)
+    integer :: k
+    do k = 1, p%np
+      if (.not. owned(k)) cycle
+      call xsum_add(acc(1), p%m(k)*p%e(k))
+      if (present(each)) call xsum_add(acc(2), each(k))
+    end do
+    call halo%sums(acc)
+    ep = xsum_value(acc(1))
+    if (present(total)) total = xsum_value(acc(2))
+  end function particles_internal_energy
 
   !> The particles' share of the nodal mass (Eq. 16), mp = sum_p (m_p - mvf_p)
   !> N_Ip, raised where needed so that mnode + mp >= mass_guard (mnode +
