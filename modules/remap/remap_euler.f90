@@ -3560,26 +3560,43 @@ contains
     subroutine clip_halves(pn, pd, np, sgn, blo, bhi, ov)
       real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3), ov(3, 4)
       integer, intent(in) :: np
-      integer :: outm(4 + max_mat), i, j, t, ncut, bits, k
+      integer :: outm(4 + max_mat), i, j, t, ncut, bits, k, live(24), nlive, need, left, il
       real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
       type(poly_t) :: p, q
 
+      ! the tetrahedra the region may meet: their boxes overlap, and none of
+      ! their own face planes has the old half wholly outside (need: the
+      ! points they use); none, and nothing is tested against the planes
+      nlive = 0
+      need = 0
+      near: do t = 1, 24
+        if (any(tvhi(:, t) < blo) .or. any(tvlo(:, t) > bhi)) cycle
+        if (tvsg(t) /= 0) then
+          do i = 1, 4
+            if (all(tvn(1, i, t)*ov(1, :) + tvn(2, i, t)*ov(2, :) + tvn(3, i, t)*ov(3, :) > tvd(i, t))) cycle near
+          end do
+        end if
+        nlive = nlive + 1
+        live(nlive) = t
+        need = ior(need, tvmask(t))
+      end do near
+      if (nlive == 0) return
+      ! which of those points lie outside each plane (the bits the
+      ! tetrahedra below read: the others stay clear)
       do i = 1, np
         outm(i) = 0
-        do j = 1, 27
+        left = need
+        do while (left /= 0)
+          j = trailz(left) + 1
+          left = ibclr(left, j - 1)
           if (pn(1, i)*pts(1, j) + pn(2, i)*pts(2, j) + pn(3, i)*pts(3, j) - pd(i) > 0.0_wp) &
             outm(i) = ibset(outm(i), j - 1)
         end do
       end do
       ! whole tetrahedra first: one clip for both halves, then the
       ! mid-plane split where the piece straddles it
-      tets: do t = 1, 24
-        if (any(tvhi(:, t) < blo) .or. any(tvlo(:, t) > bhi)) cycle
-        if (tvsg(t) /= 0) then
-          do i = 1, 4
-            if (all(tvn(1, i, t)*ov(1, :) + tvn(2, i, t)*ov(2, :) + tvn(3, i, t)*ov(3, :) > tvd(i, t))) cycle tets
-          end do
-        end if
+      tets: do il = 1, nlive
+        t = live(il)
         ncut = 0
         do i = 1, np
           bits = iand(outm(i), tvmask(t))
