@@ -2973,15 +2973,17 @@ contains
               pn(:, 1:4) = on(:, :, i)
               pd(1:4) = od(:, i)
               ! the velocity and kinetic energy per unit mass its fragments carry
-              ! (and, about the subcell's node, the velocity's linear part)
-              call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
+              ! (and, about the subcell's node, the velocity's linear part):
+              ! `source`, here or where `clip_halves` finds it may give some
               if (box) then
+                call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
                 do j = 1, 4
                   ot(:, j) = opts(:, ohv(j, i))
                 end do
                 call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
               else
-                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i), opts(:, ohv(:, i)))
+                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i), opts(:, ohv(:, i)), co, kreg, kmat, &
+                                 g%node0(co) + g%corner_offset(ocorner(i)))
               end if
             end do
           end do
@@ -3556,10 +3558,12 @@ contains
     !> rejected by a plane with all four of its points outside, taken whole
     !> if no plane has any, else clipped by just the planes that cut it;
     !> a tetrahedron with all four vertices ov of the old half outside one of
-    !> its own face planes is rejected too (the two are disjoint).
-    subroutine clip_halves(pn, pd, np, sgn, blo, bhi, ov)
+    !> its own face planes is rejected too (the two are disjoint). The
+    !> region is kr (material km) of old cell co, its subcell at node node
+    !> (`source`, taken only when some tetrahedron may meet it).
+    subroutine clip_halves(pn, pd, np, sgn, blo, bhi, ov, co, kr, km, node)
       real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3), ov(3, 4)
-      integer, intent(in) :: np
+      integer, intent(in) :: np, co, kr, km, node
       integer :: outm(4 + max_mat), i, j, t, ncut, bits, k, live(24), nlive, need, left, il
       real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
       type(poly_t) :: p, q
@@ -3581,6 +3585,7 @@ contains
         need = ior(need, tvmask(t))
       end do near
       if (nlive == 0) return
+      call source(co, kr, km, node)
       ! which of those points lie outside each plane (the bits the
       ! tetrahedra below read: the others stay clear)
       do i = 1, np
