@@ -105,7 +105,7 @@ module remap_euler
   use material_mixed, only: mixed_t, mixed_allocate
   use lagrange_state, only: hydro_t
   use lagrange_centroids, only: plane_normals, planes_known, carried_cut
-  use remap_polyhedron, only: tet_planes, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
+  use remap_polyhedron, only: tet_planes, tet_sign, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
                               poly_first_moments, poly_copy, tet_clip_moments
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
@@ -2808,7 +2808,7 @@ contains
     real(wp) :: tv(3, 4, 24), tvlo(3, 24), tvhi(3, 24), midn(3, 24), midd(24), tvn(3, 4, 24), tvd(4, 24)
     integer :: tvmask(24), tvsg(24)
     integer :: tmask(48), ci, cj, ck, oi, oj, ok_, co, s, s0, s1, &
-               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb, n0c
+               j, nm, kmat, t, i, kreg, ohv(4, 48), ocorner(48), isg, nb, n0c, live(24, 48), nlive(48), need(48)
     logical :: box
 
     call g%cell_ijk(c, ci, cj, ck)
@@ -2952,8 +2952,16 @@ contains
             osg(i) = 0.0_wp
             if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
             ! (a half flat to round-off has no volume to give: sign 0, skipped)
+            osg(i) = real(tet_sign(ot), wp)
+            if (box .or. .not. abs(osg(i)) > 0.0_wp) cycle
+            ! the new cell's tetrahedra it may meet (whatever the region),
+            ! and its planes only where there are some
+            call live_tets(olo(:, i), ohi(:, i), ot, live(:, i), nlive(i), need(i))
+            if (nlive(i) == 0) then
+              osg(i) = 0.0_wp
+              cycle
+            end if
             call tet_planes(ot, on(:, :, i), od(:, i), isg)
-            osg(i) = real(isg, wp)
           end do
           call region_slots(h, mx, co, s0, s1)
           ! every material region of the old cell
@@ -2970,20 +2978,18 @@ contains
             end if
             do i = 1, 48
               if (.not. abs(osg(i)) > 0.0_wp) cycle
-              pn(:, 1:4) = on(:, :, i)
-              pd(1:4) = od(:, i)
               ! the velocity and kinetic energy per unit mass its fragments carry
-              ! (and, about the subcell's node, the velocity's linear part):
-              ! `source`, here or where `clip_halves` finds it may give some
+              ! (and, about the subcell's node, the velocity's linear part)
+              call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
               if (box) then
-                call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
                 do j = 1, 4
                   ot(:, j) = opts(:, ohv(j, i))
                 end do
                 call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
               else
-                call clip_halves(pn, pd, 4 + nm, osg(i), olo(:, i), ohi(:, i), opts(:, ohv(:, i)), co, kreg, kmat, &
-                                 g%node0(co) + g%corner_offset(ocorner(i)))
+                pn(:, 1:4) = on(:, :, i)
+                pd(1:4) = od(:, i)
+                call clip_halves(pn, pd, 4 + nm, osg(i), live(1:nlive(i), i), need(i))
               end if
             end do
           end do
@@ -3551,26 +3557,15 @@ contains
       end if
     end subroutine node_entry
 
-    !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
-    !> i = 1..np (bounding box [blo, bhi]) and deposits the fragments with
-    !> the sign sgn. Which of the 27 points of the split lie outside each
-    !> plane is found once (as tet_clip_planes tests them): a half is
-    !> rejected by a plane with all four of its points outside, taken whole
-    !> if no plane has any, else clipped by just the planes that cut it;
-    !> a tetrahedron with all four vertices ov of the old half outside one of
-    !> its own face planes is rejected too (the two are disjoint). The
-    !> region is kr (material km) of old cell co, its subcell at node node
-    !> (`source`, taken only when some tetrahedron may meet it).
-    subroutine clip_halves(pn, pd, np, sgn, blo, bhi, ov, co, kr, km, node)
-      real(wp), intent(in) :: pn(:, :), pd(:), sgn, blo(3), bhi(3), ov(3, 4)
-      integer, intent(in) :: np, co, kr, km, node
-      integer :: outm(4 + max_mat), i, j, t, ncut, bits, k, live(24), nlive, need, left, il
-      real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
-      type(poly_t) :: p, q
-
-      ! the tetrahedra the region may meet: their boxes overlap, and none of
-      ! their own face planes has the old half wholly outside (need: the
-      ! points they use); none, and nothing is tested against the planes
+    !> The new cell's tetrahedra an old half (bounding box [blo, bhi],
+    !> vertices ov) may meet, in increasing order, live(1:nlive), and the
+    !> points of the split they use (bits of need): their boxes overlap, and
+    !> none of their own face planes has all four vertices of the half
+    !> outside (the two are then disjoint).
+    subroutine live_tets(blo, bhi, ov, live, nlive, need)
+      real(wp), intent(in) :: blo(3), bhi(3), ov(3, 4)
+      integer, intent(out) :: live(24), nlive, need
+      integer :: t, i
       nlive = 0
       need = 0
       near: do t = 1, 24
@@ -3584,8 +3579,22 @@ contains
         live(nlive) = t
         need = ior(need, tvmask(t))
       end do near
-      if (nlive == 0) return
-      call source(co, kr, km, node)
+    end subroutine live_tets
+
+    !> Intersects the 48 halves with the convex region pn(:,i).x <= pd(i),
+    !> i = 1..np, and deposits the fragments with the sign sgn, of the
+    !> tetrahedra live (`live_tets`, the points they use: bits of need).
+    !> Which of those points lie outside each plane is found once (as
+    !> tet_clip_planes tests them): a half is rejected by a plane with all
+    !> four of its points outside, taken whole if no plane has any, else
+    !> clipped by just the planes that cut it.
+    subroutine clip_halves(pn, pd, np, sgn, live, need)
+      real(wp), intent(in) :: pn(:, :), pd(:), sgn
+      integer, intent(in) :: np, live(:), need
+      integer :: outm(4 + max_mat), i, j, t, ncut, bits, k, left, il
+      real(wp) :: cn(3, 4 + max_mat), cd(4 + max_mat), v, m(3), sa, sb, sm
+      type(poly_t) :: p, q
+
       ! which of those points lie outside each plane (the bits the
       ! tetrahedra below read: the others stay clear)
       do i = 1, np
@@ -3600,7 +3609,7 @@ contains
       end do
       ! whole tetrahedra first: one clip for both halves, then the
       ! mid-plane split where the piece straddles it
-      tets: do il = 1, nlive
+      tets: do il = 1, size(live)
         t = live(il)
         ncut = 0
         do i = 1, np

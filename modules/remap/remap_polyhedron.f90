@@ -28,7 +28,7 @@ module remap_polyhedron
   public :: poly_t, poly_max_verts, poly_rel_tol
   public :: poly_from_tet, poly_set_tet, poly_from_hex, poly_clip, poly_clip_axis, poly_first_moments, poly_moments, &
             poly_copy
-  public :: tet_planes, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
+  public :: tet_planes, tet_sign, tet_intersect_tet, tet_intersect_hex, tet_intersect_split, tet_clip_planes, slot_of
   public :: tet_clip_moments
 
   !> Vertex capacity of a polyhedron. A tetrahedron clipped by the four planes
@@ -484,28 +484,38 @@ contains
     end if
   end subroutine poly_moments
 
-  !> Outward face planes n(:,i).x <= d(i) of the tetrahedron t and its
-  !> orientation sign sgn (+1, -1, or 0 for a tetrahedron flat to round-off).
-  pure subroutine tet_planes(t, n, d, sgn)
+  !> The orientation sign of the tetrahedron t: +1, -1, or 0 for one flat
+  !> to round-off (`tet_planes`' sgn, without its planes).
+  pure integer function tet_sign(t) result(sgn)
     real(wp), intent(in) :: t(3, 4)
-    real(wp), intent(out) :: n(3, 4), d(4)
-    integer, intent(out) :: sgn
-    real(wp) :: x(3, 4), det, scale
-    integer :: i, a, b, c
-
+    real(wp) :: det, scale
+    integer :: i
     det = tet_det(t)
     scale = 0.0_wp
     do i = 2, 4
       scale = max(scale, maxval(abs(t(:, i) - t(:, 1))))
     end do
-    n = 0.0_wp
-    d = 0.0_wp
     sgn = 0
     if (abs(det) <= epsilon(1.0_wp)*scale**3) return
-    x = t
     sgn = 1
-    if (det < 0.0_wp) then
-      sgn = -1
+    if (det < 0.0_wp) sgn = -1
+  end function tet_sign
+
+  !> Outward face planes n(:,i).x <= d(i) of the tetrahedron t and its
+  !> orientation sign sgn (`tet_sign`; the planes zero where it is 0).
+  pure subroutine tet_planes(t, n, d, sgn)
+    real(wp), intent(in) :: t(3, 4)
+    real(wp), intent(out) :: n(3, 4), d(4)
+    integer, intent(out) :: sgn
+    real(wp) :: x(3, 4)
+    integer :: i, a, b, c
+
+    sgn = tet_sign(t)
+    n = 0.0_wp
+    d = 0.0_wp
+    if (sgn == 0) return
+    x = t
+    if (sgn < 0) then
       x(:, 3) = t(:, 4)
       x(:, 4) = t(:, 3)
     end if
