@@ -69,13 +69,18 @@ contains
     type(particles_t), intent(inout) :: p
     real(wp) :: cen(2, 3), sh(2, 3)
     integer :: nseg(3), off(2, 3), ijk(3), nb(3), k, n, q, a, b, d, c
+    logical :: lo_ok
 
     if (p%spread_ready .or. p%np == 0) return
     n = 0
     do k = 1, p%np
       call g%cell_ijk(p%cell(k), ijk(1), ijk(2), ijk(3))
       do d = 1, 3
-        call segments(p%xi(d, k), p%lsup(k), ijk(d) + g%off(d), g%gn(d), nseg(d), off(:, d), cen(:, d), sh(:, d))
+        nb = ijk
+        nb(d) = ijk(d) - 1
+        lo_ok = hosts(nb)
+        nb(d) = ijk(d) + 1
+        call segments(p%xi(d, k), p%lsup(k), lo_ok, hosts(nb), nseg(d), off(:, d), cen(:, d), sh(:, d))
       end do
       p%pfirst(k) = n + 1
       do c = 1, nseg(3)
@@ -114,15 +119,30 @@ contains
     end do
     p%pc_start(1) = 1
     p%spread_ready = .true.
+
+  contains
+
+    !> Whether the stored cell nb hosts a particle (a domain spreads into
+    !> it: module notes).
+    logical function hosts(nb)
+      integer, intent(in) :: nb(3)
+      integer :: cn
+      hosts = all(nb >= g%slo .and. nb <= g%shi)
+      if (.not. hosts) return
+      cn = g%cell(nb(1), nb(2), nb(3))
+      hosts = p%cell_start(cn + 1) > p%cell_start(cn)
+    end function hosts
   end subroutine particles_spread_pieces
 
-  !> The segments of the domain x -/+ l (natural coordinates of a cell whose
-  !> global index is ig of gn in this direction): ns (1 or 2) segments, each
-  !> with the offset of its cell (-1, 0, +1), its centre in that cell's
-  !> natural coordinate and its share of the domain.
-  pure subroutine segments(x, l, ig, gn, ns, off, cen, sh)
+  !> The segments of the domain x -/+ l (natural coordinates of a cell):
+  !> ns (1 or 2) segments, each with the offset of its cell (-1, 0, +1), its
+  !> centre in that cell's natural coordinate and its share of the domain;
+  !> spread into the neighbour below (lo_ok) or above (hi_ok) only where
+  !> that neighbour may take a piece (module notes), else the point weights
+  !> in this direction.
+  pure subroutine segments(x, l, lo_ok, hi_ok, ns, off, cen, sh)
     real(wp), intent(in) :: x, l
-    integer, intent(in) :: ig, gn
+    logical, intent(in) :: lo_ok, hi_ok
     integer, intent(out) :: ns, off(2)
     real(wp), intent(out) :: cen(2), sh(2)
     real(wp) :: lo, hi
@@ -133,14 +153,14 @@ contains
     cen = x
     sh = [1.0_wp, 0.0_wp]
     if (.not. l > 0.0_wp) return
-    if (lo < 0.0_wp .and. ig > 1) then
+    if (lo < 0.0_wp .and. lo_ok) then
       ns = 2
       cen(1) = 0.5_wp*hi
       sh(1) = hi/(2.0_wp*l)
       off(2) = -1
       cen(2) = 1.0_wp + 0.5_wp*lo
       sh(2) = 1.0_wp - sh(1)
-    else if (hi > 1.0_wp .and. ig < gn) then
+    else if (hi > 1.0_wp .and. hi_ok) then
       ns = 2
       cen(1) = 0.5_wp*(1.0_wp + lo)
       sh(1) = (1.0_wp - lo)/(2.0_wp*l)
