@@ -25,12 +25,17 @@
 !> grad N_I(centre) (exact on a box grid). The shares add up to 1, so mass
 !> and momentum transfers stay conservative and a uniform field is kept.
 !>
-!> A domain that reaches past the grid's boundary (no neighbour there) is
-!> not spread in that direction: the particle keeps its point weights
-!> across it (nothing crosses a boundary). A neighbour that exists in the
-!> whole grid but lies beyond a block's stored cells drops its pieces
-!> without changing the others' shares (only far ghost particles have
-!> them; the ghost layers are deep enough that no owned node needs them).
+!> A domain that reaches past the grid's boundary (no neighbour there), or
+!> into a neighbour that hosts no particle (past the body's surface, the
+!> far side of the cells the fluid holds), is not spread in that
+!> direction: the particle keeps its point weights across it (nothing
+!> crosses a boundary; the body's stress puts no force on the nodes of a
+!> fluid cell that only its domains reach, whose mass is the fluid's and
+!> their small share: risk R1 of docs/PARTICLES.md, which emptied the
+!> wake of a plate one cell thick). A neighbour beyond a block's stored
+!> cells hosts none, as does one whose particles the block does not hold
+!> (only far ghost particles reach either; the ghost layers are deep
+!> enough that no owned node needs their pieces).
 module particles_spread
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
@@ -87,8 +92,6 @@ contains
         do b = 1, nseg(2)
           do a = 1, nseg(1)
             nb = ijk + [off(a, 1), off(b, 2), off(c, 3)]
-            ! (a piece beyond the block's stored cells: dropped, module notes)
-            if (any(nb < g%slo .or. nb > g%shi)) cycle
             n = n + 1
             p%pcell(n) = g%cell(nb(1), nb(2), nb(3))
             p%ppart(n) = k
