@@ -15,6 +15,9 @@ exe=$1 py=$2 deck=$3 n=$4 dir=$5
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir" || exit 1
 dump=$(printf 'out/q_restart_%08d.h5' "$n")
 derive part1 "$deck" "max_steps = $n, dump_steps = $n" q
+# (the dump with linear supports: it has no widths; the continued runs take
+# the default, GIMP, as the last one asks explicitly)
+echo "&hydro particle_support = 'linear' /" >> part1.nml
 "$exe" part1.nml > part1.log 2>&1 || { tail -5 part1.log; fail "first part failed"; }
 [ -f "$dump" ] || fail "no dump $dump"
 # run NAME STATUS REGEX PYTHON: copy the dump to NAME.h5, edit it, continue
@@ -59,7 +62,7 @@ run x_1e300 2 "state/x = 1.0+E\+300 at entry 4 \(node 2\) \(magnitudes of 1e30" 
   'd = f["state/x"]; v = d[()]; v[1, 0] = 1e300; d[...] = v'
 run nan_rng 0 "^done: " 'f["scalars/rng_state"][...] = np.frombuffer(np.uint64(0x7ff8000000000001).tobytes(), dtype=np.float64)[0]'
 run unedited 0 "^done: " 'pass'
-# the dump (linear supports, the default: no widths) continued with GIMP (a
+# the dump (linear supports: no widths) continued with GIMP (a
 # restart may change &hydro): the domains from the particles' hosts, logged
 derive gimp "$deck" "max_steps = $((n + 2)), restart_from = '$dump'" gimp
 echo "&hydro particle_support = 'gimp' /" >> gimp.nml

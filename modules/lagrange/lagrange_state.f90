@@ -59,9 +59,9 @@ module lagrange_state
     !> each particle's weights the mean of the shape functions over its
     !> domain, spread over the cells it overlaps ('gimp', `particles_spread`:
     !> weights that change smoothly when an Euler step moves a particle
-    !> across a face), or the shape functions at its centre ('linear',
-    !> standard MPM, the default)
-    logical :: particle_gimp = .false.
+    !> across a face; the default), or the shape functions at its centre
+    !> ('linear', standard MPM)
+    logical :: particle_gimp = .true.
     !> linear artificial viscosity of the particles, q_p = -particle_q rho_p c_p
     !> l_p tr(D_p) (`particles_viscosity`); 0: none
     real(wp) :: particle_q = 0.0_wp
