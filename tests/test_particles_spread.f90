@@ -17,6 +17,10 @@
 !>     where linear shape functions give a force of the order of the stress
 !>     times the node's area (a cell with three particles next to one with
 !>     two: sigma V (3 - 2) / h).
+!>  5. The body's surface: in a row of 3 unit cells whose third hosts no
+!>     particle, a domain that reaches into the first (which hosts one)
+!>     spreads there, one that reaches into the third does not (no piece
+!>     there: the particle keeps its point weights along x).
 program test_particles_spread
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -31,6 +35,7 @@ program test_particles_spread
 
   call test_width()
   call test_row()
+  call test_surface()
   call check_summary('test_particles_spread')
 
 contains
@@ -125,6 +130,54 @@ contains
     call check_close('spread: no force at the interior nodes of a uniform stress', fgimp, 0.0_wp, &
                      64*eps*abs(sigma))
   end subroutine test_row
+
+  !> Test 5 (module notes): particles at x = 0.75 (cell 1), 1.1 (cell 2,
+  !> its domain reaching into cell 1) and 1.9 (cell 2, reaching into cell
+  !> 3), four of each across y and z, half-width 1/4.
+  subroutine test_surface()
+    type(grid_t) :: g
+    type(particles_t) :: p
+    type(error_t), allocatable :: err
+    real(wp), parameter :: xs(3) = [0.75_wp, 1.1_wp, 1.9_wp]
+    integer :: i, j, l, n, q
+    logical :: third, back, point
+    call grid_init_box(g, 3, 1, 1, [0.0_wp, 0.0_wp, 0.0_wp], [3.0_wp, 1.0_wp, 1.0_wp], err)
+    call particles_allocate(p, 12, 1, 0, err)
+    call check(.not. allocated(err), 'three rows of particles')
+    n = 0
+    do i = 1, 3
+      do l = 0, 1
+        do j = 0, 1
+          n = n + 1
+          p%x(:, n) = [xs(i), 0.25_wp + 0.5_wp*j, 0.25_wp + 0.5_wp*l]
+          p%cell(n) = int(xs(i)) + 1
+          p%xi(:, n) = [xs(i) - int(xs(i)), p%x(2, n), p%x(3, n)]
+        end do
+      end do
+    end do
+    p%vol = 0.125_wp
+    p%m = p%vol
+    p%rho = 1.0_wp
+    p%spread = .true.
+    p%lsup = 0.25_wp
+    call particles_order(p, g%ncell, err)
+    call particles_spread_pieces(g, p)
+    third = .false.
+    back = .true.
+    point = .true.
+    do n = 1, p%np
+      do q = p%pfirst(n), p%pfirst(n + 1) - 1
+        third = third .or. p%pcell(q) == 3
+      end do
+      if (abs(p%x(1, n) - xs(2)) < 0.01_wp) back = back .and. p%pfirst(n + 1) - p%pfirst(n) == 2 .and. &
+                                                any(p%pcell(p%pfirst(n):p%pfirst(n + 1) - 1) == 1)
+      if (abs(p%x(1, n) - xs(3)) < 0.01_wp) point = point .and. p%pfirst(n + 1) - p%pfirst(n) == 1 .and. &
+                                                 .not. abs(p%pw(p%pfirst(n)) - 1.0_wp) > 0.0_wp
+    end do
+    call check(back, 'a domain spreads into a neighbour that hosts a particle')
+    call check(.not. third, 'no piece in a cell that hosts no particle')
+    call check(point, 'a domain reaching into a cell that hosts no particle keeps its point weights')
+  end subroutine test_surface
 
   !> max |f_x| over the row's nodes at x = 2 .. 4 (supports covered: the
   !> domains cover 0.025 < x < 5.875).
