@@ -76,6 +76,13 @@ module driver_euler
     !> largest side ratio and smallest cosine, and the whole grid's number
     !> of its first owned cell with each (for the log's note, `euler_due_where`)
     real(wp) :: shape_mine(2) = 0.0_wp, shape_first(2) = 0.0_wp
+    !> with LSSM's box reading, that look's side-ratio and angle tests of
+    !> each owned cell against the deck's bounds, and the step and the
+    !> stored cells (whole-grid numbers, first and last) of the grid they
+    !> were taken on: the rezone of that step on that grid takes them
+    !> rather than again (`lssm_rezone`)
+    logical, allocatable :: shape_fail(:)
+    integer :: shape_step = -1, shape_box(3, 2) = 0
     !> the remap's work arrays, kept from one Euler step to the next
     type(remap_work_t) :: work
     !> this segment's fits of the mixed cells' interface planes after the
@@ -172,7 +179,7 @@ contains
       ratio_max = shape(1)
       cos_min = shape(2)
     else
-      call euler_shape(rz, st%g, es)
+      call euler_shape(rz, st%g, st%step, es)
       ratio_max = es%shape_mine(1)
       cos_min = es%shape_mine(2)
     end if
@@ -255,12 +262,39 @@ contains
   !> cells a block owns in es%shape_mine, and the whole grid's number of the
   !> first owned cell with each in es%shape_first (`grid_shape_worst`; the
   !> log's note of where the grid is worst: `euler_due_where`).
-  subroutine euler_shape(rz, g, es)
+  subroutine euler_shape(rz, g, step, es)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
+    integer, intent(in) :: step
     type(euler_state_t), intent(inout) :: es
+    integer :: stat
+    es%shape_step = -1
+    if (euler_axis(rz)) then
+      if (allocated(es%shape_fail)) then
+        if (size(es%shape_fail) /= g%ncell) deallocate(es%shape_fail)
+      end if
+      stat = 0
+      if (.not. allocated(es%shape_fail)) allocate(es%shape_fail(g%ncell), stat=stat)
+      if (stat == 0) then
+        call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
+                              es%shape_fail)
+        es%shape_step = step
+        es%shape_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
+        return
+      end if
+    end if
     call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first)
   end subroutine euler_shape
+
+  !> Whether es%shape_fail holds the shape tests of grid g at step.
+  logical function shape_known(g, step, es)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: step
+    type(euler_state_t), intent(in) :: es
+    shape_known = es%shape_step == step .and. all(es%shape_box(:, 1) == g%off + g%slo) .and. &
+                  all(es%shape_box(:, 2) == g%off + g%shi)
+    if (shape_known) shape_known = size(es%shape_fail) == g%ncell
+  end function shape_known
 
   !> One Euler step: rezone, remap, new material states; checks
   !> conservation in every build (a breach beyond &rezone conservation_tol
@@ -768,7 +802,13 @@ contains
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       es%xkeep_x0 = .false.
       xnew = g%x
-      call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied)
+      if (shape_known(g, step, es)) then
+        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, es%shape_fail)
+        ! (once: the grid moves on)
+        es%shape_step = -1
+      else
+        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied)
+      end if
       if (.not. allocated(err)) call lssm_log(rz, rep, step, log)
       done = rep%outcome /= LSSM_SKIPPED
     else

@@ -255,7 +255,7 @@ contains
     if (.not. es%on) return
     shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
-      call euler_shape(cfg%rezone, st%g, es)
+      call euler_shape(cfg%rezone, st%g, st%step, es)
       shape = es%shape_mine
       call parallel_max(pc, shape(1:1))
       call parallel_min(pc, shape(2:2))

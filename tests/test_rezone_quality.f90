@@ -2,7 +2,7 @@
 program test_rezone_quality
   use base_kinds, only: wp
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_geometry, only: hex_corner
+  use mesh_geometry, only: hex_corner, hex_jacobian
   use test_assert, only: check, check_summary
   use rezone_quality, only: hex_quality, quad_quality, hex_shape, grid_quality, hex_quality_box, hex_box_sides, &
                             grid_trigger_cells
@@ -10,8 +10,9 @@ program test_rezone_quality
   real(wp) :: cube(3, 8), xn(3, 8), sq(2, 4), r, cs, q_min, ratio_max, cos_min, a(3, 3), b(3), c, qb
   real(wp), allocatable :: x(:, :), q(:)
   logical :: fail(2)
+  logical, allocatable :: fails(:), known(:), shape_fail(:), tang(:)
   type(rng_t) :: rng
-  integer :: i, j, k, n, d
+  integer :: i, j, k, n, d, ntangled, njac
   integer, parameter :: m = 50
 
   cube = real(hex_corner, wp)
@@ -143,5 +144,66 @@ program test_rezone_quality
   call check(q_min > 0.2_wp .and. q_min < 0.4_wp, 'benchmark grid Q_min near the paper''s 0.30')
   call check(abs(minval(q) - q_min) < 1e-15_wp, 'grid minimum is the minimum of the cells')
 
+  ! the trigger cells with the shape tests given (as the step's look at the
+  ! grid takes them, `grid_shape_worst`) for the cells of the block
+  ! (2:m-1)^3, taken again elsewhere: the same cells as all taken here, on
+  ! the benchmark grid moved by up to 0.45 (some cells tangled: as many as
+  ! have a corner Jacobian of the trilinear map not above zero)
+  do k = 1, m - 1
+    do j = 1, m - 1
+      do i = 1, m - 1
+        n = 1 + i + (m + 1)*(j + (m + 1)*k)
+        x(:, n) = real([i, j, k], wp) + 0.9_wp*(rng_uniform_3() - 0.5_wp)
+      end do
+    end do
+  end do
+  allocate(fails(m**3), known(m**3), shape_fail(m**3), tang(m**3))
+  njac = 0
+  do k = 1, m
+    do j = 1, m
+      do i = 1, m
+        n = i + m*(j - 1 + m*(k - 1))
+        call cell_nodes(i, j, k)
+        if (any([(hex_jacobian(xn, 2.0_wp*real(hex_corner(:, d), wp) - 1.0_wp) <= 0.0_wp, d = 1, 8)])) &
+          njac = njac + 1
+        call hex_shape(xn, r, cs, axis=.true.)
+        shape_fail(n) = r >= 4.0_wp .or. cs <= 0.7_wp
+        ! (outside the block: wrong on purpose, not to be read)
+        if (any([i, j, k] < 2 .or. [i, j, k] > m - 1)) shape_fail(n) = .not. shape_fail(n)
+      end do
+    end do
+  end do
+  call grid_trigger_cells(m, m, m, x, 4.0_wp, 0.7_wp, fails)
+  call grid_trigger_cells(m, m, m, x, 4.0_wp, 0.7_wp, known, shape_fail=shape_fail, lo=[2, 2, 2], hi=[m - 1, m - 1, m - 1])
+  call grid_trigger_cells(m, m, m, x, 0.0_wp, 0.0_wp, tang)
+  ntangled = count(tang)
+  write(*, '(a,i0,a,i0,a,i0,a)') 'trigger cells of the grid moved by 0.45: ', count(fails), ' of them ', ntangled, &
+    ' tangled (', njac, ' with a corner Jacobian <= 0)'
+  call check(ntangled == njac, 'trigger cells: the tangled cells are those with a corner Jacobian <= 0')
+  call check(ntangled > 100 .and. count(fails) > ntangled .and. count(fails) < m**3, &
+             'trigger cells: the grid moved by 0.45 has tangled cells and cells failing only the shape tests')
+  call check(all(fails .eqv. known), 'trigger cells: with the shape tests given, the same cells fail')
+
   call check_summary('test_rezone_quality')
+
+contains
+
+  !> Three uniform numbers of rng.
+  function rng_uniform_3() result(u)
+    real(wp) :: u(3)
+    integer :: d_
+    do d_ = 1, 3
+      u(d_) = rng_uniform(rng)
+    end do
+  end function rng_uniform_3
+
+  !> xn: the nodes of cell (i_, j_, k_) of the m^3 grid x.
+  subroutine cell_nodes(i_, j_, k_)
+    integer, intent(in) :: i_, j_, k_
+    integer :: a_
+    do a_ = 1, 8
+      xn(:, a_) = x(:, 1 + (i_ - 1 + mod(a_ - 1, 2)) + (m + 1)*((j_ - 1 + mod((a_ - 1)/2, 2)) + &
+                    (m + 1)*(k_ - 1 + (a_ - 1)/4)))
+    end do
+  end subroutine cell_nodes
 end program test_rezone_quality

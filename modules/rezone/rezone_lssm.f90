@@ -79,7 +79,12 @@ contains
   !> through-flow and the domain goes with it), and with drift_max > 0 every
   !> other node that drifted more than drift_max of it. The other cells
   !> around the nodes so moved join the distorted cells.
-  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied)
+  !>
+  !> shape_fail: the triggers' side-ratio and angle tests of g's owned
+  !> cells on these nodes x, taken by the step's look at the grid
+  !> (`grid_shape_worst`'s fail with the deck's bounds): with 'box' only
+  !> the tangle test is then left to take there.
+  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied, shape_fail)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -92,6 +97,7 @@ contains
     type(lssm_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
+    logical, intent(in), optional :: shape_fail(:)
     logical, allocatable :: moved(:), touched(:), counts(:), tangled(:)
     type(rezone_subdomains_t) :: sub
     type(smooth_mobility_t) :: mob
@@ -126,7 +132,10 @@ contains
       ! (the distorted cells are the triggers': no cell's Q is needed, and
       ! the log's Q_min before is the smoothed cells', `smooth_combined`)
       if (rz%side_ratio > 1.0_wp) aspect_max = sqrt(rz%side_ratio)
-      call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, fail, share)
+      ! (the snapped nodes' cells join the distorted cells below whatever
+      ! their tests: shape tests taken before the snap serve)
+      call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, fail, share, shape_fail, &
+                              g%clo - g%slo + 1, g%chi - g%slo + 1)
     else if (trim(rz%mode) /= 'smooth') then
       ! (mode 'smooth' smooths every cell: its Q_min before is the region's)
       call grid_quality(n(1), n(2), n(3), x, quality, q_min0, share=share)

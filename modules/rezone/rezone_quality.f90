@@ -342,13 +342,19 @@ contains
   !> the grid "determined distorted", so an Euler step that does not move
   !> them fires again at the next step. The inclined angle is measured
   !> against the axes (`hex_shape` with axis), as the box reading's trigger.
-  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail, share)
+  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail, share, shape_fail, lo, hi)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :), side_ratio, cos_angle
     logical, intent(out) :: fail(:)
     !> ranks that all hold the grid, sharing the cells (`base_share`)
     class(share_t), intent(in), optional :: share
-    integer :: c, ci, cj, ck, k, nmine, p0, np, stat
+    !> the side-ratio and angle tests already taken on these nodes x for
+    !> the cells (lo:hi) of the grid (`grid_shape_worst`'s fail, with the
+    !> same bounds): there only the tangle test is left to take (not with
+    !> share)
+    logical, intent(in), optional :: shape_fail(:)
+    integer, intent(in), optional :: lo(3), hi(3)
+    integer :: c, ci, cj, ck, k, nmine, p0, np, stat, klo(3), khi(3)
     real(wp), allocatable :: v(:, :)
     logical :: sharing
     type(grid_index_t) :: ix
@@ -359,12 +365,26 @@ contains
     if (sharing) allocate(v(1, ix%ncell), stat=stat)
     if (sharing) sharing = stat == 0
     if (.not. sharing) then
-      !$omp parallel do default(none) shared(ix, fail) private(c, ci, cj, ck) collapse(2) schedule(static)
+      ! (the cells whose shape tests are known: none without shape_fail)
+      klo = 1
+      khi = 0
+      if (present(shape_fail) .and. present(lo) .and. present(hi)) then
+        klo = lo
+        khi = hi
+      end if
+      !$omp parallel do default(none) shared(ix, fail, shape_fail, klo, khi) private(c, ci, cj, ck) &
+      !$omp collapse(2) schedule(static)
       do ck = ix%clo(3), ix%chi(3)
         do cj = ix%clo(2), ix%chi(2)
           do ci = ix%clo(1), ix%chi(1)
             c = ix%cell(ci, cj, ck)
-            fail(c) = fails(ci, cj, ck)
+            if (ci >= klo(1) .and. ci <= khi(1) .and. cj >= klo(2) .and. cj <= khi(2) .and. &
+                ck >= klo(3) .and. ck <= khi(3)) then
+              fail(c) = shape_fail(c)
+              if (.not. fail(c)) fail(c) = gathered_tangled(ci, cj, ck)
+            else
+              fail(c) = fails(ci, cj, ck)
+            end if
           end do
         end do
       end do
@@ -388,25 +408,60 @@ contains
     !> Whether cell (i, j, k) fails the tests.
     logical function fails(i, j, kk)
       integer, intent(in) :: i, j, kk
-      real(wp) :: xn(3, 8), r, cs, e(3, 3), jmin
-      integer :: a, d, b
+      real(wp) :: xn(3, 8), r, cs
       call block_gather(ni, nj, i, j, kk, x, xn)
       call hex_shape(xn, r, cs, .true.)
-      fails = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle)
+      fails = shape_fails(r, cs, side_ratio, cos_angle)
       if (fails) return
-      jmin = huge(1.0_wp)
-      do a = 1, 8
-        do d = 1, 3
-          b = 1 + ieor(a - 1, 2**(d - 1))
-          e(:, d) = xn(:, b) - xn(:, a)
-          if (btest(a - 1, d - 1)) e(:, d) = -e(:, d)
-        end do
-        jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
-                   e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
-      end do
-      fails = .not. jmin > 0.0_wp
+      fails = hex_corner_tangled(xn)
     end function fails
+
+    !> Whether cell (i, j, k) is tangled (`hex_corner_tangled`).
+    logical function gathered_tangled(i, j, kk)
+      integer, intent(in) :: i, j, kk
+      real(wp) :: xn(3, 8)
+      call block_gather(ni, nj, i, j, kk, x, xn)
+      gathered_tangled = hex_corner_tangled(xn)
+    end function gathered_tangled
   end subroutine grid_trigger_cells
+
+  !> Whether a hexahedron with nodes xn is tangled: a corner's three edges,
+  !> along +i, +j, +k, span a non-positive volume. (Each edge is taken once,
+  !> from its lower node to its upper one: the value the corner at either
+  !> end reads, as xn(b) - xn(a) or its negation.)
+  pure logical function hex_corner_tangled(xn) result(tangled)
+    real(wp), intent(in) :: xn(3, 8)
+    !> corner a's edge along direction d: the edge's number in 1..4 among
+    !> the four along d (the corner's other two index bits)
+    integer, parameter :: edge_of(3, 8) = reshape([1, 1, 1, 1, 2, 2, 2, 1, 3, 2, 2, 4, 3, 3, 1, 3, 4, 2, &
+                                                   4, 3, 3, 4, 4, 4], [3, 8])
+    !> the four edges along each direction: their lower and upper nodes
+    integer, parameter :: lower(4, 3) = reshape([1, 3, 5, 7, 1, 2, 5, 6, 1, 2, 3, 4], [4, 3])
+    integer, parameter :: step(3) = [1, 2, 4]
+    real(wp) :: ed(3, 4, 3), e(3, 3), jmin
+    integer :: a, d, q
+    do d = 1, 3
+      do q = 1, 4
+        ed(:, q, d) = xn(:, lower(q, d) + step(d)) - xn(:, lower(q, d))
+      end do
+    end do
+    jmin = huge(1.0_wp)
+    do a = 1, 8
+      do d = 1, 3
+        e(:, d) = ed(:, edge_of(d, a), d)
+      end do
+      jmin = min(jmin, e(1, 1)*(e(2, 2)*e(3, 3) - e(3, 2)*e(2, 3)) - e(2, 1)*(e(1, 2)*e(3, 3) - &
+                 e(3, 2)*e(1, 3)) + e(3, 1)*(e(1, 2)*e(2, 3) - e(2, 2)*e(1, 3)))
+    end do
+    tangled = .not. jmin > 0.0_wp
+  end function hex_corner_tangled
+
+  !> Whether a cell of side ratio r and inclined-angle cosine cs fails the
+  !> Euler-step triggers' bounds (each test on if its bound is > 0).
+  pure logical function shape_fails(r, cs, side_ratio, cos_angle)
+    real(wp), intent(in) :: r, cs, side_ratio, cos_angle
+    shape_fails = (side_ratio > 0.0_wp .and. r >= side_ratio) .or. (cos_angle > 0.0_wp .and. cs <= cos_angle)
+  end function shape_fails
 
   !> The largest side ratio and smallest inclined-angle cosine over the
   !> cells g's block owns (`hex_shape`, axis as there) in worst(1:2), and
@@ -415,17 +470,26 @@ contains
   !> its cells' first worst (its cells come in the whole grid's order); the
   !> threads' are combined by value, then by the lower number, so the result
   !> does not depend on the threads.
-  subroutine grid_shape_worst(g, axis, worst, first)
+  subroutine grid_shape_worst(g, axis, worst, first, bounds, fail)
     type(grid_t), intent(in) :: g
     logical, intent(in) :: axis
     real(wp), intent(out) :: worst(2), first(2)
-    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct
+    !> with fail: the triggers' side-ratio and cosine bounds, and fail(c)
+    !> set for each owned cell c to whether it reaches one
+    !> (`shape_fails`: what `grid_trigger_cells` tests before the tangle)
+    real(wp), intent(in), optional :: bounds(2)
+    logical, intent(inout), optional :: fail(:)
+    real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct, bnd(2)
     integer :: i, j, k, c
+    logical :: flags
     ratio_max = -huge(1.0_wp)
     cos_min = huge(1.0_wp)
     fr = huge(1.0_wp)
     fc = huge(1.0_wp)
-    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc) &
+    flags = present(bounds) .and. present(fail)
+    bnd = 0.0_wp
+    if (flags) bnd = bounds
+    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc, flags, bnd, fail) &
     !$omp private(i, j, k, c, xn, r, cs, rt, ct, frt, fct)
     rt = -huge(1.0_wp)
     ct = huge(1.0_wp)
@@ -438,6 +502,7 @@ contains
           c = g%cell(i, j, k)
           call g%gather(c, g%x, xn)
           call hex_shape(xn, r, cs, axis)
+          if (flags) fail(c) = shape_fails(r, cs, bnd(1), bnd(2))
           if (r > rt) then
             rt = r
             frt = real(g%global_cell(c), wp)
