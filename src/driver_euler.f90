@@ -18,6 +18,7 @@ module driver_euler
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
   use rezone_lssm, only: lssm_report_t, lssm_rezone, LSSM_SKIPPED, LSSM_SNAPPED
+  use rezone_smooth, only: smooth_mobility_t
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
@@ -83,6 +84,10 @@ module driver_euler
     !> rather than again (`lssm_rezone`)
     logical, allocatable :: shape_fail(:)
     integer :: shape_step = -1, shape_box(3, 2) = 0
+    !> the smoothers' mobility of the nodes (`lssm_rezone`), kept for the
+    !> grid whose stored cells (whole-grid numbers, first and last) are mob_box
+    type(smooth_mobility_t) :: mob
+    integer :: mob_box(3, 2) = 0
     !> the remap's work arrays, kept from one Euler step to the next
     type(remap_work_t) :: work
     !> this segment's fits of the mixed cells' interface planes after the
@@ -802,12 +807,18 @@ contains
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       es%xkeep_x0 = .false.
       xnew = g%x
+      if (any(es%mob_box /= reshape([g%off + g%slo, g%off + g%shi], [3, 2]))) then
+        es%mob = smooth_mobility_t()
+        es%mob_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
+      end if
       if (shape_known(g, step, es)) then
-        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, es%shape_fail)
+        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, es%shape_fail, &
+                         es%mob)
         ! (once: the grid moves on)
         es%shape_step = -1
       else
-        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied)
+        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, &
+                         mob_keep=es%mob)
       end if
       if (.not. allocated(err)) call lssm_log(rz, rep, step, log)
       done = rep%outcome /= LSSM_SKIPPED

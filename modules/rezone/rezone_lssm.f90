@@ -84,7 +84,11 @@ contains
   !> cells on these nodes x, taken by the step's look at the grid
   !> (`grid_shape_worst`'s fail with the deck's bounds): with 'box' only
   !> the tangle test is then left to take there.
-  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied, shape_fail)
+  !>
+  !> mob_keep: the mobility of g's nodes (`smooth_mobility_block`) kept
+  !> from one call to the next on the same block, built at the first; not
+  !> used with occupied (the frozen nodes change).
+  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied, shape_fail, mob_keep)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -98,6 +102,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
     logical, intent(in), optional :: shape_fail(:)
+    type(smooth_mobility_t), intent(inout), optional :: mob_keep
     logical, allocatable :: moved(:), touched(:), counts(:), tangled(:)
     type(rezone_subdomains_t) :: sub
     type(smooth_mobility_t) :: mob
@@ -182,7 +187,13 @@ contains
       if (sums(1) > 0) rep%outcome = LSSM_SNAPPED
       return
     end if
-    call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied)
+    if (present(mob_keep) .and. .not. present(occupied)) then
+      if (.not. allocated(mob_keep%kind)) call smooth_mobility_block(g%grid_index_t, mob_keep, err)
+      if (allocated(err)) return
+      mob = mob_keep
+    else
+      call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied)
+    end if
     if (allocated(err)) return
     ! (the squeeze guard with the box reading only: the cube target does not
     ! keep volumes, and with 'smooth' the whole grid moves)
