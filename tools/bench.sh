@@ -456,55 +456,61 @@ bubble_bench() {
 # The Sedov blast with a fixed cell of 0.06 (the energy of input/sedov3d.nml)
 # in octants of 20^3, 40^3 and 60^3 cells, a global rezone back to the box
 # every step, 20 and 100 steps: the blast reaches the same cells in each, so
-# every Euler step changes the same cells whatever the grid. Each run three
-# times, interleaved, the fastest kept (1 thread). Printed: the Euler phase's
-# wall time per Euler step over the first 20 steps (with the first Euler
-# step's one-off work: its whole-grid work arrays allocated and first
+# every Euler step changes the same cells whatever the grid. Two more grids
+# tell where a larger grid's extra cost comes from: 20 x 20 x 60 (the same
+# strides as 20^3, the extra cells in planes the blast never reaches: what
+# a larger state alone costs) and 60 x 20 x 20 (rows three times as long:
+# the changed cells' rows and planes further apart in memory). Each run
+# three times, interleaved, the fastest kept (1 thread). Printed: the Euler
+# phase's wall time per Euler step over the first 20 steps (with the first
+# Euler step's one-off work: its whole-grid work arrays allocated and first
 # touched, the initial grid copied and tested as a lattice), and over steps
 # 21 to 100 alone (the difference of the two runs: what each further Euler
 # step costs), each with its ratio to 20^3's (flat: 1).
 flat_bench() {
   echo "## An Euler step's cost against the grid size: Sedov, fixed cell 0.06, global rezone every step"
-  local n x st rep
-  for n in 20 40 60; do
-    x=$(awk -v n=$n 'BEGIN {printf "%.2f", 0.06 * n}')
+  local shapes="20x20x20 40x40x40 60x60x60 20x20x60 60x20x20" sh ni nj nk st rep
+  for sh in $shapes; do
+    IFS=x read -r ni nj nk <<< "$sh"
     for st in 20 100; do
-      cat > flat${n}_$st.nml <<DECK
-&run title = 'Sedov, fixed cell 0.06, ${n}^3, an Euler step every step', t_end = 1.0, max_steps = $st /
-&grid ni = $n, nj = $n, nk = $n, xmin = 0, 0, 0, xmax = $x, $x, $x /
+      cat > flat${sh}_$st.nml <<DECK
+&run title = 'Sedov, fixed cell 0.06, ${sh} cells, an Euler step every step', t_end = 1.0, max_steps = $st /
+&grid ni = $ni, nj = $nj, nk = $nk, xmin = 0, 0, 0,
+      xmax = $(awk -v n=$ni 'BEGIN {printf "%.2f", 0.06 * n}'), $(awk -v n=$nj 'BEGIN {printf "%.2f", 0.06 * n}'), $(awk -v n=$nk 'BEGIN {printf "%.2f", 0.06 * n}') /
 &material name = 'air', eos = 'ideal_gas', gamma = 1.4 /
 &region shape = 'all', material = 'air', density = 1.0, pressure = 1.0e-6 /
 &source position = 0, 0, 0, energy = 0.106384 /
 &boundary xlo = 'symmetry', ylo = 'symmetry', zlo = 'symmetry', xhi = 'wall', yhi = 'wall', zhi = 'wall' /
 &rezone mode = 'global', interval_steps = 1 /
-&output dir = 'out/flat${n}_$st', frame_dt = 100 /
+&output dir = 'out/flat${sh}_$st', frame_dt = 100 /
 DECK
     done
   done
   for rep in 1 2 3; do
     for st in 20 100; do
-      for n in 20 40 60; do
-        OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" flat${n}_$st.nml > flat${n}_${st}_$rep.log
+      for sh in $shapes; do
+        OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" flat${sh}_$st.nml > flat${sh}_${st}_$rep.log
       done
     done
   done
-  cp flat60_20_1.log "$outdir/bench_flat60.log"
-  for n in 20 40 60; do
+  cp flat60x60x60_20_1.log "$outdir/bench_flat60.log"
+  for sh in $shapes; do
     for st in 20 100; do
-      awk -v n=$n -v st=$st '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") {e = $(i + 1); if (best == "" || e < best) best = e}}
+      awk -v sh=$sh -v st=$st '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") {e = $(i + 1); if (best == "" || e < best) best = e}}
            /^euler steps:/ {steps = $3 + 0; cells = $6 + 0}
-           END {printf "%d %d %d %d %.6f\n", n, st, steps, cells, best}' flat${n}_${st}_1.log flat${n}_${st}_2.log flat${n}_${st}_3.log
+           END {printf "%s %d %d %d %.6f\n", sh, st, steps, cells, best}' flat${sh}_${st}_1.log flat${sh}_${st}_2.log \
+        flat${sh}_${st}_3.log
     done
-  done | awk '$2 == 20 {s20[$1] = $3; c20[$1] = $4; e20[$1] = $5}
+  done | awk '$2 == 20 {s20[$1] = $3; c20[$1] = $4; e20[$1] = $5; if (!($1 in seen)) {seen[$1] = 1; order[++n] = $1}}
               $2 == 100 {s100[$1] = $3; c100[$1] = $4; e100[$1] = $5}
               END {
-                for (i = 0; i < 3; i++) {
-                  n = 20 + 20 * i
-                  a = e20[n] / s20[n]; b = (e100[n] - e20[n]) / (s100[n] - s20[n])
-                  if (i == 0) {a0 = a; b0 = b}
-                  printf "%d^3: first %d Euler steps (%d cells remapped) %.3f ms per step, %.2f times 20^3'"'"'s; " \
-                         "steps %d-%d (%d cells) %.3f ms per step, %.2f times 20^3'"'"'s\n", n, s20[n], c20[n], 1e3 * a, \
-                         a / a0, s20[n] + 1, s100[n], c100[n] - c20[n], 1e3 * b, b / b0
+                for (i = 1; i <= n; i++) {
+                  g = order[i]
+                  a = e20[g] / s20[g]; b = (e100[g] - e20[g]) / (s100[g] - s20[g])
+                  if (i == 1) {a0 = a; b0 = b}
+                  printf "%s: first %d Euler steps (%d cells remapped) %.3f ms per step, %.2f times 20^3'"'"'s; " \
+                         "steps %d-%d (%d cells) %.3f ms per step, %.2f times 20^3'"'"'s\n", g, s20[g], c20[g], 1e3 * a, \
+                         a / a0, s20[g] + 1, s100[g], c100[g] - c20[g], 1e3 * b, b / b0
                 }
               }'
 }
