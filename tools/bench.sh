@@ -23,7 +23,7 @@
 # per cell (issue 40): the marginal peak resident bytes per cell between
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
 # (BENCH_ONLY=memory runs only that); 1 kg TNT in free air against
-# Kingery-Bulmash (issue 37, about 17 minutes; BENCH_ONLY=blast runs only
+# Kingery-Bulmash (issue 37, about 5 minutes; BENCH_ONLY=blast runs only
 # that): the 1D spherical pre-run alone at 100, 200 and 400 zones per charge
 # radius, the 1D run mapped into a 64^3 octant at 1500 us, the same scene in
 # 3D from t = 0 (no &prerun) at BENCH_BLAST_N^3 (56 by default), arrival and
@@ -364,8 +364,8 @@ memory_bench() {
 # the finest grid run in 30 minutes, 96^3 in 905 s, is in the README). Its cells
 # (59 mm at 56^3) are larger than the charge: the run shows what the pre-run
 # saves, not a converged 3D answer. tools/blast_kb_plot.py puts all of them
-# against Kingery-Bulmash free air (Swisdak's fits, reflection factors 1.8
-# and 2). 2 threads, one run at a time.
+# against Kingery-Bulmash free air (KB's free-air fits, and beside them a
+# surface burst of W/1.8). 2 threads, one run at a time.
 blast_bench() {
   local n=${BENCH_BLAST_N:-56} w name t0 files=() labels=()
   local gauges="gauge = 500, 0, 0, 1000, 0, 0, 2000, 0, 0, 3000, 0, 0"

@@ -21,13 +21,13 @@ Units: the deck's length, pressure and time units (--length-unit mm|cm|m,
 m, pressures to kPa and times to ms. Z = R / W^(1/3) (m/kg^(1/3)) with W the
 free-air TNT mass --mass-kg.
 
-Kingery-Bulmash: tools/kingery_bulmash.py (Swisdak 1994's fits of the
-hemispherical surface burst), a free-air burst of W taken as a surface burst
-of W / F. The table gives KB with F = --reflection (default 1.8, UFC
-3-340-02) and with F = 2 (a rigid ground; 1.8 when --reflection is 2), and
-the run's difference from each, 100 (run / KB - 1) %; the plot draws both
-curves with the band between them. A gauge whose Z is outside the fits'
-range gets nan in the KB columns (and a note).
+Kingery-Bulmash: tools/kingery_bulmash.py. The reference is KB's fits of
+the spherical free-air burst (column KB_free); beside it, the common
+approximation of a free-air burst of W as a hemispherical surface burst of
+W / F (Swisdak 1994's fits; F = --reflection, default 1.8, UFC 3-340-02),
+column KB_F1.8. The table gives the run's difference from each, 100 (run /
+KB - 1) %; the plot draws both curves (the free-air fits solid). A gauge
+whose Z is outside a fit's range gets nan in its KB columns (and a note).
 
 Writes the PNG (--out; peak overpressure in kPa against Z, log-log, and
 arrival in ms against Z, log-log) and prints the table (also --csv).
@@ -112,6 +112,7 @@ def default_label(path):
 
 
 def kb_value(param, r_m, w, f):
+    """KB free air at r_m of w kg: the free-air fits (f None) or a surface burst of w / f."""
     try:
         return kb.free_air(param, r_m, w, f)
     except ValueError:
@@ -124,7 +125,7 @@ def diff(run, ref):
 
 def table(files, labels, a):
     centre = np.array(a.centre, dtype=float)
-    fr = (a.reflection, 2.0 if a.reflection != 2.0 else 1.8)
+    fr = (None, a.reflection)
     rows = []
     for path, label in zip(files, labels):
         data = read_blast(path, centre) if is_blast_file(path) else read_gauges(path, centre, a.fraction)
@@ -135,35 +136,40 @@ def table(files, labels, a):
                    "arrival_ms": arr * TO_MS[a.time_unit] if peak > 0 else float("nan"),
                    "peak_kPa": peak * TO_KPA[a.pressure_unit]}
             for f in fr:
-                row[f"kb_arrival_F{f:g}"] = kb_value("arrival", r_m, a.mass_kg, f)
-                row[f"kb_peak_F{f:g}"] = kb_value("overpressure", r_m, a.mass_kg, f)
+                row[f"kb_arrival_{tag(f)}"] = kb_value("arrival", r_m, a.mass_kg, f)
+                row[f"kb_peak_{tag(f)}"] = kb_value("overpressure", r_m, a.mass_kg, f)
             rows.append(row)
     return rows, fr
 
 
+def tag(f):
+    """The column tag of a KB reference: the free-air fits (None) or a surface burst of W/f."""
+    return "free" if f is None else f"F{f:g}"
+
+
 def print_table(rows, fr):
-    f1, f2 = (f"{f:g}" for f in fr)
-    cols = ["run", "gauge", "R_m", "Z", "arrival_ms", f"KB_F{f1}", "diff%", f"KB_F{f2}", "diff%",
-            "peak_kPa", f"KB_F{f1}", "diff%", f"KB_F{f2}", "diff%"]
+    f1, f2 = (tag(f) for f in fr)
+    cols = ["run", "gauge", "R_m", "Z", "arrival_ms", f"KB_{f1}", "diff%", f"KB_{f2}", "diff%",
+            "peak_kPa", f"KB_{f1}", "diff%", f"KB_{f2}", "diff%"]
     w = max([len("run")] + [len(r["run"]) for r in rows])
-    print(f"# Kingery-Bulmash free air (Swisdak 1994 fits, free-air W = surface burst of W/F), F = {f1} and {f2}; "
-          "diff% = 100 (run/KB - 1)")
+    print(f"# Kingery-Bulmash: KB_free = the spherical free-air fits (KB 1984), KB_{f2} = a surface burst of "
+          f"W/{fr[1]:g} (Swisdak 1994 fits); diff% = 100 (run/KB - 1)")
     print(f"{cols[0]:<{w}} " + " ".join(f"{c:>10}" for c in cols[1:]))
     out = []
     for r in rows:
         vals = [r["gauge"], r["R_m"], r["Z"], r["arrival_ms"],
-                r[f"kb_arrival_F{f1}"], diff(r["arrival_ms"], r[f"kb_arrival_F{f1}"]),
-                r[f"kb_arrival_F{f2}"], diff(r["arrival_ms"], r[f"kb_arrival_F{f2}"]),
-                r["peak_kPa"], r[f"kb_peak_F{f1}"], diff(r["peak_kPa"], r[f"kb_peak_F{f1}"]),
-                r[f"kb_peak_F{f2}"], diff(r["peak_kPa"], r[f"kb_peak_F{f2}"])]
+                r[f"kb_arrival_{f1}"], diff(r["arrival_ms"], r[f"kb_arrival_{f1}"]),
+                r[f"kb_arrival_{f2}"], diff(r["arrival_ms"], r[f"kb_arrival_{f2}"]),
+                r["peak_kPa"], r[f"kb_peak_{f1}"], diff(r["peak_kPa"], r[f"kb_peak_{f1}"]),
+                r[f"kb_peak_{f2}"], diff(r["peak_kPa"], r[f"kb_peak_{f2}"])]
         out.append([r["run"]] + vals)
         print(f"{r['run']:<{w}} {vals[0]:>10d} " + " ".join(
             f"{v:>+10.1f}" if cols[k + 2] == "diff%" else f"{v:>10.4g}" for k, v in enumerate(vals[1:])))
-    if any(math.isnan(r[f"kb_peak_F{f1}"]) or math.isnan(r[f"kb_arrival_F{f1}"]) for r in rows):
+    if any(math.isnan(r[f"kb_{k}_{f}"]) for r in rows for k in ("peak", "arrival") for f in (f1, f2)):
         print("# nan in a KB column: Z outside the fits' range (kingery_bulmash.py)")
-    csv_cols = ["run", "gauge", "R_m", "Z", "arrival_ms", f"arrival_KB_F{f1}", f"arrival_diff%_F{f1}",
-                f"arrival_KB_F{f2}", f"arrival_diff%_F{f2}", "peak_kPa", f"peak_KB_F{f1}", f"peak_diff%_F{f1}",
-                f"peak_KB_F{f2}", f"peak_diff%_F{f2}"]
+    csv_cols = ["run", "gauge", "R_m", "Z", "arrival_ms", f"arrival_KB_{f1}", f"arrival_diff%_{f1}",
+                f"arrival_KB_{f2}", f"arrival_diff%_{f2}", "peak_kPa", f"peak_KB_{f1}", f"peak_diff%_{f1}",
+                f"peak_KB_{f2}", f"peak_diff%_{f2}"]
     return csv_cols, out
 
 
@@ -177,18 +183,16 @@ def plot(rows, fr, labels, a):
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     for ax, param, key, ylab in [(axes[0], "overpressure", "peak_kPa", "peak overpressure [kPa]"),
                                  (axes[1], "arrival", "arrival_ms", "arrival time [ms]")]:
-        curves = []
-        for f, style in zip(fr, ("-", "--")):
-            # the free-air Z range the fits cover with this F
-            # (pulled in by 1e-9: the round trip through f^(1/3) must not leave the range)
-            lo, hi = kb.z_range(param)
-            lo, hi = lo * (1 + 1e-9) / f ** (1 / 3), hi * (1 - 1e-9) / f ** (1 / 3)
+        for f, style, name in zip(fr, ("-", "--"), ("Kingery-Bulmash free air (KB 1984 fits)",
+                                                      f"surface burst of W/{fr[1]:g} (Swisdak 1994 fits)")):
+            # the free-air Z range the fits cover (with f: through the surface burst of W/f;
+            # pulled in by 1e-9: the round trip through f^(1/3) must not leave the range)
+            lo, hi = kb.z_range(param, free=f is None)
+            s = 1.0 if f is None else f ** (1 / 3)
+            lo, hi = lo * (1 + 1e-9) / s, hi * (1 - 1e-9) / s
             z = np.geomspace(max(zlo, lo), min(zhi, hi), 200)
             y = np.array([kb.free_air(param, zz * a.mass_kg ** (1 / 3), a.mass_kg, f) for zz in z])
-            ax.plot(z, y, "k" + style, lw=1.2, label=f"Kingery-Bulmash free air, F = {f:g}")
-            curves.append((z, y))
-        zc = np.geomspace(max(c[0][0] for c in curves), min(c[0][-1] for c in curves), 200)
-        ax.fill_between(zc, np.interp(zc, *curves[0]), np.interp(zc, *curves[1]), color="0.85", zorder=0)
+            ax.plot(z, y, "k" + style, lw=1.4 if f is None else 1.0, label=name)
         markers = "osD^v<>ph*"
         for k, label in enumerate(labels):
             pts = [(r["Z"], r[key]) for r in rows if r["run"] == label and r[key] > 0]
@@ -201,7 +205,7 @@ def plot(rows, fr, labels, a):
         ax.set_ylabel(ylab)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"{a.mass_kg:g} kg TNT in free air: runs against Kingery-Bulmash (Swisdak 1994)")
+    fig.suptitle(f"{a.mass_kg:g} kg TNT in free air: runs against Kingery-Bulmash")
     fig.tight_layout()
     fig.savefig(a.out, dpi=110)
     plt.close(fig)
@@ -216,7 +220,7 @@ def main(argv=None):
     ap.add_argument("--pressure-unit", choices=TO_KPA, default="GPa")
     ap.add_argument("--time-unit", choices=TO_MS, default="us")
     ap.add_argument("--reflection", type=float, default=1.8,
-                    help="ground reflection factor F: free air W = surface burst of W/F (1.8; 2 also shown)")
+                    help="also against a surface burst of W/F (default 1.8, UFC 3-340-02)")
     ap.add_argument("--fraction", type=float, default=0.5, help="gauge files: arrival at this fraction of the peak")
     ap.add_argument("--label", action="append", help="one per FILE, in order (default: from the file name)")
     ap.add_argument("--out", default="blast_kb.png", help="PNG to write")
