@@ -31,7 +31,7 @@ module driver
   use driver_scene, only: build_scene
   use driver_prerun, only: prerun_write, prerun_report, prerun_gauge_rows
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
-  use driver_euler, only: euler_state_t, euler_init, euler_due, euler_step, euler_report
+  use driver_euler, only: euler_state_t, euler_init, euler_standard_ratios, euler_due, euler_step, euler_report
   use parallel_comm, only: parallel_start
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_blocks, agree_error
@@ -131,6 +131,7 @@ contains
       else
         call euler_init(cfg%rezone, st%g, es, err)
       end if
+      if (.not. allocated(err)) call euler_standard_ratios(st%g, es, err)
     end if
     call agree_error(sch%pc, err)
     if (allocated(err)) call fail(cfg, st, sch, err)

@@ -14,7 +14,7 @@ module driver_euler
   use base_errors, only: error_no_memory, error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
-  use rezone_quality, only: grid_shape_worst
+  use rezone_quality, only: grid_shape_worst, grid_standard_ratios
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
   use rezone_lssm, only: lssm_report_t, lssm_rezone, LSSM_SKIPPED, LSSM_SNAPPED
@@ -36,14 +36,18 @@ module driver_euler
                               particles_euler_finish
   implicit none
   private
-  public :: euler_state_t, euler_start_t, euler_init, euler_register_restart, euler_due, euler_due_where, euler_shape, &
-            euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, euler_preposition, &
-            euler_start_totals, parts_state_t
+  public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
+            euler_due_where, euler_shape, euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, &
+            euler_preposition, euler_start_totals, parts_state_t
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
     logical :: on = .false.                  !< an Euler phase is configured
     real(wp), allocatable :: x0(:, :)        !< initial grid, the global rezone's target
+    !> each of the block's cells' side ratio on the initial grid
+    !> (`standard_side_ratio`), against which the triggers measure its side
+    !> ratio; not allocated when every cell there has equal sides
+    real(wp), allocatable :: ratio0(:)
     !> whether x0 is a lattice (`lattice_nodes`): -1 not yet known
     integer :: x0_lattice = -1
     !> the rezoned grid's array, kept from one Euler step to the next (a
@@ -149,6 +153,24 @@ contains
     es%ratio_bound = rz%side_ratio
     es%cos_bound = rz%cos_angle
   end subroutine euler_init
+
+  !> es%ratio0 from the block g's nodes as the deck set them (called before
+  !> a restart is read, so a restarted run measures against the same grid).
+  subroutine euler_standard_ratios(g, es, err)
+    type(grid_t), intent(in) :: g
+    type(euler_state_t), intent(inout) :: es
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    if (.not. es%on) return
+    allocate(es%ratio0(g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'euler_standard_ratios', error_no_memory('the standard side ratios'))
+      return
+    end if
+    call grid_standard_ratios(g, es%ratio0)
+    ! (standard_side_ratio gives exactly 1 for a cell of equal sides)
+    if (.not. any(es%ratio0 > 1.0_wp)) deallocate(es%ratio0)
+  end subroutine euler_standard_ratios
 
   !> Registers the Euler phase's restart quantities.
   subroutine euler_register_restart(es, reg)
@@ -281,14 +303,23 @@ contains
       stat = 0
       if (.not. allocated(es%shape_fail)) allocate(es%shape_fail(g%ncell), stat=stat)
       if (stat == 0) then
-        call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
-                              es%shape_fail)
+        if (allocated(es%ratio0)) then
+          call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
+                                es%shape_fail, es%ratio0)
+        else
+          call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
+                                es%shape_fail)
+        end if
         es%shape_step = step
         es%shape_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
         return
       end if
     end if
-    call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first)
+    if (allocated(es%ratio0)) then
+      call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first, ratio0=es%ratio0)
+    else
+      call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first)
+    end if
   end subroutine euler_shape
 
   !> Whether es%shape_fail holds the shape tests of grid g at step.

@@ -5,10 +5,10 @@ program test_rezone_quality
   use mesh_geometry, only: hex_corner, hex_jacobian
   use test_assert, only: check, check_summary
   use rezone_quality, only: hex_quality, quad_quality, hex_shape, grid_quality, hex_quality_box, hex_box_sides, &
-                            grid_trigger_cells
+                            grid_trigger_cells, standard_side_ratio
   implicit none
   real(wp) :: cube(3, 8), xn(3, 8), sq(2, 4), r, cs, q_min, ratio_max, cos_min, a(3, 3), b(3), c, qb
-  real(wp), allocatable :: x(:, :), q(:)
+  real(wp), allocatable :: x(:, :), q(:), x0(:, :)
   logical :: fail(2)
   logical, allocatable :: fails(:), known(:), shape_fail(:), tang(:)
   type(rng_t) :: rng
@@ -109,11 +109,42 @@ program test_rezone_quality
   call check(.not. fail(1) .and. fail(2), 'trigger cells: the 5:1 cell fails, the cube does not')
   call grid_trigger_cells(2, 1, 1, x, 0.0_wp, 0.7_wp, fail)
   call check(.not. any(fail), 'trigger cells: side-ratio test off')
+  ! measured against the standard grid x0, where the second cell is 5 long
+  ! (side ratio 5): as made, it does not fail; 19 long (19/5 = 3.8 < 4)
+  ! neither; 20 long (4) it does; a cube is measured as before
+  x0 = x
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.7_wp, fail, x0=x0)
+  call check(.not. any(fail), 'trigger cells against x0: the cell as long as made does not fail')
+  x(1, 3:12:3) = 20.0_wp
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.7_wp, fail, x0=x0)
+  call check(.not. fail(1) .and. .not. fail(2), 'trigger cells against x0: 19 long against 5 (3.8) does not fail')
+  x(1, 3:12:3) = 21.0_wp
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.7_wp, fail, x0=x0)
+  call check(.not. fail(1) .and. fail(2), 'trigger cells against x0: 20 long against 5 (4) fails')
+  ! as long as made but its far corner folded back: tangled, it fails (the
+  ! angle test off: the tangle test alone, on x)
+  x(1, 3:12:3) = 6.0_wp
+  x(:, 12) = [1.5_wp, 0.2_wp, 0.3_wp]
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.0_wp, fail, x0=x0)
+  call check(.not. fail(1) .and. fail(2), 'trigger cells against x0: a tangled cell as long as made fails')
+  x(:, 12) = [6.0_wp, 1.0_wp, 1.0_wp]
+  x0(1, 3:12:3) = 2.0_wp
+  call grid_trigger_cells(2, 1, 1, x, 4.0_wp, 0.7_wp, fail, x0=x0)
+  call check(.not. fail(1) .and. fail(2), 'trigger cells against a cube in x0: the 5:1 cell fails')
+  xn = cube
+  xn(3, 5:8) = 1.0_wp + 1.0e-12_wp
+  r = standard_side_ratio(xn)
+  cs = standard_side_ratio(cube)
+  ! (exactly 1: neither above nor below)
+  call check(.not. (r > 1.0_wp .or. r < 1.0_wp .or. cs > 1.0_wp .or. cs < 1.0_wp), &
+             'standard side ratio: exactly 1 for a cube and for sides equal within 1e-9')
+  xn(3, 5:8) = 1.5_wp
+  call check(abs(standard_side_ratio(xn) - 1.5_wp) < 1e-15_wp, 'standard side ratio of a 1x1x1.5 box: 1.5')
   x(1, 3:12:3) = 2.0_wp
   x(:, 12) = [0.5_wp, 0.2_wp, 0.3_wp]
   call grid_trigger_cells(2, 1, 1, x, 0.0_wp, 0.0_wp, fail)
   call check(.not. fail(1) .and. fail(2), 'trigger cells: a tangled cell fails with both tests off')
-  deallocate(x)
+  deallocate(x, x0)
 
   ! an inverted cell has Q < 0
   xn = cube

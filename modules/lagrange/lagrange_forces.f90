@@ -371,12 +371,19 @@ contains
   !> particles, PARTICLES.md §1.7; h%q is the scaled one); without it the
   !> factor is 1, and a product with 1 is exact, so the forces are the same
   !> bit for bit.
-  subroutine lagrange_corner_forces(g, x, v, h, par, vscale)
+  subroutine lagrange_corner_forces(g, x, v, h, par, vscale, dt)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), v(:, :)
     type(hydro_t), intent(inout) :: h
     type(hydro_params_t), intent(in) :: par
     real(wp), intent(in), optional, target :: vscale(:)
+    !> the step the forces advance: a compression that changes the cell's
+    !> size by less than round_strain over it (a velocity jump of round-off
+    !> size, as in a cold gas ahead of a shock, where velocities of 1e-75
+    !> drift in the last bits) gets no viscosity; its viscous force,
+    !> computed from one stage's velocities and paid with another's, could
+    !> take more than such a cell's energy and leave it below zero
+    real(wp), intent(in), optional :: dt
     integer :: c, d, e, a, k, m, n0, ci, cj, ck, ilog(3), off(3)
     integer, parameter :: unit(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     real(wp) :: xn(3, 8), vn(3, 8), b(3, 8), f(3, 8), s(3, 3), dv(3), lam(3), ev(3, 3), phik(3)
@@ -384,6 +391,8 @@ contains
     real(wp), target :: one(1)
     real(wp), pointer :: scale(:)
     integer :: sstride, lo(3), hi(3)
+    real(wp), parameter :: round_strain = 1.0e-12_wp
+    real(wp) :: rate_min
     ! the owned cells and one ghost layer: every cell around an owned node
     call g%cells_around(1, lo, hi)
     ! (without vscale every cell reads the one factor 1)
@@ -394,10 +403,15 @@ contains
       scale => vscale
       sstride = 1
     end if
+    ! (the smallest strain rate a viscosity sees: none without dt)
+    rate_min = 0.0_wp
+    if (present(dt)) then
+      if (dt > 0.0_wp) rate_min = round_strain/dt
+    end if
 
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
-    !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride, lo, hi) collapse(2) &
+    !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride, lo, hi, rate_min) collapse(2) &
     !$omp private(c, d, e, a, k, m, n0, ci, cj, ck, ilog, off, xn, vn, b, f, s, dv, lam, ev, phik) &
     !$omp private(vol, rvol, sdv, area, du, qd, qsum, coef, hx, gam, gv, phi, div, sc) &
     !$omp schedule(static, 1)
@@ -427,8 +441,9 @@ contains
       qsum = 0.0_wp
       if (par%viscosity == VISC_TENSOR) then
         ! skip cells whose compression is round-off: a velocity jump below
-        ! 1e-10 of the sound speed gives q below 1e-10 of the pressure
-        call strain_principal(vn, b, vol, h%cs(c)*1.0e-10_wp*h%amed(1, c)/vol, div, lam, ev)
+        ! 1e-10 of the sound speed gives q below 1e-10 of the pressure; a
+        ! compression below round_strain over the step is none
+        call strain_principal(vn, b, vol, max(h%cs(c)*1.0e-10_wp*h%amed(1, c)/vol, rate_min), div, lam, ev)
         if (div < 0.0_wp) then
           call hex_median_areas(xn, s)
           ! limiter along each compressive principal direction: compare the
@@ -449,7 +464,8 @@ contains
         do d = 1, 3
           dv = edge_jump(vn, d)
           sdv = dot_product(s(:, d), dv)
-          if (.not. (sdv < 0.0_wp)) cycle
+          ! (sdv/vol: the compression rate along d; below rate_min, none)
+          if (.not. (sdv < -rate_min*vol)) cycle
           phi = limiter(h%grad(d, c), h%grad(d, neighbour(g, c, ilog, -unit(:, d))), &
                         h%grad(d, neighbour(g, c, ilog, unit(:, d))))
           du = norm2(dv)

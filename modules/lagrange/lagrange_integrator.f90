@@ -140,7 +140,7 @@ contains
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
     call bc_pressure_forces(bc, g, g%x, h%p)
-    call lagrange_corner_forces(g, g%x, h%u, h, par)
+    call lagrange_corner_forces(g, g%x, h%u, h, par, dt=dt)
     call update_nodes(g, h, dt, 0.5_wp*dt, .false., f_ext, m_ext)
     call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, m_ext)
     call halo_nodes()
@@ -155,7 +155,7 @@ contains
 
     ! corrector
     call bc_pressure_forces(bc, g, g%x, h%p)
-    call lagrange_corner_forces(g, g%x, h%uh, h, par)
+    call lagrange_corner_forces(g, g%x, h%uh, h, par, dt=dt)
     call update_nodes(g, h, dt, dt, .true., f_ext, m_ext)
     call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext, wacc(1))
     call note_boundary_moves(g, h)
@@ -270,9 +270,9 @@ contains
     subroutine corner_forces(v)
       real(wp), intent(in) :: v(:, :)
       if (par%particle_visc_scaled) then
-        call lagrange_corner_forces(g, g%x, v, h, par, pw%vscale)
+        call lagrange_corner_forces(g, g%x, v, h, par, pw%vscale, dt)
       else
-        call lagrange_corner_forces(g, g%x, v, h, par)
+        call lagrange_corner_forces(g, g%x, v, h, par, dt=dt)
       end if
     end subroutine corner_forces
 

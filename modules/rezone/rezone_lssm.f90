@@ -140,7 +140,7 @@ contains
       ! (the snapped nodes' cells join the distorted cells below whatever
       ! their tests: shape tests taken before the snap serve)
       call grid_trigger_cells(n(1), n(2), n(3), x, rz%side_ratio, rz%cos_angle, fail, share, shape_fail, &
-                              g%clo - g%slo + 1, g%chi - g%slo + 1)
+                              g%clo - g%slo + 1, g%chi - g%slo + 1, x0)
     else if (trim(rz%mode) /= 'smooth') then
       ! (mode 'smooth' smooths every cell: its Q_min before is the region's)
       call grid_quality(n(1), n(2), n(3), x, quality, q_min0, share=share)

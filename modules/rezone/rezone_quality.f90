@@ -38,6 +38,7 @@ module rezone_quality
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, grid_shape_worst, &
+            standard_side_ratio, grid_standard_ratios, &
             hex_box_sides, hex_edge_means, hex_quality_box
 
   !> The three neighbours of each corner along the three logical directions.
@@ -342,7 +343,9 @@ contains
   !> the grid "determined distorted", so an Euler step that does not move
   !> them fires again at the next step. The inclined angle is measured
   !> against the axes (`hex_shape` with axis), as the box reading's trigger.
-  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail, share, shape_fail, lo, hi)
+  !> With x0 (the standard grid, nodes as x) the side ratio is measured
+  !> against the cell's there (`standard_side_ratio`), as the triggers do.
+  subroutine grid_trigger_cells(ni, nj, nk, x, side_ratio, cos_angle, fail, share, shape_fail, lo, hi, x0)
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :), side_ratio, cos_angle
     logical, intent(out) :: fail(:)
@@ -354,6 +357,7 @@ contains
     !> share)
     logical, intent(in), optional :: shape_fail(:)
     integer, intent(in), optional :: lo(3), hi(3)
+    real(wp), intent(in), optional :: x0(:, :)
     integer :: c, ci, cj, ck, k, nmine, p0, np, stat, klo(3), khi(3)
     real(wp), allocatable :: v(:, :)
     logical :: sharing
@@ -372,7 +376,7 @@ contains
         klo = lo
         khi = hi
       end if
-      !$omp parallel do default(none) shared(ix, fail, shape_fail, klo, khi) private(c, ci, cj, ck) &
+      !$omp parallel do default(none) shared(ix, fail, shape_fail, klo, khi, x0) private(c, ci, cj, ck) &
       !$omp collapse(2) schedule(static)
       do ck = ix%clo(3), ix%chi(3)
         do cj = ix%clo(2), ix%chi(2)
@@ -394,7 +398,7 @@ contains
     p0 = share%part
     np = share%nparts
     nmine = (ix%ncell - p0 + np - 1)/np
-    !$omp parallel do default(none) shared(ix, v, p0, np, nmine) private(k, ci, cj, ck) schedule(static)
+    !$omp parallel do default(none) shared(ix, v, p0, np, nmine, x0) private(k, ci, cj, ck) schedule(static)
     do k = 1, nmine
       call ix%cell_ijk(p0 + 1 + (k - 1)*np, ci, cj, ck)
       v(1, k) = merge(1.0_wp, 0.0_wp, fails(ci, cj, ck))
@@ -408,9 +412,13 @@ contains
     !> Whether cell (i, j, k) fails the tests.
     logical function fails(i, j, kk)
       integer, intent(in) :: i, j, kk
-      real(wp) :: xn(3, 8), r, cs
+      real(wp) :: xn(3, 8), xn0(3, 8), r, cs
       call block_gather(ni, nj, i, j, kk, x, xn)
       call hex_shape(xn, r, cs, .true.)
+      if (present(x0) .and. side_ratio > 0.0_wp .and. r >= side_ratio) then
+        call block_gather(ni, nj, i, j, kk, x0, xn0)
+        r = r/standard_side_ratio(xn0)
+      end if
       fails = shape_fails(r, cs, side_ratio, cos_angle)
       if (fails) return
       fails = hex_corner_tangled(xn)
@@ -456,6 +464,33 @@ contains
     tangled = .not. jmin > 0.0_wp
   end function hex_corner_tangled
 
+  !> A cell's side ratio on the standard grid (nodes xn0), against which the
+  !> triggers measure its side ratio: `hex_shape`'s, or 1 for a cell
+  !> within 1e-9 of equal sides (a grid of cubes is measured as the paper
+  !> measures it, bit for bit). A cell the deck made long (a quasi-1D tube,
+  !> a graded grid) then triggers when it is side_ratio times as long as
+  !> it was made, not at every step: an Euler step cannot bring it below
+  !> its standard shape.
+  pure real(wp) function standard_side_ratio(xn0) result(r0)
+    real(wp), intent(in) :: xn0(3, 8)
+    real(wp) :: cs
+    call hex_shape(xn0, r0, cs)
+    if (.not. r0 > 1.0_wp + 1.0e-9_wp) r0 = 1.0_wp
+  end function standard_side_ratio
+
+  !> Each of g's stored cells' `standard_side_ratio` on its nodes as they
+  !> are now (the standard grid), in ratio0(ncell).
+  subroutine grid_standard_ratios(g, ratio0)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(out) :: ratio0(:)
+    real(wp) :: xn(3, 8)
+    integer :: c
+    do c = 1, g%ncell
+      call g%gather(c, g%x, xn)
+      ratio0(c) = standard_side_ratio(xn)
+    end do
+  end subroutine grid_standard_ratios
+
   !> Whether a cell of side ratio r and inclined-angle cosine cs fails the
   !> Euler-step triggers' bounds (each test on if its bound is > 0).
   pure logical function shape_fails(r, cs, side_ratio, cos_angle)
@@ -469,8 +504,10 @@ contains
   !> (0 and 1, and huge, when the block owns no cell). Each thread keeps
   !> its cells' first worst (its cells come in the whole grid's order); the
   !> threads' are combined by value, then by the lower number, so the result
-  !> does not depend on the threads.
-  subroutine grid_shape_worst(g, axis, worst, first, bounds, fail)
+  !> does not depend on the threads. With ratio0 (each cell's side ratio
+  !> on the standard grid, `standard_side_ratio`) a cell's side ratio is
+  !> measured against it: r / ratio0(c).
+  subroutine grid_shape_worst(g, axis, worst, first, bounds, fail, ratio0)
     type(grid_t), intent(in) :: g
     logical, intent(in) :: axis
     real(wp), intent(out) :: worst(2), first(2)
@@ -479,9 +516,10 @@ contains
     !> (`shape_fails`: what `grid_trigger_cells` tests before the tangle)
     real(wp), intent(in), optional :: bounds(2)
     logical, intent(inout), optional :: fail(:)
+    real(wp), intent(in), optional :: ratio0(:)
     real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct, bnd(2)
     integer :: i, j, k, c
-    logical :: flags
+    logical :: flags, relative
     ratio_max = -huge(1.0_wp)
     cos_min = huge(1.0_wp)
     fr = huge(1.0_wp)
@@ -489,7 +527,8 @@ contains
     flags = present(bounds) .and. present(fail)
     bnd = 0.0_wp
     if (flags) bnd = bounds
-    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc, flags, bnd, fail) &
+    relative = present(ratio0)
+    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc, flags, bnd, fail, relative, ratio0) &
     !$omp private(i, j, k, c, xn, r, cs, rt, ct, frt, fct)
     rt = -huge(1.0_wp)
     ct = huge(1.0_wp)
@@ -502,6 +541,7 @@ contains
           c = g%cell(i, j, k)
           call g%gather(c, g%x, xn)
           call hex_shape(xn, r, cs, axis)
+          if (relative) r = r/ratio0(c)
           if (flags) fail(c) = shape_fails(r, cs, bnd(1), bnd(2))
           if (r > rt) then
             rt = r
