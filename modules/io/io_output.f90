@@ -206,7 +206,7 @@ contains
     integer :: np
     character(len=64), allocatable :: fields(:), legend_names(:)
     character(len=16), allocatable :: pscalars(:), pints(:), pvectors(:), ptensors(:), nodef(:), cellint(:)
-    real(wp), allocatable :: legend_values(:), buf(:)
+    real(wp), allocatable :: legend_values(:), buf(:), prow(:)
     integer, allocatable :: ibuf(:)
     integer :: nd(4), cd(3), ns(4), nc(4), cs(3), cc(3), k, stat, nmat, i, j, l
     logical :: mine, failed, direct
@@ -321,7 +321,9 @@ contains
     if (present(pnames) .and. np > 0) then
       do k = 1, size(pnames)
         if (.not. frame_wants(o%particle_fields, pnames(k))) cycle
-        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), pfields(k, :), [np], err, &
+        ! (a row of pfields, copied into a contiguous array of its own)
+        prow = pfields(k, :)
+        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), prow, [np], err, &
                                                      single=o%single, deflate=o%deflate)
         if (allocated(err)) cycle
         if (present(punits)) then

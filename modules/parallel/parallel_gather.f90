@@ -128,7 +128,8 @@ contains
   subroutine gather_box(pc, ix, a, lo, hi, w, nodes)
     type(comm_t), intent(in) :: pc
     type(grid_index_t), intent(in) :: ix
-    real(wp), intent(in) :: a(:, :)
+    ! (contiguous, as `gather_box_into` takes it: no copy on the way)
+    real(wp), intent(in), contiguous :: a(:, :)
     integer, intent(in) :: lo(3), hi(3)
     real(wp), allocatable, intent(out) :: w(:, :)
     logical, intent(in) :: nodes
