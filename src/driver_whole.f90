@@ -81,7 +81,8 @@ module driver_whole
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
-                         remap_zone_block, remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
+                         remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
+                         remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
                          remap_part_target, remap_part_folded, remap_part_uniform
   use material_mixed, only: mixed_forget_planes
   use material_table, only: material_eval_eos, material_burn_start
@@ -287,7 +288,8 @@ contains
   !> order), pre-positions them in the standard grid and relocates them in
   !> the rezoned one, the same on every rank; each block then takes its own
   !> and couples them to its nodes. The whole grid's node positions are
-  !> gathered only for the global rezone, particles and open faces.
+  !> gathered only for the global rezone with moving faces and particles
+  !> (open faces: `window_zone_open`).
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -309,7 +311,7 @@ contains
     global = trim(cfg%rezone%mode) == 'global'
     moving = global_whole(cfg, st)
     parts = allocated(st%pwhole)
-    whole_x = moving .or. parts .or. any(st%bc%kind == BC_INFLOW .or. st%bc%kind == BC_OUTFLOW)
+    whole_x = moving .or. parts
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
@@ -446,7 +448,7 @@ contains
     type(remap_zone_t) :: zone
     type(remap_stats_t) :: rs, rk
     type(remap_params_t) :: par
-    real(wp), allocatable :: xw(:, :), xk(:, :), xkw(:, :), xfinal(:, :), x(:, :)
+    real(wp), allocatable :: xw(:, :), xk(:, :), xfinal(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), every(:), cells(:), wrote(:)
@@ -458,14 +460,20 @@ contains
     call copy_gather(pc, st, .true., err, cs)
     associate (w => st%win, wg => st%win%g)
       if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
-      if (.not. allocated(err) .and. any(w%bc%kind == BC_INFLOW .or. w%bc%kind == BC_OUTFLOW)) &
-        call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xnew, err)
       if (allocated(xnew)) then
         ! (the window's nodes of the whole grid's)
         if (.not. allocated(err)) call block_nodes(wg, st%gw, xnew, xw, err)
       else
         ! (collective: every rank's window from the blocks)
         call gather_box(pc, st%g%grid_index_t, xb, wg%off + 1, wg%off + [wg%ni, wg%nj, wg%nk], xw, .true.)
+      end if
+      if (any(w%bc%kind == BC_INFLOW .or. w%bc%kind == BC_OUTFLOW)) then
+        call agree_error(pc, err)
+        if (allocated(err)) then
+          call es%timer%stop()
+          return
+        end if
+        call window_zone_open(pc, st, zone, xw, err)
       end if
       ! the swept-face path where no changed cell of any block blocks it
       ! (collective: a rank with an error counts one)
@@ -517,10 +525,7 @@ contains
         n(2) = count(zone%own(moved))
         call parallel_sum(pc, n(1:2))
         hybrid = n(1) == 0 .and. n(2) > 0
-        if (hybrid .and. zone%open) then
-          call remap_hybrid_target(st%gw, xnew, every, xkw)
-          call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xkw, err)
-        end if
+        if (hybrid .and. zone%open) call window_zone_open(pc, st, zone, xk, err)
       end if
     end associate
     if (.not. allocated(cells)) cells = [integer ::]
@@ -539,10 +544,10 @@ contains
         else
           call copy_gather(pc, st, .true., err, cs)
         end if
-        if (.not. allocated(err) .and. zone%open .and. .not. ps%on) then
-          call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
-          call move_alloc(x, st%gw%x)
-          call remap_zone_open(zone, st%gw%grid_index_t, st%win%bc, st%gw%x, xnew, err)
+        if (zone%open .and. hybrid) then
+          ! (the second remap's: to the final grid)
+          call agree_error(pc, err)
+          if (.not. allocated(err)) call window_zone_open(pc, st, zone, xfinal, err)
         end if
         again = .false.
       end if
@@ -676,7 +681,7 @@ contains
   !> split (ps); whole: no remap, the part is `euler_step`'s to take around
   !> the cells that cannot sweep it (no split left). Each decision from the
   !> blocks' owned cells, reduced over the ranks (collective); open faces'
-  !> gap search from the whole grid's nodes, as the windows' remaps take it.
+  !> gap search as the windows' remaps take it (`window_zone_open`).
   subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, whole)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -689,7 +694,7 @@ contains
     type(parts_state_t), intent(inout) :: ps
     logical, intent(out) :: arrived, next, whole
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: xb(:, :), xkw(:, :), x(:, :)
+    real(wp), allocatable :: xb(:, :)
     real(wp) :: r(1)
     integer :: n(2), nmax
     integer, allocatable :: moved(:)
@@ -725,7 +730,7 @@ contains
       end if
       ! (the part's grid at the block's stored nodes: within the window's
       ! computed cells, where it is the whole grid's)
-      if (global .or. zone%open) call block_nodes(st%g, wg, xw, xb, err)
+      if (global) call block_nodes(st%g, wg, xw, xb, err)
       call agree_error(pc, err)
       if (allocated(err)) return
       if (global) then
@@ -750,14 +755,61 @@ contains
         next = .true.
         return
       end if
-      if (zone%open) then
-        call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
-        call move_alloc(x, st%gw%x)
-        call gather_nodes(pc, st%g%grid_index_t, xb, xkw, all=.true.)
-        call remap_zone_open(zone, st%gw%grid_index_t, w%bc, st%gw%x, xkw, err)
-      end if
+      if (zone%open) call window_zone_open(pc, st, zone, xw, err)
     end associate
   end subroutine window_part
+
+  !> Makes zone ready for the remap of this rank's window with open faces
+  !> to its new nodes xw (`remap_zone_open`; collective, on every rank
+  !> alike): the open faces' innermost points over the whole grid (the
+  !> blocks' extremes reduced, the low faces' as minima of their negatives:
+  !> exact in any order), then the far cells of each window, which the
+  !> blocks that own them send only where some window's description
+  !> (`remap_zone_reach_box`, gathered) may want them: none at all while no
+  !> cell moves further than a window's margin.
+  subroutine window_zone_open(pc, st, zone, xw, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in), target :: st
+    type(remap_zone_t), intent(inout) :: zone
+    real(wp), intent(in) :: xw(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: box(:, :), every(:), sent(:), got(:)
+    integer, allocatable :: ijk(:, :)
+    real(wp) :: b(12), sgn(12), r(12)
+    integer :: q, p, n, stat
+    associate (w => st%win, wg => st%win%g)
+      call remap_zone_open(zone, wg%grid_index_t, w%bc, wg%x, xw, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
+      sgn = [(merge(1.0_wp, -1.0_wp, mod(q, 2) == 0), q = 1, 12)]
+      b = sgn*[zone%bold, zone%bnew]
+      call parallel_min(pc, b)
+      zone%bold = sgn(1:6)*b(1:6)
+      zone%bnew = sgn(7:12)*b(7:12)
+      call remap_zone_beyond(zone, wg%grid_index_t, w%bc, wg%x, xw, ijk, box, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
+      r = remap_zone_reach_box(zone, wg%grid_index_t, xw)
+      call gather_concat(pc, r, every)
+      ! (each candidate as 9 reals: its indices, exact, and its box)
+      allocate(sent(9*size(ijk, 2)), stat=stat)
+      call parallel_nomem(stat, 'the open faces'' far cells')
+      n = 0
+      do q = 1, size(ijk, 2)
+        do p = 0, pc%nranks - 1
+          if (remap_zone_wants(every(12*p + 1:12*p + 12), ijk(:, q), box(:, q))) then
+            sent(9*n + 1:9*n + 9) = [real(ijk(:, q), wp), box(:, q)]
+            n = n + 1
+            exit
+          end if
+        end do
+      end do
+      call gather_concat(pc, sent(1:9*n), got)
+      n = size(got)/9
+      call remap_zone_far(zone, r, nint(reshape([(got(9*q + 1:9*q + 3), q = 0, n - 1)], [3, n])), &
+                          reshape([(got(9*q + 4:9*q + 9), q = 0, n - 1)], [6, n]))
+    end associate
+  end subroutine window_zone_open
 
   !> The equal parts of the way from the window's grid to xfinal that keep
   !> every changed cell within swept_max, as `euler_step` counts them on

@@ -13,7 +13,9 @@
 !>     lies beyond has left (rho times its volume) and the rest balances;
 !>   - the same moves at a wall: still errors (a gap there, or old cells
 !>     wholly outside, is a real failure).
-!> Then the bins' reach against a search of every cell.
+!> Then the bins' reach against a search of every cell, and the same reach
+!> found by a window's remap from its own bins and the far cells other
+!> blocks send it (`remap_zone_far`).
 program test_remap_open
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -25,8 +27,9 @@ program test_remap_open
   use material_mixed, only: mixed_t
   use mesh_halo, only: halo_t
   use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
-  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_zone_t, remap_zone_wants, &
+                         remap_zone_far
+  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach
   implicit none
   integer, parameter :: ni = 10, nj = 3, nk = 2, nc = ni*nj*nk, nn = (ni + 1)*(nj + 1)*(nk + 1)
   real(wp), parameter :: xmax(3) = [1.0_wp, 0.3_wp, 0.2_wp], u0(3) = [-0.5_wp, 0.0_wp, 0.0_wp]
@@ -262,5 +265,82 @@ contains
       if (r_bins < r_all) nbad = nbad + 1
     end do
     call check(nbad == 0, 'bins: the reach holds every cell whose box meets the query (400 queries)')
+    call test_window(xb, use, bins)
   end subroutine test_bins
+
+  !> A window of the bins' grid (cells 2..6 x 2..5 x 1..5): the reach of
+  !> a query from one of its cells, as a window's remap finds it (its own
+  !> bins, in its indices, and the far cells: every used cell outside it,
+  !> as candidates that `remap_zone_far` filters, in whole-grid indices),
+  !> against the whole grid's bins, bit for bit.
+  subroutine test_window(xb, use, bins)
+    integer, parameter :: bi = 7, bj = 6, bk = 5, off(3) = [1, 1, 0], wn(3) = [5, 4, 5]
+    integer, parameter :: wnn = (wn(1) + 1)*(wn(2) + 1)*(wn(3) + 1)
+    real(wp), intent(in) :: xb(:, :)
+    logical, intent(in) :: use(:)
+    type(remap_bins_t), intent(in) :: bins
+    type(remap_bins_t) :: wbins
+    type(remap_zone_t) :: zone
+    type(rng_t) :: rng
+    real(wp) :: xw(3, wnn), lo(3), hi(3), xn(3, 8), r(12), cand_box(6, bi*bj*bk)
+    logical :: wuse(product(wn))
+    integer :: cand(3, bi*bj*bk), ii, jj, kk, d, q, ncand, nbad, ci, cj, ck, r_whole, r_win, nfar, nby_far
+    do kk = 0, wn(3)
+      do jj = 0, wn(2)
+        do ii = 0, wn(1)
+          xw(:, 1 + ii + (wn(1) + 1)*(jj + (wn(2) + 1)*kk)) = &
+            xb(:, 1 + ii + off(1) + (bi + 1)*(jj + off(2) + (bj + 1)*(kk + off(3))))
+        end do
+      end do
+    end do
+    ncand = 0
+    do kk = 1, bk
+      do jj = 1, bj
+        do ii = 1, bi
+          c = ii + bi*((jj - 1) + bj*(kk - 1))
+          if (all([ii, jj, kk] > off .and. [ii, jj, kk] <= off + wn)) then
+            wuse(ii - off(1) + wn(1)*((jj - off(2) - 1) + wn(2)*(kk - off(3) - 1))) = use(c)
+          else if (use(c)) then
+            ncand = ncand + 1
+            cand(:, ncand) = [ii, jj, kk]
+            call block_gather(bi, bj, ii, jj, kk, xb, xn)
+            cand_box(:, ncand) = [minval(xn, 2), maxval(xn, 2)]
+          end if
+        end do
+      end do
+    end do
+    call remap_bins_build(wn(1), wn(2), wn(3), xw, wuse, wbins, err)
+    call check(.not. allocated(err), 'window bins built')
+    ! (the window's description: its index range, and a box that holds
+    ! every query below)
+    r = [real(off + 1, wp), real(off + wn, wp), [-2.0_wp, -2.0_wp, -2.0_wp], [12.0_wp, 12.0_wp, 12.0_wp]]
+    call remap_zone_far(zone, r, cand(:, 1:ncand), cand_box(:, 1:ncand))
+    nfar = size(zone%far_ijk, 2)
+    call check(nfar == ncand .and. count([(remap_zone_wants(r, [ii, 2, 2], [0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, &
+               1.0_wp, 1.0_wp]), ii = 2, 6)]) == 0, 'far cells: those outside the window kept, those inside not')
+    call rng_seed(rng, 23)
+    nbad = 0
+    nby_far = 0
+    do q = 1, 400
+      ci = off(1) + 1 + int(wn(1)*rng_uniform(rng))
+      cj = off(2) + 1 + int(wn(2)*rng_uniform(rng))
+      ck = off(3) + 1 + int(wn(3)*rng_uniform(rng))
+      do d = 1, 3
+        lo(d) = -2.0_wp + 11.0_wp*rng_uniform(rng)
+        hi(d) = lo(d) + 3.0_wp*rng_uniform(rng)
+      end do
+      r_whole = remap_bins_reach(bins, ci, cj, ck, lo, hi)
+      r_win = max(remap_bins_reach(wbins, ci - off(1), cj - off(2), ck - off(3), lo, hi), &
+                  remap_boxes_reach(zone%far_ijk, zone%far_box, ci, cj, ck, lo, hi))
+      if (r_win /= r_whole) nbad = nbad + 1
+      if (r_whole > remap_bins_reach(wbins, ci - off(1), cj - off(2), ck - off(3), lo, hi)) nby_far = nby_far + 1
+    end do
+    write(*, '(a,i0,a)') 'window: ', nby_far, ' of 400 queries take their reach from a far cell'
+    call check(nby_far > 0, 'window: some queries reach a far cell')
+    call check(nbad == 0, 'window: its bins and the far cells give the whole grid''s reach (400 queries)')
+    ! (a window that wants nothing: a box its cells' cannot meet)
+    r(7:12) = [20.0_wp, 20.0_wp, 20.0_wp, 21.0_wp, 21.0_wp, 21.0_wp]
+    call remap_zone_far(zone, r, cand(:, 1:ncand), cand_box(:, 1:ncand))
+    call check(size(zone%far_ijk, 2) == 0 .and. size(zone%far_box, 2) == 0, 'far cells: none whose box is elsewhere')
+  end subroutine test_window
 end program test_remap_open

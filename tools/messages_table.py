@@ -19,8 +19,8 @@ each rank's block is the same. Cases:
 * `lssm`: the paper's LSSM settings (side ratio 4, cosine 0.7, quality
   0.999, 20 iterations): Euler steps where the grid distorts;
 * `open`: `global` with the three far faces outflow: the open faces' gap
-  search gathers the whole grid's node positions on every rank at each
-  Euler step (`driver_whole`), so it is expected to grow with the grid.
+  search on each window (`window_zone_open` in `driver_whole`), with one
+  gather of every window's description per set-up.
 
 Counts come from Open MPI's own monitoring (`--mca pml_monitoring_enable
 2`: every point-to-point message a rank sends, by the program itself and

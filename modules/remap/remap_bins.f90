@@ -17,7 +17,7 @@ module remap_bins
   use mesh_grid, only: grid_index_t, grid_index, block_gather
   implicit none
   private
-  public :: remap_bins_t, remap_bins_build, remap_bins_reach
+  public :: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach, remap_box_meets
 
   !> The bins: a uniform lattice of nb(1) x nb(2) x nb(3) boxes of size h
   !> from lo, each listing the cells whose bounding boxes meet it (CSR:
@@ -124,19 +124,15 @@ contains
 
   !> The largest index distance max(|oi-ci|, |oj-cj|, |ok-ck|) from cell
   !> (ci,cj,ck) of a binned cell o whose bounding box meets [lo, hi]
-  !> (touching counts; the box is first widened by a relative 1e-9 of its
-  !> size, so that round-off of the caller's own box tests cannot leave a
-  !> cell out); -1 if there is none.
+  !> (`remap_box_meets`); -1 if there is none.
   pure integer function remap_bins_reach(bins, ci, cj, ck, lo, hi) result(r)
     type(remap_bins_t), intent(in) :: bins
     integer, intent(in) :: ci, cj, ck
     real(wp), intent(in) :: lo(3), hi(3)
-    real(wp) :: qlo(3), qhi(3), pad
+    real(wp) :: qlo(3), qhi(3)
     integer :: b0(3), b1(3), i, j, k, b, t, o, oi, oj, ok
     r = -1
-    pad = 1.0e-9_wp*maxval(hi - lo)
-    qlo = lo - pad
-    qhi = hi + pad
+    call padded(lo, hi, qlo, qhi)
     if (any(qhi < bins%lo) .or. any(qlo > bins%lo + bins%h*real(bins%nb, wp))) return
     call bin_range(bins, qlo, qhi, b0, b1)
     do k = b0(3), b1(3)
@@ -153,6 +149,39 @@ contains
       end do
     end do
   end function remap_bins_reach
+
+  !> `remap_bins_reach` over a list of cells instead of bins: cell q at
+  !> index ijk(:, q) with bounding box box(1:3, q) to box(4:6, q).
+  pure integer function remap_boxes_reach(ijk, box, ci, cj, ck, lo, hi) result(r)
+    integer, intent(in) :: ijk(:, :), ci, cj, ck
+    real(wp), intent(in) :: box(:, :), lo(3), hi(3)
+    integer :: q
+    r = -1
+    do q = 1, size(ijk, 2)
+      if (remap_box_meets(box(1:3, q), box(4:6, q), lo, hi)) &
+        r = max(r, abs(ijk(1, q) - ci), abs(ijk(2, q) - cj), abs(ijk(3, q) - ck))
+    end do
+  end function remap_boxes_reach
+
+  !> Whether the box [blo, bhi] meets the query box [lo, hi] (touching
+  !> counts; the query is first widened by a relative 1e-9 of its size, so
+  !> that round-off of the caller's own box tests cannot leave a cell out).
+  pure logical function remap_box_meets(blo, bhi, lo, hi)
+    real(wp), intent(in) :: blo(3), bhi(3), lo(3), hi(3)
+    real(wp) :: qlo(3), qhi(3)
+    call padded(lo, hi, qlo, qhi)
+    remap_box_meets = .not. (any(bhi < qlo) .or. any(blo > qhi))
+  end function remap_box_meets
+
+  !> The query box [lo, hi] widened by a relative 1e-9 of its size.
+  pure subroutine padded(lo, hi, qlo, qhi)
+    real(wp), intent(in) :: lo(3), hi(3)
+    real(wp), intent(out) :: qlo(3), qhi(3)
+    real(wp) :: pad
+    pad = 1.0e-9_wp*maxval(hi - lo)
+    qlo = lo - pad
+    qhi = hi + pad
+  end subroutine padded
 
   !> The bins (clamped to the lattice) that the box [lo, hi] meets.
   pure subroutine bin_range(bins, lo, hi, b0, b1)

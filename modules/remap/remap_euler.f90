@@ -110,7 +110,7 @@ module remap_euler
   use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use remap_cells, only: cell_moments
-  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach
+  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach, remap_box_meets
   use remap_swept, only: swept_edges
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
@@ -121,7 +121,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
-            remap_zone_block, &
+            remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
             remap_part_uniform, remap_hybrid_target
 
@@ -263,16 +263,26 @@ module remap_euler
   !> nodes; an owned old region every new cell within reach).
   !>
   !> With open faces (`remap_zone_open`) the zone also holds what the gap
-  !> search needs from the whole grid: each open face's innermost points
-  !> (old and new grids) and bins over the whole grid's moved old cells.
+  !> search needs beyond the window: each open face's innermost points (old
+  !> and new grids, reduced over the blocks by the caller), bins over the
+  !> window's moved old cells, and far: the moved old cells outside the
+  !> window that reach past an open face of the new grid (`open_face_cells`'
+  !> beyond) and whose boxes meet the computed cells' (`remap_zone_far`).
   !> A computed gap cell whose old cells lie beyond reach_max, or whose
-  !> outflow face lies beyond the window, counts as cells_short.
+  !> outflow face lies beyond the window, counts as cells_short. Any other
+  !> old cell outside the window that meets a computed cell lies further
+  !> than reach_max from it, and its own block's remap finds it: it gives
+  !> less than its volume (regions_uncovered) or, if the cell is computed
+  !> there, it is in that window's bins (cells_short).
   type :: remap_zone_t
     logical, allocatable :: compute(:), own(:), own_node(:)
     integer :: reach_max = 2
     logical :: open = .false.               !< set by `remap_zone_open`
     real(wp) :: bold(6) = 0.0_wp, bnew(6) = 0.0_wp
     type(remap_bins_t) :: bins
+    !> the far cells: whole-grid indices (3, n) and boxes (lo, hi: 6, n)
+    integer, allocatable :: far_ijk(:, :)
+    real(wp), allocatable :: far_box(:, :)
   end type remap_zone_t
 
   !> The old grid's cells as the remap needs them.
@@ -1010,7 +1020,7 @@ contains
       real(wp) :: xc(3, 8), vc
       character(len=200) :: emsg
 
-      ! (a window's: the whole grid's, which its callers built)
+      ! (a window's: its own, which its caller built)
       if (.not. windowed) call remap_bins_build(g%ni, g%nj, g%nk, g%x, old%changed, bins, err)
       if (allocated(err)) return
       allocate(rw(size(cells)), wider(size(cells)), stat=st, errmsg=emsg)
@@ -1023,8 +1033,9 @@ contains
         call g%cell_ijk(cc, i0, j0, k0)
         call g%gather(cc, xnew, xc)
         if (windowed) then
-          rw(ii) = max(remap_bins_reach(zone%bins, i0 + g%off(1), j0 + g%off(2), k0 + g%off(3), minval(xc, 2), &
-                                        maxval(xc, 2)), reach(cc))
+          rw(ii) = max(remap_bins_reach(zone%bins, i0, j0, k0, minval(xc, 2), maxval(xc, 2)), reach(cc), &
+                       remap_boxes_reach(zone%far_ijk, zone%far_box, i0 + g%off(1), j0 + g%off(2), k0 + g%off(3), &
+                                         minval(xc, 2), maxval(xc, 2)))
           if (rw(ii) > zone%reach_max) then
             stats%cells_short = stats%cells_short + 1
             rw(ii) = zone%reach_max
@@ -4661,13 +4672,14 @@ contains
 
   !> Each open face's innermost point along its axis (the largest or
   !> smallest coordinate of its nodes), on the old grid xold (bold) and the
-  !> new grid xnew (bnew), over the face nodes of the grid ix; huge on
-  !> other faces.
-  pure subroutine open_face_bounds(ix, bc, xold, xnew, bold, bnew)
+  !> new grid xnew (bnew), over the face nodes of the grid ix (those with
+  !> use true, if given); huge on other faces.
+  pure subroutine open_face_bounds(ix, bc, xold, xnew, bold, bnew, use)
     class(grid_index_t), intent(in) :: ix
     type(bc_t), intent(in) :: bc
     real(wp), intent(in) :: xold(:, :), xnew(:, :)
     real(wp), intent(out) :: bold(6), bnew(6)
+    logical, intent(in), optional :: use(:)
     integer :: f, a, i, j, k, n
     logical :: high
     do f = 1, 6
@@ -4681,6 +4693,9 @@ contains
           do i = ix%nlo(1), ix%nhi(1)
             if (.not. btest(ix%node_faces(i, j, k), f - 1)) cycle
             n = ix%node(i, j, k)
+            if (present(use)) then
+              if (.not. use(n)) cycle
+            end if
             if (high) then
               bold(f) = min(bold(f), xold(a, n))
               bnew(f) = min(bnew(f), xnew(a, n))
@@ -4724,7 +4739,7 @@ contains
       call g%gather(c, g%x, xo)
       gap_face(c) = 0
       gap_cell(c) = c
-      beyond(c) = .false.
+      beyond(c) = reaches_out(isopen, xo, bnew)
       best = huge(1)
       do f = 1, 6
         if (.not. isopen(f)) cycle
@@ -4732,11 +4747,9 @@ contains
         ! (q: the face's cell on the index line, in g's indices)
         q = ijk
         if (mod(f, 2) == 0) then
-          beyond(c) = beyond(c) .or. maxval(xo(a, :)) > bnew(f)
           if (.not. maxval(xn(a, :)) > bold(f)) cycle
           q(a) = g%gn(a) - g%off(a)
         else
-          beyond(c) = beyond(c) .or. minval(xo(a, :)) < bnew(f)
           if (.not. minval(xn(a, :)) < bold(f)) cycle
           q(a) = 1 - g%off(a)
         end if
@@ -4755,6 +4768,24 @@ contains
       end do
     end do
   end subroutine open_face_cells
+
+  !> Whether an old cell with nodes xo reaches past the innermost point
+  !> bnew of an open face (isopen) of the new grid (`open_face_bounds`).
+  pure logical function reaches_out(isopen, xo, bnew)
+    logical, intent(in) :: isopen(6)
+    real(wp), intent(in) :: xo(3, 8), bnew(6)
+    integer :: f, a
+    reaches_out = .false.
+    do f = 1, 6
+      if (.not. isopen(f)) cycle
+      a = (f + 1)/2
+      if (mod(f, 2) == 0) then
+        reaches_out = reaches_out .or. maxval(xo(a, :)) > bnew(f)
+      else
+        reaches_out = reaches_out .or. minval(xo(a, :)) < bnew(f)
+      end if
+    end do
+  end function reaches_out
 
   !> Makes zone (`remap_zone_t`) the window wg's around the block g (both
   !> on the whole grid's indices through their offsets): own, the block's
@@ -4792,10 +4823,13 @@ contains
     end do
   end subroutine remap_zone_block
 
-  !> Makes zone (`remap_zone_t`) ready for a window's remap with open
-  !> faces: the open faces' innermost points and the bins over the moved
-  !> cells, from the whole grid's old and new node positions xold, xnew on
-  !> its index ix (without ghosts, as the whole grid's remap sees them).
+  !> Makes zone (`remap_zone_t`, built by `remap_zone_block`) ready for
+  !> the remap of the window ix with open faces, from the window's old and
+  !> new node positions xold, xnew: the bins over its moved cells, and each
+  !> open face's innermost points over the nodes its block counts (the
+  !> caller takes the extremes over the blocks: `open_face_bounds`' bold
+  !> and bnew for the whole grid, exact in any order). No far cells yet
+  !> (`remap_zone_far`).
   subroutine remap_zone_open(zone, ix, bc, xold, xnew, err)
     type(remap_zone_t), intent(inout) :: zone
     type(grid_index_t), intent(in) :: ix
@@ -4803,13 +4837,26 @@ contains
     real(wp), intent(in) :: xold(:, :), xnew(:, :)
     type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: moved(:)
-    integer :: c, a, stat
-    allocate(moved(ix%ncell), stat=stat)
+    integer :: stat
+    if (allocated(zone%far_ijk)) deallocate(zone%far_ijk, zone%far_box)
+    allocate(moved(ix%ncell), zone%far_ijk(3, 0), zone%far_box(6, 0), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'remap_zone_open', 'out of memory for the moved cells')
       return
     end if
-    ! (as `prepare_old` marks them changed)
+    moved = cells_moved(ix, xold, xnew)
+    call remap_bins_build(ix%ni, ix%nj, ix%nk, xold, moved, zone%bins, err)
+    call open_face_bounds(ix, bc, xold, xnew, zone%bold, zone%bnew, zone%own_node)
+    zone%open = .true.
+  end subroutine remap_zone_open
+
+  !> Whether each cell of the block ix (no ghosts) has a node that moves
+  !> from xold to xnew (as `prepare_old` marks them changed).
+  pure function cells_moved(ix, xold, xnew) result(moved)
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: xold(:, :), xnew(:, :)
+    logical :: moved(ix%ncell)
+    integer :: c, a
     do c = 1, ix%ncell
       moved(c) = .false.
       do a = 1, 8
@@ -4818,10 +4865,101 @@ contains
         end associate
       end do
     end do
-    call remap_bins_build(ix%ni, ix%nj, ix%nk, xold, moved, zone%bins, err)
-    call open_face_bounds(ix, bc, xold, xnew, zone%bold, zone%bnew)
-    zone%open = .true.
-  end subroutine remap_zone_open
+  end function cells_moved
+
+  !> The window ix's cells (of its zone, after `remap_zone_open` and the
+  !> bounds' reduction) that may be far cells of other windows: those its
+  !> block owns that move and reach past an open face of the new grid,
+  !> with their whole-grid indices ijk(3, n) and old boxes box(6, n).
+  subroutine remap_zone_beyond(zone, ix, bc, xold, xnew, ijk, box, err)
+    type(remap_zone_t), intent(in) :: zone
+    type(grid_index_t), intent(in) :: ix
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: xold(:, :), xnew(:, :)
+    integer, allocatable, intent(out) :: ijk(:, :)
+    real(wp), allocatable, intent(out) :: box(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    logical, allocatable :: pick(:)
+    logical :: isopen(6)
+    real(wp) :: xo(3, 8)
+    integer :: c, n, stat
+    isopen = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
+    allocate(pick(ix%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_zone_beyond', 'out of memory')
+      return
+    end if
+    pick = cells_moved(ix, xold, xnew) .and. zone%own
+    do c = 1, ix%ncell
+      if (.not. pick(c)) cycle
+      call ix%gather(c, xold, xo)
+      pick(c) = reaches_out(isopen, xo, zone%bnew)
+    end do
+    allocate(ijk(3, count(pick)), box(6, count(pick)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_zone_beyond', 'out of memory')
+      return
+    end if
+    n = 0
+    do c = 1, ix%ncell
+      if (.not. pick(c)) cycle
+      n = n + 1
+      call ix%cell_ijk(c, ijk(1, n), ijk(2, n), ijk(3, n))
+      ijk(:, n) = ijk(:, n) + ix%off
+      call ix%gather(c, xold, xo)
+      box(1:3, n) = minval(xo, 2)
+      box(4:6, n) = maxval(xo, 2)
+    end do
+  end subroutine remap_zone_beyond
+
+  !> What other windows need to know of this one for their far cells: its
+  !> cells' whole-grid index range (lo, hi) and the box of its computed
+  !> cells on the new grid xnew (lo, hi), as reals (12).
+  pure function remap_zone_reach_box(zone, ix, xnew) result(r)
+    type(remap_zone_t), intent(in) :: zone
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: xnew(:, :)
+    real(wp) :: r(12)
+    real(wp) :: xc(3, 8)
+    integer :: c
+    r(1:3) = real(ix%off + 1, wp)
+    r(4:6) = real(ix%off + [ix%ni, ix%nj, ix%nk], wp)
+    r(7:9) = huge(1.0_wp)
+    r(10:12) = -huge(1.0_wp)
+    do c = 1, ix%ncell
+      if (.not. zone%compute(c)) cycle
+      call ix%gather(c, xnew, xc)
+      r(7:9) = min(r(7:9), minval(xc, 2))
+      r(10:12) = max(r(10:12), maxval(xc, 2))
+    end do
+  end function remap_zone_reach_box
+
+  !> Whether the cell at whole-grid index ijk with box box(6) may be a far
+  !> cell of the window described by r (`remap_zone_reach_box`): outside
+  !> its index range, its box meeting that of the window's computed cells.
+  pure logical function remap_zone_wants(r, ijk, box)
+    real(wp), intent(in) :: r(12), box(6)
+    integer, intent(in) :: ijk(3)
+    remap_zone_wants = .false.
+    if (r(7) > r(10)) return
+    remap_zone_wants = (any(ijk < nint(r(1:3))) .or. any(ijk > nint(r(4:6)))) .and. &
+                       remap_box_meets(box(1:3), box(4:6), r(7:9), r(10:12))
+  end function remap_zone_wants
+
+  !> The far cells of zone (`remap_zone_t`) from candidates ijk, box (every
+  !> block's `remap_zone_beyond` that some window may want), given this
+  !> window's description r (`remap_zone_reach_box`).
+  subroutine remap_zone_far(zone, r, ijk, box)
+    type(remap_zone_t), intent(inout) :: zone
+    real(wp), intent(in) :: r(12)
+    integer, intent(in) :: ijk(:, :)
+    real(wp), intent(in) :: box(:, :)
+    logical :: keep(size(ijk, 2))
+    integer :: q
+    keep = [(remap_zone_wants(r, ijk(:, q), box(:, q)), q = 1, size(ijk, 2))]
+    zone%far_ijk = reshape(pack(ijk, spread(keep, 1, 3)), [3, count(keep)])
+    zone%far_box = reshape(pack(box, spread(keep, 1, 6)), [6, count(keep)])
+  end subroutine remap_zone_far
 
   !> The flows through open faces (stats%mass_in ... energy_out) from
   !> their exact sums stats%flow (after adding those of several windows).
