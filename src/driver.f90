@@ -36,7 +36,7 @@ module driver
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_blocks, agree_error
   use base_memory, only: memory_keep_freed, memory_peak_mib
-  use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart, global_whole
+  use driver_whole, only: whole_build, whole_euler, whole_dump, whole_restart
   implicit none
   private
   public :: driver_run, driver_check, driver_print_defaults, driver_print_version
@@ -122,11 +122,8 @@ contains
     if (.not. allocated(err)) call tracers_init(cfg, st, sch, err)
     if (.not. allocated(err)) then
       ! (on windows the blocks smooth their own nodes and return to their
-      ! own initial nodes; the global rezone with a moving face works on the
-      ! whole grid's node positions)
-      if (allocated(st%win) .and. global_whole(cfg, st)) then
-        call euler_init(cfg%rezone, st%gw, es, err)
-      else if (allocated(st%whole) .and. .not. allocated(st%win)) then
+      ! own initial nodes, or to their targets from the grid's faces)
+      if (allocated(st%whole) .and. .not. allocated(st%win)) then
         call euler_init(cfg%rezone, st%whole%g, es, err)
       else
         call euler_init(cfg%rezone, st%g, es, err)

@@ -16,7 +16,7 @@ module driver_euler
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use rezone_quality, only: grid_shape_worst, grid_standard_ratios
   use rezone_config, only: rezone_config_t
-  use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE
+  use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE, global_surface_t
   use rezone_lssm, only: lssm_report_t, lssm_rezone, LSSM_SKIPPED, LSSM_SNAPPED
   use rezone_smooth, only: smooth_mobility_t
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
@@ -56,6 +56,12 @@ module driver_euler
     !> faces: the copy is then skipped)
     real(wp), allocatable :: xkeep(:, :)
     logical :: xkeep_x0 = .false.
+    !> a decomposed run's global rezone with a moving face (`window_global_
+    !> target`): the grid's faces (their initial nodes and line parameters,
+    !> set at the first such Euler step) and the line parameters at the
+    !> block's nodes (allocated then)
+    type(global_surface_t) :: surface
+    real(wp), allocatable :: xline(:, :)
     real(wp), allocatable :: quality(:)      !< work: cell quality for the triggers
     logical, allocatable :: fail(:)          !< work: cells failing the triggers' tests (LSSM, box reading)
     real(wp) :: t_next = 0.0_wp              !< next Euler step by interval_time (restart state)

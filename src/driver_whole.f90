@@ -57,6 +57,7 @@
 !> process keeps them in).
 module driver_whole
   use base_sort, only: sort_order
+  use base_timers, only: wall_seconds
   use lagrange_centroids, only: centroid_stats_t, centroids_refresh
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set
@@ -71,14 +72,16 @@ module driver_whole
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
                               particles_gathered_mvf
   use particles_lagrange, only: strength_slot_t
-  use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem
+  use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
-  use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
+  use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE, global_surface_init, global_face_box, &
+                           global_face_parameters, global_surface_solve, global_block_target, global_target_check, &
+                           global_line_sums, global_line_scale
   use remap_lattice, only: lattice_nodes
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
                          remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
@@ -169,16 +172,15 @@ contains
   end subroutine whole_state_build
 
   !> The Euler phase of a decomposed run works on windows (`window_euler`,
-  !> &run euler_ranks = 'windows'): st%win (`window_resize`) and st%gw,
-  !> the whole grid's index (and its node positions when needed: the
-  !> global rezone's, its quality measures shared by the ranks, st%share).
+  !> &run euler_ranks = 'windows'): st%win (`window_resize`), st%gw (the
+  !> whole grid's index; its node positions gathered where particles need
+  !> them, `window_euler`) and st%share.
   subroutine window_build(cfg, pc, st, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
     type(mpi_share_t) :: share
-    real(wp), allocatable :: x(:, :)
     integer :: stat
     allocate(st%gw, stat=stat)
     if (stat /= 0) then
@@ -189,11 +191,6 @@ contains
     call agree_error(pc, err)
     if (allocated(err)) return
     st%gw%grid_index_t = grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3))
-    ! (the global rezone's target, where a face moves: `euler_init`)
-    if (global_whole(cfg, st)) then
-      call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
-      call move_alloc(x, st%gw%x)
-    end if
     call mpi_share_init(share, pc)
     allocate(st%share, source=share, stat=stat)
     if (stat /= 0) call error_set(err, 'window_build', 'out of memory')
@@ -302,7 +299,6 @@ contains
     type(particles_euler_t) :: pe
     type(parts_state_t) :: ps
     type(state_t) :: sw
-    type(halo_t) :: single
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
     logical, allocatable :: occupied(:)
     logical :: done, redo, wider, parts, global, moving, whole_x
@@ -311,7 +307,7 @@ contains
     global = trim(cfg%rezone%mode) == 'global'
     moving = global_whole(cfg, st)
     parts = allocated(st%pwhole)
-    whole_x = moving .or. parts
+    whole_x = parts
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
@@ -335,7 +331,10 @@ contains
       if (allocated(err)) return
     end if
     if (moving) then
-      call euler_rezone(cfg%rezone, st%gw, st%bc, st%share, single, st%step, st%t, es, log, e0, xnew, done, err)
+      ! (each block's target, from the grid's faces)
+      call window_global_target(pc, st, es, log, e0, xb, err)
+      done = .true.
+      if (.not. allocated(err) .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     else if (global) then
       ! (back to the initial grid: each block's own, es%x0)
       xb = es%x0
@@ -389,6 +388,77 @@ contains
     if (.not. allocated(err)) call log_line(log, 'euler windows widened: search within '//itoa(st%win_reach)// &
                                             ' cells, '//itoa(window_margin(st%g%ng, st%win_reach))//' cells around each block')
   end subroutine window_euler
+
+  !> The global rezone's target with a moving face on a decomposed run,
+  !> each block's stored nodes xb, bit for bit as `global_target` gives them
+  !> on the whole grid (collective): the grid's faces gathered (their
+  !> initial nodes and line parameters at the first such Euler step, the
+  !> moving faces' nodes at each), the block's line parameters once (each
+  !> line's running arc length passed from block to block along its
+  !> direction, then its total back), the owned nodes' targets, and the
+  !> ghosts' from the neighbours.
+  subroutine window_global_target(pc, st, es, log, e0, xb, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(euler_state_t), intent(inout) :: es
+    type(log_t), intent(in) :: log
+    type(euler_start_t), intent(inout) :: e0
+    real(wp), allocatable, intent(out) :: xb(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: w(:, :), start(:), finish(:)
+    integer :: f, a, b, c, lo(3), hi(3), nb(3), stat
+    associate (g => st%g, sf => es%surface)
+      e0%t_rezone = wall_seconds()
+      if (.not. allocated(es%xline)) then
+        call global_surface_init(sf, g%gn, [(global_face_rule(st%bc%kind(f)), f = 1, 6)], err)
+        if (.not. allocated(err)) allocate(es%xline(3, g%nnode), stat=stat)
+        if (.not. allocated(err) .and. stat /= 0) call error_set(err, 'window_global_target', 'out of memory')
+        call agree_error(pc, err)
+        if (allocated(err)) return
+        do f = 1, 6
+          call global_face_box(sf, f, lo, hi)
+          call gather_box(pc, g%grid_index_t, es%x0, lo, hi, w, .true.)
+          sf%f(f)%x0 = w
+          call global_face_parameters(sf, f)
+        end do
+        es%xline = 0.0_wp
+        nb = [g%ni, g%nj, g%nk] + 1
+        do a = 1, 3
+          b = merge(2, 1, a == 1)
+          c = merge(2, 3, a == 3)
+          allocate(start(nb(b)*nb(c)), finish(nb(b)*nb(c)), stat=stat)
+          call parallel_nomem(stat, 'the line parameters')
+          start = 0.0_wp
+          call parallel_recv(pc, pc%nbr(2*a - 1), start)
+          call global_line_sums(g%grid_index_t, a, es%x0, start, es%xline, finish)
+          call parallel_send(pc, pc%nbr(2*a), finish)
+          ! (the totals: the last block's finish, passed back)
+          call parallel_recv(pc, pc%nbr(2*a), finish)
+          call parallel_send(pc, pc%nbr(2*a - 1), finish)
+          call global_line_scale(g%grid_index_t, a, finish, g%gn(a), es%xline)
+          deallocate(start, finish)
+        end do
+      end if
+      do f = 1, 6
+        if (sf%rule(f) /= GLOBAL_FACE_MOVE) cycle
+        call global_face_box(sf, f, lo, hi)
+        call gather_box(pc, g%grid_index_t, g%x, lo, hi, w, .true.)
+        sf%f(f)%x = w
+      end do
+      call global_surface_solve(sf)
+      allocate(xb, mold=g%x, stat=stat)
+      call parallel_nomem(stat, 'the rezoned grid')
+      call global_block_target(sf, g%grid_index_t, es%xline, es%x0, g%x, xb)
+      call st%halo%nodes(xb)
+      call global_target_check(g%grid_index_t, xb, g%off, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
+      if (sf%nmove > 0) call log_line(log, 'global rezone: '//itoa(sf%nmove)//' nodes of moving faces kept where '// &
+                                      'they are, the others back to the initial grid plus the TFI of their displacement')
+      e0%t_rezone = wall_seconds() - e0%t_rezone
+      es%t_rezone_total = es%t_rezone_total + e0%t_rezone
+    end associate
+  end subroutine window_global_target
 
   !> The particles' part of an Euler step on windows, after the blocks took
   !> the remapped fluid: all of them (sw%pt, the whole grid's, on every

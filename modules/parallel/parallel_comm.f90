@@ -13,7 +13,7 @@ module parallel_comm
   private
   public :: comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
             parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, parallel_sum, parallel_max, &
-            parallel_min
+            parallel_min, parallel_send, parallel_recv
 
   !> Every rank's values combined in place, element by element (the
   !> driver's reductions of counts and totals; a no-op on one rank).
@@ -101,6 +101,24 @@ contains
     write(error_unit, '(a)') 'FATAL [rank '//itoa(parallel_rank())//'] out of memory in '//what
     call parallel_abort(1)
   end subroutine parallel_nomem
+
+  !> Sends buf to the rank `to` of the Cartesian communicator (a neighbour,
+  !> pc%nbr; nothing if MPI_PROC_NULL). Paired with `parallel_recv`.
+  subroutine parallel_send(pc, to, buf)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: to
+    real(wp), intent(in) :: buf(:)
+    call MPI_Send(buf, size(buf), MPI_DOUBLE_PRECISION, to, 30, pc%cart)
+  end subroutine parallel_send
+
+  !> Receives buf from the rank `from` (`parallel_send`); buf unchanged if
+  !> from is MPI_PROC_NULL.
+  subroutine parallel_recv(pc, from, buf)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: from
+    real(wp), intent(inout) :: buf(:)
+    call MPI_Recv(buf, size(buf), MPI_DOUBLE_PRECISION, from, 30, pc%cart, MPI_STATUS_IGNORE)
+  end subroutine parallel_recv
 
   !> Waits for every rank.
   subroutine parallel_barrier(pc)

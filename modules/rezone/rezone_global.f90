@@ -39,18 +39,38 @@ module rezone_global
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use base_strings, only: itoa, rtoa
-  use mesh_grid, only: grid_index_t, grid_index, block_gather
+  use mesh_grid, only: grid_index_t, grid_index
   use mesh_geometry, only: hex_volume
   use mesh_boundary, only: BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, BC_INFLOW, BC_OUTFLOW
   implicit none
   private
   public :: GLOBAL_FACE_SLIDE, GLOBAL_FACE_FIX, GLOBAL_FACE_MOVE
-  public :: global_face_rule, global_target
+  public :: global_face_rule, global_target, global_surface_t, global_surface_init, global_face_box, &
+            global_face_parameters, global_surface_solve, global_block_target, global_target_check, &
+            global_line_sums, global_line_scale
 
   !> Rules for a face of the block in the global rezone (see the module header).
   integer, parameter :: GLOBAL_FACE_SLIDE = 1, GLOBAL_FACE_FIX = 2, GLOBAL_FACE_MOVE = 3
   !> Axis normal to each face (xlo, xhi, ylo, yhi, zlo, zhi).
   integer, parameter :: face_axis(6) = [1, 1, 2, 2, 3, 3]
+
+  !> A face of the grid (`global_surface_t`): its nodes in the order of
+  !> `face_node`, initial (x0) and current (x: read on moving faces only)
+  !> positions, line parameters in its two directions (s(2, :)), the
+  !> displacement D, and whether a node lies on a moving face (mv).
+  type :: global_face_t
+    real(wp), allocatable :: x0(:, :), x(:, :), s(:, :), d(:, :)
+    logical, allocatable :: mv(:)
+  end type global_face_t
+
+  !> The grid's six faces for the global rezone's target: what the TFI of
+  !> the displacement needs besides a node's own line parameters.
+  type :: global_surface_t
+    integer :: n(3) = 0                      !< the whole grid's cells
+    integer :: rule(6) = GLOBAL_FACE_SLIDE
+    integer :: nmove = 0                     !< nodes on moving faces
+    type(global_face_t) :: f(6)
+  end type global_surface_t
 
 contains
 
@@ -78,7 +98,10 @@ contains
   !> numbered as in `mesh_grid`. Fails if a cell of the target is not
   !> valid (non-positive volume: a moving face has come too close to the
   !> opposite side for the block to hold it). nmove returns the number of
-  !> nodes on moving faces (0: xt is x0).
+  !> nodes on moving faces (0: xt is x0). The displacement on the grid's
+  !> faces comes from `global_surface_solve`, each node's target from
+  !> `global_node_target`: a decomposed run computes the same values from
+  !> the faces alone and each block's own nodes.
   subroutine global_target(ni, nj, nk, rule, x0, x, xt, nmove, err)
     integer, intent(in) :: ni, nj, nk, rule(6)
     real(wp), intent(in) :: x(:, :)
@@ -89,10 +112,9 @@ contains
     integer, intent(out) :: nmove
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t) :: ix
-    real(wp), allocatable :: d(:, :), s(:, :)
-    logical, allocatable :: mv(:)
-    integer :: n, i, j, k, f, m, nmax(3), ijk(3), stat, c
-    real(wp) :: xn(3, 8), v
+    type(global_surface_t) :: sf
+    real(wp), allocatable :: s(:, :)
+    integer :: n, i, j, k, f, stat, lo(3), hi(3)
     character(len=200) :: msg
 
     nmove = 0
@@ -106,135 +128,315 @@ contains
       xt = x0
       return
     end if
-    allocate(d(3, ix%nnode), s(3, ix%nnode), mv(ix%nnode), stat=stat, errmsg=msg)
+    allocate(s(3, ix%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'global_target', error_no_memory('the work arrays'))
       return
     end if
-    nmax = [ni, nj, nk]
-
-    ! nodes on moving faces keep x; D = x - x0 there, 0 elsewhere for now
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = ix%node(i, j, k)
-          m = ix%node_faces(i, j, k)
-          mv(n) = .false.
-          do f = 1, 6
-            if (btest(m, f - 1) .and. rule(f) == GLOBAL_FACE_MOVE) mv(n) = .true.
-          end do
-          if (mv(n)) then
-            d(:, n) = x(:, n) - x0(:, n)
-            nmove = nmove + 1
-          else
-            d(:, n) = 0.0_wp
-          end if
-        end do
-      end do
-    end do
-    call line_parameters(ix, nmax, x0, s)
-
-    ! edges (lines in direction a with both other indices at a block bound)
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = ix%node(i, j, k)
-          if (mv(n)) cycle
-          ijk = [i, j, k]
-          if (count(ijk == 0 .or. ijk == nmax) /= 2) cycle
-          do m = 1, 3
-            ! the edge's direction: the one index strictly inside
-            if (ijk(m) > 0 .and. ijk(m) < nmax(m)) &
-              d(:, n) = (1.0_wp - s(m, n))*d(:, along(ijk, m, 0)) + s(m, n)*d(:, along(ijk, m, nmax(m)))
+    call line_parameters(ix, [ni, nj, nk], x0, s)
+    call global_surface_init(sf, [ni, nj, nk], rule, err)
+    if (allocated(err)) return
+    ! (each face's nodes, as a gather of its box would give them)
+    do f = 1, 6
+      call global_face_box(sf, f, lo, hi)
+      associate (fc => sf%f(f))
+        do k = lo(3) - 1, hi(3)
+          do j = lo(2) - 1, hi(2)
+            do i = lo(1) - 1, hi(1)
+              n = ix%node(i, j, k)
+              fc%x0(:, face_node(sf, f, [i, j, k])) = x0(:, n)
+              fc%x(:, face_node(sf, f, [i, j, k])) = x(:, n)
+            end do
           end do
         end do
-      end do
+      end associate
+      call global_face_parameters(sf, f)
     end do
+    call global_surface_solve(sf)
+    nmove = sf%nmove
+    call global_block_target(sf, ix, s, x0, x, xt)
+    call global_target_check(ix, xt, [0, 0, 0], err)
+  end subroutine global_target
 
-    ! faces (nodes with exactly one index at a block bound): 2D TFI
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
+  !> The targets xt of the block ix's owned nodes (`global_node_target`;
+  !> its ghosts untouched), whose line parameters are s(3, :), initial
+  !> positions x0 and current x. (One loop for the whole grid and for the
+  !> blocks of a decomposed run: the same code, the same round-off.)
+  subroutine global_block_target(sf, ix, s, x0, x, xt)
+    type(global_surface_t), intent(in) :: sf
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: s(:, :), x0(:, :), x(:, :)
+    real(wp), intent(inout) :: xt(:, :)
+    integer :: i, j, k, n
+    do k = 0, ix%nk
+      do j = 0, ix%nj
+        do i = 0, ix%ni
           n = ix%node(i, j, k)
-          if (mv(n)) cycle
-          ijk = [i, j, k]
-          if (count(ijk == 0 .or. ijk == nmax) /= 1) cycle
-          call face_tfi(ijk, n)
+          xt(:, n) = global_node_target(sf, [i, j, k] + ix%off, s(:, n), x0(:, n), x(:, n))
         end do
       end do
     end do
+  end subroutine global_block_target
 
-    ! interior: 3D TFI
-    do k = 1, nk - 1
-      do j = 1, nj - 1
-        do i = 1, ni - 1
-          call interior_tfi([i, j, k], ix%node(i, j, k))
-        end do
-      end do
-    end do
-
-    ! the faces' own rules, then the target
-    do k = 0, nk
-      do j = 0, nj
-        do i = 0, ni
-          n = ix%node(i, j, k)
-          if (mv(n)) then
-            xt(:, n) = x(:, n)
-            cycle
-          end if
-          m = ix%node_faces(i, j, k)
-          do f = 1, 6
-            if (.not. btest(m, f - 1)) cycle
-            if (rule(f) == GLOBAL_FACE_SLIDE) d(face_axis(f), n) = 0.0_wp
-            if (rule(f) == GLOBAL_FACE_FIX) d(:, n) = 0.0_wp
-          end do
-          xt(:, n) = x0(:, n) + d(:, n)
-        end do
-      end do
-    end do
-
-    do k = 1, nk
-      do j = 1, nj
-        do i = 1, ni
-          call block_gather(ni, nj, i, j, k, xt, xn)
+  !> Fails if a cell ni x nj x nk of the target xt (a block's stored nodes:
+  !> ix) is not valid; off: the block's place in the whole grid (for the
+  !> message).
+  subroutine global_target_check(ix, xt, off, err)
+    type(grid_index_t), intent(in) :: ix
+    real(wp), intent(in) :: xt(:, :)
+    integer, intent(in) :: off(3)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: xn(3, 8), v
+    integer :: i, j, k, q(3)
+    do k = 1, ix%nk
+      do j = 1, ix%nj
+        do i = 1, ix%ni
+          call ix%gather(ix%cell(i, j, k), xt, xn)
           v = hex_volume(xn)
           if (.not. v > 0.0_wp) then
-            c = ix%cell(i, j, k)
+            q = [i, j, k] + off
             call error_set(err, 'global_target', 'the rezoned grid has a cell of volume '//rtoa(v)// &
-                           ' (cell '//itoa(c)//' = ('//itoa(i)//','//itoa(j)//','//itoa(k)// &
+                           ' (cell ('//itoa(q(1))//','//itoa(q(2))//','//itoa(q(3))// &
                            ')): a moving face came too close to the other side of the block')
             return
           end if
         end do
       end do
     end do
+  end subroutine global_target_check
 
-  contains
+  !> sf ready for a grid of n(3) cells with faces following rule(6): the
+  !> faces' arrays allocated (their nodes then set by the caller).
+  subroutine global_surface_init(sf, n, rule, err)
+    type(global_surface_t), intent(out) :: sf
+    integer, intent(in) :: n(3), rule(6)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: f, m, stat
+    sf%n = n
+    sf%rule = rule
+    do f = 1, 6
+      m = face_count(sf, f)
+      allocate(sf%f(f)%x0(3, m), sf%f(f)%x(3, m), sf%f(f)%s(2, m), sf%f(f)%d(3, m), sf%f(f)%mv(m), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'global_surface_init', error_no_memory('the faces'' nodes'))
+        return
+      end if
+      sf%f(f)%x = 0.0_wp
+    end do
+  end subroutine global_surface_init
 
-    !> The node with index ijk except ijk(a) = val.
-    pure integer function along(ijk, a, val) result(nn)
-      integer, intent(in) :: ijk(3), a, val
-      integer :: q(3)
-      q = ijk
-      q(a) = val
-      nn = ix%node(q(1), q(2), q(3))
-    end function along
+  !> Face f's nodes as a box of cells lo..hi in whole-grid indices (`mesh_
+  !> grid`: its nodes lo-1..hi), no cell thick across the face: the order of
+  !> the box's nodes is the face's own.
+  pure subroutine global_face_box(sf, f, lo, hi)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f
+    integer, intent(out) :: lo(3), hi(3)
+    integer :: a
+    a = face_axis(f)
+    lo = 1
+    hi = sf%n
+    lo(a) = merge(sf%n(a) + 1, 1, mod(f, 2) == 0)
+    hi(a) = lo(a) - 1
+  end subroutine global_face_box
 
-    !> The node with index ijk except ijk(a) = va and ijk(b) = vb.
-    pure integer function along2(ijk, a, va, b, vb) result(nn)
-      integer, intent(in) :: ijk(3), a, va, b, vb
-      integer :: q(3)
-      q = ijk
-      q(a) = va
-      q(b) = vb
-      nn = ix%node(q(1), q(2), q(3))
-    end function along2
+  !> Face f's line parameters in its two directions (`line_parameters` on
+  !> its own nodes x0: the whole grid's, whose lines in those directions lie
+  !> in the face).
+  subroutine global_face_parameters(sf, f)
+    type(global_surface_t), intent(inout) :: sf
+    integer, intent(in) :: f
+    type(grid_index_t) :: ix
+    real(wp) :: s(3, face_count(sf, f))
+    integer :: b, c
+    call face_dirs(f, b, c)
+    ix = grid_index(sf%n(b), sf%n(c), 0)
+    call line_parameters(ix, [sf%n(b), sf%n(c), 0], sf%f(f)%x0, s)
+    sf%f(f)%s = s(1:2, :)
+  end subroutine global_face_parameters
 
-    !> 2D TFI at the face node n (index ijk) from the face's four edges.
-    subroutine face_tfi(ijk, n)
-      integer, intent(in) :: ijk(3), n
-      integer :: a, b, m
-      real(wp) :: u, w
+  !> The displacement D on the grid's faces (sf's nodes x0 and, on moving
+  !> faces, x; line parameters s): the module header's steps 1 to 3, before
+  !> the faces' own rules; sf%nmove, the nodes on moving faces.
+  subroutine global_surface_solve(sf)
+    type(global_surface_t), intent(inout) :: sf
+    integer :: f, p, g, gm, m, nb, ijk(3), nbound
+    ! nodes on moving faces keep x; D = x - x0 there, 0 elsewhere for now
+    sf%nmove = 0
+    do f = 1, 6
+      do p = 1, face_count(sf, f)
+        ijk = face_ijk(sf, f, p)
+        gm = 0
+        do g = 1, 6
+          if (on_face(sf, g, ijk) .and. sf%rule(g) == GLOBAL_FACE_MOVE) then
+            gm = g
+            exit
+          end if
+        end do
+        sf%f(f)%mv(p) = gm > 0
+        if (gm > 0) then
+          nb = face_node(sf, gm, ijk)
+          sf%f(f)%d(:, p) = sf%f(gm)%x(:, nb) - sf%f(gm)%x0(:, nb)
+          if (canonical(sf, ijk) == f) sf%nmove = sf%nmove + 1
+        else
+          sf%f(f)%d(:, p) = 0.0_wp
+        end if
+      end do
+    end do
+    ! edges (two indices at a bound): linear between their corners; then
+    ! the faces' other nodes (one index at a bound): 2D TFI from the edges
+    do nbound = 2, 1, -1
+      do f = 1, 6
+        do p = 1, face_count(sf, f)
+          if (sf%f(f)%mv(p)) cycle
+          ijk = face_ijk(sf, f, p)
+          if (count(ijk == 0 .or. ijk == sf%n) /= nbound) cycle
+          if (nbound == 2) then
+            do m = 1, 3
+              ! the edge's direction: the one index strictly inside
+              if (ijk(m) > 0 .and. ijk(m) < sf%n(m)) &
+                sf%f(f)%d(:, p) = (1.0_wp - face_s(sf, f, p, m))*surface_d(sf, along(ijk, m, 0)) &
+                                  + face_s(sf, f, p, m)*surface_d(sf, along(ijk, m, sf%n(m)))
+            end do
+          else
+            sf%f(f)%d(:, p) = face_tfi(sf, f, p, ijk)
+          end if
+        end do
+      end do
+    end do
+  end subroutine global_surface_solve
+
+  !> The target of the node at whole-grid index ijk with line parameters
+  !> s(3) (`line_parameters`), initial position x0n and current xn, from
+  !> the faces' displacement (`global_surface_solve`): a node on a moving
+  !> face keeps xn; any other is x0n plus D (the 3D TFI inside the grid),
+  !> less what its faces' rules take back.
+  pure function global_node_target(sf, ijk, s, x0n, xn) result(xt)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: ijk(3)
+    real(wp), intent(in) :: s(3), x0n(3), xn(3)
+    real(wp) :: xt(3)
+    real(wp) :: d(3)
+    integer :: f, p
+    if (any(ijk == 0 .or. ijk == sf%n)) then
+      f = canonical(sf, ijk)
+      p = face_node(sf, f, ijk)
+      if (sf%f(f)%mv(p)) then
+        xt = xn
+        return
+      end if
+      d = sf%f(f)%d(:, p)
+      do f = 1, 6
+        if (.not. on_face(sf, f, ijk)) cycle
+        if (sf%rule(f) == GLOBAL_FACE_SLIDE) d(face_axis(f)) = 0.0_wp
+        if (sf%rule(f) == GLOBAL_FACE_FIX) d = 0.0_wp
+      end do
+    else
+      d = interior_tfi(sf, ijk, s)
+    end if
+    xt = x0n + d
+  end function global_node_target
+
+  !> The number of nodes of face f.
+  pure integer function face_count(sf, f)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f
+    integer :: b, c
+    call face_dirs(f, b, c)
+    face_count = (sf%n(b) + 1)*(sf%n(c) + 1)
+  end function face_count
+
+  !> Face f's two directions b < c.
+  pure subroutine face_dirs(f, b, c)
+    integer, intent(in) :: f
+    integer, intent(out) :: b, c
+    b = merge(2, 1, face_axis(f) == 1)
+    c = merge(2, 3, face_axis(f) == 3)
+  end subroutine face_dirs
+
+  !> Whether the node at whole-grid index ijk lies on face f.
+  pure logical function on_face(sf, f, ijk)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f, ijk(3)
+    on_face = ijk(face_axis(f)) == merge(sf%n(face_axis(f)), 0, mod(f, 2) == 0)
+  end function on_face
+
+  !> The first face that the node at ijk (on the grid's surface) lies on:
+  !> the one whose copy of it every reader takes.
+  pure integer function canonical(sf, ijk)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: ijk(3)
+    do canonical = 1, 6
+      if (on_face(sf, canonical, ijk)) return
+    end do
+    canonical = 0
+  end function canonical
+
+  !> The index among face f's nodes of the node at ijk (on that face).
+  pure integer function face_node(sf, f, ijk)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f, ijk(3)
+    integer :: b, c
+    call face_dirs(f, b, c)
+    face_node = 1 + ijk(b) + (sf%n(b) + 1)*ijk(c)
+  end function face_node
+
+  !> The whole-grid index of face f's node p.
+  pure function face_ijk(sf, f, p) result(ijk)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f, p
+    integer :: ijk(3), b, c
+    call face_dirs(f, b, c)
+    ijk(face_axis(f)) = merge(sf%n(face_axis(f)), 0, mod(f, 2) == 0)
+    ijk(b) = mod(p - 1, sf%n(b) + 1)
+    ijk(c) = (p - 1)/(sf%n(b) + 1)
+  end function face_ijk
+
+  !> Face f's line parameter in direction m (one of its own) at its node p.
+  pure real(wp) function face_s(sf, f, p, m)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f, p, m
+    integer :: b, c
+    call face_dirs(f, b, c)
+    face_s = sf%f(f)%s(merge(1, 2, m == b), p)
+  end function face_s
+
+  !> D at the surface node ijk.
+  pure function surface_d(sf, ijk) result(d)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: ijk(3)
+    real(wp) :: d(3)
+    integer :: f
+    f = canonical(sf, ijk)
+    d = sf%f(f)%d(:, face_node(sf, f, ijk))
+  end function surface_d
+
+  !> The index ijk except ijk(a) = val.
+  pure function along(ijk, a, val) result(q)
+    integer, intent(in) :: ijk(3), a, val
+    integer :: q(3)
+    q = ijk
+    q(a) = val
+  end function along
+
+  !> The index ijk except ijk(a) = va and ijk(b) = vb.
+  pure function along2(ijk, a, va, b, vb) result(q)
+    integer, intent(in) :: ijk(3), a, va, b, vb
+    integer :: q(3)
+    q = ijk
+    q(a) = va
+    q(b) = vb
+  end function along2
+
+  !> 2D TFI at face f's node p (index ijk, one index at a bound) from the
+  !> face's four edges.
+  pure function face_tfi(sf, f, p, ijk) result(d)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: f, p, ijk(3)
+    real(wp) :: d(3)
+    integer :: a, b, m
+    real(wp) :: u, w
+    associate (nmax => sf%n)
       ! the two in-face directions a < b
       a = 0
       b = 0
@@ -247,41 +449,120 @@ contains
           end if
         end if
       end do
-      u = s(a, n)
-      w = s(b, n)
-      d(:, n) = (1.0_wp - u)*d(:, along(ijk, a, 0)) + u*d(:, along(ijk, a, nmax(a))) &
-                + (1.0_wp - w)*d(:, along(ijk, b, 0)) + w*d(:, along(ijk, b, nmax(b))) &
-                - ((1.0_wp - u)*((1.0_wp - w)*d(:, along2(ijk, a, 0, b, 0)) + w*d(:, along2(ijk, a, 0, b, nmax(b)))) &
-                   + u*((1.0_wp - w)*d(:, along2(ijk, a, nmax(a), b, 0)) + w*d(:, along2(ijk, a, nmax(a), b, nmax(b)))))
-    end subroutine face_tfi
+      u = face_s(sf, f, p, a)
+      w = face_s(sf, f, p, b)
+      d = (1.0_wp - u)*surface_d(sf, along(ijk, a, 0)) + u*surface_d(sf, along(ijk, a, nmax(a))) &
+          + (1.0_wp - w)*surface_d(sf, along(ijk, b, 0)) + w*surface_d(sf, along(ijk, b, nmax(b))) &
+          - ((1.0_wp - u)*((1.0_wp - w)*surface_d(sf, along2(ijk, a, 0, b, 0)) &
+                           + w*surface_d(sf, along2(ijk, a, 0, b, nmax(b)))) &
+             + u*((1.0_wp - w)*surface_d(sf, along2(ijk, a, nmax(a), b, 0)) &
+                  + w*surface_d(sf, along2(ijk, a, nmax(a), b, nmax(b)))))
+    end associate
+  end function face_tfi
 
-    !> 3D TFI at the interior node n (index ijk): faces - edges + corners.
-    subroutine interior_tfi(ijk, n)
-      integer, intent(in) :: ijk(3), n
-      real(wp) :: u, v, w, p(3), e(3), cc(3)
-      integer :: i0, i1, j0, j1, k0, k1
-      u = s(1, n)
-      v = s(2, n)
-      w = s(3, n)
-      i0 = 0; i1 = ni; j0 = 0; j1 = nj; k0 = 0; k1 = nk
-      associate (i => ijk(1), j => ijk(2), k => ijk(3))
-        p = (1.0_wp - u)*d(:, ix%node(i0, j, k)) + u*d(:, ix%node(i1, j, k)) &
-            + (1.0_wp - v)*d(:, ix%node(i, j0, k)) + v*d(:, ix%node(i, j1, k)) &
-            + (1.0_wp - w)*d(:, ix%node(i, j, k0)) + w*d(:, ix%node(i, j, k1))
-        e = (1.0_wp - u)*((1.0_wp - v)*d(:, ix%node(i0, j0, k)) + v*d(:, ix%node(i0, j1, k))) &
-            + u*((1.0_wp - v)*d(:, ix%node(i1, j0, k)) + v*d(:, ix%node(i1, j1, k))) &
-            + (1.0_wp - u)*((1.0_wp - w)*d(:, ix%node(i0, j, k0)) + w*d(:, ix%node(i0, j, k1))) &
-            + u*((1.0_wp - w)*d(:, ix%node(i1, j, k0)) + w*d(:, ix%node(i1, j, k1))) &
-            + (1.0_wp - v)*((1.0_wp - w)*d(:, ix%node(i, j0, k0)) + w*d(:, ix%node(i, j0, k1))) &
-            + v*((1.0_wp - w)*d(:, ix%node(i, j1, k0)) + w*d(:, ix%node(i, j1, k1)))
-        cc = (1.0_wp - u)*((1.0_wp - v)*((1.0_wp - w)*d(:, ix%node(i0, j0, k0)) + w*d(:, ix%node(i0, j0, k1))) &
-                           + v*((1.0_wp - w)*d(:, ix%node(i0, j1, k0)) + w*d(:, ix%node(i0, j1, k1)))) &
-             + u*((1.0_wp - v)*((1.0_wp - w)*d(:, ix%node(i1, j0, k0)) + w*d(:, ix%node(i1, j0, k1))) &
-                  + v*((1.0_wp - w)*d(:, ix%node(i1, j1, k0)) + w*d(:, ix%node(i1, j1, k1))))
-      end associate
-      d(:, n) = p - e + cc
-    end subroutine interior_tfi
-  end subroutine global_target
+  !> 3D TFI at the interior node ijk with line parameters s(3): faces -
+  !> edges + corners.
+  pure function interior_tfi(sf, ijk, s) result(d)
+    type(global_surface_t), intent(in) :: sf
+    integer, intent(in) :: ijk(3)
+    real(wp), intent(in) :: s(3)
+    real(wp) :: d(3)
+    real(wp) :: u, v, w, p(3), e(3), cc(3)
+    integer :: i0, i1, j0, j1, k0, k1
+    u = s(1)
+    v = s(2)
+    w = s(3)
+    i0 = 0; i1 = sf%n(1); j0 = 0; j1 = sf%n(2); k0 = 0; k1 = sf%n(3)
+    associate (i => ijk(1), j => ijk(2), k => ijk(3))
+      p = (1.0_wp - u)*dd(i0, j, k) + u*dd(i1, j, k) &
+          + (1.0_wp - v)*dd(i, j0, k) + v*dd(i, j1, k) &
+          + (1.0_wp - w)*dd(i, j, k0) + w*dd(i, j, k1)
+      e = (1.0_wp - u)*((1.0_wp - v)*dd(i0, j0, k) + v*dd(i0, j1, k)) &
+          + u*((1.0_wp - v)*dd(i1, j0, k) + v*dd(i1, j1, k)) &
+          + (1.0_wp - u)*((1.0_wp - w)*dd(i0, j, k0) + w*dd(i0, j, k1)) &
+          + u*((1.0_wp - w)*dd(i1, j, k0) + w*dd(i1, j, k1)) &
+          + (1.0_wp - v)*((1.0_wp - w)*dd(i, j0, k0) + w*dd(i, j0, k1)) &
+          + v*((1.0_wp - w)*dd(i, j1, k0) + w*dd(i, j1, k1))
+      cc = (1.0_wp - u)*((1.0_wp - v)*((1.0_wp - w)*dd(i0, j0, k0) + w*dd(i0, j0, k1)) &
+                         + v*((1.0_wp - w)*dd(i0, j1, k0) + w*dd(i0, j1, k1))) &
+           + u*((1.0_wp - v)*((1.0_wp - w)*dd(i1, j0, k0) + w*dd(i1, j0, k1)) &
+                + v*((1.0_wp - w)*dd(i1, j1, k0) + w*dd(i1, j1, k1)))
+    end associate
+    d = p - e + cc
+  contains
+    pure function dd(ii, jj, kk)
+      integer, intent(in) :: ii, jj, kk
+      real(wp) :: dd(3)
+      dd = surface_d(sf, [ii, jj, kk])
+    end function dd
+  end function interior_tfi
+
+  !> The running arc length of x0 along the index lines of direction a
+  !> through the block ix's owned nodes (0 .. n(a)), from start(line) at
+  !> its node 0 (a line's number: its node's p + (n(b)+1) q over the other
+  !> two directions b < c, from 0), into s(a, :); finish(line): at node
+  !> n(a). Added one node after the other, as `line_parameters` does along
+  !> the whole line: a block that starts from the one below's finish sums
+  !> bit for bit as the whole grid does.
+  subroutine global_line_sums(ix, a, x0, start, s, finish)
+    type(grid_index_t), intent(in) :: ix
+    integer, intent(in) :: a
+    real(wp), intent(in) :: x0(:, :), start(:)
+    real(wp), intent(inout) :: s(:, :)
+    real(wp), intent(out) :: finish(:)
+    integer :: n(3), b, c, p, q, m, ijk(3), nn, nprev
+    n = [ix%ni, ix%nj, ix%nk]
+    b = merge(2, 1, a == 1)
+    c = merge(2, 3, a == 3)
+    do q = 0, n(c)
+      do p = 0, n(b)
+        ijk(b) = p
+        ijk(c) = q
+        ijk(a) = 0
+        nn = ix%node(ijk(1), ijk(2), ijk(3))
+        s(a, nn) = start(1 + p + (n(b) + 1)*q)
+        do m = 1, n(a)
+          nprev = nn
+          ijk(a) = m
+          nn = ix%node(ijk(1), ijk(2), ijk(3))
+          s(a, nn) = s(a, nprev) + norm2(x0(:, nn) - x0(:, nprev))
+        end do
+        finish(1 + p + (n(b) + 1)*q) = s(a, nn)
+      end do
+    end do
+  end subroutine global_line_sums
+
+  !> The line parameters of direction a at the block ix's owned nodes from
+  !> their running arc lengths s(a, :) (`global_line_sums`) and the lines'
+  !> totals (same numbering), as `line_parameters` normalises them: the
+  !> block's node 0 is the whole grid's off(a), the grid has ntot(a) cells.
+  subroutine global_line_scale(ix, a, total, ntot, s)
+    type(grid_index_t), intent(in) :: ix
+    integer, intent(in) :: a, ntot
+    real(wp), intent(in) :: total(:)
+    real(wp), intent(inout) :: s(:, :)
+    integer :: n(3), b, c, p, q, m, ijk(3), nn
+    n = [ix%ni, ix%nj, ix%nk]
+    b = merge(2, 1, a == 1)
+    c = merge(2, 3, a == 3)
+    do q = 0, n(c)
+      do p = 0, n(b)
+        ijk(b) = p
+        ijk(c) = q
+        do m = 0, n(a)
+          ijk(a) = m
+          nn = ix%node(ijk(1), ijk(2), ijk(3))
+          if (total(1 + p + (n(b) + 1)*q) > 0.0_wp) then
+            s(a, nn) = s(a, nn)/total(1 + p + (n(b) + 1)*q)
+          else
+            s(a, nn) = real(m + ix%off(a), wp)/real(max(ntot, 1), wp)
+          end if
+          ! the far end exactly 1
+          if (m + ix%off(a) == ntot) s(a, nn) = 1.0_wp
+        end do
+      end do
+    end do
+  end subroutine global_line_scale
 
   !> s(a, n): the normalised arc length of x0 along the index line of
   !> direction a through node n (0 at index 0, 1 at the block's far side);
