@@ -301,7 +301,9 @@ contains
     type(state_t) :: sw
     real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
     logical, allocatable :: occupied(:)
+    type(remap_stats_t) :: first
     logical :: done, redo, wider, parts, global, moving, whole_x
+    integer :: retry
     integer :: c, nfill, one
 
     global = trim(cfg%rezone%mode) == 'global'
@@ -359,12 +361,28 @@ contains
     end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     one = 0
-    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, err)
-    if (allocated(err)) return
-    if (.not. redo) then
-      if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
-      return
-    end if
+    call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, retry, err)
+    do
+      if (allocated(err)) return
+      if (.not. redo) then
+        if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
+        return
+      end if
+      ! (a search that went further than the windows reach, and nothing
+      ! else: the step, or a hybrid step's second remap, again on windows
+      ! widened until it fits, while they do not hold the whole grid)
+      if (retry == 0 .or. window_whole(st%win%g)) exit
+      call window_wider(cfg, pc, st, log, trim(merge(' (the step again on them)        ', &
+                                                     ' (the second remap again on them)', retry == 1)), err)
+      if (allocated(err)) return
+      if (retry == 1) then
+        call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, retry, err)
+      else
+        first = ps%rs
+        call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, retry, err, first)
+      end if
+    end do
+    call log_line(log, 'euler '//itoa(es%n + 1)//': remapped on the whole grid')
     if (.not. allocated(xnew)) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
@@ -381,13 +399,31 @@ contains
     end if
     if (.not. allocated(err)) call whole_scatter(st, err)
     if (.not. allocated(err)) deallocate(st%whole)
-    if (allocated(err) .or. .not. wider) return
-    ! the next steps' search as far as this one's went: the windows widened
+    ! (the next steps' search as far as this one's went)
+    if (.not. allocated(err) .and. wider) call window_wider(cfg, pc, st, log, '', err)
+  end subroutine window_euler
+
+  !> The windows widened: their search twice as far (`window_resize`),
+  !> logged with note.
+  subroutine window_wider(cfg, pc, st, log, note, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(log_t), intent(in) :: log
+    character(len=*), intent(in) :: note
+    type(error_t), allocatable, intent(inout) :: err
     call window_resize(cfg, st, 2*st%win_reach, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call log_line(log, 'euler windows widened: search within '//itoa(st%win_reach)// &
-                                            ' cells, '//itoa(window_margin(st%g%ng, st%win_reach))//' cells around each block')
-  end subroutine window_euler
+                                            ' cells, '//itoa(window_margin(st%g%ng, st%win_reach))// &
+                                            ' cells around each block'//note)
+  end subroutine window_wider
+
+  !> Whether the window wg holds the whole grid.
+  pure logical function window_whole(wg)
+    type(grid_t), intent(in) :: wg
+    window_whole = all(wg%off == 0 .and. [wg%ni, wg%nj, wg%nk] == wg%gn)
+  end function window_whole
 
   !> The global rezone's target with a moving face on a decomposed run,
   !> each block's stored nodes xb, bit for bit as `global_target` gives them
@@ -495,8 +531,13 @@ contains
   !> from the blocks' state to the rezoned grid: xnew (the whole grid's
   !> nodes) if allocated, else the blocks' xb (each block's stored nodes),
   !> and each block taken from its window; redo if it needs more than a
-  !> window holds, on some rank (nothing changed then but st%win).
-  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, single, ps, err)
+  !> window holds, on some rank (nothing changed then but st%win, unless
+  !> the blocks took the step's first remaps: ps, single). retry: 1, only
+  !> the search went further than the windows, nothing taken; 2, the same
+  !> in a hybrid step's second remap (or the one remap after `before`),
+  !> the first taken (ps%rs its statistics); else 0. before: the
+  !> statistics of a first remap the blocks took (then single = 1).
+  subroutine window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, single, ps, retry, err, before)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -512,7 +553,9 @@ contains
     !> a step in parts of the way: where it stands when redo (the whole grid
     !> goes on from there)
     type(parts_state_t), intent(out) :: ps
+    integer, intent(out) :: retry
     type(error_t), allocatable, intent(inout) :: err
+    type(remap_stats_t), intent(in), optional :: before
     type(centroid_stats_t) :: cs, others
     type(plane_memory_t) :: memory
     type(remap_zone_t) :: zone
@@ -527,6 +570,7 @@ contains
 
     redo = .false.
     wider = .false.
+    retry = 0
     call copy_gather(pc, st, .true., err, cs)
     associate (w => st%win, wg => st%win%g)
       if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
@@ -601,6 +645,10 @@ contains
     if (.not. allocated(cells)) cells = [integer ::]
     stage = 0
     taken = 0
+    if (present(before)) then
+      rs = before
+      taken = 1
+    end if
     again = .false.
     kept = .false.
     arrived = .true.
@@ -635,7 +683,7 @@ contains
           redo = .true.
           if (taken > 0) ps%rs = rs
           call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold (a part some '// &
-                        'cells cannot sweep, with no split left): remapped on the whole grid')
+                        'cells cannot sweep, with no split left)')
           return
         end if
         if (next) cycle
@@ -686,14 +734,17 @@ contains
           ! (the blocks hold the first remap's state: the whole grid does the
           ! second alone, or the rest of the parts)
           if (stage == 2) single = 1
-          if (ps%on .or. stage == 2) ps%rs = rs
+          if (ps%on .or. stage == 2 .or. present(before)) ps%rs = rs
+          if (wider .and. all(n(2:4) == 0) .and. .not. ps%on) then
+            if (taken == 0) retry = 1
+            if (stage == 2 .or. present(before)) retry = 2
+          end if
           why = ''
           if (n(1) > 0) why = ', new cells whose old cells lie further than '//itoa(zone%reach_max)//' cells'
           if (n(2) > 0) why = why//', old regions the new grid does not cover'
           if (n(3) > 0) why = why//', kinetic energy deficits to move'
           if (n(4) > 0) why = why//', swept faces that broke a material''s bounds'
-          call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)// &
-                        '): remapped on the whole grid')
+          call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)//')')
           return
         end if
         call material_index_cells(w%mats, w%h%mat, w%mx, err)
@@ -727,7 +778,7 @@ contains
       else
         call remap_stats_add(rs, rk)
       end if
-      rs%hybrid = hybrid
+      rs%hybrid = hybrid .or. rs%hybrid
       again = .true.
       kept = .true.
       if (ps%on) then
