@@ -74,7 +74,7 @@ module driver_whole
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
-  use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat
+  use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
   use mesh_halo, only: halo_t
@@ -1200,7 +1200,7 @@ contains
     d%t = st%t
     d%dt = st%dt
     d%step = st%step
-    call mixed_gather(pc, st, mw, err, refreshed)
+    call mixed_gather(pc, st, mw, err, refreshed, d%g%off + d%g%slo, d%g%off + d%g%shi)
     if (.not. allocated(err)) call mixed_of_block(d%g, mw, d%mx, err, pick)
     if (allocated(err)) return
     lo = d%g%off + 1
@@ -1364,22 +1364,26 @@ contains
     end select
   end subroutine copy_global
 
-  !> The whole grid's mixed cells mw, in cell order, from the cells each
-  !> block owns (on every rank). With `refreshed` the centroids of each
-  !> block's owned mixed cells are refreshed first (`centroids_refresh`,
-  !> counted in it; the block's own storage is left as it is).
-  subroutine mixed_gather(pc, st, mw, err, refreshed)
+  !> mw: the mixed cells of the whole grid in the box of cells lo..hi
+  !> (whole-grid indices; each rank its own, the whole grid if absent), in
+  !> cell order, from the blocks that own them (each block's owned mixed
+  !> cells, refreshed first with `refreshed`): each block sends a rank only
+  !> those in its box, a record of reals per cell (exact: its cell, its
+  !> slots, each slot's material, fractions, states, centroid and plane).
+  subroutine mixed_gather(pc, st, mw, err, refreshed, lo, hi)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(in) :: st
     type(mixed_t), intent(inout) :: mw
     type(error_t), allocatable, intent(inout) :: err
     type(centroid_stats_t), intent(inout), optional :: refreshed
+    integer, intent(in), optional :: lo(3), hi(3)
+    integer, parameter :: per_slot = 14
     type(mixed_t) :: own, cat
-    integer, allocatable :: pick(:), cells(:), nslots(:), mats(:)
-    real(wp), allocatable :: r(:)
-    integer :: k, m, stat, ijk(3)
+    integer, allocatable :: pick(:), boxes(:), scounts(:), gijk(:, :)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer :: k, m, r, s, q, n, nslot, stat, ijk(3), box(6)
 
-    allocate(pick(st%mx%n), cells(st%mx%n), stat=stat)
+    allocate(pick(st%mx%n), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'mixed_gather', 'out of memory')
       return
@@ -1394,29 +1398,77 @@ contains
     call mixed_subset(st%mx, pick(:m), st%mx%cell(pick(:m)), own, err)
     if (allocated(err)) return
     if (present(refreshed)) call centroids_refresh(st%g, own, refreshed)
+    ! (every rank's box; each own cell's whole-grid index)
+    box(1:3) = 1
+    box(4:6) = st%g%gn
+    if (present(lo)) box(1:3) = lo
+    if (present(hi)) box(4:6) = hi
+    call gather_concat(pc, box, boxes)
+    allocate(gijk(3, own%n), scounts(0:pc%nranks - 1), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'mixed_gather', 'out of memory')
+      return
+    end if
     do k = 1, own%n
-      own%cell(k) = st%g%global_cell(own%cell(k))
+      call st%g%cell_ijk(own%cell(k), ijk(1), ijk(2), ijk(3))
+      gijk(:, k) = ijk + st%g%off
     end do
-    call gather_concat(pc, own%cell, cells)
-    call gather_concat(pc, own%start(2:) - own%start(:own%n), nslots)
-    call gather_concat(pc, own%mat, mats)
-    call mixed_allocate(cat, size(cells), size(mats), err)
+    ! the records for rank 0, 1, ... in turn
+    do q = 1, 2
+      n = 0
+      do r = 0, pc%nranks - 1
+        if (q == 2) scounts(r) = n
+        do k = 1, own%n
+          if (any(gijk(:, k) < boxes(6*r + 1:6*r + 3) .or. gijk(:, k) > boxes(6*r + 4:6*r + 6))) cycle
+          nslot = own%start(k + 1) - own%start(k)
+          if (q == 2) then
+            sbuf(n + 1) = real(st%g%global_cell(own%cell(k)), wp)
+            sbuf(n + 2) = real(nslot, wp)
+            do s = own%start(k), own%start(k + 1) - 1
+              sbuf(n + 3 + per_slot*(s - own%start(k)):n + 2 + per_slot*(s - own%start(k) + 1)) = &
+                [real(own%mat(s), wp), own%vf(s), own%mass(s), own%e(s), own%rho(s), own%p(s), own%cs(s), &
+                 own%xi(:, s), own%plane(:, s)]
+            end do
+          end if
+          n = n + 2 + per_slot*nslot
+        end do
+        if (q == 2) scounts(r) = n - scounts(r)
+      end do
+      if (q == 1) then
+        allocate(sbuf(n), stat=stat)
+        call parallel_nomem(stat, 'the mixed cells'' records')
+      end if
+    end do
+    call exchange_lists(pc, sbuf, scounts, rbuf)
+    ! the records received, into one list
+    n = 0
+    m = 0
+    nslot = 0
+    do while (n < size(rbuf))
+      m = m + 1
+      nslot = nslot + nint(rbuf(n + 2))
+      n = n + 2 + per_slot*nint(rbuf(n + 2))
+    end do
+    call mixed_allocate(cat, m, nslot, err)
     if (allocated(err)) return
-    cat%cell = cells
-    do k = 1, cat%n
-      cat%start(k + 1) = cat%start(k) + nslots(k)
+    n = 0
+    do k = 1, m
+      cat%cell(k) = nint(rbuf(n + 1))
+      cat%start(k + 1) = cat%start(k) + nint(rbuf(n + 2))
+      n = n + 2
+      do s = cat%start(k), cat%start(k + 1) - 1
+        cat%mat(s) = nint(rbuf(n + 1))
+        cat%vf(s) = rbuf(n + 2)
+        cat%mass(s) = rbuf(n + 3)
+        cat%e(s) = rbuf(n + 4)
+        cat%rho(s) = rbuf(n + 5)
+        cat%p(s) = rbuf(n + 6)
+        cat%cs(s) = rbuf(n + 7)
+        cat%xi(:, s) = rbuf(n + 8:n + 10)
+        cat%plane(:, s) = rbuf(n + 11:n + 14)
+        n = n + per_slot
+      end do
     end do
-    cat%mat = mats
-    call gather_concat(pc, own%vf, cat%vf)
-    call gather_concat(pc, own%mass, cat%mass)
-    call gather_concat(pc, own%e, cat%e)
-    call gather_concat(pc, own%rho, cat%rho)
-    call gather_concat(pc, own%p, cat%p)
-    call gather_concat(pc, own%cs, cat%cs)
-    call gather_concat(pc, reshape(own%xi, [3*own%nslot]), r)
-    cat%xi = reshape(r, [3, cat%nslot])
-    call gather_concat(pc, reshape(own%plane, [4*own%nslot]), r)
-    cat%plane = reshape(r, [4, cat%nslot])
     ! in cell order (each cell is owned by one block)
     deallocate(pick)
     allocate(pick(cat%n), stat=stat)

@@ -10,7 +10,8 @@ module parallel_gather
   use parallel_comm, only: comm_t, parallel_nomem
   implicit none
   private
-  public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_box_fields, gather_concat, gather_field_t
+  public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_box_fields, gather_concat, gather_field_t, &
+            exchange_lists
 
   !> One field of `gather_box_fields`: the block's a(m, nnode or ncell)
   !> and the box's w(m, nodes or cells of the box).
@@ -386,6 +387,29 @@ contains
     call parallel_nomem(stat, 'a gather')
     call MPI_Allgatherv(a, size(a), MPI_DOUBLE_PRECISION, w, counts, displs, MPI_DOUBLE_PRECISION, pc%world)
   end subroutine concat_real
+
+  !> Each rank's lists for the others exchanged: sbuf holds the values for
+  !> rank 0, 1, ... in turn (scounts(r) for rank r), rbuf receives those
+  !> from rank 0, 1, ... in turn (one all-to-all of the counts, one of the
+  !> values).
+  subroutine exchange_lists(pc, sbuf, scounts, rbuf)
+    type(comm_t), intent(in) :: pc
+    real(wp), intent(in) :: sbuf(:)
+    integer, intent(in) :: scounts(0:)
+    real(wp), allocatable, intent(out) :: rbuf(:)
+    integer :: rcounts(0:pc%nranks - 1), sdispls(0:pc%nranks - 1), rdispls(0:pc%nranks - 1), r, stat
+    call MPI_Alltoall(scounts, 1, MPI_INTEGER, rcounts, 1, MPI_INTEGER, pc%world)
+    sdispls(0) = 0
+    rdispls(0) = 0
+    do r = 1, pc%nranks - 1
+      sdispls(r) = sdispls(r - 1) + scounts(r - 1)
+      rdispls(r) = rdispls(r - 1) + rcounts(r - 1)
+    end do
+    allocate(rbuf(sum(rcounts)), stat=stat)
+    call parallel_nomem(stat, 'an exchange')
+    call MPI_Alltoallv(sbuf, scounts, sdispls, MPI_DOUBLE_PRECISION, rbuf, rcounts, rdispls, MPI_DOUBLE_PRECISION, &
+                       pc%world)
+  end subroutine exchange_lists
 
   subroutine concat_int(pc, a, w)
     type(comm_t), intent(in) :: pc
