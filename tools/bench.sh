@@ -199,7 +199,7 @@ mpi_bench() {
 # cells on 512 ranks (issue 35; tools/messages_table.py: its tables, and
 # the runs' logs in OUTDIR/messages).
 messages_bench() {
-  /usr/bin/python3 "$root/tools/messages_table.py" --exe "$exe" --out "$outdir/messages"
+  /usr/bin/python3 "$root/tools/messages_table.py" --exe "$exe" --out "$outdir/messages" --cases global lssm open mixed
   echo
 }
 

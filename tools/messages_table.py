@@ -20,7 +20,11 @@ each rank's block is the same. Cases:
   0.999, 20 iterations): Euler steps where the grid distorts;
 * `open`: `global` with the three far faces outflow: the open faces' gap
   search on each window (`window_zone_open` in `driver_whole`), with one
-  gather of every window's description per set-up.
+  gather of every window's description per set-up;
+* `mixed` (not run unless asked for): `global` with a sphere of helium in
+  the middle of each block (0.3 of its side in radius), so that every block
+  holds mixed cells, as many at any count of ranks: a window's copy takes
+  only the mixed cells in it (`mixed_gather`).
 
 Counts come from Open MPI's own monitoring (`--mca pml_monitoring_enable
 2`: every point-to-point message a rank sends, by the program itself and
@@ -69,6 +73,7 @@ REZONE = {
     'lssm': "&rezone mode = 'lssm', side_ratio = 4, cos_angle = 0.7, quality = 0.999, "
             "quality_target = 0.999, smooth_iterations = 20 /",
     'open': "&rezone mode = 'global', interval_steps = 1 /",
+    'mixed': "&rezone mode = 'global', interval_steps = 1 /",
     'none': "",
 }
 
@@ -79,11 +84,24 @@ def deck(path, case, kind, block, nranks, steps, outdir):
     lay = LAYOUT[nranks]
     n = [block * b for b in lay]
     faces = "'outflow'" if case == 'open' else "'wall'"
+    # (mixed: a sphere of a second gas in the middle of each block, 0.3 of
+    # its side in radius: mixed cells on every block, as many per block at
+    # any count of ranks)
+    balls = ''
+    if case == 'mixed':
+        balls = "&material name = 'helium', eos = 'ideal_gas', gamma = 1.6666666666666667 /\n"
+        side = block * CELL
+        for bk in range(lay[2]):
+            for bj in range(lay[1]):
+                for bi in range(lay[0]):
+                    balls += (f"&region shape = 'sphere', material = 'helium', center = {(bi + 0.5) * side:.4f}, "
+                              f"{(bj + 0.5) * side:.4f}, {(bk + 0.5) * side:.4f}, radius = {0.3 * side:.4f}, "
+                              "density = 0.2, pressure = 1.0e-6 /\n")
     text = f"""&run title = 'messages {case} {nranks}', t_end = 10.0, max_steps = {steps}, blocks = {lay[0]}, {lay[1]}, {lay[2]} /
 &grid ni = {n[0]}, nj = {n[1]}, nk = {n[2]}, xmin = 0, 0, 0, xmax = {n[0] * CELL:.4f}, {n[1] * CELL:.4f}, {n[2] * CELL:.4f} /
 &material name = 'air', eos = 'ideal_gas', gamma = 1.4 /
 &region shape = 'all', material = 'air', density = 1.0, pressure = 1.0e-6 /
-&source position = 0, 0, 0, energy = 0.106384 /
+{balls}&source position = 0, 0, 0, energy = 0.106384 /
 &boundary xlo = 'symmetry', ylo = 'symmetry', zlo = 'symmetry', xhi = {faces}, yhi = {faces}, zhi = {faces} /
 &output dir = '{outdir}', frame_dt = 100 /
 {REZONE[kind]}
