@@ -371,7 +371,8 @@ contains
       ! (a search that went further than the windows reach, and nothing
       ! else: the step, or a hybrid step's second remap, again on windows
       ! widened until it fits, while they do not hold the whole grid)
-      if (retry == 0 .or. window_whole(st%win%g)) exit
+      if (retry == 0) exit
+      if (windows_whole(pc, st%win%g)) exit
       call window_wider(cfg, pc, st, log, trim(merge(' (the step again on them)        ', &
                                                      ' (the second remap again on them)', retry == 1)), err)
       if (allocated(err)) return
@@ -419,11 +420,15 @@ contains
                                             ' cells around each block'//note)
   end subroutine window_wider
 
-  !> Whether the window wg holds the whole grid.
-  pure logical function window_whole(wg)
+  !> Whether every rank's window wg holds the whole grid (collective).
+  logical function windows_whole(pc, wg)
+    type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: wg
-    window_whole = all(wg%off == 0 .and. [wg%ni, wg%nj, wg%nk] == wg%gn)
-  end function window_whole
+    integer :: n(1)
+    n = merge(1, 0, all(wg%off == 0 .and. [wg%ni, wg%nj, wg%nk] == wg%gn))
+    call parallel_min(pc, n)
+    windows_whole = n(1) == 1
+  end function windows_whole
 
   !> The global rezone's target with a moving face on a decomposed run,
   !> each block's stored nodes xb, bit for bit as `global_target` gives them

@@ -133,7 +133,7 @@ contains
       call error_set(err, 'global_target', error_no_memory('the work arrays'))
       return
     end if
-    call line_parameters(ix, [ni, nj, nk], x0, s)
+    call line_parameters(ix, x0, s)
     call global_surface_init(sf, [ni, nj, nk], rule, err)
     if (allocated(err)) return
     ! (each face's nodes, as a gather of its box would give them)
@@ -251,7 +251,7 @@ contains
     integer :: b, c
     call face_dirs(f, b, c)
     ix = grid_index(sf%n(b), sf%n(c), 0)
-    call line_parameters(ix, [sf%n(b), sf%n(c), 0], sf%f(f)%x0, s)
+    call line_parameters(ix, sf%f(f)%x0, s)
     sf%f(f)%s = s(1:2, :)
   end subroutine global_face_parameters
 
@@ -565,46 +565,22 @@ contains
   end subroutine global_line_scale
 
   !> s(a, n): the normalised arc length of x0 along the index line of
-  !> direction a through node n (0 at index 0, 1 at the block's far side);
-  !> index fractions on a line of no length.
-  subroutine line_parameters(ix, nmax, x0, s)
+  !> direction a through node n of the block ix (no ghosts, at no offset:
+  !> 0 at index 0, 1 at the far side); index fractions on a line of no
+  !> length.
+  subroutine line_parameters(ix, x0, s)
     type(grid_index_t), intent(in) :: ix
-    integer, intent(in) :: nmax(3)
     real(wp), intent(in) :: x0(:, :)
     real(wp), intent(out) :: s(:, :)
-    integer :: a, p, q, m, ijk(3), n, nprev, b, c
-    real(wp) :: total
+    ! (a line's start and total, for the most lines of a direction)
+    real(wp) :: start(ix%nnode/(min(ix%ni, ix%nj, ix%nk) + 1)), total(size(start))
+    integer :: a, n(3), m
+    n = [ix%ni, ix%nj, ix%nk] + 1
+    start = 0.0_wp
     do a = 1, 3
-      ! the other two directions b < c
-      b = merge(2, 1, a == 1)
-      c = merge(2, 3, a == 3)
-      do q = 0, nmax(c)
-        do p = 0, nmax(b)
-          ijk(b) = p
-          ijk(c) = q
-          ijk(a) = 0
-          n = ix%node(ijk(1), ijk(2), ijk(3))
-          s(a, n) = 0.0_wp
-          do m = 1, nmax(a)
-            nprev = n
-            ijk(a) = m
-            n = ix%node(ijk(1), ijk(2), ijk(3))
-            s(a, n) = s(a, nprev) + norm2(x0(:, n) - x0(:, nprev))
-          end do
-          total = s(a, n)
-          do m = 0, nmax(a)
-            ijk(a) = m
-            n = ix%node(ijk(1), ijk(2), ijk(3))
-            if (total > 0.0_wp) then
-              s(a, n) = s(a, n)/total
-            else
-              s(a, n) = real(m, wp)/real(max(nmax(a), 1), wp)
-            end if
-          end do
-          ! the far end exactly 1
-          s(a, n) = 1.0_wp
-        end do
-      end do
+      m = product(n)/n(a)
+      call global_line_sums(ix, a, x0, start(1:m), s, total(1:m))
+      call global_line_scale(ix, a, total(1:m), n(a) - 1, s)
     end do
   end subroutine line_parameters
 end module rezone_global
