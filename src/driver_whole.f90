@@ -77,7 +77,6 @@ module driver_whole
   use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
-  use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE, global_surface_init, global_face_box, &
                            global_face_parameters, global_surface_solve, global_block_target, global_target_check, &
