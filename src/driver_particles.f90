@@ -356,7 +356,8 @@ contains
     integer :: kp, kid, first
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
-      call particles_stable_dt(g, g%x, pt, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, cfg%hydro%particle_q)
+      call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
+                               cfg%hydro%particle_q)
       ! the blocks' smallest (the particle's id with it; of blocks that tie
       ! exactly, the one first in the whole run's order, as one process
       ! takes the first particle in its order: each block's kp is its first

@@ -396,7 +396,7 @@ contains
     ! the stable step at rest: cfl L/c, L = 1 (unit cube), nodes heavy (no guard)
     mnode = 1.0e30_wp
     mp = 0.0_wp
-    call particles_stable_dt(g, g%x, p, models, 0.5_wp, mnode, mp, kw, dt, kmin)
+    call particles_stable_dt(g, g%x, p, spread(.true., 1, p%np), models, 0.5_wp, mnode, mp, kw, dt, kmin)
     call check_close('MG stable step / (cfl/sqrt(c0^2 + 4G/(3 rho0))) - 1', &
                      dt/(0.5_wp/sqrt(cu_c0**2 + 4.0_wp*cu_g/(3.0_wp*cu_rho0))) - 1.0_wp, 0.0_wp, 10*eps)
     r = 1.0e-3_wp

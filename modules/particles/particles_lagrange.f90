@@ -824,9 +824,13 @@ contains
   !> |grad N_I(q)|^2 over its n_p pieces q); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
-  subroutine particles_stable_dt(g, x, p, models, cfl, mnode, mp, kw, dt, kmin, qcoef)
+  subroutine particles_stable_dt(g, x, p, owned, models, cfl, mnode, mp, kw, dt, kmin, qcoef)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
+    !> the particles this block owns (`particles_work_t`): only theirs count
+    !> in the particle step (a copy in a far ghost cell may have its support
+    !> cut at the block's stored cells, and its velocity with it)
+    logical, intent(in) :: owned(:)
     !> the artificial viscosity's coefficient (`particles_viscosity`): the
     !> sound speed is taken times sqrt(1 + qcoef^2) + qcoef (the stable step
     !> of a damped oscillator under the central difference)
@@ -843,6 +847,7 @@ contains
     if (present(qcoef)) damp = sqrt(1.0_wp + qcoef*qcoef) + qcoef
     kmin = 0
     do k = 1, p%np
+      if (.not. owned(k)) cycle
       n0 = g%node0(p%cell(k))
       do a = 1, 8
         xn(:, a) = x(:, n0 + g%corner_offset(a))
