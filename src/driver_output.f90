@@ -607,7 +607,7 @@ contains
     end if
     if (allocated(st%pt%id)) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
     ! the particles in the whole run's order (a decomposed run gathers them)
-    if (allocated(st%pwhole)) then
+    if (st%pblocks) then
       call particles_gathered(sch%pc, st, pt, err)
       if (allocated(err)) return
     else

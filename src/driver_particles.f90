@@ -41,8 +41,8 @@ module driver_particles
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
-  use parallel_comm, only: comm_t
-  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_gather_mvf
+  use parallel_comm, only: comm_t, parallel_max, parallel_sum
+  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
                                 particles_phase_mass, &
                                 particles_stable_dt, particles_g2p, &
@@ -66,7 +66,7 @@ module driver_particles
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
-            particles_gathered, particles_gathered_mvf, count_hosts, particles_euler_fill
+            particles_gathered, count_hosts, particles_euler_fill, particles_euler_blocks
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -353,30 +353,35 @@ contains
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
     real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
-    integer :: kp, kid, first
+    integer :: kp, kid, first, place, nodal, i, j, k
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
-                               cfg%hydro%particle_q)
+                               cfg%hydro%particle_q, nodal)
       ! the blocks' smallest (the particle's id with it; of blocks that tie
-      ! exactly, the one first in the whole run's order, as one process
-      ! takes the first particle in its order: each block's kp is its first
-      ! in that order, st%pwhole its place there)
+      ! exactly, the one one process takes: a particle's own step before a
+      ! node's guard (which must be smaller to count), of particles the
+      ! first in the whole run's order (by material and host cell; each
+      ! block's kp its first of a cell, by id), of nodes the first in the
+      ! whole grid's node order)
       key(1) = 0.0_wp
       if (kp > 0) key(1) = real(pt%id(kp), wp)
       dt_own = dtp
       call st%halo%choose(dtp, key)
-      if (allocated(st%pwhole)) then
-        first = -huge(1)
-        if (kp > 0 .and. .not. dt_own > dtp) first = -st%pwhole(kp)
-        call st%halo%max_int(first)
-        kid = -huge(1)
-        if (first > -huge(1) .and. kp > 0) then
-          if (st%pwhole(kp) == -first) kid = pt%id(kp)
-        end if
-        call st%halo%max_int(kid)
-        if (kid > -huge(1)) key(1) = real(kid, wp)
+      place = huge(1)
+      if (nodal > 0) then
+        call g%node_ijk(nodal, i, j, k)
+        place = pt%nsolid*product(g%gn) + (i + g%off(1)) + (g%gn(1) + 1)*((j + g%off(2)) + (g%gn(2) + 1)*(k + g%off(3)))
+      else if (kp > 0) then
+        place = (pt%mat(kp) - 1)*product(g%gn) + g%global_cell(pt%cell(kp))
       end if
+      first = -huge(1)
+      if (kp > 0 .and. .not. dt_own > dtp) first = -place
+      call st%halo%max_int(first)
+      kid = -huge(1)
+      if (first > -huge(1) .and. place == -first) kid = pt%id(kp)
+      call st%halo%max_int(kid)
+      if (kid > -huge(1)) key(1) = real(kid, wp)
       dt_in = dt
       dt = min(dt, dtp)
       call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
@@ -429,8 +434,7 @@ contains
   !> is one of the block's owned cells or of the ghost layer around them (two
   !> layers for spread particles, `particles_spread`)
   !> (what its owned nodes need: `particles_lagrange`), in the whole arrays'
-  !> order (`parallel_particles_take`), with their whole index in st%pwhole
-  !> and pw%owned marking the ones it owns. The coupling's work arrays are
+  !> order (`parallel_particles_take`), pw%owned marking the ones it owns. The coupling's work arrays are
   !> sized anew.
   subroutine particles_take(st, w, wix, models_in, err)
     type(state_t), intent(inout), target :: st
@@ -438,11 +442,22 @@ contains
     type(grid_index_t), intent(in) :: wix
     type(strength_slot_t), allocatable, intent(in) :: models_in(:)
     type(error_t), allocatable, intent(inout) :: err
-    type(strength_slot_t), allocatable :: models(:)
     logical, allocatable :: owned(:)
     ! (spread particles reach the owned nodes from the second ghost layer)
-    call parallel_particles_take(w, wix, st%g, merge(2, 1, w%spread), st%pt, st%pwhole, owned, err)
+    call parallel_particles_take(w, wix, st%g, merge(2, 1, w%spread), st%pt, owned, err)
     if (allocated(err)) return
+    st%pblocks = .true.
+    call blocks_work(st, models_in, owned, err)
+  end subroutine particles_take
+
+  !> The coupling's work arrays of a block's particles sized anew, with the
+  !> strength models (models_in) and pw%owned (owned, moved in).
+  subroutine blocks_work(st, models_in, owned, err)
+    type(state_t), intent(inout) :: st
+    type(strength_slot_t), allocatable, intent(in) :: models_in(:)
+    logical, allocatable, intent(inout) :: owned(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(strength_slot_t), allocatable :: models(:)
     st%pw = particles_work_t()
     if (allocated(models_in)) then
       models = models_in
@@ -451,7 +466,80 @@ contains
       call move_alloc(models, st%pw%models)
     end if
     call move_alloc(owned, st%pw%owned)
-  end subroutine particles_take
+  end subroutine blocks_work
+
+  !> After the remap of a decomposed run's Euler step with the global
+  !> rezone (no pre-positioning; PARTICLES.md §1.13 items 3-4 on the
+  !> blocks): each block finds the new host of each particle it owns among
+  !> its rezoned stored cells (the walk from the old host,
+  !> `particles_relocate` with the block's cuts: the host the whole grid's
+  !> walk finds), puts it on the new host's map, and sends it to the blocks
+  !> whose cells or ghost layers hold the new host (`parallel_particles_move`);
+  !> then `particles_euler_couple` on each block. No rank holds more
+  !> particles than its block's. done = .false., with nothing changed, where
+  !> on some block a walk would leave the stored cells or ends in none (a
+  !> particle that leaves through an open face): the caller relocates on the
+  !> whole grid then. Collective.
+  subroutine particles_euler_blocks(pc, st, pe, log, done, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(particles_euler_t), intent(inout) :: pe
+    type(log_t), intent(in) :: log
+    logical, intent(out) :: done
+    type(error_t), allocatable, intent(inout) :: err
+    type(particles_t) :: po
+    type(strength_slot_t), allocatable :: models(:)
+    logical, allocatable :: owned(:)
+    integer, allocatable :: cell(:), own(:)
+    real(wp), allocatable :: xi(:, :)
+    integer :: bad, k, n(3), stat
+
+    associate (g => st%g)
+      own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
+      po = st%pt
+      call particles_select(po, own)
+      allocate(cell(po%np), xi(3, po%np), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'particles_euler_blocks', error_no_memory('work arrays'))
+        n(1) = 1
+      else
+        call particles_relocate(g, g%x, po, po%cell, cell, xi, bad, [g%glo > 0, g%ghi > 0])
+        n(1) = merge(1, 0, bad /= 0)
+      end if
+      call parallel_max(pc, n(1:1))
+      done = n(1) == 0
+      if (.not. done) return
+      po%cell = cell
+      po%xi = xi
+      call particles_place(g, po)
+      if (po%spread) call particles_support_widths(g, po)
+      owned = [(.true., k = 1, po%np)]
+      call parallel_particles_move(pc, g, merge(2, 1, po%spread), po, owned, err)
+      if (allocated(err)) return
+      st%pt = po
+      if (allocated(st%pw%models)) models = st%pw%models
+      call blocks_work(st, models, owned, err)
+      if (allocated(err)) return
+      pe%ke_out = 0.0_wp
+      pe%p_out = 0.0_wp
+      ! (the log's counts, the whole run's)
+      n(2:3) = [count(st%pw%owned), count_owned_hosts(st)]
+      call parallel_sum(pc, n(2:3))
+      call particles_euler_couple(st, pe, n(2), n(3), log)
+    end associate
+  end subroutine particles_euler_blocks
+
+  !> How many of the block's owned cells host particles.
+  integer function count_owned_hosts(st) result(n)
+    type(state_t), intent(in) :: st
+    integer :: c, i, j, k
+    n = 0
+    do c = 1, st%g%ncell
+      if (st%pt%cell_start(c + 1) == st%pt%cell_start(c)) cycle
+      call st%g%cell_ijk(c, i, j, k)
+      if (st%g%owns_cell(i, j, k)) n = n + 1
+    end do
+  end function count_owned_hosts
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
   !> cells numbered in the whole grid): `parallel_particles_gather` of the
@@ -461,18 +549,8 @@ contains
     type(state_t), intent(inout), target :: st
     type(particles_t), intent(inout), target :: ptw
     type(error_t), allocatable, intent(inout) :: err
-    call parallel_particles_gather(pc, st%g, st%pt, st%pw%owned, st%pwhole, ptw, err)
+    call parallel_particles_gather(pc, st%g, st%pt, st%pw%owned, ptw, err)
   end subroutine particles_gathered
-
-  !> The virtual-fluid masses of ptw (`particles_gathered` from st) taken
-  !> again from the blocks' owned particles, after `particles_euler_fill`
-  !> changed them. On every rank (collective).
-  subroutine particles_gathered_mvf(pc, st, ptw)
-    type(comm_t), intent(in) :: pc
-    type(state_t), intent(in) :: st
-    type(particles_t), intent(inout) :: ptw
-    call parallel_particles_gather_mvf(pc, st%pt, st%pw%owned, st%pwhole, ptw)
-  end subroutine particles_gathered_mvf
 
   !> Remark 2 of Sect. 5.2, before a smoothing rezone: each particle's host
   !> in the standard (initial) grid x0 by its position, and the cells of

@@ -68,9 +68,10 @@ module driver_state
     !> st%whole of a decomposed run, and on the blocks for the global rezone
     !> of the whole grid's node positions: `base_share`; else absent)
     class(share_t), allocatable :: share
-    !> (np) each particle's index in st%whole%pt (a decomposed run: the
-    !> block's particles are a subsequence of the whole run's arrays)
-    integer, allocatable :: pwhole(:)
+    !> a decomposed run's particles: the block holds those of its owned
+    !> cells (pw%owned) and of the ghost layers around them, in the order one
+    !> process holds them (`particles_order`)
+    logical :: pblocks = .false.
     !> a &prerun's 1D run, mapped in when the scene is built (`driver_prerun`)
     type(prerun_t), allocatable :: pre1d
   end type state_t

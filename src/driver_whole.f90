@@ -70,7 +70,7 @@ module driver_whole
   use particles_state, only: particles_t, particles_index
   use driver_particles, only: particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
-                              particles_gathered_mvf
+                              particles_euler_blocks
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
@@ -280,12 +280,16 @@ contains
   !> the windows hold, on any rank, the step is done on the whole grid
   !> instead (`whole_gather`, the whole state built for it and let go
   !> after), and if the search fell short the windows are widened (its reach
-  !> doubled). Particles: every rank gathers them all (in the whole run's
-  !> order), pre-positions them in the standard grid and relocates them in
-  !> the rezoned one, the same on every rank; each block then takes its own
-  !> and couples them to its nodes. The whole grid's node positions are
-  !> gathered only for the global rezone with moving faces and particles
-  !> (open faces: `window_zone_open`).
+  !> doubled). Particles: with the global rezone each block relocates the
+  !> ones it owns in its rezoned cells and sends them to the blocks that
+  !> hold their new hosts (`particles_euler_blocks`); where a walk would
+  !> leave a block's cells, or a particle leaves through an open face, and
+  !> with a smoothing rezone (whose pre-positioning in the standard grid
+  !> marks the cells the smoothing keeps), every rank gathers them all (in
+  !> the whole run's order), relocates them in the rezoned grid, the same on
+  !> every rank, and each block takes its own (`window_particles`). The
+  !> whole grid's node positions are gathered only then (open faces:
+  !> `window_zone_open`).
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -307,8 +311,10 @@ contains
 
     global = trim(cfg%rezone%mode) == 'global'
     moving = global_whole(cfg, st)
-    parts = allocated(st%pwhole)
-    whole_x = parts
+    parts = st%pblocks
+    ! (the whole grid's particles and nodes, on every rank: a smoothing
+    ! rezone's pre-positioning)
+    whole_x = parts .and. .not. global
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
@@ -317,14 +323,11 @@ contains
     ! (no totals: the windows' remaps report what they changed, summed over
     ! the blocks, and so does the whole grid's where it takes over)
     call euler_begin(st, es, log, e0, scales=.true.)
-    if (parts) then
-      ! (sw: the whole grid's nodes and particles, on every rank)
-      sw%g = st%gw
-      sw%bc = st%bc
-      call particles_gathered(pc, st, sw%pt, err)
-      if (.not. allocated(err)) call particles_index(sw%pt, sw%g%ncell, err)
-      if (.not. allocated(err) .and. .not. global) then
-        ! (the standard grid, whole)
+    if (whole_x) then
+      ! (sw: the whole grid's nodes and particles, on every rank, placed in
+      ! the standard grid, whole)
+      call whole_particles(pc, st, sw, err)
+      if (.not. allocated(err)) then
         call gather_nodes(pc, st%g%grid_index_t, es%x0, x, all=.true.)
         call euler_preposition(cfg%rezone, sw, es, pe, err, x)
       end if
@@ -356,7 +359,10 @@ contains
       call particles_euler_fill(st, cfg%rezone%virtual_layers, log, nfill, err)
       call agree_error(pc, err)
       if (allocated(err)) return
-      if (nfill > 0) call particles_gathered_mvf(pc, st, sw%pt)
+      ! (the gathered particles' virtual-fluid masses so changed)
+      if (nfill > 0 .and. whole_x) call whole_particles(pc, st, sw, err)
+      call agree_error(pc, err)
+      if (allocated(err)) return
     end if
     if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
     one = 0
@@ -364,7 +370,7 @@ contains
     do
       if (allocated(err)) return
       if (.not. redo) then
-        if (parts) call window_particles(pc, st, es, sw, xnew, pe, log, err)
+        if (parts) call window_particles(pc, st, es, sw, xnew, global, pe, log, err)
         return
       end if
       ! (a search that went further than the windows reach, and nothing
@@ -500,36 +506,67 @@ contains
     end associate
   end subroutine window_global_target
 
-  !> The particles' part of an Euler step on windows, after the blocks took
-  !> the remapped fluid: all of them (sw%pt, the whole grid's, on every
-  !> rank) relocated in the rezoned grid xnew, each block's then taken from
-  !> them and coupled to its nodes (`particles_euler_couple`).
-  subroutine window_particles(pc, st, es, sw, xnew, pe, log, err)
+  !> After the windows' remap, the particles (`window_euler`'s notes): with
+  !> the global rezone (blocks) on the blocks (`particles_euler_blocks`),
+  !> else, or where that cannot, on the whole grid's particles sw (gathered
+  !> here if the blocks tried first) in the rezoned whole grid (xnew, or
+  !> gathered from the blocks' nodes), each block then taking its own.
+  subroutine window_particles(pc, st, es, sw, xnew, blocks, pe, log, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(euler_state_t), intent(inout) :: es
     type(state_t), intent(inout) :: sw
     real(wp), allocatable, intent(inout) :: xnew(:, :)
+    logical, intent(in) :: blocks
     type(particles_euler_t), intent(inout) :: pe
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     type(strength_slot_t), allocatable :: models(:)
+    logical :: done
     call es%timer%start()
-    call move_alloc(xnew, sw%g%x)
-    ! (those that leave through open faces take their energy from the
-    ! boundary work, alike on every rank)
-    sw%tot = st%tot
-    call particles_euler_relocate(sw, pe, log, err)
-    call agree_error(pc, err)
-    if (.not. allocated(err)) then
-      st%tot%boundary_work = sw%tot%boundary_work
-      if (allocated(st%pw%models)) models = st%pw%models
-      call particles_take(st, sw%pt, sw%g%grid_index_t, models, err)
+    done = .false.
+    if (blocks) then
+      call particles_euler_blocks(pc, st, pe, log, done, err)
+      call agree_error(pc, err)
+      if (.not. (done .or. allocated(err))) then
+        call log_line(log, '  particles: relocated on the whole grid (a walk would leave a block''s cells, or a '// &
+                      'particle leaves through an open face)')
+        call whole_particles(pc, st, sw, err)
+      end if
+      if (.not. (done .or. allocated(err) .or. allocated(xnew))) &
+        call gather_nodes(pc, st%g%grid_index_t, st%g%x, xnew, all=.true.)
+      call agree_error(pc, err)
     end if
-    call agree_error(pc, err)
-    if (.not. allocated(err)) call particles_euler_couple(st, pe, sw%pt%np, count_hosts(sw%pt, sw%g%ncell), log)
+    if (.not. (done .or. allocated(err))) then
+      call move_alloc(xnew, sw%g%x)
+      ! (those that leave through open faces take their energy from the
+      ! boundary work, alike on every rank)
+      sw%tot = st%tot
+      call particles_euler_relocate(sw, pe, log, err)
+      call agree_error(pc, err)
+      if (.not. allocated(err)) then
+        st%tot%boundary_work = sw%tot%boundary_work
+        if (allocated(st%pw%models)) models = st%pw%models
+        call particles_take(st, sw%pt, sw%g%grid_index_t, models, err)
+      end if
+      call agree_error(pc, err)
+      if (.not. allocated(err)) call particles_euler_couple(st, pe, sw%pt%np, count_hosts(sw%pt, sw%g%ncell), log)
+    end if
     call es%timer%stop()
   end subroutine window_particles
+
+  !> sw: the whole grid's index and boundaries, and the blocks' particles
+  !> gathered in the whole run's order (on every rank; collective).
+  subroutine whole_particles(pc, st, sw, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(state_t), intent(inout) :: sw
+    type(error_t), allocatable, intent(inout) :: err
+    sw%g = st%gw
+    sw%bc = st%bc
+    call particles_gathered(pc, st, sw%pt, err)
+    if (.not. allocated(err)) call particles_index(sw%pt, sw%g%ncell, err)
+  end subroutine whole_particles
 
   !> The remap of an Euler step on this rank's window (`window_euler`),
   !> from the blocks' state to the rezoned grid: xnew (the whole grid's
@@ -626,7 +663,7 @@ contains
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
       call parallel_max(pc, n(1:2))
       ps%on = single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
-              .not. allocated(st%pwhole) .and. n(3) == 0
+              .not. st%pblocks .and. n(3) == 0
       if (ps%on) then
         hybrid = .false.
         ps%nblock = nblock
@@ -1114,7 +1151,7 @@ contains
       end do
       mat(c) = -lo
     end do
-    if (allocated(st%pwhole)) then
+    if (st%pblocks) then
       call particles_gathered(pc, st, pw, err)
       if (allocated(err)) return
       pb = st%pt
@@ -1128,7 +1165,7 @@ contains
     ! the block's own again
     call move_alloc(keep, st%h%mat)
     st%mx = mb
-    if (allocated(st%pwhole)) st%pt = pb
+    if (st%pblocks) st%pt = pb
   end subroutine whole_dump
 
   !> A decomposed run's restart: with the whole grid held (Euler steps,
@@ -1158,7 +1195,7 @@ contains
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(error_t), allocatable, intent(inout) :: err
-    if (allocated(st%pwhole)) then
+    if (st%pblocks) then
       call particles_gathered(pc, st, st%whole%pt, err)
       if (.not. allocated(err)) call particles_index(st%whole%pt, st%whole%g%ncell, err)
       if (allocated(err)) return

@@ -2,38 +2,39 @@
 !> block's: a block takes the particles its cells host from the whole
 !> run's (`parallel_particles_take`), and the blocks' owned particles are
 !> gathered back into the whole run's order on every rank
-!> (`parallel_particles_gather`). Both keep the whole run's order, so a
-!> block's particles are sorted as one process sorts them.
+!> (`parallel_particles_gather`). The order is the keys' (material, host
+!> cell, id: `particles_order`), the same on a block as on one process.
+!> Between Euler steps' relocations on the blocks, `parallel_particles_move`
+!> sends each block's owned particles to every block whose cells or ghost
+!> layers host them: no rank holds more than its block's.
 module parallel_particles
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use base_registry, only: registry_t, K_REAL
   use mesh_grid, only: grid_t, grid_index_t
   use particles_state, only: particles_t, particles_allocate, particles_select, particles_index, &
-                             particles_register_restart
-  use parallel_comm, only: comm_t
-  use parallel_gather, only: gather_concat
+                             particles_register_restart, particles_key_order, particles_order
+  use parallel_comm, only: comm_t, parallel_nomem
+  use parallel_gather, only: gather_concat, exchange_lists
   implicit none
   private
-  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_gather_mvf
+  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move
 
 contains
 
   !> The particles of w (host cells numbered on the whole grid's index wix)
   !> whose host is one of g's owned cells or lies in the `layers` ghost
   !> layers around them, into pt in w's order with their host cells
-  !> numbered in g and indexed; pick: their indices in w; owned: which of
-  !> them g owns.
-  subroutine parallel_particles_take(w, wix, g, layers, pt, pick, owned, err)
+  !> numbered in g and indexed; owned: which of them g owns.
+  subroutine parallel_particles_take(w, wix, g, layers, pt, owned, err)
     type(particles_t), intent(in) :: w
     type(grid_index_t), intent(in) :: wix
     type(grid_t), intent(in) :: g
     integer, intent(in) :: layers
     type(particles_t), intent(out) :: pt
-    integer, allocatable, intent(out) :: pick(:)
     logical, allocatable, intent(out) :: owned(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: all(:)
+    integer, allocatable :: all(:), pick(:)
     integer :: k, n, q, lo(3), hi(3), ijk(3), stat
     call g%cells_around(layers, lo, hi)
     allocate(all(w%np), stat=stat)
@@ -71,39 +72,46 @@ contains
   end subroutine parallel_particles_take
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
-  !> cells numbered in the whole grid): each block gives the ones of pt it
-  !> owns (owned) with their whole index (whole), host cells numbered on
-  !> g. On every rank (collective).
-  subroutine parallel_particles_gather(pc, g, pt, owned, whole, ptw, err)
+  !> cells numbered in the whole grid, sorted by material, host cell and id
+  !> as one process sorts them): each block gives the ones of pt it owns
+  !> (owned), host cells numbered on g. On every rank (collective).
+  subroutine parallel_particles_gather(pc, g, pt, owned, ptw, err)
     type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: g
     type(particles_t), intent(inout), target :: pt
     logical, intent(in) :: owned(:)
-    integer, intent(in) :: whole(:)
     type(particles_t), intent(inout), target :: ptw
     type(error_t), allocatable, intent(inout) :: err
     type(registry_t) :: rb, rw
-    integer, allocatable :: own(:), at(:), iw(:), cells(:)
+    integer, allocatable :: own(:), at(:), iw(:), cells(:), mat(:), cell(:), id(:), order(:)
     real(wp), allocatable :: rw_(:)
     integer :: k, e, m, q, j, stat
 
     own = pack([(k, k = 1, pt%np)], owned)
-    call gather_concat(pc, whole(own), at)
-    call particles_allocate(ptw, size(at), pt%nsolid, pt%nhist, err)
-    if (allocated(err)) return
-    ptw%spread = pt%spread
-    if (allocated(pt%mvf)) then
-      allocate(ptw%mvf(size(at)), stat=stat)
-      if (stat /= 0) then
-        call error_set(err, 'parallel_particles_gather', error_no_memory('the gathered particles'))
-        return
-      end if
-    end if
     ! (host cells in the whole grid's numbering while they are sent)
     cells = pt%cell
     do k = 1, pt%np
       pt%cell(k) = g%global_cell(cells(k))
     end do
+    ! each gathered particle's place in the whole order
+    call gather_concat(pc, pt%mat(own), mat)
+    call gather_concat(pc, pt%cell(own), cell)
+    call gather_concat(pc, pt%id(own), id)
+    call particles_key_order(mat, pt%nsolid, cell, product(g%gn), id, order, err)
+    if (.not. allocated(err)) call particles_allocate(ptw, size(order), pt%nsolid, pt%nhist, err)
+    if (allocated(err)) then
+      pt%cell = cells
+      return
+    end if
+    allocate(at(size(order)), stat=stat)
+    if (stat == 0 .and. allocated(pt%mvf)) allocate(ptw%mvf(size(order)), stat=stat)
+    if (stat /= 0) then
+      pt%cell = cells
+      call error_set(err, 'parallel_particles_gather', error_no_memory('the gathered particles'))
+      return
+    end if
+    at(order) = [(q, q = 1, size(order))]
+    ptw%spread = pt%spread
     call particles_register_restart(pt, rb)
     call particles_register_restart(ptw, rw)
     do e = 1, rb%n
@@ -125,21 +133,138 @@ contains
     pt%cell = cells
   end subroutine parallel_particles_gather
 
-  !> The virtual-fluid masses of ptw (`parallel_particles_gather`) taken
-  !> again from the blocks' owned particles of pt. On every rank
-  !> (collective).
-  subroutine parallel_particles_gather_mvf(pc, pt, owned, whole, ptw)
+  !> The particles of the blocks after their owned ones changed host (an
+  !> Euler step's relocation on each block): each rank's owned particles of
+  !> pt (owned; host cells numbered on its g, in its cells or ghost layers)
+  !> go to every rank whose owned cells or `layers` ghost layers around them
+  !> hold their host, itself included; pt becomes what this rank receives,
+  !> host cells numbered on g, sorted (`particles_order`, the order one
+  !> process gives them) and indexed, and owned which of them g owns. The
+  !> others' blocks are each rank's box, gathered (6 integers per rank).
+  !> Collective.
+  subroutine parallel_particles_move(pc, g, layers, pt, owned, err)
     type(comm_t), intent(in) :: pc
-    type(particles_t), intent(in) :: pt
-    logical, intent(in) :: owned(:)
-    integer, intent(in) :: whole(:)
-    type(particles_t), intent(inout) :: ptw
-    integer, allocatable :: own(:), at(:)
-    real(wp), allocatable :: mvf(:)
-    integer :: k
-    own = pack([(k, k = 1, pt%np)], owned)
-    call gather_concat(pc, whole(own), at)
-    call gather_concat(pc, pt%mvf(own), mvf)
-    ptw%mvf(at) = mvf
-  end subroutine parallel_particles_gather_mvf
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: layers
+    type(particles_t), intent(inout), target :: pt
+    logical, allocatable, intent(inout) :: owned(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(particles_t), target :: pn
+    type(registry_t) :: rb, rn
+    integer, allocatable :: boxes(:), to(:, :), count_to(:), at(:)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer :: lo(3), hi(3), ijk(3), k, r, e, m, j, q, n, rec, pos, stat, nr
+    logical :: skip
+
+    nr = pc%nranks
+    call g%cells_around(layers, lo, hi)
+    call gather_concat(pc, [lo + g%off, hi + g%off], boxes)
+    ! (each owned particle's receivers, in rank order: to(:, k), -1 ends)
+    allocate(to(nr, pt%np), count_to(0:nr - 1), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'parallel_particles_move', error_no_memory('work arrays'))
+      return
+    end if
+    to = -1
+    count_to = 0
+    do k = 1, pt%np
+      if (.not. owned(k)) cycle
+      call g%cell_ijk(pt%cell(k), ijk(1), ijk(2), ijk(3))
+      ijk = ijk + g%off
+      n = 0
+      do r = 0, nr - 1
+        if (any(ijk < boxes(6*r + 1:6*r + 3) .or. ijk > boxes(6*r + 4:6*r + 6))) cycle
+        n = n + 1
+        to(n, k) = r
+        count_to(r) = count_to(r) + 1
+      end do
+    end do
+    ! (host cells in the whole grid's numbering while they are sent)
+    at = pt%cell
+    do k = 1, pt%np
+      pt%cell(k) = g%global_cell(at(k))
+    end do
+    call particles_register_restart(pt, rb)
+    rec = 0
+    do e = 1, rb%n
+      rec = rec + product(rb%e(e)%dims(1:size(rb%e(e)%dims) - 1))
+    end do
+    allocate(sbuf(rec*sum(count_to)), stat=stat)
+    call parallel_nomem(stat, 'the particles sent')
+    ! (each receiver's records in turn, in this rank's order)
+    pos = 0
+    do r = 0, nr - 1
+      do k = 1, pt%np
+        if (.not. any(to(:, k) == r)) cycle
+        do e = 1, rb%n
+          associate (b => rb%e(e))
+            m = product(b%dims(1:size(b%dims) - 1))
+            if (b%kind == K_REAL) then
+              sbuf(pos + 1:pos + m) = b%r(m*(k - 1) + 1:m*k)
+            else
+              sbuf(pos + 1:pos + m) = real(b%i(m*(k - 1) + 1:m*k), wp)
+            end if
+            pos = pos + m
+          end associate
+        end do
+      end do
+    end do
+    pt%cell = at
+    call exchange_lists(pc, sbuf, rec*count_to, rbuf)
+    deallocate(sbuf)
+    n = size(rbuf)/max(rec, 1)
+    call particles_allocate(pn, n, pt%nsolid, pt%nhist, err)
+    skip = allocated(err)
+    if (.not. skip .and. allocated(pt%mvf)) then
+      allocate(pn%mvf(n), stat=stat)
+      if (stat /= 0) call error_set(err, 'parallel_particles_move', error_no_memory('the particles received'))
+    end if
+    if (allocated(err)) return
+    pn%spread = pt%spread
+    call particles_register_restart(pn, rn)
+    pos = 0
+    do q = 1, n
+      do e = 1, rn%n
+        associate (v => rn%e(e))
+          m = product(v%dims(1:size(v%dims) - 1))
+          if (v%kind == K_REAL) then
+            v%r(m*(q - 1) + 1:m*q) = rbuf(pos + 1:pos + m)
+          else
+            v%i(m*(q - 1) + 1:m*q) = [(nint(rbuf(pos + j)), j = 1, m)]
+          end if
+          pos = pos + m
+        end associate
+      end do
+    end do
+    do q = 1, n
+      ijk = global_ijk(pn%cell(q)) - g%off
+      pn%cell(q) = g%cell(ijk(1), ijk(2), ijk(3))
+    end do
+    ! (a block may receive none: its binning then empty)
+    if (n > 0) call particles_order(pn, g%ncell, err)
+    if (n == 0) call particles_index(pn, g%ncell, err)
+    if (allocated(err)) return
+    pt = pn
+    deallocate(owned)
+    allocate(owned(pt%np), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'parallel_particles_move', error_no_memory('work arrays'))
+      return
+    end if
+    do q = 1, pt%np
+      call g%cell_ijk(pt%cell(q), ijk(1), ijk(2), ijk(3))
+      owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
+    end do
+
+  contains
+
+    !> The indices of global cell c of the whole grid (g%gn).
+    pure function global_ijk(c) result(ix)
+      integer, intent(in) :: c
+      integer :: ix(3)
+      ix(1) = mod(c - 1, g%gn(1)) + 1
+      ix(2) = mod((c - 1)/g%gn(1), g%gn(2)) + 1
+      ix(3) = (c - 1)/(g%gn(1)*g%gn(2)) + 1
+    end function global_ijk
+  end subroutine parallel_particles_move
 end module parallel_particles

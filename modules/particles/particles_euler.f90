@@ -60,7 +60,9 @@ contains
   !> Host cell(np) and natural coordinates xi(3, np) of every particle's
   !> position in the grid with nodes at x(3, nnode), the walk starting at
   !> guess(np) (item 2). bad: the first particle in no cell (0 if none).
-  subroutine particles_relocate(g, x, p, guess, cell, xi, bad)
+  !> cut: a block's (`particles_locate`: cell -1 where the walk would leave
+  !> the block's stored cells).
+  subroutine particles_relocate(g, x, p, guess, cell, xi, bad, cut)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :)
     type(particles_t), intent(in) :: p
@@ -68,13 +70,21 @@ contains
     integer, intent(out) :: cell(:)
     real(wp), intent(out) :: xi(:, :)
     integer, intent(out) :: bad
+    logical, intent(in), optional :: cut(6)
+    logical :: found, cuts(6), on_block
     integer :: k
-    logical :: found
+    on_block = present(cut)
+    cuts = .false.
+    if (on_block) cuts = cut
     bad = huge(1)
-    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi) private(k, found) reduction(min: bad) &
-    !$omp schedule(dynamic, 256)
+    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi, cuts, on_block) private(k, found) &
+    !$omp reduction(min: bad) schedule(dynamic, 256)
     do k = 1, p%np
-      call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x)
+      if (on_block) then
+        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x, cuts)
+      else
+        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x)
+      end if
       if (.not. found) bad = min(bad, k)
     end do
     !$omp end parallel do

@@ -824,7 +824,7 @@ contains
   !> |grad N_I(q)|^2 over its n_p pieces q); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
-  subroutine particles_stable_dt(g, x, p, owned, models, cfl, mnode, mp, kw, dt, kmin, qcoef)
+  subroutine particles_stable_dt(g, x, p, owned, models, cfl, mnode, mp, kw, dt, kmin, qcoef, nodal)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
     !> the particles this block owns (`particles_work_t`): only theirs count
@@ -840,6 +840,9 @@ contains
     real(wp), intent(out) :: kw(:)
     real(wp), intent(out) :: dt
     integer, intent(out) :: kmin
+    !> the node whose guard set dt (kmin then the first particle with a
+    !> piece at it), 0 if a particle's own step did
+    integer, intent(out), optional :: nodal
     integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, dtk, gradn(3, 8), detj, mw, damp
     dt = huge(1.0_wp)
@@ -912,6 +915,7 @@ contains
       end do
     end do
     if (nmin > 0) kmin = node_particle(nmin)
+    if (present(nodal)) nodal = nmin
   contains
     !> The EOS sound speed squared at rho, e.
     pure real(wp) function eos_c2(eos, rho, e) result(c2)

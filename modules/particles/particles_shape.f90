@@ -150,7 +150,12 @@ contains
   !> does not end in a cell containing x, every cell in index order.
   !> found = .false. (cell = 0) if no cell contains x. The grid's nodes are
   !> at g%x, or at xg(3, nnode) if given (the standard grid of Remark 2).
-  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg)
+  !> cut (a block of a decomposed run: cut(d) / cut(3 + d), its stored cells
+  !> end at a neighbour block's below / above in direction d): the walk
+  !> that would step past a cut, or ends without a cell, gives cell = -1
+  !> (found = .false.), where the whole grid's walk may go on: so a cell
+  !> found is the one the whole grid's walk finds.
+  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg, cut)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(3)
     integer, intent(in) :: guess
@@ -158,14 +163,23 @@ contains
     real(wp), intent(out) :: xi(3)
     logical, intent(out) :: found
     real(wp), intent(in), optional :: xg(:, :)
+    logical, intent(in), optional :: cut(6)
     real(wp) :: xn(3, 8)
-    integer :: ijk(3), nmax(3), step, d, c
-    logical :: moved
+    integer :: ijk(3), nmin(3), nmax(3), step, d, c
+    logical :: moved, lo_cut(3), hi_cut(3)
 
-    nmax = [g%ni, g%nj, g%nk]
+    ! (the stored cells: a block's with its ghost layers)
+    nmin = g%slo
+    nmax = g%shi
+    lo_cut = .false.
+    hi_cut = .false.
+    if (present(cut)) then
+      lo_cut = cut(1:3)
+      hi_cut = cut(4:6)
+    end if
     c = max(1, min(g%ncell, guess))
     call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-    do step = 1, sum(nmax) + 3
+    do step = 1, sum(nmax - nmin) + 6
       c = g%cell(ijk(1), ijk(2), ijk(3))
       call corners(c, xn)
       call particles_natural(xn, x, xi, found)
@@ -175,7 +189,11 @@ contains
       end if
       moved = .false.
       do d = 1, 3
-        if (xi(d) < -inside_tol .and. ijk(d) > 1) then
+        if ((xi(d) < -inside_tol .and. ijk(d) == nmin(d) .and. lo_cut(d)) .or. &
+            (xi(d) > 1.0_wp + inside_tol .and. ijk(d) == nmax(d) .and. hi_cut(d))) then
+          moved = .false.
+          exit
+        else if (xi(d) < -inside_tol .and. ijk(d) > nmin(d)) then
           ijk(d) = ijk(d) - 1
           moved = .true.
         else if (xi(d) > 1.0_wp + inside_tol .and. ijk(d) < nmax(d)) then
@@ -185,6 +203,12 @@ contains
       end do
       if (.not. moved) exit
     end do
+    if (present(cut)) then
+      cell = -1
+      xi = 0.0_wp
+      found = .false.
+      return
+    end if
     do c = 1, g%ncell
       call corners(c, xn)
       call particles_natural(xn, x, xi, found)

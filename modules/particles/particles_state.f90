@@ -8,11 +8,16 @@
 !> Order and binning. The arrays are sorted by solid material (`mat`), so
 !> that material s is the contiguous range mat_start(s) .. mat_start(s+1)-1
 !> (a strength model is dispatched once per material, then loops over its
-!> range), and within a material by host cell, stable in seeding order.
+!> range), within a material by host cell, and within a cell by id: the
+!> order depends on the keys alone, never on the order the arrays came in,
+!> so the blocks of a decomposed run, whatever particles they receive from
+!> their neighbours, each hold theirs in the order one process gives them
+!> (the cells of a block are numbered in the whole grid's order).
 !> `cell_start`/`perm` bin the particles by host cell (CSR): the particles
 !> of cell c are perm(cell_start(c) .. cell_start(c+1)-1), in array order.
-!> Both are built by counting sorts, so the result depends only on the keys
-!> and the seeding order, never on thread count or timing (deterministic).
+!> Both are built by counting sorts (and, for the few particles of one
+!> cell, an insertion sort by id), so the result depends only on the keys,
+!> never on thread count or timing (deterministic).
 !> The binning is rebuilt whenever host cells change (after an Euler step,
 !> Remark 2 of Sect. 5.2: hook `particles_bin`); it is not restart state.
 !>
@@ -53,8 +58,8 @@ module particles_state
   use base_registry, only: registry_t, LOC_PARTICLE, LOWER_POSITIVE, LOWER_NONNEGATIVE
   implicit none
   private
-  public :: particles_t, particles_allocate, particles_order, particles_select, particles_index, particles_bin, &
-            particles_solid_order, &
+  public :: particles_t, particles_allocate, particles_order, particles_key_order, particles_select, particles_index, &
+            particles_bin, particles_solid_order, &
             particles_register_restart, particles_check
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
@@ -140,32 +145,63 @@ contains
     p%perm = 0
   end subroutine particles_allocate
 
-  !> Sorts the particles by material, then by host cell, stable (two
-  !> counting sorts, least significant key first), and builds mat_start and
-  !> the cell binning. mat must be in 1..nsolid and cell in 1..ncell.
+  !> Sorts the particles by material, then by host cell, then by id
+  !> (`particles_key_order`), and builds mat_start and the cell binning. mat
+  !> must be in 1..nsolid and cell in 1..ncell.
   subroutine particles_order(p, ncell, err)
     type(particles_t), intent(inout) :: p
     integer, intent(in) :: ncell
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: order(:), by_cell(:)
-    integer :: s, stat
-    character(len=200) :: msg
+    integer, allocatable :: order(:)
     if (p%np == 0) return
     if (any(p%cell < 1) .or. any(p%cell > ncell) .or. any(p%mat < 1) .or. any(p%mat > p%nsolid)) then
       call error_set(err, 'particles_order', 'a host cell or material index is out of range')
       return
     end if
-    allocate(order(p%np), by_cell(p%np), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, 'particles_order', error_no_memory('work arrays'))
-      return
-    end if
-    ! stable sort by cell, then stably by material: (mat, cell) order
-    call counting_sort(p%cell, ncell, [(s, s = 1, p%np)], by_cell)
-    call counting_sort(p%mat, p%nsolid, by_cell, order)
+    call particles_key_order(p%mat(:p%np), p%nsolid, p%cell(:p%np), ncell, p%id(:p%np), order, err)
+    if (allocated(err)) return
     call particles_select(p, order)
     call particles_index(p, ncell, err)
   end subroutine particles_order
+
+  !> The permutation order that sorts the keys (mat in 1..nmat, cell in
+  !> 1..ncell, id unique) by mat, then cell, then id: two stable counting
+  !> sorts, least significant key first, then an insertion sort by id within
+  !> each run of one material and cell (a few particles).
+  subroutine particles_key_order(mat, nmat, cell, ncell, id, order, err)
+    integer, intent(in) :: mat(:), nmat, cell(:), ncell, id(:)
+    integer, allocatable, intent(out) :: order(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: by_cell(:)
+    integer :: n, s, k, i, j, q, stat
+    character(len=200) :: msg
+    n = size(mat)
+    allocate(order(n), by_cell(n), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_key_order', error_no_memory('work arrays'))
+      return
+    end if
+    call counting_sort(cell, ncell, [(s, s = 1, n)], by_cell)
+    call counting_sort(mat, nmat, by_cell, order)
+    s = 1
+    do k = 2, n + 1
+      if (k <= n) then
+        if (mat(order(k)) == mat(order(s)) .and. cell(order(k)) == cell(order(s))) cycle
+      end if
+      ! (the run s .. k-1 of one material and cell)
+      do i = s + 1, k - 1
+        q = order(i)
+        j = i
+        do while (j > s)
+          if (id(order(j - 1)) < id(q)) exit
+          order(j) = order(j - 1)
+          j = j - 1
+        end do
+        order(j) = q
+      end do
+      s = k
+    end do
+  end subroutine particles_key_order
 
   !> The particles pick(:) of p, in that order (a permutation, or a subset:
   !> np becomes size(pick)); the binning is then stale (`particles_index`).
