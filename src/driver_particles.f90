@@ -35,6 +35,7 @@ module driver_particles
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied, particles_place, &
                              particles_leaving, particles_first_lost
   use particles_spread, only: particles_support_widths
+  use particles_shape, only: particles_locate
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
   use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
@@ -42,7 +43,8 @@ module driver_particles
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
   use parallel_comm, only: comm_t, parallel_max, parallel_sum
-  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move
+  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
+                                parallel_mark_cells
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
                                 particles_phase_mass, &
                                 particles_stable_dt, particles_g2p, &
@@ -66,7 +68,8 @@ module driver_particles
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
-            particles_gathered, count_hosts, particles_euler_fill, particles_euler_blocks
+            particles_gathered, count_hosts, particles_euler_fill, particles_euler_blocks, &
+            particles_preposition_blocks
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -75,6 +78,8 @@ module driver_particles
     integer, allocatable :: guess(:)
     !> (ncell) cells of the standard grid holding particles (smoothing rezones)
     logical, allocatable :: occupied(:)
+    !> guess and occupied are a block's (`particles_preposition_blocks`)
+    logical :: on_blocks = .false.
     !> the particles' share of the nodal kinetic energy and momentum before the
     !> remap, and the share of those that left through open faces
     real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp, ke_out = 0.0_wp, p_out(3) = 0.0_wp
@@ -503,6 +508,9 @@ contains
         call error_set(err, 'particles_euler_blocks', error_no_memory('work arrays'))
         n(1) = 1
       else
+        ! (the walk from the standard host where the particles were placed in
+        ! the standard grid, as on one process)
+        if (pe%on_blocks) po%cell = pe%guess(own)
         call particles_relocate(g, g%x, po, po%cell, cell, xi, bad, [g%glo > 0, g%ghi > 0])
         n(1) = merge(1, 0, bad /= 0)
       end if
@@ -528,6 +536,55 @@ contains
       call particles_euler_couple(st, pe, n(2), n(3), log)
     end associate
   end subroutine particles_euler_blocks
+
+  !> Remark 2 of Sect. 5.2 on the blocks of a decomposed run, before a
+  !> smoothing rezone (`particles_euler_preposition` on one process): each
+  !> block places the particles it owns in the standard grid x0 (its stored
+  !> cells' nodes; the walk from the current host with the block's cuts: the
+  !> host the whole grid's walk finds), and each cell of that grid that
+  !> hosts one is marked on the block that owns it (`parallel_mark_cells`),
+  !> then on the blocks that store it as a ghost (the halo). pe%guess (np:
+  !> each owned particle's standard host, 0 for the ghost copies) and
+  !> pe%occupied (the block's stored cells) are then the block's
+  !> (pe%on_blocks). done = .false., with pe unchanged, where on some block
+  !> a walk would leave its stored cells or ends in none (a particle out
+  !> through an open face): the caller places them on the whole grid then.
+  !> Collective.
+  subroutine particles_preposition_blocks(pc, st, x0, pe, done)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout) :: st
+    real(wp), intent(in) :: x0(:, :)
+    type(particles_euler_t), intent(inout) :: pe
+    logical, intent(out) :: done
+    integer, allocatable :: own(:), host(:)
+    logical, allocatable :: mark(:)
+    real(wp), allocatable :: occ(:)
+    real(wp) :: xi(3)
+    integer :: q, k, n(1)
+    logical :: found
+
+    associate (g => st%g, pt => st%pt)
+      own = pack([(k, k = 1, pt%np)], st%pw%owned)
+      allocate(host(size(own)))
+      n = 0
+      do q = 1, size(own)
+        k = own(q)
+        call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found, x0, [g%glo > 0, g%ghi > 0])
+        if (.not. found) n = 1
+      end do
+      call parallel_max(pc, n)
+      done = n(1) == 0
+      if (.not. done) return
+      call parallel_mark_cells(pc, g, [(g%global_cell(host(q)), q = 1, size(host))], mark)
+      occ = merge(1.0_wp, 0.0_wp, mark)
+      call st%halo%cells(occ)
+      pe%occupied = occ > 0.5_wp
+      allocate(pe%guess(pt%np))
+      pe%guess = 0
+      pe%guess(own) = host
+      pe%on_blocks = .true.
+    end associate
+  end subroutine particles_preposition_blocks
 
   !> How many of the block's owned cells host particles.
   integer function count_owned_hosts(st) result(n)

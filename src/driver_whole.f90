@@ -70,7 +70,7 @@ module driver_whole
   use particles_state, only: particles_t, particles_index
   use driver_particles, only: particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
-                              particles_euler_blocks
+                              particles_euler_blocks, particles_preposition_blocks, particles_euler_preposition
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
@@ -312,9 +312,15 @@ contains
     global = trim(cfg%rezone%mode) == 'global'
     moving = global_whole(cfg, st)
     parts = st%pblocks
-    ! (the whole grid's particles and nodes, on every rank: a smoothing
-    ! rezone's pre-positioning)
-    whole_x = parts .and. .not. global
+    ! a smoothing rezone's pre-positioning (Remark 2) on the blocks, else
+    ! on the whole grid's particles and nodes, on every rank (whole_x)
+    whole_x = .false.
+    if (parts .and. .not. global) then
+      call particles_preposition_blocks(pc, st, es%x0, pe, done)
+      whole_x = .not. done
+      if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
+                                 'walk would leave a block''s cells, or a particle left through an open face)')
+    end if
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
       call move_alloc(x, st%gw%x)
@@ -346,7 +352,11 @@ contains
       e0%t_rezone = 0.0_wp
       if (whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     else
-      if (allocated(pe%occupied)) occupied = [(pe%occupied(st%g%global_cell(c)), c = 1, st%g%ncell)]
+      if (pe%on_blocks) then
+        occupied = pe%occupied
+      else if (allocated(pe%occupied)) then
+        occupied = [(pe%occupied(st%g%global_cell(c)), c = 1, st%g%ncell)]
+      end if
       call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
                         xnew=xb, done=done, err=err, occupied=occupied)
       if (done .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
@@ -370,7 +380,7 @@ contains
     do
       if (allocated(err)) return
       if (.not. redo) then
-        if (parts) call window_particles(pc, st, es, sw, xnew, global, pe, log, err)
+        if (parts) call window_particles(pc, st, es, sw, xnew, .not. whole_x, pe, log, err)
         return
       end if
       ! (a search that went further than the windows reach, and nothing
@@ -393,6 +403,9 @@ contains
     if (.not. allocated(st%whole)) call whole_state_build(cfg, pc, st, err)
     call agree_error(pc, err)
     if (.not. allocated(err)) call whole_gather(pc, st, err)
+    ! (the particles placed in the standard grid again, whole: the blocks'
+    ! places are numbered on them)
+    if (.not. allocated(err) .and. pe%on_blocks) call whole_preposition(pc, st, st%whole, es, pe, err)
     if (.not. allocated(err)) then
       if (ps%on) then
         call euler_step(cfg%rezone, st%whole, es, log, err, xnew, e0, pe, resume=ps)
@@ -532,6 +545,7 @@ contains
         call log_line(log, '  particles: relocated on the whole grid (a walk would leave a block''s cells, or a '// &
                       'particle leaves through an open face)')
         call whole_particles(pc, st, sw, err)
+        if (.not. allocated(err) .and. pe%on_blocks) call whole_preposition(pc, st, sw, es, pe, err)
       end if
       if (.not. (done .or. allocated(err) .or. allocated(xnew))) &
         call gather_nodes(pc, st%g%grid_index_t, st%g%x, xnew, all=.true.)
@@ -554,6 +568,25 @@ contains
     end if
     call es%timer%stop()
   end subroutine window_particles
+
+  !> The particles of the whole grid's sw placed in the standard grid (the
+  !> blocks' (st) es%x0, gathered), their standard hosts in pe numbered on sw
+  !> (`particles_euler_preposition`); pe's balance kept. Collective.
+  subroutine whole_preposition(pc, st, sw, es, pe, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    type(state_t), intent(inout) :: sw
+    type(euler_state_t), intent(in) :: es
+    type(particles_euler_t), intent(inout) :: pe
+    type(error_t), allocatable, intent(inout) :: err
+    type(particles_euler_t) :: pw
+    real(wp), allocatable :: x0(:, :)
+    call gather_nodes(pc, st%g%grid_index_t, es%x0, x0, all=.true.)
+    pw%ke_solid = pe%ke_solid
+    pw%p_solid = pe%p_solid
+    call particles_euler_preposition(sw, x0, pw, err)
+    pe = pw
+  end subroutine whole_preposition
 
   !> sw: the whole grid's index and boundaries, and the blocks' particles
   !> gathered in the whole run's order (on every rank; collective).

@@ -18,7 +18,7 @@ module parallel_particles
   use parallel_gather, only: gather_concat, exchange_lists
   implicit none
   private
-  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move
+  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move, parallel_mark_cells
 
 contains
 
@@ -237,7 +237,7 @@ contains
       end do
     end do
     do q = 1, n
-      ijk = global_ijk(pn%cell(q)) - g%off
+      ijk = global_ijk(g, pn%cell(q)) - g%off
       pn%cell(q) = g%cell(ijk(1), ijk(2), ijk(3))
     end do
     ! (a block may receive none: its binning then empty)
@@ -255,16 +255,61 @@ contains
       call g%cell_ijk(pt%cell(q), ijk(1), ijk(2), ijk(3))
       owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
     end do
-
-  contains
-
-    !> The indices of global cell c of the whole grid (g%gn).
-    pure function global_ijk(c) result(ix)
-      integer, intent(in) :: c
-      integer :: ix(3)
-      ix(1) = mod(c - 1, g%gn(1)) + 1
-      ix(2) = mod((c - 1)/g%gn(1), g%gn(2)) + 1
-      ix(3) = (c - 1)/(g%gn(1)*g%gn(2)) + 1
-    end function global_ijk
   end subroutine parallel_particles_move
+
+  !> The owned cells of g that any rank names (cells: global cell numbers
+  !> of the whole grid, in any rank's block): each rank sends each cell to
+  !> the rank that owns it (ranks' owned boxes gathered, 6 integers each);
+  !> mark(ncell) true at the owned cells named, false elsewhere (the ghost
+  !> cells are the caller's: a halo exchange). Collective.
+  subroutine parallel_mark_cells(pc, g, cells, mark)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: cells(:)
+    logical, allocatable, intent(out) :: mark(:)
+    integer, allocatable :: boxes(:), to(:)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer :: lo(3), hi(3), ijk(3), q, r, stat, count_to(0:pc%nranks - 1), pos(0:pc%nranks - 1)
+    call g%cells_around(0, lo, hi)
+    call gather_concat(pc, [lo + g%off, hi + g%off], boxes)
+    allocate(to(size(cells)), sbuf(size(cells)), mark(g%ncell), stat=stat)
+    call parallel_nomem(stat, 'the cells marked')
+    count_to = 0
+    do q = 1, size(cells)
+      ijk = global_ijk(g, cells(q))
+      to(q) = -1
+      do r = 0, pc%nranks - 1
+        if (all(ijk >= boxes(6*r + 1:6*r + 3) .and. ijk <= boxes(6*r + 4:6*r + 6))) then
+          to(q) = r
+          exit
+        end if
+      end do
+      if (to(q) >= 0) count_to(to(q)) = count_to(to(q)) + 1
+    end do
+    pos(0) = 0
+    do r = 1, pc%nranks - 1
+      pos(r) = pos(r - 1) + count_to(r - 1)
+    end do
+    do q = 1, size(cells)
+      if (to(q) < 0) cycle
+      pos(to(q)) = pos(to(q)) + 1
+      sbuf(pos(to(q))) = real(cells(q), wp)
+    end do
+    call exchange_lists(pc, sbuf(:sum(count_to)), count_to, rbuf)
+    mark = .false.
+    do q = 1, size(rbuf)
+      ijk = global_ijk(g, nint(rbuf(q))) - g%off
+      mark(g%cell(ijk(1), ijk(2), ijk(3))) = .true.
+    end do
+  end subroutine parallel_mark_cells
+
+  !> The indices of global cell c of the whole grid (g%gn).
+  pure function global_ijk(g, c) result(ix)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: c
+    integer :: ix(3)
+    ix(1) = mod(c - 1, g%gn(1)) + 1
+    ix(2) = mod((c - 1)/g%gn(1), g%gn(2)) + 1
+    ix(3) = (c - 1)/(g%gn(1)*g%gn(2)) + 1
+  end function global_ijk
 end module parallel_particles
