@@ -42,7 +42,10 @@ module driver_particles
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
-  use parallel_comm, only: comm_t, parallel_max, parallel_sum
+  use parallel_comm, only: comm_t, parallel_max, parallel_min, parallel_sum
+  use parallel_gather, only: cell_prefix
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
+  use driver_parallel, only: agree_error
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
                                 parallel_mark_cells
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
@@ -94,21 +97,33 @@ module driver_particles
 contains
 
   !> The particles of every &particles group into st%pt (module notes).
-  subroutine build_particles(cfg, st, log, err)
+  !> With comm (a decomposed run whose groups are shapes or STL surfaces:
+  !> `particles_seed_on_blocks`) each block seeds its owned cells, numbers
+  !> its particles as one process does (the seeding order, group by group
+  !> and cell by cell in the whole grid's order: `cell_prefix`), and sends
+  !> them to the blocks whose ghost layers hold them
+  !> (`parallel_particles_move`); the log's counts and sums are the whole
+  !> run's.
+  subroutine build_particles(cfg, st, log, err, comm)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
+    type(comm_t), intent(in), optional :: comm
     type(seeded_t), allocatable :: groups(:)
+    type(strength_slot_t), allocatable :: models(:)
+    type(xsum_t) :: vsum(1)
     real(wp) :: axis(3), rho
-    integer :: k, i, np, q, stat, nhist
-    integer, allocatable :: shared(:)
-    logical :: found
+    integer :: k, i, np, q, stat, nhist, nall(2)
+    integer, allocatable :: shared(:), counts(:), ids(:), first(:), total(:)
+    logical, allocatable :: owned(:)
+    logical :: found, blocks
     character(len=120) :: note
     character(len=200) :: msg
 
     if (.not. allocated(cfg%particles)) return
     if (size(cfg%particles) == 0) return
+    blocks = present(comm)
     allocate(groups(size(cfg%particles)), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'build_particles', error_no_memory('the groups'))
@@ -132,8 +147,11 @@ contains
         else
           call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
         end if
+        ! (a block keeps those of its owned cells; the counts are the run's)
+        if (blocks .and. .not. allocated(err)) call owned_only(st%g, gr)
+        if (blocks) call agree_error(comm, err)
         if (allocated(err)) return
-        if (size(gr%cell) == 0) then
+        if (group_count(size(gr%cell)) == 0) then
           call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): the '// &
             trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)//' (no sub-cell centre '// &
             'lies in it): make it larger or raise per_cell', ERR_INPUT)
@@ -141,8 +159,24 @@ contains
         end if
       end associate
     end do
-    call union_of_bodies(cfg, groups, shared, err)
+    call union_of_bodies(cfg, groups, shared, err, blocks)
+    if (blocks) call agree_error(comm, err)
     if (allocated(err)) return
+    if (blocks) then
+      counts = [(size(groups(k)%cell), k = 1, size(groups))]
+      call parallel_sum(comm, counts)
+      call parallel_sum(comm, shared)
+      do k = 1, size(groups)
+        if (counts(k) > 0) cycle
+        call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
+                       'sub-cell of the '//trim(cfg%particles(k)%shape)//' was seeded by an earlier group of body '// &
+                       itoa(cfg%particles(k)%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)
+        return
+      end do
+    end if
+    ! the seeding ids (1.. in the whole run, group by group in seeding
+    ! order) and each particle's place among its solid's in id order
+    call seeding_ids(st, groups, ids, first, total, comm)
     np = 0
     do k = 1, size(groups)
       np = np + size(groups(k)%cell)
@@ -165,6 +199,7 @@ contains
         axis(pc%axis) = 1.0_wp
         do i = 1, size(gr%cell)
           q = q + 1
+          p%id(q) = ids(q)
           p%mat(q) = pc%isolid
           p%body(q) = pc%body
           p%cell(q) = gr%cell(i)
@@ -182,67 +217,185 @@ contains
         end do
         note = ''
         if (shared(k) > 0) note = ' (not the '//itoa(shared(k))//' sub-cells an earlier group of the body seeded)'
-        call log_line(log, 'particles('//itoa(k)//'): '//itoa(size(gr%cell))//' particles of solid '''// &
-          trim(cfg%solids(pc%isolid)%name)//''', body '//itoa(pc%body)//', volume '//rtoa(sum(gr%vol))// &
-          ', mass '//rtoa(rho*sum(gr%vol))//trim(note))
+        ! (the volume summed exactly: the same on any rank count)
+        vsum(1) = xsum_t()
+        do i = 1, size(gr%cell)
+          call xsum_add(vsum(1), gr%vol(i))
+        end do
+        call st%halo%sums(vsum)
+        call log_line(log, 'particles('//itoa(k)//'): '//itoa(group_count(size(gr%cell)))//' particles of solid '''// &
+          trim(cfg%solids(pc%isolid)%name)//''', body '//itoa(pc%body)//', volume '//rtoa(xsum_value(vsum(1)))// &
+          ', mass '//rtoa(rho*xsum_value(vsum(1)))//trim(note))
       end associate
     end do
     call particles_order(st%pt, st%g%ncell, err)
+    if (blocks) call agree_error(comm, err)
     if (allocated(err)) return
     if (st%pt%spread) call particles_support_widths(st%g, st%pt)
-    if (cfg%hydro%particles_coupled) call couple_particles(cfg, st, err)
+    if (cfg%hydro%particles_coupled) then
+      call couple_particles(cfg, st, err, .not. blocks)
+      if (.not. allocated(err)) then
+        call gurson_voids(cfg, st, log, first, total, err, comm)
+      end if
+    end if
+    if (blocks) call agree_error(comm, err)
     if (allocated(err)) return
-    if (cfg%hydro%particles_coupled) call gurson_voids(cfg, st, log, err)
-    if (allocated(err)) return
-    call log_line(log, 'particles: '//itoa(np)//' in all, '//itoa(count_hosts(st%pt, st%g%ncell))// &
+    nall = [st%pt%np, count_hosts(st%pt, st%g%ncell)]
+    if (blocks) then
+      ! the block's particles sent to the blocks whose ghost layers hold
+      ! them, then the nodes their momentum (`couple_particles`)
+      call parallel_sum(comm, nall)
+      owned = [(.true., k = 1, st%pt%np)]
+      call parallel_particles_move(comm, st%g, merge(2, 1, st%pt%spread), st%pt, owned, err)
+      if (.not. allocated(err)) then
+        st%pblocks = .true.
+        if (allocated(st%pw%models)) call move_alloc(st%pw%models, models)
+        call blocks_work(st, models, owned, err)
+      end if
+      if (.not. allocated(err) .and. cfg%hydro%particles_coupled) call share_velocities(st)
+      call agree_error(comm, err)
+      if (allocated(err)) return
+    end if
+    call log_line(log, 'particles: '//itoa(nall(1))//' in all, '//itoa(nall(2))// &
                   ' host cells, '//itoa(size(cfg%solids))//' solid(s)')
+
+  contains
+
+    !> A group's particle count, the whole run's.
+    integer function group_count(n) result(nw)
+      integer, intent(in) :: n
+      integer :: a(1)
+      a(1) = n
+      if (blocks) call parallel_sum(comm, a)
+      nw = a(1)
+    end function group_count
   end subroutine build_particles
+
+  !> The particles of a seeded group gr in the block's owned cells of g.
+  subroutine owned_only(g, gr)
+    class(grid_index_t), intent(in) :: g
+    type(seeded_t), intent(inout) :: gr
+    logical, allocatable :: keep(:)
+    integer :: i, ijk(3)
+    allocate(keep(size(gr%cell)))
+    do i = 1, size(gr%cell)
+      call g%cell_ijk(gr%cell(i), ijk(1), ijk(2), ijk(3))
+      keep(i) = g%owns_cell(ijk(1), ijk(2), ijk(3))
+    end do
+    gr%cell = pack(gr%cell, keep)
+    gr%vol = pack(gr%vol, keep)
+    gr%xi = reshape(pack(gr%xi, spread(keep, 1, 3)), [3, count(keep)])
+    gr%x = reshape(pack(gr%x, spread(keep, 1, 3)), [3, count(keep)])
+  end subroutine owned_only
+
+  !> The seeding ids of the groups' particles (ids(q), q in the order the
+  !> groups list them): 1.. over the whole run, group by group, each group's
+  !> in its seeding order (on one process the order of the lists; on a
+  !> block of a decomposed run (comm) the whole grid's cell order, the
+  !> places of the block's cells from `cell_prefix`, within a cell the
+  !> list's); group k's ids are first(k) + 1 .. first(k) + total(k).
+  subroutine seeding_ids(st, groups, ids, first, total, comm)
+    type(state_t), intent(in) :: st
+    type(seeded_t), intent(in) :: groups(:)
+    integer, allocatable, intent(out) :: ids(:), first(:), total(:)
+    type(comm_t), intent(in), optional :: comm
+    integer, allocatable :: cnt(:, :), before(:, :), seen(:)
+    integer :: k, i, q, c, ng
+    ng = size(groups)
+    allocate(ids(sum([(size(groups(k)%cell), k = 1, ng)])), first(ng), total(ng), seen(st%g%ncell))
+    if (present(comm)) then
+      allocate(cnt(ng, st%g%ncell))
+      cnt = 0
+      do k = 1, ng
+        do i = 1, size(groups(k)%cell)
+          cnt(k, groups(k)%cell(i)) = cnt(k, groups(k)%cell(i)) + 1
+        end do
+      end do
+      call cell_prefix(comm, st%g%grid_index_t, cnt, before, total)
+    else
+      total = [(size(groups(k)%cell), k = 1, ng)]
+    end if
+    first(1) = 0
+    do k = 2, ng
+      first(k) = first(k - 1) + total(k - 1)
+    end do
+    q = 0
+    do k = 1, ng
+      seen = 0
+      do i = 1, size(groups(k)%cell)
+        q = q + 1
+        if (present(comm)) then
+          c = groups(k)%cell(i)
+          seen(c) = seen(c) + 1
+          ids(q) = first(k) + before(k, c) + seen(c)
+        else
+          ids(q) = first(k) + i
+        end if
+      end do
+    end do
+  end subroutine seeding_ids
 
   !> The random initial porosity of the particles of each gurson solid with
   !> void_std > 0 (&solid void_*, PARTICLES.md §3), after their models'
   !> hist_init: a Gaussian random field (`strength_random_field`, correlation
   !> length void_length, 0: uncorrelated) over the solid's particles'
-  !> bounding box, sampled at the particles in seeding-id order (a 2D field
-  !> through a one-cell-thick grid, nk = 1), mapped to f0 = void_mean +
-  !> void_std g (or lognormal) truncated to [1e-6, min(0.5, gtn_fc)]; f and
-  !> the kept f0 of the history take it. The log gives the sample's mean,
-  !> standard deviation and range, the clipped variance share and the
-  !> number truncated. A restart reads the history back over these values.
-  subroutine gurson_voids(cfg, st, log, err)
+  !> bounding box, sampled at the particles (in the uncorrelated limit each
+  !> particle takes the normal of the seeded stream at its place among its
+  !> solid's particles in seeding-id order: the groups' ids first(k) + 1 ..
+  !> first(k) + total(k)) (a 2D field through a grid one cell thick, nk =
+  !> 1), mapped to f0 = void_mean + void_std g (or lognormal) truncated to
+  !> [1e-6, min(0.5, gtn_fc)]; f and the kept f0 of the history take it.
+  !> The log gives the sample's mean, standard deviation and range (exact
+  !> sums), the clipped variance share and the number truncated. A restart
+  !> reads the history back over these values. With comm, a block's
+  !> particles (its owned cells'), the box, spacing and log the whole run's.
+  subroutine gurson_voids(cfg, st, log, first, total, err, comm)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(log_t), intent(in) :: log
+    integer, intent(in) :: first(:), total(:)
     type(error_t), allocatable, intent(inout) :: err
+    type(comm_t), intent(in), optional :: comm
     type(random_field_t) :: field
-    integer, allocatable :: order(:)
-    real(wp), allocatable :: xs(:, :), g(:), f0(:)
-    real(wp) :: lo(3), hi(3), spacing, clipped, fm, fs
-    integer :: s, n, ntrunc, stat
+    type(xsum_t) :: acc(2)
+    integer, allocatable :: order(:), place(:)
+    real(wp), allocatable :: xs(:, :), g(:), f0(:), stream(:), none(:, :)
+    real(wp) :: lo(3), hi(3), vmin(1), clipped, fm, fs, range(2)
+    integer :: s, n(2), ntrunc, stat, q, k, j
     character(len=200) :: msg
     character(len=:), allocatable :: why
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s), p => st%pt)
         if (trim(sc%strength) /= 'gurson' .or. .not. sc%void_std > 0.0_wp) cycle
-        n = p%mat_start(s + 1) - p%mat_start(s)
-        if (n == 0) cycle
-        ! the solid's particles in seeding-id order
-        call particles_solid_order(p, s, order, err)
-        if (allocated(err)) return
-        allocate(xs(3, n), g(n), f0(n), stat=stat, errmsg=msg)
+        n(1) = sum(total, mask=[(cfg%particles(k)%isolid == s, k = 1, size(total))])
+        if (n(1) == 0) cycle
+        order = [(q, q = p%mat_start(s), p%mat_start(s + 1) - 1)]
+        allocate(xs(3, size(order)), g(size(order)), f0(size(order)), place(size(order)), stat=stat, errmsg=msg)
         if (stat /= 0) then
           call error_set(err, 'gurson_voids', error_no_memory('the void field''s work arrays'))
           return
         end if
         xs = p%x(:, order)
-        lo = minval(xs, dim=2)
-        hi = maxval(xs, dim=2)
-        if (st%g%nk == 1) then
+        lo = huge(1.0_wp)
+        hi = -huge(1.0_wp)
+        vmin = huge(1.0_wp)
+        if (size(order) > 0) then
+          lo = minval(xs, dim=2)
+          hi = maxval(xs, dim=2)
+          vmin = minval(p%vol(order))
+        end if
+        if (present(comm)) then
+          call parallel_min(comm, lo)
+          call parallel_max(comm, hi)
+          call parallel_min(comm, vmin)
+        end if
+        if (st%g%gn(3) == 1) then
           ! plane strain, one cell thick: a 2D field
           hi(3) = lo(3)
           xs(3, :) = lo(3)
         end if
-        spacing = minval(p%vol(order))**(1.0_wp/3.0_wp)
-        call random_field_build(lo, hi, spacing, sc%void_length, sc%void_covariance, sc%void_seed, field, clipped, err)
+        call random_field_build(lo, hi, vmin(1)**(1.0_wp/3.0_wp), sc%void_length, sc%void_covariance, sc%void_seed, &
+                                field, clipped, err)
         if (allocated(err)) then
           ! (found only now: the field's box and spacing are the seeded particles')
           if (err%category == ERR_INPUT) then
@@ -253,31 +406,79 @@ contains
           end if
           return
         end if
-        call random_field_sample(field, xs, g, err)
+        ! each particle's place among the solid's in id order
+        do q = 1, size(order)
+          place(q) = 0
+          do k = 1, size(total)
+            if (cfg%particles(k)%isolid /= s) cycle
+            if (p%id(order(q)) > first(k) .and. p%id(order(q)) <= first(k) + total(k)) then
+              place(q) = place(q) + p%id(order(q)) - first(k)
+              exit
+            end if
+            place(q) = place(q) + total(k)
+          end do
+        end do
+        if (field%correlated) then
+          call random_field_sample(field, xs, g, err)
+        else
+          ! (the stream up to the last place here; x is not read)
+          j = 0
+          if (size(order) > 0) j = maxval(place)
+          allocate(stream(j), none(3, j), stat=stat)
+          if (stat /= 0) then
+            call error_set(err, 'gurson_voids', error_no_memory('the void field''s stream'))
+            return
+          end if
+          none = 0.0_wp
+          call random_field_sample(field, none, stream, err)
+          if (.not. allocated(err)) g = stream(place)
+          deallocate(stream, none)
+        end if
         if (allocated(err)) return
         call void_fraction_from_field(g, sc%void_mean, sc%void_std, sc%void_distribution, f0, ntrunc, err, &
                                       f_max=min(0.5_wp, sc%gtn_fc))
         if (allocated(err)) return
         p%hist(gtn_f, order) = f0
         p%hist(gtn_f0, order) = f0
-        fm = sum(f0)/n
-        fs = sqrt(sum((f0 - fm)**2)/max(n - 1, 1))
-        call log_line(log, 'gurson voids of solid '''//trim(sc%name)//''': '//itoa(n)//' particles, f0 mean '// &
-          rtoa(fm)//', std '//rtoa(fs)//', range '//rtoa(minval(f0))//' .. '//rtoa(maxval(f0))//' ('// &
+        ! (the sample's statistics from exact sums: the same on any ranks)
+        acc = xsum_t()
+        do q = 1, size(f0)
+          call xsum_add(acc(1), f0(q))
+        end do
+        call st%halo%sums(acc(1:1))
+        fm = xsum_value(acc(1))/n(1)
+        do q = 1, size(f0)
+          call xsum_add(acc(2), (f0(q) - fm)**2)
+        end do
+        call st%halo%sums(acc(2:2))
+        fs = sqrt(xsum_value(acc(2))/max(n(1) - 1, 1))
+        range = [huge(1.0_wp), -huge(1.0_wp)]
+        if (size(f0) > 0) range = [minval(f0), maxval(f0)]
+        n(2) = ntrunc
+        if (present(comm)) then
+          call parallel_min(comm, range(1:1))
+          call parallel_max(comm, range(2:2))
+          call parallel_sum(comm, n(2:2))
+        end if
+        call log_line(log, 'gurson voids of solid '''//trim(sc%name)//''': '//itoa(n(1))//' particles, f0 mean '// &
+          rtoa(fm)//', std '//rtoa(fs)//', range '//rtoa(range(1))//' .. '//rtoa(range(2))//' ('// &
           trim(sc%void_distribution)//', '//trim(sc%void_covariance)//' covariance, length '//rtoa(sc%void_length)// &
-          ', seed '//itoa(sc%void_seed)//'); '//itoa(ntrunc)//' truncated to [1e-6, '// &
+          ', seed '//itoa(sc%void_seed)//'); '//itoa(n(2))//' truncated to [1e-6, '// &
           rtoa(min(0.5_wp, sc%gtn_fc))//'], variance share clipped '//rtoa(clipped))
-        deallocate(order, xs, g, f0)
+        deallocate(order, xs, g, f0, place)
       end associate
     end do
   end subroutine gurson_voids
 
   !> The coupling of the particles (module notes): virtual-fluid masses
   !> (Eq. 16, §1.7), strength models, work arrays.
-  subroutine couple_particles(cfg, st, err)
+  subroutine couple_particles(cfg, st, err, share)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(error_t), allocatable, intent(inout) :: err
+    !> the work arrays and the nodes' share of the momentum too (false: a
+    !> block, whose particles go to its neighbours first)
+    logical, intent(in) :: share
     integer :: s, stat
     character(len=200) :: msg
     type(strength_params_t) :: par
@@ -311,6 +512,7 @@ contains
       end associate
       if (allocated(err)) return
     end do
+    if (.not. share) return
     call particles_work_init(st%pw, st%g%nnode, st%g%ncell, st%pt%np, st%pt%nhist, err)
     ! the nodes the particles reach start with their share of the momentum
     if (.not. allocated(err)) call share_velocities(st)
@@ -845,11 +1047,14 @@ contains
   !> group k. Groups of points (file, line) are taken as they are. Groups of
   !> one body that share a cell at different per_cell, and a group left
   !> with no particle, are deck mistakes.
-  subroutine union_of_bodies(cfg, groups, shared, err)
+  subroutine union_of_bodies(cfg, groups, shared, err, blocks)
     type(config_t), intent(in) :: cfg
     type(seeded_t), intent(inout) :: groups(:)
     integer, allocatable, intent(out) :: shared(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> a block's groups (of its owned cells): an empty one is the caller's
+    !> to judge, on the whole run's counts
+    logical, intent(in) :: blocks
     logical, allocatable :: keep(:)
     logical :: clash
     integer :: j, k, stat
@@ -885,7 +1090,7 @@ contains
             deallocate(keep)
           end associate
         end do
-        if (size(gk%cell) == 0) then
+        if (size(gk%cell) == 0 .and. .not. blocks) then
           call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
                          'sub-cell of the '//trim(pk%shape)//' was seeded by an earlier group of body '// &
                          itoa(pk%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)

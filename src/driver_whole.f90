@@ -68,7 +68,7 @@ module driver_whole
   use io_log, only: log_t, log_line
   use base_strings, only: itoa
   use particles_state, only: particles_t, particles_index
-  use driver_particles, only: particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
+  use driver_particles, only: build_particles, particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
                               particles_euler_blocks, particles_preposition_blocks, particles_euler_preposition
   use particles_lagrange, only: strength_slot_t
@@ -91,7 +91,7 @@ module driver_whole
   use material_mixed, only: mixed_cell_state
   use lagrange_centroids, only: centroids_fit_planes, centroids_remember, plane_memory_t
   use driver_config, only: config_t
-  use driver_state, only: state_t, state_register_restart, state_after_read
+  use driver_state, only: state_t, state_register_restart, state_after_read, state_totals
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
                           euler_rezone, euler_finish, remap_params, euler_preposition, &
@@ -111,16 +111,27 @@ module driver_whole
 contains
 
   !> Builds st%whole from the deck when a decomposed run needs it (Euler
-  !> steps or particles); nothing otherwise. With particles the blocks are
-  !> then taken from it.
-  subroutine whole_build(cfg, pc, st, log, err)
+  !> steps on the whole grid, or particles the blocks cannot seed:
+  !> `seed_on_blocks`); nothing otherwise. With particles the blocks are
+  !> then taken from it. Particles the blocks can seed are seeded on them
+  !> (`build_particles`), and the Euler steps taken on windows.
+  subroutine whole_build(cfg, pc, st, log, restarting, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(log_t), intent(in) :: log
+    logical, intent(in) :: restarting
     type(error_t), allocatable, intent(inout) :: err
     if (pc%nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
+    if (seed_on_blocks(cfg, restarting)) then
+      call build_particles(cfg, st, log, err, pc)
+      if (.not. allocated(err)) call state_totals(st)
+      st%tot%energy_initial = st%tot%internal + st%tot%kinetic
+      call agree_error(pc, err)
+      if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none') call window_build(cfg, pc, st, err)
+      return
+    end if
     if (size(cfg%particles) == 0 .and. trim(cfg%control%euler_ranks) == 'windows') then
       call window_build(cfg, pc, st, err)
       return
@@ -136,6 +147,22 @@ contains
     if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none' .and. trim(cfg%control%euler_ranks) == 'windows') &
       call window_build(cfg, pc, st, err)
   end subroutine whole_build
+
+  !> Whether a decomposed run's blocks seed its particles themselves
+  !> (`build_particles`): particles of shapes and STL surfaces (a file's
+  !> points or a line's are seeded on the whole grid: their hosts come from a
+  !> walk along the list), no tracked particles (chosen on the whole run's),
+  !> not a restart (read on the whole grid), Euler steps on windows.
+  logical function seed_on_blocks(cfg, restarting) result(yes)
+    type(config_t), intent(in) :: cfg
+    logical, intent(in) :: restarting
+    integer :: k
+    yes = size(cfg%particles) > 0 .and. cfg%output%ntrack == 0 .and. .not. restarting .and. &
+          (trim(cfg%rezone%mode) == 'none' .or. trim(cfg%control%euler_ranks) == 'windows')
+    do k = 1, size(cfg%particles)
+      if (cfg%particles(k)%shape == 'file' .or. cfg%particles(k)%shape == 'line') yes = .false.
+    end do
+  end function seed_on_blocks
 
   !> st%whole built from the deck on the whole grid, its Euler steps' work
   !> shared by the ranks.

@@ -11,7 +11,7 @@ module parallel_gather
   implicit none
   private
   public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_box_fields, gather_concat, gather_field_t, &
-            exchange_lists
+            exchange_lists, cell_prefix
 
   !> One field of `gather_box_fields`: the block's a(m, nnode or ncell)
   !> and the box's w(m, nodes or cells of the box).
@@ -422,4 +422,123 @@ contains
     call parallel_nomem(stat, 'a gather')
     call MPI_Allgatherv(a, size(a), MPI_INTEGER, w, counts, displs, MPI_INTEGER, pc%world)
   end subroutine concat_int
+  !> The exclusive prefix sums of m counts per cell in the whole grid's
+  !> cell order: counts(m, ncell) of the block's owned cells (its ghost
+  !> cells' ignored) give before(m, ncell), at each owned cell the sums over
+  !> every cell before it in the whole grid (0 at ghost cells), and total(m)
+  !> the whole grid's sums. Each block's rows (one j, k of its owned cells)
+  !> are summed and the row sums gathered on every rank (m + 2 integers per
+  !> row of each block: the size of a face of the whole grid times the
+  !> blocks along x, not of the grid). Collective.
+  subroutine cell_prefix(pc, ix, counts, before, total)
+    type(comm_t), intent(in) :: pc
+    type(grid_index_t), intent(in) :: ix
+    integer, intent(in) :: counts(:, :)
+    integer, allocatable, intent(out) :: before(:, :)
+    integer, intent(out) :: total(:)
+    integer, allocatable :: mine(:), rows(:), order(:), base(:)
+    integer :: m, nrow, q, r, j, k, i, c, at, stat, run(size(total))
+    m = size(counts, 1)
+    nrow = (ix%chi(2) - ix%clo(2) + 1)*(ix%chi(3) - ix%clo(3) + 1)
+    allocate(mine((m + 2)*nrow), before(m, ix%ncell), stat=stat)
+    call parallel_nomem(stat, 'the cells'' prefix sums')
+    ! (each row: its global row number, its first global i, its m sums)
+    q = 0
+    do k = ix%clo(3), ix%chi(3)
+      do j = ix%clo(2), ix%chi(2)
+        mine(q + 1) = (j + ix%off(2)) + ix%gn(2)*(k + ix%off(3) - 1)
+        mine(q + 2) = ix%clo(1) + ix%off(1)
+        mine(q + 3:q + 2 + m) = 0
+        do i = ix%clo(1), ix%chi(1)
+          mine(q + 3:q + 2 + m) = mine(q + 3:q + 2 + m) + counts(:, ix%cell(i, j, k))
+        end do
+        q = q + m + 2
+      end do
+    end do
+    call gather_concat(pc, mine, rows)
+    ! (the rows of all blocks in the whole grid's order: by row, then i)
+    nrow = size(rows)/(m + 2)
+    allocate(order(nrow), base(m*nrow), stat=stat)
+    call parallel_nomem(stat, 'the cells'' prefix sums')
+    order = [(r, r = 1, nrow)]
+    call sort_rows()
+    run = 0
+    do r = 1, nrow
+      at = (m + 2)*(order(r) - 1)
+      base(m*(order(r) - 1) + 1:m*order(r)) = run
+      run = run + rows(at + 3:at + 2 + m)
+    end do
+    total = run
+    before = 0
+    ! (this rank's rows are its own entries of the gathered list: find the
+    ! first by its key)
+    q = first_mine()
+    do k = ix%clo(3), ix%chi(3)
+      do j = ix%clo(2), ix%chi(2)
+        q = q + 1
+        run = base(m*(q - 1) + 1:m*q)
+        do i = ix%clo(1), ix%chi(1)
+          c = ix%cell(i, j, k)
+          before(:, c) = run
+          run = run + counts(:, c)
+        end do
+      end do
+    end do
+
+  contains
+
+    !> order sorted by (row, first i) of the gathered rows (a merge sort).
+    subroutine sort_rows()
+      integer, allocatable :: tmp(:)
+      integer :: width, lo, mid, hi, a, b, t
+      allocate(tmp(nrow), stat=stat)
+      call parallel_nomem(stat, 'the cells'' prefix sums')
+      width = 1
+      do while (width < nrow)
+        do lo = 1, nrow, 2*width
+          mid = min(lo + width - 1, nrow)
+          hi = min(lo + 2*width - 1, nrow)
+          a = lo
+          b = mid + 1
+          do t = lo, hi
+            if (b > hi) then
+              tmp(t) = order(a); a = a + 1
+            else if (a > mid) then
+              tmp(t) = order(b); b = b + 1
+            else if (.not. row_less(order(b), order(a))) then
+              tmp(t) = order(a); a = a + 1
+            else
+              tmp(t) = order(b); b = b + 1
+            end if
+          end do
+        end do
+        order = tmp
+        width = 2*width
+      end do
+    end subroutine sort_rows
+
+    logical function row_less(x, y)
+      integer, intent(in) :: x, y
+      integer :: ax, ay
+      ax = (m + 2)*(x - 1)
+      ay = (m + 2)*(y - 1)
+      row_less = rows(ax + 1) < rows(ay + 1) .or. (rows(ax + 1) == rows(ay + 1) .and. rows(ax + 2) < rows(ay + 2))
+    end function row_less
+
+    !> The index before this rank's first row in the gathered list.
+    integer function first_mine() result(f)
+      integer :: counts_r(pc%nranks)
+      call concat_counts_rows(counts_r)
+      f = sum(counts_r(:pc%rank))
+    end function first_mine
+
+    subroutine concat_counts_rows(n)
+      integer, intent(out) :: n(:)
+      integer :: one(1)
+      integer, allocatable :: all(:)
+      one(1) = (ix%chi(2) - ix%clo(2) + 1)*(ix%chi(3) - ix%clo(3) + 1)
+      call gather_concat(pc, one, all)
+      n = all
+    end subroutine concat_counts_rows
+  end subroutine cell_prefix
 end module parallel_gather

@@ -240,9 +240,7 @@ contains
       ijk = global_ijk(g, pn%cell(q)) - g%off
       pn%cell(q) = g%cell(ijk(1), ijk(2), ijk(3))
     end do
-    ! (a block may receive none: its binning then empty)
-    if (n > 0) call particles_order(pn, g%ncell, err)
-    if (n == 0) call particles_index(pn, g%ncell, err)
+    call particles_order(pn, g%ncell, err)
     if (allocated(err)) return
     pt = pn
     deallocate(owned)

@@ -153,7 +153,11 @@ contains
     integer, intent(in) :: ncell
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: order(:)
-    if (p%np == 0) return
+    ! (none: an empty binning, as a block of a decomposed run may hold)
+    if (p%np == 0) then
+      call particles_index(p, ncell, err)
+      return
+    end if
     if (any(p%cell < 1) .or. any(p%cell > ncell) .or. any(p%mat < 1) .or. any(p%mat > p%nsolid)) then
       call error_set(err, 'particles_order', 'a host cell or material index is out of range')
       return
