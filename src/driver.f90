@@ -109,7 +109,7 @@ contains
       call halt(sch%log, 0)
     end if
     call agree_error(sch%pc, err)
-    if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, sch%restarting, err)
+    if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, err)
     if (.not. allocated(err)) then
       ! (chosen on the seeded particles: a decomposed run's whole grid holds them)
       if (allocated(st%whole)) then

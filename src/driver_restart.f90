@@ -35,7 +35,10 @@ module driver_restart
   use particles_state, only: particles_t, particles_check, particles_index, particles_allocate
   use particles_shape, only: particles_shape_values
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
-  use particles_lagrange, only: particles_work_resize
+  use particles_lagrange, only: particles_work_resize, strength_slot_t
+  use parallel_comm, only: comm_t
+  use parallel_gather, only: gather_concat
+  use driver_particles, only: particles_take
   use particles_spread, only: particles_support_widths
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
@@ -220,10 +223,12 @@ contains
   !> changes them): their storage is first reallocated to the stored sizes.
   !> A file that cannot be used is an input error.
   !>
-  !> With `block` (a block of a decomposed run without particles) each rank
-  !> reads its block's nodes and cells from the file and the whole grid's
-  !> mixed cells, then keeps those of its cells (`mixed_of_block`); the
-  !> conservation report is then the caller's.
+  !> With `block` (a block of a decomposed run) each rank reads its block's
+  !> nodes and cells from the file and the whole grid's mixed cells and
+  !> particles, then keeps those of its cells (`mixed_of_block`; the
+  !> particles of its cells and ghost layers, `particles_take`, checked
+  !> against the particles the blocks seeded, gathered); the conservation
+  !> report is then the caller's.
   subroutine read_restart(cfg, st, sch, es, err, block)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
@@ -241,6 +246,9 @@ contains
     character(len=:), allocatable :: path
     integer, allocatable :: dims(:), nparts(:), seed_body(:), seed_mat(:)
     integer :: n, nslot, nseed, nsolid, nhist, stat, k
+    type(particles_t) :: whole_pt
+    type(strength_slot_t), allocatable :: models(:)
+    logical :: pblocks
 
     blocks = .false.
     if (present(block)) blocks = block
@@ -280,12 +288,17 @@ contains
     ! the particles the file holds: fewer than the deck seeds once some left
     ! the grid through an open face
     nseed = st%pt%np
+    ! (the blocks' seeded particles: each rank reads them all, then takes its)
+    pblocks = blocks .and. st%pblocks
+    if (pblocks) call seeded_on_blocks(sch%pc, st, nseed, seed_body, seed_mat)
     if (nseed > 0) then
       ! what each seeded particle is (a particle keeps its body and solid)
-      seed_body = st%pt%body
-      seed_mat = st%pt%mat
-      seed_body(st%pt%id) = st%pt%body
-      seed_mat(st%pt%id) = st%pt%mat
+      if (.not. pblocks) then
+        seed_body = st%pt%body
+        seed_mat = st%pt%mat
+        seed_body(st%pt%id) = st%pt%body
+        seed_mat(st%pt%id) = st%pt%mat
+      end if
       call restart_read_dims(path, 'particle_id', dims, err)
       if (.not. allocated(err)) then
         if (size(dims) /= 1) call error_set(err, 'restart_read', path//': state/particle_id has the wrong rank')
@@ -299,13 +312,13 @@ contains
           call error_set(err, 'restart_read', path//' holds '//itoa(dims(1))//' particles; the deck seeds '// &
                          itoa(nseed)//' and none can leave (the deck has no open face)')
       end if
-      if (.not. allocated(err)) call restart_check_counts(path, reg, LOC_PARTICLE, nseed, dims(1), &
+      if (.not. allocated(err)) call restart_check_counts(path, reg, LOC_PARTICLE, st%pt%np, dims(1), &
                                                           'the count of state/particle_id', err)
       if (allocated(err)) then
         call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
         return
       end if
-      if (dims(1) /= nseed) then
+      if (dims(1) /= nseed .or. pblocks) then
         coupled = allocated(st%pt%mvf)
         nsolid = st%pt%nsolid
         nhist = st%pt%nhist
@@ -315,11 +328,11 @@ contains
           allocate(st%pt%mvf(dims(1)), stat=stat)
           if (stat /= 0) call error_set(err, 'read_restart', 'out of memory for the particles')
         end if
-        if (.not. allocated(err) .and. allocated(st%pw%vh)) &
+        if (.not. allocated(err) .and. allocated(st%pw%vh) .and. .not. pblocks) &
           call particles_work_resize(st%pw, dims(1), nhist, err)
         if (allocated(err)) return
-        call log_line(sch%log, 'restart: '//itoa(dims(1))//' particles ('//itoa(nseed - dims(1))// &
-                      ' of those seeded left the grid)')
+        if (dims(1) /= nseed) call log_line(sch%log, 'restart: '//itoa(dims(1))//' particles ('// &
+                                            itoa(nseed - dims(1))//' of those seeded left the grid)')
       end if
     end if
     call register_all(st, sch, es, reg)
@@ -350,9 +363,22 @@ contains
     end if
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
-    if (.not. allocated(err)) then
-      call particles_check(st%pt, st%g%ncell, nseed, err)
+    if (.not. allocated(err) .and. pblocks) then
+      ! (the whole run's particles, host cells numbered in the whole grid:
+      ! checked, then the block's taken)
+      call particles_check(st%pt, product(st%g%gn), nseed, err)
       if (.not. allocated(err) .and. st%pt%np > 0) call particles_as_seeded(st%pt, seed_body, seed_mat, err)
+      if (.not. allocated(err)) then
+        whole_pt = st%pt
+        if (allocated(st%pw%models)) models = st%pw%models
+        call particles_take(st, whole_pt, grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3)), models, err)
+      end if
+      if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
+    end if
+    if (.not. allocated(err)) then
+      if (.not. pblocks) call particles_check(st%pt, st%g%ncell, nseed, err)
+      if (.not. allocated(err) .and. st%pt%np > 0 .and. .not. pblocks) &
+        call particles_as_seeded(st%pt, seed_body, seed_mat, err)
       if (.not. allocated(err)) call particles_hosted(st%g, st%pt, err)
       if (.not. allocated(err)) call particles_index(st%pt, st%g%ncell, err)
       if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
@@ -474,6 +500,26 @@ contains
       if (allocated(err)) return
     end do
   end subroutine particles_as_seeded
+
+  !> A decomposed run's seeded particles (each block's owned ones): their
+  !> count nseed and, by id, their bodies and solids, gathered on every
+  !> rank. Collective.
+  subroutine seeded_on_blocks(pc, st, nseed, seed_body, seed_mat)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    integer, intent(out) :: nseed
+    integer, allocatable, intent(out) :: seed_body(:), seed_mat(:)
+    integer, allocatable :: id(:), body(:), mat(:)
+    associate (p => st%pt, own => st%pw%owned)
+      call gather_concat(pc, pack(p%id(:p%np), own), id)
+      call gather_concat(pc, pack(p%body(:p%np), own), body)
+      call gather_concat(pc, pack(p%mat(:p%np), own), mat)
+    end associate
+    nseed = size(id)
+    allocate(seed_body(nseed), seed_mat(nseed))
+    seed_body(id) = body
+    seed_mat(id) = mat
+  end subroutine seeded_on_blocks
 
   !> Each particle near the point of its host cell that its natural
   !> coordinates name: within half the cell's size (its position is that

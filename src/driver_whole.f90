@@ -115,16 +115,15 @@ contains
   !> `seed_on_blocks`); nothing otherwise. With particles the blocks are
   !> then taken from it. Particles the blocks can seed are seeded on them
   !> (`build_particles`), and the Euler steps taken on windows.
-  subroutine whole_build(cfg, pc, st, log, restarting, err)
+  subroutine whole_build(cfg, pc, st, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(log_t), intent(in) :: log
-    logical, intent(in) :: restarting
     type(error_t), allocatable, intent(inout) :: err
     if (pc%nranks == 1) return
     if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
-    if (seed_on_blocks(cfg, restarting)) then
+    if (seed_on_blocks(cfg)) then
       call build_particles(cfg, st, log, err, pc)
       if (.not. allocated(err)) call state_totals(st)
       st%tot%energy_initial = st%tot%internal + st%tot%kinetic
@@ -152,12 +151,12 @@ contains
   !> (`build_particles`): particles of shapes and STL surfaces (a file's
   !> points or a line's are seeded on the whole grid: their hosts come from a
   !> walk along the list), no tracked particles (chosen on the whole run's),
-  !> not a restart (read on the whole grid), Euler steps on windows.
-  logical function seed_on_blocks(cfg, restarting) result(yes)
+  !> Euler steps on windows. (A restart then reads the particles on the
+  !> blocks: `read_restart`.)
+  logical function seed_on_blocks(cfg) result(yes)
     type(config_t), intent(in) :: cfg
-    logical, intent(in) :: restarting
     integer :: k
-    yes = size(cfg%particles) > 0 .and. cfg%output%ntrack == 0 .and. .not. restarting .and. &
+    yes = size(cfg%particles) > 0 .and. cfg%output%ntrack == 0 .and. &
           (trim(cfg%rezone%mode) == 'none' .or. trim(cfg%control%euler_ranks) == 'windows')
     do k = 1, size(cfg%particles)
       if (cfg%particles(k)%shape == 'file' .or. cfg%particles(k)%shape == 'line') yes = .false.
