@@ -21,13 +21,13 @@ module driver_output
   use particles_track, only: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
                              track_field_names
   use driver_config, only: config_t
-  use parallel_comm, only: comm_t, parallel_bcast_text, parallel_min
+  use parallel_comm, only: comm_t, parallel_bcast_text, parallel_min, parallel_sum
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_gathered
   use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
   use io_blast, only: blast_t, blast_answers, blast_read_gauges
-  use particles_state, only: particles_t
+  use particles_state, only: particles_t, particles_select
   implicit none
   private
   public :: schedule_t, schedule_init, schedule_register_restart, open_outputs, write_frame, frame_out, &
@@ -243,25 +243,54 @@ contains
     type(state_t), intent(in) :: st
     type(schedule_t), intent(inout) :: sch
     type(error_t), allocatable, intent(inout) :: err
-    integer :: n, k, stat
+    type(particles_t) :: own
+    real(wp) :: d(1), key, vals(4)
+    integer :: n, k, stat, q, np(1), id(1)
     character(len=200) :: msg
     n = cfg%output%ntrack
     if (n == 0) return
-    if (st%pt%np == 0) then     ! (the deck check refuses this before; kept for callers that skip it)
+    ! (a decomposed run's blocks: their owned particles, the choice the whole
+    ! run's: the nearest, of those equally near the smallest id)
+    own = st%pt
+    if (st%pblocks) call particles_select(own, pack([(q, q = 1, st%pt%np)], st%pw%owned))
+    np(1) = own%np
+    call parallel_sum(sch%pc, np)
+    if (np(1) == 0) then     ! (the deck check refuses this before; kept for callers that skip it)
       call error_set(err, 'tracks_init', '&output track points but no particles', ERR_INPUT)
       return
     end if
-    allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(st%pt%np), sch%track_mat(n), stat=stat, errmsg=msg)
+    ! (at: over all ids, the run's seeded count)
+    allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(np(1)), sch%track_mat(n), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'tracks_init', error_no_memory('the tracked particles'))
       return
     end if
-    call particles_nearest_ids(st%pt, cfg%output%tracks(:, 1:n), sch%track_id)
-    call particles_index_of_ids(st%pt, sch%track_id, sch%track_at, sch%track_idx)
+    call particles_nearest_ids(own, cfg%output%tracks(:, 1:n), sch%track_id)
+    call particles_index_of_ids(own, sch%track_id, sch%track_at, sch%track_idx)
     do k = 1, n
-      sch%track_mat(k) = st%pt%mat(sch%track_idx(k))
+      q = sch%track_idx(k)
+      d = huge(1.0_wp)
+      if (q > 0) d = sum((own%x(:, q) - cfg%output%tracks(:, k))**2)
+      call parallel_min(sch%pc, d)
+      id = huge(1)
+      if (q > 0) then
+        if (.not. sum((own%x(:, q) - cfg%output%tracks(:, k))**2) > d(1)) id = own%id(q)
+      end if
+      call parallel_min(sch%pc, id)
+      sch%track_id(k) = id(1)
+      ! (the values of the block that owns it)
+      key = 1.0_wp
+      vals = 0.0_wp
+      if (q > 0) then
+        if (own%id(q) == sch%track_id(k)) then
+          key = 0.0_wp
+          vals = [own%x(:, q), real(own%mat(q), wp)]
+        end if
+      end if
+      call st%halo%choose(key, vals)
+      sch%track_mat(k) = nint(vals(4))
       call log_line(sch%log, 'track '//itoa(k)//': particle id '//itoa(sch%track_id(k))//' seeded at '// &
-        xyz_text(st%pt%x(:, sch%track_idx(k)))//', nearest to '//xyz_text(cfg%output%tracks(:, k)))
+        xyz_text(vals(1:3))//', nearest to '//xyz_text(cfg%output%tracks(:, k)))
     end do
     if (.not. sch%restarting .and. sch%pc%rank == 0) call tracks_open(cfg, st%pt%nhist, sch, .false., err)
   end subroutine tracks_init
