@@ -33,7 +33,7 @@ module driver_particles
   use mesh_grid, only: grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied, particles_place, &
-                             particles_leaving, particles_first_lost
+                             particles_leaving, particles_first_lost, particles_owned_hosts
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate
   use particles_virtual, only: particles_virtual_fill
@@ -148,7 +148,7 @@ contains
           call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
         end if
         ! (a block keeps those of its owned cells; the counts are the run's)
-        if (blocks .and. .not. allocated(err)) call owned_only(st%g, gr)
+        if (blocks .and. .not. allocated(err)) call owned_only(st%g, gr, err)
         if (blocks) call agree_error(comm, err)
         if (allocated(err)) return
         if (group_count(size(gr%cell)) == 0) then
@@ -176,7 +176,9 @@ contains
     end if
     ! the seeding ids (1.. in the whole run, group by group in seeding
     ! order) and each particle's place among its solid's in id order
-    call seeding_ids(st, groups, ids, first, total, comm)
+    call seeding_ids(st, groups, ids, first, total, err, comm)
+    if (blocks) call agree_error(comm, err)
+    if (allocated(err)) return
     np = 0
     do k = 1, size(groups)
       np = np + size(groups(k)%cell)
@@ -272,12 +274,17 @@ contains
   end subroutine build_particles
 
   !> The particles of a seeded group gr in the block's owned cells of g.
-  subroutine owned_only(g, gr)
+  subroutine owned_only(g, gr, err)
     class(grid_index_t), intent(in) :: g
     type(seeded_t), intent(inout) :: gr
+    type(error_t), allocatable, intent(inout) :: err
     logical, allocatable :: keep(:)
-    integer :: i, ijk(3)
-    allocate(keep(size(gr%cell)))
+    integer :: i, ijk(3), stat
+    allocate(keep(size(gr%cell)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'build_particles', error_no_memory('work arrays'))
+      return
+    end if
     do i = 1, size(gr%cell)
       call g%cell_ijk(gr%cell(i), ijk(1), ijk(2), ijk(3))
       keep(i) = g%owns_cell(ijk(1), ijk(2), ijk(3))
@@ -294,17 +301,22 @@ contains
   !> block of a decomposed run (comm) the whole grid's cell order, the
   !> places of the block's cells from `cell_prefix`, within a cell the
   !> list's); group k's ids are first(k) + 1 .. first(k) + total(k).
-  subroutine seeding_ids(st, groups, ids, first, total, comm)
+  subroutine seeding_ids(st, groups, ids, first, total, err, comm)
     type(state_t), intent(in) :: st
     type(seeded_t), intent(in) :: groups(:)
     integer, allocatable, intent(out) :: ids(:), first(:), total(:)
+    type(error_t), allocatable, intent(inout) :: err
     type(comm_t), intent(in), optional :: comm
     integer, allocatable :: cnt(:, :), before(:, :), seen(:)
-    integer :: k, i, q, c, ng
+    integer :: k, i, q, c, ng, stat
     ng = size(groups)
-    allocate(ids(sum([(size(groups(k)%cell), k = 1, ng)])), first(ng), total(ng), seen(st%g%ncell))
+    allocate(ids(sum([(size(groups(k)%cell), k = 1, ng)])), first(ng), total(ng), seen(st%g%ncell), &
+             cnt(merge(ng, 0, present(comm)), st%g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'build_particles', error_no_memory('the seeding ids'))
+      return
+    end if
     if (present(comm)) then
-      allocate(cnt(ng, st%g%ncell))
       cnt = 0
       do k = 1, ng
         do i = 1, size(groups(k)%cell)
@@ -733,7 +745,7 @@ contains
       pe%ke_out = 0.0_wp
       pe%p_out = 0.0_wp
       ! (the log's counts, the whole run's)
-      n(2:3) = [count(st%pw%owned), count_owned_hosts(st)]
+      n(2:3) = [count(st%pw%owned), particles_owned_hosts(st%g, st%pt)]
       call parallel_sum(pc, n(2:3))
       call particles_euler_couple(st, pe, n(2), n(3), log)
     end associate
@@ -758,18 +770,20 @@ contains
     real(wp), intent(in) :: x0(:, :)
     type(particles_euler_t), intent(inout) :: pe
     logical, intent(out) :: done
-    integer, allocatable :: own(:), host(:)
+    integer, allocatable :: own(:), host(:), guess(:)
     logical, allocatable :: mark(:)
     real(wp), allocatable :: occ(:)
     real(wp) :: xi(3)
-    integer :: q, k, n(1)
+    integer :: q, k, n(1), stat
     logical :: found
 
     associate (g => st%g, pt => st%pt)
       own = pack([(k, k = 1, pt%np)], st%pw%owned)
-      allocate(host(size(own)))
-      n = 0
+      ! (no room: the whole grid's way)
+      allocate(host(size(own)), guess(pt%np), stat=stat)
+      n = merge(1, 0, stat /= 0)
       do q = 1, size(own)
+        if (stat /= 0) exit
         k = own(q)
         call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found, x0, [g%glo > 0, g%ghi > 0])
         if (.not. found) n = 1
@@ -781,24 +795,12 @@ contains
       occ = merge(1.0_wp, 0.0_wp, mark)
       call st%halo%cells(occ)
       pe%occupied = occ > 0.5_wp
-      allocate(pe%guess(pt%np))
-      pe%guess = 0
-      pe%guess(own) = host
+      guess = 0
+      guess(own) = host
+      call move_alloc(guess, pe%guess)
       pe%on_blocks = .true.
     end associate
   end subroutine particles_preposition_blocks
-
-  !> How many of the block's owned cells host particles.
-  integer function count_owned_hosts(st) result(n)
-    type(state_t), intent(in) :: st
-    integer :: c, i, j, k
-    n = 0
-    do c = 1, st%g%ncell
-      if (st%pt%cell_start(c + 1) == st%pt%cell_start(c)) cycle
-      call st%g%cell_ijk(c, i, j, k)
-      if (st%g%owns_cell(i, j, k)) n = n + 1
-    end do
-  end function count_owned_hosts
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
   !> cells numbered in the whole grid): `parallel_particles_gather` of the

@@ -36,7 +36,7 @@ module driver_restart
   use particles_shape, only: particles_shape_values
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use particles_lagrange, only: particles_work_resize, strength_slot_t
-  use parallel_comm, only: comm_t
+  use parallel_comm, only: comm_t, parallel_nomem
   use parallel_gather, only: gather_concat
   use driver_particles, only: particles_take
   use particles_spread, only: particles_support_widths
@@ -510,13 +510,15 @@ contains
     integer, intent(out) :: nseed
     integer, allocatable, intent(out) :: seed_body(:), seed_mat(:)
     integer, allocatable :: id(:), body(:), mat(:)
+    integer :: stat
     associate (p => st%pt, own => st%pw%owned)
       call gather_concat(pc, pack(p%id(:p%np), own), id)
       call gather_concat(pc, pack(p%body(:p%np), own), body)
       call gather_concat(pc, pack(p%mat(:p%np), own), mat)
     end associate
     nseed = size(id)
-    allocate(seed_body(nseed), seed_mat(nseed))
+    allocate(seed_body(nseed), seed_mat(nseed), stat=stat)
+    call parallel_nomem(stat, 'the seeded particles')
     seed_body(id) = body
     seed_mat(id) = mat
   end subroutine seeded_on_blocks

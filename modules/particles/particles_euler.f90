@@ -38,7 +38,7 @@ module particles_euler
   implicit none
   private
   public :: particles_flip, particles_relocate, particles_occupied, particles_place, particles_leaving, &
-            particles_out_open_face, particles_first_lost
+            particles_out_open_face, particles_first_lost, particles_owned_hosts
 
 contains
 
@@ -90,6 +90,19 @@ contains
     !$omp end parallel do
     if (bad == huge(1)) bad = 0
   end subroutine particles_relocate
+
+  !> How many of the block g's owned cells host particles of p (binned).
+  integer function particles_owned_hosts(g, p) result(n)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: p
+    integer :: c, i, j, k
+    n = 0
+    do c = 1, g%ncell
+      if (p%cell_start(c + 1) == p%cell_start(c)) cycle
+      call g%cell_ijk(c, i, j, k)
+      if (g%owns_cell(i, j, k)) n = n + 1
+    end do
+  end function particles_owned_hosts
 
   !> The cells that host a particle of cell(np) (item 3).
   pure function particles_occupied(cell, ncell) result(occ)
