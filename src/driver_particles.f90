@@ -98,7 +98,7 @@ contains
 
   !> The particles of every &particles group into st%pt (module notes).
   !> With comm (a decomposed run whose groups are shapes or STL surfaces:
-  !> `particles_seed_on_blocks`) each block seeds its owned cells, numbers
+  !> `driver_whole`'s `seed_on_blocks`) each block seeds its owned cells, numbers
   !> its particles as one process does (the seeding order, group by group
   !> and cell by cell in the whole grid's order: `cell_prefix`), and sends
   !> them to the blocks whose ghost layers hold them
@@ -166,16 +166,14 @@ contains
       counts = [(size(groups(k)%cell), k = 1, size(groups))]
       call parallel_sum(comm, counts)
       call parallel_sum(comm, shared)
-      do k = 1, size(groups)
-        if (counts(k) > 0) cycle
-        call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
-                       'sub-cell of the '//trim(cfg%particles(k)%shape)//' was seeded by an earlier group of body '// &
-                       itoa(cfg%particles(k)%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)
+      k = findloc(counts, 0, 1)
+      if (k > 0) then
+        call union_empty(cfg, k, err)
         return
-      end do
+      end if
     end if
     ! the seeding ids (1.. in the whole run, group by group in seeding
-    ! order) and each particle's place among its solid's in id order
+    ! order)
     call seeding_ids(st, groups, ids, first, total, err, comm)
     if (blocks) call agree_error(comm, err)
     if (allocated(err)) return
@@ -1093,14 +1091,23 @@ contains
           end associate
         end do
         if (size(gk%cell) == 0 .and. .not. blocks) then
-          call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
-                         'sub-cell of the '//trim(pk%shape)//' was seeded by an earlier group of body '// &
-                         itoa(pk%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)
+          call union_empty(cfg, k, err)
           return
         end if
       end associate
     end do
   end subroutine union_of_bodies
+
+  !> The deck mistake of a group k whose every particle an earlier group of
+  !> its body seeded (`union_of_bodies`).
+  subroutine union_empty(cfg, k, err)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    type(error_t), allocatable, intent(inout) :: err
+    call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): every '// &
+                   'sub-cell of the '//trim(cfg%particles(k)%shape)//' was seeded by an earlier group of body '// &
+                   itoa(cfg%particles(k)%body)//' (a body is the union of its groups): remove the group', ERR_INPUT)
+  end subroutine union_empty
 
   !> The particles inside the closed surface of an STL file (`io_stl`,
   !> `mesh_surface`), seeded at per_cell as a shape is.

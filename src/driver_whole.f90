@@ -306,12 +306,13 @@ contains
   !> the windows hold, on any rank, the step is done on the whole grid
   !> instead (`whole_gather`, the whole state built for it and let go
   !> after), and if the search fell short the windows are widened (its reach
-  !> doubled). Particles: with the global rezone each block relocates the
-  !> ones it owns in its rezoned cells and sends them to the blocks that
-  !> hold their new hosts (`particles_euler_blocks`); where a walk would
-  !> leave a block's cells, or a particle leaves through an open face, and
-  !> with a smoothing rezone (whose pre-positioning in the standard grid
-  !> marks the cells the smoothing keeps), every rank gathers them all (in
+  !> doubled). Particles: each block places the ones it owns in its
+  !> standard cells before a smoothing rezone (Remark 2: the cells they
+  !> occupy are the smoothing's fixed inner boundary,
+  !> `particles_preposition_blocks`), relocates them in its rezoned cells
+  !> after the remap and sends them to the blocks that hold their new hosts
+  !> (`particles_euler_blocks`); where a walk would leave a block's cells, or
+  !> a particle leaves through an open face, every rank gathers them all (in
   !> the whole run's order), relocates them in the rezoned grid, the same on
   !> every rank, and each block takes its own (`window_particles`). The
   !> whole grid's node positions are gathered only then (open faces:
