@@ -16,7 +16,7 @@ program test_particles
   use base_kinds, only: wp, i8
   use base_errors, only: error_t
   use base_random, only: rng_t, rng_seed, rng_uniform
-  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
+  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes, grid_index_block
   use mesh_geometry, only: hex_volume
   use mesh_shapes, only: shape_t, SHAPE_BOX, SHAPE_SPHERE, SHAPE_ALL
   use particles_shape, only: particles_shape_values, particles_shape_gradients, particles_map, particles_locate
@@ -292,7 +292,50 @@ contains
     ! a point outside the grid is not found
     call particles_locate(g, [2.0_wp, 0.3_wp, 0.3_wp], 1, c, xi2, found)
     call check(.not. found .and. c == 0, 'a point outside the grid is not located')
+    call block_walks(g, xnodes, x)
   end subroutine test_distorted_locate
+
+  !> A block of the perturbed grid g (whole nodes xw) that owns cells i = 3..5
+  !> and stores one ghost layer on each side (i = 2..6): every point x walked
+  !> from the owned cell (4, j, k) with the block's cuts finds the cell and
+  !> natural coordinates the whole grid's walk from the same cell finds, bit
+  !> for bit, or is undecided (-1); a point whose host is not stored (i = 1
+  !> or 7) is always undecided. Both outcomes occur.
+  subroutine block_walks(g, xw, x)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xw(:, :), x(:, :)
+    type(grid_t) :: b
+    type(error_t), allocatable :: err
+    real(wp) :: xib(3), xiw(3)
+    integer :: q, cb, cw, i, j, k, iw, jw, kw, nfound, nundecided, wrong, missed, d
+    logical :: fb, fw
+    call grid_init_nodes(b, 7, 6, 5, xw, err, grid_index_block([3, 6, 5], [1, 0, 0], [1, 0, 0], [2, 0, 0], [7, 6, 5]))
+    call check(.not. allocated(err), 'block of the perturbed grid')
+    nfound = 0
+    nundecided = 0
+    wrong = 0
+    missed = 0
+    do q = 1, size(x, 2)
+      ! (the start: the owned cell (4, j, k) of the point's row)
+      call particles_locate(g, x(:, q), 1, cw, xiw, fw)
+      call g%cell_ijk(cw, iw, jw, kw)
+      call particles_locate(g, x(:, q), g%cell(4, jw, kw), cw, xiw, fw)
+      call particles_locate(b, x(:, q), b%cell(4 - 2, jw, kw), cb, xib, fb, cut=[b%glo > 0, b%ghi > 0])
+      if (cb > 0) then
+        nfound = nfound + 1
+        call b%cell_ijk(cb, i, j, k)
+        if (g%cell(i + 2, j, k) /= cw .or. .not. all([(same(xib(d), xiw(d)), d = 1, 3)])) wrong = wrong + 1
+      else
+        nundecided = nundecided + 1
+        if (cb /= -1 .or. fb) wrong = wrong + 1
+      end if
+      if ((iw == 1 .or. iw == 7) .and. cb > 0) missed = missed + 1
+    end do
+    call check(wrong == 0, 'block walk: each cell found is the whole grid''s, natural coordinates bit for bit')
+    call check(missed == 0, 'block walk: a host beyond the stored cells is undecided')
+    write(*, '(a,i0,a,i0,a)') 'block walk: ', nfound, ' points found, ', nundecided, ' undecided'
+    call check(nfound > 0 .and. nundecided > 0, 'block walk: points found and points undecided')
+  end subroutine block_walks
 
   !> Two materials seeded interleaved: sorted by (material, cell, id),
   !> mat_start and the cell binning consistent; the same order from the
