@@ -43,7 +43,7 @@ module driver_particles
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
   use parallel_comm, only: comm_t, parallel_max, parallel_min, parallel_sum
-  use parallel_gather, only: cell_prefix
+  use parallel_gather, only: cell_prefix, gather_concat, gather_to, scatter_from
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use driver_parallel, only: agree_error
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
@@ -58,7 +58,8 @@ module driver_particles
   use strength_factory, only: strength_create, strength_nhist
   use strength_jc_flow, only: jc_flow_t
   use strength_gurson, only: gtn_f, gtn_f0
-  use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field
+  use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field, &
+                                   random_field_correlated
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_constrain
   use lagrange_integrator, only: lagrange_step
@@ -369,11 +370,12 @@ contains
     type(random_field_t) :: field
     type(xsum_t) :: acc(2)
     integer, allocatable :: order(:), place(:)
-    real(wp), allocatable :: xs(:, :), g(:), f0(:), stream(:), none(:, :)
-    real(wp) :: lo(3), hi(3), vmin(1), clipped, fm, fs, range(2)
-    integer :: s, n(2), ntrunc, stat, q, k, j
+    real(wp), allocatable :: xs(:, :), g(:), f0(:), stream(:), none(:, :), xall(:), gall(:)
+    real(wp) :: lo(3), hi(3), vmin(1), clipped(1), fm, fs, range(2)
+    integer, allocatable :: held(:)
+    integer :: s, n(2), ntrunc, stat, q, k, j, root
+    logical :: lattice, builder
     character(len=200) :: msg
-    character(len=:), allocatable :: why
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s), p => st%pt)
         if (trim(sc%strength) /= 'gurson' .or. .not. sc%void_std > 0.0_wp) cycle
@@ -404,18 +406,30 @@ contains
           hi(3) = lo(3)
           xs(3, :) = lo(3)
         end if
-        call random_field_build(lo, hi, vmin(1)**(1.0_wp/3.0_wp), sc%void_length, sc%void_covariance, sc%void_seed, &
-                                field, clipped, err)
-        if (allocated(err)) then
-          ! (found only now: the field's box and spacing are the seeded particles')
-          if (err%category == ERR_INPUT) then
-            why = err%msg   ! (a copy: error_set deallocates err first)
-            call error_set(err, 'the deck has 1 problem(s); nothing was run', trim(sc%where)//' &solid '''// &
-                           trim(sc%name)//''': void_length = '//rtoa(sc%void_length)//' with these particles: '// &
-                           why, ERR_INPUT)
-          end if
-          return
+        ! (a decomposed run builds a correlated field's grid on one rank, the
+        ! one holding the fewest of the solid's particles, not on each: the
+        ! others send it their particles' places and take its samples back,
+        ! the bits one process samples)
+        lattice = random_field_correlated(sc%void_covariance, sc%void_length)
+        builder = .true.
+        root = 0
+        if (present(comm) .and. lattice) then
+          call gather_concat(comm, [size(order)], held)
+          root = minloc(held, 1) - 1
+          builder = comm%rank == root
         end if
+        clipped = -huge(1.0_wp)
+        if (builder) then
+          call random_field_build(lo, hi, vmin(1)**(1.0_wp/3.0_wp), sc%void_length, sc%void_covariance, &
+                                  sc%void_seed, field, clipped(1), err)
+          ! (found only now: the field's box and spacing are the seeded particles')
+          if (allocated(err)) call void_field_input(sc%where, sc%name, sc%void_length, err)
+        end if
+        if (present(comm)) then
+          call agree_error(comm, err)
+          call parallel_max(comm, clipped)
+        end if
+        if (allocated(err)) return
         ! each particle's place among the solid's in id order
         do q = 1, size(order)
           place(q) = 0
@@ -428,7 +442,19 @@ contains
             place(q) = place(q) + total(k)
           end do
         end do
-        if (field%correlated) then
+        if (lattice .and. present(comm)) then
+          call gather_to(comm, root, reshape(xs, [3*size(order)]), xall)
+          allocate(gall(size(xall)/3), stat=stat)
+          if (stat /= 0) then
+            call error_set(err, 'gurson_voids', error_no_memory('the void field''s samples'))
+          else if (builder) then
+            call random_field_sample(field, reshape(xall, [3, size(gall)]), gall, err)
+          end if
+          call agree_error(comm, err)
+          if (allocated(err)) return
+          call scatter_from(comm, root, gall, g)
+          deallocate(xall, gall)
+        else if (lattice) then
           call random_field_sample(field, xs, g, err)
         else
           ! (the stream up to the last place here; x is not read)
@@ -474,11 +500,24 @@ contains
           rtoa(fm)//', std '//rtoa(fs)//', range '//rtoa(range(1))//' .. '//rtoa(range(2))//' ('// &
           trim(sc%void_distribution)//', '//trim(sc%void_covariance)//' covariance, length '//rtoa(sc%void_length)// &
           ', seed '//itoa(sc%void_seed)//'); '//itoa(n(2))//' truncated to [1e-6, '// &
-          rtoa(min(0.5_wp, sc%gtn_fc))//'], variance share clipped '//rtoa(clipped))
+          rtoa(min(0.5_wp, sc%gtn_fc))//'], variance share clipped '//rtoa(clipped(1)))
         deallocate(order, xs, g, f0, place)
       end associate
     end do
   end subroutine gurson_voids
+
+  !> An input error of the void field (its box and spacing are the seeded
+  !> particles', so it is found only once they are) as the deck's problem.
+  subroutine void_field_input(where, name, void_length, err)
+    character(len=*), intent(in) :: where, name
+    real(wp), intent(in) :: void_length
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: why
+    if (err%category /= ERR_INPUT) return
+    why = err%msg   ! (a copy: error_set deallocates err first)
+    call error_set(err, 'the deck has 1 problem(s); nothing was run', trim(where)//' &solid '''//trim(name)// &
+                   ''': void_length = '//rtoa(void_length)//' with these particles: '//why, ERR_INPUT)
+  end subroutine void_field_input
 
   !> The coupling of the particles (module notes): virtual-fluid masses
   !> (Eq. 16, §1.7), strength models, work arrays.

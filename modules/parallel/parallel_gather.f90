@@ -11,7 +11,7 @@ module parallel_gather
   implicit none
   private
   public :: gather_cells, gather_nodes, gather_box, gather_box_into, gather_box_fields, gather_concat, gather_field_t, &
-            exchange_lists, cell_prefix
+            exchange_lists, cell_prefix, gather_to, scatter_from
 
   !> One field of `gather_box_fields`: the block's a(m, nnode or ncell)
   !> and the box's w(m, nodes or cells of the box).
@@ -387,6 +387,51 @@ contains
     call parallel_nomem(stat, 'a gather')
     call MPI_Allgatherv(a, size(a), MPI_DOUBLE_PRECISION, w, counts, displs, MPI_DOUBLE_PRECISION, pc%world)
   end subroutine concat_real
+
+  !> Every rank's a concatenated in rank order on rank root alone (w empty
+  !> on the others): what one rank computes for all, `scatter_from` then
+  !> handing back each rank's share.
+  subroutine gather_to(pc, root, a, w)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: root
+    real(wp), intent(in) :: a(:)
+    real(wp), allocatable, intent(out) :: w(:)
+    integer, allocatable :: counts(:), displs(:)
+    integer :: stat
+    call root_counts(pc, root, size(a), counts, displs)
+    allocate(w(merge(sum(counts), 0, pc%rank == root)), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    call MPI_Gatherv(a, size(a), MPI_DOUBLE_PRECISION, w, counts, displs, MPI_DOUBLE_PRECISION, root, pc%world)
+  end subroutine gather_to
+
+  !> Each rank's a, as many values as it holds, from rank root's w: the
+  !> shares in rank order (`gather_to`'s layout).
+  subroutine scatter_from(pc, root, w, a)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: root
+    real(wp), intent(in) :: w(:)
+    real(wp), intent(inout) :: a(:)
+    integer, allocatable :: counts(:), displs(:)
+    call root_counts(pc, root, size(a), counts, displs)
+    call MPI_Scatterv(w, counts, displs, MPI_DOUBLE_PRECISION, a, size(a), MPI_DOUBLE_PRECISION, root, pc%world)
+  end subroutine scatter_from
+
+  !> Every rank's n and their offsets in rank order, on rank root (zeros
+  !> elsewhere).
+  subroutine root_counts(pc, root, n, counts, displs)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: root, n
+    integer, allocatable, intent(out) :: counts(:), displs(:)
+    integer :: r, stat
+    allocate(counts(0:pc%nranks - 1), displs(0:pc%nranks - 1), stat=stat)
+    call parallel_nomem(stat, 'a gather')
+    counts = 0
+    call MPI_Gather(n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, root, pc%world)
+    displs(0) = 0
+    do r = 1, pc%nranks - 1
+      displs(r) = displs(r - 1) + counts(r - 1)
+    end do
+  end subroutine root_counts
 
   !> Each rank's lists for the others exchanged: sbuf holds the values for
   !> rank 0, 1, ... in turn (scounts(r) for rank r), rbuf receives those

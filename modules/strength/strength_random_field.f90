@@ -101,7 +101,7 @@ module strength_random_field
   implicit none
   private
   public :: random_field_t, random_field_build, random_field_sample, void_fraction_from_field, &
-            random_field_covariances, void_fraction_distributions, &
+            random_field_correlated, random_field_covariances, void_fraction_distributions, &
             random_normal_t, random_normal_seed, random_normal_next, random_bits_next
 
   include 'fftw3.f03'
@@ -290,6 +290,15 @@ contains
     end do
   end function fft_size
 
+  !> Whether random_field_build builds a grid for this covariance and ell
+  !> (a correlated field), rather than the uncorrelated limit (ell = 0 or
+  !> covariance 'none': no grid, a seeded stream).
+  pure logical function random_field_correlated(covariance, ell) result(yes)
+    character(len=*), intent(in) :: covariance
+    real(wp), intent(in) :: ell
+    yes = covariance /= 'none' .and. ell > 0.0_wp
+  end function random_field_correlated
+
   !> Builds the unit-variance Gaussian random field that covers the box
   !> [lo, hi] (length; the bounding box of all the points that will be
   !> sampled) with correlation length ell (length) and covariance
@@ -368,7 +377,7 @@ contains
     field%covariance = covariance
     field%ell = ell
     field%seed = seed
-    if (covariance == 'none' .or. .not. (ell > 0.0_wp)) then
+    if (.not. random_field_correlated(covariance, ell)) then
       field%correlated = .false.
       return
     end if
@@ -427,7 +436,10 @@ contains
     n2 = field%n(2)
     n3 = field%n(3)
     nh = n1/2 + 1
-    allocate(field%values(n1, n2, n3), sqlam(nh, n2, n3), negk(n3), stat=stat, errmsg=emsg)
+    ! (the field's own array comes once the transforms' complex buffer and
+    ! sqrt(lambda) are let go: the peak is the two buffers and sqlam, about
+    ! 20 bytes per node, not 28)
+    allocate(sqlam(nh, n2, n3), negk(n3), stat=stat, errmsg=emsg)
     if (stat /= 0) then
       call error_set(err, where, error_no_memory('the field grid''s arrays ('//trim(grid_text(field%n))//')'))
       return
@@ -522,6 +534,16 @@ contains
     end do
     !$omp end parallel do
     call fftw_execute_dft_c2r(plan_bwd, cbuf, rbuf)
+    call fftw_destroy_plan(plan_fwd)
+    call fftw_destroy_plan(plan_bwd)
+    call fftw_free(pcplx)
+    deallocate(sqlam)
+    allocate(field%values(n1, n2, n3), stat=stat, errmsg=emsg)
+    if (stat /= 0) then
+      call fftw_free(preal)
+      call error_set(err, where, error_no_memory('the field grid''s values ('//trim(grid_text(field%n))//')'))
+      return
+    end if
     scale = 1.0_wp/real(ntot, wp)
     !$omp parallel do default(none) shared(rbuf, field, scale, n1, n2, n3) private(i, j, k)
     do k = 1, n3
@@ -532,10 +554,7 @@ contains
       end do
     end do
     !$omp end parallel do
-    call fftw_destroy_plan(plan_fwd)
-    call fftw_destroy_plan(plan_bwd)
     call fftw_free(preal)
-    call fftw_free(pcplx)
     field%correlated = .true.
   end subroutine random_field_build
 
