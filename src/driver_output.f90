@@ -24,7 +24,7 @@ module driver_output
   use parallel_comm, only: comm_t, parallel_bcast_text, parallel_min, parallel_sum
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
-  use driver_particles, only: particles_gathered
+  use driver_particles, only: particles_frame_share
   use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
   use io_blast, only: blast_t, blast_answers, blast_read_gauges
   use particles_state, only: particles_t, particles_select
@@ -570,8 +570,8 @@ contains
     ! their names in &output fields
     character(len=*), parameter :: per_key(nper) = [character(len=17) :: 'vf', 'material_density', &
                                                     'material_energy', 'material_pressure']
-    integer :: nmat, nf, c, k, s, m, stat, nx
-    integer, allocatable :: keep(:), pfailed(:)
+    integer :: nmat, nf, c, k, s, m, stat, nx, ptotal
+    integer, allocatable :: keep(:), pfailed(:), pruns(:, :)
     character(len=32), allocatable :: punits(:)
     integer, allocatable, target :: cellmat(:)
     integer, pointer :: frame_mat(:)
@@ -635,9 +635,11 @@ contains
       fld(:, nf + 1) = st%p_max
     end if
     if (allocated(st%pt%id)) meta%solids = [(cfg%solids(m)%name, m = 1, size(cfg%solids))]
-    ! the particles in the whole run's order (a decomposed run gathers them)
+    ! the particles in the whole run's order (blocks that hold their
+    ! particles each write their owned ones, at their places among all)
     if (st%pblocks) then
-      call particles_gathered(sch%pc, st, pt, err)
+      call particles_frame_share(sch%pc, st, pt, pruns, ptotal, err)
+      call agree_error(sch%pc, err)
       if (allocated(err)) return
     else
       pt = st%pt
@@ -678,7 +680,12 @@ contains
     ! particles' share too (`state_totals`; without, nmass is not allocated,
     ! so not present: the frame takes the hydro's own)
     if (allocated(st%pw%mp)) nmass = st%h%mnode + st%pw%mp
-    if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
+    if (st%pblocks) then   ! (the ranks write the frame together, each its particles)
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+                        st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
+                        comm=sch%pc%world, node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed, &
+                        ptotal=ptotal, pruns=pruns)
+    else if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
       call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
                         st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
                         comm=sch%pc%world, node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed)

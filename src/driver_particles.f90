@@ -41,7 +41,9 @@ module driver_particles
   use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
-  use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order
+  use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order, &
+                             particles_take_fields, particles_cell_counts, particles_places
+  use base_sort, only: sorted_runs
   use parallel_comm, only: comm_t, parallel_max, parallel_min, parallel_sum
   use parallel_gather, only: cell_prefix, gather_concat, gather_to, scatter_from
   use base_xsum, only: xsum_t, xsum_add, xsum_value
@@ -72,7 +74,7 @@ module driver_particles
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
-            particles_gathered, count_hosts, particles_euler_fill, particles_euler_blocks, &
+            particles_gathered, particles_frame_share, count_hosts, particles_euler_fill, particles_euler_blocks, &
             particles_preposition_blocks
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
@@ -838,6 +840,50 @@ contains
       pe%on_blocks = .true.
     end associate
   end subroutine particles_preposition_blocks
+
+  !> A block's share of a frame that the blocks write together
+  !> (`output_frame`'s ptotal and pruns), with no rank gathering the others'
+  !> particles: ptw its owned particles in their order (the fields a frame
+  !> writes), host cells numbered in the whole grid; runs their places (0-based start and length) among
+  !> all ranks' in the whole run's order, the one `particles_gathered`
+  !> gives (by solid, then host cell in the whole grid's order, then id: a
+  !> solid's particles of the cells before a cell counted by `cell_prefix`);
+  !> total the whole run's count. Collective.
+  subroutine particles_frame_share(pc, st, ptw, runs, total, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    type(particles_t), intent(out) :: ptw
+    integer, allocatable, intent(out) :: runs(:, :)
+    integer, intent(out) :: total
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: cnt(:, :), before(:, :), pos(:)
+    integer :: tot(st%pt%nsolid), first(st%pt%nsolid), k, s, stat
+    logical :: ordered
+    call particles_take_fields(st%pt, pack([(k, k = 1, st%pt%np)], st%pw%owned), ptw, err)
+    if (allocated(err)) return
+    allocate(cnt(st%pt%nsolid, st%g%ncell), pos(ptw%np), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'particles_frame_share', error_no_memory('the particles'' places'))
+      return
+    end if
+    call particles_cell_counts(ptw, cnt)
+    call cell_prefix(pc, st%g%grid_index_t, cnt, before, tot)
+    first(1) = 0
+    do s = 2, size(first)
+      first(s) = first(s - 1) + tot(s - 1)
+    end do
+    total = sum(tot)
+    ! (a block's particles are in the whole run's order within it)
+    call particles_places(ptw, first, before, pos, ordered)
+    if (.not. ordered) then
+      call error_set(err, 'particles_frame_share', 'a block''s particles are not in the whole run''s order', &
+                     ERR_RUNTIME)
+      return
+    end if
+    ptw%cell(:ptw%np) = [(st%g%global_cell(ptw%cell(k)), k = 1, ptw%np)]
+    call sorted_runs(pos, runs, stat)
+    if (stat /= 0) call error_set(err, 'particles_frame_share', error_no_memory('the particles'' places'))
+  end subroutine particles_frame_share
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
   !> cells numbered in the whole grid): `parallel_particles_gather` of the

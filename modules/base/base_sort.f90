@@ -3,7 +3,7 @@
 module base_sort
   implicit none
   private
-  public :: sort_order
+  public :: sort_order, sorted_runs
 
 contains
 
@@ -43,4 +43,30 @@ contains
       width = 2*width
     end do
   end subroutine sort_order
+
+  !> The runs of consecutive values of the increasing key: runs(:, r) =
+  !> (first value, length), in order. stat: nonzero if runs could not be
+  !> allocated.
+  pure subroutine sorted_runs(key, runs, stat)
+    integer, intent(in) :: key(:)
+    integer, allocatable, intent(out) :: runs(:, :)
+    integer, intent(out) :: stat
+    integer :: n, k, r
+    n = size(key)
+    r = 0
+    if (n > 0) r = 1 + count(key(2:) /= key(:n - 1) + 1)
+    allocate(runs(2, r), stat=stat)
+    if (stat /= 0) return
+    if (n == 0) return
+    r = 1
+    runs(:, 1) = [key(1), 1]
+    do k = 2, n
+      if (key(k) == key(k - 1) + 1) then
+        runs(2, r) = runs(2, r) + 1
+      else
+        r = r + 1
+        runs(:, r) = [key(k), 1]
+      end if
+    end do
+  end subroutine sorted_runs
 end module base_sort

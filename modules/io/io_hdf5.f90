@@ -517,8 +517,12 @@ contains
   !> together (`h5_create` with `comm`; on one process the whole dataset).
   !> With `grid` the dataset's last dimension is a grid of that shape,
   !> flattened, and the box is given in the grid's dimensions (`write_part`).
+  !> With `runs` (2, nrun: 0-based start and length, increasing) the part is
+  !> those runs of the last dimension, the leading ones whole (start 0,
+  !> count the leading dimensions and the runs' total): a rank's particles
+  !> at their places among all ranks'.
   !> `single` and `deflate` as for `h5_write_real` (the same on every rank).
-  subroutine h5_write_part_real(file, name, data, dims, start, count, err, grid, single, deflate)
+  subroutine h5_write_part_real(file, name, data, dims, start, count, err, grid, single, deflate, runs)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), intent(in), target :: data(*)
@@ -527,6 +531,7 @@ contains
     integer, intent(in), optional :: grid(3)
     logical, intent(in), optional :: single
     integer, intent(in), optional :: deflate
+    integer, intent(in), optional :: runs(:, :)
     real(real32), allocatable, target :: buf(:)
     type(c_ptr) :: ptr
     integer(int64) :: n
@@ -540,17 +545,17 @@ contains
     end if
     if (.not. opt_true(single)) then
       call write_part(file, name, ptr, dims, start, count, h5kind_to_type(wp, H5_REAL_KIND), 'h5_write_part_real', &
-                      err, grid, deflate)
+                      err, grid, deflate, runs)
       return
     end if
     call single_copy(file, data, n, buf, ptr, 'h5_write_part_real', name, err)
     if (allocated(err)) return
     call write_part(file, name, ptr, dims, start, count, h5kind_to_type(real32, H5_REAL_KIND), 'h5_write_part_real', &
-                    err, grid, deflate)
+                    err, grid, deflate, runs)
   end subroutine h5_write_part_real
 
   !> `h5_write_part_real` for a default-integer dataset.
-  subroutine h5_write_part_int(file, name, data, dims, start, count, err, grid, deflate)
+  subroutine h5_write_part_int(file, name, data, dims, start, count, err, grid, deflate, runs)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, intent(in), target :: data(*)
@@ -558,13 +563,14 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: grid(3)
     integer, intent(in), optional :: deflate
+    integer, intent(in), optional :: runs(:, :)
     type(c_ptr) :: ptr
     ptr = c_null_ptr
     if (size(count) > 0) then
       if (all(count > 0)) ptr = c_loc(data(1))
     end if
     call write_part(file, name, ptr, dims, start, count, h5kind_to_type(kind(0), H5_INTEGER_KIND), &
-                    'h5_write_part_int', err, grid, deflate)
+                    'h5_write_part_int', err, grid, deflate, runs)
   end subroutine h5_write_part_int
 
   !> The float32 copy `buf` of the n doubles of `data` (`to_single`), `ptr`
@@ -955,7 +961,7 @@ contains
   !> grid(1:3) flattened (i fastest), and start and count give the box in
   !> the leading dimensions and then in the grid's three (size(dims) + 2
   !> values). In a file of one process the part must be the whole dataset.
-  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err, grid, deflate)
+  subroutine write_part(file, name, ptr, dims, start, count, tid, here, err, grid, deflate, runs)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     type(c_ptr), intent(inout) :: ptr
@@ -965,6 +971,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: grid(3)
     integer, intent(in), optional :: deflate
+    integer, intent(in), optional :: runs(:, :)
     integer(hid_t) :: did, sid, msid, lcpl, xfer, dcpl
     integer, allocatable :: whole(:)
     integer :: hdferr, rank, nlead
@@ -985,6 +992,17 @@ contains
     if (.not. allocated(err)) then
       if (any(start < 0) .or. any(count < 0) .or. any(start + count > whole)) &
         call error_set(err, here, 'the part lies outside '//where_in(file, name))
+    end if
+    if (.not. allocated(err) .and. present(runs)) then
+      if (present(grid) .or. size(runs, 1) /= 2 .or. any(start /= 0) .or. any(count(1:nlead) /= dims(1:nlead))) then
+        call error_set(err, here, 'runs select whole leading dimensions of '//where_in(file, name))
+      else if (sum(runs(2, :)) /= count(rank)) then
+        call error_set(err, here, 'the runs do not hold the part''s values of '//where_in(file, name))
+      else if (size(runs, 2) > 0) then
+        if (any(runs(1, :) < 0) .or. any(runs(2, :) < 1) .or. any(runs(1, :) + runs(2, :) > dims(rank)) .or. &
+            any(runs(1, 2:) < runs(1, :size(runs, 2) - 1) + runs(2, :size(runs, 2) - 1))) &
+          call error_set(err, here, 'the runs are not increasing and within '//where_in(file, name))
+      end if
     end if
     if (allocated(err)) then
       call agree_outcome(file, here, 'cannot write '//where_in(file, name), err)
@@ -1026,6 +1044,8 @@ contains
         if (hdferr == 0) call h5sselect_none_f(msid, hdferr)
       else if (present(grid)) then
         call select_box(sid, rank, grid, start, count, hdferr)
+      else if (present(runs)) then
+        call select_runs(sid, dims, runs, hdferr)
       else
         call h5sselect_hyperslab_f(sid, H5S_SELECT_SET_F, int(start, hsize_t), int(count, hsize_t), hdferr)
       end if
@@ -1084,6 +1104,27 @@ contains
       if (hdferr /= 0) return
     end do
   end subroutine select_box
+
+  !> Selects in sid (a dataset of shape dims) the runs of its last
+  !> dimension runs(:, r) = (0-based start, length), increasing, the
+  !> leading dimensions whole: a buffer's order, leading dimensions fastest.
+  subroutine select_runs(sid, dims, runs, hdferr)
+    integer(hid_t), intent(in) :: sid
+    integer, intent(in) :: dims(:), runs(:, :)
+    integer, intent(out) :: hdferr
+    integer(hsize_t) :: hs(size(dims)), hc(size(dims))
+    integer :: r, rank
+    rank = size(dims)
+    hs = 0_hsize_t
+    hc(1:rank - 1) = int(dims(1:rank - 1), hsize_t)
+    hdferr = 0
+    do r = 1, size(runs, 2)
+      hs(rank) = int(runs(1, r), hsize_t)
+      hc(rank) = int(runs(2, r), hsize_t)
+      call h5sselect_hyperslab_f(sid, merge(H5S_SELECT_SET_F, H5S_SELECT_OR_F, r == 1), hs, hc, hdferr)
+      if (hdferr /= 0) return
+    end do
+  end subroutine select_runs
 
   !> Reads a dataset into ptr: the whole of it, or with grid the box at
   !> start of shape count (n values; `select_box`, which must lie in it).

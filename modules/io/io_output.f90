@@ -167,16 +167,21 @@ contains
   !> their further fields `pfields` (size(pnames), np) named `pnames`
   !> (the strength models' history, optional) in the dimensions `punits`
   !> (optional; absent: '1'), and the integer failure flags `pfailed` (np,
-  !> 1 failed; optional) as `particles/failed`.
+  !> 1 failed; optional) as `particles/failed`. With `ptotal` and
+  !> `pruns` (a decomposed run whose blocks hold their particles), pt and
+  !> its fields are this rank's particles, and the frame holds ptotal in
+  !> all: this rank's at the places `pruns` gives (2, nrun: 0-based start
+  !> and length, increasing), every rank writing its own.
   !> `opts`: which fields, float32 storage, compression (`frame_options_t`;
   !> absent: all fields, doubles, uncompressed).
   !> With `comm` (a decomposed run: every rank calls this with its block g,
   !> h, material and extra) the ranks write the one file together, each its
   !> owned nodes and cells (parallel HDF5, collective), in the layout of one
   !> process; rank 0 writes everything else (pt: the whole run's particles
-  !> on every rank) and the XDMF series; `path` is the same on every rank.
+  !> on every rank, unless `pruns`) and the XDMF series; `path` is the same
+  !> on every rank.
   subroutine output_frame(out, g, h, material, names, units, owner, extra, time, step, tot, deck, meta, &
-                          path, err, pt, pnames, pfields, comm, node_mass, opts, punits, pfailed)
+                          path, err, pt, pnames, pfields, comm, node_mass, opts, punits, pfailed, ptotal, pruns)
     type(output_t), intent(inout) :: out
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
@@ -200,10 +205,11 @@ contains
     type(frame_options_t), intent(in), optional :: opts
     character(len=*), intent(in), optional :: punits(:)
     integer, intent(in), optional :: pfailed(:)
+    integer, intent(in), optional :: ptotal, pruns(:, :)
     type(frame_options_t) :: o
     type(h5_file_t) :: f
     character(len=256) :: fname
-    integer :: np
+    integer :: np, npw
     character(len=64), allocatable :: fields(:), legend_names(:)
     character(len=16), allocatable :: pscalars(:), pints(:), pvectors(:), ptensors(:), nodef(:), cellint(:)
     real(wp), allocatable :: legend_values(:), buf(:), prow(:)
@@ -240,6 +246,13 @@ contains
     ! coordinates, velocities, cell fields, particles, 4 KiB per dataset)
     np = 0
     if (present(pt)) np = pt%np
+    ! (the frame's particles: this rank's, or every rank's with pruns)
+    npw = np
+    if (present(ptotal)) npw = ptotal
+    if (present(pruns) .neqv. present(ptotal)) then
+      call error_set(err, 'output_frame', 'ptotal and pruns go together')
+      return
+    end if
     k = 0
     if (present(pnames)) k = size(pnames)
     ! A block without ghosts (one process) stores its nodes and cells in
@@ -312,19 +325,18 @@ contains
     if (.not. allocated(err)) call h5_write_scalar_real(f, 'totals/boundary_work', tot%boundary_work, err)
     if (.not. allocated(err)) call h5_write_string(f, 'deck', deck, err)
     if (.not. allocated(err)) call write_attributes(f, names, units, owner, meta, o, err)
-    if (.not. allocated(err) .and. np > 0) call write_particles(f, pt, meta, o, err)
+    if (.not. allocated(err) .and. npw > 0) call write_particles(f, pt, meta, o, err, pruns, npw)
     ! the particle fields written, by kind, for the XDMF
     pvectors = pick([character(len=16) :: 'velocity'])
     pscalars = pick([character(len=16) :: 'density', 'volume', 'mass', 'energy'])
     pints = pick([character(len=16) :: 'material', 'body', 'id', 'cell'])
     ptensors = pick([character(len=16) :: 'stress'])
-    if (present(pnames) .and. np > 0) then
+    if (present(pnames) .and. npw > 0) then
       do k = 1, size(pnames)
         if (.not. frame_wants(o%particle_fields, pnames(k))) cycle
         ! (a row of pfields, copied into a contiguous array of its own)
         prow = pfields(k, :)
-        if (.not. allocated(err)) call h5_write_real(f, 'particles/'//trim(pnames(k)), prow, [np], err, &
-                                                     single=o%single, deflate=o%deflate)
+        call put_particles_real(f, trim(pnames(k)), prow, [np], o, err, pruns, npw)
         if (allocated(err)) cycle
         if (present(punits)) then
           call h5_write_attribute(f, 'particles/'//trim(pnames(k)), 'units', trim(punits(k)), err)
@@ -334,9 +346,8 @@ contains
         pscalars = [character(len=16) :: pscalars, pnames(k)]
       end do
     end if
-    if (present(pfailed) .and. np > 0 .and. frame_wants(o%particle_fields, 'failed')) then
-      if (.not. allocated(err)) call h5_write_int(f, 'particles/failed', pfailed, [np], err, deflate=o%deflate)
-      if (.not. allocated(err)) call h5_write_attribute(f, 'particles/failed', 'units', units_none, err)
+    if (present(pfailed) .and. npw > 0 .and. frame_wants(o%particle_fields, 'failed')) then
+      call put_particles_int(f, 'failed', pfailed, np, o, err, pruns, npw)
       pints = [character(len=16) :: pints, 'failed']
     end if
     if (allocated(err)) then
@@ -359,7 +370,7 @@ contains
     if (.not. allocated(out%nparts)) out%nparts = [integer ::]
     out%frames = [character(len=256) :: out%frames, fname]
     out%times = [out%times, time]
-    out%nparts = [out%nparts, np]
+    out%nparts = [out%nparts, npw]
     if (f%rank /= 0) return   ! (rank 0 writes the series)
     allocate(fields(0), legend_names(nmat), legend_values(nmat), stat=stat, errmsg=msg)
     if (stat /= 0) then
@@ -473,20 +484,26 @@ contains
 
   !> The particles' datasets chosen by `o` and their attributes (module
   !> notes); the positions and the vertex numbers always.
-  subroutine write_particles(f, pt, meta, o, err)
+  subroutine write_particles(f, pt, meta, o, err, runs, total)
     type(h5_file_t), intent(in) :: f
     type(particles_t), intent(in) :: pt
     type(frame_meta_t), intent(in) :: meta
     type(frame_options_t), intent(in) :: o
     type(error_t), allocatable, intent(inout) :: err
+    !> (`output_frame`'s pruns and ptotal: pt this rank's share)
+    integer, intent(in), optional :: runs(:, :), total
     ! Voigt (xx, yy, zz, yz, xz, xy) to XDMF Tensor6 (xx, xy, xz, yy, yz, zz)
     integer, parameter :: tensor6(6) = [1, 6, 5, 2, 4, 3]
-    integer :: np, k
+    integer :: np, k, r
     np = pt%np
     call put_real('x', pt%x, [3, np], units_length)
-    if (.not. allocated(err)) call h5_write_int(f, 'particles/vertex', [(k - 1, k = 1, np)], [np], err, &
-                                                deflate=o%deflate)
-    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/vertex', 'units', units_none, err)
+    ! (each particle's place in the frame)
+    if (present(runs)) then
+      call put_particles_int(f, 'vertex', [((runs(1, r) + k, k = 0, runs(2, r) - 1), r = 1, size(runs, 2))], np, &
+                             o, err, runs, total, always=.true.)
+    else
+      call put_particles_int(f, 'vertex', [(k - 1, k = 1, np)], np, o, err, always=.true.)
+    end if
     call put_real('velocity', pt%v, [3, np], units_velocity)
     call put_real('density', pt%rho, [np], units_density)
     call put_real('volume', pt%vol, [np], units_volume)
@@ -509,7 +526,7 @@ contains
       integer, intent(in) :: dims(:)
       if (allocated(err)) return
       if (name /= 'x' .and. .not. frame_wants(o%particle_fields, name)) return
-      call h5_write_real(f, 'particles/'//name, a, dims, err, single=o%single, deflate=o%deflate)
+      call put_particles_real(f, name, a, dims, o, err, runs, total)
       if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//name, 'units', units, err)
     end subroutine put_real
 
@@ -517,11 +534,56 @@ contains
     subroutine put_int(name, a)
       character(len=*), intent(in) :: name
       integer, intent(in) :: a(:)
-      if (allocated(err) .or. .not. frame_wants(o%particle_fields, name)) return
-      call h5_write_int(f, 'particles/'//name, a, [np], err, deflate=o%deflate)
-      if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//name, 'units', units_none, err)
+      call put_particles_int(f, name, a, np, o, err, runs, total)
     end subroutine put_int
   end subroutine write_particles
+
+  !> The real particle dataset particles/<name> of this rank's shape dims
+  !> (the last its particles): the whole dataset, or with runs and total
+  !> this rank's runs of a dataset of total particles (`output_frame`).
+  subroutine put_particles_real(f, name, a, dims, o, err, runs, total)
+    type(h5_file_t), intent(in) :: f
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: a(*)
+    integer, intent(in) :: dims(:)
+    type(frame_options_t), intent(in) :: o
+    type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: runs(:, :), total
+    integer :: last, start(size(dims))
+    if (allocated(err)) return
+    last = size(dims)
+    if (present(runs)) then
+      start = 0
+      call h5_write_part_real(f, 'particles/'//name, a, [dims(:last - 1), total], start, dims, err, single=o%single, &
+                              deflate=o%deflate, runs=runs)
+    else
+      call h5_write_real(f, 'particles/'//name, a, dims, err, single=o%single, deflate=o%deflate)
+    end if
+  end subroutine put_particles_real
+
+  !> The integer particle dataset particles/<name> of this rank's np
+  !> particles (`put_particles_real`), with its units attribute ('1'), if
+  !> the frame's particle fields hold it or `always`.
+  subroutine put_particles_int(f, name, a, np, o, err, runs, total, always)
+    type(h5_file_t), intent(in) :: f
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: a(:), np
+    type(frame_options_t), intent(in) :: o
+    type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: runs(:, :), total
+    logical, intent(in), optional :: always
+    logical :: wanted
+    if (allocated(err)) return
+    wanted = frame_wants(o%particle_fields, name)
+    if (present(always)) wanted = wanted .or. always
+    if (.not. wanted) return
+    if (present(runs)) then
+      call h5_write_part_int(f, 'particles/'//name, a, [total], [0], [np], err, deflate=o%deflate, runs=runs)
+    else
+      call h5_write_int(f, 'particles/'//name, a, [np], err, deflate=o%deflate)
+    end if
+    if (.not. allocated(err)) call h5_write_attribute(f, 'particles/'//name, 'units', units_none, err)
+  end subroutine put_particles_int
 
   !> The attributes of a frame: the file's identity and each written
   !> dataset's units.

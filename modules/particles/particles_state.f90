@@ -59,7 +59,7 @@ module particles_state
   implicit none
   private
   public :: particles_t, particles_allocate, particles_order, particles_key_order, particles_select, particles_index, &
-            particles_bin, particles_solid_order, &
+            particles_bin, particles_solid_order, particles_take_fields, particles_cell_counts, particles_places, &
             particles_register_restart, particles_check
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
@@ -230,6 +230,64 @@ contains
     if (allocated(p%mvf)) p%mvf = p%mvf(pick)
     if (allocated(p%perm)) deallocate(p%perm)
   end subroutine particles_select
+
+  !> q: the particles pick of p (in that order) with the fields a frame
+  !> writes (ids, solids, bodies, host cells, positions, velocities,
+  !> masses, volumes, densities, energies, stresses, histories), not their
+  !> pieces and bins.
+  subroutine particles_take_fields(p, pick, q, err)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: pick(:)
+    type(particles_t), intent(inout) :: q
+    type(error_t), allocatable, intent(inout) :: err
+    call particles_allocate(q, size(pick), p%nsolid, p%nhist, err)
+    if (allocated(err)) return
+    q%id = p%id(pick)
+    q%mat = p%mat(pick)
+    q%body = p%body(pick)
+    q%cell = p%cell(pick)
+    q%x = p%x(:, pick)
+    q%v = p%v(:, pick)
+    q%m = p%m(pick)
+    q%vol = p%vol(pick)
+    q%rho = p%rho(pick)
+    q%e = p%e(pick)
+    q%stress = p%stress(:, pick)
+    q%hist = p%hist(:, pick)
+  end subroutine particles_take_fields
+
+  !> cnt(s, c): the particles of solid s hosted by cell c (cnt(nsolid, ncell)).
+  subroutine particles_cell_counts(p, cnt)
+    type(particles_t), intent(in) :: p
+    integer, intent(out) :: cnt(:, :)
+    integer :: k
+    cnt = 0
+    do k = 1, p%np
+      cnt(p%mat(k), p%cell(k)) = cnt(p%mat(k), p%cell(k)) + 1
+    end do
+  end subroutine particles_cell_counts
+
+  !> The 0-based places pos(np) of p's particles in an order by solid, then
+  !> host cell, then id, given where each solid's start (first(s)) and, at
+  !> each host cell, how many of the solid's particles come before its
+  !> cell (before(s, c)): p in that order (`particles_order`), the j-th of
+  !> a solid's particles in a cell at before + j - 1. ordered: whether the
+  !> places increase (false if p is not in that order).
+  subroutine particles_places(p, first, before, pos, ordered)
+    type(particles_t), intent(in) :: p
+    integer, intent(in) :: first(:), before(:, :)
+    integer, intent(out) :: pos(:)
+    logical, intent(out) :: ordered
+    integer :: k, j
+    ordered = .true.
+    j = 0
+    do k = 1, p%np
+      j = j + 1
+      if (k > 1) j = merge(j, 1, p%mat(k) == p%mat(max(k - 1, 1)) .and. p%cell(k) == p%cell(max(k - 1, 1)))
+      pos(k) = first(p%mat(k)) + before(p%mat(k), p%cell(k)) + j - 1
+    end do
+    if (p%np > 1) ordered = all(pos(2:p%np) > pos(1:p%np - 1))
+  end subroutine particles_places
 
   !> The particles of solid s in seeding-id order (p%id, 1..p%np): their
   !> indices in p.
