@@ -24,7 +24,7 @@ module driver_output
   use parallel_comm, only: comm_t, parallel_bcast_text, parallel_min, parallel_sum
   use driver_parallel, only: agree_error
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
-  use driver_particles, only: particles_frame_share
+  use driver_particles, only: particles_blocks_share
   use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
   use io_blast, only: blast_t, blast_answers, blast_read_gauges
   use particles_state, only: particles_t, particles_select
@@ -638,7 +638,7 @@ contains
     ! the particles in the whole run's order (blocks that hold their
     ! particles each write their owned ones, at their places among all)
     if (st%pblocks) then
-      call particles_frame_share(sch%pc, st, pt, pruns, ptotal, err)
+      call particles_blocks_share(sch%pc, st, pt, pruns, ptotal, err)
       call agree_error(sch%pc, err)
       if (allocated(err)) return
     else

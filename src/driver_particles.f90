@@ -74,7 +74,7 @@ module driver_particles
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
-            particles_gathered, particles_frame_share, count_hosts, particles_euler_fill, particles_euler_blocks, &
+            particles_gathered, particles_blocks_share, count_hosts, particles_euler_fill, particles_euler_blocks, &
             particles_preposition_blocks
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
@@ -841,15 +841,15 @@ contains
     end associate
   end subroutine particles_preposition_blocks
 
-  !> A block's share of a frame that the blocks write together
-  !> (`output_frame`'s ptotal and pruns), with no rank gathering the others'
-  !> particles: ptw its owned particles in their order (the fields a frame
-  !> writes), host cells numbered in the whole grid; runs their places (0-based start and length) among
-  !> all ranks' in the whole run's order, the one `particles_gathered`
-  !> gives (by solid, then host cell in the whole grid's order, then id: a
+  !> A block's share of a frame or a restart dump that the blocks write
+  !> together (`output_frame`'s and `restart_write`'s ptotal and pruns),
+  !> with no rank gathering the others' particles: ptw its owned particles
+  !> in their order (`particles_take_fields`), host cells numbered in the
+  !> whole grid; runs their places (0-based start and length) among all
+  !> ranks' in the whole run's order, the one `particles_gathered` gives (by solid, then host cell in the whole grid's order, then id: a
   !> solid's particles of the cells before a cell counted by `cell_prefix`);
   !> total the whole run's count. Collective.
-  subroutine particles_frame_share(pc, st, ptw, runs, total, err)
+  subroutine particles_blocks_share(pc, st, ptw, runs, total, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(in) :: st
     type(particles_t), intent(out) :: ptw
@@ -863,7 +863,7 @@ contains
     if (allocated(err)) return
     allocate(cnt(st%pt%nsolid, st%g%ncell), pos(ptw%np), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'particles_frame_share', error_no_memory('the particles'' places'))
+      call error_set(err, 'particles_blocks_share', error_no_memory('the particles'' places'))
       return
     end if
     call particles_cell_counts(ptw, cnt)
@@ -876,14 +876,14 @@ contains
     ! (a block's particles are in the whole run's order within it)
     call particles_places(ptw, first, before, pos, ordered)
     if (.not. ordered) then
-      call error_set(err, 'particles_frame_share', 'a block''s particles are not in the whole run''s order', &
+      call error_set(err, 'particles_blocks_share', 'a block''s particles are not in the whole run''s order', &
                      ERR_RUNTIME)
       return
     end if
     ptw%cell(:ptw%np) = [(st%g%global_cell(ptw%cell(k)), k = 1, ptw%np)]
     call sorted_runs(pos, runs, stat)
-    if (stat /= 0) call error_set(err, 'particles_frame_share', error_no_memory('the particles'' places'))
-  end subroutine particles_frame_share
+    if (stat /= 0) call error_set(err, 'particles_blocks_share', error_no_memory('the particles'' places'))
+  end subroutine particles_blocks_share
 
   !> The particles of a decomposed run in the whole run's order (ptw, host
   !> cells numbered in the whole grid): `parallel_particles_gather` of the

@@ -116,12 +116,16 @@ contains
   !> On several ranks every rank calls this with its block, whose mixed
   !> cells and particles are then the whole run's (`whole_dump`): the ranks
   !> write the file together.
-  subroutine write_restart(cfg, st, sch, es, err)
+  subroutine write_restart(cfg, st, sch, es, err, ptotal, pruns)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
+    !> (a decomposed run's blocks that hold their particles: st%pt this
+    !> rank's share of ptotal, written at the places pruns gives,
+    !> `restart_write`)
+    integer, intent(in), optional :: ptotal, pruns(:, :)
     type(registry_t) :: reg
     character(len=:), allocatable :: path
     character(len=256) :: entry
@@ -159,13 +163,18 @@ contains
       end if
       frames = [character(len=256) :: frames, frame_name(sch, sch%out%nframe)]
       times = [times, st%t]
-      nparts = [nparts, st%pt%np]
+      if (present(ptotal)) then
+        nparts = [nparts, ptotal]
+      else
+        nparts = [nparts, st%pt%np]
+      end if
       sch%out%nframe = sch%out%nframe + 1
     end if
     ! registered afresh: an Euler step may have reallocated the mixed cells
     call register_all(st, sch, es, reg)
     if (sch%pc%nranks > 1) then
-      call restart_write(path, reg, cfg%echo, frames, times, err, nparts, comm=sch%pc%world, ix=st%g%grid_index_t)
+      call restart_write(path, reg, cfg%echo, frames, times, err, nparts, comm=sch%pc%world, ix=st%g%grid_index_t, &
+                         ptotal=ptotal, pruns=pruns)
     else
       call restart_write(path, reg, cfg%echo, frames, times, err, nparts)
     end if

@@ -68,7 +68,8 @@ module driver_whole
   use io_log, only: log_t, log_line
   use base_strings, only: itoa
   use particles_state, only: particles_t, particles_index
-  use driver_particles, only: build_particles, particles_gathered, particles_take, particles_euler_t, particles_euler_save, &
+  use driver_particles, only: build_particles, particles_gathered, particles_blocks_share, particles_take, &
+                              particles_euler_t, particles_euler_save, &
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
                               particles_euler_blocks, particles_preposition_blocks, particles_euler_preposition
   use particles_lagrange, only: strength_slot_t
@@ -1172,8 +1173,9 @@ contains
   !> (`write_restart`, `restart_write`): each block its owned nodes and cells
   !> of the node and cell quantities, rank 0 the rest, which must be the
   !> whole run's: the mixed cells (their centroids refreshed in each block,
-  !> then gathered in cell order, `mixed_gather`) and the particles (in the
-  !> whole run's order) are put in the block's place for the dump, and a
+  !> then gathered in cell order, `mixed_gather`) is put in the block's
+  !> place for the dump, and each block writes its own particles at their
+  !> places in the whole run's order (`particles_blocks_share`); a
   !> mixed cell's material (minus its number in the block's storage) its
   !> number among the whole grid's. The file is the one a single process
   !> writes; the whole grid's state is not needed.
@@ -1187,8 +1189,8 @@ contains
     type(mixed_t) :: mw, mb
     type(particles_t) :: pw, pb
     type(centroid_stats_t) :: cs
-    integer, allocatable :: mat(:), keep(:)
-    integer :: k, c, lo, hi, mid, gc, ijk(3)
+    integer, allocatable :: mat(:), keep(:), pruns(:, :)
+    integer :: k, c, lo, hi, mid, gc, ijk(3), ptotal
 
     call mixed_gather(pc, st, mw, err, cs)
     if (allocated(err)) return
@@ -1212,7 +1214,9 @@ contains
       mat(c) = -lo
     end do
     if (st%pblocks) then
-      call particles_gathered(pc, st, pw, err)
+      ! (each block writes its own particles at their places among all)
+      call particles_blocks_share(pc, st, pw, pruns, ptotal, err)
+      call agree_error(pc, err)
       if (allocated(err)) return
       pb = st%pt
       st%pt = pw
@@ -1221,7 +1225,11 @@ contains
     st%mx = mw
     call move_alloc(st%h%mat, keep)
     call move_alloc(mat, st%h%mat)
-    call write_restart(cfg, st, sch, es, err)
+    if (st%pblocks) then
+      call write_restart(cfg, st, sch, es, err, ptotal, pruns)
+    else
+      call write_restart(cfg, st, sch, es, err)
+    end if
     ! the block's own again
     call move_alloc(keep, st%h%mat)
     st%mx = mb

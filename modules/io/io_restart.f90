@@ -39,7 +39,7 @@ module io_restart
   use io_xdmf, only: io_rename
   use base_strings, only: itoa, rtoa
   use base_registry, only: registry_t, registry_entry_t, location_name, LOWER_POSITIVE, LOWER_NONNEGATIVE, &
-                           LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
+                           LOC_GLOBAL, LOC_NODE, LOC_CELL, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
   public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
@@ -68,9 +68,12 @@ contains
   !> calling this) the ranks write the file together: each its owned nodes
   !> and cells of the node and cell quantities (the block's index ix) into
   !> the whole grid's datasets, rank 0 everything else (which must then be
-  !> the whole run's: the caller's concern). The file is the one a single
-  !> process writes of the same state.
-  subroutine restart_write(path, reg, deck, frames, times, err, nparts, comm, ix)
+  !> the whole run's: the caller's concern), unless `ptotal` and `pruns`:
+  !> the particle quantities then hold this rank's share of ptotal
+  !> particles, which it writes at the places pruns gives (the layout of
+  !> `output_frame`'s). The file is the one a single process writes of the
+  !> same state.
+  subroutine restart_write(path, reg, deck, frames, times, err, nparts, comm, ix, ptotal, pruns)
     character(len=*), intent(in) :: path
     type(registry_t), intent(in) :: reg
     character(len=*), intent(in) :: deck
@@ -80,6 +83,7 @@ contains
     integer, intent(in), optional :: nparts(:)
     type(MPI_Comm), intent(in), optional :: comm
     type(grid_index_t), intent(in), optional :: ix
+    integer, intent(in), optional :: ptotal, pruns(:, :)
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
     integer, allocatable :: ibuf(:)
@@ -112,6 +116,10 @@ contains
       associate (e => reg%e(k))
         if (blocks .and. (e%location == LOC_NODE .or. e%location == LOC_CELL)) then
           call write_owned(e)
+          cycle
+        end if
+        if (blocks .and. e%location == LOC_PARTICLE .and. present(pruns)) then
+          call write_particles(e)
           cycle
         end if
         select case (e%kind)
@@ -151,10 +159,13 @@ contains
       do q = 1, reg%n
         associate (e => reg%e(q))
           m = 1
-          if (e%location == LOC_NODE .or. e%location == LOC_CELL) m = product(e%dims(1:size(e%dims) - 1))
+          if (e%location == LOC_NODE .or. e%location == LOC_CELL .or. e%location == LOC_PARTICLE) &
+            m = product(e%dims(1:size(e%dims) - 1))
           select case (e%kind)
           case (K_REAL, K_INT)
-            if (e%location == LOC_NODE) then
+            if (e%location == LOC_PARTICLE .and. present(ptotal)) then
+              n = n + 8_int64*m*ptotal
+            else if (e%location == LOC_NODE) then
               n = n + 8_int64*m*product(int(ix%gn + 1, int64))
             else if (e%location == LOC_CELL) then
               n = n + 8_int64*m*product(int(ix%gn, int64))
@@ -227,6 +238,19 @@ contains
                                err, grid)
       end if
     end subroutine write_owned
+
+    !> A particle quantity: this rank's particles at their places among
+    !> ptotal (`h5_write_part_real`'s runs).
+    subroutine write_particles(e)
+      type(registry_entry_t), intent(in) :: e
+      integer :: lead(size(e%dims) - 1)
+      lead = e%dims(1:size(e%dims) - 1)
+      if (e%kind == K_REAL) then
+        call h5_write_part_real(f, 'state/'//trim(e%name), e%r, [lead, ptotal], [0*lead, 0], e%dims, err, runs=pruns)
+      else
+        call h5_write_part_int(f, 'state/'//trim(e%name), e%i, [lead, ptotal], [0*lead, 0], e%dims, err, runs=pruns)
+      end if
+    end subroutine write_particles
   end subroutine restart_write
 
   !> Deletes `path` if it exists (a temporary file of a failed dump: it frees

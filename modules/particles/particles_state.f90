@@ -231,10 +231,9 @@ contains
     if (allocated(p%perm)) deallocate(p%perm)
   end subroutine particles_select
 
-  !> q: the particles pick of p (in that order) with the fields a frame
-  !> writes (ids, solids, bodies, host cells, positions, velocities,
-  !> masses, volumes, densities, energies, stresses, histories), not their
-  !> pieces and bins.
+  !> q: the particles pick of p (in that order) with the fields a restart
+  !> holds (`particles_register_restart`; a frame writes some of them), not
+  !> their pieces and bins.
   subroutine particles_take_fields(p, pick, q, err)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: pick(:)
@@ -254,6 +253,10 @@ contains
     q%e = p%e(pick)
     q%stress = p%stress(:, pick)
     q%hist = p%hist(:, pick)
+    q%xi = p%xi(:, pick)
+    q%lsup = p%lsup(pick)
+    q%spread = p%spread
+    if (allocated(p%mvf)) q%mvf = p%mvf(pick)
   end subroutine particles_take_fields
 
   !> cnt(s, c): the particles of solid s hosted by cell c (cnt(nsolid, ncell)).
