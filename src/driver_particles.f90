@@ -851,7 +851,7 @@ contains
   !> total the whole run's count. Collective.
   subroutine particles_blocks_share(pc, st, ptw, runs, total, err)
     type(comm_t), intent(in) :: pc
-    type(state_t), intent(in) :: st
+    type(state_t), intent(inout), target :: st
     type(particles_t), intent(out) :: ptw
     integer, allocatable, intent(out) :: runs(:, :)
     integer, intent(out) :: total

@@ -232,31 +232,39 @@ contains
   end subroutine particles_select
 
   !> q: the particles pick of p (in that order) with the fields a restart
-  !> holds (`particles_register_restart`; a frame writes some of them), not
-  !> their pieces and bins.
+  !> holds (`particles_register_restart`, each copied through the two
+  !> registries; a frame writes some of them), not their pieces and bins.
   subroutine particles_take_fields(p, pick, q, err)
-    type(particles_t), intent(in) :: p
+    type(particles_t), intent(inout), target :: p
     integer, intent(in) :: pick(:)
-    type(particles_t), intent(inout) :: q
+    type(particles_t), intent(inout), target :: q
     type(error_t), allocatable, intent(inout) :: err
+    type(registry_t) :: rp, rq
+    integer :: e, m, k, stat
     call particles_allocate(q, size(pick), p%nsolid, p%nhist, err)
     if (allocated(err)) return
-    q%id = p%id(pick)
-    q%mat = p%mat(pick)
-    q%body = p%body(pick)
-    q%cell = p%cell(pick)
-    q%x = p%x(:, pick)
-    q%v = p%v(:, pick)
-    q%m = p%m(pick)
-    q%vol = p%vol(pick)
-    q%rho = p%rho(pick)
-    q%e = p%e(pick)
-    q%stress = p%stress(:, pick)
-    q%hist = p%hist(:, pick)
-    q%xi = p%xi(:, pick)
-    q%lsup = p%lsup(pick)
     q%spread = p%spread
-    if (allocated(p%mvf)) q%mvf = p%mvf(pick)
+    if (allocated(p%mvf)) then
+      allocate(q%mvf(size(pick)), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'particles_take_fields', error_no_memory(itoa(size(pick))//' particles'))
+        return
+      end if
+    end if
+    call particles_register_restart(p, rp)
+    call particles_register_restart(q, rq)
+    do e = 1, rp%n
+      associate (a => rp%e(e), b => rq%e(e))
+        m = product(a%dims(1:size(a%dims) - 1))
+        do k = 1, size(pick)
+          if (associated(a%r)) then
+            b%r(m*(k - 1) + 1:m*k) = a%r(m*(pick(k) - 1) + 1:m*pick(k))
+          else
+            b%i(m*(k - 1) + 1:m*k) = a%i(m*(pick(k) - 1) + 1:m*pick(k))
+          end if
+        end do
+      end associate
+    end do
   end subroutine particles_take_fields
 
   !> cnt(s, c): the particles of solid s hosted by cell c (cnt(nsolid, ncell)).
