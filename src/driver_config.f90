@@ -20,7 +20,7 @@ module driver_config
                      echo_text
   use io_output_config, only: output_config_t, output_config_read
   use io_points_file, only: points_file_read
-  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes
+  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes, grid_index_block
   use mesh_shapes, only: shape_t, shape_kind
   use particles_seed, only: seed_count
   use io_stl, only: stl_read
@@ -274,32 +274,58 @@ contains
 
   !> A shape that seeds no particle (smaller than the spacing of the
   !> sub-cell centres, or between them) is a deck mistake, found now by
-  !> counting on the deck's grid (`seed_count`; the scene seeds again).
+  !> counting on the deck's grid (`seed_count`; the scene seeds again). A
+  !> box grid is counted a slab of planes at a time (`grid_init_box`'s
+  !> blocks: the same nodes, so the same centres), so that no rank holds
+  !> the whole grid's nodes for it; a grid file is read whole.
   subroutine empty_shapes_check(deck, cfg, problems)
     type(deck_t), intent(in) :: deck
     type(config_t), intent(in) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    !> nodes per slab, about (the planes of a slab hold at most this many)
+    integer, parameter :: slab_nodes = 2**20
     type(grid_t) :: g
     type(error_t), allocatable :: err
     real(wp), allocatable :: x(:, :)
-    integer :: k, n0
+    integer :: k, n0, k0, nks, gn(3), seeds(size(cfg%particles))
+    logical :: skip(size(cfg%particles))
+    gn = [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk]
+    skip = [(any(cfg%particles(k)%shape == [character(len=8) :: 'file', 'line', 'stl']), &
+                k = 1, size(cfg%particles))]
+    seeds = 0
     if (len_trim(cfg%grid%file) == 0) then
-      call grid_init_box(g, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, cfg%grid%xmin, cfg%grid%xmax, err)
+      nks = max(1, min(gn(3), slab_nodes/((gn(1) + 1)*(gn(2) + 1))))
+      do k0 = 0, gn(3) - 1, nks
+        call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, &
+                           ix=grid_index_block([gn(1), gn(2), min(nks, gn(3) - k0)], [0, 0, 0], [0, 0, 0], &
+                                               [0, 0, k0], gn))
+        if (allocated(err)) return     ! the grid's own problem is reported by &grid
+        call count_seeds()
+      end do
     else
-      call grid_file_read(cfg%grid%file_path, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, x, err)
-      if (.not. allocated(err)) call grid_init_nodes(g, cfg%grid%ni, cfg%grid%nj, cfg%grid%nk, x, err)
+      call grid_file_read(cfg%grid%file_path, gn(1), gn(2), gn(3), x, err)
+      if (.not. allocated(err)) call grid_init_nodes(g, gn(1), gn(2), gn(3), x, err)
+      if (allocated(err)) return
+      call count_seeds()
     end if
-    if (allocated(err)) return     ! the grid's own problem is reported by &grid
     do k = 1, size(cfg%particles)
-      associate (pc => cfg%particles(k))
-        if (pc%shape == 'file' .or. pc%shape == 'line' .or. pc%shape == 'stl') cycle
-        n0 = size(problems)
-        if (seed_count(g, group_shape(pc), pc%per_cell) == 0) call problem_add(problems, '&particles('// &
-          itoa(k)//'): the '//trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)// &
-          ' (no sub-cell centre lies in it): make it larger or raise per_cell')
-        call at_line(problems, n0, deck, 'particles', k)
-      end associate
+      if (skip(k) .or. seeds(k) > 0) cycle
+      n0 = size(problems)
+      call problem_add(problems, '&particles('//itoa(k)//'): the '//trim(cfg%particles(k)%shape)// &
+        ' seeds no particle at per_cell = '//itoa(cfg%particles(k)%per_cell)// &
+        ' (no sub-cell centre lies in it): make it larger or raise per_cell')
+      call at_line(problems, n0, deck, 'particles', k)
     end do
+  contains
+    !> The groups' seeds in g added to seeds (a group found to seed some
+    !> is not skip again).
+    subroutine count_seeds()
+      integer :: q
+      do q = 1, size(cfg%particles)
+        if (skip(q) .or. seeds(q) > 0) cycle
+        seeds(q) = seed_count(g, group_shape(cfg%particles(q)), cfg%particles(q)%per_cell)
+      end do
+    end subroutine count_seeds
   end subroutine empty_shapes_check
 
   !> The shape of a &particles group (not 'file', 'line' or 'stl'), for the seeding.
