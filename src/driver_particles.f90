@@ -1,7 +1,7 @@
 !> Builds the MPM particles of a scene from its &particles groups (none:
 !> nothing is allocated): each group seeded from its shape
 !> (`particles_seed`, shapes of `mesh_shapes`) or its file of points
-!> (`io_points_file`, each point located in the grid by `seed_points`),
+!> (`io_points_file`, each point located in the grid by `seed_hosts`),
 !> given its solid, density, initial velocity and stress and body id, then
 !> all sorted by solid and host cell and binned (`particles_order`).
 !>
@@ -36,9 +36,10 @@ module driver_particles
                              particles_leaving, particles_first_lost, particles_owned_hosts
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate
+  use mesh_geometry, only: hex_volume
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
-  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
+  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order, &
@@ -95,15 +96,20 @@ module driver_particles
   type :: seeded_t
     integer, allocatable :: cell(:)
     real(wp), allocatable :: xi(:, :), x(:, :), vol(:)
+    !> a list's group (a file's points, a line's): each particle's place in
+    !> the list (its seeding order), and the list's length
+    integer, allocatable :: list(:)
+    integer :: nlist = 0
   end type seeded_t
 
 contains
 
   !> The particles of every &particles group into st%pt (module notes).
-  !> With comm (a decomposed run whose groups are shapes or STL surfaces:
-  !> `driver_whole`'s `seed_on_blocks`) each block seeds its owned cells, numbers
-  !> its particles as one process does (the seeding order, group by group
-  !> and cell by cell in the whole grid's order: `cell_prefix`), and sends
+  !> With comm (a decomposed run seeded on its blocks: `driver_whole`'s
+  !> `seed_on_blocks`) each block seeds its owned cells, numbers its
+  !> particles as one process does (the seeding order, group by group and
+  !> cell by cell in the whole grid's order: `cell_prefix`; a file's or a
+  !> line's points in their list's order), and sends
   !> them to the blocks whose ghost layers hold them
   !> (`parallel_particles_move`); the log's counts and sums are the whole
   !> run's.
@@ -120,7 +126,7 @@ contains
     integer :: k, i, np, q, stat, nhist, nall(2)
     integer, allocatable :: shared(:), counts(:), ids(:), first(:), total(:)
     logical, allocatable :: owned(:)
-    logical :: found, blocks
+    logical :: blocks
     character(len=120) :: note
     character(len=200) :: msg
 
@@ -136,22 +142,17 @@ contains
     do k = 1, size(cfg%particles)
       associate (pc => cfg%particles(k), gr => groups(k))
         if (pc%shape == 'file') then
-          call seed_file(st, pc, k, gr, err)
+          call seed_file(st, pc, k, gr, err, comm)
         else if (pc%shape == 'stl') then
           call seed_stl(st, pc, k, gr, err)
         else if (pc%shape == 'line') then
-          call seed_line(st%g, pc%point, pc%point2, pc%area, pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, found, stat)
-          if (stat /= 0) then
-            call error_set(err, 'build_particles', error_no_memory('the particles of a line'))
-          else if (.not. found) then
-            call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): a '// &
-                           'point of the line lies in no cell of the grid', ERR_INPUT)
-          end if
+          call seed_bar(st, pc, k, gr, err, comm)
         else
           call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
         end if
-        ! (a block keeps those of its owned cells; the counts are the run's)
-        if (blocks .and. .not. allocated(err)) call owned_only(st%g, gr, err)
+        ! (a block keeps those of its owned cells, a list's group has kept
+        ! them; the counts are the run's)
+        if (blocks .and. .not. allocated(err) .and. .not. allocated(gr%list)) call owned_only(st%g, gr, err)
         if (blocks) call agree_error(comm, err)
         if (allocated(err)) return
         if (group_count(size(gr%cell)) == 0) then
@@ -301,7 +302,8 @@ contains
   !> in its seeding order (on one process the order of the lists; on a
   !> block of a decomposed run (comm) the whole grid's cell order, the
   !> places of the block's cells from `cell_prefix`, within a cell the
-  !> list's); group k's ids are first(k) + 1 .. first(k) + total(k).
+  !> list's; a list's group by the places in its list on any rank count);
+  !> group k's ids are first(k) + 1 .. first(k) + total(k).
   subroutine seeding_ids(st, groups, ids, first, total, err, comm)
     type(state_t), intent(in) :: st
     type(seeded_t), intent(in) :: groups(:)
@@ -320,6 +322,7 @@ contains
     if (present(comm)) then
       cnt = 0
       do k = 1, ng
+        if (allocated(groups(k)%list)) cycle
         do i = 1, size(groups(k)%cell)
           cnt(k, groups(k)%cell(i)) = cnt(k, groups(k)%cell(i)) + 1
         end do
@@ -328,6 +331,10 @@ contains
     else
       total = [(size(groups(k)%cell), k = 1, ng)]
     end if
+    ! (a list's group: its list's length on any rank count)
+    do k = 1, ng
+      if (allocated(groups(k)%list)) total(k) = groups(k)%nlist
+    end do
     first(1) = 0
     do k = 2, ng
       first(k) = first(k - 1) + total(k - 1)
@@ -337,7 +344,9 @@ contains
       seen = 0
       do i = 1, size(groups(k)%cell)
         q = q + 1
-        if (present(comm)) then
+        if (allocated(groups(k)%list)) then
+          ids(q) = first(k) + groups(k)%list(i)
+        else if (present(comm)) then
           c = groups(k)%cell(i)
           seen(c) = seen(c) + 1
           ids(q) = first(k) + before(k, c) + seen(c)
@@ -1223,29 +1232,145 @@ contains
   end subroutine seed_stl
 
   !> The particles of a file of points: each point's host cell and natural
-  !> coordinates (a walk from the previous point's cell), its volume from the
-  !> file or, without a volume column, the host cell's volume / per_cell^3.
-  !> A point in no cell is a deck mistake.
-  subroutine seed_file(st, pc, k, gr, err)
+  !> coordinates (`list_hosts`), its volume from the file or, without a
+  !> volume column, the host cell's volume / per_cell^3. A point in no cell
+  !> is a deck mistake. Every rank of a decomposed run (comm) reads the file
+  !> and keeps the points of its owned cells.
+  subroutine seed_file(st, pc, k, gr, err, comm)
     type(state_t), intent(in) :: st
     type(particles_config_t), intent(in) :: pc
     integer, intent(in) :: k
     type(seeded_t), intent(inout) :: gr
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: vfile(:)
-    integer :: lost
+    type(comm_t), intent(in), optional :: comm
+    real(wp), allocatable :: vfile(:), x(:, :), xi(:, :), vol(:)
+    integer, allocatable :: cell(:)
+    integer :: lost, stat
 
-    call points_file_read(pc%file_path, gr%x, vfile, err)
-    if (allocated(err)) then
-      call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): '//err%msg, &
-                     ERR_INPUT)
+    call points_file_read(pc%file_path, x, vfile, err)
+    if (allocated(err)) call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)// &
+                                       '): '//err%msg, ERR_INPUT)
+    if (present(comm)) call agree_error(comm, err)
+    if (allocated(err)) return
+    call particles_file_place(pc, x)
+    if (size(vfile) > 0) vfile = pc%scale**3*vfile
+    call list_hosts(st, x, cell, xi, lost, err, comm)
+    if (allocated(err)) return
+    if (lost > 0) then
+      call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): point '// &
+                     itoa(lost)//' of file '''//trim(pc%file)//''' lies in no cell of the grid', ERR_INPUT)
       return
     end if
-    call particles_file_place(pc, gr%x)
-    if (size(vfile) > 0) vfile = pc%scale**3*vfile
-    call seed_points(st%g, gr%x, vfile, pc%per_cell, gr%cell, gr%xi, gr%vol, lost, err)
-    if (lost > 0) call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)// &
-                                 '): point '//itoa(lost)//' of file '''//trim(pc%file)//''' lies in no cell of the grid', &
-                                 ERR_INPUT)
+    allocate(vol(size(cell)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'seed_file', error_no_memory(itoa(size(cell))//' particles'))
+      return
+    end if
+    call seed_points(st%g, cell, vfile, pc%per_cell, vol)
+    call listed_group(x, cell, xi, vol, gr)
   end subroutine seed_file
+
+  !> The particles of a bar (&particles shape = 'line', `seed_line`): the
+  !> size h of the cell holding the segment's midpoint (found by the block
+  !> that owns it in a decomposed run), the pieces' midpoints, each one's
+  !> host (`list_hosts`) and volume area L / pieces.
+  subroutine seed_bar(st, pc, k, gr, err, comm)
+    type(state_t), intent(in) :: st
+    type(particles_config_t), intent(in) :: pc
+    integer, intent(in) :: k
+    type(seeded_t), intent(inout) :: gr
+    type(error_t), allocatable, intent(inout) :: err
+    type(comm_t), intent(in), optional :: comm
+    real(wp), allocatable :: x(:, :), xi(:, :), vol(:)
+    integer, allocatable :: cell(:)
+    real(wp) :: xn(3, 8), h(1)
+    integer :: lost, stat, i
+
+    call list_hosts(st, reshape(0.5_wp*(pc%point + pc%point2), [3, 1]), cell, xi, lost, err, comm)
+    if (allocated(err)) return
+    h = -1.0_wp
+    if (cell(1) > 0) then
+      call st%g%gather(cell(1), st%g%x, xn)
+      h = abs(hex_volume(xn))**(1.0_wp/3.0_wp)
+    end if
+    if (present(comm)) call parallel_max(comm, h)
+    stat = 0
+    if (lost == 0) call seed_line(pc%point, pc%point2, pc%per_cell, h(1), x, stat)
+    if (stat /= 0) call error_set(err, 'build_particles', error_no_memory('the particles of a line'))
+    if (present(comm)) call agree_error(comm, err)
+    if (allocated(err)) return
+    if (lost == 0) call list_hosts(st, x, cell, xi, lost, err, comm)
+    if (allocated(err)) return
+    if (lost > 0) then
+      call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): a '// &
+                     'point of the line lies in no cell of the grid', ERR_INPUT)
+      return
+    end if
+    vol = [(pc%area*norm2(pc%point2 - pc%point)/real(size(x, 2), wp), i = 1, size(x, 2))]
+    call listed_group(x, cell, xi, vol, gr)
+  end subroutine seed_bar
+
+  !> The host cells cell(n) and natural coordinates xi(3, n) of a list of
+  !> points x(3, n) (`seed_hosts`), and lost, the first point in no cell (0:
+  !> none). On a block of a decomposed run (comm): the hosts among the
+  !> block's owned cells, 0 for the other points; each block searches its
+  !> stored cells, and the points no block found are searched again cell
+  !> by cell (as one process does when its walk fails). Collective.
+  subroutine list_hosts(st, x, cell, xi, lost, err, comm)
+    type(state_t), intent(in) :: st
+    real(wp), intent(in) :: x(:, :)
+    integer, allocatable, intent(out) :: cell(:)
+    real(wp), allocatable, intent(out) :: xi(:, :)
+    integer, intent(out) :: lost
+    type(error_t), allocatable, intent(inout) :: err
+    type(comm_t), intent(in), optional :: comm
+    integer, allocatable :: hits(:), again(:), cell2(:)
+    real(wp), allocatable :: xi2(:, :)
+    integer :: n, i, stat
+
+    n = size(x, 2)
+    lost = 0
+    allocate(cell(n), xi(3, n), hits(merge(n, 0, present(comm))), stat=stat)
+    if (stat /= 0) call error_set(err, 'build_particles', error_no_memory(itoa(n)//' particles'' hosts'))
+    if (present(comm)) call agree_error(comm, err)
+    if (allocated(err)) return
+    if (.not. present(comm)) then
+      call seed_hosts(st%g, x, cell, xi)
+      lost = findloc(cell, 0, 1)
+      return
+    end if
+    call seed_hosts(st%g, x, cell, xi, [st%g%glo > 0, st%g%ghi > 0], owned=.true.)
+    hits = merge(1, 0, cell > 0)
+    call parallel_sum(comm, hits)
+    again = pack([(i, i = 1, n)], hits == 0)
+    if (size(again) > 0) then
+      allocate(cell2(size(again)), xi2(3, size(again)), stat=stat)
+      if (stat /= 0) call error_set(err, 'build_particles', error_no_memory(itoa(n)//' particles'' hosts'))
+      call agree_error(comm, err)
+      if (allocated(err)) return
+      call seed_hosts(st%g, x(:, again), cell2, xi2, owned=.true.)
+      cell(again) = cell2
+      xi(:, again) = xi2
+      cell2 = merge(1, 0, cell2 > 0)
+      call parallel_sum(comm, cell2)
+      hits(again) = cell2
+    end if
+    lost = findloc(hits, 0, 1)
+  end subroutine list_hosts
+
+  !> Group gr from a list's points x(3, n) with hosts cell(n) (0: not this
+  !> block's), natural coordinates xi and volumes vol: those with a host,
+  !> in list order.
+  subroutine listed_group(x, cell, xi, vol, gr)
+    real(wp), intent(in) :: x(:, :), xi(:, :), vol(:)
+    integer, intent(in) :: cell(:)
+    type(seeded_t), intent(inout) :: gr
+    integer :: i
+    gr%nlist = size(cell)
+    gr%list = pack([(i, i = 1, size(cell))], cell > 0)
+    gr%cell = cell(gr%list)
+    gr%xi = xi(:, gr%list)
+    gr%x = x(:, gr%list)
+    gr%vol = vol(gr%list)
+  end subroutine listed_group
 end module driver_particles

@@ -149,19 +149,14 @@ contains
   end subroutine whole_build
 
   !> Whether a decomposed run's blocks seed its particles themselves
-  !> (`build_particles`): particles of shapes and STL surfaces (a file's
-  !> points or a line's are seeded on the whole grid: their hosts come from a
-  !> walk along the list), Euler steps on windows. (A restart then reads the
-  !> particles on the blocks, `read_restart`; tracked particles are chosen
-  !> over the blocks, `tracks_init`.)
+  !> (`build_particles`): a run with particles and Euler steps on windows
+  !> (or none). (A restart then reads the particles on the blocks,
+  !> `read_restart`; tracked particles are chosen over the blocks,
+  !> `tracks_init`.)
   logical function seed_on_blocks(cfg) result(yes)
     type(config_t), intent(in) :: cfg
-    integer :: k
     yes = size(cfg%particles) > 0 .and. &
           (trim(cfg%rezone%mode) == 'none' .or. trim(cfg%control%euler_ranks) == 'windows')
-    do k = 1, size(cfg%particles)
-      if (cfg%particles(k)%shape == 'file' .or. cfg%particles(k)%shape == 'line') yes = .false.
-    end do
   end function seed_on_blocks
 
   !> st%whole built from the deck on the whole grid, its Euler steps' work

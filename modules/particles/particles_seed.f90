@@ -29,10 +29,10 @@ module particles_seed
   use mesh_grid, only: grid_t
   use mesh_shapes, only: shape_t, shape_inside, shape_level
   use mesh_surface, only: surface_t, surface_inside, surface_box_level
-  use particles_shape, only: particles_map, particles_locate
+  use particles_shape, only: particles_map, particles_locate, particles_lowest_host
   implicit none
   private
-  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_union, seed_points, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity
 
 contains
 
@@ -168,44 +168,75 @@ contains
     end do
   end subroutine visit
 
-  !> The particles of a bar (a reinforcing bar, a rod) along the segment
-  !> p0..p1 with cross-section `area` (length^2), at n per cell along it:
-  !> the segment cut into nb = max(1, nint(n L/h)) equal pieces (L its
-  !> length, h the cube root of the volume of the cell holding its
-  !> midpoint), a particle at each piece's midpoint with the piece's volume
-  !> area L/nb, so the bar's volume is exact; host cells and natural
-  !> coordinates by `particles_locate`, each walk starting from the previous
-  !> particle's cell. found false if a point lies in no cell; stat nonzero
-  !> if the arrays could not be allocated.
-  pure subroutine seed_line(g, p0, p1, area, n, cell, xi, x, vol, found, stat)
-    type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: p0(3), p1(3), area
+  !> The points of a bar (a reinforcing bar, a rod) along the segment
+  !> p0..p1 at n per cell along it: the segment cut into nb = max(1,
+  !> nint(n L/h)) equal pieces (L its length, h the size of the cell
+  !> holding its midpoint, the caller's), the midpoint of each piece, x(3,
+  !> nb); each particle's volume is then area L/nb, so the bar's volume is
+  !> exact. stat nonzero if x could not be allocated.
+  pure subroutine seed_line(p0, p1, n, h, x, stat)
+    real(wp), intent(in) :: p0(3), p1(3), h
     integer, intent(in) :: n
-    integer, allocatable, intent(out) :: cell(:)
-    real(wp), allocatable, intent(out) :: xi(:, :), x(:, :), vol(:)
-    logical, intent(out) :: found
+    real(wp), allocatable, intent(out) :: x(:, :)
     integer, intent(out) :: stat
-    real(wp) :: xn(3, 8), xim(3), len, h
-    integer :: nb, i, c, guess
-
-    stat = 0
-    len = norm2(p1 - p0)
-    call particles_locate(g, 0.5_wp*(p0 + p1), 1, c, xim, found)
-    if (.not. found) return
-    call g%gather(c, g%x, xn)
-    h = abs(hex_volume(xn))**(1.0_wp/3.0_wp)
-    nb = max(1, nint(real(n, wp)*len/h))
-    allocate(cell(nb), xi(3, nb), x(3, nb), vol(nb), stat=stat)
+    integer :: nb, i
+    nb = max(1, nint(real(n, wp)*norm2(p1 - p0)/h))
+    allocate(x(3, nb), stat=stat)
     if (stat /= 0) return
-    guess = c
     do i = 1, nb
       x(:, i) = p0 + ((real(i, wp) - 0.5_wp)/real(nb, wp))*(p1 - p0)
-      call particles_locate(g, x(:, i), guess, cell(i), xi(:, i), found)
-      if (.not. found) return
-      guess = cell(i)
     end do
-    vol = area*len/real(nb, wp)
   end subroutine seed_line
+
+  !> The host cell (cell(i), 0 if none) and natural coordinates xi(:, i) of
+  !> each point x(:, i) of a list in g: a walk from the previous point's
+  !> host (`particles_locate`), then the lowest holding cell
+  !> (`particles_lowest_host`: a point on a face shared by two cells has
+  !> the same host whatever the walk). With cut (a block of a decomposed
+  !> run, `particles_locate`'s cuts) only the block's stored cells are
+  !> searched, a point outside their bounding box not at all, and a walk
+  !> that leaves them gives 0 (no search of every cell: where no block finds
+  !> a point, the caller searches again without cut). With owned, a host
+  !> that is not one of the block's owned cells gives 0.
+  pure subroutine seed_hosts(g, x, cell, xi, cut, owned)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(out) :: cell(:)
+    real(wp), intent(out) :: xi(:, :)
+    logical, intent(in), optional :: cut(6), owned
+    real(wp) :: lo(3), hi(3), pad
+    integer :: i, guess, d, ijk(3)
+    logical :: found
+    cell = 0
+    xi = 0.0_wp
+    if (size(x, 2) == 0 .or. g%ncell == 0) return
+    lo = -huge(1.0_wp)
+    hi = huge(1.0_wp)
+    guess = 1
+    if (present(cut)) then
+      do d = 1, 3
+        lo(d) = minval(g%x(d, :))
+        hi(d) = maxval(g%x(d, :))
+      end do
+      pad = 1.0e-8_wp*maxval(hi - lo)
+      lo = lo - pad
+      hi = hi + pad
+      guess = g%cell((g%clo(1) + g%chi(1))/2, (g%clo(2) + g%chi(2))/2, (g%clo(3) + g%chi(3))/2)
+    end if
+    do i = 1, size(x, 2)
+      if (any(x(:, i) < lo) .or. any(x(:, i) > hi)) cycle
+      call particles_locate(g, x(:, i), guess, cell(i), xi(:, i), found, cut=cut)
+      if (.not. found) then
+        cell(i) = 0
+        cycle
+      end if
+      call particles_lowest_host(g, x(:, i), cell(i), xi(:, i))
+      guess = cell(i)
+      if (.not. present(owned)) cycle
+      call g%cell_ijk(cell(i), ijk(1), ijk(2), ijk(3))
+      if (owned .and. .not. g%owns_cell(ijk(1), ijk(2), ijk(3))) cell(i) = 0
+    end do
+  end subroutine seed_hosts
 
   !> Where two groups of one body overlap (a frame composed of boxes): keep
   !> false for the particles of group b whose sub-box group a seeded
@@ -263,42 +294,23 @@ contains
     v = v0 + omega*cross(axis, x - center)
   end function rigid_velocity
 
-  !> Particles at given points x(3, n): each point's host cell and natural
-  !> coordinates in g (a walk from the previous point's cell), its volume
-  !> vfile(i) or, when vfile is empty, the host cell's volume / per_cell^3.
-  !> lost: the first point in no cell of g (0: none; the arrays then hold
-  !> the points before it).
-  subroutine seed_points(g, x, vfile, per_cell, cell, xi, vol, lost, err)
+  !> The volumes of particles at points with host cells cell(:) (0: not
+  !> here, left 0): vfile(i), or when vfile is empty the host cell's volume
+  !> / per_cell^3.
+  pure subroutine seed_points(g, cell, vfile, per_cell, vol)
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: x(:, :), vfile(:)
-    integer, intent(in) :: per_cell
-    integer, allocatable, intent(out) :: cell(:)
-    real(wp), allocatable, intent(out) :: xi(:, :), vol(:)
-    integer, intent(out) :: lost
-    type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in) :: cell(:), per_cell
+    real(wp), intent(in) :: vfile(:)
+    real(wp), intent(out) :: vol(:)
     real(wp) :: xn(3, 8)
-    integer :: i, n, c, guess, stat
-    logical :: found
-    lost = 0
-    n = size(x, 2)
-    allocate(cell(n), xi(3, n), vol(n), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'seed_points', error_no_memory(itoa(n)//' particles'))
-      return
-    end if
-    guess = 1
-    do i = 1, n
-      call particles_locate(g, x(:, i), guess, c, xi(:, i), found)
-      if (.not. found) then
-        lost = i
-        return
-      end if
-      cell(i) = c
-      guess = c
+    integer :: i
+    vol = 0.0_wp
+    do i = 1, size(cell)
+      if (cell(i) == 0) cycle
       if (size(vfile) > 0) then
         vol(i) = vfile(i)
       else
-        call g%gather(c, g%x, xn)
+        call g%gather(cell(i), g%x, xn)
         vol(i) = hex_volume(xn)/real(per_cell, wp)**3
       end if
     end do

@@ -27,7 +27,7 @@ module particles_shape
   implicit none
   private
   public :: particles_shape_values, particles_shape_gradients, particles_map, particles_natural, &
-            particles_locate, inside_tol
+            particles_locate, particles_lowest_host, inside_tol
 
   !> How far outside [0,1] a natural coordinate may be and still count as
   !> inside the cell (then clamped): round-off of the inverse map.
@@ -232,4 +232,41 @@ contains
       end if
     end subroutine corners
   end subroutine particles_locate
+
+  !> From a cell that holds x (natural coordinates xi within inside_tol of
+  !> [0,1]^3), the holding cell of lowest index in each direction: a point
+  !> on a face, an edge or a corner that several cells share goes to the
+  !> lowest of them, whichever a walk found first, so that its host does not
+  !> depend on where the walk started (a block of a decomposed run finds
+  !> the host one process finds). Only the stored cells are looked at (an
+  !> owned cell's lower neighbours are stored: a block's ghost layers).
+  pure subroutine particles_lowest_host(g, x, cell, xi)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(3)
+    integer, intent(inout) :: cell
+    real(wp), intent(inout) :: xi(3)
+    real(wp) :: xn(3, 8), xt(3)
+    integer :: ijk(3), d, c
+    logical :: moved, found
+    call g%cell_ijk(cell, ijk(1), ijk(2), ijk(3))
+    moved = .true.
+    do while (moved)
+      moved = .false.
+      do d = 1, 3
+        ! (a lower neighbour holds x only if x is on the low side of this cell)
+        if (ijk(d) <= g%slo(d) .or. xi(d) >= 0.5_wp) cycle
+        ijk(d) = ijk(d) - 1
+        c = g%cell(ijk(1), ijk(2), ijk(3))
+        call g%gather(c, g%x, xn)
+        call particles_natural(xn, x, xt, found)
+        if (found) then
+          cell = c
+          xi = xt
+          moved = .true.
+        else
+          ijk(d) = ijk(d) + 1
+        end if
+      end do
+    end do
+  end subroutine particles_lowest_host
 end module particles_shape
