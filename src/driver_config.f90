@@ -8,8 +8,8 @@ module driver_config
   use base_strings, only: itoa, lower
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
   use base_errors, only: error_no_memory, error_t
-  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_config_box
-  use io_grid_file, only: grid_file_read
+  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
+  use io_grid_file, only: grid_file_read, grid_file_scan
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
   use material_library, only: units_known, units_list, library_value
@@ -20,7 +20,7 @@ module driver_config
                      echo_text
   use io_output_config, only: output_config_t, output_config_read
   use io_points_file, only: points_file_read
-  use mesh_grid, only: grid_t, grid_init_box, grid_init_nodes, grid_index_block
+  use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes, grid_index_block
   use mesh_shapes, only: shape_t, shape_kind
   use particles_seed, only: seed_count
   use io_stl, only: stl_read
@@ -277,7 +277,7 @@ contains
   !> counting on the deck's grid (`seed_count`; the scene seeds again). A
   !> box grid is counted a slab of planes at a time (`grid_init_box`'s
   !> blocks: the same nodes, so the same centres), so that no rank holds
-  !> the whole grid's nodes for it; a grid file is read whole.
+  !> the whole grid's nodes for it; a grid file the same slabs of it.
   subroutine empty_shapes_check(deck, cfg, problems)
     type(deck_t), intent(in) :: deck
     type(config_t), intent(in) :: cfg
@@ -285,6 +285,7 @@ contains
     !> nodes per slab, about (the planes of a slab hold at most this many)
     integer, parameter :: slab_nodes = 2**20
     type(grid_t) :: g
+    type(grid_index_t) :: ix
     type(error_t), allocatable :: err
     real(wp), allocatable :: x(:, :)
     integer :: k, n0, k0, nks, gn(3), seeds(size(cfg%particles))
@@ -293,21 +294,20 @@ contains
     skip = [(any(cfg%particles(k)%shape == [character(len=8) :: 'file', 'line', 'stl']), &
                 k = 1, size(cfg%particles))]
     seeds = 0
-    if (len_trim(cfg%grid%file) == 0) then
-      nks = max(1, min(gn(3), slab_nodes/((gn(1) + 1)*(gn(2) + 1))))
-      do k0 = 0, gn(3) - 1, nks
-        call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, &
-                           ix=grid_index_block([gn(1), gn(2), min(nks, gn(3) - k0)], [0, 0, 0], [0, 0, 0], &
-                                               [0, 0, k0], gn))
-        if (allocated(err)) return     ! the grid's own problem is reported by &grid
-        call count_seeds()
-      end do
-    else
-      call grid_file_read(cfg%grid%file_path, gn(1), gn(2), gn(3), x, err)
-      if (.not. allocated(err)) call grid_init_nodes(g, gn(1), gn(2), gn(3), x, err)
-      if (allocated(err)) return
+    nks = max(1, min(gn(3), slab_nodes/((gn(1) + 1)*(gn(2) + 1))))
+    do k0 = 0, gn(3) - 1, nks
+      ix = grid_index_block([gn(1), gn(2), min(nks, gn(3) - k0)], [0, 0, 0], [0, 0, 0], [0, 0, k0], gn)
+      if (len_trim(cfg%grid%file) == 0) then
+        call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, ix)
+      else
+        call grid_file_read(cfg%grid%file_path, gn(1), gn(2), gn(3), x, err, [0, 0, k0], &
+                            [gn(1), gn(2), k0 + ix%nk])
+        if (.not. allocated(err)) call grid_init_nodes(g, gn(1), gn(2), gn(3), x, err, ix, &
+                                                       reshape([cfg%grid%xmin, cfg%grid%xmax], [3, 2]))
+      end if
+      if (allocated(err)) return     ! the grid's own problem is reported by &grid
       call count_seeds()
-    end if
+    end do
     do k = 1, size(cfg%particles)
       if (skip(k) .or. seeds(k) > 0) cycle
       n0 = size(problems)
@@ -400,12 +400,13 @@ contains
     type(grid_config_t), intent(inout) :: grid
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(error_t), allocatable :: err
-    real(wp), allocatable :: x(:, :)
-    call grid_file_read(grid%file_path, grid%ni, grid%nj, grid%nk, x, err)
+    real(wp) :: xmin(3), xmax(3)
+    call grid_file_scan(grid%file_path, grid%ni, grid%nj, grid%nk, xmin, xmax, err)
     if (allocated(err)) then
       call problem_add(problems, '&grid: '//err%msg)
     else
-      call grid_config_box(grid, x)
+      grid%xmin = xmin
+      grid%xmax = xmax
     end if
   end subroutine grid_file_check
 

@@ -66,13 +66,23 @@ contains
       if (len_trim(gc%file) == 0) then
         call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)
       else
-        ! (the deck reader checked the file; read again, it is checked again)
-        call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
+        ! (the deck reader checked the file; read again, it is checked again;
+        ! a block reads its stored nodes only)
+        if (present(block)) then
+          call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err, block%slo - 1 + block%off, &
+                              block%shi + block%off)
+        else
+          call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
+        end if
         if (allocated(err)) then
           call error_set(err, deck_problem, '&grid: '//err%msg, ERR_INPUT)
           return
         end if
-        call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err, block)
+        if (present(block)) then
+          call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err, block, reshape([gc%xmin, gc%xmax], [3, 2]))
+        else
+          call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err)
+        end if
         deallocate(xfile)
         call log_line(log, 'grid: node positions from '//gc%file_path)
       end if

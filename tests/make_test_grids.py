@@ -13,7 +13,9 @@ to 0.3 of a cell, seed 5). Bad ones made from perturb.h5 with h5py: no_x.h5
 tangled.h5 (node (3, 2, 2) pushed through its neighbours: cells around it
 turned inside out), pushed.h5 (node (3, 2, 2) pushed 1.2 cells along i, past
 node (4, 2, 2): every cell keeps a positive volume, but the cells around it
-overlap their neighbours), int_x.h5 (integer coordinates); not_hdf5.h5 is text.
+overlap their neighbours), int_x.h5 (integer coordinates); not_hdf5.h5 is text;
+slabs.h5 (a box of 60 x 60 x 290 cells, more than one slab of 2^20 nodes,
+node (3, 2, 286) of the second slab pushed past node (4, 2, 286)).
 """
 import os
 import subprocess
@@ -58,6 +60,10 @@ with h5py.File(os.path.join(out, "pushed.h5"), "w") as f:
     f["x"] = bad
 with h5py.File(os.path.join(out, "int_x.h5"), "w") as f:
     f["x"] = np.rint(x).astype(np.int32)
+run("box", "--ni", "60", "--nj", "60", "--nk", "290", "--out", os.path.join(out, "slabs.h5"))
+with h5py.File(os.path.join(out, "slabs.h5"), "r+") as f:
+    x = f["x"][286, 2, 3:5]
+    f["x"][286, 2, 3] = x[0] + 2.5 * (x[1] - x[0])   # node (3, 2, 286) past node (4, 2, 286)
 with open(os.path.join(out, "not_hdf5.h5"), "w") as f:
     f.write("this is not an HDF5 file\n")
 print("grid files written to", out)

@@ -723,7 +723,9 @@ contains
 
   !> Reads a floating-point dataset of any shape, flattened in Fortran order;
   !> with grid, start and count only a box of it, as `h5_write_part_real`
-  !> writes one (the caller has checked that it lies in the dataset).
+  !> writes one; with start and count alone the box start(d) ..
+  !> start(d) + count(d) - 1 (0-based) of each of its dimensions (the caller
+  !> has checked that it lies in the dataset).
   subroutine h5_read_real(file, name, data, err, grid, start, count)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
@@ -739,7 +741,7 @@ contains
     sid = -1_hid_t
     body: block
       if (.not. open_checked(file, name, H5T_FLOAT_F, 'floating-point', here, did, sid, n, err)) exit body
-      if (present(grid)) n = product(int(count, hsize_t))
+      if (present(count)) n = product(int(count, hsize_t))
       allocate(data(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, here, error_no_memory('memory for '//where_in(file, name)))
@@ -1127,7 +1129,8 @@ contains
   end subroutine select_runs
 
   !> Reads a dataset into ptr: the whole of it, or with grid the box at
-  !> start of shape count (n values; `select_box`, which must lie in it).
+  !> start of shape count (n values; `select_box`, which must lie in it), or
+  !> with count alone the hyperslab at start of shape count.
   subroutine read_selected(did, sid, tid, ptr, n, hdferr, grid, start, count)
     integer(hid_t), intent(in) :: did, sid, tid
     type(c_ptr), intent(inout) :: ptr
@@ -1136,13 +1139,17 @@ contains
     integer, intent(in), optional :: grid(3), start(:), count(:)
     integer(hid_t) :: msid
     integer :: rank, ierr
-    if (.not. present(grid)) then
+    if (.not. present(count)) then
       call h5dread_f(did, tid, ptr, hdferr)
       return
     end if
-    call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
-    if (hdferr /= 0) return
-    call select_box(sid, rank, grid, start, count, hdferr)
+    if (present(grid)) then
+      call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+      if (hdferr /= 0) return
+      call select_box(sid, rank, grid, start, count, hdferr)
+    else
+      call h5sselect_hyperslab_f(sid, H5S_SELECT_SET_F, int(start, hsize_t), int(count, hsize_t), hdferr)
+    end if
     if (hdferr /= 0) return
     call h5screate_simple_f(1, [n], msid, hdferr)
     if (hdferr /= 0) return

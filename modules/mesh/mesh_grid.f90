@@ -121,13 +121,17 @@ contains
   !> Builds a grid of ni x nj x nk cells on given node positions x(3, nnode)
   !> (length; `grid_index` order of the whole grid), e.g. read from a file
   !> (`io_grid_file`), or the block `ix` of it (its stored nodes taken from
-  !> x); xmin and xmax become the box around all of them.
-  subroutine grid_init_nodes(g, ni, nj, nk, x, err, ix)
+  !> x); xmin and xmax become the box around all of them. With box (the
+  !> whole grid's xmin, xmax) x holds only the block's stored nodes, in its
+  !> node order (a block that read only those).
+  subroutine grid_init_nodes(g, ni, nj, nk, x, err, ix, box)
     type(grid_t), intent(out) :: g
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: ix
+    !> the whole grid's xmin, xmax (3, 2) where x is the block's nodes
+    real(wp), intent(in), optional :: box(3, 2)
     type(grid_index_t) :: whole
     integer :: stat, i, j, k
     character(len=200) :: msg
@@ -135,13 +139,20 @@ contains
     whole = grid_index(ni, nj, nk)
     g%grid_index_t = whole
     if (present(ix)) g%grid_index_t = ix
-    if (size(x, 1) /= 3 .or. size(x, 2) /= whole%nnode) then
+    if (size(x, 1) /= 3 .or. (size(x, 2) /= whole%nnode .and. .not. (size(x, 2) == g%nnode .and. present(box)))) then
       call error_set(err, 'grid_init_nodes', 'the node positions do not fit the grid')
       return
     end if
     allocate(g%x(3, g%nnode), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'grid_init_nodes', error_no_memory('node positions'))
+      return
+    end if
+    if (present(box)) then
+      ! (the block's stored nodes, in its order)
+      g%x = x
+      g%xmin = box(:, 1)
+      g%xmax = box(:, 2)
       return
     end if
     do k = g%slo(3) - 1, g%shi(3)

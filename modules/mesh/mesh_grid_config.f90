@@ -7,7 +7,7 @@ module mesh_grid_config
                          diff_i, diff_r, diff_s
   implicit none
   private
-  public :: grid_config_t, grid_config_read, grid_config_changes, grid_config_box, resolve_path
+  public :: grid_config_t, grid_config_read, grid_config_changes, resolve_path
 
   !> Curved region boundaries in cut cells are resolved to 1/subsamples of
   !> the cell (`remap_shapes`): 64 is a split 6 levels deep.
@@ -34,7 +34,7 @@ contains
   !> if the deck has none, which is a problem: the sizes are required). A
   !> relative `file` is taken relative to the directory of the deck `path`;
   !> the file itself is read by the driver (`io_grid_file`), which then sets
-  !> xmin and xmax to the box around its nodes (`grid_config_box`).
+  !> xmin and xmax to the box around its nodes (`grid_file_scan`).
   subroutine grid_config_read(this, text, path, echo, problems)
     type(grid_config_t), intent(out) :: this
     character(len=*), intent(in) :: text(:), path
@@ -92,15 +92,6 @@ contains
     this%file_path = resolve_path(file, path)
     if (echo /= no_echo) write(echo, nml=grid)
   end subroutine grid_config_read
-
-  !> Sets the box of a grid read from a file: the box around its nodes x(3, :)
-  !> (for the checks that a point lies in the grid).
-  pure subroutine grid_config_box(this, x)
-    type(grid_config_t), intent(inout) :: this
-    real(wp), intent(in) :: x(:, :)
-    this%xmin = minval(x, dim=2)
-    this%xmax = maxval(x, dim=2)
-  end subroutine grid_config_box
 
   !> `file` relative to the directory of `deck` unless it is absolute or
   !> empty (the deck in the current directory: `file` as it is).
