@@ -1313,9 +1313,8 @@ contains
   !> The host cells cell(n) and natural coordinates xi(3, n) of a list of
   !> points x(3, n) (`seed_hosts`), and lost, the first point in no cell (0:
   !> none). On a block of a decomposed run (comm): the hosts among the
-  !> block's owned cells, 0 for the other points; each block searches its
-  !> stored cells, and the points no block found are searched again cell
-  !> by cell (as one process does when its walk fails). Collective.
+  !> block's owned cells, 0 for the other points, each point found by the
+  !> one block that owns its host. Collective.
   subroutine list_hosts(st, x, cell, xi, lost, err, comm)
     type(state_t), intent(in) :: st
     real(wp), intent(in) :: x(:, :)
@@ -1324,37 +1323,18 @@ contains
     integer, intent(out) :: lost
     type(error_t), allocatable, intent(inout) :: err
     type(comm_t), intent(in), optional :: comm
-    integer, allocatable :: hits(:), again(:), cell2(:)
-    real(wp), allocatable :: xi2(:, :)
-    integer :: n, i, stat
+    integer, allocatable :: hits(:)
+    integer :: n, stat
 
     n = size(x, 2)
     lost = 0
-    allocate(cell(n), xi(3, n), hits(merge(n, 0, present(comm))), stat=stat)
+    allocate(cell(n), xi(3, n), hits(n), stat=stat)
+    if (stat == 0) call seed_hosts(st%g, x, cell, xi, stat, present(comm))
     if (stat /= 0) call error_set(err, 'build_particles', error_no_memory(itoa(n)//' particles'' hosts'))
     if (present(comm)) call agree_error(comm, err)
     if (allocated(err)) return
-    if (.not. present(comm)) then
-      call seed_hosts(st%g, x, cell, xi)
-      lost = findloc(cell, 0, 1)
-      return
-    end if
-    call seed_hosts(st%g, x, cell, xi, [st%g%glo > 0, st%g%ghi > 0], owned=.true.)
     hits = merge(1, 0, cell > 0)
-    call parallel_sum(comm, hits)
-    again = pack([(i, i = 1, n)], hits == 0)
-    if (size(again) > 0) then
-      allocate(cell2(size(again)), xi2(3, size(again)), stat=stat)
-      if (stat /= 0) call error_set(err, 'build_particles', error_no_memory(itoa(n)//' particles'' hosts'))
-      call agree_error(comm, err)
-      if (allocated(err)) return
-      call seed_hosts(st%g, x(:, again), cell2, xi2, owned=.true.)
-      cell(again) = cell2
-      xi(:, again) = xi2
-      cell2 = merge(1, 0, cell2 > 0)
-      call parallel_sum(comm, cell2)
-      hits(again) = cell2
-    end if
+    if (present(comm)) call parallel_sum(comm, hits)
     lost = findloc(hits, 0, 1)
   end subroutine list_hosts
 

@@ -15,7 +15,9 @@ turned inside out), pushed.h5 (node (3, 2, 2) pushed 1.2 cells along i, past
 node (4, 2, 2): every cell keeps a positive volume, but the cells around it
 overlap their neighbours), int_x.h5 (integer coordinates); not_hdf5.h5 is text;
 slabs.h5 (a box of 60 x 60 x 290 cells, more than one slab of 2^20 nodes,
-node (3, 2, 286) of the second slab pushed past node (4, 2, 286)).
+node (3, 2, 286) of the second slab pushed past node (4, 2, 286));
+perturb_points.txt (2000 points drawn uniformly in [0.001, 0.999]^3, seed 7,
+for particles_perturb.nml).
 """
 import os
 import subprocess
@@ -64,6 +66,7 @@ run("box", "--ni", "60", "--nj", "60", "--nk", "290", "--out", os.path.join(out,
 with h5py.File(os.path.join(out, "slabs.h5"), "r+") as f:
     x = f["x"][286, 2, 3:5]
     f["x"][286, 2, 3] = x[0] + 2.5 * (x[1] - x[0])   # node (3, 2, 286) past node (4, 2, 286)
+np.savetxt(os.path.join(out, "perturb_points.txt"), np.random.default_rng(7).uniform(0.001, 0.999, (2000, 3)))
 with open(os.path.join(out, "not_hdf5.h5"), "w") as f:
     f.write("this is not an HDF5 file\n")
 print("grid files written to", out)
