@@ -32,7 +32,7 @@ module driver
   use driver_prerun, only: prerun_write, prerun_report, prerun_gauge_rows
   use driver_restart, only: check_restart_deck, restart_path, write_restart, read_restart
   use driver_euler, only: euler_state_t, euler_init, euler_standard_ratios, euler_due, euler_step, euler_report
-  use parallel_comm, only: parallel_start
+  use parallel_comm, only: comm_t, parallel_start
   use mesh_grid, only: grid_index_t
   use driver_parallel, only: parallel_blocks, agree_error
   use base_memory, only: memory_keep_freed, memory_peak_mib
@@ -92,7 +92,8 @@ contains
     if (.not. allocated(err)) call parallel_blocks(cfg, sch%pc, block, st%halo, err)
     if (.not. allocated(err) .and. sch%pc%nranks > 1) &
       call log_line(sch%log, 'run: '//itoa(sch%pc%nranks)//' MPI ranks, blocks '//itoa(sch%pc%dims(1))//' x '// &
-                    itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//')')
+                    itoa(sch%pc%dims(2))//' x '//itoa(sch%pc%dims(3))//' (ghost layers '//itoa(block%ng)//'), '// &
+                    cuts_text(sch%pc))
     if (.not. allocated(err)) call build_scene(cfg, st, sch%log, err, block)
     if (.not. allocated(err) .and. allocated(st%pre1d)) then
       call prerun_report(st%pre1d, sch%log)
@@ -169,6 +170,31 @@ contains
     call hdf5_stop(err)
     call halt(sch%log, 0)
   end subroutine driver_run
+
+  !> The block cuts of a decomposed run for the log: the cell planes where
+  !> the blocks meet in each direction that is cut, and what they balance.
+  function cuts_text(pc) result(text)
+    type(comm_t), intent(in) :: pc
+    character(len=:), allocatable :: text
+    character(len=1), parameter :: axis(3) = ['i', 'j', 'k']
+    integer :: d, b, w0
+    text = 'cut at'
+    w0 = 0
+    do d = 1, 3
+      if (pc%dims(d) > 1) then
+        text = text//' '//axis(d)//' ='
+        do b = 1, pc%dims(d) - 1
+          text = text//' '//itoa(pc%cuts(w0 + 1 + b))
+        end do
+      end if
+      w0 = w0 + pc%dims(d) + 1
+    end do
+    if (pc%weighted) then
+      text = text//' (balancing cells and particles: &run blocks_particle_weight)'
+    else
+      text = text//' (balancing cells)'
+    end if
+  end function cuts_text
 
   !> Reads and validates the deck at `deck_path` and prints it resolved
   !> (`lsalepm --check`): exit status 0 if it can run, else 2 with the

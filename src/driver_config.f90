@@ -31,7 +31,7 @@ module driver_config
                                  prerun_config_t, prerun_config_read
   implicit none
   private
-  public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text, group_shape
+  public :: run_config_t, config_t, config_read, config_state_changes, config_defaults_text, group_shape, shape_slabs
 
   !> The deck's groups, in the order they are read and echoed.
   character(len=*), parameter :: known_groups(13) = [character(len=10) :: &
@@ -63,6 +63,9 @@ module driver_config
     real(wp) :: dump_dt = 0.0_wp               !< a restart every this much time (0: off)
     integer :: dump_keep = 2                   !< keep the newest this many restarts
     integer :: blocks(3) = 0                   !< MPI ranks per direction (0: chosen)
+    !> the weight of a shape's particle against a cell's in placing the
+    !> block cuts of a decomposed run (0: cells alone)
+    real(wp) :: blocks_particle_weight = 3.0_wp
     !> Euler steps on several ranks: 'windows' (each rank its block and the
     !> cells around it) or 'whole' (the whole grid on every rank, the work shared)
     character(len=8) :: euler_ranks = 'windows'
@@ -274,28 +277,55 @@ contains
 
   !> A shape that seeds no particle (smaller than the spacing of the
   !> sub-cell centres, or between them) is a deck mistake, found now by
-  !> counting on the deck's grid (`seed_count`; the scene seeds again). A
-  !> box grid is counted a slab of planes at a time (`grid_init_box`'s
-  !> blocks: the same nodes, so the same centres), so that no rank holds
-  !> the whole grid's nodes for it; a grid file the same slabs of it.
+  !> counting on the deck's grid (`shape_slabs`; the scene seeds again).
   subroutine empty_shapes_check(deck, cfg, problems)
     type(deck_t), intent(in) :: deck
     type(config_t), intent(in) :: cfg
     character(len=max_line), allocatable, intent(inout) :: problems(:)
+    type(error_t), allocatable :: err
+    integer :: k, n0, seeds(size(cfg%particles))
+    call shape_slabs(cfg, 0, 1, seeds, err)
+    if (allocated(err)) return     ! the grid's own problem is reported by &grid
+    do k = 1, size(cfg%particles)
+      if (seeds(k) /= 0) cycle
+      n0 = size(problems)
+      call problem_add(problems, '&particles('//itoa(k)//'): the '//trim(cfg%particles(k)%shape)// &
+        ' seeds no particle at per_cell = '//itoa(cfg%particles(k)%per_cell)// &
+        ' (no sub-cell centre lies in it): make it larger or raise per_cell')
+      call at_line(problems, n0, deck, 'particles', k)
+    end do
+  end subroutine empty_shapes_check
+
+  !> The particles the deck's shape groups seed, counted on the deck's grid
+  !> a slab of planes at a time (`grid_init_box`'s blocks: the same nodes,
+  !> so the same centres; a grid file the same slabs of it), so that no
+  !> rank holds the whole grid's nodes for it: seeds(k) of group k (-1 for
+  !> a file's, a line's or an STL surface's group, not counted; without
+  !> planes, a group found to seed some is not counted further). With
+  !> planes (gn(1) + gn(2) + gn(3)): every shape group's particles added to
+  !> the planes of cells normal to i, j and k of their host cells
+  !> (`seed_count`). Only slabs part, part + nparts, ... (0-based): the
+  !> ranks of a decomposed run share the work.
+  subroutine shape_slabs(cfg, part, nparts, seeds, err, planes)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: part, nparts
+    integer, intent(out) :: seeds(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, intent(inout), optional :: planes(:)
     !> nodes per slab, about (the planes of a slab hold at most this many)
     integer, parameter :: slab_nodes = 2**20
     type(grid_t) :: g
     type(grid_index_t) :: ix
-    type(error_t), allocatable :: err
     real(wp), allocatable :: x(:, :)
-    integer :: k, n0, k0, nks, gn(3), seeds(size(cfg%particles))
-    logical :: skip(size(cfg%particles))
+    integer :: k, k0, nks, gn(3), s
     gn = [cfg%grid%ni, cfg%grid%nj, cfg%grid%nk]
-    skip = [(any(cfg%particles(k)%shape == [character(len=8) :: 'file', 'line', 'stl']), &
-                k = 1, size(cfg%particles))]
-    seeds = 0
+    seeds = [(merge(-1, 0, any(cfg%particles(k)%shape == [character(len=8) :: 'file', 'line', 'stl'])), &
+              k = 1, size(cfg%particles))]
     nks = max(1, min(gn(3), slab_nodes/((gn(1) + 1)*(gn(2) + 1))))
+    s = -1
     do k0 = 0, gn(3) - 1, nks
+      s = s + 1
+      if (mod(s, nparts) /= part) cycle
       ix = grid_index_block([gn(1), gn(2), min(nks, gn(3) - k0)], [0, 0, 0], [0, 0, 0], [0, 0, k0], gn)
       if (len_trim(cfg%grid%file) == 0) then
         call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, ix)
@@ -305,28 +335,13 @@ contains
         if (.not. allocated(err)) call grid_init_nodes(g, gn(1), gn(2), gn(3), x, err, ix, &
                                                        reshape([cfg%grid%xmin, cfg%grid%xmax], [3, 2]))
       end if
-      if (allocated(err)) return     ! the grid's own problem is reported by &grid
-      call count_seeds()
-    end do
-    do k = 1, size(cfg%particles)
-      if (skip(k) .or. seeds(k) > 0) cycle
-      n0 = size(problems)
-      call problem_add(problems, '&particles('//itoa(k)//'): the '//trim(cfg%particles(k)%shape)// &
-        ' seeds no particle at per_cell = '//itoa(cfg%particles(k)%per_cell)// &
-        ' (no sub-cell centre lies in it): make it larger or raise per_cell')
-      call at_line(problems, n0, deck, 'particles', k)
-    end do
-  contains
-    !> The groups' seeds in g added to seeds (a group found to seed some
-    !> is not skip again).
-    subroutine count_seeds()
-      integer :: q
-      do q = 1, size(cfg%particles)
-        if (skip(q) .or. seeds(q) > 0) cycle
-        seeds(q) = seed_count(g, group_shape(cfg%particles(q)), cfg%particles(q)%per_cell)
+      if (allocated(err)) return
+      do k = 1, size(cfg%particles)
+        if (seeds(k) < 0 .or. (seeds(k) > 0 .and. .not. present(planes))) cycle
+        seeds(k) = seeds(k) + seed_count(g, group_shape(cfg%particles(k)), cfg%particles(k)%per_cell, planes)
       end do
-    end subroutine count_seeds
-  end subroutine empty_shapes_check
+    end do
+  end subroutine shape_slabs
 
   !> The shape of a &particles group (not 'file', 'line' or 'stl'), for the seeding.
   pure function group_shape(pc) result(sh)
@@ -473,14 +488,15 @@ contains
     character(len=200) :: title
     character(len=64) :: units
     real(wp) :: t_end, cfl, dt_init, dt_max, dt_min, dt_growth, progress_seconds
-    real(wp) :: velocity_noise, wall_time_limit, dump_dt
+    real(wp) :: velocity_noise, wall_time_limit, dump_dt, blocks_particle_weight
     integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios, blocks(3)
     character(len=256) :: restart_from
     character(len=64) :: euler_ranks
     character(len=max_line) :: msg
     namelist /run/ title, units, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
                    progress_steps, progress_seconds, velocity_noise, seed, &
-                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks, euler_ranks
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks, euler_ranks, &
+                   blocks_particle_weight
 
     title = this%title; units = this%units; t_end = this%t_end; max_steps = this%max_steps
     cfl = hd%cfl; dt_init = this%dt_init; dt_max = 0.0_wp; dt_min = this%dt_min; dt_growth = hd%dt_growth
@@ -488,6 +504,7 @@ contains
     velocity_noise = this%velocity_noise; seed = this%seed
     restart_from = this%restart_from; wall_time_limit = this%wall_time_limit; dump_steps = this%dump_steps
     dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks; euler_ranks = this%euler_ranks
+    blocks_particle_weight = this%blocks_particle_weight
     if (size(text) == 0) then
       call problem_add(problems, trim(path)//': group &run is missing (t_end is required)')
     else
@@ -515,6 +532,8 @@ contains
     if (dump_steps < 0) call problem_badi(problems, 'run', 'dump_steps', dump_steps, 'must be >= 0 (0: off)')
     if (dump_keep < 1) call problem_badi(problems, 'run', 'dump_keep', dump_keep, 'must be >= 1')
     if (any(blocks < 0)) call problem_badi(problems, 'run', 'blocks', minval(blocks), 'must be >= 0 (0: chosen)')
+    if (.not. (blocks_particle_weight >= 0.0_wp .and. blocks_particle_weight <= 1.0e6_wp)) &
+      call problem_bad(problems, 'run', 'blocks_particle_weight', blocks_particle_weight, 'must be in [0, 1e6]')
     if (trim(euler_ranks) /= 'windows' .and. trim(euler_ranks) /= 'whole') &
       call problem_add(problems, trim(path)//': &run euler_ranks = '''//trim(euler_ranks)// &
                        ''' is not one of ''windows'', ''whole''')
@@ -527,7 +546,7 @@ contains
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
       wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks, &
-      euler_ranks=euler_ranks(1:8), restart_overridden=overridden)
+      euler_ranks=euler_ranks(1:8), restart_overridden=overridden, blocks_particle_weight=blocks_particle_weight)
     hydro%cfl = cfl
     hydro%dt_growth = dt_growth
     hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)

@@ -418,14 +418,15 @@ contains
           xs(3, :) = lo(3)
         end if
         ! (a decomposed run builds a correlated field's grid on one rank, the
-        ! one holding the fewest of the solid's particles, not on each: the
-        ! others send it their particles' places and take its samples back,
-        ! the bits one process samples)
+        ! one whose block holds the fewest stored cells and particles (the
+        ! least state beside the field), not on each: the others send it
+        ! their particles' places and take its samples back, the bits one
+        ! process samples)
         lattice = random_field_correlated(sc%void_covariance, sc%void_length)
         builder = .true.
         root = 0
         if (present(comm) .and. lattice) then
-          call gather_concat(comm, [size(order)], held)
+          call gather_concat(comm, [st%g%ncell + p%np], held)
           root = minloc(held, 1) - 1
           builder = comm%rank == root
         end if

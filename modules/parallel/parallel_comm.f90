@@ -11,7 +11,7 @@ module parallel_comm
   use mesh_grid, only: grid_index_t, grid_index_block
   implicit none
   private
-  public :: comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
+  public :: parallel_cuts, comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
             parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, parallel_sum, parallel_max, &
             parallel_min, parallel_send, parallel_recv
 
@@ -34,6 +34,11 @@ module parallel_comm
     integer :: rank = 0, nranks = 1
     integer :: dims(3) = 1, coords(3) = 0     !< ranks per direction and this rank's place
     integer :: nbr(6) = -1                    !< rank across each face (MPI_PROC_NULL if none)
+    !> the block cuts, direction by direction: dims(d) + 1 cell-plane
+    !> indices 0 .. gn(d) each (`parallel_decompose`)
+    integer, allocatable :: cuts(:)
+    !> the cuts balance the work of given weights, not the cells alone
+    logical :: weighted = .false.
   end type comm_t
 
 contains
@@ -177,13 +182,17 @@ contains
   !> Lays the ranks out on the grid of gn cells (`dims_deck` from the deck,
   !> 0 to choose) and returns this rank's block with ng ghost layers towards
   !> each neighbouring block. A layout that leaves some block thinner than
-  !> ng cells is refused.
-  subroutine parallel_decompose(pc, gn, dims_deck, ng, ix, err)
+  !> ng cells is refused. The cuts in each direction give the blocks equal
+  !> numbers of cells (within one), or with weights (gn(1) + gn(2) + gn(3):
+  !> the work of each plane of cells normal to i, then j, then k, the same
+  !> on every rank) equal work (`parallel_cuts`).
+  subroutine parallel_decompose(pc, gn, dims_deck, ng, ix, err, weights)
     type(comm_t), intent(inout) :: pc
     integer, intent(in) :: gn(3), dims_deck(3), ng
     type(grid_index_t), intent(out) :: ix
     type(error_t), allocatable, intent(inout) :: err
-    integer :: d, n(3), off(3), glo(3), ghi(3), base, extra
+    real(wp), intent(in), optional :: weights(:)
+    integer :: d, n(3), off(3), glo(3), ghi(3), base, extra, w0, b
     logical, parameter :: periodic(3) = .false.
 
     pc%dims = parallel_dims(pc%nranks, gn, dims_deck, max(ng, 1))
@@ -200,21 +209,64 @@ contains
       end if
       return
     end if
+    pc%cuts = [integer ::]
+    pc%weighted = present(weights)
     call MPI_Cart_create(pc%world, 3, pc%dims, periodic, .false., pc%cart)
     call MPI_Comm_rank(pc%cart, pc%rank)
     call MPI_Cart_coords(pc%cart, pc%rank, 3, pc%coords)
     do d = 1, 3
       call MPI_Cart_shift(pc%cart, d - 1, 1, pc%nbr(2*d - 1), pc%nbr(2*d))
-      ! gn(d) cells over dims(d) blocks, the first mod(gn, dims) one larger
-      base = gn(d)/pc%dims(d)
-      extra = mod(gn(d), pc%dims(d))
-      n(d) = base + merge(1, 0, pc%coords(d) < extra)
-      off(d) = pc%coords(d)*base + min(pc%coords(d), extra)
+      if (present(weights)) then
+        w0 = sum(gn(1:d - 1))
+        pc%cuts = [pc%cuts, parallel_cuts(weights(w0 + 1:w0 + gn(d)), pc%dims(d), max(ng, 1))]
+      else
+        ! gn(d) cells over dims(d) blocks, the first mod(gn, dims) one larger
+        base = gn(d)/pc%dims(d)
+        extra = mod(gn(d), pc%dims(d))
+        pc%cuts = [pc%cuts, [(b*base + min(b, extra), b = 0, pc%dims(d))]]
+      end if
+      ! (this direction's cuts c(0:dims) from pc%cuts(w0 + 1))
+      w0 = size(pc%cuts) - pc%dims(d) - 1
+      off(d) = pc%cuts(w0 + 1 + pc%coords(d))
+      n(d) = pc%cuts(w0 + 2 + pc%coords(d)) - off(d)
       glo(d) = merge(ng, 0, pc%coords(d) > 0)
       ghi(d) = merge(ng, 0, pc%coords(d) < pc%dims(d) - 1)
     end do
     ix = grid_index_block(n, glo, ghi, off, gn)
   end subroutine parallel_decompose
+
+  !> The cuts c(0:p) (c(0) = 0, c(p) = n) of n planes of work w(n) into p
+  !> blocks c(b) + 1 .. c(b + 1) of nearly equal work: each cut at the plane
+  !> boundary whose prefix of work is nearest to b/p of the whole, each block
+  !> at least m planes thick (n >= p m: `parallel_dims`).
+  pure function parallel_cuts(w, p, m) result(c)
+    real(wp), intent(in) :: w(:)
+    integer, intent(in) :: p, m
+    integer :: c(0:p)
+    real(wp) :: prefix(0:size(w)), target
+    integer :: b, e, n
+    n = size(w)
+    prefix(0) = 0.0_wp
+    do e = 1, n
+      prefix(e) = prefix(e - 1) + w(e)
+    end do
+    c(0) = 0
+    c(p) = n
+    e = 0
+    do b = 1, p - 1
+      target = prefix(n)*real(b, wp)/real(p, wp)
+      do while (e < n)
+        if (prefix(e + 1) > target) exit
+        e = e + 1
+      end do
+      ! (e: the last boundary at or below the target; e + 1 if nearer)
+      c(b) = e
+      if (e < n) then
+        if (prefix(e + 1) - target < target - prefix(e)) c(b) = e + 1
+      end if
+      c(b) = min(max(c(b), c(b - 1) + m), n - (p - b)*m)
+    end do
+  end function parallel_cuts
   subroutine sum_ints(pc, a)
     type(comm_t), intent(in) :: pc
     integer, contiguous, intent(inout) :: a(:)

@@ -107,19 +107,22 @@ contains
   end subroutine seed_surface
 
   !> How many particles `seed_shape` seeds (nothing stored: for checking a
-  !> deck before the run).
-  integer function seed_count(g, sh, n) result(np)
+  !> deck before the run); with planes (gn(1) + gn(2) + gn(3), the whole
+  !> grid's planes of cells normal to i, then j, then k), each particle also
+  !> added to the planes of its host cell.
+  integer function seed_count(g, sh, n, planes) result(np)
     type(grid_t), intent(in) :: g
     type(shape_t), intent(in) :: sh
     integer, intent(in) :: n
+    integer, intent(inout), optional :: planes(:)
     integer :: cell(0)
     real(wp) :: xi(3, 0), x(3, 0), vol(0)
-    call visit(g, sh, n, .false., np, cell, xi, x, vol)
+    call visit(g, sh, n, .false., np, cell, xi, x, vol, planes=planes)
   end function seed_count
 
   !> Counts (np) the sub-box centres of g inside sh and, with `fill`, stores
   !> them in cell, xi, x, vol (sized by a counting visit).
-  subroutine visit(g, sh, n, fill, np, cell, xi, x, vol, surf)
+  subroutine visit(g, sh, n, fill, np, cell, xi, x, vol, surf, planes)
     type(grid_t), intent(in) :: g
     type(shape_t), intent(in) :: sh
     integer, intent(in) :: n
@@ -128,10 +131,11 @@ contains
     integer, intent(inout) :: cell(:)
     real(wp), intent(inout) :: xi(:, :), x(:, :), vol(:)
     type(surface_t), intent(in), optional :: surf
+    integer, intent(inout), optional :: planes(:)
     real(wp) :: cxi(3, n**3), cx(3, n**3), cvol(n**3)
     real(wp) :: xn(3, 8), xc(3), rad, level
     logical :: in
-    integer :: c, s, a
+    integer :: c, s, a, ijk(3)
 
     np = 0
     do c = 1, g%ncell
@@ -158,6 +162,13 @@ contains
         end if
         if (.not. in) cycle
         np = np + 1
+        if (present(planes)) then
+          call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+          ijk = ijk + g%off
+          planes(ijk(1)) = planes(ijk(1)) + 1
+          planes(g%gn(1) + ijk(2)) = planes(g%gn(1) + ijk(2)) + 1
+          planes(g%gn(1) + g%gn(2) + ijk(3)) = planes(g%gn(1) + g%gn(2) + ijk(3)) + 1
+        end if
         if (fill) then
           cell(np) = c
           xi(:, np) = cxi(:, s)
