@@ -209,7 +209,9 @@ messages_bench() {
 # steps; the TNT octant of hardcases/tnt_sphere.nml at 64^3, Eulerian (an
 # Euler step every step: open faces, two materials), 10 steps; the Gurson
 # ring of tests/decks/strength_shell_small.nml at 192 x 192 x 4 (particles,
-# global ALE), 10 steps.
+# global ALE), 10 steps; the frame of tests/decks/particles_frame.nml at 96 x
+# 64 x 64 (a column and a slab of 360k particles, two bars as lines of
+# particles: seeded on the blocks), 2 steps.
 ranks_memory_bench() {
   local name mpiexec root_flag=()
   mpiexec=$(command -v mpirun)
@@ -226,8 +228,10 @@ ranks_memory_bench() {
   echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> mem_tnt64.nml
   sed -e 's/ni = 24, nj = 24, nk = 1/ni = 192, nj = 192, nk = 4/' -e 's/max_steps = 120/max_steps = 10/' \
       -e "s|^&output dir = '[^']*'|\&output dir = 'out/mem_ring192'|" "$root/tests/decks/strength_shell_small.nml" > mem_ring192.nml
+  sed -e 's/ni = 12, nj = 8, nk = 8/ni = 96, nj = 64, nk = 64/' -e 's/max_steps = 30/max_steps = 2/' \
+      -e "s|^&output dir = '[^']*'|\&output dir = 'out/mem_frame96'|" "$root/tests/decks/particles_frame.nml" > mem_frame96.nml
   echo "## MPI: peak resident memory per rank on 4 ranks against one process (issue 35)"
-  for name in mem_sedov64 mem_tnt64 mem_ring192; do
+  for name in mem_sedov64 mem_tnt64 mem_ring192 mem_frame96; do
     OMP_NUM_THREADS=1 "$exe" $name.nml > ${name}_r1.log
     OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" $name.nml > ${name}_r4.log
     cp ${name}_r1.log ${name}_r4.log "$outdir/"
