@@ -39,7 +39,8 @@ module driver_particles
   use mesh_geometry, only: hex_volume
   use particles_virtual, only: particles_virtual_fill
   use material_table, only: material_eval_eos
-  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity
+  use particles_seed, only: seed_shape, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity, &
+                            seed_bins_t, seed_bins_build
   use io_stl, only: stl_read
   use mesh_surface, only: surface_t, surface_build
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order, &
@@ -121,6 +122,7 @@ contains
     type(comm_t), intent(in), optional :: comm
     type(seeded_t), allocatable :: groups(:)
     type(strength_slot_t), allocatable :: models(:)
+    type(seed_bins_t) :: bins
     type(xsum_t) :: vsum(1)
     real(wp) :: axis(3), rho
     integer :: k, i, np, q, stat, nhist, nall(2)
@@ -138,15 +140,23 @@ contains
       call error_set(err, 'build_particles', error_no_memory('the groups'))
       return
     end if
+    ! (a block finds the points of files and lines through bins of its
+    ! cells, built once)
+    if (blocks .and. any(cfg%particles%shape == 'file' .or. cfg%particles%shape == 'line')) then
+      call seed_bins_build(st%g, bins, stat)
+      if (stat /= 0) call error_set(err, 'build_particles', error_no_memory('the bins of the block''s cells'))
+      call agree_error(comm, err)
+      if (allocated(err)) return
+    end if
     np = 0
     do k = 1, size(cfg%particles)
       associate (pc => cfg%particles(k), gr => groups(k))
         if (pc%shape == 'file') then
-          call seed_file(st, pc, k, gr, err, comm)
+          call seed_file(st, pc, k, gr, bins, err, comm)
         else if (pc%shape == 'stl') then
           call seed_stl(st, pc, k, gr, err)
         else if (pc%shape == 'line') then
-          call seed_bar(st, pc, k, gr, err, comm)
+          call seed_bar(st, pc, k, gr, bins, err, comm)
         else
           call seed_shape(st%g, group_shape(pc), pc%per_cell, gr%cell, gr%xi, gr%x, gr%vol, err)
         end if
@@ -1237,11 +1247,12 @@ contains
   !> volume column, the host cell's volume / per_cell^3. A point in no cell
   !> is a deck mistake. Every rank of a decomposed run (comm) reads the file
   !> and keeps the points of its owned cells.
-  subroutine seed_file(st, pc, k, gr, err, comm)
+  subroutine seed_file(st, pc, k, gr, bins, err, comm)
     type(state_t), intent(in) :: st
     type(particles_config_t), intent(in) :: pc
     integer, intent(in) :: k
     type(seeded_t), intent(inout) :: gr
+    type(seed_bins_t), intent(in) :: bins
     type(error_t), allocatable, intent(inout) :: err
     type(comm_t), intent(in), optional :: comm
     real(wp), allocatable :: vfile(:), x(:, :), xi(:, :), vol(:)
@@ -1255,7 +1266,7 @@ contains
     if (allocated(err)) return
     call particles_file_place(pc, x)
     if (size(vfile) > 0) vfile = pc%scale**3*vfile
-    call list_hosts(st, x, cell, xi, lost, err, comm)
+    call list_hosts(st, x, bins, cell, xi, lost, err, comm)
     if (allocated(err)) return
     if (lost > 0) then
       call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): point '// &
@@ -1275,11 +1286,12 @@ contains
   !> size h of the cell holding the segment's midpoint (found by the block
   !> that owns it in a decomposed run), the pieces' midpoints, each one's
   !> host (`list_hosts`) and volume area L / pieces.
-  subroutine seed_bar(st, pc, k, gr, err, comm)
+  subroutine seed_bar(st, pc, k, gr, bins, err, comm)
     type(state_t), intent(in) :: st
     type(particles_config_t), intent(in) :: pc
     integer, intent(in) :: k
     type(seeded_t), intent(inout) :: gr
+    type(seed_bins_t), intent(in) :: bins
     type(error_t), allocatable, intent(inout) :: err
     type(comm_t), intent(in), optional :: comm
     real(wp), allocatable :: x(:, :), xi(:, :), vol(:)
@@ -1287,7 +1299,7 @@ contains
     real(wp) :: xn(3, 8), h(1)
     integer :: lost, stat, i
 
-    call list_hosts(st, reshape(0.5_wp*(pc%point + pc%point2), [3, 1]), cell, xi, lost, err, comm)
+    call list_hosts(st, reshape(0.5_wp*(pc%point + pc%point2), [3, 1]), bins, cell, xi, lost, err, comm)
     if (allocated(err)) return
     h = -1.0_wp
     if (cell(1) > 0) then
@@ -1300,7 +1312,7 @@ contains
     if (stat /= 0) call error_set(err, 'build_particles', error_no_memory('the particles of a line'))
     if (present(comm)) call agree_error(comm, err)
     if (allocated(err)) return
-    if (lost == 0) call list_hosts(st, x, cell, xi, lost, err, comm)
+    if (lost == 0) call list_hosts(st, x, bins, cell, xi, lost, err, comm)
     if (allocated(err)) return
     if (lost > 0) then
       call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): a '// &
@@ -1313,12 +1325,13 @@ contains
 
   !> The host cells cell(n) and natural coordinates xi(3, n) of a list of
   !> points x(3, n) (`seed_hosts`), and lost, the first point in no cell (0:
-  !> none). On a block of a decomposed run (comm): the hosts among the
-  !> block's owned cells, 0 for the other points, each point found by the
-  !> one block that owns its host. Collective.
-  subroutine list_hosts(st, x, cell, xi, lost, err, comm)
+  !> none). On a block of a decomposed run (comm; bins: its cells'): the
+  !> hosts among the block's owned cells, 0 for the other points, each point
+  !> found by the one block that owns its host. Collective.
+  subroutine list_hosts(st, x, bins, cell, xi, lost, err, comm)
     type(state_t), intent(in) :: st
     real(wp), intent(in) :: x(:, :)
+    type(seed_bins_t), intent(in) :: bins
     integer, allocatable, intent(out) :: cell(:)
     real(wp), allocatable, intent(out) :: xi(:, :)
     integer, intent(out) :: lost
@@ -1330,7 +1343,8 @@ contains
     n = size(x, 2)
     lost = 0
     allocate(cell(n), xi(3, n), hits(n), stat=stat)
-    if (stat == 0) call seed_hosts(st%g, x, cell, xi, stat, present(comm))
+    if (stat == 0 .and. present(comm)) call seed_hosts(st%g, x, cell, xi, bins)
+    if (stat == 0 .and. .not. present(comm)) call seed_hosts(st%g, x, cell, xi)
     if (stat /= 0) call error_set(err, 'build_particles', error_no_memory(itoa(n)//' particles'' hosts'))
     if (present(comm)) call agree_error(comm, err)
     if (allocated(err)) return

@@ -32,7 +32,19 @@ module particles_seed
   use particles_shape, only: particles_map, particles_natural, particles_locate, particles_lowest_host
   implicit none
   private
-  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity
+  public :: seed_cell, seed_shape, seed_count, seed_surface, seed_line, seed_hosts, seed_union, seed_points, rigid_velocity, &
+            seed_bins_t, seed_bins_build
+
+  !> Bins of a block's stored cells for finding the cells that hold given
+  !> points (`seed_bins_build`, `seed_hosts`): about one cell per bin over
+  !> the box of its stored nodes, a cell listed in every bin its (padded)
+  !> box meets (a cell lies in the convex hull of its corners, so the cells
+  !> that hold a point are among those of its bin).
+  type :: seed_bins_t
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp, h(3) = 1.0_wp
+    integer :: nb(3) = 0
+    integer, allocatable :: start(:), list(:)
+  end type seed_bins_t
 
 contains
 
@@ -199,107 +211,53 @@ contains
     end do
   end subroutine seed_line
 
-  !> The host cell (cell(i), 0 if none) and natural coordinates xi(:, i) of
-  !> each point x(:, i) of a list in g, the lowest of the cells that hold
-  !> it (`particles_lowest_host`: a point on a face shared by two cells has
-  !> the same host however it was found). One process (blocks absent or
-  !> false): a walk from the previous point's host (`particles_locate`,
-  !> every cell searched where the walk fails). A block of a decomposed run
-  !> (blocks true): among its stored cells, through bins of their bounding
-  !> boxes (a cell lies in the convex hull of its corners, so the cells
-  !> that hold a point are among those of its bin: no walk that a block's
-  !> edge stops), and only hosts among its owned cells count; stat nonzero
-  !> if the bins could not be allocated.
-  pure subroutine seed_hosts(g, x, cell, xi, stat, blocks)
+  !> The bins of g's stored cells (`seed_bins_t`), built once for the lists
+  !> of points a block seeds; stat nonzero if they could not be allocated.
+  pure subroutine seed_bins_build(g, bins, stat)
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: x(:, :)
-    integer, intent(out) :: cell(:)
-    real(wp), intent(out) :: xi(:, :)
+    type(seed_bins_t), intent(out) :: bins
     integer, intent(out) :: stat
-    logical, intent(in), optional :: blocks
-    real(wp) :: lo(3), hi(3), h(3), xn(3, 8)
-    integer, allocatable :: start(:), list(:)
-    integer :: i, guess, d, ijk(3), nb(3), b0(3), b1(3), bi, bj, bk, c, q, pass
-    logical :: found, on_block
-    cell = 0
-    xi = 0.0_wp
+    integer :: d, c, q, pass, b0(3), b1(3), bi, bj, bk
     stat = 0
-    if (size(x, 2) == 0 .or. g%ncell == 0) return
-    on_block = .false.
-    if (present(blocks)) on_block = blocks
-    if (.not. on_block) then
-      guess = 1
-      do i = 1, size(x, 2)
-        call particles_locate(g, x(:, i), guess, cell(i), xi(:, i), found)
-        if (.not. found) then
-          cell(i) = 0
-          cycle
-        end if
-        call particles_lowest_host(g, x(:, i), cell(i), xi(:, i))
-        guess = cell(i)
-      end do
-      return
-    end if
-    ! bins of the stored cells' bounding boxes (padded by the inside
-    ! tolerance's reach), about one cell per bin; a cell listed in every bin
-    ! its box meets (CSR: start, list; first pass counts)
     do d = 1, 3
-      lo(d) = minval(g%x(d, :))
-      hi(d) = maxval(g%x(d, :))
+      bins%lo(d) = minval(g%x(d, :))
+      bins%hi(d) = maxval(g%x(d, :))
     end do
-    nb = max(1, nint(real(g%ncell, wp)**(1.0_wp/3.0_wp)))
-    h = max(hi - lo, tiny(1.0_wp))/real(nb, wp)
-    allocate(start(product(nb) + 1), stat=stat)
+    bins%nb = max(1, nint(real(g%ncell, wp)**(1.0_wp/3.0_wp)))
+    bins%h = max(bins%hi - bins%lo, tiny(1.0_wp))/real(bins%nb, wp)
+    allocate(bins%start(product(bins%nb) + 1), stat=stat)
     if (stat /= 0) return
-    start = 0
+    ! (CSR: the first pass counts, the second lists)
+    bins%start = 0
     do pass = 1, 2
       do c = 1, g%ncell
         call bins_of(c, b0, b1)
         do bk = b0(3), b1(3)
           do bj = b0(2), b1(2)
             do bi = b0(1), b1(1)
-              q = 1 + bi + nb(1)*(bj + nb(2)*bk)
+              q = 1 + bi + bins%nb(1)*(bj + bins%nb(2)*bk)
               if (pass == 1) then
-                start(q + 1) = start(q + 1) + 1
+                bins%start(q + 1) = bins%start(q + 1) + 1
               else
-                list(start(q)) = c
-                start(q) = start(q) + 1
+                bins%list(bins%start(q)) = c
+                bins%start(q) = bins%start(q) + 1
               end if
             end do
           end do
         end do
       end do
       if (pass == 1) then
-        start(1) = 1
-        do q = 2, size(start)
-          start(q) = start(q) + start(q - 1)
+        bins%start(1) = 1
+        do q = 2, size(bins%start)
+          bins%start(q) = bins%start(q) + bins%start(q - 1)
         end do
-        allocate(list(start(size(start)) - 1), stat=stat)
+        allocate(bins%list(bins%start(size(bins%start)) - 1), stat=stat)
         if (stat /= 0) return
       else
         ! (start(q) now the end of bin q: shifted back to its beginning)
-        start(2:) = start(1:size(start) - 1)
-        start(1) = 1
+        bins%start(2:) = bins%start(1:size(bins%start) - 1)
+        bins%start(1) = 1
       end if
-    end do
-    do i = 1, size(x, 2)
-      if (any(x(:, i) < lo - 1.0e-9_wp*(hi - lo)) .or. any(x(:, i) > hi + 1.0e-9_wp*(hi - lo))) cycle
-      b0 = min(nb - 1, max(0, int((x(:, i) - lo)/h)))
-      q = 1 + b0(1) + nb(1)*(b0(2) + nb(2)*b0(3))
-      do c = start(q), start(q + 1) - 1
-        call g%gather(list(c), g%x, xn)
-        call particles_natural(xn, x(:, i), xi(:, i), found)
-        if (.not. found) cycle
-        cell(i) = list(c)
-        exit
-      end do
-      if (cell(i) == 0) then
-        xi(:, i) = 0.0_wp
-        cycle
-      end if
-      call particles_lowest_host(g, x(:, i), cell(i), xi(:, i))
-      call g%cell_ijk(cell(i), ijk(1), ijk(2), ijk(3))
-      if (.not. g%owns_cell(ijk(1), ijk(2), ijk(3))) cell(i) = 0
     end do
   contains
     !> The range of bins b0 .. b1 (0-based) that cell c's padded box meets.
@@ -312,11 +270,64 @@ contains
       bh = maxval(xc, dim=2)
       ! (a point within the inside tolerance of the cell: a few 1e-10 of it)
       pad = 1.0e-8_wp*(bh - bl)
-      bl = bl - pad
-      bh = bh + pad
-      b0 = min(nb - 1, max(0, int((bl - lo)/h)))
-      b1 = min(nb - 1, max(0, int((bh - lo)/h)))
+      b0 = min(bins%nb - 1, max(0, int((bl - pad - bins%lo)/bins%h)))
+      b1 = min(bins%nb - 1, max(0, int((bh + pad - bins%lo)/bins%h)))
     end subroutine bins_of
+  end subroutine seed_bins_build
+
+  !> The host cell (cell(i), 0 if none) and natural coordinates xi(:, i) of
+  !> each point x(:, i) of a list in g, the lowest of the cells that hold
+  !> it (`particles_lowest_host`: a point on a face shared by two cells has
+  !> the same host however it was found). One process (bins absent): a walk
+  !> from the previous point's host (`particles_locate`, every cell searched
+  !> where the walk fails). A block of a decomposed run (bins: its
+  !> `seed_bins_build`): among its stored cells, through the bins (no walk
+  !> that a block's edge stops), and only hosts among its owned cells count.
+  pure subroutine seed_hosts(g, x, cell, xi, bins)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(out) :: cell(:)
+    real(wp), intent(out) :: xi(:, :)
+    type(seed_bins_t), intent(in), optional :: bins
+    real(wp) :: xn(3, 8), pad(3)
+    integer :: i, guess, ijk(3), b(3), q, c
+    logical :: found
+    cell = 0
+    xi = 0.0_wp
+    if (size(x, 2) == 0 .or. g%ncell == 0) return
+    if (.not. present(bins)) then
+      guess = 1
+      do i = 1, size(x, 2)
+        call particles_locate(g, x(:, i), guess, cell(i), xi(:, i), found)
+        if (.not. found) then
+          cell(i) = 0
+          cycle
+        end if
+        call particles_lowest_host(g, x(:, i), cell(i), xi(:, i))
+        guess = cell(i)
+      end do
+      return
+    end if
+    pad = 1.0e-9_wp*(bins%hi - bins%lo)
+    do i = 1, size(x, 2)
+      if (any(x(:, i) < bins%lo - pad) .or. any(x(:, i) > bins%hi + pad)) cycle
+      b = min(bins%nb - 1, max(0, int((x(:, i) - bins%lo)/bins%h)))
+      q = 1 + b(1) + bins%nb(1)*(b(2) + bins%nb(2)*b(3))
+      do c = bins%start(q), bins%start(q + 1) - 1
+        call g%gather(bins%list(c), g%x, xn)
+        call particles_natural(xn, x(:, i), xi(:, i), found)
+        if (.not. found) cycle
+        cell(i) = bins%list(c)
+        exit
+      end do
+      if (cell(i) == 0) then
+        xi(:, i) = 0.0_wp
+        cycle
+      end if
+      call particles_lowest_host(g, x(:, i), cell(i), xi(:, i))
+      call g%cell_ijk(cell(i), ijk(1), ijk(2), ijk(3))
+      if (.not. g%owns_cell(ijk(1), ijk(2), ijk(3))) cell(i) = 0
+    end do
   end subroutine seed_hosts
 
   !> Where two groups of one body overlap (a frame composed of boxes): keep
