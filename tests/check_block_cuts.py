@@ -11,7 +11,8 @@ decomposed run's log with its line "run: P MPI ranks, blocks a x b x c
 the work of a plane of cells normal to d is its cells plus WEIGHT times the
 particles hosted in it; the cut between blocks b and b + 1 is the plane
 boundary whose prefix of work is nearest to (b + 1)/p of the whole (the
-lower on a tie), each block at least one cell thick (parallel_cuts). The
+lower on a tie), each block at least as thick as its ghost layers (the
+log's "ghost layers g"; parallel_cuts). The
 logged cuts must be these, and differ from the cells-only cuts (equal
 cells within one) somewhere, or the check would not see the particles.
 Exit status 0 pass, 1 fail.
@@ -30,7 +31,7 @@ ijk = [cell % gn[0], (cell // gn[0]) % gn[1], cell // (gn[0] * gn[1])]
 fails = []
 
 
-def cuts(w, p):
+def cuts(w, p, m):
     prefix = np.concatenate([[0.0], np.cumsum(w)])
     c, e = [0], 0
     for b in range(1, p):
@@ -38,20 +39,21 @@ def cuts(w, p):
         while e < len(w) and prefix[e + 1] <= target:
             e += 1
         cb = e + 1 if e < len(w) and prefix[e + 1] - target < target - prefix[e] else e
-        c.append(min(max(cb, c[-1] + 1), len(w) - (p - b)))
+        c.append(min(max(cb, c[-1] + m), len(w) - (p - b) * m))
     return c[1:]
 
 
 for log in logs:
     line = next(l for l in open(log) if l.startswith("run: ") and " MPI ranks, blocks " in l)
     dims = [int(v) for v in re.search(r"blocks (\d+) x (\d+) x (\d+)", line).groups()]
+    m = max(int(re.search(r"ghost layers (\d+)", line).group(1)), 1)
     differ = False
     for d, axis in enumerate("ijk"):
         if dims[d] == 1:
             continue
         planes = np.bincount(ijk[d], minlength=gn[d])
         cells = np.prod(gn) / gn[d]
-        want = cuts(cells + weight * planes, dims[d])
+        want = cuts(cells + weight * planes, dims[d], m)
         got = [int(v) for v in re.search(axis + r" =((?: \d+)+)", line).group(1).split()]
         even = [b * (gn[d] // dims[d]) + min(b, gn[d] % dims[d]) for b in range(1, dims[d])]
         differ = differ or want != even
