@@ -36,10 +36,10 @@ module particles_seed
             seed_bins_t, seed_bins_build
 
   !> Bins of a block's stored cells for finding the cells that hold given
-  !> points (`seed_bins_build`, `seed_hosts`): about one cell per bin over
-  !> the box of its stored nodes, a cell listed in every bin its (padded)
-  !> box meets (a cell lies in the convex hull of its corners, so the cells
-  !> that hold a point are among those of its bin).
+  !> points (`seed_bins_build`, `seed_hosts`): as many per direction as the
+  !> block has cells, over the box of its stored nodes, a cell listed in
+  !> every bin its (padded) box meets (a cell lies in the convex hull of its
+  !> corners, so the cells that hold a point are among those of its bin).
   type :: seed_bins_t
     real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp, h(3) = 1.0_wp
     integer :: nb(3) = 0
@@ -223,8 +223,11 @@ contains
       bins%lo(d) = minval(g%x(d, :))
       bins%hi(d) = maxval(g%x(d, :))
     end do
-    bins%nb = max(1, nint(real(g%ncell, wp)**(1.0_wp/3.0_wp)))
-    bins%h = max(bins%hi - bins%lo, tiny(1.0_wp))/real(bins%nb, wp)
+    ! (bins as wide as the block's cells, a thin block's too, offset by half
+    ! a bin: a cell of a box grid, padded, then meets 2 x 2 x 2 bins, not 27)
+    bins%h = max(bins%hi - bins%lo, tiny(1.0_wp))/real(max(1, g%shi - g%slo + 1), wp)
+    bins%nb = max(1, g%shi - g%slo + 1) + 1
+    bins%lo = bins%lo - 0.5_wp*bins%h
     allocate(bins%start(product(bins%nb) + 1), stat=stat)
     if (stat /= 0) return
     ! (CSR: the first pass counts, the second lists)
