@@ -24,7 +24,8 @@ module driver_restart
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, ERR_INPUT, ERR_IO
+  use base_errors, only: error_t, error_set, error_no_memory, ERR_INPUT, ERR_IO
+  use base_sort, only: sorted_runs
   use base_config, only: max_line, problem_add
   use base_timers, only: wall_seconds
   use base_registry, only: registry_t, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR, &
@@ -43,7 +44,8 @@ module driver_restart
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
-  use io_restart, only: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
+  use io_restart, only: restart_part_t, restart_read_parts, restart_read_int_runs, restart_write, restart_read, &
+                        restart_read_deck, restart_read_int_scalar, &
                         restart_check_counts, restart_read_dims
   use driver_config, only: config_t, config_read, config_state_changes
   use io_output_config, only: output_config_changes
@@ -116,16 +118,16 @@ contains
   !> On several ranks every rank calls this with its block, whose mixed
   !> cells and particles are then the whole run's (`whole_dump`): the ranks
   !> write the file together.
-  subroutine write_restart(cfg, st, sch, es, err, ptotal, pruns)
+  subroutine write_restart(cfg, st, sch, es, err, parts)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    !> (a decomposed run's blocks that hold their particles: st%pt this
-    !> rank's share of ptotal, written at the places pruns gives,
-    !> `restart_write`)
-    integer, intent(in), optional :: ptotal, pruns(:, :)
+    !> (a decomposed run's blocks: st%mx and st%pt this rank's share of
+    !> the whole run's mixed cells and particles, written at the places the
+    !> parts give, `restart_write`)
+    type(restart_part_t), intent(in), optional :: parts(:)
     type(registry_t) :: reg
     character(len=:), allocatable :: path
     character(len=256) :: entry
@@ -133,7 +135,7 @@ contains
     real(wp), allocatable :: times(:)
     integer, allocatable :: nparts(:)
     real(wp) :: w0, eps_t, t_next_frame
-    integer :: u, ios, nframe, steps_since_frame
+    integer :: u, ios, nframe, steps_since_frame, k
 
     w0 = wall_seconds()
     call sch%t_output%start()
@@ -163,8 +165,10 @@ contains
       end if
       frames = [character(len=256) :: frames, frame_name(sch, sch%out%nframe)]
       times = [times, st%t]
-      if (present(ptotal)) then
-        nparts = [nparts, ptotal]
+      k = 0
+      if (present(parts)) k = findloc(parts%location, LOC_PARTICLE, 1)
+      if (k > 0) then
+        nparts = [nparts, parts(k)%total]
       else
         nparts = [nparts, st%pt%np]
       end if
@@ -174,7 +178,7 @@ contains
     call register_all(st, sch, es, reg)
     if (sch%pc%nranks > 1) then
       call restart_write(path, reg, cfg%echo, frames, times, err, nparts, comm=sch%pc%world, ix=st%g%grid_index_t, &
-                         ptotal=ptotal, pruns=pruns)
+                         parts=parts)
     else
       call restart_write(path, reg, cfg%echo, frames, times, err, nparts)
     end if
@@ -247,8 +251,6 @@ contains
     logical, intent(in), optional :: block
     type(registry_t) :: reg
     character(len=*), parameter :: mixed_damaged = ' is damaged: its mixed cells do not match its cell materials'
-    type(mixed_t) :: wx
-    integer, allocatable :: pick(:)
     logical :: blocks, ok, coupled
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
@@ -285,7 +287,8 @@ contains
       call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
       return
     end if
-    if (n /= st%mx%n .or. nslot /= st%mx%nslot) then
+    ! (a block reads only its own, once its cells are read: `mixed_read_block`)
+    if ((n /= st%mx%n .or. nslot /= st%mx%nslot) .and. .not. blocks) then
       st%mx = mixed_t()   ! frees the deck's storage
       call mixed_allocate(st%mx, n, nslot, err)
       if (allocated(err)) then
@@ -348,28 +351,17 @@ contains
     ! (what a dump without the particles' support widths leaves: `huge`)
     if (st%pt%spread) st%pt%lsup = huge(1.0_wp)
     if (blocks) then
-      call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t)
+      call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t, later=[LOC_MIXED_CELL, LOC_MIXED_SLOT])
+      if (.not. allocated(err)) call mixed_read_block(path, st, sch, es, reg, n, nslot, ok, err)
+      if (.not. (allocated(err) .or. ok)) then
+        call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
+        return
+      end if
     else
       call restart_read(path, reg, frames, times, err, nparts)
     end if
     if (.not. allocated(err)) call check_ranges(reg, size(frames), path, err)
     if (.not. allocated(err)) call check_materials(st, path, err)
-    if (blocks .and. .not. allocated(err)) then
-      ! the block's mixed cells, each named by its cell's material in the
-      ! whole list, then numbered in the block
-      ok = mixed_well_formed(st%mx, product(st%g%gn))
-      if (ok) then
-        wx = st%mx
-        call mixed_of_block(st%g, wx, st%mx, err, pick)
-        if (allocated(err)) return
-        ok = all(st%h%mat(st%mx%cell(1:st%mx%n)) == -pick)
-        call mixed_numbers(st)
-      end if
-      if (.not. ok) then
-        call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
-        return
-      end if
-    end if
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
     if (.not. allocated(err) .and. pblocks) then
@@ -610,6 +602,92 @@ contains
       ok = mx%start(k + 1) > mx%start(k) .and. mx%cell(k) >= 1 .and. mx%cell(k) <= ncell
     end do
   end function mixed_well_formed
+
+  !> A block's mixed cells from restart file `path`, whose mixed_n = ntot
+  !> and mixed_nslot = nstot (its datasets' shapes checked already): the
+  !> cells of the block (owned and ghost) whose material, read, is -K hold
+  !> the file's mixed cell K, and only those cells and their slots are
+  !> read (their starts first, `restart_read_int_runs`, then the rest,
+  !> `restart_read_parts`), then numbered in the block (`mixed_numbers`);
+  !> reg is registered again. A file whose cells and mixed cells do not
+  !> match is damaged: ok false.
+  subroutine mixed_read_block(path, st, sch, es, reg, ntot, nstot, ok, err)
+    character(len=*), intent(in) :: path
+    type(state_t), intent(inout) :: st
+    type(schedule_t), intent(inout) :: sch
+    type(euler_state_t), intent(inout) :: es
+    type(registry_t), intent(inout) :: reg
+    integer, intent(in) :: ntot, nstot
+    logical, intent(out) :: ok
+    type(error_t), allocatable, intent(inout) :: err
+    type(restart_part_t) :: parts(2)
+    integer, allocatable :: cells(:), keys(:), plus(:, :), sv(:), slots(:)
+    integer :: m, k, r, j, q, c, stat
+
+    cells = pack([(c, c = 1, st%g%ncell)], st%h%mat < 0)
+    m = size(cells)
+    keys = -st%h%mat(cells)
+    ok = all(keys <= ntot)
+    if (m > 1) ok = ok .and. all(keys(2:) > keys(:m - 1))
+    if (.not. ok) return
+    call sorted_runs(keys - 1, parts(1)%runs, stat)
+    if (stat /= 0) call error_set(err, 'restart_read', error_no_memory('the block''s mixed cells'))
+    if (allocated(err)) return
+    ! each run's starts and the one after it
+    plus = parts(1)%runs
+    plus(2, :) = plus(2, :) + 1
+    call restart_read_int_runs(path, 'mixed_start', ntot + 1, plus, sv, err)
+    if (allocated(err)) return
+    ! the block's starts, and its slots' places in the file
+    keys(1) = 1
+    keys = [keys(1:1), (0, k = 1, m)]
+    q = 0
+    j = 0
+    do r = 1, size(plus, 2)
+      do k = 1, plus(2, r) - 1
+        q = q + 1
+        ok = ok .and. sv(j + k) >= 1 .and. sv(j + k + 1) > sv(j + k) .and. sv(j + k + 1) <= nstot + 1
+        if (.not. ok) return
+        keys(q + 1) = keys(q) + sv(j + k + 1) - sv(j + k)
+      end do
+      j = j + plus(2, r)
+    end do
+    allocate(slots(keys(m + 1) - 1), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'restart_read', error_no_memory('the block''s mixed cells'))
+      return
+    end if
+    q = 0
+    j = 0
+    do r = 1, size(plus, 2)
+      do k = 1, plus(2, r) - 1
+        q = q + 1
+        slots(keys(q):keys(q + 1) - 1) = [(c - 1, c = sv(j + k), sv(j + k + 1) - 1)]
+      end do
+      j = j + plus(2, r)
+    end do
+    if (size(slots) > 1) ok = all(slots(2:) > slots(:size(slots) - 1))
+    if (.not. ok) return
+    call sorted_runs(slots, parts(2)%runs, stat)
+    if (stat /= 0) call error_set(err, 'restart_read', error_no_memory('the block''s mixed cells'))
+    if (allocated(err)) return
+    parts(1)%location = LOC_MIXED_CELL
+    parts(1)%total = ntot
+    parts(2)%location = LOC_MIXED_SLOT
+    parts(2)%total = nstot
+    st%mx = mixed_t()
+    call mixed_allocate(st%mx, m, size(slots), err)
+    if (allocated(err)) return
+    st%mx%start = keys
+    call reg%clear()
+    call register_all(st, sch, es, reg)
+    call restart_read_parts(path, reg, parts, err)
+    if (allocated(err)) return
+    ok = all(st%mx%cell == [(st%g%global_cell(cells(k)), k = 1, m)])
+    if (.not. ok) return
+    st%mx%cell = cells
+    call mixed_numbers(st)
+  end subroutine mixed_read_block
 
   !> The mixed cells mx of the block of grid g (its owned and ghost cells),
   !> in cell order and numbered in the block, from the whole grid's wx (in

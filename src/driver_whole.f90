@@ -56,13 +56,13 @@
 !> owned cells, renumbered and put back in cell order (the order one
 !> process keeps them in).
 module driver_whole
-  use base_sort, only: sort_order
+  use base_sort, only: sort_order, sorted_runs
   use base_timers, only: wall_seconds
   use lagrange_centroids, only: centroid_stats_t, centroids_refresh
   use base_kinds, only: wp
-  use base_errors, only: error_t, error_set
+  use base_errors, only: error_t, error_set, error_no_memory
   use base_registry, only: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, &
-                           K_REAL_SCALAR, K_INT_SCALAR
+                           K_REAL_SCALAR, K_INT_SCALAR, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOC_PARTICLE
   use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
   use material_table, only: material_index_cells
   use io_log, only: log_t, log_line
@@ -75,7 +75,7 @@ module driver_whole
   use particles_lagrange, only: strength_slot_t
   use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
-  use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists
+  use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists, cell_prefix
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
@@ -99,6 +99,7 @@ module driver_whole
                           parts_state_t
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
+  use io_restart, only: restart_part_t
   use driver_restart, only: write_restart, read_restart, mixed_of_block, mixed_numbers
   implicit none
   private
@@ -1166,14 +1167,14 @@ contains
 
   !> A restart dump of a decomposed run, written by the ranks together
   !> (`write_restart`, `restart_write`): each block its owned nodes and cells
-  !> of the node and cell quantities, rank 0 the rest, which must be the
-  !> whole run's: the mixed cells (their centroids refreshed in each block,
-  !> then gathered in cell order, `mixed_gather`) is put in the block's
-  !> place for the dump, and each block writes its own particles at their
-  !> places in the whole run's order (`particles_blocks_share`); a
-  !> mixed cell's material (minus its number in the block's storage) its
-  !> number among the whole grid's. The file is the one a single process
-  !> writes; the whole grid's state is not needed.
+  !> of the node and cell quantities, its owned mixed cells (their centroids
+  !> refreshed) and its owned particles at their places in the whole run's
+  !> lists (`restart_part_t`: the mixed cells in cell order, placed by a
+  !> prefix sum over the cells, `cell_prefix`; the particles by
+  !> `particles_blocks_share`), rank 0 the rest. A mixed cell's material
+  !> (minus its number) is its number in the whole run's list, its cell
+  !> and slots those of the whole grid's. The file is the one a single
+  !> process writes; no rank holds more than its block.
   subroutine whole_dump(cfg, pc, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -1181,50 +1182,73 @@ contains
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    type(mixed_t) :: mw, mb
+    type(mixed_t) :: own, mb
     type(particles_t) :: pw, pb
     type(centroid_stats_t) :: cs
-    integer, allocatable :: mat(:), keep(:), pruns(:, :)
-    integer :: k, c, lo, hi, mid, gc, ijk(3), ptotal
+    type(restart_part_t) :: parts(3)
+    integer, allocatable :: mat(:), keep(:), cnt(:, :), before(:, :), at(:)
+    integer :: k, c, s, tot(2), stat, st1, st2, np
 
-    call mixed_gather(pc, st, mw, err, cs)
+    call mixed_owned(st, own, err)
+    if (.not. allocated(err)) then
+      call centroids_refresh(st%g, own, cs)
+      allocate(cnt(2, st%g%ncell), at(own%nslot), stat=stat)
+      if (stat /= 0) call error_set(err, 'whole_dump', error_no_memory('the dump''s mixed cells'))
+    end if
+    call agree_error(pc, err)
     if (allocated(err)) return
     call centroids_count(pc, cs, es%centroids)
-    ! the owned mixed cells' numbers in the whole grid's list (ascending cells)
-    mat = st%h%mat
-    do k = 1, st%mx%n
-      c = st%mx%cell(k)
-      call st%g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-      if (.not. st%g%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
-      gc = st%g%global_cell(c)
-      lo = 1; hi = mw%n
-      do while (lo < hi)
-        mid = (lo + hi)/2
-        if (mw%cell(mid) < gc) then
-          lo = mid + 1
-        else
-          hi = mid
-        end if
-      end do
-      mat(c) = -lo
+    cnt = 0
+    do k = 1, own%n
+      cnt(:, own%cell(k)) = [1, own%start(k + 1) - own%start(k)]
     end do
+    call cell_prefix(pc, st%g%grid_index_t, cnt, before, tot)
+    ! the owned mixed cells' places in the whole run's list and their
+    ! slots' (increasing: own is in cell order)
+    parts(1)%location = LOC_MIXED_CELL
+    parts(1)%total = tot(1)
+    parts(2)%location = LOC_MIXED_SLOT
+    parts(2)%total = tot(2)
+    do k = 1, own%n
+      c = own%cell(k)
+      at(own%start(k):own%start(k + 1) - 1) = [(before(2, c) + s, s = 0, own%start(k + 1) - own%start(k) - 1)]
+    end do
+    call sorted_runs(at, parts(2)%runs, st2)
+    at = [(before(1, own%cell(k)), k = 1, own%n)]
+    call sorted_runs(at, parts(1)%runs, st1)
+    stat = max(st1, st2)
+    ! (the starts, one more: the last by the rank that holds the last mixed
+    ! cell, by rank 0 when there is none)
+    if (any(at == tot(1) - 1) .or. (tot(1) == 0 .and. pc%rank == 0)) at = [at, tot(1)]
+    call sorted_runs(at, parts(1)%plus, st1)
+    call parallel_nomem(max(stat, st1), 'the dump''s mixed cells')
+    ! the file's numbers: the material of a mixed cell's cell, its cell,
+    ! its first slot, the counts (the arrays stay this block's part)
+    mat = st%h%mat
+    do k = 1, own%n
+      c = own%cell(k)
+      mat(c) = -(before(1, c) + 1)
+      own%cell(k) = st%g%global_cell(c)
+      own%start(k) = before(2, c) + 1
+    end do
+    own%start(own%n + 1) = tot(2) + 1
+    own%n = tot(1)
+    own%nslot = tot(2)
+    np = 2
     if (st%pblocks) then
-      ! (each block writes its own particles at their places among all)
-      call particles_blocks_share(pc, st, pw, pruns, ptotal, err)
+      np = 3
+      parts(3)%location = LOC_PARTICLE
+      call particles_blocks_share(pc, st, pw, parts(3)%runs, parts(3)%total, err)
       call agree_error(pc, err)
       if (allocated(err)) return
       pb = st%pt
       st%pt = pw
     end if
     mb = st%mx
-    st%mx = mw
+    st%mx = own
     call move_alloc(st%h%mat, keep)
     call move_alloc(mat, st%h%mat)
-    if (st%pblocks) then
-      call write_restart(cfg, st, sch, es, err, ptotal, pruns)
-    else
-      call write_restart(cfg, st, sch, es, err)
-    end if
+    call write_restart(cfg, st, sch, es, err, parts(:np))
     ! the block's own again
     call move_alloc(keep, st%h%mat)
     st%mx = mb
@@ -1304,7 +1328,7 @@ contains
     d%t = st%t
     d%dt = st%dt
     d%step = st%step
-    call mixed_gather(pc, st, mw, err, refreshed, d%g%off + d%g%slo, d%g%off + d%g%shi)
+    call mixed_gather(pc, st, d%g%off + d%g%slo, d%g%off + d%g%shi, mw, err, refreshed)
     if (.not. allocated(err)) call mixed_of_block(d%g, mw, d%mx, err, pick)
     if (allocated(err)) return
     lo = d%g%off + 1
@@ -1468,28 +1492,17 @@ contains
     end select
   end subroutine copy_global
 
-  !> mw: the mixed cells of the whole grid in the box of cells lo..hi
-  !> (whole-grid indices; each rank its own, the whole grid if absent), in
-  !> cell order, from the blocks that own them (each block's owned mixed
-  !> cells, refreshed first with `refreshed`): each block sends a rank only
-  !> those in its box, a record of reals per cell (exact: its cell, its
-  !> slots, each slot's material, fractions, states, centroid and plane).
-  subroutine mixed_gather(pc, st, mw, err, refreshed, lo, hi)
-    type(comm_t), intent(in) :: pc
+  !> own: the block's owned mixed cells (cells numbered in the block), in
+  !> cell order.
+  subroutine mixed_owned(st, own, err)
     type(state_t), intent(in) :: st
-    type(mixed_t), intent(inout) :: mw
+    type(mixed_t), intent(inout) :: own
     type(error_t), allocatable, intent(inout) :: err
-    type(centroid_stats_t), intent(inout), optional :: refreshed
-    integer, intent(in), optional :: lo(3), hi(3)
-    integer, parameter :: per_slot = 14
-    type(mixed_t) :: own, cat
-    integer, allocatable :: pick(:), boxes(:), scounts(:), gijk(:, :)
-    real(wp), allocatable :: sbuf(:), rbuf(:)
-    integer :: k, m, r, s, q, n, nslot, stat, ijk(3), box(6)
-
+    integer, allocatable :: pick(:), order(:)
+    integer :: k, m, stat, ijk(3)
     allocate(pick(st%mx%n), stat=stat)
     if (stat /= 0) then
-      call error_set(err, 'mixed_gather', 'out of memory')
+      call error_set(err, 'mixed_owned', error_no_memory('the owned mixed cells'))
       return
     end if
     m = 0
@@ -1499,14 +1512,40 @@ contains
       m = m + 1
       pick(m) = k
     end do
+    allocate(order(m), stat=stat)
+    if (stat == 0) call sort_order(st%mx%cell(pick(:m)), order, stat)
+    if (stat /= 0) then
+      call error_set(err, 'mixed_owned', error_no_memory('the owned mixed cells'))
+      return
+    end if
+    pick(:m) = pick(order)
     call mixed_subset(st%mx, pick(:m), st%mx%cell(pick(:m)), own, err)
+  end subroutine mixed_owned
+
+  !> mw: the mixed cells of the whole grid in the box of cells lo..hi
+  !> (whole-grid indices; each rank its own), in
+  !> cell order, from the blocks that own them (each block's owned mixed
+  !> cells, refreshed first with `refreshed`): each block sends a rank only
+  !> those in its box, a record of reals per cell (exact: its cell, its
+  !> slots, each slot's material, fractions, states, centroid and plane).
+  subroutine mixed_gather(pc, st, lo, hi, mw, err, refreshed)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    integer, intent(in) :: lo(3), hi(3)
+    type(mixed_t), intent(inout) :: mw
+    type(error_t), allocatable, intent(inout) :: err
+    type(centroid_stats_t), intent(inout), optional :: refreshed
+    integer, parameter :: per_slot = 14
+    type(mixed_t) :: own, cat
+    integer, allocatable :: pick(:), boxes(:), scounts(:), gijk(:, :)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer :: k, m, r, s, q, n, nslot, stat, ijk(3), box(6)
+
+    call mixed_owned(st, own, err)
     if (allocated(err)) return
     if (present(refreshed)) call centroids_refresh(st%g, own, refreshed)
     ! (every rank's box; each own cell's whole-grid index)
-    box(1:3) = 1
-    box(4:6) = st%g%gn
-    if (present(lo)) box(1:3) = lo
-    if (present(hi)) box(4:6) = hi
+    box = [lo, hi]
     call gather_concat(pc, box, boxes)
     allocate(gijk(3, own%n), scounts(0:pc%nranks - 1), stat=stat)
     if (stat /= 0) then
@@ -1574,7 +1613,6 @@ contains
       end do
     end do
     ! in cell order (each cell is owned by one block)
-    deallocate(pick)
     allocate(pick(cat%n), stat=stat)
     if (stat == 0) call sort_order(cat%cell, pick, stat)
     if (stat /= 0) then

@@ -725,13 +725,15 @@ contains
   !> with grid, start and count only a box of it, as `h5_write_part_real`
   !> writes one; with start and count alone the box start(d) ..
   !> start(d) + count(d) - 1 (0-based) of each of its dimensions (the caller
-  !> has checked that it lies in the dataset).
-  subroutine h5_read_real(file, name, data, err, grid, start, count)
+  !> has checked that it lies in the dataset); with runs the runs of its last
+  !> dimension runs(:, r) = (0-based start, length), increasing and within
+  !> it, the leading dimensions whole (as `h5_write_part_real` writes them).
+  subroutine h5_read_real(file, name, data, err, grid, start, count, runs)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     real(wp), allocatable, target, intent(out) :: data(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer, intent(in), optional :: grid(3), start(:), count(:)
+    integer, intent(in), optional :: grid(3), start(:), count(:), runs(:, :)
     character(len=*), parameter :: here = 'h5_read_real'
     integer(hid_t) :: did, sid
     integer(hsize_t) :: n
@@ -742,6 +744,7 @@ contains
     body: block
       if (.not. open_checked(file, name, H5T_FLOAT_F, 'floating-point', here, did, sid, n, err)) exit body
       if (present(count)) n = product(int(count, hsize_t))
+      if (present(runs)) call runs_size(sid, runs, n)
       allocate(data(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, here, error_no_memory('memory for '//where_in(file, name)))
@@ -749,20 +752,20 @@ contains
       end if
       if (n == 0) exit body
       ptr = c_loc(data(1))
-      call read_selected(did, sid, h5kind_to_type(wp, H5_REAL_KIND), ptr, n, hdferr, grid, start, count)
+      call read_selected(did, sid, h5kind_to_type(wp, H5_REAL_KIND), ptr, n, hdferr, grid, start, count, runs)
       if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
   end subroutine h5_read_real
 
   !> Reads an integer dataset of any shape, flattened in Fortran order (or a
-  !> box of it, as `h5_read_real`).
-  subroutine h5_read_int(file, name, data, err, grid, start, count)
+  !> box or runs of it, as `h5_read_real`).
+  subroutine h5_read_int(file, name, data, err, grid, start, count, runs)
     type(h5_file_t), intent(in) :: file
     character(len=*), intent(in) :: name
     integer, allocatable, target, intent(out) :: data(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer, intent(in), optional :: grid(3), start(:), count(:)
+    integer, intent(in), optional :: grid(3), start(:), count(:), runs(:, :)
     character(len=*), parameter :: here = 'h5_read_int'
     integer(hid_t) :: did, sid
     integer(hsize_t) :: n
@@ -772,7 +775,8 @@ contains
     sid = -1_hid_t
     body: block
       if (.not. open_checked(file, name, H5T_INTEGER_F, 'integer', here, did, sid, n, err)) exit body
-      if (present(grid)) n = product(int(count, hsize_t))
+      if (present(count)) n = product(int(count, hsize_t))
+      if (present(runs)) call runs_size(sid, runs, n)
       allocate(data(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, here, error_no_memory('memory for '//where_in(file, name)))
@@ -780,7 +784,7 @@ contains
       end if
       if (n == 0) exit body
       ptr = c_loc(data(1))
-      call read_selected(did, sid, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, n, hdferr, grid, start, count)
+      call read_selected(did, sid, h5kind_to_type(kind(0), H5_INTEGER_KIND), ptr, n, hdferr, grid, start, count, runs)
       if (hdferr /= 0) call error_set(err, here, damaged(file, name))
     end block body
     call release(did, sid, -1_hid_t)
@@ -1128,22 +1132,42 @@ contains
     end do
   end subroutine select_runs
 
+  !> n: the values the runs of the last dimension of dataspace sid select,
+  !> its leading dimensions whole (`select_runs`).
+  subroutine runs_size(sid, runs, n)
+    integer(hid_t), intent(in) :: sid
+    integer, intent(in) :: runs(:, :)
+    integer(hsize_t), intent(out) :: n
+    integer(hsize_t) :: hdims(max_rank), hmax(max_rank)
+    integer :: rank, hdferr
+    call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+    call h5sget_simple_extent_dims_f(sid, hdims(1:rank), hmax(1:rank), hdferr)
+    n = product(hdims(1:rank - 1))*sum(int(runs(2, :), hsize_t))
+  end subroutine runs_size
+
   !> Reads a dataset into ptr: the whole of it, or with grid the box at
   !> start of shape count (n values; `select_box`, which must lie in it), or
-  !> with count alone the hyperslab at start of shape count.
-  subroutine read_selected(did, sid, tid, ptr, n, hdferr, grid, start, count)
+  !> with count alone the hyperslab at start of shape count, or the runs of
+  !> its last dimension (`select_runs`).
+  subroutine read_selected(did, sid, tid, ptr, n, hdferr, grid, start, count, runs)
     integer(hid_t), intent(in) :: did, sid, tid
     type(c_ptr), intent(inout) :: ptr
     integer(hsize_t), intent(in) :: n
     integer, intent(out) :: hdferr
-    integer, intent(in), optional :: grid(3), start(:), count(:)
+    integer, intent(in), optional :: grid(3), start(:), count(:), runs(:, :)
     integer(hid_t) :: msid
+    integer(hsize_t) :: hdims(max_rank), hmax(max_rank)
     integer :: rank, ierr
-    if (.not. present(count)) then
+    if (.not. (present(count) .or. present(runs))) then
       call h5dread_f(did, tid, ptr, hdferr)
       return
     end if
-    if (present(grid)) then
+    if (present(runs)) then
+      call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
+      if (hdferr == 0) call h5sget_simple_extent_dims_f(sid, hdims(1:rank), hmax(1:rank), hdferr)
+      if (hdferr < 0) return
+      call select_runs(sid, int(hdims(1:rank)), runs, hdferr)
+    else if (present(grid)) then
       call h5sget_simple_extent_ndims_f(sid, rank, hdferr)
       if (hdferr /= 0) return
       call select_box(sid, rank, grid, start, count, hdferr)

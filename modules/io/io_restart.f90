@@ -42,8 +42,23 @@ module io_restart
                            LOC_GLOBAL, LOC_NODE, LOC_CELL, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
-  public :: restart_write, restart_read, restart_read_deck, restart_read_int_scalar, &
-            restart_read_dims, restart_check_counts, restart_version, finite_bits, nonfinite_name
+  public :: restart_write, restart_read, restart_read_parts, restart_read_int_runs, restart_read_deck, &
+            restart_read_int_scalar, restart_read_dims, restart_check_counts, restart_version, finite_bits, &
+            nonfinite_name
+
+  !> A decomposed run's share of the arrays at one location (particles,
+  !> mixed cells, mixed slots) that the file holds for the whole run: this
+  !> rank's values are written at (read from) the runs of their last
+  !> dimension, runs(:, r) = (0-based start, length), increasing, among
+  !> total entries. An array at the location with one entry more than the
+  !> runs hold (the mixed cells' starts, total + 1 in the file) is written
+  !> at the runs `plus` (its first values; the rank that holds the last
+  !> entry writes it too) and is left to the caller on a read.
+  type, public :: restart_part_t
+    integer :: location = LOC_GLOBAL
+    integer :: total = 0
+    integer, allocatable :: runs(:, :), plus(:, :)
+  end type restart_part_t
 
   !> Format version written to every file; a reader refuses any other.
   !> 2: the mixed-cell arrays are always present (possibly empty) and their
@@ -68,12 +83,12 @@ contains
   !> calling this) the ranks write the file together: each its owned nodes
   !> and cells of the node and cell quantities (the block's index ix) into
   !> the whole grid's datasets, rank 0 everything else (which must then be
-  !> the whole run's: the caller's concern), unless `ptotal` and `pruns`:
-  !> the particle quantities then hold this rank's share of ptotal
-  !> particles, which it writes at the places pruns gives (the layout of
-  !> `output_frame`'s). The file is the one a single process writes of the
+  !> the whole run's: the caller's concern), except at the locations of
+  !> `parts`: their quantities hold this rank's share, which it writes at
+  !> the part's runs (`restart_part_t`; the particles as `output_frame`
+  !> lays them out). The file is the one a single process writes of the
   !> same state.
-  subroutine restart_write(path, reg, deck, frames, times, err, nparts, comm, ix, ptotal, pruns)
+  subroutine restart_write(path, reg, deck, frames, times, err, nparts, comm, ix, parts)
     character(len=*), intent(in) :: path
     type(registry_t), intent(in) :: reg
     character(len=*), intent(in) :: deck
@@ -83,12 +98,12 @@ contains
     integer, intent(in), optional :: nparts(:)
     type(MPI_Comm), intent(in), optional :: comm
     type(grid_index_t), intent(in), optional :: ix
-    integer, intent(in), optional :: ptotal, pruns(:, :)
+    type(restart_part_t), intent(in), optional :: parts(:)
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
     integer, allocatable :: ibuf(:)
     real(wp), allocatable :: rbuf(:)
-    integer :: k, rank, stat
+    integer :: k, rank, stat, q
     logical :: blocks, short
     character(len=:), allocatable :: list
 
@@ -118,8 +133,9 @@ contains
           call write_owned(e)
           cycle
         end if
-        if (blocks .and. e%location == LOC_PARTICLE .and. present(pruns)) then
-          call write_particles(e)
+        q = part_of(parts, e%location)
+        if (blocks .and. q > 0) then
+          call write_runs(e, parts(q))
           cycle
         end if
         select case (e%kind)
@@ -159,12 +175,11 @@ contains
       do q = 1, reg%n
         associate (e => reg%e(q))
           m = 1
-          if (e%location == LOC_NODE .or. e%location == LOC_CELL .or. e%location == LOC_PARTICLE) &
-            m = product(e%dims(1:size(e%dims) - 1))
+          if (e%location /= LOC_GLOBAL) m = product(e%dims(1:size(e%dims) - 1))
           select case (e%kind)
           case (K_REAL, K_INT)
-            if (e%location == LOC_PARTICLE .and. present(ptotal)) then
-              n = n + 8_int64*m*ptotal
+            if (part_of(parts, e%location) > 0) then
+              n = n + 8_int64*m*(parts(part_of(parts, e%location))%total + 1)
             else if (e%location == LOC_NODE) then
               n = n + 8_int64*m*product(int(ix%gn + 1, int64))
             else if (e%location == LOC_CELL) then
@@ -239,18 +254,28 @@ contains
       end if
     end subroutine write_owned
 
-    !> A particle quantity: this rank's particles at their places among
-    !> ptotal (`h5_write_part_real`'s runs).
-    subroutine write_particles(e)
+    !> A quantity of part p: this rank's values at their places among the
+    !> part's total (`h5_write_part_real`'s runs), or one more (`plus`).
+    subroutine write_runs(e, p)
       type(registry_entry_t), intent(in) :: e
-      integer :: lead(size(e%dims) - 1)
+      type(restart_part_t), intent(in) :: p
+      integer :: lead(size(e%dims) - 1), total
+      logical :: plus
       lead = e%dims(1:size(e%dims) - 1)
-      if (e%kind == K_REAL) then
-        call h5_write_part_real(f, 'state/'//trim(e%name), e%r, [lead, ptotal], [0*lead, 0], e%dims, err, runs=pruns)
+      plus = e%dims(size(e%dims)) /= sum(p%runs(2, :))
+      total = p%total + merge(1, 0, plus)
+      if (e%kind == K_REAL .and. plus) then
+        call h5_write_part_real(f, 'state/'//trim(e%name), e%r, [lead, total], [0*lead, 0], [lead, sum(p%plus(2, :))], &
+                                err, runs=p%plus)
+      else if (e%kind == K_REAL) then
+        call h5_write_part_real(f, 'state/'//trim(e%name), e%r, [lead, total], [0*lead, 0], e%dims, err, runs=p%runs)
+      else if (plus) then
+        call h5_write_part_int(f, 'state/'//trim(e%name), e%i, [lead, total], [0*lead, 0], [lead, sum(p%plus(2, :))], &
+                               err, runs=p%plus)
       else
-        call h5_write_part_int(f, 'state/'//trim(e%name), e%i, [lead, ptotal], [0*lead, 0], e%dims, err, runs=pruns)
+        call h5_write_part_int(f, 'state/'//trim(e%name), e%i, [lead, total], [0*lead, 0], e%dims, err, runs=p%runs)
       end if
-    end subroutine write_particles
+    end subroutine write_runs
   end subroutine restart_write
 
   !> Deletes `path` if it exists (a temporary file of a failed dump: it frees
@@ -358,7 +383,7 @@ contains
   !> block of a decomposed run) the node and cell quantities are the block's
   !> box (its owned and ghost nodes and cells) of the whole grid's datasets;
   !> everything else is read whole.
-  subroutine restart_read(path, reg, frames, times, err, nparts, ix)
+  subroutine restart_read(path, reg, frames, times, err, nparts, ix, later)
     character(len=*), intent(in) :: path
     type(registry_t), intent(inout) :: reg
     character(len=256), allocatable, intent(out) :: frames(:)
@@ -366,6 +391,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable, intent(out), optional :: nparts(:)
     type(grid_index_t), intent(in), optional :: ix
+    !> the locations whose arrays are left to the caller (`restart_read_parts`)
+    integer, intent(in), optional :: later(:)
     type(error_t), allocatable :: err2
     type(h5_file_t) :: f
     integer :: k, n, p, bad, lo(3), cnt(3), grid(3)
@@ -383,6 +410,9 @@ contains
           name = 'state/'//trim(e%name)
         else
           name = 'scalars/'//trim(e%name)
+        end if
+        if (present(later) .and. (e%kind == K_REAL .or. e%kind == K_INT)) then
+          if (any(later == e%location)) cycle
         end if
         if (.not. h5_exists(f, trim(name))) then
           ! an optional quantity keeps the value the deck gave it
@@ -499,24 +529,11 @@ contains
     subroutine check_values(e, v)
       type(registry_entry_t), intent(in) :: e
       real(wp), intent(in) :: v(:)
-      character(len=*), parameter :: rule(2) = [character(len=15) :: ' (must be > 0)', ' (must be >= 0)']
       integer :: bad
-      bad = findloc(finite_bits(v), .false., 1)
-      if (bad > 0) then
-        call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' has '// &
-                       nonfinite_name(v(bad))//' at '//where(bad, e))
-        return
-      end if
-      bad = findloc(abs(v) < too_big .or. abs(v) >= huge(1.0_wp), .false., 1)
-      if (bad > 0) then
-        call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' = '//rtoa(v(bad))// &
-                       ' at '//where(bad, e)//' (magnitudes of 1e30 or more are refused)')
-        return
-      end if
-      if (e%lower == LOWER_POSITIVE) bad = findloc(v > 0.0_wp, .false., 1)
-      if (e%lower == LOWER_NONNEGATIVE) bad = findloc(v >= 0.0_wp, .false., 1)
-      if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//' = '// &
-                                  rtoa(v(bad))//' at '//where(bad, e)//trim(rule(e%lower)))
+      character(len=:), allocatable :: what, rule
+      call values_bad(e, v, bad, what, rule)
+      if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//what// &
+                                  ' at '//where(bad, e)//rule)
     end subroutine check_values
 
     !> "entry k (node n)" of the value at v(j): in a block's box, its place
@@ -538,6 +555,148 @@ contains
     end function where
 
   end subroutine restart_read
+
+  !> The first of values v of entry e that is not finite, not below the
+  !> deck's magnitude rule (1e30, but for the largest real, which marks
+  !> "never") or out of the range its owner registered (`lower`): bad its
+  !> place (0: none), what and rule its description before and after the
+  !> caller's "at ...".
+  subroutine values_bad(e, v, bad, what, rule)
+    type(registry_entry_t), intent(in) :: e
+    real(wp), intent(in) :: v(:)
+    integer, intent(out) :: bad
+    character(len=:), allocatable, intent(out) :: what, rule
+    character(len=*), parameter :: rules(2) = [character(len=15) :: ' (must be > 0)', ' (must be >= 0)']
+    rule = ''
+    bad = findloc(finite_bits(v), .false., 1)
+    if (bad > 0) then
+      what = ' has '//nonfinite_name(v(bad))
+      return
+    end if
+    bad = findloc(abs(v) < too_big .or. abs(v) >= huge(1.0_wp), .false., 1)
+    if (bad > 0) then
+      rule = ' (magnitudes of 1e30 or more are refused)'
+    else
+      if (e%lower == LOWER_POSITIVE) bad = findloc(v > 0.0_wp, .false., 1)
+      if (e%lower == LOWER_NONNEGATIVE) bad = findloc(v >= 0.0_wp, .false., 1)
+      if (bad > 0) rule = trim(rules(e%lower))
+    end if
+    what = ''
+    if (bad > 0) what = ' = '//rtoa(v(bad))
+  end subroutine values_bad
+
+  !> The arrays `restart_read` left for later at the locations of parts
+  !> (a block's mixed cells and slots): each read at the runs of its part
+  !> (`restart_part_t`) of a dataset of the part's total entries into its
+  !> registered storage, which holds the runs' values; an array with one
+  !> entry more (the mixed cells' starts) is the caller's
+  !> (`restart_read_int_runs`). Shapes and values are checked as
+  !> `restart_read` checks them; a message names an entry by its place in
+  !> the file.
+  subroutine restart_read_parts(path, reg, parts, err)
+    character(len=*), intent(in) :: path
+    type(registry_t), intent(inout) :: reg
+    type(restart_part_t), intent(in) :: parts(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer, allocatable :: dims(:), want(:), ibuf(:)
+    real(wp), allocatable :: rbuf(:)
+    character(len=:), allocatable :: what, rule
+    character(len=128) :: name
+    integer :: k, q, bad
+
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    do k = 1, reg%n
+      associate (e => reg%e(k))
+        q = part_of(parts, e%location)
+        if (q == 0 .or. .not. (e%kind == K_REAL .or. e%kind == K_INT)) cycle
+        if (e%dims(size(e%dims)) /= sum(parts(q)%runs(2, :))) cycle
+        name = 'state/'//trim(e%name)
+        if (.not. h5_exists(f, trim(name))) then
+          if (e%mandatory) call error_set(err, 'restart_read', trim(path)//' has no '//trim(name)// &
+                                          ' ('//location_name(e%location)//' quantity this run needs)')
+          if (allocated(err)) exit
+          cycle
+        end if
+        call h5_read_dims(f, trim(name), dims, err)
+        if (allocated(err)) exit
+        want = e%dims
+        want(size(want)) = parts(q)%total
+        if (size(dims) /= size(want)) then
+          call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has the wrong rank')
+        else if (any(dims /= want)) then
+          call error_set(err, 'restart_read', trim(path)//': '//trim(name)//' has shape '// &
+                         shape_str(int(dims, int64))//', this run expects '//shape_str(int(want, int64))// &
+                         where_str(e%location))
+        end if
+        if (allocated(err)) exit
+        if (e%kind == K_REAL) then
+          call h5_read_real(f, trim(name), rbuf, err, runs=parts(q)%runs)
+          if (.not. allocated(err) .and. e%units /= 'bits') then
+            call values_bad(e, rbuf, bad, what, rule)
+            if (bad > 0) call error_set(err, 'restart_read', trim(path)//' is damaged: '//trim(name)//what// &
+                                        ' at '//entry_str(in_file(bad, product(want(:size(want) - 1)), &
+                                        parts(q)%runs), want, e%location)//rule)
+          end if
+          if (.not. allocated(err)) e%r = rbuf
+        else
+          call h5_read_int(f, trim(name), ibuf, err, runs=parts(q)%runs)
+          if (.not. allocated(err)) e%i = ibuf
+        end if
+      end associate
+      if (allocated(err)) exit
+    end do
+    call h5_close(f, err2)
+  end subroutine restart_read_parts
+
+  !> values: the integer array `name` (one-dimensional, total entries in
+  !> the file) at the runs given (`restart_part_t`), from restart file
+  !> `path` (whose version is checked).
+  subroutine restart_read_int_runs(path, name, total, runs, values, err)
+    character(len=*), intent(in) :: path, name
+    integer, intent(in) :: total, runs(:, :)
+    integer, allocatable, intent(out) :: values(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer, allocatable :: dims(:)
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    call h5_read_dims(f, 'state/'//name, dims, err)
+    if (.not. allocated(err)) then
+      if (size(dims) /= 1) then
+        call error_set(err, 'restart_read', trim(path)//': state/'//name//' has the wrong rank')
+      else if (dims(1) /= total) then
+        call error_set(err, 'restart_read', trim(path)//': state/'//name//' has '//itoa(dims(1))// &
+                       ' entries, this run expects '//itoa(total))
+      end if
+    end if
+    if (.not. allocated(err)) call h5_read_int(f, 'state/'//name, values, err, runs=runs)
+    call h5_close(f, err2)
+  end subroutine restart_read_int_runs
+
+  !> The place in the file (1-based, flattened) of the j-th of the values
+  !> read at runs, inner values to an entry.
+  pure integer function in_file(j, inner, runs) result(at)
+    integer, intent(in) :: j, inner, runs(:, :)
+    integer :: q, r
+    q = (j - 1)/inner
+    do r = 1, size(runs, 2)
+      if (q < runs(2, r)) exit
+      q = q - runs(2, r)
+    end do
+    at = inner*(runs(1, r) + q) + mod(j - 1, inner) + 1
+  end function in_file
+
+  !> The part of parts (absent: none) at location loc, 0 for none.
+  pure integer function part_of(parts, loc) result(q)
+    type(restart_part_t), intent(in), optional :: parts(:)
+    integer, intent(in) :: loc
+    q = 0
+    if (present(parts)) q = findloc(parts%location, loc, 1)
+  end function part_of
 
   !> Opens a restart file and checks that it is one, of this version.
   subroutine open_checked(path, f, err)
