@@ -30,10 +30,11 @@ module driver_particles
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
-  use mesh_grid, only: grid_index_t
+  use mesh_grid, only: grid_t, grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
   use particles_euler, only: particles_flip, particles_relocate, particles_occupied, particles_place, &
-                             particles_leaving, particles_first_lost, particles_owned_hosts
+                             particles_leaving, particles_first_lost, particles_owned_hosts, particles_open_far, &
+                             particles_out_open_face, particles_cells_hold
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate
   use mesh_geometry, only: hex_volume
@@ -46,7 +47,7 @@ module driver_particles
   use particles_state, only: particles_t, particles_allocate, particles_order, particles_select, particles_solid_order, &
                              particles_take_fields, particles_cell_counts, particles_places
   use base_sort, only: sorted_runs
-  use parallel_comm, only: comm_t, parallel_max, parallel_min, parallel_sum
+  use parallel_comm, only: comm_t, parallel_max, parallel_min, parallel_sum, parallel_nomem
   use parallel_gather, only: cell_prefix, gather_concat, gather_to, scatter_from
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use driver_parallel, only: agree_error
@@ -65,12 +66,13 @@ module driver_particles
   use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field, &
                                    random_field_correlated
   use eos_mie_gruneisen, only: mie_gruneisen_t
-  use mesh_boundary, only: bc_constrain
+  use mesh_boundary, only: bc_t, bc_constrain
   use lagrange_integrator, only: lagrange_step
   use lagrange_state, only: nodal_sums, cell_sums
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
+  use mesh_halo, only: halo_t
   use driver_state, only: state_t, particles_internal
   implicit none
   private
@@ -754,10 +756,12 @@ contains
   !> walk finds), puts it on the new host's map, and sends it to the blocks
   !> whose cells or ghost layers hold the new host (`parallel_particles_move`);
   !> then `particles_euler_couple` on each block. No rank holds more
-  !> particles than its block's. done = .false., with nothing changed, where
-  !> on some block a walk would leave the stored cells or ends in none (a
-  !> particle that leaves through an open face): the caller relocates on the
-  !> whole grid then. Collective.
+  !> particles than its block's. A particle in no cell of the whole grid
+  !> that went out through an open face (`particles_left_grid`) leaves the
+  !> run, as on one process (`particles_out`). done = .false., with nothing
+  !> changed, where on some block a walk would leave the stored cells or
+  !> ends in none for another reason: the caller relocates on the whole
+  !> grid then. Collective.
   subroutine particles_euler_blocks(pc, st, pe, log, done, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -770,6 +774,8 @@ contains
     logical, allocatable :: owned(:)
     integer, allocatable :: cell(:), own(:)
     real(wp), allocatable :: xi(:, :)
+    logical, allocatable :: gone(:)
+    integer, allocatable :: cand(:)
     integer :: bad, k, n(3), stat
 
     associate (g => st%g)
@@ -779,17 +785,25 @@ contains
       allocate(cell(po%np), xi(3, po%np), stat=stat)
       if (stat /= 0) then
         call error_set(err, 'particles_euler_blocks', error_no_memory('work arrays'))
-        n(1) = 1
+        cell = [integer ::]
       else
         ! (the walk from the standard host where the particles were placed in
         ! the standard grid, as on one process)
         if (pe%on_blocks) po%cell = pe%guess(own)
         call particles_relocate(g, g%x, po, po%cell, cell, xi, bad, [g%glo > 0, g%ghi > 0])
-        n(1) = merge(1, 0, bad /= 0)
       end if
-      call parallel_max(pc, n(1:1))
+      ! (those the rezone left in no cell of the whole grid, out through an
+      ! open face by their host before the step, leave, as on one process)
+      cand = pack([(k, k = 1, size(cell))], cell < 0)
+      call particles_left_grid(pc, g, st%bc, g%x, po%x(:, cand), st%pt%cell(own(cand)), gone)
+      cell(pack(cand, gone)) = 0
+      n(1:2) = [merge(1, 0, any(cell < 0) .or. stat /= 0), merge(1, 0, any(cell == 0))]
+      call parallel_max(pc, n(1:2))
       done = n(1) == 0
       if (.not. done) return
+      pe%ke_out = 0.0_wp
+      pe%p_out = 0.0_wp
+      if (n(2) > 0) call particles_out(po, cell, xi, st%halo, st%tot%boundary_work, pe%ke_out, pe%p_out, log)
       po%cell = cell
       po%xi = xi
       call particles_place(g, po)
@@ -801,8 +815,6 @@ contains
       if (allocated(st%pw%models)) models = st%pw%models
       call blocks_work(st, models, owned, err)
       if (allocated(err)) return
-      pe%ke_out = 0.0_wp
-      pe%p_out = 0.0_wp
       ! (the log's counts, the whole run's)
       n(2:3) = [count(st%pw%owned), particles_owned_hosts(st%g, st%pt)]
       call parallel_sum(pc, n(2:3))
@@ -819,38 +831,61 @@ contains
   !> then on the blocks that store it as a ghost (the halo). pe%guess (np:
   !> each owned particle's standard host, 0 for the ghost copies) and
   !> pe%occupied (the block's stored cells) are then the block's
-  !> (pe%on_blocks). done = .false., with pe unchanged, where on some block
-  !> a walk would leave its stored cells or ends in none (a particle out
-  !> through an open face): the caller places them on the whole grid then.
-  !> Collective.
+  !> (pe%on_blocks); one in no cell of the whole standard grid that went
+  !> out through an open face (`particles_left_grid`) occupies none, its
+  !> guess its host, as on one process. done = .false., with pe unchanged,
+  !> where on some block a walk would leave its stored cells or ends in
+  !> none for another reason: the caller places them on the whole grid
+  !> then. Collective.
   subroutine particles_preposition_blocks(pc, st, x0, pe, done)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout) :: st
     real(wp), intent(in) :: x0(:, :)
     type(particles_euler_t), intent(inout) :: pe
     logical, intent(out) :: done
-    integer, allocatable :: own(:), host(:), guess(:)
-    logical, allocatable :: mark(:)
+    integer, allocatable :: own(:), host(:), guess(:), cand(:), cells(:)
+    logical, allocatable :: mark(:), found(:), gone(:)
     real(wp), allocatable :: occ(:)
     real(wp) :: xi(3)
-    integer :: q, k, n(1), stat
-    logical :: found
+    integer :: q, k, m, n(1), stat
 
     associate (g => st%g, pt => st%pt)
       own = pack([(k, k = 1, pt%np)], st%pw%owned)
       ! (no room: the whole grid's way)
-      allocate(host(size(own)), guess(pt%np), stat=stat)
+      allocate(host(size(own)), guess(pt%np), found(size(own)), cand(size(own)), cells(size(own)), stat=stat)
       n = merge(1, 0, stat /= 0)
+      if (stat /= 0) own = [integer ::]
       do q = 1, size(own)
-        if (stat /= 0) exit
         k = own(q)
-        call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found, x0, [g%glo > 0, g%ghi > 0])
-        if (.not. found) n = 1
+        call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found(q), x0, [g%glo > 0, g%ghi > 0])
+      end do
+      ! (one in no cell of the whole standard grid, out through an open face,
+      ! occupies none; the walk after the remap starts at its old host)
+      m = 0
+      do q = 1, size(own)
+        if (found(q)) cycle
+        m = m + 1
+        cand(m) = q
+      end do
+      cand = cand(:m)
+      call particles_left_grid(pc, g, st%bc, x0, pt%x(:, own(cand)), pt%cell(own(cand)), gone)
+      do q = 1, size(cand)
+        if (gone(q)) then
+          host(cand(q)) = pt%cell(own(cand(q)))
+        else
+          n = 1
+        end if
       end do
       call parallel_max(pc, n)
       done = n(1) == 0
       if (.not. done) return
-      call parallel_mark_cells(pc, g, [(g%global_cell(host(q)), q = 1, size(host))], mark)
+      m = 0
+      do q = 1, size(own)
+        if (.not. found(q)) cycle
+        m = m + 1
+        cells(m) = g%global_cell(host(q))
+      end do
+      call parallel_mark_cells(pc, g, cells(:m), mark)
       occ = merge(1.0_wp, 0.0_wp, mark)
       call st%halo%cells(occ)
       pe%occupied = occ > 0.5_wp
@@ -1120,10 +1155,7 @@ contains
     real(wp), intent(out) :: ke_out, p_out(3)
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: pick(:)
-    real(wp) :: m_out, e_out
     integer :: k
-    character(len=300) :: line
 
     associate (pt => st%pt)
       k = particles_first_lost(st%g, st%bc, st%g%x, pt, cell)
@@ -1133,18 +1165,82 @@ contains
                        ') lies in no cell of the rezoned grid', ERR_RUNTIME)
         return
       end if
-      call particles_leaving(pt, cell, m_out, p_out, ke_out, e_out)
-      st%tot%boundary_work = st%tot%boundary_work - e_out
-      pick = pack([(k, k = 1, pt%np)], cell > 0)
-      write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
-        &", energy ",es12.5,"); ",i0," remain")') pt%np - size(pick), m_out, p_out, e_out, size(pick)
-      call log_line(log, trim(line))
-      call particles_select(pt, pick)
-      cell = cell(pick)
-      xi = xi(:, pick)
+      call particles_out(pt, cell, xi, st%halo, st%tot%boundary_work, ke_out, p_out, log)
       if (allocated(st%pw%vh)) call particles_work_resize(st%pw, pt%np, pt%nhist, err)
     end associate
   end subroutine particles_leave
+
+  !> The particles of pt with no cell (cell(k) = 0) leave through open
+  !> faces: what they take out (`particles_leaving`, summed exactly over
+  !> the blocks of halo: every rank the run's) is logged, their energy
+  !> taken from the boundary work (so the balance stays closed) and kept
+  !> in ke_out and p_out, and they are taken out of pt, cell and xi.
+  subroutine particles_out(pt, cell, xi, halo, boundary_work, ke_out, p_out, log)
+    type(particles_t), intent(inout) :: pt
+    integer, allocatable, intent(inout) :: cell(:)
+    real(wp), allocatable, intent(inout) :: xi(:, :)
+    class(halo_t), intent(in) :: halo
+    real(wp), intent(inout) :: boundary_work
+    real(wp), intent(out) :: ke_out, p_out(3)
+    type(log_t), intent(in) :: log
+    type(xsum_t) :: acc(6)
+    integer, allocatable :: pick(:)
+    integer :: k, n(2)
+    real(wp) :: m_out, e_out
+    character(len=300) :: line
+    call particles_leaving(pt, cell, acc)
+    call halo%sums(acc)
+    m_out = xsum_value(acc(1))
+    p_out = [(xsum_value(acc(1 + k)), k = 1, 3)]
+    ke_out = xsum_value(acc(5))
+    e_out = xsum_value(acc(6)) + ke_out
+    boundary_work = boundary_work - e_out
+    pick = pack([(k, k = 1, pt%np)], cell > 0)
+    n = [pt%np - size(pick), size(pick)]
+    call halo%sum_ints(n)
+    write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
+      &", energy ",es12.5,"); ",i0," remain")') n(1), m_out, p_out, e_out, n(2)
+    call log_line(log, trim(line))
+    call particles_select(pt, pick)
+    cell = cell(pick)
+    xi = xi(:, pick)
+  end subroutine particles_out
+
+  !> Which of this block's particles at xp(3, m) (owned, in no cell a walk
+  !> on the block found) left the whole grid through an open face, as one
+  !> process finds them (`particles_first_lost`): gone(q) when no cell of
+  !> the whole grid with nodes x (each block's stored nodes) may hold
+  !> xp(:, q) (every rank tests every rank's points against its own cells,
+  !> `particles_cells_hold`) and it went out through an open face by its
+  !> host(q) (a cell of the block) or its place (`particles_out_open_face`).
+  !> More than max_points over the ranks: none is known gone (the caller
+  !> takes the whole grid's way). Collective.
+  subroutine particles_left_grid(pc, g, bc, x, xp, host, gone)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: x(:, :), xp(:, :)
+    integer, intent(in) :: host(:)
+    logical, allocatable, intent(out) :: gone(:)
+    integer, parameter :: max_points = 4096
+    real(wp), allocatable :: every(:)
+    integer, allocatable :: counts(:), held(:)
+    real(wp) :: far(6)
+    integer :: m, at, q
+    m = size(xp, 2)
+    allocate(gone(m), source=.false., stat=q)
+    call parallel_nomem(q, 'the particles out of the grid')
+    far = particles_open_far(g, bc, x)
+    call parallel_max(pc, far)
+    call gather_concat(pc, [m], counts)
+    if (sum(counts) > max_points) return
+    call gather_concat(pc, reshape(xp, [3*m]), every)
+    held = merge(1, 0, particles_cells_hold(g, x, reshape(every, [3, size(every)/3])))
+    call parallel_max(pc, held)
+    at = sum(counts(:pc%rank))
+    gone = [(held(at + q) == 0 .and. particles_out_open_face(g, bc, far, host(q), xp(:, q)), q = 1, m)]
+  end subroutine particles_left_grid
+
 
   !> A body seeded by several groups is their union: a group's particles in
   !> sub-cells an earlier group of the same body seeded (a column and a slab

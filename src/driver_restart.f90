@@ -639,8 +639,7 @@ contains
     call restart_read_int_runs(path, 'mixed_start', ntot + 1, plus, sv, err)
     if (allocated(err)) return
     ! the block's starts, and its slots' places in the file
-    keys(1) = 1
-    keys = [keys(1:1), (0, k = 1, m)]
+    keys = [1, (0, k = 1, m)]
     q = 0
     j = 0
     do r = 1, size(plus, 2)

@@ -64,6 +64,7 @@ module driver_whole
   use base_registry, only: registry_t, registry_entry_t, LOC_GLOBAL, LOC_NODE, LOC_CELL, K_REAL, K_INT, &
                            K_REAL_SCALAR, K_INT_SCALAR, LOC_MIXED_CELL, LOC_MIXED_SLOT, LOC_PARTICLE
   use material_mixed, only: mixed_t, mixed_allocate, mixed_subset
+  use mesh_halo, only: halo_t
   use material_table, only: material_index_cells
   use io_log, only: log_t, log_line
   use base_strings, only: itoa
@@ -308,8 +309,8 @@ contains
   !> occupy are the smoothing's fixed inner boundary,
   !> `particles_preposition_blocks`), relocates them in its rezoned cells
   !> after the remap and sends them to the blocks that hold their new hosts
-  !> (`particles_euler_blocks`); where a walk would leave a block's cells, or
-  !> a particle leaves through an open face, every rank gathers them all (in
+  !> (`particles_euler_blocks`; those that leave through an open face leave
+  !> there); where a walk would leave a block's cells every rank gathers them all (in
   !> the whole run's order), relocates them in the rezoned grid, the same on
   !> every rank, and each block takes its own (`window_particles`). The
   !> whole grid's node positions are gathered only then (open faces:
@@ -343,7 +344,7 @@ contains
       call particles_preposition_blocks(pc, st, es%x0, pe, done)
       whole_x = .not. done
       if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
-                                 'walk would leave a block''s cells, or a particle left through an open face)')
+                                 'walk would leave a block''s cells)')
     end if
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
@@ -567,7 +568,7 @@ contains
       call agree_error(pc, err)
       if (.not. (done .or. allocated(err))) then
         call log_line(log, '  particles: relocated on the whole grid (a walk would leave a block''s cells, or a '// &
-                      'particle leaves through an open face)')
+                      'particle in no cell may be in another block''s)')
         call whole_particles(pc, st, sw, err)
         if (.not. allocated(err) .and. pe%on_blocks) call whole_preposition(pc, st, sw, es, pe, err)
       end if
@@ -612,15 +613,21 @@ contains
     pe = pw
   end subroutine whole_preposition
 
-  !> sw: the whole grid's index and boundaries, and the blocks' particles
-  !> gathered in the whole run's order (on every rank; collective).
+  !> sw: the whole grid's index, boundaries and (one block's: every rank
+  !> the same) halo, and the blocks' particles gathered in the whole run's
+  !> order (on every rank; collective).
   subroutine whole_particles(pc, st, sw, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(state_t), intent(inout) :: sw
     type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
     sw%g = st%gw
     sw%bc = st%bc
+    if (.not. allocated(sw%halo)) then
+      allocate(halo_t :: sw%halo, stat=stat)
+      call parallel_nomem(stat, 'the whole grid''s particles')
+    end if
     call particles_gathered(pc, st, sw%pt, err)
     if (.not. allocated(err)) call particles_index(sw%pt, sw%g%ncell, err)
   end subroutine whole_particles

@@ -21,7 +21,8 @@
 !>    their places in the standard grid.
 !> After the remap `particles_place` puts each particle on the new grid's
 !> map, `particles_leaving` books those a rezone left beyond an open face
-!> (`particles_out_open_face`), the driver re-sorts and re-bins the
+!> (`particles_out_open_face`; a block of a decomposed run knows them when
+!> no block's cell may hold them, `particles_cells_hold`), the driver re-sorts and re-bins the
 !> particles, gives them new virtual-fluid masses from their new hosts'
 !> densities and rebuilds the nodal velocity from the remapped fluid
 !> momentum and the particles'; then
@@ -30,15 +31,16 @@
 !>    to the particles, so that they and the nodes agree again.
 module particles_euler
   use base_kinds, only: wp
+  use base_xsum, only: xsum_t, xsum_add
   use mesh_grid, only: grid_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use particles_state, only: particles_t
-  use particles_shape, only: particles_locate, particles_shape_values
+  use particles_shape, only: particles_locate, particles_shape_values, inside_tol
   use particles_lagrange, only: particles_interpolate
   implicit none
   private
   public :: particles_flip, particles_relocate, particles_occupied, particles_place, particles_leaving, &
-            particles_out_open_face, particles_first_lost, particles_owned_hosts
+            particles_out_open_face, particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold
 
 contains
 
@@ -134,30 +136,28 @@ contains
   end subroutine particles_place
 
   !> What the particles with no new host (cell(k) = 0) take out of the run
-  !> as they leave through an open face: their mass m_out, their share
-  !> (m_p - m'_p) of the nodal momentum p_out and kinetic energy ke_out, and
-  !> the energy e_out (their internal energy plus ke_out). Inert particles
-  !> (no m'_p) carry only their mass.
-  subroutine particles_leaving(p, cell, m_out, p_out, ke_out, e_out)
+  !> as they leave through an open face, exact sums (the blocks of a
+  !> decomposed run add theirs): their mass acc(1), their share
+  !> (m_p - m'_p) of the nodal momentum acc(2:4) and kinetic energy acc(5),
+  !> and their internal energy acc(6). Inert particles (no m'_p) carry only
+  !> their mass.
+  subroutine particles_leaving(p, cell, acc)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: cell(:)
-    real(wp), intent(out) :: m_out, p_out(3), ke_out, e_out
+    type(xsum_t), intent(inout) :: acc(6)
     real(wp) :: mx
-    integer :: k
-    m_out = 0.0_wp
-    p_out = 0.0_wp
-    ke_out = 0.0_wp
-    e_out = 0.0_wp
+    integer :: k, d
     do k = 1, p%np
       if (cell(k) > 0) cycle
-      m_out = m_out + p%m(k)
+      call xsum_add(acc(1), p%m(k))
       if (.not. allocated(p%mvf)) cycle
       mx = p%m(k) - p%mvf(k)
-      p_out = p_out + mx*p%v(:, k)
-      ke_out = ke_out + 0.5_wp*mx*dot_product(p%v(:, k), p%v(:, k))
-      e_out = e_out + p%m(k)*p%e(k)
+      do d = 1, 3
+        call xsum_add(acc(1 + d), mx*p%v(d, k))
+      end do
+      call xsum_add(acc(5), 0.5_wp*mx*dot_product(p%v(:, k), p%v(:, k)))
+      call xsum_add(acc(6), p%m(k)*p%e(k))
     end do
-    e_out = e_out + ke_out
   end subroutine particles_leaving
 
   !> The first particle with no cell in the grid x (cell(k) = 0) that did
@@ -169,55 +169,110 @@ contains
     real(wp), intent(in) :: x(:, :)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: cell(:)
+    real(wp) :: far(6)
     integer :: k
     lost = 0
+    if (all(cell(:p%np) > 0)) return
+    far = particles_open_far(g, bc, x)
     do k = 1, p%np
       if (cell(k) > 0) cycle
-      if (particles_out_open_face(g, bc, x, p%cell(k), p%x(:, k))) cycle
+      if (particles_out_open_face(g, bc, far, p%cell(k), p%x(:, k))) cycle
       lost = k
       return
     end do
   end function particles_first_lost
 
-  !> Whether a particle at xp, hosted by cell c of the (whole) grid g, went
-  !> out through an inflow or outflow face of the grid x (g's nodes): its
-  !> host lies on such a face, or xp lies beyond the face (past every one of
-  !> the face's nodes along its direction).
-  logical function particles_out_open_face(g, bc, x, c, xp) result(out)
+  !> For each inflow or outflow face f of the whole grid, how far out its
+  !> nodes reach: the largest of s x(d) over the face's nodes that grid g
+  !> stores (s = -1 on a low face, +1 on a high one; -huge for a closed
+  !> face or one g does not touch: a block of a decomposed run takes the
+  !> largest over the blocks).
+  function particles_open_far(g, bc, x) result(far)
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
-    real(wp), intent(in) :: x(:, :), xp(3)
+    real(wp), intent(in) :: x(:, :)
+    real(wp) :: far(6), sgn
+    integer :: f, d, i, j, k, lo(3), hi(3)
+    logical :: low
+    far = -huge(1.0_wp)
+    do f = 1, 6
+      if (.not. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) cycle
+      d = (f + 1)/2
+      low = mod(f, 2) == 1
+      ! (the face's nodes: the whole grid's node index 0 or n along d)
+      lo = g%slo - 1
+      hi = g%shi
+      if (low) then
+        if (g%off(d) + g%slo(d) /= 1) cycle
+        hi(d) = lo(d)
+      else
+        if (g%off(d) + g%shi(d) /= g%gn(d)) cycle
+        lo(d) = hi(d)
+      end if
+      sgn = merge(-1.0_wp, 1.0_wp, low)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            far(f) = max(far(f), sgn*x(d, g%node(i, j, k)))
+          end do
+        end do
+      end do
+    end do
+  end function particles_open_far
+
+  !> Whether a particle at xp, hosted by cell c of grid g (the whole grid or
+  !> a block of it), went out through an inflow or outflow face of the whole
+  !> grid, whose nodes reach far (`particles_open_far`): its host lies on
+  !> such a face, or xp lies beyond the face (past every one of the face's
+  !> nodes along its direction).
+  pure logical function particles_out_open_face(g, bc, far, c, xp) result(out)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    real(wp), intent(in) :: far(6), xp(3)
     integer, intent(in) :: c
-    integer :: ijk(3), f, d, i, j, k, lo(3), hi(3)
-    real(wp) :: far, sgn
+    integer :: ijk(3), f, d
     logical :: low
     call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+    ijk = ijk + g%off
     out = .false.
     do f = 1, 6
       if (.not. (bc%kind(f) == BC_INFLOW .or. bc%kind(f) == BC_OUTFLOW)) cycle
       d = (f + 1)/2
       low = mod(f, 2) == 1
-      ! (the face's nodes: the grid's node indices 0 or n along d; sgn
-      ! points out of the grid through the face)
-      lo = g%clo - 1
-      hi = g%chi
       if (low) then
-        out = out .or. ijk(d) == g%clo(d)
-        hi(d) = lo(d)
+        out = out .or. ijk(d) == 1 .or. -xp(d) > far(f)
       else
-        out = out .or. ijk(d) == g%chi(d)
-        lo(d) = hi(d)
+        out = out .or. ijk(d) == g%gn(d) .or. xp(d) > far(f)
       end if
-      sgn = merge(-1.0_wp, 1.0_wp, low)
-      far = -huge(1.0_wp)
-      do k = lo(3), hi(3)
-        do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            far = max(far, sgn*x(d, g%node(i, j, k)))
+    end do
+  end function particles_out_open_face
+
+  !> held(q): whether some cell that block g owns, with nodes at x, may hold
+  !> point xp(:, q): its corners' bounding box, widened by what the walk's
+  !> tolerance reaches (`particles_locate`'s inside_tol on the box's size),
+  !> holds it. A point no block's cell may hold is in no cell of the whole
+  !> grid (a cell lies in the hull of its corners).
+  function particles_cells_hold(g, x, xp) result(held)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :), xp(:, :)
+    logical :: held(size(xp, 2))
+    real(wp) :: xn(3, 8), lo(3), hi(3), w
+    integer :: c, i, j, k, q
+    held = .false.
+    if (size(xp, 2) == 0) return
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          c = g%cell(i, j, k)
+          call g%gather(c, x, xn)
+          lo = minval(xn, dim=2)
+          hi = maxval(xn, dim=2)
+          w = 10.0_wp*inside_tol*sum(hi - lo)
+          do q = 1, size(xp, 2)
+            if (all(xp(:, q) >= lo - w .and. xp(:, q) <= hi + w)) held(q) = .true.
           end do
         end do
       end do
-      out = out .or. sgn*xp(d) > far
     end do
-  end function particles_out_open_face
+  end function particles_cells_hold
 end module particles_euler
