@@ -37,14 +37,16 @@ module driver_restart
   use particles_shape, only: particles_shape_values
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
   use particles_lagrange, only: particles_work_resize, strength_slot_t
-  use parallel_comm, only: comm_t, parallel_nomem
+  use parallel_comm, only: comm_t, parallel_nomem, parallel_sum
+  use parallel_particles, only: parallel_particles_ids
+  use driver_parallel, only: agree_error
   use parallel_gather, only: gather_concat
   use driver_particles, only: particles_take
   use particles_spread, only: particles_support_widths
   use lagrange_centroids, only: centroids_refresh
   use io_log, only: log_line
   use io_hdf5, only: hdf5_start
-  use io_restart, only: restart_part_t, restart_read_parts, restart_read_int_runs, restart_write, restart_read, &
+  use io_restart, only: restart_part_t, restart_read_parts, restart_read_int_runs, restart_cell_runs, restart_write, restart_read, &
                         restart_read_deck, restart_read_int_scalar, &
                         restart_check_counts, restart_read_dims
   use driver_config, only: config_t, config_read, config_state_changes
@@ -255,8 +257,8 @@ contains
     character(len=256), allocatable :: frames(:)
     real(wp), allocatable :: times(:)
     character(len=:), allocatable :: path
-    integer, allocatable :: dims(:), nparts(:), seed_body(:), seed_mat(:)
-    integer :: n, nslot, nseed, nsolid, nhist, stat, k
+    integer, allocatable :: dims(:), nparts(:), seed_body(:), seed_mat(:), seeded(:, :), pruns(:, :)
+    integer :: n, nslot, nseed, nsolid, nhist, stat, k, n1(1), nread, bad(5)
     type(particles_t) :: whole_pt
     type(strength_slot_t), allocatable :: models(:)
     logical :: pblocks
@@ -300,9 +302,16 @@ contains
     ! the particles the file holds: fewer than the deck seeds once some left
     ! the grid through an open face
     nseed = st%pt%np
-    ! (the blocks' seeded particles: each rank reads them all, then takes its)
+    ! (the blocks' seeded particles: each block its owned ones, and reads
+    ! the file's of its cells only)
     pblocks = blocks .and. st%pblocks
-    if (pblocks) call seeded_on_blocks(sch%pc, st, nseed, seed_body, seed_mat)
+    if (pblocks) then
+      seeded = reshape([(st%pt%id(k), st%pt%body(k), st%pt%mat(k), k = 1, st%pt%np)], [3, st%pt%np])
+      seeded = seeded(:, pack([(k, k = 1, st%pt%np)], st%pw%owned))
+      n1 = size(seeded, 2)
+      call parallel_sum(sch%pc, n1)
+      nseed = n1(1)
+    end if
     if (nseed > 0) then
       ! what each seeded particle is (a particle keeps its body and solid)
       if (.not. pblocks) then
@@ -330,14 +339,28 @@ contains
         call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
         return
       end if
+      nread = dims(1)
+      if (pblocks) then
+        ! (the file's particles hosted by the block's cells, owned or
+        ! ghost: every rank scans the file's hosts, in pieces)
+        associate (g => st%g)
+          call restart_cell_runs(path, 'particle_cell', g%gn, g%slo + g%off, g%shi + g%off, g%clo + g%off, &
+                                 g%chi + g%off, pruns, n1(1), err)
+        end associate
+        if (allocated(err)) then
+          call error_set(err, 'cannot restart', '&run restart_from: '//err%msg, ERR_INPUT)
+          return
+        end if
+        nread = sum(pruns(2, :))
+      end if
       if (dims(1) /= nseed .or. pblocks) then
         coupled = allocated(st%pt%mvf)
         nsolid = st%pt%nsolid
         nhist = st%pt%nhist
-        call particles_allocate(st%pt, dims(1), nsolid, nhist, err)
+        call particles_allocate(st%pt, nread, nsolid, nhist, err)
         st%pt%spread = cfg%hydro%particle_gimp
         if (.not. allocated(err) .and. coupled) then
-          allocate(st%pt%mvf(dims(1)), stat=stat)
+          allocate(st%pt%mvf(nread), stat=stat)
           if (stat /= 0) call error_set(err, 'read_restart', 'out of memory for the particles')
         end if
         if (.not. allocated(err) .and. allocated(st%pw%vh) .and. .not. pblocks) &
@@ -351,12 +374,13 @@ contains
     ! (what a dump without the particles' support widths leaves: `huge`)
     if (st%pt%spread) st%pt%lsup = huge(1.0_wp)
     if (blocks) then
-      call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t, later=[LOC_MIXED_CELL, LOC_MIXED_SLOT])
+      ! (a block's mixed cells and particles: those of its cells only)
+      call restart_read(path, reg, frames, times, err, nparts, st%g%grid_index_t, &
+                        later=[LOC_MIXED_CELL, LOC_MIXED_SLOT, merge(LOC_PARTICLE, LOC_MIXED_SLOT, pblocks)])
       if (.not. allocated(err)) call mixed_read_block(path, st, sch, es, reg, n, nslot, ok, err)
-      if (.not. (allocated(err) .or. ok)) then
-        call error_set(err, 'cannot restart', '&run restart_from: '//path//mixed_damaged, ERR_INPUT)
-        return
-      end if
+      if (.not. (allocated(err) .or. ok)) call error_set(err, 'restart_read', path//mixed_damaged)
+      if (.not. allocated(err) .and. pblocks .and. nseed > 0) &
+        call restart_read_parts(path, reg, [restart_part_t(LOC_PARTICLE, dims(1), pruns)], err)
     else
       call restart_read(path, reg, frames, times, err, nparts)
     end if
@@ -364,17 +388,26 @@ contains
     if (.not. allocated(err)) call check_materials(st, path, err)
     ! the particles' indices, then their material ranges and cell binning
     ! (derived, not stored)
-    if (.not. allocated(err) .and. pblocks) then
-      ! (the whole run's particles, host cells numbered in the whole grid:
-      ! checked, then the block's taken)
-      call particles_check(st%pt, product(st%g%gn), nseed, err)
-      if (.not. allocated(err) .and. st%pt%np > 0) call particles_as_seeded(st%pt, seed_body, seed_mat, err)
+    if (pblocks) then
+      ! (the block's share of the file's particles, host cells numbered in
+      ! the whole grid: checked, against the seeded ones by id over the
+      ! ranks, then the block's taken; collective, a block's damage every
+      ! rank's)
+      call agree_error(sch%pc, err)
+      if (.not. allocated(err) .and. nseed > 0) then
+        call particles_check(st%pt, product(st%g%gn), nseed, err, run_places(pruns))
+        if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
+      end if
+      call agree_error(sch%pc, err)
+      if (.not. allocated(err) .and. nseed > 0) then
+        call parallel_particles_ids(sch%pc, nseed, seeded, owned_records(st, run_places(pruns)), bad)
+        if (bad(1) > 0) call error_set(err, 'restart_read', path//' is damaged: '//bad_id(bad))
+      end if
       if (.not. allocated(err)) then
         whole_pt = st%pt
         if (allocated(st%pw%models)) models = st%pw%models
         call particles_take(st, whole_pt, grid_index(st%g%gn(1), st%g%gn(2), st%g%gn(3)), models, err)
       end if
-      if (allocated(err)) call error_set(err, 'restart_read', path//' is damaged: '//err%msg)
     end if
     if (.not. allocated(err)) then
       if (.not. pblocks) call particles_check(st%pt, st%g%ncell, nseed, err)
@@ -502,27 +535,58 @@ contains
     end do
   end subroutine particles_as_seeded
 
-  !> A decomposed run's seeded particles (each block's owned ones): their
-  !> count nseed and, by id, their bodies and solids, gathered on every
-  !> rank. Collective.
-  subroutine seeded_on_blocks(pc, st, nseed, seed_body, seed_mat)
-    type(comm_t), intent(in) :: pc
+  !> The places in the file (1-based) of the entries read at runs
+  !> (`restart_part_t`), in order.
+  pure function run_places(runs) result(place)
+    integer, intent(in) :: runs(:, :)
+    integer :: place(sum(runs(2, :)))
+    integer :: r, q, n
+    n = 0
+    do r = 1, size(runs, 2)
+      place(n + 1:n + runs(2, r)) = [(runs(1, r) + q, q = 1, runs(2, r))]
+      n = n + runs(2, r)
+    end do
+  end function run_places
+
+  !> got(4, n): the id, body, solid and place in the file of each particle
+  !> of the block's share of a restart file (hosts numbered in the whole
+  !> grid) that the block owns.
+  function owned_records(st, place) result(got)
     type(state_t), intent(in) :: st
-    integer, intent(out) :: nseed
-    integer, allocatable, intent(out) :: seed_body(:), seed_mat(:)
-    integer, allocatable :: id(:), body(:), mat(:)
-    integer :: stat
-    associate (p => st%pt, own => st%pw%owned)
-      call gather_concat(pc, pack(p%id(:p%np), own), id)
-      call gather_concat(pc, pack(p%body(:p%np), own), body)
-      call gather_concat(pc, pack(p%mat(:p%np), own), mat)
+    integer, intent(in) :: place(:)
+    integer, allocatable :: got(:, :)
+    integer :: k, m, c, ijk(3)
+    logical :: mine(st%pt%np)
+    associate (g => st%g, p => st%pt)
+      do k = 1, p%np
+        c = p%cell(k) - 1
+        ijk = [mod(c, g%gn(1)), mod(c/g%gn(1), g%gn(2)), c/(g%gn(1)*g%gn(2))] + 1 - g%off
+        mine(k) = g%owns_cell(ijk(1), ijk(2), ijk(3))
+      end do
+      got = reshape([(p%id(k), p%body(k), p%mat(k), place(k), k = 1, p%np)], [4, p%np])
+      m = count(mine)
+      got(:, :m) = got(:, pack([(k, k = 1, p%np)], mine))
+      got = got(:, :m)
     end associate
-    nseed = size(id)
-    allocate(seed_body(nseed), seed_mat(nseed), stat=stat)
-    call parallel_nomem(stat, 'the seeded particles')
-    seed_body(id) = body
-    seed_mat(id) = mat
-  end subroutine seeded_on_blocks
+  end function owned_records
+
+  !> The message of a particle read that `parallel_particles_ids` found
+  !> wrong (as `particles_check` and `particles_as_seeded` word it).
+  function bad_id(bad) result(msg)
+    integer, intent(in) :: bad(5)
+    character(len=:), allocatable :: msg
+    select case (bad(1))
+    case (1)
+      msg = 'state/particle_id = '//itoa(bad(2))//' at particle '//itoa(bad(3))//' (the id is repeated)'
+    case (2)
+      msg = 'state/particle_body = '//itoa(bad(4))//' at particle '//itoa(bad(3))//' (the deck seeds particle '// &
+            itoa(bad(2))//' in body '//itoa(bad(5))//')'
+    case default
+      msg = 'state/particle_material = '//itoa(bad(4))//' at particle '//itoa(bad(3))//' (the deck seeds particle '// &
+            itoa(bad(2))//' of solid '//itoa(bad(5))//')'
+    end select
+  end function bad_id
+
 
   !> Each particle near the point of its host cell that its natural
   !> coordinates name: within half the cell's size (its position is that

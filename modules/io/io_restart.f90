@@ -38,11 +38,12 @@ module io_restart
                      h5_read_string, h5_exists
   use io_xdmf, only: io_rename
   use base_strings, only: itoa, rtoa
+  use base_sort, only: sorted_runs
   use base_registry, only: registry_t, registry_entry_t, location_name, LOWER_POSITIVE, LOWER_NONNEGATIVE, &
                            LOC_GLOBAL, LOC_NODE, LOC_CELL, LOC_PARTICLE, K_REAL, K_INT, K_REAL_SCALAR, K_INT_SCALAR
   implicit none
   private
-  public :: restart_write, restart_read, restart_read_parts, restart_read_int_runs, restart_read_deck, &
+  public :: restart_write, restart_read, restart_read_parts, restart_read_int_runs, restart_cell_runs, restart_read_deck, &
             restart_read_int_scalar, restart_read_dims, restart_check_counts, restart_version, finite_bits, &
             nonfinite_name
 
@@ -650,6 +651,60 @@ contains
     end do
     call h5_close(f, err2)
   end subroutine restart_read_parts
+
+  !> runs: the runs (`restart_part_t`) of the entries of the integer list
+  !> state/`name` of restart file `path` (cells of a whole grid of gn
+  !> cells: the particles' hosts) whose cell lies in the box of cells
+  !> lo..hi, read in pieces of at most `piece` entries (no whole list is
+  !> held); own: how many lie in the box own_lo..own_hi within it. A cell
+  !> outside the grid is damage (the message names the first).
+  subroutine restart_cell_runs(path, name, gn, lo, hi, own_lo, own_hi, runs, own, err)
+    character(len=*), intent(in) :: path, name
+    integer, intent(in) :: gn(3), lo(3), hi(3), own_lo(3), own_hi(3)
+    integer, allocatable, intent(out) :: runs(:, :)
+    integer, intent(out) :: own
+    type(error_t), allocatable, intent(inout) :: err
+    integer, parameter :: piece = 2**20
+    type(error_t), allocatable :: err2
+    type(h5_file_t) :: f
+    integer, allocatable :: dims(:), buf(:), at(:)
+    integer :: n, s, k, c, m, ijk(3), stat
+    own = 0
+    call open_checked(path, f, err)
+    if (allocated(err)) return
+    call h5_read_dims(f, 'state/'//name, dims, err)
+    if (.not. allocated(err)) then
+      if (size(dims) /= 1) call error_set(err, 'restart_read', trim(path)//': state/'//name//' has the wrong rank')
+    end if
+    m = 0
+    allocate(at(0), stat=stat)
+    s = 0
+    do while (.not. allocated(err))
+      if (s >= dims(1)) exit
+      n = min(piece, dims(1) - s)
+      call h5_read_int(f, 'state/'//name, buf, err, start=[s], count=[n])
+      if (allocated(err)) exit
+      do k = 1, n
+        c = buf(k)
+        if (c < 1 .or. c > product(gn)) then
+          call error_set(err, 'restart_read', trim(path)//' is damaged: state/'//name//' = '//itoa(c)// &
+                         ' at particle '//itoa(s + k)//' (the grid has cells 1..'//itoa(product(gn))//')')
+          exit
+        end if
+        ijk = [mod(c - 1, gn(1)) + 1, mod((c - 1)/gn(1), gn(2)) + 1, (c - 1)/(gn(1)*gn(2)) + 1]
+        if (any(ijk < lo .or. ijk > hi)) cycle
+        if (all(ijk >= own_lo .and. ijk <= own_hi)) own = own + 1
+        if (m == size(at)) at = [at, spread(0, 1, max(m, 64))]
+        m = m + 1
+        at(m) = s + k - 1
+      end do
+      s = s + n
+    end do
+    call h5_close(f, err2)
+    if (allocated(err)) return
+    call sorted_runs(at(:m), runs, stat)
+    if (stat /= 0) call error_set(err, 'restart_read', error_no_memory('the particles'' places in '//trim(path)))
+  end subroutine restart_cell_runs
 
   !> values: the integer array `name` (one-dimensional, total entries in
   !> the file) at the runs given (`restart_part_t`), from restart file

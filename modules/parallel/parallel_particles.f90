@@ -8,7 +8,9 @@
 !> sends each block's owned particles to every block whose cells or ghost
 !> layers host them: no rank holds more than its block's.
 module parallel_particles
+  use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
+  use base_sort, only: sort_order
   use base_errors, only: error_no_memory, error_t, error_set
   use base_registry, only: registry_t, K_REAL
   use mesh_grid, only: grid_t, grid_index_t
@@ -18,7 +20,8 @@ module parallel_particles
   use parallel_gather, only: gather_concat, exchange_lists
   implicit none
   private
-  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move, parallel_mark_cells
+  public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move, parallel_mark_cells, &
+            parallel_particles_ids
 
 contains
 
@@ -300,6 +303,95 @@ contains
       mark(g%cell(ijk(1), ijk(2), ijk(3))) = .true.
     end do
   end subroutine parallel_mark_cells
+
+  !> The particles a restart read, got(4, n) (id, body, solid and place in
+  !> the file of each, every block its owned ones), against those the deck
+  !> seeds, seeded(3, m) (id, body, solid, every block its owned ones; ids
+  !> 1..nseed), with no rank holding more than its share of the ids: each
+  !> record goes to the rank whose range of ids holds its id (rank r the
+  !> ids i with (i - 1) nranks / nseed = r), which finds there, in the
+  !> file's order, an id read twice or a body or solid other than the
+  !> seeded one. bad: the first of those in this rank's range (kind 1
+  !> repeated, 2 body, 3 solid; then its id, its place in the file, the
+  !> value read and the one seeded); kind 0 for none. got's ids must be
+  !> in 1..nseed. Collective.
+  subroutine parallel_particles_ids(pc, nseed, seeded, got, bad)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: nseed, seeded(:, :), got(:, :)
+    integer, intent(out) :: bad(5)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer, allocatable :: tab(:, :), place(:), order(:)
+    integer :: scounts(0:pc%nranks - 1), pos(0:pc%nranks - 1), base, top, q, r, k, i, n, stat
+    bad = 0
+    scounts = 0
+    do q = 1, size(seeded, 2)
+      r = owner(seeded(1, q))
+      scounts(r) = scounts(r) + 4
+    end do
+    do q = 1, size(got, 2)
+      r = owner(got(1, q))
+      scounts(r) = scounts(r) + 4
+    end do
+    pos(0) = 0
+    do r = 1, pc%nranks - 1
+      pos(r) = pos(r - 1) + scounts(r - 1)
+    end do
+    allocate(sbuf(sum(scounts)), stat=stat)
+    call parallel_nomem(stat, 'the particles'' ids')
+    do q = 1, size(seeded, 2)
+      r = owner(seeded(1, q))
+      sbuf(pos(r) + 1:pos(r) + 4) = real([seeded(:, q), 0], wp)
+      pos(r) = pos(r) + 4
+    end do
+    do q = 1, size(got, 2)
+      r = owner(got(1, q))
+      sbuf(pos(r) + 1:pos(r) + 4) = real(got(:, q), wp)
+      pos(r) = pos(r) + 4
+    end do
+    call exchange_lists(pc, sbuf, scounts, rbuf)
+    ! (this rank's ids: base + 1 .. top)
+    base = int((int(pc%rank, int64)*nseed + pc%nranks - 1)/pc%nranks)
+    top = int((int(pc%rank + 1, int64)*nseed + pc%nranks - 1)/pc%nranks)
+    n = size(rbuf)/4
+    ! (tab(:, i - base): the seeded body and solid of id i, and the place
+    ! it was first read at)
+    call table(top - base, n, tab, place, order)
+    do k = 1, n
+      place(k) = nint(rbuf(4*k))
+      if (place(k) > 0) cycle
+      tab(1:2, nint(rbuf(4*k - 3)) - base) = nint(rbuf(4*k - 2:4*k - 1))
+    end do
+    call sort_order(place, order, stat)
+    call parallel_nomem(stat, 'the particles'' ids')
+    do q = 1, n
+      k = order(q)
+      if (place(k) == 0) cycle
+      i = nint(rbuf(4*k - 3))
+      if (tab(3, i - base) > 0) then
+        bad = [1, i, place(k), i, i]
+      else if (nint(rbuf(4*k - 2)) /= tab(1, i - base)) then
+        bad = [2, i, place(k), nint(rbuf(4*k - 2)), tab(1, i - base)]
+      else if (nint(rbuf(4*k - 1)) /= tab(2, i - base)) then
+        bad = [3, i, place(k), nint(rbuf(4*k - 1)), tab(2, i - base)]
+      end if
+      if (bad(1) /= 0) return
+      tab(3, i - base) = place(k)
+    end do
+  contains
+    !> The work arrays (tab zero).
+    subroutine table(m, n, tab, place, order)
+      integer, intent(in) :: m, n
+      integer, allocatable, intent(out) :: tab(:, :), place(:), order(:)
+      allocate(tab(3, m), source=0, stat=stat)
+      if (stat == 0) allocate(place(n), order(n), stat=stat)
+      call parallel_nomem(stat, 'the particles'' ids')
+    end subroutine table
+    !> The rank whose range holds id.
+    integer function owner(id)
+      integer, intent(in) :: id
+      owner = int((int(id - 1, int64)*pc%nranks)/nseed)
+    end function owner
+  end subroutine parallel_particles_ids
 
   !> The indices of global cell c of the whole grid (g%gn).
   pure function global_ijk(g, c) result(ix)

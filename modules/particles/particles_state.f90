@@ -454,16 +454,19 @@ contains
   !> The particles' indices after a restart read: host cells in 1..ncell,
   !> materials in 1..nsolid, ids unique in 1..idmax (the number seeded),
   !> natural coordinates in [0,1]; the message names the first particle
-  !> that is not.
-  subroutine particles_check(p, ncell, idmax, err)
+  !> that is not. With place (a block's share of the file: particle k at
+  !> place(k) among the file's, which names it) the ids are not checked
+  !> for repeats (`parallel_particles_ids` does).
+  subroutine particles_check(p, ncell, idmax, err, place)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: ncell, idmax
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: place(:)
     logical, allocatable :: seen(:)
     integer :: k, stat
     character(len=200) :: msg
     if (p%np == 0) return
-    allocate(seen(idmax), source=.false., stat=stat, errmsg=msg)
+    allocate(seen(merge(0, idmax, present(place))), source=.false., stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'particles_check', error_no_memory('work arrays'))
       return
@@ -475,21 +478,26 @@ contains
         call bad('particle_material', p%mat(k), 'this deck has solids 1..'//itoa(p%nsolid))
       else if (p%id(k) < 1 .or. p%id(k) > idmax) then
         call bad('particle_id', p%id(k), 'the deck seeds ids 1..'//itoa(idmax))
-      else if (seen(p%id(k))) then
-        call bad('particle_id', p%id(k), 'the id is repeated')
       else if (.not. all(p%xi(:, k) >= 0.0_wp .and. p%xi(:, k) <= 1.0_wp)) then
-        call error_set(err, 'particles_check', 'state/particle_xi of particle '//itoa(k)// &
+        call error_set(err, 'particles_check', 'state/particle_xi of particle '//itoa(at(k))// &
                        ' is outside [0,1]^3')
+      else if (.not. present(place)) then
+        if (seen(p%id(k))) call bad('particle_id', p%id(k), 'the id is repeated')
+        seen(p%id(k)) = .true.
       end if
       if (allocated(err)) return
-      seen(p%id(k)) = .true.
     end do
   contains
     subroutine bad(name, value, rule)
       character(len=*), intent(in) :: name, rule
       integer, intent(in) :: value
       call error_set(err, 'particles_check', 'state/'//name//' = '//itoa(value)//' at particle '// &
-                     itoa(k)//' ('//rule//')')
+                     itoa(at(k))//' ('//rule//')')
     end subroutine bad
+    integer function at(k)
+      integer, intent(in) :: k
+      at = k
+      if (present(place)) at = place(k)
+    end function at
   end subroutine particles_check
 end module particles_state
