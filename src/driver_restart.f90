@@ -239,11 +239,12 @@ contains
   !> A file that cannot be used is an input error.
   !>
   !> With `block` (a block of a decomposed run) each rank reads its block's
-  !> nodes and cells from the file and the whole grid's mixed cells and
-  !> particles, then keeps those of its cells (`mixed_of_block`; the
-  !> particles of its cells and ghost layers, `particles_take`, checked
-  !> against the particles the blocks seeded, gathered); the conservation
-  !> report is then the caller's.
+  !> nodes and cells from the file, and the mixed cells and particles of
+  !> its cells only (`mixed_read_block`; the particles by their hosts,
+  !> `restart_cell_runs`, checked against the particles the blocks seeded
+  !> by id over the ranks, `parallel_particles_ids`, then those of its cells
+  !> and ghost layers taken, `particles_take`); the conservation report is
+  !> then the caller's.
   subroutine read_restart(cfg, st, sch, es, err, block)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout) :: st
