@@ -239,6 +239,18 @@ ranks_memory_bench() {
          END {printf "%s: one process %s MiB, 4 ranks %s MiB per rank (the most loaded): x%.2f\n", n, m[1], m[2], m[2] / m[1]}' \
         ${name}_r1.log ${name}_r4.log
   done
+  # the frame continued on 4 ranks from a dump of 4 ranks at step 1 (each
+  # block reads its own particles and mixed cells from the file)
+  sed -e "s|max_steps = 2 /|max_steps = 1, dump_steps = 1 /|" -e "s|dir = 'out/mem_frame96'|dir = 'out/mem_frame96_dump'|" \
+      mem_frame96.nml > mem_frame96_dump.nml
+  sed -e "s|max_steps = 2 /|max_steps = 2, restart_from = 'out/mem_frame96_dump/mem_frame96_dump_restart_00000001.h5' /|" \
+      -e "s|dir = 'out/mem_frame96'|dir = 'out/mem_frame96_cont'|" mem_frame96.nml > mem_frame96_cont.nml
+  OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" mem_frame96_dump.nml > mem_frame96_dump.log
+  OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np 4 "$exe" mem_frame96_cont.nml > mem_frame96_cont.log
+  cp mem_frame96_dump.log mem_frame96_cont.log "$outdir/"
+  awk 'FNR == 1 {f++} /^memory: peak resident/ {m[f] = $4}
+       END {printf "mem_frame96 restarted on 4 ranks: %s MiB per rank (the most loaded): x%.2f of one process\n", m[2], m[2] / m[1]}' \
+      mem_frame96_r1.log mem_frame96_cont.log
   echo
 }
 
