@@ -65,7 +65,6 @@ module driver_output
     integer, allocatable :: track_id(:)            !< (ntrack) seeding id of each tracked particle
     integer, allocatable :: track_mat(:)           !< (ntrack) its solid
     integer, allocatable :: track_idx(:)           !< (ntrack) its array index at the last row
-    integer, allocatable :: track_at(:)            !< (np) work: array index of each id
   end type schedule_t
 
 contains
@@ -259,14 +258,13 @@ contains
       call error_set(err, 'tracks_init', '&output track points but no particles', ERR_INPUT)
       return
     end if
-    ! (at: over all ids, the run's seeded count)
-    allocate(sch%track_id(n), sch%track_idx(n), sch%track_at(np(1)), sch%track_mat(n), stat=stat, errmsg=msg)
+    allocate(sch%track_id(n), sch%track_idx(n), sch%track_mat(n), stat=stat, errmsg=msg)
     if (stat /= 0) then
       call error_set(err, 'tracks_init', error_no_memory('the tracked particles'))
       return
     end if
     call particles_nearest_ids(own, cfg%output%tracks(:, 1:n), sch%track_id)
-    call particles_index_of_ids(own, sch%track_id, sch%track_at, sch%track_idx)
+    call particles_index_of_ids(own, sch%track_id, sch%track_idx)
     do k = 1, n
       q = sch%track_idx(k)
       d = huge(1.0_wp)
@@ -353,8 +351,8 @@ contains
   end subroutine tracks_open
 
   !> Appends a tracked-particle row at st%t: each tracked particle found by
-  !> its id through the inverse id permutation (rebuilt here: the particles
-  !> may have been re-sorted since the last row); on a decomposed run the
+  !> its id (`particles_index_of_ids`, afresh: the particles may have been
+  !> re-sorted since the last row); on a decomposed run the
   !> block that owns it gives its values (`halo%choose`) and rank 0 writes.
   subroutine tracks_write(st, sch)
     type(state_t), intent(in) :: st
@@ -365,7 +363,7 @@ contains
     if (.not. allocated(sch%track_id)) return
     nf = track_nfield + merge(1, 0, st%pt%nhist > 0)
     write(fmt, '(a,i0,a)') '(1x,i0,', nf, 'es25.16e3)'
-    call particles_index_of_ids(st%pt, sch%track_id, sch%track_at, sch%track_idx)
+    call particles_index_of_ids(st%pt, sch%track_id, sch%track_idx)
     if (sch%track_unit /= -1) write(sch%track_unit, '(es25.16e3)', advance='no') st%t
     do k = 1, size(sch%track_id)
       ! (key 0 on the block that owns the particle, 1 elsewhere)

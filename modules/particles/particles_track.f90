@@ -15,6 +15,7 @@
 module particles_track
   use base_kinds, only: wp
   use particles_state, only: particles_t
+  use base_sort, only: sort_order
   implicit none
   private
   public :: particles_nearest_ids, particles_index_of_ids, particles_track_values, track_nfield, &
@@ -53,23 +54,42 @@ contains
     end do
   end subroutine particles_nearest_ids
 
-  !> idx(k): the array index of the particle with id ids(k), through the
-  !> inverse permutation `at` (work array over all ids: at(id) = index),
-  !> rebuilt here. An id that is not among p's particles (out of range, or
-  !> held by another block of a decomposed run) gives 0.
-  pure subroutine particles_index_of_ids(p, ids, at, idx)
+  !> idx(k): the array index of the particle with id ids(k) (each
+  !> particle's id searched among the few tracked ones: no array over all
+  !> ids). An id that is not among p's particles (gone, or held by another
+  !> block of a decomposed run) gives 0.
+  pure subroutine particles_index_of_ids(p, ids, idx)
     type(particles_t), intent(in) :: p
     integer, intent(in) :: ids(:)
-    integer, intent(inout) :: at(:)
     integer, intent(out) :: idx(:)
-    integer :: q, k
-    at = 0
+    integer :: order(size(ids)), q, lo, hi, mid, stat
+    idx = 0
+    if (size(ids) == 0) return
+    ! (the ids in increasing order: each particle's id searched among them,
+    ! every tracked point that names it given its index)
+    call sort_order(ids, order, stat)
+    if (stat /= 0) then   ! (no room to sort: one pass per id)
+      do lo = 1, size(ids)
+        idx(lo) = findloc(p%id(:p%np), ids(lo), 1)
+      end do
+      return
+    end if
     do q = 1, p%np
-      at(p%id(q)) = q
-    end do
-    do k = 1, size(ids)
-      idx(k) = 0
-      if (ids(k) >= 1 .and. ids(k) <= size(at)) idx(k) = at(ids(k))
+      lo = 1
+      hi = size(ids)
+      do while (lo < hi)
+        mid = (lo + hi)/2
+        if (ids(order(mid)) < p%id(q)) then
+          lo = mid + 1
+        else
+          hi = mid
+        end if
+      end do
+      do while (lo <= size(ids))
+        if (ids(order(lo)) /= p%id(q)) exit
+        idx(order(lo)) = q
+        lo = lo + 1
+      end do
     end do
   end subroutine particles_index_of_ids
 
