@@ -19,7 +19,8 @@ module rezone_lssm
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
                            smooth_combined, smooth_tfi, smooth_q_min, smooth_keep_small_moves, smooth_revert_tangled, &
-                           smooth_region_tangled, node_fixed
+                           smooth_region_tangled, node_fixed, tfi_shell_t, smooth_tfi_shell, tfi_shell_put, &
+                           smooth_tfi_parameters, smooth_tfi_node
   implicit none
   private
   public :: lssm_report_t, lssm_rezone, LSSM_SKIPPED, LSSM_SNAPPED, LSSM_SMOOTHED
@@ -489,7 +490,8 @@ contains
   !> kept: in place on one block that holds the whole grid; on a
   !> decomposed grid every block gathers the nodes on the cuboid's faces
   !> (each from the block that counts it) and interpolates its owned nodes
-  !> inside, in a copy of the cuboid's nodes (the ghosts are the caller's).
+  !> inside from them (`tfi_shell_t`: no block holds the cuboid's nodes;
+  !> the ghosts are the caller's).
   subroutine block_tfi(g, halo, mob, lo, hi, x, err)
     type(grid_t), intent(in) :: g
     class(halo_t), intent(inout) :: halo
@@ -498,8 +500,8 @@ contains
     real(wp), intent(inout) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t) :: cb
-    type(smooth_mobility_t) :: cmob
-    real(wp), allocatable :: mine(:), every(:), xc(:, :)
+    type(tfi_shell_t) :: sh
+    real(wp), allocatable :: mine(:), every(:)
     integer :: i, j, k, m, p, q, n(3), b(3), stat, ijk(3), il(3), iu(3)
     logical :: inside
     n = g%shi - g%slo + 1
@@ -535,37 +537,23 @@ contains
     end do
     call halo%concat(mine(1:m), every)
     if (.not. inside) return
-    cmob%ni = cb%ni
-    cmob%nj = cb%nj
-    cmob%nk = cb%nk
-    allocate(xc(3, cb%nnode), cmob%kind(cb%nnode), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'lssm_rezone', error_no_memory('the TFI''s cuboid'))
-      return
-    end if
-    xc = 0.0_wp
-    cmob%kind = node_fixed
+    ! (the cuboid's shell from the faces gathered, not its nodes)
+    call smooth_tfi_shell([0, 0, 0], [cb%ni, cb%nj, cb%nk], sh, err)
+    if (allocated(err)) return
     do p = 1, size(every), 4
-      xc(:, nint(every(p))) = every(p + 1:p + 3)
+      call cb%node_ijk(nint(every(p)), ijk(1), ijk(2), ijk(3))
+      call tfi_shell_put(sh, ijk(1), ijk(2), ijk(3), every(p + 1:p + 3))
     end do
-    ! this block's owned nodes inside (the others are not computed)
+    call smooth_tfi_parameters(sh)
+    ! this block's owned nodes inside, but those that do not move
     il = max(g%nlo, lo - g%off)
     iu = min(g%nhi, hi - 1 - g%off)
     do k = il(3), iu(3)
       do j = il(2), iu(2)
         do i = il(1), iu(1)
-          q = cb%node(i + g%off(1) - b(1), j + g%off(2) - b(2), k + g%off(3) - b(3))
-          xc(:, q) = x(:, g%node(i, j, k))
-          cmob%kind(q) = mob%kind(g%node(i, j, k))
-        end do
-      end do
-    end do
-    call smooth_tfi(cb%ni, cb%nj, cb%nk, [0, 0, 0], [cb%ni, cb%nj, cb%nk], xc, err, cmob)
-    if (allocated(err)) return
-    do k = il(3), iu(3)
-      do j = il(2), iu(2)
-        do i = il(1), iu(1)
-          x(:, g%node(i, j, k)) = xc(:, cb%node(i + g%off(1) - b(1), j + g%off(2) - b(2), k + g%off(3) - b(3)))
+          q = g%node(i, j, k)
+          if (mob%kind(q) == node_fixed) cycle
+          x(:, q) = smooth_tfi_node(sh, i + g%off(1) - b(1), j + g%off(2) - b(2), k + g%off(3) - b(3))
         end do
       end do
     end do

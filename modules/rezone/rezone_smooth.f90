@@ -52,7 +52,8 @@ module rezone_smooth
   implicit none
   private
   public :: node_fixed, node_free, node_plane, node_line
-  public :: smooth_mobility_t, smooth_region_t
+  public :: smooth_mobility_t, smooth_region_t, tfi_shell_t, smooth_tfi_shell, tfi_shell_put, smooth_tfi_parameters, &
+            smooth_tfi_node
   public :: smooth_mobility_box, smooth_mobility_block, smooth_region_init
   public :: smooth_modified_getme, smooth_weighted_average, smooth_getme_original
   public :: smooth_combined, smooth_q_min, smooth_tfi, smooth_keep_small_moves, smooth_revert_tangled, &
@@ -149,6 +150,17 @@ module rezone_smooth
     !> guard's last round found)
     logical :: known = .false.
   end type smooth_region_t
+
+  !> The shell of a node index box lo..hi for the TFI (`smooth_tfi`): the
+  !> nodes on its faces, fi(:, j, k, s) on the low (s = 1) and high (s = 2)
+  !> face in i, fj(:, i, k, s) and fk(:, i, j, s) likewise, and the edge
+  !> parameters (`smooth_tfi_parameters`). A block of a decomposed grid
+  !> holds the shell of a merged cuboid, not its nodes.
+  type :: tfi_shell_t
+    integer :: lo(3) = 0, hi(3) = 0
+    real(wp), allocatable :: fi(:, :, :, :), fj(:, :, :, :), fk(:, :, :, :)
+    real(wp), allocatable :: ua(:, :), va(:, :), wa(:, :)
+  end type tfi_shell_t
 
 contains
 
@@ -1363,9 +1375,10 @@ contains
     real(wp), intent(inout) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
     type(smooth_mobility_t), intent(in), optional :: mob
-    real(wp), allocatable :: ua(:, :), va(:, :), wa(:, :)
-    integer :: nfix(1), stat
-    character(len=200) :: msg
+    type(tfi_shell_t) :: sh
+    type(grid_index_t) :: ix
+    integer :: i, j, k, n
+    logical :: use_kind
 
     if (any(lo < 0) .or. hi(1) > ni .or. hi(2) > nj .or. hi(3) > nk .or. any(hi < lo)) then
       call error_set(err, 'smooth_tfi', 'the index box is not inside the block')
@@ -1376,12 +1389,8 @@ contains
       return
     end if
     if (any(hi - lo < 2)) return   ! no interior node
-    allocate(ua(lo(1):hi(1), 4), va(lo(2):hi(2), 4), wa(lo(3):hi(3), 4), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, 'smooth_tfi', error_no_memory('the edge parameters'))
-      return
-    end if
-    if (present(mob)) then
+    use_kind = present(mob)
+    if (use_kind) then
       if (.not. allocated(mob%kind)) then
         call error_set(err, 'smooth_tfi', 'the mobility has not been built')
         return
@@ -1390,103 +1399,100 @@ contains
         call error_set(err, 'smooth_tfi', 'the mobility is for another block')
         return
       end if
-      call tfi_box(ni, nj, lo, hi, x, ua, va, wa, mob%kind, .true.)
-    else
-      nfix = node_free
-      call tfi_box(ni, nj, lo, hi, x, ua, va, wa, nfix, .false.)
     end if
-  end subroutine smooth_tfi
-
-  !> The work of `smooth_tfi` once the arguments are checked; kind(:) is
-  !> only read when use_kind is true.
-  subroutine tfi_box(ni, nj, lo, hi, x, ua, va, wa, kind, use_kind)
-    integer, intent(in) :: ni, nj, lo(3), hi(3)
-    real(wp), intent(inout) :: x(:, :)
-    real(wp), intent(out) :: ua(lo(1):, :), va(lo(2):, :), wa(lo(3):, :)
-    integer, intent(in) :: kind(:)
-    logical, intent(in) :: use_kind
-    integer :: sx, sxy, i, j, k, i0, i1, j0, j1, k0, k1, n
-    real(wp) :: u, v, w, fi, fj, fk, p(3), e(3), c(3)
-    type(grid_index_t) :: ix
-
     ! (node strides do not depend on nk)
     ix = grid_index(ni, nj, 1)
-    sx = ix%sx
-    sxy = ix%sxy
-    i0 = lo(1); i1 = hi(1); j0 = lo(2); j1 = hi(2); k0 = lo(3); k1 = hi(3)
-    ! arc-length parameters on the four edges of each direction, ordered
-    ! (low, low), (high, low), (low, high), (high, high) in the other two
-    call edge_parameter(i0, i1, nd(i0, j0, k0), 1, ua(:, 1))
-    call edge_parameter(i0, i1, nd(i0, j1, k0), 1, ua(:, 2))
-    call edge_parameter(i0, i1, nd(i0, j0, k1), 1, ua(:, 3))
-    call edge_parameter(i0, i1, nd(i0, j1, k1), 1, ua(:, 4))
-    call edge_parameter(j0, j1, nd(i0, j0, k0), sx, va(:, 1))
-    call edge_parameter(j0, j1, nd(i1, j0, k0), sx, va(:, 2))
-    call edge_parameter(j0, j1, nd(i0, j0, k1), sx, va(:, 3))
-    call edge_parameter(j0, j1, nd(i1, j0, k1), sx, va(:, 4))
-    call edge_parameter(k0, k1, nd(i0, j0, k0), sxy, wa(:, 1))
-    call edge_parameter(k0, k1, nd(i1, j0, k0), sxy, wa(:, 2))
-    call edge_parameter(k0, k1, nd(i0, j1, k0), sxy, wa(:, 3))
-    call edge_parameter(k0, k1, nd(i1, j1, k0), sxy, wa(:, 4))
-
-    !$omp parallel do default(none) shared(x, ua, va, wa, kind, use_kind, ix, i0, i1, j0, j1, k0, k1) &
-    !$omp private(i, j, k, n, u, v, w, fi, fj, fk, p, e, c) schedule(static)
-    do k = k0 + 1, k1 - 1
-      do j = j0 + 1, j1 - 1
-        do i = i0 + 1, i1 - 1
+    call smooth_tfi_shell(lo, hi, sh, err)
+    if (allocated(err)) return
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          if (tfi_on_shell(sh, i, j, k)) call tfi_shell_put(sh, i, j, k, x(:, ix%node(i, j, k)))
+        end do
+      end do
+    end do
+    call smooth_tfi_parameters(sh)
+    !$omp parallel do default(none) shared(x, sh, mob, use_kind, ix, lo, hi) private(i, j, k, n) schedule(static)
+    do k = lo(3) + 1, hi(3) - 1
+      do j = lo(2) + 1, hi(2) - 1
+        do i = lo(1) + 1, hi(1) - 1
           n = ix%node(i, j, k)
           if (use_kind) then
-            if (kind(n) == node_fixed) cycle
+            if (mob%kind(n) == node_fixed) cycle
           end if
-          ! index fractions place the node between the edges of a direction
-          fi = real(i - i0, wp)/real(i1 - i0, wp)
-          fj = real(j - j0, wp)/real(j1 - j0, wp)
-          fk = real(k - k0, wp)/real(k1 - k0, wp)
-          u = (1.0_wp - fj)*(1.0_wp - fk)*ua(i, 1) + fj*(1.0_wp - fk)*ua(i, 2) + &
-              (1.0_wp - fj)*fk*ua(i, 3) + fj*fk*ua(i, 4)
-          v = (1.0_wp - fi)*(1.0_wp - fk)*va(j, 1) + fi*(1.0_wp - fk)*va(j, 2) + &
-              (1.0_wp - fi)*fk*va(j, 3) + fi*fk*va(j, 4)
-          w = (1.0_wp - fi)*(1.0_wp - fj)*wa(k, 1) + fi*(1.0_wp - fj)*wa(k, 2) + &
-              (1.0_wp - fi)*fj*wa(k, 3) + fi*fj*wa(k, 4)
-          ! faces
-          p = (1.0_wp - u)*x(:, nd(i0, j, k)) + u*x(:, nd(i1, j, k)) &
-              + (1.0_wp - v)*x(:, nd(i, j0, k)) + v*x(:, nd(i, j1, k)) &
-              + (1.0_wp - w)*x(:, nd(i, j, k0)) + w*x(:, nd(i, j, k1))
-          ! edges
-          e = (1.0_wp - u)*((1.0_wp - v)*x(:, nd(i0, j0, k)) + v*x(:, nd(i0, j1, k))) &
-              + u*((1.0_wp - v)*x(:, nd(i1, j0, k)) + v*x(:, nd(i1, j1, k))) &
-              + (1.0_wp - u)*((1.0_wp - w)*x(:, nd(i0, j, k0)) + w*x(:, nd(i0, j, k1))) &
-              + u*((1.0_wp - w)*x(:, nd(i1, j, k0)) + w*x(:, nd(i1, j, k1))) &
-              + (1.0_wp - v)*((1.0_wp - w)*x(:, nd(i, j0, k0)) + w*x(:, nd(i, j0, k1))) &
-              + v*((1.0_wp - w)*x(:, nd(i, j1, k0)) + w*x(:, nd(i, j1, k1)))
-          ! corners
-          c = (1.0_wp - u)*((1.0_wp - v)*((1.0_wp - w)*x(:, nd(i0, j0, k0)) + w*x(:, nd(i0, j0, k1))) &
-                            + v*((1.0_wp - w)*x(:, nd(i0, j1, k0)) + w*x(:, nd(i0, j1, k1)))) &
-              + u*((1.0_wp - v)*((1.0_wp - w)*x(:, nd(i1, j0, k0)) + w*x(:, nd(i1, j0, k1))) &
-                   + v*((1.0_wp - w)*x(:, nd(i1, j1, k0)) + w*x(:, nd(i1, j1, k1))))
-          x(:, n) = p - e + c
+          x(:, n) = smooth_tfi_node(sh, i, j, k)
         end do
       end do
     end do
     !$omp end parallel do
+  end subroutine smooth_tfi
 
+  !> sh: the shell of the node index box lo..hi (its six faces' nodes, to
+  !> be put in with `tfi_shell_put`), allocated.
+  subroutine smooth_tfi_shell(lo, hi, sh, err)
+    integer, intent(in) :: lo(3), hi(3)
+    type(tfi_shell_t), intent(out) :: sh
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    sh%lo = lo
+    sh%hi = hi
+    allocate(sh%fi(3, lo(2):hi(2), lo(3):hi(3), 2), sh%fj(3, lo(1):hi(1), lo(3):hi(3), 2), &
+             sh%fk(3, lo(1):hi(1), lo(2):hi(2), 2), sh%ua(lo(1):hi(1), 4), sh%va(lo(2):hi(2), 4), &
+             sh%wa(lo(3):hi(3), 4), stat=stat)
+    if (stat /= 0) call error_set(err, 'smooth_tfi', error_no_memory('the box''s faces'))
+  end subroutine smooth_tfi_shell
+
+  !> Whether node (i, j, k) lies on the shell of sh's box.
+  pure logical function tfi_on_shell(sh, i, j, k)
+    type(tfi_shell_t), intent(in) :: sh
+    integer, intent(in) :: i, j, k
+    tfi_on_shell = any([i, j, k] == sh%lo) .or. any([i, j, k] == sh%hi)
+  end function tfi_on_shell
+
+  !> Puts node (i, j, k) of the shell, at xn, on every face of sh it lies on
+  !> (a node off the shell is ignored).
+  pure subroutine tfi_shell_put(sh, i, j, k, xn)
+    type(tfi_shell_t), intent(inout) :: sh
+    integer, intent(in) :: i, j, k
+    real(wp), intent(in) :: xn(3)
+    integer :: s
+    do s = 1, 2
+      if (i == merge(sh%lo(1), sh%hi(1), s == 1)) sh%fi(:, j, k, s) = xn
+      if (j == merge(sh%lo(2), sh%hi(2), s == 1)) sh%fj(:, i, k, s) = xn
+      if (k == merge(sh%lo(3), sh%hi(3), s == 1)) sh%fk(:, i, j, s) = xn
+    end do
+  end subroutine tfi_shell_put
+
+  !> The arc-length parameters on the four edges of each direction of sh's
+  !> box, ordered (low, low), (high, low), (low, high), (high, high) in the
+  !> other two, from its faces.
+  pure subroutine smooth_tfi_parameters(sh)
+    type(tfi_shell_t), intent(inout) :: sh
+    integer :: i0, i1, j0, j1, k0, k1
+    i0 = sh%lo(1); i1 = sh%hi(1); j0 = sh%lo(2); j1 = sh%hi(2); k0 = sh%lo(3); k1 = sh%hi(3)
+    call edge_parameter(i0, i1, sh%fj(:, :, k0, 1), sh%ua(:, 1))
+    call edge_parameter(i0, i1, sh%fj(:, :, k0, 2), sh%ua(:, 2))
+    call edge_parameter(i0, i1, sh%fj(:, :, k1, 1), sh%ua(:, 3))
+    call edge_parameter(i0, i1, sh%fj(:, :, k1, 2), sh%ua(:, 4))
+    call edge_parameter(j0, j1, sh%fi(:, :, k0, 1), sh%va(:, 1))
+    call edge_parameter(j0, j1, sh%fi(:, :, k0, 2), sh%va(:, 2))
+    call edge_parameter(j0, j1, sh%fi(:, :, k1, 1), sh%va(:, 3))
+    call edge_parameter(j0, j1, sh%fi(:, :, k1, 2), sh%va(:, 4))
+    call edge_parameter(k0, k1, sh%fi(:, j0, :, 1), sh%wa(:, 1))
+    call edge_parameter(k0, k1, sh%fi(:, j0, :, 2), sh%wa(:, 2))
+    call edge_parameter(k0, k1, sh%fi(:, j1, :, 1), sh%wa(:, 3))
+    call edge_parameter(k0, k1, sh%fi(:, j1, :, 2), sh%wa(:, 4))
   contains
-
-    !> Flattened index of node (i,j,k).
-    pure integer function nd(i, j, k)
-      integer, intent(in) :: i, j, k
-      nd = ix%node(i, j, k)
-    end function nd
-
-    !> Normalised arc length t(m0:m1) along the node line starting at node
-    !> n0 with index stride `stride`; index fractions if the line has no length.
-    subroutine edge_parameter(m0, m1, n0, stride, t)
-      integer, intent(in) :: m0, m1, n0, stride
+    !> Normalised arc length t(m0:m1) along the node line xl(3, m0:m1);
+    !> index fractions if the line has no length.
+    pure subroutine edge_parameter(m0, m1, xl, t)
+      integer, intent(in) :: m0, m1
+      real(wp), intent(in) :: xl(:, m0:)
       real(wp), intent(out) :: t(m0:)
       integer :: m
       t(m0) = 0.0_wp
       do m = m0 + 1, m1
-        t(m) = t(m - 1) + norm2(x(:, n0 + stride*(m - m0)) - x(:, n0 + stride*(m - m0 - 1)))
+        t(m) = t(m - 1) + norm2(xl(:, m) - xl(:, m - 1))
       end do
       if (t(m1) > 0.0_wp) then
         t(m0 + 1:m1) = t(m0 + 1:m1)/t(m1)
@@ -1495,7 +1501,48 @@ contains
       end if
       t(m1) = 1.0_wp
     end subroutine edge_parameter
-  end subroutine tfi_box
+  end subroutine smooth_tfi_parameters
+
+  !> The TFI of node (i, j, k) strictly inside sh's box (`smooth_tfi`),
+  !> from its faces and edge parameters (`smooth_tfi_parameters`).
+  pure function smooth_tfi_node(sh, i, j, k) result(xn)
+    type(tfi_shell_t), intent(in) :: sh
+    integer, intent(in) :: i, j, k
+    real(wp) :: xn(3)
+    integer :: i0, i1, j0, j1, k0, k1
+    real(wp) :: u, v, w, fi, fj, fk, p(3), e(3), c(3)
+    i0 = sh%lo(1); i1 = sh%hi(1); j0 = sh%lo(2); j1 = sh%hi(2); k0 = sh%lo(3); k1 = sh%hi(3)
+    associate (ua => sh%ua, va => sh%va, wa => sh%wa, xi => sh%fi, xj => sh%fj, xk => sh%fk)
+      ! index fractions place the node between the edges of a direction
+      fi = real(i - i0, wp)/real(i1 - i0, wp)
+      fj = real(j - j0, wp)/real(j1 - j0, wp)
+      fk = real(k - k0, wp)/real(k1 - k0, wp)
+      u = (1.0_wp - fj)*(1.0_wp - fk)*ua(i, 1) + fj*(1.0_wp - fk)*ua(i, 2) + &
+          (1.0_wp - fj)*fk*ua(i, 3) + fj*fk*ua(i, 4)
+      v = (1.0_wp - fi)*(1.0_wp - fk)*va(j, 1) + fi*(1.0_wp - fk)*va(j, 2) + &
+          (1.0_wp - fi)*fk*va(j, 3) + fi*fk*va(j, 4)
+      w = (1.0_wp - fi)*(1.0_wp - fj)*wa(k, 1) + fi*(1.0_wp - fj)*wa(k, 2) + &
+          (1.0_wp - fi)*fj*wa(k, 3) + fi*fj*wa(k, 4)
+      ! faces
+      p = (1.0_wp - u)*xi(:, j, k, 1) + u*xi(:, j, k, 2) &
+          + (1.0_wp - v)*xj(:, i, k, 1) + v*xj(:, i, k, 2) &
+          + (1.0_wp - w)*xk(:, i, j, 1) + w*xk(:, i, j, 2)
+      ! edges
+      e = (1.0_wp - u)*((1.0_wp - v)*xi(:, j0, k, 1) + v*xi(:, j1, k, 1)) &
+          + u*((1.0_wp - v)*xi(:, j0, k, 2) + v*xi(:, j1, k, 2)) &
+          + (1.0_wp - u)*((1.0_wp - w)*xi(:, j, k0, 1) + w*xi(:, j, k1, 1)) &
+          + u*((1.0_wp - w)*xi(:, j, k0, 2) + w*xi(:, j, k1, 2)) &
+          + (1.0_wp - v)*((1.0_wp - w)*xj(:, i, k0, 1) + w*xj(:, i, k1, 1)) &
+          + v*((1.0_wp - w)*xj(:, i, k0, 2) + w*xj(:, i, k1, 2))
+      ! corners
+      c = (1.0_wp - u)*((1.0_wp - v)*((1.0_wp - w)*xi(:, j0, k0, 1) + w*xi(:, j0, k1, 1)) &
+                        + v*((1.0_wp - w)*xi(:, j1, k0, 1) + w*xi(:, j1, k1, 1))) &
+          + u*((1.0_wp - v)*((1.0_wp - w)*xi(:, j0, k0, 2) + w*xi(:, j0, k1, 2)) &
+               + v*((1.0_wp - w)*xi(:, j1, k0, 2) + w*xi(:, j1, k1, 2)))
+    end associate
+    xn = p - e + c
+  end function smooth_tfi_node
+
 
   !> The last safeguard of a rezone: every cell of an ni x nj x nk block that
   !> the rezone changed (a node of x differs from xold) and that is tangled in
