@@ -143,8 +143,10 @@ contains
   !> hold their host, itself included; pt becomes what this rank receives,
   !> host cells numbered on g, sorted (`particles_order`, the order one
   !> process gives them) and indexed, and owned which of them g owns. The
-  !> others' blocks are each rank's box, gathered (6 integers per rank).
-  !> Collective.
+  !> others' blocks are each rank's box, gathered (6 integers per rank); a
+  !> particle can go only to the ranks whose boxes meet this block's stored
+  !> cells (its neighbours: the work and the list of receivers per particle
+  !> grow with them, not with the number of ranks). Collective.
   subroutine parallel_particles_move(pc, g, layers, pt, owned, err)
     type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: g
@@ -154,16 +156,19 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(particles_t), target :: pn
     type(registry_t) :: rb, rn
-    integer, allocatable :: boxes(:), to(:, :), count_to(:), at(:)
+    integer, allocatable :: boxes(:), to(:, :), count_to(:), at(:), near(:)
     real(wp), allocatable :: sbuf(:), rbuf(:)
-    integer :: lo(3), hi(3), ijk(3), k, r, e, m, j, q, n, rec, pos, stat, nr
+    integer :: lo(3), hi(3), ijk(3), k, r, e, m, j, q, n, rec, pos, stat, nr, c
     logical :: skip
 
     nr = pc%nranks
     call g%cells_around(layers, lo, hi)
     call gather_concat(pc, [lo + g%off, hi + g%off], boxes)
+    ! (the ranks whose boxes meet this block's stored cells, in rank order)
+    near = pack([(r, r = 0, nr - 1)], [(all(boxes(6*r + 1:6*r + 3) <= g%shi + g%off) .and. &
+                                        all(boxes(6*r + 4:6*r + 6) >= g%slo + g%off), r = 0, nr - 1)])
     ! (each owned particle's receivers, in rank order: to(:, k), -1 ends)
-    allocate(to(nr, pt%np), count_to(0:nr - 1), stat=stat)
+    allocate(to(size(near), pt%np), count_to(0:nr - 1), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'parallel_particles_move', error_no_memory('work arrays'))
       return
@@ -175,7 +180,8 @@ contains
       call g%cell_ijk(pt%cell(k), ijk(1), ijk(2), ijk(3))
       ijk = ijk + g%off
       n = 0
-      do r = 0, nr - 1
+      do c = 1, size(near)
+        r = near(c)
         if (any(ijk < boxes(6*r + 1:6*r + 3) .or. ijk > boxes(6*r + 4:6*r + 6))) cycle
         n = n + 1
         to(n, k) = r
@@ -196,7 +202,8 @@ contains
     call parallel_nomem(stat, 'the particles sent')
     ! (each receiver's records in turn, in this rank's order)
     pos = 0
-    do r = 0, nr - 1
+    do c = 1, size(near)
+      r = near(c)
       do k = 1, pt%np
         if (.not. any(to(:, k) == r)) cycle
         do e = 1, rb%n
