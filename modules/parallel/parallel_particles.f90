@@ -266,8 +266,10 @@ contains
   end subroutine parallel_particles_move
 
   !> The owned cells of g that any rank names (cells: global cell numbers
-  !> of the whole grid, in any rank's block): each rank sends each cell to
-  !> the rank that owns it (ranks' owned boxes gathered, 6 integers each);
+  !> of the whole grid, each among the naming block's stored cells): each
+  !> rank sends each cell to the rank that owns it, found among the ranks
+  !> whose owned cells meet its stored cells (ranks' owned boxes gathered,
+  !> 6 integers each);
   !> mark(ncell) true at the owned cells named, false elsewhere (the ghost
   !> cells are the caller's: a halo exchange). Collective.
   subroutine parallel_mark_cells(pc, g, cells, mark)
@@ -275,18 +277,22 @@ contains
     type(grid_t), intent(in) :: g
     integer, intent(in) :: cells(:)
     logical, allocatable, intent(out) :: mark(:)
-    integer, allocatable :: boxes(:), to(:)
+    integer, allocatable :: boxes(:), to(:), near(:)
     real(wp), allocatable :: sbuf(:), rbuf(:)
-    integer :: lo(3), hi(3), ijk(3), q, r, stat, count_to(0:pc%nranks - 1), pos(0:pc%nranks - 1)
+    integer :: lo(3), hi(3), ijk(3), q, r, c, stat, count_to(0:pc%nranks - 1), pos(0:pc%nranks - 1)
     call g%cells_around(0, lo, hi)
     call gather_concat(pc, [lo + g%off, hi + g%off], boxes)
+    ! (the ranks whose owned cells meet this block's stored cells)
+    near = pack([(r, r = 0, pc%nranks - 1)], [(all(boxes(6*r + 1:6*r + 3) <= g%shi + g%off) .and. &
+                                                all(boxes(6*r + 4:6*r + 6) >= g%slo + g%off), r = 0, pc%nranks - 1)])
     allocate(to(size(cells)), sbuf(size(cells)), mark(g%ncell), stat=stat)
     call parallel_nomem(stat, 'the cells marked')
     count_to = 0
     do q = 1, size(cells)
       ijk = global_ijk(g, cells(q))
       to(q) = -1
-      do r = 0, pc%nranks - 1
+      do c = 1, size(near)
+        r = near(c)
         if (all(ijk >= boxes(6*r + 1:6*r + 3) .and. ijk <= boxes(6*r + 4:6*r + 6))) then
           to(q) = r
           exit
