@@ -840,7 +840,12 @@ contains
           ! second alone, or the rest of the parts)
           if (stage == 2) single = 1
           if (ps%on .or. stage == 2 .or. present(before)) ps%rs = rs
-          if (wider .and. all(n(2:4) == 0) .and. .not. ps%on) then
+          ! (a window whose new cells fall short leaves the old regions
+          ! they reach, here or in a neighbour's window, giving less than
+          ! their volume, and their kinetic energy deficits unplaced: what
+          ! n(2:3) count then may be the shortfall's, and wider windows
+          ! decide it)
+          if (wider .and. n(4) == 0 .and. .not. ps%on) then
             if (taken == 0) retry = 1
             if (stage == 2 .or. present(before)) retry = 2
           end if
