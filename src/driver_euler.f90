@@ -127,7 +127,7 @@ module driver_euler
   !> there as one process would.
   type :: parts_state_t
     logical :: on = .false.
-    integer :: ntaken = 0, nleft = 0, nsplit = 0, nblock = 0
+    integer :: ntaken = 0, nleft = 0, nsplit = 0, nblock = 0, nrescue = 0
     real(wp) :: fac = 1.0_wp
     type(remap_stats_t) :: rs
   end type parts_state_t
@@ -497,6 +497,7 @@ contains
       fac = resume%fac
       ntaken = resume%ntaken
       nsplit = resume%nsplit
+      nrescue = resume%nrescue
       if (ntaken > 0) rs = resume%rs
       started = ntaken > 0
     end if

@@ -666,12 +666,12 @@ contains
     type(remap_zone_t) :: zone
     type(remap_stats_t) :: rs, rk
     type(remap_params_t) :: par
-    real(wp), allocatable :: xw(:, :), xk(:, :), xfinal(:, :)
+    real(wp), allocatable :: xw(:, :), xk(:, :), xfinal(:, :), xpart(:, :), xh(:, :)
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
-    integer, allocatable :: moved(:), blockers(:), every(:), cells(:), wrote(:)
-    integer :: n(4), i, k, nblock, nparts, stage, taken
-    logical :: hybrid, lattice, again, arrived, next, kept, whole
+    integer, allocatable :: moved(:), blockers(:), cells(:), wrote(:), broke(:)
+    integer :: n(4), k, nblock, nparts, stage, taken, rescue
+    logical :: hybrid, lattice, again, arrived, next, kept, start
 
     redo = .false.
     wider = .false.
@@ -737,9 +737,7 @@ contains
       ! a hybrid step (`euler_step`): the first remap to the grid whose
       ! blockers' nodes stay (those of every block: gathered)
       if (hybrid) then
-        call gather_concat(pc, [(wg%global_cell(blockers(i)), i = 1, size(blockers))], every)
-        blockers = window_cells(wg, every)
-        call remap_hybrid_target(wg, xw, blockers, xk)
+        call remap_hybrid_target(wg, xw, windows_cells(pc, wg, blockers), xk)
         n(1:2) = [remap_swept_blockers(wg, w%h, w%bc, xk, par%swept_max, par%swept_mixed, zone%own, moved=moved), 0]
         n(2) = count(zone%own(moved))
         call parallel_sum(pc, n(1:2))
@@ -750,6 +748,11 @@ contains
     if (.not. allocated(cells)) cells = [integer ::]
     stage = 0
     taken = 0
+    rescue = 0
+    ! (a rescue's grids: set when it begins; allocated empty here, which
+    ! also keeps GCC from taking their bounds for uninitialized)
+    allocate(xpart(3, 0), xh(3, 0), stat=k)
+    call parallel_nomem(k, 'the parts'' grids')
     if (present(before)) then
       rs = before
       taken = 1
@@ -774,22 +777,28 @@ contains
         end if
         again = .false.
       end if
-      if (ps%on) then
-        ! the next part's grid, as `euler_step` takes it (the decisions from
-        ! the blocks' owned cells, reduced)
-        call window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, whole)
+      if (ps%on .and. rescue > 0) then
+        ! a stage of a part's rescue (`window_rescue`)
+        call window_rescue(cfg, pc, st, zone, par, xpart, xh, rescue, xw, next, err)
         if (allocated(err)) then
           call es%timer%stop()
           return
         end if
-        if (whole) then
-          ! (a part that `euler_step` takes around the cells that cannot
-          ! sweep it: the whole grid does, from where the parts stand)
-          redo = .true.
-          if (taken > 0) ps%rs = rs
-          call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold (a part some '// &
-                        'cells cannot sweep, with no split left)')
+        if (next) cycle
+      else if (ps%on) then
+        ! the next part's grid, as `euler_step` takes it (the decisions from
+        ! the blocks' owned cells, reduced)
+        call window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, start, xh)
+        if (allocated(err)) then
+          call es%timer%stop()
           return
+        end if
+        if (start) then
+          ! (a part some cells cannot sweep, with no split left: taken
+          ! around them, `window_rescue`)
+          xpart = xw
+          rescue = 1
+          cycle
         end if
         if (next) cycle
       else
@@ -813,7 +822,7 @@ contains
         ! (the planes the fits after the remap start from)
         call centroids_remember(w%mx, memory)
         if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rk, err, &
-                                                        zone=zone, written=wrote)
+                                                        zone=zone, written=wrote, broke=broke)
         rk%swept_blockers = nblock
         call agree_error(pc, err)
         if (allocated(err)) then
@@ -824,11 +833,20 @@ contains
         call parallel_sum(pc, n(1:4))
         if (ps%on .and. par%swept_only .and. n(4) > 0 .and. all(n(1:3) == 0)) then
           ! (nothing remapped: the first part again half as far, or the rest
-          ! of the way in twice the parts; the window gathered again, as the
-          ! remap may have left it part way)
-          if (ps%nleft == 0) ps%fac = 0.5_wp*ps%fac
-          ps%nleft = 2*ps%nleft
-          ps%nsplit = ps%nsplit + 1
+          ! of the way in twice the parts; with no split left, the part
+          ! around the cells that broke a bound, `window_rescue`; the window
+          ! gathered again, as the remap may have left it part way)
+          if (rescue == 1) then
+            rescue = 3
+          else if (ps%ntaken + 2*max(ps%nleft, 1) <= cfg%rezone%swept_parts) then
+            if (ps%nleft == 0) ps%fac = 0.5_wp*ps%fac
+            ps%nleft = 2*ps%nleft
+            ps%nsplit = ps%nsplit + 1
+          else
+            xpart = xw
+            call remap_hybrid_target(wg, xw, windows_cells(pc, wg, pack(broke, zone%own(broke))), xh)
+            rescue = 1
+          end if
           again = .true.
           kept = .false.
           cycle
@@ -892,9 +910,18 @@ contains
       again = .true.
       kept = .true.
       if (ps%on) then
-        ps%ntaken = ps%ntaken + 1
-        if (ps%nleft > 0) ps%nleft = ps%nleft - 1
+        if (rescue /= 1) then
+          ps%ntaken = ps%ntaken + 1
+          if (ps%nleft > 0) ps%nleft = ps%nleft - 1
+        end if
+        if (rescue > 1) ps%nrescue = ps%nrescue + 1
         rs%swept_splits = ps%nsplit
+        rs%swept_rescued = ps%nrescue
+        if (rescue == 1) then
+          rescue = 2
+          cycle
+        end if
+        rescue = 0
         if (arrived) exit
       else if (stage == merge(2, 1, hybrid)) then
         exit
@@ -909,11 +936,12 @@ contains
   !> xw, the window's nodes (xfinal: its rezoned grid; cells: the window's
   !> cells that move to it from the step's start), par's swept, swept_only
   !> and lattice, and arrived (the last part); next: no remap, the parts
-  !> split (ps); whole: no remap, the part is `euler_step`'s to take around
-  !> the cells that cannot sweep it (no split left). Each decision from the
-  !> blocks' owned cells, reduced over the ranks (collective); open faces'
-  !> gap search as the windows' remaps take it (`window_zone_open`).
-  subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, whole)
+  !> split (ps); rescue: no remap, the part (xw) is to be taken around the
+  !> cells that cannot sweep it (no split left), xh its first stage's grid
+  !> (`window_rescue`). Each decision from the blocks' owned cells, reduced
+  !> over the ranks (collective); open faces' gap search as the windows'
+  !> remaps take it (`window_zone_open`).
+  subroutine window_part(cfg, pc, st, zone, par, xfinal, cells, xw, ps, arrived, next, err, rescue, xh)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -923,17 +951,17 @@ contains
     integer, intent(in) :: cells(:)
     real(wp), allocatable, intent(inout) :: xw(:, :)
     type(parts_state_t), intent(inout) :: ps
-    logical, intent(out) :: arrived, next, whole
+    logical, intent(out) :: arrived, next, rescue
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: xb(:, :)
+    real(wp), allocatable, intent(inout) :: xh(:, :)
     real(wp) :: r(1)
     integer :: n(2), nmax
-    integer, allocatable :: moved(:)
+    integer, allocatable :: moved(:), broke(:)
     logical :: global
     nmax = cfg%rezone%swept_parts
     global = trim(cfg%rezone%mode) == 'global'
     next = .false.
-    whole = .false.
+    rescue = .false.
     arrived = .true.
     associate (w => st%win, wg => st%win%g)
       if (ps%ntaken == 0 .and. ps%nleft == 0) then
@@ -959,25 +987,22 @@ contains
         xw = xfinal
         arrived = .true.
       end if
-      ! (the part's grid at the block's stored nodes: within the window's
-      ! computed cells, where it is the whole grid's)
-      if (global) call block_nodes(st%g, wg, xw, xb, err)
-      call agree_error(pc, err)
+      if (global) call window_lattice(pc, st, xw, par, err)
       if (allocated(err)) return
-      if (global) then
-        n(1) = merge(1, 0, lattice_nodes(st%g, xb))
-        call parallel_min(pc, n(1:1))
-        par%lattice = n(1) == 1
-      end if
-      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own, moved=moved)
+      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own, moved=moved, &
+                                  blockers=broke)
       n(2) = count(zone%own(moved))
       call parallel_sum(pc, n(1:2))
       par%swept = n(1) == 0
-      par%swept_only = par%swept .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax
-      ! (as `euler_step` decides its rescue of such a part)
-      whole = .not. par%swept .and. (arrived .or. ps%ntaken + 2*max(ps%nleft, 1) > nmax) .and. &
-              cfg%rezone%swept_hybrid .and. n(1) > 0 .and. n(1) < n(2)
-      if (whole) return
+      par%swept_only = par%swept .and. (ps%ntaken + 2*max(ps%nleft, 1) <= nmax .or. cfg%rezone%swept_hybrid)
+      ! (as `euler_step` decides its rescue of such a part: around the
+      ! cells that cannot sweep it, every block's)
+      rescue = .not. par%swept .and. (arrived .or. ps%ntaken + 2*max(ps%nleft, 1) > nmax) .and. &
+               cfg%rezone%swept_hybrid .and. n(1) > 0 .and. n(1) < n(2)
+      if (rescue) then
+        call remap_hybrid_target(wg, xw, windows_cells(pc, wg, broke), xh)
+        return
+      end if
       if (.not. (par%swept .or. arrived) .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax) then
         ! (a part the swept faces cannot take: shorter parts)
         if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
@@ -989,6 +1014,84 @@ contains
       if (zone%open) call window_zone_open(pc, st, zone, xw, err)
     end associate
   end subroutine window_part
+
+  !> The grid of a rescue's stage (`window_part`'s rescue, as `euler_step`
+  !> takes it on the whole grid) in xw: 1, by swept faces to xh (the part's
+  !> grid xpart less the moves of the nodes around the cells that cannot
+  !> sweep it); 2, the rest of the way to xpart; 3, the whole part by
+  !> intersection (stage 1 cannot sweep, or broke a bound). par's swept,
+  !> swept_only and lattice from the blocks' owned cells, reduced
+  !> (collective); next: no remap, rescue moved on to another stage.
+  subroutine window_rescue(cfg, pc, st, zone, par, xpart, xh, rescue, xw, next, err)
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    type(remap_zone_t), intent(inout) :: zone
+    type(remap_params_t), intent(inout) :: par
+    real(wp), intent(in) :: xpart(:, :), xh(:, :)
+    integer, intent(inout) :: rescue
+    real(wp), allocatable, intent(inout) :: xw(:, :)
+    logical, intent(out) :: next
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: moved(:)
+    integer :: n(2)
+    next = .false.
+    xw = xpart
+    if (rescue == 1) xw = xh
+    if (trim(cfg%rezone%mode) == 'global') call window_lattice(pc, st, xw, par, err)
+    if (allocated(err)) return
+    associate (w => st%win, wg => st%win%g)
+      n(1) = remap_swept_blockers(wg, w%h, w%bc, xw, par%swept_max, par%swept_mixed, zone%own, moved=moved)
+      n(2) = count(zone%own(moved))
+    end associate
+    call parallel_sum(pc, n)
+    par%swept = n(1) == 0
+    if (rescue == 1 .and. .not. par%swept) then
+      rescue = 3
+      next = .true.
+    else if (rescue == 1 .and. n(2) == 0) then
+      ! (every moving cell is around those that cannot sweep: the second
+      ! stage alone)
+      rescue = 2
+      next = .true.
+    end if
+    if (next) return
+    par%swept_only = rescue == 1
+    if (zone%open) call window_zone_open(pc, st, zone, xw, err)
+  end subroutine window_rescue
+
+  !> par%lattice: whether the windows' new grid xw is a lattice (a global
+  !> rezone's), from the blocks' stored nodes (within the windows' computed
+  !> cells, where xw is the whole grid's), reduced (collective).
+  subroutine window_lattice(pc, st, xw, par, err)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in), target :: st
+    real(wp), intent(in) :: xw(:, :)
+    type(remap_params_t), intent(inout) :: par
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xb(:, :)
+    integer :: n(1)
+    call block_nodes(st%g, st%win%g, xw, xb, err)
+    call agree_error(pc, err)
+    if (allocated(err)) return
+    n(1) = merge(1, 0, lattice_nodes(st%g, xb))
+    call parallel_min(pc, n)
+    par%lattice = n(1) == 1
+  end subroutine window_lattice
+
+  !> The cells of the window wg among those the blocks name (each block its
+  !> own cells `mine`, of wg): their whole-grid numbers gathered
+  !> (collective).
+  function windows_cells(pc, wg, mine) result(list)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: wg
+    integer, intent(in) :: mine(:)
+    integer, allocatable :: list(:)
+    integer, allocatable :: every(:)
+    integer :: i
+    call gather_concat(pc, [(wg%global_cell(mine(i)), i = 1, size(mine))], every)
+    list = window_cells(wg, every)
+  end function windows_cells
 
   !> Makes zone ready for the remap of this rank's window with open faces
   !> to its new nodes xw (`remap_zone_open`; collective, on every rank
