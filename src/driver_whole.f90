@@ -670,7 +670,7 @@ contains
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), cells(:), wrote(:), broke(:)
-    integer :: n(4), k, nblock, nparts, stage, taken, rescue
+    integer :: n(4), k, nblock, nparts, stage, taken, rescue, dphase
     logical :: hybrid, lattice, again, arrived, next, kept, start
 
     redo = .false.
@@ -749,6 +749,7 @@ contains
     stage = 0
     taken = 0
     rescue = 0
+    dphase = 0
     ! (a rescue's grids: set when it begins; allocated empty here, which
     ! also keeps GCC from taking their bounds for uninitialized)
     allocate(xpart(3, 0), xh(3, 0), stat=k)
@@ -770,14 +771,17 @@ contains
         else
           call copy_gather(pc, st, .true., err, cs)
         end if
-        if (zone%open .and. hybrid) then
+        if (zone%open .and. hybrid .and. dphase == 0) then
           ! (the second remap's: to the final grid)
           call agree_error(pc, err)
           if (.not. allocated(err)) call window_zone_open(pc, st, zone, xfinal, err)
         end if
         again = .false.
       end if
-      if (ps%on .and. rescue > 0) then
+      if (dphase > 0) then
+        ! (the same remap again, its deficits' repair going on:
+        ! `window_deficits`)
+      else if (ps%on .and. rescue > 0) then
         ! a stage of a part's rescue (`window_rescue`)
         call window_rescue(cfg, pc, st, zone, par, xpart, xh, rescue, xw, next, err)
         if (allocated(err)) then
@@ -805,7 +809,9 @@ contains
         stage = stage + 1
       end if
       associate (w => st%win, wg => st%win%g)
-        if (hybrid .and. stage == 1) then
+        if (dphase > 0) then
+          ! (as the first time)
+        else if (hybrid .and. stage == 1) then
           par%swept = .true.
           par%lattice = .false.
           call move_alloc(xw, xfinal)
@@ -831,6 +837,21 @@ contains
         end if
         n = [rk%cells_short, rk%regions_uncovered, rk%cells_deficit, rk%swept_unbounded]
         call parallel_sum(pc, n(1:4))
+        if (n(3) > 0 .and. all(n([1, 2, 4]) == 0) .and. dphase < 2) then
+          ! (kinetic energy deficits: the remap again, twice, with every
+          ! window's deficit cells and then their donors' energies; the
+          ! window gathered again)
+          call window_deficits(pc, zone, dphase, n(3), es%n + 1, log)
+          again = .true.
+          kept = .false.
+          cycle
+        end if
+        if (dphase == 2) then
+          ! (the deficits repaired, counted in rk)
+          n(3) = 0
+          dphase = 0
+          deallocate(zone%deficit_cells, zone%patch%id, zone%patch%v)
+        end if
         if (ps%on .and. par%swept_only .and. n(4) > 0 .and. all(n(1:3) == 0)) then
           ! (nothing remapped: the first part again half as far, or the rest
           ! of the way in twice the parts; with no split left, the part
@@ -1014,6 +1035,46 @@ contains
       if (zone%open) call window_zone_open(pc, st, zone, xw, err)
     end associate
   end subroutine window_part
+
+  !> A window remap's kinetic energy deficits (ncell cells with one, over
+  !> the blocks), repaired over the windows in two more remaps of the same
+  !> step (`remap_zone_t`; collective): after the first (phase 0), every
+  !> window's deficit cells gathered, after the second (phase 1) the
+  !> energies of the cells around them (the patch, logged); phase moved on.
+  subroutine window_deficits(pc, zone, phase, ncell, step, log)
+    type(comm_t), intent(in) :: pc
+    type(remap_zone_t), intent(inout) :: zone
+    integer, intent(inout) :: phase
+    integer, intent(in) :: ncell, step
+    type(log_t), intent(in) :: log
+    integer, allocatable :: all(:), order(:)
+    real(wp), allocatable :: v(:)
+    integer :: stat, np
+    if (phase == 0) then
+      if (.not. allocated(zone%deficit_mine)) zone%deficit_mine = [integer ::]
+      call gather_concat(pc, zone%deficit_mine, all)
+      allocate(order(size(all)), stat=stat)
+      call parallel_nomem(stat, 'the deficits'' cells')
+      call sort_order(all, order, stat)
+      call parallel_nomem(stat, 'the deficits'' cells')
+      zone%deficit_cells = all(order)
+    else
+      if (.not. allocated(zone%donors%id)) allocate(zone%donors%id(0), zone%donors%v(4, 0), stat=stat)
+      call gather_concat(pc, zone%donors%id, all)
+      call gather_concat(pc, reshape(zone%donors%v, [size(zone%donors%v)]), v)
+      np = size(all)
+      allocate(order(np), stat=stat)
+      call parallel_nomem(stat, 'the deficits'' patch')
+      call sort_order(all, order, stat)
+      call parallel_nomem(stat, 'the deficits'' patch')
+      zone%patch%id = all(order)
+      zone%patch%v = reshape(v, [4, np])
+      zone%patch%v = zone%patch%v(:, order)
+      call log_line(log, 'euler '//itoa(step)//': kinetic energy deficits in '//itoa(ncell)// &
+                    ' cells, repaired over the windows from the '//itoa(np)//' cells around them')
+    end if
+    phase = phase + 1
+  end subroutine window_deficits
 
   !> The grid of a rescue's stage (`window_part`'s rescue, as `euler_step`
   !> takes it on the whole grid) in xw: 1, by swept faces to xh (the part's
@@ -1240,19 +1301,20 @@ contains
   subroutine remap_stats_reduce(pc, rs)
     type(comm_t), intent(in) :: pc
     type(remap_stats_t), intent(inout) :: rs
-    integer :: ni(8), nx(1)
-    real(wp) :: r(7), x(6)
+    integer :: ni(9), nx(1)
+    real(wp) :: r(9), x(6)
     ni = [rs%cells_remapped, rs%cells_copied, rs%mof_cells, rs%mof_iterations, rs%mof_not_converged, &
-          rs%slivers_merged, rs%cells_swept, rs%mof_carried]
+          rs%slivers_merged, rs%cells_swept, rs%mof_carried, rs%cells_deficit]
     nx = [rs%reach]
-    r = [rs%ke_to_internal, rs%momentum_constrained, rs%scale]
+    r = [rs%ke_to_internal, rs%momentum_constrained, rs%scale, rs%deficit_moved, rs%deficit_by_mass]
     x = [rs%volume_defect, rs%given_defect, rs%mof_err_max, rs%t_prepare, rs%t_intersect, rs%t_assemble]
-    call parallel_sum(pc, ni(1:8))
+    call parallel_sum(pc, ni(1:9))
     call parallel_max(pc, nx(1:1))
-    call parallel_sum(pc, r(1:7))
+    call parallel_sum(pc, r(1:9))
     call parallel_max(pc, x(1:6))
     rs%cells_remapped = ni(1); rs%cells_copied = ni(2); rs%mof_cells = ni(3); rs%mof_iterations = ni(4)
     rs%mof_not_converged = ni(5); rs%slivers_merged = ni(6); rs%cells_swept = ni(7); rs%mof_carried = ni(8)
+    rs%cells_deficit = ni(9); rs%deficit_moved = r(8); rs%deficit_by_mass = r(9)
     rs%reach = nx(1)
     rs%ke_to_internal = r(1); rs%momentum_constrained = r(2:4); rs%scale = r(5:7)
     rs%volume_defect = x(1); rs%given_defect = x(2); rs%mof_err_max = x(3)

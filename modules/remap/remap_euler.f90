@@ -121,6 +121,7 @@ module remap_euler
   implicit none
   private
   public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
+            deficit_patch_t, &
             remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
             remap_part_uniform, remap_hybrid_target
@@ -139,6 +140,9 @@ module remap_euler
   real(wp), parameter :: uncovered_tol = 1.0e-12_wp
   !> new cells per chunk of the lattice path (`lattice_release`)
   integer, parameter :: lattice_chunk = 2048
+  !> the rings of cells around a cell with a residual kinetic energy
+  !> deficit that pay it (`deficits_repair`)
+  integer, parameter :: deficit_rings = 4
 
   !> Settings of the remap (deck group &rezone).
   type :: remap_params_t
@@ -274,6 +278,15 @@ module remap_euler
   !> than reach_max from it, and its own block's remap finds it: it gives
   !> less than its volume (regions_uncovered) or, if the cell is computed
   !> there, it is in that window's bins (cells_short).
+  !> Cells of a kinetic energy deficits' repair (`deficits_repair`) by
+  !> their whole-grid numbers (id, increasing), each with its residual
+  !> deficit and its energies before the repair: v(1:4, q) = rdef, ie, iav,
+  !> avail (`assemble`).
+  type :: deficit_patch_t
+    integer, allocatable :: id(:)
+    real(wp), allocatable :: v(:, :)
+  end type deficit_patch_t
+
   type :: remap_zone_t
     logical, allocatable :: compute(:), own(:), own_node(:)
     integer :: reach_max = 2
@@ -283,6 +296,16 @@ module remap_euler
     !> the far cells: whole-grid indices (3, n) and boxes (lo, hi: 6, n)
     integer, allocatable :: far_ijk(:, :)
     real(wp), allocatable :: far_box(:, :)
+    !> kinetic energy deficits repaired over the windows, in three remaps
+    !> of the same step (`assemble`): the first finds the cells with a
+    !> residual deficit, each window its own cells' (deficit_mine, their
+    !> whole-grid numbers); given them all (deficit_cells, every window's,
+    !> increasing), the second gives the energies before the repair of its
+    !> own cells within the repair's rings of them (donors); given them all
+    !> (patch, increasing), the third repairs every deficit as the whole
+    !> grid does, over the patch, and takes its cells' results
+    integer, allocatable :: deficit_mine(:), deficit_cells(:)
+    type(deficit_patch_t) :: donors, patch
   end type remap_zone_t
 
   !> The old grid's cells as the remap needs them.
@@ -506,8 +529,9 @@ contains
     !> the ranks sharing the intersections and MoF of the changed cells, when every
     !> rank holds the whole grid (`base_share`; absent: this process does all)
     class(share_t), intent(in), optional :: share
-    !> a window's remap (the module's `remap_zone_t`; absent: the whole grid)
-    type(remap_zone_t), intent(in), optional :: zone
+    !> a window's remap (the module's `remap_zone_t`; absent: the whole
+    !> grid); its deficit_mine and donors set here
+    type(remap_zone_t), intent(inout), optional :: zone
     !> the cells that move from g%x to xnew, in increasing order, if the
     !> caller has them (`remap_swept_blockers`' moved; absent: found here)
     integer, intent(in), optional :: moved(:)
@@ -534,6 +558,8 @@ contains
     logical :: sharing
     real(wp) :: w0, vnew, defect, xn(3, 8), given, bold(6), bnew(6)
     integer :: ncell, c, co, r, rmax, i, nbad, ngap, stat, ci, cj, ck, ir
+    integer, allocatable :: dmine(:)
+    type(deficit_patch_t) :: dpatch
     logical :: any_open, windowed
     logical, allocatable :: own(:), own_node(:)
     integer, allocatable :: wcells(:), wnodes(:)
@@ -554,6 +580,11 @@ contains
     main: block
       ncell = g%ncell
       windowed = present(zone)
+      if (windowed) then
+        ! (this remap's, none before `assemble` sets them)
+        if (allocated(zone%deficit_mine)) deallocate(zone%deficit_mine)
+        if (allocated(zone%donors%id)) deallocate(zone%donors%id, zone%donors%v)
+      end if
       if (nmat > max_mat) then
         call error_set(err, 'remap_euler_step', 'at most '//itoa(max_mat)//' materials')
         exit main
@@ -823,7 +854,11 @@ contains
       w0 = wall_seconds()
       if (windowed) then
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      vcell, stats, err, own, zone%own_node)
+                      vcell, stats, err, own, zone%own_node, deficit_cells=zone%deficit_cells, patch=zone%patch, &
+                      deficit_mine=dmine, donors=dpatch)
+        call move_alloc(dmine, zone%deficit_mine)
+        call move_alloc(dpatch%id, zone%donors%id)
+        call move_alloc(dpatch%v, zone%donors%v)
       else
         call assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
                       vcell, stats, err, written=written)
@@ -5099,7 +5134,7 @@ contains
   !> The new state from the fragments: cells and mixed cells, nodal masses
   !> and velocities, and the kinetic energy returned to internal energy.
   subroutine assemble(g, h, mx, nmat, bc, old, xnew, par, avol, amom, amass, aie, cmass, cmom, cke, cland, pcell, &
-                      vcell, stats, err, own, own_node, written)
+                      vcell, stats, err, own, own_node, written, deficit_cells, patch, deficit_mine, donors)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(mixed_t), intent(inout) :: mx
@@ -5117,15 +5152,21 @@ contains
     type(remap_stats_t), intent(inout) :: stats
     type(error_t), allocatable, intent(inout) :: err
     !> a window's (`remap_zone_t`): the cells and nodes the stats count; the
-    !> kinetic energy deficits are counted there, not repaired
+    !> kinetic energy deficits are found there (deficit_mine: the own
+    !> cells'), their donors' energies given (donors: deficit_cells given)
+    !> or repaired over the patch (`remap_zone_t`)
     logical, intent(in), optional :: own(:), own_node(:)
     !> the cells whose state may have been written (`remap_euler_step`)
     integer, allocatable, intent(out), optional :: written(:)
+    integer, intent(in), optional :: deficit_cells(:)
+    type(deficit_patch_t), intent(in), optional :: patch
+    integer, allocatable, intent(out), optional :: deficit_mine(:)
+    type(deficit_patch_t), intent(out), optional :: donors
     type(mixed_t) :: nx
     integer, allocatable :: nmix(:), visit(:), n0(:)
     real(wp), allocatable :: dk(:), ie(:), iav(:), avail(:), navail(:), kdef(:), rdef(:), uc(:, :)
     real(wp) :: xn(3, 8), vtot, mnew, vs(8), take, frac, vmean(3), theta, surplus, kdev, kmean, kland, kscale, short_c
-    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i
+    integer :: c, n, a, k, s, kk, big, nslot, nmixed, ncell, stat, i, phase
     character(len=200) :: msg
     logical :: keep(max_mat), short, wide, limited
 
@@ -5382,25 +5423,36 @@ contains
       ie(c) = short_c
       rdef(c) = short_c
     end do
-    if (present(own)) then
-      ! (the repair reaches cells further away, in the whole grid's order)
+    phase = 0
+    if (present(deficit_cells)) phase = 1
+    if (present(patch)) then
+      if (allocated(patch%id)) phase = 2
+    end if
+    if (present(own) .and. phase < 2) then
+      ! (a window: the repair reaches cells further away, in the whole
+      ! grid's order; its own cells' deficits, or with every window's its
+      ! donors' energies, and no state written, `remap_zone_t`)
       stats%cells_deficit = count(rdef(old%lnear) < 0.0_wp .and. own(old%lnear))
+      if (phase == 0 .and. present(deficit_mine)) then
+        deficit_mine = pack(old%lnear, rdef(old%lnear) < 0.0_wp .and. own(old%lnear))
+        deficit_mine = [(g%global_cell(deficit_mine(i)), i = 1, size(deficit_mine))]
+      end if
+      if (phase == 1 .and. present(donors)) call give_donors()
+      if (phase == 1) then
+        old%node(old%lnode) = .false.
+        return
+      end if
+    else if (present(own)) then
+      ! (a window given the patch: the repair as the whole grid's over it;
+      ! the window's cells in it join the cells set)
+      call repair_patch()
+      if (allocated(err)) return
     else if (any(rdef(old%lnear) < 0.0_wp)) then
       ! (it reaches cells beyond the near ones: every cell's energy is offered)
       wide = .true.
-      do c = 1, ncell
-        if (old%near(c)) cycle
-        ! (their energies change too: out of the totals' change, back below)
-        call xsum_add(stats%change(5), -h%mass(c)*h%e(c))
-        if (h%mat(c) > 0) nmix(c) = 0
-        avail(c) = cell_avail(c)
-        kdef(c) = 0.0_wp
-        ie(c) = 0.0_wp
-        iav(c) = 0.0_wp
-        rdef(c) = 0.0_wp
-      end do
       visit = [(c, c = 1, ncell)]
-      call repair_deficits()
+      call offer_far()
+      call deficits_repair(g%gn, rdef, ie, iav, avail, stats)
     end if
 
     ! cells (what moved: the changed cells' nodes; a window's other nodes
@@ -5463,8 +5515,9 @@ contains
       end do
     end do
     if (wide) then
-      do c = 1, ncell
-        if (.not. old%near(c)) call xsum_add(stats%change(5), h%mass(c)*h%e(c))
+      do i = 1, size(visit)
+        c = visit(i)
+        if (.not. old%near(c) .and. counted(c)) call xsum_add(stats%change(5), h%mass(c)*h%e(c))
       end do
     end if
     call move_mixed(nx, mx)
@@ -5487,68 +5540,107 @@ contains
       if (present(own_node)) node_counted = own_node(nn)
     end function node_counted
 
-    !> The residual deficits rdef(c) < 0 (kinetic energy the new nodal
-    !> velocities hold beyond what the remap brought and the cells around
-    !> their nodes could give) are taken back from the cells that hold them
-    !> and taken instead from the energy the cells nearest to them still
-    !> have above zero: ring after ring of cells around (index distance 0,
-    !> 1, ... up to max_ring), each ring giving in proportion to what its
-    !> cells have, until the deficit is paid. A cell gives first from the
-    !> kinetic energy returned to it (ie > 0, shared by mass among its
-    !> materials), then from its own internal energy above zero (iav, shared
-    !> in proportion to the materials' positive energies), never past zero.
-    !> Cells are done in index order, so the result does not depend on the
-    !> thread count; what no ring within max_ring can give is taken by
-    !> mass, as before. Total energy is unchanged: only where it sits moves.
-    subroutine repair_deficits()
-      integer, parameter :: max_ring = 4
-      integer :: cc, ring, ci, cj, ck, i, j, k, d
-      real(wp) :: need, total, f, give, t1
+    !> The visited cells beyond the near ones offer their energy above zero
+    !> to the deficits' repair (`deficits_repair`), and their energies may
+    !> change: out of the totals' change (back after the assembly).
+    subroutine offer_far()
+      integer :: ii, cc
+      do ii = 1, size(visit)
+        cc = visit(ii)
+        if (old%near(cc)) cycle
+        if (counted(cc)) call xsum_add(stats%change(5), -h%mass(cc)*h%e(cc))
+        if (h%mat(cc) > 0) nmix(cc) = 0
+        avail(cc) = cell_avail(cc)
+        kdef(cc) = 0.0_wp
+        ie(cc) = 0.0_wp
+        iav(cc) = 0.0_wp
+        rdef(cc) = 0.0_wp
+      end do
+    end subroutine offer_far
 
-      do cc = 1, ncell
-        if (.not. rdef(cc) < 0.0_wp) cycle
-        need = -rdef(cc)
-        ie(cc) = ie(cc) + need
-        stats%cells_deficit = stats%cells_deficit + 1
-        stats%deficit_moved = stats%deficit_moved + need
-        call g%cell_ijk(cc, ci, cj, ck)
-        do ring = 0, max_ring
-          total = 0.0_wp
-          do k = max(g%clo(3), ck - ring), min(g%chi(3), ck + ring)
-            do j = max(g%clo(2), cj - ring), min(g%chi(2), cj + ring)
-              do i = max(g%clo(1), ci - ring), min(g%chi(1), ci + ring)
-                if (max(abs(i - ci), abs(j - cj), abs(k - ck)) /= ring) cycle
-                total = total + capacity(g%cell(i, j, k))
-              end do
+    !> donors: the window's own cells within the repair's rings of the
+    !> deficit cells (every window's, `remap_zone_t`), with their residual
+    !> deficits and energies before the repair (those beyond the near cells
+    !> as `offer_far` sets them), in increasing order.
+    subroutine give_donors()
+      logical, allocatable :: pick(:)
+      integer, allocatable :: list(:)
+      integer :: ii, cc, q, ijk(3), lo(3), hi(3), i1, j1, k1
+      allocate(pick(ncell), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler', error_no_memory('the deficits'' donors'))
+        return
+      end if
+      pick = .false.
+      do q = 1, size(deficit_cells)
+        ijk = [mod(deficit_cells(q) - 1, g%gn(1)), mod((deficit_cells(q) - 1)/g%gn(1), g%gn(2)), &
+               (deficit_cells(q) - 1)/(g%gn(1)*g%gn(2))] + 1 - g%off
+        lo = max(ijk - deficit_rings, [g%clo(1), g%clo(2), g%clo(3)])
+        hi = min(ijk + deficit_rings, [g%chi(1), g%chi(2), g%chi(3)])
+        do k1 = lo(3), hi(3)
+          do j1 = lo(2), hi(2)
+            do i1 = lo(1), hi(1)
+              pick(g%cell(i1, j1, k1)) = own(g%cell(i1, j1, k1))
             end do
           end do
-          if (.not. total > 0.0_wp) cycle
-          f = min(1.0_wp, need/total)
-          do k = max(g%clo(3), ck - ring), min(g%chi(3), ck + ring)
-            do j = max(g%clo(2), cj - ring), min(g%chi(2), cj + ring)
-              do i = max(g%clo(1), ci - ring), min(g%chi(1), ci + ring)
-                if (max(abs(i - ci), abs(j - cj), abs(k - ck)) /= ring) cycle
-                d = g%cell(i, j, k)
-                give = f*capacity(d)
-                t1 = min(give, max(ie(d), 0.0_wp))
-                ie(d) = ie(d) - t1
-                iav(d) = iav(d) - (give - t1)
-              end do
-            end do
-          end do
-          need = need - f*total
-          if (f < 1.0_wp) then
-            need = 0.0_wp
-            exit
-          end if
         end do
-        ! what is left: by mass
-        if (need > 0.0_wp) then
-          ie(cc) = ie(cc) - need
-          stats%deficit_by_mass = stats%deficit_by_mass + need
+      end do
+      list = pack([(ii, ii = 1, ncell)], pick)
+      allocate(donors%id(size(list)), donors%v(4, size(list)), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler', error_no_memory('the deficits'' donors'))
+        return
+      end if
+      do ii = 1, size(list)
+        cc = list(ii)
+        donors%id(ii) = g%global_cell(cc)
+        if (old%near(cc)) then
+          donors%v(:, ii) = [rdef(cc), ie(cc), iav(cc), avail(cc)]
+        else
+          donors%v(:, ii) = [0.0_wp, 0.0_wp, 0.0_wp, cell_avail(cc)]
         end if
       end do
-    end subroutine repair_deficits
+    end subroutine give_donors
+
+    !> The deficits repaired over the patch (every window's donors) as the
+    !> whole grid repairs them (`deficits_repair`, the stats counting the
+    !> own cells' deficits), and the window's cells in it set from it: the
+    !> visited cells widened to them (`offer_far`).
+    subroutine repair_patch()
+      real(wp), allocatable :: pv(:, :)
+      integer, allocatable :: at(:), list(:)
+      logical, allocatable :: mine(:)
+      integer :: q, np, cc, ijk(3)
+      np = size(patch%id)
+      allocate(pv(4, np), at(np), mine(np), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'remap_euler', error_no_memory('the deficits'' patch'))
+        return
+      end if
+      pv = patch%v
+      do q = 1, np
+        ijk = [mod(patch%id(q) - 1, g%gn(1)), mod((patch%id(q) - 1)/g%gn(1), g%gn(2)), &
+               (patch%id(q) - 1)/(g%gn(1)*g%gn(2))] + 1 - g%off
+        at(q) = 0
+        if (all(ijk >= [g%clo(1), g%clo(2), g%clo(3)] .and. ijk <= [g%chi(1), g%chi(2), g%chi(3)])) &
+          at(q) = g%cell(ijk(1), ijk(2), ijk(3))
+        mine(q) = .false.
+        if (at(q) > 0) mine(q) = own(at(q))
+      end do
+      call deficits_repair(g%gn, pv(1, :), pv(2, :), pv(3, :), pv(4, :), stats, mine, patch%id)
+      call sorted_union(visit, pack(at, at > 0), list, err)
+      if (allocated(err)) return
+      call move_alloc(list, visit)
+      wide = .true.
+      call offer_far()
+      do q = 1, np
+        cc = at(q)
+        if (cc == 0) cycle
+        ie(cc) = pv(2, q)
+        iav(cc) = pv(3, q)
+        avail(cc) = pv(4, q)
+      end do
+    end subroutine repair_patch
 
     !> The internal energy above zero cell cc has to offer: its remapped
     !> materials' if it changed, else its own.
@@ -5565,12 +5657,6 @@ contains
       end if
     end function cell_avail
 
-    !> What cell d can still give towards a deficit (see repair_deficits).
-    pure real(wp) function capacity(d)
-      integer, intent(in) :: d
-      ! (never quite all of it: round-off must not take a donor below zero)
-      capacity = (1.0_wp - 1.0e-12_wp)*(max(ie(d), 0.0_wp) + max(avail(d) + iav(d), 0.0_wp))
-    end function capacity
 
     !> The share of a material with internal energy q in what its cell has
     !> available (total: only positive energies count).
@@ -5580,6 +5666,114 @@ contains
       if (total > 0.0_wp) share = max(q, 0.0_wp)/total
     end function share
   end subroutine assemble
+
+  !> The residual deficits rdef < 0 (kinetic energy the new nodal
+  !> velocities hold beyond what the remap brought and the cells around
+  !> their nodes could give) are taken back from the cells that hold them
+  !> and taken instead from the energy the cells nearest to them still
+  !> have above zero: ring after ring of cells around (index distance 0,
+  !> 1, ... up to deficit_rings), each ring giving in proportion to what
+  !> its cells have, until the deficit is paid. A cell gives first from
+  !> the kinetic energy returned to it (ie > 0, shared by mass among its
+  !> materials), then from its own internal energy above zero (avail + iav,
+  !> shared in proportion to the materials' positive energies), never past
+  !> zero. Cells are done in the whole grid's order, so the result depends
+  !> neither on the thread count nor on the blocks; what no ring within
+  !> reach can give is taken by mass. Total energy is unchanged: only
+  !> where it sits moves. The arrays' entry q is the whole grid's cell q
+  !> (gn cells a side), or with ids cell ids(q) (increasing; every cell
+  !> within the rings of a deficit's is there); the stats count the
+  !> deficits of the entries `counted` (absent: all).
+  pure subroutine deficits_repair(gn, rdef, ie, iav, avail, stats, counted, ids)
+    integer, intent(in) :: gn(3)
+    real(wp), intent(in) :: rdef(:), avail(:)
+    real(wp), intent(inout) :: ie(:), iav(:)
+    type(remap_stats_t), intent(inout) :: stats
+    logical, intent(in), optional :: counted(:)
+    integer, intent(in), optional :: ids(:)
+    integer :: q, ring, ijk(3), i, j, k, d, id
+    real(wp) :: need, total, f, give, t1
+    logical :: count_it
+
+    do q = 1, size(rdef)
+      if (.not. rdef(q) < 0.0_wp) cycle
+      need = -rdef(q)
+      ie(q) = ie(q) + need
+      count_it = .true.
+      if (present(counted)) count_it = counted(q)
+      if (count_it) then
+        stats%cells_deficit = stats%cells_deficit + 1
+        stats%deficit_moved = stats%deficit_moved + need
+      end if
+      id = q
+      if (present(ids)) id = ids(q)
+      ijk = [mod(id - 1, gn(1)), mod((id - 1)/gn(1), gn(2)), (id - 1)/(gn(1)*gn(2))] + 1
+      do ring = 0, deficit_rings
+        total = 0.0_wp
+        do k = max(1, ijk(3) - ring), min(gn(3), ijk(3) + ring)
+          do j = max(1, ijk(2) - ring), min(gn(2), ijk(2) + ring)
+            do i = max(1, ijk(1) - ring), min(gn(1), ijk(1) + ring)
+              if (max(abs(i - ijk(1)), abs(j - ijk(2)), abs(k - ijk(3))) /= ring) cycle
+              total = total + capacity(entry(i, j, k))
+            end do
+          end do
+        end do
+        if (.not. total > 0.0_wp) cycle
+        f = min(1.0_wp, need/total)
+        do k = max(1, ijk(3) - ring), min(gn(3), ijk(3) + ring)
+          do j = max(1, ijk(2) - ring), min(gn(2), ijk(2) + ring)
+            do i = max(1, ijk(1) - ring), min(gn(1), ijk(1) + ring)
+              if (max(abs(i - ijk(1)), abs(j - ijk(2)), abs(k - ijk(3))) /= ring) cycle
+              d = entry(i, j, k)
+              give = f*capacity(d)
+              t1 = min(give, max(ie(d), 0.0_wp))
+              ie(d) = ie(d) - t1
+              iav(d) = iav(d) - (give - t1)
+            end do
+          end do
+        end do
+        need = need - f*total
+        if (f < 1.0_wp) then
+          need = 0.0_wp
+          exit
+        end if
+      end do
+      ! what is left: by mass
+      if (need > 0.0_wp) then
+        ie(q) = ie(q) - need
+        if (count_it) stats%deficit_by_mass = stats%deficit_by_mass + need
+      end if
+    end do
+
+  contains
+
+    !> The entry of the whole grid's cell (ii, jj, kk).
+    pure integer function entry(ii, jj, kk)
+      integer, intent(in) :: ii, jj, kk
+      integer :: lo, hi, mid, key
+      key = ii + gn(1)*((jj - 1) + gn(2)*(kk - 1))
+      entry = key
+      if (.not. present(ids)) return
+      lo = 1
+      hi = size(ids)
+      do while (lo < hi)
+        mid = (lo + hi)/2
+        if (ids(mid) < key) then
+          lo = mid + 1
+        else
+          hi = mid
+        end if
+      end do
+      entry = lo
+    end function entry
+
+    !> What entry dd can still give towards a deficit.
+    pure real(wp) function capacity(dd)
+      integer, intent(in) :: dd
+      ! (never quite all of it: round-off must not take a donor below zero)
+      capacity = (1.0_wp - 1.0e-12_wp)*(max(ie(dd), 0.0_wp) + max(avail(dd) + iav(dd), 0.0_wp))
+    end function capacity
+  end subroutine deficits_repair
 
   !> Replaces mx by nx.
   subroutine move_mixed(nx, mx)
