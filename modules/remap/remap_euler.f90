@@ -5317,8 +5317,17 @@ contains
     !$omp end parallel do
     h%mnode(old%lnode) = 0.0_wp
     h%u(:, old%lnode) = 0.0_wp
-    ! (the near cells' first nodes, for the loops over their corners below)
-    n0 = [(g%node0(old%lnear(i)), i = 1, size(old%lnear))]
+    ! (the near cells' first nodes, for the loops over their corners below;
+    ! allocated here, which keeps GCC from taking its bounds for
+    ! uninitialized)
+    allocate(n0(size(old%lnear)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('the nodal work arrays'))
+      return
+    end if
+    do i = 1, size(old%lnear)
+      n0(i) = g%node0(old%lnear(i))
+    end do
     do i = 1, size(old%lnear)
       c = old%lnear(i)
       n = n0(i)
@@ -5353,6 +5362,11 @@ contains
     end do
     ! the velocity conditions: the momentum and kinetic energy they take
     ! (the other nodes' velocities met them before: unchanged)
+    allocate(uc(3, size(old%lnode)), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('the nodal work arrays'))
+      return
+    end if
     uc = h%u(:, old%lnode)
     call bc_constrain_nodes(bc, g, old%lnode, h%u)
     stats%momentum_constrained = 0.0_wp
@@ -5431,17 +5445,14 @@ contains
     if (present(own) .and. phase < 2) then
       ! (a window: the repair reaches cells further away, in the whole
       ! grid's order; its own cells' deficits, or with every window's its
-      ! donors' energies, and no state written, `remap_zone_t`)
+      ! donors' energies, `remap_zone_t`)
       stats%cells_deficit = count(rdef(old%lnear) < 0.0_wp .and. own(old%lnear))
       if (phase == 0 .and. present(deficit_mine)) then
         deficit_mine = pack(old%lnear, rdef(old%lnear) < 0.0_wp .and. own(old%lnear))
         deficit_mine = [(g%global_cell(deficit_mine(i)), i = 1, size(deficit_mine))]
       end if
+      ! (the state is written as before: the caller takes none of it)
       if (phase == 1 .and. present(donors)) call give_donors()
-      if (phase == 1) then
-        old%node(old%lnode) = .false.
-        return
-      end if
     else if (present(own)) then
       ! (a window given the patch: the repair as the whole grid's over it;
       ! the window's cells in it join the cells set)
