@@ -3,7 +3,7 @@
 module base_sort
   implicit none
   private
-  public :: sort_order, sorted_runs
+  public :: sort_order, sorted_runs, sorted_place
 
 contains
 
@@ -69,4 +69,21 @@ contains
       end if
     end do
   end subroutine sorted_runs
+
+  !> The first place q of the increasing list with list(q) >= key (by
+  !> bisection; size(list) + 1 if there is none).
+  pure integer function sorted_place(list, key) result(q)
+    integer, intent(in) :: list(:), key
+    integer :: hi, mid
+    q = 1
+    hi = size(list) + 1
+    do while (q < hi)
+      mid = (q + hi)/2
+      if (list(mid) < key) then
+        q = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+  end function sorted_place
 end module base_sort

@@ -53,7 +53,7 @@ module lagrange_centroids
   use mesh_geometry, only: hex_trilinear, hex_natural, hex_volume, cross
   use material_mixed, only: mixed_t, mixed_forget_planes
   use remap_mof, only: mof_reconstruct_nested, mof_nested_cut, mof_max_iter_default
-  use base_sort, only: sort_order
+  use base_sort, only: sort_order, sorted_place
   implicit none
   private
   public :: centroid_stats_t, centroids_fit_planes, centroids_refresh, centre_axes, plane_normals, &
@@ -287,7 +287,7 @@ contains
     !> planes itself, `carried_cut`) and replaces; ignored if not sorted
     integer, intent(in), optional :: skip(:)
     real(wp) :: xn(3, 8), vreg(max_mat), cen(3, max_mat)
-    integer :: k, c, s0, s1, nm, j, nmove, nfail, lo, hi, mid, nskip
+    integer :: k, c, s0, s1, nm, j, nmove, nfail, q, nskip
     integer, allocatable :: list(:)
     logical :: ok
 
@@ -305,7 +305,7 @@ contains
     end if
     nmove = 0; nfail = 0
     !$omp parallel do default(none) shared(g, mx, list, nskip) &
-    !$omp private(k, c, s0, s1, nm, j, ok, xn, vreg, cen, lo, hi, mid) &
+    !$omp private(k, c, s0, s1, nm, j, ok, xn, vreg, cen, q) &
     !$omp reduction(+: nmove, nfail) schedule(dynamic, 16)
     do k = 1, mx%n
       s0 = mx%start(k)
@@ -314,18 +314,10 @@ contains
       if (nm < 2 .or. nm > max_mat) cycle
       c = mx%cell(k)
       if (nskip > 0) then
-        ! (bisection of the sorted list)
-        lo = 1
-        hi = nskip
-        do while (lo < hi)
-          mid = (lo + hi)/2
-          if (list(mid) < c) then
-            lo = mid + 1
-          else
-            hi = mid
-          end if
-        end do
-        if (list(hi) == c) cycle
+        q = sorted_place(list(1:nskip), c)
+        if (q <= nskip) then
+          if (list(q) == c) cycle
+        end if
       end if
       if (.not. planes_known(mx, s0, s1)) then
         nfail = nfail + 1

@@ -116,7 +116,7 @@ module remap_euler
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_share, only: share_t
   use base_build, only: build_checks
-  use base_sort, only: sort_order
+  use base_sort, only: sort_order, sorted_place
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   implicit none
   private
@@ -5761,21 +5761,8 @@ contains
     !> The entry of the whole grid's cell (ii, jj, kk).
     pure integer function entry(ii, jj, kk)
       integer, intent(in) :: ii, jj, kk
-      integer :: lo, hi, mid, key
-      key = ii + gn(1)*((jj - 1) + gn(2)*(kk - 1))
-      entry = key
-      if (.not. present(ids)) return
-      lo = 1
-      hi = size(ids)
-      do while (lo < hi)
-        mid = (lo + hi)/2
-        if (ids(mid) < key) then
-          lo = mid + 1
-        else
-          hi = mid
-        end if
-      end do
-      entry = lo
+      entry = ii + gn(1)*((jj - 1) + gn(2)*(kk - 1))
+      if (present(ids)) entry = sorted_place(ids, entry)
     end function entry
 
     !> What entry dd can still give towards a deficit.
