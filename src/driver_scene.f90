@@ -3,10 +3,10 @@
 !> cut cells), energy sources, nodal masses (Eq. 16), boundaries and the
 !> MPM particles (`driver_particles`).
 module driver_scene
-  use base_kinds, only: wp
+  use base_kinds, only: wp, i8
   use base_strings, only: itoa, rtoa
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT
-  use base_random, only: rng_seed, rng_uniform
+  use base_random, only: rng_t, rng_seed, rng_uniform, rng_jump_t, rng_jump, rng_apply
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes
   use mesh_halo, only: halo_t
@@ -47,9 +47,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: block
     logical, intent(in), optional :: fluid_only, remap_only
-    integer :: m, c, n, a, r, s, ijk(3), stat, i, j, k
+    integer :: m, c, n, r, s, ijk(3), stat
     type(centroid_stats_t) :: planes
-    real(wp) :: xn(3, 8), h(3), rv, xi(3), key
+    real(wp) :: xn(3, 8), h(3), xi(3), key
     logical :: inside, fluid, remap, mapping
     real(wp), allocatable :: xfile(:, :)
     character(len=200) :: msg
@@ -157,23 +157,7 @@ contains
         if (r > 0) hy%u(:, n) = region_velocity(cfg%regions(r), g%x(:, n))
       end do
       call rng_seed(st%rng, cfg%control%seed)
-      if (cfg%control%velocity_noise > 0.0_wp) then
-        ! drawn for every node of the whole grid in its order, so that a
-        ! block's nodes get the numbers they get on one block
-        do k = 0, g%gn(3)
-          do j = 0, g%gn(2)
-            do i = 0, g%gn(1)
-              ijk = [i, j, k] - g%off
-              n = 0
-              if (all(ijk >= g%slo - 1 .and. ijk <= g%shi)) n = g%node(ijk(1), ijk(2), ijk(3))
-              do a = 1, 3
-                rv = rng_uniform(st%rng)
-                if (n > 0) hy%u(a, n) = hy%u(a, n) + cfg%control%velocity_noise*(2.0_wp*rv - 1.0_wp)
-              end do
-            end do
-          end do
-        end do
-      end if
+      if (cfg%control%velocity_noise > 0.0_wp) call velocity_noise(g, cfg%control%velocity_noise, st%rng, hy%u)
       ! energy sources: added to the cell that contains the point (on a box
       ! grid the cell of global index int((p - xmin)/h) + 1, a point on a
       ! face going to the cell above it, on every block that stores it; on a
@@ -770,4 +754,46 @@ contains
     real(wp), intent(in) :: p(3)
     inside = shape_inside(region_shape(rg), p)
   end function inside
+  !> A uniform random velocity in [-amp, amp) added to each component of
+  !> the stored nodes' velocities u of g, drawn from r in the whole grid's
+  !> node order (k, j, i, then the components), so that a block's nodes get
+  !> the numbers they get on one block: each row of the block's nodes from
+  !> its first node's place in the sequence (`rng_jump`), not every node of
+  !> the whole grid drawn on every rank. r ends past every node's draws, as
+  !> one block leaves it.
+  subroutine velocity_noise(g, amp, r, u)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: amp
+    type(rng_t), intent(inout) :: r
+    real(wp), intent(inout) :: u(:, :)
+    type(rng_jump_t) :: to_row, to_plane, to_first
+    type(rng_t) :: plane, row, q
+    integer(i8) :: nx, ny
+    integer :: lo(3), hi(3), i, j, k, a, n
+    nx = g%gn(1) + 1
+    ny = g%gn(2) + 1
+    lo = g%slo - 1 + g%off
+    hi = g%shi + g%off
+    to_row = rng_jump(3*nx)
+    to_plane = rng_jump(3*nx*ny)
+    to_first = rng_jump(3*(lo(1) + nx*lo(2)))
+    plane = r
+    call rng_apply(rng_jump(3*nx*ny*lo(3)), plane)
+    do k = lo(3), hi(3)
+      row = plane
+      call rng_apply(to_first, row)
+      do j = lo(2), hi(2)
+        q = row
+        do i = lo(1), hi(1)
+          n = g%node(i - g%off(1), j - g%off(2), k - g%off(3))
+          do a = 1, 3
+            u(a, n) = u(a, n) + amp*(2.0_wp*rng_uniform(q) - 1.0_wp)
+          end do
+        end do
+        call rng_apply(to_row, row)
+      end do
+      call rng_apply(to_plane, plane)
+    end do
+    call rng_apply(rng_jump(3*nx*ny*(g%gn(3) + 1)), r)
+  end subroutine velocity_noise
 end module driver_scene

@@ -1,7 +1,8 @@
 !> Unit tests of strength_random_field (PARTICLES.md §3): the generator
 !> against the reference C implementation, the statistics of correlated
 !> fields against their exact sampling errors, the uncorrelated limit, the
-!> one-cell-thick (2D) box, reproducibility and the void-fraction maps.
+!> one-cell-thick (2D) box, reproducibility and the void-fraction maps;
+!> and base_random's jump over n draws against n draws.
 !>
 !> Tolerances. A field sampled on a lattice of N points is one Gaussian
 !> vector with known covariance C, so the sampling errors of the statistics
@@ -29,6 +30,7 @@ program test_random_field
   use test_assert, only: check, check_close, check_summary
   use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field, &
                                    random_normal_t, random_normal_seed, random_normal_next, random_bits_next
+  use base_random, only: rng_t, rng_seed, rng_uniform, rng_jump, rng_apply
   implicit none
 
   call test_generator()
@@ -40,9 +42,36 @@ program test_random_field
   call test_lognormal()
   call test_truncation()
   call test_errors()
+  call test_rng_jump()
   call check_summary('test_random_field')
 
 contains
+
+  !> base_random's rng_jump(n) moves a generator on exactly as n draws do
+  !> (the same state bits, then the same next numbers), for several seeds
+  !> and lengths, 0 and powers of two among them.
+  subroutine test_rng_jump()
+    integer(i8), parameter :: lengths(7) = [0_i8, 1_i8, 2_i8, 63_i8, 64_i8, 1000_i8, 123457_i8]
+    integer, parameter :: seeds(3) = [1, 12345, -7]
+    type(rng_t) :: a, b
+    integer :: s, l, k
+    integer(i8) :: q
+    real(wp) :: x
+    do s = 1, size(seeds)
+      do l = 1, size(lengths)
+        call rng_seed(a, seeds(s))
+        call rng_seed(b, seeds(s))
+        do q = 1, lengths(l)
+          x = rng_uniform(a)
+        end do
+        call rng_apply(rng_jump(lengths(l)), b)
+        call check(a%s == b%s, 'rng_jump: the state after draws')
+        do k = 1, 3
+          call check(same_bits(rng_uniform(a), rng_uniform(b)), 'rng_jump: the draws after')
+        end do
+      end do
+    end do
+  end subroutine test_rng_jump
 
   !> A 64-bit pattern from its two 32-bit halves (hex digits as integers).
   pure integer(i8) function bits(hi, lo)
