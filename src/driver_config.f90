@@ -13,7 +13,7 @@ module driver_config
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
   use material_library, only: units_known, units_list, library_value
-  use lagrange_state, only: hydro_params_t
+  use hydro_state, only: hydro_params_t
   use lagrange_config, only: hydro_config_read
   use rezone_config, only: rezone_config_t, rezone_config_read
   use io_deck, only: deck_t, deck_read, deck_from_lines, text_lines, deck_count, deck_text, deck_where, echo_open, &

@@ -23,7 +23,7 @@ module driver_euler
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
                                 plane_memory_t
-  use lagrange_state, only: hydro_totals
+  use hydro_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
                          remap_hybrid_target, remap_part_target, remap_part_folded, remap_part_uniform, remap_work_t
   use remap_lattice, only: lattice_nodes

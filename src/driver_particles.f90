@@ -68,7 +68,7 @@ module driver_particles
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_t, bc_constrain
   use lagrange_integrator, only: lagrange_step
-  use lagrange_state, only: nodal_sums, cell_sums
+  use hydro_state, only: nodal_sums, cell_sums
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape

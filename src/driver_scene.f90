@@ -16,9 +16,9 @@ module driver_scene
   use mesh_boundary, only: bc_init, bc_constrain
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_allocate, mixed_cell_state
-  use remap_shapes, only: shape_t, shape_inside, shapes_cell_moments
+  use geometry_shapes, only: shape_t, shape_inside, shapes_cell_moments
   use mesh_shapes, only: shape_kind
-  use lagrange_state, only: hydro_allocate, hydro_subcell_masses
+  use hydro_state, only: hydro_allocate, hydro_subcell_masses
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes
   use io_log, only: log_t, log_line
   use driver_scene_config, only: region_config_t
@@ -442,7 +442,7 @@ contains
   !> overriding an earlier one). Each cell's volume and first moment held by
   !> every region come from `shapes_cell_moments` (exact for planar region
   !> boundaries, curved ones resolved to 1/subsamples of the cell: module
-  !> remap_shapes), which make the volume fractions, masses, energies and
+  !> geometry_shapes), which make the volume fractions, masses, energies and
   !> centroids of its materials. A cell with one material is pure (with the
   !> state of its region if one region holds it all, else the mass-averaged
   !> state of its regions); a cell with several is a mixed cell. A region's
@@ -703,7 +703,7 @@ contains
     end do
   end subroutine cell_materials
 
-  !> The shape of a region, for `remap_shapes`.
+  !> The shape of a region, for `geometry_shapes`.
   pure function region_shape(rg) result(sh)
     type(region_config_t), intent(in) :: rg
     type(shape_t) :: sh

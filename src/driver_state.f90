@@ -12,7 +12,7 @@ module driver_state
   use mesh_boundary, only: bc_t
   use material_table, only: material_t
   use material_mixed, only: mixed_t, mixed_register_restart
-  use lagrange_state, only: hydro_t, hydro_totals, hydro_register_restart
+  use hydro_state, only: hydro_t, hydro_totals, hydro_register_restart
   use mesh_halo, only: halo_t
   use base_share, only: share_t
   use lagrange_centroids, only: centroid_stats_t

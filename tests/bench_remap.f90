@@ -52,10 +52,10 @@ program bench_remap
   use mesh_geometry, only: hex_corner, hex_volume, hex_natural
   use mesh_boundary, only: bc_t, bc_init
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use mesh_halo, only: halo_t
-  use remap_cells, only: cell_moments
-  use remap_mof, only: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_max_iter_default
+  use geometry_cells, only: cell_moments
+  use geometry_mof, only: mof_cut_volume, mof_plane_for_volume, mof_reconstruct, mof_max_iter_default
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_work_t
   use omp_lib, only: omp_get_max_threads
   implicit none

@@ -1,6 +1,6 @@
 !> Unit tests of the mixed cells' material centroids and time step:
 !>  - initial fractions and centroids of region shapes in a cell
-!>    (`remap_shapes`) against exact values: a box cut and an oblique
+!>    (`geometry_shapes`) against exact values: a box cut and an oblique
 !>    half-space corner in a sheared cell (exact to round-off), a sphere
 !>    octant (the tangent-plane error model);
 !>  - centroids kept consistent through Lagrangian steps whose closure
@@ -22,13 +22,13 @@ program test_centroids
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t, mixed_allocate, mixed_cell_state, mixed_save_step_start, mixed_split, &
                             mixed_volume_gain
-  use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_subcell_masses
   use lagrange_forces, only: lagrange_strain_rates
   use lagrange_integrator, only: lagrange_step
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, plane_normals, &
                                 centroids_remember, plane_memory_t
-  use remap_mof, only: mof_reconstruct_nested, mof_plane_for_volume, mof_cut_volume
-  use remap_shapes, only: shape_t, shapes_cell_moments, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE
+  use geometry_mof, only: mof_reconstruct_nested, mof_plane_for_volume, mof_cut_volume
+  use geometry_shapes, only: shape_t, shapes_cell_moments, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE
   implicit none
 
   real(wp), parameter :: pi = 4.0_wp*atan(1.0_wp)

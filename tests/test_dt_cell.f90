@@ -15,7 +15,7 @@ program test_dt_cell
   use mesh_geometry, only: hex_volume
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t
-  use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_subcell_masses
   use lagrange_forces, only: lagrange_strain_rates
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none

@@ -11,7 +11,7 @@ program test_io_gauges
   use test_assert, only: check, check_close, check_summary
   use mesh_grid, only: grid_t, grid_init_box
   use mesh_geometry, only: hex_trilinear
-  use lagrange_state, only: hydro_t, hydro_allocate
+  use hydro_state, only: hydro_t, hydro_allocate
   use io_gauges, only: gauge_locate, gauge_sample, gauge_nfield, text_rows_trim
   implicit none
 

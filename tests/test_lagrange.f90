@@ -20,7 +20,7 @@ program test_lagrange
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, &
+  use hydro_state, only: hydro_t, hydro_params_t, hydro_allocate, hydro_totals, hydro_subcell_masses, &
                             VISC_EDGE, VISC_TENSOR
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, limiter_step
   use lagrange_integrator, only: lagrange_step, lagrange_stable_dt

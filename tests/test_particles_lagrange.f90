@@ -49,7 +49,7 @@ program test_particles_lagrange
   use strength_factory, only: strength_create
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use particles_lagrange, only: particles_stable_dt, particles_cell_fraction
-  use lagrange_state, only: hydro_t, hydro_params_t, hydro_allocate
+  use hydro_state, only: hydro_t, hydro_params_t, hydro_allocate
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces
   use test_assert, only: check, check_close, check_summary
   use test_one_cell, only: one_cell

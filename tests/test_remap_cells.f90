@@ -7,7 +7,7 @@ program test_remap_cells
   use test_assert, only: check, check_summary
   use mesh_geometry, only: hex_volume
   use mesh_grid, only: block_gather
-  use remap_cells, only: cell_moments
+  use geometry_cells, only: cell_moments
   implicit none
   integer, parameter :: ni = 4, nj = 3, nk = 2, nc = ni*nj*nk, nn = (ni + 1)*(nj + 1)*(nk + 1)
   real(wp), parameter :: amap(3, 3) = reshape([1.1_wp, 0.2_wp, -0.1_wp, 0.3_wp, 0.9_wp, 0.05_wp, &

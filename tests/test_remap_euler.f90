@@ -17,9 +17,9 @@ program test_remap_euler
   use mesh_boundary, only: bc_t, bc_init, bc_constrain, BC_VELOCITY
   use material_mixed, only: mixed_t, mixed_allocate
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
-  use remap_cells, only: cell_moments
-  use remap_mof, only: mof_cut_volume
+  use hydro_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
+  use geometry_cells, only: cell_moments
+  use geometry_mof, only: mof_cut_volume
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_part_target, &
                          remap_part_folded
   use remap_swept, only: swept_triangle
@@ -400,7 +400,7 @@ contains
 
   !> Volume and first moment of tetrahedron t where n.x <= d.
   subroutine clipped_tet(t, n_, d_, v, m)
-    use remap_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_first_moments
+    use geometry_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_first_moments
     real(wp), intent(in) :: t(3, 4), n_(3), d_
     real(wp), intent(out) :: v, m(3)
     type(poly_t) :: pp

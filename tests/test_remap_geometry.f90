@@ -1,4 +1,4 @@
-!> Unit tests of remap_polyhedron: clipping the unit cube against closed forms
+!> Unit tests of geometry_polyhedron: clipping the unit cube against closed forms
 !> (and an exact piecewise quadrature for a general plane), degenerate planes,
 !> the two sides of a plane adding up, the closed-form clip of a tetrahedron
 !> by one plane against the general one, the 24-tet split of Fig. 7 against
@@ -9,7 +9,7 @@ program test_remap_geometry
   use base_kinds, only: wp, i8
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_corner, hex_volume, hex_tets, cross
-  use remap_polyhedron, only: poly_t, poly_max_verts, poly_from_tet, poly_from_hex, poly_clip, &
+  use geometry_polyhedron, only: poly_t, poly_max_verts, poly_from_tet, poly_from_hex, poly_clip, &
                               poly_moments, poly_first_moments, tet_intersect_tet, &
                               tet_intersect_hex, poly_set_tet, tet_clip_moments
   use test_assert, only: check, check_summary

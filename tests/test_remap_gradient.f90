@@ -11,7 +11,7 @@ program test_remap_gradient
   use base_random, only: rng_t, rng_seed, rng_uniform
   use base_timers, only: wall_seconds
   use mesh_grid, only: block_gather
-  use remap_cells, only: cell_moments
+  use geometry_cells, only: cell_moments
   use remap_gradient, only: remap_limited_gradients
   use test_assert, only: check, check_summary
   implicit none

@@ -1,4 +1,4 @@
-!> Unit tests of remap_mof: cut volumes against the convex clipper, the
+!> Unit tests of geometry_mof: cut volumes against the convex clipper, the
 !> plane-for-volume root on a cube, a distorted (non-planar) hex, a skewed
 !> hex and a non-convex hex; exact recovery of planar interfaces; the
 !> centroid error on a sphere against a reference exact to round-off
@@ -10,8 +10,8 @@ program test_remap_mof
   use base_kinds, only: wp, i8, pi
   use base_random, only: rng_t, rng_seed, rng_uniform
   use mesh_geometry, only: hex_corner, hex_volume
-  use remap_polyhedron, only: poly_t, poly_from_hex, poly_clip, poly_moments
-  use remap_mof, only: mof_pieces_t, mof_max_iter_default, mof_cut_volume, mof_plane_for_volume, &
+  use geometry_polyhedron, only: poly_t, poly_from_hex, poly_clip, poly_moments
+  use geometry_mof, only: mof_pieces_t, mof_max_iter_default, mof_cut_volume, mof_plane_for_volume, &
                        mof_reconstruct, mof_reconstruct_nested, mof_material_pieces, mof_pieces_moments, &
                        mof_nested_cut
   use test_assert, only: check, check_summary

@@ -26,7 +26,7 @@ program test_remap_open
   use mesh_boundary, only: bc_t, bc_init, BC_SYMMETRY, BC_WALL, BC_OUTFLOW
   use material_mixed, only: mixed_t
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_zone_t, remap_zone_wants, &
                          remap_zone_far
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach

@@ -19,7 +19,7 @@ program test_remap_velocity
   use mesh_boundary, only: bc_t
   use material_mixed, only: mixed_t
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step
   implicit none
   real(wp), parameter :: pi = acos(-1.0_wp)

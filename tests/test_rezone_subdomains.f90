@@ -33,7 +33,7 @@ program test_rezone_subdomains
   call check(s%nbox == 0 .and. s%n_distorted == 0, 'no distorted cell: no subdomain')
   call check(.not. any(s%cell_smooth) .and. .not. any(s%node_move) .and. .not. any(s%cell_remap), &
              'no distorted cell: empty masks')
-  call check(size(s%smooth_cells) == 0 .and. size(s%move_nodes) == 0 .and. size(s%remap_cells) == 0, &
+  call check(size(s%smooth_cells) == 0 .and. size(s%move_nodes) == 0 .and. size(s%geometry_cells) == 0, &
              'no distorted cell: empty lists')
 
   ! ---- one distorted cell in the middle ----
@@ -352,9 +352,9 @@ contains
     call check(ok_remap, what//': remap set is the smoothing set grown by one layer')
     call check(all(s%node_move .eqv. brute_nodes(s)), what//': movable nodes')
     call check(size(s%smooth_cells) == count(s%cell_smooth) .and. size(s%move_nodes) == count(s%node_move) &
-               .and. size(s%remap_cells) == count(s%cell_remap), what//': list sizes')
+               .and. size(s%geometry_cells) == count(s%cell_remap), what//': list sizes')
     if (size(s%smooth_cells) > 0) call check(all(s%cell_smooth(s%smooth_cells)), what//': smoothing list')
-    if (size(s%remap_cells) > 0) call check(all(s%cell_remap(s%remap_cells)), what//': remap list')
+    if (size(s%geometry_cells) > 0) call check(all(s%cell_remap(s%geometry_cells)), what//': remap list')
     if (size(s%move_nodes) > 0) call check(all(s%node_move(s%move_nodes)), what//': node list')
   end subroutine check_sets
 end program test_rezone_subdomains

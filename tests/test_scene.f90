@@ -9,7 +9,7 @@ module test_scene
   use mesh_geometry, only: hex_volume
   use material_table, only: material_t, material_index_cells, material_eval_eos
   use material_mixed, only: mixed_t
-  use lagrange_state, only: hydro_t, hydro_allocate, hydro_subcell_masses
+  use hydro_state, only: hydro_t, hydro_allocate, hydro_subcell_masses
   use check_support, only: check_fail
   implicit none
   private

@@ -18,7 +18,11 @@
      and diagnostics files (SRC_SETUP_AND_OUTPUT) no loop runs over a
      grid's cells or nodes (index ranges clo/chi, nlo/nhi, ulo, slo/shi,
      ni/nj/nk, gn, or ncell, nnode) or over particles (np); such loops
-     belong to the packages' kernels in `modules/`.
+     belong to the packages' kernels in `modules/`;
+  8. the folders of `modules/` are layers: a module in modules/F is named
+     F_<something>, in a file of its own name, and the folders' `use`
+     graph has no cycle (a folder that uses another is not used by it,
+     directly or through others).
 
     check_code.py ROOT        (checks ROOT/modules and ROOT/src)
     check_code.py --self-test (each rule finds its breach in a made-up tree,
@@ -89,7 +93,7 @@ SRC_SETUP_AND_OUTPUT = {"driver_scene.f90", "driver_scene_config.f90", "driver_p
 GRID_LOOP = re.compile(r"^(\w+:\s*)?do\s+\w+\s*=.*(%(clo|chi|nlo|nhi|ulo|slo|shi|ni|nj|nk|gn)\b|\bncell\b|\bnnode\b|%np\b)")
 
 
-def check_file(path, problems):
+def check_file(path, problems, uses):
     in_module, in_spec, depth_type, depth_iface = False, False, 0, 0
     is_halt = path.name == "driver_halt.f90"
     folder = path.parent.name
@@ -113,8 +117,15 @@ def check_file(path, problems):
             problems.append(f"{where}: only driver_halt may stop the program: {st[:80]}")
         if re.search(r"run%", low):
             problems.append(f"{where}: run% (the driver passes its state explicitly)")
+        if not in_src:
+            u = re.match(r"^use\s*(?:,\s*non_intrinsic\s*)?(?:::\s*)?(\w+)", low)
+            if u:
+                uses.append((folder, u.group(1), where, st[:80]))
         m = re.match(r"^module\s+(\w+)\s*$", low)
         if m and m.group(1) != "procedure":
+            if not in_src and (m.group(1) != path.stem or not m.group(1).startswith(folder + "_")):
+                problems.append(f"{where}: module {m.group(1)} in modules/{folder}: a module there is named "
+                                f"{folder}_<name>, in a file of that name")
             in_module, in_spec = True, True
             continue
         if re.match(r"^end\s+module\b", low):
@@ -141,33 +152,72 @@ def check_file(path, problems):
                 problems.append(f"{where}: module-level variable (mutable state): {st[:80]}")
 
 
+def folder_cycles(folders, uses, problems):
+    """Rule 8: every use of a module of another folder of modules/ that
+    lies on a cycle of the folders' use graph, reported at its first use."""
+    edges = {}
+    for frm, mod, where, st in uses:
+        to = mod.split("_")[0]
+        if to in folders and to != frm:
+            edges.setdefault((frm, to), (where, st))
+    succ = {}
+    for a, b in edges:
+        succ.setdefault(a, set()).add(b)
+
+    def path_to(a, goal):
+        seen, todo = {a: None}, [a]
+        while todo:
+            x = todo.pop()
+            for y in sorted(succ.get(x, ())):
+                if y not in seen:
+                    seen[y] = x
+                    todo.append(y)
+        if goal not in seen:
+            return None
+        chain = [goal]
+        while chain[-1] != a:
+            chain.append(seen[chain[-1]])
+        return chain[::-1]
+
+    for (a, b), (where, st) in sorted(edges.items()):
+        back = path_to(b, a)
+        if back:
+            problems.append(f"{where}: folder cycle {' -> '.join([a] + back)}: {st}")
+
+
 def check_tree(root):
-    problems, nfiles = [], 0
+    problems, nfiles, uses = [], 0, []
     for sub in ("modules", "src"):
         for path in sorted((root / sub).rglob("*.f90")):
             nfiles += 1
-            check_file(path, problems)
+            check_file(path, problems, uses)
+    folders = {p.name for p in (root / "modules").iterdir() if p.is_dir()}
+    folder_cycles(folders, uses, problems)
     return problems, nfiles
 
 
 # (file, body, the finding it must give or None): the self-test's tree
 SELF_TEST = [
-    ("modules/base/ok.f90", "module ok\n  integer, parameter :: n = 1\ncontains\n  subroutine f(a)\n"
-     "    real, allocatable :: a(:)\n    integer :: s\n    allocate(a(n), stat=s)\n  end subroutine f\nend module ok\n",
+    ("modules/base/base_ok.f90", "module base_ok\n  integer, parameter :: n = 1\ncontains\n  subroutine f(a)\n"
+     "    real, allocatable :: a(:)\n    integer :: s\n    allocate(a(n), stat=s)\n  end subroutine f\nend module base_ok\n",
      None),
-    ("modules/base/alloc.f90", "module alloc\ncontains\n  subroutine f(a)\n    real, allocatable :: a(:)\n"
-     "    allocate(a(3))\n  end subroutine f\nend module alloc\n", "allocate without stat="),
-    ("modules/base/state.f90", "module state\n  integer :: count = 0\nend module state\n", "mutable state"),
-    ("modules/base/halt.f90", "module halt\ncontains\n  subroutine f()\n    stop 1\n  end subroutine f\n"
-     "end module halt\n", "only driver_halt may stop"),
+    ("modules/base/base_alloc.f90", "module base_alloc\ncontains\n  subroutine f(a)\n    real, allocatable :: a(:)\n"
+     "    allocate(a(3))\n  end subroutine f\nend module base_alloc\n", "allocate without stat="),
+    ("modules/base/base_state.f90", "module base_state\n  integer :: count = 0\nend module base_state\n", "mutable state"),
+    ("modules/base/base_halt.f90", "module base_halt\ncontains\n  subroutine f()\n    stop 1\n  end subroutine f\n"
+     "end module base_halt\n", "only driver_halt may stop"),
     ("src/driver_run.f90", "module driver_run\ncontains\n  subroutine f(run)\n    integer :: run\n"
      "    run%n = 1\n  end subroutine f\nend module driver_run\n", "run%"),
-    ("modules/rezone/mpi_use.f90", "module mpi_use\n  use mpi_f08, only: MPI_Barrier\nend module mpi_use\n",
+    ("modules/rezone/rezone_mpi.f90", "module rezone_mpi\n  use mpi_f08, only: MPI_Barrier\nend module rezone_mpi\n",
      "MPI outside"),
     ("src/driver_mpi.f90", "module driver_mpi\ncontains\n  subroutine f(c)\n    integer :: c\n"
      "    call MPI_Barrier(c)\n  end subroutine f\nend module driver_mpi\n", "MPI outside"),
     ("modules/parallel/parallel_ok.f90", "module parallel_ok\n  use mpi_f08\nend module parallel_ok\n", None),
-    ("modules/remap/whole.f90", "module whole\n  use driver_state, only: state_t\nend module whole\n",
+    ("modules/base/named.f90", "module base_other\nend module base_other\n", "a module there is named base_<name>"),
+    ("modules/eos/eos_up.f90", "module eos_up\n  use mesh_down, only: f\nend module eos_up\n", "folder cycle eos -> mesh -> eos"),
+    ("modules/mesh/mesh_down.f90", "module mesh_down\n  use eos_up, only: g\nend module mesh_down\n", "folder cycle mesh -> eos -> mesh"),
+    ("modules/mesh/mesh_base.f90", "module mesh_base\n  use base_ok, only: n\nend module mesh_base\n", None),
+    ("modules/remap/remap_whole.f90", "module remap_whole\n  use driver_state, only: state_t\nend module remap_whole\n",
      "the whole state"),
     ("src/driver_kernel.f90", "module driver_kernel\ncontains\n  subroutine f(g, a)\n    integer :: g, a(:), c\n"
      "    do c = 1, g%ncell\n      a(c) = 0\n    end do\n  end subroutine f\nend module driver_kernel\n",

@@ -34,7 +34,7 @@ module io_gauges
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_trilinear, hex_natural_unclamped
-  use lagrange_state, only: hydro_t
+  use hydro_state, only: hydro_t
   use mesh_halo, only: halo_t
   use io_xdmf, only: io_rename
   use base_strings, only: itoa

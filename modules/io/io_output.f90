@@ -42,7 +42,7 @@ module io_output
   use base_errors, only: error_no_memory, error_t, error_set
   use base_build, only: code_version, build_type
   use mesh_grid, only: grid_t
-  use lagrange_state, only: hydro_t
+  use hydro_state, only: hydro_t
   use particles_state, only: particles_t
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_LOGICAL, MPI_LOR
   use io_hdf5, only: h5_write_part_real, h5_write_part_int

@@ -38,7 +38,7 @@ module io_tracers
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_trilinear
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t
+  use hydro_state, only: hydro_t
   use io_gauges, only: gauge_locate
   implicit none
   private

@@ -52,7 +52,7 @@ module lagrange_centroids
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_trilinear, hex_natural, hex_volume, cross
   use material_mixed, only: mixed_t, mixed_forget_planes
-  use remap_mof, only: mof_reconstruct_nested, mof_nested_cut, mof_max_iter_default
+  use geometry_mof, only: mof_reconstruct_nested, mof_nested_cut, mof_max_iter_default
   use base_sort, only: sort_order, sorted_place
   implicit none
   private

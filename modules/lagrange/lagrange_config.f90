@@ -1,11 +1,11 @@
 !> The &hydro group: the numerical parameters of the Lagrangian phase. Its
-!> configuration type is the kernels' own `hydro_params_t` (`lagrange_state`),
+!> configuration type is the kernels' own `hydro_params_t` (`hydro_state`),
 !> whose initial values are the defaults; &run's time-step controls (cfl,
 !> dt_growth, dt_max) are stored in it by the driver's &run reader.
 module lagrange_config
   use base_kinds, only: wp
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml
-  use lagrange_state, only: hydro_params_t, VISC_EDGE, VISC_TENSOR
+  use hydro_state, only: hydro_params_t, VISC_EDGE, VISC_TENSOR
   implicit none
   private
   public :: hydro_config_read

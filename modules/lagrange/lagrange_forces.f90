@@ -39,7 +39,7 @@ module lagrange_forces
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume_gradient, hex_median_areas, hex_edges
-  use lagrange_state, only: hydro_t, hydro_params_t, VISC_TENSOR
+  use hydro_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
   public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step

@@ -18,7 +18,7 @@ module lagrange_integrator
   use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
   use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
-  use lagrange_state, only: hydro_t, hydro_params_t
+  use hydro_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
   use particles_state, only: particles_t
   use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &

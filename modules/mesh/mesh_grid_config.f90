@@ -10,7 +10,7 @@ module mesh_grid_config
   public :: grid_config_t, grid_config_read, grid_config_changes, resolve_path
 
   !> Curved region boundaries in cut cells are resolved to 1/subsamples of
-  !> the cell (`remap_shapes`): 64 is a split 6 levels deep.
+  !> the cell (`geometry_shapes`): 64 is a split 6 levels deep.
   integer, parameter :: max_subsamples = 64
 
   !> The narrowest cell (length): its volume, min_edge**3, stays a normal

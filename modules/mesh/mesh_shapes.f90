@@ -4,7 +4,7 @@
 !> between lo and hi along it); a sphere or cylinder with inner_radius > 0
 !> is hollow (a shell: inner_radius <= r <= radius). `shape_inside` says whether a point lies in
 !> a shape, `shape_level` gives a 1-Lipschitz level function (<= 0 inside).
-!> The volumes of shapes in cells (`remap_shapes`) and particle seeding
+!> The volumes of shapes in cells (`geometry_shapes`) and particle seeding
 !> (`particles_seed`) both build on these; they live in mesh so that both
 !> packages can use them (ARCHITECTURE.md §2: particles come before remap).
 module mesh_shapes

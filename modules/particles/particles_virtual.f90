@@ -41,7 +41,7 @@ module particles_virtual
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_halo, only: halo_t
-  use lagrange_state, only: hydro_t
+  use hydro_state, only: hydro_t
   use particles_state, only: particles_t
   use base_errors, only: error_t, error_set, error_no_memory
   implicit none

@@ -103,13 +103,13 @@ module remap_euler
                            tet_det, cross
   use mesh_boundary, only: bc_t, bc_constrain_nodes, BC_INFLOW, BC_OUTFLOW
   use material_mixed, only: mixed_t, mixed_allocate
-  use lagrange_state, only: hydro_t
+  use hydro_state, only: hydro_t
   use lagrange_centroids, only: plane_normals, planes_known, carried_cut
-  use remap_polyhedron, only: tet_planes, tet_sign, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
+  use geometry_polyhedron, only: tet_planes, tet_sign, poly_t, poly_set_tet, poly_clip, poly_clip_axis, &
                               poly_first_moments, poly_copy, tet_clip_moments
-  use remap_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
+  use geometry_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
-  use remap_cells, only: cell_moments
+  use geometry_cells, only: cell_moments
   use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach, remap_box_meets
   use remap_swept, only: swept_edges
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet

@@ -20,7 +20,7 @@
 module remap_lattice
   use base_kinds, only: wp, i8
   use mesh_grid, only: grid_index_t
-  use remap_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_clip_axis, poly_first_moments, poly_copy
+  use geometry_polyhedron, only: poly_t, poly_set_tet, poly_clip, poly_clip_axis, poly_first_moments, poly_copy
   implicit none
   private
   public :: lattice_t, lattice_nodes, lattice_build, lattice_tet

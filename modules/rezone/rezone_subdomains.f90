@@ -85,7 +85,7 @@ module rezone_subdomains
     !> keep their control volumes and so their momentum.
     logical, allocatable :: cell_remap(:)
     !> The same three sets as increasing lists of cell or node indices.
-    integer, allocatable :: smooth_cells(:), move_nodes(:), remap_cells(:)
+    integer, allocatable :: smooth_cells(:), move_nodes(:), geometry_cells(:)
   end type rezone_subdomains_t
 
 contains
@@ -519,7 +519,7 @@ contains
     if (allocated(err)) return
     call mask_list(sub%node_move, sub%move_nodes, where, err)
     if (allocated(err)) return
-    call mask_list(sub%cell_remap, sub%remap_cells, where, err)
+    call mask_list(sub%cell_remap, sub%geometry_cells, where, err)
   end subroutine build_sets
 
   !> The indices where mask is true, in increasing order.

@@ -20,7 +20,7 @@
 !> (positively oriented) cells this is the plain volume; if a distorted cell has
 !> an inverted tetrahedron in its split, the signed sum is still exactly the
 !> cell's own (24-tet) volume, so remapped totals are conserved.
-module remap_polyhedron
+module geometry_polyhedron
   use base_kinds, only: wp
   use mesh_geometry, only: hex_faces, cross, hex_tets, tet_det
   implicit none
@@ -669,4 +669,4 @@ contains
     vol = real(sgn, wp)*vol
     mom = real(sgn, wp)*mom + vol*o
   end subroutine tet_intersect_split
-end module remap_polyhedron
+end module geometry_polyhedron

@@ -38,12 +38,12 @@
 !> fraction error of 2^-(2 depth) h/(12 R), 8e-5 h/R at depth 5, always
 !> on the side of the sphere (the tangent half-space holds the ball).
 !> Centroids are first moments over the same pieces, as accurate.
-module remap_shapes
+module geometry_shapes
   use base_kinds, only: wp
   use mesh_geometry, only: hex_trilinear, hex_jacobian
   use mesh_shapes, only: shape_t, shape_inside, shape_level, SHAPE_ALL, SHAPE_BOX, SHAPE_SPHERE, SHAPE_HALF_SPACE, &
                          SHAPE_CYLINDER
-  use remap_polyhedron, only: poly_t, poly_from_hex, poly_from_tet, poly_clip, poly_first_moments
+  use geometry_polyhedron, only: poly_t, poly_from_hex, poly_from_tet, poly_clip, poly_first_moments
   implicit none
   private
   public :: shape_t, shape_inside, shape_level, shapes_cell_moments, shapes_max_depth
@@ -382,4 +382,4 @@ contains
         abs(ys(:, 1) + ys(:, 6) - ys(:, 2) - ys(:, 5)) + abs(ys(:, 1) + ys(:, 7) - ys(:, 3) - ys(:, 5))
     is_affine = maxval(e) <= 1.0e-13_wp*scale
   end function is_affine
-end module remap_shapes
+end module geometry_shapes

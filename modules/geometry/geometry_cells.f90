@@ -3,7 +3,7 @@
 !> sum_t x_t V_t / V. The remap (`remap_euler`) expands its linear
 !> reconstructions about these points, and they are what every overlap of a
 !> cell sums to, so the same split must give both.
-module remap_cells
+module geometry_cells
   use base_kinds, only: wp
   use mesh_grid, only: block_gather, grid_index_t, grid_index
   use mesh_geometry, only: hex_faces
@@ -83,4 +83,4 @@ contains
     end do
     cen = m/v
   end subroutine one_cell
-end module remap_cells
+end module geometry_cells

@@ -10,7 +10,7 @@
 !> Cell-centred: mass, volume, density, specific internal energy, pressure,
 !> sound speed and artificial viscosity. Work arrays used inside a step are
 !> allocated once here.
-module lagrange_state
+module hydro_state
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
   use base_errors, only: error_no_memory, error_t, error_set
@@ -249,4 +249,4 @@ contains
     call reg%add('viscosity', 'pressure', LOC_CELL, h%q)
     call reg%add('material', '1', LOC_CELL, h%mat)
   end subroutine hydro_register_restart
-end module lagrange_state
+end module hydro_state

@@ -59,10 +59,10 @@
 !> full cells). Iterations are capped (default 50, both starts together);
 !> the routine always returns the best plane found, which cuts the exact
 !> volume whatever happened.
-module remap_mof
+module geometry_mof
   use base_kinds, only: wp, huge_wp
   use mesh_geometry, only: cross, hex_tets, tet_det
-  use remap_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_set_tet, poly_from_hex, poly_clip, &
+  use geometry_polyhedron, only: poly_t, poly_max_verts, poly_rel_tol, poly_set_tet, poly_from_hex, poly_clip, &
                               poly_first_moments, slot_of, poly_copy, tet_clip_moments
   implicit none
   private
@@ -285,7 +285,7 @@ contains
       do k = 1, 3
         if (used(k, v)) cycle
         ! the face to the left of the directed edge v -> nbr(k,v), walked
-        ! with the rule of remap_polyhedron's header
+        ! with the rule of geometry_polyhedron's header
         used(k, v) = .true.
         m = 1
         face(1) = v
@@ -1248,4 +1248,4 @@ contains
       call region_clip(rest, -nu, -c%dl, ok)
     end do
   end subroutine mof_nested_cut
-end module remap_mof
+end module geometry_mof
