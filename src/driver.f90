@@ -7,7 +7,7 @@
 module driver
   use base_kinds, only: wp
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_t, error_set, error_exit_status, ERR_RUNTIME, ERR_INPUT
+  use base_errors, only: error_t, error_set, error_exit_status, error_is_no_memory, ERR_RUNTIME, ERR_INPUT
   use base_config, only: max_line
   use base_timers, only: wall_seconds
   use base_exit, only: exit_guard_install
@@ -509,7 +509,12 @@ contains
       call refuse(sch%log, line, err%where)
     end if
     call log_error(sch%log, 'FATAL [rank '//itoa(err%rank)//', step '//itoa(st%step)//'] '//err%where//': '//err%msg)
-    if (st%ready .and. allocated(sch%out%dir)) then
+    if (st%ready .and. allocated(sch%out%dir) .and. sch%pc%nranks > 1 .and. error_is_no_memory(err)) then
+      ! (the ranks write a frame together, and a rank short of memory can
+      ! fail alone inside the HDF5 library's collective calls, leaving the
+      ! others waiting there for good: a hang, not a frame)
+      call log_error(sch%log, 'the state at failure is not written: a rank ran out of memory')
+    else if (st%ready .and. allocated(sch%out%dir)) then
       call state_totals(st)
       call frame_out(cfg, st, sch, path, err2)
       if (allocated(err2)) then

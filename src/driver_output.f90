@@ -674,21 +674,34 @@ contains
       if (frame_wants(cfg%output%frame%fields, per_key(mod(k - 1, nper) + 1))) keep = [keep, k]
     end do
     if (nx > 0) keep = [keep, nf + 1]
+    ! the kept columns moved to the front (keep increases, so in place):
+    ! fld(:, keep) would be a hidden copy of the kept fields, which a
+    ! failure frame written when memory has run out cannot afford
+    do k = 1, size(keep)
+      if (keep(k) == k) cycle
+      do c = 1, size(fld, 1)
+        fld(c, k) = fld(c, keep(k))
+      end do
+      names(k) = names(keep(k))
+      units(k) = units(keep(k))
+      owner(k) = owner(keep(k))
+    end do
+    nf = size(keep)
     ! the nodal mass of the kinetic energy: with coupled particles the
     ! particles' share too (`state_totals`; without, nmass is not allocated,
     ! so not present: the frame takes the hydro's own)
     if (allocated(st%pw%mp)) nmass = st%h%mnode + st%pw%mp
     if (st%pblocks) then   ! (the ranks write the frame together, each its particles)
-      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(:nf), units(:nf), owner(:nf), fld(:, :nf), st%t, &
                         st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
                         comm=sch%pc%world, node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed, &
                         ptotal=ptotal, pruns=pruns)
     else if (sch%pc%nranks > 1) then   ! (the ranks write the frame together)
-      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(:nf), units(:nf), owner(:nf), fld(:, :nf), st%t, &
                         st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
                         comm=sch%pc%world, node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed)
     else
-      call output_frame(sch%out, st%g, st%h, frame_mat, names(keep), units(keep), owner(keep), fld(:, keep), st%t, &
+      call output_frame(sch%out, st%g, st%h, frame_mat, names(:nf), units(:nf), owner(:nf), fld(:, :nf), st%t, &
                         st%step, st%tot, cfg%echo, meta, path, err, pt=pt, pnames=pnames, pfields=pfld, &
                         node_mass=nmass, opts=cfg%output%frame, punits=punits, pfailed=pfailed)
     end if

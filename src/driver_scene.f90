@@ -62,188 +62,193 @@ contains
         return
       end if
     end if
-    associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
-      if (len_trim(gc%file) == 0) then
-        call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)
-      else
-        ! (the deck reader checked the file; read again, it is checked again;
-        ! a block reads its stored nodes only)
-        if (present(block)) then
-          call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err, block%slo - 1 + block%off, &
-                              block%shi + block%off)
-        else
-          call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
-        end if
-        if (allocated(err)) then
-          call error_set(err, deck_problem, '&grid: '//err%msg, ERR_INPUT)
-          return
-        end if
-        if (present(block)) then
-          call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err, block, reshape([gc%xmin, gc%xmax], [3, 2]))
-        else
-          call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err)
-        end if
-        deallocate(xfile)
-        call log_line(log, 'grid: node positions from '//gc%file_path)
-      end if
-      if (allocated(err)) return
-      fluid = .false.
-      if (present(fluid_only)) fluid = fluid_only
-      remap = fluid
-      if (present(remap_only)) remap = remap .or. remap_only
-      call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. remap)
-      if (allocated(err)) return
-
-      allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'build_scene', error_no_memory('the materials'))
-        return
-      end if
-      do m = 1, size(cfg%materials)
-        st%mats(m)%name = trim(cfg%materials(m)%name)
-        call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, st%mats(m)%eos, err)
-        if (allocated(err)) then
-          call error_set(err, deck_problem, '&material '//st%mats(m)%name//': '//err%msg, ERR_INPUT)
-          return
-        end if
-        st%mats(m)%p_min = cfg%materials(m)%p_min
-        st%mats(m)%rho_min = cfg%materials(m)%rho_min
-      end do
-
-      do c = 1, g%ncell
-        call g%gather(c, g%x, xn)
-        hy%vol(c) = hex_volume(xn)
-      end do
-      ! a &prerun: the 1D run (once: a decomposed run's whole grid takes the
-      ! blocks'), its overlaps' factors over the grid, and the start time
-      ! (t_end <= &prerun time: the 1D run alone, no mapping)
-      mapping = .false.
-      if (cfg%pre1d%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then
-        if (.not. allocated(st%pre1d)) then
-          allocate(st%pre1d, stat=stat)
-          if (stat /= 0) then
-            call error_set(err, 'build_scene', error_no_memory('the 1D run'))
-            return
-          end if
-          call prerun_run(cfg, st%mats, log, st%pre1d, err)
-          if (allocated(err)) return
-          if (cfg%control%t_end > cfg%pre1d%time) call prerun_plan(cfg, log, st%pre1d, err)
-          if (allocated(err)) return
-        end if
-        mapping = cfg%control%t_end > cfg%pre1d%time
-      end if
-      if (mapping) then
-        call prerun_scale(st%pre1d, g, st%halo, err)
-        if (allocated(err)) return
-        if (allocated(st%pre1d%prad)) deallocate(st%pre1d%prad, st%pre1d%hit)
-        allocate(st%pre1d%prad(g%ncell), st%pre1d%hit(g%ncell), stat=stat)
-        if (stat /= 0) then
-          call error_set(err, 'build_scene', error_no_memory('the mapping'))
-          return
-        end if
-        st%pre1d%prad = 0.0_wp
-        st%pre1d%hit = .false.
-        st%t = cfg%pre1d%time
-      end if
-      if (fluid) then
-        call fill_plain(cfg, st, err)
-      else
-        call fill_regions(cfg, st, log, err)
-      end if
-      if (allocated(err)) return
-      ! a node takes the velocity field of the last region that contains it
-      do n = 1, g%nnode
-        r = region_at(cfg%regions, g%x(:, n))
-        if (r > 0) hy%u(:, n) = region_velocity(cfg%regions(r), g%x(:, n))
-      end do
-      call rng_seed(st%rng, cfg%control%seed)
-      if (cfg%control%velocity_noise > 0.0_wp) call velocity_noise(g, cfg%control%velocity_noise, st%rng, hy%u)
-      ! energy sources: added to the cell that contains the point (on a box
-      ! grid the cell of global index int((p - xmin)/h) + 1, a point on a
-      ! face going to the cell above it, on every block that stores it; on a
-      ! grid from a file, the cell found by the gauges' search, which must
-      ! contain the point)
-      h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
-      do s = 1, size(cfg%sources)
+    ! (an error on one rank leaves this block there; every rank then learns of it
+    ! before the collective calls below)
+    fluid = .false.
+    if (present(fluid_only)) fluid = fluid_only
+    scene: block
+      associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
         if (len_trim(gc%file) == 0) then
-          ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
-          ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
+          call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)
         else
-          ! the block that owns the cell containing the point says which
-          ! (the lowest such cell of the whole grid, `gauge_locate`)
-          call gauge_locate(g, cfg%sources(s)%position, 0, c, xi, inside)
-          call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-          key = huge(1.0_wp)
-          if (inside .and. g%owns_cell(ijk(1), ijk(2), ijk(3))) key = real(g%global_cell(c), wp)
-          call st%halo%choose(key, xi)
-          if (.not. key < huge(1.0_wp)) then
-            call error_set(err, deck_problem, '&source('//itoa(s)//'): position is not inside the grid of '// &
-                           'file '''//trim(gc%file)//'''', ERR_INPUT)
-            return
+          ! (the deck reader checked the file; read again, it is checked again;
+          ! a block reads its stored nodes only)
+          if (present(block)) then
+            call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err, block%slo - 1 + block%off, &
+                                block%shi + block%off)
+          else
+            call grid_file_read(gc%file_path, gc%ni, gc%nj, gc%nk, xfile, err)
           end if
-          ijk = [mod(nint(key) - 1, gc%ni) + 1, mod((nint(key) - 1)/gc%ni, gc%nj) + 1, (nint(key) - 1)/(gc%ni*gc%nj) + 1]
+          if (allocated(err)) then
+            call error_set(err, deck_problem, '&grid: '//err%msg, ERR_INPUT)
+            exit scene
+          end if
+          if (present(block)) then
+            call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err, block, reshape([gc%xmin, gc%xmax], [3, 2]))
+          else
+            call grid_init_nodes(g, gc%ni, gc%nj, gc%nk, xfile, err)
+          end if
+          deallocate(xfile)
+          call log_line(log, 'grid: node positions from '//gc%file_path)
         end if
-        call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
-                      ' deposited in cell '//itoa(ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))))
-        ! (every block that stores the cell)
-        ijk = ijk - g%off
-        if (any(ijk < g%slo .or. ijk > g%shi)) cycle
-        c = g%cell(ijk(1), ijk(2), ijk(3))
-        hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
-        if (hy%mat(c) < 0) then
-          ! a mixed cell: every material gets the same specific energy
-          associate (k => -hy%mat(c))
-            mx%e(mx%start(k):mx%start(k + 1) - 1) = &
-              mx%e(mx%start(k):mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
-          end associate
-        end if
-      end do
+        if (allocated(err)) exit scene
+        remap = fluid
+        if (present(remap_only)) remap = remap .or. remap_only
+        call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. remap)
+        if (allocated(err)) exit scene
 
-      call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)
-      if (mapping) then
-        call prerun_nodes(st%pre1d, g, hy%mass, hy%mnode, hy%mat, mx, hy%u, hy%e, err)
-        if (allocated(err)) return
-        call log_line(log, 'prerun: mapped into '//itoa(count(st%pre1d%hit))//' stored cells at t = '//rtoa(st%t))
-      end if
-
-      call material_index_cells(st%mats, hy%mat, mx, err)
-      if (allocated(err)) return
-      ! (a mapped 1D run has burnt its charge, checked by `prerun_run`: no
-      ! burn on any copy of the state, nor after a restart)
-      if (.not. (cfg%pre1d%time > 0.0_wp .and. cfg%control%t_end > cfg%pre1d%time)) call setup_burn(cfg, st, log, err)
-      if (allocated(err)) return
-      call material_burn_start(st%mats, st%t)
-      ! the mixed cells' interface planes, fitted to the exact fractions and
-      ! centroids: how far the first remap's reference is from a plane
-      call centroids_fit_planes(g, mx, planes, cfg%rezone%mof_max_iter)
-      if (mx%n > 0) call log_line(log, 'mixed-cell planes of the scene: '//centroid_text(planes))
-      call material_eval_eos(st%mats, hy%rho, hy%e, hy%p, hy%cs, mx)
-      call mixed_cell_state(mx, hy%p, hy%cs)
-      ! each cell's largest pressure so far (only when the frames write it)
-      if (cfg%output%max_pressure) then
-        allocate(st%p_max(g%ncell), source=hy%p, stat=stat, errmsg=msg)
+        allocate(st%mats(size(cfg%materials)), stat=stat, errmsg=msg)
         if (stat /= 0) then
-          call error_set(err, 'build_scene', error_no_memory('the maximum pressure'))
-          return
+          call error_set(err, 'build_scene', error_no_memory('the materials'))
+          exit scene
         end if
-      end if
-
-      associate (bc => st%bc, bcc => cfg%boundary)
-        bc%kind = bcc%kind
-        bc%velocity = bcc%velocity
-        bc%pressure = bcc%pressure
-        do m = 1, 6
-          if (bcc%inflow_mat(m) == 0) cycle
-          bc%inflow_mat(m) = bcc%inflow_mat(m)
-          bc%inflow_rho(m) = bcc%inflow_density(m)
-          bc%inflow_e(m) = st%mats(bcc%inflow_mat(m))%eos%energy(bcc%inflow_density(m), bcc%inflow_pressure(m))
+        do m = 1, size(cfg%materials)
+          st%mats(m)%name = trim(cfg%materials(m)%name)
+          call eos_create(cfg%materials(m)%eos, cfg%materials(m)%par, st%mats(m)%eos, err)
+          if (allocated(err)) then
+            call error_set(err, deck_problem, '&material '//st%mats(m)%name//': '//err%msg, ERR_INPUT)
+            exit scene
+          end if
+          st%mats(m)%p_min = cfg%materials(m)%p_min
+          st%mats(m)%rho_min = cfg%materials(m)%rho_min
         end do
-        call bc_init(bc, g, err)
-        if (allocated(err)) return
-        ! the boundary conditions hold from t = 0
-        call bc_constrain(bc, hy%u)
+
+        do c = 1, g%ncell
+          call g%gather(c, g%x, xn)
+          hy%vol(c) = hex_volume(xn)
+        end do
+        ! a &prerun: the 1D run (once: a decomposed run's whole grid takes the
+        ! blocks'), its overlaps' factors over the grid, and the start time
+        ! (t_end <= &prerun time: the 1D run alone, no mapping)
+        mapping = .false.
+        if (cfg%pre1d%time > 0.0_wp .and. len_trim(cfg%control%restart_from) == 0 .and. .not. fluid) then
+          if (.not. allocated(st%pre1d)) then
+            allocate(st%pre1d, stat=stat)
+            if (stat /= 0) then
+              call error_set(err, 'build_scene', error_no_memory('the 1D run'))
+              exit scene
+            end if
+            call prerun_run(cfg, st%mats, log, st%pre1d, err)
+            if (allocated(err)) exit scene
+            if (cfg%control%t_end > cfg%pre1d%time) call prerun_plan(cfg, log, st%pre1d, err)
+            if (allocated(err)) exit scene
+          end if
+          mapping = cfg%control%t_end > cfg%pre1d%time
+        end if
+        if (mapping) then
+          call prerun_scale(st%pre1d, g, st%halo, err)
+          if (allocated(err)) exit scene
+          if (allocated(st%pre1d%prad)) deallocate(st%pre1d%prad, st%pre1d%hit)
+          allocate(st%pre1d%prad(g%ncell), st%pre1d%hit(g%ncell), stat=stat)
+          if (stat /= 0) then
+            call error_set(err, 'build_scene', error_no_memory('the mapping'))
+            exit scene
+          end if
+          st%pre1d%prad = 0.0_wp
+          st%pre1d%hit = .false.
+          st%t = cfg%pre1d%time
+        end if
+        if (fluid) then
+          call fill_plain(cfg, st, err)
+        else
+          call fill_regions(cfg, st, log, err)
+        end if
+        if (allocated(err)) exit scene
+        ! a node takes the velocity field of the last region that contains it
+        do n = 1, g%nnode
+          r = region_at(cfg%regions, g%x(:, n))
+          if (r > 0) hy%u(:, n) = region_velocity(cfg%regions(r), g%x(:, n))
+        end do
+        call rng_seed(st%rng, cfg%control%seed)
+        if (cfg%control%velocity_noise > 0.0_wp) call velocity_noise(g, cfg%control%velocity_noise, st%rng, hy%u)
+        ! energy sources: added to the cell that contains the point (on a box
+        ! grid the cell of global index int((p - xmin)/h) + 1, a point on a
+        ! face going to the cell above it, on every block that stores it; on a
+        ! grid from a file, the cell found by the gauges' search, which must
+        ! contain the point)
+        h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
+        do s = 1, size(cfg%sources)
+          if (len_trim(gc%file) == 0) then
+            ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
+            ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
+          else
+            ! the block that owns the cell containing the point says which
+            ! (the lowest such cell of the whole grid, `gauge_locate`)
+            call gauge_locate(g, cfg%sources(s)%position, 0, c, xi, inside)
+            call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+            key = huge(1.0_wp)
+            if (inside .and. g%owns_cell(ijk(1), ijk(2), ijk(3))) key = real(g%global_cell(c), wp)
+            call st%halo%choose(key, xi)
+            if (.not. key < huge(1.0_wp)) then
+              call error_set(err, deck_problem, '&source('//itoa(s)//'): position is not inside the grid of '// &
+                             'file '''//trim(gc%file)//'''', ERR_INPUT)
+              exit scene
+            end if
+            ijk = [mod(nint(key) - 1, gc%ni) + 1, mod((nint(key) - 1)/gc%ni, gc%nj) + 1, (nint(key) - 1)/(gc%ni*gc%nj) + 1]
+          end if
+          call log_line(log, 'source '//itoa(s)//': energy '//rtoa(cfg%sources(s)%energy)// &
+                        ' deposited in cell '//itoa(ijk(1) + gc%ni*((ijk(2) - 1) + gc%nj*(ijk(3) - 1))))
+          ! (every block that stores the cell)
+          ijk = ijk - g%off
+          if (any(ijk < g%slo .or. ijk > g%shi)) cycle
+          c = g%cell(ijk(1), ijk(2), ijk(3))
+          hy%e(c) = hy%e(c) + cfg%sources(s)%energy/hy%mass(c)
+          if (hy%mat(c) < 0) then
+            ! a mixed cell: every material gets the same specific energy
+            associate (k => -hy%mat(c))
+              mx%e(mx%start(k):mx%start(k + 1) - 1) = &
+                mx%e(mx%start(k):mx%start(k + 1) - 1) + cfg%sources(s)%energy/hy%mass(c)
+            end associate
+          end if
+        end do
+
+        call hydro_subcell_masses(g, g%x, hy%rho, hy%mnode, hy%mcorner)
+        if (mapping) then
+          call prerun_nodes(st%pre1d, g, hy%mass, hy%mnode, hy%mat, mx, hy%u, hy%e, err)
+          if (allocated(err)) exit scene
+          call log_line(log, 'prerun: mapped into '//itoa(count(st%pre1d%hit))//' stored cells at t = '//rtoa(st%t))
+        end if
+
+        call material_index_cells(st%mats, hy%mat, mx, err)
+        if (allocated(err)) exit scene
+        ! (a mapped 1D run has burnt its charge, checked by `prerun_run`: no
+        ! burn on any copy of the state, nor after a restart)
+        if (.not. (cfg%pre1d%time > 0.0_wp .and. cfg%control%t_end > cfg%pre1d%time)) call setup_burn(cfg, st, log, err)
+        if (allocated(err)) exit scene
+        call material_burn_start(st%mats, st%t)
+        ! the mixed cells' interface planes, fitted to the exact fractions and
+        ! centroids: how far the first remap's reference is from a plane
+        call centroids_fit_planes(g, mx, planes, cfg%rezone%mof_max_iter)
+        if (mx%n > 0) call log_line(log, 'mixed-cell planes of the scene: '//centroid_text(planes))
+        call material_eval_eos(st%mats, hy%rho, hy%e, hy%p, hy%cs, mx)
+        call mixed_cell_state(mx, hy%p, hy%cs)
+        ! each cell's largest pressure so far (only when the frames write it)
+        if (cfg%output%max_pressure) then
+          allocate(st%p_max(g%ncell), source=hy%p, stat=stat, errmsg=msg)
+          if (stat /= 0) then
+            call error_set(err, 'build_scene', error_no_memory('the maximum pressure'))
+            exit scene
+          end if
+        end if
+
+        associate (bc => st%bc, bcc => cfg%boundary)
+          bc%kind = bcc%kind
+          bc%velocity = bcc%velocity
+          bc%pressure = bcc%pressure
+          do m = 1, 6
+            if (bcc%inflow_mat(m) == 0) cycle
+            bc%inflow_mat(m) = bcc%inflow_mat(m)
+            bc%inflow_rho(m) = bcc%inflow_density(m)
+            bc%inflow_e(m) = st%mats(bcc%inflow_mat(m))%eos%energy(bcc%inflow_density(m), bcc%inflow_pressure(m))
+          end do
+          call bc_init(bc, g, err)
+          if (allocated(err)) exit scene
+          ! the boundary conditions hold from t = 0
+          call bc_constrain(bc, hy%u)
+        end associate
       end associate
-    end associate
+    end block scene
+    if (failed_anywhere(st%halo, err)) return
     ! (a block constrains the boundary nodes it owns; its ghost nodes on a
     ! wall get theirs from the block that owns them)
     call st%halo%nodes(st%h%u)
@@ -258,6 +263,18 @@ contains
     call log_line(log, 'grid: '//itoa(st%g%ni)//' x '//itoa(st%g%nj)//' x '//itoa(st%g%nk)// &
                   ' cells, '//itoa(st%g%nnode)//' nodes, '//itoa(size(st%mats))//' material(s)')
   end subroutine build_scene
+
+  !> Whether err is allocated on any block (on one process: here). A block
+  !> where nothing failed keeps err unallocated: the driver's agree_error
+  !> then gives every rank the failed rank's own message.
+  logical function failed_anywhere(halo, err)
+    class(halo_t), intent(in) :: halo
+    type(error_t), allocatable, intent(in) :: err
+    integer :: flag
+    flag = merge(1, 0, allocated(err))
+    call halo%max_int(flag)
+    failed_anywhere = flag > 0
+  end function failed_anywhere
 
   !> The programmed burn of each explosive that a &detonation lights
   !> (`material_burn`): its CJ state from the JWL and the unreacted state of

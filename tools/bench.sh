@@ -204,32 +204,15 @@ messages_bench() {
 }
 
 # Peak resident memory per rank on 4 ranks (oversubscribed) against one
-# process's (issue 35's bar: at most 0.35), each log's `memory:` line:
-# Sedov 64^3 with the paper's LSSM settings (hardcases/sedov_paper.nml), 60
-# steps; the TNT octant of hardcases/tnt_sphere.nml at 64^3, Eulerian (an
-# Euler step every step: open faces, two materials), 10 steps; the Gurson
-# ring of tests/decks/strength_shell_small.nml at 192 x 192 x 4 (particles,
-# global ALE), 10 steps; the frame of tests/decks/particles_frame.nml at 96 x
-# 64 x 64 (a column and a slab of 360k particles, two bars as lines of
-# particles: seeded on the blocks), 2 steps.
+# process's (issue 35's bar: at most 0.35), each log's `memory:` line, for
+# the decks of tools/memory_decks.sh (Sedov 64^3 LSSM, the TNT octant at 64^3
+# Eulerian, the Gurson ring at 192 x 192 x 4, the frame of 360k particles at
+# 96 x 64 x 64: particles seeded on the blocks).
 ranks_memory_bench() {
   local name mpiexec root_flag=()
   mpiexec=$(command -v mpirun)
   [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
-  sed -e 's/ni = 20, nj = 20, nk = 20/ni = 64, nj = 64, nk = 64/' \
-      -e "s|^&run .*|\&run title = 'Sedov 64^3, LSSM, memory', t_end = 1.0, max_steps = 60 /|" \
-      -e "s|^&output .*|\&output dir = 'out/mem_sedov64', frame_dt = 100 /|" "$root/hardcases/sedov_paper.nml" > mem_sedov64.nml
-  echo "&rezone mode = 'lssm', side_ratio = 4, cos_angle = 0.7, quality = 0.999, quality_target = 0.999, smooth_iterations = 20 /" \
-    >> mem_sedov64.nml
-  sed -e 's/ni = 16, nj = 16, nk = 16/ni = 64, nj = 64, nk = 64/' \
-      -e "s|^&run \(.*\) /|\&run \1, max_steps = 10 /|" \
-      -e "s|^&output dir = 'out/tnt_sphere', frame_dt = 1.0,|\&output dir = 'out/mem_tnt64', frame_dt = 100.0,|" \
-      "$root/hardcases/tnt_sphere.nml" > mem_tnt64.nml
-  echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> mem_tnt64.nml
-  sed -e 's/ni = 24, nj = 24, nk = 1/ni = 192, nj = 192, nk = 4/' -e 's/max_steps = 120/max_steps = 10/' \
-      -e "s|^&output dir = '[^']*'|\&output dir = 'out/mem_ring192'|" "$root/tests/decks/strength_shell_small.nml" > mem_ring192.nml
-  sed -e 's/ni = 12, nj = 8, nk = 8/ni = 96, nj = 64, nk = 64/' -e 's/max_steps = 30/max_steps = 2/' \
-      -e "s|^&output dir = '[^']*'|\&output dir = 'out/mem_frame96'|" "$root/tests/decks/particles_frame.nml" > mem_frame96.nml
+  bash "$root/tools/memory_decks.sh" .
   echo "## MPI: peak resident memory per rank on 4 ranks against one process (issue 35)"
   for name in mem_sedov64 mem_tnt64 mem_ring192 mem_frame96; do
     OMP_NUM_THREADS=1 "$exe" $name.nml > ${name}_r1.log

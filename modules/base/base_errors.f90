@@ -7,7 +7,7 @@
 module base_errors
   implicit none
   private
-  public :: error_t, error_set, error_no_memory, ERR_RUNTIME, ERR_INPUT, ERR_IO, error_exit_status
+  public :: error_t, error_set, error_no_memory, error_is_no_memory, ERR_RUNTIME, ERR_INPUT, ERR_IO, error_exit_status
 
   !> Categories: a failure of the computation (tangled cell, NaN, dt
   !> collapse, allocation), a mistake in the user's input (deck, restart file
@@ -48,6 +48,14 @@ contains
     character(len=:), allocatable :: msg
     msg = 'out of memory: cannot allocate '//what
   end function error_no_memory
+
+  !> Whether err is memory running out (`error_no_memory`'s message, on
+  !> this rank or, agreed, on another).
+  pure logical function error_is_no_memory(err)
+    type(error_t), intent(in) :: err
+    error_is_no_memory = .false.
+    if (allocated(err%msg)) error_is_no_memory = index(err%msg, 'out of memory') == 1
+  end function error_is_no_memory
 
   !> The documented exit status of a category: 1 runtime failure, 2 bad
   !> input, 4 I/O failure (3 is the wall-time stop, not an error).
