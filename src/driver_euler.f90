@@ -14,11 +14,10 @@ module driver_euler
   use base_errors, only: error_no_memory, error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
-  use rezone_quality, only: grid_shape_worst, grid_standard_ratios
   use rezone_config, only: rezone_config_t
-  use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE, global_surface_t
-  use rezone_lssm, only: lssm_report_t, lssm_rezone, LSSM_SKIPPED, LSSM_SNAPPED
-  use rezone_smooth, only: smooth_mobility_t
+  use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
+  use rezone_lssm, only: lssm_report_t, LSSM_SKIPPED, LSSM_SNAPPED
+  use rezone_driver, only: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_shape, rezone_grid
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_cell_state, mixed_forget_planes
   use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
@@ -37,33 +36,13 @@ module driver_euler
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
-            euler_due_where, euler_shape, euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, &
+            euler_due_where, euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, &
             euler_preposition, euler_start_totals, parts_state_t
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
     logical :: on = .false.                  !< an Euler phase is configured
-    real(wp), allocatable :: x0(:, :)        !< initial grid, the global rezone's target
-    !> each of the block's cells' side ratio on the initial grid
-    !> (`standard_side_ratio`), against which the triggers measure its side
-    !> ratio; not allocated when every cell there has equal sides
-    real(wp), allocatable :: ratio0(:)
-    !> whether x0 is a lattice (`lattice_nodes`): -1 not yet known
-    integer :: x0_lattice = -1
-    !> the rezoned grid's array, kept from one Euler step to the next (a
-    !> fresh whole-grid array at every step costs its pages' first touch),
-    !> and whether it holds x0 already (a global rezone without moving
-    !> faces: the copy is then skipped)
-    real(wp), allocatable :: xkeep(:, :)
-    logical :: xkeep_x0 = .false.
-    !> a decomposed run's global rezone with a moving face (`window_global_
-    !> target`): the grid's faces (their initial nodes and line parameters,
-    !> set at the first such Euler step) and the line parameters at the
-    !> block's nodes (allocated then)
-    type(global_surface_t) :: surface
-    real(wp), allocatable :: xline(:, :)
-    real(wp), allocatable :: quality(:)      !< work: cell quality for the triggers
-    logical, allocatable :: fail(:)          !< work: cells failing the triggers' tests (LSSM, box reading)
+    type(rezone_state_t) :: rez              !< what the rezone keeps (`rezone_driver`)
     real(wp) :: t_next = 0.0_wp              !< next Euler step by interval_time (restart state)
     integer :: n = 0                         !< Euler steps so far (restart state)
     !> the triggers' bounds in force (restart state): the deck's side_ratio
@@ -83,21 +62,6 @@ module driver_euler
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
-    !> the last look at the grid's shape (`euler_shape`) on this block: its
-    !> largest side ratio and smallest cosine, and the whole grid's number
-    !> of its first owned cell with each (for the log's note, `euler_due_where`)
-    real(wp) :: shape_mine(2) = 0.0_wp, shape_first(2) = 0.0_wp
-    !> with LSSM's box reading, that look's side-ratio and angle tests of
-    !> each owned cell against the deck's bounds, and the step and the
-    !> stored cells (whole-grid numbers, first and last) of the grid they
-    !> were taken on: the rezone of that step on that grid takes them
-    !> rather than again (`lssm_rezone`)
-    logical, allocatable :: shape_fail(:)
-    integer :: shape_step = -1, shape_box(3, 2) = 0
-    !> the smoothers' mobility of the nodes (`lssm_rezone`), kept for the
-    !> grid whose stored cells (whole-grid numbers, first and last) are mob_box
-    type(smooth_mobility_t) :: mob
-    integer :: mob_box(3, 2) = 0
     !> the remap's work arrays, kept from one Euler step to the next
     type(remap_work_t) :: work
     !> this segment's fits of the mixed cells' interface planes after the
@@ -144,38 +108,23 @@ contains
     type(grid_t), intent(in) :: g
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    integer :: stat
-    character(len=200) :: msg
     es%on = trim(rz%mode) /= 'none'
     if (.not. es%on) return
-    allocate(es%x0, source=g%x, stat=stat, errmsg=msg)
-    if (stat == 0) allocate(es%quality(g%ncell), es%fail(g%ncell), stat=stat, errmsg=msg)
-    if (stat /= 0) then
-      call error_set(err, 'euler_init', error_no_memory('the Euler phase''s arrays'))
-      return
-    end if
+    call rezone_state_init(g, es%rez, err)
+    if (allocated(err)) return
     es%t_next = huge(1.0_wp)
     if (rz%interval_time > 0.0_wp) es%t_next = rz%interval_time
     es%ratio_bound = rz%side_ratio
     es%cos_bound = rz%cos_angle
   end subroutine euler_init
 
-  !> es%ratio0 from the block g's nodes as the deck set them (called before
-  !> a restart is read, so a restarted run measures against the same grid).
+  !> The cells' standard side ratios from the block g's nodes as the deck
+  !> set them (`rezone_standard_ratios`; before a restart is read).
   subroutine euler_standard_ratios(g, es, err)
     type(grid_t), intent(in) :: g
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    integer :: stat
-    if (.not. es%on) return
-    allocate(es%ratio0(g%ncell), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'euler_standard_ratios', error_no_memory('the standard side ratios'))
-      return
-    end if
-    call grid_standard_ratios(g, es%ratio0)
-    ! (standard_side_ratio gives exactly 1 for a cell of equal sides)
-    if (.not. any(es%ratio0 > 1.0_wp)) deallocate(es%ratio0)
+    if (es%on) call rezone_standard_ratios(g, es%rez, err)
   end subroutine euler_standard_ratios
 
   !> Registers the Euler phase's restart quantities.
@@ -192,7 +141,7 @@ contains
   !> `due` when an Euler step is due after the step just taken: an interval
   !> has passed, or the grid's largest side ratio or smallest cosine of the
   !> inclined angle has reached its bound. With `shape` (a decomposed run:
-  !> the largest side ratio and smallest cosine of all blocks, `euler_shape`
+  !> the largest side ratio and smallest cosine of all blocks, `rezone_shape`
   !> and a global reduction) the grid in st is not read, and the log's note
   !> of where the grid is worst is the caller's (`euler_due_where`).
   subroutine euler_due(rz, st, es, due, shape)
@@ -212,9 +161,9 @@ contains
       ratio_max = shape(1)
       cos_min = shape(2)
     else
-      call euler_shape(rz, st%g, st%step, es)
-      ratio_max = es%shape_mine(1)
-      cos_min = es%shape_mine(2)
+      call rezone_shape(rz, st%g, st%step, es%rez)
+      ratio_max = es%rez%shape_mine(1)
+      cos_min = es%rez%shape_mine(2)
     end if
     call trigger_bounds(rz, es, ratio_max, cos_min)
     due = (rz%side_ratio > 0.0_wp .and. ratio_max >= es%ratio_bound) .or. &
@@ -270,10 +219,10 @@ contains
     integer :: ijk(3, 2), m, gc
     if (es%trigger_note /= 'shape') return
     ! (this block's first cell with the whole grid's worst value, from the
-    ! look that made the step due: `euler_shape`)
+    ! look that made the step due: `rezone_shape`)
     first = huge(1.0_wp)
-    if (es%shape_mine(1) >= shape(1)) first(1) = es%shape_first(1)
-    if (es%shape_mine(2) <= shape(2)) first(2) = es%shape_first(2)
+    if (es%rez%shape_mine(1) >= shape(1)) first(1) = es%rez%shape_first(1)
+    if (es%rez%shape_mine(2) <= shape(2)) first(2) = es%rez%shape_first(2)
     do m = 1, 2
       call halo%choose(first(m), none)
       gc = nint(min(first(m), 1.0e9_wp)) - 1
@@ -283,60 +232,6 @@ contains
       &i0,",",i0,",",i0,") (bounds ",f0.4,", ",f0.4,")")') shape(1), ijk(:, 1), shape(2), ijk(:, 2), &
       es%ratio_bound, es%cos_bound
   end subroutine euler_due_where
-
-  !> Whether the triggers measure the inclined angle against the axes (LSSM's
-  !> box reading).
-  logical function euler_axis(rz)
-    type(rezone_config_t), intent(in) :: rz
-    euler_axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
-  end function euler_axis
-
-  !> The largest side ratio and smallest inclined-angle cosine over the
-  !> cells a block owns in es%shape_mine, and the whole grid's number of the
-  !> first owned cell with each in es%shape_first (`grid_shape_worst`; the
-  !> log's note of where the grid is worst: `euler_due_where`).
-  subroutine euler_shape(rz, g, step, es)
-    type(rezone_config_t), intent(in) :: rz
-    type(grid_t), intent(in) :: g
-    integer, intent(in) :: step
-    type(euler_state_t), intent(inout) :: es
-    integer :: stat
-    es%shape_step = -1
-    if (euler_axis(rz)) then
-      if (allocated(es%shape_fail)) then
-        if (size(es%shape_fail) /= g%ncell) deallocate(es%shape_fail)
-      end if
-      stat = 0
-      if (.not. allocated(es%shape_fail)) allocate(es%shape_fail(g%ncell), stat=stat)
-      if (stat == 0) then
-        if (allocated(es%ratio0)) then
-          call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
-                                es%shape_fail, es%ratio0)
-        else
-          call grid_shape_worst(g, .true., es%shape_mine, es%shape_first, [rz%side_ratio, rz%cos_angle], &
-                                es%shape_fail)
-        end if
-        es%shape_step = step
-        es%shape_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
-        return
-      end if
-    end if
-    if (allocated(es%ratio0)) then
-      call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first, ratio0=es%ratio0)
-    else
-      call grid_shape_worst(g, euler_axis(rz), es%shape_mine, es%shape_first)
-    end if
-  end subroutine euler_shape
-
-  !> Whether es%shape_fail holds the shape tests of grid g at step.
-  logical function shape_known(g, step, es)
-    type(grid_t), intent(in) :: g
-    integer, intent(in) :: step
-    type(euler_state_t), intent(in) :: es
-    shape_known = es%shape_step == step .and. all(es%shape_box(:, 1) == g%off + g%slo) .and. &
-                  all(es%shape_box(:, 2) == g%off + g%shi)
-    if (shape_known) shape_known = size(es%shape_fail) == g%ncell
-  end function shape_known
 
   !> One Euler step: rezone, remap, new material states; checks
   !> conservation in every build (a breach beyond &rezone conservation_tol
@@ -405,10 +300,10 @@ contains
     ! the whole grid's; only a global rezone returns to a box grid)
     par%lattice = trim(rz%mode) == 'global'
     if (par%lattice .and. all([(global_face_rule(st%bc%kind(f)), f = 1, 6)] /= GLOBAL_FACE_MOVE) .and. &
-        size(es%x0, 2) == st%g%nnode) then
+        size(es%rez%x0, 2) == st%g%nnode) then
       ! (no face moves: the rezone returned x0 itself, tested once)
-      if (es%x0_lattice < 0) es%x0_lattice = merge(1, 0, lattice_nodes(st%g, es%x0))
-      par%lattice = es%x0_lattice == 1
+      if (es%rez%x0_lattice < 0) es%rez%x0_lattice = merge(1, 0, lattice_nodes(st%g, es%rez%x0))
+      par%lattice = es%rez%x0_lattice == 1
     else if (par%lattice) then
       par%lattice = lattice_nodes(st%g, xnew)
     end if
@@ -417,7 +312,7 @@ contains
     ! of nodes the Lagrangian steps moved since are compared; a Debug build
     ! checks every other node)
     at_x0 = .not. present(xrezoned) .and. trim(rz%mode) == 'global' .and. &
-            all([(global_face_rule(st%bc%kind(f)), f = 1, 6)] /= GLOBAL_FACE_MOVE) .and. size(es%x0, 2) == st%g%nnode
+            all([(global_face_rule(st%bc%kind(f)), f = 1, 6)] /= GLOBAL_FACE_MOVE) .and. size(es%rez%x0, 2) == st%g%nnode
     rows = at_x0 .and. allocated(st%g%moved_rows)
     if (rows .and. build_checks) call rows_check(st%g, xnew, err)
     if (allocated(err)) then
@@ -686,7 +581,7 @@ contains
       call es%timer%stop()
     end if
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
-    if (.not. present(xrezoned)) call move_alloc(xnew, es%xkeep)
+    if (.not. present(xrezoned)) call move_alloc(xnew, es%rez%xkeep)
   end subroutine euler_step
 
   !> (Debug) Every node of g in a row g%moved_rows does not flag is at
@@ -727,7 +622,7 @@ contains
   end subroutine unique_cells
 
   !> Remark 2 (Sect. 5.2), before a smoothing rezone (lssm, smooth): the
-  !> particles of st (the whole grid's) placed in the standard grid (es%x0,
+  !> particles of st (the whole grid's) placed in the standard grid (es%rez%x0,
   !> or x0 given: a decomposed run's whole grid); the cells they occupy
   !> there (pe%occupied) are the smoothing's fixed inner boundary. On an
   !> error the Euler step's timer stops.
@@ -742,7 +637,7 @@ contains
     if (present(x0)) then
       call particles_euler_preposition(st, x0, pe, err)
     else
-      call particles_euler_preposition(st, es%x0, pe, err)
+      call particles_euler_preposition(st, es%rez%x0, pe, err)
     end if
     if (allocated(err)) call es%timer%stop()
   end subroutine euler_preposition
@@ -833,52 +728,18 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
-    integer :: f, nmove, stat, rules(6)
-    character(len=200) :: msg
+    integer :: nmove
     type(lssm_report_t) :: rep
 
     e0%t_rezone = wall_seconds()
-    done = .true.
-    if (allocated(es%xkeep)) then
-      if (all(shape(es%xkeep) == shape(g%x))) call move_alloc(es%xkeep, xnew)
-    end if
-    if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
-      es%xkeep_x0 = .false.
-      xnew = g%x
-      if (any(es%mob_box /= reshape([g%off + g%slo, g%off + g%shi], [3, 2]))) then
-        es%mob = smooth_mobility_t()
-        es%mob_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
-      end if
-      if (shape_known(g, step, es)) then
-        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, es%shape_fail, &
-                         es%mob)
-        ! (once: the grid moves on)
-        es%shape_step = -1
-      else
-        call lssm_rezone(rz, g, bc, share, halo, es%x0, es%quality, es%fail, xnew, rep, err, occupied, &
-                         mob_keep=es%mob)
-      end if
-      if (.not. allocated(err)) call lssm_log(rz, rep, step, log)
-      done = rep%outcome /= LSSM_SKIPPED
-    else
-      ! back to the initial grid, except where a face moves with the
-      ! material (a piston, a free surface): there the grid follows it
-      rules = [(global_face_rule(bc%kind(f)), f = 1, 6)]
-      stat = 0
-      nmove = 0
-      if (.not. allocated(xnew)) then
-        es%xkeep_x0 = .false.
-        allocate(xnew, mold=es%x0, stat=stat, errmsg=msg)
-      end if
-      if (stat /= 0) then
-        call error_set(err, 'euler_step', error_no_memory('the rezoned grid'))
-      else if (.not. (es%xkeep_x0 .and. all(rules /= GLOBAL_FACE_MOVE))) then
-        call global_target(g%ni, g%nj, g%nk, rules, es%x0, g%x, xnew, nmove, err)
-        es%xkeep_x0 = all(rules /= GLOBAL_FACE_MOVE)
-      end if
-      if (.not. allocated(err) .and. nmove > 0) &
+    call rezone_grid(rz, g, bc, share, halo, step, es%rez, xnew, rep, nmove, done, err, occupied)
+    if (.not. allocated(err)) then
+      if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
+        call lssm_log(rz, rep, step, log)
+      else if (nmove > 0) then
         call log_line(log, 'global rezone: '//itoa(nmove)//' nodes of moving faces kept where they are, '// &
                       'the others back to the initial grid plus the TFI of their displacement')
+      end if
     end if
     if (allocated(err) .or. .not. done) then
       ! a skipped step still uses up its interval (else the interval

@@ -62,10 +62,10 @@ contains
         return
       end if
     end if
-    ! (an error on one rank leaves this block there; every rank then learns of it
-    ! before the collective calls below)
     fluid = .false.
     if (present(fluid_only)) fluid = fluid_only
+    ! (an error on one rank leaves this block there; every rank then learns
+    ! of it before the collective calls after it)
     scene: block
       associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
         if (len_trim(gc%file) == 0) then

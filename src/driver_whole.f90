@@ -80,6 +80,7 @@ module driver_whole
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
+  use rezone_driver, only: rezone_shape
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE, global_surface_init, global_face_box, &
                            global_face_parameters, global_surface_solve, global_block_target, global_target_check, &
                            global_line_sums, global_line_scale
@@ -95,7 +96,7 @@ module driver_whole
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read, state_totals
   use driver_scene, only: build_scene
-  use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_shape, euler_step, euler_begin, &
+  use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_step, euler_begin, &
                           euler_rezone, euler_finish, remap_params, euler_preposition, &
                           parts_state_t
   use driver_output, only: schedule_t, report_conservation
@@ -276,8 +277,8 @@ contains
     if (.not. es%on) return
     shape = [0.0_wp, 1.0_wp]
     if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
-      call euler_shape(cfg%rezone, st%g, st%step, es)
-      shape = es%shape_mine
+      call rezone_shape(cfg%rezone, st%g, st%step, es%rez)
+      shape = es%rez%shape_mine
       call parallel_max(pc, shape(1:1))
       call parallel_min(pc, shape(2:2))
     end if
@@ -341,7 +342,7 @@ contains
     ! on the whole grid's particles and nodes, on every rank (whole_x)
     whole_x = .false.
     if (parts .and. .not. global) then
-      call particles_preposition_blocks(pc, st, es%x0, pe, done)
+      call particles_preposition_blocks(pc, st, es%rez%x0, pe, done)
       whole_x = .not. done
       if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
                                  'walk would leave a block''s cells)')
@@ -359,7 +360,7 @@ contains
       ! the standard grid, whole)
       call whole_particles(pc, st, sw, err)
       if (.not. allocated(err)) then
-        call gather_nodes(pc, st%g%grid_index_t, es%x0, x, all=.true.)
+        call gather_nodes(pc, st%g%grid_index_t, es%rez%x0, x, all=.true.)
         call euler_preposition(cfg%rezone, sw, es, pe, err, x)
       end if
       call agree_error(pc, err)
@@ -371,8 +372,8 @@ contains
       done = .true.
       if (.not. allocated(err) .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     else if (global) then
-      ! (back to the initial grid: each block's own, es%x0)
-      xb = es%x0
+      ! (back to the initial grid: each block's own, es%rez%x0)
+      xb = es%rez%x0
       done = .true.
       e0%t_rezone = 0.0_wp
       if (whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
@@ -491,21 +492,21 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: w(:, :), start(:), finish(:)
     integer :: f, a, b, c, lo(3), hi(3), nb(3), stat
-    associate (g => st%g, sf => es%surface)
+    associate (g => st%g, sf => es%rez%surface)
       e0%t_rezone = wall_seconds()
-      if (.not. allocated(es%xline)) then
+      if (.not. allocated(es%rez%xline)) then
         call global_surface_init(sf, g%gn, [(global_face_rule(st%bc%kind(f)), f = 1, 6)], err)
-        if (.not. allocated(err)) allocate(es%xline(3, g%nnode), stat=stat)
+        if (.not. allocated(err)) allocate(es%rez%xline(3, g%nnode), stat=stat)
         if (.not. allocated(err) .and. stat /= 0) call error_set(err, 'window_global_target', 'out of memory')
         call agree_error(pc, err)
         if (allocated(err)) return
         do f = 1, 6
           call global_face_box(sf, f, lo, hi)
-          call gather_box(pc, g%grid_index_t, es%x0, lo, hi, w, .true.)
+          call gather_box(pc, g%grid_index_t, es%rez%x0, lo, hi, w, .true.)
           sf%f(f)%x0 = w
           call global_face_parameters(sf, f)
         end do
-        es%xline = 0.0_wp
+        es%rez%xline = 0.0_wp
         nb = [g%ni, g%nj, g%nk] + 1
         do a = 1, 3
           b = merge(2, 1, a == 1)
@@ -514,12 +515,12 @@ contains
           call parallel_nomem(stat, 'the line parameters')
           start = 0.0_wp
           call parallel_recv(pc, pc%nbr(2*a - 1), start)
-          call global_line_sums(g%grid_index_t, a, es%x0, start, es%xline, finish)
+          call global_line_sums(g%grid_index_t, a, es%rez%x0, start, es%rez%xline, finish)
           call parallel_send(pc, pc%nbr(2*a), finish)
           ! (the totals: the last block's finish, passed back)
           call parallel_recv(pc, pc%nbr(2*a), finish)
           call parallel_send(pc, pc%nbr(2*a - 1), finish)
-          call global_line_scale(g%grid_index_t, a, finish, g%gn(a), es%xline)
+          call global_line_scale(g%grid_index_t, a, finish, g%gn(a), es%rez%xline)
           deallocate(start, finish)
         end do
       end if
@@ -532,7 +533,7 @@ contains
       call global_surface_solve(sf)
       allocate(xb, mold=g%x, stat=stat)
       call parallel_nomem(stat, 'the rezoned grid')
-      call global_block_target(sf, g%grid_index_t, es%xline, es%x0, g%x, xb)
+      call global_block_target(sf, g%grid_index_t, es%rez%xline, es%rez%x0, g%x, xb)
       call st%halo%nodes(xb)
       call global_target_check(g%grid_index_t, xb, g%off, err)
       call agree_error(pc, err)
@@ -595,7 +596,7 @@ contains
   end subroutine window_particles
 
   !> The particles of the whole grid's sw placed in the standard grid (the
-  !> blocks' (st) es%x0, gathered), their standard hosts in pe numbered on sw
+  !> blocks' (st) es%rez%x0, gathered), their standard hosts in pe numbered on sw
   !> (`particles_euler_preposition`); pe's balance kept. Collective.
   subroutine whole_preposition(pc, st, sw, es, pe, err)
     type(comm_t), intent(in) :: pc
@@ -606,7 +607,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(particles_euler_t) :: pw
     real(wp), allocatable :: x0(:, :)
-    call gather_nodes(pc, st%g%grid_index_t, es%x0, x0, all=.true.)
+    call gather_nodes(pc, st%g%grid_index_t, es%rez%x0, x0, all=.true.)
     pw%ke_solid = pe%ke_solid
     pw%p_solid = pe%p_solid
     call particles_euler_preposition(sw, x0, pw, err)

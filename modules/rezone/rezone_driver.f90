@@ -1,0 +1,217 @@
+!> The rezone package's driver: what the rezone keeps from one Euler step
+!> to the next (the initial grid, the cells' standard side ratios, the last
+!> look at the grid's shape, the smoothers' node mobility, the rezoned
+!> grid's array) and the rezone of a grid at an Euler step, back to the
+!> initial grid (`rezone_global`, moving faces followed) or by smoothing
+!> the distorted subdomains or the whole grid (`rezone_lssm`, Sect. 5 of
+!> the paper). It prints nothing: what it did comes back to the caller
+!> (the time loop's Euler phase, `driver_euler`), which logs it.
+module rezone_driver
+  use base_kinds, only: wp
+  use base_errors, only: error_no_memory, error_t, error_set
+  use base_share, only: share_t
+  use mesh_grid, only: grid_t
+  use mesh_halo, only: halo_t
+  use mesh_boundary, only: bc_t
+  use rezone_config, only: rezone_config_t
+  use rezone_quality, only: grid_shape_worst, grid_standard_ratios
+  use rezone_global, only: global_target, global_face_rule, GLOBAL_FACE_MOVE, global_surface_t
+  use rezone_lssm, only: lssm_report_t, lssm_rezone, LSSM_SKIPPED
+  use rezone_smooth, only: smooth_mobility_t
+  implicit none
+  private
+  public :: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_axis, rezone_shape, rezone_grid
+
+  !> What the rezone keeps (allocated only with &rezone mode other than 'none').
+  type :: rezone_state_t
+    real(wp), allocatable :: x0(:, :)        !< initial grid, the global rezone's target
+    !> each of the block's cells' side ratio on the initial grid
+    !> (`standard_side_ratio`), against which the triggers measure its side
+    !> ratio; not allocated when every cell there has equal sides
+    real(wp), allocatable :: ratio0(:)
+    !> whether x0 is a lattice (`lattice_nodes`): -1 not yet known
+    integer :: x0_lattice = -1
+    !> the rezoned grid's array, kept from one Euler step to the next (a
+    !> fresh whole-grid array at every step costs its pages' first touch),
+    !> and whether it holds x0 already (a global rezone without moving
+    !> faces: the copy is then skipped)
+    real(wp), allocatable :: xkeep(:, :)
+    logical :: xkeep_x0 = .false.
+    !> a decomposed run's global rezone with a moving face (`window_global_
+    !> target`): the grid's faces (their initial nodes and line parameters,
+    !> set at the first such Euler step) and the line parameters at the
+    !> block's nodes (allocated then)
+    type(global_surface_t) :: surface
+    real(wp), allocatable :: xline(:, :)
+    real(wp), allocatable :: quality(:)      !< work: cell quality for the triggers
+    logical, allocatable :: fail(:)          !< work: cells failing the triggers' tests (LSSM, box reading)
+    !> the last look at the grid's shape (`rezone_shape`) on this block: its
+    !> largest side ratio and smallest cosine, and the whole grid's number
+    !> of its first owned cell with each (for the log's note, `euler_due_where`)
+    real(wp) :: shape_mine(2) = 0.0_wp, shape_first(2) = 0.0_wp
+    !> with LSSM's box reading, that look's side-ratio and angle tests of
+    !> each owned cell against the deck's bounds, and the step and the
+    !> stored cells (whole-grid numbers, first and last) of the grid they
+    !> were taken on: the rezone of that step on that grid takes them
+    !> rather than again (`lssm_rezone`)
+    logical, allocatable :: shape_fail(:)
+    integer :: shape_step = -1, shape_box(3, 2) = 0
+    !> the smoothers' mobility of the nodes (`lssm_rezone`), kept for the
+    !> grid whose stored cells (whole-grid numbers, first and last) are mob_box
+    type(smooth_mobility_t) :: mob
+    integer :: mob_box(3, 2) = 0
+  end type rezone_state_t
+
+contains
+
+  !> Keeps the initial grid (the global rezone's target, the smoothers'
+  !> standard grid) of the grid g the rezone works on, and its work arrays.
+  subroutine rezone_state_init(g, rs, err)
+    type(grid_t), intent(in) :: g
+    type(rezone_state_t), intent(inout) :: rs
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    character(len=200) :: msg
+    allocate(rs%x0, source=g%x, stat=stat, errmsg=msg)
+    if (stat == 0) allocate(rs%quality(g%ncell), rs%fail(g%ncell), stat=stat, errmsg=msg)
+    if (stat /= 0) call error_set(err, 'rezone_state_init', error_no_memory('the Euler phase''s arrays'))
+  end subroutine rezone_state_init
+
+  !> rs%ratio0 from the block g's nodes as the deck set them (called before
+  !> a restart is read, so a restarted run measures against the same grid).
+  subroutine rezone_standard_ratios(g, rs, err)
+    type(grid_t), intent(in) :: g
+    type(rezone_state_t), intent(inout) :: rs
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    allocate(rs%ratio0(g%ncell), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'rezone_standard_ratios', error_no_memory('the standard side ratios'))
+      return
+    end if
+    call grid_standard_ratios(g, rs%ratio0)
+    ! (standard_side_ratio gives exactly 1 for a cell of equal sides)
+    if (.not. any(rs%ratio0 > 1.0_wp)) deallocate(rs%ratio0)
+  end subroutine rezone_standard_ratios
+
+  !> Whether the triggers measure the inclined angle against the axes (LSSM's
+  !> box reading).
+  logical function rezone_axis(rz)
+    type(rezone_config_t), intent(in) :: rz
+    rezone_axis = trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box'
+  end function rezone_axis
+
+  !> The largest side ratio and smallest inclined-angle cosine over the
+  !> cells a block owns in rs%shape_mine, and the whole grid's number of the
+  !> first owned cell with each in rs%shape_first (`grid_shape_worst`; the
+  !> log's note of where the grid is worst: `euler_due_where`).
+  subroutine rezone_shape(rz, g, step, rs)
+    type(rezone_config_t), intent(in) :: rz
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: step
+    type(rezone_state_t), intent(inout) :: rs
+    integer :: stat
+    rs%shape_step = -1
+    if (rezone_axis(rz)) then
+      if (allocated(rs%shape_fail)) then
+        if (size(rs%shape_fail) /= g%ncell) deallocate(rs%shape_fail)
+      end if
+      stat = 0
+      if (.not. allocated(rs%shape_fail)) allocate(rs%shape_fail(g%ncell), stat=stat)
+      if (stat == 0) then
+        if (allocated(rs%ratio0)) then
+          call grid_shape_worst(g, .true., rs%shape_mine, rs%shape_first, [rz%side_ratio, rz%cos_angle], &
+                                rs%shape_fail, rs%ratio0)
+        else
+          call grid_shape_worst(g, .true., rs%shape_mine, rs%shape_first, [rz%side_ratio, rz%cos_angle], &
+                                rs%shape_fail)
+        end if
+        rs%shape_step = step
+        rs%shape_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
+        return
+      end if
+    end if
+    if (allocated(rs%ratio0)) then
+      call grid_shape_worst(g, rezone_axis(rz), rs%shape_mine, rs%shape_first, ratio0=rs%ratio0)
+    else
+      call grid_shape_worst(g, rezone_axis(rz), rs%shape_mine, rs%shape_first)
+    end if
+  end subroutine rezone_shape
+
+  !> Whether rs%shape_fail holds the shape tests of grid g at step.
+  logical function shape_known(g, step, rs)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: step
+    type(rezone_state_t), intent(in) :: rs
+    shape_known = rs%shape_step == step .and. all(rs%shape_box(:, 1) == g%off + g%slo) .and. &
+                  all(rs%shape_box(:, 2) == g%off + g%shi)
+    if (shape_known) shape_known = size(rs%shape_fail) == g%ncell
+  end function shape_known
+
+  !> The rezone of an Euler step at step: the new node positions xnew of
+  !> the grid g (one process's, a block with its halo (the smoothing only:
+  !> its ghosts and global reductions), or the whole grid's node positions
+  !> on every rank (share: the ranks that share its quality measures)).
+  !> occupied: g's cells that particles occupy in the standard grid. With
+  !> &rezone mode 'lssm' or 'smooth' rep says what the smoothing did
+  !> (`lssm_rezone`) and done is false if no cell needed it; with 'global'
+  !> nmove counts the nodes of moving faces kept where they are. done is
+  !> false on an error too.
+  subroutine rezone_grid(rz, g, bc, share, halo, step, rs, xnew, rep, nmove, done, err, occupied)
+    type(rezone_config_t), intent(in) :: rz
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    class(share_t), intent(in), optional :: share
+    class(halo_t), intent(inout) :: halo
+    integer, intent(in) :: step
+    type(rezone_state_t), intent(inout) :: rs
+    real(wp), allocatable, intent(out) :: xnew(:, :)
+    type(lssm_report_t), intent(out) :: rep
+    integer, intent(out) :: nmove
+    logical, intent(out) :: done
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: occupied(:)
+    integer :: f, stat, rules(6)
+    character(len=200) :: msg
+
+    done = .true.
+    nmove = 0
+    if (allocated(rs%xkeep)) then
+      if (all(shape(rs%xkeep) == shape(g%x))) call move_alloc(rs%xkeep, xnew)
+    end if
+    if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
+      rs%xkeep_x0 = .false.
+      xnew = g%x
+      if (any(rs%mob_box /= reshape([g%off + g%slo, g%off + g%shi], [3, 2]))) then
+        rs%mob = smooth_mobility_t()
+        rs%mob_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
+      end if
+      if (shape_known(g, step, rs)) then
+        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, rs%shape_fail, &
+                         rs%mob)
+        ! (once: the grid moves on)
+        rs%shape_step = -1
+      else
+        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, &
+                         mob_keep=rs%mob)
+      end if
+      done = rep%outcome /= LSSM_SKIPPED
+    else
+      ! back to the initial grid, except where a face moves with the
+      ! material (a piston, a free surface): there the grid follows it
+      rules = [(global_face_rule(bc%kind(f)), f = 1, 6)]
+      stat = 0
+      if (.not. allocated(xnew)) then
+        rs%xkeep_x0 = .false.
+        allocate(xnew, mold=rs%x0, stat=stat, errmsg=msg)
+      end if
+      if (stat /= 0) then
+        call error_set(err, 'rezone_grid', error_no_memory('the rezoned grid'))
+      else if (.not. (rs%xkeep_x0 .and. all(rules /= GLOBAL_FACE_MOVE))) then
+        call global_target(g%ni, g%nj, g%nk, rules, rs%x0, g%x, xnew, nmove, err)
+        rs%xkeep_x0 = all(rules /= GLOBAL_FACE_MOVE)
+      end if
+    end if
+    if (allocated(err)) done = .false.
+  end subroutine rezone_grid
+end module rezone_driver
