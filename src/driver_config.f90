@@ -8,7 +8,7 @@ module driver_config
   use base_strings, only: itoa, lower
   use base_config, only: max_line, no_echo, problem_add, problem_bad, problem_badi, problem_nml, problem_long, diff_i, diff_r
   use base_errors, only: error_no_memory, error_t
-  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes
+  use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_axis_nodes
   use io_grid_file, only: grid_file_read, grid_file_scan
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
   use material_config, only: material_config_t, material_config_read, material_config_changes
@@ -328,7 +328,8 @@ contains
       if (mod(s, nparts) /= part) cycle
       ix = grid_index_block([gn(1), gn(2), min(nks, gn(3) - k0)], [0, 0, 0], [0, 0, 0], [0, 0, k0], gn)
       if (len_trim(cfg%grid%file) == 0) then
-        call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, ix)
+        call grid_init_box(g, gn(1), gn(2), gn(3), cfg%grid%xmin, cfg%grid%xmax, err, ix, grid_axis_nodes(cfg%grid, 1), &
+                           grid_axis_nodes(cfg%grid, 2), grid_axis_nodes(cfg%grid, 3))
       else
         call grid_file_read(cfg%grid%file_path, gn(1), gn(2), gn(3), x, err, [0, 0, k0], &
                             [gn(1), gn(2), k0 + ix%nk])

@@ -20,6 +20,7 @@ module driver_prerun
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_grid, only: grid_t
+  use mesh_grid_config, only: grid_axis_nodes
   use mesh_halo, only: halo_t
   use mesh_boundary, only: BC_SYMMETRY, BC_WALL
   use material_table, only: material_t, material_index_cells
@@ -77,7 +78,7 @@ contains
     associate (pc => cfg%pre1d, s => pr%s)
       t_map = pc%time
       if (len_trim(cfg%grid%file) > 0) then
-        call refuse('&prerun maps onto a box grid (&grid without file) for now')
+        call refuse('&prerun maps onto a box grid, uniform or graded (&grid without file), for now')
         return
       end if
       ! the centre: the deck's, else the last sphere region's
@@ -342,10 +343,20 @@ contains
     type(prerun_t), intent(inout) :: pr
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: h(3), rmap
-    integer :: a, j, stat
+    real(wp), allocatable :: xa(:)
+    integer :: a, j, n, stat
     character(len=200) :: msg
     associate (s => pr%s, pc => cfg%pre1d, c => pr%centre)
       h = (cfg%grid%xmax - cfg%grid%xmin)/real([cfg%grid%ni, cfg%grid%nj, cfg%grid%nk], wp)
+      if (cfg%grid%graded()) then
+        ! (a graded box: the widest cell along each axis within the
+        ! disturbance's reach of the centre)
+        do a = 1, 3
+          xa = grid_axis_nodes(cfg%grid, a)
+          n = size(xa) - 1
+          h(a) = maxval(xa(2:) - xa(:n), mask=xa(2:) >= c(a) - s%r(pr%kshock) .and. xa(:n) <= c(a) + s%r(pr%kshock))
+        end do
+      end if
       rmap = s%r(pr%kshock) + 2.0_wp*maxval(h)
       if (pc%map_radius > 0.0_wp) then
         if (pc%map_radius < s%r(pr%kshock)) then

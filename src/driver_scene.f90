@@ -9,6 +9,7 @@ module driver_scene
   use base_random, only: rng_t, rng_seed, rng_uniform, rng_jump_t, rng_jump, rng_apply
   use eos_factory, only: eos_create
   use mesh_grid, only: grid_t, grid_index_t, grid_init_box, grid_init_nodes
+  use mesh_grid_config, only: grid_axis_nodes
   use mesh_halo, only: halo_t
   use mesh_geometry, only: hex_volume, hex_natural, cross
   use io_grid_file, only: grid_file_read
@@ -47,11 +48,11 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: block
     logical, intent(in), optional :: fluid_only, remap_only
-    integer :: m, c, n, r, s, ijk(3), stat
+    integer :: m, c, n, r, s, a, ijk(3), stat
     type(centroid_stats_t) :: planes
     real(wp) :: xn(3, 8), h(3), xi(3), key
     logical :: inside, fluid, remap, mapping
-    real(wp), allocatable :: xfile(:, :)
+    real(wp), allocatable :: xfile(:, :), xa(:)
     character(len=200) :: msg
 
     ! a single block's halo (no exchange) unless the driver gave a block's
@@ -69,7 +70,8 @@ contains
     scene: block
       associate (gc => cfg%grid, g => st%g, hy => st%h, mx => st%mx)
         if (len_trim(gc%file) == 0) then
-          call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block)
+          call grid_init_box(g, gc%ni, gc%nj, gc%nk, gc%xmin, gc%xmax, err, block, grid_axis_nodes(gc, 1), &
+                             grid_axis_nodes(gc, 2), grid_axis_nodes(gc, 3))
         else
           ! (the deck reader checked the file; read again, it is checked again;
           ! a block reads its stored nodes only)
@@ -168,7 +170,13 @@ contains
         ! contain the point)
         h = (gc%xmax - gc%xmin)/real([gc%ni, gc%nj, gc%nk], wp)
         do s = 1, size(cfg%sources)
-          if (len_trim(gc%file) == 0) then
+          if (len_trim(gc%file) == 0 .and. gc%graded()) then
+            ! (a graded box: the cell between the node planes about the point)
+            do a = 1, 3
+              xa = grid_axis_nodes(gc, a)
+              ijk(a) = count(xa(2:size(xa) - 1) <= cfg%sources(s)%position(a)) + 1
+            end do
+          else if (len_trim(gc%file) == 0) then
             ijk = int((cfg%sources(s)%position - gc%xmin)/h) + 1
             ijk = max(1, min([gc%ni, gc%nj, gc%nk], ijk))
           else
@@ -329,9 +337,15 @@ contains
                 call error_set(err, 'setup_burn', error_no_memory('the shortest paths'))
                 return
               end if
-              ax = cfg%grid%xmin(1) + (cfg%grid%xmax(1) - cfg%grid%xmin(1))*[(real(i, wp), i = 0, ni)]/real(ni, wp)
-              ay = cfg%grid%xmin(2) + (cfg%grid%xmax(2) - cfg%grid%xmin(2))*[(real(i, wp), i = 0, nj)]/real(nj, wp)
-              az = cfg%grid%xmin(3) + (cfg%grid%xmax(3) - cfg%grid%xmin(3))*[(real(i, wp), i = 0, nk)]/real(nk, wp)
+              if (cfg%grid%graded()) then
+                ax = grid_axis_nodes(cfg%grid, 1)
+                ay = grid_axis_nodes(cfg%grid, 2)
+                az = grid_axis_nodes(cfg%grid, 3)
+              else
+                ax = cfg%grid%xmin(1) + (cfg%grid%xmax(1) - cfg%grid%xmin(1))*[(real(i, wp), i = 0, ni)]/real(ni, wp)
+                ay = cfg%grid%xmin(2) + (cfg%grid%xmax(2) - cfg%grid%xmin(2))*[(real(i, wp), i = 0, nj)]/real(nj, wp)
+                az = cfg%grid%xmin(3) + (cfg%grid%xmax(3) - cfg%grid%xmin(3))*[(real(i, wp), i = 0, nk)]/real(nk, wp)
+              end if
               do kk = 1, nk
                 do j = 1, nj
                   do i = 1, ni

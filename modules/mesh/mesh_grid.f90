@@ -80,14 +80,17 @@ module mesh_grid
 
 contains
 
-  !> Builds a uniform box grid of ni x nj x nk cells between xmin and xmax,
-  !> or the block `ix` of it (`grid_index_block`, its ghost nodes included).
-  subroutine grid_init_box(g, ni, nj, nk, xmin, xmax, err, ix)
+  !> Builds a box grid of ni x nj x nk cells between xmin and xmax, or the
+  !> block `ix` of it (`grid_index_block`, its ghost nodes included):
+  !> uniform, or with the node planes at ax(0:ni), ay(0:nj), az(0:nk) (a
+  !> graded box, `grid_axis_nodes`; all three or none).
+  subroutine grid_init_box(g, ni, nj, nk, xmin, xmax, err, ix, ax, ay, az)
     type(grid_t), intent(out) :: g
     integer, intent(in) :: ni, nj, nk
     real(wp), intent(in) :: xmin(3), xmax(3)
     type(error_t), allocatable, intent(inout) :: err
     type(grid_index_t), intent(in), optional :: ix
+    real(wp), intent(in), optional :: ax(0:), ay(0:), az(0:)
     integer :: i, j, k, n, stat, ig(3)
     character(len=200) :: msg
     real(wp) :: h(3)
@@ -109,6 +112,10 @@ contains
         do i = g%slo(1) - 1, g%shi(1)
           n = g%node(i, j, k)
           ig = [i, j, k] + g%off
+          if (present(ax)) then
+            g%x(:, n) = [ax(ig(1)), ay(ig(2)), az(ig(3))]
+            cycle
+          end if
           ! the far face is placed exactly at xmax, not at xmin + n*h
           g%x(1, n) = merge(xmax(1), xmin(1) + ig(1)*h(1), ig(1) == ni)
           g%x(2, n) = merge(xmax(2), xmin(2) + ig(2)*h(2), ig(2) == nj)
