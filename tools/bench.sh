@@ -35,7 +35,9 @@
 # (issue 36, input/tnt_bubble.nml at 48^3 and 64^3, about 30 minutes;
 # BENCH_ONLY=bubble runs only that); an Euler step's cost against the grid
 # size, the same cells changed in 20^3, 40^3 and 60^3 (issue 33,
-# BENCH_ONLY=flat runs only that).
+# BENCH_ONLY=flat runs only that); a TNT charge's shock in free water in the
+# 1D run alone, at three zone widths and two linear viscosities, against
+# the similitude (issue 36, a few minutes; BENCH_ONLY=water1d runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -451,6 +453,32 @@ bubble_bench() {
   done
 }
 
+# ---- The underwater charge's shock in 1D: what the linear viscosity costs (issue 36) ----
+# The 1D pre-run of hardcases/tnt_water_pencil.nml alone to 140 us (&prerun
+# time = t_end), zones 0.1, 0.05 and 0.02 mm wide at the charge (wider
+# beyond in proportion to the radius: 1, 0.5 and 0.2 mm at 100 mm), with
+# the linear viscosity 0.5 (the 3D solver's default) and 0.1 (the 1D run's,
+# and the deck's): the peaks at 5, 10, 15 and 20 charge radii against the
+# similitude (tools/water_similitude.py). A weak shock in water is eroded by
+# the linear term at a given zone width: with 0.1 the peaks change by 2-5 %
+# from 0.05 to 0.02 mm, with 0.5 they are still rising.
+water_1d_bench() {
+  echo "## TNT in free water, the 1D run alone to 140 us: peak overpressure against the similitude (1 thread)"
+  local q zw name
+  for q in 0.5 0.1; do
+    for zw in 0.1 0.05 0.02; do
+      name=water1d_q${q}_z$zw
+      sed -e "s|^&prerun .*|\&prerun time = 140.0, zone_width = $zw, radius = 400, q_linear = $q /|" \
+          -e "s|out/tnt_water_pencil|out/$name|" "$root/hardcases/tnt_water_pencil.nml" > $name.nml
+      OMP_NUM_THREADS=1 "$exe" $name.nml > $name.log 2>&1 || echo "$name: run failed (see $outdir/bench_$name.log)"
+      cp $name.log "$outdir/bench_$name.log"
+      echo "q_linear $q, zones $zw mm at the charge:"
+      /usr/bin/python3 "$root/tools/water_similitude.py" out/$name/${name}_prerun_gauges.txt --charge-kg 6.8277e-3 \
+        --radii 50 100 150 200 | sed 's/^/  /'
+    done
+  done
+}
+
 # ---- An Euler step's cost against the grid size (issue 33) ----
 # The Sedov blast with a fixed cell of 0.06 (the energy of input/sedov3d.nml)
 # in octants of 20^3, 40^3 and 60^3 cells, a global rezone back to the box
@@ -516,6 +544,11 @@ DECK
 
 if [[ "${BENCH_ONLY:-}" == flat ]]; then
   flat_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
+if [[ "${BENCH_ONLY:-}" == water1d ]]; then
+  water_1d_bench
   echo "bench wall time: ${SECONDS} s"
   exit 0
 fi
@@ -679,6 +712,8 @@ echo
 tnt_modes_bench
 echo
 bubble_bench
+echo
+water_1d_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"

@@ -80,7 +80,10 @@ missing):
               its ratio to the lagrange L1 of the same N
     tnt_water peak overpressure and its e-fold decay time at the gauges at
               5, 10 and 20 charge radii (axis, then diagonal) against the
-              similitude for TNT underwater shocks (hardcases/tnt_water.nml)
+              similitude for TNT underwater shocks (hardcases/tnt_water.nml;
+              tools/water_similitude.py); tnt_water_pencil the same on the
+              x axis alone at 5, 10, 15 and 20 radii, on a grid graded to
+              1 or 2 mm along it (hardcases/tnt_water_pencil.nml)
     tnt_plate the largest x velocity of the plate's particle on the axis
               against Taylor's flat-plate theory, m du/dt = 2 p_i(t) -
               rho0 c0 u until the face pressure reaches the cut-off, p_i the
@@ -368,6 +371,17 @@ def _cases():
              [Size("20", cube(20), quick=True), Size("40", cube(40))],
              ["ale", "euler"], error_tnt_water,
              params=dict(radii=(50, 100, 200), charge_kg=6.8277e-3)),
+        # the same charge on a grid graded to resolve the shock along the x
+        # axis (gauges there only), modes lssm and ale: an Eulerian run
+        # remaps the 434k cells of the 1 mm grid at every one of its ~1000
+        # steps
+        Case("tnt_water_pencil", "tnt_water_pencil.nml",
+             [Size("2mm", {("grid", 0): {"ni": "112", "nj": "22", "nk": "22", "spacing_x": "210, 2, 250, 12",
+                                         "spacing_y": "6, 2, 250, 40", "spacing_z": "6, 2, 250, 40"}},
+                   quick=True),
+              Size("1mm")],
+             ["lssm", "ale"], error_tnt_water,
+             params=dict(radii=(50, 100, 150, 200), charge_kg=6.8277e-3, axis_only=True)),
         Case("tnt_plate", "tnt_plate.nml",
              [Size("20", cube(20), quick=True), Size("40", cube(40))],
              ["ale", "euler"], error_tnt_plate,
@@ -803,33 +817,25 @@ def error_tnt(res, results):
 
 def error_tnt_water(res, results):
     """Peak overpressure and its e-fold decay time at the gauges (axis, then
-    diagonal) against the similitude for TNT underwater shocks (module
-    header): P = 52.4 (W^(1/3)/R)^1.13 MPa, theta = 0.084 W^(1/3)
-    (W^(1/3)/R)^-0.23 ms, W kg, R m; the deck's units are GPa and us."""
-    import plot_gauges
+    diagonal) against the similitude for TNT underwater shocks
+    (tools/water_similitude.py); the deck's units are GPa and us."""
+    import water_similitude
     e = res["run"].entry
     path = os.path.join(res["run"].rundir, f"{e.name}_gauges.txt")
     if not os.path.exists(path):
         return "no gauge file", ""
-    names, data, _ = plot_gauges.read_table(path)
-    t = data[:, names.index("time")]
     radii = e.case.params["radii"]
-    w3 = e.case.params["charge_kg"] ** (1.0 / 3.0)
-    parts = []
-    for g in range(1, 2 * len(radii) + 1):
-        if f"pressure_{g}" not in names:
-            return f"{g - 1} gauges, expected {2 * len(radii)}", ""
-        p = data[:, names.index(f"pressure_{g}")] - data[0, names.index(f"pressure_{g}")]
-        k = int(np.argmax(p))
-        after = np.nonzero(p[k:] <= p[k] / np.e)[0]
-        theta = t[k + after[0]] - t[k] if after.size else float("nan")
-        z = w3 / (radii[(g - 1) % len(radii)] * 1.0e-3)
-        p_sim = 52.4e-3 * z ** 1.13
-        theta_sim = 84.0 * w3 * z ** -0.23
-        parts.append(f"{p[k] / p_sim - 1:+.0%}/{theta / theta_sim - 1:+.0%}")
+    axis_only = e.case.params.get("axis_only", False)
+    rows = water_similitude.gauge_errors(path, e.case.params["charge_kg"], radii)
+    expected = len(radii) * (1 if axis_only else 2)
+    if len(rows) != expected:
+        return f"{len(rows)} gauges, expected {expected}", ""
+    parts = [f"{p / ps - 1:+.0%}/{th / ts - 1:+.0%}" for _, _, p, th, ps, ts in rows]
     n = len(radii)
-    return ("peak/theta vs similitude, axis " + " ".join(parts[:n]) + "; diagonal " + " ".join(parts[n:]),
-            "")
+    text = "peak/theta vs similitude, axis " + " ".join(parts[:n])
+    if not axis_only:
+        text += "; diagonal " + " ".join(parts[n:])
+    return text, ""
 
 
 def taylor_plate(t, p_i, m, z, p_cut):
