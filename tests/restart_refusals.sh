@@ -25,6 +25,9 @@ expect() { # name regex deck
 derive grid "$deck" "max_steps = 20, restart_from = '$dump'" base
 sed -i -e 's/ni = 100/ni = 50/' grid.nml
 expect "changed grid" "&grid ni changed from 100 to 50" grid.nml
+derive graded "$deck" "max_steps = 20, restart_from = '$dump'" base
+sed -i -e 's|xmax = 1, 0.01, 0.01 /|xmax = 1, 0.01, 0.01, spacing_x = 0, 0.005, 1, 0.01 /|' graded.nml
+expect "graded grid" "&grid spacing_x changed" graded.nml
 derive gamma "$deck" "max_steps = 20, restart_from = '$dump'" base
 sed -i -e 's/gamma = 1.4/gamma = 1.67/' gamma.nml
 expect "changed gamma" "&material 'gas' gamma changed" gamma.nml
