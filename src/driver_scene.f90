@@ -270,6 +270,15 @@ contains
     st%ready = .true.
     call log_line(log, 'grid: '//itoa(st%g%ni)//' x '//itoa(st%g%nj)//' x '//itoa(st%g%nk)// &
                   ' cells, '//itoa(st%g%nnode)//' nodes, '//itoa(size(st%mats))//' material(s)')
+    ! (a graded box: the widths its pairs came to, scaled to the cells)
+    if (len_trim(cfg%grid%file) == 0 .and. cfg%grid%graded()) then
+      do a = 1, 3
+        xa = grid_axis_nodes(cfg%grid, a)
+        n = size(xa) - 1
+        call log_line(log, 'grid: along '//achar(119 + a)//' cell widths '//rtoa(minval(xa(2:) - xa(:n)))// &
+                      ' to '//rtoa(maxval(xa(2:) - xa(:n))))
+      end do
+    end if
   end subroutine build_scene
 
   !> Whether err is allocated on any block (on one process: here). A block

@@ -21,8 +21,9 @@ module mesh_grid_config
   !> The most (coordinate, width) pairs of a graded axis (`spacing_x`..).
   integer, parameter, public :: max_spacing = 32
 
-  !> An unset entry of `spacing_x`..: the namelist leaves it as it is.
-  real(wp), parameter :: unset = -huge(1.0_wp)
+  !> An unset entry of `spacing_x`..: the namelist leaves it as it is (the
+  !> echo shows it as 1.797E+308, as it shows other absent values).
+  real(wp), parameter :: unset = huge(1.0_wp)
 
   !> The resolved &grid group; the initial values are the defaults.
   type :: grid_config_t
@@ -125,7 +126,7 @@ contains
   !> An entry of `spacing_x`.. the deck gave (not `unset`).
   elemental logical function given(v)
     real(wp), intent(in) :: v
-    given = v > 0.5_wp*unset
+    given = v < 0.5_wp*unset
   end function given
 
   !> The problems of axis d's (coordinate, width) pairs: whole pairs, the
