@@ -408,7 +408,7 @@ contains
     real(wp), target :: one(1)
     real(wp), pointer :: scale(:)
     integer :: sstride, lo(3), hi(3)
-    real(wp), parameter :: round_strain = 1.0e-12_wp, hg_round = 1.0e-30_wp
+    real(wp), parameter :: round_strain = 1.0e-12_wp, hg_round = 1.0e-30_wp, hg_zmax = 1.8_wp
     real(wp) :: rate_min, dt_hg
     ! the owned cells and one ghost layer: every cell around an owned node
     call g%cells_around(1, lo, hi)
@@ -519,10 +519,10 @@ contains
           end do
           ggmax = max(ggmax, sum(gam(:, m)**2))
         end do
-        ! the damping's rate times the step, at most 1.8 (the header)
-        ! (coef over the cell's mass rho V)
+        ! the damping's rate times the step, 8 max |gamma|^2 dt coef/(rho V),
+        ! at most hg_zmax (the header)
         hgdt = 8.0_wp*ggmax*(par%hourglass*h%cs(c)*h%amed(2, c)/3.0_wp)*dt_hg*rvol
-        if (hgdt > 1.8_wp) coef = coef*(1.8_wp/hgdt)
+        if (hgdt > hg_zmax) coef = coef*(hg_zmax/hgdt)
         do m = 1, 4
           ! (a mode below 1e-30 of the sound speed is none: ahead of a wave
           ! the force would carry a precursor down to subnormal numbers)
