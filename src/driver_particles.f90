@@ -53,10 +53,11 @@ module driver_particles
   use driver_parallel, only: agree_error
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
                                 parallel_mark_cells
+  use particles_nodal, only: particles_nodal_t
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
                                 particles_phase_mass, &
                                 particles_stable_dt, particles_g2p, &
-                                particles_virtual_grid, particles_velocity_gradients, particles_stress_update, &
+                                particles_virtual_grid, particles_step_gradients, particles_stress_update, &
                                 particles_virtual_masses, particles_blend_velocities, particles_q_heating, &
                                 particles_slot_start
   use strength_models, only: strength_params_t
@@ -627,13 +628,16 @@ contains
   !> was taken (0 if the cells or the caller set the step).
   subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell, dt_particle)
     type(config_t), intent(in) :: cfg
-    type(state_t), intent(inout) :: st
+    type(state_t), intent(inout), target :: st
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
     real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
     integer :: kp, kid, first, place, nodal, i, j, k
+    type(particles_nodal_t) :: contrib
+    contrib%pt => st%pt
+    contrib%pw => st%pw
     associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
       call particles_phase_mass(g, pt, pw, h%mnode)
       call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
@@ -664,21 +668,14 @@ contains
       if (kid > -huge(1)) key(1) = real(kid, wp)
       dt_in = dt
       dt = min(dt, dtp)
-      call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, work_ext=w_ext, &
-                         dt_cell=dt_cell, pt=pt, pw=pw, bad_particle=bad_particle, work_vf=w_vf, halo=st%halo)
+      call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=dt_cell, nodal=contrib, &
+                         work_nodal=w_ext, work_cells=w_vf, halo=st%halo)
+      bad_particle = contrib%bad
       if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
       call agree_bad(bad_particle)
       if (bad_cell /= 0 .or. bad_particle /= 0) return
       call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
-      pw%xh(:, :g%nnode) = 0.5_wp*(h%xn(:, :g%nnode) + g%x(:, :g%nnode))
-      if (cfg%hydro%stress_decoupled) then
-        call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
-        call bc_constrain(st%bc, pw%vs)
-        call st%halo%nodes(pw%vs)
-        call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
-      else
-        call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
-      end if
+      call particles_step_gradients(g, st%bc, pt, pw, cfg%hydro%stress_decoupled, h%xn, g%x, h%uh, st%halo)
       e_old = particles_internal(st)
       call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
       call agree_bad(bad_particle)

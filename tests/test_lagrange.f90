@@ -2,7 +2,7 @@
 !> on small boxes of an ideal gas built by hand: corner forces sum to zero
 !> cell by cell, one step conserves internal plus kinetic energy less the
 !> boundary work, one step is Galilean invariant, boundary conditions hold,
-!> and the particle hooks f_ext / m_ext of `lagrange_step` accelerate the
+!> and a prescribed nodal contributor (`lagrange_nodal`: force f, mass m_ext) accelerates the
 !> nodes by f / (m + m_ext), and the rows of nodes a step notes as moved
 !> (`grid_t`'s moved_rows) are those where a node moved. Also checks what the step's reuse of geometry
 !> relies on: `hex_volume` and the volume of `hex_volume_gradient` agree bit
@@ -24,6 +24,7 @@ program test_lagrange
                             VISC_EDGE, VISC_TENSOR
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, limiter_step
   use lagrange_integrator, only: lagrange_step, lagrange_stable_dt
+  use lagrange_nodal, only: nodal_part_t
   implicit none
 
   real(wp), parameter :: eps = epsilon(1.0_wp)
@@ -277,11 +278,12 @@ contains
   !> the pressure changes of the unequal accelerations (second order in dt,
   !> 1e-12 relative) stay below the bound 1e3 eps. Then, over a full-size
   !> step, the energy balance with the combined nodal mass must close with
-  !> work_ext to round-off (1e3 eps E, as in energy_balance).
+  !> the contributor's work (work_nodal) to round-off (1e3 eps E, as in energy_balance).
   subroutine extra_force_and_mass()
     type(hydro_params_t) :: par
     real(wp), parameter :: fext(3) = [0.3_wp, -0.2_wp, 0.5_wp]
     real(wp), allocatable :: f_ext(:, :), m_ext(:)
+    type(nodal_part_t) :: ext
     real(wp) :: dt, dt0, work, wext, worst, m0, p0(3), ie0, ke0, m1, p1(3), ie1, ke1, kx0, kx1, p_gas
     integer :: bad, f, i
 
@@ -293,6 +295,9 @@ contains
       f_ext(:, i) = fext
       m_ext(i) = 0.5_wp*h%mnode(i)*(1.0_wp + rng_uniform(rng))
     end do
+    ! (a prescribed force: the contributor's own arrays)
+    ext%f = f_ext
+    ext%m = m_ext
     ! equilibrium without the extra force
     call lagrange_stable_dt(g, h, par, dt0)
     dt = 1.0e-6_wp*dt0
@@ -301,7 +306,7 @@ contains
                      1.0e3_wp*eps)
     h%u = 0.0_wp
     dt = 1.0e-6_wp*dt0
-    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad, f_ext=f_ext, m_ext=m_ext, work_ext=wext)
+    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad, nodal=ext, work_nodal=wext)
     call check(bad == 0 .and. abs(dt - 1.0e-6_wp*dt0) <= 0.0_wp, 'extra force: step valid')
     worst = 0.0_wp
     do i = 1, g%nnode
@@ -313,7 +318,7 @@ contains
     call hydro_totals(g, h, halo_t(), m0, p0, ie0, ke0)
     kx0 = ext_kinetic(m_ext)
     dt = 0.5_wp*dt0
-    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad, f_ext=f_ext, m_ext=m_ext, work_ext=wext)
+    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad, nodal=ext, work_nodal=wext)
     call check(bad == 0, 'extra force: full step valid')
     call hydro_totals(g, h, halo_t(), m1, p1, ie1, ke1)
     kx1 = ext_kinetic(m_ext)

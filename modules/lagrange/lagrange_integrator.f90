@@ -15,15 +15,12 @@ module lagrange_integrator
   use mesh_halo, only: halo_t
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_geometry, only: hex_volume, hex_volume_gradient, hex_median_areas
-  use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply, bc_constrain
+  use mesh_boundary, only: bc_t, bc_pressure_forces, bc_apply
   use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use hydro_state, only: hydro_t, hydro_params_t
   use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
-  use particles_state, only: particles_t
-  use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
-                                particles_virtual_grid, particles_velocity_gradients, particles_stress_arrays, &
-                                particles_cell_fraction, particles_viscosity
+  use lagrange_nodal, only: nodal_part_t
   implicit none
   private
   public :: lagrange_step, lagrange_stable_dt, lagrange_update_cells
@@ -57,43 +54,21 @@ contains
   !> (lowest index on a tie; 0 if none), whether or not that step was taken:
   !> the step was limited by it when `dt` came back smaller than it went in.
   !>
-  !> Particles (Eq. 16-17) enter through two optional node arrays: `f_ext`
-  !> (3, nnode), a force added to the assembled corner forces of each node in
-  !> both stages (force units), and `m_ext` (nnode), a mass added to h%mnode in
-  !> the velocity update (and in the boundary impulses), so the nodes move as
-  !> u = u^n + dt (sum_c F_c + f_ext) / (m + m_ext). Energy accounting: the
-  !> cells are heated only by their own corner forces (Eq. 19), so f_ext's
-  !> work is not internal energy of the cells; it is returned separately in
-  !> `work_ext` = dt sum_n f_ext_n . u_n^{n+1/2} (the same discrete work as the
-  !> boundary pressure forces), and the balance that holds to round-off is
-  !>   Delta [sum_c m_c e_c + sum_n (m_n + m_ext_n) |u_n|^2 / 2] = work + work_ext,
+  !> A nodal contributor (`nodal`, `lagrange_nodal`: the coupled particles,
+  !> a prescribed force) adds its forces f and masses m of each stage to
+  !> the corner forces and the nodal masses, so the nodes move as u = u^n +
+  !> dt (sum_c F_c + f) / (m_n + m). Energy accounting: the cells are heated
+  !> only by their own corner forces (Eq. 19), so f's work is not internal
+  !> energy of the cells; it is returned separately in `work_nodal` = dt
+  !> sum_n f_n . u_n^{n+1/2} (the corrector's, the same discrete work as
+  !> the boundary pressure forces), and what the contributor does to the
+  !> cells itself (`cells`) in `work_cells`. Without cells' work the balance
+  !> that holds to round-off is
+  !>   Delta [sum_c m_c e_c + sum_n (m_n + m) |u_n|^2 / 2] = work + work_nodal,
   !> the kinetic energy taken with the combined nodal mass (the caller owns
-  !> the particles' share of it and the particles' internal energy, whose
-  !> change is -work_ext for forces from particle stresses). The impulse of a
-  !> kinematic boundary on f_ext is boundary work, as for the corner forces.
-  !> Without f_ext and m_ext the step is unchanged bit for bit.
-  !>
-  !> Coupled MPM particles (`pt` with its work arrays `pw`, instead of f_ext
-  !> and m_ext): pw%mp, their share of the nodal mass (Eq. 16, frozen for the
-  !> phase), is the extra mass, and their force (Eq. 17) is evaluated in each
-  !> stage with the host pressure and grad N of the stage: sigma^n, V^n
-  !> (x^n and p^n in the predictor, x^{n+1/2} and p^{n+1/2} in the
-  !> corrector), the corrector's with the particles' trial stress and volume
-  !> at n+1/2 (`particle_trial_state`, PARTICLES.md §1.8 step 2).
-  !> The virtual-fluid part of that force (-V_p P_c grad N_Ip) does work on
-  !> the nodes that the corner forces had put into the cells' virtual fluid:
-  !> in each stage the host cell's internal energy gives it back
-  !> (`particles_vf_energy`, PARTICLES.md §1.12), so that work_ext - work_vf
-  !> (the corrector's, returned in `work_vf`) is the particle-stress work.
-  !> `bad_particle` (0 if none) names a particle whose host has det J <= 0
-  !> at it or whose trial volume is not positive.
-  !> With &hydro particle_viscosity = 'scaled' the artificial viscosity of a
-  !> cell hosting particles is scaled by 1 - theta_c (PARTICLES.md §1.7,
-  !> `particles_cell_fraction`), theta_c from the particles' and the cells'
-  !> volumes at the start of the step, in both stages: inside a solid the
-  !> virtual fluid's viscosity would damp the solid (risk R2). The hourglass
-  !> control is kept: a solid of one particle per cell does not resist the
-  !> hourglass modes of its host.
+  !> the contributor's share of it and its internal energy). The impulse of
+  !> a kinematic boundary on f is boundary work, as for the corner forces.
+  !> Without a contributor the step is the grid's alone.
   !>
   !> Mixed cells: the stable step holds each material's volume change to
   !> dv_max of itself (`mixed_volume_gain`), and the closure shares the
@@ -101,8 +76,7 @@ contains
   !> (natural coordinates) follow the grid untouched; the centroids that
   !> follow from them and the new fractions are computed where they are
   !> read (`lagrange_centroids`).
-  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, f_ext, m_ext, work_ext, dt_cell, pt, pw, &
-                           bad_particle, work_vf, halo)
+  subroutine lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, dt_cell, nodal, work_nodal, work_cells, halo)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     type(bc_t), intent(inout) :: bc
@@ -112,26 +86,20 @@ contains
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell
-    real(wp), intent(in), optional :: f_ext(:, :)
-    real(wp), intent(in), optional :: m_ext(:)
-    real(wp), intent(out), optional :: work_ext
     integer, intent(out), optional :: dt_cell
-    type(particles_t), intent(in), optional :: pt
-    type(particles_work_t), intent(inout), optional :: pw
-    integer, intent(out), optional :: bad_particle
-    real(wp), intent(out), optional :: work_vf
+    class(nodal_part_t), intent(inout), optional, target :: nodal
+    real(wp), intent(out), optional :: work_nodal, work_cells
     class(halo_t), intent(inout), optional :: halo
     real(wp) :: dt_stable, w_pred
-    integer :: badp, dtc
-    type(xsum_t) :: wacc(1)
+    integer :: dtc
+    ! (wacc: the boundary work; acc: the contributor's nodal work, 1, and
+    ! its cells', 2)
+    type(xsum_t) :: wacc(1), acc(2)
+    real(wp), pointer :: fn(:, :), mn(:), vscale(:)
+    logical :: scaled
 
-    if (present(pt) .and. present(pw)) then
-      call particle_step(pt, pw)
-      return
-    end if
-
-    if (present(work_ext)) work_ext = 0.0_wp
-    ! predictor
+    if (present(work_nodal)) work_nodal = 0.0_wp
+    if (present(work_cells)) work_cells = 0.0_wp
     call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
     call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dtc)
     if (present(halo)) call halo%min_step(dt_stable, dtc)
@@ -139,10 +107,16 @@ contains
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
-    call bc_pressure_forces(bc, g, g%x, h%p)
-    call lagrange_corner_forces(g, g%x, h%u, h, par, dt=dt)
-    call update_nodes(g, h, dt, 0.5_wp*dt, .false., f_ext, m_ext)
-    call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, m_ext)
+    scaled = .false.
+    vscale => null()
+    if (present(nodal)) then
+      call nodal%start(g, h, par)
+      call nodal%visc_scale(par, scaled, vscale)
+    end if
+
+    ! predictor
+    call stage_forces(1, h%u)
+    call advance_nodes(0.5_wp*dt, .false., w_pred)
     call halo_nodes()
     ! the geometry of x^{1/2} (volumes, their gradients, median areas, strain
     ! rates for u*^{1/2}) is computed here once, for the densities and for the
@@ -150,31 +124,64 @@ contains
     call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
     call agree_bad()
     if (bad_cell /= 0) return
+    if (present(nodal)) call nodal%cells(1, g, h, dt, acc(2))
     if (present(halo)) call halo%cells(h%e)
     call update_materials(h, mats, mx, par, 0.5_wp*dt)
 
     ! corrector
-    call bc_pressure_forces(bc, g, g%x, h%p)
-    call lagrange_corner_forces(g, g%x, h%uh, h, par, dt=dt)
-    call update_nodes(g, h, dt, dt, .true., f_ext, m_ext)
-    call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, m_ext, wacc(1))
+    call stage_forces(2, h%uh)
+    call advance_nodes(dt, .true., work)
     call note_boundary_moves(g, h)
-    if (present(halo)) then
-      call halo%sums(wacc)
-      work = xsum_value(wacc(1))
-    end if
+    if (present(nodal)) call node_work(g, fn, h%uh, acc(1))
     call halo_nodes()
-    if (present(f_ext) .and. present(work_ext)) then
-      call node_work(g, f_ext, h%uh, wacc(1))
-      if (present(halo)) call halo%sums(wacc)
-      work_ext = dt*xsum_value(wacc(1))
-    end if
     call lagrange_update_cells(g, h, dt, bad_cell)
     call agree_bad()
     if (bad_cell /= 0) return
-    if (present(halo)) call halo%cells(h%e)
+    if (present(nodal)) call nodal%cells(2, g, h, dt, acc(2))
+    if (present(halo)) then
+      call halo%cells(h%e)
+      call halo%sums(wacc)
+      if (present(nodal)) call halo%sums(acc)
+    end if
+    work = xsum_value(wacc(1))
+    if (present(work_nodal)) work_nodal = dt*xsum_value(acc(1))
+    if (present(work_cells)) work_cells = xsum_value(acc(2))
     call update_materials(h, mats, mx, par, dt)
   contains
+    !> The forces of a stage (1 predictor, 2 corrector) for the velocities
+    !> v: the boundary's pressure forces, the corner forces (the viscosity
+    !> scaled where the contributor asks), the contributor's.
+    subroutine stage_forces(stage, v)
+      integer, intent(in) :: stage
+      real(wp), intent(in) :: v(:, :)
+      call bc_pressure_forces(bc, g, g%x, h%p)
+      if (scaled) then
+        call lagrange_corner_forces(g, g%x, v, h, par, vscale, dt)
+      else
+        call lagrange_corner_forces(g, g%x, v, h, par, dt=dt)
+      end if
+      if (present(nodal)) then
+        call nodal%forces(stage, g, h, bc, par, dt, halo)
+        call nodal%arrays(fn, mn)
+      end if
+    end subroutine stage_forces
+
+    !> A stage's node update over dt (positions over dtx; `last`: the
+    !> corrector) with the contributor's forces and masses, then the
+    !> boundary conditions; w the boundary's work (its exact sum in wacc).
+    subroutine advance_nodes(dtx, last, w)
+      real(wp), intent(in) :: dtx
+      logical, intent(in) :: last
+      real(wp), intent(out) :: w
+      if (present(nodal)) then
+        call update_nodes(g, h, dt, dtx, last, fn, mn)
+        call bc_apply(bc, dt, dtx, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w, mn, wacc(1))
+      else
+        call update_nodes(g, h, dt, dtx, last)
+        call bc_apply(bc, dt, dtx, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w, work_acc=wacc(1))
+      end if
+    end subroutine advance_nodes
+
     !> Ghost nodes from the neighbouring blocks: positions, new and
     !> half-step velocities of the stage just taken.
     subroutine halo_nodes()
@@ -193,124 +200,6 @@ contains
       call halo%max_int(k)
       if (k /= 0 .and. bad_cell == 0) bad_cell = -1
     end subroutine agree_bad
-
-    !> The step with coupled particles (notes above). In a block the
-    !> particles of its owned cells and of one ghost layer take part (what
-    !> every owned node needs); the ghost nodes are taken from the
-    !> neighbours after each stage, as without particles.
-    subroutine particle_step(pt, pw)
-      type(particles_t), intent(in) :: pt
-      type(particles_work_t), intent(inout) :: pw
-      type(xsum_t) :: acc(2)
-      if (present(bad_particle)) bad_particle = 0
-      if (present(work_ext)) work_ext = 0.0_wp
-      if (present(work_vf)) work_vf = 0.0_wp
-      call mixed_volume_gain(mx, par%relax, par%dv_vf_min, h%gain)
-      call lagrange_strain_rates(g, g%x, h%u, h, par, dt_stable, dtc)
-      if (present(halo)) call halo%min_step(dt_stable, dtc)
-      if (present(dt_cell)) dt_cell = dtc
-      dt = min(dt, dt_stable)
-      call save_step_start(g, h)
-      call mixed_save_step_start(mx, h%vol)
-      if (par%particle_visc_scaled) call particles_cell_fraction(g, pt, pt%vol, h%vol, pw%vscale)
-      call bc_pressure_forces(bc, g, g%x, h%p)
-      call corner_forces(h%u)
-      if (par%particle_q > 0.0_wp) then
-        ! (the viscosity of the last step's velocity gradients)
-        call particles_viscosity(g, g%x, pt, pw%models, pw%lgrad, pt%vol, pt%rho, par%particle_q, pw%q)
-        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, q=pw%q)
-      else
-        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
-      end if
-      if (present(bad_particle)) bad_particle = badp
-      call update_nodes(g, h, dt, 0.5_wp*dt, .false., pw%f, pw%mp)
-      call bc_apply(bc, dt, 0.5_wp*dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w_pred, pw%mp)
-      call halo_nodes()
-      call lagrange_update_cells(g, h, 0.5_wp*dt, bad_cell, geometry=.true.)
-      call agree_bad()
-      if (bad_cell /= 0) return
-      call particles_vf_energy(g, h%xn, pt, pt%vol, h%p, h%uh, 0.5_wp*dt, h%mass, h%e, pw%wcell, acc(2))
-      if (present(halo)) call halo%cells(h%e)
-      call update_materials(h, mats, mx, par, 0.5_wp*dt)
-      call particle_trial_state(pt, pw)
-      call bc_pressure_forces(bc, g, g%x, h%p)
-      call corner_forces(h%uh)
-      pw%xc = g%x
-      if (par%particle_q > 0.0_wp) then
-        ! (the trial's velocity gradients)
-        call particles_viscosity(g, g%x, pt, pw%models, pw%lgrad, pw%vol_h, pw%rho_h, par%particle_q, pw%q)
-        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h, pw%q)
-      else
-        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, pw%stress_h, pw%vol_h)
-      end if
-      if (present(bad_particle)) then
-        if (bad_particle == 0) bad_particle = badp
-      end if
-      call update_nodes(g, h, dt, dt, .true., pw%f, pw%mp)
-      call bc_apply(bc, dt, dt, h%mnode, h%un, h%xn, h%u, h%uh, g%x, work, pw%mp, wacc(1))
-      call note_boundary_moves(g, h)
-      call node_work(g, pw%f, h%uh, acc(1))
-      call halo_nodes()
-      call lagrange_update_cells(g, h, dt, bad_cell)
-      call agree_bad()
-      if (bad_cell /= 0) return
-      call particles_vf_energy(g, pw%xc, pt, pw%vol_h, h%p, h%uh, dt, h%mass, h%e, pw%wcell, acc(2))
-      if (present(halo)) then
-        call halo%cells(h%e)
-        call halo%sums(wacc)
-        call halo%sums(acc)
-      end if
-      work = xsum_value(wacc(1))
-      if (present(work_ext)) work_ext = dt*xsum_value(acc(1))
-      if (present(work_vf)) work_vf = xsum_value(acc(2))
-      call update_materials(h, mats, mx, par, dt)
-    end subroutine particle_step
-
-    !> The corner forces for the velocities v, the viscosity scaled if asked.
-    subroutine corner_forces(v)
-      real(wp), intent(in) :: v(:, :)
-      if (par%particle_visc_scaled) then
-        call lagrange_corner_forces(g, g%x, v, h, par, pw%vscale, dt)
-      else
-        call lagrange_corner_forces(g, g%x, v, h, par, dt=dt)
-      end if
-    end subroutine corner_forces
-
-    !> The particles' trial state at n+1/2 for the corrector (PARTICLES.md
-    !> §1.8 step 2), on copies: velocities from the predicted nodal
-    !> accelerations, strain and spin increments over dt/2 from the virtual
-    !> solid grid (or the predictor's nodal velocities u*^{1/2}, original
-    !> scheme) with grad N at x^{n+1/4}, the constitutive update. Without it
-    !> the corrector's particle forces would use sigma^n, and an undamped
-    !> elastic wave would grow (the amplification of x' = x + h v', v' = v - h x
-    !> with the trapezoid velocity has determinant 1 + h^2/2).
-    subroutine particle_trial_state(pt, pw)
-      type(particles_t), intent(in) :: pt
-      type(particles_work_t), intent(inout) :: pw
-      integer :: n, bad_h   ! (the trial update's erosion, pw%eroded, is not booked)
-      do n = 1, g%nnode
-        pw%xh(:, n) = 0.5_wp*(h%xn(:, n) + g%x(:, n))
-      end do
-      if (par%stress_decoupled) then
-        call particles_half_velocity(g, pt, h%un, h%u, pw%vh)
-        call particles_virtual_grid(g, pt, pw%vh, pw%ms, pw%vs)
-        call bc_constrain(bc, pw%vs)
-        if (present(halo)) call halo%nodes(pw%vs)
-        call particles_velocity_gradients(g, pt, pw%xh, pw%vs, pw%lgrad)
-      else
-        call particles_velocity_gradients(g, pt, pw%xh, h%uh, pw%lgrad)
-      end if
-      pw%stress_h = pt%stress
-      pw%hist_h = pt%hist
-      pw%vol_h = pt%vol
-      pw%rho_h = pt%rho
-      pw%e_h = pt%e
-      call particles_stress_arrays(pt%mat_start, pt%m, pw%models, pw%lgrad, 0.5_wp*dt, pw%stress_h, pw%hist_h, &
-                                   pw%vol_h, pw%rho_h, bad_h, pw%e_h, pw%eroded)
-      if (present(bad_particle)) then
-        if (bad_particle == 0) bad_particle = bad_h
-      end if
-    end subroutine particle_trial_state
   end subroutine lagrange_step
 
   !> acc: sum_n f(:,n) . u(:,n) over the nodes this block counts, exact

@@ -35,6 +35,7 @@ module particles_lagrange
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use mesh_grid, only: grid_t
   use mesh_halo, only: halo_t
+  use mesh_boundary, only: bc_t, bc_constrain
   use mesh_geometry, only: hex_volume, hex_median_areas
   use particles_state, only: particles_t
   use particles_shape, only: particles_shape_values, particles_shape_gradients
@@ -46,6 +47,7 @@ module particles_lagrange
   public :: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
             particles_gradients, particles_nodal_mass, &
             particles_nodal_force, particles_vf_energy, particles_g2p, particles_virtual_grid, particles_velocity_gradients, &
+            particles_step_gradients, &
             particles_stress_update, particles_stress_arrays, particles_half_velocity, particles_stable_dt, mass_guard, &
             particles_cell_fraction, particles_interpolate, particles_phase_mass, particles_viscosity, &
             particles_virtual_masses, particles_blend_velocities, particles_q_heating, particles_slot_start, &
@@ -540,6 +542,36 @@ contains
     end do
     !$omp end parallel do
   end subroutine particles_velocity_gradients
+
+  !> The particles' velocity gradients of a stage (PARTICLES.md §1.8), in
+  !> pw%lgrad: grad N in the grid midway between xn and x (kept in pw%xh),
+  !> the velocities those of the virtual solid grid made from the
+  !> particles' half-step velocities pw%vh (decoupled, Eqs. 29-32: its
+  !> nodes under the boundary's constraints, its ghost nodes from the
+  !> neighbouring blocks' through halo) or the mixed nodal ones uh
+  !> (original, Eqs. 26-27). The trial state of the corrector and the
+  !> step's stress update both take it.
+  subroutine particles_step_gradients(g, bc, p, pw, decoupled, xn, x, uh, halo)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    type(particles_t), intent(in) :: p
+    type(particles_work_t), intent(inout) :: pw
+    logical, intent(in) :: decoupled
+    real(wp), intent(in) :: xn(:, :), x(:, :), uh(:, :)
+    class(halo_t), intent(inout), optional :: halo
+    integer :: n
+    do n = 1, g%nnode
+      pw%xh(:, n) = 0.5_wp*(xn(:, n) + x(:, n))
+    end do
+    if (decoupled) then
+      call particles_virtual_grid(g, p, pw%vh, pw%ms, pw%vs)
+      call bc_constrain(bc, pw%vs)
+      if (present(halo)) call halo%nodes(pw%vs)
+      call particles_velocity_gradients(g, p, pw%xh, pw%vs, pw%lgrad)
+    else
+      call particles_velocity_gradients(g, p, pw%xh, uh, pw%lgrad)
+    end if
+  end subroutine particles_step_gradients
 
   !> The stress update of every particle over dt (PARTICLES.md §2.0) with
   !> the velocity gradients lgrad: deps = sym(L) dt, dw = skew(L) dt, the
