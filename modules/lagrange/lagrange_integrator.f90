@@ -299,40 +299,36 @@ contains
   end function node_force
 
   !> Gathers the corner forces at each node and advances it (Eqs. 20-22):
-  !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh; with the extra
-  !> force f_ext and mass m_ext of `lagrange_step` if present.
-  subroutine update_nodes(g, h, dt, dtx, last, f_ext, m_ext)
+  !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh; with a nodal
+  !> contributor's force f_add and mass m_add (both or neither).
+  subroutine update_nodes(g, h, dt, dtx, last, f_add, m_add)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
     !> the step's last stage (its positions are the step's: `move_nodes`)
     logical, intent(in) :: last
-    real(wp), intent(in), optional :: f_ext(:, :), m_ext(:)
+    real(wp), intent(in), optional :: f_add(:, :), m_add(:)
     real(wp) :: no_f(3, 0), no_m(0)
 
-    ! absent arguments as zero-size arrays: the node loop's OpenMP region
-    ! cannot share an absent optional
-    if (present(f_ext) .and. present(m_ext)) then
-      call move_nodes(g, h, dt, dtx, last, f_ext, m_ext, .true., .true.)
-    else if (present(f_ext)) then
-      call move_nodes(g, h, dt, dtx, last, f_ext, no_m, .true., .false.)
-    else if (present(m_ext)) then
-      call move_nodes(g, h, dt, dtx, last, no_f, m_ext, .false., .true.)
+    ! (absent arguments as zero-size arrays: the node loop's OpenMP region
+    ! cannot share an absent optional)
+    if (present(f_add) .and. present(m_add)) then
+      call move_nodes(g, h, dt, dtx, last, f_add, m_add, .true.)
     else
-      call move_nodes(g, h, dt, dtx, last, no_f, no_m, .false., .false.)
+      call move_nodes(g, h, dt, dtx, last, no_f, no_m, .false.)
     end if
   end subroutine update_nodes
 
-  !> The node loop of `update_nodes`: an extra nodal force f_add (if has_f)
-  !> and an extra nodal mass m_add (if has_m); the switches are the same for
+  !> The node loop of `update_nodes`: an extra nodal force f_add and mass
+  !> m_add (if has_add); the switch is the same for
   !> every node, so the branches cost nothing measurable.
-  subroutine move_nodes(g, h, dt, dtx, last, f_add, m_add, has_f, has_m)
+  subroutine move_nodes(g, h, dt, dtx, last, f_add, m_add, has_add)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
     logical, intent(in) :: last
     real(wp), intent(in) :: f_add(:, :), m_add(:)
-    logical, intent(in) :: has_f, has_m
+    logical, intent(in) :: has_add
     integer :: n, i, j, k, c0, n0
     real(wp) :: f(3), m
     logical :: track
@@ -342,7 +338,7 @@ contains
     ! one writer; the nodes on the block's faces are `note_boundary_moves`',
     ! after their conditions)
     track = last .and. allocated(g%moved_rows)
-    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_f, has_m, track) collapse(2) &
+    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_add, track) collapse(2) &
     !$omp private(n, i, j, k, c0, f, m, n0) schedule(static)
     do k = g%nlo(3), g%nhi(3)
     do j = g%nlo(2), g%nhi(2)
@@ -354,9 +350,9 @@ contains
       n = n + 1
       c0 = c0 + 1
       f = node_force(g, h%fc, i, j, k, c0)
-      if (has_f) f = f + f_add(:, n)
+      if (has_add) f = f + f_add(:, n)
       m = h%mnode(n)
-      if (has_m) m = m + m_add(n)
+      if (has_add) m = m + m_add(n)
       h%u(:, n) = h%un(:, n) + dt*f/m
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
