@@ -11,7 +11,8 @@
 !> their share of the momentum (`share_velocities`),
 !> one history variable (plastic strain), the strength model of each solid
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
-!> (PARTICLES.md §1.7-1.11, with the nodal time-step guard of §1.11); the
+!> (`particles_lagrange_step`, PARTICLES.md §1.7-1.11, with the nodal
+!> time-step guard of §1.11); the
 !> `particles_euler_*` hooks are their part of an Euler step (§1.13, Remark 2
 !> of Sect. 5.2). A solid with eos = 'mie_gruneisen' gets its
 !> EOS in its strength slot (pressure p(rho, e), `particles_lagrange`) and
@@ -53,13 +54,10 @@ module driver_particles
   use driver_parallel, only: agree_error
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
                                 parallel_mark_cells
-  use particles_nodal, only: particles_nodal_t
+  use particles_nodal, only: particles_budget_t, particles_lagrange_step
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
-                                particles_phase_mass, &
-                                particles_stable_dt, particles_g2p, &
-                                particles_virtual_grid, particles_step_gradients, particles_stress_update, &
-                                particles_virtual_masses, particles_blend_velocities, particles_q_heating, &
-                                particles_slot_start
+                                particles_phase_mass, particles_virtual_grid, particles_virtual_masses, &
+                                particles_blend_velocities, particles_slot_start
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
   use strength_jc_flow, only: jc_flow_t
@@ -68,13 +66,12 @@ module driver_particles
                                    random_field_correlated
   use eos_mie_gruneisen, only: mie_gruneisen_t
   use mesh_boundary, only: bc_t, bc_constrain
-  use lagrange_integrator, only: lagrange_step
   use hydro_state, only: nodal_sums, cell_sums
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
   use driver_config, only: config_t, group_shape
   use mesh_halo, only: halo_t
-  use driver_state, only: state_t, particles_internal
+  use driver_state, only: state_t
   implicit none
   private
   public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
@@ -613,96 +610,22 @@ contains
     end associate
   end subroutine share_velocities
 
-  !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the
-  !> particles' share of the nodal mass (once per phase: here once per run
-  !> or restart, from the frozen m'_p), their stable step (§1.11) on top of
-  !> the cells', the predictor-corrector with their forces (Eq. 17,
-  !> `lagrange_step`), then their velocity and position (Eqs. 23-25), the
-  !> strain and spin increments on the virtual solid grid (Eqs. 29-32, with
-  !> the kinematic conditions applied to it) or from the mixed nodal
-  !> velocities (&hydro stress_update = 'original', Eqs. 26-27), both with
-  !> grad N at x^{n+1/2}, and the stress, volume and density update.
-  !> dt as in `lagrange_step`; bad_particle > 0 names a particle whose host
-  !> is inverted at it or whose volume would not stay positive (-1: one on
-  !> another block); dt_particle the id of the particle whose stable step
-  !> was taken (0 if the cells or the caller set the step).
+  !> One Lagrangian step with coupled particles (`particles_lagrange_step`),
+  !> its energies booked in the state's totals (PARTICLES.md §1.12).
   subroutine particles_step(cfg, st, dt, work, bad_cell, bad_particle, dt_cell, dt_particle)
     type(config_t), intent(in) :: cfg
-    type(state_t), intent(inout), target :: st
+    type(state_t), intent(inout) :: st
     real(wp), intent(inout) :: dt
     real(wp), intent(out) :: work
     integer, intent(out) :: bad_cell, bad_particle
     integer, intent(out), optional :: dt_cell, dt_particle
-    real(wp) :: dtp, w_ext, w_vf, dt_in, e_old, e_new, eroded, key(1), dt_own
-    integer :: kp, kid, first, place, nodal, i, j, k
-    type(particles_nodal_t) :: contrib
-    contrib%pt => st%pt
-    contrib%pw => st%pw
-    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
-      call particles_phase_mass(g, pt, pw, h%mnode)
-      call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, cfg%hydro%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
-                               cfg%hydro%particle_q, nodal)
-      ! the blocks' smallest (the particle's id with it; of blocks that tie
-      ! exactly, the one one process takes: a particle's own step before a
-      ! node's guard (which must be smaller to count), of particles the
-      ! first in the whole run's order (by material and host cell; each
-      ! block's kp its first of a cell, by id), of nodes the first in the
-      ! whole grid's node order)
-      key(1) = 0.0_wp
-      if (kp > 0) key(1) = real(pt%id(kp), wp)
-      dt_own = dtp
-      call st%halo%choose(dtp, key)
-      place = huge(1)
-      if (nodal > 0) then
-        call g%node_ijk(nodal, i, j, k)
-        place = pt%nsolid*product(g%gn) + (i + g%off(1)) + (g%gn(1) + 1)*((j + g%off(2)) + (g%gn(2) + 1)*(k + g%off(3)))
-      else if (kp > 0) then
-        place = (pt%mat(kp) - 1)*product(g%gn) + g%global_cell(pt%cell(kp))
-      end if
-      first = -huge(1)
-      if (kp > 0 .and. .not. dt_own > dtp) first = -place
-      call st%halo%max_int(first)
-      kid = -huge(1)
-      if (first > -huge(1) .and. place == -first) kid = pt%id(kp)
-      call st%halo%max_int(kid)
-      if (kid > -huge(1)) key(1) = real(kid, wp)
-      dt_in = dt
-      dt = min(dt, dtp)
-      call lagrange_step(g, h, st%bc, st%mats, st%mx, cfg%hydro, dt, work, bad_cell, dt_cell=dt_cell, nodal=contrib, &
-                         work_nodal=w_ext, work_cells=w_vf, halo=st%halo)
-      bad_particle = contrib%bad
-      if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
-      call agree_bad(bad_particle)
-      if (bad_cell /= 0 .or. bad_particle /= 0) return
-      call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
-      call particles_step_gradients(g, st%bc, pt, pw, cfg%hydro%stress_decoupled, h%xn, g%x, h%uh, st%halo)
-      e_old = particles_internal(st)
-      call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
-      call agree_bad(bad_particle)
-      ! the artificial viscosity's work (the corrector's q) heats the particles
-      if (cfg%hydro%particle_q > 0.0_wp) call particles_q_heating(pt, pw%q, pw%lgrad, dt)
-      e_new = particles_internal(st, pw%eroded, eroded)
-      st%tot%erosion_energy = st%tot%erosion_energy + eroded
-      ! the energy balance (PARTICLES.md §1.12): the particle forces' work
-      ! w_ext on the nodes is the virtual-fluid part w_vf (given to the host
-      ! cells) plus the particle-stress part -dt sum_p V_p sigma_p : D_real;
-      ! the constitutive work dt sum_p V_p sigma_p : D_virtual is the
-      ! particles' internal energy; the decoupling work is their difference
-      ! dt sum_p V_p sigma_p : (D_real - D_virtual), which the constitutive
-      ! update does not see (with the time-integration difference of the
-      ! corrector's trial stress at n+1/2 and the trapezoid)
-      st%tot%vf_work = st%tot%vf_work + w_vf
-      st%tot%decoupling_work = st%tot%decoupling_work - (w_ext - w_vf) - (e_new - e_old)
-    end associate
-  contains
-    !> Every block stops where one found a bad particle: -1 on the others.
-    subroutine agree_bad(bad)
-      integer, intent(inout) :: bad
-      integer :: k
-      k = merge(1, 0, bad /= 0)
-      call st%halo%max_int(k)
-      if (k /= 0 .and. bad == 0) bad = -1
-    end subroutine agree_bad
+    type(particles_budget_t) :: b
+    call particles_lagrange_step(st%g, st%h, st%bc, st%mats, st%mx, cfg%hydro, st%pt, st%pw, st%halo, dt, work, &
+                                 bad_cell, bad_particle, b, dt_cell, dt_particle)
+    ! (all zero where the step stopped before the particles' update)
+    st%tot%erosion_energy = st%tot%erosion_energy + b%eroded
+    st%tot%vf_work = st%tot%vf_work + b%vf_work
+    st%tot%decoupling_work = st%tot%decoupling_work - (b%nodal_work - b%vf_work) - b%internal_change
   end subroutine particles_step
 
   !> A block's particles taken from the whole run's (w, on the whole grid's

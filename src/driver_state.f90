@@ -22,7 +22,7 @@ module driver_state
   use driver_prerun, only: prerun_t
   implicit none
   private
-  public :: state_t, state_totals, particles_internal, energy_drift, budget_residual, totals_not_finite, &
+  public :: state_t, state_totals, energy_drift, budget_residual, totals_not_finite, &
             state_register_restart, &
             state_after_read, centroid_text, state_note_pressure
 
@@ -118,7 +118,9 @@ contains
     call st%halo%sums(acc)
     st%tot%momentum = st%tot%momentum + [xsum_value(acc(1)), xsum_value(acc(2)), xsum_value(acc(3))]
     st%tot%kinetic = st%tot%kinetic + xsum_value(acc(4))
-    st%tot%particle_internal = particles_internal(st)
+    ! (the particles' internal energy sum_p m_p e_p over those the blocks
+    ! own, exact: the same on any rank count)
+    st%tot%particle_internal = particles_internal_energy(st%pt, st%pw%owned, st%halo)
     st%tot%internal = st%tot%internal + st%tot%particle_internal
   end subroutine state_totals
 
@@ -145,16 +147,6 @@ contains
                        tot%transfer_energy)/max(abs(tot%energy_initial), tiny(1.0_wp))
   end function budget_residual
 
-  !> The particles' internal energy sum_p m_p e_p over the particles the
-  !> blocks own, exact (`base_xsum`: the same on any rank count); with
-  !> `each` (np), also the exact total of each(:) over them in `total`
-  !> (`particles_internal_energy`).
-  real(wp) function particles_internal(st, each, total) result(ep)
-    type(state_t), intent(in) :: st
-    real(wp), intent(in), optional :: each(:)
-    real(wp), intent(out), optional :: total
-    ep = particles_internal_energy(st%pt, st%pw%owned, st%halo, each, total)
-  end function particles_internal
 
   !> The names of the totals that are not finite ('' if all are): a NaN or
   !> an infinity in the state, or a sum too large for a real (`base_xsum`).

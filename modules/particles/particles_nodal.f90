@@ -1,5 +1,6 @@
-!> The coupled particles as a nodal contributor of the Lagrangian step
-!> (`lagrange_nodal`): their share of the nodal mass pw%mp (Eq. 16, frozen
+!> The coupled particles' Lagrangian step (`particles_lagrange_step`) and
+!> the particles as a nodal contributor of the grid's (`lagrange_nodal`):
+!> their share of the nodal mass pw%mp (Eq. 16, frozen
 !> for the phase) is the extra mass, and their force (Eq. 17) is evaluated
 !> in each stage with the host pressure and grad N of the stage: sigma^n,
 !> V^n (x^n and p^n in the predictor), the corrector's with the particles'
@@ -28,14 +29,18 @@ module particles_nodal
   use mesh_halo, only: halo_t
   use mesh_boundary, only: bc_t
   use hydro_state, only: hydro_t, hydro_params_t
+  use material_table, only: material_t
+  use material_mixed, only: mixed_t
   use lagrange_nodal, only: nodal_part_t
+  use lagrange_integrator, only: lagrange_step
   use particles_state, only: particles_t
   use particles_lagrange, only: particles_work_t, particles_nodal_force, particles_vf_energy, particles_half_velocity, &
                                 particles_step_gradients, particles_stress_arrays, particles_cell_fraction, &
-                                particles_viscosity
+                                particles_viscosity, particles_phase_mass, particles_stable_dt, particles_g2p, &
+                                particles_stress_update, particles_q_heating, particles_internal_energy
   implicit none
   private
-  public :: particles_nodal_t
+  public :: particles_nodal_t, particles_budget_t, particles_lagrange_step
 
   !> The particles pt and their work arrays pw, for one step.
   type, extends(nodal_part_t) :: particles_nodal_t
@@ -49,7 +54,115 @@ module particles_nodal
     procedure :: arrays => nodal_arrays
   end type particles_nodal_t
 
+  !> A particle step's energies for the run's bookkeeping (PARTICLES.md
+  !> §1.12), summed over the blocks: the particle forces' work on the nodes
+  !> is the virtual-fluid part (given to the host cells) plus the
+  !> particle-stress part -dt sum_p V_p sigma_p : D_real; the constitutive
+  !> work dt sum_p V_p sigma_p : D_virtual is the change of the particles'
+  !> internal energy; the decoupling work is their difference dt sum_p V_p
+  !> sigma_p : (D_real - D_virtual), -(nodal_work - vf_work) -
+  !> internal_change, which the constitutive update does not see (with the
+  !> time-integration difference of the corrector's trial stress at n+1/2
+  !> and the trapezoid).
+  type :: particles_budget_t
+    real(wp) :: nodal_work = 0.0_wp       !< the particle forces' work on the nodes (the corrector's)
+    real(wp) :: vf_work = 0.0_wp          !< its virtual-fluid part, given to the host cells
+    real(wp) :: internal_change = 0.0_wp  !< the particles' internal energy change in the stress update
+    real(wp) :: eroded = 0.0_wp           !< the internal energy of the particles eroded in it
+  end type particles_budget_t
+
 contains
+
+  !> One Lagrangian step with coupled particles (PARTICLES.md §1.8): the
+  !> particles' share of the nodal mass (once per phase: here once per run
+  !> or restart, from the frozen m'_p), their stable step (§1.11) on top of
+  !> the cells', the predictor-corrector with their forces (Eq. 17,
+  !> `lagrange_step` with them as its nodal contributor), then their
+  !> velocity and position (Eqs. 23-25), the strain and spin increments on
+  !> the virtual solid grid (Eqs. 29-32, with the kinematic conditions
+  !> applied to it) or from the mixed nodal velocities (&hydro
+  !> stress_update = 'original', Eqs. 26-27), both with grad N at
+  !> x^{n+1/2}, and the stress, volume and density update.
+  !> dt as in `lagrange_step`; bad_particle > 0 names a particle whose host
+  !> is inverted at it or whose volume would not stay positive (-1: one on
+  !> another block); dt_particle the id of the particle whose stable step
+  !> was taken (0 if the cells or the caller set the step); budget the
+  !> step's energy bookkeeping.
+  subroutine particles_lagrange_step(g, h, bc, mats, mx, par, pt, pw, halo, dt, work, bad_cell, bad_particle, budget, &
+                                     dt_cell, dt_particle)
+    type(grid_t), intent(inout) :: g
+    type(hydro_t), intent(inout) :: h
+    type(bc_t), intent(inout) :: bc
+    type(material_t), intent(inout) :: mats(:)
+    type(mixed_t), intent(inout) :: mx
+    type(hydro_params_t), intent(in) :: par
+    type(particles_t), intent(inout), target :: pt
+    type(particles_work_t), intent(inout), target :: pw
+    class(halo_t), intent(inout) :: halo
+    real(wp), intent(inout) :: dt
+    real(wp), intent(out) :: work
+    integer, intent(out) :: bad_cell, bad_particle
+    type(particles_budget_t), intent(out) :: budget
+    integer, intent(out), optional :: dt_cell, dt_particle
+    real(wp) :: dtp, dt_in, e_old, e_new, key(1), dt_own
+    integer :: kp, kid, first, place, nodal, i, j, k
+    type(particles_nodal_t) :: contrib
+    contrib%pt => pt
+    contrib%pw => pw
+    call particles_phase_mass(g, pt, pw, h%mnode)
+    call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, par%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
+                             par%particle_q, nodal)
+    ! the blocks' smallest (the particle's id with it; of blocks that tie
+    ! exactly, the one one process takes: a particle's own step before a
+    ! node's guard (which must be smaller to count), of particles the
+    ! first in the whole run's order (by material and host cell; each
+    ! block's kp its first of a cell, by id), of nodes the first in the
+    ! whole grid's node order)
+    key(1) = 0.0_wp
+    if (kp > 0) key(1) = real(pt%id(kp), wp)
+    dt_own = dtp
+    call halo%choose(dtp, key)
+    place = huge(1)
+    if (nodal > 0) then
+      call g%node_ijk(nodal, i, j, k)
+      place = pt%nsolid*product(g%gn) + (i + g%off(1)) + (g%gn(1) + 1)*((j + g%off(2)) + (g%gn(2) + 1)*(k + g%off(3)))
+    else if (kp > 0) then
+      place = (pt%mat(kp) - 1)*product(g%gn) + g%global_cell(pt%cell(kp))
+    end if
+    first = -huge(1)
+    if (kp > 0 .and. .not. dt_own > dtp) first = -place
+    call halo%max_int(first)
+    kid = -huge(1)
+    if (first > -huge(1) .and. place == -first) kid = pt%id(kp)
+    call halo%max_int(kid)
+    if (kid > -huge(1)) key(1) = real(kid, wp)
+    dt_in = dt
+    dt = min(dt, dtp)
+    call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, dt_cell=dt_cell, nodal=contrib, &
+                       work_nodal=budget%nodal_work, work_cells=budget%vf_work, halo=halo)
+    bad_particle = contrib%bad
+    if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
+    call agree_bad(bad_particle)
+    if (bad_cell /= 0 .or. bad_particle /= 0) return
+    call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
+    call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, halo)
+    e_old = particles_internal_energy(pt, pw%owned, halo)
+    call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
+    call agree_bad(bad_particle)
+    ! the artificial viscosity's work (the corrector's q) heats the particles
+    if (par%particle_q > 0.0_wp) call particles_q_heating(pt, pw%q, pw%lgrad, dt)
+    e_new = particles_internal_energy(pt, pw%owned, halo, pw%eroded, budget%eroded)
+    budget%internal_change = e_new - e_old
+  contains
+    !> Every block stops where one found a bad particle: -1 on the others.
+    subroutine agree_bad(bad)
+      integer, intent(inout) :: bad
+      integer :: k
+      k = merge(1, 0, bad /= 0)
+      call halo%max_int(k)
+      if (k /= 0 .and. bad == 0) bad = -1
+    end subroutine agree_bad
+  end subroutine particles_lagrange_step
 
   subroutine nodal_start(self, g, h, par)
     class(particles_nodal_t), intent(inout) :: self
