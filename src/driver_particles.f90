@@ -8,7 +8,7 @@
 !> Coupled particles (&hydro particles = 'coupled', the default) also get
 !> their virtual-fluid mass m'_p = host density x V_p (frozen through a
 !> Lagrangian phase, taken again at each Euler step), the nodes they reach
-!> their share of the momentum (`share_velocities`),
+!> their share of the momentum (`particles_share_velocities`),
 !> one history variable (plastic strain), the strength model of each solid
 !> and the coupling work arrays; `particles_step` is their Lagrangian step
 !> (`particles_lagrange_step`, PARTICLES.md §1.7-1.11, with the nodal
@@ -33,7 +33,7 @@ module driver_particles
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_grid, only: grid_t, grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
-  use particles_euler, only: particles_flip, particles_relocate, particles_occupied, particles_place, &
+  use particles_euler, only: particles_share_velocities, particles_relocate, particles_occupied, particles_place, &
                              particles_leaving, particles_first_lost, particles_owned_hosts, particles_open_far, &
                              particles_out_open_face, particles_cells_hold
   use particles_spread, only: particles_support_widths
@@ -56,8 +56,7 @@ module driver_particles
                                 parallel_mark_cells
   use particles_nodal, only: particles_budget_t, particles_lagrange_step
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
-                                particles_phase_mass, particles_virtual_grid, particles_virtual_masses, &
-                                particles_blend_velocities, particles_slot_start
+                                particles_phase_mass, particles_virtual_masses, particles_slot_start
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
   use strength_jc_flow, only: jc_flow_t
@@ -65,7 +64,7 @@ module driver_particles
   use strength_random_field, only: random_field_t, random_field_build, random_field_sample, void_fraction_from_field, &
                                    random_field_correlated
   use eos_mie_gruneisen, only: mie_gruneisen_t
-  use mesh_boundary, only: bc_t, bc_constrain
+  use mesh_boundary, only: bc_t
   use hydro_state, only: nodal_sums, cell_sums
   use io_points_file, only: points_file_read
   use io_log, only: log_t, log_line
@@ -266,7 +265,8 @@ contains
         if (allocated(st%pw%models)) call move_alloc(st%pw%models, models)
         call blocks_work(st, models, owned, err)
       end if
-      if (.not. allocated(err) .and. cfg%hydro%particles_coupled) call share_velocities(st)
+      if (.not. allocated(err) .and. cfg%hydro%particles_coupled) &
+        call particles_share_velocities(st%g, st%h, st%bc, st%pt, st%pw, st%halo)
       call agree_error(comm, err)
       if (allocated(err)) return
     end if
@@ -586,29 +586,8 @@ contains
     if (.not. share) return
     call particles_work_init(st%pw, st%g%nnode, st%g%ncell, st%pt%np, st%pt%nhist, err)
     ! the nodes the particles reach start with their share of the momentum
-    if (.not. allocated(err)) call share_velocities(st)
+    if (.not. allocated(err)) call particles_share_velocities(st%g, st%h, st%bc, st%pt, st%pw, st%halo)
   end subroutine couple_particles
-
-  !> The particles' nodal mass term (Eq. 16, from the current m'_p), and at
-  !> each node the particles reach the velocity u = (m_f u + m_p,I vbar_I) /
-  !> (m_f + m_p,I), vbar_I the particles' mass-weighted mean velocity there
-  !> (Eq. 30 with v_p); the kinematic conditions; the change u - vbar given
-  !> to the particles (`particles_flip`), so that particles and nodes agree.
-  subroutine share_velocities(st)
-    type(state_t), intent(inout) :: st
-    associate (g => st%g, h => st%h, pt => st%pt, pw => st%pw)
-      pw%mass_ready = .false.
-      call particles_phase_mass(g, pt, pw, h%mnode)
-      call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
-      call particles_blend_velocities(pw%ms, h%mnode, pw%mp, pw%vs, h%u)
-      call bc_constrain(st%bc, h%u)
-      ! (a block's ghost nodes as their owners have them: its particles in
-      ! ghost cells reach nodes whose sums the block does not complete)
-      call st%halo%nodes(h%u)
-      call st%halo%nodes(pw%vs)
-      call particles_flip(g, pt, h%u, pw%vs)
-    end associate
-  end subroutine share_velocities
 
   !> One Lagrangian step with coupled particles (`particles_lagrange_step`),
   !> its energies booked in the state's totals (PARTICLES.md §1.12).
@@ -1023,7 +1002,7 @@ contains
   !> vbar_I the particles' mass-weighted mean velocity at the node (Eq. 30
   !> with v_p), so that a uniform flow carrying a body stays uniform
   !> exactly; then the kinematic conditions, and the change u - vbar given
-  !> to the particles (`share_velocities`). The change of the nodal
+  !> to the particles (`particles_share_velocities`). The change of the nodal
   !> momentum and kinetic energy this makes (the particles' share rebuilt
   !> from their own velocities, the virtual fluid re-weighted by its new
   !> host density), exact sums over the nodes the blocks count, is logged
@@ -1041,7 +1020,7 @@ contains
       if (.not. allocated(pt%mvf)) return
       call particles_virtual_masses(pt, h%rho)
       call nodal_sums(st%g, st%halo, h%mnode, st%h%u, ke_f, p_f)
-      call share_velocities(st)
+      call particles_share_velocities(st%g, st%h, st%bc, st%pt, st%pw, st%halo)
       call nodal_sums(st%g, st%halo, h%mnode + pw%mp, st%h%u, ke1, p1)
       ! (the share of the particles that left went out with them)
       st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + pe%ke_out - ke_f - pe%ke_solid)

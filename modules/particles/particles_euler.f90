@@ -28,21 +28,52 @@
 !> momentum and the particles'; then
 !> 5. `particles_flip`: the rebuild's change of the node velocities against
 !>    the particles' mean (the fluid's share, the kinematic conditions) goes
-!>    to the particles, so that they and the nodes agree again.
+!>    to the particles, so that they and the nodes agree again
+!>    (`particles_share_velocities`: the rebuild and the flip, also the
+!>    coupling's start).
 module particles_euler
   use base_kinds, only: wp
   use base_xsum, only: xsum_t, xsum_add
   use mesh_grid, only: grid_t
-  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
+  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW, bc_constrain
+  use mesh_halo, only: halo_t
+  use hydro_state, only: hydro_t
   use particles_state, only: particles_t
   use particles_shape, only: particles_locate, particles_shape_values, inside_tol
-  use particles_lagrange, only: particles_interpolate
+  use particles_lagrange, only: particles_interpolate, particles_work_t, particles_phase_mass, particles_virtual_grid, &
+                                particles_blend_velocities
   implicit none
   private
-  public :: particles_flip, particles_relocate, particles_occupied, particles_place, particles_leaving, &
+  public :: particles_share_velocities, particles_flip, particles_relocate, particles_occupied, particles_place, &
+            particles_leaving, &
             particles_out_open_face, particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold
 
 contains
+
+  !> The particles' nodal mass term (Eq. 16, from the current m'_p), and at
+  !> each node the particles reach the velocity u = (m_f u + m_p,I vbar_I) /
+  !> (m_f + m_p,I), vbar_I the particles' mass-weighted mean velocity there
+  !> (Eq. 30 with v_p); the kinematic conditions; the change u - vbar given
+  !> to the particles (`particles_flip`), so that particles and nodes agree.
+  !> A block's ghost nodes are taken as their owners have them: its
+  !> particles in ghost cells reach nodes whose sums the block does not
+  !> complete.
+  subroutine particles_share_velocities(g, h, bc, pt, pw, halo)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    type(bc_t), intent(in) :: bc
+    type(particles_t), intent(inout) :: pt
+    type(particles_work_t), intent(inout) :: pw
+    class(halo_t), intent(inout) :: halo
+    pw%mass_ready = .false.
+    call particles_phase_mass(g, pt, pw, h%mnode)
+    call particles_virtual_grid(g, pt, pt%v, pw%ms, pw%vs)
+    call particles_blend_velocities(pw%ms, h%mnode, pw%mp, pw%vs, h%u)
+    call bc_constrain(bc, h%u)
+    call halo%nodes(h%u)
+    call halo%nodes(pw%vs)
+    call particles_flip(g, pt, h%u, pw%vs)
+  end subroutine particles_share_velocities
 
   !> v_p += sum_a N_a(xi_p) (u_a - vbar_a) over the host's corners (item 5):
   !> the change the rebuild made to the nodes' velocities, given to the
