@@ -31,8 +31,8 @@ module driver_euler
   use base_share, only: share_t
   use base_xsum, only: xsum_value
   use driver_state, only: state_t
-  use driver_particles, only: particles_euler_t, particles_euler_preposition, particles_euler_save, particles_euler_fill, &
-                              particles_euler_finish
+  use particles_euler, only: particles_euler_t, particles_euler_save
+  use driver_particles, only: particles_euler_preposition, particles_euler_fill, particles_euler_finish
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
@@ -498,7 +498,7 @@ contains
       ! starts from the first one's nodes; a decomposed run's whole grid
       ! that goes on from the windows' first remap has the windows' share)
       if (allocated(st%pt%mvf) .and. ntaken == 0) then
-        call particles_euler_save(st, pe)
+        call particles_euler_save(st%g, st%h, st%pt, st%pw, st%halo, pe)
         if (present(pe0)) then
           pe%ke_solid = pe0%ke_solid
           pe%p_solid = pe0%p_solid

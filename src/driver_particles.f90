@@ -33,9 +33,9 @@ module driver_particles
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_grid, only: grid_t, grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
-  use particles_euler, only: particles_share_velocities, particles_relocate, particles_occupied, particles_place, &
-                             particles_leaving, particles_first_lost, particles_owned_hosts, particles_open_far, &
-                             particles_out_open_face, particles_cells_hold
+  use particles_euler, only: particles_euler_t, particles_share_velocities, particles_rebuild_nodes, particles_relocate, &
+                             particles_occupied, particles_place, particles_leaving, particles_first_lost, &
+                             particles_owned_hosts, particles_open_far, particles_out_open_face, particles_cells_hold
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate
   use mesh_geometry, only: hex_volume
@@ -73,24 +73,10 @@ module driver_particles
   use driver_state, only: state_t
   implicit none
   private
-  public :: build_particles, particles_step, particles_euler_t, particles_euler_preposition, particles_euler_save, &
+  public :: build_particles, particles_step, particles_euler_preposition, &
             particles_euler_finish, particles_euler_relocate, particles_euler_couple, particles_take, &
             particles_gathered, particles_blocks_share, count_hosts, particles_euler_fill, particles_euler_blocks, &
             particles_preposition_blocks
-
-  !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
-  type :: particles_euler_t
-    !> (np) where the walk for each particle's new host starts: its host in
-    !> the standard grid (pre-positioning) or its old host
-    integer, allocatable :: guess(:)
-    !> (ncell) cells of the standard grid holding particles (smoothing rezones)
-    logical, allocatable :: occupied(:)
-    !> guess and occupied are a block's (`particles_preposition_blocks`)
-    logical :: on_blocks = .false.
-    !> the particles' share of the nodal kinetic energy and momentum before the
-    !> remap, and the share of those that left through open faces
-    real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp, ke_out = 0.0_wp, p_out(3) = 0.0_wp
-  end type particles_euler_t
 
   !> One seeded group before assembly.
   type :: seeded_t
@@ -929,18 +915,6 @@ contains
     end subroutine fill_sums
   end subroutine particles_euler_fill
 
-  !> Before the remap: the particles' share of the nodal kinetic energy
-  !> and momentum (the transfer's balance), summed exactly over the nodes
-  !> the block counts (`nodal_sums`). Coupled particles only.
-  subroutine particles_euler_save(st, pe)
-    type(state_t), intent(inout) :: st
-    type(particles_euler_t), intent(inout) :: pe
-    associate (g => st%g, h => st%h, pw => st%pw)
-      call particles_phase_mass(g, st%pt, pw, h%mnode)
-      call nodal_sums(st%g, st%halo, pw%mp, st%h%u, pe%ke_solid, pe%p_solid)
-    end associate
-  end subroutine particles_euler_save
-
   !> After the remap (PARTICLES.md §1.13 items 3-4): `particles_euler_relocate`
   !> and `particles_euler_couple` on the same state (one process, or a
   !> decomposed run's whole grid).
@@ -1018,10 +992,7 @@ contains
 
     associate (h => st%h, pt => st%pt, pw => st%pw)
       if (.not. allocated(pt%mvf)) return
-      call particles_virtual_masses(pt, h%rho)
-      call nodal_sums(st%g, st%halo, h%mnode, st%h%u, ke_f, p_f)
-      call particles_share_velocities(st%g, st%h, st%bc, st%pt, st%pw, st%halo)
-      call nodal_sums(st%g, st%halo, h%mnode + pw%mp, st%h%u, ke1, p1)
+      call particles_rebuild_nodes(st%g, h, st%bc, pt, pw, st%halo, ke_f, p_f, ke1, p1)
       ! (the share of the particles that left went out with them)
       st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + pe%ke_out - ke_f - pe%ke_solid)
       write(line, '("  particles: ",i0," relocated, ",i0," host cells; nodal momentum change ",3es10.2, &

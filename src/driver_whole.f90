@@ -70,10 +70,10 @@ module driver_whole
   use base_strings, only: itoa
   use particles_state, only: particles_t, particles_index
   use driver_particles, only: build_particles, particles_gathered, particles_blocks_share, particles_take, &
-                              particles_euler_t, particles_euler_save, &
                               particles_euler_relocate, particles_euler_couple, count_hosts, particles_euler_fill, &
                               particles_euler_blocks, particles_preposition_blocks, particles_euler_preposition
   use particles_lagrange, only: strength_slot_t
+  use particles_euler, only: particles_euler_t, particles_euler_save
   use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists, cell_prefix
@@ -400,7 +400,7 @@ contains
       call agree_error(pc, err)
       if (allocated(err)) return
     end if
-    if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st, pe)
+    if (parts .and. allocated(st%pt%mvf)) call particles_euler_save(st%g, st%h, st%pt, st%pw, st%halo, pe)
     one = 0
     call window_remap(cfg, pc, st, es, log, xnew, xb, e0, redo, wider, one, ps, retry, err)
     do

@@ -23,9 +23,11 @@
 !> map, `particles_leaving` books those a rezone left beyond an open face
 !> (`particles_out_open_face`; a block of a decomposed run knows them when
 !> no block's cell may hold them, `particles_cells_hold`), the driver re-sorts and re-bins the
-!> particles, gives them new virtual-fluid masses from their new hosts'
-!> densities and rebuilds the nodal velocity from the remapped fluid
-!> momentum and the particles'; then
+!> particles, and `particles_rebuild_nodes` gives them new virtual-fluid
+!> masses from their new hosts' densities and rebuilds the nodal velocity
+!> from the remapped fluid momentum and the particles' (before the remap
+!> `particles_euler_save` took their share of the nodes' kinetic energy and
+!> momentum for the balance); then
 !> 5. `particles_flip`: the rebuild's change of the node velocities against
 !>    the particles' mean (the fluid's share, the kinematic conditions) goes
 !>    to the particles, so that they and the nodes agree again
@@ -37,18 +39,66 @@ module particles_euler
   use mesh_grid, only: grid_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW, bc_constrain
   use mesh_halo, only: halo_t
-  use hydro_state, only: hydro_t
+  use hydro_state, only: hydro_t, nodal_sums
   use particles_state, only: particles_t
   use particles_shape, only: particles_locate, particles_shape_values, inside_tol
   use particles_lagrange, only: particles_interpolate, particles_work_t, particles_phase_mass, particles_virtual_grid, &
-                                particles_blend_velocities
+                                particles_blend_velocities, particles_virtual_masses
   implicit none
   private
-  public :: particles_share_velocities, particles_flip, particles_relocate, particles_occupied, particles_place, &
-            particles_leaving, &
-            particles_out_open_face, particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold
+  public :: particles_euler_t, particles_euler_save, particles_rebuild_nodes, particles_share_velocities, particles_flip, &
+            particles_relocate, particles_occupied, particles_place, particles_leaving, particles_out_open_face, &
+            particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold
+
+  !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
+  type :: particles_euler_t
+    !> (np) where the walk for each particle's new host starts: its host in
+    !> the standard grid (pre-positioning) or its old host
+    integer, allocatable :: guess(:)
+    !> (ncell) cells of the standard grid holding particles (smoothing rezones)
+    logical, allocatable :: occupied(:)
+    !> guess and occupied are a block's (the driver's pre-positioning on the blocks)
+    logical :: on_blocks = .false.
+    !> the particles' share of the nodal kinetic energy and momentum before the
+    !> remap, and the share of those that left through open faces
+    real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp, ke_out = 0.0_wp, p_out(3) = 0.0_wp
+  end type particles_euler_t
 
 contains
+
+  !> Before the remap: the particles' share of the nodal kinetic energy and
+  !> momentum (the transfer's balance, in pe), summed exactly over the nodes
+  !> the block counts (`nodal_sums`). Coupled particles only.
+  subroutine particles_euler_save(g, h, pt, pw, halo, pe)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    type(particles_t), intent(inout) :: pt
+    type(particles_work_t), intent(inout) :: pw
+    class(halo_t), intent(inout) :: halo
+    type(particles_euler_t), intent(inout) :: pe
+    call particles_phase_mass(g, pt, pw, h%mnode)
+    call nodal_sums(g, halo, pw%mp, h%u, pe%ke_solid, pe%p_solid)
+  end subroutine particles_euler_save
+
+  !> After the remap (PARTICLES.md §1.13 item 4, the particles relocated):
+  !> their virtual-fluid masses from the new hosts' densities and the nodes
+  !> they reach rebuilt (`particles_share_velocities`); ke_f, p_f the nodal
+  !> kinetic energy and momentum of the remapped fluid's masses before it,
+  !> ke1, p1 those of the fluid's and the particles' share after it, exact
+  !> sums over the nodes the blocks count.
+  subroutine particles_rebuild_nodes(g, h, bc, pt, pw, halo, ke_f, p_f, ke1, p1)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(inout) :: h
+    type(bc_t), intent(in) :: bc
+    type(particles_t), intent(inout) :: pt
+    type(particles_work_t), intent(inout) :: pw
+    class(halo_t), intent(inout) :: halo
+    real(wp), intent(out) :: ke_f, p_f(3), ke1, p1(3)
+    call particles_virtual_masses(pt, h%rho)
+    call nodal_sums(g, halo, h%mnode, h%u, ke_f, p_f)
+    call particles_share_velocities(g, h, bc, pt, pw, halo)
+    call nodal_sums(g, halo, h%mnode + pw%mp, h%u, ke1, p1)
+  end subroutine particles_rebuild_nodes
 
   !> The particles' nodal mass term (Eq. 16, from the current m'_p), and at
   !> each node the particles reach the velocity u = (m_f u + m_p,I vbar_I) /
