@@ -87,7 +87,8 @@ contains
   !> is inverted at it or whose volume would not stay positive (-1: one on
   !> another block); dt_particle the id of the particle whose stable step
   !> was taken (0 if the cells or the caller set the step); budget the
-  !> step's energy bookkeeping.
+  !> step's energy bookkeeping (all zero where the step stopped before the
+  !> particles' update).
   subroutine particles_lagrange_step(g, h, bc, mats, mx, par, pt, pw, halo, dt, work, bad_cell, bad_particle, budget, &
                                      dt_cell, dt_particle)
     type(grid_t), intent(inout) :: g
@@ -143,7 +144,11 @@ contains
     bad_particle = contrib%bad
     if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
     call agree_bad(bad_particle)
-    if (bad_cell /= 0 .or. bad_particle /= 0) return
+    if (bad_cell /= 0 .or. bad_particle /= 0) then
+      ! (nothing to book: the step is not taken)
+      budget = particles_budget_t()
+      return
+    end if
     call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
     call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, halo)
     e_old = particles_internal_energy(pt, pw%owned, halo)
