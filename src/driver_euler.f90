@@ -17,15 +17,16 @@ module driver_euler
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use rezone_lssm, only: lssm_report_t, LSSM_SKIPPED, LSSM_SNAPPED
-  use rezone_driver, only: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_shape, rezone_grid
-  use material_table, only: material_index_cells, material_eval_eos, material_burn_start
-  use material_mixed, only: mixed_cell_state, mixed_forget_planes
-  use lagrange_centroids, only: centroid_stats_t, centroids_fit_planes, centroids_refresh, centroids_remember, &
+  use rezone_driver, only: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_grid, &
+                           rezone_due, rezone_rearm, rezone_worst_cells
+  use lagrange_centroids, only: centroid_stats_t, centroids_refresh, centroids_remember, &
                                 plane_memory_t
   use hydro_state, only: hydro_totals
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
                          remap_hybrid_target, remap_part_target, remap_part_folded, remap_part_uniform, remap_work_t
   use remap_lattice, only: lattice_nodes
+  use remap_after, only: remap_after_planes, remap_after_state
+  use remap_parts, only: remap_parts_t
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t
   use base_share, only: share_t
@@ -42,15 +43,10 @@ module driver_euler
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
     logical :: on = .false.                  !< an Euler phase is configured
-    type(rezone_state_t) :: rez              !< what the rezone keeps (`rezone_driver`)
-    real(wp) :: t_next = 0.0_wp              !< next Euler step by interval_time (restart state)
+    !> what the rezone keeps (`rezone_driver`; with the triggers' bounds and
+    !> the next interval time, restart state)
+    type(rezone_state_t) :: rez
     integer :: n = 0                         !< Euler steps so far (restart state)
-    !> the triggers' bounds in force (restart state): the deck's side_ratio
-    !> and cos_angle, or, while cells an Euler step left beyond them are
-    !> there, those cells' values moved on by &rezone hysteresis
-    !> (`euler_due`); bound_n: the Euler step they were set after
-    real(wp) :: ratio_bound = 0.0_wp, cos_bound = 0.0_wp
-    integer :: bound_n = 0
     integer :: cells = 0, mof = 0, mof_carried = 0, mof_iterations = 0   !< this segment's totals
     !> this segment's totals by the remap's path (`euler_report`): the
     !> cells remapped by swept faces; the Euler steps that remapped some
@@ -82,17 +78,16 @@ module driver_euler
   end type euler_start_t
 
   !> Where an Euler step remapped in parts of the way stands (`euler_step`):
-  !> on when it does; the parts taken, the equal parts left of the way (0
-  !> before the first part), the parts split, the first part's fraction
-  !> of the swept-face bound, the cells that kept the step off one remap
-  !> by swept faces, and what the parts taken did. A decomposed run that
+  !> on when it does; the cells that kept the step off one remap by swept
+  !> faces, the parts' plan (`remap_parts_t`: taken, left, split, the first
+  !> part's fraction of the swept-face bound) and what the parts taken did. A decomposed run that
   !> remaps the parts on its windows hands the whole grid this when a part
   !> needs more than the windows hold, and the whole grid goes on from
   !> there as one process would.
   type :: parts_state_t
     logical :: on = .false.
-    integer :: ntaken = 0, nleft = 0, nsplit = 0, nblock = 0, nrescue = 0
-    real(wp) :: fac = 1.0_wp
+    integer :: nblock = 0
+    type(remap_parts_t) :: plan
     type(remap_stats_t) :: rs
   end type parts_state_t
 
@@ -112,10 +107,10 @@ contains
     if (.not. es%on) return
     call rezone_state_init(g, es%rez, err)
     if (allocated(err)) return
-    es%t_next = huge(1.0_wp)
-    if (rz%interval_time > 0.0_wp) es%t_next = rz%interval_time
-    es%ratio_bound = rz%side_ratio
-    es%cos_bound = rz%cos_angle
+    es%rez%t_next = huge(1.0_wp)
+    if (rz%interval_time > 0.0_wp) es%rez%t_next = rz%interval_time
+    es%rez%ratio_bound = rz%side_ratio
+    es%rez%cos_bound = rz%cos_angle
   end subroutine euler_init
 
   !> The cells' standard side ratios from the block g's nodes as the deck
@@ -131,106 +126,48 @@ contains
   subroutine euler_register_restart(es, reg)
     type(euler_state_t), intent(inout), target :: es
     type(registry_t), intent(inout) :: reg
-    call reg%add('t_next_euler', 'time', es%t_next, lower=LOWER_NONNEGATIVE)
+    call reg%add('t_next_euler', 'time', es%rez%t_next, lower=LOWER_NONNEGATIVE)
     call reg%add('n_euler', '1', es%n, lower=LOWER_NONNEGATIVE)
-    call reg%add('euler_ratio_bound', '1', es%ratio_bound, mandatory=.false., lower=LOWER_NONNEGATIVE)
-    call reg%add('euler_cos_bound', '1', es%cos_bound, mandatory=.false., lower=LOWER_NONNEGATIVE)
-    call reg%add('euler_bound_n', '1', es%bound_n, mandatory=.false., lower=LOWER_NONNEGATIVE)
+    call reg%add('euler_ratio_bound', '1', es%rez%ratio_bound, mandatory=.false., lower=LOWER_NONNEGATIVE)
+    call reg%add('euler_cos_bound', '1', es%rez%cos_bound, mandatory=.false., lower=LOWER_NONNEGATIVE)
+    call reg%add('euler_bound_n', '1', es%rez%bound_n, mandatory=.false., lower=LOWER_NONNEGATIVE)
   end subroutine euler_register_restart
 
-  !> `due` when an Euler step is due after the step just taken: an interval
-  !> has passed, or the grid's largest side ratio or smallest cosine of the
-  !> inclined angle has reached its bound. With `shape` (a decomposed run:
-  !> the largest side ratio and smallest cosine of all blocks, `rezone_shape`
-  !> and a global reduction) the grid in st is not read, and the log's note
-  !> of where the grid is worst is the caller's (`euler_due_where`).
+  !> `due` when an Euler step is due after the step just taken
+  !> (`rezone_due`: an interval, or the grid's shape against the triggers'
+  !> bounds), and the note its log line gives. With `shape` (a decomposed
+  !> run: the largest side ratio and smallest cosine of all blocks,
+  !> `rezone_shape` and a global reduction) the grid in st is not read, and
+  !> the note of where the grid is worst is the caller's (`euler_due_where`).
   subroutine euler_due(rz, st, es, due, shape)
     type(rezone_config_t), intent(in) :: rz
     type(state_t), intent(in) :: st
     type(euler_state_t), intent(inout) :: es
     logical, intent(out) :: due
     real(wp), intent(in), optional :: shape(2)
-    real(wp) :: ratio_max, cos_min
+    logical :: by_shape
     due = .false.
     if (.not. es%on) return
-    if (rz%interval_steps > 0) due = mod(st%step, rz%interval_steps) == 0
-    if (rz%interval_time > 0.0_wp) due = due .or. st%t >= es%t_next*(1.0_wp - 1.0e-12_wp)
-    es%trigger_note = 'interval'
-    if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
-    if (present(shape)) then
-      ratio_max = shape(1)
-      cos_min = shape(2)
-    else
-      call rezone_shape(rz, st%g, st%step, es%rez)
-      ratio_max = es%rez%shape_mine(1)
-      cos_min = es%rez%shape_mine(2)
-    end if
-    call trigger_bounds(rz, es, ratio_max, cos_min)
-    due = (rz%side_ratio > 0.0_wp .and. ratio_max >= es%ratio_bound) .or. &
-          (rz%cos_angle > 0.0_wp .and. cos_min <= es%cos_bound)
-    if (.not. due) return
-    es%trigger_note = 'shape'
-    if (.not. present(shape)) call euler_due_where(st%g, st%halo, es, [ratio_max, cos_min])
+    call rezone_due(rz, es%rez, st%g, st%step, st%t, es%n, due, by_shape, shape)
+    es%trigger_note = trim(merge('shape   ', 'interval', by_shape))
+    if (by_shape .and. .not. present(shape)) call euler_due_where(st%g, st%halo, es, [es%rez%shape_mine(1), es%rez%shape_mine(2)])
   end subroutine euler_due
-
-  !> The triggers' bounds after the step just taken, whose grid's largest
-  !> side ratio and smallest cosine are ratio_max and cos_min. At the first
-  !> look after an Euler step, a measure the step left beyond the deck's
-  !> bound (cells a smoothing could not bring to the target) becomes the
-  !> bound, moved on by &rezone hysteresis (a relative margin): those cells
-  !> alone do not make the next step due at once, as they did step after
-  !> step (the paper's Sedov with LSSM took 113 Euler steps at 20^3, runs of
-  !> consecutive ones, against 16 with whole-grid smoothing); the grid
-  !> getting worse by the margin does, and the cells remain distorted cells
-  !> for the smoothing of the next step. The bounds never move beyond three
-  !> margins from the deck's (else a run whose every Euler step left its
-  !> cells a little worse would ratchet them away: the paper's Sedov reached
-  !> a cosine of 0.33). Once the grid is back within a deck's bound, that
-  !> bound is in force again.
-  subroutine trigger_bounds(rz, es, ratio_max, cos_min)
-    type(rezone_config_t), intent(in) :: rz
-    type(euler_state_t), intent(inout) :: es
-    real(wp), intent(in) :: ratio_max, cos_min
-    if (es%bound_n /= es%n) then
-      es%bound_n = es%n
-      es%ratio_bound = rz%side_ratio
-      es%cos_bound = rz%cos_angle
-      if (ratio_max >= rz%side_ratio) &
-        es%ratio_bound = min(ratio_max*(1.0_wp + rz%hysteresis), rz%side_ratio*(1.0_wp + 3.0_wp*rz%hysteresis))
-      if (cos_min <= rz%cos_angle) &
-        es%cos_bound = max(cos_min*(1.0_wp - rz%hysteresis), rz%cos_angle*(1.0_wp - 3.0_wp*rz%hysteresis))
-    end if
-    if (ratio_max < rz%side_ratio) es%ratio_bound = rz%side_ratio
-    if (cos_min > rz%cos_angle) es%cos_bound = rz%cos_angle
-  end subroutine trigger_bounds
 
   !> The log's note of a step due by the grid's shape (largest side ratio
   !> and smallest cosine, shape, the whole grid's, and the bounds in force,
   !> which &rezone hysteresis may have moved on): the worst cell of each
-  !> measure, the first in the whole grid's cell order (each block finds
-  !> its first owned cell with the whole grid's worst value; the least
-  !> cell number of all blocks is the one of one process).
+  !> measure (`rezone_worst_cells`: the one of one process).
   subroutine euler_due_where(g, halo, es, shape)
     type(grid_t), intent(in) :: g
     class(halo_t), intent(in) :: halo
     type(euler_state_t), intent(inout) :: es
     real(wp), intent(in) :: shape(2)
-    real(wp) :: first(2), none(0)
-    integer :: ijk(3, 2), m, gc
+    integer :: ijk(3, 2)
     if (es%trigger_note /= 'shape') return
-    ! (this block's first cell with the whole grid's worst value, from the
-    ! look that made the step due: `rezone_shape`)
-    first = huge(1.0_wp)
-    if (es%rez%shape_mine(1) >= shape(1)) first(1) = es%rez%shape_first(1)
-    if (es%rez%shape_mine(2) <= shape(2)) first(2) = es%rez%shape_first(2)
-    do m = 1, 2
-      call halo%choose(first(m), none)
-      gc = nint(min(first(m), 1.0e9_wp)) - 1
-      ijk(:, m) = [mod(gc, g%gn(1)), mod(gc/g%gn(1), g%gn(2)), gc/(g%gn(1)*g%gn(2))] + 1
-    end do
+    ijk = rezone_worst_cells(g, halo, es%rez, shape)
     write(es%trigger_note, '("side ratio ",f0.2," in cell (",i0,",",i0,",",i0,"), cosine ",f0.3," in cell (", &
       &i0,",",i0,",",i0,") (bounds ",f0.4,", ",f0.4,")")') shape(1), ijk(:, 1), shape(2), ijk(:, 2), &
-      es%ratio_bound, es%cos_bound
+      es%rez%ratio_bound, es%rez%cos_bound
   end subroutine euler_due_where
 
   !> One Euler step: rezone, remap, new material states; checks
@@ -268,9 +205,10 @@ contains
     type(remap_stats_t) :: rk
     type(plane_memory_t) :: memory
     integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:), broke(:)
-    integer :: nblock, nparts, nleft, ntaken, nsplit, nfar, f, rescue, nrescue, stat
-    real(wp) :: fac, r
-    logical :: split, arrived, hybrid, lattice, one, at_x0, rows, started
+    type(remap_parts_t) :: pp
+    integer :: nblock, nparts, nfar, f, stat
+    real(wp) :: r
+    logical :: split, arrived, hybrid, lattice, one, at_x0, rows, started, again
 
     if (present(xrezoned)) then
       start = e0
@@ -359,21 +297,10 @@ contains
       nfar = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, moved=cells)
       hybrid = nfar == 0 .and. size(cells) > 0
     end if
-    ! (nleft: the equal parts left of the way, 0 before the first part)
-    nleft = 0
-    fac = 1.0_wp
-    ntaken = 0
+    ! (the remaps taken, and a step in parts' plan: `remap_parts`)
+    pp = remap_parts_t(nmax=rz%swept_parts, hybrid=rz%swept_hybrid)
     written = [integer ::]
-    nsplit = 0
     arrived = .true.
-    ! (rescue: the stage of a part, with no split left, remapped around the
-    ! cells that cannot take it by swept faces (their nodes go too far) or
-    ! whose bounds its swept faces broke: 1, by swept faces to the part's
-    ! grid less the moves of the nodes around those cells; 2, by
-    ! intersection the rest of the way; 3, the whole part by intersection,
-    ! when stage 1 cannot sweep or breaks a bound too; 0, none)
-    rescue = 0
-    nrescue = 0
     started = .false.
     if (present(before)) then
       rs = before
@@ -388,39 +315,28 @@ contains
       return
     end if
     if (split .and. present(resume)) then
-      nleft = resume%nleft
-      fac = resume%fac
-      ntaken = resume%ntaken
-      nsplit = resume%nsplit
-      nrescue = resume%nrescue
-      if (ntaken > 0) rs = resume%rs
-      started = ntaken > 0
+      ! (the windows' plan, without a rescue under way)
+      pp = resume%plan
+      pp%rescue = 0
+      if (pp%ntaken > 0) rs = resume%rs
+      started = pp%ntaken > 0
     end if
     do
-      if (rescue > 0) then
+      if (pp%rescue > 0) then
         ! a part some of whose cells cannot take it by swept faces (too
         ! far, or a broken bound) and no split left: first every node but
         ! those around these cells by swept faces, then those by
         ! intersection, as a hybrid step does (a first stage that cannot
         ! sweep, or breaks a bound again: the whole part by intersection)
         xk = xpart
-        if (rescue == 1) xk = xh
+        if (pp%rescue == 1) xk = xh
         if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
         par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
                                          moved=moved) == 0
-        if (rescue == 1 .and. .not. par%swept) then
-          rescue = 3
-          cycle
-        end if
-        ! (every moving cell is around those that cannot sweep: the second
-        ! stage alone)
-        if (rescue == 1 .and. size(moved) == 0) then
-          rescue = 2
-          cycle
-        end if
-        par%swept_only = rescue == 1
+        if (pp%rescue_next(par%swept, size(moved))) cycle
+        par%swept_only = pp%rescue == 1
       else if (hybrid) then
-        if (ntaken == 0) then
+        if (pp%ntaken == 0) then
           par%swept = .true.
           par%lattice = .false.
           moved = cells
@@ -433,8 +349,8 @@ contains
           arrived = .true.
         end if
       else if (split) then
-        if (ntaken == 0 .and. nleft == 0) then
-          call remap_part_target(st%g, xnew, fac*par%swept_max, cells, xk, arrived, r, err)
+        if (pp%first()) then
+          call remap_part_target(st%g, xnew, pp%fac*par%swept_max, cells, xk, arrived, r, err)
           if (allocated(err)) then
             call es%timer%stop()
             return
@@ -443,16 +359,12 @@ contains
             if (remap_part_folded(st%g, cells, xk)) call remap_part_uniform(st%g, xnew, cells, r, xk)
           end if
         else
-          if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                        parts=nleft)
-            nleft = max(nleft, 1)
-          end if
+          if (pp%nleft == 0) call parts_left()
           xk = xnew
-          if (nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(nleft, wp)
-          arrived = nleft == 1
+          if (pp%nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(pp%nleft, wp)
+          arrived = pp%nleft == 1
         end if
-        if (ntaken + 1 >= rz%swept_parts .and. .not. arrived) then
+        if (pp%last(arrived)) then
           xk = xnew
           arrived = .true.
         end if
@@ -461,28 +373,22 @@ contains
                                          moved=moved, blockers=broke) == 0
         ! (with no split left a part that breaks a bound is remapped around
         ! the cells that broke it, `rescue`)
-        par%swept_only = par%swept .and. (ntaken + 2*max(nleft, 1) <= rz%swept_parts .or. rz%swept_hybrid)
-        if (.not. par%swept .and. (arrived .or. ntaken + 2*max(nleft, 1) > rz%swept_parts) .and. &
-            rz%swept_hybrid .and. size(broke) > 0 .and. size(broke) < size(moved)) then
+        par%swept_only = pp%swept_only(par%swept)
+        if (pp%wants_rescue(par%swept, arrived, size(broke), size(moved))) then
           ! a part some cells cannot sweep (their nodes go further than
           ! swept_max: the last part goes the rest of the way) and no split
           ! left: by swept faces but around those cells (`rescue`)
           xpart = xk
           call remap_hybrid_target(st%g, xk, broke, xh)
-          rescue = 1
+          pp%rescue = 1
           cycle
         end if
-        if (.not. (par%swept .or. arrived) .and. ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
+        if (pp%wants_split(par%swept, arrived)) then
           ! a part the swept faces cannot take though its nodes stay within
           ! swept_max (a cell it tangles on the way): shorter parts, the
           ! first one's nodes the same fraction of their way
-          if (nleft == 0) then
-            nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                        parts=nleft)
-            nleft = max(nleft, 1)
-          end if
-          nleft = 2*nleft
-          nsplit = nsplit + 1
+          if (pp%nleft == 0) call parts_left()
+          call pp%split()
           cycle
         end if
       end if
@@ -497,7 +403,7 @@ contains
       ! taken before the step's first remap (a hybrid step's second remap
       ! starts from the first one's nodes; a decomposed run's whole grid
       ! that goes on from the windows' first remap has the windows' share)
-      if (allocated(st%pt%mvf) .and. ntaken == 0) then
+      if (allocated(st%pt%mvf) .and. pp%ntaken == 0) then
         call particles_euler_save(st%g, st%h, st%pt, st%pw, st%halo, pe)
         if (present(pe0)) then
           pe%ke_solid = pe0%ke_solid
@@ -517,61 +423,42 @@ contains
         ! (nothing remapped: the first part again half as far, or the rest
         ! of the way in twice the parts; with no split left, the part around
         ! the cells that broke a bound, `rescue`)
-        if (rescue == 1) then
-          rescue = 3
-        else if (ntaken + 2*max(nleft, 1) <= rz%swept_parts) then
-          if (nleft == 0) fac = 0.5_wp*fac
-          nleft = 2*nleft
-          nsplit = nsplit + 1
-        else
+        if (pp%unbounded()) then
           xpart = xk
           call remap_hybrid_target(st%g, xk, broke, xh)
-          rescue = 1
         end if
         cycle
       end if
       if (.not. started) rs = rk
       if (started) call remap_stats_add(rs, rk)
       started = .true.
-      if (rescue /= 1) then
-        ntaken = ntaken + 1
-        if (nleft > 0) nleft = nleft - 1
-      end if
-      if (rescue > 1) nrescue = nrescue + 1
+      again = pp%taken()
       rs%swept_blockers = nblock
-      rs%swept_splits = nsplit
-      rs%swept_rescued = nrescue
+      rs%swept_splits = pp%nsplit
+      rs%swept_rescued = pp%nrescue
       rs%hybrid = hybrid
-      if (.not. allocated(err)) call material_index_cells(st%mats, st%h%mat, st%mx, err)
       ! the new mixed cells' centroids are the remapped material's: their
       ! interface planes, fitted to them, carry them to the next remap
-      if (.not. allocated(err)) call mixed_forget_planes(st%mx, err)
-      if (.not. allocated(err)) call centroids_fit_planes(st%g, st%mx, es%centroids, rz%mof_max_iter, memory=memory)
+      if (.not. allocated(err)) call remap_after_planes(st%g, st%mats, st%h%mat, st%mx, rz%mof_max_iter, memory, &
+                                                        es%centroids, err)
       if (allocated(err)) then
         call es%timer%stop()
         return
       end if
-      if (rescue == 1) then
-        rescue = 2
-        cycle
-      end if
-      rescue = 0
+      ! (a rescue's second stage)
+      if (again) cycle
       if (.not. (split .or. hybrid) .or. arrived) exit
     end do
     ! (the grid is at xnew: at x0 in every row, or not known to be)
     if (allocated(st%g%moved_rows)) st%g%moved_rows = .not. at_x0
-    call material_burn_start(st%mats, st%t)
     ! (a cell two parts wrote is evaluated once: a material's work arrays
     ! hold its cells once)
-    if (ntaken > 1) call unique_cells(written, err)
+    if (pp%ntaken > 1) call unique_cells(written, err)
     if (allocated(err)) then
       call es%timer%stop()
       return
     end if
-    ! (the other cells' states, and so pressures, are those the Lagrangian
-    ! step left, evaluated there at this time)
-    call material_eval_eos(st%mats, st%h%rho, st%h%e, st%h%p, st%h%cs, st%mx, written, st%h%mat)
-    call mixed_cell_state(st%mx, st%h%p, st%h%cs)
+    call remap_after_state(st%mats, st%h, st%mx, written, st%t)
     call euler_finish(rz, st, es, log, start, rs, err)
     ! the particles in the new grid and their share of the nodes rebuilt
     ! (after the fluid's check: the fluid's remap conserves by itself)
@@ -582,6 +469,16 @@ contains
     end if
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
     if (.not. present(xrezoned)) call move_alloc(xnew, es%rez%xkeep)
+
+  contains
+
+    !> pp%nleft, the equal parts of the rest of the way to xnew that keep
+    !> every moving cell within swept_max (at least 1).
+    subroutine parts_left()
+      nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
+                                  parts=pp%nleft)
+      pp%nleft = max(pp%nleft, 1)
+    end subroutine parts_left
   end subroutine euler_step
 
   !> (Debug) Every node of g in a row g%moved_rows does not flag is at
@@ -744,7 +641,7 @@ contains
     if (allocated(err) .or. .not. done) then
       ! a skipped step still uses up its interval (else the interval
       ! trigger fires, and is skipped, at every following step)
-      call rearm_interval(rz, t, es)
+      call rezone_rearm(rz, es%rez, t)
       call es%timer%stop()
       done = .false.
       return
@@ -770,7 +667,7 @@ contains
     character(len=40) :: shared, scales
 
     es%n = es%n + 1
-    call rearm_interval(rz, st%t, es)
+    call rezone_rearm(rz, es%rez, st%t)
     call es%timer%stop()
     ! the check's scales: the totals, or the magnitudes of what the remap
     ! wrote (then the change relative to what was remapped)
@@ -865,18 +762,6 @@ contains
                      rtoa(rz%conservation_tol)//')', ERR_RUNTIME)
     end if
   end subroutine euler_finish
-
-  !> The next Euler step by interval_time: past the current time by whole
-  !> intervals.
-  subroutine rearm_interval(rz, t, es)
-    type(rezone_config_t), intent(in) :: rz
-    real(wp), intent(in) :: t
-    type(euler_state_t), intent(inout) :: es
-    if (.not. rz%interval_time > 0.0_wp) return
-    do while (es%t_next <= t*(1.0_wp + 1.0e-12_wp))
-      es%t_next = es%t_next + rz%interval_time
-    end do
-  end subroutine rearm_interval
 
   !> The log's line of a smoothing rezone at step `step` (`lssm_rezone`).
   subroutine lssm_log(rz, rep, step, log)

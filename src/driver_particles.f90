@@ -34,8 +34,9 @@ module driver_particles
   use mesh_grid, only: grid_t, grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
   use particles_euler, only: particles_euler_t, particles_share_velocities, particles_rebuild_nodes, particles_relocate, &
-                             particles_occupied, particles_place, particles_leaving, particles_first_lost, &
-                             particles_owned_hosts, particles_open_far, particles_out_open_face, particles_cells_hold
+                             particles_occupied, particles_place, particles_first_lost, particles_owned_hosts, &
+                             particles_open_far, particles_out_open_face, particles_cells_hold, particles_out_t, &
+                             particles_take_out, particles_relocate_rezoned
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate
   use mesh_geometry, only: hex_volume
@@ -55,7 +56,7 @@ module driver_particles
   use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
                                 parallel_mark_cells
   use particles_nodal, only: particles_budget_t, particles_lagrange_step
-  use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, particles_work_resize, &
+  use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, &
                                 particles_phase_mass, particles_virtual_masses, particles_slot_start
   use strength_models, only: strength_params_t
   use strength_factory, only: strength_create, strength_nhist
@@ -655,6 +656,7 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     type(particles_t) :: po
+    type(particles_out_t) :: out
     type(strength_slot_t), allocatable :: models(:)
     logical, allocatable :: owned(:)
     integer, allocatable :: cell(:), own(:)
@@ -686,9 +688,8 @@ contains
       call parallel_max(pc, n(1:2))
       done = n(1) == 0
       if (.not. done) return
-      pe%ke_out = 0.0_wp
-      pe%p_out = 0.0_wp
-      if (n(2) > 0) call particles_out(po, cell, xi, st%halo, st%tot%boundary_work, pe%ke_out, pe%p_out, log)
+      if (n(2) > 0) call particles_take_out(po, cell, xi, st%halo, out)
+      call particles_booked_out(st, out, n(2) > 0, pe, log)
       po%cell = cell
       po%xi = xi
       call particles_place(g, po)
@@ -927,44 +928,22 @@ contains
     if (.not. allocated(err)) call particles_euler_couple(st, pe, st%pt%np, count_hosts(st%pt, st%g%ncell), log)
   end subroutine particles_euler_finish
 
-  !> After the remap, item 3: every particle's host and natural coordinates
-  !> in the rezoned grid st%g by its position (the walk from pe%guess, else
-  !> from the old host), its position put on the new grid's map, the
-  !> particles re-sorted and re-binned; those the rezone left beyond an
-  !> open face leave (`particles_leave`), their share of the nodal momentum
-  !> and kinetic energy kept in pe (ke_out, p_out) for the balance. Needs
-  !> only st%g, st%pt, st%bc and st%tot: a decomposed run does it on the
-  !> whole grid's particles, the same on every rank.
+  !> After the remap, item 3 (`particles_relocate_rezoned` on st's grid:
+  !> one process's, or a decomposed run's whole grid, the same on every
+  !> rank): the particles in the rezoned grid, walking from pe%guess (else
+  !> from the old hosts); those the rezone left beyond an open face leave
+  !> (`particles_booked_out`).
   subroutine particles_euler_relocate(st, pe, log, err)
     type(state_t), intent(inout) :: st
     type(particles_euler_t), intent(inout) :: pe
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: cell(:)
-    real(wp), allocatable :: xi(:, :)
-    integer :: bad, stat
-    character(len=200) :: msg
-
-    associate (g => st%g, pt => st%pt)
-      allocate(cell(pt%np), xi(3, pt%np), stat=stat, errmsg=msg)
-      if (stat /= 0) then
-        call error_set(err, 'particles_euler_finish', error_no_memory('work arrays'))
-        return
-      end if
-      if (.not. allocated(pe%guess)) pe%guess = pt%cell
-      call particles_relocate(g, g%x, pt, pe%guess, cell, xi, bad)
-      pe%ke_out = 0.0_wp
-      pe%p_out = 0.0_wp
-      if (bad /= 0) then
-        call particles_leave(st, cell, xi, pe%ke_out, pe%p_out, log, err)
-        if (allocated(err)) return
-      end if
-      pt%cell = cell
-      pt%xi = xi
-      call particles_place(g, pt)
-      call particles_order(pt, g%ncell, err)
-      if (pt%spread) call particles_support_widths(g, pt)
-    end associate
+    type(particles_out_t) :: out
+    logical :: left
+    if (.not. allocated(pe%guess)) pe%guess = st%pt%cell
+    call particles_relocate_rezoned(st%g, st%bc, st%halo, st%pt, st%pw, pe%guess, out, left, err)
+    if (allocated(err)) return
+    call particles_booked_out(st, out, left, pe, log)
   end subroutine particles_euler_relocate
 
   !> After the remap, item 4, on st's grid (one process's, or a block with
@@ -1009,72 +988,26 @@ contains
     count_hosts = count(p%cell_start(2:ncell + 1) > p%cell_start(:ncell))
   end function count_hosts
 
-  !> The particles a rezone left in no cell (cell(k) = 0 from
-  !> `particles_relocate`): those whose host lay on an inflow or outflow face,
-  !> or that lie beyond one (a fast fragment crosses more than a cell
-  !> between Euler steps), went out through it (the rezone brought the face
-  !> back behind them) and leave the run, with cell and xi; the coupled ones' mass, momentum and
-  !> energy leave as through the face (their internal energy and their
-  !> share (m_p - m'_p) of the nodal kinetic energy taken from the boundary
-  !> work, so the balance stays closed). Any other particle in no cell is a
-  !> runtime failure (the grid lost it).
-  subroutine particles_leave(st, cell, xi, ke_out, p_out, log, err)
+  !> What the particles that left through open faces took out (out,
+  !> `particles_take_out`; left: the leaving was taken, else nothing left)
+  !> is logged, their energy taken from the boundary work (so the balance
+  !> stays closed) and their share of the nodal kinetic energy and momentum
+  !> kept in pe (ke_out, p_out, zero when none left).
+  subroutine particles_booked_out(st, out, left, pe, log)
     type(state_t), intent(inout) :: st
-    integer, allocatable, intent(inout) :: cell(:)
-    real(wp), allocatable, intent(inout) :: xi(:, :)
-    real(wp), intent(out) :: ke_out, p_out(3)
+    type(particles_out_t), intent(in) :: out
+    logical, intent(in) :: left
+    type(particles_euler_t), intent(inout) :: pe
     type(log_t), intent(in) :: log
-    type(error_t), allocatable, intent(inout) :: err
-    integer :: k
-
-    associate (pt => st%pt)
-      k = particles_first_lost(st%g, st%bc, st%g%x, pt, cell)
-      if (k > 0) then
-        call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(k))//' at ('// &
-                       rtoa(pt%x(1, k))//', '//rtoa(pt%x(2, k))//', '//rtoa(pt%x(3, k))// &
-                       ') lies in no cell of the rezoned grid', ERR_RUNTIME)
-        return
-      end if
-      call particles_out(pt, cell, xi, st%halo, st%tot%boundary_work, ke_out, p_out, log)
-      if (allocated(st%pw%vh)) call particles_work_resize(st%pw, pt%np, pt%nhist, err)
-    end associate
-  end subroutine particles_leave
-
-  !> The particles of pt with no cell (cell(k) = 0) leave through open
-  !> faces: what they take out (`particles_leaving`, summed exactly over
-  !> the blocks of halo: every rank the run's) is logged, their energy
-  !> taken from the boundary work (so the balance stays closed) and kept
-  !> in ke_out and p_out, and they are taken out of pt, cell and xi.
-  subroutine particles_out(pt, cell, xi, halo, boundary_work, ke_out, p_out, log)
-    type(particles_t), intent(inout) :: pt
-    integer, allocatable, intent(inout) :: cell(:)
-    real(wp), allocatable, intent(inout) :: xi(:, :)
-    class(halo_t), intent(in) :: halo
-    real(wp), intent(inout) :: boundary_work
-    real(wp), intent(out) :: ke_out, p_out(3)
-    type(log_t), intent(in) :: log
-    type(xsum_t) :: acc(6)
-    integer, allocatable :: pick(:)
-    integer :: k, n(2)
-    real(wp) :: m_out, e_out
     character(len=300) :: line
-    call particles_leaving(pt, cell, acc)
-    call halo%sums(acc)
-    m_out = xsum_value(acc(1))
-    p_out = [(xsum_value(acc(1 + k)), k = 1, 3)]
-    ke_out = xsum_value(acc(5))
-    e_out = xsum_value(acc(6)) + ke_out
-    boundary_work = boundary_work - e_out
-    pick = pack([(k, k = 1, pt%np)], cell > 0)
-    n = [pt%np - size(pick), size(pick)]
-    call halo%sum_ints(n)
+    pe%ke_out = out%ke
+    pe%p_out = out%momentum
+    if (.not. left) return
+    st%tot%boundary_work = st%tot%boundary_work - out%energy
     write(line, '("  particles: ",i0," left the grid through open faces (mass ",es12.5,", momentum ",3es10.2, &
-      &", energy ",es12.5,"); ",i0," remain")') n(1), m_out, p_out, e_out, n(2)
+      &", energy ",es12.5,"); ",i0," remain")') out%left, out%mass, out%momentum, out%energy, out%remain
     call log_line(log, trim(line))
-    call particles_select(pt, pick)
-    cell = cell(pick)
-    xi = xi(:, pick)
-  end subroutine particles_out
+  end subroutine particles_booked_out
 
   !> Which of this block's particles at xp(3, m) (owned, in no cell a walk
   !> on the block found) left the whole grid through an open face, as one

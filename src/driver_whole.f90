@@ -89,10 +89,9 @@ module driver_whole
                          remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
                          remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
                          remap_part_target, remap_part_folded, remap_part_uniform
-  use material_mixed, only: mixed_forget_planes
-  use material_table, only: material_eval_eos, material_burn_start
-  use material_mixed, only: mixed_cell_state
-  use lagrange_centroids, only: centroids_fit_planes, centroids_remember, plane_memory_t
+  use lagrange_centroids, only: centroids_remember, plane_memory_t
+  use remap_after, only: remap_after_planes, remap_after_state
+  use remap_parts, only: remap_parts_t
   use driver_config, only: config_t
   use driver_state, only: state_t, state_register_restart, state_after_read, state_totals
   use driver_scene, only: build_scene
@@ -671,7 +670,7 @@ contains
     logical, allocatable :: owned(:)
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), cells(:), wrote(:), broke(:)
-    integer :: n(4), k, nblock, nparts, stage, taken, rescue, dphase
+    integer :: n(4), k, nblock, nparts, stage, taken, dphase
     logical :: hybrid, lattice, again, arrived, next, kept, start
 
     redo = .false.
@@ -749,7 +748,8 @@ contains
     if (.not. allocated(cells)) cells = [integer ::]
     stage = 0
     taken = 0
-    rescue = 0
+    ! (the parts' plan, as `euler_step` makes it)
+    ps%plan = remap_parts_t(nmax=cfg%rezone%swept_parts, hybrid=cfg%rezone%swept_hybrid)
     dphase = 0
     ! (a rescue's grids: set when it begins; allocated empty here, which
     ! also keeps GCC from taking their bounds for uninitialized)
@@ -782,9 +782,9 @@ contains
       if (dphase > 0) then
         ! (the same remap again, its deficits' repair going on:
         ! `window_deficits`)
-      else if (ps%on .and. rescue > 0) then
+      else if (ps%on .and. ps%plan%rescue > 0) then
         ! a stage of a part's rescue (`window_rescue`)
-        call window_rescue(cfg, pc, st, zone, par, xpart, xh, rescue, xw, next, err)
+        call window_rescue(cfg, pc, st, zone, par, xpart, xh, ps%plan, xw, next, err)
         if (allocated(err)) then
           call es%timer%stop()
           return
@@ -802,7 +802,7 @@ contains
           ! (a part some cells cannot sweep, with no split left: taken
           ! around them, `window_rescue`)
           xpart = xw
-          rescue = 1
+          ps%plan%rescue = 1
           cycle
         end if
         if (next) cycle
@@ -858,16 +858,9 @@ contains
           ! of the way in twice the parts; with no split left, the part
           ! around the cells that broke a bound, `window_rescue`; the window
           ! gathered again, as the remap may have left it part way)
-          if (rescue == 1) then
-            rescue = 3
-          else if (ps%ntaken + 2*max(ps%nleft, 1) <= cfg%rezone%swept_parts) then
-            if (ps%nleft == 0) ps%fac = 0.5_wp*ps%fac
-            ps%nleft = 2*ps%nleft
-            ps%nsplit = ps%nsplit + 1
-          else
+          if (ps%plan%unbounded()) then
             xpart = xw
             call remap_hybrid_target(wg, xw, windows_cells(pc, wg, pack(broke, zone%own(broke))), xh)
-            rescue = 1
           end if
           again = .true.
           kept = .false.
@@ -897,20 +890,13 @@ contains
           call log_line(log, 'euler '//itoa(es%n + 1)//' needs more than the ranks'' windows hold ('//why(3:)//')')
           return
         end if
-        call material_index_cells(w%mats, w%h%mat, w%mx, err)
         ! the new mixed cells' planes (`euler_step`), those of the block's
         ! owned cells first: the log counts them
-        if (.not. allocated(err)) call mixed_forget_planes(w%mx, err)
-        if (.not. allocated(err)) then
-          owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
-          call centroids_fit_planes(wg, w%mx, cs, cfg%rezone%mof_max_iter, only=owned, memory=memory)
-          call centroids_fit_planes(wg, w%mx, others, cfg%rezone%mof_max_iter, memory=memory)
-          call material_burn_start(w%mats, st%t)
-          ! (the other cells' states, and so pressures, are as the blocks
-          ! hold them: `euler_step`)
-          call material_eval_eos(w%mats, w%h%rho, w%h%e, w%h%p, w%h%cs, w%mx, wrote, w%h%mat)
-          call mixed_cell_state(w%mx, w%h%p, w%h%cs)
-        end if
+        owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
+        call remap_after_planes(wg, w%mats, w%h%mat, w%mx, cfg%rezone%mof_max_iter, memory, cs, err, owned, others)
+        ! (the other cells' states, and so pressures, are as the blocks hold
+        ! them: `euler_step`)
+        if (.not. allocated(err)) call remap_after_state(w%mats, w%h, w%mx, wrote, st%t)
       end associate
       if (.not. allocated(err)) call block_from(st, .true., err)
       call agree_error(pc, err)
@@ -932,18 +918,11 @@ contains
       again = .true.
       kept = .true.
       if (ps%on) then
-        if (rescue /= 1) then
-          ps%ntaken = ps%ntaken + 1
-          if (ps%nleft > 0) ps%nleft = ps%nleft - 1
-        end if
-        if (rescue > 1) ps%nrescue = ps%nrescue + 1
-        rs%swept_splits = ps%nsplit
-        rs%swept_rescued = ps%nrescue
-        if (rescue == 1) then
-          rescue = 2
-          cycle
-        end if
-        rescue = 0
+        next = ps%plan%taken()
+        rs%swept_splits = ps%plan%nsplit
+        rs%swept_rescued = ps%plan%nrescue
+        ! (a rescue's second stage)
+        if (next) cycle
         if (arrived) exit
       else if (stage == merge(2, 1, hybrid)) then
         exit
@@ -977,17 +956,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable, intent(inout) :: xh(:, :)
     real(wp) :: r(1)
-    integer :: n(2), nmax
+    integer :: n(2)
     integer, allocatable :: moved(:), broke(:)
     logical :: global
-    nmax = cfg%rezone%swept_parts
     global = trim(cfg%rezone%mode) == 'global'
     next = .false.
     rescue = .false.
     arrived = .true.
     associate (w => st%win, wg => st%win%g)
-      if (ps%ntaken == 0 .and. ps%nleft == 0) then
-        call remap_part_target(wg, xfinal, ps%fac*par%swept_max, cells, xw, arrived, r(1), err, zone%own)
+      if (ps%plan%first()) then
+        call remap_part_target(wg, xfinal, ps%plan%fac*par%swept_max, cells, xw, arrived, r(1), err, zone%own)
         call agree_error(pc, err)
         if (allocated(err)) return
         n(1) = merge(1, 0, arrived)
@@ -1000,12 +978,12 @@ contains
           if (n(1) == 1) call remap_part_uniform(wg, xfinal, cells, r(1), xw)
         end if
       else
-        if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
+        if (ps%plan%nleft == 0) ps%plan%nleft = window_parts(pc, st, zone, par, xfinal)
         xw = xfinal
-        if (ps%nleft > 1) xw = wg%x + (xfinal - wg%x)/real(ps%nleft, wp)
-        arrived = ps%nleft == 1
+        if (ps%plan%nleft > 1) xw = wg%x + (xfinal - wg%x)/real(ps%plan%nleft, wp)
+        arrived = ps%plan%nleft == 1
       end if
-      if (ps%ntaken + 1 >= nmax .and. .not. arrived) then
+      if (ps%plan%last(arrived)) then
         xw = xfinal
         arrived = .true.
       end if
@@ -1016,20 +994,18 @@ contains
       n(2) = count(zone%own(moved))
       call parallel_sum(pc, n(1:2))
       par%swept = n(1) == 0
-      par%swept_only = par%swept .and. (ps%ntaken + 2*max(ps%nleft, 1) <= nmax .or. cfg%rezone%swept_hybrid)
+      par%swept_only = ps%plan%swept_only(par%swept)
       ! (as `euler_step` decides its rescue of such a part: around the
       ! cells that cannot sweep it, every block's)
-      rescue = .not. par%swept .and. (arrived .or. ps%ntaken + 2*max(ps%nleft, 1) > nmax) .and. &
-               cfg%rezone%swept_hybrid .and. n(1) > 0 .and. n(1) < n(2)
+      rescue = ps%plan%wants_rescue(par%swept, arrived, n(1), n(2))
       if (rescue) then
         call remap_hybrid_target(wg, xw, windows_cells(pc, wg, broke), xh)
         return
       end if
-      if (.not. (par%swept .or. arrived) .and. ps%ntaken + 2*max(ps%nleft, 1) <= nmax) then
+      if (ps%plan%wants_split(par%swept, arrived)) then
         ! (a part the swept faces cannot take: shorter parts)
-        if (ps%nleft == 0) ps%nleft = window_parts(pc, st, zone, par, xfinal)
-        ps%nleft = 2*ps%nleft
-        ps%nsplit = ps%nsplit + 1
+        if (ps%plan%nleft == 0) ps%plan%nleft = window_parts(pc, st, zone, par, xfinal)
+        call ps%plan%split()
         next = .true.
         return
       end if
@@ -1084,14 +1060,14 @@ contains
   !> intersection (stage 1 cannot sweep, or broke a bound). par's swept,
   !> swept_only and lattice from the blocks' owned cells, reduced
   !> (collective); next: no remap, rescue moved on to another stage.
-  subroutine window_rescue(cfg, pc, st, zone, par, xpart, xh, rescue, xw, next, err)
+  subroutine window_rescue(cfg, pc, st, zone, par, xpart, xh, plan, xw, next, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(remap_zone_t), intent(inout) :: zone
     type(remap_params_t), intent(inout) :: par
     real(wp), intent(in) :: xpart(:, :), xh(:, :)
-    integer, intent(inout) :: rescue
+    type(remap_parts_t), intent(inout) :: plan
     real(wp), allocatable, intent(inout) :: xw(:, :)
     logical, intent(out) :: next
     type(error_t), allocatable, intent(inout) :: err
@@ -1099,7 +1075,7 @@ contains
     integer :: n(2)
     next = .false.
     xw = xpart
-    if (rescue == 1) xw = xh
+    if (plan%rescue == 1) xw = xh
     if (trim(cfg%rezone%mode) == 'global') call window_lattice(pc, st, xw, par, err)
     if (allocated(err)) return
     associate (w => st%win, wg => st%win%g)
@@ -1108,17 +1084,9 @@ contains
     end associate
     call parallel_sum(pc, n)
     par%swept = n(1) == 0
-    if (rescue == 1 .and. .not. par%swept) then
-      rescue = 3
-      next = .true.
-    else if (rescue == 1 .and. n(2) == 0) then
-      ! (every moving cell is around those that cannot sweep: the second
-      ! stage alone)
-      rescue = 2
-      next = .true.
-    end if
+    next = plan%rescue_next(par%swept, n(2))
     if (next) return
-    par%swept_only = rescue == 1
+    par%swept_only = plan%rescue == 1
     if (zone%open) call window_zone_open(pc, st, zone, xw, err)
   end subroutine window_rescue
 

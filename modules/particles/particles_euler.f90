@@ -19,11 +19,13 @@
 !>    boundary of the smoothing, Fig. 4f).
 !> 4. (the rezone, `rezone_lssm`) the nodes of the occupied cells put at
 !>    their places in the standard grid.
-!> After the remap `particles_place` puts each particle on the new grid's
-!> map, `particles_leaving` books those a rezone left beyond an open face
+!> After the remap `particles_relocate_rezoned` finds each particle's new
+!> host, puts it on the new grid's map (`particles_place`) and re-sorts and
+!> re-bins the particles; those a rezone left beyond an open face
 !> (`particles_out_open_face`; a block of a decomposed run knows them when
-!> no block's cell may hold them, `particles_cells_hold`), the driver re-sorts and re-bins the
-!> particles, and `particles_rebuild_nodes` gives them new virtual-fluid
+!> no block's cell may hold them, `particles_cells_hold`) leave the run
+!> (`particles_take_out`: what they take out, `particles_leaving`, for the
+!> driver's balance), and `particles_rebuild_nodes` gives them new virtual-fluid
 !> masses from their new hosts' densities and rebuilds the nodal velocity
 !> from the remapped fluid momentum and the particles' (before the remap
 !> `particles_euler_save` took their share of the nodes' kinetic energy and
@@ -35,20 +37,24 @@
 !>    coupling's start).
 module particles_euler
   use base_kinds, only: wp
-  use base_xsum, only: xsum_t, xsum_add
+  use base_xsum, only: xsum_t, xsum_add, xsum_value
+  use base_errors, only: error_t, error_set, error_no_memory, ERR_RUNTIME
+  use base_strings, only: itoa, rtoa
   use mesh_grid, only: grid_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW, bc_constrain
   use mesh_halo, only: halo_t
   use hydro_state, only: hydro_t, nodal_sums
-  use particles_state, only: particles_t
+  use particles_state, only: particles_t, particles_select, particles_order
+  use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate, particles_shape_values, inside_tol
   use particles_lagrange, only: particles_interpolate, particles_work_t, particles_phase_mass, particles_virtual_grid, &
-                                particles_blend_velocities, particles_virtual_masses
+                                particles_blend_velocities, particles_virtual_masses, particles_work_resize
   implicit none
   private
   public :: particles_euler_t, particles_euler_save, particles_rebuild_nodes, particles_share_velocities, particles_flip, &
             particles_relocate, particles_occupied, particles_place, particles_leaving, particles_out_open_face, &
-            particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold
+            particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold, &
+            particles_out_t, particles_take_out, particles_relocate_rezoned
 
   !> What the particles' Euler-phase hooks pass on (PARTICLES.md §1.13).
   type :: particles_euler_t
@@ -63,6 +69,16 @@ module particles_euler
     !> remap, and the share of those that left through open faces
     real(wp) :: ke_solid = 0.0_wp, p_solid(3) = 0.0_wp, ke_out = 0.0_wp, p_out(3) = 0.0_wp
   end type particles_euler_t
+
+  !> What the particles that left the grid through open faces took out
+  !> (`particles_take_out`), the whole run's: how many left and remain,
+  !> their mass, the momentum and kinetic energy of their share of the
+  !> nodal mass (m_p - m'_p), and their energy (that kinetic energy and
+  !> their internal energy).
+  type :: particles_out_t
+    integer :: left = 0, remain = 0
+    real(wp) :: mass = 0.0_wp, momentum(3) = 0.0_wp, ke = 0.0_wp, energy = 0.0_wp
+  end type particles_out_t
 
 contains
 
@@ -240,6 +256,85 @@ contains
       call xsum_add(acc(6), p%m(k)*p%e(k))
     end do
   end subroutine particles_leaving
+
+  !> The particles of pt with no cell (cell(k) = 0) leave through open
+  !> faces: what they take out (`particles_leaving`, summed exactly over the
+  !> blocks of halo: every rank the run's) in out, and they are taken out of
+  !> pt, cell and xi.
+  subroutine particles_take_out(pt, cell, xi, halo, out)
+    type(particles_t), intent(inout) :: pt
+    integer, allocatable, intent(inout) :: cell(:)
+    real(wp), allocatable, intent(inout) :: xi(:, :)
+    class(halo_t), intent(in) :: halo
+    type(particles_out_t), intent(out) :: out
+    type(xsum_t) :: acc(6)
+    integer, allocatable :: pick(:)
+    integer :: k, n(2)
+    call particles_leaving(pt, cell, acc)
+    call halo%sums(acc)
+    out%mass = xsum_value(acc(1))
+    out%momentum = [(xsum_value(acc(1 + k)), k = 1, 3)]
+    out%ke = xsum_value(acc(5))
+    out%energy = xsum_value(acc(6)) + out%ke
+    pick = pack([(k, k = 1, pt%np)], cell > 0)
+    n = [pt%np - size(pick), size(pick)]
+    call halo%sum_ints(n)
+    out%left = n(1)
+    out%remain = n(2)
+    call particles_select(pt, pick)
+    cell = cell(pick)
+    xi = xi(:, pick)
+  end subroutine particles_take_out
+
+  !> After the remap (PARTICLES.md §1.13 item 3), on a grid g that holds
+  !> all of pt's hosts (one process's, or a decomposed run's whole grid):
+  !> every particle's host and natural coordinates in the rezoned grid (the
+  !> walk from guess, `particles_relocate`), its position put on the new
+  !> host's map, the particles re-sorted and re-binned (and their supports'
+  !> widths taken again, GIMP). Those the rezone left beyond an open face
+  !> leave (`particles_take_out`: what they took out in out, the others'
+  !> work arrays pw resized; left: some particle had no cell); any other
+  !> particle in no cell is a runtime failure (the grid lost it).
+  subroutine particles_relocate_rezoned(g, bc, halo, pt, pw, guess, out, left, err)
+    type(grid_t), intent(in) :: g
+    type(bc_t), intent(in) :: bc
+    class(halo_t), intent(in) :: halo
+    type(particles_t), intent(inout) :: pt
+    type(particles_work_t), intent(inout) :: pw
+    integer, intent(in) :: guess(:)
+    type(particles_out_t), intent(out) :: out
+    logical, intent(out) :: left
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: cell(:)
+    real(wp), allocatable :: xi(:, :)
+    integer :: bad, k, stat
+    character(len=200) :: msg
+    left = .false.
+    allocate(cell(pt%np), xi(3, pt%np), stat=stat, errmsg=msg)
+    if (stat /= 0) then
+      call error_set(err, 'particles_euler_finish', error_no_memory('work arrays'))
+      return
+    end if
+    call particles_relocate(g, g%x, pt, guess, cell, xi, bad)
+    if (bad /= 0) then
+      k = particles_first_lost(g, bc, g%x, pt, cell)
+      if (k > 0) then
+        call error_set(err, 'particles_euler_finish', 'particle '//itoa(pt%id(k))//' at ('// &
+                       rtoa(pt%x(1, k))//', '//rtoa(pt%x(2, k))//', '//rtoa(pt%x(3, k))// &
+                       ') lies in no cell of the rezoned grid', ERR_RUNTIME)
+        return
+      end if
+      left = .true.
+      call particles_take_out(pt, cell, xi, halo, out)
+      if (allocated(pw%vh)) call particles_work_resize(pw, pt%np, pt%nhist, err)
+      if (allocated(err)) return
+    end if
+    pt%cell = cell
+    pt%xi = xi
+    call particles_place(g, pt)
+    call particles_order(pt, g%ncell, err)
+    if (pt%spread) call particles_support_widths(g, pt)
+  end subroutine particles_relocate_rezoned
 
   !> The first particle with no cell in the grid x (cell(k) = 0) that did
   !> not go out through an inflow or outflow face (`particles_out_open_face`,

@@ -1,7 +1,9 @@
 !> The rezone package's driver: what the rezone keeps from one Euler step
 !> to the next (the initial grid, the cells' standard side ratios, the last
-!> look at the grid's shape, the smoothers' node mobility, the rezoned
-!> grid's array) and the rezone of a grid at an Euler step, back to the
+!> look at the grid's shape, the triggers' bounds, the smoothers' node
+!> mobility, the rezoned grid's array), when an Euler step is due (the
+!> paper's triggers of Sect. 5.1, or an interval: `rezone_due`) and the
+!> rezone of a grid at an Euler step, back to the
 !> initial grid (`rezone_global`, moving faces followed) or by smoothing
 !> the distorted subdomains or the whole grid (`rezone_lssm`, Sect. 5 of
 !> the paper). It prints nothing: what it did comes back to the caller
@@ -20,7 +22,8 @@ module rezone_driver
   use rezone_smooth, only: smooth_mobility_t
   implicit none
   private
-  public :: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_axis, rezone_shape, rezone_grid
+  public :: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_axis, rezone_shape, rezone_grid, &
+            rezone_due, rezone_rearm, rezone_worst_cells
 
   !> What the rezone keeps (allocated only with &rezone mode other than 'none').
   type :: rezone_state_t
@@ -47,7 +50,7 @@ module rezone_driver
     logical, allocatable :: fail(:)          !< work: cells failing the triggers' tests (LSSM, box reading)
     !> the last look at the grid's shape (`rezone_shape`) on this block: its
     !> largest side ratio and smallest cosine, and the whole grid's number
-    !> of its first owned cell with each (for the log's note, `euler_due_where`)
+    !> of its first owned cell with each (for the log's note, `rezone_worst_cells`)
     real(wp) :: shape_mine(2) = 0.0_wp, shape_first(2) = 0.0_wp
     !> with LSSM's box reading, that look's side-ratio and angle tests of
     !> each owned cell against the deck's bounds, and the step and the
@@ -60,6 +63,14 @@ module rezone_driver
     !> grid whose stored cells (whole-grid numbers, first and last) are mob_box
     type(smooth_mobility_t) :: mob
     integer :: mob_box(3, 2) = 0
+    !> the triggers (restart state): the next Euler step by interval_time;
+    !> the bounds in force, the deck's side_ratio and cos_angle or, while
+    !> cells an Euler step left beyond them are there, those cells' values
+    !> moved on by &rezone hysteresis (`rezone_due`), and bound_n the Euler
+    !> step they were set after
+    real(wp) :: t_next = 0.0_wp
+    real(wp) :: ratio_bound = 0.0_wp, cos_bound = 0.0_wp
+    integer :: bound_n = 0
   end type rezone_state_t
 
 contains
@@ -76,6 +87,109 @@ contains
     if (stat == 0) allocate(rs%quality(g%ncell), rs%fail(g%ncell), stat=stat, errmsg=msg)
     if (stat /= 0) call error_set(err, 'rezone_state_init', error_no_memory('the Euler phase''s arrays'))
   end subroutine rezone_state_init
+
+  !> Whether an Euler step is due (due) after step `step`, at time t, with n
+  !> Euler steps taken: an interval has passed (&rezone interval_steps,
+  !> interval_time: rs%t_next), or the grid's largest side ratio or smallest
+  !> cosine of the inclined angle has reached its bound (then by_shape;
+  !> `rezone_shape` on g's owned cells, or with shape, a decomposed run's
+  !> measures of all blocks, g not read).
+  subroutine rezone_due(rz, rs, g, step, t, n, due, by_shape, shape)
+    type(rezone_config_t), intent(in) :: rz
+    type(rezone_state_t), intent(inout) :: rs
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: step, n
+    real(wp), intent(in) :: t
+    logical, intent(out) :: due, by_shape
+    real(wp), intent(in), optional :: shape(2)
+    real(wp) :: ratio_max, cos_min
+    due = .false.
+    by_shape = .false.
+    if (rz%interval_steps > 0) due = mod(step, rz%interval_steps) == 0
+    if (rz%interval_time > 0.0_wp) due = due .or. t >= rs%t_next*(1.0_wp - 1.0e-12_wp)
+    if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
+    if (present(shape)) then
+      ratio_max = shape(1)
+      cos_min = shape(2)
+    else
+      call rezone_shape(rz, g, step, rs)
+      ratio_max = rs%shape_mine(1)
+      cos_min = rs%shape_mine(2)
+    end if
+    call trigger_bounds(rz, rs, n, ratio_max, cos_min)
+    due = (rz%side_ratio > 0.0_wp .and. ratio_max >= rs%ratio_bound) .or. &
+          (rz%cos_angle > 0.0_wp .and. cos_min <= rs%cos_bound)
+    by_shape = due
+  end subroutine rezone_due
+
+  !> The triggers' bounds after the step just taken (n Euler steps so far),
+  !> whose grid's largest side ratio and smallest cosine are ratio_max and
+  !> cos_min. At the first look after an Euler step, a measure the step left
+  !> beyond the deck's bound (cells a smoothing could not bring to the
+  !> target) becomes the bound, moved on by &rezone hysteresis (a relative
+  !> margin): those cells alone do not make the next step due at once, as
+  !> they did step after step (the paper's Sedov with LSSM took 113 Euler
+  !> steps at 20^3, runs of consecutive ones, against 16 with whole-grid
+  !> smoothing); the grid getting worse by the margin does, and the cells
+  !> remain distorted cells for the smoothing of the next step. The bounds
+  !> never move beyond three margins from the deck's (else a run whose every
+  !> Euler step left its cells a little worse would ratchet them away: the
+  !> paper's Sedov reached a cosine of 0.33). Once the grid is back within a
+  !> deck's bound, that bound is in force again.
+  subroutine trigger_bounds(rz, rs, n, ratio_max, cos_min)
+    type(rezone_config_t), intent(in) :: rz
+    type(rezone_state_t), intent(inout) :: rs
+    integer, intent(in) :: n
+    real(wp), intent(in) :: ratio_max, cos_min
+    if (rs%bound_n /= n) then
+      rs%bound_n = n
+      rs%ratio_bound = rz%side_ratio
+      rs%cos_bound = rz%cos_angle
+      if (ratio_max >= rz%side_ratio) &
+        rs%ratio_bound = min(ratio_max*(1.0_wp + rz%hysteresis), rz%side_ratio*(1.0_wp + 3.0_wp*rz%hysteresis))
+      if (cos_min <= rz%cos_angle) &
+        rs%cos_bound = max(cos_min*(1.0_wp - rz%hysteresis), rz%cos_angle*(1.0_wp - 3.0_wp*rz%hysteresis))
+    end if
+    if (ratio_max < rz%side_ratio) rs%ratio_bound = rz%side_ratio
+    if (cos_min > rz%cos_angle) rs%cos_bound = rz%cos_angle
+  end subroutine trigger_bounds
+
+  !> The next Euler step by interval_time after an Euler step at time t:
+  !> past it by whole intervals.
+  subroutine rezone_rearm(rz, rs, t)
+    type(rezone_config_t), intent(in) :: rz
+    type(rezone_state_t), intent(inout) :: rs
+    real(wp), intent(in) :: t
+    if (.not. rz%interval_time > 0.0_wp) return
+    do while (rs%t_next <= t*(1.0_wp + 1.0e-12_wp))
+      rs%t_next = rs%t_next + rz%interval_time
+    end do
+  end subroutine rezone_rearm
+
+  !> Where the grid is worst, for the log's note of a step due by its
+  !> shape: the cell (whole-grid indices) of the largest side ratio and of
+  !> the smallest cosine, ijk(:, 1) and ijk(:, 2), with the whole grid's
+  !> worst values shape: the first in the whole grid's cell order (each
+  !> block finds its first owned cell with the worst value in the look that
+  !> made the step due, `rezone_shape`; the least cell number of all blocks,
+  !> by halo, is the one of one process).
+  function rezone_worst_cells(g, halo, rs, shape) result(ijk)
+    type(grid_t), intent(in) :: g
+    class(halo_t), intent(in) :: halo
+    type(rezone_state_t), intent(in) :: rs
+    real(wp), intent(in) :: shape(2)
+    integer :: ijk(3, 2)
+    real(wp) :: first(2), none(0)
+    integer :: m, gc
+    first = huge(1.0_wp)
+    if (rs%shape_mine(1) >= shape(1)) first(1) = rs%shape_first(1)
+    if (rs%shape_mine(2) <= shape(2)) first(2) = rs%shape_first(2)
+    do m = 1, 2
+      call halo%choose(first(m), none)
+      gc = nint(min(first(m), 1.0e9_wp)) - 1
+      ijk(:, m) = [mod(gc, g%gn(1)), mod(gc/g%gn(1), g%gn(2)), gc/(g%gn(1)*g%gn(2))] + 1
+    end do
+  end function rezone_worst_cells
 
   !> rs%ratio0 from the block g's nodes as the deck set them (called before
   !> a restart is read, so a restarted run measures against the same grid).
@@ -104,7 +218,7 @@ contains
   !> The largest side ratio and smallest inclined-angle cosine over the
   !> cells a block owns in rs%shape_mine, and the whole grid's number of the
   !> first owned cell with each in rs%shape_first (`grid_shape_worst`; the
-  !> log's note of where the grid is worst: `euler_due_where`).
+  !> log's note of where the grid is worst: `rezone_worst_cells`).
   subroutine rezone_shape(rz, g, step, rs)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
