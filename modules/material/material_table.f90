@@ -5,6 +5,7 @@ module material_table
   use base_errors, only: error_no_memory, error_t, error_set
   use eos_base, only: eos_t
   use material_mixed, only: mixed_t
+  use base_build, only: build_checks
   implicit none
   private
   public :: material_t, burn_t, material_index_cells, material_eval_eos, material_burn_start, material_burn_at
@@ -42,26 +43,44 @@ contains
 
   !> Builds each material's pure-cell list from the cell -> material map
   !> `mat` (> 0 pure, <= 0 mixed) and its slot list from the mixed cells.
-  subroutine material_index_cells(mats, mat, mx, err)
+  !> written (optional, an Euler step's: the only cells whose material may
+  !> have changed since the lists were built): where each of them is still
+  !> in exactly its own material's list, the pure-cell lists stand and only
+  !> the slots are listed again, so that the cost follows the written
+  !> cells and the mixed ones, not the grid.
+  subroutine material_index_cells(mats, mat, mx, err, written)
     type(material_t), intent(inout) :: mats(:)
     integer, intent(in) :: mat(:)
     type(mixed_t), intent(in) :: mx
     type(error_t), allocatable, intent(inout) :: err
-    integer :: m, c, n, ns, s, stat
-    character(len=200) :: msg
+    integer, intent(in), optional :: written(:)
+    integer :: m, c, n, stat
+    logical :: keep
 
+    keep = present(written)
+    if (keep) keep = lists_hold(mats, mat, written)
+    if (keep .and. build_checks) then
+      ! (a Debug build checks that no other cell changed its material)
+      do m = 1, size(mats)
+        n = count(mat == m)
+        if (n /= mats(m)%ncell) exit
+        if (mats(m)%fills_all) cycle
+        if (.not. all(mat(mats(m)%cells) == m)) exit
+      end do
+      if (m <= size(mats)) then
+        call error_set(err, 'material_index_cells', 'the cell lists of '//mats(m)%name// &
+                       ' changed beyond the written cells')
+        return
+      end if
+    end if
     do m = 1, size(mats)
+      if (keep) cycle
       n = count(mat == m)
-      ns = 0
-      if (mx%nslot > 0) ns = count(mx%mat == m)
       mats(m)%ncell = n
       mats(m)%fills_all = (n == size(mat))
       if (allocated(mats(m)%cells)) deallocate(mats(m)%cells)
-      if (allocated(mats(m)%slots)) deallocate(mats(m)%slots)
-      if (allocated(mats(m)%wrho)) deallocate(mats(m)%wrho, mats(m)%we, mats(m)%wp_, mats(m)%wcs)
       if (mats(m)%fills_all) cycle
-      allocate(mats(m)%cells(n), mats(m)%slots(ns), mats(m)%wrho(n + ns), mats(m)%we(n + ns), &
-               mats(m)%wp_(n + ns), mats(m)%wcs(n + ns), stat=stat, errmsg=msg)
+      allocate(mats(m)%cells(n), stat=stat)
       if (stat /= 0) then
         call error_set(err, 'material_index_cells', error_no_memory('cell list'))
         return
@@ -73,6 +92,74 @@ contains
           mats(m)%cells(n) = c
         end if
       end do
+    end do
+    call index_slots(mats, mx, err)
+  end subroutine material_index_cells
+
+  !> Whether the pure-cell lists of mats still hold for the cells of
+  !> written, the only ones whose material may have changed: each in the
+  !> list of its own material (mat > 0) and in no other (lists binary
+  !> searched; a list never built fails).
+  logical function lists_hold(mats, mat, written) result(ok)
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: mat(:), written(:)
+    integer :: m, i, c, lo, hi, mid
+    logical :: listed
+    ok = .true.
+    do m = 1, size(mats)
+      ok = mats(m)%fills_all .or. allocated(mats(m)%cells)
+      if (.not. ok) return
+      do i = 1, size(written)
+        c = written(i)
+        listed = mats(m)%fills_all
+        if (.not. listed) then
+          lo = 1
+          hi = size(mats(m)%cells)
+          do while (lo <= hi)
+            mid = (lo + hi)/2
+            if (mats(m)%cells(mid) == c) then
+              listed = .true.
+              exit
+            end if
+            if (mats(m)%cells(mid) < c) then
+              lo = mid + 1
+            else
+              hi = mid - 1
+            end if
+          end do
+        end if
+        ok = listed .eqv. (mat(c) == m)
+        if (.not. ok) return
+      end do
+    end do
+  end function lists_hold
+
+  !> Each material's slots in the mixed cells of mx, and its packed work
+  !> arrays for its pure cells and slots (none where it fills the grid).
+  subroutine index_slots(mats, mx, err)
+    type(material_t), intent(inout) :: mats(:)
+    type(mixed_t), intent(in) :: mx
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: m, s, n, ns, stat
+    do m = 1, size(mats)
+      if (allocated(mats(m)%slots)) deallocate(mats(m)%slots)
+      if (mats(m)%fills_all) then
+        if (allocated(mats(m)%wrho)) deallocate(mats(m)%wrho, mats(m)%we, mats(m)%wp_, mats(m)%wcs)
+        cycle
+      end if
+      ns = 0
+      if (mx%nslot > 0) ns = count(mx%mat(1:mx%nslot) == m)
+      allocate(mats(m)%slots(ns), stat=stat)
+      n = mats(m)%ncell + ns
+      if (stat == 0 .and. allocated(mats(m)%wrho)) then
+        if (size(mats(m)%wrho) /= n) deallocate(mats(m)%wrho, mats(m)%we, mats(m)%wp_, mats(m)%wcs)
+      end if
+      if (stat == 0 .and. .not. allocated(mats(m)%wrho)) &
+        allocate(mats(m)%wrho(n), mats(m)%we(n), mats(m)%wp_(n), mats(m)%wcs(n), stat=stat)
+      if (stat /= 0) then
+        call error_set(err, 'material_index_cells', error_no_memory('cell list'))
+        return
+      end if
       ns = 0
       do s = 1, mx%nslot
         if (mx%mat(s) == m) then
@@ -81,7 +168,7 @@ contains
         end if
       end do
     end do
-  end subroutine material_index_cells
+  end subroutine index_slots
 
   !> Pressure and sound speed of every pure cell from its density and energy,
   !> and of every mixed-cell slot from the material's own, dispatching on the

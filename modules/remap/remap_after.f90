@@ -29,8 +29,10 @@ contains
   !> planes`, at most max_iter iterations, each search started from the
   !> plane the cell's material had before the remap, memory). The fits are
   !> counted in stats; with only (mx%n), those of the cells it marks are
-  !> fitted first and counted in stats, the others' in others.
-  subroutine remap_after_planes(g, mats, mat, mx, max_iter, memory, stats, err, only, others)
+  !> fitted first and counted in stats, the others' in others. written
+  !> (optional): the cells the remap wrote, the only ones whose material
+  !> may have changed (`material_index_cells`).
+  subroutine remap_after_planes(g, mats, mat, mx, max_iter, memory, stats, err, only, others, written)
     type(grid_t), intent(in) :: g
     type(material_t), intent(inout) :: mats(:)
     integer, intent(in) :: mat(:)
@@ -41,7 +43,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: only(:)
     type(centroid_stats_t), intent(inout), optional :: others
-    call material_index_cells(mats, mat, mx, err)
+    integer, intent(in), optional :: written(:)
+    call material_index_cells(mats, mat, mx, err, written)
     if (.not. allocated(err)) call mixed_forget_planes(mx, err)
     if (allocated(err)) return
     if (present(only) .and. present(others)) then
