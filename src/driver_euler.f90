@@ -439,12 +439,9 @@ contains
       rs%hybrid = hybrid
       ! the new mixed cells' centroids are the remapped material's: their
       ! interface planes, fitted to them, carry them to the next remap
-      if (.not. allocated(err) .and. allocated(wrote)) then
-        call remap_after_planes(st%g, st%mats, st%h%mat, st%mx, rz%mof_max_iter, memory, es%centroids, err, &
-                                written=wrote)
-      else if (.not. allocated(err)) then
-        call remap_after_planes(st%g, st%mats, st%h%mat, st%mx, rz%mof_max_iter, memory, es%centroids, err)
-      end if
+      ! (wrote not allocated: not present, every cell listed again)
+      if (.not. allocated(err)) call remap_after_planes(st%g, st%mats, st%h%mat, st%mx, rz%mof_max_iter, memory, &
+                                                        es%centroids, err, written=wrote)
       if (allocated(err)) then
         call es%timer%stop()
         return
