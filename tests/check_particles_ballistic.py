@@ -3,15 +3,17 @@
 exact slab velocity of tools/exact/ballistic.py, at two resolutions.
 
     check_particles_ballistic.py COARSE_PREFIX FINE_PREFIX P0 RHO0 GAMMA M L \\
-        MAX_COARSE MAX_FINE RATIO_MIN
+        MAX_COARSE MAX_FINE RATIO_MIN [RATIO_MAX_MIN]
 
 PREFIX_NNNNN.h5 are the frames of a run. In every frame with
 0 < t <= valid_until (the reflected rarefaction cannot have reached the
 slab), the slab's velocity is the mass-weighted mean particle velocity
 U = sum_p m_p u_p / sum_p m_p (the elastic slab rings; its mean velocity
 follows the pressures on its faces); the largest |U - u(t)| over the
-frames must be below MAX_COARSE / MAX_FINE, and both it and the RMS over
-the frames must fall by at least RATIO_MIN from coarse to fine. Also
+frames must be below MAX_COARSE / MAX_FINE, and the RMS over the frames
+must fall by at least RATIO_MIN from coarse to fine, the largest by at
+least RATIO_MAX_MIN (default RATIO_MIN: the largest is one frame's phase of
+the ringing, a noisier measure of the order). Also
 checks that the particles' mass per unit cross-section is M (1e-12).
 """
 import glob
@@ -56,6 +58,7 @@ def main():
     p0, rho0, gamma, areal_mass, length = (float(v) for v in sys.argv[3:8])
     bounds = (float(sys.argv[8]), float(sys.argv[9]))
     ratio_min = float(sys.argv[10])
+    ratio_max_min = float(sys.argv[11]) if len(sys.argv) > 11 else ratio_min
     exact = Ballistic(p0, rho0, gamma, areal_mass, length)
     print(f"exact: c0 = {exact.c0:.6g}, escape speed {1.0 / exact.a:.6g}, valid until t = {exact.valid_until():.4g}")
     ok = True
@@ -67,11 +70,11 @@ def main():
         ok = ok and good
         print(f"{os.path.basename(prefix)}: {n} frames, max |U - u| {emax:.4e} (bound {bound:.1e}), RMS {erms:.4e},"
               f" areal mass {'ok' if mass_ok else 'WRONG'}  {'ok' if good else 'FAIL'}")
-    for k, name in enumerate(("max", "RMS")):
+    for k, (name, least) in enumerate((("max", ratio_max_min), ("RMS", ratio_min))):
         ratio = res[0][k] / res[1][k]
-        good = ratio >= ratio_min
+        good = ratio >= least
         ok = ok and good
-        print(f"{name} error coarse / fine = {ratio:.3f} (at least {ratio_min})  {'ok' if good else 'FAIL'}")
+        print(f"{name} error coarse / fine = {ratio:.3f} (at least {least})  {'ok' if good else 'FAIL'}")
     print("PASS" if ok else "FAIL")
     sys.exit(0 if ok else 1)
 

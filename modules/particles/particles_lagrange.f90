@@ -548,23 +548,39 @@ contains
   !> the velocities those of the virtual solid grid made from the
   !> particles' half-step velocities pw%vh (decoupled, Eqs. 29-32: its
   !> nodes under the boundary's constraints, its ghost nodes from the
-  !> neighbouring blocks' through halo) or the mixed nodal ones uh
+  !> neighbouring blocks' through halo; each node's velocity blended with
+  !> the grid's uh by the particles' share of the coupled nodal mass
+  !> mnode + pw%mp, docs/PARTICLES.md 1.9) or the mixed nodal ones uh
   !> (original, Eqs. 26-27). The trial state of the corrector and the
   !> step's stress update both take it.
-  subroutine particles_step_gradients(g, bc, p, pw, decoupled, xn, x, uh, halo)
+  subroutine particles_step_gradients(g, bc, p, pw, decoupled, xn, x, uh, mnode, halo)
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
     type(particles_t), intent(in) :: p
     type(particles_work_t), intent(inout) :: pw
     logical, intent(in) :: decoupled
     real(wp), intent(in) :: xn(:, :), x(:, :), uh(:, :)
+    !> the fluid's nodal mass (with pw%mp the coupled nodal mass, Eq. 16)
+    real(wp), intent(in) :: mnode(:)
     class(halo_t), intent(inout), optional :: halo
     integer :: n
+    real(wp) :: phi
     do n = 1, g%nnode
       pw%xh(:, n) = 0.5_wp*(xn(:, n) + x(:, n))
     end do
     if (decoupled) then
       call particles_virtual_grid(g, p, pw%vh, pw%ms, pw%vs)
+      ! (the particles' share phi of a node's coupled mass takes the grid's
+      ! velocity: at a node the solid holds alone it is the solid's, and
+      ! the particles' own velocities would carry what FLIP keeps of a jump
+      ! between bodies that met there; where the fluid holds most of the
+      ! node the paper's virtual velocity stands, Eqs. 39-45)
+      do n = 1, g%nnode
+        if (pw%ms(n) > 0.0_wp .and. mnode(n) + pw%mp(n) > 0.0_wp) then
+          phi = min(1.0_wp, pw%ms(n)/(mnode(n) + pw%mp(n)))
+          pw%vs(:, n) = phi*uh(:, n) + (1.0_wp - phi)*pw%vs(:, n)
+        end if
+      end do
       call bc_constrain(bc, pw%vs)
       if (present(halo)) call halo%nodes(pw%vs)
       call particles_velocity_gradients(g, p, pw%xh, pw%vs, pw%lgrad)

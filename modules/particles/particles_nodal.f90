@@ -150,7 +150,7 @@ contains
       return
     end if
     call particles_g2p(g, pt, h%un, h%u, g%x, pw%vh)
-    call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, halo)
+    call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, h%mnode, halo)
     e_old = particles_internal_energy(pt, pw%owned, halo)
     call particles_stress_update(pt, pw%models, pw%lgrad, dt, bad_particle, pw%eroded)
     call agree_bad(bad_particle)
@@ -194,10 +194,9 @@ contains
     m => self%pw%mp
   end subroutine nodal_arrays
 
-  !> The particles' nodal forces of a stage, with their viscosity if asked:
-  !> the predictor's (1) from sigma^n and V^n with the last step's velocity
-  !> gradients, the corrector's (2) from the trial state at n+1/2, made
-  !> first; the corrector keeps its positions x^{n+1/2} (pw%xc) for the
+  !> The particles' nodal forces of a stage: the predictor's (1) from
+  !> sigma^n and V^n, the corrector's (2) from the trial state at n+1/2,
+  !> made first, with the particles' viscosity if asked; the corrector keeps its positions x^{n+1/2} (pw%xc) for the
   !> virtual fluid's energy.
   subroutine nodal_forces(self, stage, g, h, bc, par, dt, halo)
     class(particles_nodal_t), intent(inout) :: self
@@ -211,12 +210,11 @@ contains
     integer :: badp
     associate (pt => self%pt, pw => self%pw)
       if (stage == 1) then
-        if (par%particle_q > 0.0_wp) then
-          call particles_viscosity(g, g%x, pt, pw%models, pw%lgrad, pt%vol, pt%rho, par%particle_q, pw%q)
-          call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp, q=pw%q)
-        else
-          call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
-        end if
+        ! (no viscosity: it needs this step's velocity gradients, which
+        ! only the corrector has; the last step's are not the particles'
+        ! state, and an Euler step, a restart or a move between blocks
+        ! would not carry them)
+        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
       else
         call trial_state(self, g, h, bc, par, dt, halo)
         pw%xc = g%x
@@ -269,7 +267,7 @@ contains
     integer :: bad_h   ! (the trial update's erosion, pw%eroded, is not booked)
     associate (pt => self%pt, pw => self%pw)
       if (par%stress_decoupled) call particles_half_velocity(g, pt, h%un, h%u, pw%vh)
-      call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, halo)
+      call particles_step_gradients(g, bc, pt, pw, par%stress_decoupled, h%xn, g%x, h%uh, h%mnode, halo)
       pw%stress_h = pt%stress
       pw%hist_h = pt%hist
       pw%vol_h = pt%vol
