@@ -33,7 +33,8 @@ module driver_particles
   use base_errors, only: error_no_memory, error_t, error_set, ERR_INPUT, ERR_RUNTIME
   use mesh_grid, only: grid_t, grid_index_t
   use particles_config, only: particles_config_t, particles_file_place
-  use particles_euler, only: particles_euler_t, particles_share_velocities, particles_rebuild_nodes, particles_relocate, &
+  use particles_euler, only: particles_euler_t, particles_cell_density, &
+                             particles_share_velocities, particles_rebuild_nodes, particles_relocate, &
                              particles_occupied, particles_place, particles_first_lost, particles_owned_hosts, &
                              particles_open_far, particles_out_open_face, particles_cells_hold, particles_out_t, &
                              particles_take_out, particles_relocate_rezoned
@@ -971,6 +972,8 @@ contains
 
     associate (h => st%h, pt => st%pt, pw => st%pw)
       if (.not. allocated(pt%mvf)) return
+      ! (the particles that came to share a cell even out their density)
+      call particles_cell_density(pt, pw%models)
       call particles_rebuild_nodes(st%g, h, st%bc, pt, pw, st%halo, ke_f, p_f, ke1, p1)
       ! (the share of the particles that left went out with them)
       st%tot%transfer_energy = st%tot%transfer_energy + (ke1 + pe%ke_out - ke_f - pe%ke_solid)

@@ -45,13 +45,16 @@ module particles_euler
   use mesh_halo, only: halo_t
   use hydro_state, only: hydro_t, nodal_sums
   use particles_state, only: particles_t, particles_select, particles_order
+  use strength_gurson, only: strength_gurson_t
+  use strength_hjc, only: strength_hjc_t
   use particles_spread, only: particles_support_widths
   use particles_shape, only: particles_locate, particles_shape_values, inside_tol
-  use particles_lagrange, only: particles_interpolate, particles_work_t, particles_phase_mass, particles_virtual_grid, &
-                                particles_blend_velocities, particles_virtual_masses, particles_work_resize
+  use particles_lagrange, only: particles_interpolate, particles_work_t, strength_slot_t, particles_phase_mass, &
+                                particles_virtual_grid, particles_blend_velocities, particles_virtual_masses, particles_work_resize
   implicit none
   private
-  public :: particles_euler_t, particles_euler_save, particles_rebuild_nodes, particles_share_velocities, particles_flip, &
+  public :: particles_euler_t, particles_euler_save, particles_cell_density, &
+            particles_rebuild_nodes, particles_share_velocities, particles_flip, &
             particles_relocate, particles_occupied, particles_place, particles_leaving, particles_out_open_face, &
             particles_first_lost, particles_owned_hosts, particles_open_far, particles_cells_hold, &
             particles_out_t, particles_take_out, particles_relocate_rezoned
@@ -335,6 +338,66 @@ contains
     call particles_order(pt, g%ncell, err)
     if (pt%spread) call particles_support_widths(g, pt)
   end subroutine particles_relocate_rezoned
+
+  !> The particles of one solid in one host cell take the cell's mean
+  !> density sum m / sum V (each V_p = m_p / rho: their volume kept), and
+  !> for a solid whose pressure is in its stress (no EOS) the cell's mean
+  !> pressure (volume-weighted; the deviator kept). Within a cell the grid
+  !> sees only the particles' sum, so a spread of their densities, which
+  !> an Euler step leaves where particles of different histories come to
+  !> share a cell, would never even out; the cell cannot resolve it. Not for
+  !> Gurson (its porosity follows the volume) or HJC (pressure from its
+  !> compaction history) solids. The specific internal energy takes the
+  !> cell's mass-weighted mean too (sum m e kept). Call with the particles
+  !> sorted by solid and host (`particles_order`), each cell's particles
+  !> all present (a block's owned and ghost cells).
+  subroutine particles_cell_density(p, models)
+    type(particles_t), intent(inout) :: p
+    type(strength_slot_t), intent(in) :: models(:)
+    integer :: k, j, q
+    real(wp) :: rho, pbar, pq, ebar
+    k = 1
+    do while (k <= p%np)
+      j = k
+      do while (j < p%np)
+        if (p%mat(j + 1) /= p%mat(k) .or. p%cell(j + 1) /= p%cell(k)) exit
+        j = j + 1
+      end do
+      if (j > k .and. evened(models(p%mat(k)))) then
+        rho = sum(p%m(k:j))/sum(p%vol(k:j))
+        ebar = sum(p%m(k:j)*p%e(k:j))/sum(p%m(k:j))
+        pbar = 0.0_wp
+        if (.not. allocated(models(p%mat(k))%eos)) then
+          do q = k, j
+            pbar = pbar - p%vol(q)*(p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
+          end do
+          pbar = pbar/sum(p%vol(k:j))
+        end if
+        do q = k, j
+          if (.not. allocated(models(p%mat(k))%eos)) then
+            pq = -(p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
+            p%stress(1:3, q) = p%stress(1:3, q) + (pq - pbar)
+          end if
+          p%vol(q) = p%m(q)/rho
+          p%rho(q) = rho
+          p%e(q) = ebar
+        end do
+      end if
+      k = j + 1
+    end do
+  contains
+    pure logical function evened(slot)
+      type(strength_slot_t), intent(in) :: slot
+      select type (m => slot%m)
+      type is (strength_gurson_t)
+        evened = .false.
+      type is (strength_hjc_t)
+        evened = .false.
+      class default
+        evened = .true.
+      end select
+    end function evened
+  end subroutine particles_cell_density
 
   !> The first particle with no cell in the grid x (cell(k) = 0) that did
   !> not go out through an inflow or outflow face (`particles_out_open_face`,
