@@ -355,7 +355,8 @@ contains
     type(particles_t), intent(inout) :: p
     type(strength_slot_t), intent(in) :: models(:)
     integer :: k, j, q
-    real(wp) :: rho, pbar, pq, ebar
+    real(wp) :: rho, vol, pbar, ebar
+    logical :: in_stress
     k = 1
     do while (k <= p%np)
       j = k
@@ -364,20 +365,19 @@ contains
         j = j + 1
       end do
       if (j > k .and. evened(models(p%mat(k)))) then
-        rho = sum(p%m(k:j))/sum(p%vol(k:j))
+        vol = sum(p%vol(k:j))
+        rho = sum(p%m(k:j))/vol
         ebar = sum(p%m(k:j)*p%e(k:j))/sum(p%m(k:j))
+        in_stress = .not. allocated(models(p%mat(k))%eos)
         pbar = 0.0_wp
-        if (.not. allocated(models(p%mat(k))%eos)) then
+        if (in_stress) then
           do q = k, j
-            pbar = pbar - p%vol(q)*(p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
+            pbar = pbar - p%vol(q)*mean_stress(q)
           end do
-          pbar = pbar/sum(p%vol(k:j))
+          pbar = pbar/vol
         end if
         do q = k, j
-          if (.not. allocated(models(p%mat(k))%eos)) then
-            pq = -(p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
-            p%stress(1:3, q) = p%stress(1:3, q) + (pq - pbar)
-          end if
+          if (in_stress) p%stress(1:3, q) = p%stress(1:3, q) - mean_stress(q) - pbar
           p%vol(q) = p%m(q)/rho
           p%rho(q) = rho
           p%e(q) = ebar
@@ -397,6 +397,11 @@ contains
         evened = .true.
       end select
     end function evened
+
+    pure real(wp) function mean_stress(q)
+      integer, intent(in) :: q
+      mean_stress = (p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
+    end function mean_stress
   end subroutine particles_cell_density
 
   !> The first particle with no cell in the grid x (cell(k) = 0) that did

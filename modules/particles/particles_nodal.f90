@@ -196,8 +196,8 @@ contains
 
   !> The particles' nodal forces of a stage: the predictor's (1) from
   !> sigma^n and V^n, the corrector's (2) from the trial state at n+1/2,
-  !> made first, with the particles' viscosity if asked; the corrector keeps its positions x^{n+1/2} (pw%xc) for the
-  !> virtual fluid's energy.
+  !> made first, with the particles' viscosity if asked; the corrector
+  !> keeps its positions x^{n+1/2} (pw%xc) for the virtual fluid's energy.
   subroutine nodal_forces(self, stage, g, h, bc, par, dt, halo)
     class(particles_nodal_t), intent(inout) :: self
     integer, intent(in) :: stage
