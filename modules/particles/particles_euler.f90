@@ -40,6 +40,7 @@ module particles_euler
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_errors, only: error_t, error_set, error_no_memory, ERR_RUNTIME
   use base_strings, only: itoa, rtoa
+  use base_lapack, only: dgelss
   use mesh_grid, only: grid_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW, bc_constrain
   use mesh_halo, only: halo_t
@@ -339,24 +340,28 @@ contains
     if (pt%spread) call particles_support_widths(g, pt)
   end subroutine particles_relocate_rezoned
 
-  !> The particles of one solid in one host cell take the cell's mean
-  !> density sum m / sum V (each V_p = m_p / rho: their volume kept), and
-  !> for a solid whose pressure is in its stress (no EOS) the cell's mean
-  !> pressure (volume-weighted; the deviator kept). Within a cell the grid
-  !> sees only the particles' sum, so a spread of their densities, which
-  !> an Euler step leaves where particles of different histories come to
-  !> share a cell, would never even out; the cell cannot resolve it. Not for
-  !> Gurson (its porosity follows the volume) or HJC (pressure from its
-  !> compaction history) solids. The specific internal energy takes the
-  !> cell's mass-weighted mean too (sum m e kept). Call with the particles
-  !> sorted by solid and host (`particles_order`), each cell's particles
-  !> all present (a block's owned and ghost cells).
+  !> The particles of one solid in one host cell keep only the part of
+  !> their specific volume and specific internal energy (mass-weighted),
+  !> and for a solid whose pressure is in its stress (no EOS) of their mean
+  !> stress (volume-weighted; the deviator kept), that is linear in their
+  !> positions over the cell (`linear_part`): sum V, sum m e and sum V p
+  !> are kept. An Euler step leaves particles of different histories
+  !> sharing a cell (cell crossing: a shocked solid's cells of two and of
+  !> three particle layers end with densities 4 % apart, PARTICLES.md 1.9);
+  !> the grid sees only the particles' sums over a cell, so a spread among
+  !> them that no linear field explains would never even out. A linear
+  !> variation is the solid's own: the bending stress across a plate one or
+  !> two cells thick (the cell's mean, which this took before, halved the
+  !> flexible plate's stiffness at each Euler step: input/flexible_plate.nml
+  !> bent twice as far). Not for Gurson (its porosity follows the volume) or
+  !> HJC (pressure from its compaction history) solids. Call with the
+  !> particles sorted by solid and host (`particles_order`), each cell's
+  !> particles all present (a block's owned and ghost cells).
   subroutine particles_cell_density(p, models)
     type(particles_t), intent(inout) :: p
     type(strength_slot_t), intent(in) :: models(:)
     integer :: k, j, q
-    real(wp) :: rho, vol, pbar, ebar
-    logical :: in_stress
+    real(wp), allocatable :: f(:, :)
     k = 1
     do while (k <= p%np)
       j = k
@@ -364,23 +369,21 @@ contains
         if (p%mat(j + 1) /= p%mat(k) .or. p%cell(j + 1) /= p%cell(k)) exit
         j = j + 1
       end do
-      if (j > k .and. evened(models(p%mat(k)))) then
-        vol = sum(p%vol(k:j))
-        rho = sum(p%m(k:j))/vol
-        ebar = sum(p%m(k:j)*p%e(k:j))/sum(p%m(k:j))
-        in_stress = .not. allocated(models(p%mat(k))%eos)
-        pbar = 0.0_wp
-        if (in_stress) then
+      ! (two particles, or three not on a line, are their own linear field)
+      if (j > k + 1 .and. evened(models(p%mat(k)))) then
+        if (.not. allocated(models(p%mat(k))%eos)) then
+          f = reshape([(mean_stress(q), q = k, j)], [1, j - k + 1])
+          call linear_part(p%x(:, k:j), p%vol(k:j), f)
           do q = k, j
-            pbar = pbar - p%vol(q)*mean_stress(q)
+            p%stress(1:3, q) = p%stress(1:3, q) - mean_stress(q) + f(1, q - k + 1)
           end do
-          pbar = pbar/vol
         end if
+        f = reshape([(p%vol(q)/p%m(q), p%e(q), q = k, j)], [2, j - k + 1])
+        call linear_part(p%x(:, k:j), p%m(k:j), f)
         do q = k, j
-          if (in_stress) p%stress(1:3, q) = p%stress(1:3, q) - mean_stress(q) - pbar
-          p%vol(q) = p%m(q)/rho
-          p%rho(q) = rho
-          p%e(q) = ebar
+          p%vol(q) = p%m(q)*f(1, q - k + 1)
+          p%rho(q) = 1.0_wp/f(1, q - k + 1)
+          p%e(q) = f(2, q - k + 1)
         end do
       end if
       k = j + 1
@@ -403,6 +406,46 @@ contains
       mean_stress = (p%stress(1, q) + p%stress(2, q) + p%stress(3, q))/3.0_wp
     end function mean_stress
   end subroutine particles_cell_density
+
+  !> f(:, q), nf fields at the points x(:, q) with weights w(q) > 0, is
+  !> replaced by its weighted least-squares linear fit fbar + g.(x - xbar)
+  !> (xbar, fbar the weighted means, so sum w f is kept), the gradient
+  !> scaled down where needed to keep the fit within the range of f (no new
+  !> extrema; a negative specific volume cannot come of it). Directions the
+  !> points do not span take no gradient (SVD, `dgelss`); f is left as it
+  !> was if the SVD fails.
+  subroutine linear_part(x, w, f)
+    real(wp), intent(in) :: x(:, :), w(:)
+    real(wp), intent(inout) :: f(:, :)
+    !> singular values below this times the largest are round-off of
+    !> points on a line or a plane
+    real(wp), parameter :: rcond = 1.0e-10_wp
+    real(wp) :: xbar(3), fbar(size(f, 1)), a(size(w), 3), b(max(size(w), 3), size(f, 1)), s(3), d(size(w)), theta
+    real(wp) :: work(9 + max(6, size(w), size(f, 1)))
+    integer :: n, nf, q, i, rank, info
+    n = size(w)
+    nf = size(f, 1)
+    xbar = matmul(x, w)/sum(w)
+    fbar = matmul(f, w)/sum(w)
+    b = 0.0_wp
+    do q = 1, n
+      a(q, :) = sqrt(w(q))*(x(:, q) - xbar)
+      b(q, :) = sqrt(w(q))*(f(:, q) - fbar)
+    end do
+    call dgelss(n, 3, nf, a, n, b, size(b, 1), s, rcond, rank, work, size(work), info)
+    if (info /= 0) return
+    do i = 1, nf
+      do q = 1, n
+        d(q) = dot_product(b(1:3, i), x(:, q) - xbar)
+      end do
+      theta = 1.0_wp
+      do q = 1, n
+        if (d(q) > 0.0_wp) theta = min(theta, (maxval(f(i, :)) - fbar(i))/d(q))
+        if (d(q) < 0.0_wp) theta = min(theta, (minval(f(i, :)) - fbar(i))/d(q))
+      end do
+      f(i, :) = fbar(i) + max(theta, 0.0_wp)*d
+    end do
+  end subroutine linear_part
 
   !> The first particle with no cell in the grid x (cell(k) = 0) that did
   !> not go out through an inflow or outflow face (`particles_out_open_face`,

@@ -34,6 +34,7 @@ module remap_gradient
   use base_kinds, only: wp, tiny_wp
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: block_gather, grid_index_t, grid_index
+  use base_lapack, only: dgelss
   implicit none
   private
   public :: remap_limited_gradients
@@ -52,19 +53,6 @@ module remap_gradient
   !> Node deviations below this fraction of the field's magnitude are
   !> round-off and do not constrain the limiter (and never divide).
   real(wp), parameter :: dq_floor = 1.0e-15_wp
-
-  interface
-    !> LAPACK: minimum-norm least-squares solution by SVD.
-    subroutine dgelss(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, info)
-      import :: wp
-      integer, intent(in) :: m, n, nrhs, lda, ldb, lwork
-      real(wp), intent(inout) :: a(lda, *), b(ldb, *)
-      real(wp), intent(out) :: s(*)
-      real(wp), intent(in) :: rcond
-      integer, intent(out) :: rank, info
-      real(wp), intent(inout) :: work(*)
-    end subroutine dgelss
-  end interface
 
 contains
 
