@@ -7,11 +7,10 @@
 module driver_euler
   use base_kinds, only: wp
   use base_build, only: build_checks
-  use base_sort, only: sort_order
   use mesh_grid, only: grid_t, grid_unflagged_move
   use mesh_halo, only: halo_t
   use base_strings, only: itoa, rtoa
-  use base_errors, only: error_no_memory, error_t, error_set, ERR_RUNTIME
+  use base_errors, only: error_t, error_set, ERR_RUNTIME
   use base_timers, only: timer_t, wall_seconds
   use base_registry, only: registry_t, LOWER_NONNEGATIVE
   use rezone_config, only: rezone_config_t
@@ -19,14 +18,12 @@ module driver_euler
   use rezone_lssm, only: lssm_report_t, LSSM_SKIPPED, LSSM_SNAPPED
   use rezone_driver, only: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_grid, &
                            rezone_due, rezone_rearm, rezone_worst_cells
-  use lagrange_centroids, only: centroid_stats_t, centroids_refresh, centroids_remember, &
-                                plane_memory_t
+  use lagrange_centroids, only: centroid_stats_t
   use hydro_state, only: hydro_totals
-  use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_swept_blockers, remap_stats_add, &
-                         remap_hybrid_target, remap_part_target, remap_part_folded, remap_part_uniform, remap_work_t
+  use remap_euler, only: remap_params_t, remap_stats_t, remap_work_t
   use remap_lattice, only: lattice_nodes
-  use remap_after, only: remap_after_planes, remap_after_state
-  use remap_parts, only: remap_parts_t
+  use remap_after, only: remap_after_state
+  use remap_way, only: remap_way_t, parts_state_t, remap_way_step
   use io_log, only: log_t, log_line
   use mesh_boundary, only: bc_t
   use base_share, only: share_t
@@ -38,7 +35,7 @@ module driver_euler
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
             euler_due_where, euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, &
-            euler_preposition, euler_start_totals, parts_state_t
+            euler_preposition, euler_start_totals
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -76,20 +73,6 @@ module driver_euler
     real(wp) :: t_rezone = 0.0_wp
     logical :: exact = .true.
   end type euler_start_t
-
-  !> Where an Euler step remapped in parts of the way stands (`euler_step`):
-  !> on when it does; the cells that kept the step off one remap by swept
-  !> faces, the parts' plan (`remap_parts_t`: taken, left, split, the first
-  !> part's fraction of the swept-face bound) and what the parts taken did. A decomposed run that
-  !> remaps the parts on its windows hands the whole grid this when a part
-  !> needs more than the windows hold, and the whole grid goes on from
-  !> there as one process would.
-  type :: parts_state_t
-    logical :: on = .false.
-    integer :: nblock = 0
-    type(remap_parts_t) :: plan
-    type(remap_stats_t) :: rs
-  end type parts_state_t
 
 contains
 
@@ -200,15 +183,12 @@ contains
     type(remap_params_t) :: par
     type(remap_stats_t) :: rs
     type(particles_euler_t) :: pe
+    type(remap_way_t) :: way
     logical :: done
-    real(wp), allocatable :: xnew(:, :), xk(:, :), xpart(:, :), xh(:, :)
-    type(remap_stats_t) :: rk
-    type(plane_memory_t) :: memory
-    integer, allocatable :: moved(:), cells(:), written(:), wrote(:), blockers(:), broke(:)
-    type(remap_parts_t) :: pp
-    integer :: nblock, nparts, nfar, f, stat
-    real(wp) :: r
-    logical :: split, arrived, hybrid, lattice, one, at_x0, rows, started, again
+    real(wp), allocatable :: xnew(:, :)
+    integer, allocatable :: written(:)
+    integer :: nfar, f
+    logical :: one, at_x0, rows, resumed
 
     if (present(xrezoned)) then
       start = e0
@@ -257,208 +237,32 @@ contains
       call es%timer%stop()
       return
     end if
-    if (rows) then
-      nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                    parts=nparts, moved=moved, blockers=blockers, rows=st%g%moved_rows)
-    else
-      nblock = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                    parts=nparts, moved=moved, blockers=blockers)
-    end if
-    par%swept = nblock == 0
-    ! the way from the Lagrangian grid to the rezoned one in parts
-    ! (&rezone swept_parts), each remapped in full (conservative), by swept
-    ! faces where it can: where only the distance the nodes move keeps the
-    ! step off them. The first part takes every node as far as the swept
-    ! faces allow it in one go (`remap_part_target`), so most nodes arrive
-    ! in it; the rest of the way goes in the equal parts that keep every
-    ! cell still moving within swept_max, and those remap only the cells
-    ! around the nodes that still have far to go. A part whose swept faces
-    ! would break a material's bounds, or that they cannot take (a cell it
-    ! tangles on the way), is taken again at half the distance (while the
-    ! parts stay within swept_parts), and the last part the deck allows
-    ! goes the rest of the way.
-    one = .false.
-    if (present(single)) one = single
-    split = rz%swept_parts > 1 .and. st%pt%np == 0 .and. nblock > 0 .and. nparts >= 2 .and. &
-            nparts <= rz%swept_parts .and. .not. one
-    if (present(resume)) then
-      split = resume%on
-      if (split) nblock = resume%nblock
-    end if
-    if (split) cells = moved
-    ! a hybrid step (&rezone swept_hybrid): first the cells that can, by
-    ! swept faces (every node but the blockers'), then the blockers and the
-    ! cells around them by intersection (`remap_hybrid_target`); each remap
-    ! conserves, so the step does
-    hybrid = rz%swept_hybrid .and. .not. (split .or. one) .and. nblock > 0 .and. nblock < size(moved)
-    lattice = par%lattice
-    if (hybrid) then
-      call remap_hybrid_target(st%g, xnew, blockers, xk)
-      nfar = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, moved=cells)
-      hybrid = nfar == 0 .and. size(cells) > 0
-    end if
-    ! (the remaps taken, and a step in parts' plan: `remap_parts`)
-    pp = remap_parts_t(nmax=rz%swept_parts, hybrid=rz%swept_hybrid)
-    written = [integer ::]
-    arrived = .true.
-    started = .false.
-    if (present(before)) then
-      rs = before
-      started = .true.
-    end if
-    ! (set when a rescue begins; allocated empty here, which also keeps GCC
-    ! from taking their bounds for uninitialized)
-    allocate(xpart(3, 0), xh(3, 0), stat=stat)
-    if (stat /= 0) then
-      call error_set(err, 'euler_step', error_no_memory('the parts'' grids'))
-      call es%timer%stop()
-      return
-    end if
-    if (split .and. present(resume)) then
-      ! (the windows' plan, without a rescue under way)
-      pp = resume%plan
-      pp%rescue = 0
-      if (pp%ntaken > 0) rs = resume%rs
-      started = pp%ntaken > 0
-    end if
-    do
-      if (pp%rescue > 0) then
-        ! a part some of whose cells cannot take it by swept faces (too
-        ! far, or a broken bound) and no split left: first every node but
-        ! those around these cells by swept faces, then those by
-        ! intersection, as a hybrid step does (a first stage that cannot
-        ! sweep, or breaks a bound again: the whole part by intersection)
-        xk = xpart
-        if (pp%rescue == 1) xk = xh
-        if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
-        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
-                                         moved=moved) == 0
-        if (pp%rescue_next(par%swept, size(moved))) cycle
-        par%swept_only = pp%rescue == 1
-      else if (hybrid) then
-        if (pp%ntaken == 0) then
-          par%swept = .true.
-          par%lattice = .false.
-          moved = cells
-          arrived = .false.
-        else
-          xk = xnew
-          par%lattice = lattice
-          par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
-                                           moved=moved) == 0
-          arrived = .true.
-        end if
-      else if (split) then
-        if (pp%first()) then
-          call remap_part_target(st%g, xnew, pp%fac*par%swept_max, cells, xk, arrived, r, err)
-          if (allocated(err)) then
-            call es%timer%stop()
-            return
-          end if
-          if (.not. arrived) then
-            if (remap_part_folded(st%g, cells, xk)) call remap_part_uniform(st%g, xnew, cells, r, xk)
-          end if
-        else
-          if (pp%nleft == 0) call parts_left()
-          xk = xnew
-          if (pp%nleft > 1) xk = st%g%x + (xnew - st%g%x)/real(pp%nleft, wp)
-          arrived = pp%nleft == 1
-        end if
-        if (pp%last(arrived)) then
-          xk = xnew
-          arrived = .true.
-        end if
-        if (trim(rz%mode) == 'global') par%lattice = lattice_nodes(st%g, xk)
-        par%swept = remap_swept_blockers(st%g, st%h, st%bc, xk, par%swept_max, par%swept_mixed, work=es%work, &
-                                         moved=moved, blockers=broke) == 0
-        ! (with no split left a part that breaks a bound is remapped around
-        ! the cells that broke it, `rescue`)
-        par%swept_only = pp%swept_only(par%swept)
-        if (pp%wants_rescue(par%swept, arrived, size(broke), size(moved))) then
-          ! a part some cells cannot sweep (their nodes go further than
-          ! swept_max: the last part goes the rest of the way) and no split
-          ! left: by swept faces but around those cells (`rescue`)
-          xpart = xk
-          call remap_hybrid_target(st%g, xk, broke, xh)
-          pp%rescue = 1
-          cycle
-        end if
-        if (pp%wants_split(par%swept, arrived)) then
-          ! a part the swept faces cannot take though its nodes stay within
-          ! swept_max (a cell it tangles on the way): shorter parts, the
-          ! first one's nodes the same fraction of their way
-          if (pp%nleft == 0) call parts_left()
-          call pp%split()
-          cycle
-        end if
-      end if
-      ! the reference centroids the remap's MoF gets: those of the planes that
-      ! cut the fractions the Lagrangian steps left (but for the cells the
-      ! remap changes: it cuts their planes itself and replaces their
-      ! centroids, `mof_cell`)
-      call centroids_refresh(st%g, st%mx, es%centroids, skip=moved)
-      ! (the planes the fits after the remap start from)
-      call centroids_remember(st%mx, memory)
-      ! coupled particles: their share of the nodal momentum goes with them,
-      ! taken before the step's first remap (a hybrid step's second remap
-      ! starts from the first one's nodes; a decomposed run's whole grid
-      ! that goes on from the windows' first remap has the windows' share)
-      if (allocated(st%pt%mvf) .and. pp%ntaken == 0) then
+    ! coupled particles: their share of the nodal momentum goes with them,
+    ! taken before the step's first remap (a decomposed run's whole grid
+    ! that goes on from the windows' first parts has the windows' share)
+    if (allocated(st%pt%mvf)) then
+      resumed = .false.
+      if (present(resume)) resumed = resume%on .and. resume%plan%ntaken > 0
+      if (.not. resumed) then
         call particles_euler_save(st%g, st%h, st%pt, st%pw, st%halo, pe)
         if (present(pe0)) then
           pe%ke_solid = pe0%ke_solid
           pe%p_solid = pe0%p_solid
         end if
       end if
-      if (split .or. hybrid) then
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xk, par, rk, err, st%share, moved=moved, &
-                              written=wrote, work=es%work, broke=broke)
-      else
-        call remap_euler_step(st%g, st%h, st%mx, size(st%mats), st%bc, xnew, par, rk, err, st%share, moved=moved, &
-                              written=wrote, work=es%work)
-      end if
-      ! (the cells whose states the parts wrote, for their EOS below)
-      if (allocated(wrote)) written = [written, wrote]
-      if (.not. allocated(err) .and. par%swept_only .and. rk%swept_unbounded > 0) then
-        ! (nothing remapped: the first part again half as far, or the rest
-        ! of the way in twice the parts; with no split left, the part around
-        ! the cells that broke a bound, `rescue`)
-        if (pp%unbounded()) then
-          xpart = xk
-          call remap_hybrid_target(st%g, xk, broke, xh)
-        end if
-        cycle
-      end if
-      if (.not. started) rs = rk
-      if (started) call remap_stats_add(rs, rk)
-      started = .true.
-      again = pp%taken()
-      rs%swept_blockers = nblock
-      rs%swept_splits = pp%nsplit
-      rs%swept_rescued = pp%nrescue
-      rs%hybrid = hybrid
-      ! the new mixed cells' centroids are the remapped material's: their
-      ! interface planes, fitted to them, carry them to the next remap
-      ! (wrote not allocated: not present, every cell listed again)
-      if (.not. allocated(err)) call remap_after_planes(st%g, st%mats, st%h%mat, st%mx, rz%mof_max_iter, memory, &
-                                                        es%centroids, err, written=wrote)
-      if (allocated(err)) then
-        call es%timer%stop()
-        return
-      end if
-      ! (a rescue's second stage)
-      if (again) cycle
-      if (.not. (split .or. hybrid) .or. arrived) exit
-    end do
-    ! (the grid is at xnew: at x0 in every row, or not known to be)
-    if (allocated(st%g%moved_rows)) st%g%moved_rows = .not. at_x0
-    ! (a cell two parts wrote is evaluated once: a material's work arrays
-    ! hold its cells once)
-    if (pp%ntaken > 1) call unique_cells(written, err)
+    end if
+    one = .false.
+    if (present(single)) one = single
+    way = remap_way_t(swept_parts=rz%swept_parts, swept_hybrid=rz%swept_hybrid, global=trim(rz%mode) == 'global', &
+                      particles=st%pt%np > 0)
+    call remap_way_step(way, st%g, st%h, st%mx, st%mats, st%bc, st%share, xnew, par, es%work, es%centroids, rs, &
+                        written, err, rows, one, resume, before)
     if (allocated(err)) then
       call es%timer%stop()
       return
     end if
+    ! (the grid is at xnew: at x0 in every row, or not known to be)
+    if (allocated(st%g%moved_rows)) st%g%moved_rows = .not. at_x0
     call remap_after_state(st%mats, st%h, st%mx, written, st%t)
     call euler_finish(rz, st, es, log, start, rs, err)
     ! the particles in the new grid and their share of the nodes rebuilt
@@ -471,15 +275,6 @@ contains
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
     if (.not. present(xrezoned)) call move_alloc(xnew, es%rez%xkeep)
 
-  contains
-
-    !> pp%nleft, the equal parts of the rest of the way to xnew that keep
-    !> every moving cell within swept_max (at least 1).
-    subroutine parts_left()
-      nfar = remap_swept_blockers(st%g, st%h, st%bc, xnew, par%swept_max, par%swept_mixed, work=es%work, &
-                                  parts=pp%nleft)
-      pp%nleft = max(pp%nleft, 1)
-    end subroutine parts_left
   end subroutine euler_step
 
   !> (Debug) Every node of g in a row g%moved_rows does not flag is at
@@ -496,28 +291,6 @@ contains
       call error_set(err, 'euler_step', 'node '//itoa(bad)//' moved, but its row was not noted as moved')
     end if
   end subroutine rows_check
-
-  !> list in increasing order, each entry once.
-  subroutine unique_cells(list, err)
-    integer, allocatable, intent(inout) :: list(:)
-    type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: order(:)
-    integer :: i, n, stat
-    allocate(order(size(list)), stat=stat)
-    if (stat == 0) call sort_order(list, order, stat)
-    if (stat /= 0) then
-      call error_set(err, 'euler_step', error_no_memory('a cell list'))
-      return
-    end if
-    list = list(order)
-    n = min(size(list), 1)
-    do i = 2, size(list)
-      if (list(i) == list(n)) cycle
-      n = n + 1
-      list(n) = list(i)
-    end do
-    list = list(1:n)
-  end subroutine unique_cells
 
   !> Remark 2 (Sect. 5.2), before a smoothing rezone (lssm, smooth): the
   !> particles of st (the whole grid's) placed in the standard grid (es%rez%x0,

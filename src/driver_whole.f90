@@ -96,8 +96,8 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read, state_totals
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params, euler_preposition, &
-                          parts_state_t
+                          euler_rezone, euler_finish, remap_params, euler_preposition
+  use remap_way, only: parts_state_t
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use io_restart, only: restart_part_t
