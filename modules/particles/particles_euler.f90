@@ -369,7 +369,7 @@ contains
         if (p%mat(j + 1) /= p%mat(k) .or. p%cell(j + 1) /= p%cell(k)) exit
         j = j + 1
       end do
-      ! (two particles, or three not on a line, are their own linear field)
+      ! (two particles are their own linear field)
       if (j > k + 1 .and. evened(models(p%mat(k)))) then
         if (.not. allocated(models(p%mat(k))%eos)) then
           f = reshape([(mean_stress(q), q = k, j)], [1, j - k + 1])
