@@ -493,10 +493,15 @@ water_1d_bench() {
 # Euler step's one-off work: its whole-grid work arrays allocated and first
 # touched, the initial grid copied and tested as a lattice), and over steps
 # 21 to 100 alone (the difference of the two runs: what each further Euler
-# step costs), each with its ratio to 20^3's (flat: 1).
+# step costs), each with its ratio to 20^3's (flat: 1). And 80^3, with
+# 40^3 and 60^3 the three grids whose state (about 700 bytes a cell: 45,
+# 150 and 360 MiB) is larger than this machine's last-level cache (32 MiB
+# here, printed), which 20^3's (5.6 MiB) fits in: what the cost does past
+# that size is printed as the ratios to 40^3's.
 flat_bench() {
   echo "## An Euler step's cost against the grid size: Sedov, fixed cell 0.06, global rezone every step"
-  local shapes="20x20x20 40x40x40 60x60x60 20x20x60 60x20x20" sh ni nj nk st rep
+  echo "last-level cache: $(lscpu | awk -F: '/^L3 cache/ {gsub(/^ +/, "", $2); print $2}')"
+  local shapes="20x20x20 40x40x40 60x60x60 80x80x80 20x20x60 60x20x20" sh ni nj nk st rep
   for sh in $shapes; do
     IFS=x read -r ni nj nk <<< "$sh"
     for st in 20 100; do
@@ -535,9 +540,12 @@ DECK
                   g = order[i]
                   a = e20[g] / s20[g]; b = (e100[g] - e20[g]) / (s100[g] - s20[g])
                   if (i == 1) {a0 = a; b0 = b}
+                  if (g == "40x40x40") b40 = b
                   printf "%s: first %d Euler steps (%d cells remapped) %.3f ms per step, %.2f times 20^3'"'"'s; " \
-                         "steps %d-%d (%d cells) %.3f ms per step, %.2f times 20^3'"'"'s\n", g, s20[g], c20[g], 1e3 * a, \
+                         "steps %d-%d (%d cells) %.3f ms per step, %.2f times 20^3'"'"'s", g, s20[g], c20[g], 1e3 * a, \
                          a / a0, s20[g] + 1, s100[g], c100[g] - c20[g], 1e3 * b, b / b0
+                  if (g == "60x60x60" || g == "80x80x80") printf ", %.2f times 40^3'"'"'s", b / b40
+                  printf "\n"
                 }
               }'
 }
