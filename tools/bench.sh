@@ -495,8 +495,8 @@ water_1d_bench() {
 # 21 to 100 alone (the difference of the two runs: what each further Euler
 # step costs), each with its ratio to 20^3's (flat: 1). And 80^3, with
 # 40^3 and 60^3 the three grids whose state (about 700 bytes a cell: 45,
-# 150 and 360 MiB) is larger than this machine's last-level cache (32 MiB
-# here, printed), which 20^3's (5.6 MiB) fits in: what the cost does past
+# 150 and 360 MB) is larger than this machine's last-level cache (32 MiB
+# here, printed), which 20^3's (5.6 MB) fits in: what the cost does past
 # that size is printed as the ratios to 40^3's.
 flat_bench() {
   echo "## An Euler step's cost against the grid size: Sedov, fixed cell 0.06, global rezone every step"
