@@ -34,7 +34,7 @@
 # first bubble period of a TNT charge deep in water against Rayleigh-Willis
 # (issue 36, input/tnt_bubble.nml at 48^3 and 64^3, about 30 minutes;
 # BENCH_ONLY=bubble runs only that); an Euler step's cost against the grid
-# size, the same cells changed in 20^3, 40^3 and 60^3 (issue 33,
+# size, the same cells changed in 20^3, 40^3, 60^3 and 80^3 (issue 33, 5 minutes;
 # BENCH_ONLY=flat runs only that); a TNT charge's shock in free water in the
 # 1D run alone, at three zone widths and two linear viscosities, against
 # the similitude (issue 36, a few minutes; BENCH_ONLY=water1d runs only that).
