@@ -54,6 +54,10 @@ module driver_euler
     real(wp) :: ke = 0.0_wp                  !< kinetic energy returned to internal energy, this segment
     real(wp) :: t_rezone_total = 0.0_wp      !< of the Euler time, the rezone's part (s)
     type(timer_t) :: timer                   !< wall time of the Euler steps
+    !> of it, the coupled particles' part (placed in the standard grid, the
+    !> fluid under them filled, their nodal share saved, relocated and
+    !> coupled again; one process or the whole grid, not the windows)
+    type(timer_t) :: t_particles
     character(len=160) :: trigger_note = ''  !< what made the next Euler step due (for its log line)
     !> the remap's work arrays, kept from one Euler step to the next
     type(remap_work_t) :: work
@@ -206,7 +210,9 @@ contains
       ! the fluid under the solid as the fluid around it (a decomposed run
       ! fills its blocks before their remap)
       if (rz%virtual_layers > 0 .and. st%pt%np > 0 .and. allocated(st%pt%mvf)) then
+        call es%t_particles%start()
         call particles_euler_fill(st, rz%virtual_layers, log, nfar, err)
+        call es%t_particles%stop()
         if (allocated(err)) then
           call es%timer%stop()
           return
@@ -244,7 +250,9 @@ contains
       resumed = .false.
       if (present(resume)) resumed = resume%on .and. resume%plan%ntaken > 0
       if (.not. resumed) then
+        call es%t_particles%start()
         call particles_euler_save(st%g, st%h, st%pt, st%pw, st%halo, pe)
+        call es%t_particles%stop()
         if (present(pe0)) then
           pe%ke_solid = pe0%ke_solid
           pe%p_solid = pe0%p_solid
@@ -269,7 +277,9 @@ contains
     ! (after the fluid's check: the fluid's remap conserves by itself)
     if (.not. allocated(err) .and. st%pt%np > 0) then
       call es%timer%start()
+      call es%t_particles%start()
       call particles_euler_finish(st, pe, log, err)
+      call es%t_particles%stop()
       call es%timer%stop()
     end if
     ! (the rezoned grid's array for the next step: `euler_state_t` xkeep)
@@ -305,11 +315,13 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), intent(in), optional :: x0(:, :)
     if (st%pt%np == 0 .or. .not. (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth')) return
+    call es%t_particles%start()
     if (present(x0)) then
       call particles_euler_preposition(st, x0, pe, err)
     else
       call particles_euler_preposition(st, es%rez%x0, pe, err)
     end if
+    call es%t_particles%stop()
     if (allocated(err)) call es%timer%stop()
   end subroutine euler_preposition
 
@@ -591,5 +603,10 @@ contains
       &" s of the remap''s",f9.3," s)")') es%cells_swept, es%cells - es%cells_swept, es%n_intersecting, es%n, &
       es%cells_intersecting, es%t_remap_intersecting, es%t_remap
     call log_line(log, trim(line))
+    if (es%t_particles%total > 0.0_wp) then
+      write(line, '("euler particles: ",f9.3," s of the Euler phase''s",f9.3," s (placed, fluid under them filled, ", &
+        &"their nodal share saved, relocated, coupled)")') es%t_particles%total, es%timer%total
+      call log_line(log, trim(line))
+    end if
   end subroutine euler_report
 end module driver_euler

@@ -7,7 +7,9 @@
 # Sedov (N^3, N = 10..40) through tools/speed_error.py; and mesh smoothing
 # (Sect. 7.1, tests/bench_smooth.f90); the cost of coupled MPM particles
 # (issue 14): a gas pushing an elastic block of 64000 particles in a 40^3
-# grid, against the same scene without the particles, 1 and 2 threads; the
+# grid, against the same scene without the particles, 1 and 2 threads, and
+# through global Euler steps with linear and gimp supports (the particles'
+# part of a Lagrangian step and of an Euler step, per particle); the
 # rotating projectile of paper Sect. 7.4 (Table 2) with LSSM against global
 # smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py); the
 # Taylor bar's resolution study (issue 15, about 25 minutes; BENCH_ONLY=taylor
@@ -97,7 +99,12 @@ DECK
 # particles_bench pushed through global Euler steps every 10 steps (its
 # particles straddle faces after the first), 120 steps, 1 thread, the
 # gas alone with the same Euler steps as the reference; the particle part
-# of the Lagrangian phase per particle-step, and the ratio gimp / linear.
+# of the Lagrangian phase per particle-step, and the ratio gimp / linear;
+# and the particles' part of the Euler phase (the log's `euler particles`
+# line: placed, the fluid under them filled, their nodal share saved,
+# relocated, each cell's particle states fitted, coupled again) per
+# particle per Euler step, also in particle-steps of the Lagrangian phase
+# (issue 34: what an Euler step costs the particles).
 gimp_bench() {
   echo "## Particle supports: linear against gimp, the block of the particle bench through global Euler steps, 1 thread"
   local scene
@@ -113,11 +120,17 @@ gimp_bench() {
     FNR == 1 {f++}
     /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "lagrange") lag[f] = $(i + 1)}
     /^throughput:/ {steps[f] = $5}
+    /^euler steps:/ {neul[f] = $3 + 0}
+    /^euler particles:/ {epart[f] = $3}
     /^particles: [0-9]+ in all/ {np = $2}
     END {
       for (k = 2; k <= 3; k++) part[k] = lag[k] / steps[k] - lag[1] / steps[1]
       printf "linear: particle part %.3e s per particle-step; gimp: %.3e s per particle-step; gimp / linear %.2f\n", \
              part[2] / np, part[3] / np, part[3] / part[2]
+      for (k = 2; k <= 3; k++) pe[k] = epart[k] / (neul[k] * np)
+      printf "Euler steps: the particles%s part %.3e s per particle per Euler step with linear (%d Euler steps; %.2f " \
+             "particle-steps), %.3e s with gimp (%d; %.2f particle-steps)\n", "'"'"'", pe[2], neul[2], pe[2] * np / part[2], \
+             pe[3], neul[3], pe[3] * np / part[3]
     }' e_pgas.log e_pblock.log e_pblock_gimp.log
 }
 # Issue 34: the solid's state through global Euler steps, against the gas /
