@@ -399,29 +399,15 @@ module remap_euler
     !> gradient is needed, and the gradients
     real(wp), allocatable :: gq(:, :), gpos(:, :), ggrad(:, :, :)
     logical, allocatable :: ghas(:), gneed(:)
-    !> the old cells' `half_dets` that `remap_swept_blockers` takes (the
-    !> tangle test), kept for `subcell_shifts`, which needs the same
-    !> numbers of the same old cells later in the Euler step: hslot(c)
-    !> (ncell; 0: none) the entry of cell c, hdet(:, e) its 48 values and
-    !> hkey(:, :, e) its eight nodes when they were taken, hpts(:, :, e)
-    !> the 27 points (`half_points` about the nodes' mean) the values came
-    !> from, which `subcell_shifts` splits the cell by too. An entry is
-    !> used only where the cell's nodes are still those (compared exactly),
-    !> so one left from another grid or an earlier step is never read.
-    integer, allocatable :: hslot(:)
-    real(wp), allocatable :: hdet(:, :), hkey(:, :, :), hpts(:, :, :)
     !> the swept path's shared faces (`swept_low_faces`): per changed cell
     !> c, entry fslot(c) (valid where fstamp(c) == fgen, this remap's), the
     !> regions its 24 triangles on its three low faces (xi-, eta-, zeta-;
     !> faces 1, 3, 5, eight triangles each in order) sweep, fv(24, e) and
     !> fm(24, 3, e), about its new centre fo(:, e): each face's triangles
     !> swept once, for the cell and for its neighbour across the face
-    !> (and the split's points of the new and the old cell about it,
-    !> fpts(3, 27, e) and fopts(3, 27, e), that `remap_new_cell` and
-    !> `swept_fluxes` would place again)
     integer, allocatable :: fslot(:), fstamp(:)
     integer :: fgen = 0
-    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :), fpts(:, :, :), fopts(:, :, :)
+    real(wp), allocatable :: fv(:, :), fm(:, :, :), fo(:, :)
   end type old_t
 
   !> The remap's work arrays, kept from one call to the next by its caller
@@ -1257,47 +1243,6 @@ contains
     end do
   end subroutine blocks_moved
 
-  !> `remap_swept_blockers`' store of `half_dets` (old_t's hslot, hdet,
-  !> hkey, hpts) ready for n cells of a grid of ncell cells (keep false, and no
-  !> store, where it cannot be had). A grown store keeps its entries (every
-  !> slot still names the numbers and the nodes it was set with) and takes
-  !> twice what is needed: the grid's slots are set to zero once, not at
-  !> each Euler step that changes more cells than the one before.
-  subroutine dets_store(old, ncell, n, keep)
-    type(old_t), intent(inout) :: old
-    integer, intent(in) :: ncell, n
-    logical, intent(out) :: keep
-    real(wp), allocatable :: det(:, :), key(:, :, :), pts(:, :, :)
-    integer :: stat, m
-    stat = 0
-    if (allocated(old%hslot)) then
-      if (size(old%hslot) /= ncell) deallocate(old%hslot, old%hdet, old%hkey, old%hpts)
-    end if
-    if (.not. allocated(old%hslot)) then
-      allocate(old%hslot(ncell), old%hdet(48, max(2*n, 1)), old%hkey(3, 8, max(2*n, 1)), &
-               old%hpts(3, 27, max(2*n, 1)), stat=stat)
-      if (stat == 0) old%hslot = 0
-    else if (size(old%hdet, 2) < n) then
-      m = size(old%hdet, 2)
-      allocate(det(48, 2*n), key(3, 8, 2*n), pts(3, 27, 2*n), stat=stat)
-      if (stat == 0) then
-        det(:, 1:m) = old%hdet
-        key(:, :, 1:m) = old%hkey
-        pts(:, :, 1:m) = old%hpts
-        call move_alloc(det, old%hdet)
-        call move_alloc(key, old%hkey)
-        call move_alloc(pts, old%hpts)
-      end if
-    end if
-    keep = stat == 0
-    if (.not. keep) then
-      if (allocated(old%hslot)) deallocate(old%hslot)
-      if (allocated(old%hdet)) deallocate(old%hdet)
-      if (allocated(old%hkey)) deallocate(old%hkey)
-      if (allocated(old%hpts)) deallocate(old%hpts)
-    end if
-  end subroutine dets_store
-
   !> The indices where mask is true, in increasing order: fresh, the same
   !> indices in any order, sorted where they are few, else the mask read
   !> through (either way the same list, at a cost that follows the count
@@ -1945,12 +1890,12 @@ contains
     logical, intent(in) :: means
     real(wp) :: xn(3, 8), pts(3, 27), t(3, 4), msub(8), v, m(3), o(3), pn(3, max_mat), pd(max_mat), &
                 ua(3, 8), mc, kc, ksum, det6(48), sub(4, 8)
-    integer :: c, j, i, n, s, s0, s1, nm, r, ic, e
+    integer :: c, j, i, n, s, s0, s1, nm, r, ic
 
     ! (only moved cells hand out fragments: the others' entries are not read)
     !$omp parallel do default(none) shared(g, h, mx, old, means) &
     !$omp private(ic, c, j, i, n, xn, pts, t, msub, v, m, o, pn, pd, ua, mc, kc, ksum, s, s0, s1, nm, r, det6, &
-    !$omp sub, e) &
+    !$omp sub) &
     !$omp schedule(dynamic, 16)
     do ic = 1, size(old%lchanged)
       c = old%lchanged(ic)
@@ -1972,29 +1917,15 @@ contains
         end do
       end if
       ! (the halves' volumes as `remap_swept_blockers` found them for
-      ! these nodes, where it did: the same numbers, `old_t`'s hdet)
-      e = 0
-      if (allocated(old%hslot)) then
-        if (size(old%hslot) == g%ncell) e = old%hslot(c)
-        if (e > 0) then
-          ! (equal: the differences' magnitudes add up to zero, which no
-          ! non-zero one does, nor a NaN; one sum, no test per node)
-          if (.not. abs_diff(24, old%hkey(1, 1, e), xn) <= 0.0_wp) e = 0
-        end if
-      end if
+      ! these nodes: the same operations, the same numbers, taken again
+      ! rather than stored there and read back, which costs more memory
+      ! traffic than the arithmetic)
       o = sum(xn, 2)/8.0_wp
       do j = 1, 8
         xn(:, j) = xn(:, j) - o
       end do
-      ! (the same nodes, the same mean o: the same points, kept with the
-      ! values; by `copy_values`)
-      if (e > 0) then
-        call copy_values(81, old%hpts(1, 1, e), pts)
-        call copy_values(48, old%hdet(1, e), det6)
-      else
-        call half_points(xn, pts)
-        call half_dets(pts, det6)
-      end if
+      call half_points(xn, pts)
+      call half_dets(pts, det6)
       if (.not. all(det6 > 0.0_wp)) old%uniform(c) = .true.
       ! the reconstruction's mass in each subcell
       msub = 0.0_wp
@@ -2525,7 +2456,7 @@ contains
     real(wp) :: xo(3, 8), xn(3, 8), o(3), opts(3, 27), pts(3, 27), det6(48), hmin2, dmax2, vw(48), mw(48, 3), vb, rmax
     logical :: other, wall(6)
     integer :: c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb(3), i, stat, nt
-    logical :: ok, keep
+    logical :: ok
     logical, allocatable :: changed(:), blocks(:)
     integer, allocatable :: list(:)
     type(error_t), allocatable :: err
@@ -2561,11 +2492,7 @@ contains
       nblock = 1
       return
     end if
-    ! (the tangle tests' `half_dets` kept for `subcell_shifts`: entry i
-    ! for list(i); a grown store starts with no cell's entry)
-    keep = present(work)
-    if (keep) call dets_store(work%old, g%ncell, size(list), keep)
-    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks, keep, work) &
+    !$omp parallel do default(none) shared(g, h, bc, xnew, smax, mixed, list, blocks) &
     !$omp reduction(+:nblock) reduction(max:rmax) reduction(.or.:other) &
     !$omp private(i, c, ci, cj, ck, oi, oj, ok_, d, e, a, f, nb, ok, xo, xn, o, opts, pts, det6, wall, hmin2, &
     !$omp dmax2, vw, mw, vb, nt) schedule(static)
@@ -2574,10 +2501,6 @@ contains
       call g%cell_ijk(c, ci, cj, ck)
       call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
       call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
-      if (keep) then
-        work%old%hslot(c) = 0
-        call copy_values(24, xo, work%old%hkey(1, 1, i))
-      end if
       ok = mixed .or. h%mat(c) > 0
       if (.not. mixed) then
         do ok_ = max(g%clo(3), ck - 1), min(g%chi(3), ck + 1)
@@ -2618,12 +2541,6 @@ contains
         end if
         ! not tangled (as `subcell_shifts` finds it)
         call half_dets(opts, det6)
-        if (keep) then
-          ! (by `copy_values`)
-          call copy_values(48, det6, work%old%hdet(1, i))
-          call copy_values(81, opts, work%old%hpts(1, 1, i))
-          work%old%hslot(c) = i
-        end if
         ok = ok .and. all(det6 > 0.0_wp)
         vb = 0.0_wp
         if (any(wall)) vb = abs(hex_volume(xo))
@@ -2837,7 +2754,7 @@ contains
     real(wp) :: rxo(3, nkeep), rrho(nkeep), rgrho(3, nkeep), rge(3, nkeep), re(nkeep), rsc(nkeep), rscrho(nkeep), &
                 rgunit(nkeep), rub(3, nkeep), rke(nkeep), rw(nkeep), nu(3, nkeep), nxo(3, nkeep), ngu(3, 3, nkeep), &
                 ndu(3, nkeep), urefc(3)
-    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in, ef
+    integer :: rk(nkeep), nk(nkeep), nrk, nnk, ir, in
     ! the entry of node nb where the caller of `node_entry` knows it (0:
     ! known not held), so that no search is made; -1: not known
     integer :: in_hint
@@ -2864,26 +2781,16 @@ contains
     nnk = 0
     in_hint = -1
     urefc = old%uref(:, c)
-    ! (the swept path's points as `swept_low_faces` placed them, where it
-    ! did: ef its entry)
-    ef = 0
-    if (old%swept .and. allocated(old%fslot)) then
-      if (size(old%fslot) == g%ncell) then
-        if (old%fstamp(c) == old%fgen) ef = old%fslot(c)
-      end if
-    end if
-    if (ef > 0) then
-      o = old%fo(:, ef)
-      call copy_values(81, old%fpts(1, 1, ef), pts)
-    else
-      call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
-      ! local coordinates about the new cell's centre: round-off scales with the cell
-      o = sum(xn, 2)/8.0_wp
-      do j = 1, 8
-        xn(:, j) = xn(:, j) - o
-      end do
-      call half_points(xn, pts)
-    end if
+    ! (placed again rather than read back from `swept_low_faces`: the
+    ! same operations, the same numbers, and less memory traffic than a
+    ! stored copy)
+    call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+    ! local coordinates about the new cell's centre: round-off scales with the cell
+    o = sum(xn, 2)/8.0_wp
+    do j = 1, 8
+      xn(:, j) = xn(:, j) - o
+    end do
+    call half_points(xn, pts)
     ! (the sums start in `deposit`'s arrays, which `sums_out` copies to
     ! the dummies: no zeros written through their descriptors first)
     svol = 0.0_wp
@@ -3092,15 +2999,11 @@ contains
       logical :: pure, pure_nbr(6), done_k(8), shared, fresh
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
-      if (ef > 0) then
-        call copy_values(81, old%fopts(1, 1, ef), opts)
-      else
-        call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
-        do j = 1, 8
-          xo(:, j) = xo(:, j) - o
-        end do
-        call half_points(xo, opts)
-      end if
+      call block_gather(g%ni, g%nj, ci, cj, ck, g%x, xo)
+      do j = 1, 8
+        xo(:, j) = xo(:, j) - o
+      end do
+      call half_points(xo, opts)
       ! the old subcells stay where they were (region by region)
       call region_slots(h, mx, c, s0c, s1c)
       pure = s0c == 0
@@ -4018,14 +3921,6 @@ contains
     dst = a - b
   end subroutine diff_values
 
-  !> sum(abs(a - b)) over n values, the arrays passed as elements like
-  !> `copy_values`' (without an array expression's descriptor arithmetic).
-  pure real(wp) function abs_diff(n, a, b) result(s)
-    integer, intent(in) :: n
-    real(wp), intent(in) :: a(n), b(n)
-    s = sum(abs(a - b))
-  end function abs_diff
-
   !> The 27 points of `half_tets`' split alone (its halves are the
   !> constants half_hv, half_corner: callers on the hot paths read those
   !> rather than a copy made at each call).
@@ -4164,7 +4059,7 @@ contains
       if (size(old%fslot) /= g%ncell) deallocate(old%fslot, old%fstamp)
     end if
     if (allocated(old%fv)) then
-      if (size(old%fv, 2) < n) deallocate(old%fv, old%fm, old%fo, old%fpts, old%fopts)
+      if (size(old%fv, 2) < n) deallocate(old%fv, old%fm, old%fo)
     end if
     if (.not. allocated(old%fslot)) then
       allocate(old%fslot(g%ncell), old%fstamp(g%ncell), stat=stat)
@@ -4172,7 +4067,7 @@ contains
     end if
     if (stat == 0 .and. .not. allocated(old%fv)) then
       m = max(2*n, 1)
-      allocate(old%fv(24, m), old%fm(24, 3, m), old%fo(3, m), old%fpts(3, 27, m), old%fopts(3, 27, m), stat=stat)
+      allocate(old%fv(24, m), old%fm(24, 3, m), old%fo(3, m), stat=stat)
     end if
     if (stat /= 0) then
       if (allocated(old%fslot)) deallocate(old%fslot)
@@ -4180,8 +4075,6 @@ contains
       if (allocated(old%fv)) deallocate(old%fv)
       if (allocated(old%fm)) deallocate(old%fm)
       if (allocated(old%fo)) deallocate(old%fo)
-      if (allocated(old%fpts)) deallocate(old%fpts)
-      if (allocated(old%fopts)) deallocate(old%fopts)
       return
     end if
     !$omp parallel do default(none) shared(g, old, xnew, n) private(ic, c, ci, cj, ck, j, nt, xo, xn, o, opts, pts, &
@@ -4205,8 +4098,6 @@ contains
       old%fv(:, ic) = vw(1:24)
       old%fm(:, :, ic) = mw(1:24, :)
       old%fo(:, ic) = o
-      old%fpts(:, :, ic) = pts
-      old%fopts(:, :, ic) = opts
       old%fslot(c) = ic
       old%fstamp(c) = old%fgen
     end do
