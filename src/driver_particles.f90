@@ -383,7 +383,7 @@ contains
     real(wp) :: lo(3), hi(3), vmin(1), clipped(1), fm, fs, range(2)
     integer, allocatable :: held(:)
     integer :: s, n(2), ntrunc, stat, q, k, j, root
-    logical :: lattice, builder
+    logical :: lattice, builder, local
     character(len=200) :: msg
     do s = 1, size(cfg%solids)
       associate (sc => cfg%solids(s), p => st%pt)
@@ -415,21 +415,28 @@ contains
           hi(3) = lo(3)
           xs(3, :) = lo(3)
         end if
-        ! (a decomposed run builds a correlated field's grid on one rank, the
-        ! one whose block holds the fewest stored cells and particles (the
-        ! least state beside the field), not on each: the others send it
-        ! their particles' places and take its samples back, the bits one
-        ! process samples)
+        ! (a Gaussian field: each rank builds the part around its own
+        ! particles, the whole field's values there (`random_field_build`);
+        ! an exponential one: a decomposed run builds the whole grid on one
+        ! rank, the one whose block holds the fewest stored cells and
+        ! particles (the least state beside the field), not on each: the
+        ! others send it their particles' places and take its samples back,
+        ! the bits one process samples)
         lattice = random_field_correlated(sc%void_covariance, sc%void_length)
+        local = lattice .and. trim(sc%void_covariance) == 'gaussian'
         builder = .true.
         root = 0
-        if (present(comm) .and. lattice) then
+        if (present(comm) .and. lattice .and. .not. local) then
           call gather_concat(comm, [st%g%ncell + p%np], held)
           root = minloc(held, 1) - 1
           builder = comm%rank == root
         end if
         clipped = -huge(1.0_wp)
-        if (builder) then
+        if (local .and. size(order) > 0) then
+          call random_field_build(lo, hi, vmin(1)**(1.0_wp/3.0_wp), sc%void_length, sc%void_covariance, &
+                                  sc%void_seed, field, clipped(1), err, box_lo=minval(xs, dim=2), box_hi=maxval(xs, dim=2))
+          if (allocated(err)) call void_field_input(sc%where, sc%name, sc%void_length, err)
+        else if (builder .and. .not. local) then
           call random_field_build(lo, hi, vmin(1)**(1.0_wp/3.0_wp), sc%void_length, sc%void_covariance, &
                                   sc%void_seed, field, clipped(1), err)
           ! (found only now: the field's box and spacing are the seeded particles')
@@ -452,7 +459,7 @@ contains
             place(q) = place(q) + total(k)
           end do
         end do
-        if (lattice .and. present(comm)) then
+        if (lattice .and. present(comm) .and. .not. local) then
           call gather_to(comm, root, reshape(xs, [3*size(order)]), xall)
           allocate(gall(size(xall)/3), stat=stat)
           if (stat /= 0) then
@@ -465,7 +472,7 @@ contains
           call scatter_from(comm, root, gall, g)
           deallocate(xall, gall)
         else if (lattice) then
-          call random_field_sample(field, xs, g, err)
+          if (size(order) > 0) call random_field_sample(field, xs, g, err)
         else
           ! (the stream up to the last place here; x is not read)
           j = 0

@@ -1,5 +1,6 @@
 !> Writes, as hexadecimal bit patterns, a correlated random field, its
-!> samples at off-node points and the void fractions from them, for
+!> samples at off-node points and the void fractions from them, and a
+!> Gaussian field's part around a box with samples in it, for
 !> random_field_threads.sh to compare across OMP_NUM_THREADS. The grid
 !> (3D, ~10^6 nodes) is large enough that every threaded loop of
 !> strength_random_field splits over the threads.
@@ -45,6 +46,28 @@ program random_field_dump
   do p = 1, np
     write(u, '(z16.16,1x,z16.16)') transfer(g(p), 0_i8), transfer(f0(p), 0_i8)
   end do
+  ! the Gaussian covariance's separable build (its passes are threaded),
+  ! on the part of the grid around a box, sampled at the points in it
+  call random_field_build([0.0_wp, 0.0_wp, 0.0_wp], [12.0_wp, 10.0_wp, 8.0_wp], 0.4_wp, 1.2_wp, 'gaussian', 37, f, &
+                          clipped, err, box_lo=[2.0_wp, 1.0_wp, 0.5_wp], box_hi=[10.0_wp, 9.0_wp, 7.0_wp])
+  if (allocated(err)) error stop 'random_field_dump: gaussian build failed'
+  do p = 1, np
+    x(:, p) = [2.0_wp, 1.0_wp, 0.5_wp] + [8.0_wp, 8.0_wp, 6.5_wp]*[modulo(0.6180339887_wp*p, 1.0_wp), &
+              modulo(0.7548776662_wp*p, 1.0_wp), modulo(0.5698402910_wp*p, 1.0_wp)]
+  end do
+  call random_field_sample(f, x, g, err)
+  if (allocated(err)) error stop 'random_field_dump: gaussian sample failed'
+  write(u, '(a,3i6,a,3i6)') 'gaussian part', shape(f%values), ' from node', f%first
+  do k = 1, size(f%values, 3)
+    do j = 1, size(f%values, 2)
+      do i = 1, size(f%values, 1)
+        write(u, '(z16.16)') transfer(f%values(i, j, k), 0_i8)
+      end do
+    end do
+  end do
+  do p = 1, np
+    write(u, '(z16.16)') transfer(g(p), 0_i8)
+  end do
   close(u)
-  write(*, '(a,3i6,a,i0,a)') 'random_field_dump: grid', f%n, ', ', np, ' points written'
+  write(*, '(a,3i6,a,i0,a)') 'random_field_dump: grid', f%n, ', ', np, ' points written (exponential and gaussian)'
 end program random_field_dump

@@ -46,6 +46,13 @@
 !>     not on a lattice); the exponential field is rough at every scale and
 !>     needs per_ell = 8 for the same fidelity. test_random_field checks the
 !>     half-way values.
+!>  The Gaussian covariance is built without the 3D transform, by the
+!>  separable square root of its covariance (`random_field_build`'s
+!>  box_lo, box_hi; `kernel_1d`, `build_separable`): the same white noise
+!>  convolved along x, y and z with factors exp(-2 (m dx/ell)^2), on the
+!>  nodes around the points a caller samples, so a decomposed run's block
+!>  builds its own part. Steps 1 (the grid), 3 (the noise's order) and 4
+!>  are the same; step 2's spectrum is that of the kernel, positive.
 !>  ell = 0 or covariance 'none' is the uncorrelated limit (Uintah, Yang et
 !>  al.): no grid; sampling gives i.i.d. N(0,1) values, the p-th point the
 !>  p-th normal of the seeded stream.
@@ -88,9 +95,11 @@
 !>
 !> Call random_field_build outside OpenMP parallel regions (FFTW's planner
 !> is not thread-safe; the routine returns an error inside one). With MPI,
-!> every rank builds the same global field from the global bounding box (or
-!> one rank builds and broadcasts `values`), so the field does not depend on
-!> the rank count; in the uncorrelated limit pass the points in global order.
+!> every rank builds from the global bounding box (lo, hi), each the part
+!> around its own points (box_lo, box_hi) for the Gaussian covariance,
+!> else the whole field on one rank that samples for all (the Gurson
+!> set-up), so the field does not depend on the rank count; in the
+!> uncorrelated limit pass the points in global order.
 module strength_random_field
   use, intrinsic :: iso_c_binding, only: c_char, c_double, c_double_complex, c_float, c_float_complex, c_funptr, c_int32_t, &
                                          c_int, c_intptr_t, c_ptr, c_size_t, c_f_pointer, c_associated
@@ -142,8 +151,25 @@ module strength_random_field
     real(wp) :: dx = 0.0_wp                  !< grid spacing, the same in all directions (length)
     integer :: n(3) = 1                      !< nodes per direction (1: field constant along it)
     real(wp) :: cm(0:3) = 1.0_wp             !< C(dx sqrt(m)): covariance of nodes m edges apart
-    real(wp), allocatable :: values(:, :, :) !< the field at the nodes, values(n(1), n(2), n(3))
+    !> the nodes held: values(i, j, k) is node (first(1) + i - 1, ...) of
+    !> the n(1) x n(2) x n(3) grid (the whole grid, first = 1, or the part a
+    !> caller's points need: `random_field_build`'s box_lo, box_hi)
+    integer :: first(3) = 1
+    real(wp), allocatable :: values(:, :, :)
   end type random_field_t
+
+  !> One direction's factor of a Gaussian field's kernel (`kernel_1d`):
+  !> k(m) for the offsets m = mlo..mhi (node j takes k(m) times the noise
+  !> of node j - m, periodic)
+  type :: kernel_1d_t
+    integer :: mlo = 0, mhi = 0
+    real(wp), allocatable :: k(:)
+  end type kernel_1d_t
+
+  !> A kernel factor's taps reach this many ell (`kernel_1d`): beyond it
+  !> exp(-2 (m dx/ell)^2) < 1e-17, below the round-off of a value of unit
+  !> variance.
+  real(wp), parameter :: kernel_reach = 4.42_wp
 
 contains
 
@@ -312,11 +338,29 @@ contains
   !> Optional: per_ell (default 4) grid nodes per ell at least, padding
   !> (length, default 3 ell) added on each side of the box (less than 3 ell
   !> makes covariances beyond about twice the padding inexact).
+  !> box_lo, box_hi (length; both or neither; default: the whole grid):
+  !> the points this caller will sample lie in this box. The Gaussian
+  !> covariance is separable, and so is the square root of its circulant
+  !> embedding: g = IDFT(sqrt(lambda) DFT(w)) / N is the periodic
+  !> convolution of the noise with a kernel k1(m1) k2(m2) k3(m3), each
+  !> factor exp(-2 (m dx/ell)^2) scaled to unit energy (`kernel_1d`; with
+  !> dx <= ell/4, else the transform below). The field is then made by
+  !> three passes of one-dimensional sums over the taps within
+  !> kernel_reach ell, on the nodes around the box only
+  !> (`build_separable`): a decomposed run's blocks each build the part
+  !> their particles need, in memory that follows the block, not the whole
+  !> grid. A node's value is the same sum of the same noise in the same
+  !> order whatever the box, so every part holds the whole field's values
+  !> bit for bit. whole_fft (default .false.): a Gaussian field by the
+  !> three-dimensional transform instead (the exponential covariance's
+  !> way), on the whole grid; the two differ by the transform's round-off
+  !> of lambda raised by its square root, some 1e-7 (test_random_field).
   !> Errors (input): a value that is not finite, unknown covariance,
   !> spacing <= 0, ell < 0, hi < lo, per_ell < 1, a grid above 2^30 nodes;
   !> (runtime) allocation, FFTW planning, called inside an OpenMP parallel
   !> region.
-  subroutine random_field_build(lo, hi, spacing, ell, covariance, seed, field, clipped, err, per_ell, padding)
+  subroutine random_field_build(lo, hi, spacing, ell, covariance, seed, field, clipped, err, per_ell, padding, &
+                                box_lo, box_hi, whole_fft)
     real(wp), intent(in) :: lo(3), hi(3), spacing, ell
     character(len=*), intent(in) :: covariance
     integer, intent(in) :: seed
@@ -325,10 +369,14 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, intent(in), optional :: per_ell
     real(wp), intent(in), optional :: padding
+    real(wp), intent(in), optional :: box_lo(3), box_hi(3)
+    logical, intent(in), optional :: whole_fft
     character(len=*), parameter :: where = 'random_field_build'
     integer :: nper, d, npad, m, n1, n2, n3, nh, i, j, k, ii, jj, kk, stat
     integer(i8) :: ntot
-    real(wp) :: pad, dx, ext, rx2, ry2, rz2, lam, w, scale, big
+    real(wp) :: pad, dx, ext, rx2, ry2, rz2, lam, w, scale, big, blo(3), bhi(3), t
+    integer :: a(3), b(3)
+    logical :: fft
     real(wp), allocatable :: sqlam(:, :, :), negk(:)
     type(c_ptr) :: preal, pcplx, plan_fwd, plan_bwd
     real(c_double), pointer, contiguous :: rbuf(:, :, :)
@@ -431,6 +479,33 @@ contains
     do m = 0, 3
       field%cm(m) = covariance_at(covariance, dx*sqrt(real(m, wp)), ell)
     end do
+
+    ! (the separable kernel where its lattice aliasing is negligible:
+    ! dx <= ell/4, as per_ell's default always gives)
+    fft = covariance /= 'gaussian' .or. dx > 0.25_wp*ell*(1.0_wp + 1.0e-12_wp)
+    if (present(whole_fft)) fft = fft .or. whole_fft
+    if (.not. fft) then
+      ! the nodes around the box: those a point in it interpolates from
+      ! (`sample_one`), one more on each side against rounding
+      ! (without a box: the whole grid)
+      blo = lo
+      bhi = hi
+      if (present(box_lo)) blo = box_lo
+      if (present(box_hi)) bhi = box_hi
+      do d = 1, 3
+        a(d) = 1
+        b(d) = field%n(d)
+        if (field%n(d) == 1 .or. .not. (present(box_lo) .and. present(box_hi))) cycle
+        a(d) = field%n(d) - 1
+        t = (blo(d) - field%origin(d))/dx
+        if (ieee_is_finite(t)) a(d) = max(1, min(field%n(d) - 1, floor(max(t, 0.0_wp))))
+        t = (bhi(d) - field%origin(d))/dx
+        if (ieee_is_finite(t)) b(d) = min(field%n(d), floor(min(max(t, 0.0_wp), real(field%n(d), wp))) + 3)
+        b(d) = max(a(d) + 1, b(d))
+      end do
+      call build_separable(field, a, b, clipped, err)
+      return
+    end if
 
     n1 = field%n(1)
     n2 = field%n(2)
@@ -558,6 +633,199 @@ contains
     field%correlated = .true.
   end subroutine random_field_build
 
+  !> The Gaussian field of `random_field_build` on the nodes a(d)..b(d) of
+  !> its grid (field%n, dx set), as the periodic convolution of the white
+  !> noise with the separable kernel k1 k2 k3 (`kernel_1d`): the noise is
+  !> drawn in the one fixed order over the whole grid (each rank draws the
+  !> whole stream and keeps what its nodes read), convolved along x as each
+  !> plane is drawn (X, on the rows the later passes read), then along y
+  !> (Y) and z (field%values). clipped: 0 (the kernel's spectrum is
+  !> positive).
+  subroutine build_separable(field, a, b, clipped, err)
+    type(random_field_t), intent(inout) :: field
+    integer, intent(in) :: a(3), b(3)
+    real(wp), intent(out) :: clipped
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: where = 'random_field_build'
+    type(kernel_1d_t) :: kd(3)
+    type(random_normal_t) :: rng
+    real(wp) :: sm
+    real(wp), allocatable :: plane(:, :), xs(:, :, :), ys(:, :, :), row(:)
+    integer, allocatable :: jmap(:), kmap(:), jlist(:), klist(:)
+    integer :: d, i, j, k, m, n1, n2, n3, nj, nk, stat, jj, kk, q
+
+    clipped = 0.0_wp
+    do d = 1, 3
+      call kernel_1d(field, d, kd(d), err)
+      if (allocated(err)) return
+    end do
+    n1 = field%n(1)
+    n2 = field%n(2)
+    n3 = field%n(3)
+    ! the rows (j) and planes (k) the passes read: node j0 of a..b reads
+    ! j0 - m for the taps m (periodic)
+    call reach_rows(n2, a(2), b(2), kd(2), jmap, jlist, stat)
+    if (stat == 0) call reach_rows(n3, a(3), b(3), kd(3), kmap, klist, stat)
+    if (stat /= 0) then
+      call error_set(err, where, error_no_memory('the field''s row lists'))
+      return
+    end if
+    nj = size(jlist)
+    nk = size(klist)
+    allocate(row(a(1) - kd(1)%mhi:b(1) - kd(1)%mlo), plane(n1, nj), xs(b(1) - a(1) + 1, nj, nk), &
+             field%values(b(1) - a(1) + 1, b(2) - a(2) + 1, b(3) - a(3) + 1), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, where, error_no_memory('the field''s part ('//trim(grid_text(b - a + 1))//')'))
+      return
+    end if
+    field%first = a
+    call random_normal_seed(rng, field%seed)
+    do k = 1, n3
+      ! (every normal of the stream is drawn, in order; the rows kept are
+      ! those the passes read)
+      do j = 1, n2
+        if (kmap(k) > 0 .and. jmap(j) > 0) then
+          do i = 1, n1
+            call random_normal_next(rng, plane(i, jmap(j)))
+          end do
+        else
+          do i = 1, n1
+            call random_normal_next(rng, sm)
+          end do
+        end if
+      end do
+      if (kmap(k) == 0) cycle
+      kk = kmap(k)
+      ! (each row unrolled over its period first: row(i) is node i, wrapped,
+      ! for the i - m that nodes a..b read)
+      !$omp parallel do default(none) shared(plane, xs, kd, a, b, n1, nj, kk) private(jj, i, m, sm, row) schedule(static)
+      do jj = 1, nj
+        do i = a(1) - kd(1)%mhi, b(1) - kd(1)%mlo
+          row(i) = plane(modulo(i - 1, n1) + 1, jj)
+        end do
+        do i = a(1), b(1)
+          sm = 0.0_wp
+          do m = kd(1)%mlo, kd(1)%mhi
+            sm = sm + kd(1)%k(m)*row(i - m)
+          end do
+          xs(i - a(1) + 1, jj, kk) = sm
+        end do
+      end do
+      !$omp end parallel do
+    end do
+    deallocate(plane, row)
+    allocate(ys(b(1) - a(1) + 1, b(2) - a(2) + 1, nk), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, where, error_no_memory('the field''s part ('//trim(grid_text(b - a + 1))//')'))
+      return
+    end if
+    !$omp parallel do default(none) shared(xs, ys, kd, jmap, a, b, n2, nk) private(q, j, i, m) schedule(static)
+    do q = 1, nk
+      do j = a(2), b(2)
+        ys(:, j - a(2) + 1, q) = 0.0_wp
+        do m = kd(2)%mlo, kd(2)%mhi
+          do i = 1, b(1) - a(1) + 1
+            ys(i, j - a(2) + 1, q) = ys(i, j - a(2) + 1, q) + kd(2)%k(m)*xs(i, jmap(modulo(j - m - 1, n2) + 1), q)
+          end do
+        end do
+      end do
+    end do
+    !$omp end parallel do
+    deallocate(xs)
+    !$omp parallel do default(none) shared(ys, field, kd, kmap, a, b, n3) private(k, m) schedule(static)
+    do k = a(3), b(3)
+      field%values(:, :, k - a(3) + 1) = 0.0_wp
+      do m = kd(3)%mlo, kd(3)%mhi
+        field%values(:, :, k - a(3) + 1) = field%values(:, :, k - a(3) + 1) + kd(3)%k(m)*ys(:, :, kmap(modulo(k - m - 1, n3) + 1))
+      end do
+    end do
+    !$omp end parallel do
+    field%correlated = .true.
+  end subroutine build_separable
+
+  !> The indices j of a periodic line of n that nodes a..b read through the
+  !> taps of kd (j0 - m, m = kd%mlo..kd%mhi, wrapped), in increasing order
+  !> (list), and each one's place in the list (map(j), 0 if not read).
+  !> stat: the allocations'.
+  pure subroutine reach_rows(n, a, b, kd, map, list, stat)
+    integer, intent(in) :: n, a, b
+    type(kernel_1d_t), intent(in) :: kd
+    integer, allocatable, intent(out) :: map(:), list(:)
+    integer, intent(out) :: stat
+    integer :: j, c
+    allocate(map(n), stat=stat)
+    if (stat /= 0) return
+    map = 0
+    if ((b - a) + (kd%mhi - kd%mlo) + 1 >= n) then
+      map = 1
+    else
+      do j = a - kd%mhi, b - kd%mlo
+        map(modulo(j - 1, n) + 1) = 1
+      end do
+    end if
+    allocate(list(count(map > 0)), stat=stat)
+    if (stat /= 0) return
+    c = 0
+    do j = 1, n
+      if (map(j) == 0) cycle
+      c = c + 1
+      map(j) = c
+      list(c) = j
+    end do
+  end subroutine reach_rows
+
+  !> Direction d's factor of the Gaussian field's kernel on the periodic
+  !> line of n = field%n(d) nodes: k(m) = exp(-2 (m dx/ell)^2), summed over
+  !> the periods where the taps would span the line, scaled to
+  !> sum_m k(m)^2 = 1. Its self-convolution is the covariance factor
+  !> exp(-(r/ell)^2) (the product of two Gaussians of variance ell^2/4
+  !> integrates to one of variance ell^2/2), up to the lattice's aliasing
+  !> exp(-pi^2 ell^2/(4 dx^2)) (7e-18 at dx = ell/4, the largest spacing
+  !> this path takes), and its spectrum is positive: it is the square root
+  !> of the circulant covariance that the transform takes from the
+  !> eigenvalues, without their round-off (eps lambda(0)), which the square
+  !> root raises to a noise of some 1e-7 in the transform's field. Taps
+  !> beyond kernel_reach ell (k below 1e-17) are left out. A single node:
+  !> k = 1.
+  subroutine kernel_1d(field, d, kd, err)
+    type(random_field_t), intent(in) :: field
+    integer, intent(in) :: d
+    type(kernel_1d_t), intent(out) :: kd
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: h, norm
+    integer :: n, m, p, reach, np, stat
+
+    n = field%n(d)
+    h = field%dx/field%ell
+    reach = 0
+    if (n > 1) reach = ceiling(kernel_reach/h)
+    if (2*reach + 1 >= n) then
+      kd%mlo = -((n - 1)/2)
+      kd%mhi = n/2
+    else
+      kd%mlo = -reach
+      kd%mhi = reach
+    end if
+    allocate(kd%k(kd%mlo:kd%mhi), stat=stat)
+    if (stat /= 0) then
+      call error_set(err, 'random_field_build', error_no_memory('the kernel'))
+      return
+    end if
+    ! (the periods whose taps reach the line: none beyond the nearest
+    ! where the taps fit in it)
+    np = 0
+    if (2*reach + 1 >= n) np = reach/n + 1
+    norm = 0.0_wp
+    do m = kd%mlo, kd%mhi
+      kd%k(m) = 0.0_wp
+      do p = -np, np
+        if (abs(m + p*n) <= reach) kd%k(m) = kd%k(m) + exp(-2.0_wp*(real(m + p*n, wp)*h)**2)
+      end do
+      norm = norm + kd%k(m)**2
+    end do
+    kd%k = kd%k/sqrt(norm)
+  end subroutine kernel_1d
+
   !> Samples the field at the points x(3, np) (length) into g(np): unit
   !> variance interpolation of the 8 surrounding nodes (module notes); in
   !> the uncorrelated limit g(p) is the p-th normal of the seeded stream.
@@ -637,7 +905,12 @@ contains
       end if
       i0(d) = max(0, min(field%n(d) - 2, int(s)))
       t = max(0.0_wp, min(1.0_wp, s - real(i0(d), wp)))
-      i0(d) = i0(d) + 1
+      ! (the node in the stored part: a point beyond it is outside too)
+      i0(d) = i0(d) + 2 - field%first(d)
+      if (i0(d) < 1 .or. i0(d) + 1 > size(field%values, d)) then
+        inside = .false.
+        i0(d) = max(1, min(size(field%values, d) - 1, i0(d)))
+      end if
       wt(:, d) = [1.0_wp - t, t]
     end do
     sum_g = 0.0_wp
