@@ -338,12 +338,14 @@ module remap_euler
     !> gu(3, 3, nnode) (gu(:, i, n) that of component i) about the point
     !> xdual(3, nnode); and per corner of a moved cell its subcell's volume
     !> and first moment weighted by the regions' smallest densities,
-    !> wv(8, ncell) and ws(3, 8, ncell), whose sums over a node's corners
-    !> make xdual
+    !> wv(8, :) and ws(3, 8, :), whose sums over a node's corners make xdual
+    !> (entry ic: the changed cell lchanged(ic), the arrays sized for the
+    !> changed cells, not the grid: `changed_arrays`)
     real(wp), allocatable :: gu(:, :, :), xdual(:, :), wv(:, :), ws(:, :, :)
     !> per corner of a moved pure cell that is not tangled: its subcell's
-    !> volume and first moment about the cell's centre, sub(4, 8, ncell)
-    !> (`subcell_shifts`; what the swept-face path keeps of the old cell)
+    !> volume and first moment about the cell's centre, sub(4, 8, :), entry
+    !> ic as wv's (`subcell_shifts`; what the swept-face path keeps of the
+    !> old cell)
     real(wp), allocatable :: sub(:, :, :)
     !> cells whose subcells cannot carry their own velocity (tangled, or not
     !> covered by the new grid): their fragments carry only the mean velocity,
@@ -1141,11 +1143,9 @@ contains
     keep = allocated(old%ucell)
     if (keep) keep = size(old%ucell, 2) == ncell .and. size(old%gu, 3) == nnode
     if (.not. keep) then
-      if (allocated(old%ucell)) deallocate(old%ucell, old%kcell, old%uref, old%ushift, old%kshift, old%gu, old%xdual, &
-                                           old%wv, old%ws, old%sub)
+      if (allocated(old%ucell)) deallocate(old%ucell, old%kcell, old%uref, old%ushift, old%kshift, old%gu, old%xdual)
       allocate(old%ucell(3, ncell), old%kcell(ncell), old%uref(3, ncell), old%ushift(3, ncell), old%kshift(ncell), &
-               old%gu(3, 3, nnode), old%xdual(3, nnode), old%wv(8, ncell), old%ws(3, 8, ncell), old%sub(4, 8, ncell), &
-               stat=stat)
+               old%gu(3, 3, nnode), old%xdual(3, nnode), stat=stat)
       if (stat /= 0) return
     end if
     keep = allocated(old%wreg)
@@ -1160,6 +1160,22 @@ contains
              old%skm(3, 8, nslot), old%sov(48, nslot), old%som(3, 48, nslot), old%so(3, nslot), old%sout(nslot), &
              stat=stat)
   end subroutine old_arrays
+
+  !> The changed cells' arrays of old (wv, ws, sub) for n changed cells:
+  !> kept where they hold n entries, else allocated for twice n (so that a
+  !> region the shock grows does not reallocate them at every Euler step;
+  !> stat: the allocation's).
+  subroutine changed_arrays(old, n, stat)
+    type(old_t), intent(inout) :: old
+    integer, intent(in) :: n
+    integer, intent(out) :: stat
+    stat = 0
+    if (allocated(old%sub)) then
+      if (size(old%sub, 3) >= n) return
+      deallocate(old%wv, old%ws, old%sub)
+    end if
+    allocate(old%wv(8, 2*n), old%ws(3, 8, 2*n), old%sub(4, 8, 2*n), stat=stat)
+  end subroutine changed_arrays
 
   !> The cells of g with a node that moves from g%x to xnew (marked in
   !> changed, all false on entry, and their list in increasing order): each
@@ -1428,6 +1444,11 @@ contains
     else
       call moved_cells(g, xnew, old%changed, old%lchanged, err)
       if (allocated(err)) return
+    end if
+    call changed_arrays(old, size(old%lchanged), stat)
+    if (stat /= 0) then
+      call error_set(err, 'remap_euler', error_no_memory('the changed cells'' subcells'))
+      return
     end if
     ! the cells read
     nf = 0
@@ -1931,9 +1952,9 @@ contains
       msub = 0.0_wp
       ! (set whole below for a pure cell that is not tangled)
       if (s0 /= 0 .or. old%uniform(c)) then
-        old%wv(:, c) = 0.0_wp
-        old%ws(:, :, c) = 0.0_wp
-        old%sub(:, :, c) = 0.0_wp
+        old%wv(:, ic) = 0.0_wp
+        old%ws(:, :, ic) = 0.0_wp
+        old%sub(:, :, ic) = 0.0_wp
       end if
       if (s0 == 0 .and. .not. old%uniform(c)) then
         ! (a pure cell's subcells whole: their mass and weights below;
@@ -1947,7 +1968,7 @@ contains
           sub(2:4, half_corner(i)) = sub(2:4, half_corner(i)) + &
             0.25_wp*v*(pts(:, 1) + pts(:, half_hv(2, i)) + pts(:, half_hv(3, i)) + pts(:, half_hv(4, i)))
         end do
-        call copy_values(32, sub, old%sub(1, 1, c))
+        call copy_values(32, sub, old%sub(1, 1, ic))
       end if
       do i = 1, 48
         if (old%uniform(c) .or. s0 == 0) exit
@@ -1960,13 +1981,13 @@ contains
           call region_piece(t, pn(:, 1:nm), pd(1:nm), v, m)
           if (.not. v > 0.0_wp) cycle
           msub(half_corner(i)) = msub(half_corner(i)) + region_mass(g%ncell + s, v, m, o)
-          old%wv(half_corner(i), c) = old%wv(half_corner(i), c) + old%wreg(g%ncell + s)*v
-          old%ws(:, half_corner(i), c) = old%ws(:, half_corner(i), c) + old%wreg(g%ncell + s)*(m + o*v)
+          old%wv(half_corner(i), ic) = old%wv(half_corner(i), ic) + old%wreg(g%ncell + s)*v
+          old%ws(:, half_corner(i), ic) = old%ws(:, half_corner(i), ic) + old%wreg(g%ncell + s)*(m + o*v)
         end do
       end do
       if (old%uniform(c)) then
-        old%wv(:, c) = 0.0_wp
-        old%ws(:, :, c) = 0.0_wp
+        old%wv(:, ic) = 0.0_wp
+        old%ws(:, :, ic) = 0.0_wp
         cycle
       end if
       if (s0 == 0) then
@@ -1975,8 +1996,8 @@ contains
           v = sub(1, j)
           m = sub(2:4, j)
           msub(j) = region_mass(c, v, m, o)
-          old%wv(j, c) = old%wreg(c)*v
-          old%ws(:, j, c) = old%wreg(c)*(m + o*v)
+          old%wv(j, ic) = old%wreg(c)*v
+          old%ws(:, j, ic) = old%wreg(c)*(m + o*v)
         end do
       end if
       mc = sum(h%mcorner(:, c))
@@ -2071,9 +2092,9 @@ contains
       c = old%lchanged(ic)
       n = g%node0(c)
       do a = 1, 8
-        wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, c)
+        wsum(n + g%corner_offset(a)) = wsum(n + g%corner_offset(a)) + old%wv(a, ic)
         ! (dst = dst + src by `add_values`)
-        call add_values(3, old%ws(1, a, c), old%xdual(1, n + g%corner_offset(a)))
+        call add_values(3, old%ws(1, a, ic), old%xdual(1, n + g%corner_offset(a)))
       end do
     end do
     ! (a changed node's gradient reads the nodes next to it: the near
@@ -2995,7 +3016,7 @@ contains
       ! the subcell at the corner of the cell across the face in direction d
       real(wp) :: sv(max_mat, 8), sm(3, max_mat, 8), v, m(3), tp(3, 3), tn(3, 3), acc(4, 7, 8), oc(3), &
                   tv(72), tm(72, 3), vs(max_mat), ms(3, max_mat)
-      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6)
+      integer :: i, j, t, f, ia, ib, nbr(6), nx(3), s0c, s1c, s0, s1, s, d, slot, slot_in(6), irc, ink(8), k, irf(6), jc
       logical :: pure, pure_nbr(6), done_k(8), shared, fresh
       real(wp) :: ubk(3, 8), kembk(8), wbk(8)
 
@@ -3014,10 +3035,12 @@ contains
       end if
       if (pure) then
         ! (their volumes and moments about the old centre oc, `subcell_shifts`)
+        ! (the changed cell's entry: its place in lchanged, `swept_low_faces`)
         oc = opts(:, 1)
+        jc = old%fslot(c)
         do j = 1, 8
-          acc(1, 1, j) = old%sub(1, j, c)
-          acc(2:4, 1, j) = old%sub(2:4, j, c) + old%sub(1, j, c)*oc
+          acc(1, 1, j) = old%sub(1, j, jc)
+          acc(2:4, 1, j) = old%sub(2:4, j, jc) + old%sub(1, j, jc)*oc
         end do
       end if
       if (.not. pure) then
