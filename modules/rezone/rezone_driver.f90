@@ -59,6 +59,13 @@ module rezone_driver
     !> rather than again (`lssm_rezone`)
     logical, allocatable :: shape_fail(:)
     integer :: shape_step = -1, shape_box(3, 2) = 0
+    !> the last look's measures of each owned cell, (side ratio, cosine)
+    !> in shape_keep(2, ncell), and the block's node positions then
+    !> (shape_x): a cell none of whose nodes moved since is not measured
+    !> again (the same numbers, so the same answers), so a look costs what
+    !> the moving cells do (a blast's still air is most of the grid until
+    !> its shock arrives)
+    real(wp), allocatable :: shape_keep(:, :), shape_x(:, :)
     !> the smoothers' mobility of the nodes (`lssm_rezone`), kept for the
     !> grid whose stored cells (whole-grid numbers, first and last) are mob_box
     type(smooth_mobility_t) :: mob
@@ -224,8 +231,32 @@ contains
     type(grid_t), intent(in) :: g
     integer, intent(in) :: step
     type(rezone_state_t), intent(inout) :: rs
-    integer :: stat
+    logical, allocatable :: moved(:)
+    integer :: stat, n
     rs%shape_step = -1
+    ! the nodes moved since the last look (all at the first, or on a grid
+    ! of another size), and their places now
+    stat = 0
+    if (allocated(rs%shape_x)) then
+      if (size(rs%shape_x, 2) /= g%nnode .or. size(rs%shape_keep, 2) /= g%ncell) deallocate(rs%shape_x, rs%shape_keep)
+    end if
+    allocate(moved(g%nnode), stat=stat)
+    if (stat == 0 .and. .not. allocated(rs%shape_x)) then
+      allocate(rs%shape_x(3, g%nnode), rs%shape_keep(2, g%ncell), stat=stat)
+      if (stat == 0) rs%shape_x = huge(1.0_wp)
+    end if
+    if (stat /= 0) then
+      ! (no memory for the last look: every cell is measured)
+      if (allocated(rs%shape_x)) deallocate(rs%shape_x, rs%shape_keep)
+      if (.not. allocated(moved)) allocate(moved(0), stat=stat)
+    else
+      !$omp parallel do default(none) shared(g, rs, moved) private(n) schedule(static)
+      do n = 1, g%nnode
+        moved(n) = any(.not. abs(g%x(:, n) - rs%shape_x(:, n)) <= 0.0_wp)
+        if (moved(n)) rs%shape_x(:, n) = g%x(:, n)
+      end do
+      !$omp end parallel do
+    end if
     if (rezone_axis(rz)) then
       if (allocated(rs%shape_fail)) then
         if (size(rs%shape_fail) /= g%ncell) deallocate(rs%shape_fail)
@@ -233,23 +264,24 @@ contains
       stat = 0
       if (.not. allocated(rs%shape_fail)) allocate(rs%shape_fail(g%ncell), stat=stat)
       if (stat == 0) then
-        if (allocated(rs%ratio0)) then
-          call grid_shape_worst(g, .true., rs%shape_mine, rs%shape_first, [rz%side_ratio, rz%cos_angle], &
-                                rs%shape_fail, rs%ratio0)
-        else
-          call grid_shape_worst(g, .true., rs%shape_mine, rs%shape_first, [rz%side_ratio, rz%cos_angle], &
-                                rs%shape_fail)
-        end if
+        call look([rz%side_ratio, rz%cos_angle])
         rs%shape_step = step
         rs%shape_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
         return
       end if
     end if
-    if (allocated(rs%ratio0)) then
-      call grid_shape_worst(g, rezone_axis(rz), rs%shape_mine, rs%shape_first, ratio0=rs%ratio0)
-    else
-      call grid_shape_worst(g, rezone_axis(rz), rs%shape_mine, rs%shape_first)
-    end if
+    call look()
+
+  contains
+
+    !> grid_shape_worst with what is set of ratio0, the kept look and (with
+    !> bounds) the fail flags (an array not allocated is an argument not
+    !> present).
+    subroutine look(bounds)
+      real(wp), intent(in), optional :: bounds(2)
+      call grid_shape_worst(g, rezone_axis(rz), rs%shape_mine, rs%shape_first, bounds, rs%shape_fail, rs%ratio0, &
+                            rs%shape_keep, moved)
+    end subroutine look
   end subroutine rezone_shape
 
   !> Whether rs%shape_fail holds the shape tests of grid g at step.

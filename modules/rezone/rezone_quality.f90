@@ -506,8 +506,12 @@ contains
   !> threads' are combined by value, then by the lower number, so the result
   !> does not depend on the threads. With ratio0 (each cell's side ratio
   !> on the standard grid, `standard_side_ratio`) a cell's side ratio is
-  !> measured against it: r / ratio0(c).
-  subroutine grid_shape_worst(g, axis, worst, first, bounds, fail, ratio0)
+  !> measured against it: r / ratio0(c). With keep (2, ncell) and moved
+  !> (nnode): keep holds each owned cell's (r, cs) of an earlier look, and
+  !> moved flags the nodes that moved since; a cell with no moved node
+  !> takes its kept pair (the same numbers it would measure), the others
+  !> are measured and their pair kept.
+  subroutine grid_shape_worst(g, axis, worst, first, bounds, fail, ratio0, keep, moved)
     type(grid_t), intent(in) :: g
     logical, intent(in) :: axis
     real(wp), intent(out) :: worst(2), first(2)
@@ -517,9 +521,11 @@ contains
     real(wp), intent(in), optional :: bounds(2)
     logical, intent(inout), optional :: fail(:)
     real(wp), intent(in), optional :: ratio0(:)
+    real(wp), intent(inout), optional :: keep(:, :)
+    logical, intent(in), optional :: moved(:)
     real(wp) :: xn(3, 8), r, cs, ratio_max, cos_min, fr, fc, rt, ct, frt, fct, bnd(2)
-    integer :: i, j, k, c
-    logical :: flags, relative
+    integer :: i, j, k, c, a, n0
+    logical :: flags, relative, kept, stale
     ratio_max = -huge(1.0_wp)
     cos_min = huge(1.0_wp)
     fr = huge(1.0_wp)
@@ -528,8 +534,9 @@ contains
     bnd = 0.0_wp
     if (flags) bnd = bounds
     relative = present(ratio0)
-    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc, flags, bnd, fail, relative, ratio0) &
-    !$omp private(i, j, k, c, xn, r, cs, rt, ct, frt, fct)
+    kept = present(keep) .and. present(moved)
+    !$omp parallel default(none) shared(g, axis, ratio_max, cos_min, fr, fc, flags, bnd, fail, relative, ratio0, kept, &
+    !$omp keep, moved) private(i, j, k, c, xn, r, cs, rt, ct, frt, fct, a, n0, stale)
     rt = -huge(1.0_wp)
     ct = huge(1.0_wp)
     frt = huge(1.0_wp)
@@ -539,9 +546,23 @@ contains
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
           c = g%cell(i, j, k)
-          call g%gather(c, g%x, xn)
-          call hex_shape(xn, r, cs, axis)
-          if (relative) r = r/ratio0(c)
+          stale = .true.
+          if (kept) then
+            n0 = g%node0(c)
+            stale = .false.
+            do a = 1, 8
+              stale = stale .or. moved(n0 + g%corner_offset(a))
+            end do
+          end if
+          if (stale) then
+            call g%gather(c, g%x, xn)
+            call hex_shape(xn, r, cs, axis)
+            if (relative) r = r/ratio0(c)
+            if (kept) keep(:, c) = [r, cs]
+          else
+            r = keep(1, c)
+            cs = keep(2, c)
+          end if
           if (flags) fail(c) = shape_fails(r, cs, bnd(1), bnd(2))
           if (r > rt) then
             rt = r
