@@ -638,8 +638,8 @@ contains
   !> noise with the separable kernel k1 k2 k3 (`kernel_1d`): the noise is
   !> drawn in the one fixed order over the whole grid (each rank draws the
   !> whole stream and keeps what its nodes read), convolved along x as each
-  !> plane is drawn (X, on the rows the later passes read), then along y
-  !> (Y) and z (field%values). clipped: 0 (the kernel's spectrum is
+  !> plane is drawn (xs, on the rows the later passes read), then along y
+  !> (ys) and z (field%values). clipped: 0 (the kernel's spectrum is
   !> positive).
   subroutine build_separable(field, a, b, clipped, err)
     type(random_field_t), intent(inout) :: field
