@@ -1161,20 +1161,23 @@ contains
              stat=stat)
   end subroutine old_arrays
 
-  !> The changed cells' arrays of old (wv, ws, sub) for n changed cells:
-  !> kept where they hold n entries, else allocated for twice n (so that a
-  !> region the shock grows does not reallocate them at every Euler step;
-  !> stat: the allocation's).
-  subroutine changed_arrays(old, n, stat)
+  !> The changed cells' arrays of old (wv, ws, sub) for n changed cells of
+  !> a grid of ncell: kept where they hold n entries, else allocated for
+  !> twice n, at most ncell (so that a region the shock grows does not
+  !> reallocate them at every Euler step, and a grid whose every cell
+  !> changes holds them once; stat: the allocation's).
+  subroutine changed_arrays(old, n, ncell, stat)
     type(old_t), intent(inout) :: old
-    integer, intent(in) :: n
+    integer, intent(in) :: n, ncell
     integer, intent(out) :: stat
+    integer :: m
     stat = 0
     if (allocated(old%sub)) then
       if (size(old%sub, 3) >= n) return
       deallocate(old%wv, old%ws, old%sub)
     end if
-    allocate(old%wv(8, 2*n), old%ws(3, 8, 2*n), old%sub(4, 8, 2*n), stat=stat)
+    m = max(n, min(2*n, ncell))
+    allocate(old%wv(8, m), old%ws(3, 8, m), old%sub(4, 8, m), stat=stat)
   end subroutine changed_arrays
 
   !> The cells of g with a node that moves from g%x to xnew (marked in
@@ -1445,7 +1448,7 @@ contains
       call moved_cells(g, xnew, old%changed, old%lchanged, err)
       if (allocated(err)) return
     end if
-    call changed_arrays(old, size(old%lchanged), stat)
+    call changed_arrays(old, size(old%lchanged), ncell, stat)
     if (stat /= 0) then
       call error_set(err, 'remap_euler', error_no_memory('the changed cells'' subcells'))
       return
