@@ -34,6 +34,10 @@ module hydro_state
     real(wp) :: q_linear = 0.5_wp     !< linear viscosity coefficient
     real(wp) :: q_quad = 1.5_wp       !< quadratic viscosity coefficient
     real(wp) :: hourglass = 0.1_wp    !< Flanagan-Belytschko viscous hourglass coefficient
+    !> a node whose new velocity is below this fraction of the grid's
+    !> fastest at the step's start, in every component, is at rest
+    !> (`lagrange_step`); 0: none
+    real(wp) :: velocity_cutoff = 1.0e-14_wp
     real(wp) :: cfl = 0.5_wp          !< Courant number
     real(wp) :: dv_max = 0.1_wp       !< largest relative volume change per step (of a cell, and of a material in a mixed cell)
     !> below this volume fraction a material's volume change is measured
@@ -96,12 +100,17 @@ module hydro_state
     real(wp), allocatable :: dvdx(:, :, :)  !< volume gradient dV/dx_a (3, 8, ncell), length^2
     !> the largest and the sum of the three median-surface areas (2, ncell), length^2
     real(wp), allocatable :: amed(:, :)
+    !> (ncell) the cell was at rest in the last step's first stage: its
+    !> nodes at their places of that step's start, every velocity zero
+    !> (`lagrange_update_cells`); its geometry, rates and sizes are then
+    !> those of these places at rest
+    logical, allocatable :: still(:)
   end type hydro_t
 
 contains
 
   !> Allocates the state for ncell cells and nnode nodes (whatever h held
-  !> before is freed first). Memory: 70 reals and an integer per cell, 13
+  !> before is freed first). Memory: 70 reals, an integer and a logical per cell, 13
   !> reals per node (about 680 bytes per cell of a large grid, most of it
   !> the corner forces and volume gradients, 192 bytes each). With
   !> step_work false, the state without the work arrays of a Lagrangian
@@ -127,17 +136,17 @@ contains
     allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), h%gain(ncell), &
              h%xn(3, nw), h%un(3, nw), h%uh(3, nw), h%en(mw), &
-             h%fc(3, 8, mw), h%grad(3, mw), h%dvdx(3, 8, mw), h%amed(2, mw), &
+             h%fc(3, 8, mw), h%grad(3, mw), h%dvdx(3, 8, mw), h%amed(2, mw), h%still(mw), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + int(ncell, i8)*storage_size(1)/8
+      bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + 2_i8*ncell*storage_size(1)/8
       call error_set(err, 'hydro_allocate', error_no_memory('the hydro state ('//itoa(ncell)//' cells, '// &
                      itoa(nnode)//' nodes: '//itoa(bytes/1048576_i8)//' MiB)'))
       return
     end if
     h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0; h%gain = 1.0_wp
     h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
-    h%dvdx = 0.0_wp; h%amed = 0.0_wp
+    h%dvdx = 0.0_wp; h%amed = 0.0_wp; h%still = .false.
   end subroutine hydro_allocate
 
   !> Eq. (16), first term: the nodal masses mnode (mass) of the grid with

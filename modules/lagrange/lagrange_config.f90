@@ -23,12 +23,12 @@ contains
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
     type(hydro_params_t) :: defaults
-    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particle_q, relax_length
+    real(wp) :: q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particle_q, relax_length, velocity_cutoff
     character(len=16) :: viscosity, particles, stress_update, particle_viscosity, particle_support
     integer :: ios
     character(len=max_line) :: msg
     namelist /hydro/ viscosity, q_linear, q_quad, hourglass, dv_max, relax, dv_vf_min, particles, stress_update, &
-                     particle_viscosity, particle_support, particle_q, relax_length
+                     particle_viscosity, particle_support, particle_q, relax_length, velocity_cutoff
 
     viscosity = visc_names(defaults%viscosity)
     q_linear = defaults%q_linear; q_quad = defaults%q_quad
@@ -40,6 +40,7 @@ contains
     particle_support = merge('gimp  ', 'linear', defaults%particle_gimp)
     particle_q = defaults%particle_q
     relax_length = defaults%relax_length
+    velocity_cutoff = defaults%velocity_cutoff
     if (size(text) > 0) then
       read(text, nml=hydro, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'hydro', ios, msg)
@@ -94,10 +95,13 @@ contains
       'relax_length', relax_length, 'must be in [0, 100]')
     if (.not. (dv_vf_min > 0.0_wp .and. dv_vf_min <= 1.0_wp)) call problem_bad(problems, 'hydro', 'dv_vf_min', &
       dv_vf_min, 'must be in (0, 1]')
+    if (.not. (velocity_cutoff >= 0.0_wp .and. velocity_cutoff <= 1.0e-6_wp)) call problem_bad(problems, 'hydro', &
+      'velocity_cutoff', velocity_cutoff, 'must be in [0, 1e-6]')
     par%q_linear = q_linear; par%q_quad = q_quad
     par%hourglass = hourglass; par%dv_max = dv_max; par%relax = relax; par%dv_vf_min = dv_vf_min
     par%particle_q = particle_q
     par%relax_length = relax_length
+    par%velocity_cutoff = velocity_cutoff
     if (echo /= no_echo) write(echo, nml=hydro)
   end subroutine hydro_config_read
 end module lagrange_config

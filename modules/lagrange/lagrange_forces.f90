@@ -334,11 +334,17 @@ contains
         xn(:, e) = x(:, n0 + g%corner_offset(e))
         vn(:, e) = v(:, n0 + g%corner_offset(e))
       end do
-      ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
-      call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
-      call hex_median_areas(xn, s)
-      call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
-      h%amed(:, c) = lagrange_area_sizes(area)
+      if (at_rest(g, h, n0, xn, vn, c)) then
+        ! (geometry, rates and sizes as the last step left them: at these
+        ! places at rest, `at_rest`; what the calls below give again)
+        dumax = 0.0_wp
+      else
+        ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
+        call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
+        call hex_median_areas(xn, s)
+        call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
+        h%amed(:, c) = lagrange_area_sizes(area)
+      end if
       amax = h%amed(1, c)
       div = 0.0_wp
       do d = 1, 3
@@ -379,6 +385,29 @@ contains
     !$omp end parallel
     if (present(dt_cell)) dt_cell = c_min
   end subroutine lagrange_strain_rates
+
+  !> Whether cell c (its first node n0, its nodes' places xn and velocities
+  !> vn) is at rest where the last step left it: h%still (at rest in that
+  !> step's first stage, at the places it began with), and every node still
+  !> there (h%xn, that step's start) and at rest. Its geometry (h%dvdx,
+  !> h%amed, h%vol) and rates (h%grad) are then those of these places and
+  !> velocities: every stage since took them at the same places with zero
+  !> velocities, or kept them so (zero rates may differ in the sign of a
+  !> zero, which no test reads).
+  logical function at_rest(g, h, n0, xn, vn, c)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    integer, intent(in) :: n0, c
+    real(wp), intent(in) :: xn(3, 8), vn(3, 8)
+    integer :: a
+    at_rest = h%still(c)
+    if (.not. at_rest) return
+    at_rest = .not. maxval(abs(vn)) > 0.0_wp
+    if (.not. at_rest) return
+    do a = 1, 8
+      if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) at_rest = .false.
+    end do
+  end function at_rest
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
@@ -451,6 +480,13 @@ contains
       b = h%dvdx(:, :, c)
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
+      if (.not. maxval(abs(vn)) > 0.0_wp) then
+        ! (a cell at rest: no viscosity, no hourglass mode; what the terms
+        ! below give with vn = 0, without their cost)
+        h%q(c) = 0.0_wp
+        h%fc(:, :, c) = f
+        cycle
+      end if
 
       ! artificial viscosity with limiter (the median-surface area vectors,
       ! a few dozen flops, are computed where a viscosity needs them: kept

@@ -90,7 +90,7 @@ contains
     class(nodal_part_t), intent(inout), optional, target :: nodal
     real(wp), intent(out), optional :: work_nodal, work_cells
     class(halo_t), intent(inout), optional :: halo
-    real(wp) :: dt_stable, w_pred
+    real(wp) :: dt_stable, w_pred, ucut, none(0)
     integer :: dtc
     ! (wacc: the boundary work; acc: the contributor's nodal work, 1, and
     ! its cells', 2)
@@ -107,6 +107,14 @@ contains
     dt = min(dt, dt_stable)
     call save_step_start(g, h)
     call mixed_save_step_start(mx, h%vol)
+    ! the speed below which a node is at rest: par%velocity_cutoff of the
+    ! grid's fastest node (a maximum: the same on any rank or thread count)
+    ucut = 0.0_wp
+    if (par%velocity_cutoff > 0.0_wp) then
+      ucut = -par%velocity_cutoff*max_speed(g, h)
+      if (present(halo)) call halo%choose(ucut, none)
+      ucut = -ucut
+    end if
     scaled = .false.
     vscale => null()
     if (present(nodal)) then
@@ -174,10 +182,10 @@ contains
       logical, intent(in) :: last
       real(wp), intent(out) :: w
       if (present(nodal)) then
-        call update_nodes(g, h, dt, dtx, last, fn, mn)
+        call update_nodes(g, h, dt, dtx, last, ucut, fn, mn)
         call bc_apply(bc, dt, dtx, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w, mn, wacc(1))
       else
-        call update_nodes(g, h, dt, dtx, last)
+        call update_nodes(g, h, dt, dtx, last, ucut)
         call bc_apply(bc, dt, dtx, h%mnode, h%un, h%xn, h%u, h%uh, g%x, w, work_acc=wacc(1))
       end if
     end subroutine advance_nodes
@@ -300,33 +308,36 @@ contains
 
   !> Gathers the corner forces at each node and advances it (Eqs. 20-22):
   !> u = u^n + dt F/m, uh = (u^n + u)/2, x = x^n + dtx uh; with a nodal
-  !> contributor's force f_add and mass m_add (both or neither).
-  subroutine update_nodes(g, h, dt, dtx, last, f_add, m_add)
+  !> contributor's force f_add and mass m_add (both or neither). A node
+  !> whose u is below ucut in every component is at rest: u = 0.
+  subroutine update_nodes(g, h, dt, dtx, last, ucut, f_add, m_add)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
     !> the step's last stage (its positions are the step's: `move_nodes`)
     logical, intent(in) :: last
+    real(wp), intent(in) :: ucut
     real(wp), intent(in), optional :: f_add(:, :), m_add(:)
     real(wp) :: no_f(3, 0), no_m(0)
 
     ! (absent arguments as zero-size arrays: the node loop's OpenMP region
     ! cannot share an absent optional)
     if (present(f_add) .and. present(m_add)) then
-      call move_nodes(g, h, dt, dtx, last, f_add, m_add, .true.)
+      call move_nodes(g, h, dt, dtx, last, ucut, f_add, m_add, .true.)
     else
-      call move_nodes(g, h, dt, dtx, last, no_f, no_m, .false.)
+      call move_nodes(g, h, dt, dtx, last, ucut, no_f, no_m, .false.)
     end if
   end subroutine update_nodes
 
   !> The node loop of `update_nodes`: an extra nodal force f_add and mass
   !> m_add (if has_add); the switch is the same for
   !> every node, so the branches cost nothing measurable.
-  subroutine move_nodes(g, h, dt, dtx, last, f_add, m_add, has_add)
+  subroutine move_nodes(g, h, dt, dtx, last, ucut, f_add, m_add, has_add)
     type(grid_t), intent(inout) :: g
     type(hydro_t), intent(inout) :: h
     real(wp), intent(in) :: dt, dtx
     logical, intent(in) :: last
+    real(wp), intent(in) :: ucut
     real(wp), intent(in) :: f_add(:, :), m_add(:)
     logical, intent(in) :: has_add
     integer :: n, i, j, k, c0, n0
@@ -338,7 +349,7 @@ contains
     ! one writer; the nodes on the block's faces are `note_boundary_moves`',
     ! after their conditions)
     track = last .and. allocated(g%moved_rows)
-    !$omp parallel do default(none) shared(g, h, dt, dtx, f_add, m_add, has_add, track) collapse(2) &
+    !$omp parallel do default(none) shared(g, h, dt, dtx, ucut, f_add, m_add, has_add, track) collapse(2) &
     !$omp private(n, i, j, k, c0, f, m, n0) schedule(static)
     do k = g%nlo(3), g%nhi(3)
     do j = g%nlo(2), g%nhi(2)
@@ -354,6 +365,7 @@ contains
       m = h%mnode(n)
       if (has_add) m = m + m_add(n)
       h%u(:, n) = h%un(:, n) + dt*f/m
+      if (maxval(abs(h%u(:, n))) < ucut) h%u(:, n) = 0.0_wp
       h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
       g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
     end do
@@ -369,6 +381,19 @@ contains
     end do
     !$omp end parallel do
   end subroutine move_nodes
+
+  !> The largest velocity component over g's stored nodes.
+  real(wp) function max_speed(g, h) result(s)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    integer :: n
+    s = 0.0_wp
+    !$omp parallel do default(none) shared(g, h) reduction(max: s) schedule(static)
+    do n = 1, g%nnode
+      s = max(s, abs(h%u(1, n)), abs(h%u(2, n)), abs(h%u(3, n)))
+    end do
+    !$omp end parallel do
+  end function max_speed
 
   !> Notes in g%moved_rows (if tracked) the rows of the nodes on the
   !> block's faces that the step (`move_nodes`, then the face conditions of
@@ -417,7 +442,7 @@ contains
     logical, intent(in), optional :: geometry
     integer :: c, a, n0, ci, cj, ck, lo(3), hi(3)
     real(wp) :: de, xn(3, 8), vn(3, 8), s(3, 3), area(3), dumax
-    logical :: geom, forced
+    logical :: geom, forced, rest
 
     geom = .false.
     if (present(geometry)) geom = geometry
@@ -425,7 +450,7 @@ contains
     call g%cells_around(1, lo, hi)
     bad_cell = huge(1)
     !$omp parallel do default(none) shared(g, h, dte, geom, lo, hi) &
-    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, s, area, dumax, forced) &
+    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, s, area, dumax, forced, rest) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
     do ck = g%slo(3), g%shi(3)
     do cj = g%slo(2), g%shi(2)
@@ -436,6 +461,7 @@ contains
       c = c + 1
       n0 = n0 + 1
       forced = ci >= lo(1) .and. ci <= hi(1) .and. cj >= lo(2) .and. cj <= hi(2) .and. ck >= lo(3) .and. ck <= hi(3)
+      rest = .false.
       de = 0.0_wp
       do a = 1, 8
         if (forced) de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
@@ -443,17 +469,36 @@ contains
       end do
       if (forced) h%e(c) = h%en(c) + dte*de/h%mass(c)
       if (geom) then
+        ! (a cell at rest in this stage, at the places of the step's start
+        ! with zero velocities then and now, keeps the geometry, rates and
+        ! sizes `lagrange_strain_rates` took there: what the calls below
+        ! give; with the velocity cut-off most of the gas ahead of a blast)
+        rest = .true.
         do a = 1, 8
           vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
+          if (rest) rest = .not. (maxval(abs(vn(:, a))) > 0.0_wp .or. &
+                                  maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp .or. &
+                                  maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp)
         end do
-        call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
-        call hex_median_areas(xn, s)
+        h%still(c) = rest
+        if (.not. rest) then
+          call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
+          call hex_median_areas(xn, s)
+        end if
+      else if (h%still(c)) then
+        ! (the step's last stage: a cell at rest in its first, whose nodes
+        ! are back at the places the step began with, keeps its volume)
+        rest = .true.
+        do a = 1, 8
+          if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) rest = .false.
+        end do
+        if (.not. rest) h%vol(c) = hex_volume(xn)
       else
         h%vol(c) = hex_volume(xn)
       end if
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
-        if (geom) then
+        if (geom .and. .not. rest) then
           call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
           h%amed(:, c) = lagrange_area_sizes(area)
         end if
