@@ -39,7 +39,9 @@
 # size, the same cells changed in 20^3, 40^3, 60^3 and 80^3 (issue 33, 5 minutes;
 # BENCH_ONLY=flat runs only that); a TNT charge's shock in free water in the
 # 1D run alone, at three zone widths and two linear viscosities, against
-# the similitude (issue 36, a few minutes; BENCH_ONLY=water1d runs only that).
+# the similitude (issue 36, a few minutes; BENCH_ONLY=water1d runs only that);
+# the velocity cut-off's speed-up and field differences on Sedov 40^3 and the
+# TNT octant at 32^3 (a few minutes; BENCH_ONLY=cutoff runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -563,6 +565,48 @@ DECK
               }'
 }
 
+# ---- The velocity cut-off (&hydro velocity_cutoff): 1 thread ----
+# Each deck with velocity_cutoff = 0 and with the default, one after the
+# other, twice: the Lagrangian throughput of each (the better of two) and
+# their ratio, and the last frames' largest field differences (max|a-b| over
+# max|b|, tools/compare_frames.py against the run without it). Sedov 40^3 to
+# t = 0.5 (Lagrangian) and the TNT octant of the stability matrix at 32^3
+# with LSSM on the paper's triggers.
+cutoff_bench() {
+  local name cut rep
+  echo "## The velocity cut-off: velocity_cutoff = 0 against the default 1e-14 (1 thread)"
+  sed -e 's/ni = 20, nj = 20, nk = 20/ni = 40, nj = 40, nk = 40/' -e 's/t_end = 1.0/t_end = 0.5/' \
+      -e "s|^&output.*|\&output dir = 'out/cut_sedov', frame_dt = 0.5 /|" "$root/input/sedov3d.nml" > cut_sedov.nml
+  sed -e 's/ni = 16, nj = 16, nk = 16/ni = 32, nj = 32, nk = 32/' \
+      -e "s|^&output dir = 'out/tnt_sphere', frame_dt = 1.0,|\&output dir = 'out/cut_tnt', frame_dt = 12.0,|" \
+      "$root/hardcases/tnt_sphere.nml" > cut_tnt.nml
+  echo "&rezone mode = 'lssm', side_ratio = 4, cos_angle = 0.7 /" >> cut_tnt.nml
+  printf 'density 1e-10 1e-10\npressure 1e-10 1e-10\nvelocity 1e-10 1e-10\nx 1e-10 1e-10\n' > cut_tol.txt
+  for name in cut_sedov cut_tnt; do
+    sed -e "s|out/$name'|out/${name}_0'|" $name.nml > ${name}_0.nml
+    echo "&hydro velocity_cutoff = 0 /" >> ${name}_0.nml
+    for rep in 1 2; do
+      for cut in _0 ''; do
+        OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" $name$cut.nml > $name${cut}_$rep.log
+      done
+    done
+    awk -v name=$name 'FNR == 1 {f = (FILENAME ~ /_0_[12][.]log$/) ? 1 : 2}
+         /^throughput by phase:/ {if ($5 > r[f]) r[f] = $5}
+         /^timers \[s\]:/ {if (t[f] == "" || $NF < t[f]) t[f] = $NF}
+         END {printf "%s: Lagrangian %.3e cell-cycles/s without the cut-off, %.3e with it (x%.2f); total wall %.1f s " \
+                     "against %.1f s (x%.2f)\n", name, r[1], r[2], r[2] / r[1], t[1], t[2], t[1] / t[2]}' \
+      ${name}_0_1.log ${name}_0_2.log ${name}_1.log ${name}_2.log
+    cp ${name}_1.log "$outdir/bench_$name.log"
+    /usr/bin/python3 "$root/tools/compare_frames.py" "$(ls out/$name/*_000*.h5 | tail -1)" \
+      "$(ls out/${name}_0/*_000*.h5 | tail -1)" --tolerances cut_tol.txt || true
+  done
+}
+
+if [[ "${BENCH_ONLY:-}" == cutoff ]]; then
+  cutoff_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
 if [[ "${BENCH_ONLY:-}" == flat ]]; then
   flat_bench
   echo "bench wall time: ${SECONDS} s"
@@ -671,16 +715,22 @@ echo
 echo "## A remapped cell in Lagrangian cell-cycles (1 thread): Sedov octant 20^3, an Euler step every step"
 echo "## (global rezone back to the box), 40 steps, swept-face path (default) and intersection (swept_max = 0);"
 echo "## then 200 steps on the default path (about 2000 cells remapped per Euler step against 370 in the first"
-echo "## 40: the Euler steps' fixed costs, about 0.1-0.3 ms each here, spread over more cells)"
-for sm in default 0 default200; do
+echo "## 40: the Euler steps' fixed costs, about 0.1-0.3 ms each here, spread over more cells); and the first"
+echo "## and the last with &hydro velocity_cutoff = 0 (the still gas ahead of the blast, at rest with the"
+echo "## cut-off and then cheaper than moving gas, costs a moving cell's cell-cycle again; not quite: the nodes"
+echo "## exactly at rest still skip their terms)"
+for sm in default 0 default200 cut0 cut0200; do
   deck=sedov20_every_$sm.nml
   nsteps=40
   lab=$sm
   [[ $sm == default200 ]] && nsteps=200 && lab="default, 200 steps"
+  [[ $sm == cut0 ]] && lab="default, velocity_cutoff = 0"
+  [[ $sm == cut0200 ]] && nsteps=200 && lab="default, 200 steps, velocity_cutoff = 0"
   sed -e "s|^&output.*|\&output dir = 'out/sedov20_every_$sm' /|" -e "s|^&run .*|\&run title = 'Sedov 20^3, Euler every step', t_end = 1.0, max_steps = $nsteps /|" \
       -e "s|^&grid .*|\&grid ni = 20, nj = 20, nk = 20, xmin = 0, 0, 0, xmax = 1.2, 1.2, 1.2 /|" "$root/input/sedov3d.nml" > "$deck"
-  if [[ $sm == default* ]]; then
+  if [[ $sm == default* || $sm == cut0* ]]; then
     echo "&rezone mode = 'global', interval_steps = 1 /" >> "$deck"
+    [[ $sm == cut0* ]] && echo "&hydro velocity_cutoff = 0 /" >> "$deck"
   else
     echo "&rezone mode = 'global', interval_steps = 1, swept_max = $sm /" >> "$deck"
   fi
@@ -698,6 +748,9 @@ done
 
 echo
 flat_bench
+
+echo
+cutoff_bench
 
 echo
 echo "## Speed against error (1 thread): tables, CSV and PNG in $outdir"

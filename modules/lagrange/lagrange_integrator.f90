@@ -382,15 +382,21 @@ contains
     !$omp end parallel do
   end subroutine move_nodes
 
-  !> The largest velocity component over g's stored nodes.
+  !> The largest velocity component over g's owned nodes (a maximum: the
+  !> same in any order).
   real(wp) function max_speed(g, h) result(s)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
-    integer :: n
+    integer :: i, j, k, n
     s = 0.0_wp
-    !$omp parallel do default(none) shared(g, h) reduction(max: s) schedule(static)
-    do n = 1, g%nnode
-      s = max(s, abs(h%u(1, n)), abs(h%u(2, n)), abs(h%u(3, n)))
+    !$omp parallel do default(none) shared(g, h) private(i, n) reduction(max: s) collapse(2) schedule(static)
+    do k = g%nlo(3), g%nhi(3)
+      do j = g%nlo(2), g%nhi(2)
+        do i = g%nlo(1), g%nhi(1)
+          n = g%node(i, j, k)
+          s = max(s, abs(h%u(1, n)), abs(h%u(2, n)), abs(h%u(3, n)))
+        end do
+      end do
     end do
     !$omp end parallel do
   end function max_speed
