@@ -59,7 +59,8 @@ module lagrange_forces
   use hydro_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step
+  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step, &
+            lagrange_nodes_kept
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -399,15 +400,25 @@ contains
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: n0, c
     real(wp), intent(in) :: xn(3, 8), vn(3, 8)
-    integer :: a
     at_rest = h%still(c)
     if (.not. at_rest) return
     at_rest = .not. maxval(abs(vn)) > 0.0_wp
-    if (.not. at_rest) return
-    do a = 1, 8
-      if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) at_rest = .false.
-    end do
+    if (at_rest) at_rest = lagrange_nodes_kept(g, h, n0, xn)
   end function at_rest
+
+  !> Whether the eight nodes of the cell whose first node is n0, at places
+  !> xn, are where the step began (h%xn), to the last bit.
+  pure logical function lagrange_nodes_kept(g, h, n0, xn) result(kept)
+    type(grid_t), intent(in) :: g
+    type(hydro_t), intent(in) :: h
+    integer, intent(in) :: n0
+    real(wp), intent(in) :: xn(3, 8)
+    integer :: a
+    kept = .true.
+    do a = 1, 8
+      if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) kept = .false.
+    end do
+  end function lagrange_nodes_kept
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,

@@ -19,7 +19,8 @@ module lagrange_integrator
   use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use hydro_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, &
+                             lagrange_nodes_kept
   use lagrange_nodal, only: nodal_part_t
   implicit none
   private
@@ -483,9 +484,9 @@ contains
         do a = 1, 8
           vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
           if (rest) rest = .not. (maxval(abs(vn(:, a))) > 0.0_wp .or. &
-                                  maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp .or. &
-                                  maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp)
+                                  maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp)
         end do
+        if (rest) rest = lagrange_nodes_kept(g, h, n0, xn)
         h%still(c) = rest
         if (.not. rest) then
           call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
@@ -494,10 +495,7 @@ contains
       else if (h%still(c)) then
         ! (the step's last stage: a cell at rest in its first, whose nodes
         ! are back at the places the step began with, keeps its volume)
-        rest = .true.
-        do a = 1, 8
-          if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) rest = .false.
-        end do
+        rest = lagrange_nodes_kept(g, h, n0, xn)
         if (.not. rest) h%vol(c) = hex_volume(xn)
       else
         h%vol(c) = hex_volume(xn)
