@@ -59,8 +59,7 @@ module lagrange_forces
   use hydro_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step, &
-            lagrange_nodes_kept
+  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -345,6 +344,9 @@ contains
         call hex_median_areas(xn, s)
         call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
         h%amed(:, c) = lagrange_area_sizes(area)
+        ! (these are no longer the step start's: `lagrange_update_cells`
+        ! says again whether the cell is at rest)
+        h%still(c) = .false.
       end if
       amax = h%amed(1, c)
       div = 0.0_wp
@@ -389,36 +391,25 @@ contains
 
   !> Whether cell c (its first node n0, its nodes' places xn and velocities
   !> vn) is at rest where the last step left it: h%still (at rest in that
-  !> step's first stage, at the places it began with), and every node still
-  !> there (h%xn, that step's start) and at rest. Its geometry (h%dvdx,
-  !> h%amed, h%vol) and rates (h%grad) are then those of these places and
-  !> velocities: every stage since took them at the same places with zero
-  !> velocities, or kept them so (zero rates may differ in the sign of a
-  !> zero, which no test reads).
-  logical function at_rest(g, h, n0, xn, vn, c)
+  !> step's first stage, at the places it began with: h's geometry, rates
+  !> and sizes are those of h%xn at rest), and every node still there and
+  !> at rest. Its geometry (h%dvdx, h%amed, h%vol) and rates (h%grad) are
+  !> then those of these places and velocities (zero rates may differ in
+  !> the sign of a zero, which no test reads). (The places are compared:
+  !> an Euler step may have moved them since.)
+  pure logical function at_rest(g, h, n0, xn, vn, c)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: n0, c
     real(wp), intent(in) :: xn(3, 8), vn(3, 8)
+    integer :: a
     at_rest = h%still(c)
     if (.not. at_rest) return
     at_rest = .not. maxval(abs(vn)) > 0.0_wp
-    if (at_rest) at_rest = lagrange_nodes_kept(g, h, n0, xn)
-  end function at_rest
-
-  !> Whether the eight nodes of the cell whose first node is n0, at places
-  !> xn, are where the step began (h%xn), to the last bit.
-  pure logical function lagrange_nodes_kept(g, h, n0, xn) result(kept)
-    type(grid_t), intent(in) :: g
-    type(hydro_t), intent(in) :: h
-    integer, intent(in) :: n0
-    real(wp), intent(in) :: xn(3, 8)
-    integer :: a
-    kept = .true.
     do a = 1, 8
-      if (maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp) kept = .false.
+      if (at_rest) at_rest = .not. maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp
     end do
-  end function lagrange_nodes_kept
+  end function at_rest
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,

@@ -19,8 +19,7 @@ module lagrange_integrator
   use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use hydro_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, &
-                             lagrange_nodes_kept
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
   use lagrange_nodal, only: nodal_part_t
   implicit none
   private
@@ -471,32 +470,38 @@ contains
       rest = .false.
       de = 0.0_wp
       do a = 1, 8
-        if (forced) de = de - dot_product(h%fc(:, a, c), h%uh(:, n0 + g%corner_offset(a)))
+        vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
         xn(:, a) = g%x(:, n0 + g%corner_offset(a))
       end do
-      if (forced) h%e(c) = h%en(c) + dte*de/h%mass(c)
-      if (geom) then
-        ! (a cell at rest in this stage, at the places of the step's start
-        ! with zero velocities then and now, keeps the geometry, rates and
-        ! sizes `lagrange_strain_rates` took there: what the calls below
-        ! give; with the velocity cut-off most of the gas ahead of a blast)
-        rest = .true.
+      ! (nodes at rest do no work: de stays 0, as the products would leave
+      ! it, without reading the corner forces)
+      if (forced .and. maxval(abs(vn)) > 0.0_wp) then
         do a = 1, 8
-          vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
-          if (rest) rest = .not. (maxval(abs(vn(:, a))) > 0.0_wp .or. &
-                                  maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp)
+          de = de - dot_product(h%fc(:, a, c), vn(:, a))
         end do
-        if (rest) rest = lagrange_nodes_kept(g, h, n0, xn)
+      end if
+      if (forced) h%e(c) = h%en(c) + dte*de/h%mass(c)
+      ! (within a step every node is at x^n + dtx uh, `move_nodes` and
+      ! `bc_apply`: with uh = 0 at its eight nodes a cell is where the step
+      ! began)
+      if (geom) then
+        ! (a cell at rest in this stage, with zero velocities at the step's
+        ! start too, keeps the geometry, rates and sizes
+        ! `lagrange_strain_rates` took at these places: what the calls below
+        ! give; with the velocity cut-off most of the gas ahead of a blast)
+        rest = .not. maxval(abs(vn)) > 0.0_wp
+        do a = 1, 8
+          if (rest) rest = .not. maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp
+        end do
         h%still(c) = rest
         if (.not. rest) then
           call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
           call hex_median_areas(xn, s)
         end if
-      else if (h%still(c)) then
-        ! (the step's last stage: a cell at rest in its first, whose nodes
-        ! are back at the places the step began with, keeps its volume)
-        rest = lagrange_nodes_kept(g, h, n0, xn)
-        if (.not. rest) h%vol(c) = hex_volume(xn)
+      else if (h%still(c) .and. .not. maxval(abs(vn)) > 0.0_wp) then
+        ! (the step's last stage: a cell at rest in its first and now, where
+        ! the step began, keeps its volume)
+        continue
       else
         h%vol(c) = hex_volume(xn)
       end if
