@@ -60,6 +60,7 @@ module driver_scene_config
     real(wp) :: center(3) = huge(1.0_wp)            !< the centre (length; default: the sphere regions')
     real(wp) :: radius = 0.0_wp                     !< the 1D domain's radius (0: the grid box's farthest corner)
     real(wp) :: zone_width = 0.0_wp                 !< 1D zone width (0: the smallest sphere radius / 100)
+    real(wp) :: far_zone_width = 0.0_wp             !< widest 1D zone beyond the outermost sphere (0: 10 zone_width)
     real(wp) :: map_radius = 0.0_wp                 !< mapped within (0: the shock's radius + 2 cells)
     integer :: subsamples = 8                       !< sub-boxes per cell edge for the overlaps
     real(wp) :: cfl = 0.5_wp                        !< the 1D run's Courant number
@@ -284,12 +285,13 @@ contains
     character(len=*), intent(in) :: text(:), deck_file
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    real(wp) :: time, center(3), radius, zone_width, map_radius, cfl, q_linear, q_quad
+    real(wp) :: time, center(3), radius, zone_width, far_zone_width, map_radius, cfl, q_linear, q_quad
     integer :: subsamples, ios
     character(len=max_line) :: msg
-    namelist /prerun/ time, center, radius, zone_width, map_radius, subsamples, cfl, q_linear, q_quad
+    namelist /prerun/ time, center, radius, zone_width, far_zone_width, map_radius, subsamples, cfl, q_linear, q_quad
 
     time = this%time; center = this%center; radius = this%radius; zone_width = this%zone_width
+    far_zone_width = this%far_zone_width
     map_radius = this%map_radius; subsamples = this%subsamples; cfl = this%cfl
     q_linear = this%q_linear; q_quad = this%q_quad
     read(text, nml=prerun, iostat=ios, iomsg=msg)
@@ -301,6 +303,7 @@ contains
       call problem_bad(problems, 'prerun', 'time', time, 'must be > 0 (when the 1D run is mapped into the grid)')
     if (radius < 0.0_wp) call problem_bad(problems, 'prerun', 'radius', radius, 'must be >= 0')
     if (zone_width < 0.0_wp) call problem_bad(problems, 'prerun', 'zone_width', zone_width, 'must be >= 0')
+    if (far_zone_width < 0.0_wp) call problem_bad(problems, 'prerun', 'far_zone_width', far_zone_width, 'must be >= 0')
     if (map_radius < 0.0_wp) call problem_bad(problems, 'prerun', 'map_radius', map_radius, 'must be >= 0')
     if (subsamples < 1 .or. subsamples > 64) call problem_add(problems, '&prerun: subsamples = '//itoa(subsamples)// &
                                                               ' must be 1..64')
@@ -309,7 +312,8 @@ contains
       call problem_bad(problems, 'prerun', 'q_linear', q_linear, 'must be in [0, 10]')
     if (.not. (q_quad > 0.0_wp .and. q_quad <= 10.0_wp)) &
       call problem_bad(problems, 'prerun', 'q_quad', q_quad, 'must be in (0, 10]')
-    this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, map_radius=map_radius, &
+    this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, &
+                           far_zone_width=far_zone_width, map_radius=map_radius, &
                            subsamples=subsamples, cfl=cfl, q_linear=q_linear, q_quad=q_quad)
     if (echo /= no_echo) write(echo, nml=prerun)
   end subroutine prerun_config_read

@@ -3,6 +3,7 @@
 
     check_prerun.py conservation OUT/NAME [DENSITY_L1]
     check_prerun.py continued PROFILE_1D OUT_COARSE/NAME OUT_FINE/NAME
+    check_prerun.py zones PROFILE_1D SPHERE_RADIUS FAR_ZONE_WIDTH
 
 conservation: from the run's log, the mapping gave the cells the 1D run's
 mass, total energy and radial momentum within the mapped radius (times the
@@ -26,6 +27,12 @@ the profile's departure from ambient, over the grid. A captured shock in 3D
 at 5 and 2.5 mm cells against a 1D run at 0.05 mm zones: measured 0.99 and
 0.45; the test asks for first-order convergence (fine <= 0.6 coarse) and
 coarse <= 1.2.
+
+zones: the 1D zones beyond the outermost sphere that the run has not
+disturbed (pressure at its initial value: they have their initial widths)
+never get wider as they go out, are at most FAR_ZONE_WIDTH wide (to 1e-9),
+and the outermost is at least 0.9 of it (the cap reached: uniform zones of
+about that width, each of (radius - r_cap)/n).
 """
 import glob
 import re
@@ -119,9 +126,28 @@ def continued(path_1d, coarse, fine):
     return bad
 
 
+def zones(path_1d, sphere, far):
+    d = np.genfromtxt(path_1d, usecols=range(8))
+    p = d[:, 5]
+    quiet = np.nonzero(np.abs(p - p[-1]) > 1e-6 * abs(p[-1]))[0][-1] + 1
+    r_in, r_out = d[quiet:, 0], d[quiet:, 1]
+    keep = r_in >= float(sphere)
+    w = (r_out - r_in)[keep]
+    far = float(far)
+    print(f"{w.size} undisturbed zones beyond the sphere: widths {w.min():.4g} to {w.max():.4g}, "
+          f"outermost {w[-1]:.4g}, far_zone_width {far:g}")
+    bad = int(w.size < 10)
+    bad += int(np.any(np.diff(w) < -1e-9 * far))
+    bad += int(w.max() > far * (1 + 1e-9))
+    bad += int(w[-1] < 0.9 * far)
+    return bad
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "conservation":
         bad = conservation(sys.argv[2], *map(float, sys.argv[3:4]))
+    elif sys.argv[1] == "zones":
+        bad = zones(*sys.argv[2:5])
     else:
         bad = continued(*sys.argv[2:5])
     sys.exit(1 if bad else 0)
