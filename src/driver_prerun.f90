@@ -25,7 +25,8 @@ module driver_prerun
   use mesh_boundary, only: BC_SYMMETRY, BC_WALL
   use material_table, only: material_t, material_index_cells
   use material_mixed, only: mixed_t, mixed_allocate
-  use spherical_lagrange, only: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy
+  use spherical_lagrange, only: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy, sphere_merge, &
+                                sphere_refresh
   use spherical_map, only: sphere_box_overlaps
   use io_log, only: log_t, log_line
   use io_blast, only: blast_t, blast_answers
@@ -71,7 +72,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: bk(:), p0(:)
     real(wp) :: c(3), r1d, dz, rc, x(3), e0, ei, ek, dt, tnext, t_map, rho0, dv, v_cj, dt_row, trow, rfar, rgeo, wfar
-    integer :: k, j, n, z, nz, stat, m, tries, lastsph, ng
+    integer :: k, j, n, z, nz, stat, m, tries, lastsph, ng, nm, nmerged
     logical :: ok, burns
     character(len=200) :: msg
 
@@ -278,6 +279,7 @@ contains
       if (size(pr%grad) > 0) call gauge_row(pr)
       ! the run, with its progress in tenths of the time
       tnext = 0.1_wp*t_map
+      nmerged = 0
       do while (s%t < t_map*(1.0_wp - 1.0e-12_wp))
         dt = min(sphere_dt(s), t_map - s%t)
         if (s%steps > 0) dt = min(dt, 1.5_wp*s%dt)
@@ -292,6 +294,21 @@ contains
             return
           end if
         end do
+        ! thin hot zones merged (`sphere_merge`), the materials' cell lists
+        ! and the zones' pressures then taken again
+        if (pc%merge_ratio > 0.0_wp) then
+          call sphere_merge(s, pc%merge_ratio, p0, nm, stat)
+          if (stat /= 0) then
+            call error_set(err, 'prerun_run', error_no_memory('the 1D run''s merged zones'))
+            return
+          end if
+          if (nm > 0) then
+            nmerged = nmerged + nm
+            call material_index_cells(s%mats, s%mat, s%mx, err)
+            if (allocated(err)) return
+            call sphere_refresh(s)
+          end if
+        end if
         if (s%steps >= 50000000) then
           call error_set(err, 'prerun_run', 'the 1D run took 5e7 steps and is at t = '//rtoa(s%t)//' of '// &
                          rtoa(t_map), ERR_RUNTIME)
@@ -310,9 +327,10 @@ contains
       end do
       call sphere_energy(s, ei, ek)
       call log_line(log, 'prerun: total energy '//rtoa(4.0_wp*pi*e0)//' at t = 0, '//rtoa(4.0_wp*pi*(ei + ek))// &
-                    ' at t = '//rtoa(s%t)//' (relative change '//rtoa((ei + ek - e0)/e0)//')')
+                    ' at t = '//rtoa(s%t)//' (relative change '//rtoa((ei + ek - e0)/e0)//'); '//itoa(s%steps)// &
+                    ' steps, '//itoa(nmerged)//' zone merges ('//itoa(s%nz)//' zones left)')
       call disturbed(pr, p0)
-      if (pr%kshock >= nz - 1) then
+      if (pr%kshock >= s%nz - 1) then
         call refuse('&prerun: the 1D run''s wave reached its outer radius '//rtoa(r1d)//' by t = '//rtoa(t_map)// &
                     '; give a larger radius or map earlier')
         return

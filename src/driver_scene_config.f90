@@ -66,6 +66,7 @@ module driver_scene_config
     real(wp) :: cfl = 0.5_wp                        !< the 1D run's Courant number
     real(wp) :: q_linear = 0.1_wp                   !< the 1D run's linear viscosity coefficient
     real(wp) :: q_quad = 1.5_wp                     !< the 1D run's quadratic viscosity coefficient
+    real(wp) :: merge_ratio = 20.0_wp               !< thin zones merge (`sphere_merge`; 0: never)
   end type prerun_config_t
 
 contains
@@ -285,15 +286,16 @@ contains
     character(len=*), intent(in) :: text(:), deck_file
     integer, intent(in) :: echo
     character(len=max_line), allocatable, intent(inout) :: problems(:)
-    real(wp) :: time, center(3), radius, zone_width, far_zone_width, map_radius, cfl, q_linear, q_quad
+    real(wp) :: time, center(3), radius, zone_width, far_zone_width, map_radius, cfl, q_linear, q_quad, merge_ratio
     integer :: subsamples, ios
     character(len=max_line) :: msg
-    namelist /prerun/ time, center, radius, zone_width, far_zone_width, map_radius, subsamples, cfl, q_linear, q_quad
+    namelist /prerun/ time, center, radius, zone_width, far_zone_width, map_radius, subsamples, cfl, q_linear, q_quad, &
+                      merge_ratio
 
     time = this%time; center = this%center; radius = this%radius; zone_width = this%zone_width
     far_zone_width = this%far_zone_width
     map_radius = this%map_radius; subsamples = this%subsamples; cfl = this%cfl
-    q_linear = this%q_linear; q_quad = this%q_quad
+    q_linear = this%q_linear; q_quad = this%q_quad; merge_ratio = this%merge_ratio
     read(text, nml=prerun, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, deck_file, 'prerun', ios, msg)
@@ -312,9 +314,11 @@ contains
       call problem_bad(problems, 'prerun', 'q_linear', q_linear, 'must be in [0, 10]')
     if (.not. (q_quad > 0.0_wp .and. q_quad <= 10.0_wp)) &
       call problem_bad(problems, 'prerun', 'q_quad', q_quad, 'must be in (0, 10]')
+    if (.not. (.not. abs(merge_ratio) > 0.0_wp .or. merge_ratio >= 10.0_wp)) &
+      call problem_bad(problems, 'prerun', 'merge_ratio', merge_ratio, 'must be 0 (no merges) or >= 10')
     this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, &
                            far_zone_width=far_zone_width, map_radius=map_radius, &
-                           subsamples=subsamples, cfl=cfl, q_linear=q_linear, q_quad=q_quad)
+                           subsamples=subsamples, cfl=cfl, q_linear=q_linear, q_quad=q_quad, merge_ratio=merge_ratio)
     if (echo /= no_echo) write(echo, nml=prerun)
   end subroutine prerun_config_read
 

@@ -4,6 +4,7 @@
     check_prerun.py conservation OUT/NAME [DENSITY_L1]
     check_prerun.py continued PROFILE_1D OUT_COARSE/NAME OUT_FINE/NAME
     check_prerun.py zones PROFILE_1D SPHERE_RADIUS FAR_ZONE_WIDTH
+    check_prerun.py merge LOG_UNMERGED LOG_MERGED
 
 conservation: from the run's log, the mapping gave the cells the 1D run's
 mass, total energy and radial momentum within the mapped radius (times the
@@ -33,6 +34,15 @@ disturbed (pressure at its initial value: they have their initial widths)
 never get wider as they go out, are at most FAR_ZONE_WIDTH wide (to 1e-9),
 and the outermost is at least 0.9 of it (the cap reached: uniform zones of
 about that width, each of (radius - r_cap)/n).
+
+merge: the logs of the same 1D run without zone merges (merge_ratio = 0)
+and with them (the default): each run's total energy conserved to 1e-13
+relative (merges move the kinetic energy they take into internal energy),
+the merged run made merges and took at most a tenth of the steps (the thin
+hot shell no longer sets the step: measured 1/21.6), and at every gauge the
+arrival agrees to 1e-4 relative, the peak overpressure and the positive
+impulse to 1 % (the merges coarsen only the fireball's hot air behind the
+contact, far behind the blast front; measured 3e-6, 0.41 % and 0.01 %).
 """
 import glob
 import re
@@ -143,11 +153,40 @@ def zones(path_1d, sphere, far):
     return bad
 
 
+def prerun_log(path):
+    """(relative energy change, steps, merges, {gauge: (arrival, peak, impulse)})."""
+    text = open(path).read()
+    m = re.search(r"relative change (\S+)\); (\d+) steps, (\d+) zone merges", text)
+    gauges = {}
+    for g in re.finditer(r"prerun gauge (\d+) .*?: arrival (\S+), peak overpressure (\S+), "
+                         r"positive duration \S+, positive impulse ([0-9.Ee+-]+)", text):
+        gauges[int(g.group(1))] = tuple(float(g.group(k)) for k in (2, 3, 4))
+    return float(m.group(1)), int(m.group(2)), int(m.group(3)), gauges
+
+
+def merge(log0, log1):
+    e0, s0, n0, g0 = prerun_log(log0)
+    e1, s1, n1, g1 = prerun_log(log1)
+    print(f"unmerged: {s0} steps, {n0} merges, energy change {e0:.2e}; merged: {s1} steps, {n1} merges, "
+          f"energy change {e1:.2e}; steps ratio {s1 / s0:.4f} (<= 0.1)")
+    bad = int(abs(e0) > 1e-13) + int(abs(e1) > 1e-13) + int(n0 != 0) + int(n1 == 0) + int(s1 > 0.1 * s0)
+    bad += int(not g0 or sorted(g0) != sorted(g1))
+    for k in sorted(g0):
+        (a0, p0, i0), (a1, p1, i1) = g0[k], g1.get(k, (np.nan,) * 3)
+        da, dp, di = abs(a1 / a0 - 1), abs(p1 / p0 - 1), abs(i1 / i0 - 1)
+        print(f"gauge {k}: arrival {a0:.6g} / {a1:.6g} ({da:.1e} <= 1e-4), peak {p0:.6g} / {p1:.6g} ({dp:.2%} <= 1 %), "
+              f"impulse {i0:.6g} / {i1:.6g} ({di:.2%} <= 1 %)")
+        bad += int(not da <= 1e-4) + int(not dp <= 0.01) + int(not di <= 0.01)
+    return bad
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "conservation":
         bad = conservation(sys.argv[2], *map(float, sys.argv[3:4]))
     elif sys.argv[1] == "zones":
         bad = zones(*sys.argv[2:5])
+    elif sys.argv[1] == "merge":
+        bad = merge(*sys.argv[2:4])
     else:
         bad = continued(*sys.argv[2:5])
     sys.exit(1 if bad else 0)

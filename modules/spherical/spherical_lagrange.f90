@@ -22,13 +22,26 @@
 !>   m_z (e^{n+1} - e^n) = -dt P_z (r_z^2 ub_z - r_{z-1}^2 ub_{z-1}),
 !> so that the total energy (internal plus nodal kinetic) is conserved to
 !> round-off (the compatible discretisation of the 3D solver).
+!>
+!> Thin zones merge (`sphere_merge`): the air next to a charge's products,
+!> shocked hard in the first microseconds, stays hot and thins out as the
+!> fireball grows (its zones' width over radius 200 times below the initial
+!> zoning's by 6 ms for 1 kg TNT), and as a Lagrangian shell it sets a step
+!> a hundred times below that of every other zone. Two neighbouring zones of
+!> one material, neither an explosive, become one where the first is
+!> thinner (width over radius) than its initial zoning by more than a given
+!> ratio and expanding: the zones' masses and internal energies add, the
+!> node between them gives its mass and momentum to the merged zone's nodes
+!> (each the half of the other zone's mass it now carries) and the kinetic
+!> energy that this loses to the merged zone's internal energy, so that
+!> mass, momentum and total energy are conserved to round-off.
 module spherical_lagrange
   use base_kinds, only: wp
   use material_table, only: material_t, material_eval_eos, material_burn_start, material_burn_at
   use material_mixed, only: mixed_t
   implicit none
   private
-  public :: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy
+  public :: sphere_t, sphere_setup, sphere_dt, sphere_step, sphere_energy, sphere_merge, sphere_refresh
 
   !> The 1D state (per steradian) and its materials (a copy of the 3D run's,
   !> whose burn arrays are per zone).
@@ -37,6 +50,7 @@ module spherical_lagrange
     real(wp), allocatable :: r(:), u(:), mn(:)    !< (0:nz) node radius, velocity, mass
     real(wp), allocatable :: m(:), rho(:), e(:), p(:), cs(:), q(:)   !< (nz) zone state
     integer, allocatable :: mat(:)                !< (nz) zone material
+    real(wp), allocatable :: a0(:)                !< (nz) initial width over outer radius (`sphere_merge`)
     type(material_t), allocatable :: mats(:)
     type(mixed_t) :: mx                           !< (no mixed zones: empty)
     real(wp) :: t = 0.0_wp, dt = 0.0_wp
@@ -57,9 +71,130 @@ contains
     s%mn(0) = 0.5_wp*s%m(1)
     s%mn(1:s%nz - 1) = 0.5_wp*(s%m(1:s%nz - 1) + s%m(2:s%nz))
     s%mn(s%nz) = 0.5_wp*s%m(s%nz)
+    s%a0 = (s%r(1:s%nz) - s%r(0:s%nz - 1))/s%r(1:s%nz)
+    call sphere_refresh(s)
+  end subroutine sphere_setup
+
+  !> Pressures, sound speeds and viscosity of the zones at s%t (after a
+  !> merge: the materials' cell lists rebuilt first).
+  subroutine sphere_refresh(s)
+    type(sphere_t), intent(inout) :: s
     call eos_at(s, s%rho, s%e, s%p, s%cs, s%t, 0.0_wp)
     call viscosity(s, s%rho, s%cs, s%u, s%q)
-  end subroutine sphere_setup
+  end subroutine sphere_refresh
+
+  !> Merges each zone z (2 <= z <= nz - 2) thinner than its initial width
+  !> over radius divided by ratio, and not compressed (its volume growing),
+  !> with the next zone (or else the one before) of the same material, where
+  !> neither is an explosive (module header); each zone takes part in one
+  !> merge per call. keep: a per-zone array of the caller, the merged zone
+  !> keeping the inner zone's value. nmerged: the merges made; the caller
+  !> rebuilds the materials' cell lists and calls `sphere_refresh` if any.
+  !> stat: nonzero where an array could not be allocated (s is then not
+  !> to be used).
+  subroutine sphere_merge(s, ratio, keep, nmerged, stat)
+    type(sphere_t), intent(inout) :: s
+    real(wp), intent(in) :: ratio
+    real(wp), allocatable, intent(inout) :: keep(:)
+    integer, intent(out) :: nmerged, stat
+    integer :: z
+    nmerged = 0
+    stat = 0
+    z = 2
+    do while (z <= s%nz - 2 .and. stat == 0)
+      if (thin(z)) then
+        if (pairs(z)) then
+          call merge_pair(z)
+        else if (pairs(z - 1)) then
+          call merge_pair(z - 1)
+        end if
+      end if
+      z = z + 1
+    end do
+
+  contains
+
+    logical function thin(z)
+      integer, intent(in) :: z
+      thin = (s%r(z) - s%r(z - 1))*ratio < s%a0(z)*s%r(z) .and. &
+             .not. s%r(z)**2*s%u(z) < s%r(z - 1)**2*s%u(z - 1)
+    end function thin
+
+    !> Whether zones z and z + 1 may merge: one material, not an
+    !> explosive, the nodes either side of them free (not the centre's,
+    !> not the wall's).
+    logical function pairs(z)
+      integer, intent(in) :: z
+      pairs = z >= 2 .and. z <= s%nz - 2
+      if (pairs) pairs = s%mat(z) == s%mat(z + 1)
+      if (pairs) pairs = .not. allocated(s%mats(s%mat(z))%burn)
+    end function pairs
+
+    !> Zones z and z + 1 into zone z; node z removed.
+    subroutine merge_pair(z)
+      integer, intent(in) :: z
+      real(wp) :: ke0, mlo, mhi, ulo, uhi, mz
+      integer :: k
+      integer, allocatable :: mat(:)
+      mz = s%m(z) + s%m(z + 1)
+      ke0 = 0.5_wp*(s%mn(z - 1)*s%u(z - 1)**2 + s%mn(z)*s%u(z)**2 + s%mn(z + 1)*s%u(z + 1)**2)
+      mlo = s%mn(z - 1) + 0.5_wp*s%m(z + 1)
+      mhi = s%mn(z + 1) + 0.5_wp*s%m(z)
+      ulo = (s%mn(z - 1)*s%u(z - 1) + 0.5_wp*s%m(z + 1)*s%u(z))/mlo
+      uhi = (s%mn(z + 1)*s%u(z + 1) + 0.5_wp*s%m(z)*s%u(z))/mhi
+      s%e(z) = (s%m(z)*s%e(z) + s%m(z + 1)*s%e(z + 1) + (ke0 - 0.5_wp*(mlo*ulo**2 + mhi*uhi**2)))/mz
+      s%m(z) = mz
+      s%rho(z) = 3.0_wp*mz/(s%r(z + 1)**3 - s%r(z - 1)**3)
+      s%a0(z) = min(s%a0(z), s%a0(z + 1))
+      s%mn(z - 1) = mlo
+      s%u(z - 1) = ulo
+      s%mn(z + 1) = mhi
+      s%u(z + 1) = uhi
+      ! node z and zone z + 1 out
+      call drop_entry(s%r, z, stat)
+      call drop_entry(s%u, z, stat)
+      call drop_entry(s%mn, z, stat)
+      call drop_entry(s%m, z + 1, stat)
+      call drop_entry(s%rho, z + 1, stat)
+      call drop_entry(s%e, z + 1, stat)
+      call drop_entry(s%p, z + 1, stat)
+      call drop_entry(s%cs, z + 1, stat)
+      call drop_entry(s%q, z + 1, stat)
+      call drop_entry(s%a0, z + 1, stat)
+      call drop_entry(keep, z + 1, stat)
+      do k = 1, size(s%mats)
+        if (.not. allocated(s%mats(k)%burn)) cycle
+        call drop_entry(s%mats(k)%burn%light, z + 1, stat)
+        call drop_entry(s%mats(k)%burn%tau, z + 1, stat)
+        call drop_entry(s%mats(k)%burn%f, z + 1, stat)
+      end do
+      s%mat(z + 1:s%nz - 1) = s%mat(z + 2:s%nz)
+      if (stat == 0) allocate(mat(s%nz - 1), stat=stat)
+      if (stat /= 0) return
+      mat = s%mat(1:s%nz - 1)
+      call move_alloc(mat, s%mat)
+      s%nz = s%nz - 1
+      nmerged = nmerged + 1
+    end subroutine merge_pair
+  end subroutine sphere_merge
+
+  !> a(lo:n) without a(k), as a(lo:n-1) (lo: a's lower bound, 0 for the
+  !> nodes' arrays); stat: the allocation's (a unchanged where it fails).
+  subroutine drop_entry(a, k, stat)
+    real(wp), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: k
+    integer, intent(inout) :: stat
+    real(wp), allocatable :: b(:)
+    integer :: lo, n
+    if (stat /= 0) return
+    lo = lbound(a, 1)
+    n = ubound(a, 1)
+    allocate(b(lo:n - 1), stat=stat)
+    if (stat /= 0) return
+    b(lo:k - 1) = a(lo:k - 1)
+    b(k:n - 1) = a(k + 1:n)
+    call move_alloc(b, a)
+  end subroutine drop_entry
 
   !> The stable step: cfl times the least zone width over its signal speed
   !> (sound plus twice the quadratic viscosity's compression rate).
