@@ -393,7 +393,7 @@ blast_bench() {
 &detonation material = 'tnt', point = 0, 0, 0 /
 &boundary xlo = 'symmetry', ylo = 'symmetry', zlo = 'symmetry', xhi = 'outflow', yhi = 'outflow', zhi = 'outflow' /"
   echo "## 1 kg TNT in free air against Kingery-Bulmash: 1D pre-run alone, 1D mapped into 3D, 3D from t = 0 (2 threads)"
-  for w in 0.52710 0.26355 0.131775; do
+  for w in 0.52710 0.26355 0.131775 0.0658875; do
     name=kb1d_$w
     cat > $name.nml <<DECK
 &run title = '1 kg TNT, the 1D run alone, zone width $w mm', units = 'mm-us-g/cm^3-GPa', t_end = 6000 /
