@@ -305,7 +305,8 @@ contains
       call problem_bad(problems, 'prerun', 'time', time, 'must be > 0 (when the 1D run is mapped into the grid)')
     if (radius < 0.0_wp) call problem_bad(problems, 'prerun', 'radius', radius, 'must be >= 0')
     if (zone_width < 0.0_wp) call problem_bad(problems, 'prerun', 'zone_width', zone_width, 'must be >= 0')
-    if (far_zone_width < 0.0_wp) call problem_bad(problems, 'prerun', 'far_zone_width', far_zone_width, 'must be >= 0')
+    if (.not. far_zone_width >= 0.0_wp) &
+      call problem_bad(problems, 'prerun', 'far_zone_width', far_zone_width, 'must be >= 0')
     if (map_radius < 0.0_wp) call problem_bad(problems, 'prerun', 'map_radius', map_radius, 'must be >= 0')
     if (subsamples < 1 .or. subsamples > 64) call problem_add(problems, '&prerun: subsamples = '//itoa(subsamples)// &
                                                               ' must be 1..64')
@@ -314,7 +315,7 @@ contains
       call problem_bad(problems, 'prerun', 'q_linear', q_linear, 'must be in [0, 10]')
     if (.not. (q_quad > 0.0_wp .and. q_quad <= 10.0_wp)) &
       call problem_bad(problems, 'prerun', 'q_quad', q_quad, 'must be in (0, 10]')
-    if (.not. (.not. abs(merge_ratio) > 0.0_wp .or. merge_ratio >= 10.0_wp)) &
+    if (.not. (merge_ratio >= 10.0_wp .or. (merge_ratio >= 0.0_wp .and. merge_ratio <= 0.0_wp))) &
       call problem_bad(problems, 'prerun', 'merge_ratio', merge_ratio, 'must be 0 (no merges) or >= 10')
     this = prerun_config_t(time=time, center=center, radius=radius, zone_width=zone_width, &
                            far_zone_width=far_zone_width, map_radius=map_radius, &
