@@ -471,11 +471,12 @@ bubble_bench() {
 # ---- The underwater charge's shock in 1D: what the linear viscosity costs (issue 36) ----
 # The 1D pre-run of hardcases/tnt_water_pencil.nml alone to 140 us (&prerun
 # time = t_end), zones 0.1, 0.05 and 0.02 mm wide at the charge (wider
-# beyond in proportion to the radius: 1, 0.5 and 0.2 mm at 100 mm), with
+# beyond in proportion to the radius, to 1, 0.5 and 0.2 mm at 100 mm and
+# that wide further out: the default far_zone_width), with
 # the linear viscosity 0.5 (the 3D solver's default) and 0.1 (the 1D run's,
 # and the deck's): the peaks at 5, 10, 15 and 20 charge radii against the
 # similitude (tools/water_similitude.py). A weak shock in water is eroded by
-# the linear term at a given zone width: with 0.1 the peaks change by 2-5 %
+# the linear term at a given zone width: with 0.1 the peaks change by 2-3 %
 # from 0.05 to 0.02 mm, with 0.5 they are still rising.
 water_1d_bench() {
   echo "## TNT in free water, the 1D run alone to 140 us: peak overpressure against the similitude (1 thread)"
