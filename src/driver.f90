@@ -125,9 +125,9 @@ contains
       ! (on windows the blocks smooth their own nodes and return to their
       ! own initial nodes, or to their targets from the grid's faces)
       if (allocated(st%whole) .and. .not. allocated(st%win)) then
-        call euler_init(cfg%rezone, st%whole%g, es, err)
+        call euler_init(cfg%rezone, st%whole%g, st%whole%bc, sch%pc%nranks == 1, es, err)
       else
-        call euler_init(cfg%rezone, st%g, es, err)
+        call euler_init(cfg%rezone, st%g, st%bc, sch%pc%nranks == 1, es, err)
       end if
       if (.not. allocated(err)) call euler_standard_ratios(st%g, es, err)
     end if

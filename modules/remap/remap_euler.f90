@@ -120,7 +120,7 @@ module remap_euler
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   implicit none
   private
-  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_euler_step, remap_zone_open, &
+  public :: remap_params_t, remap_stats_t, remap_zone_t, remap_work_t, remap_work_ready, remap_euler_step, remap_zone_open, &
             deficit_patch_t, &
             remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
@@ -1114,6 +1114,23 @@ contains
   !> The marks of old (changed, near, uniform, node) sized for a grid of
   !> ncell cells and nnode nodes, all false: kept if they are (stat: the
   !> allocation's).
+  !> The marks of work for a grid of ncell cells and nnode nodes, set up
+  !> before the first Euler step (with the grid: their first touch is a
+  !> pass over the grid, which the Euler steps then never make).
+  subroutine remap_work_ready(work, ncell, nnode, err)
+    type(remap_work_t), intent(inout) :: work
+    integer, intent(in) :: ncell, nnode
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: stat
+    call marks_ready(work%old, ncell, nnode, stat)
+    ! (and the swept faces' slots and stamps, `swept_low_faces`)
+    if (stat == 0 .and. .not. allocated(work%old%fslot)) then
+      allocate(work%old%fslot(ncell), work%old%fstamp(ncell), stat=stat)
+      if (stat == 0) work%old%fstamp = work%old%fgen - 1
+    end if
+    if (stat /= 0) call error_set(err, 'remap_work_ready', error_no_memory('the cell marks'))
+  end subroutine remap_work_ready
+
   subroutine marks_ready(old, ncell, nnode, stat)
     type(old_t), intent(inout) :: old
     integer, intent(in) :: ncell, nnode
