@@ -748,6 +748,37 @@ for sm in default 0 default200 cut0 cut0200; do
 done
 
 echo
+echo "## The same measure where every cell moves and is remapped (1 thread): a gas in rigid rotation about z"
+echo "## (0.5 rad per unit time) with a denser, hotter sphere in it (radius 0.5; 2 and 3 times the density and"
+echo "## pressure), in a walled box [-1, 1]^3, an Euler step every step (global rezone back to the box): every"
+echo "## node moves (at most about 0.15 of a cell per step), every cell is remapped at every Euler step, and no cell"
+echo "## is at rest, so the Euler phase's cost per remapped cell and the Lagrangian cell-cycle are those of the"
+echo "## same moving cells; 24^3 (60 steps) and 48^3 (30 steps, a state larger than the last-level cache)"
+for n in 24 48; do
+  cat > rotating$n.nml <<DECK
+&run title = 'rotating gas with a hot sphere, ${n}^3, an Euler step every step', t_end = 10.0, max_steps = $((1440 / n)) /
+&grid ni = $n, nj = $n, nk = $n, xmin = -1, -1, -1, xmax = 1, 1, 1 /
+&material name = 'air', eos = 'ideal_gas', gamma = 1.4 /
+&region shape = 'all', material = 'air', density = 1.0, pressure = 1.0, velocity_field = 'rotation', axis = 'z',
+        angular_velocity = 0.5 /
+&region shape = 'sphere', material = 'air', radius = 0.5, density = 2.0, pressure = 3.0, velocity_field = 'rotation',
+        axis = 'z', angular_velocity = 0.5 /
+&boundary xlo = 'wall', ylo = 'wall', zlo = 'wall', xhi = 'wall', yhi = 'wall', zhi = 'wall' /
+&rezone mode = 'global', interval_steps = 1 /
+&output dir = 'out/rotating$n', frame_dt = 100 /
+DECK
+  OMP_NUM_THREADS=1 OMP_PROC_BIND=true "$exe" rotating$n.nml > "$outdir/rotating$n.log"
+  awk -v n=$n '/^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eul = $(i + 1)}
+       /^throughput by phase:/ {rate = $5}
+       /^euler steps:/ {steps = $3 + 0; cells = $6 + 0}
+       END {
+         cyc = 1e6 / rate; per = 1e6 * eul / cells
+         printf "rotating %d^3: Lagrangian %.3f us per cell-cycle; Euler %.3f s for %d remapped cells in %d Euler steps = " \
+                "%.2f us per cell = %.1f cell-cycles\n", n, cyc, eul, cells, steps, per, per / cyc
+       }' "$outdir/rotating$n.log"
+done
+
+echo
 flat_bench
 
 echo
