@@ -505,9 +505,9 @@ water_1d_bench() {
 # a larger state alone costs) and 60 x 20 x 20 (rows three times as long:
 # the changed cells' rows and planes further apart in memory). Each run
 # three times, interleaved, the fastest kept (1 thread). Printed: the Euler
-# phase's wall time per Euler step over the first 20 steps (with the first
-# Euler step's one-off work: its whole-grid work arrays allocated and first
-# touched, the initial grid copied and tested as a lattice), and over steps
+# phase's wall time per Euler step over the first 20 steps (the grid-sized
+# work, the global rezone's target grid and the remap's marks, is done with
+# the grid, before the first step: `euler_init`), and over steps
 # 21 to 100 alone (the difference of the two runs: what each further Euler
 # step costs), each with its ratio to 20^3's (flat: 1). And 80^3, with
 # 40^3 and 60^3 the three grids whose state (about 700 bytes a cell: 45,
