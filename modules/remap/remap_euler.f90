@@ -1111,9 +1111,6 @@ contains
     end subroutine mark_window
   end subroutine remap_euler_step
 
-  !> The marks of old (changed, near, uniform, node) sized for a grid of
-  !> ncell cells and nnode nodes, all false: kept if they are (stat: the
-  !> allocation's).
   !> The marks of work for a grid of ncell cells and nnode nodes, set up
   !> before the first Euler step (with the grid: their first touch is a
   !> pass over the grid, which the Euler steps then never make).
@@ -1131,6 +1128,9 @@ contains
     if (stat /= 0) call error_set(err, 'remap_work_ready', error_no_memory('the cell marks'))
   end subroutine remap_work_ready
 
+  !> The marks of old (changed, near, uniform, node) sized for a grid of
+  !> ncell cells and nnode nodes, all false: kept if they are (stat: the
+  !> allocation's).
   subroutine marks_ready(old, ncell, nnode, stat)
     type(old_t), intent(inout) :: old
     integer, intent(in) :: ncell, nnode
