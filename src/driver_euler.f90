@@ -283,8 +283,7 @@ contains
     end if
     one = .false.
     if (present(single)) one = single
-    way = remap_way_t(swept_parts=rz%swept_parts, swept_hybrid=rz%swept_hybrid, global=trim(rz%mode) == 'global', &
-                      particles=st%pt%np > 0)
+    way = remap_way_t(swept_parts=rz%swept_parts, swept_hybrid=rz%swept_hybrid, global=trim(rz%mode) == 'global')
     call remap_way_step(way, st%g, st%h, st%mx, st%mats, st%bc, st%share, xnew, par, es%work, es%centroids, rs, &
                         written, err, rows, one, resume, before)
     if (allocated(err)) then

@@ -727,7 +727,7 @@ contains
       n(1:2) = [nparts, merge(1, 0, nparts == 0)]
       call parallel_max(pc, n(1:2))
       ps%on = single == 0 .and. nblock > 0 .and. n(2) == 0 .and. n(1) >= 2 .and. n(1) <= cfg%rezone%swept_parts .and. &
-              .not. st%pblocks .and. n(3) == 0
+              n(3) == 0
       if (ps%on) then
         hybrid = .false.
         ps%nblock = nblock

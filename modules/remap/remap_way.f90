@@ -34,7 +34,6 @@ module remap_way
     !> a global rezone: a part's grid is tested as a lattice (only such a
     !> rezone returns to a box grid)
     logical :: global = .false.
-    logical :: particles = .false.     !< coupled particles: never in parts (one remap)
   end type remap_way_t
 
   !> Where an Euler step remapped in parts of the way stands: on when it
@@ -114,7 +113,7 @@ contains
     ! parts stay within swept_parts), and the last part the deck allows
     ! goes the rest of the way.
     one = single
-    split = way%swept_parts > 1 .and. .not. way%particles .and. nblock > 0 .and. nparts >= 2 .and. &
+    split = way%swept_parts > 1 .and. nblock > 0 .and. nparts >= 2 .and. &
             nparts <= way%swept_parts .and. .not. one
     if (present(resume)) then
       split = resume%on
