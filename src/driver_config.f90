@@ -211,7 +211,8 @@ contains
       n0 = size(problems)
       call boundary_config_read(cfg%boundary, deck_text(deck, 'boundary'), path, names, echo, problems)
       call at_line(problems, n0, deck, 'boundary')
-      call rezone_config_read(cfg%rezone, deck_text(deck, 'rezone'), path, echo, problems)
+      call rezone_config_read(cfg%rezone, deck_text(deck, 'rezone'), path, echo, problems, &
+                              particles=size(cfg%particles) > 0)
       call at_line(problems, n0, deck, 'rezone')
       call output_config_read(cfg%output, deck_text(deck, 'output'), path, cfg%grid%xmin, cfg%grid%xmax, echo, &
                               problems)
