@@ -11,6 +11,7 @@
 !> sound speed and artificial viscosity. Work arrays used inside a step are
 !> allocated once here.
 module hydro_state
+  use, intrinsic :: iso_fortran_env, only: int8
   use base_kinds, only: wp, i8
   use base_strings, only: itoa
   use base_errors, only: error_no_memory, error_t, error_set
@@ -105,13 +106,17 @@ module hydro_state
     !> (`lagrange_update_cells`); its geometry, rates and sizes are then
     !> those of these places at rest
     logical, allocatable :: still(:)
+    !> (nnode) work of a kernel's cell loop: bits of what each node's values
+    !> tell (`lagrange_node_flags`), so that a cell's test of its eight nodes
+    !> (at rest, not moved) reads eight bytes, not 24 or 48 reals
+    integer(int8), allocatable :: nflag(:)
   end type hydro_t
 
 contains
 
   !> Allocates the state for ncell cells and nnode nodes (whatever h held
   !> before is freed first). Memory: 70 reals, an integer and a logical per cell, 13
-  !> reals per node (about 680 bytes per cell of a large grid, most of it
+  !> reals and a byte per node (about 680 bytes per cell of a large grid, most of it
   !> the corner forces and volume gradients, 192 bytes each). With
   !> step_work false, the state without the work arrays of a Lagrangian
   !> step (xn ... amed): 16 reals and an integer per cell, 4 per node, for a
@@ -136,17 +141,17 @@ contains
     allocate(h%u(3, nnode), h%mnode(nnode), h%mcorner(8, ncell), h%mass(ncell), h%vol(ncell), h%rho(ncell), &
              h%e(ncell), h%p(ncell), h%cs(ncell), h%q(ncell), h%mat(ncell), h%gain(ncell), &
              h%xn(3, nw), h%un(3, nw), h%uh(3, nw), h%en(mw), &
-             h%fc(3, 8, mw), h%grad(3, mw), h%dvdx(3, 8, mw), h%amed(2, mw), h%still(mw), &
+             h%fc(3, 8, mw), h%grad(3, mw), h%dvdx(3, 8, mw), h%amed(2, mw), h%still(mw), h%nflag(nw), &
              stat=stat, errmsg=msg)
     if (stat /= 0) then
-      bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + 2_i8*ncell*storage_size(1)/8
+      bytes = (70_i8*ncell + 13_i8*nnode)*storage_size(1.0_wp)/8 + 2_i8*ncell*storage_size(1)/8 + nnode
       call error_set(err, 'hydro_allocate', error_no_memory('the hydro state ('//itoa(ncell)//' cells, '// &
                      itoa(nnode)//' nodes: '//itoa(bytes/1048576_i8)//' MiB)'))
       return
     end if
     h%u = 0.0_wp; h%mnode = 0.0_wp; h%mcorner = 0.0_wp; h%q = 0.0_wp; h%mat = 0; h%gain = 1.0_wp
-    h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
-    h%dvdx = 0.0_wp; h%amed = 0.0_wp; h%still = .false.
+    h%xn = 0.0_wp; h%uh = 0.0_wp; h%un = 0.0_wp; h%fc = 0.0_wp; h%grad = 0.0_wp
+    h%dvdx = 0.0_wp; h%amed = 0.0_wp; h%still = .false.; h%nflag = 0_int8
   end subroutine hydro_allocate
 
   !> Eq. (16), first term: the nodal masses mnode (mass) of the grid with

@@ -53,13 +53,15 @@
 !> with it, against 14 with 1.8 and without a cap, its L1 2 % higher.) The
 !> stable step is unchanged.
 module lagrange_forces
+  use, intrinsic :: iso_fortran_env, only: int8
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume_gradient, hex_median_areas, hex_edges
   use hydro_state, only: hydro_t, hydro_params_t, VISC_TENSOR
   implicit none
   private
-  public :: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, limiter_step
+  public :: lagrange_node_flags, lagrange_cell_flags, lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, &
+            lagrange_area_sizes, limiter_step
 
   !> Hourglass base vectors at the eight nodes, (node, mode).
   real(wp), parameter :: hg_base(8, 4) = reshape( &
@@ -317,6 +319,9 @@ contains
 
     dt_stable = huge(1.0_wp)
     c_min = 0
+    ! (`at_rest`: bit 1, a velocity; bit 2, a node away from its step's start)
+    call lagrange_node_flags(h%nflag, v, 1_int8, .true.)
+    call lagrange_node_flags(h%nflag, x, 2_int8, .false., h%xn)
     !$omp parallel default(none) shared(g, x, v, h, par, dt_stable, c_min) &
     !$omp private(c, d, e, n0, ci, cj, ck, xn, vn, s, area, vol, amax, dumax, div, cq, ceff, dtc, dt_loc, c_loc)
     dt_loc = huge(1.0_wp)
@@ -330,20 +335,20 @@ contains
     do ci = g%slo(1), g%shi(1)
       c = c + 1
       n0 = n0 + 1
-      do e = 1, 8
-        xn(:, e) = x(:, n0 + g%corner_offset(e))
-        vn(:, e) = v(:, n0 + g%corner_offset(e))
-      end do
-      if (at_rest(g, h, n0, xn, vn, c)) then
+      if (at_rest(g, h, n0, c)) then
         ! (geometry, rates and sizes as the last step left them: at these
         ! places at rest, `at_rest`; what the calls below give again)
         dumax = 0.0_wp
       else
+        do e = 1, 8
+          xn(:, e) = x(1:3, n0 + g%corner_offset(e))
+          vn(:, e) = v(1:3, n0 + g%corner_offset(e))
+        end do
         ! vol equals h%vol(c) (the same sum (*) of mesh_geometry), which is used
-        call hex_volume_gradient(xn, vol, h%dvdx(:, :, c))
+        call hex_volume_gradient(xn, vol, h%dvdx(1:3, 1:8, c))
         call hex_median_areas(xn, s)
-        call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
-        h%amed(:, c) = lagrange_area_sizes(area)
+        call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(1:3, c), dumax)
+        h%amed(1:2, c) = lagrange_area_sizes(area)
         ! (these are no longer the step start's: `lagrange_update_cells`
         ! says again whether the cell is at rest)
         h%still(c) = .false.
@@ -389,27 +394,63 @@ contains
     if (present(dt_cell)) dt_cell = c_min
   end subroutine lagrange_strain_rates
 
-  !> Whether cell c (its first node n0, its nodes' places xn and velocities
-  !> vn) is at rest where the last step left it: h%still (at rest in that
+  !> Whether cell c (its first node n0; h%nflag as `lagrange_strain_rates`
+  !> sets it) is at rest where the last step left it: h%still (at rest in that
   !> step's first stage, at the places it began with: h's geometry, rates
   !> and sizes are those of h%xn at rest), and every node still there and
   !> at rest. Its geometry (h%dvdx, h%amed, h%vol) and rates (h%grad) are
   !> then those of these places and velocities (zero rates may differ in
   !> the sign of a zero, which no test reads). (The places are compared:
   !> an Euler step may have moved them since.)
-  pure logical function at_rest(g, h, n0, xn, vn, c)
+  pure logical function at_rest(g, h, n0, c)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     integer, intent(in) :: n0, c
-    real(wp), intent(in) :: xn(3, 8), vn(3, 8)
-    integer :: a
     at_rest = h%still(c)
-    if (.not. at_rest) return
-    at_rest = .not. maxval(abs(vn)) > 0.0_wp
-    do a = 1, 8
-      if (at_rest) at_rest = .not. maxval(abs(xn(:, a) - h%xn(:, n0 + g%corner_offset(a)))) > 0.0_wp
-    end do
+    if (at_rest) at_rest = lagrange_cell_flags(g, h%nflag, n0) == 0
   end function at_rest
+
+  !> Bits of each stored node n (nflag(n), its entries 1..size(v, 2)):
+  !> with y absent, bit is set where v(:, n) has a component of nonzero
+  !> size (abs > 0, which a NaN is not), with y where v(:, n) differs from
+  !> y(:, n) so (abs(v - y) > 0); clear: the other bits are cleared first.
+  !> The cell loops of the kernels read their eight nodes' bits
+  !> (`lagrange_cell_flags`) instead of testing 24 or 48 reals each.
+  subroutine lagrange_node_flags(nflag, v, bit, clear, y)
+    integer(int8), intent(inout) :: nflag(:)
+    real(wp), intent(in) :: v(:, :)
+    integer(int8), intent(in) :: bit
+    logical, intent(in) :: clear
+    real(wp), intent(in), optional :: y(:, :)
+    integer :: n
+    integer(int8) :: keep
+    ! (the bits kept: none with clear)
+    keep = merge(0_int8, not(bit), clear)
+    !$omp parallel do default(none) shared(nflag, v, bit, keep, y) private(n) schedule(static)
+    do n = 1, size(v, 2)
+      nflag(n) = iand(nflag(n), keep)
+      if (present(y)) then
+        if (abs(v(1, n) - y(1, n)) > 0.0_wp .or. abs(v(2, n) - y(2, n)) > 0.0_wp .or. &
+            abs(v(3, n) - y(3, n)) > 0.0_wp) nflag(n) = ior(nflag(n), bit)
+      else
+        if (abs(v(1, n)) > 0.0_wp .or. abs(v(2, n)) > 0.0_wp .or. abs(v(3, n)) > 0.0_wp) nflag(n) = ior(nflag(n), bit)
+      end if
+    end do
+    !$omp end parallel do
+  end subroutine lagrange_node_flags
+
+  !> The bits of the eight nodes of the cell whose first node is n0, or-ed
+  !> (`lagrange_node_flags`).
+  pure integer(int8) function lagrange_cell_flags(g, nflag, n0) result(bits)
+    type(grid_t), intent(in) :: g
+    integer(int8), intent(in) :: nflag(:)
+    integer, intent(in) :: n0
+    integer :: a
+    bits = 0_int8
+    do a = 1, 8
+      bits = ior(bits, nflag(n0 + g%corner_offset(a)))
+    end do
+  end function lagrange_cell_flags
 
   !> Corner forces fc(3,8,c) from the positions x, velocities v and the cell
   !> pressures in h; needs h%grad and the cell geometry (h%vol, h%dvdx,
@@ -459,6 +500,8 @@ contains
       dt_hg = max(dt, 0.0_wp)
     end if
 
+    ! (bit 1: a node's velocity)
+    call lagrange_node_flags(h%nflag, v, 1_int8, .true.)
     ! rows dealt round-robin: the costly compressed cells gather in a shock
     ! shell, which a blocked schedule would give to one thread
     !$omp parallel do default(none) shared(g, x, v, h, par, scale, sstride, lo, hi, rate_min, dt_hg) collapse(2) &
@@ -473,22 +516,23 @@ contains
     do ci = lo(1), hi(1)
       c = c + 1
       n0 = n0 + 1
+      if (lagrange_cell_flags(g, h%nflag, n0) == 0) then
+        ! (a cell at rest: no viscosity, no hourglass mode; what the terms
+        ! below give with vn = 0, without their cost; Eq. 18)
+        h%q(c) = 0.0_wp
+        b = h%dvdx(1:3, 1:8, c)
+        h%fc(1:3, 1:8, c) = h%p(c)*b
+        cycle
+      end if
       do a = 1, 8
-        xn(:, a) = x(:, n0 + g%corner_offset(a))
-        vn(:, a) = v(:, n0 + g%corner_offset(a))
+        xn(:, a) = x(1:3, n0 + g%corner_offset(a))
+        vn(:, a) = v(1:3, n0 + g%corner_offset(a))
       end do
       vol = h%vol(c)
       sc = scale(1 + sstride*(c - 1))
-      b = h%dvdx(:, :, c)
+      b = h%dvdx(1:3, 1:8, c)
       ! Eq. (18): pressure corner forces
       f = h%p(c)*b
-      if (.not. maxval(abs(vn)) > 0.0_wp) then
-        ! (a cell at rest: no viscosity, no hourglass mode; what the terms
-        ! below give with vn = 0, without their cost)
-        h%q(c) = 0.0_wp
-        h%fc(:, :, c) = f
-        cycle
-      end if
 
       ! artificial viscosity with limiter (the median-surface area vectors,
       ! a few dozen flops, are computed where a viscosity needs them: kept
@@ -510,9 +554,9 @@ contains
             phik(k) = 1.0_wp
             if (.not. (lam(k) < 0.0_wp)) cycle
             off = limiter_step(s, ev(:, k))
-            phik(k) = limiter(sum(h%grad(:, c)), &
-                              sum(h%grad(:, neighbour(g, c, ilog, -off))), &
-                              sum(h%grad(:, neighbour(g, c, ilog, off))))
+            phik(k) = limiter(sum(h%grad(1:3, c)), &
+                              sum(h%grad(1:3, neighbour(g, c, ilog, -off))), &
+                              sum(h%grad(1:3, neighbour(g, c, ilog, off))))
           end do
           call tensor_viscosity(b, vol, s, lam, ev, phik, h%rho(c), h%cs(c), par, sc, f, qsum)
         end if
@@ -564,13 +608,13 @@ contains
         do m = 1, 4
           ! (a mode below 1e-30 of the sound speed is none: ahead of a wave
           ! the force would carry a precursor down to subnormal numbers)
-          if (.not. maxval(abs(gv(:, m))) > hg_round*h%cs(c)) cycle
+          if (.not. any(abs(gv(:, m)) > hg_round*h%cs(c))) cycle
           do a = 1, 8
             f(:, a) = f(:, a) - coef*gam(a, m)*gv(:, m)
           end do
         end do
       end if
-      h%fc(:, :, c) = f
+      h%fc(1:3, 1:8, c) = f
     end do
     end do
     end do

@@ -10,6 +10,7 @@
 !> Because the same corner forces move the nodes and heat the cells, kinetic
 !> plus internal energy is conserved to round-off (less the boundary work).
 module lagrange_integrator
+  use, intrinsic :: iso_fortran_env, only: int8
   use base_kinds, only: wp
   use mesh_grid, only: grid_t, nodes_moved
   use mesh_halo, only: halo_t
@@ -19,7 +20,8 @@ module lagrange_integrator
   use material_table, only: material_t, material_eval_eos, material_burn_at
   use material_mixed, only: mixed_t, mixed_save_step_start, mixed_split, mixed_cell_state, mixed_volume_gain
   use hydro_state, only: hydro_t, hydro_params_t
-  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes
+  use lagrange_forces, only: lagrange_strain_rates, lagrange_corner_forces, lagrange_cell_rates, lagrange_area_sizes, &
+                             lagrange_node_flags, lagrange_cell_flags
   use lagrange_nodal, only: nodal_part_t
   implicit none
   private
@@ -255,8 +257,8 @@ contains
     !$omp parallel default(none) shared(g, h) private(n, c)
     !$omp do schedule(static)
     do n = 1, g%nnode
-      h%xn(:, n) = g%x(:, n)
-      h%un(:, n) = h%u(:, n)
+      h%xn(1:3, n) = g%x(1:3, n)
+      h%un(1:3, n) = h%u(1:3, n)
     end do
     !$omp end do nowait
     !$omp do schedule(static)
@@ -274,7 +276,7 @@ contains
   !> same sum from both.
   pure function node_force(g, fc, i, j, k, c0) result(f)
     type(grid_t), intent(in) :: g
-    real(wp), intent(in) :: fc(:, :, :)
+    real(wp), intent(in), contiguous :: fc(:, :, :)
     integer, intent(in) :: i, j, k, c0
     real(wp) :: f(3)
     integer :: ii, jj, kk, ci, cj, ck, sj, sk
@@ -284,9 +286,9 @@ contains
       ! interior node: all eight cells exist (same order as below)
       sj = g%cx
       sk = g%cxy
-      f = fc(:, 1, c0) + fc(:, 2, c0 - 1) + fc(:, 3, c0 - sj) + fc(:, 4, c0 - 1 - sj) &
-        + fc(:, 5, c0 - sk) + fc(:, 6, c0 - 1 - sk) + fc(:, 7, c0 - sj - sk) &
-        + fc(:, 8, c0 - 1 - sj - sk)
+      f = fc(1:3, 1, c0) + fc(1:3, 2, c0 - 1) + fc(1:3, 3, c0 - sj) + fc(1:3, 4, c0 - 1 - sj) &
+        + fc(1:3, 5, c0 - sk) + fc(1:3, 6, c0 - 1 - sk) + fc(1:3, 7, c0 - sj - sk) &
+        + fc(1:3, 8, c0 - 1 - sj - sk)
     else
       f = 0.0_wp
       ! node (i,j,k) is corner (ii,jj,kk) of cell (i+1-ii, j+1-jj, k+1-kk)
@@ -299,7 +301,7 @@ contains
           do ii = 0, 1
             ci = i + 1 - ii
             if (ci < g%slo(1) .or. ci > g%shi(1)) cycle
-            f = f + fc(:, 1 + ii + 2*jj + 4*kk, g%cell(ci, cj, ck))
+            f = f + fc(1:3, 1 + ii + 2*jj + 4*kk, g%cell(ci, cj, ck))
           end do
         end do
       end do
@@ -338,10 +340,10 @@ contains
     real(wp), intent(in) :: dt, dtx
     logical, intent(in) :: last
     real(wp), intent(in) :: ucut
-    real(wp), intent(in) :: f_add(:, :), m_add(:)
+    real(wp), intent(in), contiguous :: f_add(:, :), m_add(:)
     logical, intent(in) :: has_add
     integer :: n, i, j, k, c0, n0
-    real(wp) :: f(3), m
+    real(wp) :: f(3), m, u(3), un(3), uh(3)
     logical :: track
 
     ! (in the last stage, a row of nodes whose inner nodes leave x^n is
@@ -350,7 +352,7 @@ contains
     ! after their conditions)
     track = last .and. allocated(g%moved_rows)
     !$omp parallel do default(none) shared(g, h, dt, dtx, ucut, f_add, m_add, has_add, track) collapse(2) &
-    !$omp private(n, i, j, k, c0, f, m, n0) schedule(static)
+    !$omp private(n, i, j, k, c0, f, m, n0, u, un, uh) schedule(static)
     do k = g%nlo(3), g%nhi(3)
     do j = g%nlo(2), g%nhi(2)
     ! consecutive i are consecutive nodes and cells; c0 = cell (i+1, j+1, k+1)
@@ -361,13 +363,17 @@ contains
       n = n + 1
       c0 = c0 + 1
       f = node_force(g, h%fc, i, j, k, c0)
-      if (has_add) f = f + f_add(:, n)
+      if (has_add) f = f + f_add(1:3, n)
       m = h%mnode(n)
       if (has_add) m = m + m_add(n)
-      h%u(:, n) = h%un(:, n) + dt*f/m
-      if (maxval(abs(h%u(:, n))) < ucut) h%u(:, n) = 0.0_wp
-      h%uh(:, n) = 0.5_wp*(h%un(:, n) + h%u(:, n))
-      g%x(:, n) = h%xn(:, n) + dtx*h%uh(:, n)
+      ! (the node's values in locals, stored once each)
+      un = h%un(1:3, n)
+      u = un + dt*f/m
+      if (all(abs(u) < ucut)) u = 0.0_wp
+      uh = 0.5_wp*(un + u)
+      h%u(1:3, n) = u
+      h%uh(1:3, n) = uh
+      g%x(1:3, n) = h%xn(1:3, n) + dtx*uh
     end do
     ! (the row's inner nodes n0+1 .. n-1, read again while they are in the
     ! cache: a loop of its own runs in the vector lanes)
@@ -447,16 +453,21 @@ contains
     integer, intent(out) :: bad_cell
     logical, intent(in), optional :: geometry
     integer :: c, a, n0, ci, cj, ck, lo(3), hi(3)
+    integer(int8) :: fl
     real(wp) :: de, xn(3, 8), vn(3, 8), s(3, 3), area(3), dumax
-    logical :: geom, forced, rest
+    logical :: geom, forced, rest, moving
 
     geom = .false.
     if (present(geometry)) geom = geometry
+    ! (bit 1: a node's half-step velocity; with geom, bit 2: its velocity at
+    ! the step's start)
+    call lagrange_node_flags(h%nflag, h%uh, 1_int8, .true.)
+    if (geom) call lagrange_node_flags(h%nflag, h%un, 2_int8, .false.)
     ! the cells whose corner forces are known (owned and one ghost layer)
     call g%cells_around(1, lo, hi)
     bad_cell = huge(1)
     !$omp parallel do default(none) shared(g, h, dte, geom, lo, hi) &
-    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, s, area, dumax, forced, rest) &
+    !$omp private(c, a, n0, ci, cj, ck, de, xn, vn, s, area, dumax, forced, rest, fl, moving) &
     !$omp reduction(min: bad_cell) collapse(2) schedule(static)
     do ck = g%slo(3), g%shi(3)
     do cj = g%slo(2), g%shi(2)
@@ -469,15 +480,20 @@ contains
       forced = ci >= lo(1) .and. ci <= hi(1) .and. cj >= lo(2) .and. cj <= hi(2) .and. ck >= lo(3) .and. ck <= hi(3)
       rest = .false.
       de = 0.0_wp
-      do a = 1, 8
-        vn(:, a) = h%uh(:, n0 + g%corner_offset(a))
-        xn(:, a) = g%x(:, n0 + g%corner_offset(a))
-      end do
+      fl = lagrange_cell_flags(g, h%nflag, n0)
+      moving = btest(fl, 0)
+      ! (the nodes' places and velocities where a branch below reads them)
+      if (.not. ((geom .and. fl == 0) .or. (.not. geom .and. h%still(c) .and. .not. moving))) then
+        do a = 1, 8
+          vn(:, a) = h%uh(1:3, n0 + g%corner_offset(a))
+          xn(:, a) = g%x(1:3, n0 + g%corner_offset(a))
+        end do
+      end if
       ! (nodes at rest do no work: de stays 0, as the products would leave
       ! it, without reading the corner forces)
-      if (forced .and. maxval(abs(vn)) > 0.0_wp) then
+      if (forced .and. moving) then
         do a = 1, 8
-          de = de - dot_product(h%fc(:, a, c), vn(:, a))
+          de = de - dot_product(h%fc(1:3, a, c), vn(:, a))
         end do
       end if
       if (forced) h%e(c) = h%en(c) + dte*de/h%mass(c)
@@ -489,16 +505,13 @@ contains
         ! start too, keeps the geometry, rates and sizes
         ! `lagrange_strain_rates` took at these places: what the calls below
         ! give; with the velocity cut-off most of the gas ahead of a blast)
-        rest = .not. maxval(abs(vn)) > 0.0_wp
-        do a = 1, 8
-          if (rest) rest = .not. maxval(abs(h%un(:, n0 + g%corner_offset(a)))) > 0.0_wp
-        end do
+        rest = fl == 0
         h%still(c) = rest
         if (.not. rest) then
-          call hex_volume_gradient(xn, h%vol(c), h%dvdx(:, :, c))
+          call hex_volume_gradient(xn, h%vol(c), h%dvdx(1:3, 1:8, c))
           call hex_median_areas(xn, s)
         end if
-      else if (h%still(c) .and. .not. maxval(abs(vn)) > 0.0_wp) then
+      else if (h%still(c) .and. .not. moving) then
         ! (the step's last stage: a cell at rest in its first and now, where
         ! the step began, keeps its volume)
         continue
@@ -508,8 +521,8 @@ contains
       if (h%vol(c) > 0.0_wp) then
         h%rho(c) = h%mass(c)/h%vol(c)
         if (geom .and. .not. rest) then
-          call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(:, c), dumax)
-          h%amed(:, c) = lagrange_area_sizes(area)
+          call lagrange_cell_rates(vn, s, h%vol(c), area, h%grad(1:3, c), dumax)
+          h%amed(1:2, c) = lagrange_area_sizes(area)
         end if
       else if (g%owns_cell(ci, cj, ck)) then
         bad_cell = min(bad_cell, c)
