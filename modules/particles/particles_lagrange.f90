@@ -376,7 +376,7 @@ contains
         n0 = g%cell_node0(ci, cj, ck)
         if (p%pc_start(c + 1) == p%pc_start(c)) cycle
         do a = 1, 8
-          xn(:, a) = x(:, n0 + g%corner_offset(a))
+          xn(:, a) = x(1:3, n0 + g%corner_offset(a))
         end do
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
           j = p%pc_perm(q)
@@ -391,7 +391,7 @@ contains
             f(1, n) = f(1, n) - vk*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
             f(2, n) = f(2, n) - vk*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
             f(3, n) = f(3, n) - vk*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
-            fvf(:, n) = fvf(:, n) - vk*pcell(c)*gradn(:, a)
+            fvf(1:3, n) = fvf(1:3, n) - vk*pcell(c)*gradn(:, a)
           end do
         end do
       end do
@@ -426,7 +426,7 @@ contains
       if (p%pc_start(c + 1) == p%pc_start(c)) cycle
       n0 = g%node0(c)
       do a = 1, 8
-        xn(:, a) = x(:, n0 + g%corner_offset(a))
+        xn(:, a) = x(1:3, n0 + g%corner_offset(a))
         un(:, a) = u(:, n0 + g%corner_offset(a))
       end do
       w = 0.0_wp
@@ -470,7 +470,7 @@ contains
       n0 = g%node0(p%cell(k))
       xp = 0.0_wp
       do a = 1, 8
-        xp = xp + sh(a)*x(:, n0 + g%corner_offset(a))
+        xp = xp + sh(a)*x(1:3, n0 + g%corner_offset(a))
       end do
       vh(:, k) = p%v(:, k) + 0.5_wp*dv
       p%v(:, k) = p%v(:, k) + dv
@@ -507,7 +507,7 @@ contains
           do a = 1, 8
             n = n0 + g%corner_offset(a)
             ms(n) = ms(n) + p%m(k)*sh(a)
-            vs(:, n) = vs(:, n) + p%m(k)*sh(a)*vh(:, k)
+            vs(1:3, n) = vs(1:3, n) + p%m(k)*sh(a)*vh(1:3, k)
           end do
         end do
       end do
@@ -536,14 +536,14 @@ contains
       do q = p%pfirst(k), p%pfirst(k + 1) - 1
         n0 = g%node0(p%pcell(q))
         do a = 1, 8
-          xn(:, a) = x(:, n0 + g%corner_offset(a))
+          xn(:, a) = x(1:3, n0 + g%corner_offset(a))
         end do
         call particles_gradients(xn, p%pxi(:, q), gradn, detj)
         gradn = gradn*p%pw(q)
         do a = 1, 8
           n = n0 + g%corner_offset(a)
           do j = 1, 3
-            lgrad(:, j, k) = lgrad(:, j, k) + v(:, n)*gradn(j, a)
+            lgrad(1:3, j, k) = lgrad(1:3, j, k) + v(1:3, n)*gradn(j, a)
           end do
         end do
       end do
@@ -846,7 +846,7 @@ contains
       sh = particles_shape_values(p%pxi(:, q))*p%pw(q)
       do a = 1, 8
         n = g%node0(p%pcell(q)) + g%corner_offset(a)
-        dv = dv + sh(a)*(u(:, n) - un(:, n))
+        dv = dv + sh(a)*(u(1:3, n) - un(1:3, n))
       end do
     end do
   end function particles_interpolate
@@ -911,7 +911,7 @@ contains
       if (.not. owned(k)) cycle
       n0 = g%node0(p%cell(k))
       do a = 1, 8
-        xn(:, a) = x(:, n0 + g%corner_offset(a))
+        xn(:, a) = x(1:3, n0 + g%corner_offset(a))
       end do
       call hex_median_areas(xn, sarea)
       len_c = hex_volume(xn)/max(norm2(sarea(:, 1)), norm2(sarea(:, 2)), norm2(sarea(:, 3)))
@@ -935,7 +935,7 @@ contains
         n0 = g%cell_node0(ci, cj, ck)
         if (p%pc_start(c + 1) == p%pc_start(c)) cycle
         do a = 1, 8
-          xn(:, a) = x(:, n0 + g%corner_offset(a))
+          xn(:, a) = x(1:3, n0 + g%corner_offset(a))
         end do
         ! (a piece's share of the stiffness: n sum_q w_q^2 |grad N(q)|^2,
         ! n the particle's pieces, bounds |sum_q w_q grad N(q)|^2 (Cauchy-
