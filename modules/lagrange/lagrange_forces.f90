@@ -426,17 +426,22 @@ contains
     integer(int8) :: keep
     ! (the bits kept: none with clear)
     keep = merge(0_int8, not(bit), clear)
-    !$omp parallel do default(none) shared(nflag, v, bit, keep, y) private(n) schedule(static)
-    do n = 1, size(v, 2)
-      nflag(n) = iand(nflag(n), keep)
-      if (present(y)) then
-        if (abs(v(1, n) - y(1, n)) > 0.0_wp .or. abs(v(2, n) - y(2, n)) > 0.0_wp .or. &
-            abs(v(3, n) - y(3, n)) > 0.0_wp) nflag(n) = ior(nflag(n), bit)
-      else
-        if (abs(v(1, n)) > 0.0_wp .or. abs(v(2, n)) > 0.0_wp .or. abs(v(3, n)) > 0.0_wp) nflag(n) = ior(nflag(n), bit)
-      end if
-    end do
-    !$omp end parallel do
+    ! (branch-free loops, which the compiler runs in vector lanes)
+    if (present(y)) then
+      !$omp parallel do default(none) shared(nflag, v, bit, keep, y) private(n) schedule(static)
+      do n = 1, size(v, 2)
+        nflag(n) = ior(iand(nflag(n), keep), merge(bit, 0_int8, abs(v(1, n) - y(1, n)) > 0.0_wp .or. &
+                                              abs(v(2, n) - y(2, n)) > 0.0_wp .or. abs(v(3, n) - y(3, n)) > 0.0_wp))
+      end do
+      !$omp end parallel do
+    else
+      !$omp parallel do default(none) shared(nflag, v, bit, keep) private(n) schedule(static)
+      do n = 1, size(v, 2)
+        nflag(n) = ior(iand(nflag(n), keep), merge(bit, 0_int8, abs(v(1, n)) > 0.0_wp .or. abs(v(2, n)) > 0.0_wp .or. &
+                                                                 abs(v(3, n)) > 0.0_wp))
+      end do
+      !$omp end parallel do
+    end if
   end subroutine lagrange_node_flags
 
   !> The bits of the eight nodes of the cell whose first node is n0, or-ed
