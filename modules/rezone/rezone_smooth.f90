@@ -577,18 +577,25 @@ contains
   !> a region after every pass).
   pure logical function hex_tangled(xn)
     real(wp), intent(in) :: xn(3, 8)
-    real(wp) :: e1(3), e2(3), e3(3), xc(3), xf(3), r(3, 8)
-    integer :: a, f, m
+    !> corner a's edge along direction d: its number among the four along d
+    !> (`hex_corner_tangled`), and the four edges' lower nodes
+    integer, parameter :: edge_of(3, 8) = reshape([1, 1, 1, 1, 2, 2, 2, 1, 3, 2, 2, 4, 3, 3, 1, 3, 4, 2, &
+                                                   4, 3, 3, 4, 4, 4], [3, 8])
+    integer, parameter :: lower(4, 3) = reshape([1, 3, 5, 7, 1, 2, 5, 6, 1, 2, 3, 4], [4, 3])
+    integer, parameter :: step(3) = [1, 2, 4]
+    real(wp) :: e1(3), xc(3), xf(3), r(3, 8), ed(3, 4, 3)
+    integer :: a, f, m, d, q
     hex_tangled = .true.
+    ! the twelve edges, each from its lower node to its upper one: corner
+    ! a's edges along +i, +j, +k (`hex_min_corner_jacobian`; the value
+    ! either end's difference gives, up to the sign of a zero)
+    do d = 1, 3
+      do q = 1, 4
+        ed(:, q, d) = xn(:, lower(q, d) + step(d)) - xn(:, lower(q, d))
+      end do
+    end do
     do a = 1, 8
-      ! the edges along +i, +j, +k from corner a (`hex_min_corner_jacobian`)
-      e1 = xn(:, 1 + ieor(a - 1, 1)) - xn(:, a)
-      if (hex_corner(1, a) == 1) e1 = -e1
-      e2 = xn(:, 1 + ieor(a - 1, 2)) - xn(:, a)
-      if (hex_corner(2, a) == 1) e2 = -e2
-      e3 = xn(:, 1 + ieor(a - 1, 4)) - xn(:, a)
-      if (hex_corner(3, a) == 1) e3 = -e3
-      if (.not. triple(e1, e2, e3) > 0.0_wp) return
+      if (.not. triple(ed(:, edge_of(1, a), 1), ed(:, edge_of(2, a), 2), ed(:, edge_of(3, a), 3)) > 0.0_wp) return
     end do
     ! the 24 tetrahedra (centre, face centre, a, b) of `hex_tets`, as
     ! `tet_det` takes them: the edges from the centre
