@@ -29,7 +29,7 @@ program test_remap_open
   use hydro_state, only: hydro_t, hydro_allocate, hydro_totals, hydro_subcell_masses
   use remap_euler, only: remap_params_t, remap_stats_t, remap_euler_step, remap_zone_t, remap_zone_wants, &
                          remap_zone_far
-  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach
+  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_bins_cells, remap_boxes_reach
   implicit none
   integer, parameter :: ni = 10, nj = 3, nk = 2, nc = ni*nj*nk, nn = (ni + 1)*(nj + 1)*(nk + 1)
   real(wp), parameter :: xmax(3) = [1.0_wp, 0.3_wp, 0.2_wp], u0(3) = [-0.5_wp, 0.0_wp, 0.0_wp]
@@ -220,8 +220,10 @@ contains
     logical :: use(bc_)
     type(remap_bins_t) :: bins
     type(rng_t) :: rng
-    integer :: ii, jj, kk, d, q, r_bins, r_all, oi, oj, ok_, nbad, ci, cj, ck
+    integer :: ii, jj, kk, d, q, r_bins, r_all, oi, oj, ok_, nbad, ci, cj, ck, nlist, nbad_list
+    integer, allocatable :: list(:)
     call rng_seed(rng, 17)
+    nbad_list = 0
     do kk = 0, bk
       do jj = 0, bj
         do ii = 0, bi
@@ -248,6 +250,11 @@ contains
         hi(d) = lo(d) + 3.0_wp*rng_uniform(rng)
       end do
       r_bins = remap_bins_reach(bins, ci, cj, ck, lo, hi)
+      call remap_bins_cells(bins, lo, hi, list, nlist)
+      if (nlist < 0) nbad_list = nbad_list + 1
+      if (nlist > 1) then
+        if (any(list(2:nlist) <= list(1:nlist - 1))) nbad_list = nbad_list + 1
+      end if
       r_all = -1
       do ok_ = 1, bk
         do oj = 1, bj
@@ -258,6 +265,11 @@ contains
             ohi = maxval(xn, 2)
             if (any(ohi < lo) .or. any(olo > hi)) cycle
             r_all = max(r_all, abs(oi - ci), abs(oj - cj), abs(ok_ - ck))
+            if (nlist <= 0) then
+              nbad_list = nbad_list + 1
+            else if (.not. any(list(1:nlist) == oi + bi*((oj - 1) + bj*(ok_ - 1)))) then
+              nbad_list = nbad_list + 1
+            end if
           end do
         end do
       end do
@@ -265,6 +277,8 @@ contains
       if (r_bins < r_all) nbad = nbad + 1
     end do
     call check(nbad == 0, 'bins: the reach holds every cell whose box meets the query (400 queries)')
+    call check(nbad_list == 0, 'bins: the cell list holds every cell whose box meets the query, each once, '// &
+               'in increasing order (400 queries)')
     call test_window(xb, use, bins)
   end subroutine test_bins
 

@@ -15,9 +15,10 @@ module remap_bins
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_grid, only: grid_index_t, grid_index, block_gather
+  use base_sort, only: sort_order
   implicit none
   private
-  public :: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach, remap_box_meets
+  public :: remap_bins_t, remap_bins_build, remap_bins_reach, remap_bins_cells, remap_boxes_reach, remap_box_meets
 
   !> The bins: a uniform lattice of nb(1) x nb(2) x nb(3) boxes of size h
   !> from lo, each listing the cells whose bounding boxes meet it (CSR:
@@ -129,12 +130,52 @@ contains
     type(remap_bins_t), intent(in) :: bins
     integer, intent(in) :: ci, cj, ck
     real(wp), intent(in) :: lo(3), hi(3)
-    real(wp) :: qlo(3), qhi(3)
-    integer :: b0(3), b1(3), i, j, k, b, t, o, oi, oj, ok
+    integer, allocatable :: cells(:)
+    integer :: n, t, oi, oj, ok
     r = -1
+    call remap_bins_cells(bins, lo, hi, cells, n)
+    ! (no room for the list: every cell of the block)
+    if (n < 0) r = max(bins%ix%ni, bins%ix%nj, bins%ix%nk)
+    do t = 1, n
+      call bins%ix%cell_ijk(cells(t), oi, oj, ok)
+      r = max(r, abs(oi - ci), abs(oj - cj), abs(ok - ck))
+    end do
+  end function remap_bins_reach
+
+  !> The binned cells whose bounding boxes meet [lo, hi] (widened as in
+  !> `remap_box_meets`), each once, in ascending cell order: cells(1:n).
+  !> n = -1 if the list could not be allocated.
+  pure subroutine remap_bins_cells(bins, lo, hi, cells, n)
+    type(remap_bins_t), intent(in) :: bins
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer, allocatable, intent(inout) :: cells(:)
+    integer, intent(out) :: n
+    real(wp) :: qlo(3), qhi(3)
+    integer :: b0(3), b1(3), i, j, k, b, t, o, m, stat
+    integer, allocatable :: found(:), order(:)
+    n = 0
     call padded(lo, hi, qlo, qhi)
     if (any(qhi < bins%lo) .or. any(qlo > bins%lo + bins%h*real(bins%nb, wp))) return
     call bin_range(bins, qlo, qhi, b0, b1)
+    m = 0
+    do k = b0(3), b1(3)
+      do j = b0(2), b1(2)
+        do i = b0(1), b1(1)
+          b = bin_index(bins, i, j, k)
+          m = m + bins%start(b + 1) - bins%start(b)
+        end do
+      end do
+    end do
+    allocate(found(m), order(m), stat=stat)
+    if (stat == 0 .and. allocated(cells)) then
+      if (size(cells) < m) deallocate(cells)
+    end if
+    if (stat == 0 .and. .not. allocated(cells)) allocate(cells(max(m, 1)), stat=stat)
+    if (stat /= 0) then
+      n = -1
+      return
+    end if
+    m = 0
     do k = b0(3), b1(3)
       do j = b0(2), b1(2)
         do i = b0(1), b1(1)
@@ -142,13 +183,27 @@ contains
           do t = bins%start(b), bins%start(b + 1) - 1
             o = bins%item(t)
             if (any(bins%bhi(:, o) < qlo) .or. any(bins%blo(:, o) > qhi)) cycle
-            call bins%ix%cell_ijk(o, oi, oj, ok)
-            r = max(r, abs(oi - ci), abs(oj - cj), abs(ok - ck))
+            m = m + 1
+            found(m) = o
           end do
         end do
       end do
     end do
-  end function remap_bins_reach
+    ! ascending, each once (a cell is listed in every bin its box meets)
+    call sort_order(found(1:m), order(1:m), stat)
+    if (stat /= 0) then
+      n = -1
+      return
+    end if
+    do t = 1, m
+      o = found(order(t))
+      if (n > 0) then
+        if (cells(n) == o) cycle
+      end if
+      n = n + 1
+      cells(n) = o
+    end do
+  end subroutine remap_bins_cells
 
   !> `remap_bins_reach` over a list of cells instead of bins: cell q at
   !> index ijk(:, q) with bounding box box(1:3, q) to box(4:6, q).

@@ -110,7 +110,8 @@ module remap_euler
   use geometry_mof, only: mof_reconstruct_nested, mof_material_pieces, mof_pieces_t, mof_pieces_moments
   use remap_gradient, only: remap_limited_gradients
   use geometry_cells, only: cell_moments
-  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_boxes_reach, remap_box_meets
+  use remap_bins, only: remap_bins_t, remap_bins_build, remap_bins_reach, remap_bins_cells, remap_boxes_reach, &
+                        remap_box_meets
   use remap_swept, only: swept_edges
   use remap_lattice, only: lattice_t, lattice_build, lattice_tet
   use base_xsum, only: xsum_t, xsum_add, xsum_value
@@ -138,6 +139,10 @@ module remap_euler
   !> keep 4e-10 of a new cell's volume: the old region was then rescaled
   !> and the Euler step missed momentum and energy by 3e-12 and 5e-12).
   real(wp), parameter :: uncovered_tol = 1.0e-12_wp
+  !> the intersection's window (index steps) from which a new cell's old
+  !> cells are taken from bins (`remap_bins_cells`) rather than visited
+  !> all: 7^3 cells, most of which a new cell that reaches so far misses
+  integer, parameter :: bins_reach_min = 3
   !> new cells per chunk of the lattice path (`lattice_release`)
   integer, parameter :: lattice_chunk = 2048
   !> the rings of cells around a cell with a residual kinetic energy
@@ -536,6 +541,9 @@ contains
     type(old_t), target :: own_old
     type(old_t), pointer :: old
     type(lattice_old_t) :: lat
+    ! the changed old cells binned, once a window reaches bins_reach_min
+    ! (`intersect_list`)
+    type(remap_bins_t) :: wide
     real(wp), allocatable :: avol(:, :), amom(:, :, :), amass(:, :), aie(:, :), &
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :), vcell(:)
@@ -998,6 +1006,7 @@ contains
       integer :: ii, nn, i0, i1, chunk
       integer, allocatable :: low(:)
       logical :: parts
+      type(error_t), allocatable :: berr
       nn = size(cells)
       ! the lattice path in chunks: the parts of the old cells a chunk
       ! reaches, then dropped once no later cell reaches them (low: the
@@ -1012,15 +1021,22 @@ contains
           low(ii) = min(low(ii), low(ii + 1))
         end do
       end if
+      if (rr >= bins_reach_min .and. .not. old%swept .and. .not. allocated(wide%start)) then
+        ! (a cell numbering of its own, or no room: every cell of the window visited)
+        call remap_bins_build(g%ni, g%nj, g%nk, g%x, old%changed, wide, berr)
+        if (allocated(berr) .or. wide%ix%ncell /= g%ncell) then
+          if (allocated(wide%item)) deallocate(wide%item)
+        end if
+      end if
       do i0 = 1, nn, chunk
         i1 = min(nn, i0 + chunk - 1)
         if (parts) call lattice_prepare(g, h, mx, old, lat, cells(i0:i1), rr)
         !$omp parallel do default(none) shared(g, h, mx, old, lat, xnew, i0, i1, cells, rr, given_sign, avol, amom, &
-        !$omp amass, aie, cmom, cland, cdef, pcell) private(ii) schedule(dynamic, 4)
+        !$omp amass, aie, cmom, cland, cdef, pcell, wide) private(ii) schedule(dynamic, 4)
         do ii = i0, i1
           call remap_new_cell(g, h, mx, old, lat, old%given, given_sign, xnew, cells(ii), rr, avol(:, cells(ii)), &
                               amom(:, :, cells(ii)), amass(:, cells(ii)), aie(:, cells(ii)), pcell(:, cells(ii)), &
-                              cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)))
+                              cmom(:, :, cells(ii)), cland(:, cells(ii)), cdef(:, cells(ii)), wide)
         end do
         !$omp end parallel do
         if (parts .and. i1 < nn) call lattice_release(old, lat, low(i1 + 1) - rr*(1 + g%cx + g%cxy))
@@ -2770,7 +2786,7 @@ contains
   !> corner the momentum deviations and kinetic energy carried with the
   !> volume.
   subroutine remap_new_cell(g, h, mx, old, lat, given, given_sign, xnew, c, reach, avol, amom, amass, aie, pcell, &
-                            cmom, cland, cdef)
+                            cmom, cland, cdef, bins)
     type(grid_t), intent(in) :: g
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
@@ -2784,6 +2800,13 @@ contains
     real(wp), intent(out) :: avol(:), amom(:, :), amass(:), aie(:), pcell(:), cmom(:, :), cland(:)
     !> per corner: its volume less what the old grid gave it (a gap at an open face)
     real(wp), intent(out) :: cdef(:)
+    !> the changed old cells binned (`remap_bins`; or not built): with a
+    !> wide window (reach >= bins_reach_min) only the cells whose boxes
+    !> meet this one's are visited, not every cell of the window
+    type(remap_bins_t), intent(in) :: bins
+    integer, allocatable :: near(:)
+    integer :: nnear, il, w0(3), we(3)
+    real(wp) :: alo(3), ahi(3)
     real(wp) :: xn(3, 8), o(3), det6(48), ht(3, 4, 48), hlo(3, 48), hhi(3, 48), hsg(48), hvol(48), hmom(3, 48), &
                 xo(3, 8), lo(3), hi(3), olo(3, 48), ohi(3, 48), pn(3, 4 + max_mat), pd(4 + max_mat), &
                 v, pts(3, 27), mid(3), qblo(3, 8), qbhi(3, 8), opts(3, 27), ot(3, 4), osg(48), on(3, 4, 48), &
@@ -2826,6 +2849,8 @@ contains
     ! same operations, the same numbers, and less memory traffic than a
     ! stored copy)
     call block_gather(g%ni, g%nj, ci, cj, ck, xnew, xn)
+    alo = minval(xn, 2)
+    ahi = maxval(xn, 2)
     ! local coordinates about the new cell's centre: round-off scales with the cell
     o = sum(xn, 2)/8.0_wp
     do j = 1, 8
@@ -2918,12 +2943,39 @@ contains
         scdef(half_corner(t)) = scdef(half_corner(t)) + hsg(t)*hvol(t)
       end do
     end if
-    do ok_ = max(g%clo(3), ck - reach), min(g%chi(3), ck + reach)
-      do oj = max(g%clo(2), cj - reach), min(g%chi(2), cj + reach)
-        do oi = max(g%clo(1), ci - reach), min(g%chi(1), ci + reach)
-          co = g%cell(oi, oj, ok_)
-          ! an unchanged old cell is all in the identical new cell
-          if (.not. old%changed(co)) cycle
+    ! the changed old cells within reach, in index order (an unchanged old
+    ! cell is all in the identical new cell); through a wide window, those
+    ! the bins list whose boxes meet this cell's (the others fail the box
+    ! test below): the same cells in the same order
+    nnear = -1
+    if (allocated(bins%item) .and. reach >= bins_reach_min .and. .not. (box .and. lat%lt%on)) &
+      call remap_bins_cells(bins, alo, ahi, near, nnear)
+    if (nnear >= 0) then
+      ! (the bins' cells are numbered as the grid's, `remap_bins_build`)
+      j = 0
+      do il = 1, nnear
+        call g%cell_ijk(near(il), oi, oj, ok_)
+        if (max(abs(oi - ci), abs(oj - cj), abs(ok_ - ck)) > reach) cycle
+        if (any([oi, oj, ok_] < g%clo) .or. any([oi, oj, ok_] > g%chi)) cycle
+        j = j + 1
+        near(j) = near(il)
+      end do
+      nnear = j
+    end if
+    ! else the window's cells one by one (k, then j, then i)
+    w0 = max(g%clo, [ci, cj, ck] - reach)
+    we = min(g%chi, [ci, cj, ck] + reach) - w0 + 1
+    do il = 1, merge(nnear, product(we), nnear >= 0)
+          if (nnear >= 0) then
+            co = near(il)
+            call g%cell_ijk(co, oi, oj, ok_)
+          else
+            oi = w0(1) + mod(il - 1, we(1))
+            oj = w0(2) + mod((il - 1)/we(1), we(2))
+            ok_ = w0(3) + (il - 1)/(we(1)*we(2))
+            co = g%cell(oi, oj, ok_)
+            if (.not. old%changed(co)) cycle
+          end if
           if (box .and. lat%lt%on) then
             call lattice_deposits(co)
             cycle
@@ -2987,8 +3039,6 @@ contains
               end if
             end do
           end do
-        end do
-      end do
     end do
     call sums_out()
     ! first moments back to global coordinates
@@ -4623,11 +4673,10 @@ contains
     type(old_t), intent(in) :: old
     real(wp), intent(inout) :: cmass(:, :), cmom(:, :, :), cke(:, :), pcell(:, :)
     integer :: c, n, a, i
-    ! (the unchanged cells the assembly reads: those around a changed node;
-    ! with open faces every cell, whose totals `open_faces` takes)
-    do i = 1, merge(g%ncell, size(old%lnear), any(old%open))
-      c = i
-      if (.not. any(old%open)) c = old%lnear(i)
+    ! (the unchanged cells the assembly and `open_faces` read: those
+    ! around a changed node)
+    do i = 1, size(old%lnear)
+      c = old%lnear(i)
       if (old%changed(c)) cycle
       n = g%node0(c)
       pcell(:, c) = 0.0_wp
@@ -4960,7 +5009,8 @@ contains
     type(hydro_t), intent(in) :: h
     type(mixed_t), intent(in) :: mx
     type(bc_t), intent(in) :: bc
-    type(old_t), intent(in) :: old
+    !> (its node marks used and left false)
+    type(old_t), intent(inout) :: old
     real(wp), intent(in) :: xnew(:, :), cdef(:, :)
     integer, intent(in) :: gap_face(:), gap_cell(:)
     logical, intent(in) :: own(:), own_node(:)
@@ -4968,60 +5018,63 @@ contains
                                cland(:, :), pcell(:, :)
     type(remap_stats_t), intent(inout) :: stats
     real(wp) :: xn(3, 8), vcell, rho, e, u(3), dm
-    integer :: c, n, a, f, k, ks, gc, d
+    integer :: c, n, a, f, k, ks, gc, d, i
     ! (flow: mass, momentum, energy in (1:5), then out (6:10))
     integer, parameter :: m_out = 6, p_out = 7, e_out = 10
 
-    ! outflow: old totals less what was received
+    ! outflow: the old totals less what was received, over what the remap
+    ! can change: the changed cells, their nodes, and the corners of the
+    ! unchanged cells at those nodes (everywhere else old and new are the
+    ! same cells and nodes; the cells and nodes `remap_euler_step` checks
+    ! conservation over). With old%node marking the changed cells' nodes.
+    old%node(old%lnode) = .true.
     associate (fl => stats%flow)
-      do c = 1, g%ncell
+      do i = 1, size(old%lchanged)
+        c = old%lchanged(i)
         if (.not. own(c)) cycle
         call xsum_add(fl(m_out), h%mass(c))
         call xsum_add(fl(e_out), h%mass(c)*h%e(c))
+        do k = 1, size(amass, 1)
+          call xsum_add(fl(m_out), -amass(k, c))
+          call xsum_add(fl(e_out), -aie(k, c))
+        end do
+        ! a changed cell's momentum and kinetic energy are its totals (its
+        ! corners hold what landed in them, part of those), an unchanged
+        ! cell's its corners'
+        ! (pcell(4) is about uref: `old_t`)
+        call xsum_add(fl(e_out), -(pcell(4, c) + dot_product(old%uref(:, c), pcell(1:3, c)) - &
+                                   0.5_wp*sum(amass(:, c))*dot_product(old%uref(:, c), old%uref(:, c))))
+        do d = 1, 3
+          call xsum_add(fl(p_out + d - 1), -pcell(d, c))
+        end do
       end do
-      do n = 1, g%nnode
+      do i = 1, size(old%lnode)
+        n = old%lnode(i)
         if (.not. own_node(n)) cycle
         do d = 1, 3
           call xsum_add(fl(p_out + d - 1), h%mnode(n)*h%u(d, n))
         end do
         call xsum_add(fl(e_out), 0.5_wp*h%mnode(n)*sum(h%u(:, n)**2))
       end do
-      do c = 1, g%ncell
-        if (.not. own(c)) cycle
-        if (old%changed(c)) then
-          do k = 1, size(amass, 1)
-            call xsum_add(fl(m_out), -amass(k, c))
-            call xsum_add(fl(e_out), -aie(k, c))
-          end do
-        else
-          call xsum_add(fl(m_out), -h%mass(c))
-          call xsum_add(fl(e_out), -h%mass(c)*h%e(c))
-        end if
-        ! a changed cell's momentum and kinetic energy are its totals (its
-        ! corners hold what landed in them, part of those), an unchanged
-        ! cell's its corners'
-        if (old%changed(c)) then
-          ! (pcell(4) is about uref: `old_t`)
-          call xsum_add(fl(e_out), -(pcell(4, c) + dot_product(old%uref(:, c), pcell(1:3, c)) - &
-                                     0.5_wp*sum(amass(:, c))*dot_product(old%uref(:, c), old%uref(:, c))))
+      do i = 1, size(old%lnear)
+        c = old%lnear(i)
+        if (.not. own(c) .or. old%changed(c)) cycle
+        do a = 1, 8
+          if (.not. old%node(g%node0(c) + g%corner_offset(a))) cycle
+          call xsum_add(fl(e_out), -cke(a, c))
           do d = 1, 3
-            call xsum_add(fl(p_out + d - 1), -pcell(d, c))
+            call xsum_add(fl(p_out + d - 1), -cmom(d, a, c))
           end do
-        else
-          do a = 1, 8
-            call xsum_add(fl(e_out), -cke(a, c))
-            do d = 1, 3
-              call xsum_add(fl(p_out + d - 1), -cmom(d, a, c))
-            end do
-          end do
-        end if
+        end do
       end do
     end associate
+    old%node(old%lnode) = .false.
 
     ! inflow: fill the gaps
-    do c = 1, g%ncell
+    do i = 1, size(old%lchanged)
+      c = old%lchanged(i)
       f = gap_face(c)
-      if (f == 0 .or. .not. old%changed(c)) cycle
+      if (f == 0) cycle
       call g%gather(c, xnew, xn)
       vcell = hex_volume(xn)
       gc = gap_cell(c)
