@@ -548,7 +548,7 @@ contains
                              cmass(:, :), cmom(:, :, :), cke(:, :), cland(:, :), cdef(:, :), &
                              pcell(:, :), vcell(:)
     integer, allocatable :: todo(:), reach(:), gap_face(:), gap_cell(:), gaps(:), done(:)
-    logical, allocatable :: redo(:), beyond(:)
+    logical, allocatable :: redo(:)
     integer(i8), allocatable :: before(:)
     real(wp), allocatable :: buf(:, :)
     logical :: sharing
@@ -605,8 +605,7 @@ contains
       end if
       any_open = any(bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW)
       ! (the gaps at open faces: none without them, and nothing to mark)
-      allocate(gap_face(merge(ncell, 0, any_open)), gap_cell(merge(ncell, 0, any_open)), &
-               beyond(merge(ncell, 0, any_open)), stat=stat)
+      allocate(gap_face(merge(ncell, 0, any_open)), gap_cell(merge(ncell, 0, any_open)), stat=stat)
       if (stat /= 0) then
         call error_set(err, 'remap_euler_step', error_no_memory('the open faces'' gaps'))
         exit main
@@ -631,7 +630,12 @@ contains
         own_node = .true.
         call open_face_bounds(g, bc, g%x, xnew, bold, bnew)
       end if
-      if (any_open) call open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
+      ! (only a changed cell can have a gap)
+      if (any_open .and. present(moved)) then
+        call open_face_cells(g, bc, xnew, bold, gap_face, gap_cell, moved)
+      else if (any_open) then
+        call open_face_cells(g, bc, xnew, bold, gap_face, gap_cell)
+      end if
       if (windowed) then
         call prepare_old(g, h, mx, nmat, xnew, par, gap_face, gap_cell, old, stats, err, share, own)
       else
@@ -778,8 +782,11 @@ contains
         co = c
         if (c > ncell) co = mx%cell(slot_cell(mx, c - ncell))
         if (.not. owns(co)) cycle
+        ! (an old cell that reaches past an open face's innermost point
+        ! of the new grid may lose what lies outside)
         if (any_open) then
-          if (beyond(co)) cycle
+          call g%gather(co, g%x, xn)
+          if (reaches_out(old%open, xn, bnew)) cycle
         end if
         ! relative to the cell: a sliver region's own round-off can be larger
         given = real(old%given(c), wp)*old%gunit(c)
@@ -4698,7 +4705,7 @@ contains
     real(wp), intent(in) :: xold(:, :), xnew(:, :)
     real(wp), intent(out) :: bold(6), bnew(6)
     logical, intent(in), optional :: use(:)
-    integer :: f, a, i, j, k, n
+    integer :: f, a, i, j, k, n, lo(3), hi(3)
     logical :: high
     do f = 1, 6
       a = (f + 1)/2
@@ -4706,10 +4713,16 @@ contains
       bold(f) = merge(huge(1.0_wp), -huge(1.0_wp), high)
       bnew(f) = bold(f)
       if (bc%kind(f) /= BC_INFLOW .and. bc%kind(f) /= BC_OUTFLOW) cycle
-      do k = ix%nlo(3), ix%nhi(3)
-        do j = ix%nlo(2), ix%nhi(2)
-          do i = ix%nlo(1), ix%nhi(1)
-            if (.not. btest(ix%node_faces(i, j, k), f - 1)) cycle
+      ! (the face's plane of nodes, if this grid holds it: the nodes whose
+      ! `node_faces` has face f)
+      lo = ix%nlo
+      hi = ix%nhi
+      lo(a) = merge(ix%gn(a), 0, high) - ix%off(a)
+      hi(a) = lo(a)
+      if (lo(a) < ix%nlo(a) .or. lo(a) > ix%nhi(a)) cycle
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
             n = ix%node(i, j, k)
             if (present(use)) then
               if (.not. use(n)) cycle
@@ -4736,28 +4749,32 @@ contains
   !> indices; the first in face order on a tie), and gap_cell(c) the old
   !> cell at face f on the same index line (the cell itself if it lies at
   !> the face), whose state an outflow face extrapolates into the gap (0 if
-  !> that cell is not in g, a window; an inflow face's gap_cell is c). An
-  !> old cell that reaches past bnew(f) (beyond) may lose what lies
-  !> outside: it has left the domain. Both tests are necessary conditions
-  !> only; the fragments say how much is actually missing.
-  subroutine open_face_cells(g, bc, xnew, bold, bnew, gap_face, gap_cell, beyond)
+  !> that cell is not in g, a window; an inflow face's gap_cell is c). A
+  !> necessary condition only; the fragments say how much is actually
+  !> missing.
+  subroutine open_face_cells(g, bc, xnew, bold, gap_face, gap_cell, cells)
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
-    real(wp), intent(in) :: xnew(:, :), bold(6), bnew(6)
+    real(wp), intent(in) :: xnew(:, :), bold(6)
     integer, intent(out) :: gap_face(:), gap_cell(:)
-    logical, intent(out) :: beyond(:)
+    !> the cells that may have a gap (those the remap changes; absent: all)
+    integer, intent(in), optional :: cells(:)
     logical :: isopen(6)
-    real(wp) :: xn(3, 8), xo(3, 8)
-    integer :: f, a, c, ijk(3), q(3), depth, best
+    real(wp) :: xn(3, 8)
+    integer :: f, a, c, i, n, ijk(3), q(3), depth, best
 
     isopen = bc%kind == BC_INFLOW .or. bc%kind == BC_OUTFLOW
     do c = 1, g%ncell
-      call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
-      call g%gather(c, xnew, xn)
-      call g%gather(c, g%x, xo)
       gap_face(c) = 0
       gap_cell(c) = c
-      beyond(c) = reaches_out(isopen, xo, bnew)
+    end do
+    n = g%ncell
+    if (present(cells)) n = size(cells)
+    do i = 1, n
+      c = i
+      if (present(cells)) c = cells(i)
+      call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+      call g%gather(c, xnew, xn)
       best = huge(1)
       do f = 1, 6
         if (.not. isopen(f)) cycle
