@@ -97,7 +97,8 @@ contains
     ! (wacc: the boundary work; acc: the contributor's nodal work, 1, and
     ! its cells', 2)
     type(xsum_t) :: wacc(1), acc(2)
-    real(wp), pointer :: fn(:, :), mn(:), vscale(:)
+    real(wp), pointer, contiguous :: fn(:, :), mn(:)
+    real(wp), pointer :: vscale(:)
     logical :: scaled
 
     if (present(work_nodal)) work_nodal = 0.0_wp
@@ -319,7 +320,7 @@ contains
     !> the step's last stage (its positions are the step's: `move_nodes`)
     logical, intent(in) :: last
     real(wp), intent(in) :: ucut
-    real(wp), intent(in), optional :: f_add(:, :), m_add(:)
+    real(wp), intent(in), optional, contiguous :: f_add(:, :), m_add(:)
     real(wp) :: no_f(3, 0), no_m(0)
 
     ! (absent arguments as zero-size arrays: the node loop's OpenMP region

@@ -71,7 +71,7 @@ contains
   !> The stage's nodal forces f (3, nnode) and masses m (nnode).
   subroutine part_arrays(self, f, m)
     class(nodal_part_t), intent(in), target :: self
-    real(wp), pointer, intent(out) :: f(:, :), m(:)
+    real(wp), pointer, contiguous, intent(out) :: f(:, :), m(:)
     f => self%f
     m => self%m
   end subroutine part_arrays

@@ -189,7 +189,7 @@ contains
 
   subroutine nodal_arrays(self, f, m)
     class(particles_nodal_t), intent(in), target :: self
-    real(wp), pointer, intent(out) :: f(:, :), m(:)
+    real(wp), pointer, contiguous, intent(out) :: f(:, :), m(:)
     f => self%pw%f
     m => self%pw%mp
   end subroutine nodal_arrays
