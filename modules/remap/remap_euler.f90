@@ -2973,79 +2973,79 @@ contains
     w0 = max(g%clo, [ci, cj, ck] - reach)
     we = min(g%chi, [ci, cj, ck] + reach) - w0 + 1
     do il = 1, merge(nnear, product(we), nnear >= 0)
-          if (nnear >= 0) then
-            co = near(il)
-            call g%cell_ijk(co, oi, oj, ok_)
-          else
-            oi = w0(1) + mod(il - 1, we(1))
-            oj = w0(2) + mod((il - 1)/we(1), we(2))
-            ok_ = w0(3) + (il - 1)/(we(1)*we(2))
-            co = g%cell(oi, oj, ok_)
-            if (.not. old%changed(co)) cycle
-          end if
-          if (box .and. lat%lt%on) then
-            call lattice_deposits(co)
-            cycle
-          end if
-          call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
-          do j = 1, 8
-            xo(:, j) = xo(:, j) - o
-          end do
-          if (any(maxval(xo, 2) < lo) .or. any(minval(xo, 2) > hi)) cycle
-          ! the old cell's 48 halves: its subcells (corner velocities) and
-          ! the signed pieces of any cell, convex or not
-          call half_tets(xo, opts, ohv, ocorner)
-          ! the planes of the halves that reach the new cell's box
-          do i = 1, 48
+      if (nnear >= 0) then
+        co = near(il)
+        call g%cell_ijk(co, oi, oj, ok_)
+      else
+        oi = w0(1) + mod(il - 1, we(1))
+        oj = w0(2) + mod((il - 1)/we(1), we(2))
+        ok_ = w0(3) + (il - 1)/(we(1)*we(2))
+        co = g%cell(oi, oj, ok_)
+        if (.not. old%changed(co)) cycle
+      end if
+      if (box .and. lat%lt%on) then
+        call lattice_deposits(co)
+        cycle
+      end if
+      call block_gather(g%ni, g%nj, oi, oj, ok_, g%x, xo)
+      do j = 1, 8
+        xo(:, j) = xo(:, j) - o
+      end do
+      if (any(maxval(xo, 2) < lo) .or. any(minval(xo, 2) > hi)) cycle
+      ! the old cell's 48 halves: its subcells (corner velocities) and
+      ! the signed pieces of any cell, convex or not
+      call half_tets(xo, opts, ohv, ocorner)
+      ! the planes of the halves that reach the new cell's box
+      do i = 1, 48
+        do j = 1, 4
+          ot(:, j) = opts(:, ohv(j, i))
+        end do
+        olo(:, i) = min(min(ot(:, 1), ot(:, 2)), min(ot(:, 3), ot(:, 4)))
+        ohi(:, i) = max(max(ot(:, 1), ot(:, 2)), max(ot(:, 3), ot(:, 4)))
+        osg(i) = 0.0_wp
+        if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
+        ! (a half flat to round-off has no volume to give: sign 0, skipped)
+        osg(i) = real(tet_sign(ot), wp)
+        if (box .or. .not. abs(osg(i)) > 0.0_wp) cycle
+        ! the new cell's tetrahedra it may meet (whatever the region),
+        ! and its planes only where there are some
+        call live_tets(olo(:, i), ohi(:, i), ot, live(:, i), nlive(i), need(i))
+        if (nlive(i) == 0) then
+          osg(i) = 0.0_wp
+          cycle
+        end if
+        call tet_planes(ot, on(:, :, i), od(:, i), isg)
+      end do
+      call region_slots(h, mx, co, s0, s1)
+      ! every material region of the old cell
+      do s = s0, s1
+        nm = 0
+        if (s == 0) then
+          kmat = h%mat(co)
+          kreg = co
+        else
+          kmat = mx%mat(s)
+          kreg = g%ncell + s
+          if (.not. mx%mass(s) > 0.0_wp) cycle
+          call region_planes(old, s0, s, o, pn(:, 5:), pd(5:), nm)
+        end if
+        do i = 1, 48
+          if (.not. abs(osg(i)) > 0.0_wp) cycle
+          ! the velocity and kinetic energy per unit mass its fragments carry
+          ! (and, about the subcell's node, the velocity's linear part)
+          call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
+          if (box) then
             do j = 1, 4
               ot(:, j) = opts(:, ohv(j, i))
             end do
-            olo(:, i) = min(min(ot(:, 1), ot(:, 2)), min(ot(:, 3), ot(:, 4)))
-            ohi(:, i) = max(max(ot(:, 1), ot(:, 2)), max(ot(:, 3), ot(:, 4)))
-            osg(i) = 0.0_wp
-            if (any(ohi(:, i) < lo) .or. any(olo(:, i) > hi)) cycle
-            ! (a half flat to round-off has no volume to give: sign 0, skipped)
-            osg(i) = real(tet_sign(ot), wp)
-            if (box .or. .not. abs(osg(i)) > 0.0_wp) cycle
-            ! the new cell's tetrahedra it may meet (whatever the region),
-            ! and its planes only where there are some
-            call live_tets(olo(:, i), ohi(:, i), ot, live(:, i), nlive(i), need(i))
-            if (nlive(i) == 0) then
-              osg(i) = 0.0_wp
-              cycle
-            end if
-            call tet_planes(ot, on(:, :, i), od(:, i), isg)
-          end do
-          call region_slots(h, mx, co, s0, s1)
-          ! every material region of the old cell
-          do s = s0, s1
-            nm = 0
-            if (s == 0) then
-              kmat = h%mat(co)
-              kreg = co
-            else
-              kmat = mx%mat(s)
-              kreg = g%ncell + s
-              if (.not. mx%mass(s) > 0.0_wp) cycle
-              call region_planes(old, s0, s, o, pn(:, 5:), pd(5:), nm)
-            end if
-            do i = 1, 48
-              if (.not. abs(osg(i)) > 0.0_wp) cycle
-              ! the velocity and kinetic energy per unit mass its fragments carry
-              ! (and, about the subcell's node, the velocity's linear part)
-              call source(co, kreg, kmat, g%node0(co) + g%corner_offset(ocorner(i)))
-              if (box) then
-                do j = 1, 4
-                  ot(:, j) = opts(:, ohv(j, i))
-                end do
-                call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
-              else
-                pn(:, 1:4) = on(:, :, i)
-                pd(1:4) = od(:, i)
-                call clip_halves(pn, pd, 4 + nm, osg(i), live(1:nlive(i), i), need(i))
-              end if
-            end do
-          end do
+            call clip_into_octants(ot, pn(:, 5:4 + nm), pd(5:4 + nm), osg(i))
+          else
+            pn(:, 1:4) = on(:, :, i)
+            pd(1:4) = od(:, i)
+            call clip_halves(pn, pd, 4 + nm, osg(i), live(1:nlive(i), i), need(i))
+          end if
+        end do
+      end do
     end do
     call sums_out()
     ! first moments back to global coordinates
