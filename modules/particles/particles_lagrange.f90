@@ -77,6 +77,10 @@ module particles_lagrange
   !> particles' per-step kinematics (np).
   type :: particles_work_t
     logical :: mass_ready = .false.             !< mp holds this phase's particle mass term
+    !> f and fvf hold the coming step's predictor force (made with the
+    !> stable step, `particles_stable_dt`), f_bad its bad particle
+    logical :: f_ready = .false.
+    integer :: f_bad = 0
     real(wp), allocatable :: mp(:)              !< (nnode) sum_p (m_p - m'_p) N_Ip, guarded (Eq. 16)
     real(wp), allocatable :: f(:, :)            !< (3, nnode) particle force (Eq. 17)
     real(wp), allocatable :: fvf(:, :)          !< (3, nnode) its virtual-fluid part -sum_p V_p P_c grad N_Ip
@@ -358,8 +362,8 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
-    integer :: col, ci, cj, ck, c, q, j, k, a, n, n0, lo(3), hi(3), f0(3)
-    real(wp) :: xn(3, 8), gradn(3, 8), detj, s(6), vk
+    integer :: col, ci, cj, ck, c, q, j, k, a, n0, lo(3), hi(3), f0(3)
+    real(wp) :: xn(3, 8), gradn(3, 8), detj
     f = 0.0_wp
     fvf = 0.0_wp
     bad = huge(1)
@@ -367,7 +371,7 @@ contains
     do col = 0, 7
       f0 = g%colour_first(lo, col)
       !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, f0, hi, stress, vol) &
-      !$omp private(ci, cj, ck, c, q, j, k, a, n, n0, xn, gradn, detj, s, vk) reduction(min: bad) collapse(2) &
+      !$omp private(ci, cj, ck, c, q, j, k, a, n0, xn, gradn, detj) reduction(min: bad) collapse(2) &
       !$omp schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
@@ -383,16 +387,7 @@ contains
           k = p%ppart(j)
           call particles_gradients(xn, p%pxi(:, j), gradn, detj)
           if (.not. detj > 0.0_wp) bad = min(bad, k)
-          s = stress(:, k)
-          s(1:3) = s(1:3) + pcell(c)
-          vk = vol(k)*p%pw(j)
-          do a = 1, 8
-            n = n0 + g%corner_offset(a)
-            f(1, n) = f(1, n) - vk*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
-            f(2, n) = f(2, n) - vk*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
-            f(3, n) = f(3, n) - vk*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
-            fvf(1:3, n) = fvf(1:3, n) - vk*pcell(c)*gradn(:, a)
-          end do
+          call piece_force(g, n0, gradn, stress(:, k), vol(k)*p%pw(j), pcell(c), f, fvf)
         end do
       end do
       end do
@@ -401,6 +396,28 @@ contains
     end do
     if (bad == huge(1)) bad = 0
   end subroutine force_kernel
+
+  !> One piece's part of the nodal force (Eq. 17) at the corners n0 +
+  !> corner_offset of its host: stress sk (6) of its particle plus the
+  !> host's pressure pc, over its share vk of the particle's volume (grad N
+  !> gradn); fvf its virtual-fluid part.
+  pure subroutine piece_force(g, n0, gradn, sk, vk, pc, f, fvf)
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: n0
+    real(wp), intent(in) :: gradn(3, 8), sk(6), vk, pc
+    real(wp), intent(inout) :: f(:, :), fvf(:, :)
+    real(wp) :: s(6)
+    integer :: a, n
+    s = sk
+    s(1:3) = s(1:3) + pc
+    do a = 1, 8
+      n = n0 + g%corner_offset(a)
+      f(1, n) = f(1, n) - vk*(s(1)*gradn(1, a) + s(6)*gradn(2, a) + s(5)*gradn(3, a))
+      f(2, n) = f(2, n) - vk*(s(6)*gradn(1, a) + s(2)*gradn(2, a) + s(4)*gradn(3, a))
+      f(3, n) = f(3, n) - vk*(s(5)*gradn(1, a) + s(4)*gradn(2, a) + s(3)*gradn(3, a))
+      fvf(1:3, n) = fvf(1:3, n) - vk*pc*gradn(:, a)
+    end do
+  end subroutine piece_force
 
   !> The virtual-fluid pressure work given to the host cells (PARTICLES.md
   !> §1.12): the part -V_p P_c grad N_Ip of the particle force (grid x,
@@ -798,12 +815,13 @@ contains
     type(strength_slot_t), intent(in) :: models(:)
     real(wp), intent(out) :: q(:)
     real(wp) :: xn(3, 8), sarea(3, 3), vc, l
-    integer :: k, a
-    !$omp parallel do default(none) shared(g, x, p, models, lgrad, vol, rho, coef, q) private(k, a, xn, sarea, vc, l) &
+    integer :: k, a, n0
+    !$omp parallel do default(none) shared(g, x, p, models, lgrad, vol, rho, coef, q) private(k, a, n0, xn, sarea, vc, l) &
     !$omp schedule(static)
     do k = 1, p%np
+      n0 = g%node0(p%cell(k))
       do a = 1, 8
-        xn(:, a) = x(:, g%node0(p%cell(k)) + g%corner_offset(a))
+        xn(:, a) = x(:, n0 + g%corner_offset(a))
       end do
       call hex_median_areas(xn, sarea)
       vc = hex_volume(xn)
@@ -840,12 +858,13 @@ contains
     real(wp), intent(in) :: u(:, :), un(:, :)
     real(wp) :: dv(3)
     real(wp) :: sh(8)
-    integer :: q, a, n
+    integer :: q, a, n, n0
     dv = 0.0_wp
     do q = p%pfirst(k), p%pfirst(k + 1) - 1
       sh = particles_shape_values(p%pxi(:, q))*p%pw(q)
+      n0 = g%node0(p%pcell(q))
       do a = 1, 8
-        n = g%node0(p%pcell(q)) + g%corner_offset(a)
+        n = n0 + g%corner_offset(a)
         dv = dv + sh(a)*(u(1:3, n) - un(1:3, n))
       end do
     end do
@@ -882,7 +901,13 @@ contains
   !> |grad N_I(q)|^2 over its n_p pieces q); k_I is summed in the
   !> cell colours, so the result does not depend on the thread count. kw
   !> (nnode) is work.
-  subroutine particles_stable_dt(g, x, p, owned, models, cfl, mnode, mp, kw, dt, kmin, qcoef, nodal)
+  !>
+  !> With pcell, f, fvf and bad: also the predictor's nodal force at x
+  !> (`particles_nodal_force` with the particles' stress and volume, the
+  !> hosts' pressures pcell), from the same grad N and in the same order, so
+  !> bit for bit the same (the step's predictor then takes it: one
+  !> evaluation of grad N at x^n less per piece).
+  subroutine particles_stable_dt(g, x, p, owned, models, cfl, mnode, mp, kw, dt, kmin, qcoef, nodal, pcell, f, fvf, bad)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), cfl, mnode(:), mp(:)
     !> the particles this block owns (`particles_work_t`): only theirs count
@@ -901,8 +926,12 @@ contains
     !> the node whose guard set dt (kmin then the first particle with a
     !> piece at it), 0 if a particle's own step did
     integer, intent(out), optional :: nodal
-    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp
+    real(wp), intent(in), optional :: pcell(:)
+    real(wp), intent(out), optional :: f(:, :), fvf(:, :)
+    integer, intent(out), optional :: bad
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp, badf
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, dtk, gradn(3, 8), detj, mw, damp
+    logical :: forces
     dt = huge(1.0_wp)
     damp = 1.0_wp
     if (present(qcoef)) damp = sqrt(1.0_wp + qcoef*qcoef) + qcoef
@@ -923,11 +952,18 @@ contains
     end do
     ! the nodal guard
     kw = 0.0_wp
+    forces = present(f)
+    if (forces) then
+      f = 0.0_wp
+      fvf = 0.0_wp
+    end if
+    badf = huge(1)
     call g%cells_around(1, lo, hi)
     do col = 0, 7
       f0 = g%colour_first(lo, col)
-      !$omp parallel do default(none) shared(g, p, x, models, kw, f0, hi) &
-      !$omp private(ci, cj, ck, c, q, jp, k, a, n0, xn, gradn, detj, mw) collapse(2) schedule(static)
+      !$omp parallel do default(none) shared(g, p, x, models, kw, f0, hi, forces, pcell, f, fvf) &
+      !$omp private(ci, cj, ck, c, q, jp, k, a, n0, xn, gradn, detj, mw) reduction(min: badf) collapse(2) &
+      !$omp schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
       do ci = f0(1), hi(1), 2
@@ -951,12 +987,17 @@ contains
           do a = 1, 8
             kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
           end do
+          if (forces) then
+            if (.not. detj > 0.0_wp) badf = min(badf, k)
+            call piece_force(g, n0, gradn, p%stress(:, k), p%vol(k)*p%pw(jp), pcell(c), f, fvf)
+          end if
         end do
       end do
       end do
       end do
       !$omp end parallel do
     end do
+    if (present(bad)) bad = merge(0, badf, badf == huge(1))
     ! (the owned nodes: a block has every particle around them)
     nmin = 0
     do l = g%nlo(3), g%nhi(3)
@@ -985,19 +1026,25 @@ contains
     end function eos_c2
 
     !> A particle with a piece in a cell that has node n as a corner (the
-    !> first in piece order).
+    !> first in piece order): the smallest piece index among the pieces of
+    !> the (up to 8) stored cells around n.
     integer function node_particle(n) result(kp)
       integer, intent(in) :: n
-      integer :: j, b
-      kp = 0
-      do j = 1, p%npc
-        do b = 1, 8
-          if (g%node0(p%pcell(j)) + g%corner_offset(b) == n) then
-            kp = p%ppart(j)
-            return
-          end if
+      integer :: i, j, l, ci, cj, ck, c, q, first
+      call g%node_ijk(n, i, j, l)
+      first = huge(1)
+      do ck = max(l, g%slo(3)), min(l + 1, g%shi(3))
+        do cj = max(j, g%slo(2)), min(j + 1, g%shi(2))
+          do ci = max(i, g%slo(1)), min(i + 1, g%shi(1))
+            c = g%cell(ci, cj, ck)
+            do q = p%pc_start(c), p%pc_start(c + 1) - 1
+              first = min(first, p%pc_perm(q))
+            end do
+          end do
         end do
       end do
+      kp = 0
+      if (first < huge(1)) kp = p%ppart(first)
     end function node_particle
   end subroutine particles_stable_dt
 end module particles_lagrange

@@ -112,7 +112,8 @@ contains
     contrib%pw => pw
     call particles_phase_mass(g, pt, pw, h%mnode)
     call particles_stable_dt(g, g%x, pt, pw%owned, pw%models, par%cfl, h%mnode, pw%mp, pw%ms, dtp, kp, &
-                             par%particle_q, nodal)
+                             par%particle_q, nodal, h%p, pw%f, pw%fvf, pw%f_bad)
+    pw%f_ready = .true.
     ! the blocks' smallest (the particle's id with it; of blocks that tie
     ! exactly, the one one process takes: a particle's own step before a
     ! node's guard (which must be smaller to count), of particles the
@@ -141,6 +142,7 @@ contains
     dt = min(dt, dtp)
     call lagrange_step(g, h, bc, mats, mx, par, dt, work, bad_cell, dt_cell=dt_cell, nodal=contrib, &
                        work_nodal=budget%nodal_work, work_cells=budget%vf_work, halo=halo)
+    pw%f_ready = .false.
     bad_particle = contrib%bad
     if (present(dt_particle)) dt_particle = merge(nint(key(1)), 0, dtp < dt_in .and. .not. dt < dtp)
     call agree_bad(bad_particle)
@@ -213,8 +215,13 @@ contains
         ! (no viscosity: it needs this step's velocity gradients, which
         ! only the corrector has; the last step's are not the particles'
         ! state, and an Euler step, a restart or a move between blocks
-        ! would not carry them)
-        call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
+        ! would not carry them; made with the stable step at the same x)
+        if (pw%f_ready) then
+          badp = pw%f_bad
+          pw%f_ready = .false.
+        else
+          call particles_nodal_force(g, g%x, pt, h%p, pw%f, pw%fvf, badp)
+        end if
       else
         call trial_state(self, g, h, bc, par, dt, halo)
         pw%xc = g%x

@@ -55,10 +55,11 @@ contains
     type(grid_t), intent(in) :: g
     type(particles_t), intent(inout) :: p
     real(wp) :: xn(3, 8)
-    integer :: k, a
+    integer :: k, a, n0
     do k = 1, p%np
+      n0 = g%node0(p%cell(k))
       do a = 1, 8
-        xn(:, a) = g%x(:, g%node0(p%cell(k)) + g%corner_offset(a))
+        xn(:, a) = g%x(:, n0 + g%corner_offset(a))
       end do
       p%lsup(k) = 0.5_wp*min(1.0_wp, (p%vol(k)/hex_volume(xn))**(1.0_wp/3.0_wp))
     end do

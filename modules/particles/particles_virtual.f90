@@ -74,7 +74,7 @@ contains
     ! layer L
     real(wp), allocatable :: vsolid(:), level(:), rho(:), e(:), rho1(:), e1(:), mn(:, :)
     real(wp) :: srho, se, fac
-    integer :: c, k, i, j, l, a, nb, stat, cand(6), pick(6), m, new(1)
+    integer :: c, k, i, j, l, a, n0, nb, stat, cand(6), pick(6), m, new(1)
     logical :: side(6)
 
     nfill = 0
@@ -166,8 +166,9 @@ contains
     do c = 1, g%ncell
       if (.not. filled(c)) cycle
       fac = rho1(c)
+      n0 = g%node0(c)
       do a = 1, 8
-        l = g%node0(c) + g%corner_offset(a)
+        l = n0 + g%corner_offset(a)
         mn(1, l) = mn(1, l) + (fac - 1.0_wp)*h%mcorner(a, c)
       end do
       h%mcorner(:, c) = fac*h%mcorner(:, c)
