@@ -546,10 +546,11 @@ contains
     real(wp), intent(in) :: x(:, :), v(:, :)
     real(wp), intent(out) :: lgrad(:, :, :)
     integer :: k, a, n, n0, j, q
-    real(wp) :: xn(3, 8), gradn(3, 8), detj
-    !$omp parallel do default(none) shared(g, p, x, v, lgrad) private(k, a, n, n0, j, q, xn, gradn, detj) schedule(static)
+    real(wp) :: xn(3, 8), gradn(3, 8), detj, lk(3, 3)
+    !$omp parallel do default(none) shared(g, p, x, v, lgrad) private(k, a, n, n0, j, q, xn, gradn, detj, lk) &
+    !$omp schedule(static)
     do k = 1, p%np
-      lgrad(:, :, k) = 0.0_wp
+      lk = 0.0_wp
       do q = p%pfirst(k), p%pfirst(k + 1) - 1
         n0 = g%node0(p%pcell(q))
         do a = 1, 8
@@ -560,10 +561,11 @@ contains
         do a = 1, 8
           n = n0 + g%corner_offset(a)
           do j = 1, 3
-            lgrad(1:3, j, k) = lgrad(1:3, j, k) + v(1:3, n)*gradn(j, a)
+            lk(1:3, j) = lk(1:3, j) + v(1:3, n)*gradn(j, a)
           end do
         end do
       end do
+      lgrad(:, :, k) = lk
     end do
     !$omp end parallel do
   end subroutine particles_velocity_gradients
