@@ -283,14 +283,14 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: mvf(:), mnode(:)
     real(wp), intent(out) :: mp(:), ms(:)
-    integer :: col, ci, cj, ck, c, q, j, k, a, n0, lo(3), hi(3), f0(3)
+    integer :: col, ci, cj, ck, c, q, k, a, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     mp = 0.0_wp
     ms = 0.0_wp
     call g%cells_around(1, lo, hi)
     do col = 0, 7
       f0 = g%colour_first(lo, col)
-      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, f0, hi) private(ci, cj, ck, c, q, j, k, a, n0, sh) &
+      !$omp parallel do default(none) shared(g, p, mvf, mp, ms, f0, hi) private(ci, cj, ck, c, q, k, a, n0, sh) &
       !$omp collapse(2) schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
@@ -298,9 +298,8 @@ contains
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
-          j = p%pc_perm(q)
-          k = p%ppart(j)
-          sh = particles_shape_values(p%pxi(:, j))*p%pw(j)
+          k = p%cpart(q)
+          sh = particles_shape_values(p%cxi(:, q))*p%cw(q)
           do a = 1, 8
             mp(n0 + g%corner_offset(a)) = mp(n0 + g%corner_offset(a)) + (p%m(k) - mvf(k))*sh(a)
             ms(n0 + g%corner_offset(a)) = ms(n0 + g%corner_offset(a)) + p%m(k)*sh(a)
@@ -362,7 +361,7 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(out) :: f(:, :), fvf(:, :)
     integer, intent(out) :: bad
-    integer :: col, ci, cj, ck, c, q, j, k, a, n0, lo(3), hi(3), f0(3)
+    integer :: col, ci, cj, ck, c, q, k, a, n0, lo(3), hi(3), f0(3)
     real(wp) :: xn(3, 8), gradn(3, 8), detj
     f = 0.0_wp
     fvf = 0.0_wp
@@ -371,7 +370,7 @@ contains
     do col = 0, 7
       f0 = g%colour_first(lo, col)
       !$omp parallel do default(none) shared(g, p, x, pcell, f, fvf, f0, hi, stress, vol) &
-      !$omp private(ci, cj, ck, c, q, j, k, a, n0, xn, gradn, detj) reduction(min: bad) collapse(2) &
+      !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj) reduction(min: bad) collapse(2) &
       !$omp schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
@@ -383,11 +382,10 @@ contains
           xn(:, a) = x(1:3, n0 + g%corner_offset(a))
         end do
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
-          j = p%pc_perm(q)
-          k = p%ppart(j)
-          call particles_gradients(xn, p%pxi(:, j), gradn, detj)
+          k = p%cpart(q)
+          call particles_gradients(xn, p%cxi(:, q), gradn, detj)
           if (.not. detj > 0.0_wp) bad = min(bad, k)
-          call piece_force(g, n0, gradn, stress(:, k), vol(k)*p%pw(j), pcell(c), f, fvf)
+          call piece_force(g, n0, gradn, stress(:, k), vol(k)*p%cw(q), pcell(c), f, fvf)
         end do
       end do
       end do
@@ -434,10 +432,10 @@ contains
     real(wp), intent(inout) :: e(:)
     real(wp), intent(out) :: wc(:)
     type(xsum_t), intent(out) :: wsum
-    integer :: c, q, k, a, n0, i, j, l, jp
+    integer :: c, q, k, a, n0, i, j, l
     real(wp) :: xn(3, 8), un(3, 8), gradn(3, 8), detj, w
     !$omp parallel do default(none) shared(g, p, x, vol, pcell, u, dt, mass, e, wc) &
-    !$omp private(c, q, jp, k, a, n0, xn, un, gradn, detj, w) schedule(static)
+    !$omp private(c, q, k, a, n0, xn, un, gradn, detj, w) schedule(static)
     do c = 1, g%ncell
       wc(c) = 0.0_wp
       if (p%pc_start(c + 1) == p%pc_start(c)) cycle
@@ -448,11 +446,10 @@ contains
       end do
       w = 0.0_wp
       do q = p%pc_start(c), p%pc_start(c + 1) - 1
-        jp = p%pc_perm(q)
-        k = p%ppart(jp)
-        call particles_gradients(xn, p%pxi(:, jp), gradn, detj)
+        k = p%cpart(q)
+        call particles_gradients(xn, p%cxi(:, q), gradn, detj)
         do a = 1, 8
-          w = w - dt*(vol(k)*p%pw(jp))*pcell(c)*dot_product(gradn(:, a), un(:, a))
+          w = w - dt*(vol(k)*p%cw(q))*pcell(c)*dot_product(gradn(:, a), un(:, a))
         end do
       end do
       e(c) = e(c) - w/mass(c)
@@ -503,14 +500,14 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: vh(:, :)
     real(wp), intent(out) :: ms(:), vs(:, :)
-    integer :: col, ci, cj, ck, c, q, j, k, a, n, n0, lo(3), hi(3), f0(3)
+    integer :: col, ci, cj, ck, c, q, k, a, n, n0, lo(3), hi(3), f0(3)
     real(wp) :: sh(8)
     ms = 0.0_wp
     vs = 0.0_wp
     call g%cells_around(1, lo, hi)
     do col = 0, 7
       f0 = g%colour_first(lo, col)
-      !$omp parallel do default(none) shared(g, p, vh, ms, vs, f0, hi) private(ci, cj, ck, c, q, j, k, a, n, n0, sh) &
+      !$omp parallel do default(none) shared(g, p, vh, ms, vs, f0, hi) private(ci, cj, ck, c, q, k, a, n, n0, sh) &
       !$omp collapse(2) schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
@@ -518,9 +515,8 @@ contains
         c = g%cell(ci, cj, ck)
         n0 = g%cell_node0(ci, cj, ck)
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
-          j = p%pc_perm(q)
-          k = p%ppart(j)
-          sh = particles_shape_values(p%pxi(:, j))*p%pw(j)
+          k = p%cpart(q)
+          sh = particles_shape_values(p%cxi(:, q))*p%cw(q)
           do a = 1, 8
             n = n0 + g%corner_offset(a)
             ms(n) = ms(n) + p%m(k)*sh(a)
@@ -768,16 +764,15 @@ contains
     type(particles_t), intent(in) :: p
     real(wp), intent(in) :: vol(:), vcell(:)
     real(wp), intent(out) :: vscale(:)
-    integer :: c, q, j
+    integer :: c, q
     real(wp) :: vp
-    !$omp parallel do default(none) shared(g, p, vol, vcell, vscale) private(c, q, j, vp) schedule(static)
+    !$omp parallel do default(none) shared(g, p, vol, vcell, vscale) private(c, q, vp) schedule(static)
     do c = 1, g%ncell
       vscale(c) = 1.0_wp
       if (p%pc_start(c + 1) == p%pc_start(c)) cycle
       vp = 0.0_wp
       do q = p%pc_start(c), p%pc_start(c + 1) - 1
-        j = p%pc_perm(q)
-        vp = vp + vol(p%ppart(j))*p%pw(j)
+        vp = vp + vol(p%cpart(q))*p%cw(q)
       end do
       vscale(c) = 1.0_wp - max(0.0_wp, min(1.0_wp, vp/vcell(c)))
     end do
@@ -931,7 +926,7 @@ contains
     real(wp), intent(in), optional :: pcell(:)
     real(wp), intent(out), optional :: f(:, :), fvf(:, :)
     integer, intent(out), optional :: bad
-    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, jp, badf
+    integer :: k, a, n0, n, col, ci, cj, ck, c, q, nmin, lo(3), hi(3), f0(3), i, j, l, badf
     real(wp) :: xn(3, 8), sarea(3, 3), len_c, dtk, gradn(3, 8), detj, mw, damp
     logical :: forces
     dt = huge(1.0_wp)
@@ -964,7 +959,7 @@ contains
     do col = 0, 7
       f0 = g%colour_first(lo, col)
       !$omp parallel do default(none) shared(g, p, x, models, kw, f0, hi, forces, pcell, f, fvf) &
-      !$omp private(ci, cj, ck, c, q, jp, k, a, n0, xn, gradn, detj, mw) reduction(min: badf) collapse(2) &
+      !$omp private(ci, cj, ck, c, q, k, a, n0, xn, gradn, detj, mw) reduction(min: badf) collapse(2) &
       !$omp schedule(static)
       do ck = f0(3), hi(3), 2
       do cj = f0(2), hi(2), 2
@@ -980,18 +975,17 @@ contains
         ! Schwarz); a piece of small share w adds w N to a node's mass and
         ! w^2 |grad N|^2 to its stiffness)
         do q = p%pc_start(c), p%pc_start(c + 1) - 1
-          jp = p%pc_perm(q)
-          k = p%ppart(jp)
-          call particles_gradients(xn, p%pxi(:, jp), gradn, detj)
+          k = p%cpart(q)
+          call particles_gradients(xn, p%cxi(:, q), gradn, detj)
           mw = p%vol(k)*models(p%mat(k))%m%wave_modulus()
           if (allocated(models(p%mat(k))%eos)) mw = mw + p%vol(k)*p%rho(k)*eos_c2(models(p%mat(k))%eos, p%rho(k), p%e(k))
-          mw = mw*(p%pw(jp)*p%pw(jp)*(p%pfirst(k + 1) - p%pfirst(k)))
+          mw = mw*(p%cw(q)*p%cw(q)*(p%pfirst(k + 1) - p%pfirst(k)))
           do a = 1, 8
             kw(n0 + g%corner_offset(a)) = kw(n0 + g%corner_offset(a)) + mw*sum(gradn(:, a)**2)
           end do
           if (forces) then
             if (.not. detj > 0.0_wp) badf = min(badf, k)
-            call piece_force(g, n0, gradn, p%stress(:, k), p%vol(k)*p%pw(jp), pcell(c), f, fvf)
+            call piece_force(g, n0, gradn, p%stress(:, k), p%vol(k)*p%cw(q), pcell(c), f, fvf)
           end if
         end do
       end do

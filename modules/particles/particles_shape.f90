@@ -35,34 +35,45 @@ module particles_shape
 
 contains
 
-  !> The eight shape functions at xi (natural coordinates in [0,1]^3).
+  !> The eight shape functions at xi (natural coordinates in [0,1]^3):
+  !> N_a = f_1 f_2 f_3 with f_d = xi_d where bit d-1 of a-1 is set, else
+  !> 1 - xi_d (written out: a table indexed by the bits was a tenth of a
+  !> particle run's time).
   pure function particles_shape_values(xi) result(n)
     real(wp), intent(in) :: xi(3)
     real(wp) :: n(8)
-    real(wp) :: f(0:1, 3)
-    integer :: a
-    f(0, :) = 1.0_wp - xi
-    f(1, :) = xi
-    do a = 1, 8
-      n(a) = f(ibits(a - 1, 0, 1), 1)*f(ibits(a - 1, 1, 1), 2)*f(ibits(a - 1, 2, 1), 3)
-    end do
+    real(wp) :: x0, x1, y0, y1, z0, z1
+    x1 = xi(1)
+    y1 = xi(2)
+    z1 = xi(3)
+    x0 = 1.0_wp - x1
+    y0 = 1.0_wp - y1
+    z0 = 1.0_wp - z1
+    n(1) = x0*y0*z0
+    n(2) = x1*y0*z0
+    n(3) = x0*y1*z0
+    n(4) = x1*y1*z0
+    n(5) = x0*y0*z1
+    n(6) = x1*y0*z1
+    n(7) = x0*y1*z1
+    n(8) = x1*y1*z1
   end function particles_shape_values
 
-  !> dN_a/dxi_d (8, 3) at xi (per unit natural coordinate).
+  !> dN_a/dxi_d (8, 3) at xi (per unit natural coordinate): the factor of
+  !> direction d replaced by -1 or +1 (`particles_shape_values`).
   pure function particles_shape_gradients(xi) result(dn)
     real(wp), intent(in) :: xi(3)
     real(wp) :: dn(8, 3)
-    real(wp) :: f(0:1, 3)
-    integer :: a, b(3)
-    real(wp), parameter :: sgn(0:1) = [-1.0_wp, 1.0_wp]
-    f(0, :) = 1.0_wp - xi
-    f(1, :) = xi
-    do a = 1, 8
-      b = [ibits(a - 1, 0, 1), ibits(a - 1, 1, 1), ibits(a - 1, 2, 1)]
-      dn(a, 1) = sgn(b(1))*f(b(2), 2)*f(b(3), 3)
-      dn(a, 2) = sgn(b(2))*f(b(1), 1)*f(b(3), 3)
-      dn(a, 3) = sgn(b(3))*f(b(1), 1)*f(b(2), 2)
-    end do
+    real(wp) :: x0, x1, y0, y1, z0, z1
+    x1 = xi(1)
+    y1 = xi(2)
+    z1 = xi(3)
+    x0 = 1.0_wp - x1
+    y0 = 1.0_wp - y1
+    z0 = 1.0_wp - z1
+    dn(:, 1) = [-y0*z0, y0*z0, -y1*z0, y1*z0, -y0*z1, y0*z1, -y1*z1, y1*z1]
+    dn(:, 2) = [-x0*z0, -x1*z0, x0*z0, x1*z0, -x0*z1, -x1*z1, x0*z1, x1*z1]
+    dn(:, 3) = [-x0*y0, -x1*y0, -x0*y1, -x1*y1, x0*y0, x1*y0, x0*y1, x1*y1]
   end function particles_shape_gradients
 
   !> The position (length) at natural coordinates xi of the hex xn(3,8):

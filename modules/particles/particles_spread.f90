@@ -40,7 +40,7 @@ module particles_spread
   use base_kinds, only: wp
   use mesh_grid, only: grid_t
   use mesh_geometry, only: hex_volume
-  use particles_state, only: particles_t
+  use particles_state, only: particles_t, particles_pieces_by_cell
   implicit none
   private
   public :: particles_spread_pieces, particles_support_widths
@@ -122,6 +122,7 @@ contains
       p%pc_start(c) = p%pc_start(c - 1)
     end do
     p%pc_start(1) = 1
+    call particles_pieces_by_cell(p)
     p%spread_ready = .true.
 
   contains
