@@ -6,13 +6,13 @@
 !> The rate term is guarded (rates below eps_dot0 do not soften below the
 !> static curve, as LS-DYNA does) and m = 0 (the default) switches thermal
 !> softening off (factor 1 at any T). The slope d sigma_y/d eps_p is
-!> singular at eps_p = 0 for n < 1: `jc_slope` returns it at
+!> singular at eps_p = 0 for n < 1: `jc_flow_slopes` returns it at
 !> max(eps_p, eps_floor), and a Newton on it must bracket its root.
 module strength_jc_flow
   use base_kinds, only: wp
   implicit none
   private
-  public :: jc_flow_t, jc_flow, jc_slope, jc_rate_slope
+  public :: jc_flow_t, jc_flow, jc_flow_slopes
 
   !> eps_p floor of the slope (module notes).
   real(wp), parameter :: eps_floor = 1.0e-12_wp
@@ -57,18 +57,21 @@ contains
     sy = (jc%a + jc%b*max(eps_p, 0.0_wp)**jc%n)*rate_factor(jc, rate)*thermal_factor(jc, t)
   end function jc_flow
 
-  !> d sigma_y/d eps_p at max(eps_p, eps_floor) (module notes).
-  pure real(wp) function jc_slope(jc, eps_p, rate, t) result(h)
+  !> sigma_y (`jc_flow`) with its slopes in one evaluation (each power and
+  !> logarithm once, the same expressions): h = d sigma_y/d eps_p at
+  !> max(eps_p, eps_floor) (module notes), hr = d sigma_y/d rate = (A + B
+  !> eps_p^n) C/rate (1 - T*^m) above eps0, 0 below.
+  pure subroutine jc_flow_slopes(jc, eps_p, rate, t, sy, h, hr)
     type(jc_flow_t), intent(in) :: jc
     real(wp), intent(in) :: eps_p, rate, t
-    h = jc%b*jc%n*max(eps_p, eps_floor)**(jc%n - 1.0_wp)*rate_factor(jc, rate)*thermal_factor(jc, t)
-  end function jc_slope
-
-  !> d sigma_y/d rate: (A + B eps_p^n) C/rate (1 - T*^m) above eps0, 0 below.
-  pure real(wp) function jc_rate_slope(jc, eps_p, rate, t) result(h)
-    type(jc_flow_t), intent(in) :: jc
-    real(wp), intent(in) :: eps_p, rate, t
-    h = 0.0_wp
-    if (rate > jc%eps0) h = (jc%a + jc%b*max(eps_p, 0.0_wp)**jc%n)*jc%c/rate*thermal_factor(jc, t)
-  end function jc_rate_slope
+    real(wp), intent(out) :: sy, h, hr
+    real(wp) :: hard, rf, tf
+    hard = jc%a + jc%b*max(eps_p, 0.0_wp)**jc%n
+    rf = rate_factor(jc, rate)
+    tf = thermal_factor(jc, t)
+    sy = hard*rf*tf
+    h = jc%b*jc%n*max(eps_p, eps_floor)**(jc%n - 1.0_wp)*rf*tf
+    hr = 0.0_wp
+    if (rate > jc%eps0) hr = hard*jc%c/rate*tf
+  end subroutine jc_flow_slopes
 end module strength_jc_flow

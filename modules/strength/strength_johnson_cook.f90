@@ -16,7 +16,7 @@
 !> runs inside the bracket, which every evaluation shrinks; a step that
 !> would leave it is replaced by bisection (the slope is infinite at eps_p
 !> = 0 for n < 1 and the rate slope C/rate is infinite at rate 0+, so
-!> Newton alone cannot be trusted near dp = 0; `jc_slope` evaluates the
+!> Newton alone cannot be trusted near dp = 0; `jc_flow_slopes` evaluates the
 !> strain slope at a floor, never dividing by zero). A trial with g(0) <=
 !> tol q* is elastic (dp = 0). Converged when |g| <=
 !> tol q* (tol = 1e-12), the bracket is a few ulps wide, or its upper end
@@ -41,7 +41,7 @@
 module strength_johnson_cook
   use base_kinds, only: wp
   use strength_models, only: strength_t, strength_point_t, strength_trial, strength_mises
-  use strength_jc_flow, only: jc_flow_t, jc_flow, jc_slope, jc_rate_slope
+  use strength_jc_flow, only: jc_flow_t, jc_flow, jc_flow_slopes
   implicit none
   private
   public :: strength_johnson_cook_t, jc_return, jc_tol
@@ -163,12 +163,13 @@ contains
     pure subroutine residual(x, gx, dgx)
       real(wp), intent(in) :: x
       real(wp), intent(out) :: gx, dgx
-      real(wp) :: rate
+      real(wp) :: rate, sy, h, hr
       rate = 0.0_wp
       if (dt > 0.0_wp) rate = x/dt
-      gx = q - 3.0_wp*g*x - jc_flow(jc, eps_p + x, rate, t)
-      dgx = -3.0_wp*g - jc_slope(jc, eps_p + x, rate, t)
-      if (dt > 0.0_wp) dgx = dgx - jc_rate_slope(jc, eps_p + x, rate, t)/dt
+      call jc_flow_slopes(jc, eps_p + x, rate, t, sy, h, hr)
+      gx = q - 3.0_wp*g*x - sy
+      dgx = -3.0_wp*g - h
+      if (dt > 0.0_wp) dgx = dgx - hr/dt
     end subroutine residual
   end subroutine jc_return
 
