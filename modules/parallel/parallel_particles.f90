@@ -15,7 +15,7 @@ module parallel_particles
   use base_registry, only: registry_t, K_REAL
   use mesh_grid, only: grid_t, grid_index_t
   use particles_state, only: particles_t, particles_allocate, particles_select, particles_index, &
-                             particles_register_restart, particles_key_order, particles_order
+                             particles_register_restart, particles_key_order, particles_order, particles_move
   use parallel_comm, only: comm_t, parallel_nomem
   use parallel_gather, only: gather_concat, exchange_lists
   implicit none
@@ -252,7 +252,7 @@ contains
     end do
     call particles_order(pn, g%ncell, err)
     if (allocated(err)) return
-    pt = pn
+    call particles_move(pn, pt)
     deallocate(owned)
     allocate(owned(pt%np), stat=stat)
     if (stat /= 0) then

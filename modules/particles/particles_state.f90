@@ -60,7 +60,8 @@ module particles_state
   private
   public :: particles_t, particles_allocate, particles_order, particles_key_order, particles_select, particles_index, &
             particles_bin, particles_solid_order, particles_take_fields, particles_cell_counts, particles_places, &
-            particles_register_restart, particles_check, particles_pieces_by_cell
+            particles_register_restart, particles_check, particles_pieces_by_cell, &
+            particles_move
 
   !> The particles. Units: x length, v length/time, m mass, vol length^3,
   !> rho mass/length^3, stress mass/(length time^2).
@@ -408,6 +409,50 @@ contains
     call particles_pieces_by_cell(p)
     p%spread_ready = .not. p%spread
   end subroutine particles_bin
+
+  !> to takes from's particles: every allocatable component moved (no copy,
+  !> so no allocation that could fail; an intrinsic assignment copies each
+  !> array and stops the run where memory is short), from left empty. A
+  !> component added to particles_t must be moved here too.
+  subroutine particles_move(from, to)
+    type(particles_t), intent(inout) :: from
+    type(particles_t), intent(inout) :: to
+    to%np = from%np
+    to%nsolid = from%nsolid
+    to%nhist = from%nhist
+    to%spread = from%spread
+    to%spread_ready = from%spread_ready
+    to%npc = from%npc
+    call move_alloc(from%id, to%id)
+    call move_alloc(from%mat, to%mat)
+    call move_alloc(from%body, to%body)
+    call move_alloc(from%cell, to%cell)
+    call move_alloc(from%xi, to%xi)
+    call move_alloc(from%x, to%x)
+    call move_alloc(from%v, to%v)
+    call move_alloc(from%m, to%m)
+    call move_alloc(from%vol, to%vol)
+    call move_alloc(from%rho, to%rho)
+    call move_alloc(from%stress, to%stress)
+    call move_alloc(from%hist, to%hist)
+    call move_alloc(from%e, to%e)
+    call move_alloc(from%mvf, to%mvf)
+    call move_alloc(from%mat_start, to%mat_start)
+    call move_alloc(from%cell_start, to%cell_start)
+    call move_alloc(from%perm, to%perm)
+    call move_alloc(from%lsup, to%lsup)
+    call move_alloc(from%pfirst, to%pfirst)
+    call move_alloc(from%pcell, to%pcell)
+    call move_alloc(from%ppart, to%ppart)
+    call move_alloc(from%pxi, to%pxi)
+    call move_alloc(from%pw, to%pw)
+    call move_alloc(from%pc_start, to%pc_start)
+    call move_alloc(from%pc_perm, to%pc_perm)
+    call move_alloc(from%cpart, to%cpart)
+    call move_alloc(from%cw, to%cw)
+    call move_alloc(from%cxi, to%cxi)
+    from = particles_t()
+  end subroutine particles_move
 
   !> The pieces' particle, weight and centre copied in pc_perm's order
   !> (cpart, cw, cxi), after pc_perm is made.
