@@ -806,6 +806,11 @@ contains
     sch%eta_wall = wall
     write(line, '("step ",i8,"  t ",es12.5,"  dt ",es10.3,"  wall ",f9.2," s  left ",f9.2, &
       &" s  energy drift ",es10.2)') st%step, st%t, st%dt, wall, left, drift
+    if (allocated(st%pw%mp)) then
+      ! (the part of it the coupling's booked errors explain: decoupling
+      ! work and Euler-step transfer, the budget line's terms)
+      write(line, '(a," (coupling ",es9.2,")")') trim(line), drift - budget_residual(st%tot)
+    end if
     call log_line(sch%log, trim(line)//'  dt by '//step_limit_text(st, sch))
   end subroutine progress
 
