@@ -41,9 +41,11 @@ module rezone_quality
             standard_side_ratio, grid_standard_ratios, &
             hex_box_sides, hex_edge_means, hex_quality_box
 
-  !> The three neighbours of each corner along the three logical directions.
-  integer, parameter :: corner_nbr(3, 8) = reshape([2, 3, 5,  1, 4, 6,  4, 1, 7,  3, 2, 8, &
-                                                    6, 7, 1,  5, 8, 2,  8, 5, 3,  7, 6, 4], [3, 8])
+  !> The edge of each corner along each logical direction d: its index k
+  !> in `mesh_geometry`'s hex_edges(:, k, d) (the edge from corner a to
+  !> the corner that differs from it in the d-th logical index).
+  integer, parameter :: corner_edge(3, 8) = reshape([1, 1, 1,  1, 3, 4,  4, 1, 3,  4, 3, 2, &
+                                                     3, 4, 1,  3, 2, 4,  2, 4, 3,  2, 2, 2], [3, 8])
   !> The 12 edges of a hexahedron as (node, node) in the local numbering.
   integer, parameter :: hex_edge_list(2, 12) = reshape([1, 2, 3, 4, 5, 6, 7, 8, &
                                                         1, 3, 2, 4, 5, 7, 6, 8, &
@@ -183,13 +185,15 @@ contains
     real(wp), intent(in) :: xn(3, 8)
     real(wp), intent(out) :: side_ratio, cos_incl
     logical, intent(in), optional :: axis
-    real(wp) :: l2min, l2max, le2, e(3, 3), ne2(3), c2, cr(3), den, cneg
+    real(wp) :: l2min, l2max, ed(3, 4, 3), le2(4, 3), c2, cr(3), den, cneg
     integer :: k, a, i, j, d
     logical :: by_axis
 
     ! squares throughout, one square root at the end of each measure (the
-    ! triggers evaluate this for every cell at every step); each edge once
-    ! for the side ratio and, with axis, the cosines
+    ! triggers evaluate this for every cell at every step); each edge once,
+    ! for the side ratio and for the angles at both its corners (an edge
+    ! taken from its other end is the same vector negated, exactly, and the
+    ! squares below do not see the sign)
     by_axis = .false.
     if (present(axis)) by_axis = axis
     l2min = huge(1.0_wp)
@@ -201,17 +205,17 @@ contains
     cneg = -1.0_wp
     do d = 1, 3
       do k = 1, 4
-        e(:, 1) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
-        le2 = e(1, 1)**2 + e(2, 1)**2 + e(3, 1)**2
-        l2min = min(l2min, le2)
-        l2max = max(l2max, le2)
+        ed(:, k, d) = xn(:, hex_edges(2, k, d)) - xn(:, hex_edges(1, k, d))
+        le2(k, d) = ed(1, k, d)**2 + ed(2, k, d)**2 + ed(3, k, d)**2
+        l2min = min(l2min, le2(k, d))
+        l2max = max(l2max, le2(k, d))
         if (.not. by_axis) cycle
-        if (.not. le2 > 0.0_wp) then
+        if (.not. le2(k, d) > 0.0_wp) then
           c2 = 0.0_wp
-        else if (e(d, 1) > 0.0_wp) then
-          c2 = min(c2, e(d, 1)**2/le2)
+        else if (ed(d, k, d) > 0.0_wp) then
+          c2 = min(c2, ed(d, k, d)**2/le2(k, d))
         else
-          cneg = max(cneg, e(d, 1)**2/le2)
+          cneg = max(cneg, ed(d, k, d)**2/le2(k, d))
         end if
       end do
     end do
@@ -223,15 +227,11 @@ contains
       return
     end if
     do a = 1, 8
-      do i = 1, 3
-        e(:, i) = xn(:, corner_nbr(i, a)) - xn(:, a)
-        ne2(i) = e(1, i)**2 + e(2, i)**2 + e(3, i)**2
-      end do
       do i = 1, 2
         do j = i + 1, 3
-          den = ne2(i)*ne2(j)
+          den = le2(corner_edge(i, a), i)*le2(corner_edge(j, a), j)
           if (den > 0.0_wp) then
-            cr = cross(e(:, i), e(:, j))
+            cr = cross(ed(:, corner_edge(i, a), i), ed(:, corner_edge(j, a), j))
             c2 = min(c2, (cr(1)**2 + cr(2)**2 + cr(3)**2)/den)
           else
             c2 = 0.0_wp

@@ -12,7 +12,7 @@ module strength_jc_flow
   use base_kinds, only: wp
   implicit none
   private
-  public :: jc_flow_t, jc_flow, jc_flow_slopes
+  public :: jc_flow_t, jc_flow, jc_flow_slopes, thermal_factor
 
   !> eps_p floor of the slope (module notes).
   real(wp), parameter :: eps_floor = 1.0e-12_wp
@@ -58,17 +58,18 @@ contains
   end function jc_flow
 
   !> sigma_y (`jc_flow`) with its slopes in one evaluation (each power and
-  !> logarithm once, the same expressions): h = d sigma_y/d eps_p at
-  !> max(eps_p, eps_floor) (module notes), hr = d sigma_y/d rate = (A + B
-  !> eps_p^n) C/rate (1 - T*^m) above eps0, 0 below.
-  pure subroutine jc_flow_slopes(jc, eps_p, rate, t, sy, h, hr)
+  !> logarithm once, the same expressions), at the thermal factor tf
+  !> (`thermal_factor` of the temperature, which a return holds fixed: its
+  !> caller takes it once): h = d sigma_y/d eps_p at max(eps_p, eps_floor)
+  !> (module notes), hr = d sigma_y/d rate = (A + B eps_p^n) C/rate (1 -
+  !> T*^m) above eps0, 0 below.
+  pure subroutine jc_flow_slopes(jc, eps_p, rate, tf, sy, h, hr)
     type(jc_flow_t), intent(in) :: jc
-    real(wp), intent(in) :: eps_p, rate, t
+    real(wp), intent(in) :: eps_p, rate, tf
     real(wp), intent(out) :: sy, h, hr
-    real(wp) :: hard, rf, tf
+    real(wp) :: hard, rf
     hard = jc%a + jc%b*max(eps_p, 0.0_wp)**jc%n
     rf = rate_factor(jc, rate)
-    tf = thermal_factor(jc, t)
     sy = hard*rf*tf
     h = jc%b*jc%n*max(eps_p, eps_floor)**(jc%n - 1.0_wp)*rf*tf
     hr = 0.0_wp

@@ -41,7 +41,7 @@
 module strength_johnson_cook
   use base_kinds, only: wp
   use strength_models, only: strength_t, strength_point_t, strength_trial, strength_mises
-  use strength_jc_flow, only: jc_flow_t, jc_flow, jc_flow_slopes
+  use strength_jc_flow, only: jc_flow_t, jc_flow, jc_flow_slopes, thermal_factor
   implicit none
   private
   public :: strength_johnson_cook_t, jc_return, jc_tol
@@ -113,11 +113,12 @@ contains
     real(wp), intent(out) :: dp
     integer, intent(out) :: iters
     logical, intent(out) :: ok
-    real(wp) :: lo, hi, r, dr, step, trial
+    real(wp) :: lo, hi, r, dr, step, trial, tf
     iters = 0
     ok = .true.
     dp = 0.0_wp
     r = q - jc_flow(jc, eps_p, 0.0_wp, t)
+    tf = thermal_factor(jc, t)
     if (.not. r > jc_tol*q) return
     lo = 0.0_wp
     ! the perfectly plastic estimate, an upper end (module notes)
@@ -166,7 +167,7 @@ contains
       real(wp) :: rate, sy, h, hr
       rate = 0.0_wp
       if (dt > 0.0_wp) rate = x/dt
-      call jc_flow_slopes(jc, eps_p + x, rate, t, sy, h, hr)
+      call jc_flow_slopes(jc, eps_p + x, rate, tf, sy, h, hr)
       gx = q - 3.0_wp*g*x - sy
       dgx = -3.0_wp*g - h
       if (dt > 0.0_wp) dgx = dgx - hr/dt
