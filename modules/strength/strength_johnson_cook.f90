@@ -118,8 +118,8 @@ contains
     ok = .true.
     dp = 0.0_wp
     r = q - jc_flow(jc, eps_p, 0.0_wp, t)
-    tf = thermal_factor(jc, t)
     if (.not. r > jc_tol*q) return
+    tf = thermal_factor(jc, t)
     lo = 0.0_wp
     ! the perfectly plastic estimate, an upper end (module notes)
     hi = min(r/(3.0_wp*g), q/(3.0_wp*g))
