@@ -27,7 +27,8 @@ module remap_bins
     type(grid_index_t) :: ix                !< the block's index arithmetic
     integer :: nb(3) = 0
     real(wp) :: lo(3) = 0.0_wp, h(3) = 1.0_wp
-    real(wp), allocatable :: blo(:, :), bhi(:, :)   !< cell bounding boxes (3, ncell)
+    !> the binned cells' bounding boxes (3, ncell; the others' are not set)
+    real(wp), allocatable :: blo(:, :), bhi(:, :)
     integer, allocatable :: start(:), item(:)
   end type remap_bins_t
 
@@ -62,10 +63,11 @@ contains
       do cj = 1, nj
         do ci = 1, ni
           c = bins%ix%cell(ci, cj, ck)
+          ! (only the binned cells' boxes are read)
+          if (.not. use(c)) cycle
           call block_gather(ni, nj, ci, cj, ck, x, xn)
           bins%blo(:, c) = minval(xn, 2)
           bins%bhi(:, c) = maxval(xn, 2)
-          if (.not. use(c)) cycle
           glo = min(glo, bins%blo(:, c))
           ghi = max(ghi, bins%bhi(:, c))
         end do

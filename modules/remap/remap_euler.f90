@@ -4886,18 +4886,35 @@ contains
   end subroutine remap_zone_open
 
   !> Whether each cell of the block ix (no ghosts) has a node that moves
-  !> from xold to xnew (as `prepare_old` marks them changed).
+  !> from xold to xnew (as `prepare_old` marks them changed): the nodes
+  !> compared in blocks first (`blocks_moved`; most nodes of a window do not
+  !> move), each moved node marking its cells.
   pure function cells_moved(ix, xold, xnew) result(moved)
     type(grid_index_t), intent(in) :: ix
     real(wp), intent(in) :: xold(:, :), xnew(:, :)
     logical :: moved(ix%ncell)
-    integer :: c, a
-    do c = 1, ix%ncell
-      moved(c) = .false.
-      do a = 1, 8
-        associate (n => ix%node0(c) + ix%corner_offset(a))
-          if (any(abs(xnew(:, n) - xold(:, n)) > 0.0_wp)) moved(c) = .true.
-        end associate
+    integer, parameter :: block = 32
+    logical, allocatable :: some(:)
+    integer :: n, n0, i, j, k, ci, cj, ck, stat
+    moved = .false.
+    ! (without room for the blocks' flags every node is compared)
+    allocate(some((ix%nnode + block - 1)/block), stat=stat)
+    if (stat == 0) call blocks_moved(ix%nnode, xnew, xold, block, some)
+    do n0 = 1, ix%nnode, block
+      if (allocated(some)) then
+        if (.not. some((n0 - 1)/block + 1)) cycle
+      end if
+      do n = n0, min(n0 + block - 1, ix%nnode)
+        if (.not. any(abs(xnew(:, n) - xold(:, n)) > 0.0_wp)) cycle
+        ! (node (i,j,k) is corner 1 of cell (i+1,j+1,k+1))
+        call ix%node_ijk(n, i, j, k)
+        do ck = max(k, ix%slo(3)), min(k + 1, ix%shi(3))
+          do cj = max(j, ix%slo(2)), min(j + 1, ix%shi(2))
+            do ci = max(i, ix%slo(1)), min(i + 1, ix%shi(1))
+              moved(ix%cell(ci, cj, ck)) = .true.
+            end do
+          end do
+        end do
       end do
     end do
   end function cells_moved
@@ -4955,17 +4972,19 @@ contains
     type(grid_index_t), intent(in) :: ix
     real(wp), intent(in) :: xnew(:, :)
     real(wp) :: r(12)
-    real(wp) :: xc(3, 8)
-    integer :: c
+    integer :: c, n0, a
     r(1:3) = real(ix%off + 1, wp)
     r(4:6) = real(ix%off + [ix%ni, ix%nj, ix%nk], wp)
     r(7:9) = huge(1.0_wp)
     r(10:12) = -huge(1.0_wp)
+    ! (the extremes over the computed cells' nodes: exact in any order)
     do c = 1, ix%ncell
       if (.not. zone%compute(c)) cycle
-      call ix%gather(c, xnew, xc)
-      r(7:9) = min(r(7:9), minval(xc, 2))
-      r(10:12) = max(r(10:12), maxval(xc, 2))
+      n0 = ix%node0(c)
+      do a = 1, 8
+        r(7:9) = min(r(7:9), xnew(:, n0 + ix%corner_offset(a)))
+        r(10:12) = max(r(10:12), xnew(:, n0 + ix%corner_offset(a)))
+      end do
     end do
   end function remap_zone_reach_box
 
