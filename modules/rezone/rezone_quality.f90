@@ -39,7 +39,7 @@ module rezone_quality
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, grid_shape_worst, &
             standard_side_ratio, grid_standard_ratios, &
-            hex_box_sides, hex_edge_means, hex_quality_box
+            hex_box_sides, hex_edge_means, hex_quality_box, hex_quality_box_parts
 
   !> The edge of each corner along each logical direction d: its index k
   !> in `mesh_geometry`'s hex_edges(:, k, d) (the edge from corner a to
@@ -60,7 +60,7 @@ contains
   pure function hex_quality(xn) result(q)
     real(wp), intent(in) :: xn(3, 8)
     real(wp) :: q
-    q = quality_of(xn, edge_lengths(xn))
+    q = quality_of(hex_volume(xn), edge_lengths(xn))
   end function hex_quality
 
   !> The 12 edge lengths of a hexahedron (length), in the order of
@@ -74,16 +74,17 @@ contains
     end do
   end function edge_lengths
 
-  !> Eq. (46) from the cell's edge lengths len (`edge_lengths`).
-  pure real(wp) function quality_of(xn, len) result(q)
-    real(wp), intent(in) :: xn(3, 8), len(12)
+  !> Eq. (46) from the cell's volume v (`hex_volume`) and edge lengths len
+  !> (`edge_lengths`).
+  pure real(wp) function quality_of(v, len) result(q)
+    real(wp), intent(in) :: v, len(12)
     real(wp) :: l
     integer :: e
     l = 0.0_wp
     do e = 1, 12
       l = l + len(e)
     end do
-    q = 1728.0_wp*hex_volume(xn)/l**3
+    q = 1728.0_wp*v/l**3
   end function quality_of
 
   !> Sides (length) of a hexahedron's own box: the mean lengths of its four
@@ -148,14 +149,25 @@ contains
   pure function hex_quality_box(xn, aspect_max) result(q)
     real(wp), intent(in) :: xn(3, 8), aspect_max
     real(wp) :: q
-    real(wp) :: b(3), len(12)
+    real(wp) :: b(3), v
+    call hex_quality_box_parts(xn, aspect_max, q, b, v)
+  end function hex_quality_box
+
+  !> `hex_quality_box` q, with what it is made of: the cell's own box b
+  !> (`hex_box_sides`, the same numbers) and its volume v (`hex_volume`),
+  !> for a smoothing pass at the same nodes (`smooth_combined`).
+  pure subroutine hex_quality_box_parts(xn, aspect_max, q, b, v)
+    real(wp), intent(in) :: xn(3, 8), aspect_max
+    real(wp), intent(out) :: q, b(3), v
+    real(wp) :: len(12)
     len = edge_lengths(xn)
-    q = quality_of(xn, len)
-    if (.not. aspect_max > 1.0_wp) return
+    v = hex_volume(xn)
+    q = quality_of(v, len)
     b = box_shrunk(edge_means_of(len), aspect_max)
+    if (.not. aspect_max > 1.0_wp) return
     if (any(.not. b > 0.0_wp)) return
     q = q*sum(b)**3/(27.0_wp*product(b))
-  end function hex_quality_box
+  end subroutine hex_quality_box_parts
 
   !> Eq. (46) for a plane quadrilateral with corners xq(2,4) in cyclic order:
   !> 16 S / L^2.

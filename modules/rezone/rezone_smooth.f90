@@ -46,7 +46,7 @@ module rezone_smooth
   use base_kinds, only: wp
   use base_errors, only: error_no_memory, error_t, error_set
   use mesh_geometry, only: hex_corner, hex_faces, hex_edges, hex_volume, hex_tets, tet_det, cross
-  use rezone_quality, only: hex_quality, hex_quality_box, hex_box_sides, hex_edge_means
+  use rezone_quality, only: hex_quality, hex_quality_box_parts, hex_box_sides, hex_edge_means
   use mesh_grid, only: grid_index_t, grid_index, nodes_within
   use mesh_halo, only: halo_t
   implicit none
@@ -667,16 +667,23 @@ contains
   pure subroutine hex_box_target(xn, aspect_max, xt)
     real(wp), intent(in) :: xn(3, 8), aspect_max
     real(wp), intent(out) :: xt(3, 8)
-    real(wp) :: xc(3), b(3), v
+    call box_target_of(xn, hex_box_sides(xn, aspect_max), hex_volume(xn), xt)
+  end subroutine hex_box_target
+
+  !> `hex_box_target` from the cell's own box b (`hex_box_sides`) and its
+  !> volume v (`hex_volume`).
+  pure subroutine box_target_of(xn, b, v, xt)
+    real(wp), intent(in) :: xn(3, 8), b(3), v
+    real(wp), intent(out) :: xt(3, 8)
+    real(wp) :: xc(3), bs(3)
     integer :: a
     xc = hex_centroid(xn)
-    b = hex_box_sides(xn, aspect_max)
-    v = hex_volume(xn)
-    if (v > 0.0_wp .and. all(b > 0.0_wp)) b = b*(v/product(b))**(1.0_wp/3.0_wp)
+    bs = b
+    if (v > 0.0_wp .and. all(bs > 0.0_wp)) bs = bs*(v/product(bs))**(1.0_wp/3.0_wp)
     do a = 1, 8
-      xt(:, a) = xc + 0.5_wp*b*real(2*hex_corner(:, a) - 1, wp)
+      xt(:, a) = xc + 0.5_wp*bs*real(2*hex_corner(:, a) - 1, wp)
     end do
-  end subroutine hex_box_target
+  end subroutine box_target_of
 
   !> Original GETMe transformation of one hexahedron (Vartziotis and Wipper's
   !> dual-element transformation, Eqs. 47-48): the centres of the six faces
@@ -786,16 +793,21 @@ contains
   !> the axis-aligned cube of `hex_cube_target` for its nodes; each movable
   !> node goes to the mean of its cells' proposals, constrained by its
   !> mobility. x(3, nnode): node positions (length), updated in place.
-  subroutine smooth_modified_getme(reg, x)
+  subroutine smooth_modified_getme(reg, x, sides)
     type(smooth_region_t), intent(inout) :: reg
     real(wp), intent(inout) :: x(:, :)
+    !> the box reading: each active cell's own box and volume at these nodes
+    !> (`smooth_q_min`'s sides), not measured again
+    real(wp), intent(in), optional :: sides(:, :)
     integer :: s
     real(wp) :: xn(3, 8)
 
-    !$omp parallel do default(none) shared(reg, x) private(s, xn) schedule(static)
+    !$omp parallel do default(none) shared(reg, x, sides) private(s, xn) schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
-      if (reg%box) then
+      if (reg%box .and. present(sides)) then
+        call box_target_of(xn, sides(1:3, s), sides(4, s), reg%xt(:, :, s))
+      else if (reg%box) then
         call hex_box_target(xn, reg%aspect_max, reg%xt(:, :, s))
       else
         call hex_cube_target(xn, reg%xt(:, :, s))
@@ -881,19 +893,25 @@ contains
 
   !> Worst cell quality Q_min (Eq. 46, rezone_quality's hex_quality) over
   !> the active cells of the region; huge(1.0_wp) if there are none.
-  function smooth_q_min(reg, x) result(q_min)
+  function smooth_q_min(reg, x, sides) result(q_min)
     type(smooth_region_t), intent(in) :: reg
     real(wp), intent(in) :: x(:, :)
+    !> the box reading: each active cell's own box and volume
+    !> (`hex_quality_box_parts`), for a GETMe pass at these nodes
+    real(wp), intent(out), optional :: sides(:, :)
     real(wp) :: q_min
     integer :: s
-    real(wp) :: xn(3, 8)
+    real(wp) :: xn(3, 8), q, bv(4)
 
     q_min = huge(1.0_wp)
-    !$omp parallel do default(none) shared(reg, x) private(s, xn) reduction(min: q_min) schedule(static)
+    !$omp parallel do default(none) shared(reg, x, sides) private(s, xn, q, bv) reduction(min: q_min) &
+    !$omp schedule(static)
     do s = 1, reg%ncell
       call region_gather(reg, s, x, xn)
       if (reg%box) then
-        q_min = min(q_min, hex_quality_box(xn, reg%aspect_max))
+        call hex_quality_box_parts(xn, reg%aspect_max, q, bv(1:3), bv(4))
+        q_min = min(q_min, q)
+        if (present(sides)) sides(:, s) = bv
       else
         q_min = min(q_min, hex_quality(xn))
       end if
@@ -925,7 +943,11 @@ contains
     real(wp), intent(out) :: q_min
     class(halo_t), intent(inout), optional :: halo
     real(wp), intent(out), optional :: q_start
-    integer :: m, guarded(1), flag
+    !> (the box reading: the active cells' own boxes and volumes where Q_min
+    !> was last taken, for the next GETMe pass; without room for them it
+    !> measures the cells itself)
+    real(wp), allocatable :: sides(:, :)
+    integer :: m, guarded(1), flag, stat
 
     ! (ghost refreshes only where some block's region reaches its ghosts:
     ! elsewhere they change nothing, `region_shares_ghosts`)
@@ -947,11 +969,16 @@ contains
     reg%n_untangled = 0
     if (reg%health_min > 0.0_wp) call smooth_untangle(reg, x, halo)
     if (reg%squeeze > 0.0_wp) call keep_volumes()
+    if (reg%box) allocate(sides(4, reg%ncell), stat=stat)
     q_min = global_q_min()
     if (present(q_start)) q_start = q_min
     do while (q_min < q_target .and. iterations < n_max)
       call guard_start(reg, x)
-      call smooth_modified_getme(reg, x)
+      if (allocated(sides)) then
+        call smooth_modified_getme(reg, x, sides)
+      else
+        call smooth_modified_getme(reg, x)
+      end if
       if (reg%exchange) call halo%nodes(x)
       call smooth_weighted_average(reg, x)
       if (reg%exchange) call halo%nodes(x)
@@ -969,7 +996,11 @@ contains
 
     real(wp) function global_q_min()
       real(wp) :: none(0)
-      global_q_min = smooth_q_min(reg, x)
+      if (allocated(sides)) then
+        global_q_min = smooth_q_min(reg, x, sides)
+      else
+        global_q_min = smooth_q_min(reg, x)
+      end if
       if (present(halo)) call halo%choose(global_q_min, none)
     end function global_q_min
 
