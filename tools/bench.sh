@@ -205,6 +205,12 @@ mpi_bench() {
   echo "## MPI: tnt32.nml (hardcases/tnt_sphere.nml at 32^3, an Euler step every step, two materials, Release)"
   mpi_runs tnt32
   mpi_whole tnt32
+  # a blast against a structure: input/c4_plate.nml as it is (the 1D
+  # pre-run mapped, LSSM, open faces, 9216 coupled particles)
+  sed -e "s|^&output dir = 'out/c4_plate'|\&output dir = 'out/c4mpi'|" "$root/input/c4_plate.nml" > c4mpi.nml
+  grep -q "out/c4mpi" c4mpi.nml
+  echo "## MPI: c4mpi.nml (input/c4_plate.nml: a C4 charge against an aluminium plate of particles, LSSM, open faces, Release)"
+  mpi_runs c4mpi
   mpi_dump_bench
   ranks_memory_bench
   messages_bench
