@@ -152,6 +152,17 @@ contains
         if (blocks .and. .not. allocated(err) .and. .not. allocated(gr%list)) call owned_only(st%g, gr, err)
         if (blocks) call agree_error(comm, err)
         if (allocated(err)) return
+        ! (a solid inside the mapped 1D run would be overrun by what the 1D
+        ! run did in its place)
+        if (.not. allocated(err) .and. allocated(st%pre1d)) then
+          if (allocated(st%pre1d%hit)) then
+            if (any(st%pre1d%hit(gr%cell))) call error_set(err, 'the deck has 1 problem(s); nothing was run', &
+              '&prerun: &particles('//itoa(k)//') has particles in a cell the 1D run is mapped into (it ran as if '// &
+              'the solid were not there): map earlier or give a map_radius short of the solid', ERR_INPUT)
+          end if
+        end if
+        if (blocks) call agree_error(comm, err)
+        if (allocated(err)) return
         if (group_count(size(gr%cell)) == 0) then
           call error_set(err, 'the deck has 1 problem(s); nothing was run', '&particles('//itoa(k)//'): the '// &
             trim(pc%shape)//' seeds no particle at per_cell = '//itoa(pc%per_cell)//' (no sub-cell centre '// &
@@ -185,7 +196,7 @@ contains
     nhist = 0
     if (cfg%hydro%particles_coupled) then
       do k = 1, size(cfg%solids)
-        nhist = max(nhist, strength_nhist(cfg%solids(k)%strength))
+        nhist = max(nhist, strength_nhist(cfg%solids(k)%strength, cfg%solids(k)%tensile_strength))
       end do
     end if
     call particles_allocate(st%pt, np, size(cfg%solids), nhist, err)
@@ -563,6 +574,7 @@ contains
         par%y0 = sc%yield_stress
         par%et = sc%tangent_modulus
         par%failure_strain = sc%failure_strain
+        par%tensile_strength = sc%tensile_strength
         par%hjc_rho0 = sc%density
         par%jc = jc_flow_t(a=sc%jc_a, b=sc%jc_b, n=sc%jc_n, c=sc%jc_c, eps0=sc%jc_eps0, m=sc%jc_m, t_room=sc%t_room, &
                            t_melt=sc%t_melt)

@@ -46,7 +46,8 @@ program test_strength_hjc
   use mesh_grid, only: grid_t, grid_init_box
   use particles_state, only: particles_t, particles_allocate, particles_order
   use particles_lagrange, only: particles_velocity_gradients, particles_stress_update, strength_slot_t
-  use strength_models, only: strength_params_t, strength_point_t, strength_mises
+  use strength_models, only: strength_params_t, strength_point_t, strength_mises, strength_principal_max, &
+                             strength_t, voigt_to_tensor, tensor_to_voigt
   use strength_factory, only: strength_create
   use strength_hjc, only: strength_hjc_t, hjc_new, hjc_load, hjc_unload_modulus, hjc_nhist
   use test_assert, only: check, check_close, check_summary
@@ -67,6 +68,8 @@ program test_strength_hjc
   call test_damage()
   call test_particles_hydrostatic()
   call test_bilinear_failure()
+  call test_principal_max()
+  call test_bilinear_tension()
   call check_summary('test_strength_hjc')
 
 contains
@@ -470,4 +473,78 @@ contains
     call check_close('bilinear failed, compressed: eroded/(8 V (2G e)^2/(6G)) - 1', eroded/expect - 1.0_wp, &
                      0.0_wp, 1.0e-12_wp)
   end subroutine test_bilinear_failure
+
+  !> The largest principal stress of R diag(a) R^T, R a rotation about an
+  !> oblique axis, is max(a), for distinct, repeated and equal values (to
+  !> 1e-12 of the stress: the Jacobi sweeps stop at an off-diagonal part of
+  !> 1e-12 of the matrix's size).
+  subroutine test_principal_max()
+    real(wp) :: r(3, 3), n(3), th, a(3, 4), st(3, 3)
+    integer :: k
+    n = [1.0_wp, 2.0_wp, 2.0_wp]/3.0_wp
+    th = 0.7_wp
+    r = cos(th)*reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3]) + (1.0_wp - cos(th))*spread(n, 2, 3)*spread(n, 1, 3) + &
+        sin(th)*reshape([0.0_wp, n(3), -n(2), -n(3), 0.0_wp, n(1), n(2), -n(1), 0.0_wp], [3, 3])
+    a = reshape([3.0_wp, -1.0_wp, 0.5_wp, -2.0_wp, -2.0_wp, 1.0_wp, 4.0_wp, 4.0_wp, -3.0_wp, 2.0_wp, 2.0_wp, &
+                 2.0_wp], [3, 4])
+    do k = 1, 4
+      st = matmul(r, matmul(voigt_to_tensor([a(:, k), 0.0_wp, 0.0_wp, 0.0_wp]), transpose(r)))
+      call check_close('principal max of a rotated diagonal stress - max(a)', &
+                       strength_principal_max(tensor_to_voigt(st)) - maxval(a(:, k)), 0.0_wp, 1.0e-12_wp*maxval(abs(a)))
+    end do
+  end subroutine test_principal_max
+
+  !> Bilinear with tensile_strength: an elastic particle (yield far away)
+  !> in uniaxial strain tension, sigma_xx = (K + 4G/3) e n after n steps,
+  !> fails in the step sigma_xx crosses the strength and loses its stress,
+  !> the eroded energy q^2/(6G) + p^2/(2K) of that step's stress; one in
+  !> pure shear (sigma_1 = the shear stress 2G e n) likewise.
+  subroutine test_bilinear_tension()
+    class(strength_t), allocatable :: m
+    type(error_t), allocatable :: err
+    type(strength_point_t) :: pt
+    real(wp), parameter :: kmod = 5.0_wp, g3 = 3.0_wp, e = 1.0e-3_wp
+    real(wp) :: stress(6), hist(2), deps(3, 3), q, pm, sxx, tau
+    integer :: stp, nfail, k
+    do k = 1, 2
+      deps = 0.0_wp
+      if (k == 1) then
+        deps(1, 1) = e
+        sxx = (kmod + 4.0_wp*g3/3.0_wp)*e
+      else
+        deps(1, 2) = e
+        deps(2, 1) = e
+        sxx = 2.0_wp*g3*e
+      end if
+      ! (between the stresses after 6 and 7 steps)
+      call strength_create('bilinear', strength_params_t(k=kmod, g=g3, y0=1.0e3_wp, et=0.5_wp, &
+                           tensile_strength=6.5_wp*sxx), m, err)
+      call check(.not. allocated(err), 'bilinear with tensile_strength')
+      call check(m%nhist() == 2, 'bilinear with tensile_strength: two history variables')
+      stress = 0.0_wp
+      hist = 0.0_wp
+      nfail = 0
+      do stp = 1, 9
+        call m%update(deps, 0.0_wp*deps, pt, stress, hist)
+        if (nfail == 0 .and. m%failed(hist)) then
+          nfail = stp
+          if (k == 1) then
+            q = 2.0_wp*g3*e*stp
+            pm = kmod*e*stp
+          else
+            tau = 2.0_wp*g3*e*stp
+            q = sqrt(3.0_wp)*tau
+            pm = 0.0_wp
+          end if
+          call check_close('bilinear tensile failure: eroded/(q^2/(6G) + p^2/(2K)) - 1', &
+                           pt%eroded/(q**2/(6.0_wp*g3) + pm**2/(2.0_wp*kmod)) - 1.0_wp, 0.0_wp, 1.0e-12_wp)
+          call check_close('bilinear tensile failure: stress removed', maxval(abs(stress)), 0.0_wp, 0.0_wp)
+          call check_close('bilinear tensile failure: damage field', m%field('damage', hist), 1.0_wp, 0.0_wp)
+        else if (nfail == 0) then
+          call check_close('bilinear before tensile failure: damage field', m%field('damage', hist), 0.0_wp, 0.0_wp)
+        end if
+      end do
+      call check(nfail == 7, 'bilinear: fails in the step sigma_1 crosses tensile_strength (7)')
+    end do
+  end subroutine test_bilinear_tension
 end program test_strength_hjc

@@ -36,7 +36,8 @@ module material_library
   !> heat is energy per mass per kelvin, L^2 T^-2.
   character(len=*), parameter :: pressure_keys(*) = [character(len=20) :: 'a', 'b', 'energy_per_volume', &
     'pressure', 'p_min', 'cj_pressure', 'bulk_modulus', 'shear_modulus', 'youngs_modulus', 'yield_stress', &
-    'tangent_modulus', 'jc_a', 'jc_b', 'hjc_fc', 'hjc_t', 'hjc_pcrush', 'hjc_plock', 'hjc_k1', 'hjc_k2', 'hjc_k3']
+    'tangent_modulus', 'tensile_strength', 'jc_a', 'jc_b', 'hjc_fc', 'hjc_t', 'hjc_pcrush', 'hjc_plock', 'hjc_k1', &
+    'hjc_k2', 'hjc_k3']
   character(len=*), parameter :: density_keys(*) = [character(len=20) :: 'rho0', 'density']
   character(len=*), parameter :: velocity_keys(*) = [character(len=20) :: 'c0', 'cj_velocity']
   character(len=*), parameter :: rate_keys(*) = [character(len=20) :: 'jc_eps0', 'hjc_eps0']

@@ -89,6 +89,7 @@ module particles_config
     real(wp) :: gtn_fn = 0.0_wp, gtn_epsn = 0.3_wp, gtn_sn = 0.1_wp   !< nucleation f_N, eps_N, s_N
     real(wp) :: gtn_fc = 0.15_wp, gtn_ff = 0.25_wp                  !< coalescence f_c (TEPLA-F's), final f_F
     real(wp) :: failure_strain = 0.0_wp                             !< equivalent plastic strain at failure
+    real(wp) :: tensile_strength = 0.0_wp        !< bilinear: largest principal stress at failure (0: none)
     real(wp) :: void_mean = 0.0_wp, void_std = 0.0_wp               !< initial porosity f0: mean, standard deviation
     real(wp) :: void_length = 0.0_wp                                !< f0 field's correlation length (0: uncorrelated)
     integer :: void_seed = 1                                        !< f0 field's seed
@@ -140,6 +141,7 @@ contains
                 youngs_modulus, poisson_ratio, yield_stress, tangent_modulus, e_mod, k_mod, g_mod
     real(wp) :: jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney
     real(wp) :: gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, failure_strain, void_mean, void_std, void_length
+    real(wp) :: tensile_strength
     integer :: void_seed
     character(len=16) :: void_covariance, void_distribution
     integer :: ios
@@ -157,8 +159,8 @@ contains
                      shear_modulus, youngs_modulus, poisson_ratio, strength, yield_stress, tangent_modulus, &
                      jc_a, jc_b, jc_n, jc_c, jc_eps0, jc_m, t_room, t_melt, specific_heat, taylor_quinney, &
                      gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
-                     failure_strain, void_mean, void_std, void_length, void_seed, void_covariance, void_distribution, &
-                     hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
+                     failure_strain, tensile_strength, void_mean, void_std, void_length, void_seed, void_covariance, &
+                     void_distribution, hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
                      hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
 
     ! (the variables a library entry can give unset, so that a variable the
@@ -174,7 +176,7 @@ contains
     jc_a = unset; jc_b = unset; jc_n = unset; jc_c = unset; jc_eps0 = unset; jc_m = unset
     t_room = unset; t_melt = unset; specific_heat = unset; taylor_quinney = unset
     gtn_q1 = unset; gtn_q2 = unset; gtn_fn = unset; gtn_epsn = unset; gtn_sn = unset
-    gtn_fc = unset; gtn_ff = unset; failure_strain = unset
+    gtn_fc = unset; gtn_ff = unset; failure_strain = unset; tensile_strength = unset
     void_mean = this%void_mean; void_std = this%void_std; void_length = this%void_length; void_seed = this%void_seed
     void_covariance = this%void_covariance; void_distribution = this%void_distribution
     hjc_a = unset; hjc_b = unset; hjc_n = unset; hjc_c = unset; hjc_fc = unset; hjc_smax = unset
@@ -249,6 +251,11 @@ contains
     if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
       'must be >= 0 (0: never fails)')
     if (trim(strength) /= 'hjc') call hjc_not_here(problems, tag, strength, hp)
+    if (.not. (tensile_strength >= 0.0_wp)) call problem_bad(problems, tag, 'tensile_strength', tensile_strength, &
+      'must be >= 0 (0: never fails in tension)')
+    if (trim(strength) /= 'bilinear' .and. abs(tensile_strength) > 0.0_wp) call problem_bad(problems, tag, &
+      'tensile_strength', tensile_strength, 'applies only to strength = ''bilinear'' (this solid''s is '''// &
+      trim(strength)//''')')
     if (trim(strength) /= 'bilinear' .and. trim(strength) /= 'gurson' .and. abs(failure_strain) > 0.0_wp) &
       call problem_bad(problems, tag, 'failure_strain', failure_strain, 'applies only to strength = ''bilinear'' '// &
       'or ''gurson'' (this solid''s is '''//trim(strength)//''')')
@@ -307,7 +314,8 @@ contains
       shear_modulus=g_mod, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, strength=strength, &
       yield_stress=yield_stress, tangent_modulus=tangent_modulus, jc_a=jc_a, jc_b=jc_b, jc_n=jc_n, jc_c=jc_c, &
       jc_eps0=jc_eps0, gtn_q1=gtn_q1, gtn_q2=gtn_q2, gtn_fn=gtn_fn, gtn_epsn=gtn_epsn, gtn_sn=gtn_sn, gtn_fc=gtn_fc, &
-      gtn_ff=gtn_ff, failure_strain=failure_strain, void_mean=void_mean, void_std=void_std, void_length=void_length, &
+      gtn_ff=gtn_ff, failure_strain=failure_strain, tensile_strength=tensile_strength, void_mean=void_mean, &
+      void_std=void_std, void_length=void_length, &
       void_seed=void_seed, void_covariance=void_covariance, void_distribution=void_distribution, jc_m=jc_m, &
       t_room=t_room, t_melt=t_melt, specific_heat=specific_heat, taylor_quinney=taylor_quinney, hjc=hp)
     if (echo /= no_echo) write(echo, nml=solid)
@@ -358,6 +366,7 @@ contains
       call fill(specific_heat, 'specific_heat', this%specific_heat, jc)
       call fill(taylor_quinney, 'taylor_quinney', this%taylor_quinney, jc)
       call fill(failure_strain, 'failure_strain', this%failure_strain, bilinear .or. gurson)
+      call fill(tensile_strength, 'tensile_strength', this%tensile_strength, bilinear)
       call fill(gtn_q1, 'gtn_q1', this%gtn_q1, gurson)
       call fill(gtn_q2, 'gtn_q2', this%gtn_q2, gurson)
       call fill(gtn_fn, 'gtn_fn', this%gtn_fn, gurson)
@@ -737,6 +746,7 @@ contains
                     a%gtn_fc, a%gtn_ff, a%failure_strain, a%void_mean, a%void_std], [b%gtn_q1, b%gtn_q2, b%gtn_fn, &
                     b%gtn_epsn, b%gtn_sn, b%gtn_fc, b%gtn_ff, b%failure_strain, b%void_mean, b%void_std])
         call diff_r(changes, trim(w)//' void_length', [a%void_length], [b%void_length])
+        call diff_r(changes, trim(w)//' tensile_strength', [a%tensile_strength], [b%tensile_strength])
         call diff_i(changes, trim(w)//' void_seed', a%void_seed, b%void_seed)
         call diff_s(changes, trim(w)//' void_covariance', a%void_covariance, b%void_covariance)
         call diff_s(changes, trim(w)//' void_distribution', a%void_distribution, b%void_distribution)

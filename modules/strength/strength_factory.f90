@@ -40,7 +40,8 @@ contains
       model = strength_elastic_t(k=par%k, g=par%g)
     case ('bilinear')
       e = 9.0_wp*par%k*par%g/(3.0_wp*par%k + par%g)
-      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et), ef=par%failure_strain)
+      model = strength_bilinear_t(k=par%k, g=par%g, y0=par%y0, h=e*par%et/(e - par%et), ef=par%failure_strain, &
+                                  st=par%tensile_strength)
     case ('johnson_cook')
       model = strength_johnson_cook_t(k=par%k, g=par%g, chi=par%jc_chi, cp=par%jc_cp, jc=par%jc)
     case ('gurson')
@@ -74,15 +75,20 @@ contains
 
   !> The history variables per particle of the model `name` (0 for a
   !> name the factory does not know), so that particles can be allocated
-  !> before the models are built.
-  integer function strength_nhist(name) result(n)
+  !> before the models are built; tensile_strength: the bilinear model's
+  !> (default 0).
+  integer function strength_nhist(name, tensile_strength) result(n)
     character(len=*), intent(in) :: name
+    real(wp), intent(in), optional :: tensile_strength
     class(strength_t), allocatable :: model
     type(error_t), allocatable :: err
+    type(strength_params_t) :: par
     n = 0
     if (trim(name) == 'hjc') n = hjc_nhist
     if (n > 0) return
-    call strength_create(name, strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp), model, err)
+    par = strength_params_t(k=1.0_wp, g=1.0_wp, et=0.5_wp)
+    if (present(tensile_strength)) par%tensile_strength = tensile_strength
+    call strength_create(name, par, model, err)
     if (allocated(model)) n = model%nhist()
   end function strength_nhist
 end module strength_factory

@@ -38,11 +38,12 @@
 module strength_models
   use base_kinds, only: wp
   use strength_jc_flow, only: jc_flow_t
+  use base_sym3, only: sym3_eigen
   implicit none
   private
   public :: strength_t, strength_elastic_t, strength_bilinear_t, &
             strength_params_t, strength_point_t, strength_fields, &
-            strength_rotate, strength_trial, strength_mises, voigt_to_tensor, tensor_to_voigt
+            strength_rotate, strength_trial, strength_mises, voigt_to_tensor, tensor_to_voigt, strength_principal_max
 
   !> The common per-particle output fields of the history (`field`).
   character(len=*), parameter :: strength_fields(4) = [character(len=14) :: 'plastic_strain', 'damage', &
@@ -63,6 +64,8 @@ module strength_models
     real(wp) :: jc_cp = 0.0_wp, jc_chi = 0.9_wp          !< johnson_cook: c_p (0: no heating), Taylor-Quinney chi
     !> equivalent plastic strain at failure (bilinear: 0 never fails; gurson: TEPLA-F's eps_p^f, 0 no strain term)
     real(wp) :: failure_strain = 0.0_wp
+    !> bilinear: the largest principal stress at which the particle fails in tension (0: never)
+    real(wp) :: tensile_strength = 0.0_wp
     ! hjc (strength_hjc): the &solid hjc_* variables and the reference density
     real(wp) :: hjc_a = 0.0_wp, hjc_b = 0.0_wp, hjc_n = 0.0_wp, hjc_c = 0.0_wp, hjc_fc = 0.0_wp, hjc_smax = 0.0_wp
     real(wp) :: hjc_t = 0.0_wp, hjc_d1 = 0.0_wp, hjc_d2 = 0.0_wp, hjc_efmin = 0.0_wp
@@ -124,14 +127,19 @@ module strength_models
   !> volume removed: s:s/(4G) + p^2/(2K) of the tension (K = k; none with
   !> k = 0) of the stress after the return in the failing step, of the
   !> step's trial stress in later steps.
+  !> Optional tensile fracture (st > 0, a second history variable hist(2),
+  !> 1 once failed): the particle fails in the step the largest principal
+  !> stress after the return reaches st (a brittle solid's cut-off, as
+  !> concrete's tensile fracture stress), and is then failed as above.
   type, extends(strength_t) :: strength_bilinear_t
     real(wp) :: y0 = 0.0_wp   !< initial yield stress (pressure)
     real(wp) :: h = 0.0_wp    !< plastic modulus (pressure)
     real(wp) :: ef = 0.0_wp   !< equivalent plastic strain at failure (0: never fails)
+    real(wp) :: st = 0.0_wp   !< largest principal stress at failure (0: never fails in tension)
   contains
     procedure :: update => bilinear_update
-    procedure :: nhist => one_hist
-    procedure :: field => plastic_strain_field
+    procedure :: nhist => bilinear_nhist
+    procedure :: field => bilinear_field
     procedure :: failed => bilinear_failed
   end type strength_bilinear_t
 
@@ -144,12 +152,12 @@ contains
     if (this%g < 0.0_wp) n = 0   ! (this unused)
   end function strength_no_hist
 
-  !> One history variable: the equivalent plastic strain.
-  pure integer function one_hist(this) result(n)
+  !> Bilinear: the equivalent plastic strain, and with a tensile strength
+  !> the tensile failure flag.
+  pure integer function bilinear_nhist(this) result(n)
     class(strength_bilinear_t), intent(in) :: this
-    n = 1
-    if (this%g < 0.0_wp) n = 1   ! (this unused)
-  end function one_hist
+    n = merge(2, 1, this%st > 0.0_wp)
+  end function bilinear_nhist
 
   !> Initial history: zero (the default).
   pure subroutine strength_hist_zero(this, hist)
@@ -169,15 +177,16 @@ contains
     if (this%g < 0.0_wp .and. len(name) + size(hist) < 0) v = 0.0_wp   ! (unused)
   end function strength_no_field
 
-  !> The equivalent plastic strain hist(1) as 'plastic_strain'.
-  pure real(wp) function plastic_strain_field(this, name, hist) result(v)
+  !> The equivalent plastic strain hist(1) as 'plastic_strain'; with a
+  !> tensile strength, the tensile failure flag hist(2) as 'damage'.
+  pure real(wp) function bilinear_field(this, name, hist) result(v)
     class(strength_bilinear_t), intent(in) :: this
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: hist(:)
     v = 0.0_wp
     if (name == 'plastic_strain') v = hist(1)
-    if (this%g < 0.0_wp) v = 0.0_wp   ! (this unused)
-  end function plastic_strain_field
+    if (name == 'damage' .and. this%st > 0.0_wp) v = hist(2)
+  end function bilinear_field
 
   !> Never failed (the default).
   pure logical function strength_never_fails(this, hist) result(f)
@@ -192,6 +201,7 @@ contains
     class(strength_bilinear_t), intent(in) :: this
     real(wp), intent(in) :: hist(:)
     f = this%ef > 0.0_wp .and. hist(1) >= this%ef
+    if (this%st > 0.0_wp) f = f .or. hist(2) > 0.0_wp
   end function bilinear_failed
 
   !> K + 4G/3, the modulus of the elastic longitudinal wave (pressure).
@@ -305,9 +315,30 @@ contains
       stress = s
       stress(1:3) = stress(1:3) + p
       ! fails in this step (type notes)
-      if (bilinear_failed(this, hist)) call bilinear_remove(this, q - 3.0_wp*this%g*dep, p, pt, stress)
+      if (bilinear_failed(this, hist)) then
+        call bilinear_remove(this, q - 3.0_wp*this%g*dep, p, pt, stress)
+        return
+      end if
+      q = q - 3.0_wp*this%g*dep
+    end if
+    if (this%st > 0.0_wp) then
+      ! fails in tension in this step (type notes)
+      if (strength_principal_max(stress) >= this%st) then
+        hist(2) = 1.0_wp
+        call bilinear_remove(this, q, p, pt, stress)
+      end if
     end if
   end subroutine bilinear_update
+
+  !> The largest principal value of the symmetric stress(6) (Voigt), by
+  !> Jacobi rotations (`sym3_eigen`: the invariants' closed form loses half
+  !> the digits where two principal values meet).
+  pure real(wp) function strength_principal_max(stress) result(smax)
+    real(wp), intent(in) :: stress(6)
+    real(wp) :: lam(3), ev(3, 3)
+    call sym3_eigen(voigt_to_tensor(stress), lam, ev)
+    smax = maxval(lam)
+  end function strength_principal_max
 
   !> A failed bilinear particle (type notes): stress with von Mises q and
   !> mean stress p (tension positive) loses its deviator and, with k > 0, its
