@@ -578,10 +578,12 @@ contains
     type(log_t), intent(in) :: log
     character(len=600) :: line
     character(len=60) :: kept, grown
+    grown = ''
+    if (rep%ngrown > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') rep%ngrown
     select case (rep%outcome)
     case (LSSM_SNAPPED)
       call log_line(log, trim(rz%mode)//' at step '//itoa(step)//': no cell to smooth; '//itoa(rep%snapped)// &
-                    ' nodes put back on the standard grid')
+                    ' nodes put back on the standard grid'//trim(grown))
     case (LSSM_SKIPPED)
       if (rep%box) then
         call log_line(log, 'euler step skipped at step '//itoa(step)//': no cell fails the triggers'' tests')
@@ -591,8 +593,6 @@ contains
     case default
       kept = ''
       if (rz%move_min > 0.0_wp) write(kept, '("; ",i0," nodes moved < move_min kept")') rep%kept
-      grown = ''
-      if (rep%ngrown > 0) write(grown, '(" (",i0," of them beside a cell a snap inverted)")') rep%ngrown
       write(line, '(a," at step ",i0,": ",i0," distorted cells, ",i0," subdomains, ",i0," cells smoothed (Q_min ", &
         &f7.4," -> ",f7.4," after ",i0," iterations",a,")",a,"; untangling guard: ",i0," moves halved, ",i0, &
         &" nodes put back, ",i0," node moves untangling first; ",i0," nodes back on the standard grid first",a)') &

@@ -14,7 +14,7 @@ module rezone_lssm
   use mesh_halo, only: halo_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use rezone_config, only: rezone_config_t
-  use rezone_quality, only: grid_quality, grid_trigger_cells
+  use rezone_quality, only: grid_quality, grid_trigger_cells, hex_fails_triggers
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_seed, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
   use rezone_smooth, only: smooth_mobility_t, smooth_mobility_block, smooth_region_t, smooth_region_init, &
@@ -79,7 +79,11 @@ contains
   !> fixed edge: left to the Lagrangian motion it drifts with the
   !> through-flow and the domain goes with it), and with drift_max > 0 every
   !> other node that drifted more than drift_max of it. The other cells
-  !> around the nodes so moved join the distorted cells.
+  !> around the nodes so moved are distorted if, so moved, they fail the
+  !> test of the reading (box: the triggers' tests, on the snapped nodes;
+  !> cube: Q < quality): the occupied cells are the smoothing's fixed inner
+  !> boundary (Remark 2), and a slab of particles whose nodes moved a
+  !> micrometre does not make every cell around it a subdomain's seed.
   !>
   !> shape_fail: the triggers' side-ratio and angle tests of g's owned
   !> cells on these nodes x, taken by the step's look at the grid
@@ -109,7 +113,7 @@ contains
     type(smooth_mobility_t) :: mob
     type(smooth_region_t) :: reg
     integer, allocatable :: blo(:, :), bhi(:, :), mlo(:, :), mhi(:, :), tlo(:, :), thi(:, :)
-    real(wp) :: q_min, q_min0, d_max, aspect_max, none(0)
+    real(wp) :: q_min, q_min0, d_max, aspect_max, none(0), xn(3, 8), xn0(3, 8)
     integer :: iterations, b, n(3), c, i, j, k, stat, nd, nrevert, ngrown, sums(3), ntangled
     logical :: tfi, box
 
@@ -159,10 +163,17 @@ contains
       ! no part), else Q < quality (Eq. 46); an undefined Q, and the cells
       ! around the snapped nodes, too
       if (box) then
-        fail = fail .or. touched
+        ! (the shape tests taken before the snap: again on the snapped
+        ! nodes where they moved)
+        do c = 1, g%ncell
+          if (fail(c) .or. .not. touched(c)) cycle
+          call g%gather(c, x, xn)
+          call g%gather(c, x0, xn0)
+          fail(c) = hex_fails_triggers(xn, rz%side_ratio, rz%cos_angle, xn0)
+        end do
       else
         do c = 1, g%ncell
-          fail(c) = touched(c) .or. ieee_is_nan(quality(c)) .or. quality(c) < rz%quality
+          fail(c) = ieee_is_nan(quality(c)) .or. quality(c) < rz%quality
         end do
       end if
       call subdomain_boxes(g, halo, fail, d_max, blo, bhi, nd, err, occupied)
@@ -183,8 +194,10 @@ contains
     rep%box = box
     if (size(blo, 2) == 0) then
       call halo%sum_ints(sums)
-      ! only the snapped nodes move (every cell around them is occupied)
+      ! only the snapped nodes move (every cell around them is occupied, or
+      ! so moved passes the tests)
       rep%snapped = sums(1)
+      rep%ngrown = ngrown
       if (sums(1) > 0) rep%outcome = LSSM_SNAPPED
       return
     end if

@@ -38,7 +38,7 @@ module rezone_quality
   implicit none
   private
   public :: hex_quality, quad_quality, hex_shape, grid_quality, grid_trigger_cells, grid_shape_worst, &
-            standard_side_ratio, grid_standard_ratios, &
+            standard_side_ratio, grid_standard_ratios, hex_fails_triggers, &
             hex_box_sides, hex_edge_means, hex_quality_box, hex_quality_box_parts
 
   !> The edge of each corner along each logical direction d: its index k
@@ -424,16 +424,14 @@ contains
     !> Whether cell (i, j, k) fails the tests.
     logical function fails(i, j, kk)
       integer, intent(in) :: i, j, kk
-      real(wp) :: xn(3, 8), xn0(3, 8), r, cs
+      real(wp) :: xn(3, 8), xn0(3, 8)
       call block_gather(ni, nj, i, j, kk, x, xn)
-      call hex_shape(xn, r, cs, .true.)
-      if (present(x0) .and. side_ratio > 0.0_wp .and. r >= side_ratio) then
+      if (present(x0)) then
         call block_gather(ni, nj, i, j, kk, x0, xn0)
-        r = r/standard_side_ratio(xn0)
+        fails = hex_fails_triggers(xn, side_ratio, cos_angle, xn0)
+      else
+        fails = hex_fails_triggers(xn, side_ratio, cos_angle)
       end if
-      fails = shape_fails(r, cs, side_ratio, cos_angle)
-      if (fails) return
-      fails = hex_corner_tangled(xn)
     end function fails
 
     !> Whether cell (i, j, k) is tangled (`hex_corner_tangled`).
@@ -502,6 +500,20 @@ contains
       ratio0(c) = standard_side_ratio(xn)
     end do
   end subroutine grid_standard_ratios
+
+  !> Whether the cell of nodes xn fails the Euler-step triggers' own tests
+  !> (`grid_trigger_cells`); xn0: its nodes in the standard grid, against
+  !> whose side ratio its own is measured.
+  pure logical function hex_fails_triggers(xn, side_ratio, cos_angle, xn0) result(fails)
+    real(wp), intent(in) :: xn(3, 8), side_ratio, cos_angle
+    real(wp), intent(in), optional :: xn0(3, 8)
+    real(wp) :: r, cs
+    call hex_shape(xn, r, cs, .true.)
+    if (present(xn0) .and. side_ratio > 0.0_wp .and. r >= side_ratio) r = r/standard_side_ratio(xn0)
+    fails = shape_fails(r, cs, side_ratio, cos_angle)
+    if (fails) return
+    fails = hex_corner_tangled(xn)
+  end function hex_fails_triggers
 
   !> Whether a cell of side ratio r and inclined-angle cosine cs fails the
   !> Euler-step triggers' bounds (each test on if its bound is > 0).
