@@ -321,8 +321,11 @@ contains
       end if
       q = q - 3.0_wp*this%g*dep
     end if
-    if (this%st > 0.0_wp) then
-      ! fails in tension in this step (type notes)
+    ! fails in tension in this step (type notes); the largest principal
+    ! value is at most p + 2q/3 (a deviator's at most sqrt(2/3 s:s), equal
+    ! in uniaxial stress; with a margin for its round-off), so most steps
+    ! need no eigenvalues
+    if (this%st > 0.0_wp .and. p + 2.0_wp*q/3.0_wp + 1.0e-12_wp*(abs(p) + q) >= this%st) then
       if (strength_principal_max(stress) >= this%st) then
         hist(2) = 1.0_wp
         call bilinear_remove(this, q, p, pt, stress)
