@@ -160,8 +160,8 @@ contains
       d_max = rz%d_max
       if (.not. d_max > 0.0_wp) d_max = rezone_subdomains_default_dmax(g%gn(1), g%gn(2), g%gn(3))
       ! distorted: with 'box' the cells failing the triggers' tests (q plays
-      ! no part), else Q < quality (Eq. 46); an undefined Q, and the cells
-      ! around the snapped nodes, too
+      ! no part), else Q < quality (Eq. 46) or undefined; the cells around
+      ! the snapped nodes only where, so moved, they fail them
       if (box) then
         ! (the shape tests taken before the snap: again on the snapped
         ! nodes where they moved)
