@@ -44,7 +44,8 @@
 # TNT octant at 32^3 (a few minutes; BENCH_ONLY=cutoff runs only that);
 # the paper's garage (input/garage.nml, issue 39): LSSM against global
 # smoothing and the global rezone, and 1, 2, 4 ranks (about 4 minutes;
-# BENCH_ONLY=garage runs only that).
+# BENCH_ONLY=garage runs only that); the paper's open-frame building
+# (input/building.nml) the same way (BENCH_ONLY=building runs only that).
 # Usage: tools/bench.sh LSALEPM OUTDIR [BENCH_REMAP]
 # (BENCH_REMAP defaults to tests/bench_remap in LSALEPM's build directory)
 # BENCH_ONLY=particles runs only the particle sections.
@@ -613,53 +614,70 @@ cutoff_bench() {
   done
 }
 
-# ---- The paper's garage (Sect. 7.8, issue 39): input/garage.nml ----
-# LSSM against global smoothing (&rezone mode 'smooth', the paper's ALEPM)
-# and the global rezone to the initial grid ('global'), each to 4 ms on 1
-# rank x 2 threads: the Euler-phase wall time and Euler-step count of each
-# and the ratio to LSSM's (the paper: 2,408 s against 112,980 s, 0.021);
-# then LSSM to 1 ms on 1, 2 and 4 ranks (4 oversubscribed: its times mean
-# little): peak memory per rank and the run's rank-seconds per cell-cycle
-# and per particle-step (the same time over cells x steps and over
-# particles x steps; about 4 minutes in all; BENCH_ONLY=garage runs only
-# that).
-garage_bench() {
-  local mode n mpiexec root_flag=()
-  echo "## The garage (input/garage.nml: half model, 0.4 m cells, 45.4 kg TNT mapped from 1D), to 4 ms, 1 rank x 2 threads"
+# ---- The paper's engineering scenes (Sects. 7.7, 7.8, issue 39) ----
+# scene_bench NAME TITLE T_RANKS: input/NAME.nml (an &rezone mode = 'lssm'
+# deck) with LSSM against global smoothing (&rezone mode 'smooth', the
+# paper's ALEPM) and the global rezone to the initial grid ('global'), each
+# to the deck's t_end on 1 rank x 2 threads: the Euler-phase wall time and
+# Euler-step count of each and the ratio to LSSM's; then LSSM to T_RANKS on
+# 1, 2 and 4 ranks (4 oversubscribed: its times mean little): peak memory
+# per rank and the run's rank-seconds per cell-cycle and per particle-step
+# (the same time over cells x steps and over particles x steps).
+scene_bench() {
+  local name=$1 title=$2 t_ranks=$3 mode n mpiexec root_flag=()
+  echo "## $title, 1 rank x 2 threads"
   for mode in lssm smooth global; do
-    sed -e "s|^&rezone mode = 'lssm'|\&rezone mode = '$mode'|" -e "s|dir = 'out/garage'|dir = 'out/garage_$mode'|" \
-        "$root/input/garage.nml" > garage_$mode.nml
-    grep -q "mode = '$mode'" garage_$mode.nml
-    OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" garage_$mode.nml > garage_$mode.log || echo "$mode: run failed"
-    cp garage_$mode.log "$outdir/bench_garage_$mode.log"
+    sed -e "s|^&rezone mode = 'lssm'|\&rezone mode = '$mode'|" -e "s|dir = 'out/$name'|dir = 'out/${name}_$mode'|" \
+        "$root/input/$name.nml" > ${name}_$mode.nml
+    grep -q "mode = '$mode'" ${name}_$mode.nml
+    OMP_NUM_THREADS=2 OMP_PROC_BIND=true "$exe" ${name}_$mode.nml > ${name}_$mode.log || echo "$mode: run failed"
+    cp ${name}_$mode.log "$outdir/bench_${name}_$mode.log"
   done
-  awk 'FNR == 1 {f++; m[f] = FILENAME; sub(/^garage_/, "", m[f]); sub(/[.]log$/, "", m[f])}
+  awk -v name=$name 'FNR == 1 {f++; m[f] = FILENAME; sub("^" name "_", "", m[f]); sub(/[.]log$/, "", m[f])}
        /^timers \[s\]:/ {for (i = 1; i < NF; i++) {if ($i == "total") tot[f] = $(i + 1); if ($i == "euler") eu[f] = $(i + 1)}}
        /^euler steps:/ {n[f] = $3; sub(/,/, "", n[f]); c[f] = $6}
        END {for (k = 1; k <= f; k++)
               printf "%-7s Euler phase %8.1f s in %4d Euler steps (%s cells remapped), total %8.1f s; Euler phase / LSSM'"'"'s x%.2f\n", \
-                     m[k], eu[k], n[k], c[k], tot[k], eu[k] / eu[1]}' garage_lssm.log garage_smooth.log garage_global.log
+                     m[k], eu[k], n[k], c[k], tot[k], eu[k] / eu[1]}' ${name}_lssm.log ${name}_smooth.log ${name}_global.log
   echo
-  echo "## The garage with LSSM to 1 ms on 1, 2 and 4 ranks x 1 thread (4 oversubscribed)"
+  echo "## $name with LSSM to t = $t_ranks on 1, 2 and 4 ranks x 1 thread (4 oversubscribed)"
   mpiexec=$(command -v mpirun)
   [ "$(id -u)" -eq 0 ] && root_flag=(--allow-run-as-root)
-  sed -e 's/t_end = 4.0/t_end = 1.0/' -e "s|dir = 'out/garage'|dir = 'out/garage_ranks'|" "$root/input/garage.nml" \
-    > garage_ranks.nml
+  sed -e "s/t_end = [0-9.]*/t_end = $t_ranks/" -e "s|dir = 'out/$name'|dir = 'out/${name}_ranks'|" "$root/input/$name.nml" \
+    > ${name}_ranks.nml
   for n in 1 2 4; do
-    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np $n "$exe" garage_ranks.nml > garage_r$n.log \
+    OMP_NUM_THREADS=1 "$mpiexec" "${root_flag[@]}" --oversubscribe -np $n "$exe" ${name}_ranks.nml > ${name}_r$n.log \
       || echo "$n ranks: run failed"
-    cp garage_r$n.log "$outdir/bench_garage_r$n.log"
+    cp ${name}_r$n.log "$outdir/bench_${name}_r$n.log"
     # (the whole grid's cells from the one-process log: a rank's `grid:` line is its block's)
-    awk -v n=$n -v cells="$(awk '/^grid:/ {print $2 * $4 * $6; exit}' garage_r1.log)" '/^particles: [0-9]+ in all/ {np = $2}
+    awk -v n=$n -v cells="$(awk '/^grid:/ {print $2 * $4 * $6; exit}' ${name}_r1.log)" '/^particles: [0-9]+ in all/ {np = $2}
          /^memory:/ {mem = $0} /^done:/ {steps = $(NF - 1)}
          /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "total") tot = $(i + 1)}
          END {printf "%d rank(s): %d steps, total %.1f s: %.3g s per cell-cycle, %.3g s per particle-step (rank-seconds); %s\n", \
-                     n, steps, tot, n * tot / (cells * steps), n * tot / (np * steps), mem}' garage_r$n.log
+                     n, steps, tot, n * tot / (cells * steps), n * tot / (np * steps), mem}' ${name}_r$n.log
   done
+}
+
+# The garage (Sect. 7.8): to 4 ms, ranks to 1 ms (the paper: Euler phase 2,408 s
+# against 112,980 s, 0.021); about 4 minutes; BENCH_ONLY=garage runs only that.
+garage_bench() {
+  scene_bench garage "The garage (input/garage.nml: half model, 0.4 m cells, 45.4 kg TNT mapped from 1D), to 4 ms" 1.0
+}
+
+# The open-frame building (Sect. 7.7): to the deck's t_end, ranks to 0.5 ms
+# (the paper: Euler phase 49,400 s against 332,615 s, 0.1485, in 104 and
+# 101 Euler steps); BENCH_ONLY=building runs only that.
+building_bench() {
+  scene_bench building "The open-frame building (input/building.nml: half model, 45 mm cells, 2.11 kg TNT)" 0.5
 }
 
 if [[ "${BENCH_ONLY:-}" == garage ]]; then
   garage_bench
+  echo "bench wall time: ${SECONDS} s"
+  exit 0
+fi
+if [[ "${BENCH_ONLY:-}" == building ]]; then
+  building_bench
   echo "bench wall time: ${SECONDS} s"
   exit 0
 fi
@@ -883,6 +901,8 @@ echo
 water_1d_bench
 echo
 garage_bench
+echo
+building_bench
 
 echo
 echo "bench wall time: ${SECONDS} s"
