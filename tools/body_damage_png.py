@@ -66,8 +66,8 @@ def main():
     widths = [ext[AXES[v[0]]] / ext[AXES[v[1]]] for v in views]
     height = 5.0
     fig, axs = plt.subplots(len(runs), len(views), squeeze=False,
-                            figsize=(height * sum(widths) + 1.5 * len(views) + 1.2, (height + 0.8) * len(runs)),
-                            gridspec_kw={"width_ratios": widths})
+                            figsize=(height * sum(widths) + 1.5 * len(views) + 1.2, (height + 1.4) * len(runs)),
+                            gridspec_kw={"width_ratios": widths, "wspace": 1.2, "hspace": 0.3})
     for row, (label, t, x, d, h) in enumerate(runs):
         own = d[:len(d) // 2] if a.mirror else d        # the counts leave the mirror images out
         print("%s: t = %g, %d particles, damage > 0.1: %d, > 0.5: %d, = 1: %d"
@@ -81,10 +81,11 @@ def main():
             sc = ax.scatter(x[order, i], x[order, j], c=d[order], s=(points * h[order]) ** 2, marker="s",
                             cmap="inferno_r", vmin=0, vmax=1, linewidths=0)
             ax.set_aspect("equal")
-            ax.locator_params(axis="x", nbins=3)
+            ax.locator_params(axis="x", nbins=2)
+            ax.tick_params(axis="x", labelrotation=90)
             ax.set_xlabel(v[0])
             ax.set_ylabel(v[1])
-            ax.set_title("%s, t = %.3g\nseen along -%s" % (label, t, "xyz"[depth]), fontsize=9)
+            ax.set_title("%s\nt = %.3g, seen along -%s" % (label, t, "xyz"[depth]), fontsize=8)
         fig.colorbar(sc, ax=axs[row, :].tolist(), label="damage", shrink=0.8)
     if a.title:
         fig.suptitle(a.title)
