@@ -336,9 +336,12 @@ contains
         call advance_schedule(sch%t_next_frame, st%t, cfg%output%frame_dt, eps_t)
       end if
       if (dump_due(cfg, st, sch, eps_t)) then
+        ! (the schedule first: the dump holds the next dump's time, so a run
+        ! continued from it does not write the same dump again at its first
+        ! step)
+        call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
         call dump(cfg, st, sch, es, err)
         if (allocated(err)) call fail(cfg, st, sch, err)
-        call advance_schedule(sch%t_next_dump, st%t, cfg%control%dump_dt, eps_t)
       end if
       wall_now = wall_seconds()
       ! (the ranks agree on a progress line: it sums over all of them; and

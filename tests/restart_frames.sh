@@ -33,12 +33,18 @@ sed -i -e 's/t_end = 0.2/t_end = 0.05/' t_part1.nml
 run t_straight; run t_part1
 dump=$(ls out/t_split_restart_*.h5 | tail -1)
 [ -n "$dump" ] || fail "frame_dt: no dump"
-derive t_part2 "$deck" "max_steps = 100000, restart_from = '$dump'" t_split; frames t_part2 "frame_dt = 0.025"
+derive t_part2 "$deck" "max_steps = 100000, dump_dt = 0.05, restart_from = '$dump'" t_split
+frames t_part2 "frame_dt = 0.025"
 sed -i -e 's/t_end = 0.2/t_end = 0.1/' t_part2.nml
 run t_part2
 series t_straight; series t_split
 diff t_straight.series t_split.series || fail "frame_dt: the split series differs from the straight one"
 echo "ok: frame_dt = 0.025, split at t = 0.05 ($dump): $(wc -l < t_split.series) frames, the same names, times and steps"
+# the continued run's dumps: the next one on the schedule (t = 0.1) alone, not
+# the one it was continued from again at its first step
+dumps=$(grep '^restart .* at step ' t_part2.log | sed 's/.*, t = //; s/ (.*//')
+[ "$dumps" = "1.0000000E-01" ] || fail "dump_dt = 0.05 continued from t = 0.05: dumps at '$dumps', not at 1.0000000E-01 alone"
+echo "ok: the continued run dumps at t = 0.1 alone"
 
 # 3. frame_steps = 10, split at step 25 (no frame due): segment 1's final frame
 #    is kept and listed; otherwise the straight run's series
