@@ -40,6 +40,15 @@
 !>     8 V [(2G e)^2/(6G) + (K e)^2/(2K)], to 1e-12; after it no shear and
 !>     no tension, and compression gives p = K n e with no deviator (the
 !>     step's trial deviator, q = 2G e, is what is eroded then).
+!>  9. The particle's size (hjc_length L_ref = 20 mm): on the isochoric
+!>     path at p = 0 of test 6 a particle of size l books eps_p l/L_ref
+!>     towards its damage, D = eps_p (l/L_ref)/(D1 T*^D2) to 1e-12 for l =
+!>     10, 20 and 40 mm, and fails when eps_p l/L_ref crosses eps_f: at
+!>     twice the strain at l = 10 mm, half of it at 40 mm (the crack opens by
+!>     eps_f L_ref whatever l); a size not known (l = 0) and L_ref = 0 leave
+!>     test 6's damage. Compaction is booked unscaled: hydrostatic loading
+!>     into region II at l = L_ref/4 gives D = mu_p/eps_f as at l = L_ref
+!>     (the same steps, 1e-12).
 program test_strength_hjc
   use base_kinds, only: wp
   use base_errors, only: error_t
@@ -66,6 +75,7 @@ program test_strength_hjc
   call test_rate()
   call test_tension()
   call test_damage()
+  call test_damage_length()
   call test_particles_hydrostatic()
   call test_bilinear_failure()
   call test_principal_max()
@@ -115,14 +125,17 @@ contains
   end function p_curve
 
   !> One kernel step of model m: strain increment deps at the density rho
-  !> (dw = 0) and step dt; returns the pressure.
-  real(wp) function step(m, deps, rho, dt, stress, hist, eroded) result(p)
+  !> (dw = 0) and step dt, of a particle of size length (absent: not
+  !> known); returns the pressure.
+  real(wp) function step(m, deps, rho, dt, stress, hist, eroded, length) result(p)
     type(strength_hjc_t), intent(in) :: m
     real(wp), intent(in) :: deps(3, 3), rho, dt
     real(wp), intent(inout) :: stress(6), hist(:)
     real(wp), intent(out), optional :: eroded
+    real(wp), intent(in), optional :: length
     type(strength_point_t) :: pt
     pt = strength_point_t(dt=dt, rho=rho)
+    if (present(length)) pt%length = length
     call m%update(deps, spread([0.0_wp, 0.0_wp, 0.0_wp], 2, 3), pt, stress, hist)
     p = -(stress(1) + stress(2) + stress(3))/3.0_wp
     if (present(eroded)) eroded = pt%eroded
@@ -354,6 +367,97 @@ contains
     call check(nfail == 0, 'hjc: fully damaged under pressure does not fail')
   end subroutine test_damage
 
+
+  !> Test 9 (header).
+  subroutine test_damage_length()
+    real(wp), parameter :: lref = 20.0_wp
+    character(len=3), parameter :: ratio(3) = ['0.5', '1  ', '2  ']
+    real(wp) :: ef, misfit, epsf(3), dc(2)
+    integer :: i
+    ef = max(efmin, d1*(tt/fc)**d2)
+    do i = 1, 3
+      call length_path(lref, lref*0.5_wp*2.0_wp**(i - 1), misfit, epsf(i))
+      call check_close('hjc damage at p = 0, l/L_ref = '//trim(ratio(i))// &
+                       ': |D - eps_p (l/L_ref)/eps_f|', misfit, 0.0_wp, 1.0e-12_wp)
+    end do
+    ! (within two of the path's strain steps of 1e-5: the step that crosses,
+    ! or the next if round-off leaves the summed damage a hair below 1)
+    call check_close('hjc: strain to fracture at l = L_ref/2, /(2 eps_f) - 1', epsf(1)/(2.0_wp*ef) - 1.0_wp, 0.0_wp, &
+                     2.0e-5_wp/(2.0_wp*ef))
+    call check_close('hjc: strain to fracture at l = L_ref, /eps_f - 1', epsf(2)/ef - 1.0_wp, 0.0_wp, 2.0e-5_wp/ef)
+    call check_close('hjc: strain to fracture at l = 2 L_ref, /(eps_f/2) - 1', epsf(3)/(0.5_wp*ef) - 1.0_wp, 0.0_wp, &
+                     2.0e-5_wp/(0.5_wp*ef))
+    call length_path(lref, 0.0_wp, misfit, epsf(1), scaled=.false.)
+    call check_close('hjc damage, size not known: |D - eps_p/eps_f|', misfit, 0.0_wp, 1.0e-12_wp)
+    call length_path(0.0_wp, 10.0_wp, misfit, epsf(1), scaled=.false.)
+    call check_close('hjc damage, hjc_length = 0: |D - eps_p/eps_f|', misfit, 0.0_wp, 1.0e-12_wp)
+    dc(1) = compaction_damage(lref, lref)
+    dc(2) = compaction_damage(lref, 0.25_wp*lref)
+    call check(dc(1) > 0.0_wp, 'hjc: hydrostatic loading into region II damages')
+    call check_close('hjc: compaction damage at l = L_ref/4 against l = L_ref', dc(2)/dc(1) - 1.0_wp, 0.0_wp, 1.0e-12_wp)
+  end subroutine test_damage_length
+
+  !> The isochoric path of `damage_path` at p = 0 for a model with
+  !> hjc_length lref and a particle of size l: the largest misfit of D
+  !> against eps_p (l/lref)/eps_f (scaled; else eps_p/eps_f) before
+  !> failure, and the plastic strain at failure (huge: none in 20000 steps).
+  subroutine length_path(lref, l, misfit, epsf, scaled)
+    real(wp), intent(in) :: lref, l
+    real(wp), intent(out) :: misfit, epsf
+    logical, intent(in), optional :: scaled
+    type(strength_hjc_t) :: m
+    type(strength_params_t) :: par
+    character(len=:), allocatable :: msg
+    real(wp) :: stress(6), hist(hjc_nhist), p, ef, s
+    integer :: n
+    par = table7(efmin)
+    par%hjc_length = lref
+    call hjc_new(par, m, msg)
+    call check(len(msg) == 0, 'hjc model with hjc_length built: '//msg)
+    ef = max(efmin, d1*(tt/fc)**d2)
+    s = 1.0_wp
+    if (lref > 0.0_wp .and. l > 0.0_wp) s = l/lref
+    if (present(scaled)) then
+      if (.not. scaled) s = 1.0_wp
+    end if
+    stress = 0.0_wp
+    hist = 0.0_wp
+    misfit = 0.0_wp
+    epsf = huge(1.0_wp)
+    do n = 1, 20000
+      p = step(m, 1.0e-5_wp*diag(1.0_wp, -0.5_wp, -0.5_wp), rho0, 1.0_wp, stress, hist, length=l)
+      if (hist(6) > 0.5_wp) then
+        epsf = hist(1)
+        exit
+      end if
+      misfit = max(misfit, abs(hist(2) - min(hist(1)*s/ef, 1.0_wp)))
+    end do
+    if (p > 0.0_wp) misfit = huge(1.0_wp)
+  end subroutine length_path
+
+  !> The damage after hydrostatic loading of a model with hjc_length lref,
+  !> particle size l, to mu = 0.01 (region II) in 100 steps.
+  real(wp) function compaction_damage(lref, l) result(d)
+    real(wp), intent(in) :: lref, l
+    type(strength_hjc_t) :: m
+    type(strength_params_t) :: par
+    character(len=:), allocatable :: msg
+    real(wp) :: stress(6), hist(hjc_nhist), p, rho, e
+    integer :: n
+    par = table7(efmin)
+    par%hjc_length = lref
+    call hjc_new(par, m, msg)
+    stress = 0.0_wp
+    hist = 0.0_wp
+    e = -1.0e-4_wp/3.0_wp
+    rho = rho0
+    do n = 1, 100
+      rho = rho0*(1.0_wp + 1.0e-4_wp*n)
+      p = step(m, diag(e, e, e), rho, 1.0_wp, stress, hist, length=l)
+    end do
+    d = hist(2)
+    call check(p > pcrush .and. abs(hist(1)) < tiny(1.0_wp), 'hjc hydrostatic compaction: region II, no plastic strain')
+  end function compaction_damage
 
   subroutine test_particles_hydrostatic()
     type(grid_t) :: g

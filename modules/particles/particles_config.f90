@@ -151,7 +151,7 @@ contains
     type(error_t), allocatable :: err
     logical :: by_e
     real(wp) :: hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
-                hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
+                hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0, hjc_length
     type(strength_params_t) :: hp
     logical :: moduli_given
     real(wp), parameter :: unset = -huge(1.0_wp)
@@ -161,7 +161,7 @@ contains
                      gtn_q1, gtn_q2, gtn_fn, gtn_epsn, gtn_sn, gtn_fc, gtn_ff, &
                      failure_strain, tensile_strength, void_mean, void_std, void_length, void_seed, void_covariance, &
                      void_distribution, hjc_a, hjc_b, hjc_n, hjc_c, hjc_fc, hjc_smax, hjc_t, hjc_d1, hjc_d2, hjc_efmin, &
-                     hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0
+                     hjc_pcrush, hjc_mucrush, hjc_plock, hjc_mulock, hjc_k1, hjc_k2, hjc_k3, hjc_eps0, hjc_length
 
     ! (the variables a library entry can give unset, so that a variable the
     ! group gives is known: they get the entry's value or the default after
@@ -182,7 +182,7 @@ contains
     hjc_a = unset; hjc_b = unset; hjc_n = unset; hjc_c = unset; hjc_fc = unset; hjc_smax = unset
     hjc_t = unset; hjc_d1 = unset; hjc_d2 = unset; hjc_efmin = unset; hjc_pcrush = unset
     hjc_mucrush = unset; hjc_plock = unset; hjc_mulock = unset; hjc_k1 = unset
-    hjc_k2 = unset; hjc_k3 = unset; hjc_eps0 = unset
+    hjc_k2 = unset; hjc_k3 = unset; hjc_eps0 = unset; hjc_length = unset
     read(text, nml=solid, iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call problem_nml(problems, path, 'solid', ios, msg)
@@ -247,7 +247,8 @@ contains
     ! the strength model and its parameters
     hp = strength_params_t(hjc_a=hjc_a, hjc_b=hjc_b, hjc_n=hjc_n, hjc_c=hjc_c, hjc_fc=hjc_fc, hjc_smax=hjc_smax, &
       hjc_t=hjc_t, hjc_d1=hjc_d1, hjc_d2=hjc_d2, hjc_efmin=hjc_efmin, hjc_pcrush=hjc_pcrush, hjc_mucrush=hjc_mucrush, &
-      hjc_plock=hjc_plock, hjc_mulock=hjc_mulock, hjc_k1=hjc_k1, hjc_k2=hjc_k2, hjc_k3=hjc_k3, hjc_eps0=hjc_eps0)
+      hjc_plock=hjc_plock, hjc_mulock=hjc_mulock, hjc_k1=hjc_k1, hjc_k2=hjc_k2, hjc_k3=hjc_k3, hjc_eps0=hjc_eps0, &
+      hjc_length=hjc_length)
     if (.not. (failure_strain >= 0.0_wp)) call problem_bad(problems, tag, 'failure_strain', failure_strain, &
       'must be >= 0 (0: never fails)')
     if (trim(strength) /= 'hjc') call hjc_not_here(problems, tag, strength, hp)
@@ -393,6 +394,8 @@ contains
         call fill(hjc_k2, 'hjc_k2', h%hjc_k2, hjc)
         call fill(hjc_k3, 'hjc_k3', h%hjc_k3, hjc)
         call fill(hjc_eps0, 'hjc_eps0', h%hjc_eps0, hjc)
+        ! (the particle size of the damage constants: the deck's, not a library entry's)
+        if (.not. hjc_length > unset) hjc_length = h%hjc_length
       end associate
     end subroutine library_fill
 
@@ -507,16 +510,17 @@ contains
     type(error_t), allocatable :: err
     type(strength_params_t) :: par
     integer :: i, nbad
-    real(wp) :: v(17)
-    character(len=11), parameter :: names(17) = [character(len=11) :: 'hjc_fc', 'hjc_t', 'hjc_pcrush', &
+    real(wp) :: v(18)
+    character(len=11), parameter :: names(18) = [character(len=11) :: 'hjc_fc', 'hjc_t', 'hjc_pcrush', &
       'hjc_mucrush', 'hjc_plock', 'hjc_k1', 'hjc_n', 'hjc_smax', 'hjc_efmin', 'hjc_d2', 'hjc_eps0', &
-      'hjc_a', 'hjc_b', 'hjc_c', 'hjc_d1', 'hjc_mulock', 'hjc_k3']
+      'hjc_a', 'hjc_b', 'hjc_c', 'hjc_d1', 'hjc_mulock', 'hjc_k3', 'hjc_length']
     if (trim(eos) /= 'none') call problem_add(problems, '&'//tag//': eos = '''//trim(eos)//''' cannot be used '// &
       'with strength = ''hjc'' (the HJC model has its own equation of state): eos = ''none''')
     if (abs(bulk_modulus) > 0.0_wp) call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
       'does not apply to strength = ''hjc'' (its pressure comes from its own equation of state, hjc_*)')
     v = [hp%hjc_fc, hp%hjc_t, hp%hjc_pcrush, hp%hjc_mucrush, hp%hjc_plock, hp%hjc_k1, hp%hjc_n, hp%hjc_smax, &
-         hp%hjc_efmin, hp%hjc_d2, hp%hjc_eps0, hp%hjc_a, hp%hjc_b, hp%hjc_c, hp%hjc_d1, hp%hjc_mulock, hp%hjc_k3]
+         hp%hjc_efmin, hp%hjc_d2, hp%hjc_eps0, hp%hjc_a, hp%hjc_b, hp%hjc_c, hp%hjc_d1, hp%hjc_mulock, hp%hjc_k3, &
+         hp%hjc_length]
     nbad = 0
     do i = 1, 11
       if (.not. (v(i) > 0.0_wp)) then
@@ -524,7 +528,7 @@ contains
         nbad = nbad + 1
       end if
     end do
-    do i = 12, 17
+    do i = 12, 18
       if (.not. (v(i) >= 0.0_wp)) then
         call problem_bad(problems, tag, trim(names(i)), v(i), 'must be >= 0 for strength = ''hjc''')
         nbad = nbad + 1
@@ -709,9 +713,9 @@ contains
   !> The hjc_* values of p, in the namelist's order.
   pure function hjc_values(p) result(v)
     type(strength_params_t), intent(in) :: p
-    real(wp) :: v(18)
+    real(wp) :: v(19)
     v = [p%hjc_a, p%hjc_b, p%hjc_n, p%hjc_c, p%hjc_fc, p%hjc_smax, p%hjc_t, p%hjc_d1, p%hjc_d2, p%hjc_efmin, &
-         p%hjc_pcrush, p%hjc_mucrush, p%hjc_plock, p%hjc_mulock, p%hjc_k1, p%hjc_k2, p%hjc_k3, p%hjc_eps0]
+         p%hjc_pcrush, p%hjc_mucrush, p%hjc_plock, p%hjc_mulock, p%hjc_k1, p%hjc_k2, p%hjc_k3, p%hjc_eps0, p%hjc_length]
   end function hjc_values
 
   !> What a restart may not change in the solids and particles: one line per

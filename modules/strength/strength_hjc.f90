@@ -38,6 +38,20 @@
 !> Damage: D += (Delta eps_p + Delta mu_p)/max(EFMIN, D1 (P* + T*)^D2),
 !> clamped to [0, 1], with the end-of-step pressure.
 !>
+!> Size of the particle (hjc_length = L_ref > 0, the deck's; 0: off): the
+!> plastic strain a particle of size l (the cube root of its volume)
+!> books towards its damage is Delta eps_p l/L_ref, so that the strain to
+!> fracture scales as L_ref/l. A crack or shear band localises in one row
+!> of particles whatever their size, and the model's damage has no length
+!> of its own: without this a finer particle set breaks at a smaller
+!> opening (displacement across the band, eps_f l) and dissipates less
+!> energy per unit area of the band; with it the band opens by eps_f L_ref
+!> at any l (the crack-band idea of Bazant and Oh 1983, applied here to
+!> the shear damage as Polanco-Loria et al. 2008 did to HJC's tension).
+!> The compaction Delta mu_p is a volume change that does not localise and
+!> is booked as it is. The damage constants then hold at particles of size
+!> L_ref (the size at which the deck takes them to be valid).
+!>
 !> Failure (what `failed` means here): the particle fails when D = 1 while
 !> its pressure is not compressive (p <= 0 at the end of a step): a fully
 !> damaged particle in tension is a crack. From then on it carries no
@@ -81,6 +95,7 @@ module strength_hjc
     real(wp) :: k1 = 0.0_wp, k2 = 0.0_wp, k3 = 0.0_wp   !< region III (pressure)
     real(wp) :: eps0 = 1.0_wp      !< reference strain rate (1/time)
     real(wp) :: rho0 = 0.0_wp      !< reference density
+    real(wp) :: length = 0.0_wp    !< L_ref, the particle size of the damage constants (0: off)
     real(wp) :: ke = 0.0_wp        !< K_e = p_crush/mu_crush
     real(wp) :: muplock = 0.0_wp   !< mu where region III reaches p_lock
   contains
@@ -104,7 +119,7 @@ contains
     model = strength_hjc_t(g=par%g, a=par%hjc_a, b=par%hjc_b, n=par%hjc_n, c=par%hjc_c, fc=par%hjc_fc, &
       smax=par%hjc_smax, t=par%hjc_t, d1=par%hjc_d1, d2=par%hjc_d2, efmin=par%hjc_efmin, pcrush=par%hjc_pcrush, &
       mucrush=par%hjc_mucrush, plock=par%hjc_plock, mulock=par%hjc_mulock, k1=par%hjc_k1, k2=par%hjc_k2, &
-      k3=par%hjc_k3, eps0=par%hjc_eps0, rho0=par%hjc_rho0)
+      k3=par%hjc_k3, eps0=par%hjc_eps0, rho0=par%hjc_rho0, length=par%hjc_length)
     associate (m => model)
       if (.not. (m%g > 0.0_wp .and. m%rho0 > 0.0_wp)) msg = 'hjc: the shear modulus and the density must be > 0'
       if (.not. (m%a >= 0.0_wp .and. m%b >= 0.0_wp .and. m%c >= 0.0_wp .and. m%d1 >= 0.0_wp)) &
@@ -115,6 +130,7 @@ contains
                  m%k1 > 0.0_wp)) msg = 'hjc: hjc_fc, hjc_t, hjc_pcrush, hjc_mucrush and hjc_k1 must be > 0'
       if (.not. (m%plock > m%pcrush)) msg = 'hjc: hjc_plock must be > hjc_pcrush'
       if (.not. (m%mulock >= 0.0_wp)) msg = 'hjc: hjc_mulock must be >= 0'
+      if (.not. (m%length >= 0.0_wp)) msg = 'hjc: hjc_length must be >= 0 (0: off)'
       if (len(msg) > 0) return
       m%ke = m%pcrush/m%mucrush
       ! region III reaches p_lock at mubar in (0, hi): hi the first maximum
@@ -306,7 +322,8 @@ contains
       s = s*(sy/q)
       hist(1) = hist(1) + dep
     end if
-    ! damage
+    ! damage (the plastic strain scaled by the particle's size: module notes)
+    if (this%length > 0.0_wp .and. pt%length > 0.0_wp) dep = dep*(pt%length/this%length)
     if (dep + dmup > 0.0_wp) then
       d = d + (dep + dmup)/max(this%efmin, this%d1*max(p/this%fc + this%t/this%fc, 0.0_wp)**this%d2)
       hist(2) = min(d, 1.0_wp)

@@ -71,16 +71,20 @@ module strength_models
     real(wp) :: hjc_t = 0.0_wp, hjc_d1 = 0.0_wp, hjc_d2 = 0.0_wp, hjc_efmin = 0.0_wp
     real(wp) :: hjc_pcrush = 0.0_wp, hjc_mucrush = 0.0_wp, hjc_plock = 0.0_wp, hjc_mulock = 0.0_wp
     real(wp) :: hjc_k1 = 0.0_wp, hjc_k2 = 0.0_wp, hjc_k3 = 0.0_wp, hjc_eps0 = 1.0_wp, hjc_rho0 = 0.0_wp
+    !> hjc: the particle size at which the damage constants hold (0: any size)
+    real(wp) :: hjc_length = 0.0_wp
   end type strength_params_t
 
   !> One particle's step context (module notes): in dt, rho (density at the
   !> end of the step), p (the EOS's predicted pressure at the end of the
-  !> step, solids with an EOS only); out eroded (energy per unit volume a
-  !> failure removed in this step, 0 otherwise).
+  !> step, solids with an EOS only), length (the particle's size, the cube
+  !> root of its volume at the end of the step; 0: not known); out eroded
+  !> (energy per unit volume a failure removed in this step, 0 otherwise).
   type :: strength_point_t
     real(wp) :: dt = 0.0_wp
     real(wp) :: rho = 0.0_wp
     real(wp) :: p = 0.0_wp
+    real(wp) :: length = 0.0_wp
     real(wp) :: eroded = 0.0_wp
   end type strength_point_t
 
