@@ -47,7 +47,7 @@
 !> opening (displacement across the band, eps_f l) and dissipates less
 !> energy per unit area of the band; with it the band opens by eps_f L_ref
 !> at any l (the crack-band idea of Bazant and Oh 1983, applied here to
-!> the shear damage as Polanco-Loria et al. 2008 did to HJC's tension).
+!> the damage by plastic strain).
 !> The compaction Delta mu_p is a volume change that does not localise and
 !> is booked as it is. The damage constants then hold at particles of size
 !> L_ref (the size at which the deck takes them to be valid).
