@@ -685,7 +685,8 @@ contains
           bad = min(bad, k)
           cycle
         end if
-        pt = strength_point_t(dt=dt, rho=m(k)/(vol(k)*detf), length=(vol(k)*detf)**(1.0_wp/3.0_wp))
+        pt = strength_point_t(dt=dt, rho=m(k)/(vol(k)*detf))
+        if (model%wants_length) pt%length = (vol(k)*detf)**(1.0_wp/3.0_wp)
         call model%update(deps, dw, pt, stress(:, k), hist(:, k))
         eroded(k) = pt%eroded*vol(k)*detf
         sm = 0.5_wp*(s0 + stress(:, k))
@@ -730,7 +731,8 @@ contains
     dvol = vnew - vol
     ! the model sees the EOS pressure predicted with e^n
     call mie_gruneisen_reference(eos, m/vnew, kref, dk)
-    pt = strength_point_t(dt=dt, rho=m/vnew, p=kref + eos%gamma0*eos%rho0*e, length=vnew**(1.0_wp/3.0_wp))
+    pt = strength_point_t(dt=dt, rho=m/vnew, p=kref + eos%gamma0*eos%rho0*e)
+    if (model%wants_length) pt%length = vnew**(1.0_wp/3.0_wp)
     call model%update(deps, dw, pt, stress, hist)
     eroded = pt%eroded*vnew
     ! the deviatoric stress work (s^n and s^{n+1} deviators: s : deps = s : dev(deps))

@@ -119,7 +119,7 @@ contains
     model = strength_hjc_t(g=par%g, a=par%hjc_a, b=par%hjc_b, n=par%hjc_n, c=par%hjc_c, fc=par%hjc_fc, &
       smax=par%hjc_smax, t=par%hjc_t, d1=par%hjc_d1, d2=par%hjc_d2, efmin=par%hjc_efmin, pcrush=par%hjc_pcrush, &
       mucrush=par%hjc_mucrush, plock=par%hjc_plock, mulock=par%hjc_mulock, k1=par%hjc_k1, k2=par%hjc_k2, &
-      k3=par%hjc_k3, eps0=par%hjc_eps0, rho0=par%hjc_rho0, length=par%hjc_length)
+      k3=par%hjc_k3, eps0=par%hjc_eps0, rho0=par%hjc_rho0, length=par%hjc_length, wants_length=par%hjc_length > 0.0_wp)
     associate (m => model)
       if (.not. (m%g > 0.0_wp .and. m%rho0 > 0.0_wp)) msg = 'hjc: the shear modulus and the density must be > 0'
       if (.not. (m%a >= 0.0_wp .and. m%b >= 0.0_wp .and. m%c >= 0.0_wp .and. m%d1 >= 0.0_wp)) &

@@ -78,7 +78,8 @@ module strength_models
   !> One particle's step context (module notes): in dt, rho (density at the
   !> end of the step), p (the EOS's predicted pressure at the end of the
   !> step, solids with an EOS only), length (the particle's size, the cube
-  !> root of its volume at the end of the step; 0: not known); out eroded
+  !> root of its volume at the end of the step, given to a model that
+  !> wants_length; 0: not known); out eroded
   !> (energy per unit volume a failure removed in this step, 0 otherwise).
   type :: strength_point_t
     real(wp) :: dt = 0.0_wp
@@ -92,6 +93,8 @@ module strength_models
   type, abstract :: strength_t
     real(wp) :: k = 0.0_wp   !< bulk modulus (pressure)
     real(wp) :: g = 0.0_wp   !< shear modulus (pressure)
+    !> the model reads strength_point_t%length (else the caller need not set it)
+    logical :: wants_length = .false.
   contains
     procedure(update_i), deferred :: update
     procedure :: wave_modulus => strength_wave_modulus
