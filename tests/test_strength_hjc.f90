@@ -414,6 +414,7 @@ contains
     par%hjc_length = lref
     call hjc_new(par, m, msg)
     call check(len(msg) == 0, 'hjc model with hjc_length built: '//msg)
+    call check(m%wants_length .eqv. lref > 0.0_wp, 'hjc: reads the particle size exactly when hjc_length > 0')
     ef = max(efmin, d1*(tt/fc)**d2)
     s = 1.0_wp
     if (lref > 0.0_wp .and. l > 0.0_wp) s = l/lref
