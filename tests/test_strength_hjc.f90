@@ -387,9 +387,9 @@ contains
     call check_close('hjc: strain to fracture at l = L_ref, /eps_f - 1', epsf(2)/ef - 1.0_wp, 0.0_wp, 2.0e-5_wp/ef)
     call check_close('hjc: strain to fracture at l = 2 L_ref, /(eps_f/2) - 1', epsf(3)/(0.5_wp*ef) - 1.0_wp, 0.0_wp, &
                      2.0e-5_wp/(0.5_wp*ef))
-    call length_path(lref, 0.0_wp, misfit, epsf(1), scaled=.false.)
+    call length_path(lref, 0.0_wp, misfit, epsf(1))
     call check_close('hjc damage, size not known: |D - eps_p/eps_f|', misfit, 0.0_wp, 1.0e-12_wp)
-    call length_path(0.0_wp, 10.0_wp, misfit, epsf(1), scaled=.false.)
+    call length_path(0.0_wp, 10.0_wp, misfit, epsf(1))
     call check_close('hjc damage, hjc_length = 0: |D - eps_p/eps_f|', misfit, 0.0_wp, 1.0e-12_wp)
     dc(1) = compaction_damage(lref, lref)
     dc(2) = compaction_damage(lref, 0.25_wp*lref)
@@ -397,30 +397,32 @@ contains
     call check_close('hjc: compaction damage at l = L_ref/4 against l = L_ref', dc(2)/dc(1) - 1.0_wp, 0.0_wp, 1.0e-12_wp)
   end subroutine test_damage_length
 
-  !> The isochoric path of `damage_path` at p = 0 for a model with
-  !> hjc_length lref and a particle of size l: the largest misfit of D
-  !> against eps_p (l/lref)/eps_f (scaled; else eps_p/eps_f) before
-  !> failure, and the plastic strain at failure (huge: none in 20000 steps).
-  subroutine length_path(lref, l, misfit, epsf, scaled)
-    real(wp), intent(in) :: lref, l
-    real(wp), intent(out) :: misfit, epsf
-    logical, intent(in), optional :: scaled
-    type(strength_hjc_t) :: m
+  !> Table 7's model with hjc_length lref.
+  type(strength_hjc_t) function model_with_length(lref) result(m)
+    real(wp), intent(in) :: lref
     type(strength_params_t) :: par
     character(len=:), allocatable :: msg
-    real(wp) :: stress(6), hist(hjc_nhist), p, ef, s
-    integer :: n
     par = table7(efmin)
     par%hjc_length = lref
     call hjc_new(par, m, msg)
     call check(len(msg) == 0, 'hjc model with hjc_length built: '//msg)
     call check(m%wants_length .eqv. lref > 0.0_wp, 'hjc: reads the particle size exactly when hjc_length > 0')
+  end function model_with_length
+
+  !> The isochoric path of `damage_path` at p = 0 for a model with
+  !> hjc_length lref and a particle of size l: the largest misfit of D
+  !> against eps_p s/eps_f before failure (s = l/lref, or 1 when either is
+  !> 0), and the plastic strain at failure (huge: none in 20000 steps).
+  subroutine length_path(lref, l, misfit, epsf)
+    real(wp), intent(in) :: lref, l
+    real(wp), intent(out) :: misfit, epsf
+    type(strength_hjc_t) :: m
+    real(wp) :: stress(6), hist(hjc_nhist), p, ef, s
+    integer :: n
+    m = model_with_length(lref)
     ef = max(efmin, d1*(tt/fc)**d2)
     s = 1.0_wp
     if (lref > 0.0_wp .and. l > 0.0_wp) s = l/lref
-    if (present(scaled)) then
-      if (.not. scaled) s = 1.0_wp
-    end if
     stress = 0.0_wp
     hist = 0.0_wp
     misfit = 0.0_wp
@@ -441,13 +443,9 @@ contains
   real(wp) function compaction_damage(lref, l) result(d)
     real(wp), intent(in) :: lref, l
     type(strength_hjc_t) :: m
-    type(strength_params_t) :: par
-    character(len=:), allocatable :: msg
     real(wp) :: stress(6), hist(hjc_nhist), p, rho, e
     integer :: n
-    par = table7(efmin)
-    par%hjc_length = lref
-    call hjc_new(par, m, msg)
+    m = model_with_length(lref)
     stress = 0.0_wp
     hist = 0.0_wp
     e = -1.0e-4_wp/3.0_wp
