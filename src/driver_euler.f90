@@ -417,7 +417,7 @@ contains
   !> the standard grid. xnew: the rezoned grid; done false (the step
   !> skipped, its interval used up, its timer stopped) if no cell needs it,
   !> or on an error.
-  subroutine euler_rezone(rz, g, bc, share, halo, step, t, es, log, e0, xnew, done, err, occupied)
+  subroutine euler_rezone(rz, g, bc, share, halo, step, t, es, log, e0, xnew, done, err, occupied, standard)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -432,11 +432,13 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
+    !> a block's standard grid where faces move (`rezone_grid`)
+    real(wp), intent(in), optional :: standard(:, :)
     integer :: nmove
     type(lssm_report_t) :: rep
 
     e0%t_rezone = wall_seconds()
-    call rezone_grid(rz, g, bc, share, halo, step, es%rez, xnew, rep, nmove, done, err, occupied)
+    call rezone_grid(rz, g, bc, share, halo, step, es%rez, xnew, rep, nmove, done, err, occupied, standard)
     if (.not. allocated(err)) then
       if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
         call lssm_log(rz, rep, step, log)

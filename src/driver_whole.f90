@@ -327,12 +327,12 @@ contains
     type(particles_euler_t) :: pe
     type(parts_state_t) :: ps
     type(state_t) :: sw
-    real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :)
+    real(wp), allocatable :: xnew(:, :), xb(:, :), x(:, :), xs(:, :)
     logical, allocatable :: occupied(:)
     type(remap_stats_t) :: first
     logical :: done, redo, wider, parts, global, moving, whole_x
     integer :: retry
-    integer :: c, nfill, one
+    integer :: c, f, nfill, one
 
     global = trim(cfg%rezone%mode) == 'global'
     moving = global_whole(cfg, st)
@@ -382,8 +382,15 @@ contains
       else if (allocated(pe%occupied)) then
         occupied = [(pe%occupied(st%g%global_cell(c)), c = 1, st%g%ncell)]
       end if
-      call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
-                        xnew=xb, done=done, err=err, occupied=occupied)
+      ! (with faces that move with the material the smoothing's standard
+      ! places follow them: each block's part of the global rezone's
+      ! target, `rezone_grid`)
+      done = .false.
+      if (any([(global_face_rule(st%bc%kind(f)), f = 1, 6)] == GLOBAL_FACE_MOVE)) &
+        call window_global_target(pc, st, es, log, e0, xs, err, report=.false.)
+      if (.not. allocated(err)) &
+        call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
+                          xnew=xb, done=done, err=err, occupied=occupied, standard=xs)
       if (done .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     end if
     call agree_error(pc, err)
@@ -481,7 +488,7 @@ contains
   !> line's running arc length passed from block to block along its
   !> direction, then its total back), the owned nodes' targets, and the
   !> ghosts' from the neighbours.
-  subroutine window_global_target(pc, st, es, log, e0, xb, err)
+  subroutine window_global_target(pc, st, es, log, e0, xb, err, report)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     type(euler_state_t), intent(inout) :: es
@@ -489,6 +496,9 @@ contains
     type(euler_start_t), intent(inout) :: e0
     real(wp), allocatable, intent(out) :: xb(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    !> false: neither logged nor timed as the step's rezone (the smoothing's
+    !> standard grid, which `euler_rezone` times with the smoothing)
+    logical, intent(in), optional :: report
     real(wp), allocatable :: w(:, :), start(:), finish(:)
     integer :: f, a, b, c, lo(3), hi(3), nb(3), stat
     associate (g => st%g, sf => es%rez%surface)
@@ -537,6 +547,9 @@ contains
       call global_target_check(g%grid_index_t, xb, g%off, err)
       call agree_error(pc, err)
       if (allocated(err)) return
+      if (present(report)) then
+        if (.not. report) return
+      end if
       if (sf%nmove > 0) call log_line(log, 'global rezone: '//itoa(sf%nmove)//' nodes of moving faces kept where '// &
                                       'they are, the others back to the initial grid plus the TFI of their displacement')
       e0%t_rezone = wall_seconds() - e0%t_rezone

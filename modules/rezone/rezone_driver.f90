@@ -302,8 +302,15 @@ contains
   !> &rezone mode 'lssm' or 'smooth' rep says what the smoothing did
   !> (`lssm_rezone`) and done is false if no cell needed it; with 'global'
   !> nmove counts the nodes of moving faces kept where they are. done is
-  !> false on an error too.
-  subroutine rezone_grid(rz, g, bc, share, halo, step, rs, xnew, rep, nmove, done, err, occupied)
+  !> false on an error too. With a face that moves with the material (a
+  !> piston, a free surface) the smoothing's standard places (`lssm_rezone`'s
+  !> standard, where its snaps go) are the global rezone's target, the
+  !> initial grid carried with the moving faces (`global_target`): its nodes
+  !> on those faces are where they are, and the initial places of the
+  !> others may lie beyond them. On a block of a decomposed run the caller
+  !> gives it (standard: the block's stored nodes, `global_block_target`);
+  !> on the whole grid it is made here.
+  subroutine rezone_grid(rz, g, bc, share, halo, step, rs, xnew, rep, nmove, done, err, occupied, standard)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -317,7 +324,9 @@ contains
     logical, intent(out) :: done
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: occupied(:)
-    integer :: f, stat, rules(6)
+    real(wp), intent(in), optional :: standard(:, :)
+    real(wp), allocatable :: xt(:, :)
+    integer :: f, stat, rules(6), nkept
     character(len=200) :: msg
 
     done = .true.
@@ -325,6 +334,7 @@ contains
     if (allocated(rs%xkeep)) then
       if (all(shape(rs%xkeep) == shape(g%x))) call move_alloc(rs%xkeep, xnew)
     end if
+    rules = [(global_face_rule(bc%kind(f)), f = 1, 6)]
     if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
       rs%xkeep_x0 = .false.
       xnew = g%x
@@ -332,20 +342,25 @@ contains
         rs%mob = smooth_mobility_t()
         rs%mob_box = reshape([g%off + g%slo, g%off + g%shi], [3, 2])
       end if
-      if (shape_known(g, step, rs)) then
-        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, rs%shape_fail, &
-                         rs%mob)
-        ! (once: the grid moves on)
-        rs%shape_step = -1
+      if (all(rules /= GLOBAL_FACE_MOVE)) then
+        call smooth_from()
+      else if (present(standard)) then
+        call smooth_from(standard)
+      else if (all(g%slo == 1) .and. all(g%shi == g%gn)) then
+        allocate(xt, mold=rs%x0, stat=stat, errmsg=msg)
+        if (stat /= 0) then
+          call error_set(err, 'rezone_grid', error_no_memory('the standard grid'))
+        else
+          call global_target(g%ni, g%nj, g%nk, rules, rs%x0, g%x, xt, nkept, err)
+        end if
+        if (.not. allocated(err)) call smooth_from(xt)
       else
-        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, &
-                         mob_keep=rs%mob)
+        call error_set(err, 'rezone_grid', 'a block''s smoothing with moving faces needs its standard grid')
       end if
       done = rep%outcome /= LSSM_SKIPPED
     else
       ! back to the initial grid, except where a face moves with the
       ! material (a piston, a free surface): there the grid follows it
-      rules = [(global_face_rule(bc%kind(f)), f = 1, 6)]
       stat = 0
       if (.not. allocated(xnew)) then
         rs%xkeep_x0 = .false.
@@ -359,5 +374,21 @@ contains
       end if
     end if
     if (allocated(err)) done = .false.
+
+  contains
+
+    !> `lssm_rezone` of xnew, its snaps towards standard (else x0).
+    subroutine smooth_from(standard)
+      real(wp), intent(in), optional :: standard(:, :)
+      if (shape_known(g, step, rs)) then
+        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, rs%shape_fail, &
+                         rs%mob, standard)
+        ! (once: the grid moves on)
+        rs%shape_step = -1
+      else
+        call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, mob_keep=rs%mob, &
+                         standard=standard)
+      end if
+    end subroutine smooth_from
   end subroutine rezone_grid
 end module rezone_driver

@@ -14,6 +14,7 @@ module rezone_lssm
   use mesh_halo, only: halo_t
   use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
   use rezone_config, only: rezone_config_t
+  use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use rezone_quality, only: grid_quality, grid_trigger_cells, hex_fails_triggers
   use rezone_subdomains, only: rezone_subdomains_t, rezone_subdomains_seed, rezone_subdomains_merge, &
                                rezone_subdomains_default_dmax, rezone_subdomains_from_boxes
@@ -72,7 +73,7 @@ contains
   !> untangle's health are untangled (`smooth_untangle`), and with 'box' a
   !> pass may not squeeze a cell below &rezone squeeze of its volume.
   !>
-  !> Nodes put back at their standard (initial) places first (`snap_nodes`):
+  !> Nodes put back at their standard places (x0, or standard) first (`snap_nodes`):
   !> those of the cells coupled particles occupy (`occupied`, Remark 2),
   !> those of inflow and outflow faces that drifted more than &rezone
   !> drift_open of their standard spacing (an open face is the domain's
@@ -93,7 +94,14 @@ contains
   !> mob_keep: the mobility of g's nodes (`smooth_mobility_block`) kept
   !> from one call to the next on the same block, built at the first; not
   !> used with occupied (the frozen nodes change).
-  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied, shape_fail, mob_keep)
+  !>
+  !> standard: the standard places where they are not x0, with faces that
+  !> move with the material (the global rezone's target, `rezone_grid`):
+  !> the snaps go there, the trigger tests still measure against x0's
+  !> shapes. The nodes of such faces are fixed for the smoothing
+  !> (`moving_faces`).
+  subroutine lssm_rezone(rz, g, bc, share, halo, x0, quality, fail, x, rep, err, occupied, shape_fail, mob_keep, &
+                         standard)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -108,6 +116,7 @@ contains
     logical, intent(in), optional :: occupied(:)
     logical, intent(in), optional :: shape_fail(:)
     type(smooth_mobility_t), intent(inout), optional :: mob_keep
+    real(wp), intent(in), optional :: standard(:, :)
     logical, allocatable :: moved(:), touched(:), counts(:), tangled(:)
     type(rezone_subdomains_t) :: sub
     type(smooth_mobility_t) :: mob
@@ -132,7 +141,11 @@ contains
         end do
       end do
     end do
-    call snap_nodes(rz, g, bc, halo, counts, x0, x, moved, ngrown, err, occupied)
+    if (present(standard)) then
+      call snap_nodes(rz, g, bc, halo, counts, standard, x, moved, ngrown, err, occupied)
+    else
+      call snap_nodes(rz, g, bc, halo, counts, x0, x, moved, ngrown, err, occupied)
+    end if
     if (allocated(err)) return
     call cells_touched(g, moved, touched, occupied)
     aspect_max = huge(1.0_wp)
@@ -202,11 +215,12 @@ contains
       return
     end if
     if (present(mob_keep) .and. .not. present(occupied)) then
-      if (.not. allocated(mob_keep%kind)) call smooth_mobility_block(g%grid_index_t, mob_keep, err)
+      if (.not. allocated(mob_keep%kind)) &
+        call smooth_mobility_block(g%grid_index_t, mob_keep, err, fixed_faces=moving_faces(bc))
       if (allocated(err)) return
       mob = mob_keep
     else
-      call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied)
+      call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied, fixed_faces=moving_faces(bc))
     end if
     if (allocated(err)) return
     ! (the squeeze guard with the box reading only: the cube target does not
@@ -402,6 +416,17 @@ contains
       moved(n) = any(abs(x(:, n) - xin(:, n)) > 0.0_wp)
     end do
   end subroutine snap_nodes
+
+  !> The faces (xlo .. zhi) that move with the material (velocity and
+  !> pressure faces, `global_face_rule`): the smoothing does not move their
+  !> nodes (their places in the standard grid are where they are:
+  !> `rezone_grid`).
+  pure function moving_faces(bc) result(moving)
+    type(bc_t), intent(in) :: bc
+    logical :: moving(6)
+    integer :: f
+    moving = [(global_face_rule(bc%kind(f)) == GLOBAL_FACE_MOVE, f = 1, 6)]
+  end function moving_faces
 
   !> The cells (not occupied by particles) with a node that moved.
   subroutine cells_touched(g, moved, touched, occupied)

@@ -263,15 +263,24 @@ contains
   !> face of the stored box that is not the whole grid's is fixed here: it
   !> is a ghost, whose place comes from its owner. Without ghosts, the
   !> mobility of smooth_mobility_box. frozen(ncell): as there, stored cells.
-  subroutine smooth_mobility_block(ix, mob, err, frozen)
+  !> fixed_faces(6) (xlo, xhi, ylo, yhi, zlo, zhi): the whole grid's faces
+  !> whose nodes are fixed, edges and corners included (faces that move
+  !> with the material, a piston or a free surface: the smoothing's planes
+  !> are the logical box's, which such a face leaves, and a node slid
+  !> along one would leave the material's boundary).
+  subroutine smooth_mobility_block(ix, mob, err, frozen, fixed_faces)
     type(grid_index_t), intent(in) :: ix
     type(smooth_mobility_t), intent(out) :: mob
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: frozen(:)
-    integer :: i, j, k, d, ijk(3), m
+    logical, intent(in), optional :: fixed_faces(6)
+    integer :: i, j, k, d, f, ijk(3), m
+    logical :: fixed(6)
     call smooth_mobility_box(ix%shi(1) - ix%slo(1) + 1, ix%shi(2) - ix%slo(2) + 1, ix%shi(3) - ix%slo(3) + 1, &
                              mob, err, frozen=frozen)
     if (allocated(err)) return
+    fixed = .false.
+    if (present(fixed_faces)) fixed = fixed_faces
     do k = ix%slo(3) - 1, ix%shi(3)
       do j = ix%slo(2) - 1, ix%shi(2)
         do i = ix%slo(1) - 1, ix%shi(1)
@@ -281,6 +290,10 @@ contains
             ! on the stored box's low (high) face in d, not the grid's
             if ((ijk(d) == ix%slo(d) - 1 .and. .not. btest(m, 2*(d - 1))) .or. &
                 (ijk(d) == ix%shi(d) .and. .not. btest(m, 2*d - 1))) mob%kind(ix%node(i, j, k)) = node_fixed
+          end do
+          ! (bit f - 1 of node_faces: the node lies on the grid's face f)
+          do f = 1, 6
+            if (fixed(f) .and. btest(m, f - 1)) mob%kind(ix%node(i, j, k)) = node_fixed
           end do
         end do
       end do
