@@ -4,7 +4,7 @@ JOBS      ?= 2
 BUILD_REL := build/release
 BUILD_DBG := build/debug
 
-.PHONY: all deps release debug run test bench hardcases hardcases-quick hardcases-sweep ranks-more regression-update clean
+.PHONY: all deps release debug run test bench hardcases hardcases-quick hardcases-sweep deck-sweep ranks-more regression-update clean
 
 all: release
 
@@ -49,6 +49,13 @@ hardcases-quick: release
 # in the modes and setting variants it leaves out, under the same bars.
 hardcases-sweep: release
 	/usr/bin/python3 tools/hardcases.py --exe $(BUILD_REL)/lsalepm --out build/hardcases-sweep --sweep $(HARDCASES_ARGS)
+
+# The deck sweep (tools/deck_sweep.py): every deck of tests/decks and input/
+# as it is and in the other rezone modes, 300 steps each; exit status 1 if a
+# run fails. DECK_SWEEP_ARGS="--variants original,linear,q4 particles" passes
+# options on.
+deck-sweep: release
+	/usr/bin/python3 tools/deck_sweep.py --exe $(BUILD_REL)/lsalepm --out build/deck-sweep $(DECK_SWEEP_ARGS)
 
 # Rank invariance and restarts on other rank counts than `make test`'s (1, 2
 # and 4; restarts written on 2, continued on 1 and 4): the suite's rank tests
