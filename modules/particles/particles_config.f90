@@ -217,8 +217,15 @@ contains
         g_mod = youngs_modulus/(2.0_wp*(1.0_wp + poisson_ratio))
       end if
     else
-      if (.not. (shear_modulus > 0.0_wp)) call problem_bad(problems, tag, 'shear_modulus', shear_modulus, &
-        'must be > 0 (or give youngs_modulus and poisson_ratio)')
+      if (.not. (shear_modulus > 0.0_wp)) then
+        if (len_trim(library) > 0) then
+          call problem_bad(problems, tag, 'shear_modulus', shear_modulus, 'must be > 0 (or give youngs_modulus '// &
+            'and poisson_ratio): the library''s '''//trim(library)//''' gives no elastic moduli')
+        else
+          call problem_bad(problems, tag, 'shear_modulus', shear_modulus, &
+            'must be > 0 (or give youngs_modulus and poisson_ratio)')
+        end if
+      end if
       if (trim(eos) == 'none' .and. trim(strength) /= 'hjc' .and. .not. (bulk_modulus > 0.0_wp)) &
         call problem_bad(problems, tag, 'bulk_modulus', bulk_modulus, &
         'must be > 0 with eos = ''none'' (or give youngs_modulus and poisson_ratio)')
