@@ -276,14 +276,14 @@ contains
       sch%step_wall = wall_seconds() - w0
       sch%dt_by_cell = dt < dt_cap .and. sch%dt_particle == 0
       if (bad_cell > 0) call error_set(err, 'lagrange_step', 'cell '//itoa(st%g%global_cell(bad_cell))// &
-        ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t), ERR_RUNTIME)
+        ' has a non-positive volume (tangled grid) at t = '//rtoa(st%t)//lagrangian_hint(cfg), ERR_RUNTIME)
       if (.not. allocated(err) .and. bad_particle > 0) call error_set(err, 'particles_step', 'particle '// &
         itoa(bad_particle)//' (id '//itoa(st%pt%id(bad_particle))//') has an inverted host cell or a '// &
         'non-positive volume at t = '//rtoa(st%t), ERR_RUNTIME)
       if (bad_cell /= 0 .or. bad_particle /= 0) call agree_error(sch%pc, err)   ! (-1: on another rank)
       if (.not. allocated(err) .and. dt < cfg%control%dt_min) call error_set(err, 'time_loop', &
         'time step collapsed to '//rtoa(dt)//' (dt_min = '//rtoa(cfg%control%dt_min)//') at t = '// &
-        rtoa(st%t)//', set by '//step_limit_text(st, sch), ERR_RUNTIME)
+        rtoa(st%t)//', set by '//step_limit_text(st, sch)//lagrangian_hint(cfg), ERR_RUNTIME)
       if (allocated(err)) call fail(cfg, st, sch, err)
       st%dt = dt
       ! (a step shortened only to land on a frame or the end time does not
@@ -362,6 +362,16 @@ contains
       if (asked > 0) call stop_with_restart(cfg, st, sch, es, asked)
     end do
   end subroutine time_loop
+
+  !> What a purely Lagrangian run's failure message adds (a crushed or
+  !> tangled grid is what Euler steps are for); '' with &rezone.
+  function lagrangian_hint(cfg) result(text)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: text
+    text = ''
+    if (trim(cfg%rezone%mode) == 'none') text = ' (a purely Lagrangian run, no &rezone: the grid moves with the '// &
+      'material until its cells are crushed or tangled; &rezone mode = ''lssm'' or ''global'' rezones and remaps them)'
+  end function lagrangian_hint
 
   !> Whether this process has been asked to stop: the signal caught
   !> (SIGTERM, SIGUSR1: its number), or on rank 0 the stop file
