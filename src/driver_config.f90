@@ -11,6 +11,7 @@ module driver_config
   use mesh_grid_config, only: grid_config_t, grid_config_read, grid_config_changes, grid_axis_nodes
   use io_grid_file, only: grid_file_read, grid_file_scan
   use mesh_boundary_config, only: boundary_config_t, boundary_config_read, boundary_config_changes
+  use mesh_boundary, only: BC_VELOCITY, BC_PRESSURE
   use material_config, only: material_config_t, material_config_read, material_config_changes
   use material_library, only: units_known, units_list, library_value
   use hydro_state, only: hydro_params_t
@@ -218,6 +219,7 @@ contains
                               problems)
       call at_line(problems, n0, deck, 'output')
       call track_points_check(cfg, problems)
+      call fixed_boxes_mode_check(cfg, problems)
       call check_counts(cfg, problems)
     end associate
   end subroutine read_groups
@@ -262,6 +264,19 @@ contains
     end do
     if (n > 0 .and. size(problems) == 0) call empty_shapes_check(deck, cfg, problems)
   end subroutine read_particle_groups
+
+  !> Fixed boxes (&boundary fixed_lo, fixed_hi) with a face that moves with
+  !> the material (velocity, pressure) in &rezone mode 'global' are refused:
+  !> that rezone carries the face's displacement into every node it does
+  !> not keep, the fixed ones too, and would move the clamp.
+  subroutine fixed_boxes_mode_check(cfg, problems)
+    type(config_t), intent(in) :: cfg
+    character(len=max_line), allocatable, intent(inout) :: problems(:)
+    if (cfg%boundary%nfixed == 0 .or. trim(cfg%rezone%mode) /= 'global') return
+    if (any(cfg%boundary%kind == BC_VELOCITY .or. cfg%boundary%kind == BC_PRESSURE)) call problem_add(problems, &
+      '&boundary: fixed boxes (fixed_lo, fixed_hi) cannot go with a velocity or pressure face in &rezone mode = '// &
+      '''global'', which would carry the face''s motion into the fixed nodes; use mode = ''lssm'' or ''smooth''')
+  end subroutine fixed_boxes_mode_check
 
   !> Track points (&output track) name particles: a deck without any is
   !> refused before step 0.

@@ -14,7 +14,7 @@ module driver_scene
   use mesh_geometry, only: hex_volume, hex_natural, cross
   use io_grid_file, only: grid_file_read
   use io_gauges, only: gauge_locate
-  use mesh_boundary, only: bc_init, bc_constrain
+  use mesh_boundary, only: bc_init, bc_constrain, bc_max_fixed
   use material_table, only: material_index_cells, material_eval_eos, material_burn_start
   use material_mixed, only: mixed_allocate, mixed_cell_state
   use geometry_shapes, only: shape_t, shape_inside, shapes_cell_moments
@@ -65,6 +65,8 @@ contains
     end if
     fluid = .false.
     if (present(fluid_only)) fluid = fluid_only
+    remap = fluid
+    if (present(remap_only)) remap = remap .or. remap_only
     ! (an error on one rank leaves this block there; every rank then learns
     ! of it before the collective calls after it)
     scene: block
@@ -94,8 +96,6 @@ contains
           call log_line(log, 'grid: node positions from '//gc%file_path)
         end if
         if (allocated(err)) exit scene
-        remap = fluid
-        if (present(remap_only)) remap = remap .or. remap_only
         call hydro_allocate(hy, g%ncell, g%nnode, err, step_work=.not. remap)
         if (allocated(err)) exit scene
 
@@ -249,6 +249,8 @@ contains
             bc%inflow_rho(m) = bcc%inflow_density(m)
             bc%inflow_e(m) = st%mats(bcc%inflow_mat(m))%eos%energy(bcc%inflow_density(m), bcc%inflow_pressure(m))
           end do
+          bc%nfixed = bcc%nfixed
+          bc%fixed_box = bcc%fixed_box
           call bc_init(bc, g, err)
           if (allocated(err)) exit scene
           ! the boundary conditions hold from t = 0
@@ -257,6 +259,8 @@ contains
       end associate
     end block scene
     if (failed_anywhere(st%halo, err)) return
+    if (.not. (fluid .or. remap)) call fixed_boxes_check(st, log, err)
+    if (allocated(err)) return
     ! (a block constrains the boundary nodes it owns; its ghost nodes on a
     ! wall get theirs from the block that owns them)
     call st%halo%nodes(st%h%u)
@@ -280,6 +284,31 @@ contains
       end do
     end if
   end subroutine build_scene
+
+  !> The nodes each &boundary fixed box fixes, the whole grid's, in the log;
+  !> a box that holds none is refused (a user error: a box beside the grid
+  !> or between its nodes). Collective.
+  subroutine fixed_boxes_check(st, log, err)
+    type(state_t), intent(inout) :: st
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: n(bc_max_fixed), q
+    character(len=:), allocatable :: text
+    if (st%bc%nfixed == 0) return
+    n = st%bc%fixed_count
+    call st%halo%sum_ints(n)
+    text = 'boundary: fixed nodes'
+    do q = 1, st%bc%nfixed
+      text = text//merge(': ', ', ', q == 1)//itoa(n(q))//' in box '//itoa(q)
+    end do
+    call log_line(log, text)
+    do q = 1, st%bc%nfixed
+      if (n(q) > 0) cycle
+      call error_set(err, deck_problem, '&boundary fixed box '//itoa(q)//' (fixed_lo(:,'//itoa(q)// &
+        '), fixed_hi(:,'//itoa(q)//')) holds no node of the grid', ERR_INPUT)
+      return
+    end do
+  end subroutine fixed_boxes_check
 
   !> Whether err is allocated on any block (on one process: here). A block
   !> where nothing failed keeps err unallocated: the driver's agree_error

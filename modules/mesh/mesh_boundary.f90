@@ -3,6 +3,8 @@
 !> Kinds: symmetry (reflective: the velocity component normal to the face is
 !> zero), wall (fixed: velocity zero), velocity (prescribed velocity, a piston),
 !> pressure (a prescribed external pressure; zero gives a free surface).
+!> Inside the block, the nodes in boxes the deck gives (&boundary fixed_lo,
+!> fixed_hi: a clamped support) are fixed as on a wall.
 !> Faces are numbered xlo, xhi, ylo, yhi, zlo, zhi; face f is normal to axis
 !> (f+1)/2. Kinematic conditions are applied after the unconstrained velocity
 !> update; the impulse they add is accumulated as boundary work so that the
@@ -15,7 +17,7 @@ module mesh_boundary
   use mesh_geometry, only: cross
   implicit none
   private
-  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, bc_constrain_nodes, &
+  public :: bc_t, bc_init, bc_pressure_forces, bc_apply, bc_constrain, bc_constrain_nodes, bc_fixed_nodes, &
             BC_SYMMETRY, BC_WALL, BC_VELOCITY, BC_PRESSURE, BC_INFLOW, BC_OUTFLOW, bc_kind_from_name, &
             bc_kind_names
 
@@ -27,6 +29,11 @@ module mesh_boundary
   !> pressure of the cell next to it, so it moves with the flow; the remap
   !> removes what lies beyond it and fills any gap with the next cell's state).
   integer, parameter :: BC_INFLOW = 5, BC_OUTFLOW = 6
+  !> The bit of a node's mask (`bc_t%mask`) that says it is fixed by a box
+  !> (`bc_t%fixed_box`); bits 0-5 are the faces it lies on.
+  integer, parameter :: fixed_bit = 6
+  !> The most fixed boxes (&boundary fixed_lo, fixed_hi).
+  integer, parameter, public :: bc_max_fixed = 8
   !> Axis normal to each face.
   integer, parameter :: face_axis(6) = [1, 1, 2, 2, 3, 3]
   !> Names of the kinds as written in decks, in kind order.
@@ -46,6 +53,15 @@ module mesh_boundary
     logical, allocatable :: counted(:)    !< the node's work counts in this block's sum (`grid_counts_node`)
     integer, allocatable :: bindex(:)     !< node -> position in node(:), 0 inside (pressure only)
     logical :: any_pressure = .false.
+    !> Boxes (lo(3), hi(3), length) whose nodes are fixed, as on a wall
+    !> face: a node whose position when `bc_init` builds the lists (the
+    !> grid as the deck made it) lies in one, bounds included
+    integer :: nfixed = 0
+    real(wp) :: fixed_box(6, bc_max_fixed) = 0.0_wp
+    !> the nodes each box fixes that this block counts (`grid_counts_node`)
+    integer :: fixed_count(bc_max_fixed) = 0
+    !> (nnode, with fixed boxes) whether a stored node is fixed by one
+    logical, allocatable :: fixed(:)
     real(wp), allocatable :: fext(:, :)   !< external pressure force on boundary nodes (3, nb)
   end type bc_t
 
@@ -70,14 +86,35 @@ contains
     type(bc_t), intent(inout) :: bc
     type(grid_t), intent(in) :: g
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, j, k, m, n, nb, stat
+    integer :: i, j, k, m, n, nb, stat, q
     character(len=200) :: msg
 
+    if (bc%nfixed > 0) then
+      allocate(bc%fixed(g%nnode), stat=stat, errmsg=msg)
+      if (stat /= 0) then
+        call error_set(err, 'bc_init', error_no_memory('the fixed nodes'))
+        return
+      end if
+      bc%fixed = .false.
+      bc%fixed_count = 0
+      do k = g%nlo(3), g%nhi(3)
+        do j = g%nlo(2), g%nhi(2)
+          do i = g%nlo(1), g%nhi(1)
+            n = g%node(i, j, k)
+            do q = 1, bc%nfixed
+              if (any(g%x(:, n) < bc%fixed_box(1:3, q)) .or. any(g%x(:, n) > bc%fixed_box(4:6, q))) cycle
+              bc%fixed(n) = .true.
+              if (g%counts_node(i, j, k)) bc%fixed_count(q) = bc%fixed_count(q) + 1
+            end do
+          end do
+        end do
+      end do
+    end if
     nb = 0
     do k = g%nlo(3), g%nhi(3)
       do j = g%nlo(2), g%nhi(2)
         do i = g%nlo(1), g%nhi(1)
-          if (g%node_faces(i, j, k) /= 0) nb = nb + 1
+          if (node_mask(i, j, k) /= 0) nb = nb + 1
         end do
       end do
     end do
@@ -90,7 +127,7 @@ contains
     do k = g%nlo(3), g%nhi(3)
       do j = g%nlo(2), g%nhi(2)
         do i = g%nlo(1), g%nhi(1)
-          m = g%node_faces(i, j, k)
+          m = node_mask(i, j, k)
           if (m == 0) cycle
           bc%nb = bc%nb + 1
           bc%node(bc%nb) = g%node(i, j, k)
@@ -112,7 +149,26 @@ contains
         bc%bindex(bc%node(n)) = n
       end do
     end if
+  contains
+    !> The node's faces (bits 0-5) and whether a box fixes it (fixed_bit).
+    integer function node_mask(i, j, k) result(m)
+      integer, intent(in) :: i, j, k
+      m = g%node_faces(i, j, k)
+      if (bc%nfixed > 0) then
+        if (bc%fixed(g%node(i, j, k))) m = ibset(m, fixed_bit)
+      end if
+    end function node_mask
   end subroutine bc_init
+
+  !> The stored nodes that fixed boxes fix (`bc_t%fixed`; none without).
+  function bc_fixed_nodes(bc) result(nodes)
+    type(bc_t), intent(in) :: bc
+    integer, allocatable :: nodes(:)
+    integer :: b
+    nodes = [integer ::]
+    if (bc%nfixed == 0) return
+    nodes = pack([(bc%node(b), b = 1, bc%nb)], [(btest(bc%mask(b), fixed_bit), b = 1, bc%nb)])
+  end function bc_fixed_nodes
 
   !> External pressure forces on the nodes of pressure and outflow faces,
   !> from the node positions x at force time: each quad gives -p_ext A_out/4
@@ -231,18 +287,26 @@ contains
       call g%node_ijk(nodes(q), i, j, k)
       if (any([i, j, k] < g%nlo .or. [i, j, k] > g%nhi)) cycle
       m = g%node_faces(i, j, k)
+      if (bc%nfixed > 0) then
+        if (bc%fixed(nodes(q))) m = ibset(m, fixed_bit)
+      end if
       if (m /= 0) call constrain_node(bc, m, u(:, nodes(q)))
     end do
   end subroutine bc_constrain_nodes
 
   !> Kinematic conditions of the faces in `mask` on one node velocity:
   !> prescribed velocities first, then symmetry and wall (so a piston sliding
-  !> along a symmetry plane keeps zero normal velocity there).
+  !> along a symmetry plane keeps zero normal velocity there); a node a box
+  !> fixes (fixed_bit) is at rest, whatever faces it lies on.
   pure subroutine constrain_node(bc, mask, u)
     type(bc_t), intent(in) :: bc
     integer, intent(in) :: mask
     real(wp), intent(inout) :: u(3)
     integer :: f
+    if (btest(mask, fixed_bit)) then
+      u = 0.0_wp
+      return
+    end if
     do f = 1, 6
       if (btest(mask, f - 1) .and. (bc%kind(f) == BC_VELOCITY .or. bc%kind(f) == BC_INFLOW)) u = bc%velocity(:, f)
     end do

@@ -4,7 +4,7 @@ module mesh_boundary_config
   use base_kinds, only: wp
   use base_strings, only: itoa
   use base_config, only: max_line, no_echo, problem_long, problem_add, problem_bad, problem_nml, diff_i, diff_r, name_index
-  use mesh_boundary, only: bc_kind_from_name, bc_kind_names, BC_SYMMETRY, BC_INFLOW
+  use mesh_boundary, only: bc_kind_from_name, bc_kind_names, BC_SYMMETRY, BC_INFLOW, bc_max_fixed
   implicit none
   private
   public :: boundary_config_t, boundary_config_read, boundary_config_changes, face_names
@@ -20,6 +20,8 @@ module mesh_boundary_config
     integer :: inflow_mat(6) = 0                    !< material entering an inflow face (index)
     real(wp) :: inflow_density(6) = 0.0_wp          !< its density
     real(wp) :: inflow_pressure(6) = 0.0_wp         !< its pressure
+    integer :: nfixed = 0                           !< fixed boxes given (the first nfixed)
+    real(wp) :: fixed_box(6, bc_max_fixed) = 0.0_wp !< each one's lo(3), hi(3)
   end type boundary_config_t
 
 contains
@@ -37,11 +39,14 @@ contains
     real(wp) :: xlo_pressure, xhi_pressure, ylo_pressure, yhi_pressure, zlo_pressure, zhi_pressure
     character(len=64) :: inflow_material(6)
     real(wp) :: inflow_density(6), inflow_pressure(6)
-    integer :: ios, f, m
+    real(wp) :: fixed_lo(3, bc_max_fixed), fixed_hi(3, bc_max_fixed)
+    real(wp), parameter :: unset = huge(1.0_wp)
+    logical :: given(bc_max_fixed)
+    integer :: ios, f, m, q
     character(len=max_line) :: msg
     namelist /boundary/ xlo, xhi, ylo, yhi, zlo, zhi, xlo_velocity, xhi_velocity, ylo_velocity, &
       yhi_velocity, zlo_velocity, zhi_velocity, xlo_pressure, xhi_pressure, ylo_pressure, &
-      yhi_pressure, zlo_pressure, zhi_pressure, inflow_material, inflow_density, inflow_pressure
+      yhi_pressure, zlo_pressure, zhi_pressure, inflow_material, inflow_density, inflow_pressure, fixed_lo, fixed_hi
 
     kinds = 'symmetry'
     xlo = kinds(1); xhi = kinds(2); ylo = kinds(3); yhi = kinds(4); zlo = kinds(5); zhi = kinds(6)
@@ -51,6 +56,7 @@ contains
     xlo_pressure = this%pressure(1); xhi_pressure = this%pressure(2); ylo_pressure = this%pressure(3)
     yhi_pressure = this%pressure(4); zlo_pressure = this%pressure(5); zhi_pressure = this%pressure(6)
     inflow_material = ''; inflow_density = this%inflow_density; inflow_pressure = this%inflow_pressure
+    fixed_lo = unset; fixed_hi = unset
     if (size(text) > 0) then
       read(text, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) call problem_nml(problems, path, 'boundary', ios, msg)
@@ -85,6 +91,24 @@ contains
       if (.not. (inflow_pressure(f) >= 0.0_wp)) call problem_bad(problems, 'boundary', 'inflow_pressure('// &
         itoa(f)//')', inflow_pressure(f), 'must be >= 0')
     end do
+    ! the fixed boxes: the first ones given, each with both corners
+    do q = 1, bc_max_fixed
+      given(q) = any(fixed_lo(:, q) < 0.5_wp*unset) .or. any(fixed_hi(:, q) < 0.5_wp*unset)
+      if (.not. given(q)) cycle
+      if (any(fixed_lo(:, q) > 0.5_wp*unset) .or. any(fixed_hi(:, q) > 0.5_wp*unset)) then
+        call problem_add(problems, '&boundary: fixed box '//itoa(q)//' needs all three of fixed_lo(:,'//itoa(q)// &
+          ') and of fixed_hi(:,'//itoa(q)//')')
+      else if (any(fixed_lo(:, q) > fixed_hi(:, q))) then
+        call problem_add(problems, '&boundary: fixed_lo(:,'//itoa(q)//') must be <= fixed_hi(:,'//itoa(q)// &
+          ') in each direction')
+      end if
+    end do
+    this%nfixed = count(given)
+    if (any(given(this%nfixed + 1:))) call problem_add(problems, '&boundary: the fixed boxes must be the first '// &
+      'ones, fixed_lo(:,1), fixed_hi(:,1) on, with none left out')
+    do q = 1, this%nfixed
+      this%fixed_box(:, q) = [fixed_lo(:, q), fixed_hi(:, q)]
+    end do
     if (echo /= no_echo) write(echo, nml=boundary)
   end subroutine boundary_config_read
 
@@ -103,5 +127,8 @@ contains
                   [new%inflow_pressure(f)])
       call diff_i(changes, '&boundary inflow_material('//itoa(f)//')', old%inflow_mat(f), new%inflow_mat(f))
     end do
+    call diff_i(changes, '&boundary fixed boxes', old%nfixed, new%nfixed)
+    call diff_r(changes, '&boundary fixed_lo, fixed_hi', reshape(old%fixed_box, [6*bc_max_fixed]), &
+                reshape(new%fixed_box, [6*bc_max_fixed]))
   end subroutine boundary_config_changes
 end module mesh_boundary_config

@@ -12,7 +12,7 @@ module rezone_lssm
   use base_share, only: share_t
   use mesh_grid, only: grid_t, grid_index_t, grid_index
   use mesh_halo, only: halo_t
-  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW
+  use mesh_boundary, only: bc_t, BC_INFLOW, BC_OUTFLOW, bc_fixed_nodes
   use rezone_config, only: rezone_config_t
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE
   use rezone_quality, only: grid_quality, grid_trigger_cells, hex_fails_triggers
@@ -216,11 +216,13 @@ contains
     end if
     if (present(mob_keep) .and. .not. present(occupied)) then
       if (.not. allocated(mob_keep%kind)) &
-        call smooth_mobility_block(g%grid_index_t, mob_keep, err, fixed_faces=moving_faces(bc))
+        call smooth_mobility_block(g%grid_index_t, mob_keep, err, fixed_faces=moving_faces(bc), &
+                                   fixed_nodes=bc_fixed_nodes(bc))
       if (allocated(err)) return
       mob = mob_keep
     else
-      call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied, fixed_faces=moving_faces(bc))
+      call smooth_mobility_block(g%grid_index_t, mob, err, frozen=occupied, fixed_faces=moving_faces(bc), &
+                                 fixed_nodes=bc_fixed_nodes(bc))
     end if
     if (allocated(err)) return
     ! (the squeeze guard with the box reading only: the cube target does not

@@ -267,13 +267,15 @@ contains
   !> whose nodes are fixed, edges and corners included (faces that move
   !> with the material, a piston or a free surface: the smoothing's planes
   !> are the logical box's, which such a face leaves, and a node slid
-  !> along one would leave the material's boundary).
-  subroutine smooth_mobility_block(ix, mob, err, frozen, fixed_faces)
+  !> along one would leave the material's boundary). fixed_nodes: stored
+  !> nodes that are fixed too (a clamp's, &boundary fixed_lo, fixed_hi).
+  subroutine smooth_mobility_block(ix, mob, err, frozen, fixed_faces, fixed_nodes)
     type(grid_index_t), intent(in) :: ix
     type(smooth_mobility_t), intent(out) :: mob
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: frozen(:)
     logical, intent(in), optional :: fixed_faces(6)
+    integer, intent(in), optional :: fixed_nodes(:)
     integer :: i, j, k, d, f, ijk(3), m
     logical :: fixed(6)
     call smooth_mobility_box(ix%shi(1) - ix%slo(1) + 1, ix%shi(2) - ix%slo(2) + 1, ix%shi(3) - ix%slo(3) + 1, &
@@ -298,6 +300,7 @@ contains
         end do
       end do
     end do
+    if (present(fixed_nodes)) mob%kind(fixed_nodes) = node_fixed
   end subroutine smooth_mobility_block
 
   !> Builds the region of the cells with active(c) true on the block of
