@@ -80,7 +80,7 @@ module driver_whole
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
                        grid_copy_rows_int
   use mesh_boundary, only: BC_INFLOW, BC_OUTFLOW
-  use rezone_driver, only: rezone_shape
+  use rezone_driver, only: rezone_shape, rezone_interval_due
   use rezone_global, only: global_face_rule, GLOBAL_FACE_MOVE, global_surface_init, global_face_box, &
                            global_face_parameters, global_surface_solve, global_block_target, global_target_check, &
                            global_line_sums, global_line_scale
@@ -275,7 +275,10 @@ contains
     logical :: due
     if (.not. es%on) return
     shape = [0.0_wp, 1.0_wp]
-    if (cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) then
+    ! (as one process: no look when an interval makes the step due,
+    ! `rezone_interval_due`)
+    if ((cfg%rezone%side_ratio > 0.0_wp .or. cfg%rezone%cos_angle > 0.0_wp) .and. &
+        .not. rezone_interval_due(cfg%rezone, es%rez, st%step, st%t)) then
       call rezone_shape(cfg%rezone, st%g, st%step, es%rez)
       shape = es%rez%shape_mine
       call parallel_max(pc, shape(1:1))

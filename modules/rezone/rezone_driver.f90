@@ -23,7 +23,7 @@ module rezone_driver
   implicit none
   private
   public :: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_axis, rezone_shape, rezone_grid, &
-            rezone_due, rezone_rearm, rezone_worst_cells
+            rezone_due, rezone_interval_due, rezone_rearm, rezone_worst_cells
 
   !> What the rezone keeps (allocated only with &rezone mode other than 'none').
   type :: rezone_state_t
@@ -110,10 +110,8 @@ contains
     logical, intent(out) :: due, by_shape
     real(wp), intent(in), optional :: shape(2)
     real(wp) :: ratio_max, cos_min
-    due = .false.
     by_shape = .false.
-    if (rz%interval_steps > 0) due = mod(step, rz%interval_steps) == 0
-    if (rz%interval_time > 0.0_wp) due = due .or. t >= rs%t_next*(1.0_wp - 1.0e-12_wp)
+    due = rezone_interval_due(rz, rs, step, t)
     if (due .or. (rz%side_ratio <= 0.0_wp .and. rz%cos_angle <= 0.0_wp)) return
     if (present(shape)) then
       ratio_max = shape(1)
@@ -128,6 +126,22 @@ contains
           (rz%cos_angle > 0.0_wp .and. cos_min <= rs%cos_bound)
     by_shape = due
   end subroutine rezone_due
+
+  !> Whether an interval has made an Euler step due after step `step`, at
+  !> time t (&rezone interval_steps, interval_time: rs%t_next). Then
+  !> `rezone_due` takes no look at the grid's shape, and a decomposed run
+  !> must not either: the look keeps the cells' shape tests for the
+  !> smoothing (`rezone_shape`), which would then take them from before the
+  !> snaps where one process takes them after.
+  pure logical function rezone_interval_due(rz, rs, step, t) result(due)
+    type(rezone_config_t), intent(in) :: rz
+    type(rezone_state_t), intent(in) :: rs
+    integer, intent(in) :: step
+    real(wp), intent(in) :: t
+    due = .false.
+    if (rz%interval_steps > 0) due = mod(step, rz%interval_steps) == 0
+    if (rz%interval_time > 0.0_wp) due = due .or. t >= rs%t_next*(1.0_wp - 1.0e-12_wp)
+  end function rezone_interval_due
 
   !> The triggers' bounds after the step just taken (n Euler steps so far),
   !> whose grid's largest side ratio and smallest cosine are ratio_max and
