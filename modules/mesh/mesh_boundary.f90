@@ -114,7 +114,7 @@ contains
     do k = g%nlo(3), g%nhi(3)
       do j = g%nlo(2), g%nhi(2)
         do i = g%nlo(1), g%nhi(1)
-          if (node_mask(i, j, k) /= 0) nb = nb + 1
+          if (node_mask(bc, g, i, j, k) /= 0) nb = nb + 1
         end do
       end do
     end do
@@ -127,7 +127,7 @@ contains
     do k = g%nlo(3), g%nhi(3)
       do j = g%nlo(2), g%nhi(2)
         do i = g%nlo(1), g%nhi(1)
-          m = node_mask(i, j, k)
+          m = node_mask(bc, g, i, j, k)
           if (m == 0) cycle
           bc%nb = bc%nb + 1
           bc%node(bc%nb) = g%node(i, j, k)
@@ -149,16 +149,19 @@ contains
         bc%bindex(bc%node(n)) = n
       end do
     end if
-  contains
-    !> The node's faces (bits 0-5) and whether a box fixes it (fixed_bit).
-    integer function node_mask(i, j, k) result(m)
-      integer, intent(in) :: i, j, k
-      m = g%node_faces(i, j, k)
-      if (bc%nfixed > 0) then
-        if (bc%fixed(g%node(i, j, k))) m = ibset(m, fixed_bit)
-      end if
-    end function node_mask
   end subroutine bc_init
+
+  !> The faces node (i, j, k) of g lies on (bits 0-5) and whether a box
+  !> fixes it (fixed_bit): the mask `constrain_node` takes.
+  integer function node_mask(bc, g, i, j, k) result(m)
+    type(bc_t), intent(in) :: bc
+    type(grid_t), intent(in) :: g
+    integer, intent(in) :: i, j, k
+    m = g%node_faces(i, j, k)
+    if (bc%nfixed > 0) then
+      if (bc%fixed(g%node(i, j, k))) m = ibset(m, fixed_bit)
+    end if
+  end function node_mask
 
   !> The stored nodes that fixed boxes fix (`bc_t%fixed`; none without).
   function bc_fixed_nodes(bc) result(nodes)
@@ -286,10 +289,7 @@ contains
     do q = 1, size(nodes)
       call g%node_ijk(nodes(q), i, j, k)
       if (any([i, j, k] < g%nlo .or. [i, j, k] > g%nhi)) cycle
-      m = g%node_faces(i, j, k)
-      if (bc%nfixed > 0) then
-        if (bc%fixed(nodes(q))) m = ibset(m, fixed_bit)
-      end if
+      m = node_mask(bc, g, i, j, k)
       if (m /= 0) call constrain_node(bc, m, u(:, nodes(q)))
     end do
   end subroutine bc_constrain_nodes
