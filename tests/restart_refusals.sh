@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Restarts that must be refused before step 0 with a message naming the
-# problem (changed grid, material or initial velocity field, truncated,
+# problem (changed grid, material, initial velocity field or fixed boxes, truncated,
 # foreign or missing file), and one that must be accepted (new end time and
 # output name).
 # Usage: restart_refusals.sh EXE DECK WORKDIR PYTHON
@@ -35,6 +35,9 @@ derive field "$deck" "max_steps = 20, restart_from = '$dump'" base
 sed -i -e "s/^&region shape = 'all',/\&region shape = 'all', velocity_field = 'rotation', angular_velocity = 1,/" field.nml
 expect "changed velocity field" "&region\\(1\\) velocity_field changed" field.nml
 expect "changed angular velocity" "&region\\(1\\) angular_velocity changed" field.nml
+derive fixed "$deck" "max_steps = 20, restart_from = '$dump'" base
+sed -i -e "s|^&boundary xlo = 'wall', xhi = 'wall' /|\&boundary xlo = 'wall', xhi = 'wall', fixed_lo = 0.5, 0, 0, fixed_hi = 0.5, 1, 1 /|" fixed.nml
+expect "fixed box added" "&boundary fixed boxes changed from 0 to 1" fixed.nml
 derive trunc "$deck" "max_steps = 20, restart_from = 'truncated.h5'" base
 expect "truncated file" "restart_from: cannot read restart file" trunc.nml
 derive foreign "$deck" "max_steps = 20, restart_from = 'out/base_00000.h5'" base

@@ -128,7 +128,9 @@ contains
       call diff_i(changes, '&boundary inflow_material('//itoa(f)//')', old%inflow_mat(f), new%inflow_mat(f))
     end do
     call diff_i(changes, '&boundary fixed boxes', old%nfixed, new%nfixed)
-    call diff_r(changes, '&boundary fixed_lo, fixed_hi', reshape(old%fixed_box, [6*bc_max_fixed]), &
-                reshape(new%fixed_box, [6*bc_max_fixed]))
+    do f = 1, bc_max_fixed
+      call diff_r(changes, '&boundary fixed_lo(:,'//itoa(f)//')', old%fixed_box(1:3, f), new%fixed_box(1:3, f))
+      call diff_r(changes, '&boundary fixed_hi(:,'//itoa(f)//')', old%fixed_box(4:6, f), new%fixed_box(4:6, f))
+    end do
   end subroutine boundary_config_changes
 end module mesh_boundary_config
