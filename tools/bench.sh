@@ -25,11 +25,12 @@
 # per cell (issue 40): the marginal peak resident bytes per cell between
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
 # (BENCH_ONLY=memory runs only that); 1 kg TNT in free air against
-# Kingery-Bulmash (issue 37, about 5 minutes; BENCH_ONLY=blast runs only
+# Kingery-Bulmash (issue 37, about 8 minutes; BENCH_ONLY=blast runs only
 # that): the 1D spherical pre-run alone at 100, 200 and 400 zones per charge
-# radius, the 1D run mapped into a 64^3 octant at 1500 us, the same scene in
-# 3D from t = 0 (no &prerun) at BENCH_BLAST_N^3 (56 by default), arrival and
-# peak overpressure at 0.5, 1, 2 and 3 m (tools/blast_kb_plot.py:
+# radius, the 1D run mapped into a 64^3 octant at 1500 us and into an octant
+# graded to 10 mm cells along the gauges' axis, the same scene in 3D from
+# t = 0 (no &prerun) at BENCH_BLAST_N^3 (56 by default), arrival and peak
+# overpressure at 0.5, 1, 2 and 3 m (tools/blast_kb_plot.py:
 # blast_kb.png and blast_kb.txt in OUTDIR); the TNT octant of the stability
 # matrix in each Euler-phase mode at 16^3 and 32^3 against its converged 1D
 # run (issue 33, about 15 minutes; BENCH_ONLY=tnt runs only that); the
@@ -428,6 +429,27 @@ $scene
 DECK
   blast_run $name
   files+=("out/$name/${name}_blast.txt"); labels+=("3D 64^3 mapped at 1500 us")
+  # (d) the same mapping into a graded octant that keeps cells 10 mm long
+  # and 13 mm across where the axis gauges' shock runs after the mapping (x
+  # from 1.45 to 3.15 m, within 60 mm of the x axis; growing to 60 mm
+  # towards the centre and 158 mm across far from the axis: 206 x 42 x 42
+  # cells, the widths as the log gives them), with the 1D run's linear viscosity (0.1) and LSSM: the 3D
+  # solver's own error at 2 and 3 m at a resolution this machine affords
+  name=kb3d_pencil_mapped
+  cat > $name.nml <<DECK
+&run title = '1 kg TNT in free air, 1D run mapped at 1500 us into an octant graded to 10 mm cells along the x axis',
+     units = 'mm-us-g/cm^3-GPa', t_end = 4600 /
+&grid ni = 206, nj = 42, nk = 42, xmin = 0, 0, 0, xmax = 3300, 3300, 3300,
+      spacing_x = 1200, 60, 1450, 10, 3150, 10, 3300, 40,
+      spacing_y = 60, 10, 1630, 120, spacing_z = 60, 10, 1630, 120 /
+$scene
+&prerun time = 1500 /
+&hydro q_linear = 0.1 /
+&rezone mode = 'lssm' /
+&output dir = 'out/$name', $gauges /
+DECK
+  blast_run $name
+  files+=("out/$name/${name}_blast.txt"); labels+=("3D graded (10 mm on the axis) mapped at 1500 us")
   name=kb3d${n}_unmapped
   cat > $name.nml <<DECK
 &run title = '1 kg TNT in free air, 3D from t = 0 at $n^3', units = 'mm-us-g/cm^3-GPa', t_end = 4600 /
