@@ -381,7 +381,7 @@ def _cases():
                    quick=True),
               Size("1mm")],
              ["lssm", "ale"], error_tnt_water,
-             params=dict(radii=(50, 100, 150, 200), charge_kg=6.8277e-3, axis_only=True)),
+             params=dict(radii=(50, 75, 100, 125, 150, 175, 200), charge_kg=6.8277e-3, axis_only=True)),
         Case("tnt_plate", "tnt_plate.nml",
              [Size("20", cube(20), quick=True), Size("40", cube(40))],
              ["ale", "euler"], error_tnt_plate,
