@@ -82,7 +82,7 @@ missing):
               5, 10 and 20 charge radii (axis, then diagonal) against the
               similitude for TNT underwater shocks (hardcases/tnt_water.nml;
               tools/water_similitude.py); tnt_water_pencil the same on the
-              x axis alone at 5, 10, 15 and 20 radii, on a grid graded to
+              x axis alone at 5 to 20 radii every 2.5, on a grid graded to
               1 or 2 mm along it (hardcases/tnt_water_pencil.nml)
     tnt_plate the largest x velocity of the plate's particle on the axis
               against Taylor's flat-plate theory, m du/dt = 2 p_i(t) -
