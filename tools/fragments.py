@@ -4,7 +4,8 @@ writes each one's mass, centre of mass, velocity and size (--csv), and
 measures the fragments of a ring (paper Sect. 7.6, Table 6).
 
     fragments.py FRAME0 FRAME [FRAME ...] [--center X Y] [--bond 1.1]
-                 [--main 0.02] [--quarter] [--body 1,2] [--csv FILE] [--no-ring]
+                 [--gaps G] [--main 0.02] [--quarter] [--body 1,2] [--csv FILE]
+                 [--no-ring]
 
 FRAME0 is the first frame (t = 0, the particles' initial places). Two
 particles are bonded when they were within BOND times the initial particle
@@ -13,6 +14,10 @@ distance; the default 1.1 bonds lattice neighbours along the axes only,
 so that a crack one particle wide separates, however it runs across the
 lattice), belong to the same body and neither has failed; a fragment is a
 connected set of bonded particles (failed particles are the cracks).
+With --gaps G a fragment is instead a connected set of particles, failed
+or not, within G initial spacings of each other in that frame (and of the
+same body): the pieces the particles' own gaps separate, as fragments
+recovered after a test are whole pieces, whatever damage they carry.
 --body takes the bodies to look at (the frames' particles/body, e.g. 1 or
 1,3; default all), the other particles are left out as if absent. Particles that have left the
 grid through an open face (missing from a frame) belong to no fragment;
@@ -136,6 +141,17 @@ CSV_COLUMNS = ["time", "fragment", "body", "particles", "mass", "cx", "cy", "cz"
                "box_x", "box_y", "box_z", "axis_1", "axis_2", "axis_3"]
 
 
+def gap_pairs(x, present, dist, body=None):
+    """Pairs (i, j), i < j, of present particles within dist of each other
+    at positions x (and of the same body, if given)."""
+    from scipy.spatial import cKDTree
+    idx = np.nonzero(present)[0]
+    pairs = idx[cKDTree(x[idx]).query_pairs(dist, output_type="ndarray")].reshape(-1, 2)
+    if body is not None and len(pairs):
+        pairs = pairs[body[pairs[:, 0]] == body[pairs[:, 1]]]
+    return pairs
+
+
 def components(n, pairs, alive):
     """Labels of the connected components of the alive particles (-1 dead)."""
     parent = np.arange(n)
@@ -178,6 +194,8 @@ def main():
     ap.add_argument("frames", nargs="+")
     ap.add_argument("--center", nargs=2, type=float, default=[0.0, 0.0])
     ap.add_argument("--bond", type=float, default=1.1)
+    ap.add_argument("--gaps", type=float, metavar="G",
+                    help="fragments by the gaps in each frame: particles within G spacings, failed or not")
     ap.add_argument("--main", type=float, default=0.02)
     ap.add_argument("--quarter", action="store_true")
     ap.add_argument("--body", help="the bodies to look at, e.g. 1 or 1,3 (default all)")
@@ -208,7 +226,10 @@ def main():
     table = []
     for path in a.frames[1:]:
         t, x, failed, gone, more = load(path, ids0, extra=True)
-        labels = components(n, pairs, ~failed & ~gone & chosen)
+        if a.gaps is None:
+            labels = components(n, pairs, ~failed & ~gone & chosen)
+        else:
+            labels = components(n, gap_pairs(x, ~gone & chosen, a.gaps * spacing, body0), ~gone & chosen)
         if a.csv:
             missing = [k for k in ("mass", "velocity", "body") if more[k] is None]
             if missing:

@@ -9,7 +9,12 @@ first through-crack at the second frame; thickness 4 within a spacing
 2 pi/6 r_mean (doubled) within 2 spacings (the crack takes one spacing,
 the + spacing of the measure gives one back). A third frame without the
 particles beyond y = 38 (they left the grid): the "left" column counts
-them exactly, and the fragments are still 3."""
+them exactly, and the fragments are still 3. With --gaps 2 (fragments by
+the gaps between particles in each frame, failed ones included): the
+second frame's ring is one piece (its cracks are failed particles in
+place); a fourth frame, the three 30-degree sectors of the second turned
+apart by 1/40 rad each (about 4 spacings), gives 3 main fragments holding
+every particle, thickness 4 within a spacing."""
 import os
 import re
 import subprocess
@@ -56,6 +61,15 @@ def main():
                              capture_output=True, text=True)
         out1 = subprocess.run([sys.executable, os.path.join(HERE, "fragments.py"), f0, f1, "--quarter"],
                               capture_output=True, text=True)
+        # the sectors (by angle) turned apart: sector k by k/40 rad (about
+        # 1 mm at r = 40, 4 spacings)
+        th1 = np.arctan2(x1[:, 1], x1[:, 0])
+        th3 = th1 + np.minimum(th1 // (np.pi / 6), 2) / 40.0
+        r3 = np.hypot(x1[:, 0], x1[:, 1])
+        f3 = os.path.join(d, "f3.h5")
+        write(f3, 3.0, np.stack([r3 * np.cos(th3), r3 * np.sin(th3), x1[:, 2]], axis=1), failed)
+        gaps = [subprocess.run([sys.executable, os.path.join(HERE, "fragments.py"), f0, f, "--quarter", "--gaps", "2"],
+                               capture_output=True, text=True) for f in (f1, f3)]
     print(out.stdout, out.stderr)
     row2 = re.search(r"^\s+2\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s*$", out.stdout, re.M)
     left_ok = row2 is not None and int(row2.group(2)) == int((~stay).sum()) and int(row2.group(4)) == 3
@@ -76,6 +90,15 @@ def main():
         want = (2 if sym else 1) * np.pi / 6 * rm
         checks.append((f"width {w:.3f} ~ {want:.3f}", abs(w - want) <= 2 * s * (2 if sym else 1)))
         checks.append((f"thickness {h:.3f} ~ 4", abs(h - 4.0) <= s))
+    print(gaps[0].stdout, gaps[0].stderr, gaps[1].stdout, gaps[1].stderr)
+    ok = ok and gaps[0].returncode == 0 and gaps[1].returncode == 0
+    one = re.search(r"^\s+1\s+\d+\s+\d+\s+(\d+)\s+(\d+)\s*$", gaps[0].stdout, re.M)
+    checks.append(("--gaps: the cracked ring in place is one fragment", one is not None and one.groups() == ("1", "1")))
+    grows = re.findall(r"^\s+(\d+)\s+([\d.eE+-]+)\s+([\d.eE+-]+)(\s+sym)?", gaps[1].stdout.split("main fragments at")[-1],
+                       re.M)
+    checks.append(("--gaps: 3 main fragments apart, holding every particle",
+                   len(grows) == 3 and sum(int(g[0]) for g in grows) == len(x)))
+    checks += [(f"--gaps: thickness {float(g[2]):.3f} ~ 4", abs(float(g[2]) - 4.0) <= s) for g in grows]
     for label, good in checks:
         print(f"  {label:40s} {'ok' if good else 'FAIL'}")
         ok = ok and good
