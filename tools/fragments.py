@@ -97,17 +97,25 @@ def load(path, ids0=None, extra=False):
     return t, xa, fa, gone, more
 
 
+def pairs_within(x, dist, body=None, present=None):
+    """Pairs (i, j), i < j, of particles (the present ones, if given)
+    within dist of each other at positions x, and of the same body if
+    given."""
+    from scipy.spatial import cKDTree
+    idx = np.arange(len(x)) if present is None else np.nonzero(present)[0]
+    pairs = idx[cKDTree(x[idx]).query_pairs(dist, output_type="ndarray")].reshape(-1, 2)
+    if body is not None and len(pairs):
+        pairs = pairs[body[pairs[:, 0]] == body[pairs[:, 1]]]
+    return pairs
+
+
 def bonds(x0, factor, body=None):
     """Pairs (i, j), i < j, within factor x spacing at t = 0 (and of the
     same body, if given), and the spacing."""
     from scipy.spatial import cKDTree
-    tree = cKDTree(x0)
-    d, _ = tree.query(x0, k=2)
+    d, _ = cKDTree(x0).query(x0, k=2)
     spacing = float(np.median(d[:, 1]))
-    pairs = tree.query_pairs(factor * spacing, output_type="ndarray")
-    if body is not None and len(pairs):
-        pairs = pairs[body[pairs[:, 0]] == body[pairs[:, 1]]]
-    return pairs, spacing
+    return pairs_within(x0, factor * spacing, body), spacing
 
 
 def fragment_rows(t, x, more, labels, spacing):
@@ -139,17 +147,6 @@ def fragment_rows(t, x, more, labels, spacing):
 
 CSV_COLUMNS = ["time", "fragment", "body", "particles", "mass", "cx", "cy", "cz", "vx", "vy", "vz",
                "box_x", "box_y", "box_z", "axis_1", "axis_2", "axis_3"]
-
-
-def gap_pairs(x, present, dist, body=None):
-    """Pairs (i, j), i < j, of present particles within dist of each other
-    at positions x (and of the same body, if given)."""
-    from scipy.spatial import cKDTree
-    idx = np.nonzero(present)[0]
-    pairs = idx[cKDTree(x[idx]).query_pairs(dist, output_type="ndarray")].reshape(-1, 2)
-    if body is not None and len(pairs):
-        pairs = pairs[body[pairs[:, 0]] == body[pairs[:, 1]]]
-    return pairs
 
 
 def components(n, pairs, alive):
@@ -229,7 +226,7 @@ def main():
         if a.gaps is None:
             labels = components(n, pairs, ~failed & ~gone & chosen)
         else:
-            labels = components(n, gap_pairs(x, ~gone & chosen, a.gaps * spacing, body0), ~gone & chosen)
+            labels = components(n, pairs_within(x, a.gaps * spacing, body0, ~gone & chosen), ~gone & chosen)
         if a.csv:
             missing = [k for k in ("mass", "velocity", "body") if more[k] is None]
             if missing:
