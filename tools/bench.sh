@@ -385,8 +385,9 @@ memory_bench() {
 # answers from <name>_prerun_gauges.txt. (b) The 1D run (0.131775 mm zones,
 # converged by (a): its peaks within 2 % of the finest at 0.5 to 3 m) mapped
 # into a 64^3 octant of 3.3 m at 1500 us, global ALE every 20 steps, to 4600
-# us (its gauge file starts with the 1D rows). (c) The same scene in 3D from t = 0,
-# the charge lit at its centre, at BENCH_BLAST_N^3 (default 56: a probe of
+# us (its gauge file starts with the 1D rows); (d) below, the same mapped
+# into a graded octant. (c) The same scene in 3D from t = 0, the charge lit
+# at its centre, at BENCH_BLAST_N^3 (default 56: a probe of
 # 48^3 suggested about 9 minutes for 56^3; it took 275 s here, 2 threads on
 # a shared machine. The cost goes as N^4; the section prints the N that
 # would take 10 and 30 minutes by that rule, about 68 and 89 from 275 s;
@@ -434,8 +435,9 @@ DECK
   # and 13 mm across where the axis gauges' shock runs after the mapping (x
   # from 1.45 to 3.15 m, within 60 mm of the x axis; growing to 60 mm
   # towards the centre and 158 mm across far from the axis: 206 x 42 x 42
-  # cells, the widths as the log gives them), with the 1D run's linear viscosity (0.1) and LSSM: the 3D
-  # solver's own error at 2 and 3 m at a resolution this machine affords
+  # cells, the widths as the log gives them), with the 1D run's linear
+  # viscosity (0.1) and LSSM: the 3D solver's own error at 2 and 3 m at a
+  # resolution this machine affords
   name=kb3d_pencil_mapped
   cat > $name.nml <<DECK
 &run title = '1 kg TNT in free air, 1D run mapped at 1500 us into an octant graded to 10 mm cells along the x axis',
