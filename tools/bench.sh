@@ -26,8 +26,8 @@
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
 # (BENCH_ONLY=memory runs only that); 1 kg TNT in free air against
 # Kingery-Bulmash (issue 37, about 8 minutes; BENCH_ONLY=blast runs only
-# that): the 1D spherical pre-run alone at 100, 200 and 400 zones per charge
-# radius, the 1D run mapped into a 64^3 octant at 1500 us and into an octant
+# that): the 1D spherical pre-run alone at 100, 200, 400 and 800 zones per
+# charge radius, the 1D run mapped into a 64^3 octant at 1500 us and into an octant
 # graded to 10 mm cells along the gauges' axis, the same scene in 3D from
 # t = 0 (no &prerun) at BENCH_BLAST_N^3 (56 by default), arrival and peak
 # overpressure at 0.5, 1, 2 and 3 m (tools/blast_kb_plot.py:
@@ -380,8 +380,9 @@ memory_bench() {
 # (the ISO standard atmosphere, KB's; 100 kPa before 2026-12-06), units
 # mm-us-g/cm^3-GPa, gauges at 0.5, 1, 2 and 3 m on the x axis (and, in 3D,
 # at 2 and 3 m on the diagonal). (a) The 1D spherical pre-run alone
-# (t_end = &prerun time = 6000 us) at zone widths 0.52710, 0.26355 and
-# 0.131775 mm (100, 200, 400 zones per charge radius): 1D convergence, its
+# (t_end = &prerun time = 6000 us) at zone widths 0.52710, 0.26355,
+# 0.131775 and 0.0658875 mm (100 to 800 zones per charge radius): 1D
+# convergence, its
 # answers from <name>_prerun_gauges.txt. (b) The 1D run (0.131775 mm zones,
 # converged by (a): its peaks within 2 % of the finest at 0.5 to 3 m) mapped
 # into a 64^3 octant of 3.3 m at 1500 us, global ALE every 20 steps, to 4600
