@@ -28,8 +28,9 @@ step an Euler step):
   its frames.
 
 Variants: `linear` (the host cell's shape functions, standard MPM), `gimp`
-(`&hydro particle_support = 'gimp'`), `gimp_q` (gimp and `particle_q =
-0.4`, the particles' linear viscosity). Prints a markdown table per problem
+(`&hydro particle_support = 'gimp'`), both without the particles' linear
+viscosity (`particle_q = 0`; the default is 0.2), and `gimp_q` (gimp and
+`particle_q = 0.4`). Prints a markdown table per problem
 and writes DIR/particles_euler.csv. With --check, exits 1 unless every
 Riemann run of the gimp_q variant has its plateau traction within 1 % of p*
 and a scatter under 3 % (issue 34's first bar).
@@ -53,8 +54,8 @@ from ballistic import Ballistic  # noqa: E402
 from gas_solid import GasSolidSolution  # noqa: E402
 
 VARIANTS = {
-    "linear": "&hydro particle_support = 'linear' /",
-    "gimp": "&hydro particle_support = 'gimp' /",
+    "linear": "&hydro particle_support = 'linear', particle_q = 0 /",
+    "gimp": "&hydro particle_support = 'gimp', particle_q = 0 /",
     "gimp_q": "&hydro particle_support = 'gimp', particle_q = 0.4 /",
 }
 REZONE = "&rezone mode = 'global', interval_steps = 20, side_ratio = 0, cos_angle = 0 /"

@@ -69,7 +69,7 @@ module hydro_state
     logical :: particle_gimp = .true.
     !> linear artificial viscosity of the particles, q_p = -particle_q rho_p c_p
     !> l_p tr(D_p) (`particles_viscosity`); 0: none
-    real(wp) :: particle_q = 0.0_wp
+    real(wp) :: particle_q = 0.2_wp
   end type hydro_params_t
 
   !> The state, plus per-step work arrays.
