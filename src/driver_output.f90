@@ -26,7 +26,7 @@ module driver_output
   use driver_state, only: state_t, state_totals, energy_drift, budget_residual, totals_not_finite
   use driver_particles, only: particles_blocks_share
   use driver_matsum, only: matsum_t, matsum_compute, matsum_header, matsum_rows
-  use io_blast, only: blast_t, blast_answers, blast_read_gauges
+  use io_blast, only: blast_t, blast_answers, blast_read_gauges, blast_detection
   use particles_state, only: particles_t, particles_select
   implicit none
   private
@@ -440,7 +440,10 @@ contains
       write(row, '(i0,9es25.16e3,1x,i0)') g, cfg%output%gauges(:, g), b%ambient, b%arrival, b%peak, b%peak_time, &
         b%duration, b%impulse, merge(1, 0, b%ended)
       if (ios == 0) write(u, '(a)', iostat=ios) trim(row)
-      if (.not. b%arrived) then
+      if (.not. b%arrived .and. b%peak > 0.0_wp) then
+        call log_line(sch%log, '  gauge '//itoa(g)//': no arrival (largest overpressure '//rtoa(b%peak)// &
+                      ', under the detection level of '//rtoa(blast_detection)//' of the ambient pressure)')
+      else if (.not. b%arrived) then
         call log_line(sch%log, '  gauge '//itoa(g)//': no overpressure')
       else
         call log_line(sch%log, '  gauge '//itoa(g)//': '//rtoa(b%arrival)//'  '//rtoa(b%peak)//'  '// &

@@ -7,7 +7,9 @@ overpressure, positive-phase duration and positive impulse.
 The definitions are those of the run's own <name>_blast.txt
 (modules/io/io_blast.f90), on the same rows, linear between them:
 overpressure dp = p - p0 (p0 the first row's pressure, or --ambient);
-peak the largest dp (first row that has it); arrival the first time dp
+peak the largest dp (first row that has it), an arrival only if it exceeds
+DETECTION = 1e-4 of |p0| (else the shock's exponentially small foot ahead
+of a captured front: no arrival, duration or impulse); arrival the first time dp
 reaches F times the peak (default 0.5: the middle of a captured shock's
 rise); the positive phase from the last dp <= 0 before the arrival to the
 first dp <= 0 after the peak (duration counted from the arrival; "ended 0"
@@ -21,6 +23,7 @@ import sys
 
 import numpy as np
 
+DETECTION = 1.0e-4   # io_blast's blast_detection
 
 def read(path):
     lines = open(path).read().splitlines()
@@ -45,7 +48,7 @@ def answers(t, p, fraction=0.5, ambient=None):
     kp = int(np.argmax(dp))
     out = {"ambient": p0, "peak": dp[kp], "peak_time": t[kp], "arrival": float("nan"),
            "duration": float("nan"), "impulse": 0.0, "ended": 0}
-    if not dp[kp] > 0:
+    if not (dp[kp] > DETECTION * abs(p0) and dp[kp] > 0):
         return out
     level = fraction * dp[kp]
     ka = int(np.argmax(dp[: kp + 1] >= level))

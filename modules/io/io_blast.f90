@@ -5,7 +5,11 @@
 !>
 !> With the ambient pressure p0 the gauge's first row, the overpressure is
 !> dp(t) = p(t) - p0 and, over the history (rows t_k, linear between rows):
-!>  - peak: the largest dp and the first row that has it;
+!>  - peak: the largest dp and the first row that has it; the wave has
+!>    arrived only if it exceeds blast_detection times |p0| (a gauge the
+!>    shock has not reached still sees the exponentially small foot a
+!>    captured shock runs ahead of itself, 1e-9 of p0 or less: not an
+!>    arrival), else no arrival, duration or impulse;
 !>  - arrival t_a: the first time dp reaches half the peak (the middle of
 !>    the shock's rise: a captured shock is smeared over a few cells, and its
 !>    middle is where the front is);
@@ -23,7 +27,12 @@ module io_blast
   use io_gauges, only: read_line
   implicit none
   private
-  public :: blast_t, blast_answers, blast_read_gauges
+  public :: blast_t, blast_answers, blast_read_gauges, blast_detection
+
+  !> The smallest overpressure, as a fraction of |p0|, that counts as an
+  !> arrival: 1e-4 (10 Pa in the ISO atmosphere), below the smallest
+  !> overpressure a blast chart tabulates (UFC 3-340-02: 0.1 psi, 690 Pa).
+  real(wp), parameter :: blast_detection = 1.0e-4_wp
 
   !> One gauge's answers (time and pressure in the deck's units).
   type :: blast_t
@@ -33,7 +42,7 @@ module io_blast
     real(wp) :: arrival = 0.0_wp         !< first time dp reaches peak/2
     real(wp) :: duration = 0.0_wp        !< positive phase from the arrival
     real(wp) :: impulse = 0.0_wp         !< integral of dp over the positive phase
-    logical :: arrived = .false.         !< some overpressure > 0 seen
+    logical :: arrived = .false.         !< an overpressure above blast_detection |p0| seen
     logical :: ended = .false.           !< the positive phase ended within the history
   end type blast_t
 
@@ -55,7 +64,7 @@ contains
     end do
     b%peak = p(kp) - b%ambient
     b%peak_time = t(kp)
-    b%arrived = b%peak > 0.0_wp
+    b%arrived = b%peak > blast_detection*abs(b%ambient) .and. b%peak > 0.0_wp
     if (.not. b%arrived) return
     half = 0.5_wp*b%peak
     ! arrival: the first row at or above half the peak, back to the crossing
