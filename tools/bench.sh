@@ -142,7 +142,7 @@ gimp_bench() {
 }
 # Issue 34: the solid's state through global Euler steps, against the gas /
 # solid Riemann problem's and the ballistic slab's exact solutions, at three
-# resolutions, linear / gimp / gimp with particle_q (tools/particles_euler.py;
+# resolutions, linear / gimp / gimp with particle_q 0.4 / the default (tools/particles_euler.py;
 # about 5 minutes, 1 thread).
 particles_euler_bench() {
   echo "## Particles through Euler steps (issue 34): plateau and slab against exact solutions, 1 thread"
