@@ -48,7 +48,7 @@ def answers(t, p, fraction=0.5, ambient=None):
     kp = int(np.argmax(dp))
     out = {"ambient": p0, "peak": dp[kp], "peak_time": t[kp], "arrival": float("nan"),
            "duration": float("nan"), "impulse": 0.0, "ended": 0}
-    if not (dp[kp] > DETECTION * abs(p0) and dp[kp] > 0):
+    if not dp[kp] > DETECTION * abs(p0):
         return out
     level = fraction * dp[kp]
     ka = int(np.argmax(dp[: kp + 1] >= level))

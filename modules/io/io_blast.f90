@@ -64,7 +64,7 @@ contains
     end do
     b%peak = p(kp) - b%ambient
     b%peak_time = t(kp)
-    b%arrived = b%peak > blast_detection*abs(b%ambient) .and. b%peak > 0.0_wp
+    b%arrived = b%peak > blast_detection*abs(b%ambient)
     if (.not. b%arrived) return
     half = 0.5_wp*b%peak
     ! arrival: the first row at or above half the peak, back to the crossing
