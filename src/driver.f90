@@ -111,24 +111,13 @@ contains
     end if
     call agree_error(sch%pc, err)
     if (.not. allocated(err)) call whole_build(cfg, sch%pc, st, sch%log, err)
-    if (.not. allocated(err)) then
-      ! (chosen on the seeded particles: a decomposed run's whole grid holds them)
-      if (allocated(st%whole)) then
-        call tracks_init(cfg, st%whole, sch, err)
-      else
-        call tracks_init(cfg, st, sch, err)
-      end if
-    end if
+    if (.not. allocated(err)) call tracks_init(cfg, st, sch, err)
     ! (on the blocks: a tracer's cell is the whole grid's index)
     if (.not. allocated(err)) call tracers_init(cfg, st, sch, err)
     if (.not. allocated(err)) then
       ! (on windows the blocks smooth their own nodes and return to their
       ! own initial nodes, or to their targets from the grid's faces)
-      if (allocated(st%whole) .and. .not. allocated(st%win)) then
-        call euler_init(cfg%rezone, st%whole%g, st%whole%bc, sch%pc%nranks == 1, es, err)
-      else
-        call euler_init(cfg%rezone, st%g, st%bc, sch%pc%nranks == 1, es, err)
-      end if
+      call euler_init(cfg%rezone, st%g, st%bc, sch%pc%nranks == 1, es, err)
       if (.not. allocated(err)) call euler_standard_ratios(st%g, es, err)
     end if
     call agree_error(sch%pc, err)
@@ -153,10 +142,6 @@ contains
       call gauge_output(cfg, st, sch)
       call history_output(cfg, st, sch)
     end if
-    ! (a decomposed run with particles but no Euler steps, or Euler steps
-    ! on windows, needed the whole grid only to seed them, or to read their
-    ! restart)
-    if (allocated(st%whole) .and. (trim(cfg%rezone%mode) == 'none' .or. allocated(st%win))) deallocate(st%whole)
     call sch%t_setup%stop()
     call time_loop(cfg, st, sch, es)
     call write_frame(cfg, st, sch, err)

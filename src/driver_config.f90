@@ -67,9 +67,6 @@ module driver_config
     !> the weight of a shape's particle against a cell's in placing the
     !> block cuts of a decomposed run (0: cells alone)
     real(wp) :: blocks_particle_weight = 3.0_wp
-    !> Euler steps on several ranks: 'windows' (each rank its block and the
-    !> cells around it) or 'whole' (the whole grid on every rank, the work shared)
-    character(len=8) :: euler_ranks = 'windows'
   end type run_config_t
 
   !> The resolved deck.
@@ -508,11 +505,10 @@ contains
     real(wp) :: velocity_noise, wall_time_limit, dump_dt, blocks_particle_weight
     integer :: max_steps, progress_steps, seed, dump_steps, dump_keep, ios, blocks(3)
     character(len=256) :: restart_from
-    character(len=64) :: euler_ranks
     character(len=max_line) :: msg
     namelist /run/ title, units, t_end, max_steps, cfl, dt_init, dt_max, dt_min, dt_growth, &
                    progress_steps, progress_seconds, velocity_noise, seed, &
-                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks, euler_ranks, &
+                   restart_from, wall_time_limit, dump_steps, dump_dt, dump_keep, blocks, &
                    blocks_particle_weight
 
     title = this%title; units = this%units; t_end = this%t_end; max_steps = this%max_steps
@@ -520,7 +516,7 @@ contains
     progress_steps = this%progress_steps; progress_seconds = this%progress_seconds
     velocity_noise = this%velocity_noise; seed = this%seed
     restart_from = this%restart_from; wall_time_limit = this%wall_time_limit; dump_steps = this%dump_steps
-    dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks; euler_ranks = this%euler_ranks
+    dump_dt = this%dump_dt; dump_keep = this%dump_keep; blocks = this%blocks
     blocks_particle_weight = this%blocks_particle_weight
     if (size(text) == 0) then
       call problem_add(problems, trim(path)//': group &run is missing (t_end is required)')
@@ -551,9 +547,6 @@ contains
     if (any(blocks < 0)) call problem_badi(problems, 'run', 'blocks', minval(blocks), 'must be >= 0 (0: chosen)')
     if (.not. (blocks_particle_weight >= 0.0_wp .and. blocks_particle_weight <= 1.0e6_wp)) &
       call problem_bad(problems, 'run', 'blocks_particle_weight', blocks_particle_weight, 'must be in [0, 1e6]')
-    if (trim(euler_ranks) /= 'windows' .and. trim(euler_ranks) /= 'whole') &
-      call problem_add(problems, trim(path)//': &run euler_ranks = '''//trim(euler_ranks)// &
-                       ''' is not one of ''windows'', ''whole''')
     call problem_long(problems, 'run', 'title', title)
     call problem_long(problems, 'run', 'units', units)
     if (len_trim(units) > 0 .and. .not. units_known(trim(units))) call problem_add(problems, '&run: units = '''// &
@@ -563,7 +556,7 @@ contains
       dt_min=merge(dt_min, 1.0e-12_wp*t_end, dt_min > 0.0_wp), progress_steps=progress_steps, &
       progress_seconds=progress_seconds, velocity_noise=velocity_noise, seed=seed, restart_from=restart_from, &
       wall_time_limit=wall_time_limit, dump_steps=dump_steps, dump_dt=dump_dt, dump_keep=dump_keep, blocks=blocks, &
-      euler_ranks=euler_ranks(1:8), restart_overridden=overridden, blocks_particle_weight=blocks_particle_weight)
+      restart_overridden=overridden, blocks_particle_weight=blocks_particle_weight)
     hydro%cfl = cfl
     hydro%dt_growth = dt_growth
     hydro%dt_max = merge(dt_max, huge(1.0_wp), dt_max > 0.0_wp)

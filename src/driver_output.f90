@@ -233,7 +233,8 @@ contains
   !> The particles named by the &output track points (the nearest to each at
   !> t = 0, by seeding id: `particles_track`), chosen on the seeded particles
   !> (a restart seeds the same ones before it reads the dump, so it names the
-  !> same particles; a decomposed run chooses on the whole run's, st%whole),
+  !> same particles; a decomposed run's blocks choose among their owned ones,
+  !> the whole run's choice),
   !> logged, and for a new run the file `<dir>/<name>_tracks.txt` opened by
   !> rank 0 with its header (on a restart `outputs_after_restart` opens it).
   !> Call after the scene is built.

@@ -54,7 +54,7 @@ module driver_particles
   use parallel_gather, only: cell_prefix, gather_concat, gather_to, scatter_from
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use driver_parallel, only: agree_error
-  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, &
+  use parallel_particles, only: parallel_particles_take, parallel_particles_gather, parallel_particles_move, parallel_walks, &
                                 parallel_mark_cells
   use particles_nodal, only: particles_budget_t, particles_lagrange_step
   use particles_lagrange, only: particles_work_t, strength_slot_t, particles_work_init, &
@@ -93,8 +93,7 @@ module driver_particles
 contains
 
   !> The particles of every &particles group into st%pt (module notes).
-  !> With comm (a decomposed run seeded on its blocks: `driver_whole`'s
-  !> `seed_on_blocks`) each block seeds its owned cells, numbers its
+  !> With comm (a decomposed run: `whole_build`) each block seeds its owned cells, numbers its
   !> particles as one process does (the seeding order, group by group and
   !> cell by cell in the whole grid's order: `cell_prefix`; a file's or a
   !> line's points in their list's order), and sends
@@ -654,20 +653,23 @@ contains
     call move_alloc(owned, st%pw%owned)
   end subroutine blocks_work
 
-  !> After the remap of a decomposed run's Euler step with the global
-  !> rezone (no pre-positioning; PARTICLES.md §1.13 items 3-4 on the
-  !> blocks): each block finds the new host of each particle it owns among
-  !> its rezoned stored cells (the walk from the old host,
-  !> `particles_relocate` with the block's cuts: the host the whole grid's
-  !> walk finds), puts it on the new host's map, and sends it to the blocks
-  !> whose cells or ghost layers hold the new host (`parallel_particles_move`);
-  !> then `particles_euler_couple` on each block. No rank holds more
-  !> particles than its block's. A particle in no cell of the whole grid
-  !> that went out through an open face (`particles_left_grid`) leaves the
-  !> run, as on one process (`particles_out`). done = .false., with nothing
-  !> changed, where on some block a walk would leave the stored cells or
-  !> ends in none for another reason: the caller relocates on the whole
-  !> grid then. Collective.
+  !> After the remap of a decomposed run's Euler step (PARTICLES.md §1.13
+  !> items 3-4 on the blocks): each block finds the new host of each
+  !> particle it owns among its rezoned stored cells (the walk from the old
+  !> host, or from the standard host where the particles were placed in the
+  !> standard grid: `particles_relocate` with the block's cuts, the host
+  !> the whole grid's walk finds); a walk that would step past a cut, or
+  !> that starts beyond the block's stored cells, is taken on by the blocks
+  !> beyond (`parallel_walks`), and those particles go to the blocks that
+  !> own their hosts. Each particle is then put on its new host's map and
+  !> sent to the blocks whose cells or ghost layers hold the new host
+  !> (`parallel_particles_move`); then `particles_euler_couple` on each
+  !> block. No rank holds more particles than its block's. A particle in no
+  !> cell of the whole grid that went out through an open face
+  !> (`particles_left_grid`) leaves the run, as on one process
+  !> (`particles_out`). done = .false., with nothing changed, where on some
+  !> block a walk ends in no cell for another reason (or a walk taken on
+  !> does): the caller relocates on the whole grid then. Collective.
   subroutine particles_euler_blocks(pc, st, pe, log, done, err)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -679,8 +681,8 @@ contains
     type(particles_out_t) :: out
     type(strength_slot_t), allocatable :: models(:)
     logical, allocatable :: owned(:)
-    integer, allocatable :: cell(:), own(:)
-    real(wp), allocatable :: xi(:, :)
+    integer, allocatable :: cell(:), own(:), at_cut(:), start(:), guess(:), hg(:), pick(:), hp(:)
+    real(wp), allocatable :: xi(:, :), xp(:, :)
     logical, allocatable :: gone(:)
     integer, allocatable :: cand(:)
     integer :: bad, k, n(3), stat
@@ -689,29 +691,62 @@ contains
       own = pack([(k, k = 1, st%pt%np)], st%pw%owned)
       po = st%pt
       call particles_select(po, own)
-      allocate(cell(po%np), xi(3, po%np), stat=stat)
+      allocate(cell(po%np), xi(3, po%np), at_cut(po%np), start(po%np), stat=stat)
       if (stat /= 0) then
         call error_set(err, 'particles_euler_blocks', error_no_memory('work arrays'))
         cell = [integer ::]
+        start = [integer ::]
       else
         ! (the walk from the standard host where the particles were placed in
-        ! the standard grid, as on one process)
-        if (pe%on_blocks) po%cell = pe%guess(own)
-        call particles_relocate(g, g%x, po, po%cell, cell, xi, bad, [g%glo > 0, g%ghi > 0])
+        ! the standard grid, as on one process; a standard host beyond the
+        ! block's stored cells is minus its number in the whole grid,
+        ! `particles_preposition_blocks`: the walk starts there)
+        guess = po%cell
+        if (pe%on_blocks) guess = pe%guess(own)
+        start = merge(-guess, 0, guess < 0)
+        guess = max(guess, 1)
+        call particles_relocate(g, g%x, po, guess, cell, xi, bad, [g%glo > 0, g%ghi > 0], at_cut)
+        ! (a walk that would step past a cut goes on from the cell it stopped
+        ! in, on the blocks beyond: `parallel_walks`)
+        where (start == 0) start = at_cut
+        where (start > 0) cell = -1
       end if
       ! (those the rezone left in no cell of the whole grid, out through an
       ! open face by their host before the step, leave, as on one process)
-      cand = pack([(k, k = 1, size(cell))], cell < 0)
+      cand = pack([(k, k = 1, size(cell))], cell < 0 .and. start == 0)
       call particles_left_grid(pc, g, st%bc, g%x, po%x(:, cand), st%pt%cell(own(cand)), gone)
       cell(pack(cand, gone)) = 0
-      n(1:2) = [merge(1, 0, any(cell < 0) .or. stat /= 0), merge(1, 0, any(cell == 0))]
+      n = [merge(1, 0, any(cell < 0 .and. start == 0) .or. stat /= 0), merge(1, 0, any(cell == 0)), count(start > 0)]
       call parallel_max(pc, n(1:2))
+      call parallel_sum(pc, n(3:3))
       done = n(1) == 0
       if (.not. done) return
-      if (n(2) > 0) call particles_take_out(po, cell, xi, st%halo, out)
+      if (n(3) == 0) then
+        if (n(2) > 0) call particles_take_out(po, cell, xi, st%halo, out)
+        po%cell = cell
+        po%xi = xi
+      else
+        ! the walks taken on: each particle's host in the whole grid's
+        ! numbering, and the particles to the blocks that own their hosts
+        pick = pack([(k, k = 1, po%np)], start > 0)
+        allocate(hp(size(pick)), xp(3, size(pick)), stat=stat)
+        call parallel_nomem(stat, 'the walks taken on')
+        call parallel_walks(pc, g, g%x, po%x(:, pick), start(pick), hp, xp)
+        n(1) = merge(1, 0, any(hp == 0))
+        call parallel_max(pc, n(1:1))
+        done = n(1) == 0
+        if (.not. done) return
+        hg = [(merge(g%global_cell(max(cell(k), 1)), 0, cell(k) > 0), k = 1, po%np)]
+        hg(pick) = hp
+        xi(:, pick) = xp
+        if (n(2) > 0) call particles_take_out(po, hg, xi, st%halo, out)
+        po%xi = xi
+        owned = [(.true., k = 1, po%np)]
+        call parallel_particles_move(pc, g, 0, po, owned, err, hg)
+        if (allocated(err)) return
+        call log_line(log, '  particles: '//itoa(n(3))//' walks past a block''s cut taken on by the blocks beyond it')
+      end if
       call particles_booked_out(st, out, n(2) > 0, pe, log)
-      po%cell = cell
-      po%xi = xi
       call particles_place(g, po)
       if (po%spread) call particles_support_widths(g, po)
       owned = [(.true., k = 1, po%np)]
@@ -732,44 +767,60 @@ contains
   !> smoothing rezone (`particles_euler_preposition` on one process): each
   !> block places the particles it owns in the standard grid x0 (its stored
   !> cells' nodes; the walk from the current host with the block's cuts: the
-  !> host the whole grid's walk finds), and each cell of that grid that
-  !> hosts one is marked on the block that owns it (`parallel_mark_cells`),
-  !> then on the blocks that store it as a ghost (the halo). pe%guess (np:
-  !> each owned particle's standard host, 0 for the ghost copies) and
-  !> pe%occupied (the block's stored cells) are then the block's
-  !> (pe%on_blocks); one in no cell of the whole standard grid that went
-  !> out through an open face (`particles_left_grid`) occupies none, its
-  !> guess its host, as on one process. done = .false., with pe unchanged,
-  !> where on some block a walk would leave its stored cells or ends in
-  !> none for another reason: the caller places them on the whole grid
-  !> then. Collective.
-  subroutine particles_preposition_blocks(pc, st, x0, pe, done)
+  !> host the whole grid's walk finds; a walk that would step past a cut is
+  !> taken on by the blocks beyond, `parallel_walks`, and logged), and each
+  !> cell of that grid that hosts one is marked on the block that owns it
+  !> (`parallel_mark_cells`), then on the blocks that store it as a ghost
+  !> (the halo). pe%guess (np: each owned particle's standard host, 0 for
+  !> the ghost copies; one beyond the block's stored cells as minus its
+  !> number in the whole grid) and pe%occupied (the block's stored cells)
+  !> are then the block's (pe%on_blocks); one in no cell of the whole
+  !> standard grid that went out through an open face
+  !> (`particles_left_grid`) occupies none, its guess its host, as on one
+  !> process. done = .false., with pe unchanged, where on some block a walk
+  !> ends in no cell for another reason (or a walk taken on does): the
+  !> caller places them on the whole grid then. Collective.
+  subroutine particles_preposition_blocks(pc, st, x0, pe, log, done)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout) :: st
     real(wp), intent(in) :: x0(:, :)
     type(particles_euler_t), intent(inout) :: pe
+    type(log_t), intent(in) :: log
     logical, intent(out) :: done
-    integer, allocatable :: own(:), host(:), guess(:), cand(:), cells(:)
+    integer, allocatable :: own(:), host(:), guess(:), cand(:), cells(:), at_cut(:), start(:), pick(:), hp(:)
     logical, allocatable :: mark(:), found(:), gone(:)
-    real(wp), allocatable :: occ(:)
+    real(wp), allocatable :: occ(:), xp(:, :)
     real(wp) :: xi(3)
-    integer :: q, k, m, n(1), stat
+    integer :: q, k, m, n(2), stat
 
     associate (g => st%g, pt => st%pt)
       own = pack([(k, k = 1, pt%np)], st%pw%owned)
       ! (no room: the whole grid's way)
-      allocate(host(size(own)), guess(pt%np), found(size(own)), cand(size(own)), cells(size(own)), stat=stat)
-      n = merge(1, 0, stat /= 0)
-      if (stat /= 0) own = [integer ::]
+      allocate(host(size(own)), guess(pt%np), found(size(own)), cand(size(own)), cells(size(own)), &
+               at_cut(size(own)), start(size(own)), stat=stat)
+      n = [merge(1, 0, stat /= 0), 0]
+      if (stat /= 0) then
+        own = [integer ::]
+        host = own
+        found = [logical ::]
+        cand = own
+        cells = own
+        at_cut = own
+        start = own
+      end if
       do q = 1, size(own)
         k = own(q)
-        call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found(q), x0, [g%glo > 0, g%ghi > 0])
+        call particles_locate(g, pt%x(:, k), pt%cell(k), host(q), xi, found(q), x0, [g%glo > 0, g%ghi > 0], at_cut(q))
+        ! (a walk that would step past a cut goes on from the cell it stopped
+        ! in, on the blocks beyond: `parallel_walks`)
+        start(q) = 0
+        if (.not. found(q) .and. at_cut(q) > 0) start(q) = g%global_cell(at_cut(q))
       end do
       ! (one in no cell of the whole standard grid, out through an open face,
       ! occupies none; the walk after the remap starts at its old host)
       m = 0
       do q = 1, size(own)
-        if (found(q)) cycle
+        if (found(q) .or. start(q) > 0) cycle
         m = m + 1
         cand(m) = q
       end do
@@ -779,18 +830,41 @@ contains
         if (gone(q)) then
           host(cand(q)) = pt%cell(own(cand(q)))
         else
-          n = 1
+          n(1) = 1
         end if
       end do
-      call parallel_max(pc, n)
+      n(2) = count(start > 0)
+      call parallel_max(pc, n(1:1))
+      call parallel_sum(pc, n(2:2))
       done = n(1) == 0
       if (.not. done) return
+      ! the standard hosts in the whole grid's numbering; those of the walks
+      ! taken on beyond the block's stored cells are minus that (the walk
+      ! after the remap starts there: `particles_euler_blocks`)
       m = 0
       do q = 1, size(own)
         if (.not. found(q)) cycle
         m = m + 1
         cells(m) = g%global_cell(host(q))
       end do
+      if (n(2) > 0) then
+        pick = pack([(q, q = 1, size(own))], start > 0)
+        allocate(hp(size(pick)), xp(3, size(pick)), stat=stat)
+        call parallel_nomem(stat, 'the walks taken on')
+        call parallel_walks(pc, g, x0, pt%x(:, own(pick)), start(pick), hp, xp)
+        n(1) = merge(1, 0, any(hp == 0))
+        call parallel_max(pc, n(1:1))
+        done = n(1) == 0
+        if (.not. done) return
+        cells = [cells(:m), hp]
+        m = size(cells)
+        call log_line(log, '  particles: '//itoa(n(2))//' walks to the standard grid past a block''s cut taken on '// &
+                      'by the blocks beyond it')
+        do q = 1, size(pick)
+          host(pick(q)) = g%stored_cell(hp(q))
+          if (host(pick(q)) == 0) host(pick(q)) = -hp(q)
+        end do
+      end if
       call parallel_mark_cells(pc, g, cells(:m), mark)
       occ = merge(1.0_wp, 0.0_wp, mark)
       call st%halo%cells(occ)

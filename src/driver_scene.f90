@@ -265,8 +265,7 @@ contains
     ! wall get theirs from the block that owns them)
     call st%halo%nodes(st%h%u)
     ! the MPM particles (none without &particles: nothing allocated)
-    ! (a block of a decomposed run takes them from the whole grid's:
-    ! `whole_build`)
+    ! (the blocks of a decomposed run seed theirs after: `whole_build`)
     if (st%halo%nblocks == 1 .and. .not. fluid) call build_particles(cfg, st, log, err)
     if (allocated(err)) return
     call state_totals(st)

@@ -1,51 +1,48 @@
 !> What a decomposed run's Euler phase and particles need beyond each
 !> rank's block.
 !>
-!> Euler steps on windows (the default, &run euler_ranks): each rank
-!> holds a window, its block widened by the cells its remap reads (a box of
-!> the whole grid, built from the deck once). At an Euler step each block
-!> smooths its own nodes (`lssm_rezone` with the block's halo: LSSM's
-!> subdomains seeded from all blocks' distorted cells, the ghosts refreshed
-!> after every pass; the global rezone works on the whole grid's node
-!> positions, gathered, on every rank), then every rank gathers its
-!> window's new nodes and old state from the blocks that own them
-!> (`gather_box`), remaps it (`remap_zone_t`) and takes its block back from
-!> it; a step in parts of the way (&rezone swept_parts) does so part by
-!> part, each part's grid decided from the blocks' owned cells as one
-!> process decides it on the whole grid (`window_part`). A step that needs
-!> more than the windows hold (a new cell whose old cells lie further than
-!> the windows' search, an old region the new grid does not cover, kinetic
-!> energy deficits moved to cells further away) is done on the whole grid
-!> instead (a step in parts from the part that needed it), and the windows
-!> are widened when the search fell short. Either way the result is the
+!> Euler steps on windows: each rank holds a window, its block widened by
+!> the cells its remap reads (a box of the whole grid, built from the deck
+!> once). At an Euler step each block smooths its own nodes (`lssm_rezone`
+!> with the block's halo: LSSM's subdomains seeded from all blocks'
+!> distorted cells, the ghosts refreshed after every pass) or takes its
+!> own nodes' target of the global rezone (its initial nodes, or from the
+!> grid's faces gathered where a face moves: `window_global_target`), then
+!> every rank gathers its window's new nodes and old state from the blocks
+!> that own them (`gather_box`), remaps it (`remap_zone_t`) and takes its
+!> block back from it; a step in parts of the way (&rezone swept_parts)
+!> does so part by part, each part's grid decided from the blocks' owned
+!> cells as one process decides it on the whole grid (`window_part`).
+!> Kinetic energy deficits are repaired over the windows
+!> (`window_deficits`), and a search that went further than the windows
+!> reach is done again on windows widened until it fits. A step that needs
+!> more than that (an old region the new grid does not cover, swept faces
+!> that broke a material's bounds, deficits with either) is done on the
+!> whole grid instead (a step in parts from the part that needed it): every
+!> rank builds the whole state for it, computes the step alike (the
+!> intersections and MoF shared over the ranks, `base_share`), takes its
+!> block back and lets the whole state go. Either way the result is the
 !> single process's, bit for bit.
 !>
-!> Open faces: the gap search of a window's remap takes each open face's
-!> innermost points and bins over the moved cells from the whole grid's node
-!> positions (gathered for it, `remap_zone_open`), and the flows through
-!> the faces are exact sums added over the ranks.
+!> Open faces: each window bins its own moved old cells for the gap
+!> search, the open faces' innermost points are the blocks' extremes
+!> reduced, and the far old cells that reach past an open face are sent
+!> only to the windows that may want them (`window_zone_open`); the flows
+!> through the faces are exact sums added over the ranks.
 !>
-!> Particles at an Euler step on windows: every rank gathers all of them in
-!> the whole run's order, pre-positions them in the standard grid (Remark
-!> 2: the cells they occupy freeze the smoothing) and relocates them in the
-!> rezoned grid, the same on every rank (those that leave through open
-!> faces too); each block then takes those of its owned and ghost cells and
-!> couples them to its nodes (`particles_euler_couple`: the nodal sums of
-!> its owned nodes are complete, its ghost nodes get their owners' values),
-!> the energy sums exact over the blocks.
+!> Particles at an Euler step: each block places the ones it holds in the
+!> standard grid (Remark 2: the cells they occupy freeze the smoothing),
+!> relocates them in its rezoned cells and sends them to the blocks that
+!> hold their new hosts (`particles_euler_blocks`), then couples them to
+!> its nodes (`particles_euler_couple`: the nodal sums of its owned nodes
+!> are complete, its ghost nodes get their owners' values), the energy sums
+!> exact over the blocks. Where a walk would leave a block's cells every
+!> rank gathers them all in the whole run's order, with the whole grid's
+!> node positions, and relocates them alike (`window_particles`).
 !>
-!> The whole grid on every rank (&run euler_ranks = 'whole', and the Euler
-!> steps the windows cannot hold): rezone and remap of the whole grid,
-!> computed alike on every rank (the intersections and MoF shared over the
-!> ranks, `base_share`), each rank then taking its block back. The
-!> particles are seeded on it (it is let go once the run has started on
-!> windows or without Euler steps); a run that holds it then reads a
-!> restart into it too.
-!>
-!> Restart dumps need neither: the ranks write their blocks into one file
-!> together (`whole_dump`), the file of one process, so a dump written on P
-!> ranks continues on any Q; a run without a whole grid reads its blocks
-!> from it (`read_restart`).
+!> Restart dumps: the ranks write their blocks into one file together
+!> (`whole_dump`), the file of one process, so a dump written on P ranks
+!> continues on any Q; each rank reads its block from it (`read_restart`).
 !>
 !> What is copied is what a restart holds (the quantities the packages
 !> register, `base_registry`), then what a restart read rebuilds from them
@@ -113,11 +110,11 @@ module driver_whole
 
 contains
 
-  !> Builds st%whole from the deck when a decomposed run needs it (Euler
-  !> steps on the whole grid, or particles the blocks cannot seed:
-  !> `seed_on_blocks`); nothing otherwise. With particles the blocks are
-  !> then taken from it. Particles the blocks can seed are seeded on them
-  !> (`build_particles`), and the Euler steps taken on windows.
+  !> What a decomposed run needs beyond its blocks before its first step
+  !> (nothing on one process): its particles, seeded on the blocks
+  !> (`build_particles`; a restart then reads them on the blocks,
+  !> `read_restart`, and tracked particles are chosen over the blocks,
+  !> `tracks_init`), and the windows of its Euler steps (`window_build`).
   subroutine whole_build(cfg, pc, st, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -125,41 +122,14 @@ contains
     type(log_t), intent(in) :: log
     type(error_t), allocatable, intent(inout) :: err
     if (pc%nranks == 1) return
-    if (trim(cfg%rezone%mode) == 'none' .and. size(cfg%particles) == 0) return
-    if (seed_on_blocks(cfg)) then
+    if (size(cfg%particles) > 0) then
       call build_particles(cfg, st, log, err, pc)
       if (.not. allocated(err)) call state_totals(st)
       st%tot%energy_initial = st%tot%internal + st%tot%kinetic
       call agree_error(pc, err)
-      if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none') call window_build(cfg, pc, st, err)
-      return
     end if
-    if (size(cfg%particles) == 0 .and. trim(cfg%control%euler_ranks) == 'windows') then
-      call window_build(cfg, pc, st, err)
-      return
-    end if
-    call whole_state_build(cfg, pc, st, err)
-    if (allocated(err) .or. .not. allocated(st%whole%pt%id)) return
-    ! the particles are seeded on the whole grid (the order of one process);
-    ! each block takes those of its cells, and the nodes their momentum
-    call log_line(log, 'particles: '//itoa(st%whole%pt%np)//' in all, seeded on the whole grid')
-    call whole_scatter(st, err)
-    call agree_error(pc, err)
-    ! (the whole state is let go once the run has started: `driver`)
-    if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none' .and. trim(cfg%control%euler_ranks) == 'windows') &
-      call window_build(cfg, pc, st, err)
+    if (.not. allocated(err) .and. trim(cfg%rezone%mode) /= 'none') call window_build(cfg, pc, st, err)
   end subroutine whole_build
-
-  !> Whether a decomposed run's blocks seed its particles themselves
-  !> (`build_particles`): a run with particles and Euler steps on windows
-  !> (or none). (A restart then reads the particles on the blocks,
-  !> `read_restart`; tracked particles are chosen over the blocks,
-  !> `tracks_init`.)
-  logical function seed_on_blocks(cfg) result(yes)
-    type(config_t), intent(in) :: cfg
-    yes = size(cfg%particles) > 0 .and. &
-          (trim(cfg%rezone%mode) == 'none' .or. trim(cfg%control%euler_ranks) == 'windows')
-  end function seed_on_blocks
 
   !> st%whole built from the deck on the whole grid, its Euler steps' work
   !> shared by the ranks.
@@ -194,8 +164,8 @@ contains
     end if
   end subroutine whole_state_build
 
-  !> The Euler phase of a decomposed run works on windows (`window_euler`,
-  !> &run euler_ranks = 'windows'): st%win (`window_resize`), st%gw (the
+  !> The Euler phase of a decomposed run works on windows (`window_euler`):
+  !> st%win (`window_resize`), st%gw (the
   !> whole grid's index; its node positions gathered where particles need
   !> them, `window_euler`) and st%share.
   subroutine window_build(cfg, pc, st, err)
@@ -262,8 +232,7 @@ contains
   !> The Euler phase of a decomposed run after a Lagrangian step: whether it
   !> is due (the quality triggers from each block's owned cells, reduced:
   !> a maximum and a minimum, exact in any order), then the Euler step on
-  !> the ranks' windows (`window_euler`) or on the whole grid, each block
-  !> taken back from it.
+  !> the ranks' windows (`window_euler`), each block taken back from it.
   subroutine whole_euler(cfg, pc, st, es, log, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -285,16 +254,7 @@ contains
       call parallel_min(pc, shape(2:2))
     end if
     call euler_due(cfg%rezone, st, es, due, shape)
-    if (.not. due) return
-    if (allocated(st%win)) then
-      call window_euler(cfg, pc, st, es, log, shape, err)
-      return
-    end if
-    ! (where the grid is worst: from the blocks' look, on every rank)
-    call euler_due_where(st%g, st%halo, es, shape)
-    call whole_gather(pc, st, err)
-    if (.not. allocated(err)) call euler_step(cfg%rezone, st%whole, es, log, err)
-    if (.not. allocated(err)) call whole_scatter(st, err)
+    if (due) call window_euler(cfg, pc, st, es, log, shape, err)
   end subroutine whole_euler
 
   !> An Euler step on windows (module header). Each block smooths its nodes
@@ -344,7 +304,7 @@ contains
     ! on the whole grid's particles and nodes, on every rank (whole_x)
     whole_x = .false.
     if (parts .and. .not. global) then
-      call particles_preposition_blocks(pc, st, es%rez%x0, pe, done)
+      call particles_preposition_blocks(pc, st, es%rez%x0, pe, log, done)
       whole_x = .not. done
       if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
                                  'walk would leave a block''s cells)')
@@ -1417,24 +1377,17 @@ contains
     if (st%pblocks) st%pt = pb
   end subroutine whole_dump
 
-  !> A decomposed run's restart: with the whole grid held (Euler steps,
-  !> particles) every rank reads the file into it and takes its block from
-  !> it; otherwise each rank reads its block (`read_restart`).
+  !> A decomposed run's restart: each rank reads its block (`read_restart`).
   subroutine whole_restart(cfg, st, sch, es, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout), target :: st
     type(schedule_t), intent(inout) :: sch
     type(euler_state_t), intent(inout) :: es
     type(error_t), allocatable, intent(inout) :: err
-    if (allocated(st%whole)) then
-      call read_restart(cfg, st%whole, sch, es, err)
-      if (.not. allocated(err)) call whole_scatter(st, err)
-    else
-      call read_restart(cfg, st, sch, es, err, block=.true.)
-      ! (a block's file may be damaged where another's is not)
-      call agree_error(sch%pc, err)
-      if (.not. allocated(err)) call report_conservation(st, sch%log, 'restart')
-    end if
+    call read_restart(cfg, st, sch, es, err, block=.true.)
+    ! (a block's file may be damaged where another's is not)
+    call agree_error(sch%pc, err)
+    if (.not. allocated(err)) call report_conservation(st, sch%log, 'restart')
   end subroutine whole_restart
 
   !> Every rank's st%whole: the whole grid's state assembled from the

@@ -100,7 +100,7 @@ RANGE = [
     ('run', 'dump_dt', '1e-300', 'interval that would loop for ever'),
     ('source', 'energy', '-1', 'negative energy'), ('boundary', 'xlo_pressure', '-1', 'negative pressure'),
 ]
-ENUMS = [('material', 'eos', "'stiffened'"), ('run', 'euler_ranks', "'split'"), ('region', 'shape', "'cube'"), ('rezone', 'mode', "'euler'"),
+ENUMS = [('material', 'eos', "'stiffened'"), ('region', 'shape', "'cube'"), ('rezone', 'mode', "'euler'"),
          ('hydro', 'viscosity', "'artificial'"), ('boundary', 'xlo', "'open'"), ('region', 'material', "'nosuch'"),
          ('rezone', 'reconstruction', "'cubic'"), ('region', 'axis', "'w'"),
          ('region', 'velocity_field', "'spiral'"), ('output', 'precision', "'half'"),

@@ -192,14 +192,12 @@ mpi_bench() {
     echo "## MPI: $name.nml (Sedov 40^3 to t = 0.5$([[ $deck == *lssm ]] && echo ', LSSM'), Release)"
     mpi_runs $name
   done
-  mpi_whole sedov40_lssm
   # coupled particles: the Gurson steel ring refined to 96 x 96 x 4 cells
   # (14432 particles), 200 steps with global-ALE Euler steps
   sed -e 's/ni = 24, nj = 24, nk = 1/ni = 96, nj = 96, nk = 4/' -e 's/max_steps = 120/max_steps = 200/' \
       -e "s|^&output dir = '[^']*'|\&output dir = 'out/ring96'|" "$root/tests/decks/strength_shell_small.nml" > ring96.nml
   echo "## MPI: ring96.nml (the Gurson ring of tests/decks/strength_shell_small.nml at 96 x 96 x 4, particles, Release)"
   mpi_runs ring96
-  mpi_whole ring96
   # two materials: the TNT sphere of hardcases/tnt_sphere.nml at 32^3 with an
   # Euler step (global rezone) after every step to 6 us: MoF in the mixed
   # cells, open faces, every cell remapped
@@ -209,7 +207,6 @@ mpi_bench() {
   echo "&rezone mode = 'global', interval_steps = 1, side_ratio = 0, cos_angle = 0 /" >> tnt32.nml
   echo "## MPI: tnt32.nml (hardcases/tnt_sphere.nml at 32^3, an Euler step every step, two materials, Release)"
   mpi_runs tnt32
-  mpi_whole tnt32
   # a blast against a structure: input/c4_plate.nml as it is (the 1D
   # pre-run mapped, LSSM, open faces, 9216 coupled particles)
   sed -e "s|^&output dir = 'out/c4_plate'|\&output dir = 'out/c4mpi'|" "$root/input/c4_plate.nml" > c4mpi.nml
@@ -304,27 +301,6 @@ mpi_dump_bench() {
 # One deck on 1 rank x 2 threads, 2 ranks x 1 thread and 4 ranks x 1
 # (oversubscribed): the logs' throughput, timers and halo lines, and the
 # 2-rank run against the 1-rank one.
-# A deck's Euler steps on 2 ranks with the whole grid on each (&run
-# euler_ranks = 'whole': the intersections shared round robin) against the
-# windows (the default: each rank its block and the cells around it, its
-# r2t1 run of mpi_runs): the Euler time of rank 0, the peak memory per rank
-# and the rezone's share of the Euler time (rank 0's; on windows each block
-# smooths its own nodes, on the whole grid every rank smooths all of them).
-mpi_whole() {
-  local name=$1
-  sed -e "s|^&run |\&run euler_ranks = 'whole', |" $name.nml > ${name}_whole.nml
-  OMP_NUM_THREADS=1 "$(command -v mpirun)" $([ "$(id -u)" -eq 0 ] && echo --allow-run-as-root) -np 2 --bind-to core \
-    "$exe" ${name}_whole.nml > ${name}_whole_r2t1.log
-  cp ${name}_whole_r2t1.log "$outdir/bench_mpi_${name}_whole_r2t1.log"
-  echo "## MPI: $name.nml on 2 ranks, Euler steps on windows (default) against the whole grid on each rank"
-  for f in ${name}_r2t1 ${name}_whole_r2t1; do
-    echo "$f: $(grep '^timers' $f.log) | $(grep '^memory:' $f.log) | $(grep -o 'rezone *[0-9.]* s$' $f.log | tail -1)"
-  done
-  awk 'FNR == 1 {f++} /^timers \[s\]:/ {for (i = 1; i < NF; i++) if ($i == "euler") eu[f] = $(i + 1)}
-       END {printf "Euler time, windows against whole: x%.2f\n", eu[1] / eu[2]}' ${name}_r2t1.log ${name}_whole_r2t1.log
-  echo
-}
-
 mpi_runs() {
   local name=$1 mpiexec root_flag=() c
   mpiexec=$(command -v mpirun)

@@ -62,6 +62,7 @@ module mesh_grid
     procedure :: owns_cell => grid_owns_cell
     procedure :: counts_node => grid_counts_node
     procedure :: global_cell => grid_global_cell
+    procedure :: stored_cell => grid_stored_cell
     procedure :: colour_first => grid_colour_first
   end type grid_index_t
 
@@ -275,6 +276,19 @@ contains
       gc = (i + o(1)) + n(1)*((j + o(2) - 1) + n(2)*(k + o(3) - 1))
     end associate
   end function grid_global_cell
+
+  !> The stored cell (owned or ghost) that is cell gc of the whole grid
+  !> (`grid_global_cell`'s numbering), 0 where the block does not store it.
+  pure integer function grid_stored_cell(this, gc) result(c)
+    class(grid_index_t), intent(in) :: this
+    integer, intent(in) :: gc
+    integer :: ijk(3)
+    associate (n => this%gn)
+      ijk = [mod(gc - 1, n(1)) + 1, mod((gc - 1)/n(1), n(2)) + 1, (gc - 1)/(n(1)*n(2)) + 1] - this%off
+    end associate
+    c = 0
+    if (all(ijk >= this%slo .and. ijk <= this%shi)) c = this%cell(ijk(1), ijk(2), ijk(3))
+  end function grid_stored_cell
 
   !> Index of the first (local a = 1) node of cell (i,j,k): node (i-1,j-1,k-1).
   pure integer function grid_cell_node0(this, i, j, k)

@@ -6,7 +6,9 @@
 !> cell, id: `particles_order`), the same on a block as on one process.
 !> Between Euler steps' relocations on the blocks, `parallel_particles_move`
 !> sends each block's owned particles to every block whose cells or ghost
-!> layers host them: no rank holds more than its block's.
+!> layers host them: no rank holds more than its block's. A walk to a
+!> particle's host that steps past a block's cut is taken on by the blocks
+!> beyond it (`parallel_walks`).
 module parallel_particles
   use, intrinsic :: iso_fortran_env, only: int64
   use base_kinds, only: wp
@@ -16,12 +18,13 @@ module parallel_particles
   use mesh_grid, only: grid_t, grid_index_t
   use particles_state, only: particles_t, particles_allocate, particles_select, particles_index, &
                              particles_register_restart, particles_key_order, particles_order, particles_move
-  use parallel_comm, only: comm_t, parallel_nomem
+  use particles_shape, only: particles_locate
+  use parallel_comm, only: comm_t, parallel_nomem, parallel_sum
   use parallel_gather, only: gather_concat, exchange_lists
   implicit none
   private
   public :: parallel_particles_take, parallel_particles_gather, parallel_particles_move, parallel_mark_cells, &
-            parallel_particles_ids
+            parallel_particles_ids, parallel_walks
 
 contains
 
@@ -147,13 +150,17 @@ contains
   !> particle can go only to the ranks whose boxes meet this block's stored
   !> cells (its neighbours: the work and the list of receivers per particle
   !> grow with them, not with the number of ranks). Collective.
-  subroutine parallel_particles_move(pc, g, layers, pt, owned, err)
+  subroutine parallel_particles_move(pc, g, layers, pt, owned, err, route)
     type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: g
     integer, intent(in) :: layers
     type(particles_t), intent(inout), target :: pt
     logical, allocatable, intent(inout) :: owned(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> (np; with layers = 0) each particle's host as a cell of the whole
+    !> grid, any of them (pt%cell is then not read): it goes to the rank
+    !> that owns that cell, a neighbour or not
+    integer, intent(in), optional :: route(:)
     type(particles_t), target :: pn
     type(registry_t) :: rb, rn
     integer, allocatable :: boxes(:), to(:, :), count_to(:), at(:), near(:)
@@ -167,8 +174,9 @@ contains
     ! (the ranks whose boxes meet this block's stored cells, in rank order)
     near = pack([(r, r = 0, nr - 1)], [(all(boxes(6*r + 1:6*r + 3) <= g%shi + g%off) .and. &
                                         all(boxes(6*r + 4:6*r + 6) >= g%slo + g%off), r = 0, nr - 1)])
-    ! (each owned particle's receivers, in rank order: to(:, k), -1 ends)
-    allocate(to(size(near), pt%np), count_to(0:nr - 1), stat=stat)
+    ! (each owned particle's receivers, in rank order: to(:, k), -1 ends;
+    ! routed, the owner of its cell, found among all ranks)
+    allocate(to(max(size(near), 1), pt%np), count_to(0:nr - 1), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'parallel_particles_move', error_no_memory('work arrays'))
       return
@@ -177,6 +185,14 @@ contains
     count_to = 0
     do k = 1, pt%np
       if (.not. owned(k)) cycle
+      if (present(route)) then
+        ijk = global_ijk(g, route(k))
+        r = owner_of(ijk)
+        if (r < 0) cycle
+        to(1, k) = r
+        count_to(r) = count_to(r) + 1
+        cycle
+      end if
       call g%cell_ijk(pt%cell(k), ijk(1), ijk(2), ijk(3))
       ijk = ijk + g%off
       n = 0
@@ -190,9 +206,13 @@ contains
     end do
     ! (host cells in the whole grid's numbering while they are sent)
     at = pt%cell
-    do k = 1, pt%np
-      pt%cell(k) = g%global_cell(at(k))
-    end do
+    if (present(route)) then
+      pt%cell = route
+    else
+      do k = 1, pt%np
+        pt%cell(k) = g%global_cell(at(k))
+      end do
+    end if
     call particles_register_restart(pt, rb)
     rec = 0
     do e = 1, rb%n
@@ -202,8 +222,10 @@ contains
     call parallel_nomem(stat, 'the particles sent')
     ! (each receiver's records in turn, in this rank's order)
     pos = 0
+    if (present(route)) near = [(r, r = 0, nr - 1)]
     do c = 1, size(near)
       r = near(c)
+      if (count_to(r) == 0) cycle
       do k = 1, pt%np
         if (.not. any(to(:, k) == r)) cycle
         do e = 1, rb%n
@@ -263,13 +285,26 @@ contains
       call g%cell_ijk(pt%cell(q), ijk(1), ijk(2), ijk(3))
       owned(q) = g%owns_cell(ijk(1), ijk(2), ijk(3))
     end do
+  contains
+    !> The rank whose owned cells (boxes, layers = 0) hold whole-grid
+    !> cell ijk (-1: none).
+    integer function owner_of(ijk) result(o)
+      integer, intent(in) :: ijk(3)
+      integer :: rr
+      o = -1
+      do rr = 0, nr - 1
+        if (all(ijk >= boxes(6*rr + 1:6*rr + 3) .and. ijk <= boxes(6*rr + 4:6*rr + 6))) then
+          o = rr
+          return
+        end if
+      end do
+    end function owner_of
   end subroutine parallel_particles_move
 
   !> The owned cells of g that any rank names (cells: global cell numbers
-  !> of the whole grid, each among the naming block's stored cells): each
-  !> rank sends each cell to the rank that owns it, found among the ranks
-  !> whose owned cells meet its stored cells (ranks' owned boxes gathered,
-  !> 6 integers each);
+  !> of the whole grid): each rank sends each cell to the rank that owns
+  !> it, found among the ranks whose owned cells meet its stored cells
+  !> (ranks' owned boxes gathered, 6 integers each), else among all;
   !> mark(ncell) true at the owned cells named, false elsewhere (the ghost
   !> cells are the caller's: a halo exchange). Collective.
   subroutine parallel_mark_cells(pc, g, cells, mark)
@@ -298,6 +333,16 @@ contains
           exit
         end if
       end do
+      ! (a cell beyond the block's stored cells: a walk taken on found it,
+      ! `parallel_walks`)
+      if (to(q) < 0) then
+        do r = 0, pc%nranks - 1
+          if (all(ijk >= boxes(6*r + 1:6*r + 3) .and. ijk <= boxes(6*r + 4:6*r + 6))) then
+            to(q) = r
+            exit
+          end if
+        end do
+      end if
       if (to(q) >= 0) count_to(to(q)) = count_to(to(q)) + 1
     end do
     pos(0) = 0
@@ -405,6 +450,119 @@ contains
       owner = int((int(id - 1, int64)*pc%nranks)/nseed)
     end function owner
   end subroutine parallel_particles_ids
+
+  !> Walks to the hosts of points that step past a block's cut, taken on
+  !> by the blocks beyond it (collective). Each request q of this rank, the
+  !> point x(:, q) and the cell start(q) of the whole grid its walk stands
+  !> in, goes to the rank that owns that cell, which walks on from there in
+  !> the grid with nodes xg (its stored nodes) with its own cuts
+  !> (`particles_locate`; each step depends only on the cell it is in and
+  !> the point, so this is the whole grid's walk, step for step); a walk
+  !> that stops at that block's cut goes on to the block beyond, round
+  !> after round, at most one per rank. host(q): the cell of the whole grid
+  !> the walk ends in, xi(:, q) the point's natural coordinates there;
+  !> host(q) = 0 where it ends in no cell (or the rounds run out).
+  subroutine parallel_walks(pc, g, xg, x, start, host, xi)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xg(:, :), x(:, :)
+    integer, intent(in) :: start(:)
+    integer, intent(out) :: host(:)
+    real(wp), intent(out) :: xi(:, :)
+    !> a request's record: its point, its cell, its rank and its number there;
+    !> a reply's: its rank and number, the host, xi
+    integer, parameter :: rw = 6
+    real(wp), allocatable :: act(:, :), rep(:, :), sbuf(:), rbuf(:), add(:, :)
+    integer, allocatable :: boxes(:), dest(:), kind(:)
+    integer :: lo(3), hi(3), ijk(3), nr, round, q, n(1), cell, last, stat, cnt(0:pc%nranks - 1)
+    real(wp) :: xq(3), xiq(3)
+    logical :: found
+
+    nr = pc%nranks
+    host = 0
+    xi = 0.0_wp
+    call g%cells_around(0, lo, hi)
+    call gather_concat(pc, [lo + g%off, hi + g%off], boxes)
+    ! (add allocated empty here, which also keeps GCC from taking its bounds
+    ! for uninitialized)
+    allocate(act(rw, size(start)), rep(rw, 0), add(rw, 0), stat=stat)
+    call parallel_nomem(stat, 'the walks taken on')
+    do q = 1, size(start)
+      act(:, q) = [x(:, q), real(start(q), wp), real(pc%rank, wp), real(q, wp)]
+    end do
+    do round = 0, nr
+      n = size(act, 2)
+      call parallel_sum(pc, n)
+      if (n(1) == 0) exit
+      if (round == nr) then
+        ! (the rounds ran out: no host)
+        add = act
+        add(1:5, :) = 0.0_wp
+        add(1:2, :) = act(5:6, :)
+        rep = reshape([rep, add], [rw, size(rep, 2) + size(add, 2)])
+        exit
+      end if
+      ! (each request to the rank that owns its cell)
+      dest = [(owner(nint(act(4, q))), q = 1, size(act, 2))]
+      call send(act, dest)
+      act = reshape(rbuf, [rw, size(rbuf)/rw])
+      ! (walked on here: 1 found, 2 stopped at a cut again, 3 in no cell)
+      deallocate(add)
+      allocate(kind(size(act, 2)), add(rw, size(act, 2)), stat=stat)
+      call parallel_nomem(stat, 'the walks taken on')
+      do q = 1, size(act, 2)
+        ijk = global_ijk(g, nint(act(4, q))) - g%off
+        xq = act(1:3, q)
+        call particles_locate(g, xq, g%cell(ijk(1), ijk(2), ijk(3)), cell, xiq, found, xg, [g%glo > 0, g%ghi > 0], &
+                              at_cut=last)
+        add(:, q) = [act(5:6, q), 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+        if (found) then
+          kind(q) = 1
+          add(3:6, q) = [real(g%global_cell(cell), wp), xiq]
+        else if (last > 0) then
+          kind(q) = 2
+          act(4, q) = real(g%global_cell(last), wp)
+        else
+          kind(q) = 3
+        end if
+      end do
+      add = add(:, pack([(q, q = 1, size(act, 2))], kind /= 2))
+      rep = reshape([rep, add], [rw, size(rep, 2) + size(add, 2)])
+      act = act(:, pack([(q, q = 1, size(act, 2))], kind == 2))
+      deallocate(kind)
+    end do
+    ! (the replies to the ranks that asked)
+    dest = [(nint(rep(1, q)), q = 1, size(rep, 2))]
+    call send(rep, dest)
+    do q = 1, size(rbuf)/rw
+      host(nint(rbuf(rw*(q - 1) + 2))) = nint(rbuf(rw*(q - 1) + 3))
+      xi(:, nint(rbuf(rw*(q - 1) + 2))) = rbuf(rw*(q - 1) + 4:rw*q)
+    end do
+  contains
+    !> The rank whose owned cells hold cell c of the whole grid.
+    integer function owner(c) result(o)
+      integer, intent(in) :: c
+      integer :: r, ix(3)
+      ix = global_ijk(g, c)
+      do o = 0, nr - 1
+        r = 6*o
+        if (all(ix >= boxes(r + 1:r + 3) .and. ix <= boxes(r + 4:r + 6))) return
+      end do
+      o = 0   ! (every cell has an owner)
+    end function owner
+
+    !> The records rec(rw, :) to the ranks to(:), in rank order: rbuf.
+    subroutine send(rec, to)
+      real(wp), intent(in) :: rec(:, :)
+      integer, intent(in) :: to(:)
+      integer :: r, k
+      do r = 0, nr - 1
+        cnt(r) = rw*count(to == r)
+      end do
+      sbuf = [(rec(:, pack([(k, k = 1, size(to))], to == r)), r = 0, nr - 1)]
+      call exchange_lists(pc, sbuf, cnt, rbuf)
+    end subroutine send
+  end subroutine parallel_walks
 
   !> The indices of global cell c of the whole grid (g%gn).
   pure function global_ijk(g, c) result(ix)

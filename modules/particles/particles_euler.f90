@@ -165,7 +165,7 @@ contains
   !> guess(np) (item 2). bad: the first particle in no cell (0 if none).
   !> cut: a block's (`particles_locate`: cell -1 where the walk would leave
   !> the block's stored cells).
-  subroutine particles_relocate(g, x, p, guess, cell, xi, bad, cut)
+  subroutine particles_relocate(g, x, p, guess, cell, xi, bad, cut, at_cut)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :)
     type(particles_t), intent(in) :: p
@@ -174,17 +174,22 @@ contains
     real(wp), intent(out) :: xi(:, :)
     integer, intent(out) :: bad
     logical, intent(in), optional :: cut(6)
+    !> (np; with cut) where a walk would step past a cut: the stored cell
+    !> it would step on from, by its number in the whole grid
+    !> (`grid_global_cell`), else 0 (`particles_locate`)
+    integer, intent(out), optional :: at_cut(:)
     logical :: found, cuts(6), on_block
-    integer :: k
+    integer :: k, last
     on_block = present(cut)
     cuts = .false.
     if (on_block) cuts = cut
     bad = huge(1)
-    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi, cuts, on_block) private(k, found) &
+    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi, cuts, on_block, at_cut) private(k, found, last) &
     !$omp reduction(min: bad) schedule(dynamic, 256)
     do k = 1, p%np
       if (on_block) then
-        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x, cuts)
+        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x, cuts, last)
+        if (present(at_cut)) at_cut(k) = merge(g%global_cell(max(last, 1)), 0, last > 0)
       else
         call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x)
       end if

@@ -165,8 +165,13 @@ contains
   !> end at a neighbour block's below / above in direction d): the walk
   !> that would step past a cut, or ends without a cell, gives cell = -1
   !> (found = .false.), where the whole grid's walk may go on: so a cell
-  !> found is the one the whole grid's walk finds.
-  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg, cut)
+  !> found is the one the whole grid's walk finds; at_cut (with cut) is then
+  !> the stored cell the walk would have stepped on from (0 where it
+  !> ended without a cell for another reason): the whole grid's walk from
+  !> that cell, which the block that owns it stores with the cells around
+  !> it, goes on as this one would have (each step depends only on the
+  !> cell it is in and x).
+  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg, cut, at_cut)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(3)
     integer, intent(in) :: guess
@@ -175,6 +180,7 @@ contains
     logical, intent(out) :: found
     real(wp), intent(in), optional :: xg(:, :)
     logical, intent(in), optional :: cut(6)
+    integer, intent(out), optional :: at_cut
     real(wp) :: xn(3, 8)
     integer :: ijk(3), nmin(3), nmax(3), step, d, c
     logical :: moved, lo_cut(3), hi_cut(3)
@@ -188,6 +194,7 @@ contains
       lo_cut = cut(1:3)
       hi_cut = cut(4:6)
     end if
+    if (present(at_cut)) at_cut = 0
     c = max(1, min(g%ncell, guess))
     call g%cell_ijk(c, ijk(1), ijk(2), ijk(3))
     do step = 1, sum(nmax - nmin) + 6
@@ -202,6 +209,7 @@ contains
       do d = 1, 3
         if ((xi(d) < -inside_tol .and. ijk(d) == nmin(d) .and. lo_cut(d)) .or. &
             (xi(d) > 1.0_wp + inside_tol .and. ijk(d) == nmax(d) .and. hi_cut(d))) then
+          if (present(at_cut)) at_cut = c
           moved = .false.
           exit
         else if (xi(d) < -inside_tol .and. ijk(d) > nmin(d)) then
