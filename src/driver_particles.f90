@@ -732,8 +732,12 @@ contains
         allocate(hp(size(pick)), xp(3, size(pick)), stat=stat)
         call parallel_nomem(stat, 'the walks taken on')
         call parallel_walks(pc, g, g%x, po%x(:, pick), start(pick), hp, xp)
-        n(1) = merge(1, 0, any(hp == 0))
-        call parallel_max(pc, n(1:1))
+        ! (one whose walk ends in no cell leaves if it went out through an
+        ! open face, as on one process)
+        cand = pack([(k, k = 1, size(pick))], hp == 0)
+        call particles_left_grid(pc, g, st%bc, g%x, po%x(:, pick(cand)), st%pt%cell(own(pick(cand))), gone)
+        n(1:2) = [merge(1, 0, .not. all(gone)), merge(1, 0, any(cell == 0) .or. size(cand) > 0)]
+        call parallel_max(pc, n(1:2))
         done = n(1) == 0
         if (.not. done) return
         hg = [(merge(g%global_cell(max(cell(k), 1)), 0, cell(k) > 0), k = 1, po%np)]
@@ -852,17 +856,25 @@ contains
         allocate(hp(size(pick)), xp(3, size(pick)), stat=stat)
         call parallel_nomem(stat, 'the walks taken on')
         call parallel_walks(pc, g, x0, pt%x(:, own(pick)), start(pick), hp, xp)
-        n(1) = merge(1, 0, any(hp == 0))
+        ! (one whose walk ends in no cell, out through an open face, occupies
+        ! none, as above)
+        cand = pack([(q, q = 1, size(pick))], hp == 0)
+        call particles_left_grid(pc, g, st%bc, x0, pt%x(:, own(pick(cand))), pt%cell(own(pick(cand))), gone)
+        n(1) = merge(1, 0, .not. all(gone))
         call parallel_max(pc, n(1:1))
         done = n(1) == 0
         if (.not. done) return
-        cells = [cells(:m), hp]
+        cells = [cells(:m), pack(hp, hp > 0)]
         m = size(cells)
         call log_line(log, '  particles: '//itoa(n(2))//' walks to the standard grid past a block''s cut taken on '// &
                       'by the blocks beyond it')
         do q = 1, size(pick)
-          host(pick(q)) = g%stored_cell(hp(q))
-          if (host(pick(q)) == 0) host(pick(q)) = -hp(q)
+          if (hp(q) == 0) then
+            host(pick(q)) = pt%cell(own(pick(q)))
+          else
+            host(pick(q)) = g%stored_cell(hp(q))
+            if (host(pick(q)) == 0) host(pick(q)) = -hp(q)
+          end if
         end do
       end if
       call parallel_mark_cells(pc, g, cells(:m), mark)

@@ -36,9 +36,11 @@
 !> hold their new hosts (`particles_euler_blocks`), then couples them to
 !> its nodes (`particles_euler_couple`: the nodal sums of its owned nodes
 !> are complete, its ghost nodes get their owners' values), the energy sums
-!> exact over the blocks. Where a walk would leave a block's cells every
-!> rank gathers them all in the whole run's order, with the whole grid's
-!> node positions, and relocates them alike (`window_particles`).
+!> exact over the blocks. A walk that would step past a block's cut is
+!> taken on by the blocks beyond (`parallel_walks`); where such a walk
+!> ends in no cell every rank gathers the particles in the whole run's
+!> order, with the whole grid's node positions, and relocates them alike
+!> (`window_particles`).
 !>
 !> Restart dumps: the ranks write their blocks into one file together
 !> (`whole_dump`), the file of one process, so a dump written on P ranks
@@ -273,11 +275,11 @@ contains
   !> `particles_preposition_blocks`), relocates them in its rezoned cells
   !> after the remap and sends them to the blocks that hold their new hosts
   !> (`particles_euler_blocks`; those that leave through an open face leave
-  !> there); where a walk would leave a block's cells every rank gathers them all (in
+  !> there; walks past a block's cut are taken on by the blocks beyond);
+  !> where a walk taken on ends in no cell every rank gathers them all (in
   !> the whole run's order), relocates them in the rezoned grid, the same on
   !> every rank, and each block takes its own (`window_particles`). The
-  !> whole grid's node positions are gathered only then (open faces:
-  !> `window_zone_open`).
+  !> whole grid's node positions are gathered only then.
   subroutine window_euler(cfg, pc, st, es, log, shape, err)
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
@@ -307,7 +309,7 @@ contains
       call particles_preposition_blocks(pc, st, es%rez%x0, pe, log, done)
       whole_x = .not. done
       if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
-                                 'walk would leave a block''s cells)')
+                                 'walk taken on past a block''s cut ended in no cell)')
     end if
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
@@ -543,8 +545,8 @@ contains
       call particles_euler_blocks(pc, st, pe, log, done, err)
       call agree_error(pc, err)
       if (.not. (done .or. allocated(err))) then
-        call log_line(log, '  particles: relocated on the whole grid (a walk would leave a block''s cells, or a '// &
-                      'particle in no cell may be in another block''s)')
+        call log_line(log, '  particles: relocated on the whole grid (a walk taken on past a block''s cut ended in '// &
+                      'no cell)')
         call whole_particles(pc, st, sw, err)
         if (.not. allocated(err) .and. pe%on_blocks) call whole_preposition(pc, st, sw, es, pe, err)
       end if
