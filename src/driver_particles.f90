@@ -1124,8 +1124,10 @@ contains
   !> xp(:, q) (every rank tests every rank's points against its own cells,
   !> `particles_cells_hold`) and it went out through an open face by its
   !> host(q) (a cell of the block) or its place (`particles_out_open_face`).
-  !> More than max_points over the ranks: none is known gone (the caller
-  !> takes the whole grid's way). Collective.
+  !> Every rank holds the points of all ranks for the test (3 reals each:
+  !> far less than the whole grid's way, which gathers every particle);
+  !> each tests against its cells only the points within their boxes'
+  !> union. Collective.
   subroutine particles_left_grid(pc, g, bc, x, xp, host, gone)
     type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: g
@@ -1133,7 +1135,6 @@ contains
     real(wp), intent(in) :: x(:, :), xp(:, :)
     integer, intent(in) :: host(:)
     logical, allocatable, intent(out) :: gone(:)
-    integer, parameter :: max_points = 4096
     real(wp), allocatable :: every(:)
     integer, allocatable :: counts(:), held(:)
     real(wp) :: far(6)
@@ -1144,7 +1145,6 @@ contains
     far = particles_open_far(g, bc, x)
     call parallel_max(pc, far)
     call gather_concat(pc, [m], counts)
-    if (sum(counts) > max_points) return
     call gather_concat(pc, reshape(xp, [3*m]), every)
     held = merge(1, 0, particles_cells_hold(g, x, reshape(every, [3, size(every)/3])))
     call parallel_max(pc, held)

@@ -309,7 +309,7 @@ contains
       call particles_preposition_blocks(pc, st, es%rez%x0, pe, log, done)
       whole_x = .not. done
       if (whole_x) call log_line(log, '  particles: placed in the standard grid and relocated on the whole grid (a '// &
-                                 'walk taken on past a block''s cut ended in no cell)')
+                                 'walk ended in no cell of the whole grid, and not out through an open face)')
     end if
     if (whole_x) then
       call gather_nodes(pc, st%g%grid_index_t, st%g%x, x, all=.true.)
@@ -545,8 +545,8 @@ contains
       call particles_euler_blocks(pc, st, pe, log, done, err)
       call agree_error(pc, err)
       if (.not. (done .or. allocated(err))) then
-        call log_line(log, '  particles: relocated on the whole grid (a walk taken on past a block''s cut ended in '// &
-                      'no cell)')
+        call log_line(log, '  particles: relocated on the whole grid (a walk ended in no cell of the whole grid, and '// &
+                      'not out through an open face)')
         call whole_particles(pc, st, sw, err)
         if (.not. allocated(err) .and. pe%on_blocks) call whole_preposition(pc, st, sw, es, pe, err)
       end if

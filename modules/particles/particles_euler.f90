@@ -49,7 +49,7 @@ module particles_euler
   use strength_gurson, only: strength_gurson_t
   use strength_hjc, only: strength_hjc_t
   use particles_spread, only: particles_support_widths
-  use particles_shape, only: particles_locate, particles_shape_values, inside_tol
+  use particles_shape, only: particles_locate, particles_shape_values, inside_tol, particles_grid_hull
   use particles_lagrange, only: particles_interpolate, particles_work_t, strength_slot_t, particles_phase_mass, &
                                 particles_virtual_grid, particles_blend_velocities, particles_virtual_masses, particles_work_resize
   implicit none
@@ -180,18 +180,22 @@ contains
     integer, intent(out), optional :: at_cut(:)
     logical :: found, cuts(6), on_block
     integer :: k, last
+    real(wp) :: hull(6)
     on_block = present(cut)
     cuts = .false.
     if (on_block) cuts = cut
+    ! (a particle out of the grid, through an open face, found in no cell at
+    ! once, not by the search cell by cell)
+    hull = particles_grid_hull(g, x)
     bad = huge(1)
-    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi, cuts, on_block, at_cut) private(k, found, last) &
+    !$omp parallel do default(none) shared(g, x, p, guess, cell, xi, cuts, on_block, at_cut, hull) private(k, found, last) &
     !$omp reduction(min: bad) schedule(dynamic, 256)
     do k = 1, p%np
       if (on_block) then
         call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x, cuts, last)
         if (present(at_cut)) at_cut(k) = merge(g%global_cell(max(last, 1)), 0, last > 0)
       else
-        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x)
+        call particles_locate(g, p%x(:, k), guess(k), cell(k), xi(:, k), found, x, hull=hull)
       end if
       if (.not. found) bad = min(bad, k)
     end do
@@ -548,23 +552,46 @@ contains
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(:, :), xp(:, :)
     logical :: held(size(xp, 2))
-    real(wp) :: xn(3, 8), lo(3), hi(3), w
-    integer :: c, i, j, k, q
+    real(wp) :: xn(3, 8), lo(3), hi(3), w, blo(3), bhi(3)
+    integer, allocatable :: near(:)
+    integer :: i, j, k, q, p
     held = .false.
     if (size(xp, 2) == 0) return
+    ! (the union of the owned cells' widened boxes: only the points in it
+    ! are tested cell by cell, so that points far from the block, those
+    ! that left the grid, cost one test each)
+    blo = huge(1.0_wp)
+    bhi = -huge(1.0_wp)
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
-          c = g%cell(i, j, k)
-          call g%gather(c, x, xn)
-          lo = minval(xn, dim=2)
-          hi = maxval(xn, dim=2)
-          w = 10.0_wp*inside_tol*sum(hi - lo)
-          do q = 1, size(xp, 2)
+          call cell_box(g%cell(i, j, k))
+          blo = min(blo, lo - w)
+          bhi = max(bhi, hi + w)
+        end do
+      end do
+    end do
+    near = pack([(q, q = 1, size(xp, 2))], [(all(xp(:, q) >= blo .and. xp(:, q) <= bhi), q = 1, size(xp, 2))])
+    if (size(near) == 0) return
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          call cell_box(g%cell(i, j, k))
+          do p = 1, size(near)
+            q = near(p)
             if (all(xp(:, q) >= lo - w .and. xp(:, q) <= hi + w)) held(q) = .true.
           end do
         end do
       end do
     end do
+  contains
+    !> Cell c's box lo..hi in x and its widening w.
+    subroutine cell_box(c)
+      integer, intent(in) :: c
+      call g%gather(c, x, xn)
+      lo = minval(xn, dim=2)
+      hi = maxval(xn, dim=2)
+      w = 10.0_wp*inside_tol*sum(hi - lo)
+    end subroutine cell_box
   end function particles_cells_hold
 end module particles_euler

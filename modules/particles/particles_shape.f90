@@ -27,7 +27,7 @@ module particles_shape
   implicit none
   private
   public :: particles_shape_values, particles_shape_gradients, particles_map, particles_natural, &
-            particles_locate, particles_lowest_host, inside_tol
+            particles_locate, particles_lowest_host, inside_tol, particles_grid_hull
 
   !> How far outside [0,1] a natural coordinate may be and still count as
   !> inside the cell (then clamped): round-off of the inverse map.
@@ -158,8 +158,10 @@ contains
 
   !> The host cell of point x (length) and its natural coordinates xi in
   !> [0,1]^3: a walk from cell `guess` (module notes), then, if the walk
-  !> does not end in a cell containing x, every cell in index order.
-  !> found = .false. (cell = 0) if no cell contains x. The grid's nodes are
+  !> does not end in a cell containing x, every cell in index order whose
+  !> corners' box (widened by the tolerance's reach) holds x; none if x
+  !> lies outside hull (a particle gone through an open face: one test, not
+  !> one per cell). found = .false. (cell = 0) if no cell contains x. The grid's nodes are
   !> at g%x, or at xg(3, nnode) if given (the standard grid of Remark 2).
   !> cut (a block of a decomposed run: cut(d) / cut(3 + d), its stored cells
   !> end at a neighbour block's below / above in direction d): the walk
@@ -171,7 +173,7 @@ contains
   !> that cell, which the block that owns it stores with the cells around
   !> it, goes on as this one would have (each step depends only on the
   !> cell it is in and x).
-  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg, cut, at_cut)
+  pure subroutine particles_locate(g, x, guess, cell, xi, found, xg, cut, at_cut, hull)
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: x(3)
     integer, intent(in) :: guess
@@ -181,6 +183,10 @@ contains
     real(wp), intent(in), optional :: xg(:, :)
     logical, intent(in), optional :: cut(6)
     integer, intent(out), optional :: at_cut
+    !> (lo(3), hi(3)) a box that holds every cell's reach
+    !> (`particles_grid_hull`): a point outside it is in no cell, without
+    !> the search cell by cell
+    real(wp), intent(in), optional :: hull(6)
     real(wp) :: xn(3, 8)
     integer :: ijk(3), nmin(3), nmax(3), step, d, c
     logical :: moved, lo_cut(3), hi_cut(3)
@@ -228,8 +234,17 @@ contains
       found = .false.
       return
     end if
+    cell = 0
+    xi = 0.0_wp
+    found = .false.
+    if (present(hull)) then
+      if (any(x < hull(1:3) .or. x > hull(4:6))) return
+    end if
+    ! (a cell's corners' box, widened by what the tolerance reaches, holds
+    ! every point the cell may hold: `particles_cells_hold`)
     do c = 1, g%ncell
       call corners(c, xn)
+      if (.not. cell_reaches(xn, x)) cycle
       call particles_natural(xn, x, xi, found)
       if (found) then
         cell = c
@@ -251,6 +266,31 @@ contains
       end if
     end subroutine corners
   end subroutine particles_locate
+
+  !> Whether the cell with corners xn may hold x: its corners' box widened
+  !> by what the walk's tolerance reaches (inside_tol on the box's size).
+  pure logical function cell_reaches(xn, x)
+    real(wp), intent(in) :: xn(3, 8), x(3)
+    real(wp) :: lo(3), hi(3), w
+    lo = minval(xn, dim=2)
+    hi = maxval(xn, dim=2)
+    w = 10.0_wp*inside_tol*sum(hi - lo)
+    cell_reaches = all(x >= lo - w .and. x <= hi + w)
+  end function cell_reaches
+
+  !> A box (lo(3), hi(3)) that holds what every stored cell of g with nodes
+  !> at x may hold (`particles_locate`'s hull): the nodes' box widened as
+  !> `cell_reaches` widens a cell's, by the grid's size.
+  pure function particles_grid_hull(g, x) result(hull)
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: x(:, :)
+    real(wp) :: hull(6)
+    real(wp) :: w
+    hull(1:3) = minval(x(:, :g%nnode), dim=2)
+    hull(4:6) = maxval(x(:, :g%nnode), dim=2)
+    w = 10.0_wp*inside_tol*sum(hull(4:6) - hull(1:3))
+    hull = hull + [-w, -w, -w, w, w, w]
+  end function particles_grid_hull
 
   !> From a cell that holds x (natural coordinates xi within inside_tol of
   !> [0,1]^3), the holding cell of lowest index in each direction: a point
