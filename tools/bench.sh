@@ -9,7 +9,9 @@
 # (issue 14): a gas pushing an elastic block of 64000 particles in a 40^3
 # grid, against the same scene without the particles, 1 and 2 threads, and
 # through global Euler steps with linear and gimp supports (the particles'
-# part of a Lagrangian step and of an Euler step, per particle); the
+# part of a Lagrangian step and of an Euler step, per particle); 20736
+# particles leaving through an open face at one Euler step, one process and
+# 2 ranks (the particles' share of the Euler phase); the
 # rotating projectile of paper Sect. 7.4 (Table 2) with LSSM against global
 # smoothing, n = 4 and 8, to t = 0.1 (tools/projectile_compare.py); the
 # Taylor bar's resolution study (issue 15, about 25 minutes; BENCH_ONLY=taylor
@@ -147,6 +149,37 @@ gimp_bench() {
 particles_euler_bench() {
   echo "## Particles through Euler steps (issue 34): plateau and slab against exact solutions, 1 thread"
   /usr/bin/python3 "$root/tools/particles_euler.py" --exe "$exe" --out "$outdir" | tee "$outdir/particles_euler.txt"
+}
+# Particles leaving at one Euler step: a slab of 20736 particles carried
+# through the outflow face of 40 x 48 x 8 cells before the first Euler step
+# (global rezone every 40 steps), one process and 2 ranks (cut across the
+# slab) x 1 thread: the particles' share of the Euler phase (the search for
+# the hosts of those that left), and no step on the whole grid on 2 ranks.
+particles_leaving_bench() {
+  echo "## Particles leaving through an open face at one Euler step (20736 particles), 1 thread"
+  cat > leaving.nml <<'DECK'
+&run title = 'a slab of particles leaving through an open face', t_end = 0.1, blocks = 1, 2, 1 /
+&grid ni = 40, nj = 48, nk = 8, xmin = 0, 0, 0, xmax = 2.0, 2.4, 0.4 /
+&material name = 'gas', eos = 'ideal_gas', gamma = 1.4 /
+&region shape = 'all', material = 'gas', density = 1.0, pressure = 1.0, velocity = 4, 0, 0 /
+&solid name = 'block', density = 10, youngs_modulus = 1000, poisson_ratio = 0.3, strength = 'bilinear', yield_stress = 100,
+  tangent_modulus = 10 /
+&particles shape = 'box', lo = 1.8, 0.0, 0.0, hi = 1.9, 2.4, 0.4, solid = 'block', per_cell = 3,
+           stress = -1, -1, -1, 0, 0, 0, velocity = 4, 0, 0 /
+&boundary xlo = 'inflow', xlo_velocity = 4, 0, 0, inflow_material(1) = 'gas', inflow_density(1) = 1.0,
+  inflow_pressure(1) = 1.0, xhi = 'outflow' /
+&rezone mode = 'global', interval_steps = 40, side_ratio = 0, cos_angle = 0 /
+&output dir = 'out/leaving', frame_dt = 1 /
+DECK
+  OMP_NUM_THREADS=1 "$exe" leaving.nml > leaving_r1.log
+  OMP_NUM_THREADS=1 "$(command -v mpirun)" $([ "$(id -u)" -eq 0 ] && echo --allow-run-as-root) --oversubscribe -np 2 \
+    "$exe" leaving.nml > leaving_r2.log
+  for f in leaving_r1 leaving_r2; do
+    echo "$f: Euler phase $(grep '^timers' $f.log | grep -o 'euler *[0-9.]*' | awk '{print $2}') s" \
+         "$(grep -o '^euler particles: *[0-9.]* s' $f.log || true) |" \
+         "$(grep -m1 -o 'particles: [0-9]* left the grid' $f.log) | on the whole grid: $(grep -c 'on the whole grid' $f.log || true)"
+  done
+  echo
 }
 # Paper Sect. 7.4 (Table 2): the Euler phase of LSSM against global
 # smoothing for the rotating projectile, same sitting, 1 thread.
@@ -733,6 +766,7 @@ if [[ "${BENCH_ONLY:-}" == particles ]]; then
   echo
   gimp_bench
   echo
+  particles_leaving_bench
   projectile_bench
   echo "bench wall time: ${SECONDS} s"
   exit 0
@@ -887,6 +921,8 @@ echo
 gimp_bench
 echo
 particles_euler_bench
+echo
+particles_leaving_bench
 echo
 projectile_bench
 echo
