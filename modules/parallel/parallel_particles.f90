@@ -496,8 +496,7 @@ contains
       if (n(1) == 0) exit
       if (round == nr) then
         ! (the rounds ran out: no host)
-        add = act
-        add(1:5, :) = 0.0_wp
+        add = 0.0_wp*act
         add(1:2, :) = act(5:6, :)
         rep = reshape([rep, add], [rw, size(rep, 2) + size(add, 2)])
         exit
