@@ -31,6 +31,8 @@ module driver_euler
   use driver_state, only: state_t
   use particles_euler, only: particles_euler_t, particles_euler_save
   use driver_particles, only: particles_euler_preposition, particles_euler_fill, particles_euler_finish
+  use parallel_comm, only: comm_t
+  use parallel_rezone, only: rezone_balance_t, rezone_balanced
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
@@ -43,6 +45,9 @@ module driver_euler
     !> what the rezone keeps (`rezone_driver`; with the triggers' bounds and
     !> the next interval time, restart state)
     type(rezone_state_t) :: rez
+    !> a decomposed run's smoothing on blocks cut for its work
+    !> (`parallel_rezone`), kept from one Euler step to the next
+    type(rezone_balance_t) :: bal
     integer :: n = 0                         !< Euler steps so far (restart state)
     integer :: cells = 0, mof = 0, mof_carried = 0, mof_iterations = 0   !< this segment's totals
     !> this segment's totals by the remap's path (`euler_report`): the
@@ -416,8 +421,9 @@ contains
   !> its quality measures). occupied: g's cells that particles occupy in
   !> the standard grid. xnew: the rezoned grid; done false (the step
   !> skipped, its interval used up, its timer stopped) if no cell needs it,
-  !> or on an error.
-  subroutine euler_rezone(rz, g, bc, share, halo, step, t, es, log, e0, xnew, done, err, occupied, standard)
+  !> or on an error. pc: a decomposed run's ranks, whose blocks' smoothing
+  !> runs on blocks cut for its work (`rezone_balanced`; collective).
+  subroutine euler_rezone(rz, g, bc, share, halo, step, t, es, log, e0, xnew, done, err, occupied, standard, pc)
     type(rezone_config_t), intent(in) :: rz
     type(grid_t), intent(in) :: g
     type(bc_t), intent(in) :: bc
@@ -434,12 +440,20 @@ contains
     logical, intent(in), optional :: occupied(:)
     !> a block's standard grid where faces move (`rezone_grid`)
     real(wp), intent(in), optional :: standard(:, :)
+    type(comm_t), intent(in), optional :: pc
     integer :: nmove
     type(lssm_report_t) :: rep
 
     e0%t_rezone = wall_seconds()
-    call rezone_grid(rz, g, bc, share, halo, step, es%rez, xnew, rep, nmove, done, err, occupied, standard)
+    if (present(pc)) then
+      call rezone_balanced(pc, rz, g, bc, halo, step, es%rez, es%bal, xnew, rep, nmove, done, err, occupied, standard)
+    else
+      call rezone_grid(rz, g, bc, share, halo, step, es%rez, xnew, rep, nmove, done, err, occupied, standard)
+    end if
     if (.not. allocated(err)) then
+      if (present(pc) .and. done) then
+        if (es%bal%taken) call log_line(log, 'lssm: smoothed on blocks cut for its work ('//cuts_text(pc, es%bal%cuts)//')')
+      end if
       if (trim(rz%mode) == 'lssm' .or. trim(rz%mode) == 'smooth') then
         call lssm_log(rz, rep, step, log)
       else if (nmove > 0) then
@@ -458,6 +472,27 @@ contains
     e0%t_rezone = wall_seconds() - e0%t_rezone
     es%t_rezone_total = es%t_rezone_total + e0%t_rezone
   end subroutine euler_rezone
+
+  !> The cuts (as comm_t%cuts) of the directions pc's layout cuts, for the
+  !> log: 'k planes 0 9 24' and the like.
+  function cuts_text(pc, cuts) result(text)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: cuts(:)
+    character(len=:), allocatable :: text
+    integer :: d, b, c0
+    text = ''
+    c0 = 0
+    do d = 1, 3
+      if (pc%dims(d) > 1) then
+        if (len(text) > 0) text = text//', '
+        text = text//'ijk'(d:d)//' planes'
+        do b = 0, pc%dims(d)
+          text = text//' '//itoa(cuts(c0 + 1 + b))
+        end do
+      end if
+      c0 = c0 + pc%dims(d) + 1
+    end do
+  end function cuts_text
 
   !> An Euler step's end, once the remapped state is in st (the whole grid,
   !> or a decomposed run's blocks) and rs says what the remap did (on a

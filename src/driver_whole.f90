@@ -355,7 +355,7 @@ contains
         call window_global_target(pc, st, es, log, e0, xs, err, report=.false.)
       if (.not. allocated(err)) &
         call euler_rezone(cfg%rezone, st%g, st%bc, halo=st%halo, step=st%step, t=st%t, es=es, log=log, e0=e0, &
-                          xnew=xb, done=done, err=err, occupied=occupied, standard=xs)
+                          xnew=xb, done=done, err=err, occupied=occupied, standard=xs, pc=pc)
       if (done .and. whole_x) call gather_nodes(pc, st%g%grid_index_t, xb, xnew, all=.true.)
     end if
     call agree_error(pc, err)

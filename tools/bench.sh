@@ -22,7 +22,8 @@
 # 80^3 on 1 process and 2 ranks; peak memory per rank on 4 ranks against one
 # process for Sedov 64^3 LSSM, the TNT octant at 64^3 Eulerian and the Gurson
 # ring at 192 x 192 x 4, and the Euler phase's messages per rank at a fixed
-# block on 1 to 27 ranks with a weak-scaling estimate (issue 35)
+# block on 1 to 27 ranks with a weak-scaling estimate (issue 35); the
+# Comp B cylinder at 40 x 40 x 48 (LSSM near a corner charge) the same way
 # (BENCH_ONLY=mpi runs only that); memory
 # per cell (issue 40): the marginal peak resident bytes per cell between
 # Sedov 40^3 and 60^3 Lagrangian, beside those runs' throughput
@@ -246,6 +247,14 @@ mpi_bench() {
   grep -q "out/c4mpi" c4mpi.nml
   echo "## MPI: c4mpi.nml (input/c4_plate.nml: a C4 charge against an aluminium plate of particles, LSSM, open faces, Release)"
   mpi_runs c4mpi
+  # a corner charge's LSSM Euler phase: input/compb_cylinder.nml at 40 x 40
+  # x 48 to t = 15 us (the smoothing on blocks cut for its work from its
+  # larger Euler steps on, parallel_rezone)
+  sed -e 's/ni = 20, nj = 20, nk = 24/ni = 40, nj = 40, nk = 48/' -e 's/t_end = 30.0/t_end = 15.0/' \
+      -e "s|^&output dir = 'out/compb_cylinder'|\&output dir = 'out/compb40'|" "$root/input/compb_cylinder.nml" > compb40.nml
+  grep -q "out/compb40" compb40.nml
+  echo "## MPI: compb40.nml (input/compb_cylinder.nml at 40 x 40 x 48 to 15 us, LSSM, Release)"
+  mpi_runs compb40
   mpi_dump_bench
   ranks_memory_bench
   messages_bench
@@ -346,6 +355,8 @@ mpi_runs() {
     echo "$c: $(grep '^throughput:' ${name}_$c.log) | $(grep '^timers' ${name}_$c.log)"
     grep '^halo' ${name}_$c.log || true
     grep '^memory:' ${name}_$c.log || true
+    grep '^euler steps:' ${name}_$c.log | sed 's/.*; rezone/  of the Euler phase, rezone/' || true
+    grep -c '^lssm: smoothed on blocks cut for its work' ${name}_$c.log | sed 's/^/  Euler steps smoothed on blocks cut for the work: /' || true
   done
   # (the Euler phase's wall time, where there is one: issue 35's bar is 2
   # ranks x 1 thread no slower than 1 rank x 2 threads, Sedov 40^3 LSSM)

@@ -18,6 +18,12 @@ module mesh_halo
     !> wall seconds, messages sent and bytes sent by this block
     real(wp) :: seconds = 0.0_wp
     integer(i8) :: messages = 0_i8, bytes = 0_i8
+    !> while limited, node refreshes (`nodes`) take only the ghost nodes in
+    !> the box node_box(:, 1)..node_box(:, 2) of whole-grid node indices
+    !> (the same box on every block): a smoothing whose writes all lie in it
+    !> (`smooth_combined`)
+    logical :: limited = .false.
+    integer :: node_box(3, 2) = 0
   contains
     procedure :: nodes => halo_nodes
     procedure :: cells => halo_cells

@@ -11,7 +11,7 @@ module parallel_comm
   use mesh_grid, only: grid_index_t, grid_index_block
   implicit none
   private
-  public :: parallel_cuts, comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
+  public :: parallel_cuts, parallel_block, comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
             parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, parallel_sum, parallel_max, &
             parallel_min, parallel_send, parallel_recv
 
@@ -192,7 +192,7 @@ contains
     type(grid_index_t), intent(out) :: ix
     type(error_t), allocatable, intent(inout) :: err
     real(wp), intent(in), optional :: weights(:)
-    integer :: d, n(3), off(3), glo(3), ghi(3), base, extra, w0, b
+    integer :: d, base, extra, w0, b
     logical, parameter :: periodic(3) = .false.
 
     pc%dims = parallel_dims(pc%nranks, gn, dims_deck, max(ng, 1))
@@ -225,15 +225,29 @@ contains
         extra = mod(gn(d), pc%dims(d))
         pc%cuts = [pc%cuts, [(b*base + min(b, extra), b = 0, pc%dims(d))]]
       end if
-      ! (this direction's cuts c(0:dims) from pc%cuts(w0 + 1))
-      w0 = size(pc%cuts) - pc%dims(d) - 1
-      off(d) = pc%cuts(w0 + 1 + pc%coords(d))
-      n(d) = pc%cuts(w0 + 2 + pc%coords(d)) - off(d)
+    end do
+    ix = parallel_block(pc, gn, ng, pc%cuts)
+  end subroutine parallel_decompose
+
+  !> This rank's block with ng ghost layers towards each neighbouring block
+  !> for the cuts (as pc%cuts: direction by direction, dims(d) + 1 cell-plane
+  !> indices 0 .. gn(d) each) on pc's layout of the ranks.
+  function parallel_block(pc, gn, ng, cuts) result(ix)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: gn(3), ng, cuts(:)
+    type(grid_index_t) :: ix
+    integer :: d, w0, n(3), off(3), glo(3), ghi(3)
+    w0 = 0
+    do d = 1, 3
+      ! (this direction's cuts c(0:dims) from cuts(w0 + 1))
+      off(d) = cuts(w0 + 1 + pc%coords(d))
+      n(d) = cuts(w0 + 2 + pc%coords(d)) - off(d)
       glo(d) = merge(ng, 0, pc%coords(d) > 0)
       ghi(d) = merge(ng, 0, pc%coords(d) < pc%dims(d) - 1)
+      w0 = w0 + pc%dims(d) + 1
     end do
     ix = grid_index_block(n, glo, ghi, off, gn)
-  end subroutine parallel_decompose
+  end function parallel_block
 
   !> The cuts c(0:p) (c(0) = 0, c(p) = n) of n planes of work w(n) into p
   !> blocks c(b) + 1 .. c(b + 1) of nearly equal work: each cut at the plane

@@ -93,10 +93,18 @@ contains
     logical, intent(in) :: nodes
     integer, intent(in) :: send_lo(2), recv_lo(2), send_hi(2), recv_hi(2)
     real(wp), allocatable :: sbuf(:), rbuf(:)
-    integer :: lo(3), hi(3), stat
-    ! the stored range of the other directions
+    integer :: lo(3), hi(3), stat, e
+    ! the stored range of the other directions (within the box, limited: the
+    ! neighbours across d store the same range of them)
     lo = this%ix%slo - merge(1, 0, nodes)
     hi = this%ix%shi
+    if (nodes .and. this%limited) then
+      do e = 1, 3
+        if (e == d) cycle
+        lo(e) = max(lo(e), this%node_box(e, 1) - this%ix%off(e))
+        hi(e) = min(hi(e), this%node_box(e, 2) - this%ix%off(e))
+      end do
+    end if
     ! down: my lowest owned layers to the block below, its into my upper ghosts
     call pack(send_lo, sbuf)
     call count_send(this%nbr(2*d - 1))
@@ -127,7 +135,7 @@ contains
       integer :: e
       plane = 1
       do e = 1, 3
-        if (e /= dd) plane = plane*(hi(e) - lo(e) + 1)
+        if (e /= dd) plane = plane*max(hi(e) - lo(e) + 1, 0)
       end do
     end function plane
 

@@ -23,6 +23,7 @@ module rezone_driver
   implicit none
   private
   public :: rezone_state_t, rezone_state_init, rezone_standard_ratios, rezone_axis, rezone_shape, rezone_grid, &
+            rezone_shape_known, &
             rezone_due, rezone_interval_due, rezone_rearm, rezone_worst_cells
 
   !> What the rezone keeps (allocated only with &rezone mode other than 'none').
@@ -299,14 +300,14 @@ contains
   end subroutine rezone_shape
 
   !> Whether rs%shape_fail holds the shape tests of grid g at step.
-  logical function shape_known(g, step, rs)
+  logical function rezone_shape_known(g, step, rs)
     type(grid_t), intent(in) :: g
     integer, intent(in) :: step
     type(rezone_state_t), intent(in) :: rs
-    shape_known = rs%shape_step == step .and. all(rs%shape_box(:, 1) == g%off + g%slo) .and. &
+    rezone_shape_known = rs%shape_step == step .and. all(rs%shape_box(:, 1) == g%off + g%slo) .and. &
                   all(rs%shape_box(:, 2) == g%off + g%shi)
-    if (shape_known) shape_known = size(rs%shape_fail) == g%ncell
-  end function shape_known
+    if (rezone_shape_known) rezone_shape_known = size(rs%shape_fail) == g%ncell
+  end function rezone_shape_known
 
   !> The rezone of an Euler step at step: the new node positions xnew of
   !> the grid g (one process's, a block with its halo (the smoothing only:
@@ -394,7 +395,7 @@ contains
     !> `lssm_rezone` of xnew, its snaps towards standard (else x0).
     subroutine smooth_from(standard)
       real(wp), intent(in), optional :: standard(:, :)
-      if (shape_known(g, step, rs)) then
+      if (rezone_shape_known(g, step, rs)) then
         call lssm_rezone(rz, g, bc, share, halo, rs%x0, rs%quality, rs%fail, xnew, rep, err, occupied, rs%shape_fail, &
                          rs%mob, standard)
         ! (once: the grid moves on)

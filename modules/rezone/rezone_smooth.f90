@@ -131,6 +131,9 @@ module rezone_smooth
     !> block, so the smoothing refreshes ghosts (`smooth_combined`)
     integer :: ghost_width = 0
     logical :: shares = .false., exchange = .false.
+    !> the box of the active cells' nodes, whole-grid node indices (lo > hi:
+    !> none): every node a pass writes, or marks, lies in it
+    integer :: node_lo(3) = 0, node_hi(3) = -1
     !> (nmove) whether the node counts in the counts of a decomposed grid
     !> (each node on one block: `smooth_region_init`'s counts)
     logical, allocatable :: own(:)
@@ -452,6 +455,15 @@ contains
     end do
     if (present(ghost_width)) reg%ghost_width = ghost_width
     reg%shares = region_shares_ghosts(reg, ix)
+    if (reg%ncell > 0) then
+      reg%node_lo = huge(1)
+      reg%node_hi = -huge(1)
+      do s = 1, reg%ncell
+        call ix%node_ijk(reg%node0(s), i, j, k)
+        reg%node_lo = min(reg%node_lo, [i, j, k] + reg%origin)
+        reg%node_hi = max(reg%node_hi, [i, j, k] + 1 + reg%origin)
+      end do
+    end if
 
   contains
 
@@ -975,6 +987,9 @@ contains
         reg%exchange = flag > 0
       end if
     end if
+    ! (the refreshes then only of the ghosts in the box of every block's
+    ! active cells' nodes: no other node changes)
+    if (reg%exchange) call limit_refreshes()
     reg%node_slot = 0
     do m = 1, reg%nmove
       reg%node_slot(reg%node(m)) = m
@@ -1003,12 +1018,40 @@ contains
       q_min = global_q_min()
     end do
     if (present(halo)) then
+      halo%limited = .false.
       guarded = reg%n_guarded
       call halo%sum_ints(guarded)
       reg%n_guarded = guarded(1)
     end if
 
   contains
+
+    subroutine limit_refreshes()
+      real(wp), allocatable :: boxes(:)
+      integer :: b
+      call halo%concat(real([reg%node_lo, reg%node_hi], wp), boxes)
+      halo%node_box(:, 1) = huge(1)
+      halo%node_box(:, 2) = -huge(1)
+      do b = 0, size(boxes)/6 - 1
+        if (any(boxes(6*b + 1:6*b + 3) > boxes(6*b + 4:6*b + 6))) cycle
+        halo%node_box(:, 1) = min(halo%node_box(:, 1), nint(boxes(6*b + 1:6*b + 3)))
+        halo%node_box(:, 2) = max(halo%node_box(:, 2), nint(boxes(6*b + 4:6*b + 6)))
+      end do
+      halo%limited = .true.
+      ! (and the guard's look at the ghosts a refresh changed, to those in
+      ! the box: a round costs what the tangled cells do, not the block's
+      ! faces)
+      reg%ghost = pack(reg%ghost, [(in_box(reg%ghost(b)), b = 1, size(reg%ghost))])
+    end subroutine limit_refreshes
+
+    !> Whether the block's node n lies in halo%node_box.
+    logical function in_box(n)
+      integer, intent(in) :: n
+      integer :: p(3), sx
+      sx = reg%ni + 1
+      p = [mod(n - 1, sx), mod((n - 1)/sx, reg%nj + 1), (n - 1)/(sx*(reg%nj + 1))] + reg%origin
+      in_box = all(p >= halo%node_box(:, 1) .and. p <= halo%node_box(:, 2))
+    end function in_box
 
     real(wp) function global_q_min()
       real(wp) :: none(0)
