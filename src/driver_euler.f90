@@ -32,12 +32,12 @@ module driver_euler
   use particles_euler, only: particles_euler_t, particles_euler_save
   use driver_particles, only: particles_euler_preposition, particles_euler_fill, particles_euler_finish
   use parallel_comm, only: comm_t
-  use parallel_rezone, only: rezone_balance_t, rezone_balanced
+  use parallel_euler, only: rezone_balance_t, rezone_balanced
   implicit none
   private
   public :: euler_state_t, euler_start_t, euler_init, euler_standard_ratios, euler_register_restart, euler_due, &
             euler_due_where, euler_step, euler_begin, euler_rezone, euler_finish, euler_report, remap_params, &
-            euler_preposition, euler_start_totals
+            euler_preposition, euler_start_totals, cuts_text
 
   !> The Euler phase's own state (only with &rezone mode other than 'none').
   type :: euler_state_t
@@ -46,7 +46,7 @@ module driver_euler
     !> the next interval time, restart state)
     type(rezone_state_t) :: rez
     !> a decomposed run's smoothing on blocks cut for its work
-    !> (`parallel_rezone`), kept from one Euler step to the next
+    !> (`parallel_euler`), kept from one Euler step to the next
     type(rezone_balance_t) :: bal
     integer :: n = 0                         !< Euler steps so far (restart state)
     integer :: cells = 0, mof = 0, mof_carried = 0, mof_iterations = 0   !< this segment's totals

@@ -8,7 +8,7 @@ module driver_state
   use base_xsum, only: xsum_t, xsum_add, xsum_value
   use base_random, only: rng_t
   use base_registry, only: registry_t, LOWER_NONNEGATIVE, LOC_CELL
-  use mesh_grid, only: grid_t, grid_register_restart
+  use mesh_grid, only: grid_t, grid_index_t, grid_register_restart
   use mesh_boundary, only: bc_t
   use material_table, only: material_t
   use material_mixed, only: mixed_t, mixed_register_restart
@@ -64,6 +64,11 @@ module driver_state
     type(grid_t), allocatable :: gw
     type(state_t), allocatable :: win
     integer :: win_reach = 0              !< how far from a new cell the window's remap looks
+    !> the block the window is built around: this rank's (g's index), or
+    !> one of blocks cut for the remap's work (their cuts win_cuts, as
+    !> comm_t%cuts: `window_balance`)
+    type(grid_index_t) :: win_block
+    integer, allocatable :: win_cuts(:)
     !> the ranks that share the work of an Euler step on st (allocated on
     !> st%whole of a decomposed run, and on the blocks for the global rezone
     !> of the whole grid's node positions: `base_share`; else absent)

@@ -73,7 +73,8 @@ module driver_whole
                               particles_euler_blocks, particles_preposition_blocks, particles_euler_preposition
   use particles_lagrange, only: strength_slot_t
   use particles_euler, only: particles_euler_t, particles_euler_save
-  use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv
+  use parallel_comm, only: comm_t, parallel_sum, parallel_max, parallel_min, parallel_nomem, parallel_send, parallel_recv, &
+                           parallel_balance, parallel_block
   use parallel_share, only: mpi_share_t, mpi_share_init
   use parallel_gather, only: gather_nodes, gather_box, gather_box_fields, gather_field_t, gather_concat, exchange_lists, cell_prefix
   use mesh_grid, only: grid_t, grid_index_t, grid_index, grid_index_block, grid_rows, grid_copy_rows_real, &
@@ -95,8 +96,9 @@ module driver_whole
   use driver_state, only: state_t, state_register_restart, state_after_read, state_totals
   use driver_scene, only: build_scene
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_step, euler_begin, &
-                          euler_rezone, euler_finish, remap_params, euler_preposition
+                          euler_rezone, euler_finish, remap_params, euler_preposition, cuts_text
   use remap_way, only: parts_state_t
+  use parallel_euler, only: remap_work
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use io_restart, only: restart_part_t
@@ -182,6 +184,8 @@ contains
       call error_set(err, 'window_build', 'out of memory for the Euler phase''s window')
       return
     end if
+    st%win_block = st%g%grid_index_t
+    st%win_cuts = pc%cuts
     call window_resize(cfg, st, window_reach_first, err)
     call agree_error(pc, err)
     if (allocated(err)) return
@@ -192,8 +196,9 @@ contains
   end subroutine window_build
 
   !> st%win, this rank's window for a search within `reach` index steps:
-  !> its block widened by window_margin(ng, reach) cells (within the grid),
-  !> built from the deck as a single block at its place in the whole grid.
+  !> its block (st%win_block) widened by window_margin(ng, reach) cells
+  !> (within the grid), built from the deck as a single block at its place
+  !> in the whole grid.
   subroutine window_resize(cfg, st, reach, err)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout), target :: st
@@ -202,8 +207,10 @@ contains
     type(log_t) :: silent
     type(grid_index_t) :: ix
     integer :: stat, lo(3), hi(3)
-    lo = max(1, st%g%clo + st%g%off - window_margin(st%g%ng, reach))
-    hi = min(st%g%gn, st%g%chi + st%g%off + window_margin(st%g%ng, reach))
+    associate (b => st%win_block)
+      lo = max(1, b%clo + b%off - window_margin(b%ng, reach))
+      hi = min(b%gn, b%chi + b%off + window_margin(b%ng, reach))
+    end associate
     ix = grid_index_block(hi - lo + 1, [0, 0, 0], [0, 0, 0], lo - 1, st%g%gn)
     if (allocated(st%win)) deallocate(st%win)
     allocate(st%win, stat=stat)
@@ -360,6 +367,10 @@ contains
     end if
     call agree_error(pc, err)
     if (allocated(err) .or. .not. done) return
+    ! (without particles, a smoothing rezone's remap on windows around
+    ! blocks cut for its work)
+    if (.not. (parts .or. global)) call window_balance(cfg, pc, st, xb, log, err)
+    if (allocated(err)) return
     if (parts .and. cfg%rezone%virtual_layers > 0 .and. allocated(st%pt%mvf)) then
       ! the fluid under the solid as the fluid around it, on the blocks; the
       ! remap's check from the state so changed
@@ -418,6 +429,56 @@ contains
     ! (the next steps' search as far as this one's went)
     if (.not. allocated(err) .and. wider) call window_wider(cfg, pc, st, log, '', err)
   end subroutine window_euler
+
+  !> The windows of an Euler step whose rezone moved the blocks' nodes to xb
+  !> (collective), built around blocks cut for the remap's work where it
+  !> concentrates: near a corner charge most of the cells a smoothing moves
+  !> lie in one block, and the other ranks would wait for its remap. Once
+  !> a rezone moved the nodes of at least balance_planes cut planes' worth
+  !> of cells, the windows are built around the blocks of the ranks' layout
+  !> whose cuts balance the work of each plane of cells normal to a cut
+  !> direction (one per cell, the window's copies, and remap_weight more
+  !> per cell with a moved node) and kept while within tolerance of the
+  !> best (`parallel_balance`). The remap's answer depends on no window
+  !> (each computes its block's cells as one process does), so the cuts
+  !> change the time, not the numbers.
+  subroutine window_balance(cfg, pc, st, xb, log, err)
+    !> measured on one process (the Comp B cylinder at 40 x 40 x 48, 90
+    !> Euler steps): about 19 us per remapped cell in the remap and its MoF
+    !> fits, about 1 us per window cell in the windows' copies
+    real(wp), parameter :: remap_weight = 20.0_wp, balance_planes = 4.0_wp, tolerance = 0.2_wp
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    real(wp), intent(in) :: xb(:, :)
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: w(:)
+    integer, allocatable :: cuts(:)
+    real(wp) :: plane
+    integer :: d, moved
+
+    call remap_work(pc, st%g, xb, remap_weight, w, moved)
+    associate (g => st%g)
+      plane = 0.0_wp
+      do d = 1, 3
+        if (pc%dims(d) > 1) plane = max(plane, product(real(g%gn, wp))/real(g%gn(d), wp))
+      end do
+      if (real(moved, wp) < balance_planes*plane .and. window_own_block(pc, st)) return
+      cuts = parallel_balance(pc, g%gn, max(g%ng, 1), w, st%win_cuts, tolerance)
+      if (all(cuts == st%win_cuts)) return
+      st%win_cuts = cuts
+      st%win_block = parallel_block(pc, g%gn, g%ng, cuts)
+    end associate
+    call window_resize(cfg, st, st%win_reach, err)
+    call agree_error(pc, err)
+    if (allocated(err)) return
+    if (window_own_block(pc, st)) then
+      call log_line(log, 'euler windows built around the ranks'' own blocks again')
+    else
+      call log_line(log, 'euler windows built around blocks cut for the remap''s work ('//cuts_text(pc, cuts)//')')
+    end if
+  end subroutine window_balance
 
   !> The windows widened: their search twice as far (`window_resize`),
   !> logged with note.
@@ -645,7 +706,7 @@ contains
     type(remap_stats_t) :: rs, rk
     type(remap_params_t) :: par
     real(wp), allocatable :: xw(:, :), xk(:, :), xfinal(:, :), xpart(:, :), xh(:, :)
-    logical, allocatable :: owned(:)
+    logical, allocatable :: owned(:), fit(:)
     character(len=:), allocatable :: why
     integer, allocatable :: moved(:), blockers(:), cells(:), wrote(:), broke(:)
     integer :: n(4), k, nblock, nparts, stage, taken, dphase
@@ -656,7 +717,7 @@ contains
     retry = 0
     call copy_gather(pc, st, .true., err, cs)
     associate (w => st%win, wg => st%win%g)
-      if (.not. allocated(err)) call window_zone(st%g, wg, st%win_reach, zone, err)
+      if (.not. allocated(err)) call window_zone(st%win_block, wg%grid_index_t, st%win_reach, zone, err)
       if (allocated(xnew)) then
         ! (the window's nodes of the whole grid's)
         if (.not. allocated(err)) call block_nodes(wg, st%gw, xnew, xw, err)
@@ -746,7 +807,7 @@ contains
         ! the window computed its cells around the block as the blocks did, so
         ! only the others are gathered, unless the remap stopped short)
         if (kept) then
-          call copy_gather(pc, st, .true., err, cs, window_kept(st%g))
+          call copy_gather(pc, st, .true., err, cs, window_kept(st%win_block))
         else
           call copy_gather(pc, st, .true., err, cs)
         end if
@@ -871,12 +932,27 @@ contains
         ! the new mixed cells' planes (`euler_step`), those of the block's
         ! owned cells first: the log counts them
         owned = [(zone%own(w%mx%cell(k)), k = 1, w%mx%n)]
-        call remap_after_planes(wg, w%mats, w%h%mat, w%mx, cfg%rezone%mof_max_iter, memory, cs, err, owned, others)
+        ! (the others only where the blocks take them from this window: the
+        ! block's ghosts, for a window around the rank's own block; none
+        ! for one around a block cut for the work, whose owned cells alone
+        ! go back; the window's other cells are gathered again before they
+        ! are read)
+        fit = [(window_keeps(st%win_block, wg, w%mx%cell(k)), k = 1, w%mx%n)]
+        if (.not. window_own_block(pc, st)) fit = .false.
+        call remap_after_planes(wg, w%mats, w%h%mat, w%mx, cfg%rezone%mof_max_iter, memory, cs, err, owned, others, &
+                                kept=fit)
         ! (the other cells' states, and so pressures, are as the blocks hold
         ! them: `euler_step`)
         if (.not. allocated(err)) call remap_after_state(w%mats, w%h, w%mx, wrote, st%t)
       end associate
-      if (.not. allocated(err)) call block_from(st, .true., err)
+      ! (the blocks from the windows: each its own, or from those whose
+      ! blocks own its cells)
+      if (window_own_block(pc, st)) then
+        if (.not. allocated(err)) call block_from(st, .true., err)
+      else
+        call agree_error(pc, err)
+        if (.not. allocated(err)) call copy_gather(pc, st, .true., err, back=.true.)
+      end if
       call agree_error(pc, err)
       if (allocated(err)) then
         call es%timer%stop()
@@ -1225,17 +1301,48 @@ contains
   !> lo (:, 1) to hi (:, 2): after a remap its window holds there what the
   !> blocks hold (`block_from` took them from it).
   pure function window_kept(g) result(keep)
-    type(grid_t), intent(in) :: g
+    type(grid_index_t), intent(in) :: g
     integer :: keep(3, 2)
     keep(:, 1) = g%slo + g%off
     keep(:, 2) = g%shi + g%off
   end function window_kept
 
+  !> The cells and nodes of st%win (its layout) with those of the block it
+  !> is built around (st%win_block) as its own: the window's layout as a
+  !> block whose ghost layers are the rest of it.
+  function window_owned(st) result(ix)
+    type(state_t), intent(in) :: st
+    type(grid_index_t) :: ix
+    associate (b => st%win_block, w => st%win%g)
+      ix = grid_index_block([b%ni, b%nj, b%nk], b%off - w%off, &
+                            w%off + [w%ni, w%nj, w%nk] - b%off - [b%ni, b%nj, b%nk], b%off, b%gn)
+    end associate
+  end function window_owned
+
+  !> Whether cell c of window wg lies in the block b's stored cells.
+  pure logical function window_keeps(b, wg, c)
+    type(grid_index_t), intent(in) :: b
+    type(grid_t), intent(in) :: wg
+    integer, intent(in) :: c
+    integer :: ijk(3)
+    call wg%cell_ijk(c, ijk(1), ijk(2), ijk(3))
+    ijk = ijk + wg%off - b%off
+    window_keeps = all(ijk >= b%slo .and. ijk <= b%shi)
+  end function window_keeps
+
+  !> Whether every rank's window is built around the rank's own block (the
+  !> same answer on every rank).
+  logical function window_own_block(pc, st)
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(in) :: st
+    window_own_block = all(st%win_cuts == pc%cuts)
+  end function window_own_block
+
   !> The zone of this rank's window wg (`remap_zone_t`) around its block g:
   !> own its owned cells and the nodes it counts, compute those and
   !> window_compute layers around them.
   subroutine window_zone(g, wg, reach, zone, err)
-    type(grid_t), intent(in) :: g, wg
+    type(grid_index_t), intent(in) :: g, wg
     integer, intent(in) :: reach
     type(remap_zone_t), intent(out) :: zone
     type(error_t), allocatable, intent(inout) :: err
@@ -1313,7 +1420,7 @@ contains
     integer, allocatable :: mat(:), keep(:), cnt(:, :), before(:, :), at(:)
     integer :: k, c, s, tot(2), stat, st1, st2, np
 
-    call mixed_owned(st, own, err)
+    call mixed_owned(st%g%grid_index_t, st%mx, own, err)
     if (.not. allocated(err)) then
       call centroids_refresh(st%g, own, cs)
       allocate(cnt(2, st%g%ncell), at(own%nslot), stat=stat)
@@ -1413,8 +1520,11 @@ contains
   !> and cell quantities a restart holds, gathered from the blocks that own
   !> them (`gather_box`), the mixed cells in the box (`mixed_gather`, with
   !> `refreshed` their centroids refreshed first), the quantities of the
-  !> whole run copied, and what a restart read rebuilds.
-  subroutine copy_gather(pc, st, window, err, refreshed, keep)
+  !> whole run copied, and what a restart read rebuilds. back (window): the
+  !> other way, each block st (its owned and ghost cells and nodes) from the
+  !> windows whose blocks own them (st%win_block: a window built around a
+  !> block cut for the remap's work, `window_balance`).
+  subroutine copy_gather(pc, st, window, err, refreshed, keep, back)
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
     logical, intent(in) :: window
@@ -1424,11 +1534,13 @@ contains
     !> their nodes hold the blocks' values already: they are not gathered
     !> (the mixed cells are, all of them)
     integer, intent(in), optional :: keep(3, 2)
+    logical, intent(in), optional :: back
     !> (an integer quantity as reals, exact: material indices)
     type :: as_reals_t
       real(wp), allocatable :: a(:, :), w(:, :)
     end type as_reals_t
-    type(state_t), pointer :: d
+    type(state_t), pointer :: d, src
+    type(grid_index_t) :: six
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
     type(as_reals_t), allocatable, target :: ints(:)
@@ -1437,7 +1549,19 @@ contains
     integer :: e, m, n, nw, lo(3), hi(3), hole(3, 2), nf, ni, k, pass, stat
     logical :: nodes
 
-    if (window) then
+    ! (src: what is gathered from, six its cells and nodes and those of
+    ! them each rank owns; d: where to)
+    src => st
+    six = st%g%grid_index_t
+    if (present(back)) then
+      if (back) then
+        src => st%win
+        six = window_owned(st)
+      end if
+    end if
+    if (.not. associated(src, st)) then
+      d => st
+    else if (window) then
       d => st%win
     else
       d => st%whole
@@ -1445,12 +1569,12 @@ contains
     d%t = st%t
     d%dt = st%dt
     d%step = st%step
-    call mixed_gather(pc, st, d%g%off + d%g%slo, d%g%off + d%g%shi, mw, err, refreshed)
+    call mixed_gather(pc, src%g, six, src%mx, d%g%off + d%g%slo, d%g%off + d%g%shi, mw, err, refreshed)
     if (.not. allocated(err)) call mixed_of_block(d%g, mw, d%mx, err, pick)
     if (allocated(err)) return
-    lo = d%g%off + 1
-    hi = d%g%off + [d%g%ni, d%g%nj, d%g%nk]
-    call state_register_restart(st, rb)
+    lo = d%g%off + d%g%slo
+    hi = d%g%off + d%g%shi
+    call state_register_restart(src, rb)
     call state_register_restart(d, rw)
     map = entry_map(rb, rw)
     ! the node quantities, then the cell ones, each in one gather; an
@@ -1489,7 +1613,7 @@ contains
           end if
         end associate
       end do
-      call gather_box_fields(pc, st%g%grid_index_t, f(1:nf), lo, hi, nodes, hole(:, 1), hole(:, 2))
+      call gather_box_fields(pc, six, f(1:nf), lo, hi, nodes, hole(:, 1), hole(:, 2))
       do e = 1, rb%n
         if (map(e) == 0) cycle
         associate (b => rb%e(e), v => rw%e(map(e)))
@@ -1609,45 +1733,49 @@ contains
     end select
   end subroutine copy_global
 
-  !> own: the block's owned mixed cells (cells numbered in the block), in
-  !> cell order.
-  subroutine mixed_owned(st, own, err)
-    type(state_t), intent(in) :: st
+  !> own: the owned mixed cells of mx, the mixed cells of a block of index
+  !> ix (cells numbered in the block), in cell order.
+  subroutine mixed_owned(ix, mx, own, err)
+    type(grid_index_t), intent(in) :: ix
+    type(mixed_t), intent(in) :: mx
     type(mixed_t), intent(inout) :: own
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: pick(:), order(:)
     integer :: k, m, stat, ijk(3)
-    allocate(pick(st%mx%n), stat=stat)
+    allocate(pick(mx%n), stat=stat)
     if (stat /= 0) then
       call error_set(err, 'mixed_owned', error_no_memory('the owned mixed cells'))
       return
     end if
     m = 0
-    do k = 1, st%mx%n
-      call st%g%cell_ijk(st%mx%cell(k), ijk(1), ijk(2), ijk(3))
-      if (.not. st%g%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
+    do k = 1, mx%n
+      call ix%cell_ijk(mx%cell(k), ijk(1), ijk(2), ijk(3))
+      if (.not. ix%owns_cell(ijk(1), ijk(2), ijk(3))) cycle
       m = m + 1
       pick(m) = k
     end do
     allocate(order(m), stat=stat)
-    if (stat == 0) call sort_order(st%mx%cell(pick(:m)), order, stat)
+    if (stat == 0) call sort_order(mx%cell(pick(:m)), order, stat)
     if (stat /= 0) then
       call error_set(err, 'mixed_owned', error_no_memory('the owned mixed cells'))
       return
     end if
     pick(:m) = pick(order)
-    call mixed_subset(st%mx, pick(:m), st%mx%cell(pick(:m)), own, err)
+    call mixed_subset(mx, pick(:m), mx%cell(pick(:m)), own, err)
   end subroutine mixed_owned
 
   !> mw: the mixed cells of the whole grid in the box of cells lo..hi
-  !> (whole-grid indices; each rank its own), in
-  !> cell order, from the blocks that own them (each block's owned mixed
-  !> cells, refreshed first with `refreshed`): each block sends a rank only
+  !> (whole-grid indices; each rank its own), in cell order, from the
+  !> blocks that own them (each rank's mixed cells mx of its block of index
+  !> ix, the owned ones, their centroids refreshed first on the grid g with
+  !> `refreshed`): each block sends a rank only
   !> those in its box, a record of reals per cell (exact: its cell, its
   !> slots, each slot's material, fractions, states, centroid and plane).
-  subroutine mixed_gather(pc, st, lo, hi, mw, err, refreshed)
+  subroutine mixed_gather(pc, g, ix, mx, lo, hi, mw, err, refreshed)
     type(comm_t), intent(in) :: pc
-    type(state_t), intent(in) :: st
+    type(grid_t), intent(in) :: g
+    type(grid_index_t), intent(in) :: ix
+    type(mixed_t), intent(in) :: mx
     integer, intent(in) :: lo(3), hi(3)
     type(mixed_t), intent(inout) :: mw
     type(error_t), allocatable, intent(inout) :: err
@@ -1658,9 +1786,9 @@ contains
     real(wp), allocatable :: sbuf(:), rbuf(:)
     integer :: k, m, r, s, q, n, nslot, stat, ijk(3), box(6)
 
-    call mixed_owned(st, own, err)
+    call mixed_owned(ix, mx, own, err)
     if (allocated(err)) return
-    if (present(refreshed)) call centroids_refresh(st%g, own, refreshed)
+    if (present(refreshed)) call centroids_refresh(g, own, refreshed)
     ! (every rank's box; each own cell's whole-grid index)
     box = [lo, hi]
     call gather_concat(pc, box, boxes)
@@ -1670,8 +1798,8 @@ contains
       return
     end if
     do k = 1, own%n
-      call st%g%cell_ijk(own%cell(k), ijk(1), ijk(2), ijk(3))
-      gijk(:, k) = ijk + st%g%off
+      call ix%cell_ijk(own%cell(k), ijk(1), ijk(2), ijk(3))
+      gijk(:, k) = ijk + ix%off
     end do
     ! the records for rank 0, 1, ... in turn
     do q = 1, 2
@@ -1682,7 +1810,7 @@ contains
           if (any(gijk(:, k) < boxes(6*r + 1:6*r + 3) .or. gijk(:, k) > boxes(6*r + 4:6*r + 6))) cycle
           nslot = own%start(k + 1) - own%start(k)
           if (q == 2) then
-            sbuf(n + 1) = real(st%g%global_cell(own%cell(k)), wp)
+            sbuf(n + 1) = real(ix%global_cell(own%cell(k)), wp)
             sbuf(n + 2) = real(nslot, wp)
             do s = own%start(k), own%start(k + 1) - 1
               sbuf(n + 3 + per_slot*(s - own%start(k)):n + 2 + per_slot*(s - own%start(k) + 1)) = &

@@ -249,7 +249,7 @@ mpi_bench() {
   mpi_runs c4mpi
   # a corner charge's LSSM Euler phase: input/compb_cylinder.nml at 40 x 40
   # x 48 to t = 15 us (the smoothing on blocks cut for its work from its
-  # larger Euler steps on, parallel_rezone)
+  # larger Euler steps on, parallel_euler)
   sed -e 's/ni = 20, nj = 20, nk = 24/ni = 40, nj = 40, nk = 48/' -e 's/t_end = 30.0/t_end = 15.0/' \
       -e "s|^&output dir = 'out/compb_cylinder'|\&output dir = 'out/compb40'|" "$root/input/compb_cylinder.nml" > compb40.nml
   grep -q "out/compb40" compb40.nml

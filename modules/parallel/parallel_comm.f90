@@ -11,9 +11,9 @@ module parallel_comm
   use mesh_grid, only: grid_index_t, grid_index_block
   implicit none
   private
-  public :: parallel_cuts, parallel_block, comm_t, parallel_start, parallel_stop, parallel_abort, parallel_rank, parallel_dims, &
-            parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, parallel_sum, parallel_max, &
-            parallel_min, parallel_send, parallel_recv
+  public :: parallel_cuts, parallel_block, parallel_balance, comm_t, parallel_start, parallel_stop, parallel_abort, &
+            parallel_rank, parallel_dims, parallel_decompose, parallel_barrier, parallel_bcast_text, parallel_nomem, &
+            parallel_sum, parallel_max, parallel_min, parallel_send, parallel_recv
 
   !> Every rank's values combined in place, element by element (the
   !> driver's reductions of counts and totals; a no-op on one rank).
@@ -248,6 +248,42 @@ contains
     end do
     ix = grid_index_block(n, glo, ghi, off, gn)
   end function parallel_block
+
+  !> The cuts (as pc%cuts) of pc's layout that balance the work w of the
+  !> planes of cells normal to i, then j, then k (gn(1) + gn(2) + gn(3),
+  !> the same on every rank; blocks at least m planes thick), or held (the
+  !> cuts in use, if allocated) while in each direction their most loaded
+  !> slab has at most 1 + tolerance times the work of the new cuts'.
+  function parallel_balance(pc, gn, m, w, held, tolerance) result(cuts)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: gn(3), m
+    real(wp), intent(in) :: w(:), tolerance
+    integer, allocatable, intent(in) :: held(:)
+    integer :: cuts(size(pc%cuts))
+    integer :: d, w0, c0
+    logical :: keep
+    keep = allocated(held)
+    w0 = 0
+    c0 = 0
+    do d = 1, 3
+      cuts(c0 + 1:c0 + pc%dims(d) + 1) = parallel_cuts(w(w0 + 1:w0 + gn(d)), pc%dims(d), m)
+      if (keep) keep = slab_max(held(c0 + 1:c0 + pc%dims(d) + 1)) <= &
+                       (1.0_wp + tolerance)*slab_max(cuts(c0 + 1:c0 + pc%dims(d) + 1))
+      w0 = w0 + gn(d)
+      c0 = c0 + pc%dims(d) + 1
+    end do
+    if (keep) cuts = held
+  contains
+    !> The largest work of the slabs between the cuts c(0:) of direction d.
+    real(wp) function slab_max(c)
+      integer, intent(in) :: c(0:)
+      integer :: b
+      slab_max = 0.0_wp
+      do b = 1, ubound(c, 1)
+        slab_max = max(slab_max, sum(w(w0 + c(b - 1) + 1:w0 + c(b))))
+      end do
+    end function slab_max
+  end function parallel_balance
 
   !> The cuts c(0:p) (c(0) = 0, c(p) = n) of n planes of work w(n) into p
   !> blocks c(b) + 1 .. c(b + 1) of nearly equal work: each cut at the plane

@@ -29,10 +29,11 @@ contains
   !> planes`, at most max_iter iterations, each search started from the
   !> plane the cell's material had before the remap, memory). The fits are
   !> counted in stats; with only (mx%n), those of the cells it marks are
-  !> fitted first and counted in stats, the others' in others. written
-  !> (optional): the cells the remap wrote, the only ones whose material
-  !> may have changed (`material_index_cells`).
-  subroutine remap_after_planes(g, mats, mat, mx, max_iter, memory, stats, err, only, others, written)
+  !> fitted first and counted in stats, the others' in others (with kept
+  !> (mx%n), only those it marks: the other cells' planes are left
+  !> forgotten). written (optional): the cells the remap wrote, the only
+  !> ones whose material may have changed (`material_index_cells`).
+  subroutine remap_after_planes(g, mats, mat, mx, max_iter, memory, stats, err, only, others, written, kept)
     type(grid_t), intent(in) :: g
     type(material_t), intent(inout) :: mats(:)
     integer, intent(in) :: mat(:)
@@ -44,12 +45,13 @@ contains
     logical, intent(in), optional :: only(:)
     type(centroid_stats_t), intent(inout), optional :: others
     integer, intent(in), optional :: written(:)
+    logical, intent(in), optional :: kept(:)
     call material_index_cells(mats, mat, mx, err, written)
     if (.not. allocated(err)) call mixed_forget_planes(mx, err)
     if (allocated(err)) return
     if (present(only) .and. present(others)) then
       call centroids_fit_planes(g, mx, stats, max_iter, only=only, memory=memory)
-      call centroids_fit_planes(g, mx, others, max_iter, memory=memory)
+      call centroids_fit_planes(g, mx, others, max_iter, only=kept, memory=memory)
     else
       call centroids_fit_planes(g, mx, stats, max_iter, memory=memory)
     end if

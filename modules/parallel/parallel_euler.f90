@@ -1,17 +1,23 @@
-!> The smoothing rezone of a decomposed run (&rezone mode 'lssm', the box
-!> reading) on blocks cut for its work. LSSM smooths only the distorted
-!> subdomains (Sect. 5.2), and a blast's are where its shock is: near a
-!> corner charge most of them lie in one rank's block while the others wait
-!> at each pass's reductions. When the last Euler step smoothed many cells
-!> (at least balance_planes times a cut plane's cells: a thinner region
-!> split by a cut costs its ghost layers twice, and the gather more than
-!> the split saves), the block's node positions are gathered onto blocks
-!> of the same layout of the ranks whose cuts balance an estimate of the
-!> rezone's work, `rezone_grid` runs there, and each block takes its
-!> rezoned nodes back. The smoothing's answer depends on no decomposition
-!> (`lssm_rezone`: the subdomains are the whole grid's, the ghosts
-!> refreshed after every pass), so the cuts change the time, not the
-!> numbers.
+!> The Euler phase of a decomposed run balanced over the ranks where its
+!> work concentrates: near a corner charge most of the cells a smoothing
+!> rezone moves, and so most of the remap, lie in one rank's block while
+!> the others wait. Two parts: LSSM's smoothing on blocks cut for its work
+!> (`rezone_balanced`), and the remap's work per plane of cells
+!> (`remap_work`), from which the driver builds the windows around blocks
+!> cut for it (`window_balance` in `driver_whole`). Neither changes an
+!> answer: the smoothing and the remap compute each cell as one process
+!> does, whatever the blocks.
+!>
+!> LSSM (&rezone mode 'lssm', the box reading) smooths only the distorted
+!> subdomains (Sect. 5.2). When the last Euler step smoothed many cells (at
+!> least balance_planes times a cut plane's cells: a thinner region split
+!> by a cut costs its ghost layers twice, and the gather more than the
+!> split saves), the block's node positions are gathered onto blocks of the
+!> same layout of the ranks whose cuts balance an estimate of the rezone's
+!> work, `rezone_grid` runs there, and each block takes its rezoned nodes
+!> back. The smoothing's answer depends on no decomposition (`lssm_rezone`:
+!> the subdomains are the whole grid's, the ghosts refreshed after every
+!> pass).
 !>
 !> The estimate, per plane of cells normal to each direction the layout
 !> cuts: one per cell (the rezone's sweeps of the block: snaps, trigger
@@ -21,7 +27,7 @@
 !> `rezone_subdomains`; overlapping boxes counted each) in each plane the
 !> box reaches. Without that look (an Euler step an interval made due, the
 !> cube reading) there is no estimate, and the rezone runs on the blocks.
-module parallel_rezone
+module parallel_euler
   use base_kinds, only: wp
   use base_errors, only: error_t, error_set, error_no_memory
   use mesh_grid, only: grid_t, grid_index_t
@@ -31,12 +37,12 @@ module parallel_rezone
   use rezone_driver, only: rezone_state_t, rezone_grid, rezone_shape_known
   use rezone_lssm, only: lssm_report_t
   use rezone_subdomains, only: rezone_subdomains_default_dmax
-  use parallel_comm, only: comm_t, parallel_cuts, parallel_block, parallel_sum, parallel_max, parallel_nomem
+  use parallel_comm, only: comm_t, parallel_balance, parallel_block, parallel_sum, parallel_max, parallel_nomem
   use parallel_gather, only: gather_box
   use parallel_halo, only: mpi_halo_t, mpi_halo_init
   implicit none
   private
-  public :: rezone_balance_t, rezone_balanced
+  public :: rezone_balance_t, rezone_balanced, remap_work
 
   !> The rezone's cost of a cell of a distorted cell's box against a cell of
   !> the block. Measured on one process (Sedov 40^3 LSSM, 17 Euler steps):
@@ -150,6 +156,48 @@ contains
     end associate
   end subroutine rezone_balanced
 
+  !> The remap's work of each plane of g's cells normal to i, then j, then
+  !> k (w(gn(1) + gn(2) + gn(3)), summed over the ranks), its rezone having
+  !> moved the block's nodes to xb: one per cell (the windows' copies) and
+  !> moved_weight more per cell with a moved node (its remap and the MoF
+  !> fits of its interfaces); moved: those cells, the whole grid's.
+  subroutine remap_work(pc, g, xb, moved_weight, w, moved)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: g
+    real(wp), intent(in) :: xb(:, :), moved_weight
+    real(wp), allocatable, intent(out) :: w(:)
+    integer, intent(out) :: moved
+    logical, allocatable :: mv(:)
+    integer :: i, j, k, d, w0, n0, a, ig(3), stat, nm(1)
+    logical :: changed
+    allocate(mv(g%nnode), w(sum(g%gn)), stat=stat)
+    call parallel_nomem(stat, 'the remap''s work estimate')
+    mv = any(abs(xb - g%x) > 0.0_wp, dim=1)
+    w = 0.0_wp
+    nm = 0
+    do k = g%clo(3), g%chi(3)
+      do j = g%clo(2), g%chi(2)
+        do i = g%clo(1), g%chi(1)
+          n0 = g%cell_node0(i, j, k)
+          changed = .false.
+          do a = 1, 8
+            changed = changed .or. mv(n0 + g%corner_offset(a))
+          end do
+          if (changed) nm = nm + 1
+          ig = [i, j, k] + g%off
+          w0 = 0
+          do d = 1, 3
+            w(w0 + ig(d)) = w(w0 + ig(d)) + 1.0_wp + merge(moved_weight, 0.0_wp, changed)
+            w0 = w0 + g%gn(d)
+          end do
+        end do
+      end do
+    end do
+    call parallel_sum(pc, nm)
+    call parallel_sum(pc, w)
+    moved = nm(1)
+  end subroutine remap_work
+
   !> The cuts of pc's layout that balance the rezone's estimated work (the
   !> module's notes; the same on every rank), or pc%cuts without an
   !> estimate or after a step that smoothed few cells. The cuts bal holds
@@ -165,8 +213,7 @@ contains
     integer, allocatable, intent(out) :: cuts(:)
     real(wp), allocatable :: w(:)
     real(wp) :: d_max, span, plane
-    integer :: d, i, j, k, c, ig(3), w0, c0, half, p, stat, known(1)
-    logical :: keep
+    integer :: d, i, j, k, c, ig(3), w0, half, p, stat, known(1)
 
     cuts = pc%cuts
     plane = 0.0_wp
@@ -204,29 +251,8 @@ contains
       end do
     end do
     call parallel_sum(pc, w)
-    keep = allocated(bal%cuts)
-    w0 = 0
-    c0 = 0
-    do d = 1, 3
-      cuts(c0 + 1:c0 + pc%dims(d) + 1) = parallel_cuts(w(w0 + 1:w0 + g%gn(d)), pc%dims(d), max(g%ng, 1))
-      if (keep) keep = slab_max(w(w0 + 1:w0 + g%gn(d)), bal%cuts(c0 + 1:c0 + pc%dims(d) + 1)) <= &
-                       1.05_wp*slab_max(w(w0 + 1:w0 + g%gn(d)), cuts(c0 + 1:c0 + pc%dims(d) + 1))
-      w0 = w0 + g%gn(d)
-      c0 = c0 + pc%dims(d) + 1
-    end do
-    if (keep) cuts = bal%cuts
+    cuts = parallel_balance(pc, g%gn, max(g%ng, 1), w, bal%cuts, 0.05_wp)
   end subroutine balanced_cuts
-
-  !> The largest work of the slabs between the cuts c(0:) of planes of work w.
-  pure real(wp) function slab_max(w, c)
-    real(wp), intent(in) :: w(:)
-    integer, intent(in) :: c(0:)
-    integer :: b
-    slab_max = 0.0_wp
-    do b = 1, ubound(c, 1)
-      slab_max = max(slab_max, sum(w(c(b - 1) + 1:c(b))))
-    end do
-  end function slab_max
 
   !> bal's block for the cuts (collective): its index (g's ghost layers),
   !> its standard grid gathered from the blocks' (rs%x0), its boundary lists
@@ -270,4 +296,4 @@ contains
     end if
     bal%cuts = cuts
   end subroutine balance_build
-end module parallel_rezone
+end module parallel_euler
