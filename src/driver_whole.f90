@@ -98,7 +98,7 @@ module driver_whole
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_step, euler_begin, &
                           euler_rezone, euler_finish, remap_params, euler_preposition, cuts_text
   use remap_way, only: parts_state_t
-  use parallel_euler, only: remap_work
+  use parallel_euler, only: remap_work, cut_plane_cells, balance_planes
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use io_restart, only: restart_part_t
@@ -446,7 +446,7 @@ contains
     !> measured on one process (the Comp B cylinder at 40 x 40 x 48, 90
     !> Euler steps): about 19 us per remapped cell in the remap and its MoF
     !> fits, about 1 us per window cell in the windows' copies
-    real(wp), parameter :: remap_weight = 20.0_wp, balance_planes = 4.0_wp, tolerance = 0.2_wp
+    real(wp), parameter :: remap_weight = 20.0_wp, tolerance = 0.2_wp
     type(config_t), intent(in) :: cfg
     type(comm_t), intent(in) :: pc
     type(state_t), intent(inout), target :: st
@@ -455,16 +455,11 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: w(:)
     integer, allocatable :: cuts(:)
-    real(wp) :: plane
-    integer :: d, moved
+    integer :: moved
 
     call remap_work(pc, st%g, xb, remap_weight, w, moved)
     associate (g => st%g)
-      plane = 0.0_wp
-      do d = 1, 3
-        if (pc%dims(d) > 1) plane = max(plane, product(real(g%gn, wp))/real(g%gn(d), wp))
-      end do
-      if (real(moved, wp) < balance_planes*plane .and. window_own_block(pc, st)) return
+      if (real(moved, wp) < balance_planes*cut_plane_cells(pc, g%gn) .and. window_own_block(pc, st)) return
       cuts = parallel_balance(pc, g%gn, max(g%ng, 1), w, st%win_cuts, tolerance)
       if (all(cuts == st%win_cuts)) return
       st%win_cuts = cuts

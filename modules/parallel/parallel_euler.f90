@@ -42,7 +42,7 @@ module parallel_euler
   use parallel_halo, only: mpi_halo_t, mpi_halo_init
   implicit none
   private
-  public :: rezone_balance_t, rezone_balanced, remap_work
+  public :: rezone_balance_t, rezone_balanced, remap_work, cut_plane_cells, balance_planes
 
   !> The rezone's cost of a cell of a distorted cell's box against a cell of
   !> the block. Measured on one process (Sedov 40^3 LSSM, 17 Euler steps):
@@ -52,10 +52,11 @@ module parallel_euler
   !> cylinder at 40 x 40 x 48 on 2 ranks smooths as fast with 10, 36 or 100.
   real(wp), parameter :: rezone_weight = 36.0_wp
   !> The smoothed cells of the last Euler step, in cut planes' cells, from
-  !> which its blocks are cut for the work: measured on 2 ranks, Sedov 40^3
-  !> (at most 1,610 smoothed cells, one cut plane 1,600) smooths 40 %
-  !> slower on such blocks, the Comp B cylinder at 40 x 40 x 48 (10,000 to
-  !> 17,000 of 77,000 cells) 20 % faster.
+  !> which its blocks are cut for the work (and the cells whose nodes a
+  !> rezone moved, from which the windows are: `window_balance`): measured
+  !> on 2 ranks, Sedov 40^3 (at most 1,610 smoothed cells, one cut plane
+  !> 1,600) smooths 40 % slower on such blocks, the Comp B cylinder at 40 x
+  !> 40 x 48 (10,000 to 17,000 of 77,000 cells) 20 % faster.
   real(wp), parameter :: balance_planes = 4.0_wp
 
   !> A block cut for the rezone's work, kept from one Euler step to the next
@@ -156,6 +157,18 @@ contains
     end associate
   end subroutine rezone_balanced
 
+  !> The cells of the largest plane of a grid of gn cells normal to a
+  !> direction pc's layout cuts.
+  pure real(wp) function cut_plane_cells(pc, gn) result(plane)
+    type(comm_t), intent(in) :: pc
+    integer, intent(in) :: gn(3)
+    integer :: d
+    plane = 0.0_wp
+    do d = 1, 3
+      if (pc%dims(d) > 1) plane = max(plane, product(real(gn, wp))/real(gn(d), wp))
+    end do
+  end function cut_plane_cells
+
   !> The remap's work of each plane of g's cells normal to i, then j, then
   !> k (w(gn(1) + gn(2) + gn(3)), summed over the ranks), its rezone having
   !> moved the block's nodes to xb: one per cell (the windows' copies) and
@@ -212,15 +225,11 @@ contains
     type(rezone_balance_t), intent(in) :: bal
     integer, allocatable, intent(out) :: cuts(:)
     real(wp), allocatable :: w(:)
-    real(wp) :: d_max, span, plane
+    real(wp) :: d_max, span
     integer :: d, i, j, k, c, ig(3), w0, half, p, stat, known(1)
 
     cuts = pc%cuts
-    plane = 0.0_wp
-    do d = 1, 3
-      if (pc%dims(d) > 1) plane = max(plane, product(real(g%gn, wp))/real(g%gn(d), wp))
-    end do
-    if (real(bal%smoothed, wp) < balance_planes*plane) return
+    if (real(bal%smoothed, wp) < balance_planes*cut_plane_cells(pc, g%gn)) return
     known(1) = 0
     if (trim(rz%mode) == 'lssm' .and. trim(rz%smooth_target) == 'box' .and. rezone_shape_known(g, step, rs)) known = 1
     call parallel_sum(pc, known)
