@@ -69,6 +69,11 @@ module driver_state
     !> comm_t%cuts: `window_balance`)
     type(grid_index_t) :: win_block
     integer, allocatable :: win_cuts(:)
+    !> the cells (whole-grid indices, lo then hi) each Euler step takes back
+    !> from the window (`block_from`): the block's stored cells, or where a
+    !> window holds only what its step changes the part of them it may
+    !> change (`window_active`)
+    integer :: win_back(3, 2) = 0
     !> the ranks that share the work of an Euler step on st (allocated on
     !> st%whole of a decomposed run, and on the blocks for the global rezone
     !> of the whole grid's node positions: `base_share`; else absent)

@@ -88,7 +88,7 @@ module driver_whole
   use remap_euler, only: remap_zone_t, remap_stats_t, remap_params_t, remap_euler_step, remap_zone_open, &
                          remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
                          remap_hybrid_target, remap_stats_add, remap_stats_flows, remap_swept_blockers, &
-                         remap_part_target, remap_part_folded, remap_part_uniform
+                         remap_part_target, remap_part_folded, remap_part_uniform, remap_change_rings
   use lagrange_centroids, only: centroids_remember, plane_memory_t
   use remap_after, only: remap_after_planes, remap_after_state
   use remap_parts, only: remap_parts_t
@@ -98,7 +98,7 @@ module driver_whole
   use driver_euler, only: euler_state_t, euler_start_t, euler_due, euler_due_where, euler_step, euler_begin, &
                           euler_rezone, euler_finish, remap_params, euler_preposition, cuts_text
   use remap_way, only: parts_state_t
-  use parallel_euler, only: remap_work, cut_plane_cells, balance_planes
+  use parallel_euler, only: remap_work, cut_plane_cells, balance_planes, active_window
   use driver_output, only: schedule_t, report_conservation
   use driver_parallel, only: agree_error
   use io_restart, only: restart_part_t
@@ -197,21 +197,22 @@ contains
 
   !> st%win, this rank's window for a search within `reach` index steps:
   !> its block (st%win_block) widened by window_margin(ng, reach) cells
-  !> (within the grid), built from the deck as a single block at its place
-  !> in the whole grid.
-  subroutine window_resize(cfg, st, reach, err)
+  !> (within the grid; `window_full`), or the part of it from box(:, 1) to
+  !> box(:, 2) (`window_active`), built from the deck as a single block at
+  !> its place in the whole grid; st%win_back the block's stored cells.
+  subroutine window_resize(cfg, st, reach, err, box)
     type(config_t), intent(in) :: cfg
     type(state_t), intent(inout), target :: st
     integer, intent(in) :: reach
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: box(3, 2)
     type(log_t) :: silent
     type(grid_index_t) :: ix
-    integer :: stat, lo(3), hi(3)
-    associate (b => st%win_block)
-      lo = max(1, b%clo + b%off - window_margin(b%ng, reach))
-      hi = min(b%gn, b%chi + b%off + window_margin(b%ng, reach))
-    end associate
-    ix = grid_index_block(hi - lo + 1, [0, 0, 0], [0, 0, 0], lo - 1, st%g%gn)
+    integer :: stat, w(3, 2)
+    w = window_full(st%win_block, reach)
+    if (present(box)) w = box
+    ix = grid_index_block(w(:, 2) - w(:, 1) + 1, [0, 0, 0], [0, 0, 0], w(:, 1) - 1, st%g%gn)
+    st%win_back = window_kept(st%win_block)
     if (allocated(st%win)) deallocate(st%win)
     allocate(st%win, stat=stat)
     if (stat /= 0) then
@@ -222,6 +223,17 @@ contains
     silent%quiet = .true.   ! (the blocks' scene has been logged)
     call build_scene(cfg, st%win, silent, err, ix, fluid_only=.true.)
   end subroutine window_resize
+
+  !> The cells (whole-grid indices, lo then hi) of the window around block
+  !> b for a search within reach: b's owned cells widened by
+  !> window_margin(ng, reach) cells, within the grid.
+  pure function window_full(b, reach) result(w)
+    type(grid_index_t), intent(in) :: b
+    integer, intent(in) :: reach
+    integer :: w(3, 2)
+    w(:, 1) = max(1, b%clo + b%off - window_margin(b%ng, reach))
+    w(:, 2) = min(b%gn, b%chi + b%off + window_margin(b%ng, reach))
+  end function window_full
 
   !> The new cells of a window computed around the block: its ghost layers
   !> and the cells around their nodes (one more layer), and the reach of
@@ -441,7 +453,8 @@ contains
   !> per cell with a moved node) and kept while within tolerance of the
   !> best (`parallel_balance`). The remap's answer depends on no window
   !> (each computes its block's cells as one process does), so the cuts
-  !> change the time, not the numbers.
+  !> change the time, not the numbers. Windows around the ranks' own blocks
+  !> are then cut down to what the step may change (`window_active`).
   subroutine window_balance(cfg, pc, st, xb, log, err)
     !> measured on one process (the Comp B cylinder at 40 x 40 x 48, 90
     !> Euler steps): about 19 us per remapped cell in the remap and its MoF
@@ -455,25 +468,72 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: w(:)
     integer, allocatable :: cuts(:)
-    integer :: moved
+    integer :: moved, box(3, 2)
 
-    call remap_work(pc, st%g, xb, remap_weight, w, moved)
+    call remap_work(pc, st%g, xb, remap_weight, w, moved, box)
     associate (g => st%g)
-      if (real(moved, wp) < balance_planes*cut_plane_cells(pc, g%gn) .and. window_own_block(pc, st)) return
-      cuts = parallel_balance(pc, g%gn, max(g%ng, 1), w, st%win_cuts, tolerance)
-      if (all(cuts == st%win_cuts)) return
-      st%win_cuts = cuts
-      st%win_block = parallel_block(pc, g%gn, g%ng, cuts)
+      if (real(moved, wp) >= balance_planes*cut_plane_cells(pc, g%gn) .or. .not. window_own_block(pc, st)) then
+        cuts = parallel_balance(pc, g%gn, max(g%ng, 1), w, st%win_cuts, tolerance)
+        if (any(cuts /= st%win_cuts)) then
+          st%win_cuts = cuts
+          st%win_block = parallel_block(pc, g%gn, g%ng, cuts)
+          call window_resize(cfg, st, st%win_reach, err)
+          call agree_error(pc, err)
+          if (allocated(err)) return
+          if (window_own_block(pc, st)) then
+            call log_line(log, 'euler windows built around the ranks'' own blocks again')
+          else
+            call log_line(log, 'euler windows built around blocks cut for the remap''s work ('//cuts_text(pc, cuts)// &
+                          ')')
+          end if
+        end if
+      end if
     end associate
-    call window_resize(cfg, st, st%win_reach, err)
+    if (window_own_block(pc, st) .and. .not. any(st%win%bc%kind == BC_INFLOW .or. st%win%bc%kind == BC_OUTFLOW)) &
+      call window_active(cfg, pc, st, box, log, err)
+  end subroutine window_balance
+
+  !> The window around this rank's own block cut down to what an Euler step
+  !> that changes few cells needs (collective; `active_window`: box, the
+  !> block's owned cells with a moved node): the window's copies and its
+  !> remap then cost what the step changes, not the block. The window is
+  !> rebuilt (a little wider, to serve the next steps) when it does not
+  !> hold that part or holds more than twice its cells; st%win_back is the
+  !> part of the block taken back.
+  subroutine window_active(cfg, pc, st, box, log, err)
+    !> the cells added on each side of a rebuilt window
+    integer, parameter :: slack = 6
+    type(config_t), intent(in) :: cfg
+    type(comm_t), intent(in) :: pc
+    type(state_t), intent(inout), target :: st
+    integer, intent(in) :: box(3, 2)
+    type(log_t), intent(in) :: log
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: full(3, 2), now(3, 2), back(3, 2), wide(3, 2), lo(3), hi(3), n(3)
+    full = window_full(st%win_block, st%win_reach)
+    associate (wg => st%win%g)
+      now(:, 1) = wg%off + 1
+      now(:, 2) = wg%off + [wg%ni, wg%nj, wg%nk]
+    end associate
+    call active_window(pc, st%g, box, st%mx%cell(1:st%mx%n), remap_change_rings, &
+                       window_margin(st%g%ng, st%win_reach), full, lo, hi, back)
+    wide = reshape([max(lo - slack, full(:, 1)), min(hi + slack, full(:, 2))], [3, 2])
+    n = 0
+    if (any(now(:, 1) > lo .or. now(:, 2) < hi) .or. &
+        product(real(now(:, 2) - now(:, 1) + 1, wp)) > 2.0_wp*product(real(wide(:, 2) - wide(:, 1) + 1, wp))) then
+      call window_resize(cfg, st, st%win_reach, err, wide)
+      n(1) = 1
+    end if
     call agree_error(pc, err)
     if (allocated(err)) return
-    if (window_own_block(pc, st)) then
-      call log_line(log, 'euler windows built around the ranks'' own blocks again')
-    else
-      call log_line(log, 'euler windows built around blocks cut for the remap''s work ('//cuts_text(pc, cuts)//')')
-    end if
-  end subroutine window_balance
+    st%win_back = back
+    ! (the log says when a window was rebuilt, and how many cells the
+    ! windows then hold against those around the blocks)
+    n(2:3) = [st%win%g%ncell, product(full(:, 2) - full(:, 1) + 1)]
+    call parallel_sum(pc, n)
+    if (n(1) > 0) call log_line(log, 'euler windows cut down to the cells the step may change and what they read: '// &
+                                itoa(n(2))//' cells on the ranks, of '//itoa(n(3))//' around their blocks')
+  end subroutine window_active
 
   !> The windows widened: their search twice as far (`window_resize`),
   !> logged with note.
@@ -802,7 +862,7 @@ contains
         ! the window computed its cells around the block as the blocks did, so
         ! only the others are gathered, unless the remap stopped short)
         if (kept) then
-          call copy_gather(pc, st, .true., err, cs, window_kept(st%win_block))
+          call copy_gather(pc, st, .true., err, cs, st%win_back)
         else
           call copy_gather(pc, st, .true., err, cs)
         end if
@@ -865,6 +925,11 @@ contains
         if (.not. allocated(err)) call remap_euler_step(wg, w%h, w%mx, size(w%mats), w%bc, xw, par, rk, err, &
                                                         zone=zone, written=wrote, broke=broke)
         rk%swept_blockers = nblock
+        ! (the block's owned cells outside a window cut down to what the
+        ! step changes are copied too: `window_active`)
+        associate (b => st%win_block)
+          rk%cells_copied = rk%cells_copied + product(b%chi - b%clo + 1) - count(zone%own)
+        end associate
         call agree_error(pc, err)
         if (allocated(err)) then
           call es%timer%stop()
@@ -1664,7 +1729,8 @@ contains
 
   !> This rank's block st (owned and ghost cells and nodes) taken from the
   !> state of a box of the whole grid that holds it: st%whole, or (window)
-  !> st%win.
+  !> the cells st%win_back and their nodes from st%win (the block's mixed
+  !> cells are all in them).
   subroutine block_from(st, window, err)
     type(state_t), intent(inout), target :: st
     logical, intent(in) :: window
@@ -1673,10 +1739,13 @@ contains
     type(registry_t) :: rb, rw
     type(mixed_t) :: mw
     integer, allocatable :: pick(:), map(:), to(:), from(:)
-    integer :: e, k, len, stat
+    integer :: e, k, len, stat, box(3, 2)
 
+    box(:, 1) = st%g%slo
+    box(:, 2) = st%g%shi
     if (window) then
       src => st%win
+      box = st%win_back - spread(st%g%off, 2, 2)
     else
       src => st%whole
     end if
@@ -1695,7 +1764,7 @@ contains
       associate (b => rb%e(e), v => rw%e(map(e)), g => st%g, wg => src%g)
         select case (b%location)
         case (LOC_NODE, LOC_CELL)
-          call grid_rows(g, wg, b%location == LOC_NODE, product(b%dims(1:size(b%dims) - 1)), to, from, len, stat)
+          call grid_rows(g, wg, b%location == LOC_NODE, product(b%dims(1:size(b%dims) - 1)), to, from, len, stat, box)
           if (stat /= 0) then
             call error_set(err, 'block_from', 'out of memory')
             return

@@ -384,23 +384,32 @@ contains
   !> g's arrays and after from(r) in wg's, and holds len values (a row's
   !> entries are consecutive in both). `grid_copy_rows_real` and `_int`
   !> (to, from, len, a, b) copy wg's values a into g's b by them.
-  subroutine grid_rows(g, wg, nodes, m, to, from, len, stat)
+  subroutine grid_rows(g, wg, nodes, m, to, from, len, stat, box)
     class(grid_index_t), intent(in) :: g, wg
     logical, intent(in) :: nodes
     integer, intent(in) :: m
     integer, allocatable, intent(out) :: to(:), from(:)
     integer, intent(out) :: len, stat
-    integer :: i, j, k, o(3), e, r
+    !> the cells of g (its indices, lo then hi) whose rows are copied, and
+    !> their nodes (default: g's stored cells)
+    integer, intent(in), optional :: box(3, 2)
+    integer :: i, j, k, o(3), e, r, lo(3), hi(3)
     e = merge(1, 0, nodes)
     o = g%off - wg%off
-    i = g%slo(1) - e
-    len = m*(g%shi(1) - i + 1)
-    r = (g%shi(2) - g%slo(2) + 1 + e)*(g%shi(3) - g%slo(3) + 1 + e)
+    lo = g%slo
+    hi = g%shi
+    if (present(box)) then
+      lo = box(:, 1)
+      hi = box(:, 2)
+    end if
+    i = lo(1) - e
+    len = m*(hi(1) - i + 1)
+    r = (hi(2) - lo(2) + 1 + e)*(hi(3) - lo(3) + 1 + e)
     allocate(to(r), from(r), stat=stat)
     if (stat /= 0) return
     r = 0
-    do k = g%slo(3) - e, g%shi(3)
-      do j = g%slo(2) - e, g%shi(2)
+    do k = lo(3) - e, hi(3)
+      do j = lo(2) - e, hi(2)
         r = r + 1
         if (nodes) then
           to(r) = m*(g%node(i, j, k) - 1)

@@ -38,11 +38,11 @@ module parallel_euler
   use rezone_lssm, only: lssm_report_t
   use rezone_subdomains, only: rezone_subdomains_default_dmax
   use parallel_comm, only: comm_t, parallel_balance, parallel_block, parallel_sum, parallel_max, parallel_nomem
-  use parallel_gather, only: gather_box
+  use parallel_gather, only: gather_box, gather_concat
   use parallel_halo, only: mpi_halo_t, mpi_halo_init
   implicit none
   private
-  public :: rezone_balance_t, rezone_balanced, remap_work, cut_plane_cells, balance_planes
+  public :: rezone_balance_t, rezone_balanced, remap_work, cut_plane_cells, balance_planes, active_window
 
   !> The rezone's cost of a cell of a distorted cell's box against a cell of
   !> the block. Measured on one process (Sedov 40^3 LSSM, 17 Euler steps):
@@ -173,13 +173,17 @@ contains
   !> k (w(gn(1) + gn(2) + gn(3)), summed over the ranks), its rezone having
   !> moved the block's nodes to xb: one per cell (the windows' copies) and
   !> moved_weight more per cell with a moved node (its remap and the MoF
-  !> fits of its interfaces); moved: those cells, the whole grid's.
-  subroutine remap_work(pc, g, xb, moved_weight, w, moved)
+  !> fits of its interfaces); moved: those cells, the whole grid's; box:
+  !> the block's.
+  subroutine remap_work(pc, g, xb, moved_weight, w, moved, box)
     type(comm_t), intent(in) :: pc
     type(grid_t), intent(in) :: g
     real(wp), intent(in) :: xb(:, :), moved_weight
     real(wp), allocatable, intent(out) :: w(:)
     integer, intent(out) :: moved
+    !> the box of the block's owned cells with a moved node (whole-grid
+    !> indices, lo then hi; lo > hi: none)
+    integer, intent(out) :: box(3, 2)
     logical, allocatable :: mv(:)
     integer :: i, j, k, d, w0, n0, a, ig(3), stat, nm(1)
     logical :: changed
@@ -188,6 +192,8 @@ contains
     mv = any(abs(xb - g%x) > 0.0_wp, dim=1)
     w = 0.0_wp
     nm = 0
+    box(:, 1) = huge(1)
+    box(:, 2) = -huge(1)
     do k = g%clo(3), g%chi(3)
       do j = g%clo(2), g%chi(2)
         do i = g%clo(1), g%chi(1)
@@ -196,8 +202,12 @@ contains
           do a = 1, 8
             changed = changed .or. mv(n0 + g%corner_offset(a))
           end do
-          if (changed) nm = nm + 1
           ig = [i, j, k] + g%off
+          if (changed) then
+            nm = nm + 1
+            box(:, 1) = min(box(:, 1), ig)
+            box(:, 2) = max(box(:, 2), ig)
+          end if
           w0 = 0
           do d = 1, 3
             w(w0 + ig(d)) = w(w0 + ig(d)) + 1.0_wp + merge(moved_weight, 0.0_wp, changed)
@@ -305,4 +315,52 @@ contains
     end if
     bal%cuts = cuts
   end subroutine balance_build
+  !> The part of a window around the block b (cells lo to hi, whole-grid
+  !> indices, within full: the window the block's cells need) that an
+  !> Euler step's remap needs when it changes few cells (collective), and
+  !> back, the block's stored cells it takes back from it. moved: each
+  !> block's box of owned cells with a moved node (`remap_work`; gathered
+  !> here); mixed: the block's mixed cells (its cells). The remap changes
+  !> only the cells with a moved node and the cells within rings cells of
+  !> them that give to their kinetic energy deficits (`remap_euler`'s
+  !> deficit_rings); back holds those of the block's stored cells, and its
+  !> mixed cells (whose interface planes every remap fits again:
+  !> `remap_after_planes`), so the block's cells outside it keep their
+  !> values; lo to hi holds back widened by margin, the cells a remap reads
+  !> to compute them. Where the
+  !> step changes none of the block's cells, back is its first owned cell
+  !> (at a corner: the window about it is the smallest).
+  subroutine active_window(pc, b, moved, mixed, rings, margin, full, lo, hi, back)
+    type(comm_t), intent(in) :: pc
+    type(grid_t), intent(in) :: b
+    integer, intent(in) :: moved(3, 2), mixed(:), rings, margin, full(3, 2)
+    integer, intent(out) :: lo(3), hi(3), back(3, 2)
+    integer, allocatable :: every(:)
+    integer :: stored(3, 2), r, k, ijk(3), q(3, 2)
+    stored(:, 1) = b%slo + b%off
+    stored(:, 2) = b%shi + b%off
+    back(:, 1) = huge(1)
+    back(:, 2) = -huge(1)
+    call gather_concat(pc, reshape(moved, [6]), every)
+    do r = 0, size(every)/6 - 1
+      q = reshape(every(6*r + 1:6*r + 6), [3, 2])
+      if (any(q(:, 1) > q(:, 2))) cycle
+      q(:, 1) = max(q(:, 1) - rings, stored(:, 1))
+      q(:, 2) = min(q(:, 2) + rings, stored(:, 2))
+      if (any(q(:, 1) > q(:, 2))) cycle
+      back(:, 1) = min(back(:, 1), q(:, 1))
+      back(:, 2) = max(back(:, 2), q(:, 2))
+    end do
+    do k = 1, size(mixed)
+      call b%cell_ijk(mixed(k), ijk(1), ijk(2), ijk(3))
+      back(:, 1) = min(back(:, 1), ijk + b%off)
+      back(:, 2) = max(back(:, 2), ijk + b%off)
+    end do
+    if (any(back(:, 1) > back(:, 2))) then
+      back(:, 1) = b%clo + b%off
+      back(:, 2) = back(:, 1)
+    end if
+    lo = max(back(:, 1) - margin, full(:, 1))
+    hi = min(back(:, 2) + margin, full(:, 2))
+  end subroutine active_window
 end module parallel_euler

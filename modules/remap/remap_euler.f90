@@ -125,7 +125,7 @@ module remap_euler
             deficit_patch_t, &
             remap_zone_block, remap_zone_beyond, remap_zone_reach_box, remap_zone_wants, remap_zone_far, &
             remap_stats_flows, remap_swept_blockers, remap_stats_add, remap_part_target, remap_part_folded, &
-            remap_part_uniform, remap_hybrid_target
+            remap_part_uniform, remap_hybrid_target, remap_change_rings
 
   !> Most materials in one cell the remap handles.
   integer, parameter :: max_mat = 16
@@ -148,6 +148,11 @@ module remap_euler
   !> the rings of cells around a cell with a residual kinetic energy
   !> deficit that pay it (`deficits_repair`)
   integer, parameter :: deficit_rings = 4
+  !> How far (in cells) from the cells with a moved node a remap may change
+  !> a cell: a node of theirs whose kinetic energy deficit the cells around
+  !> it (one ring further) cannot pay moves it up to deficit_rings further
+  !> (`deficits_repair`). Every other cell keeps its values.
+  integer, parameter :: remap_change_rings = deficit_rings + 1
 
   !> Settings of the remap (deck group &rezone).
   type :: remap_params_t
